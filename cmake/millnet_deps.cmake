@@ -1,0 +1,18 @@
+# Every dependency comes from a Debian 12 package (scripts/setup.sh installs them); nothing is
+# downloaded at configure or build time.
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)          # libeigen3-dev
+find_package(OpenMP REQUIRED)                        # g++
+find_package(nlohmann_json 3.11 REQUIRED)            # nlohmann-json3-dev
+find_package(assimp REQUIRED)                        # libassimp-dev (only in ingest/src/load_mesh_assimp.cpp)
+find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs)  # libopencv-dev
+find_package(CLI11 REQUIRED)                         # libcli11-dev
+find_package(nanoflann REQUIRED)                     # libnanoflann-dev
+# Clipper 6 (libpolyclipping-dev) ships a pkg-config file, not a CMake package.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(POLYCLIPPING REQUIRED IMPORTED_TARGET polyclipping)
+if(MILLNET_TESTS)
+  find_package(GTest REQUIRED)                       # libgtest-dev
+endif()
+if(MILLNET_BENCH)
+  find_package(benchmark REQUIRED)                   # libbenchmark-dev
+endif()

@@ -1,0 +1,77 @@
+# millnet_add_module(<name> [SOURCES_GLOB <dir>] [PUBLIC_DEPS ...] [PRIVATE_DEPS ...] [INCLUDE_DIR <dir>])
+#
+# One library target per module, made in the same numbered steps for every module
+# (after libigl's igl_add_library):
+#   1. collect sources (the module's src/ folder, or an explicit list),
+#   2. define the target and its alias millnet::<name>,
+#   3. public include dir <module>/include, C++20,
+#   4. strict warnings PRIVATE to our own code,
+#   5. link dependencies (heavy ones PRIVATE).
+# Sources are globbed with CONFIGURE_DEPENDS so that adding a .cpp to a module needs no CMake edit.
+function(millnet_add_module name)
+  cmake_parse_arguments(M "" "DIR;INCLUDE_DIR;SRC_DIR" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  if(NOT M_DIR)
+    set(M_DIR ${CMAKE_CURRENT_SOURCE_DIR})
+  endif()
+  # 1. sources
+  if(NOT M_SOURCES)
+    if(NOT M_SRC_DIR)
+      set(M_SRC_DIR ${M_DIR}/src)
+    endif()
+    file(GLOB M_SOURCES CONFIGURE_DEPENDS ${M_SRC_DIR}/*.cpp)
+  endif()
+  if(NOT M_INCLUDE_DIR)
+    set(M_INCLUDE_DIR ${M_DIR}/include)
+  endif()
+  # 2. target (header-only while a module has no sources yet)
+  if(NOT M_SOURCES)
+    add_library(millnet_${name} INTERFACE)
+    add_library(millnet::${name} ALIAS millnet_${name})
+    target_include_directories(millnet_${name} INTERFACE ${M_INCLUDE_DIR})
+    target_link_libraries(millnet_${name} INTERFACE ${M_PUBLIC_DEPS} ${M_PRIVATE_DEPS})
+    return()
+  endif()
+  add_library(millnet_${name} STATIC ${M_SOURCES})
+  add_library(millnet::${name} ALIAS millnet_${name})
+  # 3. includes, standard
+  target_include_directories(millnet_${name} PUBLIC ${M_INCLUDE_DIR})
+  target_compile_features(millnet_${name} PUBLIC cxx_std_20)
+  # 4. warnings
+  millnet_warnings(millnet_${name})
+  # 5. deps
+  target_link_libraries(millnet_${name} PUBLIC ${M_PUBLIC_DEPS} PRIVATE ${M_PRIVATE_DEPS})
+endfunction()
+
+function(millnet_warnings target)
+  target_compile_options(${target} PRIVATE
+    -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wsign-conversion -Wnon-virtual-dtor
+    -Wold-style-cast -Wcast-align -Wdouble-promotion)
+  if(MILLNET_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+endfunction()
+
+# millnet_add_test(<module>): one GoogleTest executable per module, test_<module>, built from
+# tests/<module>/*.cpp and discovered by ctest. The working directory is the source root so that
+# tests can read configs/ and datasets/ with relative paths.
+function(millnet_add_test module)
+  cmake_parse_arguments(T "" "" "DEPS" ${ARGN})
+  file(GLOB T_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/tests/${module}/*.cpp)
+  if(NOT T_SOURCES)
+    return()
+  endif()
+  add_executable(test_${module} ${T_SOURCES})
+  millnet_warnings(test_${module})
+  target_include_directories(test_${module} PRIVATE ${PROJECT_SOURCE_DIR}/tests)
+  target_link_libraries(test_${module} PRIVATE ${T_DEPS} millnet_testing GTest::gtest GTest::gtest_main)
+  target_compile_definitions(test_${module} PRIVATE
+    MILLNET_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+    MILLNET_BINARY_DIR="${PROJECT_BINARY_DIR}"
+    MILLNET_EXE="$<TARGET_FILE:millnet>"
+    MILLNET_SHARED_DIR="${PROJECT_SOURCE_DIR}/../shared")
+  add_dependencies(test_${module} millnet)
+  gtest_discover_tests(test_${module}
+    WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
+    DISCOVERY_TIMEOUT 60
+    PROPERTIES ENVIRONMENT "OMP_NUM_THREADS=2")
+endfunction()

@@ -1,0 +1,79 @@
+#include "millnet/core/atomic_file.hpp"
+
+#include "millnet/core/error.hpp"
+
+#include <charconv>
+#include <system_error>
+#include <unistd.h>
+
+namespace millnet {
+namespace fs = std::filesystem;
+
+namespace {
+fs::path temp_name(const fs::path& path) {
+  fs::path tmp = path;
+  tmp += ".tmp-" + std::to_string(static_cast<long>(::getpid()));
+  return tmp;
+}
+void ensure_parent(const fs::path& path) {
+  if (path.has_parent_path()) {
+    std::error_code ec;
+    fs::create_directories(path.parent_path(), ec);
+    if (ec) throw file_error(path.parent_path().string(), "cannot create folder: " + ec.message());
+  }
+}
+}  // namespace
+
+AtomicOFStream::AtomicOFStream(fs::path path, bool binary) : path_(std::move(path)), tmp_(temp_name(path_)) {
+  ensure_parent(path_);
+  out_.open(tmp_, binary ? std::ios::out | std::ios::binary | std::ios::trunc : std::ios::out | std::ios::trunc);
+  if (!out_) throw file_error(path_.string(), "cannot open for writing");
+}
+
+AtomicOFStream::~AtomicOFStream() {
+  if (!committed_) {
+    out_.close();
+    std::error_code ec;
+    fs::remove(tmp_, ec);
+  }
+}
+
+void AtomicOFStream::commit() {
+  out_.flush();
+  const bool ok = static_cast<bool>(out_);
+  out_.close();
+  if (!ok) throw file_error(path_.string(), "write failed");
+  std::error_code ec;
+  fs::rename(tmp_, path_, ec);
+  if (ec) throw file_error(path_.string(), "cannot rename temporary file into place: " + ec.message());
+  committed_ = true;
+}
+
+void write_file_atomic(const fs::path& path, std::string_view content) {
+  AtomicOFStream out(path, true);
+  out.stream().write(content.data(), static_cast<std::streamsize>(content.size()));
+  out.commit();
+}
+
+void write_file_atomic(const fs::path& path, const std::vector<unsigned char>& bytes) {
+  write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+}
+
+std::string read_file(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw file_error(path.string(), "no such file");
+  if (fs::is_directory(path, ec)) throw file_error(path.string(), "is a folder, expected a file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw file_error(path.string(), "cannot open for reading");
+  std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw file_error(path.string(), "read failed");
+  return s;
+}
+
+std::string format_double(double v) {
+  char buf[64];
+  auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+}  // namespace millnet

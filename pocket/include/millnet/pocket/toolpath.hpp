@@ -1,0 +1,53 @@
+#pragma once
+// The 2D plan every planner produces, before it becomes G-code.
+//   * A Chain is cut with the tool down at the cutting depth: vertices with bulges (segment k goes
+//     from pts[k] to pts[k+1] with pts[k].bulge, 0 = straight), a feed per segment (mm/min,
+//     0 = not assigned yet: the feed map or f2 fills it).
+//   * Between two chains the tool retracts to safe Z, rapids above the next chain's start and plunges.
+//     Entering a chain needs a pre-drilled hole (or a helix/ramp entry) unless the entry point has
+//     already been cut at this depth.
+#include "millnet/pocket/geometry.hpp"
+
+#include <string>
+#include <vector>
+
+namespace millnet::pocket {
+
+struct Chain {
+  std::vector<Vertex> pts;
+  std::vector<double> feed;     ///< pts.size() − 1 entries once assigned
+  bool predrill = true;         ///< entry plunges into uncut material
+  std::string role = "cut";     ///< "cut" (area clearing), "contour" (wall pass), "link" …
+};
+
+struct Path2D {
+  std::vector<Chain> chains;
+  [[nodiscard]] double cut_length() const;    ///< Σ chain lengths (arcs exact)
+  [[nodiscard]] double rapid_length() const;  ///< Σ XY distance between chain end and next start
+  [[nodiscard]] std::size_t retractions() const { return chains.empty() ? 0 : chains.size() - 1; }
+};
+
+/// Tool, cut and machine parameters (all mm, mm/min, rpm). Flags > config > pocket file keys.
+struct CutParams {
+  double tool_diameter = 10;
+  double stepover = 5;          ///< tool-point grid spacing g (SOM) / pass distance (zigzag)
+  double stock_to_leave = 0;    ///< radial allowance left on walls and islands
+  double depth = 5;             ///< pocket floor at Z = −depth (top is Z = 0)
+  double step_down = 5;         ///< ≥ depth ⇒ one level
+  double safe_z = 5;
+  double feed_slot = 50;        ///< f1: full-width (slot) cut
+  double feed_half = 100;       ///< f2: half-width cut (also the constant feed of comparisons)
+  double feed_plunge = 30;
+  double feed_min = 20, feed_max = 200;
+  double spindle_rpm = 3000;
+  double feed_grid = 0;         ///< feed-map cell, 0 ⇒ tool_diameter / 10
+  bool feed_adjust = true;
+  double rapid_rate = 5000;     ///< mm/min, for time estimates of G0 moves
+  [[nodiscard]] double clearance() const { return tool_diameter / 2 + stock_to_leave; }
+};
+
+/// Outcome of planning; an empty path always comes with a non-Ok status and a message.
+enum class PlanStatus { Ok, NoToolPoints, NothingToCut };
+[[nodiscard]] const char* to_string(PlanStatus s);
+
+}  // namespace millnet::pocket

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Installs millnet's build dependencies from Debian 12 packages. Idempotent: does nothing when
+# everything is already there. Needs root (or sudo) only when something is missing.
+set -euo pipefail
+PKGS=(build-essential cmake ninja-build pkg-config
+      libeigen3-dev libassimp-dev libopencv-dev nlohmann-json3-dev
+      libgtest-dev libgmock-dev libcli11-dev libbenchmark-dev libpolyclipping-dev libnanoflann-dev)
+missing=()
+for p in "${PKGS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all ${#PKGS[@]} packages present" >&2
+  exit 0
+fi
+SUDO=""
+[ "$(id -u)" -ne 0 ] && SUDO="sudo"
+echo "setup: installing ${missing[*]}" >&2
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
