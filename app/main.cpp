@@ -1,3 +1,43 @@
-// millnet command-line entry point: a thin CLI11 dispatcher (subcommands live in app/cmd_*.cpp).
-#include <cstdio>
-int main() { std::puts("millnet"); return 0; }
+// millnet command-line entry point: a thin CLI11 dispatcher. Each subcommand lives in app/cmd_*.cpp.
+// Exit codes: 0 success, 1 bad input (one clear line on stderr), 2 usage error.
+#include "cli.hpp"
+
+#include "millnet/core/error.hpp"
+
+#include <iostream>
+
+int main(int argc, char** argv) {
+  using namespace millnet::app;
+  CLI::App app{"millnet — strategy learning and pocket roughing for CAM engineers", "millnet"};
+  app.set_version_flag("--version", std::string(MILLNET_VERSION));
+  app.require_subcommand(1);
+  std::vector<Registered> commands;
+  auto add = [&](Registered (*reg)(CLI::App&)) { commands.push_back(reg(app)); };
+  add(register_sample);
+  add(register_dataset);
+  add(register_train);
+  add(register_predict);
+  add(register_pocket);
+  add(register_compare);
+  add(register_rough);
+  add(register_run);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);  // prints help/version (code 0) or the usage error
+    return code == 0 ? 0 : 2;
+  }
+  for (auto& [sub, body] : commands) {
+    if (!sub->parsed()) continue;
+    try {
+      return body();
+    } catch (const millnet::Error& e) {
+      std::cerr << "millnet " << sub->get_name() << ": error: " << e.what() << "\n";
+      return 1;
+    } catch (const std::exception& e) {
+      std::cerr << "millnet " << sub->get_name() << ": error: " << e.what() << "\n";
+      return 1;
+    }
+  }
+  return 2;
+}

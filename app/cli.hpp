@@ -1,0 +1,54 @@
+#pragma once
+// Shared pieces of the millnet subcommands: the common options every command has (--quiet,
+// --threads N, --config FILE), and the registry main() dispatches through.
+#include "config.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace millnet::app {
+
+struct Common {
+  bool quiet = false;
+  int threads = -1;              ///< -1 = from config (0 = all cores)
+  std::string config;            ///< empty = defaults
+};
+
+/// Adds --quiet, --threads and (when with_config) --config to a subcommand.
+void add_common(CLI::App* sub, Common& common, bool with_config = true);
+
+/// Loads the config named by --config (or the defaults), applies --quiet and --threads
+/// (OpenMP thread count; 0 = all cores). Returns the checked config.
+[[nodiscard]] Json setup(const Common& common);
+
+/// Runs a command body: returns 0, or 1 after printing "millnet <cmd>: error: <what>" for a millnet::Error.
+using Command = std::function<int()>;
+
+/// Each subcommand registers itself and returns the body main() runs when it was chosen.
+struct Registered {
+  CLI::App* sub;
+  Command body;
+};
+Registered register_sample(CLI::App& app);
+Registered register_dataset(CLI::App& app);
+Registered register_train(CLI::App& app);
+Registered register_predict(CLI::App& app);
+Registered register_pocket(CLI::App& app);
+Registered register_compare(CLI::App& app);
+Registered register_rough(CLI::App& app);
+Registered register_run(CLI::App& app);
+
+/// Messages for the user on stderr (suppressed by --quiet, except errors and warnings).
+void info(const std::string& msg);
+void warn(const std::string& msg);
+
+/// Expands files and folders (folders: their mesh files, sorted by name) into a list of files.
+[[nodiscard]] std::vector<std::filesystem::path> expand_inputs(const std::vector<std::string>& items,
+                                                               const std::vector<std::string>& extensions);
+
+}  // namespace millnet::app

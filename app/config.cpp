@@ -1,0 +1,161 @@
+#include "config.hpp"
+
+#include "millnet/core/atomic_file.hpp"
+#include "millnet/core/error.hpp"
+
+#include <cmath>
+
+namespace millnet::app {
+namespace fs = std::filesystem;
+
+namespace {
+const char* kSchemaText =
+#include "millnet_schema.inc"
+    ;
+
+std::string type_name(const Json& v) {
+  if (v.is_null()) return "null";
+  if (v.is_boolean()) return "a boolean";
+  if (v.is_number_integer() || v.is_number_unsigned()) return "an integer";
+  if (v.is_number()) return "a number";
+  if (v.is_string()) return "a string";
+  if (v.is_array()) return "an array";
+  return "an object";
+}
+
+std::string shown(const Json& v) {
+  std::string s = v.dump();
+  if (s.size() > 40) s = s.substr(0, 37) + "...";
+  return s;
+}
+
+class Checker {
+public:
+  Checker(const fs::path& base, std::string source) : base_(base), source_(std::move(source)) {}
+
+  void check(Json& value, const Json& rule, const std::string& ptr) {
+    const std::string type = rule.value("type", "");
+    const std::string at = source_ + ": " + (ptr.empty() ? "/" : ptr);
+    if (type == "object") {
+      if (!value.is_object()) throw Error(at + ": expected an object, got " + type_name(value));
+      const Json& props = rule.contains("properties") ? rule["properties"] : Json::object();
+      for (auto it = value.begin(); it != value.end(); ++it) {
+        if (!props.contains(it.key()))
+          throw Error(at + (ptr.empty() ? "" : "/") + it.key() + ": unknown key (allowed here: " + allowed(props) + ")");
+      }
+      for (auto it = props.begin(); it != props.end(); ++it) {
+        const Json& sub = it.value();
+        if (!value.contains(it.key())) {
+          if (sub.contains("default")) {
+            value[it.key()] = sub["default"];
+          } else if (sub.value("type", "") == "object") {
+            value[it.key()] = Json::object();
+          } else if (sub.value("required", false)) {
+            throw Error(at + (ptr.empty() ? "" : "/") + it.key() + ": required key is missing");
+          } else {
+            continue;
+          }
+        }
+        check(value[it.key()], sub, ptr + "/" + it.key());
+      }
+      return;
+    }
+    if (value.is_null() && rule.value("nullable", false)) return;
+    if (type == "array") {
+      if (!value.is_array()) throw Error(at + ": expected an array, got " + type_name(value));
+      if (rule.contains("minItems") && value.size() < rule["minItems"].get<std::size_t>())
+        throw Error(at + ": expected at least " + rule["minItems"].dump() + " items");
+      if (rule.contains("items"))
+        for (std::size_t i = 0; i < value.size(); ++i) check(value[i], rule["items"], ptr + "/" + std::to_string(i));
+      return;
+    }
+    if (type == "number") {
+      if (!value.is_number()) throw Error(at + ": expected a number, got " + type_name(value) + " " + shown(value));
+      const double x = value.get<double>();
+      if (!std::isfinite(x)) throw Error(at + ": expected a finite number");
+      bounds(x, rule, at);
+    } else if (type == "integer") {
+      if (!(value.is_number_integer() || value.is_number_unsigned()))
+        throw Error(at + ": expected an integer, got " + type_name(value) + " " + shown(value));
+      bounds(value.get<double>(), rule, at);
+    } else if (type == "boolean") {
+      if (!value.is_boolean()) throw Error(at + ": expected true or false, got " + type_name(value) + " " + shown(value));
+    } else if (type == "string") {
+      if (!value.is_string()) throw Error(at + ": expected a string, got " + type_name(value) + " " + shown(value));
+      if (rule.value("format", "") == "path") {
+        fs::path p = value.get<std::string>();
+        if (p.is_relative()) p = base_ / p;
+        value = p.lexically_normal().string();
+      }
+    } else if (type == "number_or_string") {
+      if (!value.is_number() && !value.is_string())
+        throw Error(at + ": expected a number or a string, got " + type_name(value));
+    } else if (!type.empty()) {
+      throw Error("schema: unknown type '" + type + "' at " + ptr);
+    }
+    if (rule.contains("enum")) {
+      bool ok = false;
+      for (const auto& e : rule["enum"]) ok = ok || e == value;
+      if (!ok) throw Error(at + ": expected one of " + rule["enum"].dump() + ", got " + shown(value));
+    }
+  }
+
+private:
+  static std::string allowed(const Json& props) {
+    std::string s;
+    for (auto it = props.begin(); it != props.end(); ++it) s += (s.empty() ? "" : ", ") + it.key();
+    return s.empty() ? "none" : s;
+  }
+  static void bounds(double x, const Json& rule, const std::string& at) {
+    if (rule.contains("minimum") && x < rule["minimum"].get<double>())
+      throw Error(at + ": must be ≥ " + rule["minimum"].dump() + ", got " + format_double(x));
+    if (rule.contains("exclusiveMinimum") && x <= rule["exclusiveMinimum"].get<double>())
+      throw Error(at + ": must be > " + rule["exclusiveMinimum"].dump() + ", got " + format_double(x));
+    if (rule.contains("maximum") && x > rule["maximum"].get<double>())
+      throw Error(at + ": must be ≤ " + rule["maximum"].dump() + ", got " + format_double(x));
+  }
+  fs::path base_;
+  std::string source_;
+};
+}  // namespace
+
+const Json& schema() {
+  static const Json s = Json::parse(kSchemaText);
+  return s;
+}
+
+Json read_json(const fs::path& path) {
+  const std::string text = read_file(path);
+  try {
+    return Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    // nlohmann reports a byte offset; turn it into line:column.
+    std::size_t line = 1, col = 1;
+    for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+      if (text[i] == '\n') { ++line; col = 1; } else { ++col; }
+    }
+    std::string what = e.what();
+    const auto pos = what.find("syntax error");
+    throw line_error(path.string(), static_cast<long>(line),
+                     std::to_string(col) + ": invalid JSON: " + (pos == std::string::npos ? what : what.substr(pos)));
+  }
+}
+
+void check_config(Json& config, const fs::path& base, const std::string& source) {
+  Checker(base, source).check(config, schema(), "");
+}
+
+Json load_config(const fs::path& path) {
+  Json config = read_json(path);
+  fs::path base = fs::absolute(path).parent_path();
+  check_config(config, base, path.string());
+  return config;
+}
+
+Json default_config(const fs::path& base) {
+  Json config = Json::object();
+  check_config(config, base, "(defaults)");
+  return config;
+}
+
+}  // namespace millnet::app
