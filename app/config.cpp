@@ -31,7 +31,8 @@ std::string shown(const Json& v) {
 
 class Checker {
 public:
-  Checker(const fs::path& base, std::string source) : base_(base), source_(std::move(source)) {}
+  Checker(const fs::path& base, std::string source, bool fill_defaults = true)
+      : base_(base), source_(std::move(source)), fill_(fill_defaults) {}
 
   void check(Json& value, const Json& rule, const std::string& ptr) {
     const std::string type = rule.value("type", "");
@@ -46,7 +47,9 @@ public:
       for (auto it = props.begin(); it != props.end(); ++it) {
         const Json& sub = it.value();
         if (!value.contains(it.key())) {
-          if (sub.contains("default")) {
+          if (!fill_) {
+            continue;
+          } else if (sub.contains("default")) {
             value[it.key()] = sub["default"];
           } else if (sub.value("type", "") == "object") {
             value[it.key()] = Json::object();
@@ -116,7 +119,26 @@ private:
   }
   fs::path base_;
   std::string source_;
+  bool fill_ = true;
 };
+
+// "dataset": {"recipe": FILE, …}: the recipe file supplies the dataset section (its relative paths
+// resolve against its own folder); keys given inline beside "recipe" override it.
+void merge_recipe(Json& config, const fs::path& base, const std::string& source) {
+  if (!config.is_object() || !config.contains("dataset") || !config["dataset"].is_object()) return;
+  Json& ds = config["dataset"];
+  if (!ds.contains("recipe")) return;
+  const Json& rule = schema()["properties"]["dataset"];
+  Json inline_keys = ds;
+  Checker(base, source, false).check(inline_keys, rule, "/dataset");
+  const fs::path recipe_path = inline_keys["recipe"].get<std::string>();
+  Json recipe = read_json(recipe_path);
+  if (recipe.is_object() && recipe.contains("recipe"))
+    throw file_error(recipe_path.string(), "/recipe: a recipe cannot name another recipe");
+  Checker(recipe_path.parent_path(), recipe_path.string(), false).check(recipe, rule, "");
+  recipe.merge_patch(inline_keys);
+  ds = recipe;
+}
 }  // namespace
 
 const Json& schema() {
@@ -142,6 +164,7 @@ Json read_json(const fs::path& path) {
 }
 
 void check_config(Json& config, const fs::path& base, const std::string& source) {
+  merge_recipe(config, base, source);
   Checker(base, source).check(config, schema(), "");
 }
 

@@ -1,0 +1,83 @@
+// Config checking: strict keys and types named by their JSON pointer, defaults, path resolution.
+#include "config.hpp"
+
+#include "millnet/core/error.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace fs = std::filesystem;
+using millnet::app::Json;
+
+namespace {
+std::string error_of(Json config) {
+  try {
+    millnet::app::check_config(config, "/base", "cfg.json");
+  } catch (const millnet::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(Config, UnknownKeyIsRejectedWithItsPath) {
+  const std::string e = error_of(Json::parse(R"({"train": {"alpah": 1}})"));
+  EXPECT_NE(e.find("cfg.json"), std::string::npos) << e;
+  EXPECT_NE(e.find("/train/alpah"), std::string::npos) << e;
+  EXPECT_NE(e.find("unknown key"), std::string::npos) << e;
+}
+
+TEST(Config, WrongTypeIsRejectedWithItsPath) {
+  const std::string e = error_of(Json::parse(R"({"pocket": {"tool_diameter": "ten"}})"));
+  EXPECT_NE(e.find("/pocket/tool_diameter"), std::string::npos) << e;
+  EXPECT_NE(e.find("expected a number"), std::string::npos) << e;
+  const std::string e2 = error_of(Json::parse(R"({"dataset": {"grid": 15.5}})"));
+  EXPECT_NE(e2.find("/dataset/grid: expected an integer"), std::string::npos) << e2;
+  const std::string e3 = error_of(Json::parse(R"({"dataset": {"augment": {"axes": ["x", "w"]}}})"));
+  EXPECT_NE(e3.find("/dataset/augment/axes/1"), std::string::npos) << e3;
+}
+
+TEST(Config, RangesAndEnumsAreChecked) {
+  EXPECT_NE(error_of(Json::parse(R"({"pocket": {"tool_diameter": 0}})")).find("must be >"), std::string::npos);
+  EXPECT_NE(error_of(Json::parse(R"({"train": {"loo": "row"}})")).find("expected one of"), std::string::npos);
+  EXPECT_NE(error_of(Json::parse(R"({"dataset": {"parts": [{"label": 1}]}})")).find("/dataset/parts/0/file: required"),
+            std::string::npos);
+}
+
+TEST(Config, DefaultsAreFilledAndPathsResolvedAgainstTheConfigFolder) {
+  Json c = Json::parse(R"({"output": "results", "predict": {"parts": ["a/b.stl", "/abs/c.stl"]}})");
+  millnet::app::check_config(c, "/base/configs", "cfg.json");
+  EXPECT_EQ(c["output"], "/base/configs/results");
+  EXPECT_EQ(c["predict"]["parts"][0], "/base/configs/a/b.stl");
+  EXPECT_EQ(c["predict"]["parts"][1], "/abs/c.stl");
+  EXPECT_EQ(c["pocket"]["tool_diameter"], 10.0);
+  EXPECT_EQ(c["dataset"]["grid"], 15);
+  EXPECT_EQ(c["dataset"]["augment"]["angles_deg"].size(), 11u);
+  EXPECT_EQ(c["train"]["loo"], "part");
+}
+
+TEST(Config, EveryShippedConfigValidates) {
+  int n = 0;
+  for (const auto& e : fs::directory_iterator(fs::path(MILLNET_SOURCE_DIR) / "configs")) {
+    if (e.path().extension() != ".json") continue;
+    EXPECT_NO_THROW((void)millnet::app::load_config(e.path())) << e.path();
+    ++n;
+  }
+  EXPECT_GE(n, 1);
+}
+
+TEST(Config, InvalidJsonNamesLine) {
+  const fs::path p = fs::temp_directory_path() / "millnet_test_bad_config.json";
+  {
+    std::ofstream(p) << "{\n  \"seed\": 7,\n  \"train\": {\n    \"loo\": \"part\",,\n  }\n}\n";
+  }
+  try {
+    (void)millnet::app::load_config(p);
+    FAIL() << "no error";
+  } catch (const millnet::Error& e) {
+    EXPECT_NE(std::string(e.what()).find(p.string() + ":4:"), std::string::npos) << e.what();
+  }
+  fs::remove(p);
+}
