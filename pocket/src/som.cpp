@@ -1,0 +1,303 @@
+#include "millnet/pocket/som.hpp"
+
+#include "millnet/core/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <tuple>
+
+namespace millnet::pocket {
+
+namespace {
+
+std::uint64_t splitmix64(std::uint64_t& x) {
+  std::uint64_t z = (x += 0x9E3779B97F4A7C15ULL);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
+}
+
+std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+
+/// Uniform grid of ring nodes (points in the w-scaled plane). Each node sits in one cell; a node
+/// remembers its cell and slot so that a move is O(1).
+class NodeGrid {
+public:
+  NodeGrid(const Vec2& lo, const Vec2& hi, std::size_t target_cells) : lo_(lo) {
+    const double wdt = std::max(hi.x() - lo.x(), 0.0), hgt = std::max(hi.y() - lo.y(), 0.0);
+    const double tc = static_cast<double>(std::max<std::size_t>(target_cells, 1));
+    double s = std::sqrt(wdt * hgt / tc);
+    s = std::max({s, std::max(wdt, hgt) / tc, 1e-12});
+    s_ = s;
+    nx_ = static_cast<int>(std::floor(wdt / s)) + 1;
+    ny_ = static_cast<int>(std::floor(hgt / s)) + 1;
+    cells_.resize(static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_));
+  }
+
+  void insert(int j, const Vec2& p) {
+    if (cell_of_.size() <= static_cast<std::size_t>(j)) {
+      cell_of_.resize(static_cast<std::size_t>(j) + 1, -1);
+      slot_of_.resize(static_cast<std::size_t>(j) + 1, 0);
+    }
+    const int c = cell(p);
+    auto& v = cells_[static_cast<std::size_t>(c)];
+    cell_of_[static_cast<std::size_t>(j)] = c;
+    slot_of_[static_cast<std::size_t>(j)] = v.size();
+    v.push_back(j);
+  }
+
+  /// Node j moved to p: O(1).
+  void moved(int j, const Vec2& p) {
+    const int c = cell(p);
+    const int old = cell_of_[static_cast<std::size_t>(j)];
+    if (c == old) return;
+    auto& v = cells_[static_cast<std::size_t>(old)];
+    const std::size_t slot = slot_of_[static_cast<std::size_t>(j)];
+    const int last = v.back();
+    v[slot] = last;
+    slot_of_[static_cast<std::size_t>(last)] = slot;
+    v.pop_back();
+    auto& w = cells_[static_cast<std::size_t>(c)];
+    cell_of_[static_cast<std::size_t>(j)] = c;
+    slot_of_[static_cast<std::size_t>(j)] = w.size();
+    w.push_back(j);
+  }
+
+  /// Nearest node to q (smallest index on ties). Rings of cells around q's cell are scanned until the
+  /// ring's lower bound exceeds the best distance: O(cells within the nearest distance).
+  std::pair<int, double> nearest(const Vec2& q, const std::vector<Vec2>& nodes) const {
+    const int cx = std::clamp(static_cast<int>(std::floor((q.x() - lo_.x()) / s_)), 0, nx_ - 1);
+    const int cy = std::clamp(static_cast<int>(std::floor((q.y() - lo_.y()) / s_)), 0, ny_ - 1);
+    int best = -1;
+    double bd = std::numeric_limits<double>::infinity();
+    const int rmax = std::max(nx_, ny_);
+    for (int r = 0; r <= rmax; ++r) {
+      if (r > 0) {
+        // distance from q to the outside of the (2r−1)² block of cells already scanned
+        const double x0 = lo_.x() + (cx - r + 1) * s_, x1 = lo_.x() + (cx + r) * s_;
+        const double y0 = lo_.y() + (cy - r + 1) * s_, y1 = lo_.y() + (cy + r) * s_;
+        const double lb = std::min({q.x() - x0, x1 - q.x(), q.y() - y0, y1 - q.y()});
+        if (best >= 0 && lb > 0 && lb * lb > bd) break;
+        if (cx - r < 0 && cy - r < 0 && cx + r >= nx_ && cy + r >= ny_) break;
+      }
+      const int ylo = std::max(cy - r, 0), yhi = std::min(cy + r, ny_ - 1);
+      for (int y = ylo; y <= yhi; ++y) {
+        const bool edge_row = (y == cy - r || y == cy + r);
+        const int step = edge_row ? 1 : 2 * r;
+        for (int x = cx - r; x <= cx + r; x += std::max(step, 1)) {
+          if (x < 0 || x >= nx_) continue;
+          for (int j : cells_[static_cast<std::size_t>(y * nx_ + x)]) {
+            const double d = (nodes[static_cast<std::size_t>(j)] - q).squaredNorm();
+            if (d < bd || (d == bd && j < best)) {
+              bd = d;
+              best = j;
+            }
+          }
+        }
+      }
+    }
+    return {best, bd};
+  }
+
+private:
+  int cell(const Vec2& p) const {
+    const int x = std::clamp(static_cast<int>(std::floor((p.x() - lo_.x()) / s_)), 0, nx_ - 1);
+    const int y = std::clamp(static_cast<int>(std::floor((p.y() - lo_.y()) / s_)), 0, ny_ - 1);
+    return y * nx_ + x;
+  }
+  Vec2 lo_;
+  double s_ = 1;
+  int nx_ = 1, ny_ = 1;
+  std::vector<std::vector<int>> cells_;
+  std::vector<int> cell_of_;
+  std::vector<std::size_t> slot_of_;
+};
+
+void check_params(const SomParams& p) {
+  auto bad = [](const std::string& key, const std::string& what) {
+    return Error("som parameters: '" + key + "' " + what);
+  };
+  if (!(p.node_factor >= 1.0) || !std::isfinite(p.node_factor)) throw bad("node_factor", "must be ≥ 1");
+  if (!(p.g0 >= 0) || !std::isfinite(p.g0)) throw bad("g0", "must be ≥ 0 (0 = auto)");
+  if (!p.adaptive_alpha && !(p.alpha > 0 && p.alpha < 1)) throw bad("alpha", "must be in (0, 1)");
+  if (p.adaptive_alpha) {
+    if (!(p.c > 0) || !std::isfinite(p.c)) throw bad("c", "must be > 0");
+    if (!(p.k_scale_mm > 0) || !std::isfinite(p.k_scale_mm)) throw bad("k_scale_mm", "must be > 0");
+    if (!(p.alpha_min > 0 && p.alpha_min < 1)) throw bad("alpha_min", "must be in (0, 1)");
+  }
+  if (!(p.w > 0) || !std::isfinite(p.w)) throw bad("w", "must be > 0");
+  if (p.max_passes < 1) throw bad("max_passes", "must be ≥ 1");
+  if (!(p.tolerance_mm >= 0) || !std::isfinite(p.tolerance_mm)) throw bad("tolerance_mm", "must be ≥ 0");
+}
+
+}  // namespace
+
+Rng::Rng(std::uint64_t seed) {
+  std::uint64_t x = seed;
+  for (auto& s : s_) s = splitmix64(x);
+}
+
+std::uint64_t Rng::next() {
+  const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
+  const std::uint64_t t = s_[1] << 17;
+  s_[2] ^= s_[0];
+  s_[3] ^= s_[1];
+  s_[1] ^= s_[2];
+  s_[0] ^= s_[3];
+  s_[2] ^= t;
+  s_[3] = rotl(s_[3], 45);
+  return result;
+}
+
+double Rng::uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+
+std::size_t Rng::below(std::size_t n) { return static_cast<std::size_t>(next() % static_cast<std::uint64_t>(n)); }
+
+double tour_length(const std::vector<Vec2>& pts, const std::vector<int>& order, bool closed) {
+  double len = 0;
+  for (std::size_t k = 1; k < order.size(); ++k)  // O(N)
+    len += (pts[static_cast<std::size_t>(order[k])] - pts[static_cast<std::size_t>(order[k - 1])]).norm();
+  if (closed && order.size() > 2)
+    len += (pts[static_cast<std::size_t>(order.front())] - pts[static_cast<std::size_t>(order.back())]).norm();
+  return len;
+}
+
+bool is_permutation_of(const std::vector<int>& order, std::size_t n) {
+  if (order.size() != n) return false;
+  std::vector<char> seen(n, 0);
+  for (int i : order) {  // O(n)
+    if (i < 0 || static_cast<std::size_t>(i) >= n || seen[static_cast<std::size_t>(i)]) return false;
+    seen[static_cast<std::size_t>(i)] = 1;
+  }
+  return true;
+}
+
+SomResult som_tour(const std::vector<Vec2>& cities, const SomParams& params) {
+  check_params(params);
+  const std::size_t n = cities.size();
+  for (std::size_t i = 0; i < n; ++i)
+    if (!std::isfinite(cities[i].x()) || !std::isfinite(cities[i].y()))
+      throw Error("som_tour: city " + std::to_string(i) + " is not finite");
+  SomResult res;
+  if (n <= 3) {  // every order of ≤ 3 cities is optimal
+    for (std::size_t i = 0; i < n; ++i) res.order.push_back(static_cast<int>(i));
+    res.converged = true;
+    return res;
+  }
+  // Work in the w-scaled plane (x, sqrt(w)·y): the weighted metric of eq. 6 becomes Euclidean there,
+  // and the update C += f·(X − C) is linear, so nothing needs to be scaled back.
+  const double sw = std::sqrt(params.w);
+  std::vector<Vec2> X(n);
+  Vec2 lo(std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity());
+  Vec2 hi = -lo;
+  for (std::size_t i = 0; i < n; ++i) {  // O(N)
+    X[i] = Vec2(cities[i].x(), sw * cities[i].y());
+    lo = lo.cwiseMin(X[i]);
+    hi = hi.cwiseMax(X[i]);
+  }
+  const std::size_t m = std::max<std::size_t>(
+      3, static_cast<std::size_t>(std::llround(params.node_factor * static_cast<double>(n))));
+  res.nodes = m;
+  const double md = static_cast<double>(m);
+  double tol = params.tolerance_mm;
+  if (tol == 0) {
+    const Vec2 ext = hi - lo;
+    const double a = std::max(ext.x() * ext.y(), std::pow(std::max(ext.x(), ext.y()) / static_cast<double>(n), 2));
+    tol = 0.01 * std::sqrt(a / static_cast<double>(n));
+  }
+  tol *= std::min(1.0, sw);  // a tolerance in mm is at least as strict in the scaled plane
+  const double tol2 = tol * tol;
+
+  Rng rng(params.seed);
+  // Initial ring: an ellipse at half the cities' bounding box around its centre, random phase. It
+  // already has the global order of a good tour (no knots), and spreads nodes where cities are.
+  const Vec2 ctr = 0.5 * (lo + hi);
+  const Vec2 half = 0.5 * (hi - lo);
+  const double phase = 2 * std::numbers::pi * rng.uniform();
+  std::vector<Vec2> C(m);
+  for (std::size_t j = 0; j < m; ++j) {  // O(M)
+    const double t = phase + 2 * std::numbers::pi * static_cast<double>(j) / md;
+    C[j] = ctr + Vec2(0.5 * half.x() * std::cos(t), 0.5 * half.y() * std::sin(t));
+  }
+  NodeGrid grid(lo, hi, m / 2);
+  for (std::size_t j = 0; j < m; ++j) grid.insert(static_cast<int>(j), C[j]);
+
+  double G = params.g0 > 0 ? params.g0 : std::clamp(0.1 * md, 3.0, 3.0 * std::sqrt(md));
+  const double reach = std::sqrt(std::log(1e6));  // f(n) > 1e-6·f(0) ⇔ |n| < G·reach
+  const double f0 = 1.0 / std::numbers::sqrt2;
+  std::vector<std::size_t> perm(n);
+  for (std::size_t i = 0; i < n; ++i) perm[i] = i;
+  std::vector<double> f;
+  std::vector<int> winner(n);
+  std::vector<int> owner(m, -1);
+
+  auto mapped = [&]() {  // O(N·query): every city has its own node within tol
+    std::fill(owner.begin(), owner.end(), -1);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto [j, d2] = grid.nearest(X[i], C);
+      if (d2 > tol2 || owner[static_cast<std::size_t>(j)] >= 0) return false;
+      owner[static_cast<std::size_t>(j)] = static_cast<int>(i);
+    }
+    return true;
+  };
+
+  for (int pass = 0; pass < params.max_passes; ++pass) {
+    const auto width = static_cast<std::ptrdiff_t>(
+        std::min(std::floor(G * reach), std::floor((md - 1) / 2)));
+    f.assign(static_cast<std::size_t>(width) + 1, 0.0);
+    for (std::ptrdiff_t k = 0; k <= width; ++k) {  // O(width)
+      const double kd = static_cast<double>(k);
+      f[static_cast<std::size_t>(k)] = f0 * std::exp(-kd * kd / (G * G));
+    }
+    for (std::size_t k = n - 1; k > 0; --k) std::swap(perm[k], perm[rng.below(k + 1)]);  // Fisher–Yates
+    double k2 = 0;
+    const auto mi = static_cast<std::ptrdiff_t>(m);
+    for (std::size_t idx = 0; idx < n; ++idx) {  // O(N·(query + width))
+      const Vec2& x = X[perm[idx]];
+      const int jc = grid.nearest(x, C).first;
+      for (std::ptrdiff_t k = -width; k <= width; ++k) {
+        std::ptrdiff_t j = (jc + k) % mi;
+        if (j < 0) j += mi;
+        const auto ju = static_cast<std::size_t>(j);
+        C[ju] += f[static_cast<std::size_t>(k < 0 ? -k : k)] * (x - C[ju]);
+        grid.moved(static_cast<int>(j), C[ju]);
+      }
+      k2 += (x - C[static_cast<std::size_t>(jc)]).squaredNorm();
+    }
+    res.passes = pass + 1;
+    double alpha = params.alpha;
+    if (params.adaptive_alpha) {
+      const double K = std::sqrt(k2) / params.k_scale_mm;
+      alpha = std::clamp(params.c * std::log1p(std::exp(-K)), params.alpha_min, 0.9);
+    }
+    G *= (1 - alpha);
+    if (width == 0 && mapped()) {
+      res.converged = true;
+      break;
+    }
+  }
+  res.final_gain = G;
+
+  // Tour: cities by (winner node, position along the ring direction at that node, index). O(N log N).
+  std::vector<std::tuple<int, double, int>> key(n);
+  std::fill(owner.begin(), owner.end(), -1);
+  for (std::size_t i = 0; i < n; ++i) {
+    const int j = grid.nearest(X[i], C).first;
+    const auto ju = static_cast<std::size_t>(j);
+    const Vec2 dir = C[(ju + 1) % m] - C[(ju + m - 1) % m];
+    key[i] = {j, (X[i] - C[ju]).dot(dir), static_cast<int>(i)};
+    if (owner[ju] >= 0) ++res.shared_nodes;
+    owner[ju] = static_cast<int>(i);
+  }
+  std::sort(key.begin(), key.end());
+  res.order.resize(n);
+  for (std::size_t i = 0; i < n; ++i) res.order[i] = std::get<2>(key[i]);
+  MILLNET_ASSERT(is_permutation_of(res.order, n), "SOM tour is not a permutation of the cities");
+  if (!is_permutation_of(res.order, n)) throw Error("som_tour: internal error, tour is not a permutation");
+  return res;
+}
+
+}  // namespace millnet::pocket

@@ -1,0 +1,130 @@
+// SOM tour (seed §4): optimal on convex configurations, deterministic for a seed, always a permutation,
+// and close to a 2-opt local optimum on random points.
+#include "millnet/pocket/som.hpp"
+
+#include "millnet/core/error.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace mp = millnet::pocket;
+
+namespace {
+
+std::vector<mp::Vec2> random_points(std::size_t n, std::uint64_t seed, double size) {
+  mp::Rng rng(seed);
+  std::vector<mp::Vec2> p(n);
+  for (auto& q : p) q = mp::Vec2(size * rng.uniform(), size * rng.uniform());
+  return p;
+}
+
+/// Brute-force oracle: closed 2-opt from the identity order until no improving move exists. O(n²) per sweep.
+std::vector<int> two_opt(const std::vector<mp::Vec2>& p) {
+  const int n = static_cast<int>(p.size());
+  std::vector<int> t(p.size());
+  for (int i = 0; i < n; ++i) t[static_cast<std::size_t>(i)] = i;
+  auto d = [&](int a, int b) { return (p[static_cast<std::size_t>(a)] - p[static_cast<std::size_t>(b)]).norm(); };
+  bool improved = true;
+  while (improved) {
+    improved = false;
+    for (int i = 0; i < n - 1; ++i)
+      for (int j = i + 2; j < n; ++j) {
+        const int a = t[static_cast<std::size_t>(i)], b = t[static_cast<std::size_t>(i + 1)];
+        const int c = t[static_cast<std::size_t>(j)], e = t[static_cast<std::size_t>((j + 1) % n)];
+        if (a == e) continue;
+        if (d(a, c) + d(b, e) < d(a, b) + d(c, e) - 1e-12) {
+          std::reverse(t.begin() + i + 1, t.begin() + j + 1);
+          improved = true;
+        }
+      }
+  }
+  return t;
+}
+
+}  // namespace
+
+TEST(Som, FourCornersOfASquareGiveThePerimeter) {
+  const std::vector<mp::Vec2> sq{{0, 0}, {10, 10}, {10, 0}, {0, 10}};
+  for (std::uint64_t seed : {1ULL, 2ULL, 3ULL, 99ULL}) {
+    const auto r = mp::som_tour(sq, {.seed = seed});
+    ASSERT_TRUE(mp::is_permutation_of(r.order, 4));
+    EXPECT_NEAR(mp::tour_length(sq, r.order, true), 40.0, 1e-9) << "seed " << seed;
+    EXPECT_TRUE(r.converged);
+  }
+}
+
+TEST(Som, TwentyPointsOnACircleGiveThePolygon) {
+  std::vector<mp::Vec2> pts;
+  // Shuffled input order, so that the identity order is not the answer.
+  for (int k = 0; k < 20; ++k) {
+    const double t = 2 * std::numbers::pi * ((k * 7) % 20) / 20.0;
+    pts.emplace_back(50 + 30 * std::cos(t), 20 + 30 * std::sin(t));
+  }
+  const double polygon = 20 * 2 * 30 * std::sin(std::numbers::pi / 20);
+  for (std::uint64_t seed : {1ULL, 5ULL, 1234ULL}) {
+    const auto r = mp::som_tour(pts, {.seed = seed});
+    ASSERT_TRUE(mp::is_permutation_of(r.order, 20));
+    EXPECT_NEAR(mp::tour_length(pts, r.order, true), polygon, 1e-9) << "seed " << seed;
+  }
+}
+
+TEST(Som, FixedSeedGivesTheSameTour) {
+  const auto pts = random_points(300, 42, 100);
+  const auto a = mp::som_tour(pts, {.seed = 7});
+  const auto b = mp::som_tour(pts, {.seed = 7});
+  EXPECT_EQ(a.order, b.order);
+  EXPECT_EQ(a.passes, b.passes);
+}
+
+TEST(Som, EverySeedGivesAPermutation) {
+  const auto pts = random_points(150, 3, 50);
+  bool some_differ = false;
+  const auto ref = mp::som_tour(pts, {.seed = 1});
+  for (std::uint64_t seed = 2; seed < 8; ++seed) {
+    const auto r = mp::som_tour(pts, {.seed = seed});
+    ASSERT_TRUE(mp::is_permutation_of(r.order, pts.size())) << "seed " << seed;
+    some_differ = some_differ || r.order != ref.order;
+  }
+  EXPECT_TRUE(some_differ);  // the seed does reach the ring phase and the city order
+}
+
+TEST(Som, GridPointsWithDuplicatesAndALineStayPermutations) {
+  std::vector<mp::Vec2> line;
+  for (int k = 0; k < 50; ++k) line.emplace_back(k * 5.0, 0.0);  // zero-height bounding box
+  auto r = mp::som_tour(line, {});
+  ASSERT_TRUE(mp::is_permutation_of(r.order, 50));
+  EXPECT_NEAR(mp::tour_length(line, r.order, true), 2 * 245.0, 1e-9);  // there and back
+  std::vector<mp::Vec2> dup{{0, 0}, {0, 0}, {1, 0}, {1, 0}, {0, 1}};
+  r = mp::som_tour(dup, {.max_passes = 50});
+  EXPECT_TRUE(mp::is_permutation_of(r.order, 5));
+}
+
+TEST(Som, Random200WithinFifteenPercentOfTwoOpt) {
+  // Seeds printed for reproduction: points 2024 + k, SOM seed 1.
+  for (std::uint64_t k = 0; k < 3; ++k) {
+    const auto pts = random_points(200, 2024 + k, 100);
+    const auto r = mp::som_tour(pts, {.seed = 1});
+    ASSERT_TRUE(mp::is_permutation_of(r.order, 200));
+    const double som = mp::tour_length(pts, r.order, true);
+    const double opt = mp::tour_length(pts, two_opt(pts), true);
+    EXPECT_LE(som, 1.15 * opt) << "points seed " << 2024 + k << ": SOM " << som << " 2-opt " << opt;
+  }
+}
+
+TEST(Som, WeightedCompetitionAndAdaptiveAlphaStayValid) {
+  const auto pts = random_points(200, 11, 80);
+  const auto r = mp::som_tour(pts, {.adaptive_alpha = true, .k_scale_mm = 100.0, .w = 3.0, .seed = 5});
+  EXPECT_TRUE(mp::is_permutation_of(r.order, 200));
+  EXPECT_GT(r.passes, 1);
+}
+
+TEST(Som, BadParametersThrow) {
+  const auto pts = random_points(10, 1, 10);
+  EXPECT_THROW((void)mp::som_tour(pts, {.alpha = 1.5}), millnet::Error);
+  EXPECT_THROW((void)mp::som_tour(pts, {.w = 0}), millnet::Error);
+  EXPECT_THROW((void)mp::som_tour(pts, {.node_factor = 0.5}), millnet::Error);
+  std::vector<mp::Vec2> nan{{0, 0}, {std::nan(""), 1}};
+  EXPECT_THROW((void)mp::som_tour(nan, {}), millnet::Error);
+}
