@@ -1,9 +1,17 @@
 #pragma once
 // Augmented variants of a part (Korosec & Kopac: each model rotated through a list of angles, and
 // the same again after turning it by 180°). A Variant is a recipe; apply() makes the mesh.
+//
+// The paper's counts do not agree ("ten rotations", "20 additional sub-models", "24 vectors per
+// model" for −50°…+50° in 10° steps). Our reading, and the default: the 11 angles −50, −40, …, +50
+// (0 included, so the unrotated part is one of them) about X, and the same 11 after the 180° turn,
+// i.e. 22 variants (vectors) per part. "Turned upside down" would put a mould part's flat base on
+// top and sample nothing but a plane, so the 180° turn is about the up axis Z (the part keeps
+// facing the tool, its features swap ends); rotations about X then tilt it by ≤ 50°.
 #include "millnet/ingest/mesh.hpp"
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace millnet::augment {
@@ -26,10 +34,12 @@ struct AugmentParams {
   [[nodiscard]] static AugmentParams defaults();
 };
 
-/// Variants in a fixed, documented order: flip ∈ {false, true} × axes × angles.
+/// Variants in a fixed, documented order: flip ∈ {false, true} × axes × angles (outermost first).
+/// Throws millnet::Error when angles_deg or axes is empty or an angle is not finite.
 [[nodiscard]] std::vector<Variant> make_variants(const std::string& source, const AugmentParams& params);
 
-/// The rotated/flipped mesh (rotation about the part's bounding-box centre; result is not recentred).
+/// The rotated/flipped mesh: p' = R_axis(angle)·R_z(180° if flip)·(p − c) + c, c = the part's
+/// bounding-box centre (result is not recentred; sampling uses its own footprint). O(#V).
 [[nodiscard]] ingest::Mesh apply(const ingest::Mesh& mesh, const Variant& variant);
 
 }  // namespace millnet::augment

@@ -27,7 +27,18 @@ struct HeightField {
   [[nodiscard]] double height() const { return step_y * (ny - 1); }
 };
 
-/// Rasterizes the top surface at `raster_mm` spacing (> 0) over the mesh's XY bounding rectangle.
+/// Rasterizes the top surface at `raster_mm` spacing (> 0) over the mesh's XY bounding rectangle
+/// (bounds of all of V). Rules, so that results are exact and reproducible:
+///  * a raster point is covered by a triangle when it lies inside its XY projection or within
+///    tol::raster_edge_eps raster steps outside an edge (inclusive: points exactly on shared
+///    edges and vertices are always hit); its z is the plane's z there, clamped to the triangle's
+///    z range; the highest z over all triangles is kept;
+///  * a triangle that is vertical in XY (tol::vertical_triangle_rel) contributes its edges, so a
+///    raster point exactly under a vertical wall takes the wall's top z;
+///  * raster points hit by no triangle get z_min (the lowest vertex z) and hit = 0;
+///  * OpenMP over bands of 16 rows, each owned by one thread: bitwise identical results for any
+///    thread count. Cost O(#V + #F + Σ raster points in each triangle's XY bounding box).
+/// Throws millnet::Error for an invalid mesh (see validate()) or a raster of more than 4·10⁸ points.
 [[nodiscard]] HeightField rasterize_top(const Mesh& mesh, double raster_mm);
 
 /// Same, over an explicit rectangle [x0, x0 + (nx−1)·step] × [y0, y0 + (ny−1)·step] (used for
@@ -36,12 +47,17 @@ struct HeightField {
 
 /// n×n model grid: heights in mm above the part's lowest point, rows = y (min y first), cols = x;
 /// spans the footprint rectangle corner to corner. Bilinear interpolation of the raster.
+/// Non-square footprints: the grid is stretched to n×n (grid column c sits at
+/// x = x0 + c·width/(n−1), row r at y = y0 + r·height/(n−1)), as the paper clips each model to its
+/// rectangle; the side lengths stay in footprint_x/footprint_y so that a/b can be an extra feature.
 struct Grid {
   Eigen::MatrixXd h;              ///< n×n
   double footprint_x = 0;         ///< mm, width of the footprint rectangle (a)
   double footprint_y = 0;         ///< mm, height (b); a/b is kept as an extra feature
 };
 
+/// n ≥ 2; O(n²). Grid point (r, c) interpolates the raster at fractional index
+/// (r·(ny−1)/(n−1), c·(nx−1)/(n−1)); h = z − field.z_min. Throws millnet::Error for n < 2.
 [[nodiscard]] Grid resample(const HeightField& field, int n);
 
 /// rasterize_top + resample.

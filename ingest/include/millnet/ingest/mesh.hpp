@@ -23,6 +23,16 @@ enum class Units { mm, inch, m };
 [[nodiscard]] Units parse_units(std::string_view s);
 [[nodiscard]] double units_to_mm(Units u);  ///< 1, 25.4, 1000
 
+/// The file's axis that points at the tool. Auto picks the face the part is machined from, for
+/// mould-like parts that sit on a flat base (rule, see choose_up()):
+///  1. for each candidate d in the order +Z, −Z, +Y, −Y, +X, −X: base(d) = area of the triangles
+///     facing −d (normal within tol::auto_up_flat_deg) lying on the lowest plane along d (within
+///     tol::auto_up_plane_mm); cap(d) = the same on the highest plane facing +d;
+///  2. score(d) = base(d) − cap(d): a flat base under a non-flat working face scores high, while
+///     a block's side walls (flat on both ends) score 0;
+///  3. the largest score wins (ties: the earlier candidate); when no score is > 0 (open surfaces,
+///     spheres), the direction with the largest projected area of triangles facing it wins
+///     (normals from the winding), again +Z first on ties.
 enum class Up { PosZ, NegZ, PosY, NegY, PosX, NegX, Auto };
 /// "+z" | "-z" | "+y" | "-y" | "+x" | "-x" | "auto" (also "z" = "+z").
 [[nodiscard]] Up parse_up(std::string_view s);
@@ -54,6 +64,15 @@ struct PrepareOptions {
 
 /// Applies units, turns the chosen up axis onto +Z (a proper rotation, det = +1), recentres.
 [[nodiscard]] Mesh prepare(const Mesh& raw, const PrepareOptions& options, MeshReport* report = nullptr);
+
+/// Resolves Up::Auto for `mesh` by the rule above (other values are returned unchanged).
+/// O(#F). `mesh` should be valid (see validate()).
+[[nodiscard]] Up choose_up(const Mesh& mesh, Up requested = Up::Auto);
+
+/// The proper rotation (det = +1) that turns the file axis `up` onto +Z (Up::Auto not allowed).
+///   +Z: identity; −Z: 180° about X; +Y: +90° about X; −Y: −90° about X; +X: −90° about Y;
+///   −X: +90° about Y.
+[[nodiscard]] Eigen::Matrix3d up_rotation(Up up);
 
 /// Axis-aligned bounds, mm.
 struct Box3 {

@@ -1,0 +1,137 @@
+#include "millnet/ingest/pointcloud.hpp"
+
+#include "millnet/core/error.hpp"
+#include "millnet/ingest/tolerances.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <array>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <utility>
+
+namespace millnet::ingest {
+
+namespace {
+
+// Distinct values of a sorted list, merging runs closer than `tol`. O(n).
+std::vector<double> distinct(std::vector<double> v, double tol) {
+  std::sort(v.begin(), v.end());
+  std::vector<double> out;
+  for (double x : v)
+    if (out.empty() || x - out.back() > tol) out.push_back(x);
+  return out;
+}
+
+std::size_t nearest(const std::vector<double>& lines, double x) {
+  const auto it = std::lower_bound(lines.begin(), lines.end(), x);
+  if (it == lines.end()) return lines.size() - 1;
+  const auto k = static_cast<std::size_t>(it - lines.begin());
+  if (k > 0 && x - lines[k - 1] < *it - x) return k - 1;
+  return k;
+}
+
+}  // namespace
+
+Mesh triangulate_height_field(const Vertices& points, const std::string& source) {
+  const auto np = static_cast<std::size_t>(points.rows());
+  if (np < 3) throw Error(source + ": a point cloud needs at least 3 points, found " + std::to_string(np));
+  const Eigen::Vector3d lo = points.colwise().minCoeff().transpose(), hi = points.colwise().maxCoeff().transpose();
+  const double extent = std::max(hi.x() - lo.x(), hi.y() - lo.y());
+  if (!(extent > 0)) throw Error(source + ": all points of the cloud have the same XY position");
+  const double tol_xy = tol::cloud_raster_rel * extent;
+
+  // Regular raster? Every point snaps to a (column, row) of the distinct x and y lines. O(P log P).
+  std::vector<double> xs(np), ys(np);
+  for (std::size_t k = 0; k < np; ++k) {
+    xs[k] = points(static_cast<Eigen::Index>(k), 0);
+    ys[k] = points(static_cast<Eigen::Index>(k), 1);
+  }
+  const std::vector<double> cx = distinct(xs, tol_xy), cy = distinct(ys, tol_xy);
+  Mesh m;
+  if (cx.size() >= 2 && cy.size() >= 2 && cx.size() * cy.size() <= 4 * np) {
+    const std::size_t nxl = cx.size(), nyl = cy.size();
+    std::vector<double> top(nxl * nyl, -std::numeric_limits<double>::infinity());
+    bool on_lines = true;
+    for (std::size_t k = 0; k < np && on_lines; ++k) {
+      const std::size_t j = nearest(cx, xs[k]), i = nearest(cy, ys[k]);
+      if (std::abs(cx[j] - xs[k]) > tol_xy || std::abs(cy[i] - ys[k]) > tol_xy) on_lines = false;
+      double& t = top[i * nxl + j];
+      t = std::max(t, points(static_cast<Eigen::Index>(k), 2));
+    }
+    const bool complete = on_lines && std::all_of(top.begin(), top.end(), [](double z) { return std::isfinite(z); });
+    if (complete) {
+      m.V.resize(static_cast<Eigen::Index>(nxl * nyl), 3);
+      for (std::size_t i = 0; i < nyl; ++i)
+        for (std::size_t j = 0; j < nxl; ++j) {
+          const auto r = static_cast<Eigen::Index>(i * nxl + j);
+          m.V.row(r) << cx[j], cy[i], top[i * nxl + j];
+        }
+      m.F.resize(static_cast<Eigen::Index>(2 * (nxl - 1) * (nyl - 1)), 3);
+      Eigen::Index f = 0;
+      for (std::size_t i = 0; i + 1 < nyl; ++i)
+        for (std::size_t j = 0; j + 1 < nxl; ++j) {
+          const auto a = static_cast<std::int32_t>(i * nxl + j), b = a + 1;
+          const auto c = static_cast<std::int32_t>((i + 1) * nxl + j), d = c + 1;
+          m.F.row(f++) << a, b, d;
+          m.F.row(f++) << a, d, c;
+        }
+      return m;
+    }
+  }
+
+  // Scattered points: Delaunay in XY on coordinates centred and scaled to [0, 1e4] (Subdiv2D is
+  // float; centring first keeps far-away clouds precise). Duplicate XY keeps the highest z.
+  const double scale = 1e4 / extent;
+  std::map<std::pair<float, float>, std::size_t> key_to_vertex;
+  std::vector<cv::Point2f> uniq;
+  std::vector<std::size_t> uniq_src;
+  for (std::size_t k = 0; k < np; ++k) {
+    const cv::Point2f q(static_cast<float>((xs[k] - lo.x()) * scale), static_cast<float>((ys[k] - lo.y()) * scale));
+    const auto [it, inserted] = key_to_vertex.try_emplace({q.x, q.y}, uniq.size());
+    if (inserted) {
+      uniq.push_back(q);
+      uniq_src.push_back(k);
+    } else if (points(static_cast<Eigen::Index>(k), 2) > points(static_cast<Eigen::Index>(uniq_src[it->second]), 2)) {
+      uniq_src[it->second] = k;
+    }
+  }
+  if (uniq.size() < 3) throw Error(source + ": fewer than 3 distinct XY positions in the point cloud");
+  cv::Subdiv2D subdiv(cv::Rect(-10, -10, 10020, 10020));
+  subdiv.insert(uniq);
+  std::vector<cv::Vec6f> tris;
+  subdiv.getTriangleList(tris);
+  std::vector<std::array<std::int32_t, 3>> faces;
+  faces.reserve(tris.size());
+  for (const cv::Vec6f& t : tris) {
+    std::array<std::int32_t, 3> idx{};
+    bool real = true;
+    for (int k = 0; k < 3 && real; ++k) {
+      const auto it = key_to_vertex.find({t[2 * k], t[2 * k + 1]});
+      if (it == key_to_vertex.end()) real = false;  // a corner of Subdiv2D's outer triangle
+      else idx[static_cast<std::size_t>(k)] = static_cast<std::int32_t>(it->second);
+    }
+    if (!real) continue;
+    const cv::Point2f& a = uniq[static_cast<std::size_t>(idx[0])];
+    const cv::Point2f& b = uniq[static_cast<std::size_t>(idx[1])];
+    const cv::Point2f& c = uniq[static_cast<std::size_t>(idx[2])];
+    const double ax = static_cast<double>(a.x), ay = static_cast<double>(a.y);
+    const double cr = (static_cast<double>(b.x) - ax) * (static_cast<double>(c.y) - ay) -
+                      (static_cast<double>(b.y) - ay) * (static_cast<double>(c.x) - ax);
+    if (cr == 0) continue;
+    if (cr < 0) std::swap(idx[1], idx[2]);  // CCW seen from +Z
+    faces.push_back(idx);
+  }
+  if (faces.empty()) throw Error(source + ": the point cloud's XY positions are collinear (no triangles)");
+  m.V.resize(static_cast<Eigen::Index>(uniq.size()), 3);
+  for (std::size_t k = 0; k < uniq.size(); ++k) m.V.row(static_cast<Eigen::Index>(k)) = points.row(static_cast<Eigen::Index>(uniq_src[k]));
+  m.F.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  for (std::size_t k = 0; k < faces.size(); ++k)
+    m.F.row(static_cast<Eigen::Index>(k)) << faces[k][0], faces[k][1], faces[k][2];
+  return m;
+}
+
+}  // namespace millnet::ingest
