@@ -1,0 +1,50 @@
+#pragma once
+// Building a model-vector table from a recipe: for each part, load_mesh → prepare → for each
+// augmented variant apply → sample_grid → one row. All-or-nothing: a part that cannot be loaded or
+// sampled aborts the build with an error naming its file (a training set silently missing a part
+// would train a different classifier than the one asked for).
+#include "millnet/augment/variants.hpp"
+#include "millnet/core/progress.hpp"
+#include "millnet/datasets/generator.hpp"
+#include "millnet/datasets/table.hpp"
+#include "millnet/ingest/mesh.hpp"
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace millnet::datasets {
+
+struct PartSpec {
+  std::filesystem::path file;   ///< mesh file (any format ingest::load_mesh reads)
+  int label = 0;                ///< 1..8, 0 = unknown
+  std::string name;             ///< source name in the table; empty ⇒ the file's stem
+};
+
+/// The plain-struct form of a dataset recipe (the CLI parses datasets/recipe.json into it).
+struct Recipe {
+  std::vector<PartSpec> parts;
+  ingest::Units units = ingest::Units::mm;
+  ingest::Up up = ingest::Up::PosZ;
+  double raster_mm = 1.0;                     ///< > 0
+  int grid = 15;                              ///< n of the n×n grid, ≥ 2
+  augment::AugmentParams augment = augment::AugmentParams::defaults();
+  StrategyNames strategies = default_strategy_names();
+  bool aspect_feature = false;                ///< add the `aspect` column
+  std::optional<GenerateParams> generate;     ///< echoed in the manifest when the parts were generated
+};
+
+/// Parts of generate_default_parts as recipe parts.
+[[nodiscard]] std::vector<PartSpec> to_part_specs(const std::vector<GeneratedPart>& parts);
+
+/// The recipe as JSON text in the recipe.json shape (for the manifest's config echo).
+[[nodiscard]] std::string recipe_json(const Recipe& recipe);
+
+/// Builds the table. Rows are ordered part by part, variants in augment::make_variants order;
+/// ids are "<name>#<k>" (k = 1-based variant index). OpenMP over (part, variant) pairs with results
+/// placed by index: identical table for any thread count. `progress` (done, total rows) is called
+/// from serial code only. Throws millnet::Error naming the part file. O(rows · (triangles + raster)).
+[[nodiscard]] Table build_table(const Recipe& recipe, const ProgressFn& progress = {});
+
+}  // namespace millnet::datasets

@@ -1,0 +1,63 @@
+#pragma once
+// The default training set: parametric mould-like parts in five families, one per named strategy,
+// each family the textbook geometric reason for its strategy (see datasets/README.md):
+//   1 profile + Z finishing, slope mode     — flat areas with steep walls (stepped plateaus, pads)
+//   2 3D/profile finishing                   — gentle free-form (broad low bumps, saddle)
+//   3 profile finishing, scallop-height mode — varying curvature (ridges from sharp to flat)
+//   4 Z-level finishing                      — steep walls / deep cavities (deep pockets, tall boss)
+//   5 profile finishing, equidistant         — shallow uniform slopes (planes, roofs, gentle cones)
+// Every part is a closed, consistently oriented height-field solid in mm: a top surface over the
+// rectangle [0,a]×[0,b] (a, b in 80–150 mm), vertical side walls and a flat bottom at z = 0.
+// Mesh layout (relied on by tests): the first res_x·res_y vertices are the top grid, row-major,
+// vertex (i, j) at x = a·j/(res_x−1), y = b·i/(res_y−1).
+#include "millnet/ingest/mesh.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace millnet::datasets {
+
+enum class Family : int {
+  SteepPlateaus = 1,     ///< strategy 1
+  GentleFreeForm = 2,    ///< strategy 2
+  VaryingCurvature = 3,  ///< strategy 3
+  DeepCavity = 4,        ///< strategy 4
+  ShallowSlopes = 5,     ///< strategy 5
+};
+inline constexpr int kFamilies = 5;
+
+/// "steep_plateaus", "gentle_freeform", "varying_curvature", "deep_cavity", "shallow_slopes".
+[[nodiscard]] std::string family_name(Family f);
+
+struct GeneratedMesh {
+  ingest::Mesh mesh;
+  int res_x = 0, res_y = 0;   ///< top-grid vertices along x and y
+  double a = 0, b = 0;        ///< footprint, mm
+  std::string kind;           ///< sub-type within the family (e.g. "pocket", "boss", "roof")
+};
+
+struct GenerateParams {
+  std::uint64_t seed = 7;
+  int per_family = 6;         ///< parts per family (≥ 1)
+  int resolution = 110;       ///< top-grid vertices per side (≥ 8): 110 ⇒ ~25k triangles per part
+};
+
+/// One part of a family, deterministic in (family, index, seed). index ≥ 0 selects the sub-type
+/// (index mod the family's kinds) and, with the seed, the parameters. O(resolution²).
+[[nodiscard]] GeneratedMesh make_part(Family family, int index, std::uint64_t seed, int resolution = 110);
+
+/// A generated part as listed in <dir>/parts.csv.
+struct GeneratedPart {
+  std::string name;           ///< e.g. "s4_deep_cavity_03"
+  std::filesystem::path file; ///< absolute or as <dir>/<name>.stl
+  int label = 0;              ///< strategy slot 1..5
+};
+
+/// Writes per_family parts of every family as binary STL (<dir>/<name>.stl, atomically) and
+/// <dir>/parts.csv ("name,file,label", file relative to dir); returns the list in family order.
+/// Same params ⇒ identical bytes. O(families · per_family · resolution²).
+std::vector<GeneratedPart> generate_default_parts(const std::filesystem::path& dir, const GenerateParams& params = {});
+
+}  // namespace millnet::datasets

@@ -1,0 +1,98 @@
+#pragma once
+// The model-vector table (Korosec & Kopac §3.5): one row per augmented variant of a part, n×n grid
+// heights as inputs (n = 15 in the paper: 225 inputs) and 8 one-hot strategy outputs.
+//
+// On disk (ARCHITECTURE.md "Formats"): <dir>/vectors.csv + <dir>/manifest.json.
+//   CSV header, exactly:  id,source,label,axis,angle,flip,in_1_1,…,in_n_n,out_1,…,out_8[,aspect]
+//   * in_<r>_<c>: height in mm above the variant's lowest point at grid row r (r = 1 at min y) and
+//     column c (c = 1 at min x), 1-based; the grid spans the footprint rectangle corner to corner.
+//   * out_k: 1 for the labelled strategy, 0 elsewhere (all 0 when the label is unknown).
+//   * label: 1-based strategy slot, 0 = unknown; axis: x|y|z; angle: degrees; flip: 0|1.
+//   * aspect (optional, last): footprint a/b = width along x / width along y of the variant. An
+//     extra feature kept apart from the in_* columns; the classifier uses only in_* unless told.
+//   * numbers are written in the shortest text that reads back to the same double (bit for bit);
+//     text fields are quoted (RFC 4180) when they contain a comma or a quote.
+#include "millnet/augment/variants.hpp"
+#include "millnet/datasets/tolerances.hpp"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace millnet::datasets {
+
+using StrategyNames = std::array<std::string, kStrategySlots>;
+
+/// The paper's five strategies in slots 1..5, and "spare 6".."spare 8".
+[[nodiscard]] StrategyNames default_strategy_names();
+
+/// One model vector.
+struct Row {
+  std::string id;                       ///< unique within the table, e.g. "s1_steep_plateaus_01#7"
+  std::string source;                   ///< part name the vector came from (leave-one-part-out groups by it)
+  int label = 0;                        ///< 1..8, 0 = unknown
+  augment::Axis axis = augment::Axis::X;
+  double angle_deg = 0;
+  bool flip = false;
+  std::vector<double> inputs;           ///< n·n heights, mm, row-major (row = y): inputs[(r−1)·n + (c−1)]
+  std::array<double, kStrategySlots> outputs{};  ///< one-hot over the 8 slots
+  double aspect = 0;                    ///< footprint a/b (only meaningful when Table::has_aspect)
+};
+
+/// A part file that went into a table (echoed in the manifest with its hash).
+struct SourceFile {
+  std::string name;
+  std::string file;                     ///< as given in the recipe
+  int label = 0;
+  std::uint64_t fnv1a64 = 0;            ///< of the file's bytes
+  std::uintmax_t bytes = 0;
+  std::size_t triangles = 0;
+  std::size_t degenerate_triangles = 0;
+};
+
+struct Table {
+  int grid_n = 15;                      ///< inputs per row = grid_n²
+  bool has_aspect = false;              ///< write/read the optional `aspect` column
+  StrategyNames strategies = default_strategy_names();
+  std::vector<Row> rows;
+  // Provenance, written to the manifest (not to the CSV; empty after read_table).
+  std::vector<SourceFile> sources;
+  std::string config_json;              ///< JSON text echoed as manifest "config" (must be valid JSON; empty ⇒ null)
+
+  [[nodiscard]] std::size_t inputs_per_row() const { return static_cast<std::size_t>(grid_n) * static_cast<std::size_t>(grid_n); }
+  /// N×n² inputs (row i = rows[i]).
+  [[nodiscard]] Eigen::MatrixXd inputs_matrix() const;
+  /// N×8 outputs.
+  [[nodiscard]] Eigen::MatrixXd outputs_matrix() const;
+  /// Part name of each row (groups for leave-one-part-out).
+  [[nodiscard]] std::vector<std::string> row_sources() const;
+};
+
+/// The CSV header's column names for grid n (with `aspect` last when asked).
+[[nodiscard]] std::vector<std::string> column_names(int grid_n, bool with_aspect);
+
+/// One-hot output for a 1-based label (all zeros for 0). Throws millnet::Error outside 0..8.
+[[nodiscard]] std::array<double, kStrategySlots> one_hot(int label);
+
+/// Writes <dir>/vectors.csv then <dir>/manifest.json, each atomically (temporary file + rename; a
+/// failure leaves no partial file). Creates dir. The manifest holds: format + program version,
+/// grid, counts (rows, parts, rows per label), strategy names, the config echo, the source files
+/// with FNV-1a 64 hashes, and the hash of vectors.csv itself. Throws millnet::Error.
+/// O(rows · n²).
+void write_table(const Table& table, const std::filesystem::path& dir);
+
+/// The CSV text write_table writes (exposed for hashing and tests).
+[[nodiscard]] std::string table_csv(const Table& table);
+
+/// Reads a vectors.csv (the strategy names are the defaults: names live in the manifest). Errors
+/// name "<file>:<line>: what", with the column name for a bad value: wrong/missing/unexpected
+/// header column, wrong field count, non-number or non-finite value, label outside 0..8, a label
+/// that disagrees with the one-hot outputs, axis not x|y|z, flip not 0|1, duplicate id, no rows.
+/// O(file size).
+[[nodiscard]] Table read_table(const std::filesystem::path& csv_path);
+
+}  // namespace millnet::datasets

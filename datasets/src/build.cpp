@@ -1,0 +1,185 @@
+#include "millnet/datasets/build.hpp"
+
+#include "json_text.hpp"
+#include "millnet/core/error.hpp"
+#include "millnet/datasets/hash.hpp"
+#include "millnet/ingest/heightfield.hpp"
+#include "millnet/ingest/mesh_io.hpp"
+
+#include <set>
+
+namespace millnet::datasets {
+namespace fs = std::filesystem;
+using detail::json_number;
+using detail::json_string;
+
+namespace {
+
+// Parts whose triangles add up to this many are held in memory at once; their (part, variant)
+// pairs form one parallel batch. Bounds memory for large libraries (~100 bytes per triangle).
+constexpr std::size_t kBatchTriangles = 4'000'000;
+
+std::string units_name(ingest::Units u) {
+  switch (u) {
+    case ingest::Units::mm: return "mm";
+    case ingest::Units::inch: return "inch";
+    case ingest::Units::m: return "m";
+  }
+  return "mm";
+}
+
+std::string part_name(const PartSpec& p) { return p.name.empty() ? p.file.stem().string() : p.name; }
+
+// Errors from ingest usually start with the path already; add it only when they do not.
+Error part_error(const PartSpec& p, const std::string& what) {
+  const std::string file = p.file.string();
+  if (what.rfind(file, 0) == 0) return Error("part '" + part_name(p) + "': " + what);
+  return Error("part '" + part_name(p) + "': " + file + ": " + what);
+}
+
+struct Loaded {
+  ingest::Mesh mesh;
+  std::vector<augment::Variant> variants;
+  std::size_t first_row = 0;
+};
+
+}  // namespace
+
+std::vector<PartSpec> to_part_specs(const std::vector<GeneratedPart>& parts) {
+  std::vector<PartSpec> specs;
+  specs.reserve(parts.size());
+  for (const auto& p : parts) specs.push_back({p.file, p.label, p.name});
+  return specs;
+}
+
+std::string recipe_json(const Recipe& r) {
+  std::string j = "{\"parts\": [";
+  for (std::size_t k = 0; k < r.parts.size(); ++k)
+    j += (k ? ", " : "") + std::string("{\"file\": ") + json_string(r.parts[k].file.generic_string()) +
+         ", \"label\": " + std::to_string(r.parts[k].label) + ", \"name\": " + json_string(part_name(r.parts[k])) + "}";
+  j += "], \"units\": " + json_string(units_name(r.units)) + ", \"up\": " + json_string(ingest::to_string(r.up)) +
+       ", \"raster_mm\": " + json_number(r.raster_mm, "raster_mm") + ", \"grid\": " + std::to_string(r.grid) +
+       ", \"augment\": {\"angles_deg\": [";
+  for (std::size_t k = 0; k < r.augment.angles_deg.size(); ++k)
+    j += (k ? ", " : "") + json_number(r.augment.angles_deg[k], "augment.angles_deg");
+  j += "], \"axes\": [";
+  for (std::size_t k = 0; k < r.augment.axes.size(); ++k)
+    j += (k ? ", \"" : "\"") + std::string(1, augment::to_char(r.augment.axes[k])) + "\"";
+  j += std::string("], \"flip\": ") + (r.augment.flip ? "true" : "false") + "}, \"strategies\": [";
+  for (std::size_t k = 0; k < kStrategySlots; ++k) j += (k ? ", " : "") + json_string(r.strategies[k]);
+  j += std::string("], \"aspect_feature\": ") + (r.aspect_feature ? "true" : "false");
+  if (r.generate)
+    j += ", \"generate\": {\"seed\": " + std::to_string(r.generate->seed) + ", \"per_family\": " +
+         std::to_string(r.generate->per_family) + ", \"resolution\": " + std::to_string(r.generate->resolution) + "}";
+  return j + "}";
+}
+
+Table build_table(const Recipe& recipe, const ProgressFn& progress) {
+  if (recipe.parts.empty()) throw Error("dataset recipe: no parts");
+  if (!(recipe.raster_mm > 0)) throw Error("dataset recipe: raster_mm must be > 0, got " + format_double(recipe.raster_mm));
+  if (recipe.grid < 2) throw Error("dataset recipe: grid must be ≥ 2, got " + std::to_string(recipe.grid));
+  std::set<std::string> names;
+  for (const auto& p : recipe.parts) {
+    if (p.label < 0 || p.label > static_cast<int>(kStrategySlots))
+      throw Error("dataset recipe: part " + p.file.string() + ": label " + std::to_string(p.label) + " outside 0..8");
+    if (!names.insert(part_name(p)).second)
+      throw Error("dataset recipe: two parts are named '" + part_name(p) + "' (names group the variants of one part)");
+  }
+
+  Table t;
+  t.grid_n = recipe.grid;
+  t.has_aspect = recipe.aspect_feature;
+  t.strategies = recipe.strategies;
+  t.config_json = recipe_json(recipe);
+  const auto n = static_cast<Eigen::Index>(recipe.grid);
+  const std::size_t m = t.inputs_per_row();
+
+  std::vector<std::vector<augment::Variant>> variants;
+  std::size_t total = 0;
+  for (const auto& p : recipe.parts) {
+    variants.push_back(augment::make_variants(part_name(p), recipe.augment));
+    if (variants.back().empty()) throw Error("dataset recipe: the augmentation gives no variants (no angles?)");
+    total += variants.back().size();
+  }
+  t.rows.resize(total);
+  std::size_t row_at = 0;
+  if (progress) progress(0, total);
+
+  ingest::PrepareOptions popts;
+  popts.units = recipe.units;
+  popts.up = recipe.up;
+  std::size_t next_part = 0;
+  while (next_part < recipe.parts.size()) {  // batches of parts: O(parts) iterations in all
+    // 1. Load serially (clear errors, bounded memory).
+    std::vector<Loaded> batch;
+    std::vector<std::size_t> batch_parts;
+    std::size_t triangles = 0;
+    while (next_part < recipe.parts.size() && (batch.empty() || triangles < kBatchTriangles)) {
+      const PartSpec& p = recipe.parts[next_part];
+      SourceFile src;
+      src.name = part_name(p);
+      src.file = p.file.generic_string();
+      src.label = p.label;
+      Loaded l;
+      try {
+        src.fnv1a64 = fnv1a64_file(p.file, &src.bytes);
+        ingest::MeshReport rep;
+        l.mesh = ingest::prepare(ingest::load_mesh(p.file, &rep), popts, &rep);
+        src.triangles = rep.triangles;
+        src.degenerate_triangles = rep.degenerate_triangles;
+      } catch (const std::exception& e) {
+        throw part_error(p, e.what());
+      }
+      l.variants = variants[next_part];
+      l.first_row = row_at;
+      row_at += l.variants.size();
+      triangles += static_cast<std::size_t>(l.mesh.F.rows());
+      t.sources.push_back(std::move(src));
+      batch.push_back(std::move(l));
+      batch_parts.push_back(next_part++);
+    }
+    // 2. (part, variant) pairs of the batch in parallel; each writes only its own row and error slot.
+    std::vector<std::pair<std::size_t, std::size_t>> tasks;
+    for (std::size_t b = 0; b < batch.size(); ++b)
+      for (std::size_t v = 0; v < batch[b].variants.size(); ++v) tasks.emplace_back(b, v);
+    std::vector<std::string> errors(tasks.size());
+    const auto n_tasks = static_cast<long>(tasks.size());
+#pragma omp parallel for schedule(dynamic, 1)
+    for (long k = 0; k < n_tasks; ++k) {  // O(tasks · (triangles + raster points))
+      const auto [b, v] = tasks[static_cast<std::size_t>(k)];
+      const Loaded& l = batch[b];
+      const PartSpec& p = recipe.parts[batch_parts[b]];
+      const augment::Variant& var = l.variants[v];
+      try {
+        const ingest::Grid g = ingest::sample_grid(augment::apply(l.mesh, var), recipe.raster_mm, recipe.grid);
+        if (g.h.rows() != n || g.h.cols() != n)
+          throw Error("sampler returned a " + std::to_string(g.h.rows()) + "×" + std::to_string(g.h.cols()) + " grid");
+        Row& r = t.rows[l.first_row + v];
+        r.id = part_name(p) + "#" + std::to_string(v + 1);
+        r.source = part_name(p);
+        r.label = p.label;
+        r.axis = var.axis;
+        r.angle_deg = var.angle_deg;
+        r.flip = var.flip;
+        r.inputs.resize(m);
+        for (Eigen::Index i = 0; i < n; ++i)  // row = y, col = x
+          for (Eigen::Index j = 0; j < n; ++j) r.inputs[static_cast<std::size_t>(i * n + j)] = g.h(i, j);
+        r.outputs = one_hot(p.label);
+        r.aspect = g.footprint_y > 0 ? g.footprint_x / g.footprint_y : 0.0;
+      } catch (const std::exception& e) {
+        errors[static_cast<std::size_t>(k)] = "variant " + std::to_string(v + 1) + " (axis " +
+                                              std::string(1, augment::to_char(var.axis)) + ", angle " +
+                                              format_double(var.angle_deg) + "°, flip " + (var.flip ? "1" : "0") +
+                                              "): " + e.what();
+      } catch (...) {
+        errors[static_cast<std::size_t>(k)] = "variant " + std::to_string(v + 1) + ": unknown error";
+      }
+    }
+    for (std::size_t k = 0; k < tasks.size(); ++k)  // first failure in index order: thread-count independent
+      if (!errors[k].empty()) throw part_error(recipe.parts[batch_parts[tasks[k].first]], errors[k]);
+    if (progress) progress(row_at, total);
+  }
+  return t;
+}
+
+}  // namespace millnet::datasets

@@ -1,0 +1,346 @@
+#include "millnet/datasets/table.hpp"
+
+#include "json_text.hpp"
+#include "millnet/core/atomic_file.hpp"
+#include "millnet/core/error.hpp"
+#include "millnet/datasets/hash.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <map>
+#include <set>
+#include <string_view>
+
+#ifndef MILLNET_VERSION
+#define MILLNET_VERSION "unknown"
+#endif
+
+namespace millnet::datasets {
+namespace fs = std::filesystem;
+using detail::json_number;
+using detail::json_string;
+
+namespace {
+
+constexpr const char* kFixedColumns[] = {"id", "source", "label", "axis", "angle", "flip"};
+constexpr std::size_t kFixed = 6;
+
+std::string csv_text_field(const std::string& s, const char* what) {
+  if (s.find_first_of("\r\n") != std::string::npos)
+    throw Error(std::string("table: ") + what + " '" + s + "' contains a line break");
+  if (s.find_first_of(",\"") == std::string::npos) return s;
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
+// Splits one CSV line (RFC 4180 quoting, no embedded line breaks). O(|line|).
+std::vector<std::string> split_csv(std::string_view line, const std::string& file, long lineno) {
+  std::vector<std::string> fields;
+  std::string cur;
+  std::size_t i = 0;
+  bool field_start = true;
+  while (true) {
+    if (field_start && i < line.size() && line[i] == '"') {
+      ++i;
+      while (true) {
+        if (i >= line.size()) throw line_error(file, lineno, "unterminated quoted field");
+        if (line[i] == '"') {
+          if (i + 1 < line.size() && line[i + 1] == '"') {
+            cur += '"';
+            i += 2;
+            continue;
+          }
+          ++i;
+          break;
+        }
+        cur += line[i++];
+      }
+      if (i < line.size() && line[i] != ',')
+        throw line_error(file, lineno, "text after a closing quote in field " + std::to_string(fields.size() + 1));
+    }
+    if (i >= line.size()) {
+      fields.push_back(std::move(cur));
+      return fields;
+    }
+    if (line[i] == ',') {
+      fields.push_back(std::move(cur));
+      cur.clear();
+      field_start = true;
+      ++i;
+      continue;
+    }
+    cur += line[i++];
+    field_start = false;
+  }
+}
+
+double parse_number(const std::string& s, const std::string& column, const std::string& file, long lineno) {
+  double v = 0;
+  const char* first = s.data();
+  const char* last = s.data() + s.size();
+  if (!s.empty() && *first == '+') ++first;  // from_chars refuses a leading '+', spreadsheets write it
+  const auto r = std::from_chars(first, last, v);
+  if (s.empty() || r.ec == std::errc::invalid_argument || r.ptr != last)
+    throw line_error(file, lineno, "column '" + column + "': '" + s + "' is not a number");
+  if (r.ec == std::errc::result_out_of_range)
+    throw line_error(file, lineno, "column '" + column + "': '" + s + "' is out of the range of a double");
+  if (!std::isfinite(v)) throw line_error(file, lineno, "column '" + column + "': '" + s + "' is not a finite number");
+  return v;
+}
+
+}  // namespace
+
+StrategyNames default_strategy_names() {
+  return {"profile + Z finishing, slope mode",
+          "3D/profile finishing",
+          "profile finishing, scallop-height mode",
+          "Z-level finishing",
+          "profile finishing, equidistant, constant in-feed",
+          "spare 6",
+          "spare 7",
+          "spare 8"};
+}
+
+std::array<double, kStrategySlots> one_hot(int label) {
+  if (label < 0 || label > static_cast<int>(kStrategySlots))
+    throw Error("label " + std::to_string(label) + " outside 0..8 (0 = unknown)");
+  std::array<double, kStrategySlots> out{};
+  if (label > 0) out[static_cast<std::size_t>(label - 1)] = 1.0;
+  return out;
+}
+
+Eigen::MatrixXd Table::inputs_matrix() const {
+  const auto m = inputs_per_row();
+  Eigen::MatrixXd X(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(m));
+  for (std::size_t i = 0; i < rows.size(); ++i) {  // O(N·n²)
+    MILLNET_ASSERT(rows[i].inputs.size() == m, "row input count");
+    for (std::size_t k = 0; k < m; ++k) X(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = rows[i].inputs[k];
+  }
+  return X;
+}
+
+Eigen::MatrixXd Table::outputs_matrix() const {
+  Eigen::MatrixXd Y(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(kStrategySlots));
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    for (std::size_t k = 0; k < kStrategySlots; ++k) Y(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = rows[i].outputs[k];
+  return Y;
+}
+
+std::vector<std::string> Table::row_sources() const {
+  std::vector<std::string> s;
+  s.reserve(rows.size());
+  for (const auto& r : rows) s.push_back(r.source);
+  return s;
+}
+
+std::vector<std::string> column_names(int grid_n, bool with_aspect) {
+  if (grid_n < 1) throw Error("table: grid n must be ≥ 1, got " + std::to_string(grid_n));
+  std::vector<std::string> cols(std::begin(kFixedColumns), std::end(kFixedColumns));
+  for (int r = 1; r <= grid_n; ++r)
+    for (int c = 1; c <= grid_n; ++c) cols.push_back("in_" + std::to_string(r) + "_" + std::to_string(c));
+  for (std::size_t k = 1; k <= kStrategySlots; ++k) cols.push_back("out_" + std::to_string(k));
+  if (with_aspect) cols.emplace_back("aspect");
+  return cols;
+}
+
+std::string table_csv(const Table& table) {
+  const auto cols = column_names(table.grid_n, table.has_aspect);
+  const std::size_t m = table.inputs_per_row();
+  std::string out;
+  out.reserve((table.rows.size() + 1) * (m + 16) * 8);
+  for (std::size_t k = 0; k < cols.size(); ++k) {
+    if (k) out += ',';
+    out += cols[k];
+  }
+  out += '\n';
+  std::set<std::string> ids;
+  for (const Row& r : table.rows) {  // O(N·n²)
+    if (r.inputs.size() != m)
+      throw Error("table: row '" + r.id + "' has " + std::to_string(r.inputs.size()) + " inputs, expected " + std::to_string(m));
+    if (r.label < 0 || r.label > static_cast<int>(kStrategySlots))
+      throw Error("table: row '" + r.id + "' has label " + std::to_string(r.label) + " outside 0..8");
+    if (!ids.insert(r.id).second) throw Error("table: duplicate row id '" + r.id + "'");
+    out += csv_text_field(r.id, "id");
+    out += ',';
+    out += csv_text_field(r.source, "source");
+    out += ',';
+    out += std::to_string(r.label);
+    out += ',';
+    out += augment::to_char(r.axis);
+    out += ',';
+    out += format_double(r.angle_deg);
+    out += r.flip ? ",1" : ",0";
+    for (const double v : r.inputs) {
+      out += ',';
+      out += format_double(v);
+    }
+    for (const double v : r.outputs) {
+      out += ',';
+      out += format_double(v);
+    }
+    if (table.has_aspect) {
+      out += ',';
+      out += format_double(r.aspect);
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+void write_table(const Table& table, const fs::path& dir) {
+  const std::string csv = table_csv(table);
+  std::map<int, std::size_t> per_label;
+  std::set<std::string> parts;
+  for (const Row& r : table.rows) {
+    ++per_label[r.label];
+    parts.insert(r.source);
+  }
+  std::string j = "{\n";
+  j += "  \"format\": \"millnet-vectors\",\n  \"format_version\": 1,\n";
+  j += "  \"program\": \"millnet\",\n  \"program_version\": " + json_string(MILLNET_VERSION) + ",\n";
+  j += "  \"csv\": \"vectors.csv\",\n";
+  j += "  \"csv_fnv1a64\": \"" + to_hex(fnv1a64(csv)) + "\",\n";
+  j += "  \"csv_bytes\": " + std::to_string(csv.size()) + ",\n";
+  j += "  \"grid\": " + std::to_string(table.grid_n) + ",\n";
+  j += "  \"inputs\": " + std::to_string(table.inputs_per_row()) + ",\n";
+  j += "  \"outputs\": " + std::to_string(kStrategySlots) + ",\n";
+  j += std::string("  \"aspect_column\": ") + (table.has_aspect ? "true" : "false") + ",\n";
+  j += "  \"counts\": {\"rows\": " + std::to_string(table.rows.size()) + ", \"parts\": " + std::to_string(parts.size()) +
+       ", \"rows_per_label\": {";
+  bool first = true;
+  for (const auto& [label, count] : per_label) {
+    j += (first ? "" : ", ") + json_string(std::to_string(label)) + ": " + std::to_string(count);
+    first = false;
+  }
+  j += "}},\n  \"strategies\": [";
+  for (std::size_t k = 0; k < kStrategySlots; ++k) j += (k ? ", " : "") + json_string(table.strategies[k]);
+  j += "],\n  \"hash\": \"fnv1a64\",\n  \"input_files\": [";
+  for (std::size_t k = 0; k < table.sources.size(); ++k) {
+    const SourceFile& s = table.sources[k];
+    j += (k ? ",\n    " : "\n    ");
+    j += "{\"name\": " + json_string(s.name) + ", \"file\": " + json_string(s.file) + ", \"label\": " +
+         std::to_string(s.label) + ", \"fnv1a64\": \"" + to_hex(s.fnv1a64) + "\", \"bytes\": " + std::to_string(s.bytes) +
+         ", \"triangles\": " + std::to_string(s.triangles) + ", \"degenerate_triangles\": " +
+         std::to_string(s.degenerate_triangles) + "}";
+  }
+  j += table.sources.empty() ? "],\n" : "\n  ],\n";
+  j += "  \"config\": " + (table.config_json.empty() ? std::string("null") : table.config_json) + "\n}\n";
+
+  // CSV first: a manifest never describes a CSV that is not there.
+  write_file_atomic(dir / "vectors.csv", csv);
+  write_file_atomic(dir / "manifest.json", j);
+}
+
+Table read_table(const fs::path& csv_path) {
+  const std::string file = csv_path.string();
+  const std::string text = read_file(csv_path);  // throws naming the file
+  Table t;
+  std::size_t pos = 0;
+  long lineno = 0;
+  std::vector<std::string> header;
+  std::size_t n_cols = 0, m = 0;
+  std::map<std::string, long> id_line;
+  while (pos < text.size()) {  // O(file size)
+    std::size_t eol = text.find('\n', pos);
+    if (eol == std::string::npos) eol = text.size();
+    std::string_view line(text.data() + pos, eol - pos);
+    pos = eol + 1;
+    ++lineno;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (lineno == 1 && line.size() >= 3 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);  // UTF-8 BOM
+    if (line.empty()) {
+      if (pos >= text.size()) break;  // final newline
+      throw line_error(file, lineno, "empty line");
+    }
+    auto fields = split_csv(line, file, lineno);
+    if (lineno == 1) {
+      header = std::move(fields);
+      for (std::size_t k = 0; k < kFixed; ++k) {
+        if (k >= header.size()) throw line_error(file, 1, std::string("header: missing column '") + kFixedColumns[k] + "'");
+        if (header[k] != kFixedColumns[k])
+          throw line_error(file, 1, "header: column " + std::to_string(k + 1) + " is '" + header[k] + "', expected '" +
+                                        kFixedColumns[k] + "'");
+      }
+      std::size_t k = kFixed;
+      while (k < header.size() && header[k].rfind("in_", 0) == 0) ++k;
+      m = k - kFixed;
+      const auto n = static_cast<int>(std::lround(std::sqrt(static_cast<double>(m))));
+      if (m == 0) throw line_error(file, 1, "header: missing column 'in_1_1'");
+      if (static_cast<std::size_t>(n) * static_cast<std::size_t>(n) != m) {
+        // Not a square grid: name the first in_* column that breaks the n×n pattern.
+        const bool missing = static_cast<std::size_t>(n) * static_cast<std::size_t>(n) > m;
+        const auto expect = column_names(n, false);
+        for (std::size_t c = kFixed; c < k; ++c)
+          if (c >= expect.size() - kStrategySlots || header[c] != expect[c])
+            throw line_error(file, 1, missing ? "header: missing column '" + expect[c] + "'"
+                                              : "header: unexpected column '" + header[c] + "'");
+        throw line_error(file, 1, "header: missing column '" + expect[k] + "'");
+      }
+      t.grid_n = n;
+      const bool aspect = header.back() == "aspect";
+      t.has_aspect = aspect;
+      const auto expect = column_names(n, aspect);
+      for (std::size_t c = 0; c < expect.size(); ++c) {
+        if (c >= header.size()) throw line_error(file, 1, "header: missing column '" + expect[c] + "'");
+        if (header[c] != expect[c])
+          throw line_error(file, 1, "header: column " + std::to_string(c + 1) + " is '" + header[c] + "', expected '" +
+                                        expect[c] + "'");
+      }
+      if (header.size() > expect.size())
+        throw line_error(file, 1, "header: unexpected column '" + header[expect.size()] + "'");
+      n_cols = header.size();
+      continue;
+    }
+    if (fields.size() != n_cols)
+      throw line_error(file, lineno, std::to_string(fields.size()) + " fields, expected " + std::to_string(n_cols) +
+                                         " (one per header column)");
+    Row r;
+    r.id = fields[0];
+    r.source = fields[1];
+    if (r.id.empty()) throw line_error(file, lineno, "column 'id': empty");
+    if (r.source.empty()) throw line_error(file, lineno, "column 'source': empty");
+    if (auto [it, fresh] = id_line.emplace(r.id, lineno); !fresh)
+      throw line_error(file, lineno, "column 'id': duplicate id '" + r.id + "' (first on line " + std::to_string(it->second) + ")");
+    {
+      int label = -1;
+      const auto& s = fields[2];
+      const auto res = std::from_chars(s.data(), s.data() + s.size(), label);
+      if (s.empty() || res.ec != std::errc() || res.ptr != s.data() + s.size() || label < 0 ||
+          label > static_cast<int>(kStrategySlots))
+        throw line_error(file, lineno, "column 'label': '" + s + "' is not an integer in 0..8 (0 = unknown)");
+      r.label = label;
+    }
+    if (fields[3] == "x" || fields[3] == "X") r.axis = augment::Axis::X;
+    else if (fields[3] == "y" || fields[3] == "Y") r.axis = augment::Axis::Y;
+    else if (fields[3] == "z" || fields[3] == "Z") r.axis = augment::Axis::Z;
+    else throw line_error(file, lineno, "column 'axis': '" + fields[3] + "' is not x, y or z");
+    r.angle_deg = parse_number(fields[4], "angle", file, lineno);
+    if (fields[5] == "0") r.flip = false;
+    else if (fields[5] == "1") r.flip = true;
+    else throw line_error(file, lineno, "column 'flip': '" + fields[5] + "' is not 0 or 1");
+    r.inputs.resize(m);
+    for (std::size_t k = 0; k < m; ++k) r.inputs[k] = parse_number(fields[kFixed + k], header[kFixed + k], file, lineno);
+    for (std::size_t k = 0; k < kStrategySlots; ++k)
+      r.outputs[k] = parse_number(fields[kFixed + m + k], header[kFixed + m + k], file, lineno);
+    if (t.has_aspect) r.aspect = parse_number(fields.back(), "aspect", file, lineno);
+    if (r.label > 0) {
+      // A labelled row whose outputs point elsewhere is a corrupted table, not a soft target.
+      std::size_t best = 0;
+      for (std::size_t k = 1; k < kStrategySlots; ++k)
+        if (r.outputs[k] > r.outputs[best]) best = k;
+      if (best + 1 != static_cast<std::size_t>(r.label))
+        throw line_error(file, lineno, "column 'label': " + std::to_string(r.label) +
+                                           " disagrees with the outputs (largest is out_" + std::to_string(best + 1) + ")");
+    }
+    t.rows.push_back(std::move(r));
+  }
+  if (header.empty()) throw file_error(file, "empty file, expected a header line");
+  if (t.rows.empty()) throw file_error(file, "no rows after the header");
+  return t;
+}
+
+}  // namespace millnet::datasets
