@@ -1,0 +1,161 @@
+#pragma once
+// The Grabec-style probabilistic network of Korosec & Kopac (seed 004), with α chosen by
+// leave-one-out. Facade for the CLI:
+//
+//   classifier::TrainingSet set{inputs, outputs, groups, strategies};   // N×D, N×K, N, K
+//   classifier::Model model = classifier::train(set, {});                // normalize, LOO α, store
+//   classifier::Prediction p = classifier::predict(model, new_inputs);   // M×D → M×K, d²_min, flag
+//
+// The network (all distances on z-scored inputs, never the raw ones):
+//   d²_j = ‖x − x_j‖²                        squared Euclidean distance to stored vector j
+//   s_j  = exp(−(d²_j − d²_min) / α)         d²_min subtracted: identical after normalization,
+//                                            and the nearest vector always has s = 1 (no 0/0)
+//   s̄_j = s_j / Σ s                          output = Σ_j s̄_j · y_j
+// so the outputs are probabilities summing to 1 whenever every stored output row sums to 1
+// (one-hot strategy labels).
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "millnet/classifier/normalizer.hpp"
+#include "millnet/core/progress.hpp"
+
+namespace millnet::classifier {
+
+/// What "training" stores. Raw (un-normalized) inputs.
+struct TrainingSet {
+  Eigen::MatrixXd inputs;               ///< N×D (e.g. D = 225 heights in mm)
+  Eigen::MatrixXd outputs;              ///< N×K (one-hot strategy rows)
+  std::vector<std::string> groups;      ///< N: the source part of each vector (leave-one-part-out unit)
+  std::vector<std::string> strategies;  ///< K strategy names
+};
+
+enum class LooMode {
+  PartOut,    ///< default: every vector of the left-out vector's group is excluded
+  VectorOut,  ///< the paper's literal per-vector leave-one-out (only the vector itself excluded)
+};
+[[nodiscard]] const char* to_string(LooMode m);
+/// "part" | "vector"; throws millnet::Error naming the accepted values otherwise.
+[[nodiscard]] LooMode loo_mode_from_string(const std::string& s);
+
+/// α search. Candidates are log-spaced: α_k = α_hi · 2^(−k/steps_per_octave), k = 0…n−1,
+/// from α_hi down to ≥ α_lo. Range: [alpha_min, alpha_max] if both > 0, else
+/// [range_low, range_high] × (median nonzero d² between stored vectors, over a fixed
+/// deterministic sample of ≤ 65,536 pairs). The default gives 41 candidates over 6 decades.
+struct AlphaSearchParams {
+  LooMode mode = LooMode::PartOut;
+  double range_low = 1e-3;
+  double range_high = 1e3;
+  double alpha_min = 0.0;  ///< absolute override (both must be > 0)
+  double alpha_max = 0.0;
+  int steps_per_octave = 2;  ///< 1…8; the scan costs one exp per stored pair per step
+  double refine_tolerance_octaves = 1e-3;  ///< golden section stops when the bracket is narrower
+  Eigen::Index block_rows = 256;           ///< query rows per GEMM block (memory 8·N·block_rows B/thread)
+  Eigen::Index cache_neighbours = 256;     ///< R nearest d² kept per stored vector for the refinement
+  ProgressFn progress;                     ///< (passes done, passes planned), called from serial code
+};
+
+/// One point of the coarse scan; the RMS of both modes are computed from the same d² blocks.
+struct CurvePoint {
+  double alpha = 0;
+  double rms_part = 0, rms_vector = 0;            ///< sqrt(mean over N·K of squared output error)
+  double accuracy_part = 0, accuracy_vector = 0;  ///< share of vectors whose argmax equals their label
+};
+
+enum class Edge { None, Low, High };  ///< where a scan optimum sits (Low = smallest α scanned)
+[[nodiscard]] const char* to_string(Edge e);
+
+/// The refined optimum of one mode.
+struct ModeOptimum {
+  double alpha = 0;
+  double rms = 0;
+  double accuracy = 0;
+  Edge edge = Edge::None;       ///< optimum of the scan at the scan's edge (the range may be too narrow)
+  int refine_evaluations = 0;   ///< golden-section evaluations
+};
+
+struct LooReport {
+  LooMode mode = LooMode::PartOut;  ///< the mode that chose alpha
+  double alpha = 0;                 ///< chosen α (= part.alpha or vector.alpha)
+  double d2_scale = 0;              ///< median nonzero d² used to place the scan
+  std::vector<CurvePoint> curve;    ///< scan, ascending α (values from squaring chains, ≤ ~1e-10 rel. error)
+  ModeOptimum part, vector;         ///< each mode's own refined optimum
+  double rms_part_at_alpha = 0, rms_vector_at_alpha = 0;            ///< both figures at the chosen α
+  double accuracy_part_at_alpha = 0, accuracy_vector_at_alpha = 0;
+  Eigen::MatrixXd filtration;    ///< N×K outputs at α with every vector included (paper Fig. 6)
+  Eigen::MatrixXd verification;  ///< N×K outputs at α with the chosen mode's exclusion
+  Eigen::VectorXd nearest_d2;    ///< N: d² to the nearest vector of another group (another vector if one group)
+  bool neighbour_cache_used = false;  ///< refinement ran on the R-nearest cache (else full passes)
+  int full_passes = 0;                ///< passes over all N² pairs (each = one N×N×D GEMM in blocks)
+};
+
+/// Leave-one-out α selection on NORMALIZED inputs Xn (N×D), outputs Y (N×K), groups (N).
+/// Work: one scan pass (N²·D GEMM + N²·steps exps + N²·candidates multiply/adds per mode), an
+/// R-nearest cache (N·R memory) for the golden-section refinement (N·R exps per evaluation);
+/// when the cache does not cover an α (dropped vectors not negligible there), that evaluation
+/// is a full pass instead. Memory O(N·D + N·R + threads·N·block_rows); never N×N.
+/// Deterministic: bitwise identical results for any OpenMP thread count.
+/// Throws millnet::Error on shape mismatch, non-finite values, N < 2, or PartOut with one group.
+[[nodiscard]] LooReport select_alpha(const Eigen::MatrixXd& Xn, const Eigen::MatrixXd& Y,
+                                     const std::vector<std::string>& groups,
+                                     const AlphaSearchParams& params);
+
+/// Verification (mode PartOut/VectorOut) outputs at one α by a full blocked pass (no cache):
+/// N×K. Used for figures at a given α and as the reference in tests.
+[[nodiscard]] Eigen::MatrixXd verification_outputs(const Eigen::MatrixXd& Xn, const Eigen::MatrixXd& Y,
+                                                   const std::vector<std::string>& groups, double alpha,
+                                                   LooMode mode, Eigen::Index block_rows = 256);
+
+/// RMS over all N·K outputs of (outputs − Y); accuracy = share of rows whose argmax matches Y's.
+[[nodiscard]] double rms_error(const Eigen::MatrixXd& outputs, const Eigen::MatrixXd& Y);
+[[nodiscard]] double argmax_accuracy(const Eigen::MatrixXd& outputs, const Eigen::MatrixXd& Y);
+
+/// Raw network evaluation: queries Qn (M×D, normalized) against stored Xn (N×D) with outputs Y.
+struct NetworkOutputs {
+  Eigen::MatrixXd outputs;  ///< M×K
+  Eigen::VectorXd d2_min;   ///< M: squared distance to the nearest stored vector (normalized units)
+  Eigen::VectorXi nearest;  ///< M: index of that stored vector (first one on ties)
+};
+[[nodiscard]] NetworkOutputs evaluate_network(const Eigen::MatrixXd& Xn, const Eigen::MatrixXd& Y,
+                                              const Eigen::MatrixXd& Qn, double alpha,
+                                              Eigen::Index block_rows = 256);
+
+struct TrainParams {
+  AlphaSearchParams search;
+  /// A query is unfamiliar when d²_min > unfamiliar_factor × (unfamiliar_percentile of the
+  /// training set's leave-one-part-out nearest d², LooReport::nearest_d2; nearest-rank method).
+  double unfamiliar_factor = 4.0;
+  double unfamiliar_percentile = 0.95;
+  /// > 0: skip the search and use this α (the LOO figures are then computed at it).
+  double fixed_alpha = 0.0;
+};
+
+/// A trained network: everything needed to predict, plus the LOO record.
+struct Model {
+  double alpha = 0;
+  Normalizer normalizer;
+  std::vector<std::string> strategies;  ///< K
+  Eigen::MatrixXd inputs;               ///< N×D raw stored inputs
+  Eigen::MatrixXd outputs;              ///< N×K
+  std::vector<std::string> groups;      ///< N
+  double unfamiliar_threshold = 0;      ///< on d²_min (normalized units)
+  double unfamiliar_factor = 0, unfamiliar_percentile = 0;
+  LooReport loo;
+};
+
+/// Validates the set, fits the normalizer, selects α (or uses params.fixed_alpha), and stores.
+[[nodiscard]] Model train(const TrainingSet& set, const TrainParams& params = {});
+
+struct Prediction {
+  Eigen::MatrixXd probabilities;  ///< M×K (rows sum to 1 for one-hot stored outputs)
+  Eigen::VectorXd d2_min;         ///< M, normalized units
+  std::vector<bool> unfamiliar;   ///< M: d2_min > model.unfamiliar_threshold
+};
+
+/// Predicts raw inputs (M×D, same columns as the training inputs). Throws on a D mismatch.
+[[nodiscard]] Prediction predict(const Model& model, const Eigen::MatrixXd& inputs);
+
+}  // namespace millnet::classifier

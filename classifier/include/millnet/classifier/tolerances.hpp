@@ -1,0 +1,22 @@
+#pragma once
+// Named numerical constants of the classifier. Inputs are z-scored, so distances here are
+// dimensionless (squared standard deviations), not mm.
+#include <cmath>
+
+namespace millnet::classifier::tol {
+
+/// Similarities below this are set to exactly 0 during the α scan's squaring chains, so that a
+/// squared value never becomes a (slow) subnormal; relative to the nearest vector (s = 1) the
+/// neglected mass is < N·1e-150.
+inline constexpr double kSimilarityFloor = 1e-150;
+
+/// A stored vector whose similarity is < exp(-(kTruncationMargin + ln N)) relative to the nearest
+/// one is negligible at double precision (their total < e^-40 ≈ 4e-18). The neighbour cache is
+/// used at α only when every vector it dropped lies beyond that margin.
+inline constexpr double kTruncationMargin = 40.0;
+
+/// A column whose population standard deviation is below this (in its own units) is "constant":
+/// its std is stored as 1 so that z-scoring subtracts the mean and divides by nothing.
+inline constexpr double kConstantColumnStd = 1e-12;
+
+}  // namespace millnet::classifier::tol

@@ -1,0 +1,70 @@
+#pragma once
+// Private engine of the classifier: the stored set in the order the kernels like, and the blocked
+// d² pass every computation over stored × query pairs goes through.
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+namespace millnet::classifier::detail {
+
+using Eigen::Index;
+
+/// The stored set, permuted so that vectors with identical output rows ("patterns", = classes
+/// for one-hot outputs) are contiguous: Σ_j s_j·y_j then costs one add per stored vector and a
+/// P×K combination, instead of K multiply-adds per stored vector.
+struct Prepared {
+  Eigen::MatrixXd X;             ///< N×D normalized inputs, internal order
+  Eigen::VectorXd sq;            ///< N squared norms of X's rows
+  Eigen::MatrixXd Y;             ///< N×K outputs, internal order
+  std::vector<Index> to_orig;    ///< internal index → caller's row
+  std::vector<int> group;        ///< internal index → group id (ids by first appearance)
+  std::vector<std::vector<Index>> members;  ///< group id → internal indices (ascending)
+  std::vector<Index> pstart;     ///< P+1 offsets of the pattern runs
+  Eigen::MatrixXd patterns;      ///< P×K distinct output rows
+  std::vector<Index> label;      ///< internal index → argmax of its output row
+  bool singleton_groups = false; ///< every group has one member (part-out == vector-out)
+};
+
+/// Validates shapes/finiteness (throws millnet::Error naming the argument) and builds Prepared.
+/// O(N log N · K + N·D).
+Prepared prepare(const Eigen::MatrixXd& Xn, const Eigen::MatrixXd& Y, const std::vector<std::string>& groups);
+
+/// Index of the first maximum.
+template <class Row>
+Index argmax(const Row& r) {
+  Index best = 0;
+  for (Index k = 1; k < r.size(); ++k)
+    if (r(k) > r(best)) best = k;
+  return best;
+}
+
+/// Calls fn(block, row0, rows, D2) for every block of `block_rows` query rows, where D2 (N×rows)
+/// holds in column c the squared distances of query row0+c to all N stored rows, computed as
+/// ‖s‖² + ‖q‖² − 2 s·q by one GEMM per block (clamped at 0). Blocks run in parallel (OpenMP,
+/// dynamic schedule); fn must write only block- or row-owned slots and must not throw.
+/// Work O(N·M·D); memory O(N·block_rows) per thread.
+template <class Fn>
+void for_each_d2_block(const Eigen::MatrixXd& S, const Eigen::VectorXd& sqS, const Eigen::MatrixXd& Q,
+                       const Eigen::VectorXd& sqQ, Index block_rows, Fn&& fn) {
+  const Index M = Q.rows();
+  const Index nb = (M + block_rows - 1) / block_rows;
+#pragma omp parallel
+  {
+    Eigen::MatrixXd D2;
+#pragma omp for schedule(dynamic, 1)
+    for (Index b = 0; b < nb; ++b) {
+      const Index r0 = b * block_rows;
+      const Index rows = std::min(block_rows, M - r0);
+      D2.resize(S.rows(), rows);
+      D2.noalias() = S * Q.middleRows(r0, rows).transpose();
+      for (Index c = 0; c < rows; ++c)
+        D2.col(c) = ((sqS.array() + sqQ(r0 + c)) - 2.0 * D2.col(c).array()).max(0.0);
+      fn(b, r0, rows, D2);
+    }
+  }
+}
+
+}  // namespace millnet::classifier::detail

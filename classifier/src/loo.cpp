@@ -1,0 +1,528 @@
+// Leave-one-out selection of the penalty coefficient α (Korosec & Kopac, "prevents over-training":
+// delete a case, predict it from the rest, minimize the RMS verification error).
+//
+// Pass structure (N stored vectors, D inputs, C candidates, q steps per octave, R cache size):
+//  1. Scan: one blocked GEMM pass (N²·D). For each stored vector and each mode (part-out,
+//     vector-out) the C candidates are evaluated from the same d² column: the candidates form q
+//     chains α, α/2, α/4, … so exp(−δ/(α/2)) = exp(−δ/α)² — one exp per pair per chain, then a
+//     square, a floor and a sum per pair and candidate: O(N²·(q + C)). The R nearest d² of every
+//     vector are kept (O(N·R) memory).
+//  2. Refinement: golden section on log α inside the best candidate's neighbours, per mode. An
+//     evaluation runs on the cache, O(N·R) exps, when every dropped vector is negligible at that α
+//     (tol::kTruncationMargin), else it is a full pass like 1 with exact exps.
+//  3. Filtration and verification outputs at the chosen α (cache or full pass).
+// Determinism: blocks are fixed by block_rows, never by the thread count; every reduction is a
+// per-block partial sum combined in block order.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "engine.hpp"
+#include "millnet/classifier/network.hpp"
+#include "millnet/classifier/tolerances.hpp"
+#include "millnet/core/error.hpp"
+
+namespace millnet::classifier {
+
+using detail::Index;
+using detail::Prepared;
+using Eigen::ArrayXd;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+enum Mode : int { kPart = 0, kVector = 1, kFiltration = 2 };
+
+struct Figures {
+  double rms = 0;
+  double accuracy = 0;
+};
+
+// Σ_j e_j·y_j / Σ_j e_j over pattern runs; e must have at least one positive entry.
+// O(N + P·K).
+void combine(const Prepared& P, const ArrayXd& e, Eigen::RowVectorXd& out) {
+  out.setZero();
+  double tot = 0;
+  const Index np = P.patterns.rows();
+  for (Index p = 0; p < np; ++p) {
+    const Index a = P.pstart[static_cast<std::size_t>(p)];
+    const double sp = e.segment(a, P.pstart[static_cast<std::size_t>(p) + 1] - a).sum();
+    if (sp != 0.0) out.noalias() += sp * P.patterns.row(p);
+    tot += sp;
+  }
+  out /= tot;
+}
+
+// Sets the excluded entries of stored-vector i's d² row to +inf for the mode. O(group size).
+void mask(const Prepared& P, Index i, int mode, ArrayXd& w) {
+  if (mode == kPart) {
+    for (Index j : P.members[static_cast<std::size_t>(P.group[static_cast<std::size_t>(i)])]) w(j) = kInf;
+  } else if (mode == kVector) {
+    w(i) = kInf;
+  }
+}
+
+struct PartialSums {
+  double err = 0;
+  Index correct = 0;
+};
+
+Figures finish(const std::vector<PartialSums>& blocks, Index n, Index k) {
+  double err = 0;
+  Index correct = 0;
+  for (const auto& b : blocks) {  // block order: identical for any thread count
+    err += b.err;
+    correct += b.correct;
+  }
+  return {std::sqrt(err / static_cast<double>(n * k)), static_cast<double>(correct) / static_cast<double>(n)};
+}
+
+// One full blocked pass at one α with exact exps: O(N²·D + N²).
+Figures full_pass(const Prepared& P, double alpha, int mode, Index block_rows, MatrixXd* outputs) {
+  const Index n = P.X.rows(), k = P.Y.cols();
+  const Index nb = (n + block_rows - 1) / block_rows;
+  std::vector<PartialSums> parts(static_cast<std::size_t>(nb));
+  const double neg_inv_alpha = -1.0 / alpha;
+  detail::for_each_d2_block(P.X, P.sq, P.X, P.sq, block_rows, [&](Index b, Index r0, Index rows, const MatrixXd& D2) {
+    ArrayXd w, e;
+    Eigen::RowVectorXd out(k);
+    PartialSums ps;
+    for (Index c = 0; c < rows; ++c) {
+      const Index i = r0 + c;
+      w = D2.col(c).array();
+      mask(P, i, mode, w);
+      const double m = w.minCoeff();
+      e = ((w - m) * neg_inv_alpha).exp();
+      e = (w == kInf).select(0.0, e);
+      combine(P, e, out);
+      ps.err += (out - P.Y.row(i)).squaredNorm();
+      ps.correct += detail::argmax(out) == P.label[static_cast<std::size_t>(i)] ? 1 : 0;
+      if (outputs) outputs->row(P.to_orig[static_cast<std::size_t>(i)]) = out;
+    }
+    parts[static_cast<std::size_t>(b)] = ps;
+  });
+  return finish(parts, n, k);
+}
+
+// The R nearest stored vectors (self and siblings included) of every stored vector, CSR.
+struct Cache {
+  std::vector<Index> offset;  // N+1
+  std::vector<double> d2;
+  std::vector<std::int32_t> j;
+  std::vector<double> dplus;  // smallest d² NOT kept (+inf when the row is complete)
+  std::vector<double> m[3];   // per mode: the row minimum the network subtracts
+  double covered[3] = {0, 0, 0};  // α up to which the cache is exact to double precision, per mode
+};
+
+Figures cache_pass(const Prepared& P, const Cache& C, double alpha, int mode, Index block_rows, MatrixXd* outputs) {
+  const Index n = P.X.rows(), k = P.Y.cols();
+  const Index nb = (n + block_rows - 1) / block_rows;
+  std::vector<PartialSums> parts(static_cast<std::size_t>(nb));
+  const double neg_inv_alpha = -1.0 / alpha;
+#pragma omp parallel for schedule(dynamic, 1)
+  for (Index b = 0; b < nb; ++b) {  // O(block_rows · R) per block
+    Eigen::RowVectorXd out(k);
+    PartialSums ps;
+    const Index r1 = std::min(n, (b + 1) * block_rows);
+    for (Index i = b * block_rows; i < r1; ++i) {
+      const auto ui = static_cast<std::size_t>(i);
+      const int gi = P.group[ui];
+      const double m = C.m[mode][ui];
+      out.setZero();
+      double tot = 0;
+      for (Index t = C.offset[ui]; t < C.offset[ui + 1]; ++t) {
+        const auto jj = static_cast<Index>(C.j[static_cast<std::size_t>(t)]);
+        if ((mode == kPart && P.group[static_cast<std::size_t>(jj)] == gi) || (mode == kVector && jj == i)) continue;
+        const double s = std::exp((C.d2[static_cast<std::size_t>(t)] - m) * neg_inv_alpha);
+        tot += s;
+        out.noalias() += s * P.Y.row(jj);
+      }
+      out /= tot;
+      ps.err += (out - P.Y.row(i)).squaredNorm();
+      ps.correct += detail::argmax(out) == P.label[ui] ? 1 : 0;
+      if (outputs) outputs->row(P.to_orig[ui]) = out;
+    }
+    parts[static_cast<std::size_t>(b)] = ps;
+  }
+  return finish(parts, n, k);
+}
+
+struct Evaluator {
+  const Prepared& P;
+  const Cache& C;
+  Index block_rows;
+  int* full_passes;
+  Figures operator()(double alpha, int mode, MatrixXd* outputs = nullptr) const {
+    if (alpha <= C.covered[mode]) return cache_pass(P, C, alpha, mode, block_rows, outputs);
+    ++*full_passes;
+    return full_pass(P, alpha, mode, block_rows, outputs);
+  }
+};
+
+// Median nonzero d² over all pairs (N(N−1)/2 ≤ 65,536) or 65,536 pairs from a fixed splitmix64
+// sequence. O(pairs·D).
+double d2_scale(const MatrixXd& X) {
+  const Index n = X.rows();
+  std::vector<double> v;
+  const std::uint64_t all = static_cast<std::uint64_t>(n) * static_cast<std::uint64_t>(n - 1) / 2;
+  constexpr std::uint64_t kMaxPairs = 65536;
+  if (all <= kMaxPairs) {
+    for (Index i = 0; i < n; ++i)
+      for (Index j = i + 1; j < n; ++j) v.push_back((X.row(i) - X.row(j)).squaredNorm());
+  } else {
+    std::uint64_t state = 0x6d696c6c6e6574ULL;  // fixed seed: "millnet"
+    auto next = [&state]() {
+      std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+      z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+      z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+      return z ^ (z >> 31);
+    };
+    const auto un = static_cast<std::uint64_t>(n);
+    for (std::uint64_t t = 0; t < kMaxPairs; ++t) {
+      const auto i = static_cast<Index>(next() % un);
+      auto j = static_cast<Index>(next() % (un - 1));
+      if (j >= i) ++j;
+      v.push_back((X.row(i) - X.row(j)).squaredNorm());
+    }
+  }
+  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !(x > 0.0); }), v.end());
+  if (v.empty()) return 1.0;  // every vector identical: any α gives the same answer
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+struct Golden {
+  double alpha = 0;
+  Figures fig;
+  int evaluations = 0;
+};
+
+// Golden section on u = ln α over [lo, hi] (α values); returns the best point evaluated, seeded
+// with (alpha0, f0) so that the refinement never ends worse than the scan. Ties keep the
+// smaller α. At most 200 evaluations.
+template <class F>
+Golden golden_section(F&& f, double lo, double hi, double alpha0, Figures f0, double tol_ln) {
+  Golden best{alpha0, f0, 0};
+  auto eval = [&](double u) {
+    const double alpha = std::exp(u);
+    const Figures fig = f(alpha);
+    ++best.evaluations;
+    if (fig.rms < best.fig.rms || (fig.rms == best.fig.rms && alpha < best.alpha)) {
+      best.alpha = alpha;
+      best.fig = fig;
+    }
+    return fig.rms;
+  };
+  const double g = (std::sqrt(5.0) - 1.0) / 2.0;
+  double a = std::log(lo), b = std::log(hi);
+  if (!(b - a > tol_ln)) return best;
+  double c = b - g * (b - a), d = a + g * (b - a);
+  double fc = eval(c), fd = eval(d);
+  while (b - a > tol_ln && best.evaluations < 200) {
+    if (fc <= fd) {
+      b = d; d = c; fd = fc;
+      c = b - g * (b - a); fc = eval(c);
+    } else {
+      a = c; c = d; fc = fd;
+      d = a + g * (b - a); fd = eval(d);
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+namespace detail {
+
+Prepared prepare(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<std::string>& groups) {
+  const Index n = Xn.rows();
+  if (n < 2) throw Error("classifier: need at least 2 stored vectors, got " + std::to_string(n));
+  if (Xn.cols() < 1) throw Error("classifier: inputs have no columns (expected N×D, D ≥ 1)");
+  if (Y.rows() != n || Y.cols() < 1)
+    throw Error("classifier: outputs are " + std::to_string(Y.rows()) + "×" + std::to_string(Y.cols()) +
+                ", expected " + std::to_string(n) + "×K with K ≥ 1 (one row per input vector)");
+  if (static_cast<Index>(groups.size()) != n)
+    throw Error("classifier: " + std::to_string(groups.size()) + " group ids for " + std::to_string(n) +
+                " vectors (expected one source part per vector)");
+  if (!Xn.allFinite()) throw Error("classifier: inputs contain NaN or infinite values");
+  if (!Y.allFinite()) throw Error("classifier: outputs contain NaN or infinite values");
+  if (n > std::numeric_limits<std::int32_t>::max()) throw Error("classifier: too many stored vectors");
+
+  Prepared P;
+  const auto un = static_cast<std::size_t>(n);
+  std::vector<Index> ord(un);
+  std::iota(ord.begin(), ord.end(), Index{0});
+  // O(N log N · K): lexicographic order of output rows, stable, so equal rows keep input order.
+  std::stable_sort(ord.begin(), ord.end(), [&Y](Index a, Index b) {
+    for (Index k = 0; k < Y.cols(); ++k)
+      if (Y(a, k) != Y(b, k)) return Y(a, k) < Y(b, k);
+    return false;
+  });
+  P.to_orig = ord;
+  P.X.resize(n, Xn.cols());
+  P.Y.resize(n, Y.cols());
+  for (Index i = 0; i < n; ++i) {
+    P.X.row(i) = Xn.row(ord[static_cast<std::size_t>(i)]);
+    P.Y.row(i) = Y.row(ord[static_cast<std::size_t>(i)]);
+  }
+  P.sq = P.X.rowwise().squaredNorm();
+  std::map<std::string, int> ids;  // ids by first appearance in the caller's order
+  std::vector<int> gid_orig(un);
+  for (std::size_t r = 0; r < un; ++r) {
+    auto it = ids.try_emplace(groups[r], static_cast<int>(ids.size())).first;
+    gid_orig[r] = it->second;
+  }
+  P.group.resize(un);
+  P.members.assign(ids.size(), {});
+  for (Index i = 0; i < n; ++i) {
+    const int g = gid_orig[static_cast<std::size_t>(ord[static_cast<std::size_t>(i)])];
+    P.group[static_cast<std::size_t>(i)] = g;
+    P.members[static_cast<std::size_t>(g)].push_back(i);
+  }
+  P.singleton_groups = ids.size() == un;
+  std::vector<Index> starts;
+  for (Index i = 0; i < n; ++i)
+    if (i == 0 || P.Y.row(i) != P.Y.row(i - 1)) starts.push_back(i);
+  P.patterns.resize(static_cast<Index>(starts.size()), Y.cols());
+  for (std::size_t p = 0; p < starts.size(); ++p) P.patterns.row(static_cast<Index>(p)) = P.Y.row(starts[p]);
+  starts.push_back(n);
+  P.pstart = starts;
+  P.label.resize(un);
+  for (Index i = 0; i < n; ++i) P.label[static_cast<std::size_t>(i)] = argmax(P.Y.row(i));
+  return P;
+}
+
+}  // namespace detail
+
+const char* to_string(LooMode m) { return m == LooMode::PartOut ? "part" : "vector"; }
+
+LooMode loo_mode_from_string(const std::string& s) {
+  if (s == "part") return LooMode::PartOut;
+  if (s == "vector") return LooMode::VectorOut;
+  throw Error("leave-one-out mode: got \"" + s + "\", expected \"part\" or \"vector\"");
+}
+
+const char* to_string(Edge e) { return e == Edge::None ? "none" : e == Edge::Low ? "low" : "high"; }
+
+double rms_error(const MatrixXd& outputs, const MatrixXd& Y) {
+  if (outputs.rows() != Y.rows() || outputs.cols() != Y.cols() || Y.size() == 0)
+    throw Error("rms_error: outputs and targets differ in shape or are empty");
+  return std::sqrt((outputs - Y).squaredNorm() / static_cast<double>(Y.size()));
+}
+
+double argmax_accuracy(const MatrixXd& outputs, const MatrixXd& Y) {
+  if (outputs.rows() != Y.rows() || outputs.cols() != Y.cols() || Y.rows() == 0)
+    throw Error("argmax_accuracy: outputs and targets differ in shape or are empty");
+  Index ok = 0;
+  for (Index i = 0; i < Y.rows(); ++i) ok += detail::argmax(outputs.row(i)) == detail::argmax(Y.row(i)) ? 1 : 0;
+  return static_cast<double>(ok) / static_cast<double>(Y.rows());
+}
+
+MatrixXd verification_outputs(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<std::string>& groups,
+                              double alpha, LooMode mode, Index block_rows) {
+  if (!(alpha > 0) || !std::isfinite(alpha)) throw Error("verification_outputs: alpha must be finite and > 0");
+  if (block_rows < 1) throw Error("verification_outputs: block_rows must be ≥ 1");
+  const Prepared P = detail::prepare(Xn, Y, groups);
+  if (mode == LooMode::PartOut && P.members.size() < 2)
+    throw Error("leave-one-part-out needs at least 2 groups (source parts)");
+  MatrixXd out(Xn.rows(), Y.cols());
+  (void)full_pass(P, alpha, mode == LooMode::PartOut ? kPart : kVector, block_rows, &out);
+  return out;
+}
+
+LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<std::string>& groups,
+                       const AlphaSearchParams& prm) {
+  if (prm.steps_per_octave < 1 || prm.steps_per_octave > 8)
+    throw Error("alpha search: steps_per_octave must be in 1…8, got " + std::to_string(prm.steps_per_octave));
+  if (prm.block_rows < 1) throw Error("alpha search: block_rows must be ≥ 1");
+  if (prm.cache_neighbours < 1) throw Error("alpha search: cache_neighbours must be ≥ 1");
+  if (!(prm.refine_tolerance_octaves > 0)) throw Error("alpha search: refine_tolerance_octaves must be > 0");
+  const Prepared P = detail::prepare(Xn, Y, groups);
+  if (P.members.size() < 2)
+    throw Error("leave-one-out: the stored vectors come from a single group (source part); both figures "
+                "(part-out and vector-out) need at least 2 groups");
+  const Index n = P.X.rows(), kout = P.Y.cols();
+  const auto un = static_cast<std::size_t>(n);
+
+  LooReport rep;
+  rep.mode = prm.mode;
+  rep.d2_scale = d2_scale(P.X);
+  double hi = prm.range_high * rep.d2_scale, lo = prm.range_low * rep.d2_scale;
+  if (prm.alpha_min > 0 || prm.alpha_max > 0) {
+    if (!(prm.alpha_min > 0 && prm.alpha_max > prm.alpha_min))
+      throw Error("alpha search: alpha_min/alpha_max must both be > 0 with alpha_min < alpha_max");
+    lo = prm.alpha_min;
+    hi = prm.alpha_max;
+  } else if (!(prm.range_low > 0 && prm.range_high > prm.range_low)) {
+    throw Error("alpha search: range_low/range_high must both be > 0 with range_low < range_high");
+  }
+  const int q = prm.steps_per_octave;
+  const auto nc = static_cast<Index>(std::floor(q * std::log2(hi / lo) + 1e-9)) + 1;
+  if (nc < 2) throw Error("alpha search: the α range is narrower than one scan step");
+  // α_k = hi · 2^(−r/q) · 2^(−m), k = r + q·m: ldexp halves exactly, which the squaring chains need.
+  std::vector<double> alphas(static_cast<std::size_t>(nc));
+  for (Index k = 0; k < nc; ++k)
+    alphas[static_cast<std::size_t>(k)] =
+        std::ldexp(hi * std::exp2(-static_cast<double>(k % q) / q), -static_cast<int>(k / q));
+
+  // ---- pass 1: scan + cache --------------------------------------------------------------------
+  const Index br = prm.block_rows;
+  const Index nb = (n + br - 1) / br;
+  const Index R = std::min(prm.cache_neighbours, n);
+  const auto unc = static_cast<std::size_t>(nc);
+  std::vector<std::vector<PartialSums>> scan(static_cast<std::size_t>(nb), std::vector<PartialSums>(2 * unc));
+  std::vector<std::vector<double>> bd2(static_cast<std::size_t>(nb));
+  std::vector<std::vector<std::int32_t>> bj(static_cast<std::size_t>(nb));
+  std::vector<Index> rowcount(un);
+  Cache C;
+  C.dplus.assign(un, kInf);
+  for (auto& m : C.m) m.assign(un, 0.0);
+  const bool same_modes = P.singleton_groups;
+  detail::for_each_d2_block(P.X, P.sq, P.X, P.sq, br, [&](Index b, Index r0, Index rows, const MatrixXd& D2) {
+    ArrayXd w, delta, e;
+    std::vector<double> buf;
+    Eigen::RowVectorXd out(kout);
+    auto& sums = scan[static_cast<std::size_t>(b)];
+    auto& cd = bd2[static_cast<std::size_t>(b)];
+    auto& cj = bj[static_cast<std::size_t>(b)];
+    for (Index c = 0; c < rows; ++c) {
+      const Index i = r0 + c;
+      const auto ui = static_cast<std::size_t>(i);
+      const auto d = D2.col(c).array();
+      C.m[kFiltration][ui] = d.minCoeff();
+      for (int mode : {kPart, kVector}) {
+        if (mode == kVector && same_modes) {  // every group is one vector: vector-out = part-out
+          C.m[kVector][ui] = C.m[kPart][ui];
+          continue;
+        }
+        w = d;
+        mask(P, i, mode, w);
+        const double m = w.minCoeff();
+        C.m[mode][ui] = m;
+        delta = w - m;
+        PartialSums* ps = sums.data() + static_cast<std::size_t>(mode) * unc;
+        for (Index r = 0; r < std::min<Index>(q, nc); ++r) {  // chains: O(N) per candidate
+          e = (delta * (-1.0 / alphas[static_cast<std::size_t>(r)])).exp();
+          e = (e < tol::kSimilarityFloor).select(0.0, e);
+          for (Index k = r; k < nc; k += q) {
+            if (k != r) {
+              e = e.square();
+              e = (e < tol::kSimilarityFloor).select(0.0, e);
+            }
+            combine(P, e, out);
+            ps[k].err += (out - P.Y.row(i)).squaredNorm();
+            ps[k].correct += detail::argmax(out) == P.label[ui] ? 1 : 0;
+          }
+        }
+      }
+      // R nearest (self and siblings included): expected O(N) selection.
+      double dplus = kInf;
+      if (R < n) {
+        buf.assign(d.data(), d.data() + n);
+        std::nth_element(buf.begin(), buf.begin() + static_cast<std::ptrdiff_t>(R), buf.end());
+        dplus = buf[static_cast<std::size_t>(R)];
+      }
+      C.dplus[ui] = dplus;
+      Index cnt = 0;
+      for (Index j = 0; j < n; ++j)
+        if (d(j) < dplus) {
+          cd.push_back(d(j));
+          cj.push_back(static_cast<std::int32_t>(j));
+          ++cnt;
+        }
+      rowcount[ui] = cnt;
+    }
+  });
+  int full_passes = 1;
+  if (prm.progress) prm.progress(1, 2);
+
+  // assemble the cache (block order) and the range where it is exact
+  C.offset.assign(un + 1, 0);
+  for (std::size_t i = 0; i < un; ++i) C.offset[i + 1] = C.offset[i] + rowcount[i];
+  C.d2.reserve(static_cast<std::size_t>(C.offset[un]));
+  C.j.reserve(static_cast<std::size_t>(C.offset[un]));
+  for (std::size_t b = 0; b < bd2.size(); ++b) {
+    C.d2.insert(C.d2.end(), bd2[b].begin(), bd2[b].end());
+    C.j.insert(C.j.end(), bj[b].begin(), bj[b].end());
+    std::vector<double>().swap(bd2[b]);
+    std::vector<std::int32_t>().swap(bj[b]);
+  }
+  const double margin = tol::kTruncationMargin + std::log(static_cast<double>(n));
+  for (int mode : {kPart, kVector, kFiltration}) {
+    double cov = kInf;
+    for (std::size_t i = 0; i < un; ++i) cov = std::min(cov, (C.dplus[i] - C.m[mode][i]) / margin);
+    C.covered[mode] = std::max(cov, 0.0);
+  }
+
+  // scan curve (ascending α) and each mode's best candidate (ties → smaller α)
+  std::vector<Figures> fig[2];
+  for (int mode : {kPart, kVector}) {
+    fig[mode].resize(unc);
+    for (std::size_t k = 0; k < unc; ++k) {
+      std::vector<PartialSums> col(static_cast<std::size_t>(nb));
+      for (std::size_t b = 0; b < static_cast<std::size_t>(nb); ++b) col[b] = scan[b][static_cast<std::size_t>(mode) * unc + k];
+      fig[mode][k] = finish(col, n, kout);
+    }
+  }
+  if (same_modes) fig[kVector] = fig[kPart];
+  for (Index k = nc - 1; k >= 0; --k) {
+    const auto uk = static_cast<std::size_t>(k);
+    rep.curve.push_back({alphas[uk], fig[kPart][uk].rms, fig[kVector][uk].rms, fig[kPart][uk].accuracy,
+                         fig[kVector][uk].accuracy});
+  }
+
+  // ---- pass 2: refinement per mode --------------------------------------------------------------
+  Evaluator ev{P, C, br, &full_passes};
+  const double tol_ln = prm.refine_tolerance_octaves * std::log(2.0);
+  for (int mode : {kPart, kVector}) {
+    Index best = 0;
+    for (Index k = 1; k < nc; ++k)
+      if (fig[mode][static_cast<std::size_t>(k)].rms <= fig[mode][static_cast<std::size_t>(best)].rms) best = k;
+    ModeOptimum& opt = mode == kPart ? rep.part : rep.vector;
+    opt.edge = best == 0 ? Edge::High : best == nc - 1 ? Edge::Low : Edge::None;
+    const double a_hi = alphas[static_cast<std::size_t>(std::max<Index>(best - 1, 0))];
+    const double a_lo = alphas[static_cast<std::size_t>(std::min<Index>(best + 1, nc - 1))];
+    const double a0 = alphas[static_cast<std::size_t>(best)];
+    if (mode == kVector && same_modes) {
+      opt = rep.part;
+      opt.edge = rep.part.edge;
+      continue;
+    }
+    const Figures f0 = ev(a0, mode);
+    const Golden g = golden_section([&](double a) { return ev(a, mode); }, a_lo, a_hi, a0, f0, tol_ln);
+    opt.alpha = g.alpha;
+    opt.rms = g.fig.rms;
+    opt.accuracy = g.fig.accuracy;
+    opt.refine_evaluations = g.evaluations + 1;
+  }
+
+  // ---- pass 3: outputs at the chosen α ----------------------------------------------------------
+  const int chosen = prm.mode == LooMode::PartOut ? kPart : kVector;
+  rep.alpha = chosen == kPart ? rep.part.alpha : rep.vector.alpha;
+  rep.verification.resize(n, kout);
+  rep.filtration.resize(n, kout);
+  const Figures fc = ev(rep.alpha, chosen, &rep.verification);
+  const Figures fo = ev(rep.alpha, chosen == kPart ? kVector : kPart);
+  (void)ev(rep.alpha, kFiltration, &rep.filtration);
+  rep.rms_part_at_alpha = chosen == kPart ? fc.rms : fo.rms;
+  rep.rms_vector_at_alpha = chosen == kPart ? fo.rms : fc.rms;
+  rep.accuracy_part_at_alpha = chosen == kPart ? fc.accuracy : fo.accuracy;
+  rep.accuracy_vector_at_alpha = chosen == kPart ? fo.accuracy : fc.accuracy;
+  rep.nearest_d2.resize(n);
+  for (std::size_t i = 0; i < un; ++i) rep.nearest_d2(P.to_orig[i]) = C.m[kPart][i];
+  rep.full_passes = full_passes;
+  rep.neighbour_cache_used = full_passes == 1;
+  if (prm.progress) prm.progress(2, 2);
+  return rep;
+}
+
+}  // namespace millnet::classifier
