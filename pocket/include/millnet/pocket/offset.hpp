@@ -20,5 +20,20 @@ struct PolyArea {
                                                   double chord_tol_mm = 0.001);
 
 [[nodiscard]] double area(const PolyArea& a);  ///< outer minus holes, mm²
+[[nodiscard]] double area(const std::vector<PolyArea>& areas);  ///< Σ area, mm²
+
+/// Offset of polygon areas by delta_mm (> 0 grows outers and shrinks holes, < 0 the reverse),
+/// round joins with chord error ≤ chord_tol_mm. Used to grow the tool-centre area back by the
+/// tool radius (the area the tool can reach).
+[[nodiscard]] std::vector<PolyArea> offset_areas(const std::vector<PolyArea>& areas, double delta_mm,
+                                                 double chord_tol_mm = 0.001);
+
+/// Area swept by a disk of radius_mm moving along each open polyline (union of capsules; a
+/// single-point polyline is a disk). Round ends and joins, chord error ≤ chord_tol_mm.
+[[nodiscard]] std::vector<PolyArea> swept_area(const std::vector<std::vector<Vec2>>& polylines, double radius_mm,
+                                               double chord_tol_mm = 0.001);
+
+/// a minus b (Clipper difference), as areas.
+[[nodiscard]] std::vector<PolyArea> difference(const std::vector<PolyArea>& a, const std::vector<PolyArea>& b);
 
 }  // namespace millnet::pocket

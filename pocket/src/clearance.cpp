@@ -1,0 +1,148 @@
+// Clearance queries: every wall segment (boundary + islands) is registered in the cells of a
+// uniform bucket grid that its exact bounding box overlaps; a query within radius c inspects only
+// the cells overlapping the query box. No mutable state: queries are safe from OpenMP threads.
+#include "geometry_internal.hpp"
+#include "millnet/core/error.hpp"
+#include "millnet/pocket/geometry.hpp"
+#include "millnet/pocket/tolerances.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace millnet::pocket {
+
+struct Clearance::Impl {
+  Region region;
+  double clearance = 0;
+  std::vector<Segment> walls;
+  Vec2 lo{0, 0};
+  double h = 1;        ///< cell size, mm
+  int nx = 1, ny = 1;  ///< cells
+  std::vector<std::vector<int>> cells;  ///< wall indices per cell (row-major, rows = y)
+  std::vector<signed char> cell_inside;  ///< for cells no wall touches: 1 inside region, 0 outside; −1 mixed
+
+  [[nodiscard]] int cx(double x) const { return std::clamp(static_cast<int>(std::floor((x - lo.x()) / h)), 0, nx - 1); }
+  [[nodiscard]] int cy(double y) const { return std::clamp(static_cast<int>(std::floor((y - lo.y()) / h)), 0, ny - 1); }
+  [[nodiscard]] bool in_grid(const Vec2& p) const {
+    return p.x() >= lo.x() && p.y() >= lo.y() && p.x() < lo.x() + nx * h && p.y() < lo.y() + ny * h;
+  }
+
+  /// Calls f(wall index) for every wall registered in cells overlapping [a, b] (may repeat).
+  template <class F>
+  bool any_in_box(const Vec2& a, const Vec2& b, F&& f) const {
+    const int x0 = cx(a.x()), x1 = cx(b.x()), y0 = cy(a.y()), y1 = cy(b.y());
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x)
+        for (int w : cells[static_cast<std::size_t>(y * nx + x)])
+          if (f(w)) return true;
+    return false;
+  }
+
+  [[nodiscard]] bool inside_region(const Vec2& p) const {
+    if (in_grid(p)) {
+      const signed char c = cell_inside[static_cast<std::size_t>(cy(p.y()) * nx + cx(p.x()))];
+      if (c >= 0) return c == 1;
+    } else {
+      return false;  // the grid covers every wall, so the region lies inside it
+    }
+    return inside(region, p);
+  }
+};
+
+Clearance::Clearance(const Region& region, double clearance_mm) : impl_(std::make_unique<Impl>()) {
+  if (!(clearance_mm >= 0) || !std::isfinite(clearance_mm))
+    throw Error("Clearance: clearance must be finite and >= 0, got " + std::to_string(clearance_mm));
+  Impl& m = *impl_;
+  m.region = region;
+  m.clearance = clearance_mm;
+  for (const Segment& s : segments(region.boundary)) m.walls.push_back(s);
+  for (const Loop& l : region.islands)
+    for (const Segment& s : segments(l)) m.walls.push_back(s);
+  if (m.walls.empty()) throw Error("Clearance: region has no walls");
+  std::vector<detail::BBox> boxes;
+  detail::BBox all;
+  for (const Segment& s : m.walls) {
+    boxes.push_back(detail::bbox(s));
+    all.lo = all.lo.cwiseMin(boxes.back().lo);
+    all.hi = all.hi.cwiseMax(boxes.back().hi);
+  }
+  // Cell size: about 4 walls' worth of area per cell, not finer than a tenth of the clearance
+  // (queries then touch at most ~21² cells), and at most ~4M cells.
+  const Vec2 ext = (all.hi - all.lo).cwiseMax(Vec2(1e-6, 1e-6));
+  const double wall_cells = std::max(64.0, 4.0 * static_cast<double>(m.walls.size()));
+  m.h = std::sqrt(ext.x() * ext.y() / wall_cells);
+  m.h = std::max({m.h, clearance_mm / 10, std::sqrt(ext.x() * ext.y() / 4e6), 1e-6});
+  m.lo = all.lo - Vec2(m.h, m.h);
+  m.nx = static_cast<int>(std::ceil(ext.x() / m.h)) + 2;
+  m.ny = static_cast<int>(std::ceil(ext.y() / m.h)) + 2;
+  m.cells.assign(static_cast<std::size_t>(m.nx) * static_cast<std::size_t>(m.ny), {});
+  // O(Σ cells per wall).
+  for (std::size_t w = 0; w < m.walls.size(); ++w) {
+    const detail::BBox& b = boxes[w];
+    for (int y = m.cy(b.lo.y() - tol::join_mm); y <= m.cy(b.hi.y() + tol::join_mm); ++y)
+      for (int x = m.cx(b.lo.x() - tol::join_mm); x <= m.cx(b.hi.x() + tol::join_mm); ++x)
+        m.cells[static_cast<std::size_t>(y * m.nx + x)].push_back(static_cast<int>(w));
+  }
+  // A cell no wall touches lies entirely on one side: classify it by its centre. O(cells · walls)
+  // in the worst case, but only empty cells need the full test.
+  m.cell_inside.assign(m.cells.size(), -1);
+  for (int y = 0; y < m.ny; ++y)
+    for (int x = 0; x < m.nx; ++x) {
+      const std::size_t k = static_cast<std::size_t>(y * m.nx + x);
+      if (!m.cells[k].empty()) continue;
+      const Vec2 c = m.lo + Vec2((x + 0.5) * m.h, (y + 0.5) * m.h);
+      m.cell_inside[k] = inside(region, c) ? 1 : 0;
+    }
+}
+
+Clearance::~Clearance() = default;
+Clearance::Clearance(Clearance&&) noexcept = default;
+Clearance& Clearance::operator=(Clearance&&) noexcept = default;
+
+double Clearance::clearance() const { return impl_->clearance; }
+
+double Clearance::wall_distance(const Vec2& p) const {
+  const Impl& m = *impl_;
+  double best = std::numeric_limits<double>::infinity();
+  if (!m.in_grid(p)) {
+    for (const Segment& s : m.walls) best = std::min(best, distance(s, p));
+    return best;
+  }
+  // Rings of cells around p: after ring k every unvisited wall is ≥ k·h away.
+  const int px = m.cx(p.x()), py = m.cy(p.y());
+  const int kmax = std::max(m.nx, m.ny);
+  for (int k = 0; k <= kmax; ++k) {
+    for (int y = py - k; y <= py + k; ++y) {
+      if (y < 0 || y >= m.ny) continue;
+      const bool edge_row = (y == py - k || y == py + k);
+      for (int x = px - k; x <= px + k; x += (edge_row ? 1 : 2 * std::max(k, 1))) {
+        if (x < 0 || x >= m.nx) continue;
+        for (int w : m.cells[static_cast<std::size_t>(y * m.nx + x)])
+          best = std::min(best, distance(m.walls[static_cast<std::size_t>(w)], p));
+      }
+    }
+    if (best <= k * m.h) break;
+  }
+  return best;
+}
+
+bool Clearance::point_ok(const Vec2& p) const {
+  const Impl& m = *impl_;
+  const double lim = m.clearance - tol::clear_mm;
+  const Vec2 r(m.clearance, m.clearance);
+  if (m.any_in_box(p - r, p + r, [&](int w) { return distance(m.walls[static_cast<std::size_t>(w)], p) < lim; }))
+    return false;
+  return m.inside_region(p);
+}
+
+bool Clearance::move_ok(const Vec2& p, const Vec2& q) const {
+  if (!point_ok(p) || !point_ok(q)) return false;
+  const Impl& m = *impl_;
+  const double lim = m.clearance - tol::clear_mm;
+  const Vec2 r(m.clearance, m.clearance);
+  // Both ends are inside and the move keeps clear of every wall, so it never crosses one.
+  return !m.any_in_box(p.cwiseMin(q) - r, p.cwiseMax(q) + r,
+                       [&](int w) { return distance(m.walls[static_cast<std::size_t>(w)], p, q) < lim; });
+}
+
+}  // namespace millnet::pocket

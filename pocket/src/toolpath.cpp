@@ -1,0 +1,38 @@
+// Path2D figures and PlanStatus names.
+#include "millnet/pocket/toolpath.hpp"
+
+namespace millnet::pocket {
+
+namespace {
+double chain_length(const Chain& c) {
+  double l = 0;
+  for (std::size_t k = 0; k + 1 < c.pts.size(); ++k) l += length(Segment{c.pts[k].p(), c.pts[k + 1].p(), c.pts[k].bulge});
+  return l;
+}
+}  // namespace
+
+double Path2D::cut_length() const {
+  double l = 0;
+  for (const Chain& c : chains) l += chain_length(c);  // O(total vertices)
+  return l;
+}
+
+double Path2D::rapid_length() const {
+  double l = 0;
+  for (std::size_t k = 0; k + 1 < chains.size(); ++k) {
+    if (chains[k].pts.empty() || chains[k + 1].pts.empty()) continue;
+    l += (chains[k + 1].pts.front().p() - chains[k].pts.back().p()).norm();
+  }
+  return l;
+}
+
+const char* to_string(PlanStatus s) {
+  switch (s) {
+    case PlanStatus::Ok: return "ok";
+    case PlanStatus::NoToolPoints: return "no_tool_points";
+    case PlanStatus::NothingToCut: return "nothing_to_cut";
+  }
+  return "unknown";
+}
+
+}  // namespace millnet::pocket

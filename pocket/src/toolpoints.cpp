@@ -1,0 +1,55 @@
+// Tool points (Shin & Suh §3): grid points at the stepover spacing whose tool disk fits.
+#include "millnet/pocket/toolpoints.hpp"
+
+#include "geometry_internal.hpp"
+#include "millnet/core/error.hpp"
+
+#include <cmath>
+#include <numbers>
+
+namespace millnet::pocket {
+
+Vec2 GridFrame::at(int i, int j) const {
+  const double a = angle_deg * std::numbers::pi / 180.0;
+  const double c = std::cos(a), s = std::sin(a);
+  const double u = j * spacing, v = i * spacing;
+  return origin + Vec2(c * u - s * v, s * u + c * v);
+}
+
+ToolPoints make_tool_points(const Region& region, const GridFrame& frame, double clearance_mm) {
+  if (!(frame.spacing > 0) || !std::isfinite(frame.spacing))
+    throw Error("make_tool_points: grid spacing must be > 0, got " + std::to_string(frame.spacing));
+  ToolPoints tp;
+  tp.frame = frame;
+  if (region.boundary.empty()) return tp;
+  const Clearance clear(region, clearance_mm);
+  // Index range: the boundary's box expressed in grid coordinates (inverse rotation).
+  const double a = frame.angle_deg * std::numbers::pi / 180.0;
+  const double c = std::cos(a), s = std::sin(a);
+  double umin = 1e300, umax = -1e300, vmin = 1e300, vmax = -1e300;
+  for (const Segment& seg : segments(region.boundary)) {
+    const detail::BBox b = detail::bbox(seg);
+    for (const Vec2& q : {b.lo, b.hi, Vec2(b.lo.x(), b.hi.y()), Vec2(b.hi.x(), b.lo.y())}) {
+      const Vec2 d = q - frame.origin;
+      const double u = c * d.x() + s * d.y(), v = -s * d.x() + c * d.y();
+      umin = std::min(umin, u); umax = std::max(umax, u);
+      vmin = std::min(vmin, v); vmax = std::max(vmax, v);
+    }
+  }
+  const double span = std::max(umax - umin, vmax - vmin) / frame.spacing;
+  if (span > 2e5) throw Error("make_tool_points: grid of " + std::to_string(span) + " points per side is too fine");
+  const int j0 = static_cast<int>(std::floor(umin / frame.spacing)), j1 = static_cast<int>(std::ceil(umax / frame.spacing));
+  const int i0 = static_cast<int>(std::floor(vmin / frame.spacing)), i1 = static_cast<int>(std::ceil(vmax / frame.spacing));
+  // O(rows · cols) point_ok queries, each looking at the walls in nearby buckets only.
+  for (int i = i0; i <= i1; ++i)
+    for (int j = j0; j <= j1; ++j) {
+      const Vec2 p = frame.at(i, j);
+      if (clear.point_ok(p)) {
+        tp.pts.push_back(p);
+        tp.ij.push_back({i, j});
+      }
+    }
+  return tp;
+}
+
+}  // namespace millnet::pocket
