@@ -54,7 +54,7 @@ void line(cv::Mat& img, cv::Point2d a, cv::Point2d b, const cv::Scalar& colour, 
 void polyline(cv::Mat& img, const std::vector<cv::Point2d>& pts, const cv::Scalar& colour, int thickness);
 void dashed_polyline(cv::Mat& img, const std::vector<cv::Point2d>& pts, const cv::Scalar& colour,
                      int thickness, double dash_px, double gap_px);
-void circle(cv::Mat& img, cv::Point2d c, double r, const cv::Scalar& colour, int thickness);  ///< -1 = filled
+void circle_at(cv::Mat& img, cv::Point2d c, double r, const cv::Scalar& colour, int thickness);  ///< -1 = filled
 void fill_polygons(cv::Mat& img, const std::vector<std::vector<cv::Point2d>>& polys, const cv::Scalar& colour);
 
 /// A data axis mapped onto a pixel interval [p0, p1] (p1 < p0 for y axes drawn upward).
@@ -82,6 +82,7 @@ void log_range(double& lo, double& hi);
 /// out the x tick numbers and label (stacked panels). Returns the tick step used on y.
 struct AxesStyle {
   bool x_numbers = true;
+  bool x_ticks = true;  ///< false: no x ticks nor vertical grid lines (bar charts draw their own)
   bool grid = true;
   int x_target = 8, y_target = 6;
 };

@@ -1,0 +1,125 @@
+// Heat map of a height grid (issue 2 §1: "PNG of a grid (heat map) on request").
+#include "canvas.hpp"
+
+#include "millnet/report/plots.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace millnet::report {
+
+using namespace detail;
+
+Layout heat_map_png(const std::filesystem::path& path, const Eigen::MatrixXd& grid, const std::string& title_text,
+                    const std::string& units, const HeatMapOptions& opt) {
+  const Eigen::Index ny = grid.rows(), nx = grid.cols();
+  if (ny < 1 || nx < 1)
+    fail(path, "heat map: grid is " + std::to_string(ny) + "x" + std::to_string(nx) +
+                   ", expected at least 1x1 (rows = y, cols = x)");
+  if (!grid.allFinite()) fail(path, "heat map: grid has NaN or infinite values, expected finite heights");
+  double lo = grid.minCoeff(), hi = grid.maxCoeff();
+  if (opt.value_range) {
+    lo = opt.value_range->first;
+    hi = opt.value_range->second;
+    if (!std::isfinite(lo) || !std::isfinite(hi) || !(hi > lo))
+      fail(path, "heat map: value_range must be finite with min < max");
+  }
+  if (opt.extent_mm) {
+    const auto& e = *opt.extent_mm;
+    if (!std::isfinite(e[0]) || !std::isfinite(e[1]) || !std::isfinite(e[2]) || !std::isfinite(e[3]) ||
+        !(e[1] > e[0]) || !(e[3] > e[2]))
+      fail(path, "heat map: extent_mm must be finite {x_min, x_max, y_min, y_max} with min < max");
+  }
+
+  // Integer cell size so that every cell is a crisp block of one colour. Cells stay square
+  // unless the physical extent says otherwise (then the cell aspect follows the extent).
+  constexpr int kMaxPlot = 660;
+  double aspect = static_cast<double>(ny) / static_cast<double>(nx);  // plot height / width
+  if (opt.extent_mm) {
+    const auto& e = *opt.extent_mm;
+    aspect = (e[3] - e[2]) / (e[1] - e[0]);
+  }
+  const int cw = std::max(1, static_cast<int>(std::min<double>(
+                                 static_cast<double>(kMaxPlot) / static_cast<double>(nx),
+                                 static_cast<double>(kMaxPlot) / (aspect * static_cast<double>(nx)))));
+  const int ch = std::max(1, static_cast<int>(std::lround(cw * aspect * static_cast<double>(nx) /
+                                                          static_cast<double>(ny))));
+  const int plot_w = cw * static_cast<int>(nx), plot_h = ch * static_cast<int>(ny);
+
+  const int head = title_height(title_text);
+  const int left = std::max(110, (kWidth - plot_w - 190) / 2 + 40);
+  const int top = head + 10;
+  cv::Mat img(top + plot_h + 90, kWidth, CV_8UC3, kWhite);
+  title(img, title_text);
+
+  // O(rows·cols) cells.
+  for (Eigen::Index r = 0; r < ny; ++r) {
+    for (Eigen::Index c = 0; c < nx; ++c) {
+      const double v = grid(r, c);
+      const double t = hi > lo ? (v - lo) / (hi - lo) : 0.5;
+      const int x0 = left + static_cast<int>(c) * cw;
+      const int y0 = top + static_cast<int>(ny - 1 - r) * ch;  // row 0 at the bottom
+      cv::rectangle(img, cv::Point(x0, y0), cv::Point(x0 + cw - 1, y0 + ch - 1), viridis(t), cv::FILLED);
+    }
+  }
+  if (opt.annotate) {
+    const int dec = std::clamp(opt.annotate_decimals, 0, 6);
+    Font f = kSmallFont;
+    auto label = [&](double v) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%.*f", dec, v);
+      return std::string(buf);
+    };
+    int widest = 0;
+    for (Eigen::Index r = 0; r < ny; ++r)
+      for (Eigen::Index c = 0; c < nx; ++c) widest = std::max(widest, text_size(label(grid(r, c)), f).width);
+    if (widest > cw - 4) f.scale *= static_cast<double>(cw - 4) / widest;
+    if (f.scale >= 0.28 && text_size("0", f).height <= ch - 4) {
+      for (Eigen::Index r = 0; r < ny; ++r) {
+        for (Eigen::Index c = 0; c < nx; ++c) {
+          const double v = grid(r, c);
+          const auto rgb = viridis_rgb(hi > lo ? (v - lo) / (hi - lo) : 0.5);
+          const double lum = 0.299 * rgb[0] + 0.587 * rgb[1] + 0.114 * rgb[2];
+          const cv::Point centre(left + static_cast<int>(c) * cw + cw / 2,
+                                 top + static_cast<int>(ny - 1 - r) * ch + ch / 2);
+          put_text(img, label(v), centre, f, lum < 128 ? kWhite : kBlack, HAlign::Center, VAlign::Middle);
+        }
+      }
+    }
+  }
+
+  Axis x, y;
+  x.p0 = left;
+  x.p1 = left + plot_w;
+  y.p0 = top + plot_h;
+  y.p1 = top;
+  AxesStyle style;
+  style.grid = false;
+  std::string xl = "x (column)", yl = "y (row)";
+  if (opt.extent_mm) {
+    const auto& e = *opt.extent_mm;
+    x.lo = e[0];
+    x.hi = e[1];
+    y.lo = e[2];
+    y.hi = e[3];
+    xl = "x (mm)";
+    yl = "y (mm)";
+  } else {
+    x.lo = 0.5;
+    x.hi = static_cast<double>(nx) + 0.5;
+    y.lo = 0.5;
+    y.hi = static_cast<double>(ny) + 0.5;
+    // One number per cell while they fit; nice steps beyond.
+    style.x_target = nx <= 20 ? static_cast<int>(nx) : 8;
+    style.y_target = ny <= 20 ? static_cast<int>(ny) : 8;
+  }
+  draw_axes(img, x, y, xl, yl, style);
+  colour_bar(img, left + plot_w + 36, top, 26, top + plot_h, lo, hi, units, &viridis);
+  write_png(path, img);
+  return make_layout(img, x, y);
+}
+
+}  // namespace millnet::report

@@ -1,0 +1,107 @@
+// Profiles along the tool path on stacked panels (the seed's Fig. 14: engagement n3, feed, MRR).
+#include "canvas.hpp"
+
+#include "millnet/report/plots.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace millnet::report {
+
+using namespace detail;
+
+Layout profile_png(const std::filesystem::path& path, const std::vector<double>& s, const std::vector<Panel>& panels,
+                   const std::string& title_text, const ProfileOptions& opt) {
+  if (s.empty()) fail(path, "profile plot: no samples (s is empty)");
+  if (panels.empty()) fail(path, "profile plot: no panels given, expected at least one");
+  for (std::size_t i = 0; i < s.size(); ++i) {  // O(samples)
+    if (!std::isfinite(s[i])) fail(path, "profile plot: s[" + std::to_string(i) + "] is not finite");
+    if (i > 0 && s[i] < s[i - 1])
+      fail(path, "profile plot: s[" + std::to_string(i) + "] < s[" + std::to_string(i - 1) +
+                     "], expected s non-decreasing (mm along the path)");
+  }
+  std::vector<std::pair<double, double>> yr(panels.size());
+  for (std::size_t p = 0; p < panels.size(); ++p) {  // O(panels · series · samples)
+    if (panels[p].series.empty()) fail(path, "profile plot: panel " + std::to_string(p) + " has no series");
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (std::size_t k = 0; k < panels[p].series.size(); ++k) {
+      const auto& v = panels[p].series[k].values;
+      const std::string which = "profile plot: panel " + std::to_string(p) + " series " + std::to_string(k) + " (\"" +
+                                panels[p].series[k].name + "\")";
+      if (v.size() != s.size())
+        fail(path, which + " has " + std::to_string(v.size()) + " values, expected one per s (" +
+                       std::to_string(s.size()) + ")");
+      for (double val : v) {
+        if (!std::isfinite(val)) fail(path, which + " has a value that is not finite");
+        lo = std::min(lo, val);
+        hi = std::max(hi, val);
+      }
+    }
+    nice_range(lo, hi, 4);
+    yr[p] = {lo, hi};
+  }
+  Axis x;
+  x.lo = s.front();
+  x.hi = s.back();
+  nice_range(x.lo, x.hi, 10);
+
+  int yw = 0;
+  for (const auto& [lo, hi] : yr) {
+    const double step = nice_step(lo, hi, 4);
+    for (double v : nice_ticks(lo, hi, 4)) yw = std::max(yw, text_size(tick_label(v, step), kTickFont).width);
+  }
+  const int left = 60 + yw, right = kWidth - 40;
+  const int panel_h = panels.size() <= 3 ? 190 : 150;
+  constexpr int kHeader = 26;  // per panel: room for its legend above the frame
+  const int top0 = title_height(title_text);
+  const int n = static_cast<int>(panels.size());
+  const int height = top0 + n * (kHeader + panel_h) + (n - 1) * 8 + 70;
+  cv::Mat img(height, kWidth, CV_8UC3, kWhite);
+  title(img, title_text);
+  x.p0 = left;
+  x.p1 = right;
+
+  Axis y;
+  for (int p = 0; p < n; ++p) {
+    const Panel& panel = panels[static_cast<std::size_t>(p)];
+    const int top = top0 + p * (kHeader + panel_h + 8) + kHeader;
+    y = Axis{};
+    y.lo = yr[static_cast<std::size_t>(p)].first;
+    y.hi = yr[static_cast<std::size_t>(p)].second;
+    y.p0 = top + panel_h;
+    y.p1 = top;
+    AxesStyle style;
+    style.x_numbers = p == n - 1;
+    style.x_target = 10;
+    style.y_target = 4;
+    draw_axes(img, x, y, opt.x_label, panel.y_label, style);
+    cv::Mat roi = img(cv::Rect(left + 1, top + 1, right - left - 1, panel_h - 1));
+    const bool dots = s.size() <= 150;
+    for (std::size_t k = 0; k < panel.series.size(); ++k) {  // O(samples) per series
+      const auto& v = panel.series[k].values;
+      std::vector<cv::Point2d> pts;
+      auto at = [&](double sv, double val) {
+        return cv::Point2d(x.to_px(sv) - left - 1, y.to_px(val) - top - 1);
+      };
+      for (std::size_t i = 0; i < s.size(); ++i) {
+        pts.push_back(at(s[i], v[i]));
+        if (opt.steps && i + 1 < s.size()) pts.push_back(at(s[i + 1], v[i]));
+      }
+      polyline(roi, pts, series_colour(k), 2);
+      if (dots || s.size() == 1)
+        for (std::size_t i = 0; i < s.size(); ++i) circle_at(roi, at(s[i], v[i]), 2.6, series_colour(k), -1);
+    }
+    std::vector<LegendItem> items;
+    if (panel.series.size() > 1 || !panel.series[0].name.empty())
+      for (std::size_t k = 0; k < panel.series.size(); ++k)
+        items.push_back({panel.series[k].name, series_colour(k), LegendKind::Line});
+    legend(&img, items, left, top - kHeader + 1, right - left);
+  }
+  write_png(path, img);
+  return make_layout(img, x, y);
+}
+
+}  // namespace millnet::report
