@@ -18,6 +18,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kSideMinMm = 100.0, kSideMaxMm = 130.0;  // footprint sides a, b
 
 // Rounded rectangle; inside(x, y) is the signed distance to its outline, positive inside (mm).
 struct RRect {
@@ -37,18 +38,6 @@ double gauss(double dx, double dy, double sigma) { return std::exp(-(dx * dx + d
 
 // Wall run of a wall of height h with draft angle `draft_deg` from the vertical.
 double wall_run(double h, double draft_deg) { return h * std::tan(draft_deg * kDeg); }
-
-// A rounded rectangle of half sizes (fx·a, fy·b) placed at random fully inside the footprint.
-RRect random_rect(SplitMix64& rng, double a, double b, double fx_lo, double fx_hi, double fy_lo, double fy_hi) {
-  RRect q{};
-  q.hx = rng.uniform(fx_lo, fx_hi) * a;
-  q.hy = rng.uniform(fy_lo, fy_hi) * b;
-  const double m = tol::feature_margin_mm;
-  q.cx = rng.uniform(m + q.hx, std::max(m + q.hx, a - m - q.hx));
-  q.cy = rng.uniform(m + q.hy, std::max(m + q.hy, b - m - q.hy));
-  q.r = rng.uniform(0.0, 0.6) * std::min(q.hx, q.hy);
-  return q;
-}
 
 using HeightFn = std::function<double(double, double)>;
 
@@ -121,162 +110,131 @@ GeneratedMesh solid(double a, double b, int res, double plinth, const HeightFn& 
 }
 
 // ---- the five families (parameters in mm and degrees; ranges are the README's) ----
+// Within a family the characteristic feature keeps its place and topology (a centred plateau, a
+// centred pocket, a ridge along x, …) while sizes, heights, drafts, radii and offsets vary: the
+// classifier compares whole 15×15 grids, so a family whose features sat at random places would be
+// farther from its own members than from a featureless plane (README, "Why the families are compact").
+
+// Footprint sides (mm): one range for every family, so that size never tells the families apart.
+double side(SplitMix64& rng) { return rng.uniform(kSideMinMm, kSideMaxMm); }
 
 GeneratedMesh steep_plateaus(SplitMix64& rng, int index, int res) {
-  const double a = rng.uniform(80, 150), b = rng.uniform(80, 150), plinth = rng.uniform(6, 10);
+  const double a = side(rng), b = side(rng), plinth = rng.uniform(6, 10);
   struct Pad {
     RRect q;
     double h, w;
   };
   std::vector<Pad> pads;
-  std::string kind;
-  if (index % 2 == 0) {  // separate pads on the flat base
-    kind = "pads";
-    const int k = rng.uniform_int(2, 3);
-    for (int p = 0; p < k; ++p) {
-      const RRect q = random_rect(rng, a, b, 0.10, 0.2, 0.10, 0.2);
-      const double h = rng.uniform(8, 20);
-      pads.push_back({q, h, wall_run(h, rng.uniform(0, 4))});
-    }
-  } else {  // stepped terraces: each level a smaller rectangle on the previous one
-    kind = "terraces";
-    const int k = rng.uniform_int(2, 3);
-    RRect q = random_rect(rng, a, b, 0.25, 0.33, 0.25, 0.33);
-    double level = 0;
-    for (int p = 0; p < k; ++p) {
-      const double step = rng.uniform(7, 12);
-      level += step;
-      pads.push_back({q, level, wall_run(step, rng.uniform(0, 4))});
-      RRect inner = q;
-      inner.hx = q.hx * rng.uniform(0.45, 0.65);
-      inner.hy = q.hy * rng.uniform(0.45, 0.65);
-      inner.cx = q.cx + rng.uniform(-1, 1) * (q.hx - inner.hx - 4);
-      inner.cy = q.cy + rng.uniform(-1, 1) * (q.hy - inner.hy - 4);
-      inner.r = std::min(q.r, std::min(inner.hx, inner.hy));
-      q = inner;
-    }
+  RRect q{a / 2 + rng.uniform(-0.08, 0.08) * a, b / 2 + rng.uniform(-0.08, 0.08) * b, rng.uniform(0.24, 0.32) * a,
+          rng.uniform(0.24, 0.32) * b, 0};
+  q.r = rng.uniform(0, 0.4) * std::min(q.hx, q.hy);
+  const bool terraces = index % 2 == 1;
+  if (!terraces) {  // one plateau with (near-)vertical walls on the flat base
+    const double h = rng.uniform(14, 22);
+    pads.push_back({q, h, wall_run(h, rng.uniform(0, 3))});
+  } else {  // stepped terraces: a smaller level on top of the first
+    const double h1 = rng.uniform(10, 14);
+    pads.push_back({q, h1, wall_run(h1, rng.uniform(0, 3))});
+    RRect inner = q;
+    inner.hx = q.hx * rng.uniform(0.45, 0.6);
+    inner.hy = q.hy * rng.uniform(0.45, 0.6);
+    inner.cx = q.cx + rng.uniform(-1, 1) * 0.3 * (q.hx - inner.hx);
+    inner.cy = q.cy + rng.uniform(-1, 1) * 0.3 * (q.hy - inner.hy);
+    inner.r = std::min(q.r, std::min(inner.hx, inner.hy));
+    const double h2 = rng.uniform(8, 12);
+    pads.push_back({inner, h1 + h2, wall_run(h2, rng.uniform(0, 3))});
   }
   GeneratedMesh g = solid(a, b, res, plinth, [&](double x, double y) {
     double z = 0;
     for (const Pad& p : pads) z = std::max(z, p.h * ramp(p.q.inside(x, y), p.w));
     return z;
   });
-  g.kind = kind;
+  g.kind = terraces ? "terraces" : "plateau";
   return g;
 }
 
 GeneratedMesh gentle_freeform(SplitMix64& rng, int index, int res) {
-  const double a = rng.uniform(80, 150), b = rng.uniform(80, 150), plinth = rng.uniform(8, 12);
-  struct Bump {
-    double cx, cy, s, h;
-  };
-  std::vector<Bump> bumps;
+  const double a = side(rng), b = side(rng), plinth = rng.uniform(8, 12);
   const bool saddle = index % 2 == 1;
-  const int k = saddle ? 1 : rng.uniform_int(2, 4);
-  for (int p = 0; p < k; ++p) {
-    Bump u{rng.uniform(0.2, 0.8) * a, rng.uniform(0.2, 0.8) * b, rng.uniform(22, 40), rng.uniform(4, 9)};
-    if (p > 0 && rng.uniform() < 0.3) u.h = -u.h;  // an occasional shallow dip
-    bumps.push_back(u);
-  }
-  const double s_amp = saddle ? rng.uniform(5, 8) * rng.sign() : 0.0;
-  const double xc = rng.uniform(0.4, 0.6) * a, yc = rng.uniform(0.4, 0.6) * b;
+  const double cx = a / 2 + rng.uniform(-0.08, 0.08) * a, cy = b / 2 + rng.uniform(-0.08, 0.08) * b;
+  const double sx = rng.uniform(0.26, 0.34) * a, sy = rng.uniform(0.26, 0.34) * b;
+  const double amp = saddle ? rng.uniform(7, 10) : rng.uniform(10, 15);
+  // A small secondary bump anywhere: free-form parts are never perfectly symmetric.
+  const double bx = rng.uniform(0.2, 0.8) * a, by = rng.uniform(0.2, 0.8) * b, bs = rng.uniform(15, 25);
+  const double bh = rng.uniform(2, 4) * rng.sign();
   GeneratedMesh g = solid(a, b, res, plinth, [&](double x, double y) {
-    double z = 0;
-    for (const Bump& u : bumps) z += u.h * gauss(x - u.cx, y - u.cy, u.s);
-    const double su = (x - xc) / (a / 2), sv = (y - yc) / (b / 2);
-    return z + s_amp * (su * su - sv * sv);
+    const double u = (x - cx) / (a / 2), v = (y - cy) / (b / 2);
+    const double main = saddle ? amp * (u * u - v * v)
+                               : amp * std::exp(-0.5 * ((x - cx) * (x - cx) / (sx * sx) + (y - cy) * (y - cy) / (sy * sy)));
+    return main + bh * gauss(x - bx, y - by, bs);
   });
-  g.kind = saddle ? "saddle" : "bumps";
+  g.kind = saddle ? "saddle" : "dome";
   return g;
 }
 
 GeneratedMesh varying_curvature(SplitMix64& rng, int index, int res) {
-  const double a = rng.uniform(80, 150), b = rng.uniform(80, 150), plinth = rng.uniform(6, 10);
-  const bool along_x = rng.uniform() < 0.5;  // ridge runs along x (else along y)
+  const double a = side(rng), b = side(rng), plinth = rng.uniform(6, 10);
+  // The sharp end at x = 0 or x = a: the augmentation's 180° flip maps one onto the other.
   const bool sharp_first = rng.uniform() < 0.5;
-  const double len = along_x ? a : b, wid = along_x ? b : a;
-  const double u0 = rng.uniform(0.35, 0.65) * wid, bend = rng.uniform(-0.12, 0.12) * wid;
-  const double w_sharp = rng.uniform(2.5, 4.5), w_flat = rng.uniform(18, 28), h = rng.uniform(18, 30);
-  struct Peak {
-    double cx, cy, s, h;
-  };
-  std::vector<Peak> peaks;
-  const bool with_peaks = index % 2 == 1;
-  if (with_peaks) {  // one sharp and one broad peak beside the ridge: curvature varies over the part
-    peaks.push_back({rng.uniform(0.2, 0.8) * a, rng.uniform(0.2, 0.8) * b, rng.uniform(3, 5), rng.uniform(8, 15)});
-    peaks.push_back({rng.uniform(0.2, 0.8) * a, rng.uniform(0.2, 0.8) * b, rng.uniform(15, 25), rng.uniform(8, 15)});
-  }
+  const double y0 = b / 2 + rng.uniform(-0.06, 0.06) * b, bend = rng.uniform(-0.06, 0.06) * b;
+  const double w_sharp = rng.uniform(2.5, 4.0), w_flat = rng.uniform(20, 28), h = rng.uniform(22, 32);
+  const bool twin = index % 2 == 1;  // a second, lower ridge of constant medium width beside it
+  const double y1 = b * (rng.uniform() < 0.5 ? 0.22 : 0.78), h1 = rng.uniform(8, 12), w1 = rng.uniform(6, 10);
   GeneratedMesh g = solid(a, b, res, plinth, [&](double x, double y) {
-    const double s = (along_x ? x : y) / len, u = along_x ? y : x;
+    const double s = x / a;
     const double t = sharp_first ? s : 1 - s;
     const double w = w_sharp + (w_flat - w_sharp) * t;  // cross-section radius grows along the ridge
-    const double d = u - (u0 + bend * std::sin(std::numbers::pi * s));
+    const double d = y - (y0 + bend * std::sin(std::numbers::pi * s));
     double z = h * std::exp(-d * d / (2 * w * w));
-    for (const Peak& p : peaks) z = std::max(z, p.h * gauss(x - p.cx, y - p.cy, p.s));
+    if (twin) z = std::max(z, h1 * std::exp(-(y - y1) * (y - y1) / (2 * w1 * w1)));
     return z;
   });
-  g.kind = with_peaks ? "ridge_and_peaks" : "ridge";
+  g.kind = twin ? "ridge_pair" : "ridge";
   return g;
 }
 
 GeneratedMesh deep_cavity(SplitMix64& rng, int index, int res) {
-  const double a = rng.uniform(80, 150), b = rng.uniform(80, 150), plinth = rng.uniform(5, 8);
-  const double top = rng.uniform(35, 50);
+  const double a = side(rng), b = side(rng), plinth = rng.uniform(5, 8);
+  const double top = rng.uniform(38, 50);
   std::vector<std::pair<RRect, double>> pockets;  // outline, depth
-  std::vector<double> runs;
-  std::string kind;
-  const int kind_i = index % 3;
-  if (kind_i == 0) {
-    kind = "pocket";
-    RRect q{a / 2 + rng.uniform(-5, 5), b / 2 + rng.uniform(-5, 5), rng.uniform(0.3, 0.38) * a, rng.uniform(0.3, 0.38) * b, 0};
+  const bool twin = index % 2 == 1;
+  if (!twin) {
+    RRect q{a / 2 + rng.uniform(-0.06, 0.06) * a, b / 2 + rng.uniform(-0.06, 0.06) * b, rng.uniform(0.28, 0.36) * a,
+            rng.uniform(0.28, 0.36) * b, 0};
     q.r = rng.uniform(0.2, 1.0) * std::min(q.hx, q.hy);
     pockets.emplace_back(q, rng.uniform(0.65, 0.85) * top);
-  } else if (kind_i == 1) {
-    kind = "twin_pockets";
-    const bool split_x = a >= b;
+  } else {  // two pockets side by side along x, separated by a thin rib
     for (int p = 0; p < 2; ++p) {
-      RRect q{};
-      q.hx = (split_x ? rng.uniform(0.15, 0.19) : rng.uniform(0.3, 0.38)) * a;
-      q.hy = (split_x ? rng.uniform(0.3, 0.38) : rng.uniform(0.15, 0.19)) * b;
-      q.cx = split_x ? (p == 0 ? 0.27 : 0.73) * a : a / 2;
-      q.cy = split_x ? b / 2 : (p == 0 ? 0.27 : 0.73) * b;
+      RRect q{(p == 0 ? 0.28 : 0.72) * a, b / 2 + rng.uniform(-0.05, 0.05) * b, rng.uniform(0.15, 0.18) * a,
+              rng.uniform(0.28, 0.36) * b, 0};
       q.r = rng.uniform(0.2, 1.0) * std::min(q.hx, q.hy);
       pockets.emplace_back(q, rng.uniform(0.65, 0.85) * top);
     }
-  } else {
-    kind = "boss";
   }
+  std::vector<double> runs;
   for (const auto& p : pockets) runs.push_back(wall_run(p.second, rng.uniform(3, 10)));
-  RRect boss{a / 2 + rng.uniform(-5, 5), b / 2 + rng.uniform(-5, 5), rng.uniform(0.22, 0.3) * a, rng.uniform(0.22, 0.3) * b, 0};
-  boss.r = rng.uniform(0.2, 1.0) * std::min(boss.hx, boss.hy);
-  const double boss_run = wall_run(top, rng.uniform(3, 10));
   GeneratedMesh g = solid(a, b, res, plinth, [&](double x, double y) {
-    if (pockets.empty()) return top * ramp(boss.inside(x, y), boss_run);
     double z = top;
     for (std::size_t p = 0; p < pockets.size(); ++p)
       z = std::min(z, top - pockets[p].second * ramp(pockets[p].first.inside(x, y), runs[p]));
     return z;
   });
-  g.kind = kind;
+  g.kind = twin ? "twin_pockets" : "pocket";
   return g;
 }
 
 GeneratedMesh shallow_slopes(SplitMix64& rng, int index, int res) {
-  const double a = rng.uniform(80, 150), b = rng.uniform(80, 150), plinth = rng.uniform(6, 10);
-  const double slope = std::tan(rng.uniform(6, 14) * kDeg);
-  const double phi = rng.uniform(0, 2 * std::numbers::pi);
-  const double c = std::cos(phi), s = std::sin(phi);
-  const double px = rng.uniform(0.35, 0.65) * a, py = rng.uniform(0.35, 0.65) * b;
-  const int kind_i = index % 3;
+  const double a = side(rng), b = side(rng), plinth = rng.uniform(6, 10);
+  const double slope = std::tan(rng.uniform(8, 14) * kDeg);
+  // Either way along x (the 180° flip maps one onto the other) or along y (the tilt about x then
+  // changes the apparent slope, like a part clamped at an angle).
+  const bool along_y = index % 2 == 1;
+  const double yaw = (along_y ? 90 : 0) * kDeg + rng.uniform(-8, 8) * kDeg;  // never exactly axis-parallel
+  const double dir = rng.sign();
   GeneratedMesh g = solid(a, b, res, plinth, [&](double x, double y) {
-    const double dx = x - px, dy = y - py;
-    switch (kind_i) {
-      case 0: return slope * (dx * c + dy * s);                // inclined plane
-      case 1: return -slope * std::abs(-dx * s + dy * c);      // roof: two planes, ridge through p
-      default: return -slope * std::hypot(dx, dy);             // gentle cone, apex at p
-    }
+    return dir * slope * ((x - a / 2) * std::cos(yaw) + (y - b / 2) * std::sin(yaw));
   });
-  g.kind = kind_i == 0 ? "plane" : kind_i == 1 ? "roof" : "cone";
+  g.kind = along_y ? "plane_y" : "plane_x";
   return g;
 }
 
