@@ -1,0 +1,47 @@
+#pragma once
+// The zigzag planner (direction-parallel rough cut) with T- or I-partition: the baseline next to the
+// SOM planner, same PlanResult contract (pocket/planner.hpp).
+//
+// Example (the CLI's `--planner zigzag --partition i --angle auto`):
+//   ZigzagParams zp;  zp.partition = PartitionKind::I;  zp.angle_deg = std::nullopt;  // auto
+//   PlanResult r = plan_zigzag(region, cut, zp);
+//   if (r.status != PlanStatus::Ok) { … r.message … }
+#include "millnet/pocket/partition.hpp"
+#include "millnet/pocket/planner.hpp"
+
+#include <optional>
+#include <vector>
+
+namespace millnet::pocket {
+
+struct ZigzagParams {
+  /// Reference (pass) direction in degrees from +x, counter-clockwise; nullopt = search.
+  std::optional<double> angle_deg = 0.0;
+  PartitionKind partition = PartitionKind::T;
+  bool contour = false;          ///< final pass along every offset wall (chains with role "contour")
+  double angle_step_deg = 5;     ///< search grid; the pocket's straight-edge directions are added
+};
+
+/// One evaluated direction (for reports and tests).
+struct AngleScore {
+  double angle_deg = 0;
+  int regions = 0;
+  double length_mm = 0;  ///< cut + rapid length of the zigzag (no contour)
+};
+
+/// Plans a zigzag rough cut of `region` (validated and normalized: boundary CCW, islands CW, mm).
+/// The tool centre stays in offset_inward(region, cut.clearance()) (Clipper, arcs within
+/// tol::arc_chord_mm). Chains are in machining order in world coordinates, feeds unassigned.
+/// PlanResult::planner = "zigzag-t" | "zigzag-i"; predrill = the entry of every zigzag chain;
+/// stats: "regions" (zigzag chains = faces cut), "srps", "nls", "islands", "formula_regions",
+/// "passes", "angle_deg", "angles_tried", "nonmonotone_faces", "contours".
+/// Throws millnet::Error for stepover ∉ (0, tool diameter] or a non-positive tool diameter.
+/// Status NoToolPoints (empty path, message) when the tool fits nowhere.
+[[nodiscard]] PlanResult plan_zigzag(const Region& region, const CutParams& cut, const ZigzagParams& params,
+                                     std::vector<AngleScore>* scores = nullptr);
+
+/// Candidate directions of the search: every `step_deg` in [0, 180) plus the direction (mod 180) of
+/// every straight edge of the region, sorted and de-duplicated (1e-6°).
+[[nodiscard]] std::vector<double> candidate_angles(const Region& region, double step_deg);
+
+}  // namespace millnet::pocket

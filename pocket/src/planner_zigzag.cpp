@@ -1,0 +1,247 @@
+// Zigzag planner: reachable area → (per direction) partition → face zigzags → order → best
+// direction → world-frame chains.
+#include "millnet/pocket/planner_zigzag.hpp"
+
+#include "millnet/core/error.hpp"
+#include "millnet/pocket/tolerances.hpp"
+#include "millnet/pocket/zigzag.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+namespace millnet::pocket {
+
+namespace {
+
+constexpr double kLengthTie = 0.005;  // relative: path lengths this close are a tie
+
+struct Candidate {
+  double angle = 0;
+  Partition part;
+  std::vector<std::vector<Vec2>> chains;  // scan frame, in order
+  int regions = 0;
+  std::size_t passes = 0;
+  int nonmonotone = 0;
+  double cut_len = 0, rapid_len = 0;
+};
+
+double polyline_length(const std::vector<Vec2>& pts) {
+  double l = 0;
+  for (std::size_t k = 0; k + 1 < pts.size(); ++k) l += (pts[k + 1] - pts[k]).norm();
+  return l;
+}
+
+Candidate evaluate(const std::vector<PolyArea>& reach_world, double angle, PartitionKind kind, double stepover) {
+  Candidate c;
+  c.angle = angle;
+  const auto areas = to_scan_frame(reach_world, angle);
+  c.part = partition(areas, kind);
+  const auto ys = pass_heights(areas, c.part.srps, stepover);
+  std::vector<FaceZigzag> faces;
+  faces.reserve(c.part.faces.size());
+  for (const PolyArea& f : c.part.faces) faces.emplace_back(f, ys);  // O(F · passes · V_f)
+  std::vector<OrderItem> items;
+  std::vector<std::size_t> face_of;
+  std::vector<std::vector<Vec2>> extras;
+  for (std::size_t k = 0; k < faces.size(); ++k) {
+    if (!faces[k].monotone()) {
+      ++c.nonmonotone;
+      for (auto& e : faces[k].extra_chains()) extras.push_back(std::move(e));
+    }
+    if (faces[k].empty()) continue;
+    OrderItem it;
+    for (int q = 0; q < 4; ++q) {
+      it.entry[static_cast<std::size_t>(q)] = faces[k].entry(q);
+      it.exit[static_cast<std::size_t>(q)] = faces[k].exit(q);
+      it.length[static_cast<std::size_t>(q)] = polyline_length(faces[k].chain(q));  // O(passes · V_f)
+    }
+    items.push_back(it);
+    face_of.push_back(k);
+    c.passes += faces[k].passes();
+  }
+  // Leftover intervals of non-monotone faces (never expected) are ordered as one-pass items.
+  for (const auto& e : extras) {
+    OrderItem it;
+    for (std::size_t q = 0; q < 4; ++q) {
+      it.entry[q] = (q & 2) ? e.back() : e.front();
+      it.exit[q] = (q & 2) ? e.front() : e.back();
+      it.length[q] = polyline_length(e);
+    }
+    items.push_back(it);
+    face_of.push_back(faces.size());
+    ++c.passes;
+  }
+  const Ordering ord = order_items(items);
+  std::size_t extra_k = 0;
+  std::vector<std::size_t> extra_index(items.size(), 0);
+  for (std::size_t i = 0; i < items.size(); ++i)
+    if (face_of[i] == faces.size()) extra_index[i] = extra_k++;
+  for (std::size_t i = 0; i < ord.order.size(); ++i) {
+    const std::size_t it = ord.order[i];
+    const int corner = ord.corner[i];
+    if (face_of[it] < faces.size()) {
+      c.chains.push_back(faces[face_of[it]].chain(corner));
+    } else {
+      auto e = extras[extra_index[it]];
+      if (corner & 2) std::reverse(e.begin(), e.end());
+      c.chains.push_back(std::move(e));
+    }
+    c.cut_len += polyline_length(c.chains.back());
+  }
+  c.rapid_len = ord.rapid_length;
+  c.regions = static_cast<int>(c.chains.size());
+  return c;
+}
+
+/// Closed contour chains of the reachable walls (world frame), ordered greedily from `from`; each
+/// starts at the ring vertex nearest to the previous chain's end. O(R² + V).
+std::vector<std::vector<Vec2>> contours(const std::vector<PolyArea>& reach, Vec2 from) {
+  std::vector<const std::vector<Vec2>*> rings;
+  for (const PolyArea& a : reach) {
+    rings.push_back(&a.outer);
+    for (const auto& h : a.holes) rings.push_back(&h);
+  }
+  std::vector<char> done(rings.size(), 0);
+  std::vector<std::vector<Vec2>> out;
+  for (std::size_t n = 0; n < rings.size(); ++n) {
+    std::size_t best_r = 0, best_v = 0;
+    double bd = std::numeric_limits<double>::infinity();
+    for (std::size_t r = 0; r < rings.size(); ++r) {
+      if (done[r]) continue;
+      for (std::size_t v = 0; v < rings[r]->size(); ++v) {
+        const double d = ((*rings[r])[v] - from).norm();
+        if (d < bd) { bd = d; best_r = r; best_v = v; }
+      }
+    }
+    done[best_r] = 1;
+    const auto& ring = *rings[best_r];
+    std::vector<Vec2> chain;
+    for (std::size_t k = 0; k <= ring.size(); ++k) chain.push_back(ring[(best_v + k) % ring.size()]);
+    from = chain.back();
+    out.push_back(std::move(chain));
+  }
+  return out;
+}
+
+Chain make_chain(const std::vector<Vec2>& pts, const std::string& role, bool predrill) {
+  Chain ch;
+  ch.role = role;
+  ch.predrill = predrill;
+  for (const Vec2& p : pts) ch.pts.push_back({p.x(), p.y(), 0.0});
+  return ch;
+}
+
+}  // namespace
+
+std::vector<double> candidate_angles(const Region& region, double step_deg) {
+  if (!(step_deg > 0) || !std::isfinite(step_deg)) throw Error("zigzag: angle_step_deg must be > 0, got " + std::to_string(step_deg));
+  std::vector<double> a;
+  for (double t = 0; t < 180.0 - 1e-9; t += step_deg) a.push_back(t);
+  auto add_loop = [&](const Loop& loop) {
+    for (const Segment& s : segments(loop)) {  // O(edges)
+      if (s.is_arc()) continue;
+      const Vec2 d = s.b - s.a;
+      if (d.norm() <= tol::join_mm) continue;
+      double t = std::atan2(d.y(), d.x()) * 180.0 / std::numbers::pi;
+      t = std::fmod(t + 360.0, 180.0);
+      if (t >= 180.0 - 1e-9) t = 0;
+      a.push_back(t);
+    }
+  };
+  add_loop(region.boundary);
+  for (const Loop& l : region.islands) add_loop(l);
+  std::sort(a.begin(), a.end());
+  std::vector<double> out;
+  for (double t : a)
+    if (out.empty() || t - out.back() > 1e-6) out.push_back(t);
+  return out;
+}
+
+PlanResult plan_zigzag(const Region& region, const CutParams& cut, const ZigzagParams& params,
+                       std::vector<AngleScore>* scores) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (!(cut.tool_diameter > 0) || !std::isfinite(cut.tool_diameter))
+    throw Error("zigzag: tool_diameter must be > 0 mm, got " + std::to_string(cut.tool_diameter));
+  if (!(cut.stepover > 0) || cut.stepover > cut.tool_diameter)
+    throw Error("zigzag: stepover must be in (0, tool_diameter = " + std::to_string(cut.tool_diameter) +
+                "] mm, got " + std::to_string(cut.stepover));
+  if (!(cut.stock_to_leave >= 0)) throw Error("zigzag: stock_to_leave must be ≥ 0 mm");
+  PlanResult res;
+  res.planner = params.partition == PartitionKind::T ? "zigzag-t" : "zigzag-i";
+  const auto reach = offset_inward(region, cut.clearance(), tol::arc_chord_mm);
+  if (reach.empty()) {
+    res.status = PlanStatus::NoToolPoints;
+    std::ostringstream m;
+    m << "the tool (diameter " << cut.tool_diameter << " mm, stock " << cut.stock_to_leave
+      << " mm) fits nowhere in the pocket";
+    res.message = m.str();
+    res.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return res;
+  }
+  std::vector<double> angles;
+  if (params.angle_deg) {
+    if (!std::isfinite(*params.angle_deg)) throw Error("zigzag: angle_deg is not finite");
+    angles.push_back(*params.angle_deg);
+  } else {
+    angles = candidate_angles(region, params.angle_step_deg);
+  }
+  // Fewest regions, then shortest cut + rapid length; ties keep the smaller angle. O(angles · plan).
+  Candidate best;
+  bool have = false;
+  for (double a : angles) {
+    Candidate c = evaluate(reach, a, params.partition, cut.stepover);
+    if (scores) scores->push_back({a, c.regions, c.cut_len + c.rapid_len});
+    // Lengths within kLengthTie of each other count as equal (the idealised zigzag of a rectangle
+    // is as long across as along); then fewer passes (fewer turns) wins: Held's "parallel to the
+    // longest edge".
+    const double lc = c.cut_len + c.rapid_len, lb = best.cut_len + best.rapid_len;
+    const bool better = !have || c.regions < best.regions ||
+                        (c.regions == best.regions &&
+                         (lc < lb * (1 - kLengthTie) || (lc <= lb * (1 + kLengthTie) && c.passes < best.passes)));
+    if (better) { best = std::move(c); have = true; }
+  }
+
+  for (const auto& ch : best.chains) {
+    std::vector<Vec2> world;
+    world.reserve(ch.size());
+    for (const Vec2& p : ch) world.push_back(from_scan_frame(p, best.angle));
+    res.path.chains.push_back(make_chain(world, "cut", true));
+    res.predrill.push_back(world.front());
+  }
+  std::size_t n_contours = 0;
+  if (params.contour) {
+    const Vec2 from = res.path.chains.empty() ? reach.front().outer.front() : res.path.chains.back().pts.back().p();
+    for (const auto& ring : contours(reach, from)) {
+      res.path.chains.push_back(make_chain(ring, "contour", false));  // its walls were reached by the passes
+      ++n_contours;
+    }
+  }
+  res.stats["regions"] = best.regions;
+  res.stats["faces"] = static_cast<double>(best.part.faces.size());
+  res.stats["srps"] = static_cast<double>(best.part.srps.size());
+  res.stats["nls"] = best.part.nls;
+  res.stats["islands"] = best.part.n_islands;
+  res.stats["components"] = best.part.n_components;
+  res.stats["formula_regions"] = best.part.formula_regions();
+  res.stats["passes"] = static_cast<double>(best.passes);
+  res.stats["angle_deg"] = best.angle;
+  res.stats["angles_tried"] = static_cast<double>(angles.size());
+  res.stats["nonmonotone_faces"] = best.nonmonotone;
+  res.stats["contours"] = static_cast<double>(n_contours);
+  res.stats["zigzag_cut_length_mm"] = best.cut_len;
+  res.stats["zigzag_rapid_length_mm"] = best.rapid_len;
+  MILLNET_ASSERT(static_cast<int>(best.part.faces.size()) == best.part.formula_regions(),
+                 "partition face count differs from n_s - n_i + n_c - n_n");
+  if (res.path.chains.empty()) {
+    res.status = PlanStatus::NothingToCut;
+    res.message = "no zigzag pass meets the reachable area";
+  }
+  res.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+}  // namespace millnet::pocket
