@@ -1,0 +1,40 @@
+#pragma once
+// Feed adjustment from a feed map (Shin & Suh §6, eq. 9). A fine grid over the pocket (cell =
+// CutParams::feed_grid, 0 ⇒ D/10) starts uncut; cells whose centre lies outside the region hold no
+// material. As the tool moves along the path in steps of one cell, the cells under its disk become
+// cut; the engagement of a step is the number of newly cut cells (scaled to a full cell step). For
+// each stepover-long piece of the path, n₃ = the largest engagement of its steps and
+//     f = f₂ + (f₂ − f₁)/(n₂ − n₁)·(n₃ − n₂),  n₁ = D/grid (slot), n₂ = R/grid (half slot),
+// clamped to [f_min, f_max]. A full slot (n₃ = n₁) gets f₁, a half slot f₂.
+#include "millnet/pocket/toolpath.hpp"
+
+#include <vector>
+
+namespace millnet::pocket {
+
+/// Eq. 9 for engagement n3 (cells per step), clamped to [feed_min, feed_max], mm/min.
+[[nodiscard]] double feed_for_engagement(double n3, double n1, double n2, const CutParams& cut);
+
+struct FeedPiece {
+  std::size_t chain = 0, segment = 0;  ///< the piece is this segment of this chain
+  double s_mm = 0;          ///< cut length along the path at the piece's start
+  double length_mm = 0;
+  double engagement = 0;    ///< n₃, cells per cell step
+  double width_mm = 0;      ///< engaged width ≈ n₃ · grid
+  double feed = 0;          ///< mm/min (what Chain::feed holds)
+  double mrr_mm3_min = 0;   ///< feed × width × axial depth
+};
+
+struct FeedProfile {
+  double grid_mm = 0, n1 = 0, n2 = 0;
+  double axial_depth_mm = 0;
+  std::vector<FeedPiece> pieces;
+};
+
+/// Splits segments longer than 1.5 × stepover into equal pieces (geometry unchanged), runs the feed
+/// map over the chains in order and fills every Chain::feed (f₂ everywhere when cut.feed_adjust is
+/// false, the profile still reported). axial_depth_mm (> 0) only scales the MRR column.
+/// O(path length / grid · (D/grid)²) plus O(cells · walls) to seed the map.
+FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cut, double axial_depth_mm);
+
+}  // namespace millnet::pocket

@@ -1,0 +1,74 @@
+#pragma once
+// G-code output (RS-274, runs unchanged on LinuxCNC and GRBL): G21 G90 G17 G94, G0/G1/G2/G3 with
+// I J (incremental arc centres), F only where it changes, M3 S… / M5 / M30, parameters as comments.
+// No canned cycles, no tool-length or work offsets. Pocket top Z = 0, floor Z = −depth.
+//
+// Every level is planned on its own (issue 5 passes a different region and plan per Z level):
+//   levels are machined in the given order (top-down); between chains the tool retracts to safe Z,
+//   rapids above the next start, rapids down to approach_mm above the level's material top, then
+//   plunges (predrilled hole / already-cut point) or enters by helix / ramp.
+#include "millnet/pocket/toolpath.hpp"
+
+#include <array>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace millnet::pocket {
+
+struct LevelPlan {
+  double z = 0;              ///< cutting Z of this level (< 0)
+  double top_z = 0;          ///< material top above this level (the previous level's z, 0 for the first)
+  Region region;             ///< the level's region (for helix clipping); may differ per level
+  Path2D path;               ///< chains with feeds assigned (0 ⇒ cut.feed_half)
+  std::vector<Vec2> predrill;  ///< entry points needing a pre-drilled hole at this level
+};
+
+struct GcodeParams {
+  CutParams cut;
+  std::string entry = "predrill";  ///< "predrill" | "helix" | "ramp"
+  std::string program_name;
+  std::vector<std::string> comments;
+  double approach_mm = 1.0;        ///< rapid down to this height above the material, then feed
+  double entry_angle_deg = 3.0;    ///< helix / ramp descent angle
+  int decimals = 4;                ///< coordinate decimals (LinuxCNC and GRBL accept 4–6)
+};
+
+/// One motion of the program (what the text says, in machine order).
+struct Move {
+  int g = 0;                       ///< 0 rapid, 1 line, 2 CW arc, 3 CCW arc
+  std::array<double, 3> to{};      ///< end point X Y Z
+  std::array<double, 2> center{};  ///< arcs: absolute centre
+  double feed = 0;                 ///< mm/min (0 for rapids)
+  std::string comment;             ///< emitted before the move when not empty
+  bool drill = false;              ///< belongs to the pre-drilling operation
+};
+
+/// The program as moves (levels expanded, entries resolved). Throws millnet::Error on bad
+/// parameters (unknown entry mode, level z ≥ top_z, non-positive feeds…).
+[[nodiscard]] std::vector<Move> build_moves(const std::vector<LevelPlan>& levels, const GcodeParams& params);
+
+/// The program text for the moves (header with comments, M3/M5/M30).
+[[nodiscard]] std::string write_gcode(const std::vector<LevelPlan>& levels, const GcodeParams& params);
+
+/// write_gcode to a file, atomically.
+void write_gcode_file(const std::filesystem::path& path, const std::vector<LevelPlan>& levels,
+                      const GcodeParams& params);
+
+/// Figures of a move list (the same the G-code contains). Times in minutes: G0 at rapid_rate,
+/// feed moves at their feed; "constant" replaces every XY cutting feed by feed_half.
+struct MoveStats {
+  double cut_length_mm = 0;    ///< XY length of feed moves below Z = 0 (milling and drilling)
+  double rapid_length_mm = 0;  ///< XY length of rapids
+  double plunge_length_mm = 0; ///< Z length of feed moves
+  std::size_t retractions = 0; ///< milling retractions to safe Z followed by another entry
+  std::size_t plunges = 0;     ///< milling entries (descending feed moves right after a rapid)
+  double time_adjusted_min = 0;
+  double time_constant_min = 0;
+};
+[[nodiscard]] MoveStats move_stats(const std::vector<Move>& moves, const CutParams& cut);
+
+/// Evenly split step-downs: depth/ceil(depth/step_down) per level, returns the level Zs (< 0, top-down).
+[[nodiscard]] std::vector<double> level_zs(double depth, double step_down);
+
+}  // namespace millnet::pocket

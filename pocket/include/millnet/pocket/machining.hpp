@@ -1,0 +1,55 @@
+#pragma once
+// The facade `millnet pocket` calls once a planner has produced its PlanResult:
+//   region + cut parameters + plan → contour pass (optional) → feed map → levels → G-code → metrics.
+// Example:
+//   PlanResult plan = my_planner(region, cut);              // SOM, zigzag, …
+//   MachiningResult m = machine_pocket(region, cut, plan, {.entry = "predrill", .contour = true});
+//   if (m.status != PlanStatus::Ok) { report m.message; write no G-code; }
+//   else write_file_atomic(out / (stem + ".nc"), m.gcode);
+#include "millnet/pocket/feedmap.hpp"
+#include "millnet/pocket/gcode.hpp"
+#include "millnet/pocket/metrics.hpp"
+#include "millnet/pocket/planner.hpp"
+
+#include <string>
+#include <vector>
+
+namespace millnet::pocket {
+
+struct MachiningOptions {
+  std::string entry = "predrill";  ///< "predrill" | "helix" | "ramp"
+  bool contour = false;            ///< final pass along the offset walls of each reachable component
+  std::string program_name;
+  std::vector<std::string> comments;  ///< extra header comments (e.g. the source file, planner)
+  int decimals = 4;
+};
+
+struct MachiningResult {
+  PlanStatus status = PlanStatus::Ok;
+  std::string message;
+  Path2D path;                 ///< one level's path with feeds (area clearing + contour chains)
+  FeedProfile feed_profile;    ///< per piece: s, engagement, feed, MRR (first level)
+  std::vector<LevelPlan> levels;
+  std::vector<Move> moves;
+  std::string gcode;           ///< empty when status != Ok
+  Metrics metrics;
+};
+
+/// Contour chains along the walls: region offset inward by clearance + tol::contour_margin_mm, one
+/// closed chain per loop (outer CCW, holes CW: climb milling with M3), each loop starting at its
+/// vertex nearest to the area-clearing path (`after`; no pre-drill needed when that vertex lies
+/// within R/2 of it). O(loop vertices · path vertices).
+[[nodiscard]] std::vector<Chain> contour_chains(const Region& region, const CutParams& cut, const Path2D& after);
+
+/// Runs everything after planning. The region must be validated (validate_and_normalize). Throws
+/// millnet::Error on bad parameters; a plan without a path comes back with its status and message.
+[[nodiscard]] MachiningResult machine_pocket(const Region& region, const CutParams& cut, const PlanResult& plan,
+                                             const MachiningOptions& opt = {});
+
+/// Machines a stack of already planned levels (issue 5: a different region and plan per Z level,
+/// top-down; each level's path gets its own feed map). Fills levels, moves, gcode and the program
+/// figures of metrics (not tool_points / tour / planning time / uncut area).
+[[nodiscard]] MachiningResult machine_levels(std::vector<LevelPlan> levels, const CutParams& cut,
+                                             const MachiningOptions& opt = {});
+
+}  // namespace millnet::pocket

@@ -1,0 +1,44 @@
+#pragma once
+// Figures of one machined pocket (what `millnet pocket` writes to <stem>.metrics.json).
+#include "millnet/pocket/gcode.hpp"
+#include "millnet/pocket/offset.hpp"
+
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace millnet::pocket {
+
+struct Metrics {
+  double tool_points = 0;
+  double tour_length_mm = 0;    ///< planner's tour length (stats) or the level path's cut length
+  double cut_length_mm = 0;     ///< XY feed length of the whole program (all levels, entries, contour)
+  double rapid_length_mm = 0;   ///< XY rapid length of the whole program (incl. pre-drilling)
+  double retractions = 0;       ///< milling retractions to safe Z followed by another entry
+  double plunges = 0;           ///< milling entries (plunge, helix or ramp)
+  double predrill_points = 0;   ///< distinct pre-drilled holes (entry "predrill") / entries needing one
+  double planning_time_s = 0;
+  double time_adjusted_min = 0; ///< with the feed-map feeds (rapids at rapid_rate)
+  double time_constant_min = 0; ///< every lateral cut at f₂
+  double uncut_area_mm2 = 0;    ///< reachable area − swept area at the floor level (Clipper)
+  double reachable_area_mm2 = 0;
+  double pocket_area_mm2 = 0;
+  double levels = 0;
+  std::map<std::string, double> planner_stats;  ///< merged as they are
+  /// Ordered (key, value) pairs: the fields above in this order, then the planner stats (a planner
+  /// key equal to a field name is skipped: the field wins).
+  [[nodiscard]] std::vector<std::pair<std::string, double>> to_key_values() const;
+};
+
+/// Area the tool can reach (region offset inward by `clearance_mm`, grown back by `tool_radius_mm`)
+/// minus the area the disk sweeps along every chain of `path` (Clipper union of capsules, arcs
+/// flattened within tol::uncut_chord_mm; area error ≈ perimeter × that chord). mm².
+struct UncutArea {
+  double reachable_mm2 = 0, uncut_mm2 = 0;
+  std::vector<PolyArea> uncut;
+};
+[[nodiscard]] UncutArea uncut_area(const Region& region, const Path2D& path, double clearance_mm,
+                                   double tool_radius_mm);
+
+}  // namespace millnet::pocket

@@ -1,0 +1,147 @@
+// Feed map (Shin & Suh §6): engagement from newly cut cells, feed from eq. 9.
+#include "millnet/pocket/feedmap.hpp"
+
+#include "geometry_internal.hpp"
+#include "millnet/core/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace millnet::pocket {
+
+double feed_for_engagement(double n3, double n1, double n2, const CutParams& cut) {
+  if (n1 == n2) throw Error("feed map: n1 == n2 (tool diameter and radius give the same cell count)");
+  const double f = cut.feed_half + (cut.feed_half - cut.feed_slot) / (n2 - n1) * (n3 - n2);
+  return std::clamp(f, cut.feed_min, cut.feed_max);
+}
+
+namespace {
+
+/// Cut state of the fine grid; rows = y, cols = x.
+struct FeedMap {
+  Vec2 lo;
+  double g = 1;
+  int nx = 0, ny = 0;
+  std::vector<unsigned char> cut;  ///< 1 = cut or no material
+
+  /// Marks the cells whose centre lies within r of p; returns how many were newly cut.
+  /// O((2r/g + 1)²).
+  int mark(const Vec2& p, double r) {
+    int fresh = 0;
+    const int x0 = std::max(0, static_cast<int>(std::floor((p.x() - r - lo.x()) / g)));
+    const int x1 = std::min(nx - 1, static_cast<int>(std::ceil((p.x() + r - lo.x()) / g)));
+    const int y0 = std::max(0, static_cast<int>(std::floor((p.y() - r - lo.y()) / g)));
+    const int y1 = std::min(ny - 1, static_cast<int>(std::ceil((p.y() + r - lo.y()) / g)));
+    const double r2 = r * r;
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        const Vec2 c = lo + Vec2((x + 0.5) * g, (y + 0.5) * g);
+        if ((c - p).squaredNorm() > r2) continue;
+        unsigned char& cell = cut[static_cast<std::size_t>(y) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(x)];
+        if (!cell) {
+          cell = 1;
+          ++fresh;
+        }
+      }
+    return fresh;
+  }
+};
+
+/// Splits segments longer than max_len into equal parts (lines: points on the line; arcs: equal
+/// sub-arcs, bulge tan(θ/4n)), keeping feeds per part. O(output vertices).
+void split_long(Chain& ch, double max_len) {
+  if (ch.pts.size() < 2) return;
+  std::vector<Vertex> out;
+  std::vector<double> feeds;
+  for (std::size_t k = 0; k + 1 < ch.pts.size(); ++k) {
+    const Segment s{ch.pts[k].p(), ch.pts[k + 1].p(), ch.pts[k].bulge};
+    const double len = length(s);
+    const int n = len > 1.5 * max_len ? static_cast<int>(std::ceil(len / max_len)) : 1;
+    const double f = k < ch.feed.size() ? ch.feed[k] : 0.0;
+    const double bulge = s.is_arc() ? std::tan(std::atan(s.bulge) / n) : 0.0;
+    for (int i = 0; i < n; ++i) {
+      const Vec2 p = point_at(s, static_cast<double>(i) / n);
+      out.push_back({p.x(), p.y(), bulge});
+      feeds.push_back(f);
+    }
+  }
+  out.push_back(ch.pts.back());
+  ch.pts = std::move(out);
+  ch.feed = std::move(feeds);
+}
+}  // namespace
+
+FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cut, double axial_depth_mm) {
+  if (!(cut.tool_diameter > 0)) throw Error("feed map: tool_diameter must be > 0");
+  if (!(cut.stepover > 0)) throw Error("feed map: stepover must be > 0");
+  const double g = cut.feed_grid > 0 ? cut.feed_grid : cut.tool_diameter / 10;
+  const double R = cut.tool_diameter / 2;
+  FeedProfile prof;
+  prof.grid_mm = g;
+  prof.n1 = cut.tool_diameter / g;
+  prof.n2 = R / g;
+  prof.axial_depth_mm = axial_depth_mm;
+
+  // The map covers the boundary's box grown by the tool radius.
+  detail::BBox box;
+  for (const Segment& s : segments(region.boundary)) {
+    const detail::BBox b = detail::bbox(s);
+    box.lo = box.lo.cwiseMin(b.lo);
+    box.hi = box.hi.cwiseMax(b.hi);
+  }
+  FeedMap map;
+  map.g = g;
+  map.lo = box.lo - Vec2(R + g, R + g);
+  map.nx = static_cast<int>(std::ceil((box.hi.x() - box.lo.x() + 2 * (R + g)) / g));
+  map.ny = static_cast<int>(std::ceil((box.hi.y() - box.lo.y() + 2 * (R + g)) / g));
+  if (static_cast<double>(map.nx) * map.ny > 5e7)
+    throw Error("feed map: grid of " + std::to_string(map.nx) + " x " + std::to_string(map.ny) +
+                " cells is too fine; raise feed_grid");
+  map.cut.assign(static_cast<std::size_t>(map.nx) * static_cast<std::size_t>(map.ny), 1);
+  // Material = cells whose centre is inside the region; a clearance-0 query object makes the
+  // inside test cheap for cells far from walls. O(cells).
+  const Clearance inside_q(region, 0.0);
+  for (int y = 0; y < map.ny; ++y)
+    for (int x = 0; x < map.nx; ++x)
+      if (inside_q.point_ok(map.lo + Vec2((x + 0.5) * g, (y + 0.5) * g)))
+        map.cut[static_cast<std::size_t>(y) * static_cast<std::size_t>(map.nx) + static_cast<std::size_t>(x)] = 0;
+
+  double s_total = 0;
+  for (std::size_t ci = 0; ci < path.chains.size(); ++ci) {
+    Chain& ch = path.chains[ci];
+    if (ch.pts.empty()) continue;
+    split_long(ch, cut.stepover);
+    ch.feed.assign(ch.pts.size() - 1, cut.feed_half);
+    map.mark(ch.pts.front().p(), R);  // the plunge: not a lateral engagement
+    // O(segments · steps per segment · (D/g)²).
+    for (std::size_t k = 0; k + 1 < ch.pts.size(); ++k) {
+      const Segment s{ch.pts[k].p(), ch.pts[k + 1].p(), ch.pts[k].bulge};
+      const double len = length(s);
+      const int steps = std::max(1, static_cast<int>(std::ceil(len / g - 1e-9)));
+      const double step_len = len / steps;
+      double n3 = 0;
+      for (int i = 1; i <= steps; ++i) {
+        const int fresh = map.mark(point_at(s, static_cast<double>(i) / steps), R);
+        // Scale to a full cell step (short steps cut fewer cells at the same width); a disk cannot
+        // engage more than its diameter, so the scaled count is capped at n₁ (raster noise).
+        const double n = step_len > 0 ? fresh * (g / step_len) : 0.0;
+        n3 = std::max(n3, std::min(n, prof.n1));
+      }
+      FeedPiece p;
+      p.chain = ci;
+      p.segment = k;
+      p.s_mm = s_total;
+      p.length_mm = len;
+      p.engagement = n3;
+      p.width_mm = std::min(n3 * g, cut.tool_diameter);
+      p.feed = cut.feed_adjust ? feed_for_engagement(n3, prof.n1, prof.n2, cut) : cut.feed_half;
+      p.mrr_mm3_min = p.feed * p.width_mm * axial_depth_mm;
+      ch.feed[k] = p.feed;
+      prof.pieces.push_back(p);
+      s_total += len;
+    }
+  }
+  return prof;
+}
+
+}  // namespace millnet::pocket

@@ -1,0 +1,358 @@
+// G-code: levels of 2D plans → moves (entries resolved) → RS-274 text.
+#include "millnet/pocket/gcode.hpp"
+
+#include "millnet/core/atomic_file.hpp"
+#include "millnet/core/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <optional>
+#include <sstream>
+
+namespace millnet::pocket {
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+constexpr double kZEps = 1e-9;
+
+struct Builder {
+  const GcodeParams& gp;
+  std::vector<Move> moves;
+  std::array<double, 3> pos{0, 0, 0};
+  bool pos_known = false;
+
+  void rapid(std::optional<double> x, std::optional<double> y, std::optional<double> z, std::string c = {}) {
+    Move m;
+    m.g = 0;
+    m.to = {x.value_or(pos[0]), y.value_or(pos[1]), z.value_or(pos[2])};
+    m.comment = std::move(c);
+    push(std::move(m));
+  }
+  void line(double x, double y, double z, double f) {
+    Move m;
+    m.g = 1;
+    m.to = {x, y, z};
+    m.feed = f;
+    push(std::move(m));
+  }
+  void arc(bool ccw, const Vec2& c, double x, double y, double z, double f) {
+    Move m;
+    m.g = ccw ? 3 : 2;
+    m.to = {x, y, z};
+    m.center = {c.x(), c.y()};
+    m.feed = f;
+    push(std::move(m));
+  }
+  void push(Move m) {
+    const bool same = pos_known && m.to == pos;
+    if (same && m.comment.empty()) return;  // zero-length moves say nothing
+    pos = m.to;
+    pos_known = true;
+    moves.push_back(std::move(m));
+  }
+  void retract() {
+    if (!pos_known || pos[2] < gp.cut.safe_z - kZEps) rapid(std::nullopt, std::nullopt, gp.cut.safe_z);
+  }
+  /// Retract, rapid above p, rapid down to approach height above `top` (never above safe Z).
+  void go_above(const Vec2& p, double top) {
+    const bool here = pos_known && std::hypot(pos[0] - p.x(), pos[1] - p.y()) < 1e-9;
+    if (!here) {
+      retract();
+      rapid(p.x(), p.y(), std::nullopt);
+    }
+    const double za = std::min(gp.cut.safe_z, top + gp.approach_mm);
+    if (pos[2] > za + kZEps) rapid(std::nullopt, std::nullopt, za);
+  }
+};
+
+/// Helix centre and radius that keep the whole helix of tool centres clear of the walls:
+/// radius ≤ 0.45·D, shrunk (and the centre moved round p) until it fits. Empty when none fits.
+std::optional<std::pair<Vec2, double>> fit_helix(const Clearance& clear, const Vec2& p, double D) {
+  for (double rh = 0.45 * D; rh >= 0.05 * D; rh *= 0.8)
+    for (int k = 0; k < 8; ++k) {
+      const double a = k * kPi / 4;
+      const Vec2 c = p + rh * Vec2(std::cos(a), std::sin(a));
+      if (clear.point_ok(c) && clear.wall_distance(c) >= clear.clearance() + rh) return std::make_pair(c, rh);
+    }
+  return std::nullopt;
+}
+
+void helix(Builder& b, const Vec2& p, const Vec2& c, double rh, double z_from, double z_to, double feed,
+           double angle_deg) {
+  // Half turns (G3, counter-clockwise) descending evenly, then one flat turn to clear the core.
+  const double pitch = 2 * kPi * rh * std::tan(angle_deg * kPi / 180);
+  const int halves = std::max(2, static_cast<int>(std::ceil((z_from - z_to) / (pitch / 2))));
+  const Vec2 opp = 2 * c - p;
+  double z = z_from;
+  b.line(p.x(), p.y(), z_from, feed);
+  for (int h = 1; h <= halves + 2; ++h) {
+    z = h <= halves ? z_from - (z_from - z_to) * h / halves : z_to;
+    const Vec2& q = (h % 2 == 1) ? opp : p;
+    b.arc(true, c, q.x(), q.y(), z, feed);
+  }
+}
+
+std::string fmt(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  std::string s(buf);
+  if (s.find('.') != std::string::npos) {
+    while (!s.empty() && s.back() == '0') s.pop_back();
+    if (!s.empty() && s.back() == '.') s.pop_back();
+  }
+  if (s == "-0") s = "0";
+  return s;
+}
+
+void check_params(const GcodeParams& gp) {
+  const CutParams& c = gp.cut;
+  if (gp.entry != "predrill" && gp.entry != "helix" && gp.entry != "ramp")
+    throw Error("gcode: entry must be \"predrill\", \"helix\" or \"ramp\", got \"" + gp.entry + "\"");
+  auto positive = [](double v, const char* name) {
+    if (!(v > 0) || !std::isfinite(v)) throw Error(std::string("gcode: ") + name + " must be > 0, got " + std::to_string(v));
+  };
+  positive(c.tool_diameter, "tool_diameter");
+  positive(c.safe_z, "safe_z");
+  positive(c.feed_half, "feed_half");
+  positive(c.feed_plunge, "feed_plunge");
+  positive(c.rapid_rate, "rapid_rate");
+  positive(gp.entry_angle_deg, "entry_angle_deg");
+  if (c.spindle_rpm < 0) throw Error("gcode: spindle_rpm must be >= 0");
+  if (gp.decimals < 3 || gp.decimals > 8) throw Error("gcode: decimals must be in [3, 8]");
+}
+}  // namespace
+
+std::vector<double> level_zs(double depth, double step_down) {
+  if (!(depth > 0) || !std::isfinite(depth)) throw Error("depth must be > 0, got " + std::to_string(depth));
+  if (!(step_down > 0) || !std::isfinite(step_down)) throw Error("step_down must be > 0, got " + std::to_string(step_down));
+  const int n = std::max(1, static_cast<int>(std::ceil(depth / step_down - 1e-9)));
+  std::vector<double> z;
+  for (int k = 1; k <= n; ++k) z.push_back(-depth * k / n);
+  return z;
+}
+
+std::vector<Move> build_moves(const std::vector<LevelPlan>& levels, const GcodeParams& gp) {
+  check_params(gp);
+  const CutParams& cut = gp.cut;
+  Builder b{gp, {}, {}, false};
+  b.rapid(std::nullopt, std::nullopt, cut.safe_z);
+  for (const LevelPlan& L : levels)
+    if (!(L.z < L.top_z) || L.top_z > kZEps)
+      throw Error("gcode: level z " + std::to_string(L.z) + " must lie below its top " + std::to_string(L.top_z) +
+                  " and the top at or below Z = 0");
+
+  // 1. Pre-drilling: every distinct predrill point, plain plunges to the deepest level needing it.
+  if (gp.entry == "predrill") {
+    std::vector<std::pair<Vec2, double>> holes;  // O(holes²) de-duplication: holes are few
+    for (const LevelPlan& L : levels)
+      for (const Vec2& p : L.predrill) {
+        auto it = std::find_if(holes.begin(), holes.end(), [&](const auto& h) { return (h.first - p).norm() < 1e-6; });
+        if (it == holes.end()) holes.emplace_back(p, L.z);
+        else it->second = std::min(it->second, L.z);
+      }
+    for (std::size_t k = 0; k < holes.size(); ++k) {
+      const auto& [p, z] = holes[k];
+      b.rapid(std::nullopt, std::nullopt, cut.safe_z);
+      b.rapid(p.x(), p.y(), std::nullopt, k == 0 ? "pre-drill" : "");
+      b.moves.back().drill = true;
+      b.rapid(std::nullopt, std::nullopt, std::min(cut.safe_z, gp.approach_mm));
+      b.moves.back().drill = true;
+      b.line(p.x(), p.y(), z, cut.feed_plunge);
+      b.moves.back().drill = true;
+      b.rapid(std::nullopt, std::nullopt, cut.safe_z);
+      b.moves.back().drill = true;
+    }
+  }
+
+  // 2. Levels top-down, chains in order.
+  for (std::size_t li = 0; li < levels.size(); ++li) {
+    const LevelPlan& L = levels[li];
+    std::optional<Clearance> clear;
+    if (gp.entry == "helix" || gp.entry == "ramp") clear.emplace(L.region, cut.clearance());
+    bool first = true;
+    for (const Chain& ch : L.path.chains) {
+      if (ch.pts.empty()) continue;
+      const Vec2 p0 = ch.pts.front().p();
+      b.go_above(p0, L.top_z);
+      if (first) {
+        b.moves.back().comment = "level " + std::to_string(li + 1) + " of " + std::to_string(levels.size()) +
+                                 ": Z " + fmt(L.z, gp.decimals);
+        first = false;
+      }
+      // Entry.
+      bool entered = false;
+      if (ch.predrill && gp.entry == "ramp" && ch.pts.size() >= 2 && ch.pts[0].bulge == 0.0) {
+        const Vec2 p1 = ch.pts[1].p();
+        const double seg = (p1 - p0).norm();
+        const double Lr = std::min(seg, 2 * cut.tool_diameter);
+        if (Lr >= 0.05 * cut.tool_diameter) {
+          const Vec2 q = p0 + (p1 - p0) * (Lr / seg);
+          const double z0 = b.pos[2];
+          const double drop = Lr * std::tan(gp.entry_angle_deg * kPi / 180);
+          int legs = std::max(2, static_cast<int>(std::ceil((z0 - L.z) / drop)));
+          if (legs % 2 == 1) ++legs;  // end back at p0
+          for (int k = 1; k <= legs; ++k) {
+            const Vec2& t = (k % 2 == 1) ? q : p0;
+            b.line(t.x(), t.y(), z0 - (z0 - L.z) * k / legs, cut.feed_plunge);
+          }
+          b.moves[b.moves.size() - static_cast<std::size_t>(legs)].comment = "ramp entry";
+          entered = true;
+        }
+      }
+      if (ch.predrill && !entered && (gp.entry == "helix" || gp.entry == "ramp")) {
+        if (auto h = fit_helix(*clear, p0, cut.tool_diameter)) {
+          const std::size_t at = b.moves.size();
+          helix(b, p0, h->first, h->second, b.pos[2], L.z, cut.feed_plunge, gp.entry_angle_deg);
+          if (at < b.moves.size()) b.moves[at].comment = "helix entry, radius " + fmt(h->second, gp.decimals);
+          entered = true;
+        }
+      }
+      if (!entered) {
+        b.line(p0.x(), p0.y(), L.z, cut.feed_plunge);
+        if (ch.predrill && gp.entry != "predrill")
+          b.moves.back().comment = "WARNING: no room for a " + gp.entry + " entry: plain plunge";
+      }
+      // Cut.
+      for (std::size_t k = 0; k + 1 < ch.pts.size(); ++k) {
+        const double f = (k < ch.feed.size() && ch.feed[k] > 0) ? ch.feed[k] : cut.feed_half;
+        const Vertex& a = ch.pts[k];
+        const Vertex& e = ch.pts[k + 1];
+        if (a.bulge == 0.0) {
+          b.line(e.x, e.y, L.z, f);
+        } else {
+          const Arc arc = arc_of(Segment{a.p(), e.p(), a.bulge});
+          b.arc(arc.sweep > 0, arc.center, e.x, e.y, L.z, f);
+        }
+      }
+    }
+  }
+  b.retract();
+  return std::move(b.moves);
+}
+
+std::string write_gcode(const std::vector<LevelPlan>& levels, const GcodeParams& gp) {
+  const std::vector<Move> moves = build_moves(levels, gp);
+  const CutParams& c = gp.cut;
+  const int d = gp.decimals;
+  std::ostringstream os;
+  auto comment = [&](const std::string& s) {
+    std::string t = s;
+    std::replace(t.begin(), t.end(), '(', '[');
+    std::replace(t.begin(), t.end(), ')', ']');
+    os << "(" << t << ")\n";
+  };
+  comment(gp.program_name.empty() ? std::string("millnet pocket") : gp.program_name);
+  comment("generated by millnet; units mm; pocket top Z 0, floor Z " + fmt(-c.depth, d));
+  comment("tool diameter " + fmt(c.tool_diameter, d) + " stepover " + fmt(c.stepover, d) + " stock to leave " +
+          fmt(c.stock_to_leave, d));
+  comment("depth " + fmt(c.depth, d) + " step-down " + fmt(c.step_down, d) + " levels " +
+          std::to_string(levels.size()) + " safe Z " + fmt(c.safe_z, d));
+  comment("feeds: slot f1 " + fmt(c.feed_slot, 1) + " half f2 " + fmt(c.feed_half, 1) + " plunge " +
+          fmt(c.feed_plunge, 1) + " limits " + fmt(c.feed_min, 1) + ".." + fmt(c.feed_max, 1) +
+          (c.feed_adjust ? " adjusted by feed map" : " constant") + "; spindle " + fmt(c.spindle_rpm, 0) + " rpm");
+  comment("entry " + gp.entry);
+  for (const std::string& s : gp.comments) comment(s);
+  os << "G21 G90 G17 G94\n";
+  const bool has_drill = std::any_of(moves.begin(), moves.end(), [](const Move& m) { return m.drill; });
+  double last_f = -1;
+  bool spindle_on = false, in_drill = false;
+  std::array<double, 3> pos{0, 0, 0};
+  std::array<bool, 3> known{false, false, false};  // the first move sets Z only
+  for (std::size_t k = 0; k < moves.size(); ++k) {
+    const Move& m = moves[k];
+    if (m.drill && !in_drill) {
+      comment("PRE-DRILL: load a drill of diameter " + fmt(c.tool_diameter, d) + " mm");
+      os << "M3 S" << fmt(c.spindle_rpm, 0) << "\n";
+      in_drill = true;
+    }
+    if (!m.drill && in_drill) {
+      os << "M5\n";
+      comment("change to the end mill of diameter " + fmt(c.tool_diameter, d) + " mm, then resume");
+      os << "M0\n";
+      in_drill = false;
+    }
+    if (!m.drill && m.g != 0 && !spindle_on) {
+      // Spindle on before the first milling feed move (the rapids above it are harmless).
+      os << "M3 S" << fmt(c.spindle_rpm, 0) << "\n";
+      spindle_on = true;
+    }
+    if (!m.comment.empty()) comment(m.comment);
+    os << "G" << m.g;
+    const char axes[3] = {'X', 'Y', 'Z'};
+    for (int a = 0; a < 3; ++a) {
+      const auto ai = static_cast<std::size_t>(a);
+      if (k == 0 && a < 2) continue;
+      if (!known[ai] || fmt(m.to[ai], d) != fmt(pos[ai], d) || (m.g >= 2 && a < 2)) {
+        os << " " << axes[a] << fmt(m.to[ai], d);
+        known[ai] = true;
+      }
+    }
+    if (m.g >= 2) os << " I" << fmt(m.center[0] - pos[0], d) << " J" << fmt(m.center[1] - pos[1], d);
+    if (m.g != 0 && m.feed != last_f) {
+      os << " F" << fmt(m.feed, 1);
+      last_f = m.feed;
+    }
+    os << "\n";
+    pos = m.to;
+  }
+  (void)has_drill;
+  if (in_drill) os << "M5\n";
+  if (spindle_on) os << "M5\n";
+  os << "M30\n";
+  return os.str();
+}
+
+void write_gcode_file(const std::filesystem::path& path, const std::vector<LevelPlan>& levels, const GcodeParams& gp) {
+  write_file_atomic(path, write_gcode(levels, gp));
+}
+
+MoveStats move_stats(const std::vector<Move>& moves, const CutParams& cut) {
+  MoveStats s;
+  std::array<double, 3> pos{0, 0, cut.safe_z};
+  bool cut_since = false, retracted_after_cut = false, after_rapid = true;
+  for (const Move& m : moves) {  // O(moves)
+    double xy = std::hypot(m.to[0] - pos[0], m.to[1] - pos[1]);
+    if (m.g >= 2) {
+      const double r = std::hypot(pos[0] - m.center[0], pos[1] - m.center[1]);
+      const double a0 = std::atan2(pos[1] - m.center[1], pos[0] - m.center[0]);
+      const double a1 = std::atan2(m.to[1] - m.center[1], m.to[0] - m.center[0]);
+      double sw = m.g == 3 ? a1 - a0 : a0 - a1;
+      while (sw <= 1e-12) sw += 2 * kPi;
+      xy = r * sw;
+    }
+    const double dz = std::abs(m.to[2] - pos[2]);
+    const double len3 = std::hypot(xy, dz);
+    if (m.g == 0) {
+      s.rapid_length_mm += xy;
+      s.time_adjusted_min += len3 / cut.rapid_rate;
+      s.time_constant_min += len3 / cut.rapid_rate;
+      if (!m.drill && m.to[2] >= cut.safe_z - kZEps && pos[2] < cut.safe_z - kZEps && cut_since) {
+        retracted_after_cut = true;
+        cut_since = false;
+      }
+      after_rapid = true;
+    } else {
+      if (!m.drill && m.to[2] < pos[2] - kZEps && after_rapid) {
+        ++s.plunges;
+        if (retracted_after_cut) ++s.retractions;  // a retraction counts when the tool goes back in
+        retracted_after_cut = false;
+      }
+      after_rapid = false;
+      if (std::min(m.to[2], pos[2]) < 0) {
+        s.cut_length_mm += xy;
+        if (!m.drill) cut_since = true;
+      }
+      s.plunge_length_mm += dz;
+      const double f = m.feed > 0 ? m.feed : cut.feed_half;
+      s.time_adjusted_min += len3 / f;
+      const bool lateral = dz < kZEps && !m.drill;
+      s.time_constant_min += len3 / (lateral ? cut.feed_half : f);
+    }
+    pos = m.to;
+  }
+  return s;
+}
+
+}  // namespace millnet::pocket

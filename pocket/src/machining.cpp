@@ -1,0 +1,154 @@
+// Facade: plan → contour → feeds → levels → G-code → metrics.
+#include "millnet/pocket/machining.hpp"
+
+#include "millnet/core/error.hpp"
+#include "millnet/pocket/offset.hpp"
+#include "millnet/pocket/tolerances.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace millnet::pocket {
+
+namespace {
+Chain loop_chain(const std::vector<Vec2>& loop, const Path2D& after, double R) {
+  // Start at the loop vertex nearest to any vertex of the area-clearing path.
+  std::size_t best_k = 0;
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < loop.size(); ++k)
+    for (const Chain& c : after.chains)
+      for (const Vertex& v : c.pts) {
+        const double d = (v.p() - loop[k]).norm();
+        if (d < best) {
+          best = d;
+          best_k = k;
+        }
+      }
+  Chain ch;
+  ch.role = "contour";
+  ch.predrill = !(best <= 0.5 * R);
+  for (std::size_t i = 0; i <= loop.size(); ++i) {
+    const Vec2& p = loop[(best_k + i) % loop.size()];
+    ch.pts.push_back({p.x(), p.y(), 0.0});
+  }
+  return ch;
+}
+
+void fill_program_metrics(MachiningResult& r, const CutParams& cut, const GcodeParams& gp) {
+  const MoveStats ms = move_stats(r.moves, cut);
+  r.metrics.cut_length_mm = ms.cut_length_mm;
+  r.metrics.rapid_length_mm = ms.rapid_length_mm;
+  r.metrics.retractions = static_cast<double>(ms.retractions);
+  r.metrics.plunges = static_cast<double>(ms.plunges);
+  r.metrics.time_adjusted_min = ms.time_adjusted_min;
+  r.metrics.time_constant_min = ms.time_constant_min;
+  r.metrics.levels = static_cast<double>(r.levels.size());
+  // Pre-drill points: distinct holes the program drills (predrill entry) or would need.
+  std::vector<Vec2> holes;
+  for (const LevelPlan& L : r.levels)
+    for (const Vec2& p : L.predrill)
+      if (std::none_of(holes.begin(), holes.end(), [&](const Vec2& h) { return (h - p).norm() < 1e-6; }))
+        holes.push_back(p);
+  r.metrics.predrill_points = gp.entry == "predrill" ? static_cast<double>(holes.size()) : 0.0;
+  r.gcode = write_gcode(r.levels, gp);
+}
+
+GcodeParams gcode_params(const CutParams& cut, const MachiningOptions& opt) {
+  GcodeParams gp;
+  gp.cut = cut;
+  gp.entry = opt.entry;
+  gp.program_name = opt.program_name;
+  gp.comments = opt.comments;
+  gp.decimals = opt.decimals;
+  return gp;
+}
+
+/// Entry points of chains that plunge into uncut material, appended to the level's list.
+void collect_predrill(LevelPlan& L) {
+  for (const Chain& c : L.path.chains)
+    if (c.predrill && !c.pts.empty()) {
+      const Vec2 p = c.pts.front().p();
+      if (std::none_of(L.predrill.begin(), L.predrill.end(), [&](const Vec2& h) { return (h - p).norm() < 1e-6; }))
+        L.predrill.push_back(p);
+    }
+}
+}  // namespace
+
+std::vector<Chain> contour_chains(const Region& region, const CutParams& cut, const Path2D& after) {
+  std::vector<Chain> out;
+  const auto comps = offset_inward(region, cut.clearance() + tol::contour_margin_mm, tol::arc_chord_mm);
+  for (const PolyArea& a : comps) {  // O(components · loops)
+    if (a.outer.size() >= 3) out.push_back(loop_chain(a.outer, after, cut.tool_diameter / 2));
+    for (const auto& h : a.holes)
+      if (h.size() >= 3) out.push_back(loop_chain(h, after, cut.tool_diameter / 2));
+  }
+  return out;
+}
+
+MachiningResult machine_levels(std::vector<LevelPlan> levels, const CutParams& cut, const MachiningOptions& opt) {
+  MachiningResult r;
+  const GcodeParams gp = gcode_params(cut, opt);
+  for (std::size_t k = 0; k < levels.size(); ++k) {
+    LevelPlan& L = levels[k];
+    const FeedProfile prof = assign_feeds(L.path, L.region, cut, L.top_z - L.z);
+    if (k == 0) r.feed_profile = prof;
+    collect_predrill(L);
+  }
+  if (!levels.empty()) r.path = levels.front().path;
+  r.levels = std::move(levels);
+  r.moves = build_moves(r.levels, gp);
+  fill_program_metrics(r, cut, gp);
+  return r;
+}
+
+MachiningResult machine_pocket(const Region& region, const CutParams& cut, const PlanResult& plan,
+                               const MachiningOptions& opt) {
+  MachiningResult r;
+  r.status = plan.status;
+  r.message = plan.message;
+  r.metrics.tool_points = static_cast<double>(plan.tool_points.pts.size());
+  r.metrics.planning_time_s = plan.planning_time_s;
+  r.metrics.planner_stats = plan.stats;
+  r.metrics.pocket_area_mm2 = area(region);
+  if (plan.status != PlanStatus::Ok || plan.path.chains.empty()) {
+    if (r.status == PlanStatus::Ok) {
+      r.status = PlanStatus::NothingToCut;
+      r.message = "the planner returned no path";
+    }
+    return r;
+  }
+  const std::vector<double> zs = level_zs(cut.depth, cut.step_down);
+  Path2D path = plan.path;
+  for (Chain& c : path.chains) c.feed.clear();  // the feed map decides
+  if (opt.contour)
+    for (Chain& c : contour_chains(region, cut, plan.path)) path.chains.push_back(std::move(c));
+  // Feeds on the first level; deeper levels repeat the same plan under already-cut material, so
+  // each one sees the same engagement: one feed map serves all.
+  const FeedProfile prof = assign_feeds(path, region, cut, cut.depth / static_cast<double>(zs.size()));
+  r.feed_profile = prof;
+  r.path = path;
+  double top = 0;
+  for (double z : zs) {
+    LevelPlan L;
+    L.z = z;
+    L.top_z = top;
+    L.region = region;
+    L.path = path;
+    L.predrill = plan.predrill;
+    collect_predrill(L);
+    r.levels.push_back(std::move(L));
+    top = z;
+  }
+  const GcodeParams gp = gcode_params(cut, opt);
+  r.moves = build_moves(r.levels, gp);
+  fill_program_metrics(r, cut, gp);
+  const auto tl = plan.stats.find("tour_length_mm");
+  r.metrics.tour_length_mm = tl != plan.stats.end() ? tl->second : plan.path.cut_length();
+  const UncutArea u = uncut_area(region, path, cut.clearance(), cut.tool_diameter / 2);
+  r.metrics.uncut_area_mm2 = u.uncut_mm2;
+  r.metrics.reachable_area_mm2 = u.reachable_mm2;
+  return r;
+}
+
+}  // namespace millnet::pocket

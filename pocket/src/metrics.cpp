@@ -1,0 +1,56 @@
+// Metrics: key/value order and the uncut area.
+#include "millnet/pocket/metrics.hpp"
+
+#include "millnet/pocket/tolerances.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace millnet::pocket {
+
+std::vector<std::pair<std::string, double>> Metrics::to_key_values() const {
+  std::vector<std::pair<std::string, double>> kv = {
+      {"tool_points", tool_points},           {"tour_length_mm", tour_length_mm},
+      {"cut_length_mm", cut_length_mm},       {"rapid_length_mm", rapid_length_mm},
+      {"retractions", retractions},           {"plunges", plunges},
+      {"predrill_points", predrill_points},   {"planning_time_s", planning_time_s},
+      {"time_adjusted_min", time_adjusted_min}, {"time_constant_min", time_constant_min},
+      {"uncut_area_mm2", uncut_area_mm2},     {"reachable_area_mm2", reachable_area_mm2},
+      {"pocket_area_mm2", pocket_area_mm2},   {"levels", levels}};
+  const std::size_t fixed = kv.size();
+  for (const auto& [k, v] : planner_stats) {  // O(stats · fields)
+    const bool taken = std::any_of(kv.begin(), kv.begin() + static_cast<std::ptrdiff_t>(fixed),
+                                   [&](const auto& e) { return e.first == k; });
+    if (!taken) kv.emplace_back(k, v);
+  }
+  return kv;
+}
+
+UncutArea uncut_area(const Region& region, const Path2D& path, double clearance_mm, double tool_radius_mm) {
+  UncutArea u;
+  const auto centre_area = offset_inward(region, clearance_mm, tol::uncut_chord_mm);
+  const auto reachable = offset_areas(centre_area, tool_radius_mm, tol::uncut_chord_mm);
+  u.reachable_mm2 = area(reachable);
+  std::vector<std::vector<Vec2>> lines;
+  for (const Chain& ch : path.chains) {  // O(flattened path vertices)
+    if (ch.pts.empty()) continue;
+    std::vector<Vec2> pl{ch.pts.front().p()};
+    for (std::size_t k = 0; k + 1 < ch.pts.size(); ++k) {
+      const Segment s{ch.pts[k].p(), ch.pts[k + 1].p(), ch.pts[k].bulge};
+      if (s.is_arc()) {
+        const Arc a = arc_of(s);
+        const double step = 2 * std::acos(1 - std::min(tol::uncut_chord_mm / a.radius, 1.0));
+        const int n = std::max(1, static_cast<int>(std::ceil(std::abs(a.sweep) / std::max(step, 1e-6))));
+        for (int i = 1; i < n; ++i) pl.push_back(point_at(s, static_cast<double>(i) / n));
+      }
+      pl.push_back(s.b);
+    }
+    lines.push_back(std::move(pl));
+  }
+  const auto swept = swept_area(lines, tool_radius_mm, tol::uncut_chord_mm);
+  u.uncut = difference(reachable, swept);
+  u.uncut_mm2 = area(u.uncut);
+  return u;
+}
+
+}  // namespace millnet::pocket
