@@ -22,7 +22,7 @@ namespace millnet::pocket {
 
 struct SomParams {
   double node_factor = 2.0;   ///< ring nodes M = max(3, round(node_factor·N)); ≥ 1
-  double g0 = 0;              ///< initial gain G₀ in ring nodes; 0 ⇒ auto = clamp(0.1·M, 3, 3·sqrt(M))
+  double g0 = 0;              ///< initial gain G₀ in ring nodes; 0 ⇒ auto = clamp(0.1·M, 3, 30)
   double alpha = 0.1;         ///< G ← (1 − α)·G per pass (0 < α < 1), used unless adaptive_alpha
   bool adaptive_alpha = false;  ///< seed eq. 5: α = C·log(1 + exp(−K)), K = mapping degree / k_scale_mm
   double c = 0.4;             ///< the constant C of eq. 5
@@ -32,7 +32,9 @@ struct SomParams {
   double k_scale_mm = 1.0;
   double alpha_min = 0.02;    ///< floor of the adaptive α so that G always decreases (a pass budget)
   double w = 1.0;             ///< weight of (X₂ − C₂)² in the competition (eq. 6); > 0
-  int max_passes = 400;       ///< hard stop (the tour is still a valid permutation)
+  int max_passes = 400;       ///< hard stop (the tour is still a valid permutation); the run also stops
+                              ///< 20 passes after G has shrunk to the winner alone (nothing moves the
+                              ///< order any more; cities sharing a node are ordered along the ring)
   double tolerance_mm = 0;    ///< a city is mapped when its node is this close; 0 ⇒ auto =
                               ///< 0.01·sqrt(bbox area / N)
   std::uint64_t seed = 1;     ///< initial ring phase and the city order of every pass

@@ -1,0 +1,76 @@
+#pragma once
+// Postprocessing of a tour through grid tool points (Shin & Suh §5, and what its future work asks).
+//   * Weak smoothing: the seed's diagonal patterns on the grid rewritten as axis-parallel moves, each
+//     saving 2g(√2 − 1): types 1 and 2 are four moves "two parallel diagonals + two unit steps"
+//     (diagonal first = type 1, unit step first = type 2; 2g(1 + √2) → 4g), type 3 two crossing
+//     diagonals of one grid cell (2g√2 → 2g, the middle of the tour reversed). A rewrite is applied only
+//     if every new move is move_ok; the visited tool points never change (cut area unchanged).
+//   * Extra passes (option): 2-opt and Or-opt (segments of 1–3 points, both orientations) on the open
+//     path with obstacle-aware move costs: a straight move costs its length when move_ok, else the
+//     length of its link (below) when linking is on, else its length + retract_penalty_mm.
+//   * Strong smoothing: a move whose swept tool disk would overcut (move_ok false) either becomes a link
+//     — the shortest path over the tool-point grid graph (8-neighbour moves between tool points whose
+//     straight move is move_ok, A*), string-pulled, kept when ≤ link_max_ratio × the straight distance
+//     (and ≤ link_max_mm when > 0) — or splits the tour into chains: retract, rapid, plunge; every
+//     chain start needs a pre-drilled hole.
+// Lengths in mm; a path is a sequence of indices into ToolPoints::pts.
+#include "millnet/pocket/toolpoints.hpp"
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace millnet::pocket {
+
+/// The straight tool-centre move p→q keeps the tool disk inside the pocket (Clearance::move_ok).
+using MoveOk = std::function<bool(const Vec2&, const Vec2&)>;
+
+struct SmoothingParams {
+  bool linking = true;            ///< keep the tool down along grid links instead of retracting
+  double link_max_ratio = 3.0;    ///< a link may be at most this × the straight distance (≥ 1)
+  double link_max_mm = 0;         ///< and at most this long; 0 ⇒ no absolute cap
+  bool weak = true;               ///< the seed's weak smoothing (types 1, 2, 3)
+  bool extra_passes = true;       ///< 2-opt / Or-opt with obstacle-aware costs
+  int opt_neighbours = 10;        ///< candidate list size of the extra passes
+  double retract_penalty_mm = 1000;  ///< cost of one retraction when reordering (≥ 0)
+  long max_opt_moves = 0;         ///< budget of improving moves; 0 ⇒ 50·N
+};
+
+/// Pattern counts and savings of weak smoothing.
+struct WeakStats {
+  int type1 = 0, type2 = 0, type3 = 0;
+  double saved_mm = 0;
+  [[nodiscard]] int patterns() const { return type1 + type2 + type3; }
+};
+
+/// Weak smoothing of an open path (indices into tp.pts, each grid point given by tp.ij) in place,
+/// repeated until no pattern is left. O(N) per sweep (type 3 finds crossing partners through a hash
+/// of grid cells); each rewrite shortens the path, so the number of sweeps is bounded.
+WeakStats weak_smoothing(const ToolPoints& tp, std::vector<int>& path, const MoveOk& move_ok);
+
+/// What smooth_tour() produced: chains of tool-point indices (links included, so a point may appear
+/// again inside a link), the visiting order (a permutation) and figures.
+struct SmoothedTour {
+  std::vector<int> order;                 ///< open path through every tool point once
+  std::vector<std::vector<int>> chains;   ///< cut with the tool down; a retraction between chains
+  std::map<std::string, double> stats;    ///< "som_tour_length_mm", "tour_length_mm",
+      ///< "weak_smoothing_saved_mm", "weak_patterns", "weak_type1|2|3", "two_opt_saved_mm",
+      ///< "opt_moves", "links", "link_length_mm", "retractions_before_linking", "retractions",
+      ///< "reachable_regions", "min_retractions"
+};
+
+/// Strong smoothing, weak smoothing and the extra passes on a closed tour (e.g. the SOM ring order)
+/// through all points of `tp`. The ring is opened at its most expensive move. Deterministic.
+/// Throws millnet::Error when `ring` is not a permutation of the tool points or params are invalid.
+[[nodiscard]] SmoothedTour smooth_tour(const ToolPoints& tp, const std::vector<int>& ring,
+                                       const MoveOk& move_ok, const SmoothingParams& params);
+
+/// Shortest collision-free link a → b over the tool-point grid graph (8-neighbour moves that are
+/// move_ok), string-pulled (an intermediate point is dropped while the straight move stays move_ok),
+/// no longer than max_len_mm. Returns the points a … b, or empty if there is none. A*, O(V log V)
+/// over the visited part of the graph.
+[[nodiscard]] std::vector<int> find_link(const ToolPoints& tp, int a, int b, const MoveOk& move_ok,
+                                         double max_len_mm);
+
+}  // namespace millnet::pocket

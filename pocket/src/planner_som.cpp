@@ -1,0 +1,65 @@
+#include "millnet/pocket/planner_som.hpp"
+
+#include "millnet/core/error.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace millnet::pocket {
+
+PlanResult plan_som(const Region& region, const CutParams& cut, const GridFrame& frame, const SomParams& som,
+                    const SmoothingParams& smooth) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (!(cut.tool_diameter > 0) || !std::isfinite(cut.tool_diameter))
+    throw Error("plan_som: 'tool_diameter' must be > 0");
+  if (!(cut.stock_to_leave >= 0)) throw Error("plan_som: 'stock_to_leave' must be ≥ 0");
+  PlanResult res;
+  res.planner = "som";
+  const double clearance = cut.clearance();
+  res.tool_points = make_tool_points(region, frame, clearance);  // O(grid cells)
+  const ToolPoints& tp = res.tool_points;
+  const std::size_t n = tp.pts.size();
+  res.stats["tool_points"] = static_cast<double>(n);
+  if (n == 0) {
+    std::ostringstream msg;
+    msg << "no tool point fits: no grid point (spacing " << frame.spacing << " mm) keeps the tool disk (radius "
+        << clearance << " mm incl. stock to leave) inside the pocket";
+    res.status = PlanStatus::NoToolPoints;
+    res.message = msg.str();
+    res.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return res;
+  }
+  const Clearance clear(region, clearance);
+  const MoveOk move_ok = [&clear](const Vec2& p, const Vec2& q) { return clear.move_ok(p, q); };
+
+  const SomResult ring = som_tour(tp.pts, som);
+  res.stats["som_passes"] = ring.passes;
+  res.stats["som_converged"] = ring.converged ? 1.0 : 0.0;
+  res.stats["som_nodes"] = static_cast<double>(ring.nodes);
+  SmoothedTour sm = smooth_tour(tp, ring.order, move_ok, smooth);
+  for (const auto& [k, v] : sm.stats) res.stats[k] = v;
+
+  for (const auto& ch : sm.chains) {  // O(path vertices)
+    Chain c;
+    for (int k : ch) {
+      const Vec2& p = tp.pts[static_cast<std::size_t>(k)];
+      c.pts.push_back(Vertex{p.x(), p.y(), 0.0});
+    }
+    c.predrill = true;
+    c.role = "cut";
+    res.predrill.push_back(c.pts.front().p());
+    res.path.chains.push_back(std::move(c));
+  }
+  res.stats["cut_length_mm"] = res.path.cut_length();
+  res.stats["rapid_length_mm"] = res.path.rapid_length();
+  res.stats["retractions"] = static_cast<double>(res.path.retractions());
+  res.stats["predrill_points"] = static_cast<double>(res.predrill.size());
+  const double bound = (static_cast<double>(n) - 1) * frame.spacing;
+  res.stats["grid_bound_mm"] = bound;
+  res.stats["cut_over_bound"] = bound > 0 ? res.path.cut_length() / bound : 1.0;
+  res.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+}  // namespace millnet::pocket
