@@ -107,6 +107,13 @@ Layout grouped_bar_png(const std::filesystem::path& path, const std::vector<std:
   style.x_ticks = false;
   draw_axes(img, x, y, "", y_label, style);
 
+  int decimals = opt.value_decimals;
+  if (decimals < 0) {
+    bool whole = true;
+    for (const auto& se : series)
+      for (double v : se.values) whole = whole && v == std::round(v);
+    decimals = whole ? 0 : 2;
+  }
   cv::Mat roi = img(cv::Rect(left + 1, top + 1, right - left - 1, bottom - top - 1));
   const double bw = gw * 0.78 / static_cast<double>(S);
   const double zero = y.to_px(std::clamp(0.0, y.lo, y.hi));
@@ -120,7 +127,7 @@ Layout grouped_bar_png(const std::filesystem::path& path, const std::vector<std:
       cv::rectangle(roi, a, b, series_colour(s), cv::FILLED);
       if (opt.show_values) {
         char buf[64];
-        std::snprintf(buf, sizeof buf, "%.*f", std::clamp(opt.value_decimals, 0, 6), v);
+        std::snprintf(buf, sizeof buf, "%.*f", std::min(decimals, 6), v);
         const int tw = text_size(buf, kSmallFont).width;
         if (tw <= bw + 4) {
           const int cx = cvRound(x0 + bw / 2);

@@ -251,6 +251,15 @@ void nice_range(double& lo, double& hi, int target) {
   hi = std::ceil(hi / step - 1e-9) * step;
 }
 
+void padded_nice_range(double& lo, double& hi, int target) {
+  const double pad = 0.03 * (hi - lo);
+  if (pad > 0) {
+    lo = (lo >= 0 && lo - pad < 0) ? 0.0 : lo - pad;
+    hi = (hi <= 0 && hi + pad > 0) ? 0.0 : hi + pad;
+  }
+  nice_range(lo, hi, target);
+}
+
 void log_range(double& lo, double& hi) {
   lo = std::pow(10.0, std::floor(std::log10(lo) + 1e-9));
   hi = std::pow(10.0, std::ceil(std::log10(hi) - 1e-9));
@@ -459,7 +468,11 @@ void write_png(const std::filesystem::path& path, const cv::Mat& img) {
     fail(path, std::string("PNG encoding failed: ") + e.what());
   }
   if (!ok || buf.empty()) fail(path, "PNG encoding failed");
-  write_file_atomic(path, buf);
+  try {
+    write_file_atomic(path, buf);
+  } catch (const Error& e) {  // name the picture itself, not only the folder that failed
+    fail(path, std::string("cannot write PNG: ") + e.what());
+  }
 }
 
 void fail(const std::filesystem::path& path, const std::string& what) {

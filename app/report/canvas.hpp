@@ -71,6 +71,9 @@ struct Axis {
 [[nodiscard]] double nice_step(double lo, double hi, int target);
 /// Expands [lo, hi] outward to multiples of the nice step (a zero-width range is widened first).
 void nice_range(double& lo, double& hi, int target);
+/// nice_range after a 3 % margin on each side (not crossing zero), so that no data point sits
+/// on the frame.
+void padded_nice_range(double& lo, double& hi, int target);
 /// Decade range for a log axis: [10^floor(log10 lo), 10^ceil(log10 hi)].
 void log_range(double& lo, double& hi);
 /// Tick label with as many decimals as the step needs (no "-0").

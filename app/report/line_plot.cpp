@@ -75,7 +75,7 @@ Layout line_plot_png(const std::filesystem::path& path, const std::vector<Series
   else nice_range(x.lo, x.hi, 8);
   if (opt.y_range) std::tie(y.lo, y.hi) = *opt.y_range;
   else if (y.log) log_range(y.lo, y.hi);
-  else nice_range(y.lo, y.hi, 6);
+  else padded_nice_range(y.lo, y.hi, 6);
 
   // Left margin from the widest y number so that the rotated y label never overlaps it.
   int yw = 0;

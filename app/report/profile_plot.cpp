@@ -40,7 +40,7 @@ Layout profile_png(const std::filesystem::path& path, const std::vector<double>&
         hi = std::max(hi, val);
       }
     }
-    nice_range(lo, hi, 4);
+    padded_nice_range(lo, hi, 4);
     yr[p] = {lo, hi};
   }
   Axis x;
@@ -55,19 +55,23 @@ Layout profile_png(const std::filesystem::path& path, const std::vector<double>&
   }
   const int left = 60 + yw, right = kWidth - 40;
   const int panel_h = panels.size() <= 3 ? 190 : 150;
-  constexpr int kHeader = 26;  // per panel: room for its legend above the frame
+  // Per panel: room above the frame for its legend when it has one.
+  auto has_legend = [](const Panel& p) { return p.series.size() > 1 || !p.series[0].name.empty(); };
+  constexpr int kHeader = 30, kGap = 14;
   const int top0 = title_height(title_text);
   const int n = static_cast<int>(panels.size());
-  const int height = top0 + n * (kHeader + panel_h) + (n - 1) * 8 + 70;
+  int height = top0 + n * panel_h + (n - 1) * kGap + 70;
+  for (const auto& p : panels) height += has_legend(p) ? kHeader : 0;
   cv::Mat img(height, kWidth, CV_8UC3, kWhite);
   title(img, title_text);
   x.p0 = left;
   x.p1 = right;
 
   Axis y;
+  int top = top0 - kGap;
   for (int p = 0; p < n; ++p) {
     const Panel& panel = panels[static_cast<std::size_t>(p)];
-    const int top = top0 + p * (kHeader + panel_h + 8) + kHeader;
+    top += (p > 0 ? panel_h : 0) + kGap + (has_legend(panel) ? kHeader : 0);
     y = Axis{};
     y.lo = yr[static_cast<std::size_t>(p)].first;
     y.hi = yr[static_cast<std::size_t>(p)].second;
@@ -95,10 +99,10 @@ Layout profile_png(const std::filesystem::path& path, const std::vector<double>&
         for (std::size_t i = 0; i < s.size(); ++i) circle_at(roi, at(s[i], v[i]), 2.6, series_colour(k), -1);
     }
     std::vector<LegendItem> items;
-    if (panel.series.size() > 1 || !panel.series[0].name.empty())
+    if (has_legend(panel))
       for (std::size_t k = 0; k < panel.series.size(); ++k)
         items.push_back({panel.series[k].name, series_colour(k), LegendKind::Line});
-    legend(&img, items, left, top - kHeader + 1, right - left);
+    legend(&img, items, left, top - kHeader + 2, right - left);
   }
   write_png(path, img);
   return make_layout(img, x, y);

@@ -106,7 +106,7 @@ Layout multi_line_png(const std::filesystem::path& path, const std::vector<Named
 
 struct BarOptions {
   bool show_values = true;  ///< value above each bar when the bars are wide enough
-  int value_decimals = 2;
+  int value_decimals = -1;  ///< < 0: none when every value is whole (counts), else 2
   std::optional<std::pair<double, double>> y_range;
 };
 
