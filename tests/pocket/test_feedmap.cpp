@@ -1,0 +1,87 @@
+// Feed map: eq. 9 on the seed's numbers and engagement measured on simple cuts.
+#include "millnet/pocket/feedmap.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+using namespace millnet::pocket;
+namespace {
+Loop rect(double x0, double y0, double x1, double y1) { return {{x0, y0, 0}, {x1, y0, 0}, {x1, y1, 0}, {x0, y1, 0}}; }
+CutParams seed_params() {
+  CutParams c;
+  c.tool_diameter = 40;
+  c.feed_grid = 4;
+  c.stepover = 20;
+  c.feed_slot = 50;
+  c.feed_half = 100;
+  c.feed_min = 10;
+  c.feed_max = 500;
+  return c;
+}
+Chain line_chain(Vec2 a, Vec2 b) {
+  Chain c;
+  c.pts = {{a.x(), a.y(), 0}, {b.x(), b.y(), 0}};
+  return c;
+}
+double median_engagement(const FeedProfile& p, std::size_t chain) {
+  std::vector<double> e;
+  for (const FeedPiece& q : p.pieces) if (q.chain == chain) e.push_back(q.engagement);
+  std::sort(e.begin(), e.end());
+  return e.at(e.size() / 2);
+}
+}  // namespace
+
+TEST(PocketFeedMap, SeedExampleEquation9) {
+  const CutParams c = seed_params();
+  // D = 40, grid 4 ⇒ n1 = 10, n2 = 5; f1 = 50, f2 = 100 (Shin & Suh §6.3).
+  EXPECT_DOUBLE_EQ(feed_for_engagement(10, 10, 5, c), 50);
+  EXPECT_DOUBLE_EQ(feed_for_engagement(5, 10, 5, c), 100);
+  EXPECT_DOUBLE_EQ(feed_for_engagement(4, 10, 5, c), 110);
+  CutParams lim = c;
+  lim.feed_max = 120;
+  lim.feed_min = 60;
+  EXPECT_DOUBLE_EQ(feed_for_engagement(0, 10, 5, lim), 120);   // 150 clamped
+  EXPECT_DOUBLE_EQ(feed_for_engagement(10, 10, 5, lim), 60);   // 50 clamped
+}
+
+TEST(PocketFeedMap, SlotThenHalfSlotThenAirCut) {
+  const CutParams c = seed_params();
+  const Region r{rect(0, 0, 400, 400), {}};
+  Path2D p;
+  p.chains.push_back(line_chain({100, 100}, {300, 100}));  // full slot
+  p.chains.push_back(line_chain({100, 120}, {300, 120}));  // next to it at R: half engaged
+  p.chains.push_back(line_chain({100, 110}, {300, 110}));  // already cut: air
+  const FeedProfile prof = assign_feeds(p, r, c, 1.0);
+  EXPECT_DOUBLE_EQ(prof.n1, 10);
+  EXPECT_DOUBLE_EQ(prof.n2, 5);
+  // The 200 mm segments were split into stepover (20 mm) pieces, geometry unchanged.
+  EXPECT_EQ(p.chains[0].pts.size(), 11u);
+  EXPECT_NEAR(p.cut_length(), 600, 1e-9);
+  EXPECT_NEAR(median_engagement(prof, 0), 10, 1.0);
+  EXPECT_NEAR(median_engagement(prof, 1), 5, 1.0);
+  EXPECT_NEAR(median_engagement(prof, 2), 0, 1e-12);
+  // Feeds: the slot near f1, the half slot near f2, the air cut at the f_max clamp (eq. 9 → 150).
+  EXPECT_NEAR(p.chains[0].feed[5], 50, 10);
+  EXPECT_NEAR(p.chains[1].feed[5], 100, 10);
+  EXPECT_DOUBLE_EQ(p.chains[2].feed[5], 150);
+  for (const FeedPiece& q : prof.pieces) EXPECT_NEAR(q.mrr_mm3_min, q.feed * q.width_mm * 1.0, 1e-9);
+}
+
+TEST(PocketFeedMap, CellsOutsideTheRegionHoldNoMaterial) {
+  // The tool runs along the bottom wall line: half of its disk is outside the region ⇒ n3 ≈ R/grid.
+  const CutParams c = seed_params();
+  const Region r{rect(0, 100, 400, 400), {}};
+  Path2D p;
+  p.chains.push_back(line_chain({100, 100}, {300, 100}));
+  const FeedProfile prof = assign_feeds(p, r, c, 1.0);
+  EXPECT_NEAR(median_engagement(prof, 0), 5, 1.0);
+  // Constant feed when adjustment is off, profile still measured.
+  CutParams off = c;
+  off.feed_adjust = false;
+  Path2D q;
+  q.chains.push_back(line_chain({100, 200}, {300, 200}));
+  const FeedProfile prof2 = assign_feeds(q, r, off, 1.0);
+  for (double f : q.chains[0].feed) EXPECT_EQ(f, 100);
+  EXPECT_NEAR(median_engagement(prof2, 0), 10, 1.0);
+}
