@@ -341,8 +341,37 @@ std::vector<Tick> axis_ticks(const Axis& a, int target) {
 void draw_axes(cv::Mat& img, const Axis& x, const Axis& y, const std::string& x_label,
                const std::string& y_label, const AxesStyle& style) {
   const double left = x.p0, right = x.p1, bottom = y.p0, top = y.p1;
-  const auto xt = style.x_ticks ? axis_ticks(x, style.x_target) : std::vector<Tick>{};
-  const auto yt = axis_ticks(y, style.y_target);
+  // Fewer ticks until neighbouring numbers no longer touch (narrow or short plots).
+  auto crowded_x = [&](const std::vector<Tick>& t) {
+    double prev_right = -1e9;
+    for (const auto& k : t) {
+      if (k.label.empty()) continue;
+      const double w = text_size(k.label, kTickFont).width, c = x.to_px(k.v);
+      if (c - w / 2 < prev_right + 8) return true;
+      prev_right = c + w / 2;
+    }
+    return false;
+  };
+  auto crowded_y = [&](const std::vector<Tick>& t) {
+    double prev = 1e9;
+    for (const auto& k : t) {
+      if (k.label.empty()) continue;
+      const double c = y.to_px(k.v);
+      if (std::abs(prev - c) < 20) return true;
+      prev = c;
+    }
+    return false;
+  };
+  std::vector<Tick> xt, yt;
+  if (style.x_ticks)
+    for (int target = style.x_target;; target = target / 2) {
+      xt = axis_ticks(x, target);
+      if (target <= 1 || !crowded_x(xt)) break;
+    }
+  for (int target = style.y_target;; target = target / 2) {
+    yt = axis_ticks(y, target);
+    if (target <= 1 || !crowded_y(yt)) break;
+  }
   if (style.grid) {
     for (const auto& t : xt)
       if (t.major) line(img, {x.to_px(t.v), top}, {x.to_px(t.v), bottom}, kGridGrey, 1);
