@@ -5,6 +5,7 @@
 #include "millnet/core/error.hpp"
 #include "millnet/ingest/pointcloud.hpp"
 
+#include <Eigen/Geometry>
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>

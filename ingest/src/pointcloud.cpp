@@ -100,7 +100,11 @@ Mesh triangulate_height_field(const Vertices& points, const std::string& source)
     }
   }
   if (uniq.size() < 3) throw Error(source + ": fewer than 3 distinct XY positions in the point cloud");
-  cv::Subdiv2D subdiv(cv::Rect(-10, -10, 10020, 10020));
+  // Subdiv2D starts from a finite super-triangle about 3× its rectangle; where that rectangle is
+  // tight, the super-vertices fall inside the circumcircles of flat triangles along the convex
+  // hull and those triangles go missing (holes along the cloud's border). A rectangle 10⁴× the
+  // points' extent keeps them (the points keep float precision ~1e-3 of 1e4 units).
+  cv::Subdiv2D subdiv(cv::Rect(-100000000, -100000000, 200010000, 200010000));
   subdiv.insert(uniq);
   std::vector<cv::Vec6f> tris;
   subdiv.getTriangleList(tris);
