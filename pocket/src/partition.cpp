@@ -36,7 +36,7 @@ double ring_area(const std::vector<Vec2>& pts) {
 /// Extrema of one loop by hysteresis (O(n)): a reversal of the y-direction counts only once y has
 /// moved more than tol::srp_flat_mm away from the running extreme, so flat tops, Clipper rounding
 /// and flattened arcs give one extremum each.
-void loop_srps(const std::vector<Vec2>& ring, int component, int loop, std::vector<Srp>& out) {
+void loop_extrema(const std::vector<Vec2>& ring, int component, int loop, bool reflex_only, std::vector<Srp>& out) {
   const std::size_t n = ring.size();
   if (n < 3) return;
   const double tol = tol::srp_flat_mm;
@@ -77,7 +77,8 @@ void loop_srps(const std::vector<Vec2>& ring, int component, int loop, std::vect
       xmax = std::max(xmax, at(k).x());
     }
     poly.push_back(at(hi + 1));
-    if (ring_area(poly) >= 0) continue;  // convex extreme: not an SRP
+    const bool reflex = ring_area(poly) < 0;
+    if (reflex_only && !reflex) continue;  // convex extreme: not an SRP
     Srp s;
     s.p = at(off);
     s.span_x_min = xmin;
@@ -85,6 +86,7 @@ void loop_srps(const std::vector<Vec2>& ring, int component, int loop, std::vect
     s.kind = is_max ? SrpKind::R : SrpKind::L;
     s.component = component;
     s.loop = loop;
+    s.reflex = reflex;
     out.push_back(s);
   }
 }
@@ -314,15 +316,21 @@ std::vector<std::vector<int>> island_groups(const std::vector<PolyArea>& areas) 
 
 }  // namespace
 
-std::vector<Srp> find_srps(const std::vector<PolyArea>& areas) {
+namespace {
+std::vector<Srp> extrema(const std::vector<PolyArea>& areas, bool reflex_only) {
   std::vector<Srp> out;
   for (std::size_t c = 0; c < areas.size(); ++c) {
-    loop_srps(areas[c].outer, static_cast<int>(c), 0, out);
+    loop_extrema(areas[c].outer, static_cast<int>(c), 0, reflex_only, out);
     for (std::size_t h = 0; h < areas[c].holes.size(); ++h)
-      loop_srps(areas[c].holes[h], static_cast<int>(c), static_cast<int>(h + 1), out);
+      loop_extrema(areas[c].holes[h], static_cast<int>(c), static_cast<int>(h + 1), reflex_only, out);
   }
   return out;
 }
+}  // namespace
+
+std::vector<Srp> find_srps(const std::vector<PolyArea>& areas) { return extrema(areas, true); }
+
+std::vector<Srp> find_extrema(const std::vector<PolyArea>& areas) { return extrema(areas, false); }
 
 bool is_y_monotone(const PolyArea& area) {
   // A simple polygon is y-monotone iff it has no hole and no reflex y-extremum (no SRP).

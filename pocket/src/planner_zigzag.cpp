@@ -17,8 +17,6 @@ namespace millnet::pocket {
 
 namespace {
 
-constexpr double kLengthTie = 0.005;  // relative: path lengths this close are a tie
-
 struct Candidate {
   double angle = 0;
   Partition part;
@@ -189,19 +187,18 @@ PlanResult plan_zigzag(const Region& region, const CutParams& cut, const ZigzagP
   } else {
     angles = candidate_angles(region, params.angle_step_deg);
   }
-  // Fewest regions, then shortest cut + rapid length; ties keep the smaller angle. O(angles · plan).
+  // Fewest regions, then lowest path cost; ties keep the smaller angle. O(angles · plan).
   Candidate best;
   bool have = false;
   for (double a : angles) {
     Candidate c = evaluate(reach, a, params.partition, cut.stepover);
-    if (scores) scores->push_back({a, c.regions, c.cut_len + c.rapid_len});
-    // Lengths within kLengthTie of each other count as equal (the idealised zigzag of a rectangle
-    // is as long across as along); then fewer passes (fewer turns) wins: Held's "parallel to the
-    // longest edge".
-    const double lc = c.cut_len + c.rapid_len, lb = best.cut_len + best.rapid_len;
-    const bool better = !have || c.regions < best.regions ||
-                        (c.regions == best.regions &&
-                         (lc < lb * (1 - kLengthTie) || (lc <= lb * (1 + kLengthTie) && c.passes < best.passes)));
+    if (scores) scores->push_back({a, c.regions, c.cut_len + c.rapid_len, c.passes});
+    // Path cost = cut + rapid length + a turn penalty per pass: the slanted directions of a
+    // thin pocket are a little shorter (their end passes are short) but turn ten times as often.
+    const double pen = params.turn_penalty_mm >= 0 ? params.turn_penalty_mm : cut.stepover;
+    const double lc = c.cut_len + c.rapid_len + pen * static_cast<double>(c.passes);
+    const double lb = best.cut_len + best.rapid_len + pen * static_cast<double>(best.passes);
+    const bool better = !have || c.regions < best.regions || (c.regions == best.regions && lc < lb - 1e-9);
     if (better) { best = std::move(c); have = true; }
   }
 

@@ -24,30 +24,40 @@ void push_unique(std::vector<Vec2>& out, const Vec2& p) {
 }  // namespace
 
 std::vector<double> pass_heights(const std::vector<PolyArea>& areas, const std::vector<Srp>& srps, double stepover) {
-  double lo = kInf, hi = -kInf;
-  for (const PolyArea& a : areas)
-    for (const Vec2& v : a.outer) { lo = std::min(lo, v.y()); hi = std::max(hi, v.y()); }
+  // Breakpoints: a pass just inside every y-extremum of every loop (area bottom/top, island
+  // tops/bottoms, prong tips…), so that a flat wall facing the passes is always run along instead
+  // of leaving a band up to a stepover thick; between breakpoints, even spacing ≤ stepover.
+  // O(E log E + passes · n_s), E = extrema.
+  std::vector<double> br;
+  for (const Srp& e : find_extrema(areas)) {
+    // Maxima get a pass just below, minima just above (inside the area on the side it occupies).
+    const bool area_below = (e.kind == SrpKind::R) != e.reflex;
+    br.push_back(e.p.y() + (area_below ? -tol::scan_clear_mm : tol::scan_clear_mm));
+  }
+  std::sort(br.begin(), br.end());
+  std::vector<double> merged;
+  for (double y : br)
+    if (merged.empty() || y - merged.back() > tol::gouge_check_mm) merged.push_back(y);
   std::vector<double> ys;
-  if (!(hi >= lo)) return ys;
-  const double first = lo + tol::scan_clear_mm, last = hi - tol::scan_clear_mm;
-  if (last <= first) {
-    ys.push_back(0.5 * (lo + hi));
-  } else {
-    const auto n = static_cast<std::size_t>(std::max(1.0, std::ceil((last - first) / stepover - 1e-9)));
-    const double step = (last - first) / static_cast<double>(n);
-    for (std::size_t k = 0; k <= n; ++k) ys.push_back(first + step * static_cast<double>(k));
+  for (std::size_t k = 0; k < merged.size(); ++k) {
+    ys.push_back(merged[k]);
+    if (k + 1 == merged.size()) break;
+    const double gap = merged[k + 1] - merged[k];
+    const auto n = static_cast<std::size_t>(std::max(1.0, std::ceil(gap / stepover - 1e-9)));
+    for (std::size_t i = 1; i < n; ++i) ys.push_back(merged[k] + gap * static_cast<double>(i) / static_cast<double>(n));
   }
   // Keep passes out of the slits at SRP heights: O(passes · n_s), a few rounds for stacked SRPs.
   for (double& y : ys)
     for (int round = 0; round < 4; ++round) {
       bool moved = false;
       for (const Srp& s : srps)
-        if (std::abs(y - s.p.y()) < tol::scan_clear_mm) {
+        if (std::abs(y - s.p.y()) < tol::scan_clear_mm * (1 - 1e-9)) {
           y = s.p.y() + (y >= s.p.y() ? tol::scan_clear_mm : -tol::scan_clear_mm);
           moved = true;
         }
       if (!moved) break;
     }
+  std::sort(ys.begin(), ys.end());
   return ys;
 }
 

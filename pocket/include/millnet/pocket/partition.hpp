@@ -42,6 +42,7 @@ struct Srp {
   SrpKind kind = SrpKind::L;
   int component = 0;     ///< index of the PolyArea
   int loop = 0;          ///< 0 = outer loop, k ≥ 1 = hole k − 1
+  bool reflex = true;    ///< false only for the convex extrema find_extrema() also returns
 };
 
 /// A cut as a polyline (scan frame). T-cuts have 2 points (SRP → hit); I-cuts 3 (p → corner → q).
@@ -66,6 +67,9 @@ struct Partition {
 
 /// SRPs of every loop of the areas (scan frame). O(total vertices).
 [[nodiscard]] std::vector<Srp> find_srps(const std::vector<PolyArea>& areas);
+
+/// Every y-extremum of every loop (reflex = SRPs and convex ones), same merging. O(total vertices).
+[[nodiscard]] std::vector<Srp> find_extrema(const std::vector<PolyArea>& areas);
 
 /// T- or I-partition of the areas (scan frame, outer CCW, holes CW as offset_inward returns them).
 /// Cost: O(n_s · V) ray casts + one Clipper difference; the I-partition adds one difference per

@@ -20,6 +20,9 @@ struct ZigzagParams {
   PartitionKind partition = PartitionKind::T;
   bool contour = false;          ///< final pass along every offset wall (chains with role "contour")
   double angle_step_deg = 5;     ///< search grid; the pocket's straight-edge directions are added
+  /// Search cost per pass (a turn: the machine stops and starts), mm of path; < 0 ⇒ one stepover.
+  /// Direction cost = cut + rapid length + turn_penalty_mm · passes, after the fewest regions.
+  double turn_penalty_mm = -1;
 };
 
 /// One evaluated direction (for reports and tests).
@@ -27,6 +30,7 @@ struct AngleScore {
   double angle_deg = 0;
   int regions = 0;
   double length_mm = 0;  ///< cut + rapid length of the zigzag (no contour)
+  std::size_t passes = 0;
 };
 
 /// Plans a zigzag rough cut of `region` (validated and normalized: boundary CCW, islands CW, mm).
