@@ -107,13 +107,14 @@ void raster_triangle(P a, P b, P c, const BandBuffer& buf, int ncols, int nrows)
   const double e2u = b.u - a.u, e2v = b.v - a.v;  // a → b, opposite c
   const double t0 = -kEps * std::sqrt(lbc2), t1 = -kEps * std::sqrt(lca2), t2 = -kEps * std::sqrt(lab2);
   const double inv = 1.0 / area2;
+  // Edge functions at the row's first column, then stepped by −e·v per column (the values differ
+  // from a direct evaluation by rounding only, far below kEps).
   for (int i = i0; i <= i1; ++i) {
-    const double pv = i;
-    for (int j = j0; j <= j1; ++j) {
-      const double pu = j;
-      const double w0 = e0u * (pv - b.v) - e0v * (pu - b.u);
-      const double w1 = e1u * (pv - c.v) - e1v * (pu - c.u);
-      const double w2 = e2u * (pv - a.v) - e2v * (pu - a.u);
+    const double pv = i, pu0 = j0;
+    double w0 = e0u * (pv - b.v) - e0v * (pu0 - b.u);
+    double w1 = e1u * (pv - c.v) - e1v * (pu0 - c.u);
+    double w2 = e2u * (pv - a.v) - e2v * (pu0 - a.u);
+    for (int j = j0; j <= j1; ++j, w0 -= e0v, w1 -= e1v, w2 -= e2v) {
       if (w0 < t0 || w1 < t1 || w2 < t2) continue;
       const double zv = (w0 * a.z + w1 * b.z + w2 * c.z) * inv;
       // Clamped: slightly outside points (within kEps) of steep triangles must not extrapolate.
