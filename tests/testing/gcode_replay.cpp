@@ -245,10 +245,10 @@ void check_gouge(ReplayResult& r, const ReplayPocket& pocket, double tool_radius
       ++r.samples;
       double d = std::numeric_limits<double>::infinity();
       for (const Wall& w : walls) d = std::min(d, wall_distance(w, p));
-      // Far from walls the side cannot change between samples; test it at the first sample and
-      // wherever the disk comes near a wall.
+      // The centre changes sides only by crossing a wall (d = 0); samples are step_mm apart, so the
+      // side needs testing at the first sample and wherever the centre comes within a step of a wall.
       double intrusion = tool_radius - d;
-      if ((i == 0 || intrusion > -step_mm) && !region_inside(p)) intrusion = tool_radius + d;
+      if ((i == 0 || d <= step_mm) && !region_inside(p)) intrusion = tool_radius + d;
       if (intrusion > r.worst_mm) r.worst_mm = intrusion;
       if (intrusion > tol_mm) {
         if (r.violations == 0) {

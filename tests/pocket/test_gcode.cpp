@@ -1,0 +1,144 @@
+// G-code writer checked by the independent replay (tests/testing/gcode_replay).
+#include "millnet/core/error.hpp"
+#include "millnet/pocket/gcode.hpp"
+#include "testing/gcode_replay.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+using namespace millnet::pocket;
+using millnet::testing::ReplayPocket;
+namespace {
+Loop rect(double x0, double y0, double x1, double y1) { return {{x0, y0, 0}, {x1, y0, 0}, {x1, y1, 0}, {x0, y1, 0}}; }
+ReplayPocket to_replay(const Region& r) {
+  ReplayPocket p;
+  for (const Vertex& v : r.boundary) p.boundary.push_back({v.x, v.y, v.bulge});
+  for (const Loop& l : r.islands) {
+    p.islands.emplace_back();
+    for (const Vertex& v : l) p.islands.back().push_back({v.x, v.y, v.bulge});
+  }
+  return p;
+}
+/// Two chains in a 60×60 pocket: a line/arc chain and a square, feeds varying.
+Path2D sample_path() {
+  Path2D p;
+  Chain a;
+  a.pts = {{10, 10, 0}, {30, 10, std::tan(std::numbers::pi / 8)}, {40, 20, 0}, {40, 40, -0.3}, {20, 45, 0}};
+  a.feed = {80, 80, 120, 60};
+  Chain b;
+  b.pts = {{15, 30, 0}, {25, 30, 0}, {25, 40, 0}, {15, 40, 0}, {15, 30, 0}};
+  b.feed = {100, 100, 100, 100};
+  b.predrill = false;
+  p.chains = {a, b};
+  return p;
+}
+std::vector<LevelPlan> two_levels(const Region& r) {
+  std::vector<LevelPlan> L(2);
+  L[0].z = -2.5; L[0].top_z = 0;
+  L[1].z = -5; L[1].top_z = -2.5;
+  for (LevelPlan& l : L) { l.region = r; l.path = sample_path(); l.predrill = {Vec2(10, 10)}; }
+  return L;
+}
+}  // namespace
+
+TEST(PocketGcode, LevelZs) {
+  EXPECT_EQ(level_zs(5, 5), std::vector<double>({-5}));
+  EXPECT_EQ(level_zs(5, 10), std::vector<double>({-5}));
+  const auto z = level_zs(5, 2);
+  ASSERT_EQ(z.size(), 3u);
+  EXPECT_NEAR(z[0], -5.0 / 3, 1e-12);
+  EXPECT_NEAR(z[2], -5, 1e-12);
+  EXPECT_THROW((void)level_zs(0, 1), millnet::Error);
+}
+
+TEST(PocketGcode, RoundTripThroughIndependentReplay) {
+  const Region r{rect(0, 0, 60, 60), {}};
+  GcodeParams gp;
+  gp.cut.tool_diameter = 6;
+  gp.cut.safe_z = 5;
+  const auto levels = two_levels(r);
+  const std::string text = write_gcode(levels, gp);
+  auto rep = millnet::testing::replay_gcode(text, gp.cut.safe_z);
+  const double per_level = sample_path().cut_length();
+  ASSERT_EQ(rep.cut_length_by_z.size(), 2u);
+  for (const auto& [z, len] : rep.cut_length_by_z) EXPECT_NEAR(len, per_level, 1e-3) << "z " << z;
+  // Retractions: 2 chains × 2 levels − 1, plus the one out of the pre-drilled hole (the replay
+  // does not tell drilling from milling); plunges: 4 milling entries + 1 pre-drilled hole.
+  EXPECT_EQ(rep.retractions, 3 + 1);
+  EXPECT_EQ(rep.plunges, 5);
+  EXPECT_NEAR(rep.min_z, -5, 1e-9);
+  EXPECT_TRUE(rep.uses_feed_everywhere);
+  millnet::testing::check_gouge(rep, to_replay(r), 3.0);
+  EXPECT_EQ(rep.violations, 0) << rep.first_violation;
+  // The module's own figures agree with the replay.
+  const MoveStats ms = move_stats(build_moves(levels, gp), gp.cut);
+  EXPECT_NEAR(ms.cut_length_mm, rep.cut_length, 1e-3);
+  EXPECT_NEAR(ms.rapid_length_mm, rep.rapid_length, 1e-3);
+  EXPECT_EQ(ms.retractions, 3u);
+  EXPECT_EQ(ms.plunges, 4u);  // milling entries only
+  // F only where it changes; header words; no canned cycles; ends with M30.
+  std::istringstream in(text);
+  std::string line, last_f;
+  int f_words = 0;
+  while (std::getline(in, line)) {
+    EXPECT_EQ(line.find("G8"), std::string::npos) << line;
+    const auto p = line.find(" F");
+    if (p == std::string::npos || line[0] == '(') continue;
+    const std::string f = line.substr(p + 2);
+    EXPECT_NE(f, last_f) << "repeated feed word: " << line;
+    last_f = f;
+    ++f_words;
+  }
+  EXPECT_GE(f_words, 5);
+  EXPECT_NE(text.find("G21 G90 G17 G94"), std::string::npos);
+  EXPECT_NE(text.find("M3 S3000"), std::string::npos);
+  EXPECT_NE(text.find("PRE-DRILL"), std::string::npos);
+  EXPECT_EQ(text.substr(text.size() - 4), "M30\n");
+  // Deterministic bytes.
+  EXPECT_EQ(text, write_gcode(levels, gp));
+}
+
+TEST(PocketGcode, HelixAndRampEntriesStayClear) {
+  // A tight pocket: 14 mm wide, tool Ø10: the helix must shrink to fit (clearance 5, room 2 mm).
+  const Region r{rect(0, 0, 60, 14), {}};
+  for (const char* entry : {"helix", "ramp"}) {
+    GcodeParams gp;
+    gp.entry = entry;
+    gp.cut.tool_diameter = 10;
+    std::vector<LevelPlan> L(1);
+    L[0].z = -5;
+    L[0].region = r;
+    Chain c;
+    c.pts = {{10, 7, 0}, {50, 7, 0}};
+    L[0].path.chains = {c};
+    const std::string text = write_gcode(L, gp);
+    auto rep = millnet::testing::replay_gcode(text, gp.cut.safe_z);
+    millnet::testing::check_gouge(rep, to_replay(r), 5.0);
+    EXPECT_EQ(rep.violations, 0) << entry << ": " << rep.first_violation;
+    EXPECT_NE(text.find(std::string(entry) + " entry"), std::string::npos) << text;
+    EXPECT_EQ(text.find("PRE-DRILL"), std::string::npos);
+    EXPECT_NEAR(rep.min_z, -5, 1e-9);
+    // The entry descends gradually: no feed move drops more than pitch/2 (helix) or one ramp leg.
+    for (const auto& m : rep.moves) {
+      if (m.g != 0 && m.from[2] < 0.5) {
+        EXPECT_LT(m.from[2] - m.to[2], 2.5) << entry << " line " << m.line;
+      }
+    }
+  }
+}
+
+TEST(PocketGcode, BadParameters) {
+  GcodeParams gp;
+  gp.entry = "drill";
+  EXPECT_THROW((void)write_gcode({}, gp), millnet::Error);
+  gp.entry = "predrill";
+  gp.cut.feed_plunge = 0;
+  EXPECT_THROW((void)write_gcode({}, gp), millnet::Error);
+  GcodeParams ok;
+  std::vector<LevelPlan> L(1);
+  L[0].z = 1;  // above the top
+  EXPECT_THROW((void)write_gcode(L, ok), millnet::Error);
+}
