@@ -120,6 +120,7 @@ struct Cache {
   std::vector<double> dplus;  // smallest d² NOT kept (+inf when the row is complete)
   std::vector<double> m[3];   // per mode: the row minimum the network subtracts
   double covered[3] = {0, 0, 0};  // α up to which the cache is exact to double precision, per mode
+  double covered_refine[3] = {0, 0, 0};  // same with tol::kRefineTruncationMargin (refinement only)
 };
 
 Figures cache_pass(const Prepared& P, const Cache& C, double alpha, int mode, Index block_rows, MatrixXd* outputs) {
@@ -160,8 +161,10 @@ struct Evaluator {
   const Cache& C;
   Index block_rows;
   int* full_passes;
+  bool refining = false;  // golden-section evaluations may use the looser cache bound
   Figures operator()(double alpha, int mode, MatrixXd* outputs = nullptr) const {
-    if (alpha <= C.covered[mode]) return cache_pass(P, C, alpha, mode, block_rows, outputs);
+    if (alpha <= (refining ? C.covered_refine[mode] : C.covered[mode]))
+      return cache_pass(P, C, alpha, mode, block_rows, outputs);
     ++*full_passes;
     return full_pass(P, alpha, mode, block_rows, outputs);
   }
@@ -457,10 +460,12 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
     std::vector<std::int32_t>().swap(bj[b]);
   }
   const double margin = tol::kTruncationMargin + std::log(static_cast<double>(n));
+  const double margin_refine = tol::kRefineTruncationMargin + std::log(static_cast<double>(n));
   for (int mode : {kPart, kVector, kFiltration}) {
-    double cov = kInf;
-    for (std::size_t i = 0; i < un; ++i) cov = std::min(cov, (C.dplus[i] - C.m[mode][i]) / margin);
-    C.covered[mode] = std::max(cov, 0.0);
+    double gap = kInf;  // smallest (first dropped d² − row minimum) over all rows
+    for (std::size_t i = 0; i < un; ++i) gap = std::min(gap, C.dplus[i] - C.m[mode][i]);
+    C.covered[mode] = std::max(gap / margin, 0.0);
+    C.covered_refine[mode] = std::max(gap / margin_refine, 0.0);
   }
 
   // scan curve (ascending α) and each mode's best candidate (ties → smaller α)
@@ -482,6 +487,7 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
 
   // ---- pass 2: refinement per mode --------------------------------------------------------------
   Evaluator ev{P, C, br, &full_passes};
+  ev.refining = true;
   const double tol_ln = prm.refine_tolerance_octaves * std::log(2.0);
   for (int mode : {kPart, kVector}) {
     Index best = 0;
@@ -506,6 +512,7 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
   }
 
   // ---- pass 3: outputs at the chosen α ----------------------------------------------------------
+  ev.refining = false;
   const int chosen = prm.mode == LooMode::PartOut ? kPart : kVector;
   rep.alpha = chosen == kPart ? rep.part.alpha : rep.vector.alpha;
   rep.verification.resize(n, kout);
