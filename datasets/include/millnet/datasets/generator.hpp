@@ -6,10 +6,12 @@
 //   3 profile finishing, scallop-height mode — varying curvature (ridges from sharp to flat)
 //   4 Z-level finishing                      — steep walls / deep cavities (deep pockets, tall boss)
 //   5 profile finishing, equidistant         — shallow uniform slopes (planes, roofs, gentle cones)
-// Every part is a closed, consistently oriented height-field solid in mm: a top surface over the
-// rectangle [0,a]×[0,b] (a, b in 80–150 mm), vertical side walls and a flat bottom at z = 0.
+// Every part is a closed, consistently oriented (outward normals) height-field solid in mm: a top
+// surface over the rectangle [0,a]×[0,b] (a, b in 100–130 mm, the same range for every family),
+// vertical side walls and a flat bottom at z = 0; the top's lowest point is 5–12 mm above it.
 // Mesh layout (relied on by tests): the first res_x·res_y vertices are the top grid, row-major,
-// vertex (i, j) at x = a·j/(res_x−1), y = b·i/(res_y−1).
+// vertex (i, j) at x = a·j/(res_x−1), y = b·i/(res_y−1); the first 2·(res_x−1)·(res_y−1) faces
+// are the top surface (two per grid cell).
 #include "millnet/ingest/mesh.hpp"
 
 #include <cstdint>
