@@ -76,7 +76,7 @@ std::string ascii(std::string_view s) {
   while (i < s.size()) {  // O(|s|·|table|)
     const auto c = static_cast<unsigned char>(s[i]);
     if (c < 0x80) {
-      out += (c >= 0x20 || c == '\n') ? static_cast<char>(c) : ' ';
+      out += c >= 0x20 ? static_cast<char>(c) : ' ';  // control characters (also newlines) become spaces
       ++i;
       continue;
     }
