@@ -1,0 +1,375 @@
+#include "learn.hpp"
+
+#include "cli.hpp"
+#include "report_util.hpp"
+
+#include "millnet/augment/variants.hpp"
+#include "millnet/classifier_io/model_file.hpp"
+#include "millnet/core/atomic_file.hpp"
+#include "millnet/core/error.hpp"
+#include "millnet/core/progress.hpp"
+#include "millnet/datasets/generator.hpp"
+#include "millnet/datasets/hash.hpp"
+#include "millnet/datasets/table.hpp"
+#include "millnet/ingest/heightfield.hpp"
+#include "millnet/ingest/mesh_io.hpp"
+#include "millnet/report/plots.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace millnet::app {
+namespace fs = std::filesystem;
+
+namespace {
+
+augment::AugmentParams augment_from(const Json& a) {
+  augment::AugmentParams p;
+  p.angles_deg = a["angles_deg"].get<std::vector<double>>();
+  p.axes.clear();
+  for (const auto& s : a["axes"]) p.axes.push_back(augment::parse_axis(s.get<std::string>()));
+  p.flip = a["flip"].get<bool>();
+  return p;
+}
+
+std::string strategy_name(const std::vector<std::string>& names, int slot) {
+  return slot >= 1 && static_cast<std::size_t>(slot) <= names.size() ? names[static_cast<std::size_t>(slot - 1)]
+                                                                       : std::string("?");
+}
+
+std::string fixed(double v, int d) {
+  std::ostringstream os;
+  os.setf(std::ios::fixed);
+  os.precision(d);
+  os << v;
+  return os.str();
+}
+
+}  // namespace
+
+datasets::Recipe recipe_from_config(const Json& config) {
+  const Json& d = config["dataset"];
+  datasets::Recipe r;
+  r.units = ingest::parse_units(d["units"].get<std::string>());
+  r.up = ingest::parse_up(d["up"].get<std::string>());
+  r.raster_mm = d["raster_mm"].get<double>();
+  r.grid = d["grid"].get<int>();
+  r.augment = augment_from(d["augment"]);
+  r.aspect_feature = d["aspect_feature"].get<bool>();
+  const auto names = d["strategies"].get<std::vector<std::string>>();
+  if (names.size() != datasets::kStrategySlots)
+    throw Error("/dataset/strategies: expected exactly " + std::to_string(datasets::kStrategySlots) + " names, got " +
+                std::to_string(names.size()));
+  std::copy(names.begin(), names.end(), r.strategies.begin());
+  if (d["parts"].empty()) {
+    datasets::GenerateParams g;
+    g.seed = d["generate"]["seed"].get<std::uint64_t>();
+    g.per_family = d["generate"]["per_family"].get<int>();
+    g.resolution = d["generate"]["resolution"].get<int>();
+    const fs::path dir = d["parts_dir"].get<std::string>();
+    info("dataset: generating the default training parts (" + std::to_string(g.per_family) + " per family, seed " +
+         std::to_string(g.seed) + ") into " + dir.string());
+    r.parts = datasets::to_part_specs(datasets::generate_default_parts(dir, g));
+    r.generate = g;
+  } else {
+    for (const auto& p : d["parts"]) {
+      datasets::PartSpec s;
+      s.file = p["file"].get<std::string>();
+      s.label = p["label"].get<int>();
+      s.name = p.value("name", std::string());
+      r.parts.push_back(std::move(s));
+    }
+  }
+  return r;
+}
+
+bool build_dataset(const datasets::Recipe& recipe, const fs::path& out_dir, bool reuse) {
+  if (reuse && fs::exists(out_dir / "vectors.csv") && fs::exists(out_dir / "manifest.json")) {
+    try {
+      const Json m = read_json(out_dir / "manifest.json");
+      bool same = m.contains("config") && m["config"] == Json::parse(datasets::recipe_json(recipe)) &&
+                  m.contains("input_files") && m["input_files"].size() == recipe.parts.size();
+      for (std::size_t k = 0; same && k < recipe.parts.size(); ++k)
+        same = m["input_files"][k].value("fnv1a64", "") == datasets::to_hex(datasets::fnv1a64_file(recipe.parts[k].file));
+      if (same) {
+        info("dataset: " + (out_dir / "vectors.csv").string() + " is up to date (same recipe and part files)");
+        return false;
+      }
+    } catch (const std::exception&) {
+      // An unreadable manifest means: rebuild.
+    }
+  }
+  Progress progress("dataset", 0);
+  const datasets::Table table = datasets::build_table(recipe, progress.callback());
+  progress.finish();
+  datasets::write_table(table, out_dir);
+  info("dataset: " + std::to_string(table.rows.size()) + " vectors from " + std::to_string(recipe.parts.size()) +
+       " parts → " + (out_dir / "vectors.csv").string());
+  return true;
+}
+
+TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const fs::path& out_dir) {
+  const datasets::Table table = datasets::read_table(dataset_csv);
+  classifier::TrainingSet set;
+  set.inputs = table.inputs_matrix();
+  set.outputs = table.outputs_matrix();
+  set.groups = table.row_sources();
+  // Strategy names live in the manifest beside the CSV; the config's names otherwise.
+  std::vector<std::string> names = config["dataset"]["strategies"].get<std::vector<std::string>>();
+  const fs::path manifest = dataset_csv.parent_path() / "manifest.json";
+  if (fs::exists(manifest)) {
+    const Json m = read_json(manifest);
+    if (m.contains("strategies") && m["strategies"].is_array()) names = m["strategies"].get<std::vector<std::string>>();
+  }
+  set.strategies = names;
+
+  const Json& t = config["train"];
+  classifier::TrainParams tp;
+  tp.search.mode = classifier::loo_mode_from_string(t["loo"].get<std::string>());
+  tp.search.steps_per_octave = t["steps_per_octave"].get<int>();
+  tp.search.range_low = t["range_low"].get<double>();
+  tp.search.range_high = t["range_high"].get<double>();
+  if (!t["alpha_min"].is_null() && !t["alpha_max"].is_null()) {
+    tp.search.alpha_min = t["alpha_min"].get<double>();
+    tp.search.alpha_max = t["alpha_max"].get<double>();
+  }
+  tp.search.refine_tolerance_octaves = t["refine_tolerance_octaves"].get<double>();
+  if (!t["fixed_alpha"].is_null()) tp.fixed_alpha = t["fixed_alpha"].get<double>();
+  tp.unfamiliar_factor = t["unfamiliar_factor"].get<double>();
+  tp.unfamiliar_percentile = t["unfamiliar_percentile"].get<double>();
+  Progress progress("train (leave-one-out)", 0);
+  tp.search.progress = progress.callback();
+  const classifier::Model model = classifier::train(set, tp);
+  progress.finish();
+  const classifier::LooReport& loo = model.loo;
+
+  classifier_io::save_model(model, out_dir / "model.json");
+  Json sampling = {{"grid", table.grid_n},
+                   {"raster_mm", config["dataset"]["raster_mm"].get<double>()},
+                   {"inputs", table.inputs_per_row()},
+                   {"dataset", fs::absolute(dataset_csv).string()}};
+  if (fs::exists(manifest)) {
+    const Json m = read_json(manifest);
+    if (m.contains("config") && m["config"].is_object() && m["config"].contains("raster_mm"))
+      sampling["raster_mm"] = m["config"]["raster_mm"];
+  }
+  write_file_atomic(out_dir / "sampling.json", sampling.dump(2) + "\n");
+
+  // LOO curve: alpha,rms (the chosen mode's) + both modes' figures.
+  std::ostringstream curve;
+  curve << "alpha,rms,rms_part,rms_vector,accuracy_part,accuracy_vector\n";
+  std::vector<double> xs, part_rms, vec_rms;
+  const bool part_mode = loo.mode == classifier::LooMode::PartOut;
+  for (const auto& c : loo.curve) {
+    curve << format_double(c.alpha) << "," << format_double(part_mode ? c.rms_part : c.rms_vector) << ","
+          << format_double(c.rms_part) << "," << format_double(c.rms_vector) << "," << format_double(c.accuracy_part)
+          << "," << format_double(c.accuracy_vector) << "\n";
+    xs.push_back(c.alpha);
+    part_rms.push_back(c.rms_part);
+    vec_rms.push_back(c.rms_vector);
+  }
+  write_file_atomic(out_dir / "loo_curve.csv", curve.str());
+  report::LinePlotOptions lo;
+  lo.log_x = true;
+  lo.show_points = true;
+  lo.marker = report::Marker{model.alpha, "chosen alpha = " + fixed(model.alpha, 3) + " (" +
+                                              classifier::to_string(loo.mode) + " LOO)"};
+  (void)report::line_plot_png(out_dir / "loo_curve.png",
+                              {{"leave-one-part-out", xs, part_rms}, {"leave-one-vector-out (paper)", xs, vec_rms}},
+                              "Leave-one-out RMS error against the penalty coefficient alpha", "alpha (log scale)",
+                              "RMS error of the outputs", lo);
+
+  // Filtration (self included) and verification (chosen mode's exclusion), the paper's Fig. 6.
+  std::ostringstream ver;
+  ver << "id,source";
+  const auto K = loo.filtration.cols();
+  for (Eigen::Index k = 1; k <= K; ++k) ver << ",filtration_" << k;
+  for (Eigen::Index k = 1; k <= K; ++k) ver << ",verification_" << k;
+  ver << "\n";
+  std::vector<double> fil_true, ver_true;
+  for (std::size_t i = 0; i < table.rows.size(); ++i) {
+    const auto r = static_cast<Eigen::Index>(i);
+    ver << table.rows[i].id << "," << table.rows[i].source;
+    for (Eigen::Index k = 0; k < K; ++k) ver << "," << format_double(loo.filtration(r, k));
+    for (Eigen::Index k = 0; k < K; ++k) ver << "," << format_double(loo.verification(r, k));
+    ver << "\n";
+    const int label = table.rows[i].label;
+    if (label >= 1) {
+      fil_true.push_back(loo.filtration(r, label - 1));
+      ver_true.push_back(loo.verification(r, label - 1));
+    }
+  }
+  write_file_atomic(out_dir / "verification.csv", ver.str());
+  if (!fil_true.empty())
+    (void)report::multi_line_png(out_dir / "verification.png",
+                                 {{"filtration (self included)", fil_true},
+                                  {std::string("verification (") + (part_mode ? "part" : "vector") + " left out)", ver_true}},
+                                 "Output of the true strategy for every stored vector (paper Fig. 6)",
+                                 "stored vector", "output of the labelled strategy");
+
+  TrainSummary s;
+  s.alpha = model.alpha;
+  s.mode = classifier::to_string(loo.mode);
+  s.edge = classifier::to_string(part_mode ? loo.part.edge : loo.vector.edge);
+  s.rms_part = loo.rms_part_at_alpha;
+  s.rms_vector = loo.rms_vector_at_alpha;
+  s.accuracy_part = loo.accuracy_part_at_alpha;
+  s.accuracy_vector = loo.accuracy_vector_at_alpha;
+  s.vectors = table.rows.size();
+  std::vector<std::string> g = set.groups;
+  std::sort(g.begin(), g.end());
+  s.parts = static_cast<std::size_t>(std::unique(g.begin(), g.end()) - g.begin());
+  Json rep = {{"alpha", s.alpha},
+              {"loo_mode", s.mode},
+              {"alpha_at_scan_edge", s.edge},
+              {"rms_part_at_alpha", s.rms_part},
+              {"rms_vector_at_alpha", s.rms_vector},
+              {"accuracy_part_at_alpha", s.accuracy_part},
+              {"accuracy_vector_at_alpha", s.accuracy_vector},
+              {"alpha_part_optimum", loo.part.alpha},
+              {"alpha_vector_optimum", loo.vector.alpha},
+              {"rms_part_optimum", loo.part.rms},
+              {"rms_vector_optimum", loo.vector.rms},
+              {"vectors", s.vectors},
+              {"parts", s.parts},
+              {"unfamiliar_threshold_d2", model.unfamiliar_threshold}};
+  write_file_atomic(out_dir / "train_report.json", rep.dump(2) + "\n");
+  if (s.edge != "none")
+    warn("train: the optimum α lies at the " + s.edge + " edge of the scan; widen /train/range_low or /train/range_high");
+  info("train: α = " + fixed(s.alpha, 4) + " (" + s.mode + " LOO); verification accuracy " +
+       fixed(100 * s.accuracy_part, 1) + " % leaving out parts, " + fixed(100 * s.accuracy_vector, 1) +
+       " % leaving out single vectors → " + (out_dir / "model.json").string());
+  return s;
+}
+
+std::vector<PartPrediction> predict_parts(const fs::path& model_dir, const Json& config,
+                                          const std::vector<PredictInput>& parts, const std::string& units,
+                                          const std::string& up, const fs::path& out_dir) {
+  const classifier::Model model = classifier_io::load_model(model_dir / "model.json");
+  const Json sampling = read_json(model_dir / "sampling.json");
+  const int n = sampling["grid"].get<int>();
+  const double raster = sampling["raster_mm"].get<double>();
+  const augment::AugmentParams aug = augment_from(config["predict"]["augment"]);
+  ingest::PrepareOptions prep;
+  prep.units = ingest::parse_units(units);
+  prep.up = ingest::parse_up(up);
+  const auto K = static_cast<std::size_t>(model.outputs.cols());
+
+  std::vector<PartPrediction> results;
+  Json jparts = Json::array();
+  std::ostringstream csv;
+  csv << "part,file,status,top,top_name,confidence,consistency,unfamiliar,d2_min,expected";
+  for (std::size_t k = 1; k <= K; ++k) csv << ",p_" << k;
+  csv << ",error\n";
+  Progress progress("predict", parts.size());
+  for (const auto& in : parts) {
+    PartPrediction pp;
+    pp.file = in.file.string();
+    pp.name = in.name.empty() ? in.file.stem().string() : in.name;
+    pp.expected = in.expected;
+    pp.strategies = model.strategies;
+    Json jp = {{"part", pp.name}, {"file", pp.file}};
+    try {
+      ingest::MeshReport rep;
+      const ingest::Mesh mesh = ingest::prepare(ingest::load_mesh(in.file, &rep), prep, &rep);
+      const auto variants = augment::make_variants(pp.name, aug);
+      Eigen::MatrixXd X(static_cast<Eigen::Index>(variants.size()), n * n);
+      for (std::size_t v = 0; v < variants.size(); ++v) {
+        const ingest::Grid g = ingest::sample_grid(augment::apply(mesh, variants[v]), raster, n);
+        for (int r = 0; r < n; ++r)
+          for (int c = 0; c < n; ++c) X(static_cast<Eigen::Index>(v), r * n + c) = g.h(r, c);
+      }
+      const classifier::Prediction pr = classifier::predict(model, X);
+      const auto M = static_cast<double>(variants.size());
+      pp.mean.assign(K, 0.0);
+      pp.totals.assign(K, 0.0);
+      pp.first_share.assign(K, 0.0);
+      std::vector<int> tops;
+      std::size_t unfamiliar = 0;
+      Json jv = Json::array();
+      for (std::size_t v = 0; v < variants.size(); ++v) {
+        const auto row = pr.probabilities.row(static_cast<Eigen::Index>(v));
+        Eigen::Index best = 0;
+        row.maxCoeff(&best);
+        tops.push_back(static_cast<int>(best) + 1);
+        pp.first_share[static_cast<std::size_t>(best)] += 1.0 / M;
+        for (std::size_t k = 0; k < K; ++k) pp.totals[k] += row(static_cast<Eigen::Index>(k));
+        unfamiliar += pr.unfamiliar[v] ? 1U : 0U;
+        std::vector<double> probs(K);
+        for (std::size_t k = 0; k < K; ++k) probs[k] = row(static_cast<Eigen::Index>(k));
+        jv.push_back({{"axis", std::string(1, augment::to_char(variants[v].axis))},
+                      {"angle", variants[v].angle_deg},
+                      {"flip", variants[v].flip},
+                      {"top", static_cast<int>(best) + 1},
+                      {"d2_min", pr.d2_min(static_cast<Eigen::Index>(v))},
+                      {"unfamiliar", static_cast<bool>(pr.unfamiliar[v])},
+                      {"probabilities", probs}});
+      }
+      for (std::size_t k = 0; k < K; ++k) pp.mean[k] = pp.totals[k] / M;
+      pp.top = static_cast<int>(std::max_element(pp.mean.begin(), pp.mean.end()) - pp.mean.begin()) + 1;
+      pp.confidence = pp.mean[static_cast<std::size_t>(pp.top - 1)];
+      pp.consistency = static_cast<double>(std::count(tops.begin(), tops.end(), pp.top)) / M;
+      pp.d2_min = pr.d2_min.minCoeff();
+      pp.unfamiliar = 2 * unfamiliar > variants.size();  // most variants far from every stored model
+      pp.ok = true;
+      std::vector<std::size_t> order(K);
+      for (std::size_t k = 0; k < K; ++k) order[k] = k;
+      std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return pp.mean[a] > pp.mean[b]; });
+      Json ranking = Json::array();
+      for (std::size_t k : order)
+        ranking.push_back({{"slot", k + 1}, {"strategy", model.strategies[k]}, {"probability", pp.mean[k]},
+                           {"total", pp.totals[k]}, {"share_first", pp.first_share[k]}});
+      jp["status"] = "ok";
+      jp["top"] = pp.top;
+      jp["top_name"] = strategy_name(model.strategies, pp.top);
+      jp["confidence"] = pp.confidence;
+      jp["consistency"] = pp.consistency;
+      jp["unfamiliar"] = pp.unfamiliar;
+      jp["unfamiliar_variants"] = unfamiliar;
+      jp["d2_min"] = pp.d2_min;
+      if (pp.expected) jp["expected"] = pp.expected;
+      jp["ranking"] = ranking;
+      jp["variants"] = jv;
+      pp.png = out_dir / (pp.name + ".png");
+      (void)report::grouped_bar_png(pp.png, model.strategies,
+                                    {{"mean probability over " + std::to_string(variants.size()) + " variants", pp.mean},
+                                     {"share of variants ranking it first", pp.first_share}},
+                                    pp.name + ": predicted finishing strategy " + std::to_string(pp.top) +
+                                        " (consistency " + fixed(100 * pp.consistency, 0) + " %)" +
+                                        (pp.unfamiliar ? " - UNFAMILIAR part" : ""),
+                                    "probability / share", {.show_values = true, .value_decimals = 2, .y_range = std::pair{0.0, 1.0}});
+      if (pp.unfamiliar)
+        warn("predict: " + pp.file + ": far from every stored model (d² = " + fixed(pp.d2_min, 1) +
+             " > threshold " + fixed(model.unfamiliar_threshold, 1) + "): the prediction is an extrapolation");
+    } catch (const std::exception& e) {
+      pp.ok = false;
+      pp.error = e.what();
+      jp["status"] = "error";
+      jp["error"] = pp.error;
+      warn("predict: " + pp.error);
+    }
+    csv << pp.name << "," << pp.file << "," << (pp.ok ? "ok" : "error") << "," << pp.top << ","
+        << (pp.ok ? "\"" + strategy_name(model.strategies, pp.top) + "\"" : "") << "," << format_double(pp.confidence)
+        << "," << format_double(pp.consistency) << "," << (pp.unfamiliar ? 1 : 0) << "," << format_double(pp.d2_min)
+        << "," << pp.expected;
+    for (std::size_t k = 0; k < K; ++k) csv << "," << (pp.ok ? format_double(pp.mean[k]) : "");
+    std::string err = pp.error;
+    std::replace(err.begin(), err.end(), '"', '\'');
+    csv << "," << (err.empty() ? "" : "\"" + err + "\"") << "\n";
+    jparts.push_back(jp);
+    results.push_back(std::move(pp));
+    progress.tick();
+  }
+  progress.finish();
+  Json out = {{"model", fs::absolute(model_dir / "model.json").string()},
+              {"alpha", model.alpha},
+              {"strategies", model.strategies},
+              {"unfamiliar_threshold_d2", model.unfamiliar_threshold},
+              {"parts", jparts}};
+  write_file_atomic(out_dir / "predictions.json", out.dump(2) + "\n");
+  write_file_atomic(out_dir / "predictions.csv", csv.str());
+  return results;
+}
+
+}  // namespace millnet::app

@@ -1,0 +1,67 @@
+#pragma once
+// The learning pipeline's steps as functions, shared by `dataset`, `train`, `predict` and `run`.
+#include "config.hpp"
+
+#include "millnet/classifier/network.hpp"
+#include "millnet/datasets/build.hpp"
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace millnet::app {
+
+/// The dataset recipe of a checked config; generates the default training parts into
+/// dataset.parts_dir when dataset.parts is empty (deterministic: same seed ⇒ same bytes).
+[[nodiscard]] datasets::Recipe recipe_from_config(const Json& config);
+
+/// Builds the table of `recipe` into out_dir (vectors.csv + manifest.json). When `reuse` and
+/// out_dir already holds a table built from the same recipe and the same part-file bytes, nothing is
+/// rebuilt. Returns true when it was (re)built.
+bool build_dataset(const datasets::Recipe& recipe, const std::filesystem::path& out_dir, bool reuse);
+
+/// Figures of a training run (also written to DIR/train_report.json).
+struct TrainSummary {
+  double alpha = 0;
+  std::string mode, edge;
+  double rms_part = 0, rms_vector = 0, accuracy_part = 0, accuracy_vector = 0;
+  std::size_t vectors = 0, parts = 0;
+};
+
+/// Trains on a vectors.csv and writes model.json, sampling.json, loo_curve.csv/.png,
+/// verification.csv/.png and train_report.json into out_dir.
+TrainSummary train_model(const std::filesystem::path& dataset_csv, const Json& config,
+                         const std::filesystem::path& out_dir);
+
+/// One part's prediction.
+struct PartPrediction {
+  std::string name, file;
+  bool ok = false;
+  std::string error;
+  int top = 0;                     ///< 1-based strategy slot
+  double confidence = 0;           ///< mean probability of the top strategy over the variants
+  double consistency = 0;          ///< share of variants whose top strategy is the overall top
+  bool unfamiliar = false;
+  double d2_min = 0;               ///< smallest over the variants
+  int expected = 0;                ///< label given for a test part (0 = unknown)
+  std::vector<double> mean;        ///< K mean probabilities
+  std::vector<double> totals;      ///< K sums over the variants (the paper's Fig. 8 totals)
+  std::vector<double> first_share; ///< K share of variants ranking each strategy first
+  std::vector<std::string> strategies;
+  std::filesystem::path png;
+};
+
+struct PredictInput {
+  std::filesystem::path file;
+  std::string name;   ///< empty ⇒ file stem
+  int expected = 0;
+};
+
+/// Predicts every part (a broken part is reported in its entry and the batch goes on) and writes
+/// predictions.json, predictions.csv and one PNG per part into out_dir.
+std::vector<PartPrediction> predict_parts(const std::filesystem::path& model_dir, const Json& config,
+                                          const std::vector<PredictInput>& parts, const std::string& units,
+                                          const std::string& up, const std::filesystem::path& out_dir);
+
+}  // namespace millnet::app
