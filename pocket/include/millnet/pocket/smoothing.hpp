@@ -57,11 +57,15 @@ struct SmoothedTour {
   std::map<std::string, double> stats;    ///< "som_tour_length_mm", "tour_length_mm",
       ///< "weak_smoothing_saved_mm", "weak_patterns", "weak_type1|2|3", "two_opt_saved_mm",
       ///< "opt_moves", "links", "link_length_mm", "retractions_before_linking", "retractions",
-      ///< "reachable_regions", "min_retractions"
+      ///< "reachable_regions" (components of the grid graph), "min_retractions" (= regions − 1),
+      ///< "som_overcut_moves", "rapid_length_mm"
 };
 
 /// Strong smoothing, weak smoothing and the extra passes on a closed tour (e.g. the SOM ring order)
 /// through all points of `tp`. The ring is opened at its most expensive move. Deterministic.
+/// Complexity: O(N) move_ok calls for the grid graph; the local search costs O(K) cached move costs per
+/// candidate check (K = opt_neighbours) and O(min(L, N − L)) per applied move (array reversal), at
+/// most max_opt_moves moves; each distinct non-move_ok pair runs one bounded A* (cached).
 /// Throws millnet::Error when `ring` is not a permutation of the tool points or params are invalid.
 [[nodiscard]] SmoothedTour smooth_tour(const ToolPoints& tp, const std::vector<int>& ring,
                                        const MoveOk& move_ok, const SmoothingParams& params);

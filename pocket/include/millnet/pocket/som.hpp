@@ -45,7 +45,8 @@ struct SomResult {
   int passes = 0;
   bool converged = false;     ///< every city has its own node within the tolerance
   std::size_t nodes = 0;      ///< M
-  std::size_t shared_nodes = 0;  ///< cities whose winner node is also another city's (ordered along the ring)
+  std::size_t shared_nodes = 0;  ///< cities that found their winner node already taken by another city
+                                 ///< (such cities are ordered along the ring direction at that node)
   double final_gain = 0;      ///< G after the last pass
 };
 
