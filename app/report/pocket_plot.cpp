@@ -65,7 +65,7 @@ const cv::Scalar kIslandGrey(190, 190, 190), kPocketTint(252, 248, 244), kRapid(
 
 }  // namespace
 
-Layout pocket_path_png(const std::filesystem::path& path, const pocket::Region& region,
+Layout pocket_path_png(const std::filesystem::path& path, const std::vector<pocket::Region>& regions,
                        const std::vector<Vec2>& tool_points, const pocket::Path2D& toolpath,
                        const std::string& title_text,
                        const std::vector<std::pair<std::string, std::string>>& metrics,
@@ -84,8 +84,15 @@ Layout pocket_path_png(const std::filesystem::path& path, const pocket::Region& 
       grow(l[i].x, l[i].y);
     }
   };
-  check_loop(region.boundary, "boundary");
-  for (std::size_t k = 0; k < region.islands.size(); ++k) check_loop(region.islands[k], "island " + std::to_string(k));
+  bool any_boundary = false, any_island = false;
+  for (std::size_t r = 0; r < regions.size(); ++r) {
+    const std::string rn = regions.size() > 1 ? "region " + std::to_string(r) + " " : "";
+    check_loop(regions[r].boundary, rn + "boundary");
+    for (std::size_t k = 0; k < regions[r].islands.size(); ++k)
+      check_loop(regions[r].islands[k], rn + "island " + std::to_string(k));
+    any_boundary = any_boundary || !regions[r].boundary.empty();
+    any_island = any_island || !regions[r].islands.empty();
+  }
   for (std::size_t i = 0; i < tool_points.size(); ++i) {
     if (!tool_points[i].allFinite()) fail(path, "pocket plot: tool point " + std::to_string(i) + " is not finite");
     grow(tool_points[i].x(), tool_points[i].y());
@@ -146,8 +153,8 @@ Layout pocket_path_png(const std::filesystem::path& path, const pocket::Region& 
   const int bottom = top + plot_h;
 
   std::vector<LegendItem> items;
-  if (!region.boundary.empty()) items.push_back({"boundary", kBlack, LegendKind::Line});
-  if (!region.islands.empty()) items.push_back({"island", kIslandGrey, LegendKind::Box});
+  if (any_boundary) items.push_back({"boundary", kBlack, LegendKind::Line});
+  if (any_island) items.push_back({"island", kIslandGrey, LegendKind::Box});
   if (opt.show_tool_points && !tool_points.empty())
     items.push_back({"tool point (" + std::to_string(tool_points.size()) + ")", kToolPoint, LegendKind::Dot});
   if (!toolpath.chains.empty())
@@ -187,9 +194,11 @@ Layout pocket_path_png(const std::filesystem::path& path, const pocket::Region& 
   };
 
   // ---- region: tinted pocket floor, grey islands, outlines on top
-  const auto boundary_px = to_px(flatten_loop(region.boundary, tol_mm));
-  std::vector<std::vector<cv::Point2d>> islands_px;
-  for (const auto& isl : region.islands) islands_px.push_back(to_px(flatten_loop(isl, tol_mm)));
+  std::vector<std::vector<cv::Point2d>> boundaries_px, islands_px;
+  for (const auto& region : regions) {
+    boundaries_px.push_back(to_px(flatten_loop(region.boundary, tol_mm)));
+    for (const auto& isl : region.islands) islands_px.push_back(to_px(flatten_loop(isl, tol_mm)));
+  }
   draw_axes(img, x, y, "x (mm)", "y (mm)");
   // Everything inside the frame is drawn into the plot box so that nothing spills over the axes.
   const cv::Rect box(left + 1, top + 1, plot_w - 1, plot_h - 1);
@@ -199,13 +208,15 @@ Layout pocket_path_png(const std::filesystem::path& path, const pocket::Region& 
     for (auto& p : v) p -= o;
     return v;
   };
-  if (boundary_px.size() >= 3) fill_polygons(plot, {shift(boundary_px)}, kPocketTint);
+  // One fillPoly per region: several disjoint pockets of a roughing level each get their floor.
+  for (const auto& b : boundaries_px) fill_polygons(plot, {shift(b)}, kPocketTint);
   {
     std::vector<std::vector<cv::Point2d>> isl;
     for (const auto& i : islands_px) isl.push_back(shift(i));
     fill_polygons(plot, isl, kIslandGrey);
   }
-  if (boundary_px.size() >= 2) polyline(plot, shift(boundary_px), kBlack, 2);
+  for (const auto& b : boundaries_px)
+    if (b.size() >= 2) polyline(plot, shift(b), kBlack, 2);
   for (const auto& i : islands_px)
     if (i.size() >= 2) polyline(plot, shift(i), kBlack, 2);
 
@@ -256,8 +267,22 @@ Layout pocket_path_png(const std::filesystem::path& path, const pocket::Region& 
   return make_layout(img, x, y);
 }
 
+Layout pocket_path_png(const std::filesystem::path& path, const pocket::Region& region,
+                       const std::vector<Vec2>& tool_points, const pocket::Path2D& toolpath,
+                       const std::string& title_text,
+                       const std::vector<std::pair<std::string, std::string>>& metrics,
+                       const PocketPlotOptions& opt) {
+  return pocket_path_png(path, std::vector<pocket::Region>{region}, tool_points, toolpath, title_text, metrics, opt);
+}
+
 Layout level_png(const std::filesystem::path& path, const pocket::Region& region, const pocket::Path2D& toolpath,
                  double z_mm, const std::string& title_text,
+                 const std::vector<std::pair<std::string, std::string>>& metrics, const PocketPlotOptions& opt) {
+  return level_png(path, std::vector<pocket::Region>{region}, toolpath, z_mm, title_text, metrics, opt);
+}
+
+Layout level_png(const std::filesystem::path& path, const std::vector<pocket::Region>& regions,
+                 const pocket::Path2D& toolpath, double z_mm, const std::string& title_text,
                  const std::vector<std::pair<std::string, std::string>>& metrics, const PocketPlotOptions& opt) {
   if (!std::isfinite(z_mm)) fail(path, "level plot: Z is not finite");
   char buf[64];
@@ -266,7 +291,7 @@ Layout level_png(const std::filesystem::path& path, const pocket::Region& region
                                            : title_text + " - level Z = " + buf + " mm";
   PocketPlotOptions o = opt;
   o.show_tool_points = false;
-  return pocket_path_png(path, region, {}, toolpath, t, metrics, o);
+  return pocket_path_png(path, regions, {}, toolpath, t, metrics, o);
 }
 
 }  // namespace millnet::report

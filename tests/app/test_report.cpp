@@ -313,6 +313,25 @@ TEST(ReportPocket, LevelPictureAndBadFeeds) {
   EXPECT_THROW(pocket_path_png(out_dir() / "bad.png", test_region(), {}, path, "t"), millnet::Error);
 }
 
+TEST(ReportPocket, SeveralRegionsOnOneLevel) {
+  // Two disjoint pockets (0..40 and 60..100 in x), the second with a square island.
+  pocket::Region a, b;
+  a.boundary = {{0, 0, 0}, {40, 0, 0}, {40, 50, 0}, {0, 50, 0}};
+  b.boundary = {{60, 0, 0}, {100, 0, 0}, {100, 50, 0}, {60, 50, 0}};
+  b.islands = {{{75, 20, 0}, {75, 30, 0}, {85, 30, 0}, {85, 20, 0}}};
+  const fs::path p = out_dir() / "level_two_regions.png";
+  const Layout l = level_png(p, std::vector<pocket::Region>{a, b}, {}, -12.5, "two pockets");
+  expect_size(p, l);
+  const cv::Mat img = decode(p);
+  const std::array<int, 3> grey{190, 190, 190}, white{255, 255, 255};
+  EXPECT_EQ(rgb_at(img, l, 49, 23), white);  // between the pockets: stock, not floor
+  EXPECT_EQ(rgb_at(img, l, 81, 24), grey);   // island of the second region
+  const auto fa = rgb_at(img, l, 17, 23), fb = rgb_at(img, l, 67, 43);
+  EXPECT_EQ(fa, fb);  // both floors tinted alike
+  EXPECT_NE(fa, white);
+  EXPECT_NE(fa, grey);
+}
+
 TEST(ReportProfile, StackedPanelsOfEngagementFeedAndMrr) {
   // The seed's eq. 9 example: D = 40, grid 4 ⇒ n1 = 10, n2 = 5, f1 = 50, f2 = 100.
   std::vector<double> s, n3, feed, mrr, mrr_const;

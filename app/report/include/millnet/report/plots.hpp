@@ -137,8 +137,20 @@ Layout pocket_path_png(const std::filesystem::path& path, const pocket::Region& 
                        const std::vector<std::pair<std::string, std::string>>& metrics = {},
                        const PocketPlotOptions& options = {});
 
-/// A roughing level: the level's region and path, titled "<title> - level Z = <z> mm".
+/// Several disjoint regions on one picture (a roughing level whose material splits in pockets).
+Layout pocket_path_png(const std::filesystem::path& path, const std::vector<pocket::Region>& regions,
+                       const std::vector<pocket::Vec2>& tool_points, const pocket::Path2D& toolpath,
+                       const std::string& title,
+                       const std::vector<std::pair<std::string, std::string>>& metrics = {},
+                       const PocketPlotOptions& options = {});
+
+/// A roughing level: the level's region(s) and path (tool points not drawn), titled
+/// "<title> - level Z = <z> mm".
 Layout level_png(const std::filesystem::path& path, const pocket::Region& region,
+                 const pocket::Path2D& toolpath, double z_mm, const std::string& title,
+                 const std::vector<std::pair<std::string, std::string>>& metrics = {},
+                 const PocketPlotOptions& options = {});
+Layout level_png(const std::filesystem::path& path, const std::vector<pocket::Region>& regions,
                  const pocket::Path2D& toolpath, double z_mm, const std::string& title,
                  const std::vector<std::pair<std::string, std::string>>& metrics = {},
                  const PocketPlotOptions& options = {});
