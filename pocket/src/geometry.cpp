@@ -170,49 +170,40 @@ double segment_distance(const Segment& s, const Segment& t) {
   return best;
 }
 
-namespace {
-/// Angle subtended at p by the arc s (the change of direction of x − p along it): the chord angle
-/// plus ±2π when p lies in the circular segment between chord and arc. When p lies on the chord
-/// (its angle would be ±π, ambiguous), the arc is halved and each half measured instead.
-double arc_angle(const Segment& s, const Vec2& p, int depth) {
-  const Vec2 a = s.a - p, b = s.b - p;
-  const Vec2 chord = s.b - s.a;
-  const double cl = chord.norm();
-  const double side_p = cross(chord, p - s.a);
-  const double t = cl > 0 ? (p - s.a).dot(chord) / (cl * cl) : 0.0;
-  if (depth < 8 && std::abs(side_p) <= 1e-12 * (1 + cl) * (1 + cl) && t > -1e-12 && t < 1 + 1e-12) {
-    const Vec2 m = point_at(s, 0.5);
-    const double half = std::tan(std::atan(s.bulge) / 2);
-    return arc_angle(Segment{s.a, m, half}, p, depth + 1) + arc_angle(Segment{m, s.b, half}, p, depth + 1);
-  }
-  double ang = std::atan2(cross(a, b), a.dot(b));
-  const Arc arc = arc_of(s);
-  if ((p - arc.center).norm() >= arc.radius) return ang;
-  const Vec2 mid = point_at(s, 0.5);
-  const double side_m = cross(chord, mid - s.a);
-  const bool in_segment = std::abs(arc.sweep) <= kPi ? side_p * side_m > 0 : !(side_p * side_m < 0);
-  if (in_segment) ang += arc.sweep > 0 ? kTwoPi : -kTwoPi;
-  return ang;
-}
-}  // namespace
 
 bool strictly_inside_loop(const Loop& loop, const Vec2& p) {
-  // Winding number: Σ of the angles each segment subtends at p (arcs exact).
-  double total = 0;
-  for (const Segment& s : segments(loop)) {
-    if (s.is_arc()) {
-      total += arc_angle(s, p, 0);
-    } else {
-      const Vec2 a = s.a - p, b = s.b - p;
-      total += std::atan2(cross(a, b), a.dot(b));
+  // Even-odd parity, exact for arcs and free of trigonometry: the loop's interior is the polygon
+  // of its chords, toggled inside every circular segment (the region between an arc and its chord).
+  // Chords use the half-open crossing rule (a vertex on the ray counts once). Points on the loop
+  // itself are the callers' business (they test loop_distance first). O(segments), no allocation.
+  const std::size_t n = loop.size();
+  bool in = false;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vertex& va = loop[k];
+    const Vertex& vb = loop[(k + 1) % n];
+    if ((va.y > p.y()) != (vb.y > p.y())) {
+      const double x = va.x + (p.y() - va.y) * (vb.x - va.x) / (vb.y - va.y);
+      if (p.x() < x) in = !in;
+    }
+    if (va.bulge != 0.0) {
+      const Segment s{va.p(), vb.p(), va.bulge};
+      const Arc arc = arc_of(s);
+      if ((p - arc.center).squaredNorm() < arc.radius * arc.radius) {
+        const Vec2 chord = s.b - s.a;
+        const double side_p = cross(chord, p - s.a);
+        const double side_m = cross(chord, point_at(s, 0.5) - s.a);
+        if (side_p * side_m > 0) in = !in;
+      }
     }
   }
-  return std::lround(total / kTwoPi) != 0;
+  return in;
 }
 
 double loop_distance(const Loop& loop, const Vec2& p) {
   double best = std::numeric_limits<double>::infinity();
-  for (const Segment& s : segments(loop)) best = std::min(best, distance(s, p));
+  const std::size_t n = loop.size();
+  for (std::size_t k = 0; k < n; ++k)
+    best = std::min(best, distance(Segment{loop[k].p(), loop[(k + 1) % n].p(), loop[k].bulge}, p));
   return best;
 }
 
