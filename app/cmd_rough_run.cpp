@@ -101,7 +101,7 @@ Registered register_rough(CLI::App& app) {
                                  {"time_adjusted_min", d.metrics["time_adjusted_min"]}});
               info("rough: " + d.name + ": " + d.metrics["levels"].dump() + " levels, cut " +
                    fixed(d.metrics["cut_length_mm"].get<double>(), 0) + " mm, " +
-                   d.metrics["retractions"].dump() + " retractions, " +
+                   fixed(d.metrics["retractions"].get<double>(), 0) + " retractions, " +
                    fixed(d.metrics["time_adjusted_min"].get<double>(), 1) + " min → " +
                    (fs::path(o->out) / (d.name + ".nc")).string());
             }
@@ -215,7 +215,7 @@ Registered register_run(CLI::App& app) {
               }
               if (i < roughs.size() && roughs[i].ok) {
                 const Json& m = roughs[i].metrics;
-                md << fixed(m["time_adjusted_min"].get<double>(), 1) << " | " << m["retractions"].dump() << " | "
+                md << fixed(m["time_adjusted_min"].get<double>(), 1) << " | " << fixed(m["retractions"].get<double>(), 0) << " | "
                    << fixed(m["cut_length_mm"].get<double>(), 0) << " | " << m["levels"].dump() << " |\n";
               } else if (i < roughs.size()) {
                 ++failures;

@@ -197,7 +197,7 @@ Json write_rough_outputs(const fs::path& dir, const std::string& stem, const Rou
                       {"status", lv.status}});
     std::vector<pocket::Vec2> pts;
     for (const auto& pl : lv.plans) pts.insert(pts.end(), pl.tool_points.pts.begin(), pl.tool_points.pts.end());
-    (void)report::level_png(dir / (stem + ".level_" + std::to_string(k + 1) + ".png"), lv.regions.front(), all, lv.z,
+    (void)report::level_png(dir / (stem + ".level_" + std::to_string(k + 1) + ".png"), lv.regions, all, lv.z,
                             stem, {{"islands", std::to_string(lv.islands)}, {"cut", fixed(cut, 0) + " mm"},
                                    {"chains", std::to_string(chains)}});
   }
