@@ -152,6 +152,10 @@ Json metrics_json(const pocket::PlanResult& plan, const pocket::MachiningResult&
   for (const auto& [k, v] : m.metrics.to_key_values()) j[k] = v;
   j["entry"] = ch.entry;
   j["contour"] = ch.contour;
+  // The entry points that need a pre-drilled hole (drilled first in the program with entry "predrill").
+  Json holes = Json::array();
+  for (const auto& p : plan.predrill) holes.push_back({p.x(), p.y()});
+  j["predrill"] = holes;
   j["parameters"] = cut_json(cut);
   return j;
 }
