@@ -174,26 +174,31 @@ double segment_distance(const Segment& s, const Segment& t) {
 bool strictly_inside_loop(const Loop& loop, const Vec2& p) {
   // Even-odd parity, exact for arcs and free of trigonometry: the loop's interior is the polygon
   // of its chords, toggled inside every circular segment (the region between an arc and its chord).
-  // Chords use the half-open crossing rule (a vertex on the ray counts once). Points on the loop
+  // Every decision is taken for p' = p + (δ, ε) with 0 < ε ≪ δ infinitesimal (simulation of
+  // simplicity), all from the same cross products, so a point exactly on a chord or on a
+  // horizontal line through a vertex (the centre of a circle made of two half arcs, say) is
+  // classified consistently; for p off the loop, p' and p are on the same side. Points on the loop
   // itself are the callers' business (they test loop_distance first). O(segments), no allocation.
   const std::size_t n = loop.size();
   bool in = false;
   for (std::size_t k = 0; k < n; ++k) {
     const Vertex& va = loop[k];
     const Vertex& vb = loop[(k + 1) % n];
-    if ((va.y > p.y()) != (vb.y > p.y())) {
-      const double x = va.x + (p.y() - va.y) * (vb.x - va.x) / (vb.y - va.y);
-      if (p.x() < x) in = !in;
+    const Vec2 a = va.p(), e = vb.p() - a;
+    double side = cross(e, p - a);           // > 0: p left of a→b
+    if (side == 0.0) side = e.y() != 0.0 ? -e.y() : e.x();  // cross(e, (δ, ε))
+    if ((va.y > p.y()) != (vb.y > p.y())) {  // half-open in y = the ε shift
+      const bool left = vb.y > va.y ? side > 0 : side < 0;
+      if (left) in = !in;                     // the ray to +x crosses the chord
     }
     if (va.bulge != 0.0) {
-      const Segment s{va.p(), vb.p(), va.bulge};
+      const Segment s{a, vb.p(), va.bulge};
       const Arc arc = arc_of(s);
-      if ((p - arc.center).squaredNorm() < arc.radius * arc.radius) {
-        const Vec2 chord = s.b - s.a;
-        const double side_p = cross(chord, p - s.a);
-        const double side_m = cross(chord, point_at(s, 0.5) - s.a);
-        if (side_p * side_m > 0) in = !in;
-      }
+      const Vec2 d = p - arc.center;
+      double in_circle = d.squaredNorm() - arc.radius * arc.radius;
+      if (in_circle == 0.0) in_circle = d.x() != 0.0 ? d.x() : d.y();
+      const double side_m = cross(e, point_at(s, 0.5) - a);
+      if (in_circle < 0 && side * side_m > 0) in = !in;
     }
   }
   return in;
