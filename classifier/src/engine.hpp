@@ -25,6 +25,7 @@ struct Prepared {
   std::vector<Index> pstart;     ///< P+1 offsets of the pattern runs
   Eigen::MatrixXd patterns;      ///< P×K distinct output rows
   std::vector<Index> label;      ///< internal index → argmax of its output row
+  std::vector<Index> pattern;    ///< internal index → its pattern run (row of `patterns`)
   bool singleton_groups = false; ///< every group has one member (part-out == vector-out)
 };
 

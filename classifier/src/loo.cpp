@@ -170,6 +170,196 @@ struct Evaluator {
   }
 };
 
+// ---- shared-exp kernels ------------------------------------------------------------------------
+// The three sets a stored vector i is predicted from differ only by its own group: part-out uses
+// the other groups (shift m_p = their nearest d²), vector-out adds i's siblings (shift
+// m_v = min(m_p, nearest sibling)), filtration adds i itself (shift m_f = min over all). So one
+// exp per pair over the other groups, with shift m_p, serves all three: the other-group sums are
+// rescaled by exp(−(m_p − m_shift)/α) (one exp per row and α), and the few siblings (group size
+// |G|) get their own scalar exps. Rounding: a few ulp relative, like a direct exp.
+
+struct RowState {
+  ArrayXd delta;              // N: d² − m_p over other groups, +inf on i's own group
+  double mp = 0, mv = 0, mf = 0;
+  std::vector<double> gdelta;  // siblings j ≠ i: d² − m_v
+  std::vector<Index> gpat;     // their pattern runs
+  double self_delta = 0;       // d²_ii − m_f (≈ 0)
+  Index self_pat = 0;
+};
+
+// O(N + |G|).
+void load_row(const Prepared& P, const double* d, Index i, RowState& s) {
+  const Index n = P.X.rows();
+  s.delta = Eigen::Map<const ArrayXd>(d, n);
+  const auto& mem = P.members[static_cast<std::size_t>(P.group[static_cast<std::size_t>(i)])];
+  for (Index j : mem) s.delta(j) = kInf;
+  s.mp = s.delta.minCoeff();
+  s.mv = s.mp;
+  for (Index j : mem)
+    if (j != i) s.mv = std::min(s.mv, d[j]);
+  s.mf = std::min(s.mv, d[i]);
+  s.delta -= s.mp;
+  s.gdelta.clear();
+  s.gpat.clear();
+  for (Index j : mem)
+    if (j != i) {
+      s.gdelta.push_back(d[j] - s.mv);
+      s.gpat.push_back(P.pattern[static_cast<std::size_t>(j)]);
+    }
+  s.self_delta = d[i] - s.mf;
+  s.self_pat = P.pattern[static_cast<std::size_t>(i)];
+}
+
+// S[p] = Σ of e over pattern run p. O(N), vectorized.
+void run_sums(const Prepared& P, const ArrayXd& e, double* S) {
+  const Index np = P.patterns.rows();
+  for (Index p = 0; p < np; ++p) {
+    const Index a = P.pstart[static_cast<std::size_t>(p)];
+    S[p] = e.segment(a, P.pstart[static_cast<std::size_t>(p) + 1] - a).sum();
+  }
+}
+
+// Σ_p S_p·pattern_p / Σ_p S_p, skipping zero weights (same order as combine()). O(P·K).
+void combine_sums(const Prepared& P, const double* S, Eigen::RowVectorXd& out) {
+  out.setZero();
+  double tot = 0;
+  for (Index p = 0; p < P.patterns.rows(); ++p) {
+    if (S[p] != 0.0) out.noalias() += S[p] * P.patterns.row(p);
+    tot += S[p];
+  }
+  out /= tot;
+}
+
+void floor_small(ArrayXd& e) { e = (e < tol::kSimilarityFloor).select(0.0, e); }
+
+// Scores row i's prediction `out` into ps.
+void score(const Prepared& P, Index i, const Eigen::RowVectorXd& out, PartialSums& ps) {
+  ps.err += (out - P.Y.row(i)).squaredNorm();
+  ps.correct += detail::argmax(out) == P.label[static_cast<std::size_t>(i)] ? 1 : 0;
+}
+
+// Part-out and vector-out predictions of row i at the inverse widths u[0..nu), given the
+// other-group sums Sng (nu×P, shift m_p); adds the siblings' scalar exps. O(nu·(|G| + P·K)).
+void score_modes(const Prepared& P, const RowState& s, Index i, const double* u, Index nu, const double* Sng,
+                 PartialSums* ps_part, PartialSums* ps_vector, Eigen::RowVectorXd& out, std::vector<double>& tmp) {
+  const Index np = P.patterns.rows();
+  tmp.resize(static_cast<std::size_t>(np));
+  for (Index k = 0; k < nu; ++k) {
+    const double* S = Sng + k * np;
+    if (ps_part) {
+      combine_sums(P, S, out);
+      score(P, i, out, ps_part[k]);
+    }
+    if (ps_vector) {
+      const double f = std::exp(-(s.mp - s.mv) * u[k]);
+      for (Index p = 0; p < np; ++p) tmp[static_cast<std::size_t>(p)] = S[p] * f;
+      for (std::size_t t = 0; t < s.gdelta.size(); ++t)
+        tmp[static_cast<std::size_t>(s.gpat[t])] += std::exp(-s.gdelta[t] * u[k]);
+      combine_sums(P, tmp.data(), out);
+      score(P, i, out, ps_vector[k]);
+    }
+  }
+}
+
+// One full pass evaluating, for each requested mode, G inverse widths u_g = u0 + g·h exactly
+// (e_g = e_0·r^g with r = exp(−δ·h): 2 exps per pair and mode, then one multiply per point;
+// ≤ G ulp rounding). Per-block partial sums, combined in block order. O(N²·D + N²·(2 + G)).
+struct GridSpec {
+  int mode = kPart;
+  double u0 = 0, h = 0;
+  Index points = 0;
+};
+std::vector<std::vector<Figures>> grid_pass(const Prepared& P, const std::vector<GridSpec>& specs, Index block_rows) {
+  const Index n = P.X.rows(), k = P.Y.cols(), np = P.patterns.rows();
+  const Index nb = (n + block_rows - 1) / block_rows;
+  std::vector<std::vector<std::vector<PartialSums>>> parts(
+      specs.size(), std::vector<std::vector<PartialSums>>(static_cast<std::size_t>(nb)));
+  detail::for_each_d2_block(P.X, P.sq, P.X, P.sq, block_rows, [&](Index b, Index r0, Index rows, const MatrixXd& D2) {
+    RowState s;
+    ArrayXd e, r;
+    Eigen::RowVectorXd out(k);
+    std::vector<double> tmp, S, u;
+    for (std::size_t g = 0; g < specs.size(); ++g)
+      parts[g][static_cast<std::size_t>(b)].assign(static_cast<std::size_t>(specs[g].points), {});
+    for (Index c = 0; c < rows; ++c) {
+      const Index i = r0 + c;
+      load_row(P, D2.col(c).data(), i, s);
+      for (std::size_t g = 0; g < specs.size(); ++g) {
+        const GridSpec& sp = specs[g];
+        S.assign(static_cast<std::size_t>(sp.points * np), 0.0);
+        u.resize(static_cast<std::size_t>(sp.points));
+        e = (s.delta * -sp.u0).exp();
+        r = (s.delta * -sp.h).exp();
+        floor_small(e);
+        for (Index t = 0; t < sp.points; ++t) {
+          u[static_cast<std::size_t>(t)] = sp.u0 + static_cast<double>(t) * sp.h;
+          if (t > 0) {
+            e *= r;
+            floor_small(e);
+          }
+          run_sums(P, e, S.data() + t * np);
+        }
+        PartialSums* ps = parts[g][static_cast<std::size_t>(b)].data();
+        score_modes(P, s, i, u.data(), sp.points, S.data(), sp.mode == kPart ? ps : nullptr,
+                    sp.mode == kVector ? ps : nullptr, out, tmp);
+      }
+    }
+  });
+  std::vector<std::vector<Figures>> res(specs.size());
+  for (std::size_t g = 0; g < specs.size(); ++g)
+    for (Index t = 0; t < specs[g].points; ++t) {
+      std::vector<PartialSums> col(static_cast<std::size_t>(nb));
+      for (std::size_t b = 0; b < col.size(); ++b) col[b] = parts[g][b][static_cast<std::size_t>(t)];
+      res[g].push_back(finish(col, n, k));
+    }
+  return res;
+}
+
+// One full pass at α giving part-out and vector-out figures and the chosen mode's verification
+// and the filtration outputs (caller's row order): one exp per pair. O(N²·D + N²).
+void final_pass(const Prepared& P, double alpha, int chosen, Index block_rows, Figures fig[2], MatrixXd& verification,
+                MatrixXd& filtration) {
+  const Index n = P.X.rows(), k = P.Y.cols(), np = P.patterns.rows();
+  const Index nb = (n + block_rows - 1) / block_rows;
+  std::vector<PartialSums> parts[2];
+  for (auto& p : parts) p.assign(static_cast<std::size_t>(nb), {});
+  const double u = 1.0 / alpha;
+  detail::for_each_d2_block(P.X, P.sq, P.X, P.sq, block_rows, [&](Index b, Index r0, Index rows, const MatrixXd& D2) {
+    RowState s;
+    ArrayXd e;
+    Eigen::RowVectorXd out(k);
+    std::vector<double> S(static_cast<std::size_t>(np)), Sg(static_cast<std::size_t>(np)), T(static_cast<std::size_t>(np));
+    for (Index c = 0; c < rows; ++c) {
+      const Index i = r0 + c;
+      const auto oi = P.to_orig[static_cast<std::size_t>(i)];
+      load_row(P, D2.col(c).data(), i, s);
+      e = (s.delta * -u).exp();
+      floor_small(e);
+      run_sums(P, e, S.data());
+      std::fill(Sg.begin(), Sg.end(), 0.0);
+      for (std::size_t t = 0; t < s.gdelta.size(); ++t) Sg[static_cast<std::size_t>(s.gpat[t])] += std::exp(-s.gdelta[t] * u);
+      // part-out
+      combine_sums(P, S.data(), out);
+      score(P, i, out, parts[kPart][static_cast<std::size_t>(b)]);
+      if (chosen == kPart) verification.row(oi) = out;
+      // vector-out
+      const double fv = std::exp(-(s.mp - s.mv) * u);
+      for (std::size_t p = 0; p < T.size(); ++p) T[p] = S[p] * fv + Sg[p];
+      combine_sums(P, T.data(), out);
+      score(P, i, out, parts[kVector][static_cast<std::size_t>(b)]);
+      if (chosen == kVector) verification.row(oi) = out;
+      // filtration (self included)
+      const double ff = std::exp(-(s.mp - s.mf) * u), fg = std::exp(-(s.mv - s.mf) * u);
+      for (std::size_t p = 0; p < T.size(); ++p) T[p] = S[p] * ff + Sg[p] * fg;
+      T[static_cast<std::size_t>(s.self_pat)] += std::exp(-s.self_delta * u);
+      combine_sums(P, T.data(), out);
+      filtration.row(oi) = out;
+    }
+  });
+  fig[kPart] = finish(parts[kPart], n, k);
+  fig[kVector] = finish(parts[kVector], n, k);
+}
+
 // Median nonzero d² over all pairs (N(N−1)/2 ≤ 65,536) or 65,536 pairs from a fixed splitmix64
 // sequence. O(pairs·D).
 double d2_scale(const MatrixXd& X) {
@@ -301,6 +491,9 @@ Prepared prepare(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<std::s
   P.pstart = starts;
   P.label.resize(un);
   for (Index i = 0; i < n; ++i) P.label[static_cast<std::size_t>(i)] = argmax(P.Y.row(i));
+  P.pattern.resize(un);
+  for (std::size_t p = 0; p + 1 < P.pstart.size(); ++p)
+    for (Index i = P.pstart[p]; i < P.pstart[p + 1]; ++i) P.pattern[static_cast<std::size_t>(i)] = static_cast<Index>(p);
   return P;
 }
 
@@ -390,9 +583,13 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
   C.dplus.assign(un, kInf);
   for (auto& m : C.m) m.assign(un, 0.0);
   const bool same_modes = P.singleton_groups;
+  std::vector<double> uscan(unc);
+  for (std::size_t k = 0; k < unc; ++k) uscan[k] = 1.0 / alphas[k];
+  const Index np = P.patterns.rows();
   detail::for_each_d2_block(P.X, P.sq, P.X, P.sq, br, [&](Index b, Index r0, Index rows, const MatrixXd& D2) {
-    ArrayXd w, delta, e;
-    std::vector<double> buf;
+    RowState s;
+    ArrayXd e;
+    std::vector<double> buf, Sng(unc * static_cast<std::size_t>(np)), tmp;
     Eigen::RowVectorXd out(kout);
     auto& sums = scan[static_cast<std::size_t>(b)];
     auto& cd = bd2[static_cast<std::size_t>(b)];
@@ -401,32 +598,25 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
       const Index i = r0 + c;
       const auto ui = static_cast<std::size_t>(i);
       const auto d = D2.col(c).array();
+      load_row(P, D2.col(c).data(), i, s);
+      C.m[kPart][ui] = s.mp;
+      C.m[kVector][ui] = s.mv;
       C.m[kFiltration][ui] = d.minCoeff();
-      for (int mode : {kPart, kVector}) {
-        if (mode == kVector && same_modes) {  // every group is one vector: vector-out = part-out
-          C.m[kVector][ui] = C.m[kPart][ui];
-          continue;
-        }
-        w = d;
-        mask(P, i, mode, w);
-        const double m = w.minCoeff();
-        C.m[mode][ui] = m;
-        delta = w - m;
-        PartialSums* ps = sums.data() + static_cast<std::size_t>(mode) * unc;
-        for (Index r = 0; r < std::min<Index>(q, nc); ++r) {  // chains: O(N) per candidate
-          e = (delta * (-1.0 / alphas[static_cast<std::size_t>(r)])).exp();
-          e = (e < tol::kSimilarityFloor).select(0.0, e);
-          for (Index k = r; k < nc; k += q) {
-            if (k != r) {
-              e = e.square();
-              e = (e < tol::kSimilarityFloor).select(0.0, e);
-            }
-            combine(P, e, out);
-            ps[k].err += (out - P.Y.row(i)).squaredNorm();
-            ps[k].correct += detail::argmax(out) == P.label[ui] ? 1 : 0;
+      // other-group sums at every candidate: q squaring chains α, α/2, α/4, … (one exp per pair
+      // per chain, then a square, a floor and a run sum per pair and candidate): O(N·(q + C)).
+      for (Index r = 0; r < std::min<Index>(q, nc); ++r) {
+        e = (s.delta * -uscan[static_cast<std::size_t>(r)]).exp();
+        floor_small(e);
+        for (Index k = r; k < nc; k += q) {
+          if (k != r) {
+            e = e.square();
+            floor_small(e);
           }
+          run_sums(P, e, Sng.data() + k * np);
         }
       }
+      score_modes(P, s, i, uscan.data(), nc, Sng.data(), sums.data(), same_modes ? nullptr : sums.data() + unc, out,
+                  tmp);
       // R nearest (self and siblings included): expected O(N) selection.
       double dplus = kInf;
       if (R < n) {
@@ -486,29 +676,75 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
   }
 
   // ---- pass 2: refinement per mode --------------------------------------------------------------
+  // Golden section on the cache when it is exact (looser refinement margin) over the mode's whole
+  // bracket; otherwise ONE full pass for every such mode together, evaluating a grid of points
+  // evenly spaced in 1/α across the bracket (exact exps), no finer than refine_tolerance_octaves.
   Evaluator ev{P, C, br, &full_passes};
   ev.refining = true;
   const double tol_ln = prm.refine_tolerance_octaves * std::log(2.0);
+  std::vector<GridSpec> specs;
+  struct Bracket {
+    double lo = 0, hi = 0, a0 = 0;
+    Figures f0;
+  } br_of[2];
   for (int mode : {kPart, kVector}) {
     Index best = 0;
     for (Index k = 1; k < nc; ++k)
       if (fig[mode][static_cast<std::size_t>(k)].rms <= fig[mode][static_cast<std::size_t>(best)].rms) best = k;
     ModeOptimum& opt = mode == kPart ? rep.part : rep.vector;
     opt.edge = best == 0 ? Edge::High : best == nc - 1 ? Edge::Low : Edge::None;
-    const double a_hi = alphas[static_cast<std::size_t>(std::max<Index>(best - 1, 0))];
-    const double a_lo = alphas[static_cast<std::size_t>(std::min<Index>(best + 1, nc - 1))];
-    const double a0 = alphas[static_cast<std::size_t>(best)];
-    if (mode == kVector && same_modes) {
-      opt = rep.part;
-      opt.edge = rep.part.edge;
-      continue;
+    Bracket& bk = br_of[mode];
+    bk.hi = alphas[static_cast<std::size_t>(std::max<Index>(best - 1, 0))];
+    bk.lo = alphas[static_cast<std::size_t>(std::min<Index>(best + 1, nc - 1))];
+    bk.a0 = alphas[static_cast<std::size_t>(best)];
+    bk.f0 = fig[mode][static_cast<std::size_t>(best)];
+    if (mode == kVector && same_modes) continue;
+    if (bk.hi <= C.covered_refine[mode]) {
+      const Figures f0 = ev(bk.a0, mode);
+      const Golden g = golden_section([&](double a) { return ev(a, mode); }, bk.lo, bk.hi, bk.a0, f0, tol_ln);
+      opt.alpha = g.alpha;
+      opt.rms = g.fig.rms;
+      opt.accuracy = g.fig.accuracy;
+      opt.refine_evaluations = g.evaluations + 1;
+    } else {
+      // points: bracket width / tolerance, at most kMaxGrid (each costs a multiply per pair)
+      constexpr double kMaxGrid = 33;
+      const double width = std::log(bk.hi / bk.lo);
+      const double pts = std::clamp(std::ceil(width / tol_ln) + 1.0, 2.0, kMaxGrid);
+      GridSpec sp;
+      sp.mode = mode;
+      sp.points = static_cast<Index>(pts);
+      sp.u0 = 1.0 / bk.hi;
+      sp.h = (1.0 / bk.lo - sp.u0) / (pts - 1.0);
+      specs.push_back(sp);
     }
-    const Figures f0 = ev(a0, mode);
-    const Golden g = golden_section([&](double a) { return ev(a, mode); }, a_lo, a_hi, a0, f0, tol_ln);
-    opt.alpha = g.alpha;
-    opt.rms = g.fig.rms;
-    opt.accuracy = g.fig.accuracy;
-    opt.refine_evaluations = g.evaluations + 1;
+  }
+  if (!specs.empty()) {
+    ++full_passes;
+    const auto res = grid_pass(P, specs, br);
+    for (std::size_t g = 0; g < specs.size(); ++g) {
+      const GridSpec& sp = specs[g];
+      ModeOptimum& opt = sp.mode == kPart ? rep.part : rep.vector;
+      const Bracket& bk = br_of[sp.mode];
+      opt.alpha = bk.a0;  // seeded with the scan's best, like the golden section
+      opt.rms = bk.f0.rms;
+      opt.accuracy = bk.f0.accuracy;
+      for (Index t = 0; t < sp.points; ++t) {
+        const double a = 1.0 / (sp.u0 + static_cast<double>(t) * sp.h);
+        const Figures& f = res[g][static_cast<std::size_t>(t)];
+        if (f.rms < opt.rms || (f.rms == opt.rms && a < opt.alpha)) {
+          opt.alpha = a;
+          opt.rms = f.rms;
+          opt.accuracy = f.accuracy;
+        }
+      }
+      opt.refine_evaluations = static_cast<int>(sp.points);
+    }
+  }
+  if (same_modes) {
+    const Edge e = rep.vector.edge;
+    rep.vector = rep.part;
+    rep.vector.edge = e;
   }
 
   // ---- pass 3: outputs at the chosen α ----------------------------------------------------------
@@ -517,13 +753,28 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
   rep.alpha = chosen == kPart ? rep.part.alpha : rep.vector.alpha;
   rep.verification.resize(n, kout);
   rep.filtration.resize(n, kout);
-  const Figures fc = ev(rep.alpha, chosen, &rep.verification);
-  const Figures fo = ev(rep.alpha, chosen == kPart ? kVector : kPart);
-  (void)ev(rep.alpha, kFiltration, &rep.filtration);
-  rep.rms_part_at_alpha = chosen == kPart ? fc.rms : fo.rms;
-  rep.rms_vector_at_alpha = chosen == kPart ? fo.rms : fc.rms;
-  rep.accuracy_part_at_alpha = chosen == kPart ? fc.accuracy : fo.accuracy;
-  rep.accuracy_vector_at_alpha = chosen == kPart ? fo.accuracy : fc.accuracy;
+  Figures fm[2];
+  if (rep.alpha <= std::min({C.covered[kPart], C.covered[kVector], C.covered[kFiltration]})) {
+    fm[chosen] = ev(rep.alpha, chosen, &rep.verification);
+    fm[1 - chosen] = ev(rep.alpha, 1 - chosen);
+    (void)ev(rep.alpha, kFiltration, &rep.filtration);
+  } else {  // one pass for both modes and the filtration
+    ++full_passes;
+    final_pass(P, rep.alpha, chosen, br, fm, rep.verification, rep.filtration);
+  }
+  rep.rms_part_at_alpha = fm[kPart].rms;
+  rep.rms_vector_at_alpha = fm[kVector].rms;
+  rep.accuracy_part_at_alpha = fm[kPart].accuracy;
+  rep.accuracy_vector_at_alpha = fm[kVector].accuracy;
+  // the chosen mode's optimum is reported with the exact figures at its α
+  ModeOptimum& copt = chosen == kPart ? rep.part : rep.vector;
+  copt.rms = fm[chosen].rms;
+  copt.accuracy = fm[chosen].accuracy;
+  if (same_modes) {
+    ModeOptimum& other = chosen == kPart ? rep.vector : rep.part;
+    other.rms = copt.rms;
+    other.accuracy = copt.accuracy;
+  }
   rep.nearest_d2.resize(n);
   for (std::size_t i = 0; i < un; ++i) rep.nearest_d2(P.to_orig[i]) = C.m[kPart][i];
   rep.full_passes = full_passes;
