@@ -72,8 +72,8 @@ void write_config(const fs::path& dir) {
 
 TEST(CliLearn, SampleWritesTheAnalyticRampGrid) {
   // A tilted plane z = 0.5·x + 0.25·y over [0,30]×[0,20] (ASCII STL): heights above its lowest point
-  // (0 at the origin) are linear, so the raster + bilinear grid must be exact up to the raster
-  // error at the outermost edge: row i ↔ y = 20·i/14, column j ↔ x = 30·j/14.
+  // (0 at the origin) are linear, so the raster + bilinear grid must be exact:
+  // row i ↔ y = 20·i/14 (min y first), column j ↔ x = 30·j/14 (min x first).
   const auto d = fresh_dir("cli_learn_sample");
   std::ofstream(d / "ramp.stl") << "solid ramp\n"
                                    "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 30 0 15\nvertex 30 20 20\n"
@@ -92,8 +92,9 @@ TEST(CliLearn, SampleWritesTheAnalyticRampGrid) {
       worst = std::max(worst, std::abs(std::stod(g[i][j]) - expect));
     }
   }
-  // Raster 1 mm: at worst one raster step of the steeper slope (0.5 mm/mm).
-  EXPECT_LT(worst, 0.5 + 1e-9);
+  // A linear surface is reproduced exactly by the raster and the bilinear grid, edges included
+  // (the grid spans the footprint corner to corner); only rounding remains.
+  EXPECT_LT(worst, 1e-9);
   EXPECT_NEAR(std::stod(g[7][7]), 0.5 * 15 + 0.25 * 10, 1e-6);  // an interior point: exact
   EXPECT_TRUE(is_png(d / "S" / "ramp.png"));
   // --grid changes the shape; the same command gives the same bytes.
