@@ -77,7 +77,7 @@ void collect_predrill(LevelPlan& L) {
 
 std::vector<Chain> contour_chains(const Region& region, const CutParams& cut, const Path2D& after) {
   std::vector<Chain> out;
-  const auto comps = offset_inward(region, cut.clearance() + tol::contour_margin_mm, tol::arc_chord_mm);
+  const auto comps = offset_inward(region, cut.clearance() + tol::contour_margin_mm, tol::contour_chord_mm);
   for (const PolyArea& a : comps) {  // O(components · loops)
     if (a.outer.size() >= 3) out.push_back(loop_chain(a.outer, after, cut.tool_diameter / 2));
     for (const auto& h : a.holes)

@@ -8,7 +8,13 @@ inline constexpr double join_mm = 1e-6;          ///< vertices closer than this 
 inline constexpr double chain_join_mm = 1e-3;    ///< DXF loose entities whose ends are this close are chained
 inline constexpr double arc_chord_mm = 0.001;    ///< chord error when arcs are flattened (Clipper, plots)
 inline constexpr double clipper_resolution_mm = 1e-4;  ///< integer grid of Clipper coordinates
-inline constexpr double contour_margin_mm = 0.005;    ///< the contour pass keeps this much extra off the walls
+/// The contour pass flattens arcs (the region's and Clipper's round joins) within this chord error.
+inline constexpr double contour_chord_mm = 0.0002;
+/// Extra clearance of the contour pass: a chord of a convex wall arc lies up to contour_chord_mm
+/// inside the true wall, and so does a chord of the offset's round join: twice that, plus the
+/// rounding of Clipper's integer grid at both ends. Keeps the contour gouge-free while the uncut
+/// sliver it leaves is ≈ 0.0006 mm × wall length.
+inline constexpr double contour_margin_mm = 2 * contour_chord_mm + 2 * clipper_resolution_mm;
                                                        ///< (covers Clipper's chord and rounding errors)
 inline constexpr double uncut_chord_mm = 0.0002;       ///< chord error of the uncut-area booleans
 }  // namespace millnet::pocket::tol
