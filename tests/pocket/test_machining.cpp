@@ -124,7 +124,8 @@ TEST(PocketMachining, ContourPassShrinksUncutArea) {
   EXPECT_LT(b.metrics.uncut_area_mm2, 0.05 * a.metrics.uncut_area_mm2);
   // One contour chain per loop of the reachable area (islands 10 mm apart merge once grown by 5).
   std::size_t loops = 0;
-  for (const PolyArea& c : offset_inward(pf.region, cut.clearance() + tol::contour_margin_mm)) loops += 1 + c.holes.size();
+  for (const PolyArea& c : offset_inward(pf.region, cut.clearance() + tol::contour_margin_mm, tol::contour_chord_mm))
+    loops += 1 + c.holes.size();
   EXPECT_LT(loops, 6u);
   EXPECT_EQ(b.path.chains.size(), a.path.chains.size() + loops);
   // Keys come out in the documented order, planner stats after.
