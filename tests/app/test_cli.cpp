@@ -16,7 +16,9 @@ TEST(Cli, HelpExitsZeroForEveryCommand) {
     const auto r = run_millnet(std::string(cmd) + " --help", d);
     EXPECT_EQ(r.code, 0) << cmd << "\n" << r.err;
     EXPECT_NE(r.out.find("--help"), std::string::npos) << cmd;
-    if (*cmd && std::string(cmd) != "run") EXPECT_NE(r.out.find("--quiet"), std::string::npos) << cmd;
+    if (*cmd && std::string(cmd) != "run") {
+      EXPECT_NE(r.out.find("--quiet"), std::string::npos) << cmd;
+    }
   }
 }
 
