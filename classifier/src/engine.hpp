@@ -47,12 +47,16 @@ Index argmax(const Row& r) {
 /// ‖s‖² + ‖q‖² − 2 s·q by one GEMM per block (clamped at 0). Blocks run in parallel (OpenMP,
 /// dynamic schedule); fn must write only block- or row-owned slots and must not throw.
 /// Work O(N·M·D); memory O(N·block_rows) per thread.
+/// Below this many pair evaluations a pass runs on one thread: waking a team costs more than the
+/// work (and results do not depend on it: blocks are fixed by block_rows).
+inline constexpr double kParallelWork = 1 << 16;
+
 template <class Fn>
 void for_each_d2_block(const Eigen::MatrixXd& S, const Eigen::VectorXd& sqS, const Eigen::MatrixXd& Q,
                        const Eigen::VectorXd& sqQ, Index block_rows, Fn&& fn) {
   const Index M = Q.rows();
   const Index nb = (M + block_rows - 1) / block_rows;
-#pragma omp parallel
+#pragma omp parallel if (nb > 1 && static_cast<double>(S.rows()) * static_cast<double>(M) > kParallelWork)
   {
     Eigen::MatrixXd D2;
 #pragma omp for schedule(dynamic, 1)

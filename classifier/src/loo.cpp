@@ -128,7 +128,7 @@ Figures cache_pass(const Prepared& P, const Cache& C, double alpha, int mode, In
   const Index nb = (n + block_rows - 1) / block_rows;
   std::vector<PartialSums> parts(static_cast<std::size_t>(nb));
   const double neg_inv_alpha = -1.0 / alpha;
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(dynamic, 1) if (static_cast<double>(C.d2.size()) > detail::kParallelWork)
   for (Index b = 0; b < nb; ++b) {  // O(block_rows · R) per block
     Eigen::RowVectorXd out(k);
     PartialSums ps;
@@ -230,6 +230,53 @@ void combine_sums(const Prepared& P, const double* S, Eigen::RowVectorXd& out) {
   out /= tot;
 }
 
+// Power sums over one pattern run [a, b) in ONE sweep: out[t·stride] = Σ_j x_j(t) for t < steps,
+// with x_j(0) = e_j and x_j(t+1) = x_j(t)² (Square: the α, α/2, α/4 … chains) or x_j(t)·r_j (a
+// grid even in 1/α); values below tol::kSimilarityFloor become 0 (no subnormal arithmetic).
+// Lanes of kLanes values stay in registers across the steps and a group of lanes stops once all
+// of them are 0, so distant pairs cost only their few non-negligible steps. Fixed summation
+// order (lanes, then lanes combined 0…kLanes−1): independent of threads. O((b − a)·steps).
+constexpr int kLanes = 8;
+template <bool Square>
+void power_sums(const double* e, const double* rr, Index a, Index b, Index steps, double* out, Index stride,
+                std::vector<double>& acc_buf) {
+  acc_buf.assign(static_cast<std::size_t>(steps * kLanes), 0.0);
+  double* acc = acc_buf.data();
+  constexpr double F = tol::kSimilarityFloor;
+  Index j = a;
+  for (; j + kLanes <= b; j += kLanes) {
+    double x[kLanes], y[kLanes];
+    for (int l = 0; l < kLanes; ++l) x[l] = e[j + l];
+    if constexpr (!Square)
+      for (int l = 0; l < kLanes; ++l) y[l] = rr[j + l];
+    for (Index t = 0; t < steps; ++t) {
+      double* A = acc + t * kLanes;
+      bool any = false;
+      for (int l = 0; l < kLanes; ++l) {
+        A[l] += x[l];
+        double v;
+        if constexpr (Square) v = x[l] * x[l]; else v = x[l] * y[l];
+        x[l] = v < F ? 0.0 : v;
+        any |= x[l] != 0.0;
+      }
+      if (!any) break;
+    }
+  }
+  for (; j < b; ++j) {  // tail: lane 0
+    double x = e[j];
+    for (Index t = 0; t < steps && x != 0.0; ++t) {
+      acc[t * kLanes] += x;
+      const double v = Square ? x * x : x * rr[Square ? 0 : j];
+      x = v < F ? 0.0 : v;
+    }
+  }
+  for (Index t = 0; t < steps; ++t) {
+    double sum = 0;
+    for (int l = 0; l < kLanes; ++l) sum += acc[t * kLanes + l];
+    out[t * stride] = sum;
+  }
+}
+
 void floor_small(ArrayXd& e) { e = (e < tol::kSimilarityFloor).select(0.0, e); }
 
 // Scores row i's prediction `out` into ps.
@@ -261,15 +308,52 @@ void score_modes(const Prepared& P, const RowState& s, Index i, const double* u,
   }
 }
 
-// One full pass evaluating, for each requested mode, G inverse widths u_g = u0 + g·h exactly
-// (e_g = e_0·r^g with r = exp(−δ·h): 2 exps per pair and mode, then one multiply per point;
-// ≤ G ulp rounding). Per-block partial sums, combined in block order. O(N²·D + N²·(2 + G)).
 struct GridSpec {
   int mode = kPart;
   double u0 = 0, h = 0;
   Index points = 0;
 };
-std::vector<std::vector<Figures>> grid_pass(const Prepared& P, const std::vector<GridSpec>& specs, Index block_rows) {
+
+// Part-out, vector-out and filtration outputs of row i at inverse width u from its other-group
+// run sums S (shift m_p) and sibling run sums Sg (shift m_v). O(P·K).
+struct RowShifts {
+  double mp = 0, mv = 0, mf = 0, self_delta = 0;
+  Index self_pat = 0;
+};
+void final_row(const Prepared& P, const RowShifts& s, double u, const double* S, const double* Sg,
+               Eigen::RowVectorXd& part, Eigen::RowVectorXd& vec, Eigen::RowVectorXd& fil, std::vector<double>& T) {
+  const Index np = P.patterns.rows();
+  T.resize(static_cast<std::size_t>(np));
+  combine_sums(P, S, part);
+  const double fv = std::exp(-(s.mp - s.mv) * u);
+  for (Index p = 0; p < np; ++p) T[static_cast<std::size_t>(p)] = S[p] * fv + Sg[p];
+  combine_sums(P, T.data(), vec);
+  const double ff = std::exp(-(s.mp - s.mf) * u), fg = std::exp(-(s.mv - s.mf) * u);
+  for (Index p = 0; p < np; ++p) T[static_cast<std::size_t>(p)] = S[p] * ff + Sg[p] * fg;
+  T[static_cast<std::size_t>(s.self_pat)] += std::exp(-s.self_delta * u);
+  combine_sums(P, T.data(), fil);
+}
+
+RowShifts shifts_of(const RowState& s) { return {s.mp, s.mv, s.mf, s.self_delta, s.self_pat}; }
+
+// Sibling run sums at u: O(|G|) exps.
+void sibling_sums(const RowState& s, double u, double* Sg, Index np) {
+  std::fill(Sg, Sg + np, 0.0);
+  for (std::size_t t = 0; t < s.gdelta.size(); ++t) Sg[s.gpat[t]] += std::exp(-s.gdelta[t] * u);
+}
+
+// Row sums kept from a grid pass for one spec, so that the outputs at any of its points need no
+// further pass: N·points·2P doubles.
+struct GridStore {
+  std::vector<double> S, Sg;  // [(i·points + t)·P + p]
+  std::vector<RowShifts> shift;  // N
+};
+
+// One full pass evaluating, for each requested mode, G inverse widths u_g = u0 + g·h exactly
+// (e_g = e_0·r^g with r = exp(−δ·h): 2 exps per pair and mode, then one multiply per point;
+// ≤ G ulp rounding). Per-block partial sums, combined in block order. O(N²·D + N²·(2 + G)).
+std::vector<std::vector<Figures>> grid_pass(const Prepared& P, const std::vector<GridSpec>& specs, Index block_rows,
+                                            std::vector<GridStore>& stores) {
   const Index n = P.X.rows(), k = P.Y.cols(), np = P.patterns.rows();
   const Index nb = (n + block_rows - 1) / block_rows;
   std::vector<std::vector<std::vector<PartialSums>>> parts(
@@ -278,7 +362,7 @@ std::vector<std::vector<Figures>> grid_pass(const Prepared& P, const std::vector
     RowState s;
     ArrayXd e, r;
     Eigen::RowVectorXd out(k);
-    std::vector<double> tmp, S, u;
+    std::vector<double> tmp, S, u, acc;
     for (std::size_t g = 0; g < specs.size(); ++g)
       parts[g][static_cast<std::size_t>(b)].assign(static_cast<std::size_t>(specs[g].points), {});
     for (Index c = 0; c < rows; ++c) {
@@ -291,13 +375,17 @@ std::vector<std::vector<Figures>> grid_pass(const Prepared& P, const std::vector
         e = (s.delta * -sp.u0).exp();
         r = (s.delta * -sp.h).exp();
         floor_small(e);
-        for (Index t = 0; t < sp.points; ++t) {
-          u[static_cast<std::size_t>(t)] = sp.u0 + static_cast<double>(t) * sp.h;
-          if (t > 0) {
-            e *= r;
-            floor_small(e);
-          }
-          run_sums(P, e, S.data() + t * np);
+        for (Index t = 0; t < sp.points; ++t) u[static_cast<std::size_t>(t)] = sp.u0 + static_cast<double>(t) * sp.h;
+        for (Index p = 0; p < np; ++p)
+          power_sums<false>(e.data(), r.data(), P.pstart[static_cast<std::size_t>(p)],
+                            P.pstart[static_cast<std::size_t>(p) + 1], sp.points, S.data() + p, np, acc);
+        GridStore& st = stores[g];
+        if (!st.S.empty()) {  // keep this row's sums for the outputs at the chosen point
+          const auto off = static_cast<std::size_t>(i * sp.points * np);
+          std::copy(S.begin(), S.end(), st.S.begin() + static_cast<std::ptrdiff_t>(off));
+          for (Index t = 0; t < sp.points; ++t)
+            sibling_sums(s, u[static_cast<std::size_t>(t)], st.Sg.data() + off + static_cast<std::size_t>(t * np), np);
+          st.shift[static_cast<std::size_t>(i)] = shifts_of(s);
         }
         PartialSums* ps = parts[g][static_cast<std::size_t>(b)].data();
         score_modes(P, s, i, u.data(), sp.points, S.data(), sp.mode == kPart ? ps : nullptr,
@@ -315,6 +403,26 @@ std::vector<std::vector<Figures>> grid_pass(const Prepared& P, const std::vector
   return res;
 }
 
+// Outputs and both modes' figures at point t of a stored grid. O(N·P·K).
+void outputs_from_store(const Prepared& P, const GridSpec& sp, const GridStore& st, Index t, int chosen, Figures fig[2],
+                        MatrixXd& verification, MatrixXd& filtration) {
+  const Index n = P.X.rows(), k = P.Y.cols(), np = P.patterns.rows();
+  Eigen::RowVectorXd part(k), vec(k), fil(k);
+  std::vector<double> T;
+  PartialSums ps[2];
+  const double u = sp.u0 + static_cast<double>(t) * sp.h;
+  for (Index i = 0; i < n; ++i) {
+    const auto off = static_cast<std::size_t>((i * sp.points + t) * np);
+    final_row(P, st.shift[static_cast<std::size_t>(i)], u, st.S.data() + off, st.Sg.data() + off, part, vec, fil, T);
+    score(P, i, part, ps[kPart]);
+    score(P, i, vec, ps[kVector]);
+    const auto oi = P.to_orig[static_cast<std::size_t>(i)];
+    verification.row(oi) = chosen == kPart ? part : vec;
+    filtration.row(oi) = fil;
+  }
+  for (int m : {kPart, kVector}) fig[m] = finish({ps[m]}, n, k);
+}
+
 // One full pass at α giving part-out and vector-out figures and the chosen mode's verification
 // and the filtration outputs (caller's row order): one exp per pair. O(N²·D + N²).
 void final_pass(const Prepared& P, double alpha, int chosen, Index block_rows, Figures fig[2], MatrixXd& verification,
@@ -327,8 +435,8 @@ void final_pass(const Prepared& P, double alpha, int chosen, Index block_rows, F
   detail::for_each_d2_block(P.X, P.sq, P.X, P.sq, block_rows, [&](Index b, Index r0, Index rows, const MatrixXd& D2) {
     RowState s;
     ArrayXd e;
-    Eigen::RowVectorXd out(k);
-    std::vector<double> S(static_cast<std::size_t>(np)), Sg(static_cast<std::size_t>(np)), T(static_cast<std::size_t>(np));
+    Eigen::RowVectorXd part(k), vec(k), fil(k);
+    std::vector<double> S(static_cast<std::size_t>(np)), Sg(static_cast<std::size_t>(np)), T;
     for (Index c = 0; c < rows; ++c) {
       const Index i = r0 + c;
       const auto oi = P.to_orig[static_cast<std::size_t>(i)];
@@ -336,24 +444,12 @@ void final_pass(const Prepared& P, double alpha, int chosen, Index block_rows, F
       e = (s.delta * -u).exp();
       floor_small(e);
       run_sums(P, e, S.data());
-      std::fill(Sg.begin(), Sg.end(), 0.0);
-      for (std::size_t t = 0; t < s.gdelta.size(); ++t) Sg[static_cast<std::size_t>(s.gpat[t])] += std::exp(-s.gdelta[t] * u);
-      // part-out
-      combine_sums(P, S.data(), out);
-      score(P, i, out, parts[kPart][static_cast<std::size_t>(b)]);
-      if (chosen == kPart) verification.row(oi) = out;
-      // vector-out
-      const double fv = std::exp(-(s.mp - s.mv) * u);
-      for (std::size_t p = 0; p < T.size(); ++p) T[p] = S[p] * fv + Sg[p];
-      combine_sums(P, T.data(), out);
-      score(P, i, out, parts[kVector][static_cast<std::size_t>(b)]);
-      if (chosen == kVector) verification.row(oi) = out;
-      // filtration (self included)
-      const double ff = std::exp(-(s.mp - s.mf) * u), fg = std::exp(-(s.mv - s.mf) * u);
-      for (std::size_t p = 0; p < T.size(); ++p) T[p] = S[p] * ff + Sg[p] * fg;
-      T[static_cast<std::size_t>(s.self_pat)] += std::exp(-s.self_delta * u);
-      combine_sums(P, T.data(), out);
-      filtration.row(oi) = out;
+      sibling_sums(s, u, Sg.data(), np);
+      final_row(P, shifts_of(s), u, S.data(), Sg.data(), part, vec, fil, T);
+      score(P, i, part, parts[kPart][static_cast<std::size_t>(b)]);
+      score(P, i, vec, parts[kVector][static_cast<std::size_t>(b)]);
+      verification.row(oi) = chosen == kPart ? part : vec;
+      filtration.row(oi) = fil;
     }
   });
   fig[kPart] = finish(parts[kPart], n, k);
@@ -362,14 +458,15 @@ void final_pass(const Prepared& P, double alpha, int chosen, Index block_rows, F
 
 // Median nonzero d² over all pairs (N(N−1)/2 ≤ 65,536) or 65,536 pairs from a fixed splitmix64
 // sequence. O(pairs·D).
-double d2_scale(const MatrixXd& X) {
-  const Index n = X.rows();
+double d2_scale(const MatrixXd& Xrows) {
+  const MatrixXd X = Xrows.transpose();  // D×N: one vector per contiguous column
+  const Index n = Xrows.rows();
   std::vector<double> v;
   const std::uint64_t all = static_cast<std::uint64_t>(n) * static_cast<std::uint64_t>(n - 1) / 2;
   constexpr std::uint64_t kMaxPairs = 65536;
   if (all <= kMaxPairs) {
     for (Index i = 0; i < n; ++i)
-      for (Index j = i + 1; j < n; ++j) v.push_back((X.row(i) - X.row(j)).squaredNorm());
+      for (Index j = i + 1; j < n; ++j) v.push_back((X.col(i) - X.col(j)).squaredNorm());
   } else {
     std::uint64_t state = 0x6d696c6c6e6574ULL;  // fixed seed: "millnet"
     auto next = [&state]() {
@@ -383,7 +480,7 @@ double d2_scale(const MatrixXd& X) {
       const auto i = static_cast<Index>(next() % un);
       auto j = static_cast<Index>(next() % (un - 1));
       if (j >= i) ++j;
-      v.push_back((X.row(i) - X.row(j)).squaredNorm());
+      v.push_back((X.col(i) - X.col(j)).squaredNorm());
     }
   }
   v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !(x > 0.0); }), v.end());
@@ -589,7 +686,7 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
   detail::for_each_d2_block(P.X, P.sq, P.X, P.sq, br, [&](Index b, Index r0, Index rows, const MatrixXd& D2) {
     RowState s;
     ArrayXd e;
-    std::vector<double> buf, Sng(unc * static_cast<std::size_t>(np)), tmp;
+    std::vector<double> buf, Sng(unc * static_cast<std::size_t>(np)), tmp, acc;
     Eigen::RowVectorXd out(kout);
     auto& sums = scan[static_cast<std::size_t>(b)];
     auto& cd = bd2[static_cast<std::size_t>(b)];
@@ -607,13 +704,10 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
       for (Index r = 0; r < std::min<Index>(q, nc); ++r) {
         e = (s.delta * -uscan[static_cast<std::size_t>(r)]).exp();
         floor_small(e);
-        for (Index k = r; k < nc; k += q) {
-          if (k != r) {
-            e = e.square();
-            floor_small(e);
-          }
-          run_sums(P, e, Sng.data() + k * np);
-        }
+        const Index steps = (nc - r + q - 1) / q;  // candidates r, r + q, r + 2q, …
+        for (Index p = 0; p < np; ++p)
+          power_sums<true>(e.data(), nullptr, P.pstart[static_cast<std::size_t>(p)],
+                           P.pstart[static_cast<std::size_t>(p) + 1], steps, Sng.data() + r * np + p, q * np, acc);
       }
       score_modes(P, s, i, uscan.data(), nc, Sng.data(), sums.data(), same_modes ? nullptr : sums.data() + unc, out,
                   tmp);
@@ -707,38 +801,64 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
       opt.accuracy = g.fig.accuracy;
       opt.refine_evaluations = g.evaluations + 1;
     } else {
-      // points: bracket width / tolerance, at most kMaxGrid (each costs a multiply per pair)
-      constexpr double kMaxGrid = 33;
-      const double width = std::log(bk.hi / bk.lo);
-      const double pts = std::clamp(std::ceil(width / tol_ln) + 1.0, 2.0, kMaxGrid);
-      GridSpec sp;
-      sp.mode = mode;
-      sp.points = static_cast<Index>(pts);
-      sp.u0 = 1.0 / bk.hi;
-      sp.h = (1.0 / bk.lo - sp.u0) / (pts - 1.0);
-      specs.push_back(sp);
+      // two even-in-1/α pieces, [α_hi, α_0] and [α_0, α_lo], so that the scan's best is a grid
+      // point; points per piece: piece width / tolerance, at most kMaxGrid (each costs a
+      // multiply per pair)
+      constexpr double kMaxGrid = 17;
+      for (const auto& [a_top, a_bot] : {std::pair{bk.hi, bk.a0}, std::pair{bk.a0, bk.lo}}) {
+        if (!(a_top > a_bot)) continue;
+        const double pts = std::clamp(std::ceil(std::log(a_top / a_bot) / tol_ln) + 1.0, 2.0, kMaxGrid);
+        GridSpec sp;
+        sp.mode = mode;
+        sp.points = static_cast<Index>(pts);
+        sp.u0 = 1.0 / a_top;
+        sp.h = (1.0 / a_bot - sp.u0) / (pts - 1.0);
+        specs.push_back(sp);
+      }
     }
   }
+  const int chosen = prm.mode == LooMode::PartOut ? kPart : kVector;
+  std::vector<GridStore> stores(specs.size());
+  int chosen_spec = -1;
+  Index chosen_point = 0;
   if (!specs.empty()) {
     ++full_passes;
-    const auto res = grid_pass(P, specs, br);
-    for (std::size_t g = 0; g < specs.size(); ++g) {
-      const GridSpec& sp = specs[g];
-      ModeOptimum& opt = sp.mode == kPart ? rep.part : rep.vector;
-      const Bracket& bk = br_of[sp.mode];
-      opt.alpha = bk.a0;  // seeded with the scan's best, like the golden section
-      opt.rms = bk.f0.rms;
-      opt.accuracy = bk.f0.accuracy;
-      for (Index t = 0; t < sp.points; ++t) {
-        const double a = 1.0 / (sp.u0 + static_cast<double>(t) * sp.h);
-        const Figures& f = res[g][static_cast<std::size_t>(t)];
-        if (f.rms < opt.rms || (f.rms == opt.rms && a < opt.alpha)) {
-          opt.alpha = a;
-          opt.rms = f.rms;
-          opt.accuracy = f.accuracy;
-        }
+    // keep the chosen mode's row sums (N·points·2P doubles) unless that exceeds the budget:
+    // then its outputs take one more pass
+    double need = 0;
+    for (const auto& sp : specs)
+      if (sp.mode == chosen) need += static_cast<double>(n) * static_cast<double>(sp.points * np) * 2.0;
+    const double budget = std::max(static_cast<double>(n) * static_cast<double>(P.X.cols() + R) * 2.0, 1e6);
+    for (std::size_t g = 0; g < specs.size(); ++g)
+      if (specs[g].mode == chosen && need <= budget) {
+        const auto sz = static_cast<std::size_t>(n * specs[g].points * np);
+        stores[g].S.assign(sz, 0.0);
+        stores[g].Sg.assign(sz, 0.0);
+        stores[g].shift.resize(un);
       }
-      opt.refine_evaluations = static_cast<int>(sp.points);
+    const auto res = grid_pass(P, specs, br, stores);
+    for (int mode : {kPart, kVector}) {
+      ModeOptimum& opt = mode == kPart ? rep.part : rep.vector;
+      bool first = true;
+      for (std::size_t g = 0; g < specs.size(); ++g) {
+        const GridSpec& sp = specs[g];
+        if (sp.mode != mode) continue;
+        for (Index t = 0; t < sp.points; ++t) {
+          const double a = 1.0 / (sp.u0 + static_cast<double>(t) * sp.h);
+          const Figures& f = res[g][static_cast<std::size_t>(t)];
+          if (first || f.rms < opt.rms || (f.rms == opt.rms && a < opt.alpha)) {
+            first = false;
+            opt.alpha = a;
+            opt.rms = f.rms;
+            opt.accuracy = f.accuracy;
+            if (mode == chosen) {
+              chosen_spec = static_cast<int>(g);
+              chosen_point = t;
+            }
+          }
+        }
+        opt.refine_evaluations += static_cast<int>(sp.points);
+      }
     }
   }
   if (same_modes) {
@@ -749,12 +869,14 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
 
   // ---- pass 3: outputs at the chosen α ----------------------------------------------------------
   ev.refining = false;
-  const int chosen = prm.mode == LooMode::PartOut ? kPart : kVector;
   rep.alpha = chosen == kPart ? rep.part.alpha : rep.vector.alpha;
   rep.verification.resize(n, kout);
   rep.filtration.resize(n, kout);
   Figures fm[2];
-  if (rep.alpha <= std::min({C.covered[kPart], C.covered[kVector], C.covered[kFiltration]})) {
+  if (chosen_spec >= 0 && !stores[static_cast<std::size_t>(chosen_spec)].S.empty()) {  // no further pass
+    outputs_from_store(P, specs[static_cast<std::size_t>(chosen_spec)], stores[static_cast<std::size_t>(chosen_spec)],
+                       chosen_point, chosen, fm, rep.verification, rep.filtration);
+  } else if (rep.alpha <= std::min({C.covered[kPart], C.covered[kVector], C.covered[kFiltration]})) {
     fm[chosen] = ev(rep.alpha, chosen, &rep.verification);
     fm[1 - chosen] = ev(rep.alpha, 1 - chosen);
     (void)ev(rep.alpha, kFiltration, &rep.filtration);
