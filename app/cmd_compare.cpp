@@ -1,6 +1,7 @@
 // millnet compare --pocket FILE [tool flags as pocket] --out DIR → DIR/compare.csv, DIR/compare.md, one PNG
 // per planner: every planner on the same pocket and tool.
 #include "cli.hpp"
+#include "text.hpp"
 #include "pocket_job.hpp"
 
 #include "millnet/core/atomic_file.hpp"
@@ -18,11 +19,6 @@ struct Row {
   pocket::MachiningResult m;
 };
 
-std::string fixed(double v, int d) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(d) << v;
-  return os.str();
-}
 }  // namespace
 
 Registered register_compare(CLI::App& app) {

@@ -1,6 +1,7 @@
 // millnet rough --mesh FILE … --out DIR   (or a batch: /rough/meshes of the config)
 // millnet run [FILE] [--out DIR]          (dataset → train → predict → rough on the test parts, summary page)
 #include "cli.hpp"
+#include "text.hpp"
 #include "learn.hpp"
 #include "rough.hpp"
 
@@ -21,11 +22,6 @@ namespace fs = std::filesystem;
 namespace {
 const std::vector<std::string> kMeshExt = {".stl", ".obj", ".ply", ".off", ".3mf", ".gltf", ".glb", ".xyz", ".pts", ".asc"};
 
-std::string fixed(double v, int d) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(d) << v;
-  return os.str();
-}
 
 struct RoughOutcome {
   std::string name, file, error;

@@ -1,6 +1,7 @@
 #include "learn.hpp"
 
 #include "cli.hpp"
+#include "text.hpp"
 #include "report_util.hpp"
 
 #include "millnet/augment/variants.hpp"
@@ -38,13 +39,6 @@ std::string strategy_name(const std::vector<std::string>& names, int slot) {
                                                                        : std::string("?");
 }
 
-std::string fixed(double v, int d) {
-  std::ostringstream os;
-  os.setf(std::ios::fixed);
-  os.precision(d);
-  os << v;
-  return os.str();
-}
 
 }  // namespace
 

@@ -1,4 +1,5 @@
 #include "pocket_job.hpp"
+#include "text.hpp"
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
@@ -185,13 +186,7 @@ void write_pocket_outputs(const fs::path& dir, const std::string& stem, const po
   }
   write_file_atomic(dir / (stem + ".feed.csv"), feed.str());
   std::vector<std::pair<std::string, std::string>> block;
-  auto fmt = [](double v, int d) {
-    std::ostringstream os;
-    os.setf(std::ios::fixed);
-    os.precision(d);
-    os << v;
-    return os.str();
-  };
+  const auto fmt = fixed;
   block.emplace_back("planner", metrics["planner"].get<std::string>());
   block.emplace_back("tool points", fmt(m.metrics.tool_points, 0));
   block.emplace_back("cut length", fmt(m.metrics.cut_length_mm, 0) + " mm");

@@ -1,4 +1,5 @@
 #include "rough.hpp"
+#include "text.hpp"
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
@@ -74,13 +75,6 @@ std::vector<pocket::Region> level_regions(const std::vector<ingest::ContourLoop>
   return out;
 }
 
-std::string fixed(double v, int d) {
-  std::ostringstream os;
-  os.setf(std::ios::fixed);
-  os.precision(d);
-  os << v;
-  return os.str();
-}
 
 }  // namespace
 
@@ -111,14 +105,21 @@ RoughResult rough_mesh(const ingest::Mesh& mesh, const RoughParams& p) {
   const int nx = static_cast<int>(std::ceil((res.stock_x1 - res.stock_x0) / p.raster_mm)) + 1;
   const int ny = static_cast<int>(std::ceil((res.stock_y1 - res.stock_y0) / p.raster_mm)) + 1;
   res.field = ingest::rasterize_top(mesh, res.stock_x0, res.stock_y0, p.raster_mm, nx, ny);
+  // Raster points off the part are never material (the fill z_min would make the whole stock
+  // material at the floor level): below every level threshold. O(raster points).
+  for (std::size_t i = 0; i < res.field.z.size(); ++i)
+    if (!res.field.hit[i]) res.field.z[i] = box.min.z() - p.cut.stock_to_leave - 1.0;
   const double floor = box.min.z() + p.floor_allowance_mm;
   const double height = res.stock_top_part - floor;
   if (height <= 0) throw Error("nothing to rough: the stock top is not above the floor");
   const int n_levels = static_cast<int>(std::ceil(height / p.cut.step_down - 1e-9));
   const double dz = height / n_levels;
   const double clearance = p.cut.clearance();
-  const pocket::Loop stock = rectangle(res.stock_x0 - clearance, res.stock_y0 - clearance, res.stock_x1 + clearance,
-                                       res.stock_y1 + clearance);
+  // Tool centres may pass up to one clearance outside the stock edge (the tool then just touches
+  // it from the air side), so that the margin ring around the part is cleared even when the margin
+  // is narrower than the clearance plus the islands' growth.
+  const pocket::Loop stock = rectangle(res.stock_x0 - 2 * clearance, res.stock_y0 - 2 * clearance,
+                                       res.stock_x1 + 2 * clearance, res.stock_y1 + 2 * clearance);
   std::vector<pocket::LevelPlan> plans;
   double top_z = 0;
   for (int k = 1; k <= n_levels; ++k) {
