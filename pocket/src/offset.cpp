@@ -4,6 +4,8 @@
 #include "millnet/core/error.hpp"
 #include "millnet/pocket/tolerances.hpp"
 
+#include "clipper_bridge.hpp"
+
 #include <polyclipping/clipper.hpp>
 
 #include <algorithm>
@@ -15,47 +17,9 @@ namespace {
 using ClipperLib::cInt;
 constexpr double kScale = 1.0 / tol::clipper_resolution_mm;
 
-ClipperLib::Path to_path(const std::vector<Vec2>& pts) {
-  ClipperLib::Path p;
-  p.reserve(pts.size());
-  for (const Vec2& v : pts)
-    p.emplace_back(static_cast<cInt>(std::llround(v.x() * kScale)), static_cast<cInt>(std::llround(v.y() * kScale)));
-  return p;
-}
-
-std::vector<Vec2> from_path(const ClipperLib::Path& p) {
-  std::vector<Vec2> out;
-  out.reserve(p.size());
-  for (const auto& q : p) out.emplace_back(static_cast<double>(q.X) / kScale, static_cast<double>(q.Y) / kScale);
-  return out;
-}
-
-double path_area(const std::vector<Vec2>& pts) {
-  double a = 0;
-  for (std::size_t k = 0; k < pts.size(); ++k) {
-    const Vec2& p = pts[k];
-    const Vec2& q = pts[(k + 1) % pts.size()];
-    a += p.x() * q.y() - p.y() * q.x();
-  }
-  return 0.5 * a;
-}
-
-/// Outer nodes with their holes; outers nested in holes start new components. O(nodes).
-void collect(const ClipperLib::PolyNode& node, std::vector<PolyArea>& out) {
-  for (const ClipperLib::PolyNode* child : node.Childs) {
-    if (child->IsHole()) continue;
-    PolyArea a;
-    a.outer = from_path(child->Contour);
-    if (path_area(a.outer) < 0) std::reverse(a.outer.begin(), a.outer.end());
-    for (const ClipperLib::PolyNode* hole : child->Childs) {
-      auto h = from_path(hole->Contour);
-      if (path_area(h) > 0) std::reverse(h.begin(), h.end());
-      a.holes.push_back(std::move(h));
-      collect(*hole, out);
-    }
-    out.push_back(std::move(a));
-  }
-}
+ClipperLib::Path to_path(const std::vector<Vec2>& pts) { return clipper_bridge::to_path(pts, kScale); }
+double path_area(const std::vector<Vec2>& pts) { return clipper_bridge::ring_area(pts); }
+void collect(const ClipperLib::PolyNode& node, std::vector<PolyArea>& out) { clipper_bridge::collect(node, out, kScale); }
 
 ClipperLib::Paths to_paths(const std::vector<PolyArea>& areas) {
   ClipperLib::Paths ps;

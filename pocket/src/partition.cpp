@@ -4,6 +4,8 @@
 
 #include "millnet/core/error.hpp"
 
+#include "clipper_bridge.hpp"
+
 #include <polyclipping/clipper.hpp>
 
 #include <algorithm>
@@ -23,15 +25,7 @@ constexpr double kScale = 1e5;
 constexpr double kTiny = 1e-9;  // mm, strictness margin of ray contacts
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-double ring_area(const std::vector<Vec2>& pts) {
-  double s = 0;
-  for (std::size_t k = 0; k < pts.size(); ++k) {
-    const Vec2& p = pts[k];
-    const Vec2& q = pts[(k + 1) % pts.size()];
-    s += p.x() * q.y() - p.y() * q.x();
-  }
-  return 0.5 * s;
-}
+double ring_area(const std::vector<Vec2>& pts) { return clipper_bridge::ring_area(pts); }
 
 /// Extrema of one loop by hysteresis (O(n)): a reversal of the y-direction counts only once y has
 /// moved more than tol::srp_flat_mm away from the running extreme, so flat tops, Clipper rounding
@@ -142,40 +136,15 @@ double first_contact_up(const std::vector<Seg>& segs, double x, double y0) {
   return best;
 }
 
-ClipperLib::IntPoint ip(const Vec2& v) {
-  return {static_cast<cInt>(std::llround(v.x() * kScale)), static_cast<cInt>(std::llround(v.y() * kScale))};
-}
-
 ClipperLib::Path to_path(const std::vector<Vec2>& pts, bool want_ccw) {
-  ClipperLib::Path p;
-  p.reserve(pts.size());
-  for (const Vec2& v : pts) p.push_back(ip(v));
+  ClipperLib::Path p = clipper_bridge::to_path(pts, kScale);
   if (ClipperLib::Orientation(p) != want_ccw) ClipperLib::ReversePath(p);
   return p;
 }
 
-std::vector<Vec2> from_path(const ClipperLib::Path& p) {
-  std::vector<Vec2> out;
-  out.reserve(p.size());
-  for (const auto& q : p) out.emplace_back(static_cast<double>(q.X) / kScale, static_cast<double>(q.Y) / kScale);
-  return out;
-}
+std::vector<Vec2> from_path(const ClipperLib::Path& p) { return clipper_bridge::from_path(p, kScale); }
 
-void collect(const ClipperLib::PolyNode& node, std::vector<PolyArea>& out) {
-  for (const ClipperLib::PolyNode* child : node.Childs) {
-    if (child->IsHole()) continue;
-    PolyArea a;
-    a.outer = from_path(child->Contour);
-    if (ring_area(a.outer) < 0) std::reverse(a.outer.begin(), a.outer.end());
-    for (const ClipperLib::PolyNode* hole : child->Childs) {
-      auto h = from_path(hole->Contour);
-      if (ring_area(h) > 0) std::reverse(h.begin(), h.end());
-      a.holes.push_back(std::move(h));
-      collect(*hole, out);
-    }
-    out.push_back(std::move(a));
-  }
-}
+void collect(const ClipperLib::PolyNode& node, std::vector<PolyArea>& out) { clipper_bridge::collect(node, out, kScale); }
 
 /// A rectangle of half-width tol::slit_half_mm around segment a→b, extended by `ext_a`/`ext_b`
 /// beyond its ends.
