@@ -1,16 +1,22 @@
 // Leave-one-out selection of the penalty coefficient α (Korosec & Kopac, "prevents over-training":
 // delete a case, predict it from the rest, minimize the RMS verification error).
 //
-// Pass structure (N stored vectors, D inputs, C candidates, q steps per octave, R cache size):
-//  1. Scan: one blocked GEMM pass (N²·D). For each stored vector and each mode (part-out,
-//     vector-out) the C candidates are evaluated from the same d² column: the candidates form q
-//     chains α, α/2, α/4, … so exp(−δ/(α/2)) = exp(−δ/α)² — one exp per pair per chain, then a
-//     square, a floor and a sum per pair and candidate: O(N²·(q + C)). The R nearest d² of every
-//     vector are kept (O(N·R) memory).
-//  2. Refinement: golden section on log α inside the best candidate's neighbours, per mode. An
-//     evaluation runs on the cache, O(N·R) exps, when every dropped vector is negligible at that α
-//     (tol::kTruncationMargin), else it is a full pass like 1 with exact exps.
-//  3. Filtration and verification outputs at the chosen α (cache or full pass).
+// Pass structure (N stored vectors, D inputs, C candidates, q steps per octave, R cache size,
+// G grid points, P distinct output rows). A "full pass" is one blocked N×N×D GEMM; the kernels
+// share one exp per pair between part-out, vector-out and filtration (see RowState).
+//  1. Scan: one full pass. For each stored vector the C candidates of both modes come from the
+//     same d² column: the candidates form q chains α, α/2, α/4, … so exp(−δ/(α/2)) = exp(−δ/α)²
+//     — one exp per pair per chain, then a square and an add per pair and candidate, in one
+//     sweep with early exit once a lane group underflows: O(N²·(q + C)). The R nearest d² of
+//     every vector are kept (O(N·R) memory).
+//  2. Refinement per mode around its best candidate: golden section on log α on the cache when
+//     the cache is exact over the whole bracket (cheap: O(N·R) per evaluation); otherwise ONE
+//     full pass for all such modes evaluating G points even in 1/α (exact exps: 2 per pair and
+//     mode, then one multiply per point) over [α_hi, α_best] and [α_best, α_lo]; the chosen
+//     mode's run sums are kept (N·G·2P doubles) so its outputs need no further pass.
+//  3. Filtration and verification outputs at the chosen α: from the kept sums, from the cache
+//     when exact, else one full pass for both modes and the filtration together.
+// So 1–3 full passes in all (2 in the usual case), never an N×N matrix.
 // Determinism: blocks are fixed by block_rows, never by the thread count; every reduction is a
 // per-block partial sum combined in block order.
 #include <algorithm>
@@ -237,42 +243,34 @@ void combine_sums(const Prepared& P, const double* S, Eigen::RowVectorXd& out) {
 // of them are 0, so distant pairs cost only their few non-negligible steps. Fixed summation
 // order (lanes, then lanes combined 0…kLanes−1): independent of threads. O((b − a)·steps).
 constexpr int kLanes = 8;
+using Lane = Eigen::Array<double, kLanes, 1>;  // one AVX-512 register, two AVX2 ones
 template <bool Square>
 void power_sums(const double* e, const double* rr, Index a, Index b, Index steps, double* out, Index stride,
-                std::vector<double>& acc_buf) {
-  acc_buf.assign(static_cast<std::size_t>(steps * kLanes), 0.0);
-  double* acc = acc_buf.data();
-  constexpr double F = tol::kSimilarityFloor;
+                Eigen::Array<double, kLanes, Eigen::Dynamic>& acc) {
+  acc.setZero(kLanes, steps);
+  const Lane floor = Lane::Constant(tol::kSimilarityFloor);
   Index j = a;
   for (; j + kLanes <= b; j += kLanes) {
-    double x[kLanes], y[kLanes];
-    for (int l = 0; l < kLanes; ++l) x[l] = e[j + l];
-    if constexpr (!Square)
-      for (int l = 0; l < kLanes; ++l) y[l] = rr[j + l];
+    Lane x = Eigen::Map<const Lane>(e + j), y;
+    if constexpr (!Square) y = Eigen::Map<const Lane>(rr + j);
     for (Index t = 0; t < steps; ++t) {
-      double* A = acc + t * kLanes;
-      bool any = false;
-      for (int l = 0; l < kLanes; ++l) {
-        A[l] += x[l];
-        double v;
-        if constexpr (Square) v = x[l] * x[l]; else v = x[l] * y[l];
-        x[l] = v < F ? 0.0 : v;
-        any |= x[l] != 0.0;
-      }
-      if (!any) break;
+      acc.col(t) += x;
+      if constexpr (Square) x = x * x; else x = x * y;
+      x = (x < floor).select(Lane::Zero(), x);
+      if (x.maxCoeff() == 0.0) break;  // x ≥ 0: every lane has underflowed
     }
   }
   for (; j < b; ++j) {  // tail: lane 0
     double x = e[j];
     for (Index t = 0; t < steps && x != 0.0; ++t) {
-      acc[t * kLanes] += x;
+      acc(0, t) += x;
       const double v = Square ? x * x : x * rr[Square ? 0 : j];
-      x = v < F ? 0.0 : v;
+      x = v < tol::kSimilarityFloor ? 0.0 : v;
     }
   }
   for (Index t = 0; t < steps; ++t) {
     double sum = 0;
-    for (int l = 0; l < kLanes; ++l) sum += acc[t * kLanes + l];
+    for (int l = 0; l < kLanes; ++l) sum += acc(l, t);  // fixed order
     out[t * stride] = sum;
   }
 }
@@ -362,7 +360,8 @@ std::vector<std::vector<Figures>> grid_pass(const Prepared& P, const std::vector
     RowState s;
     ArrayXd e, r;
     Eigen::RowVectorXd out(k);
-    std::vector<double> tmp, S, u, acc;
+    std::vector<double> tmp, S, u;
+    Eigen::Array<double, kLanes, Eigen::Dynamic> acc;
     for (std::size_t g = 0; g < specs.size(); ++g)
       parts[g][static_cast<std::size_t>(b)].assign(static_cast<std::size_t>(specs[g].points), {});
     for (Index c = 0; c < rows; ++c) {
@@ -686,7 +685,8 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
   detail::for_each_d2_block(P.X, P.sq, P.X, P.sq, br, [&](Index b, Index r0, Index rows, const MatrixXd& D2) {
     RowState s;
     ArrayXd e;
-    std::vector<double> buf, Sng(unc * static_cast<std::size_t>(np)), tmp, acc;
+    std::vector<double> buf, Sng(unc * static_cast<std::size_t>(np)), tmp;
+    Eigen::Array<double, kLanes, Eigen::Dynamic> acc;
     Eigen::RowVectorXd out(kout);
     auto& sums = scan[static_cast<std::size_t>(b)];
     auto& cd = bd2[static_cast<std::size_t>(b)];

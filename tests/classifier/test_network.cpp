@@ -335,3 +335,38 @@ TEST(Model, FixedAlphaMatchesReference) {
   EXPECT_NEAR(m.loo.rms_vector_at_alpha, rms_error(reference_outputs(Xn, s.Y, s.groups, 0.7, 1), s.Y), 1e-12);
   EXPECT_LT((m.loo.filtration - reference_outputs(Xn, s.Y, s.groups, 0.7, 2)).cwiseAbs().maxCoeff(), 1e-12);
 }
+
+TEST(Loo, GridRefinementWithoutCacheIsExactAndTakesAtMostThreePasses) {
+  // cache_neighbours = 1 covers no bracket: refinement runs as one grid pass for both modes, the
+  // outputs come from its kept sums (or one more pass). Every reported figure against the
+  // brute-force reference, for both chosen modes.
+  const unsigned seed = 31;
+  const Synthetic s = make_clusters(seed, 3, 4, 7, 6, 1.5, 0.9, 0.3);  // N = 84, overlapping classes
+  const MatrixXd Xn = Normalizer::fit(s.X).apply(s.X);
+  for (LooMode mode : {LooMode::PartOut, LooMode::VectorOut}) {
+    AlphaSearchParams prm;
+    prm.mode = mode;
+    prm.block_rows = 10;
+    prm.cache_neighbours = 1;
+    const LooReport rep = select_alpha(Xn, s.Y, s.groups, prm);
+    EXPECT_FALSE(rep.neighbour_cache_used);
+    EXPECT_LE(rep.full_passes, 3);
+    EXPECT_GE(rep.part.refine_evaluations, 3);
+    const int m = mode == LooMode::PartOut ? 0 : 1;
+    const MatrixXd ver = reference_outputs(Xn, s.Y, s.groups, rep.alpha, m);
+    const MatrixXd fil = reference_outputs(Xn, s.Y, s.groups, rep.alpha, 2);
+    EXPECT_LT((ver - rep.verification).cwiseAbs().maxCoeff(), 1e-12) << "seed " << seed << " mode " << m;
+    EXPECT_LT((fil - rep.filtration).cwiseAbs().maxCoeff(), 1e-12) << "seed " << seed << " mode " << m;
+    const double rp = rms_error(reference_outputs(Xn, s.Y, s.groups, rep.alpha, 0), s.Y);
+    const double rv = rms_error(reference_outputs(Xn, s.Y, s.groups, rep.alpha, 1), s.Y);
+    EXPECT_NEAR(rep.rms_part_at_alpha, rp, 1e-12 * std::max(1.0, rp));
+    EXPECT_NEAR(rep.rms_vector_at_alpha, rv, 1e-12 * std::max(1.0, rv));
+    // each mode's refined optimum: its figure is the reference's at its α, and no scan point is better
+    for (const ModeOptimum* o : {&rep.part, &rep.vector}) {
+      const int om = o == &rep.part ? 0 : 1;
+      const double ro = rms_error(reference_outputs(Xn, s.Y, s.groups, o->alpha, om), s.Y);
+      EXPECT_NEAR(o->rms, ro, 1e-12 * std::max(1.0, ro)) << "mode " << om;
+      for (const auto& p : rep.curve) EXPECT_LE(o->rms, (om == 0 ? p.rms_part : p.rms_vector) + 1e-12);
+    }
+  }
+}

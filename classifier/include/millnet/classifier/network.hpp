@@ -52,7 +52,10 @@ struct AlphaSearchParams {
   double alpha_min = 0.0;  ///< absolute override (both must be > 0)
   double alpha_max = 0.0;
   int steps_per_octave = 2;  ///< 1…8; the scan costs one exp per stored pair per step
-  double refine_tolerance_octaves = 1e-3;  ///< golden section stops when the bracket is narrower
+  /// golden section (on the cache) stops when the bracket is narrower; a grid refinement (full
+  /// pass, when the cache is not exact over the bracket) uses steps this wide, at most 16 per half
+  /// bracket
+  double refine_tolerance_octaves = 1e-3;
   Eigen::Index block_rows = 256;           ///< query rows per GEMM block (memory 8·N·block_rows B/thread)
   Eigen::Index cache_neighbours = 256;     ///< R nearest d² kept per stored vector for the refinement
   ProgressFn progress;                     ///< (passes done, passes planned), called from serial code
@@ -74,7 +77,7 @@ struct ModeOptimum {
   double rms = 0;
   double accuracy = 0;
   Edge edge = Edge::None;       ///< optimum of the scan at the scan's edge (the range may be too narrow)
-  int refine_evaluations = 0;   ///< golden-section evaluations
+  int refine_evaluations = 0;   ///< golden-section evaluations, or grid points evaluated
 };
 
 struct LooReport {
@@ -88,15 +91,17 @@ struct LooReport {
   Eigen::MatrixXd filtration;    ///< N×K outputs at α with every vector included (paper Fig. 6)
   Eigen::MatrixXd verification;  ///< N×K outputs at α with the chosen mode's exclusion
   Eigen::VectorXd nearest_d2;    ///< N: d² to the nearest vector of another group (another vector if one group)
-  bool neighbour_cache_used = false;  ///< refinement ran on the R-nearest cache (else full passes)
+  bool neighbour_cache_used = false;  ///< refinement and outputs ran on the R-nearest cache (no pass after the scan)
   int full_passes = 0;                ///< passes over all N² pairs (each = one N×N×D GEMM in blocks)
 };
 
 /// Leave-one-out α selection on NORMALIZED inputs Xn (N×D), outputs Y (N×K), groups (N).
-/// Work: one scan pass (N²·D GEMM + N²·steps exps + N²·candidates multiply/adds per mode), an
-/// R-nearest cache (N·R memory) for the golden-section refinement (N·R exps per evaluation);
-/// when the cache does not cover an α (dropped vectors not negligible there), that evaluation
-/// is a full pass instead. Memory O(N·D + N·R + threads·N·block_rows); never N×N.
+/// Work: one scan pass (N²·D GEMM + N²·steps exps + ≤ N²·candidates multiply/adds, shared by
+/// both modes), an R-nearest cache (N·R memory) for a golden-section refinement (N·R exps per
+/// evaluation) when the cache is exact over the refinement bracket; otherwise one grid pass
+/// (≤ 33 points per mode, exact). Outputs at the chosen α come from that grid pass, the cache, or
+/// one more pass: 1–3 full passes in all. Memory O(N·D + N·R + threads·N·block_rows) (the grid
+/// keeps ≤ N·34·2P doubles, P = distinct output rows, only within 2·N·(D + R)); never N×N.
 /// Deterministic: bitwise identical results for any OpenMP thread count.
 /// Throws millnet::Error on shape mismatch, non-finite values, N < 2, or PartOut with one group.
 [[nodiscard]] LooReport select_alpha(const Eigen::MatrixXd& Xn, const Eigen::MatrixXd& Y,
