@@ -162,7 +162,11 @@ RoughResult rough_mesh(const ingest::Mesh& mesh, const RoughParams& p) {
     pocket::MachiningOptions mo;
     mo.entry = p.choice.entry;
     mo.contour = false;
-    res.machining = pocket::machine_levels(std::move(plans), p.cut, mo);
+    mo.comments = {"roughing: stock top Z 0 = part top + " + format_double(p.top_allowance_mm) + " mm, " +
+                   std::to_string(res.levels.size()) + " Z levels"};
+    pocket::CutParams cut = p.cut;
+    cut.depth = height;  // the program's floor: the last level
+    res.machining = pocket::machine_levels(std::move(plans), cut, mo);
   }
   res.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
