@@ -1,0 +1,93 @@
+// Scenarios (tests/scenarios/*.json): the shipped pipeline run end to end through the CLI, with the
+// figures it must meet stored next to the scenario. `millnet run configs/default.json` is the
+// README's first command: dataset → train → predict → rough, one folder per test part and a
+// summary page. One run (~30 s on two cores) serves every assertion.
+#include "cli_runner.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <set>
+
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+using millnet::testing::fresh_dir;
+using millnet::testing::run_millnet;
+using millnet::testing::slurp;
+
+TEST(Scenario, DefaultPipelineRunsEndToEndAndMeetsItsFigures) {
+  const fs::path src = MILLNET_SOURCE_DIR;
+  const Json sc = Json::parse(slurp(src / "tests/scenarios/default.json"));
+  const fs::path config = src / sc["config"].get<std::string>();
+  ASSERT_TRUE(fs::exists(config)) << config;
+  const auto d = fresh_dir("scenario_default");
+  const fs::path out = d / "out";
+  const auto r = run_millnet("run '" + config.string() + "' --out '" + out.string() + "'", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+
+  const Json rep = Json::parse(slurp(out / "run_report.json"));
+  const std::size_t n_parts = sc["parts"].get<std::size_t>();
+  EXPECT_EQ(rep["parts"].get<std::size_t>(), n_parts);
+  EXPECT_EQ(rep["failures"].get<std::size_t>(), 0u);
+  const double acc = rep["accuracy_part"].get<double>();
+  std::printf("[scenario] accuracy_part %.4f, accuracy_vector %.4f, alpha %.4g, held-out correct %d of %d\n", acc,
+              rep["accuracy_vector"].get<double>(), rep["alpha"].get<double>(), rep["correct"].get<int>(),
+              rep["labelled"].get<int>());
+  for (auto it = rep["timing"].begin(); it != rep["timing"].end(); ++it)
+    std::printf("[scenario] time %-14s %8.2f s\n", it.key().c_str(), it.value().get<double>());
+  EXPECT_GE(acc, sc["min_accuracy_part"].get<double>());
+  EXPECT_EQ(rep["labelled"].get<std::size_t>(), n_parts);
+  EXPECT_GE(rep["correct"].get<std::size_t>(), sc["min_correct"].get<std::size_t>());
+  for (const char* stage : {"dataset_s", "train_s", "test_parts_s", "predict_s", "rough_s"}) {
+    ASSERT_TRUE(rep["timing"].contains(stage)) << stage;
+    EXPECT_GE(rep["timing"][stage].get<double>(), 0.0) << stage;
+  }
+
+  // One folder per part, named test_s<family>_…, with the prediction and the roughing outputs.
+  const std::string summary = slurp(out / "summary.md");
+  const std::string prefix = sc["part_prefix"].get<std::string>();
+  std::set<std::string> names;
+  std::size_t correct = 0;
+  for (const auto& e : fs::directory_iterator(out / "parts")) names.insert(e.path().filename().string());
+  ASSERT_EQ(names.size(), n_parts);
+  std::size_t family = 1;
+  for (const std::string& name : names) {
+    SCOPED_TRACE(name);
+    EXPECT_EQ(name.rfind(prefix + std::to_string(family) + "_", 0), 0u) << "expected one part per family, in order";
+    ++family;
+    // The summary lists the part in its table (a link to its folder) and embeds its pictures.
+    EXPECT_NE(summary.find("| [" + name + "](parts/" + name + "/) |"), std::string::npos);
+    EXPECT_NE(summary.find("### " + name), std::string::npos);
+    const fs::path dir = out / "parts" / name;
+    const Json pred = Json::parse(slurp(dir / "predictions.json"));
+    ASSERT_EQ(pred["parts"].size(), 1u);
+    const Json& p = pred["parts"][0];
+    EXPECT_EQ(p["status"], "ok");
+    const int expected = p["expected"].get<int>();
+    EXPECT_EQ(name.substr(prefix.size(), 1), std::to_string(expected)) << "the family digit is the expected strategy";
+    correct += p["top"].get<int>() == expected ? 1U : 0U;
+    std::printf("[scenario] %-28s expected %d predicted %d (confidence %.2f)\n", name.c_str(), expected, p["top"].get<int>(),
+                p["confidence"].get<double>());
+    EXPECT_TRUE(fs::exists(dir / (name + ".png")));
+    EXPECT_TRUE(fs::exists(dir / "predictions.csv"));
+    ASSERT_TRUE(fs::exists(dir / (name + ".nc")));
+    EXPECT_NE(slurp(dir / (name + ".nc")).find("M30"), std::string::npos);
+    const Json m = Json::parse(slurp(dir / (name + ".metrics.json")));
+    EXPECT_EQ(m["status"], "ok");
+    const std::size_t levels = m["levels"].get<std::size_t>();
+    EXPECT_GE(levels, 2u);
+    for (std::size_t k = 1; k <= levels; ++k)
+      EXPECT_TRUE(fs::exists(dir / (name + ".level_" + std::to_string(k) + ".png"))) << k;
+    EXPECT_NE(summary.find("parts/" + name + "/" + name + ".level_1.png"), std::string::npos);
+  }
+  EXPECT_EQ(correct, rep["correct"].get<std::size_t>()) << "run_report.json disagrees with the parts' predictions.json";
+  EXPECT_NE(summary.find("predicted as their family's strategy: " + std::to_string(correct) + " of " + std::to_string(n_parts)),
+            std::string::npos);
+}
+
+}  // namespace
