@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -243,39 +244,54 @@ void combine_sums(const Prepared& P, const double* S, Eigen::RowVectorXd& out) {
 // of them are 0, so distant pairs cost only their few non-negligible steps. Fixed summation
 // order (lanes, then lanes combined 0…kLanes−1): independent of threads. O((b − a)·steps).
 constexpr int kLanes = 8;
-using Lane = Eigen::Array<double, kLanes, 1>;  // one AVX-512 register, two AVX2 ones
+// GCC/Clang vector extension: lowered to one AVX-512, two AVX2 or four SSE2 registers, whatever
+// the target has (Eigen 3.4's select() is not vectorized, and this loop is all selects).
+typedef double Lane __attribute__((vector_size(kLanes * sizeof(double))));
 template <bool Square>
 void power_sums(const double* e, const double* rr, Index a, Index b, Index steps, double* out, Index stride,
-                Eigen::Array<double, kLanes, Eigen::Dynamic>& acc) {
-  acc.setZero(kLanes, steps);
-  const Lane floor = Lane::Constant(tol::kSimilarityFloor);
+                std::vector<Lane>& acc) {
+  acc.assign(static_cast<std::size_t>(steps), Lane{});
+  const Lane zero{};
+  const Lane floor = zero + tol::kSimilarityFloor;
   Index j = a;
   for (; j + kLanes <= b; j += kLanes) {
-    Lane x = Eigen::Map<const Lane>(e + j), y;
-    if constexpr (!Square) y = Eigen::Map<const Lane>(rr + j);
+    Lane x, y{};
+    std::memcpy(&x, e + j, sizeof(Lane));
+    if constexpr (!Square) std::memcpy(&y, rr + j, sizeof(Lane));
     for (Index t = 0; t < steps; ++t) {
-      acc.col(t) += x;
+      acc[static_cast<std::size_t>(t)] += x;
       if constexpr (Square) x = x * x; else x = x * y;
-      x = (x < floor).select(Lane::Zero(), x);
-      if (x.maxCoeff() == 0.0) break;  // x ≥ 0: every lane has underflowed
+      x = x < floor ? zero : x;
+      // every 4th step (a horizontal test costs more than a step): all lanes 0 means the
+      // remaining steps add nothing
+      if ((t & 3) == 3) {
+        bool any = false;
+        for (int l = 0; l < kLanes; ++l) any |= x[l] != 0.0;
+        if (!any) break;
+      }
     }
   }
+  double* acc0 = reinterpret_cast<double*>(acc.data());  // lane 0 of step t at acc0[t·kLanes]
   for (; j < b; ++j) {  // tail: lane 0
     double x = e[j];
     for (Index t = 0; t < steps && x != 0.0; ++t) {
-      acc(0, t) += x;
+      acc0[t * kLanes] += x;
       const double v = Square ? x * x : x * rr[Square ? 0 : j];
       x = v < tol::kSimilarityFloor ? 0.0 : v;
     }
   }
   for (Index t = 0; t < steps; ++t) {
     double sum = 0;
-    for (int l = 0; l < kLanes; ++l) sum += acc(l, t);  // fixed order
+    for (int l = 0; l < kLanes; ++l) sum += acc[static_cast<std::size_t>(t)][l];  // fixed order
     out[t * stride] = sum;
   }
 }
 
-void floor_small(ArrayXd& e) { e = (e < tol::kSimilarityFloor).select(0.0, e); }
+// Values below the floor become 0 (plain loop: the compiler vectorizes it as a blend). O(N).
+void floor_small(ArrayXd& e) {
+  double* p = e.data();
+  for (Index j = 0; j < e.size(); ++j) p[j] = p[j] < tol::kSimilarityFloor ? 0.0 : p[j];
+}
 
 // Scores row i's prediction `out` into ps.
 void score(const Prepared& P, Index i, const Eigen::RowVectorXd& out, PartialSums& ps) {
@@ -361,7 +377,7 @@ std::vector<std::vector<Figures>> grid_pass(const Prepared& P, const std::vector
     ArrayXd e, r;
     Eigen::RowVectorXd out(k);
     std::vector<double> tmp, S, u;
-    Eigen::Array<double, kLanes, Eigen::Dynamic> acc;
+    std::vector<Lane> acc;
     for (std::size_t g = 0; g < specs.size(); ++g)
       parts[g][static_cast<std::size_t>(b)].assign(static_cast<std::size_t>(specs[g].points), {});
     for (Index c = 0; c < rows; ++c) {
@@ -686,7 +702,7 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
     RowState s;
     ArrayXd e;
     std::vector<double> buf, Sng(unc * static_cast<std::size_t>(np)), tmp;
-    Eigen::Array<double, kLanes, Eigen::Dynamic> acc;
+    std::vector<Lane> acc;
     Eigen::RowVectorXd out(kout);
     auto& sums = scan[static_cast<std::size_t>(b)];
     auto& cd = bd2[static_cast<std::size_t>(b)];
