@@ -253,7 +253,33 @@ void power_sums(const double* e, const double* rr, Index a, Index b, Index steps
   acc.assign(static_cast<std::size_t>(steps), Lane{});
   const Lane zero{};
   const Lane floor = zero + tol::kSimilarityFloor;
+  // kGroups independent lane groups per iteration: each step is a dependent multiply → compare →
+  // blend chain, so several chains in flight hide its latency
+  constexpr int kGroups = 4;
   Index j = a;
+  for (; j + kGroups * kLanes <= b; j += kGroups * kLanes) {
+    Lane x[kGroups], y[kGroups] = {};
+    std::memcpy(x, e + j, sizeof(x));
+    if constexpr (!Square) std::memcpy(y, rr + j, sizeof(y));
+    for (Index t = 0; t < steps; ++t) {
+      Lane sum = x[0];
+      for (int g = 1; g < kGroups; ++g) sum += x[g];
+      acc[static_cast<std::size_t>(t)] += sum;
+      for (int g = 0; g < kGroups; ++g) {
+        if constexpr (Square) x[g] = x[g] * x[g]; else x[g] = x[g] * y[g];
+        x[g] = x[g] < floor ? zero : x[g];
+      }
+      // every 4th step (a horizontal test costs more than a step): all lanes 0 (x ≥ 0) means
+      // the remaining steps add nothing
+      if ((t & 3) == 3) {
+        Lane m = x[0];
+        for (int g = 1; g < kGroups; ++g) m += x[g];
+        bool any = false;
+        for (int l = 0; l < kLanes; ++l) any |= m[l] != 0.0;
+        if (!any) break;
+      }
+    }
+  }
   for (; j + kLanes <= b; j += kLanes) {
     Lane x, y{};
     std::memcpy(&x, e + j, sizeof(Lane));
@@ -262,13 +288,6 @@ void power_sums(const double* e, const double* rr, Index a, Index b, Index steps
       acc[static_cast<std::size_t>(t)] += x;
       if constexpr (Square) x = x * x; else x = x * y;
       x = x < floor ? zero : x;
-      // every 4th step (a horizontal test costs more than a step): all lanes 0 means the
-      // remaining steps add nothing
-      if ((t & 3) == 3) {
-        bool any = false;
-        for (int l = 0; l < kLanes; ++l) any |= x[l] != 0.0;
-        if (!any) break;
-      }
     }
   }
   double* acc0 = reinterpret_cast<double*>(acc.data());  // lane 0 of step t at acc0[t·kLanes]
