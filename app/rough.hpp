@@ -10,8 +10,12 @@
 //   * islands = outlines of the raster points whose height ≥ z − stock_to_leave (axial allowance),
 //     traced by ingest::material_contours, grown outward (never into the part) by
 //     contour_tolerance_mm + half a raster diagonal, simplified on the material side;
-//   * the stock region = the stock rectangle grown by the tool clearance (R + stock to leave), so
-//     that tool centres reach the stock edge and the whole block is cleared;
+//   * the stock region = the stock rectangle grown by twice the tool clearance (R + stock to leave),
+//     so that tool centres may pass one clearance outside the stock edge: the disk clears the whole
+//     margin down to the part (with only one clearance a margin narrower than the clearance plus
+//     the contour growth left the tool no room, and a ring of material stood around the part);
+//   * raster points off the part are set below every level's cut-off, so the margin is never
+//     taken for material at the bottom level;
 //   * holes in the material (cavities) become pockets of their own, with the material inside them
 //     as islands (nesting by containment);
 //   * every region goes to the planner (SOM by default); levels are machined top-down with safe
