@@ -385,56 +385,81 @@ struct GridStore {
 // One full pass evaluating, for each requested mode, G inverse widths u_g = u0 + g·h exactly
 // (e_g = e_0·r^g with r = exp(−δ·h): 2 exps per pair and mode, then one multiply per point;
 // ≤ G ulp rounding). Per-block partial sums, combined in block order. O(N²·D + N²·(2 + G)).
-std::vector<std::vector<Figures>> grid_pass(const Prepared& P, const std::vector<GridSpec>& specs, Index block_rows,
-                                            std::vector<GridStore>& stores) {
-  const Index n = P.X.rows(), k = P.Y.cols(), np = P.patterns.rows();
-  const Index nb = (n + block_rows - 1) / block_rows;
-  std::vector<std::vector<std::vector<PartialSums>>> parts(
-      specs.size(), std::vector<std::vector<PartialSums>>(static_cast<std::size_t>(nb)));
-  detail::for_each_d2_block(P.X, P.sq, P.X, P.sq, block_rows, [&](Index b, Index r0, Index rows, const MatrixXd& D2) {
-    RowState s;
-    ArrayXd e, r;
-    Eigen::RowVectorXd out(k);
-    std::vector<double> tmp, S, u;
-    std::vector<Lane> acc;
-    for (std::size_t g = 0; g < specs.size(); ++g)
-      parts[g][static_cast<std::size_t>(b)].assign(static_cast<std::size_t>(specs[g].points), {});
-    for (Index c = 0; c < rows; ++c) {
-      const Index i = r0 + c;
-      load_row(P, D2.col(c).data(), i, s);
-      for (std::size_t g = 0; g < specs.size(); ++g) {
-        const GridSpec& sp = specs[g];
-        S.assign(static_cast<std::size_t>(sp.points * np), 0.0);
-        u.resize(static_cast<std::size_t>(sp.points));
-        e = (s.delta * -sp.u0).exp();
-        r = (s.delta * -sp.h).exp();
-        floor_small(e);
-        for (Index t = 0; t < sp.points; ++t) u[static_cast<std::size_t>(t)] = sp.u0 + static_cast<double>(t) * sp.h;
-        for (Index p = 0; p < np; ++p)
-          power_sums<false>(e.data(), r.data(), P.pstart[static_cast<std::size_t>(p)],
-                            P.pstart[static_cast<std::size_t>(p) + 1], sp.points, S.data() + p, np, acc);
-        GridStore& st = stores[g];
-        if (!st.S.empty()) {  // keep this row's sums for the outputs at the chosen point
-          const auto off = static_cast<std::size_t>(i * sp.points * np);
-          std::copy(S.begin(), S.end(), st.S.begin() + static_cast<std::ptrdiff_t>(off));
-          for (Index t = 0; t < sp.points; ++t)
-            sibling_sums(s, u[static_cast<std::size_t>(t)], st.Sg.data() + off + static_cast<std::size_t>(t * np), np);
-          st.shift[static_cast<std::size_t>(i)] = shifts_of(s);
-        }
-        PartialSums* ps = parts[g][static_cast<std::size_t>(b)].data();
-        score_modes(P, s, i, u.data(), sp.points, S.data(), sp.mode == kPart ? ps : nullptr,
-                    sp.mode == kVector ? ps : nullptr, out, tmp);
-      }
+// parts[g][block][point] → figures per spec and point, blocks combined in order.
+using GridParts = std::vector<std::vector<std::vector<PartialSums>>>;  // [spec][block][point]
+GridParts make_grid_parts(const std::vector<GridSpec>& specs, Index nb) {
+  GridParts parts(specs.size(), std::vector<std::vector<PartialSums>>(static_cast<std::size_t>(nb)));
+  for (std::size_t g = 0; g < specs.size(); ++g)
+    for (auto& v : parts[g]) v.assign(static_cast<std::size_t>(specs[g].points), {});
+  return parts;
+}
+
+// Per-thread buffers of the grid kernel.
+struct GridBuffers {
+  ArrayXd e, r;
+  std::vector<double> tmp, S, u;
+  std::vector<Lane> acc;
+};
+
+// Grid evaluation of one loaded row for every spec into ps[g] (points entries each), keeping its
+// sums in stores[g] when that store is allocated. O(N·Σ(2 + points)).
+void grid_row(const Prepared& P, const RowState& s, Index i, const std::vector<GridSpec>& specs,
+              std::vector<GridStore>& stores, GridParts& parts, Index b, GridBuffers& B, Eigen::RowVectorXd& out) {
+  const Index np = P.patterns.rows();
+  for (std::size_t g = 0; g < specs.size(); ++g) {
+    const GridSpec& sp = specs[g];
+    B.S.assign(static_cast<std::size_t>(sp.points * np), 0.0);
+    B.u.resize(static_cast<std::size_t>(sp.points));
+    B.e = (s.delta * -sp.u0).exp();
+    B.r = (s.delta * -sp.h).exp();
+    floor_small(B.e);
+    for (Index t = 0; t < sp.points; ++t) B.u[static_cast<std::size_t>(t)] = sp.u0 + static_cast<double>(t) * sp.h;
+    for (Index p = 0; p < np; ++p)
+      power_sums<false>(B.e.data(), B.r.data(), P.pstart[static_cast<std::size_t>(p)],
+                        P.pstart[static_cast<std::size_t>(p) + 1], sp.points, B.S.data() + p, np, B.acc);
+    GridStore& st = stores[g];
+    if (!st.S.empty()) {  // keep this row's sums for the outputs at the chosen point
+      const auto off = static_cast<std::size_t>(i * sp.points * np);
+      std::copy(B.S.begin(), B.S.end(), st.S.begin() + static_cast<std::ptrdiff_t>(off));
+      for (Index t = 0; t < sp.points; ++t)
+        sibling_sums(s, B.u[static_cast<std::size_t>(t)], st.Sg.data() + off + static_cast<std::size_t>(t * np), np);
+      st.shift[static_cast<std::size_t>(i)] = shifts_of(s);
     }
-  });
+    PartialSums* q = parts[g][static_cast<std::size_t>(b)].data();
+    score_modes(P, s, i, B.u.data(), sp.points, B.S.data(), sp.mode == kPart ? q : nullptr,
+                sp.mode == kVector ? q : nullptr, out, B.tmp);
+  }
+}
+
+std::vector<std::vector<Figures>> grid_results(const std::vector<std::vector<std::vector<PartialSums>>>& parts,
+                                               const std::vector<GridSpec>& specs, Index n, Index k) {
   std::vector<std::vector<Figures>> res(specs.size());
   for (std::size_t g = 0; g < specs.size(); ++g)
     for (Index t = 0; t < specs[g].points; ++t) {
-      std::vector<PartialSums> col(static_cast<std::size_t>(nb));
+      std::vector<PartialSums> col(parts[g].size());
       for (std::size_t b = 0; b < col.size(); ++b) col[b] = parts[g][b][static_cast<std::size_t>(t)];
       res[g].push_back(finish(col, n, k));
     }
   return res;
+}
+
+// One full pass evaluating the grid specs. O(N²·D + N²·Σ(2 + points)).
+std::vector<std::vector<Figures>> grid_pass(const Prepared& P, const std::vector<GridSpec>& specs, Index block_rows,
+                                            std::vector<GridStore>& stores) {
+  const Index n = P.X.rows(), k = P.Y.cols();
+  const Index nb = (n + block_rows - 1) / block_rows;
+  GridParts parts = make_grid_parts(specs, nb);
+  detail::for_each_d2_block(P.X, P.sq, P.X, P.sq, block_rows, [&](Index b, Index r0, Index rows, const MatrixXd& D2) {
+    RowState s;
+    GridBuffers B;
+    Eigen::RowVectorXd out(k);
+    for (Index c = 0; c < rows; ++c) {
+      const Index i = r0 + c;
+      load_row(P, D2.col(c).data(), i, s);
+      grid_row(P, s, i, specs, stores, parts, b, B, out);
+    }
+  });
+  return grid_results(parts, specs, n, k);
 }
 
 // Outputs and both modes' figures at point t of a stored grid. O(N·P·K).
