@@ -208,18 +208,23 @@ Ordering order_items(const std::vector<OrderItem>& items) {
     order.push_back(pick);
   }
   double best = best_corners(items, order, nullptr);
-  // 2-opt (segment reversal) and single-item moves, first improvement, bounded sweeps.
-  for (int sweep = 0; sweep < 50; ++sweep) {
+  // 2-opt (segment reversal) and single-item moves, first improvement. Each trial costs one
+  // O(n·16) corner DP, a sweep O(n²) trials: the search stops after kOrderBudget·16 DP steps in
+  // all (deterministic), so that parts with many regions (a sliced mesh level with dozens of
+  // islands, tried at every candidate angle) keep a bounded planning time. O(min(sweeps·n³, budget)).
+  constexpr double kOrderBudget = 2e6;
+  long trials_left = static_cast<long>(kOrderBudget / static_cast<double>(n));
+  for (int sweep = 0; sweep < 50 && trials_left > 0; ++sweep) {
     bool improved = false;
-    for (std::size_t i = 0; i + 1 < n && !improved; ++i)
-      for (std::size_t j = i + 1; j < n && !improved; ++j) {
+    for (std::size_t i = 0; i + 1 < n && !improved && trials_left > 0; ++i)
+      for (std::size_t j = i + 1; j < n && !improved && --trials_left > 0; ++j) {
         auto trial = order;
         std::reverse(trial.begin() + static_cast<std::ptrdiff_t>(i), trial.begin() + static_cast<std::ptrdiff_t>(j) + 1);
         const double c = best_corners(items, trial, nullptr);
         if (c < best - 1e-9) { best = c; order = std::move(trial); improved = true; }
       }
-    for (std::size_t i = 0; i < n && !improved; ++i)
-      for (std::size_t j = 0; j < n && !improved; ++j) {
+    for (std::size_t i = 0; i < n && !improved && trials_left > 0; ++i)
+      for (std::size_t j = 0; j < n && !improved && --trials_left > 0; ++j) {
         if (i == j) continue;
         auto trial = order;
         const std::size_t v = trial[i];
