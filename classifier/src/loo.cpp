@@ -742,11 +742,115 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
   std::vector<double> uscan(unc);
   for (std::size_t k = 0; k < unc; ++k) uscan[k] = 1.0 / alphas[k];
   const Index np = P.patterns.rows();
+  // Scan of one loaded row into sums (2·C entries: part-out, then vector-out): other-group sums
+  // at every candidate from q squaring chains α, α/2, α/4, … (one exp per pair per chain, then a
+  // square and an add per pair and candidate): O(N·(q + C)).
+  struct ScanBuffers {
+    ArrayXd e;
+    std::vector<double> Sng, tmp;
+    std::vector<Lane> acc;
+  };
+  const auto scan_row = [&](const RowState& s, Index i, PartialSums* sums, ScanBuffers& B, Eigen::RowVectorXd& out) {
+    B.Sng.resize(unc * static_cast<std::size_t>(np));
+    for (Index r = 0; r < std::min<Index>(q, nc); ++r) {
+      B.e = (s.delta * -uscan[static_cast<std::size_t>(r)]).exp();
+      floor_small(B.e);
+      const Index steps = (nc - r + q - 1) / q;  // candidates r, r + q, r + 2q, …
+      for (Index p = 0; p < np; ++p)
+        power_sums<true>(B.e.data(), nullptr, P.pstart[static_cast<std::size_t>(p)],
+                         P.pstart[static_cast<std::size_t>(p) + 1], steps, B.Sng.data() + r * np + p, q * np, B.acc);
+    }
+    score_modes(P, s, i, uscan.data(), nc, B.Sng.data(), sums, same_modes ? nullptr : sums + unc, out, B.tmp);
+  };
+  const auto best_of = [&](const std::vector<Figures>& f) {  // ties → smaller α
+    Index best = 0;
+    for (Index k = 1; k < nc; ++k)
+      if (f[static_cast<std::size_t>(k)].rms <= f[static_cast<std::size_t>(best)].rms) best = k;
+    return best;
+  };
+  // Grid pieces [α_hi, α_best] and [α_best, α_lo] around candidate `best`, points even in 1/α,
+  // piece width / tolerance points each, at most kMaxGrid (each costs a multiply per pair).
+  const double tol_ln = prm.refine_tolerance_octaves * std::log(2.0);
+  const auto grid_specs = [&](int mode, Index best, std::vector<GridSpec>& out_specs) {
+    constexpr double kMaxGrid = 17;
+    const double a_hi = alphas[static_cast<std::size_t>(std::max<Index>(best - 1, 0))];
+    const double a_lo = alphas[static_cast<std::size_t>(std::min<Index>(best + 1, nc - 1))];
+    const double a0 = alphas[static_cast<std::size_t>(best)];
+    for (const auto& [a_top, a_bot] : {std::pair{a_hi, a0}, std::pair{a0, a_lo}}) {
+      if (!(a_top > a_bot)) continue;
+      const double pts = std::clamp(std::ceil(std::log(a_top / a_bot) / tol_ln) + 1.0, 2.0, kMaxGrid);
+      GridSpec sp;
+      sp.mode = mode;
+      sp.points = static_cast<Index>(pts);
+      sp.u0 = 1.0 / a_top;
+      sp.h = (1.0 / a_bot - sp.u0) / (pts - 1.0);
+      out_specs.push_back(sp);
+    }
+  };
+  const int chosen = prm.mode == LooMode::PartOut ? kPart : kVector;
+  // Keeping the chosen mode's grid sums costs N·points·2P doubles: only within 2·N·(D + R).
+  const double store_budget = std::max(static_cast<double>(n) * static_cast<double>(P.X.cols() + R) * 2.0, 1e6);
+  const auto make_stores = [&](const std::vector<GridSpec>& sp) {
+    std::vector<GridStore> st(sp.size());
+    double need = 0;
+    for (const auto& g : sp)
+      if (g.mode == chosen) need += static_cast<double>(n) * static_cast<double>(g.points * np) * 2.0;
+    for (std::size_t g = 0; g < sp.size(); ++g)
+      if (sp[g].mode == chosen && need <= store_budget) {
+        const auto sz = static_cast<std::size_t>(n * sp[g].points * np);
+        st[g].S.assign(sz, 0.0);
+        st[g].Sg.assign(sz, 0.0);
+        st[g].shift.resize(un);
+      }
+    return st;
+  };
+
+  // ---- pre-scan: every k-th vector as a query against all N (1/k of a pass) predicts each
+  // mode's best candidate, so that the scan pass can evaluate the refinement grid too; if the
+  // full scan disagrees, the grid takes its own pass as before.
+  std::vector<GridSpec> spec_specs;
+  const Index stride = prm.prescan_stride;
+  if (stride >= 2 && n / stride >= 16) {
+    std::vector<Index> rows_idx;
+    for (Index i = 0; i < n; i += stride) rows_idx.push_back(i);
+    const auto m = static_cast<Index>(rows_idx.size());
+    MatrixXd Q(m, P.X.cols());
+    VectorXd sqQ(m);
+    for (Index t = 0; t < m; ++t) {
+      Q.row(t) = P.X.row(rows_idx[static_cast<std::size_t>(t)]);
+      sqQ(t) = P.sq(rows_idx[static_cast<std::size_t>(t)]);
+    }
+    const Index nbq = (m + br - 1) / br;
+    std::vector<std::vector<PartialSums>> pre(static_cast<std::size_t>(nbq), std::vector<PartialSums>(2 * unc));
+    detail::for_each_d2_block(P.X, P.sq, Q, sqQ, br, [&](Index b, Index r0, Index rows, const MatrixXd& D2) {
+      RowState s;
+      ScanBuffers B;
+      Eigen::RowVectorXd out(kout);
+      for (Index c = 0; c < rows; ++c) {
+        const Index i = rows_idx[static_cast<std::size_t>(r0 + c)];
+        load_row(P, D2.col(c).data(), i, s);
+        scan_row(s, i, pre[static_cast<std::size_t>(b)].data(), B, out);
+      }
+    });
+    for (int mode : {kPart, kVector}) {
+      if (mode == kVector && same_modes) continue;
+      std::vector<Figures> f(unc);
+      for (std::size_t k = 0; k < unc; ++k) {
+        std::vector<PartialSums> col(static_cast<std::size_t>(nbq));
+        for (std::size_t b = 0; b < col.size(); ++b) col[b] = pre[b][static_cast<std::size_t>(mode) * unc + k];
+        f[k] = finish(col, m, kout);
+      }
+      grid_specs(mode, best_of(f), spec_specs);
+    }
+  }
+  std::vector<GridStore> spec_stores = make_stores(spec_specs);
+  GridParts spec_parts = make_grid_parts(spec_specs, nb);
+
   detail::for_each_d2_block(P.X, P.sq, P.X, P.sq, br, [&](Index b, Index r0, Index rows, const MatrixXd& D2) {
     RowState s;
-    ArrayXd e;
-    std::vector<double> buf, Sng(unc * static_cast<std::size_t>(np)), tmp;
-    std::vector<Lane> acc;
+    ScanBuffers B;
+    GridBuffers GB;
+    std::vector<double> buf;
     Eigen::RowVectorXd out(kout);
     auto& sums = scan[static_cast<std::size_t>(b)];
     auto& cd = bd2[static_cast<std::size_t>(b)];
@@ -759,18 +863,8 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
       C.m[kPart][ui] = s.mp;
       C.m[kVector][ui] = s.mv;
       C.m[kFiltration][ui] = d.minCoeff();
-      // other-group sums at every candidate: q squaring chains α, α/2, α/4, … (one exp per pair
-      // per chain, then a square, a floor and a run sum per pair and candidate): O(N·(q + C)).
-      for (Index r = 0; r < std::min<Index>(q, nc); ++r) {
-        e = (s.delta * -uscan[static_cast<std::size_t>(r)]).exp();
-        floor_small(e);
-        const Index steps = (nc - r + q - 1) / q;  // candidates r, r + q, r + 2q, …
-        for (Index p = 0; p < np; ++p)
-          power_sums<true>(e.data(), nullptr, P.pstart[static_cast<std::size_t>(p)],
-                           P.pstart[static_cast<std::size_t>(p) + 1], steps, Sng.data() + r * np + p, q * np, acc);
-      }
-      score_modes(P, s, i, uscan.data(), nc, Sng.data(), sums.data(), same_modes ? nullptr : sums.data() + unc, out,
-                  tmp);
+      scan_row(s, i, sums.data(), B, out);
+      if (!spec_specs.empty()) grid_row(P, s, i, spec_specs, spec_stores, spec_parts, b, GB, out);
       // R nearest (self and siblings included): expected O(N) selection.
       double dplus = kInf;
       if (R < n) {
@@ -831,94 +925,88 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
 
   // ---- pass 2: refinement per mode --------------------------------------------------------------
   // Golden section on the cache when it is exact (looser refinement margin) over the mode's whole
-  // bracket; otherwise ONE full pass for every such mode together, evaluating a grid of points
-  // evenly spaced in 1/α across the bracket (exact exps), no finer than refine_tolerance_octaves.
+  // bracket; otherwise the grid evaluated during the scan when the pre-scan predicted this
+  // bracket, else ONE full pass for every remaining mode together.
   Evaluator ev{P, C, br, &full_passes};
   ev.refining = true;
-  const double tol_ln = prm.refine_tolerance_octaves * std::log(2.0);
   std::vector<GridSpec> specs;
-  struct Bracket {
-    double lo = 0, hi = 0, a0 = 0;
-    Figures f0;
-  } br_of[2];
+  std::vector<const GridSpec*> use_specs;      // every grid spec whose results count
+  std::vector<const std::vector<Figures>*> use_res;
+  std::vector<GridStore*> use_store;
+  const auto spec_results = grid_results(spec_parts, spec_specs, n, kout);
   for (int mode : {kPart, kVector}) {
-    Index best = 0;
-    for (Index k = 1; k < nc; ++k)
-      if (fig[mode][static_cast<std::size_t>(k)].rms <= fig[mode][static_cast<std::size_t>(best)].rms) best = k;
+    const Index best = best_of(fig[mode]);
     ModeOptimum& opt = mode == kPart ? rep.part : rep.vector;
     opt.edge = best == 0 ? Edge::High : best == nc - 1 ? Edge::Low : Edge::None;
-    Bracket& bk = br_of[mode];
-    bk.hi = alphas[static_cast<std::size_t>(std::max<Index>(best - 1, 0))];
-    bk.lo = alphas[static_cast<std::size_t>(std::min<Index>(best + 1, nc - 1))];
-    bk.a0 = alphas[static_cast<std::size_t>(best)];
-    bk.f0 = fig[mode][static_cast<std::size_t>(best)];
     if (mode == kVector && same_modes) continue;
-    if (bk.hi <= C.covered_refine[mode]) {
-      const Figures f0 = ev(bk.a0, mode);
-      const Golden g = golden_section([&](double a) { return ev(a, mode); }, bk.lo, bk.hi, bk.a0, f0, tol_ln);
+    const double a_hi = alphas[static_cast<std::size_t>(std::max<Index>(best - 1, 0))];
+    const double a_lo = alphas[static_cast<std::size_t>(std::min<Index>(best + 1, nc - 1))];
+    const double a0 = alphas[static_cast<std::size_t>(best)];
+    if (a_hi <= C.covered_refine[mode]) {
+      const Figures f0 = ev(a0, mode);
+      const Golden g = golden_section([&](double a) { return ev(a, mode); }, a_lo, a_hi, a0, f0, tol_ln);
       opt.alpha = g.alpha;
       opt.rms = g.fig.rms;
       opt.accuracy = g.fig.accuracy;
       opt.refine_evaluations = g.evaluations + 1;
-    } else {
-      // two even-in-1/α pieces, [α_hi, α_0] and [α_0, α_lo], so that the scan's best is a grid
-      // point; points per piece: piece width / tolerance, at most kMaxGrid (each costs a
-      // multiply per pair)
-      constexpr double kMaxGrid = 17;
-      for (const auto& [a_top, a_bot] : {std::pair{bk.hi, bk.a0}, std::pair{bk.a0, bk.lo}}) {
-        if (!(a_top > a_bot)) continue;
-        const double pts = std::clamp(std::ceil(std::log(a_top / a_bot) / tol_ln) + 1.0, 2.0, kMaxGrid);
-        GridSpec sp;
-        sp.mode = mode;
-        sp.points = static_cast<Index>(pts);
-        sp.u0 = 1.0 / a_top;
-        sp.h = (1.0 / a_bot - sp.u0) / (pts - 1.0);
-        specs.push_back(sp);
+      continue;
+    }
+    std::vector<GridSpec> want;
+    grid_specs(mode, best, want);
+    std::vector<std::size_t> match;
+    for (std::size_t g = 0; g < spec_specs.size(); ++g)
+      if (spec_specs[g].mode == mode) match.push_back(g);
+    bool predicted = match.size() == want.size();
+    for (std::size_t t = 0; predicted && t < want.size(); ++t) {
+      const GridSpec& a = spec_specs[match[t]];
+      predicted = a.u0 == want[t].u0 && a.h == want[t].h && a.points == want[t].points;
+    }
+    if (predicted) {
+      for (std::size_t g : match) {
+        use_specs.push_back(&spec_specs[g]);
+        use_res.push_back(&spec_results[g]);
+        use_store.push_back(&spec_stores[g]);
       }
+    } else {
+      specs.insert(specs.end(), want.begin(), want.end());
     }
   }
-  const int chosen = prm.mode == LooMode::PartOut ? kPart : kVector;
-  std::vector<GridStore> stores(specs.size());
-  int chosen_spec = -1;
-  Index chosen_point = 0;
+  std::vector<GridStore> stores = make_stores(specs);
+  std::vector<std::vector<Figures>> res;
   if (!specs.empty()) {
     ++full_passes;
-    // keep the chosen mode's row sums (N·points·2P doubles) unless that exceeds the budget:
-    // then its outputs take one more pass
-    double need = 0;
-    for (const auto& sp : specs)
-      if (sp.mode == chosen) need += static_cast<double>(n) * static_cast<double>(sp.points * np) * 2.0;
-    const double budget = std::max(static_cast<double>(n) * static_cast<double>(P.X.cols() + R) * 2.0, 1e6);
-    for (std::size_t g = 0; g < specs.size(); ++g)
-      if (specs[g].mode == chosen && need <= budget) {
-        const auto sz = static_cast<std::size_t>(n * specs[g].points * np);
-        stores[g].S.assign(sz, 0.0);
-        stores[g].Sg.assign(sz, 0.0);
-        stores[g].shift.resize(un);
-      }
-    const auto res = grid_pass(P, specs, br, stores);
-    for (int mode : {kPart, kVector}) {
-      ModeOptimum& opt = mode == kPart ? rep.part : rep.vector;
-      bool first = true;
-      for (std::size_t g = 0; g < specs.size(); ++g) {
-        const GridSpec& sp = specs[g];
-        if (sp.mode != mode) continue;
-        for (Index t = 0; t < sp.points; ++t) {
-          const double a = 1.0 / (sp.u0 + static_cast<double>(t) * sp.h);
-          const Figures& f = res[g][static_cast<std::size_t>(t)];
-          if (first || f.rms < opt.rms || (f.rms == opt.rms && a < opt.alpha)) {
-            first = false;
-            opt.alpha = a;
-            opt.rms = f.rms;
-            opt.accuracy = f.accuracy;
-            if (mode == chosen) {
-              chosen_spec = static_cast<int>(g);
-              chosen_point = t;
-            }
+    res = grid_pass(P, specs, br, stores);
+    for (std::size_t g = 0; g < specs.size(); ++g) {
+      use_specs.push_back(&specs[g]);
+      use_res.push_back(&res[g]);
+      use_store.push_back(&stores[g]);
+    }
+  }
+  const GridSpec* chosen_spec = nullptr;
+  const GridStore* chosen_store = nullptr;
+  Index chosen_point = 0;
+  for (int mode : {kPart, kVector}) {
+    ModeOptimum& opt = mode == kPart ? rep.part : rep.vector;
+    bool first = true;
+    for (std::size_t g = 0; g < use_specs.size(); ++g) {
+      const GridSpec& sp = *use_specs[g];
+      if (sp.mode != mode) continue;
+      for (Index t = 0; t < sp.points; ++t) {
+        const double a = 1.0 / (sp.u0 + static_cast<double>(t) * sp.h);
+        const Figures& f = (*use_res[g])[static_cast<std::size_t>(t)];
+        if (first || f.rms < opt.rms || (f.rms == opt.rms && a < opt.alpha)) {
+          first = false;
+          opt.alpha = a;
+          opt.rms = f.rms;
+          opt.accuracy = f.accuracy;
+          if (mode == chosen) {
+            chosen_spec = &sp;
+            chosen_store = use_store[g];
+            chosen_point = t;
           }
         }
-        opt.refine_evaluations += static_cast<int>(sp.points);
       }
+      opt.refine_evaluations += static_cast<int>(sp.points);
     }
   }
   if (same_modes) {
@@ -933,9 +1021,8 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
   rep.verification.resize(n, kout);
   rep.filtration.resize(n, kout);
   Figures fm[2];
-  if (chosen_spec >= 0 && !stores[static_cast<std::size_t>(chosen_spec)].S.empty()) {  // no further pass
-    outputs_from_store(P, specs[static_cast<std::size_t>(chosen_spec)], stores[static_cast<std::size_t>(chosen_spec)],
-                       chosen_point, chosen, fm, rep.verification, rep.filtration);
+  if (chosen_spec && !chosen_store->S.empty()) {  // no further pass
+    outputs_from_store(P, *chosen_spec, *chosen_store, chosen_point, chosen, fm, rep.verification, rep.filtration);
   } else if (rep.alpha <= std::min({C.covered[kPart], C.covered[kVector], C.covered[kFiltration]})) {
     fm[chosen] = ev(rep.alpha, chosen, &rep.verification);
     fm[1 - chosen] = ev(rep.alpha, 1 - chosen);

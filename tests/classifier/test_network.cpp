@@ -348,7 +348,17 @@ TEST(Loo, GridRefinementWithoutCacheIsExactAndTakesAtMostThreePasses) {
     prm.mode = mode;
     prm.block_rows = 10;
     prm.cache_neighbours = 1;
+    prm.prescan_stride = 0;
     const LooReport rep = select_alpha(Xn, s.Y, s.groups, prm);
+    // the pre-scan (every 2nd vector) only moves the grid into the scan pass: same bits, no more passes
+    prm.prescan_stride = 2;
+    const LooReport pre = select_alpha(Xn, s.Y, s.groups, prm);
+    EXPECT_LE(pre.full_passes, rep.full_passes);
+    EXPECT_EQ(std::memcmp(&pre.alpha, &rep.alpha, sizeof(double)), 0);
+    EXPECT_EQ(std::memcmp(&pre.part.rms, &rep.part.rms, sizeof(double)), 0);
+    EXPECT_EQ(std::memcmp(&pre.vector.alpha, &rep.vector.alpha, sizeof(double)), 0);
+    EXPECT_TRUE(bitwise_equal(pre.verification, rep.verification));
+    EXPECT_TRUE(bitwise_equal(pre.filtration, rep.filtration));
     EXPECT_FALSE(rep.neighbour_cache_used);
     EXPECT_LE(rep.full_passes, 3);
     EXPECT_GE(rep.part.refine_evaluations, 3);

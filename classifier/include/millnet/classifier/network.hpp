@@ -58,6 +58,11 @@ struct AlphaSearchParams {
   double refine_tolerance_octaves = 1e-3;
   Eigen::Index block_rows = 256;           ///< query rows per GEMM block (memory 8·N·block_rows B/thread)
   Eigen::Index cache_neighbours = 256;     ///< R nearest d² kept per stored vector for the refinement
+  /// Pre-scan every k-th stored vector (against all N; 1/k of a pass) to predict each mode's best
+  /// candidate, so that the scan pass also evaluates its refinement grid (saves the grid's own
+  /// pass when the prediction holds; results are identical either way). < 2 = off; skipped when
+  /// fewer than 16 vectors would be pre-scanned.
+  Eigen::Index prescan_stride = 10;
   ProgressFn progress;                     ///< (passes done, passes planned), called from serial code
 };
 
