@@ -142,8 +142,6 @@ ClipperLib::Path to_path(const std::vector<Vec2>& pts, bool want_ccw) {
   return p;
 }
 
-std::vector<Vec2> from_path(const ClipperLib::Path& p) { return clipper_bridge::from_path(p, kScale); }
-
 void collect(const ClipperLib::PolyNode& node, std::vector<PolyArea>& out) { clipper_bridge::collect(node, out, kScale); }
 
 /// A rectangle of half-width tol::slit_half_mm around segment a→b, extended by `ext_a`/`ext_b`
