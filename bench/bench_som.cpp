@@ -4,7 +4,8 @@
 #include "millnet/pocket/planner_som.hpp"
 
 #include <benchmark/benchmark.h>
-#include <nlohmann/json.hpp>
+
+#include "millnet/pocket/pocket_io.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -56,19 +57,7 @@ BENCHMARK(BM_SomRandom)->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchmark::kMi
 BENCHMARK(BM_SomGrid)->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 mp::Region load_pocket(const std::string& name) {
-  std::ifstream in(std::string(MILLNET_SHARED_DIR) + "/bench/pockets/" + name + ".json");
-  const auto j = nlohmann::json::parse(in);
-  auto loop = [](const nlohmann::json& a) {
-    mp::Loop l;
-    for (const auto& v : a) l.push_back({v.at(0).get<double>(), v.at(1).get<double>(), v.size() > 2 ? v.at(2).get<double>() : 0.0});
-    return l;
-  };
-  mp::Region r;
-  r.boundary = loop(j.at("boundary"));
-  if (j.contains("islands"))
-    for (const auto& isl : j.at("islands")) r.islands.push_back(loop(isl));
-  mp::validate_and_normalize(r, name);
-  return r;
+  return mp::read_pocket(std::string(MILLNET_SHARED_DIR) + "/bench/pockets/" + name + ".json").region;
 }
 
 void BM_PlanSom(benchmark::State& state, const char* name, bool linking) {

@@ -2,8 +2,9 @@
 // issue 3 as assertions, with an independent gouge check on flattened walls.
 #include "millnet/pocket/planner_som.hpp"
 
+#include "millnet/pocket/pocket_io.hpp"
+
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include <fstream>
 #include <set>
@@ -13,21 +14,7 @@ namespace mp = millnet::pocket;
 namespace {
 
 mp::Region load_bench_pocket(const std::string& name) {
-  const std::string path = std::string(MILLNET_SHARED_DIR) + "/bench/pockets/" + name + ".json";
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot open " + path);
-  const auto j = nlohmann::json::parse(in);
-  auto loop = [](const nlohmann::json& a) {
-    mp::Loop l;
-    for (const auto& v : a) l.push_back({v.at(0).get<double>(), v.at(1).get<double>(), v.size() > 2 ? v.at(2).get<double>() : 0.0});
-    return l;
-  };
-  mp::Region r;
-  r.boundary = loop(j.at("boundary"));
-  if (j.contains("islands"))
-    for (const auto& isl : j.at("islands")) r.islands.push_back(loop(isl));
-  mp::validate_and_normalize(r, path);
-  return r;
+  return mp::read_pocket(std::string(MILLNET_SHARED_DIR) + "/bench/pockets/" + name + ".json").region;
 }
 
 double seg_seg_dist(const mp::Vec2& p, const mp::Vec2& q, const mp::Vec2& a, const mp::Vec2& b) {
