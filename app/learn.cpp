@@ -111,11 +111,10 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
   set.groups = table.row_sources();
   // Strategy names live in the manifest beside the CSV; the config's names otherwise.
   std::vector<std::string> names = config["dataset"]["strategies"].get<std::vector<std::string>>();
-  const fs::path manifest = dataset_csv.parent_path() / "manifest.json";
-  if (fs::exists(manifest)) {
-    const Json m = read_json(manifest);
-    if (m.contains("strategies") && m["strategies"].is_array()) names = m["strategies"].get<std::vector<std::string>>();
-  }
+  const fs::path manifest_path = dataset_csv.parent_path() / "manifest.json";
+  const Json manifest = fs::exists(manifest_path) ? read_json(manifest_path) : Json::object();
+  if (manifest.contains("strategies") && manifest["strategies"].is_array())
+    names = manifest["strategies"].get<std::vector<std::string>>();
   set.strategies = names;
 
   const Json& t = config["train"];
@@ -143,11 +142,8 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
                    {"raster_mm", config["dataset"]["raster_mm"].get<double>()},
                    {"inputs", table.inputs_per_row()},
                    {"dataset", fs::absolute(dataset_csv).string()}};
-  if (fs::exists(manifest)) {
-    const Json m = read_json(manifest);
-    if (m.contains("config") && m["config"].is_object() && m["config"].contains("raster_mm"))
-      sampling["raster_mm"] = m["config"]["raster_mm"];
-  }
+  if (manifest.contains("config") && manifest["config"].is_object() && manifest["config"].contains("raster_mm"))
+    sampling["raster_mm"] = manifest["config"]["raster_mm"];
   write_file_atomic(out_dir / "sampling.json", sampling.dump(2) + "\n");
 
   // LOO curve: alpha,rms (the chosen mode's) + both modes' figures.

@@ -36,16 +36,19 @@ std::vector<pocket::Region> level_regions(const std::vector<ingest::ContourLoop>
   // Containment tree: for every outer loop, the innermost hole that contains it (or none).
   std::vector<int> holder(loops.size(), -1);
   std::vector<double> hole_area(loops.size(), 0);
+  std::vector<pocket::Loop> hole_loop(loops.size());  // built once, not once per outer loop
   for (std::size_t h = 0; h < loops.size(); ++h)
-    if (loops[h].hole) hole_area[h] = std::abs(ingest::signed_area(loops[h].pts));
+    if (loops[h].hole) {
+      hole_area[h] = std::abs(ingest::signed_area(loops[h].pts));
+      hole_loop[h] = to_loop(loops[h].pts, false);
+    }
   for (std::size_t o = 0; o < loops.size(); ++o) {
     if (loops[o].hole || loops[o].pts.empty()) continue;
     const Eigen::Vector2d probe = loops[o].pts.front();
     double best = 0;
     for (std::size_t h = 0; h < loops.size(); ++h) {
       if (!loops[h].hole) continue;
-      const pocket::Loop hl = to_loop(loops[h].pts, false);
-      if (pocket::inside(hl, {probe.x(), probe.y()}) && (holder[o] < 0 || hole_area[h] < best)) {
+      if (pocket::inside(hole_loop[h], {probe.x(), probe.y()}) && (holder[o] < 0 || hole_area[h] < best)) {
         holder[o] = static_cast<int>(h);
         best = hole_area[h];
       }
