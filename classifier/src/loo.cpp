@@ -285,41 +285,41 @@ void combine_sums(const Prepared& P, const double* S, Eigen::RowVectorXd& out) {
 
 // Power sums over one pattern run [a, b) in ONE sweep: out[t·stride] = Σ_j x_j(t) for t < steps,
 // with x_j(0) = e_j and x_j(t+1) = x_j(t)² (Square: the α, α/2, α/4 … chains) or x_j(t)·r_j (a
-// grid even in 1/α); values below tol::kSimilarityFloor become 0 (no subnormal arithmetic).
-// Lanes of kLanes values stay in registers across the steps and a group of lanes stops once all
-// of them are 0, so distant pairs cost only their few non-negligible steps. Fixed summation
-// order (lanes, then lanes combined 0…kLanes−1): independent of threads. O((b − a)·steps).
-// Lanes are GCC/Clang vector extensions (simd.hpp): Eigen 3.4's select() is not vectorized,
-// and this loop is all selects.
+// grid even in 1/α). Values that underflow become exactly 0: the sweep runs with flush-to-zero
+// (simd.hpp; neglected mass < N·2.3e-308 relative to the nearest vector's 1), or, on targets
+// without it, against tol::kSimilarityFloor. Groups of kGroups·kLanes values stay in registers
+// across the steps and stop once all of them are 0, so distant pairs cost only their few
+// non-negligible steps. Fixed summation order (groups, then lanes combined 0…kLanes−1):
+// independent of threads. O((b − a)·steps).
 using detail::kLanes;
 using detail::Lane;
 template <bool Square>
 void power_sums(const double* e, const double* rr, Index a, Index b, Index steps, double* out, Index stride,
                 std::vector<Lane>& acc) {
+  const detail::FlushToZero ftz;
   acc.assign(static_cast<std::size_t>(steps), Lane{});
   const Lane zero{};
   const Lane floor = zero + tol::kSimilarityFloor;
-  // kGroups independent lane groups per iteration: each step is a dependent multiply → compare →
-  // blend chain, so several chains in flight hide its latency
-  constexpr int kGroups = 4;
+  const auto step = [&](Lane& x, const Lane& y) {
+    if constexpr (Square) x = x * x; else x = x * y;
+    if constexpr (!detail::kFlushesToZero) x = x < floor ? zero : x;
+  };
+  // 8 independent lane groups per iteration: each step is a dependent multiply chain, so
+  // several in flight hide its latency, and the per-step accumulator update is shared by all
+  constexpr int kGroups = 8;
   Index j = a;
   for (; j + kGroups * kLanes <= b; j += kGroups * kLanes) {
     Lane x[kGroups], y[kGroups] = {};
     std::memcpy(x, e + j, sizeof(x));
     if constexpr (!Square) std::memcpy(y, rr + j, sizeof(y));
     for (Index t = 0; t < steps; ++t) {
-      Lane sum = x[0];
-      for (int g = 1; g < kGroups; ++g) sum += x[g];
+      Lane sum = ((x[0] + x[1]) + (x[2] + x[3])) + ((x[4] + x[5]) + (x[6] + x[7]));
       acc[static_cast<std::size_t>(t)] += sum;
-      for (int g = 0; g < kGroups; ++g) {
-        if constexpr (Square) x[g] = x[g] * x[g]; else x[g] = x[g] * y[g];
-        x[g] = x[g] < floor ? zero : x[g];
-      }
+      for (int g = 0; g < kGroups; ++g) step(x[g], y[g]);
       // every 4th step (a horizontal test costs more than a step): all lanes 0 (x ≥ 0) means
       // the remaining steps add nothing
       if ((t & 3) == 3) {
-        Lane m = x[0];
-        for (int g = 1; g < kGroups; ++g) m += x[g];
+        const Lane m = ((x[0] + x[1]) + (x[2] + x[3])) + ((x[4] + x[5]) + (x[6] + x[7]));
         bool any = false;
         for (int l = 0; l < kLanes; ++l) any |= m[l] != 0.0;
         if (!any) break;
@@ -332,8 +332,7 @@ void power_sums(const double* e, const double* rr, Index a, Index b, Index steps
     if constexpr (!Square) std::memcpy(&y, rr + j, sizeof(Lane));
     for (Index t = 0; t < steps; ++t) {
       acc[static_cast<std::size_t>(t)] += x;
-      if constexpr (Square) x = x * x; else x = x * y;
-      x = x < floor ? zero : x;
+      step(x, y);
     }
   }
   double* acc0 = reinterpret_cast<double*>(acc.data());  // lane 0 of step t at acc0[t·kLanes]
@@ -342,7 +341,7 @@ void power_sums(const double* e, const double* rr, Index a, Index b, Index steps
     for (Index t = 0; t < steps && x != 0.0; ++t) {
       acc0[t * kLanes] += x;
       const double v = Square ? x * x : x * rr[Square ? 0 : j];
-      x = v < tol::kSimilarityFloor ? 0.0 : v;
+      x = !detail::kFlushesToZero && v < tol::kSimilarityFloor ? 0.0 : v;
     }
   }
   for (Index t = 0; t < steps; ++t) {
