@@ -26,6 +26,7 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -368,7 +369,8 @@ void score(const Prepared& P, Index i, const Eigen::RowVectorXd& out, PartialSum
 void score_modes(const Prepared& P, const RowState& s, Index i, const double* u, Index nu, const double* Sng,
                  PartialSums* ps_part, PartialSums* ps_vector, Eigen::RowVectorXd& out, std::vector<double>& tmp) {
   const Index np = P.patterns.rows();
-  tmp.resize(static_cast<std::size_t>(np));
+  tmp.resize(static_cast<std::size_t>(np) + s.gdelta.size());
+  const std::span<double> sib(tmp.data() + np, s.gdelta.size());  // the siblings' similarities
   for (Index k = 0; k < nu; ++k) {
     const double* S = Sng + k * np;
     if (ps_part) {
@@ -378,8 +380,8 @@ void score_modes(const Prepared& P, const RowState& s, Index i, const double* u,
     if (ps_vector) {
       const double f = std::exp(-(s.mp - s.mv) * u[k]);
       for (Index p = 0; p < np; ++p) tmp[static_cast<std::size_t>(p)] = S[p] * f;
-      for (std::size_t t = 0; t < s.gdelta.size(); ++t)
-        tmp[static_cast<std::size_t>(s.gpat[t])] += std::exp(-s.gdelta[t] * u[k]);
+      detail::exp_neg_scaled(s.gdelta.data(), u[k], tol::kSimilarityFloor, sib.data(), static_cast<Index>(sib.size()));
+      for (std::size_t t = 0; t < sib.size(); ++t) tmp[static_cast<std::size_t>(s.gpat[t])] += sib[t];
       combine_sums(P, tmp.data(), out);
       score(P, i, out, ps_vector[k]);
     }
@@ -415,9 +417,11 @@ void final_row(const Prepared& P, const RowShifts& s, double u, const double* S,
 RowShifts shifts_of(const RowState& s) { return {s.mp, s.mv, s.mf, s.self_delta, s.self_pat}; }
 
 // Sibling run sums at u: O(|G|) exps.
-void sibling_sums(const RowState& s, double u, double* Sg, Index np) {
+void sibling_sums(const RowState& s, double u, double* Sg, Index np, std::vector<double>& sib) {
   std::fill(Sg, Sg + np, 0.0);
-  for (std::size_t t = 0; t < s.gdelta.size(); ++t) Sg[s.gpat[t]] += std::exp(-s.gdelta[t] * u);
+  sib.resize(s.gdelta.size());
+  detail::exp_neg_scaled(s.gdelta.data(), u, tol::kSimilarityFloor, sib.data(), static_cast<Index>(sib.size()));
+  for (std::size_t t = 0; t < sib.size(); ++t) Sg[s.gpat[t]] += sib[t];
 }
 
 // Row sums kept from a grid pass for one spec, so that the outputs at any of its points need no
@@ -442,7 +446,7 @@ GridParts make_grid_parts(const std::vector<GridSpec>& specs, Index nb) {
 // Per-thread buffers of the grid kernel.
 struct GridBuffers {
   ArrayXd e, r;
-  std::vector<double> tmp, S, u;
+  std::vector<double> tmp, S, u, sib;
   std::vector<Lane> acc;
 };
 
@@ -467,7 +471,8 @@ void grid_row(const Prepared& P, const RowState& s, Index i, const std::vector<G
       const auto off = static_cast<std::size_t>(i * sp.points * np);
       std::copy(B.S.begin(), B.S.end(), st.S.begin() + static_cast<std::ptrdiff_t>(off));
       for (Index t = 0; t < sp.points; ++t)
-        sibling_sums(s, B.u[static_cast<std::size_t>(t)], st.Sg.data() + off + static_cast<std::size_t>(t * np), np);
+        sibling_sums(s, B.u[static_cast<std::size_t>(t)], st.Sg.data() + off + static_cast<std::size_t>(t * np), np,
+                     B.sib);
       st.shift[static_cast<std::size_t>(i)] = shifts_of(s);
     }
     PartialSums* q = parts[g][static_cast<std::size_t>(b)].data();
@@ -540,14 +545,14 @@ void final_pass(const Prepared& P, double alpha, int chosen, Index block_rows, F
     RowState s;
     ArrayXd e;
     Eigen::RowVectorXd part(k), vec(k), fil(k);
-    std::vector<double> S(static_cast<std::size_t>(np)), Sg(static_cast<std::size_t>(np)), T;
+    std::vector<double> S(static_cast<std::size_t>(np)), Sg(static_cast<std::size_t>(np)), T, sib;
     for (Index c = 0; c < rows; ++c) {
       const Index i = r0 + c;
       const auto oi = P.to_orig[static_cast<std::size_t>(i)];
       load_row(P, D2.col(c).data(), i, s);
       exp_floored(s.delta, u, e);
       run_sums(P, e, S.data());
-      sibling_sums(s, u, Sg.data(), np);
+      sibling_sums(s, u, Sg.data(), np, sib);
       final_row(P, shifts_of(s), u, S.data(), Sg.data(), part, vec, fil, T);
       score(P, i, part, parts[kPart][static_cast<std::size_t>(b)]);
       score(P, i, vec, parts[kVector][static_cast<std::size_t>(b)]);
@@ -852,6 +857,7 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
   // mode's best candidate, so that the scan pass can evaluate the refinement grid too; if the
   // full scan disagrees, the grid takes its own pass as before.
   std::vector<GridSpec> spec_specs;
+  const double margin_refine = tol::kRefineTruncationMargin + std::log(static_cast<double>(n));
   const Index stride = prm.prescan_stride;
   if (stride >= 2 && n / stride >= 16) {
     std::vector<Index> rows_idx;
@@ -865,14 +871,21 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
     }
     const Index nbq = (m + br - 1) / br;
     std::vector<std::vector<PartialSums>> pre(static_cast<std::size_t>(nbq), std::vector<PartialSums>(2 * unc));
+    // each pre-scanned row's neighbour-cache gap per mode (first dropped d² − row minimum)
+    std::vector<double> pre_gap[2];
+    for (auto& g : pre_gap) g.assign(static_cast<std::size_t>(m), kInf);
     detail::for_each_d2_block(P.X, P.sq, Q, sqQ, br, [&](Index b, Index r0, Index rows, const MatrixXd& D2) {
       RowState s;
       ScanBuffers B;
+      NearestBuffers sel;
       Eigen::RowVectorXd out(kout);
       for (Index c = 0; c < rows; ++c) {
         const Index i = rows_idx[static_cast<std::size_t>(r0 + c)];
         load_row(P, D2.col(c).data(), i, s);
         scan_row(s, i, pre[static_cast<std::size_t>(b)].data(), B, out);
+        const double dplus = nearest_cut(D2.col(c).data(), n, R, sel);
+        pre_gap[kPart][static_cast<std::size_t>(r0 + c)] = dplus - s.mp;
+        pre_gap[kVector][static_cast<std::size_t>(r0 + c)] = dplus - s.mv;
       }
     });
     for (int mode : {kPart, kVector}) {
@@ -883,7 +896,14 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
         for (std::size_t b = 0; b < col.size(); ++b) col[b] = pre[b][static_cast<std::size_t>(mode) * unc + k];
         f[k] = finish(col, m, kout);
       }
-      grid_specs(mode, best_of(f), spec_specs);
+      const Index best = best_of(f);
+      // The refinement will run on the cache if it covers the bracket for every row: skip the
+      // grid when the pre-scanned rows say it will, with a factor 2 to spare for the rows not
+      // pre-scanned (if it does not, the grid takes its own pass; results are identical).
+      const double est_covered =
+          *std::min_element(pre_gap[mode].begin(), pre_gap[mode].end()) / margin_refine;
+      if (alphas[static_cast<std::size_t>(std::max<Index>(best - 1, 0))] <= 0.5 * est_covered) continue;
+      grid_specs(mode, best, spec_specs);
     }
   }
   std::vector<GridStore> spec_stores = make_stores(spec_specs);
@@ -935,7 +955,6 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
     std::vector<std::int32_t>().swap(bj[b]);
   }
   const double margin = tol::kTruncationMargin + std::log(static_cast<double>(n));
-  const double margin_refine = tol::kRefineTruncationMargin + std::log(static_cast<double>(n));
   for (int mode : {kPart, kVector, kFiltration}) {
     double gap = kInf;  // smallest (first dropped d² − row minimum) over all rows
     for (std::size_t i = 0; i < un; ++i) gap = std::min(gap, C.dplus[i] - C.m[mode][i]);
