@@ -136,11 +136,12 @@ Figures cache_pass(const Prepared& P, const Cache& C, double alpha, int mode, In
   const Index n = P.X.rows(), k = P.Y.cols();
   const Index nb = (n + block_rows - 1) / block_rows;
   std::vector<PartialSums> parts(static_cast<std::size_t>(nb));
-  const double neg_inv_alpha = -1.0 / alpha;
+  const double inv_alpha = 1.0 / alpha;
 #pragma omp parallel for schedule(dynamic, 1) if (static_cast<double>(C.d2.size()) > detail::kParallelWork)
   for (Index b = 0; b < nb; ++b) {  // O(block_rows · R) per block
     Eigen::RowVectorXd out(k);
     PartialSums ps;
+    std::vector<double> e;
     const Index r1 = std::min(n, (b + 1) * block_rows);
     for (Index i = b * block_rows; i < r1; ++i) {
       const auto ui = static_cast<std::size_t>(i);
@@ -148,10 +149,16 @@ Figures cache_pass(const Prepared& P, const Cache& C, double alpha, int mode, In
       const double m = C.m[mode][ui];
       out.setZero();
       double tot = 0;
-      for (Index t = C.offset[ui]; t < C.offset[ui + 1]; ++t) {
+      const Index t0 = C.offset[ui], len = C.offset[ui + 1] - t0;
+      e.resize(static_cast<std::size_t>(len));
+      // excluded entries may lie below m: clamped to δ = 0, their exps are computed but never used
+      for (Index t = 0; t < len; ++t)
+        e[static_cast<std::size_t>(t)] = std::max(C.d2[static_cast<std::size_t>(t0 + t)] - m, 0.0);
+      detail::exp_neg_scaled(e.data(), inv_alpha, tol::kSimilarityFloor, e.data(), len);
+      for (Index t = t0; t < t0 + len; ++t) {
         const auto jj = static_cast<Index>(C.j[static_cast<std::size_t>(t)]);
         if ((mode == kPart && P.group[static_cast<std::size_t>(jj)] == gi) || (mode == kVector && jj == i)) continue;
-        const double s = std::exp((C.d2[static_cast<std::size_t>(t)] - m) * neg_inv_alpha);
+        const double s = e[static_cast<std::size_t>(t - t0)];
         tot += s;
         out.noalias() += s * P.Y.row(jj);
       }
@@ -816,24 +823,32 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
       if (f[static_cast<std::size_t>(k)].rms <= f[static_cast<std::size_t>(best)].rms) best = k;
     return best;
   };
-  // Grid pieces [α_hi, α_best] and [α_best, α_lo] around candidate `best`, points even in 1/α,
-  // piece width / tolerance points each, at most kMaxGrid (each costs a multiply per pair).
+  // One grid over the bracket [α_lo, α_hi] around candidate `best`, points even in 1/α with ONE
+  // step h (so each pair costs 2 exps, e at the first point and the ratio r = exp(−δ·h), then a
+  // multiply per point): h is the finer of the two halves' steps, each half [α_hi, α_best] and
+  // [α_best, α_lo] having width / tolerance steps, at most kMaxSteps; α_best is a grid point
+  // and the grid ends at or just past α_lo.
   const double tol_ln = prm.refine_tolerance_octaves * std::log(2.0);
   const auto grid_specs = [&](int mode, Index best, std::vector<GridSpec>& out_specs) {
-    constexpr double kMaxGrid = 17;
+    constexpr double kMaxSteps = 16;
     const double a_hi = alphas[static_cast<std::size_t>(std::max<Index>(best - 1, 0))];
     const double a_lo = alphas[static_cast<std::size_t>(std::min<Index>(best + 1, nc - 1))];
     const double a0 = alphas[static_cast<std::size_t>(best)];
+    double h = kInf;
     for (const auto& [a_top, a_bot] : {std::pair{a_hi, a0}, std::pair{a0, a_lo}}) {
       if (!(a_top > a_bot)) continue;
-      const double pts = std::clamp(std::ceil(std::log(a_top / a_bot) / tol_ln) + 1.0, 2.0, kMaxGrid);
-      GridSpec sp;
-      sp.mode = mode;
-      sp.points = static_cast<Index>(pts);
-      sp.u0 = 1.0 / a_top;
-      sp.h = (1.0 / a_bot - sp.u0) / (pts - 1.0);
-      out_specs.push_back(sp);
+      const double steps = std::clamp(std::ceil(std::log(a_top / a_bot) / tol_ln), 1.0, kMaxSteps);
+      h = std::min(h, (1.0 / a_bot - 1.0 / a_top) / steps);
     }
+    if (!(h < kInf)) return;
+    const double above = a_hi > a0 ? std::round((1.0 / a0 - 1.0 / a_hi) / h) : 0.0;
+    const double below = a0 > a_lo ? std::ceil((1.0 / a_lo - 1.0 / a0) / h - 1e-9) : 0.0;
+    GridSpec sp;
+    sp.mode = mode;
+    sp.h = h;
+    sp.u0 = 1.0 / a0 - above * h;
+    sp.points = static_cast<Index>(above + below) + 1;
+    out_specs.push_back(sp);
   };
   const int chosen = prm.mode == LooMode::PartOut ? kPart : kVector;
   // Keeping the chosen mode's grid sums costs N·points·2P doubles: only within 2·N·(D + R).

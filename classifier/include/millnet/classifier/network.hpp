@@ -52,9 +52,9 @@ struct AlphaSearchParams {
   double alpha_min = 0.0;  ///< absolute override (both must be > 0)
   double alpha_max = 0.0;
   int steps_per_octave = 2;  ///< 1…8; the scan costs one exp per stored pair per step
-  /// golden section (on the cache) stops when the bracket is narrower; a grid refinement (full
-  /// pass, when the cache is not exact over the bracket) uses steps this wide, at most 16 per half
-  /// bracket
+  /// golden section (on the cache) stops when the bracket is narrower; a grid refinement (when
+  /// the cache is not exact over the bracket) uses one step in 1/α over the whole bracket: this
+  /// wide, but at most 1/16 of the narrower half bracket
   double refine_tolerance_octaves = 1e-3;
   Eigen::Index block_rows = 256;           ///< query rows per GEMM block (memory 8·N·block_rows B/thread)
   Eigen::Index cache_neighbours = 256;     ///< R nearest d² kept per stored vector for the refinement
