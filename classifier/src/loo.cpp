@@ -132,6 +132,8 @@ struct Cache {
   double covered_refine[3] = {0, 0, 0};  // same with tol::kRefineTruncationMargin (refinement only)
 };
 
+void combine_sums(const Prepared& P, const double* S, Eigen::RowVectorXd& out);
+
 Figures cache_pass(const Prepared& P, const Cache& C, double alpha, int mode, Index block_rows, MatrixXd* outputs) {
   const Index n = P.X.rows(), k = P.Y.cols();
   const Index nb = (n + block_rows - 1) / block_rows;
@@ -141,28 +143,25 @@ Figures cache_pass(const Prepared& P, const Cache& C, double alpha, int mode, In
   for (Index b = 0; b < nb; ++b) {  // O(block_rows · R) per block
     Eigen::RowVectorXd out(k);
     PartialSums ps;
-    std::vector<double> e;
+    std::vector<double> e, S(static_cast<std::size_t>(P.patterns.rows()));  // S: pattern-run sums
     const Index r1 = std::min(n, (b + 1) * block_rows);
     for (Index i = b * block_rows; i < r1; ++i) {
       const auto ui = static_cast<std::size_t>(i);
       const int gi = P.group[ui];
       const double m = C.m[mode][ui];
-      out.setZero();
-      double tot = 0;
       const Index t0 = C.offset[ui], len = C.offset[ui + 1] - t0;
       e.resize(static_cast<std::size_t>(len));
       // excluded entries may lie below m: clamped to δ = 0, their exps are computed but never used
       for (Index t = 0; t < len; ++t)
         e[static_cast<std::size_t>(t)] = std::max(C.d2[static_cast<std::size_t>(t0 + t)] - m, 0.0);
       detail::exp_neg_scaled(e.data(), inv_alpha, tol::kSimilarityFloor, e.data(), len);
+      std::fill(S.begin(), S.end(), 0.0);
       for (Index t = t0; t < t0 + len; ++t) {
-        const auto jj = static_cast<Index>(C.j[static_cast<std::size_t>(t)]);
-        if ((mode == kPart && P.group[static_cast<std::size_t>(jj)] == gi) || (mode == kVector && jj == i)) continue;
-        const double s = e[static_cast<std::size_t>(t - t0)];
-        tot += s;
-        out.noalias() += s * P.Y.row(jj);
+        const auto jj = static_cast<std::size_t>(C.j[static_cast<std::size_t>(t)]);
+        if ((mode == kPart && P.group[jj] == gi) || (mode == kVector && static_cast<Index>(jj) == i)) continue;
+        S[static_cast<std::size_t>(P.pattern[jj])] += e[static_cast<std::size_t>(t - t0)];
       }
-      out /= tot;
+      combine_sums(P, S.data(), out);
       ps.err += (out - P.Y.row(i)).squaredNorm();
       ps.correct += detail::argmax(out) == P.label[ui] ? 1 : 0;
       if (outputs) outputs->row(P.to_orig[ui]) = out;
