@@ -1,5 +1,5 @@
 // Leave-one-out α selection (issue 2 §4 benchmark): N = 120, 2,400, 24,000 stored vectors,
-// D = 225 inputs, 41 α candidates (6 decades, 2 per octave), synthetic clustered data: 5 classes,
+// D = 225 inputs, 40 α candidates (6 decades, 2 per octave), synthetic clustered data: 5 classes,
 // parts of 22 near-duplicate variants (like rotated variants of one mould) around class centres.
 // Run: bench_classifier --benchmark_counters_tabular=true (OMP_NUM_THREADS sets the threads).
 #include <benchmark/benchmark.h>

@@ -3,6 +3,7 @@
 // d² pass every computation over stored × query pairs goes through.
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -81,6 +82,51 @@ void for_each_d2_block(const Eigen::MatrixXd& S, const Eigen::VectorXd& sqS, con
       fn(b, r0, rows, D2);
     }
   }
+}
+
+// Buffers of nearest_cut.
+struct NearestBuffers {
+  std::vector<double> sample, vals;
+  std::vector<std::int32_t> idx;
+};
+
+// The R-th smallest of d[0..n) (0-based; +inf when R ≥ n), exactly what std::nth_element gives,
+// and in B.idx, ascending, the indices j of a superset of {d_j < it}. A pivot from a strided
+// sample (its rank chosen so that ≈ 3R values lie below it) bounds the candidates; selection then
+// runs on those few. If fewer than R + 1 values lie at or below the pivot, every index is a
+// candidate. Expected O(n) with a small constant (one branch-free pass), against ≈ 11 ns per value
+// for nth_element over the whole row.
+inline double nearest_cut(const double* d, Index n, Index R, NearestBuffers& B) {
+  B.idx.resize(static_cast<std::size_t>(n));
+  Index cnt = 0;
+  if (R >= n) {
+    for (Index j = 0; j < n; ++j) B.idx[static_cast<std::size_t>(j)] = static_cast<std::int32_t>(j);
+    return std::numeric_limits<double>::infinity();
+  }
+  double pivot = std::numeric_limits<double>::infinity();
+  const Index stride = std::max<Index>(1, n / (4 * (R + 1)));
+  if (stride >= 4) {
+    B.sample.clear();
+    for (Index j = 0; j < n; j += stride) B.sample.push_back(d[j]);
+    const auto k = std::min<std::size_t>(B.sample.size() - 1, static_cast<std::size_t>(3 * (R + 1) / stride));
+    std::nth_element(B.sample.begin(), B.sample.begin() + static_cast<std::ptrdiff_t>(k), B.sample.end());
+    pivot = B.sample[k];
+    for (Index j = 0; j < n; ++j) {  // branch-free compaction
+      B.idx[static_cast<std::size_t>(cnt)] = static_cast<std::int32_t>(j);
+      cnt += d[j] <= pivot ? 1 : 0;
+    }
+  }
+  if (cnt < R + 1) {  // pivot too low (or no sample): every value is a candidate
+    for (Index j = 0; j < n; ++j) B.idx[static_cast<std::size_t>(j)] = static_cast<std::int32_t>(j);
+    cnt = n;
+  }
+  B.idx.resize(static_cast<std::size_t>(cnt));
+  // all values ≤ pivot are candidates and there are ≥ R + 1 of them, so the R + 1 smallest of the
+  // row are among them: the R-th smallest candidate is the row's
+  B.vals.resize(static_cast<std::size_t>(cnt));
+  for (std::size_t t = 0; t < B.idx.size(); ++t) B.vals[t] = d[B.idx[t]];
+  std::nth_element(B.vals.begin(), B.vals.begin() + static_cast<std::ptrdiff_t>(R), B.vals.end());
+  return B.vals[static_cast<std::size_t>(R)];
 }
 
 }  // namespace millnet::classifier::detail

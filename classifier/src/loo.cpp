@@ -11,12 +11,17 @@
 //     every vector are kept (O(N·R) memory).
 //  2. Refinement per mode around its best candidate: golden section on log α on the cache when
 //     the cache is exact over the whole bracket (cheap: O(N·R) per evaluation); otherwise ONE
-//     full pass for all such modes evaluating G points even in 1/α (exact exps: 2 per pair and
-//     mode, then one multiply per point) over [α_hi, α_best] and [α_best, α_lo]; the chosen
-//     mode's run sums are kept (N·G·2P doubles) so its outputs need no further pass.
+//     full pass for all such modes evaluating G points even in 1/α with one step over
+//     [α_lo, α_hi], α_best among them (exact exps: 2 per pair and mode, then one multiply per
+//     point); the chosen mode's run sums are kept (N·G·2P doubles) so its outputs need no
+//     further pass. A pre-scan of every k-th vector (1/k of a pass) predicts each mode's best
+//     candidate and whether the cache will cover its bracket, so that the scan pass evaluates
+//     the grids too: the refinement's own pass is needed only when the prediction fails.
 //  3. Filtration and verification outputs at the chosen α: from the kept sums, from the cache
 //     when exact, else one full pass for both modes and the filtration together.
-// So 1–3 full passes in all (2 in the usual case), never an N×N matrix.
+// So 1–3 full passes in all (1 + 1/k in the usual case), never an N×N matrix.
+// Per pair, the work is the GEMM's 2D flops, q + 2·(modes on a grid) exps (simd.hpp) and the
+// multiply-adds of the chains; the GEMM runs in L2-sized tiles (engine.hpp).
 // Determinism: blocks are fixed by block_rows, never by the thread count; every reduction is a
 // per-block partial sum combined in block order.
 #include <algorithm>
@@ -169,51 +174,6 @@ Figures cache_pass(const Prepared& P, const Cache& C, double alpha, int mode, In
     parts[static_cast<std::size_t>(b)] = ps;
   }
   return finish(parts, n, k);
-}
-
-// Buffers of nearest_cut.
-struct NearestBuffers {
-  std::vector<double> sample, vals;
-  std::vector<std::int32_t> idx;
-};
-
-// The R-th smallest of d[0..n) (0-based; +inf when R ≥ n), exactly what std::nth_element gives,
-// and in B.idx, ascending, the indices j of a superset of {d_j < it}. A pivot from a strided
-// sample (its rank chosen so that ≈ 3R values lie below it) bounds the candidates; selection then
-// runs on those few. If fewer than R + 1 values lie at or below the pivot, every index is a
-// candidate. Expected O(n) with a small constant (one branch-free pass), against ≈ 11 ns per value
-// for nth_element over the whole row.
-double nearest_cut(const double* d, Index n, Index R, NearestBuffers& B) {
-  B.idx.resize(static_cast<std::size_t>(n));
-  Index cnt = 0;
-  if (R >= n) {
-    for (Index j = 0; j < n; ++j) B.idx[static_cast<std::size_t>(j)] = static_cast<std::int32_t>(j);
-    return kInf;
-  }
-  double pivot = kInf;
-  const Index stride = std::max<Index>(1, n / (4 * (R + 1)));
-  if (stride >= 4) {
-    B.sample.clear();
-    for (Index j = 0; j < n; j += stride) B.sample.push_back(d[j]);
-    const auto k = std::min<std::size_t>(B.sample.size() - 1, static_cast<std::size_t>(3 * (R + 1) / stride));
-    std::nth_element(B.sample.begin(), B.sample.begin() + static_cast<std::ptrdiff_t>(k), B.sample.end());
-    pivot = B.sample[k];
-    for (Index j = 0; j < n; ++j) {  // branch-free compaction
-      B.idx[static_cast<std::size_t>(cnt)] = static_cast<std::int32_t>(j);
-      cnt += d[j] <= pivot ? 1 : 0;
-    }
-  }
-  if (cnt < R + 1) {  // pivot too low (or no sample): every value is a candidate
-    for (Index j = 0; j < n; ++j) B.idx[static_cast<std::size_t>(j)] = static_cast<std::int32_t>(j);
-    cnt = n;
-  }
-  B.idx.resize(static_cast<std::size_t>(cnt));
-  // all values ≤ pivot are candidates and there are ≥ R + 1 of them, so the R + 1 smallest of the
-  // row are among them: the R-th smallest candidate is the row's
-  B.vals.resize(static_cast<std::size_t>(cnt));
-  for (std::size_t t = 0; t < B.idx.size(); ++t) B.vals[t] = d[B.idx[t]];
-  std::nth_element(B.vals.begin(), B.vals.begin() + static_cast<std::ptrdiff_t>(R), B.vals.end());
-  return B.vals[static_cast<std::size_t>(R)];
 }
 
 struct Evaluator {
@@ -891,13 +851,13 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
     detail::for_each_d2_block(P.X, P.sq, Q, sqQ, br, [&](Index b, Index r0, Index rows, const MatrixXd& D2) {
       RowState s;
       ScanBuffers B;
-      NearestBuffers sel;
+      detail::NearestBuffers sel;
       Eigen::RowVectorXd out(kout);
       for (Index c = 0; c < rows; ++c) {
         const Index i = rows_idx[static_cast<std::size_t>(r0 + c)];
         load_row(P, D2.col(c).data(), i, s);
         scan_row(s, i, pre[static_cast<std::size_t>(b)].data(), B, out);
-        const double dplus = nearest_cut(D2.col(c).data(), n, R, sel);
+        const double dplus = detail::nearest_cut(D2.col(c).data(), n, R, sel);
         pre_gap[kPart][static_cast<std::size_t>(r0 + c)] = dplus - s.mp;
         pre_gap[kVector][static_cast<std::size_t>(r0 + c)] = dplus - s.mv;
       }
@@ -927,7 +887,7 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
     RowState s;
     ScanBuffers B;
     GridBuffers GB;
-    NearestBuffers sel;
+    detail::NearestBuffers sel;
     Eigen::RowVectorXd out(kout);
     auto& sums = scan[static_cast<std::size_t>(b)];
     auto& cd = bd2[static_cast<std::size_t>(b)];
@@ -944,7 +904,7 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
       scan_row(s, i, sums.data(), B, out);
       if (!spec_specs.empty()) grid_row(P, s, i, spec_specs, spec_stores, spec_parts, b, GB, out);
       // R nearest (self and siblings included), in ascending j: expected O(N).
-      const double dplus = nearest_cut(D2.col(c).data(), n, R, sel);
+      const double dplus = detail::nearest_cut(D2.col(c).data(), n, R, sel);
       C.dplus[ui] = dplus;
       for (std::int32_t j : sel.idx)
         if (d(j) < dplus) {

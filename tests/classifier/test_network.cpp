@@ -380,3 +380,33 @@ TEST(Loo, GridRefinementWithoutCacheIsExactAndTakesAtMostThreePasses) {
     }
   }
 }
+
+TEST(Loo, SampledNeighbourCutAndPrescanPredictionsKeepEveryBit) {
+  // N = 720 with a 40-neighbour cache: each row's cut comes from the sampled pivot (N ≥ 16·41), and
+  // the pre-scan decides per mode between a grid in the scan pass and the cache. Whatever it
+  // decides, the report is the one without a pre-scan, bit for bit, and matches the reference.
+  const Synthetic s = make_clusters(5, 4, 10, 18, 5, 2.5, 0.7, 0.1);
+  const MatrixXd Xn = Normalizer::fit(s.X).apply(s.X);
+  AlphaSearchParams prm;
+  prm.cache_neighbours = 40;
+  prm.block_rows = 64;
+  prm.prescan_stride = 0;
+  const LooReport plain = select_alpha(Xn, s.Y, s.groups, prm);
+  prm.prescan_stride = 4;
+  const LooReport pre = select_alpha(Xn, s.Y, s.groups, prm);
+  EXPECT_LE(pre.full_passes, plain.full_passes);
+  EXPECT_EQ(std::memcmp(&pre.alpha, &plain.alpha, sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(&pre.part.alpha, &plain.part.alpha, sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(&pre.vector.alpha, &plain.vector.alpha, sizeof(double)), 0);
+  EXPECT_TRUE(bitwise_equal(pre.verification, plain.verification));
+  EXPECT_TRUE(bitwise_equal(pre.filtration, plain.filtration));
+  const MatrixXd ver = reference_outputs(Xn, s.Y, s.groups, pre.alpha, 0);
+  const MatrixXd fil = reference_outputs(Xn, s.Y, s.groups, pre.alpha, 2);
+  EXPECT_LT((ver - pre.verification).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((fil - pre.filtration).cwiseAbs().maxCoeff(), 1e-12);
+  for (const ModeOptimum* o : {&pre.part, &pre.vector}) {
+    const int om = o == &pre.part ? 0 : 1;
+    const double ro = rms_error(reference_outputs(Xn, s.Y, s.groups, o->alpha, om), s.Y);
+    EXPECT_NEAR(o->rms, ro, 1e-12 * std::max(1.0, ro)) << "mode " << om;
+  }
+}

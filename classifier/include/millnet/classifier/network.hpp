@@ -44,7 +44,7 @@ enum class LooMode {
 /// α search. Candidates are log-spaced: α_k = α_hi · 2^(−k/steps_per_octave), k = 0…n−1,
 /// from α_hi down to ≥ α_lo. Range: [alpha_min, alpha_max] if both > 0, else
 /// [range_low, range_high] × (median nonzero d² between stored vectors, over a fixed
-/// deterministic sample of ≤ 65,536 pairs). The default gives 41 candidates over 6 decades.
+/// deterministic sample of ≤ 65,536 pairs). The default gives 40 candidates over 6 decades.
 struct AlphaSearchParams {
   LooMode mode = LooMode::PartOut;
   double range_low = 1e-3;

@@ -5,9 +5,10 @@
 
 namespace millnet::classifier::tol {
 
-/// Similarities below this are set to exactly 0 during the α scan's squaring chains, so that a
-/// squared value never becomes a (slow) subnormal; relative to the nearest vector (s = 1) the
-/// neglected mass is < N·1e-150.
+/// Similarities below this are set to exactly 0 when the leave-one-out pass computes them; the
+/// α scan's squaring chains then run with flush-to-zero (or, on targets without it, compare
+/// against this floor at every step), so that no value becomes a (slow) subnormal. Relative to
+/// the nearest vector (s = 1) the neglected mass is < N·1e-150.
 inline constexpr double kSimilarityFloor = 1e-150;
 
 /// A stored vector whose similarity is < exp(-(kTruncationMargin + ln N)) relative to the nearest
