@@ -20,12 +20,12 @@ struct Data {
   std::vector<std::string> groups;
 };
 
-Data make(Index n, Index d, unsigned seed) {
+Data make(Index n, Index d, unsigned seed, double centre_spread = 1.0) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> N01;
   const int classes = 5, per_part = 22;
   MatrixXd centres(classes, d);
-  for (Index i = 0; i < centres.size(); ++i) centres.data()[i] = N01(rng);
+  for (Index i = 0; i < centres.size(); ++i) centres.data()[i] = centre_spread * N01(rng);
   Data s;
   s.Xn.resize(n, d);
   s.Y = MatrixXd::Zero(n, 8);  // 8 strategy slots, 5 used
@@ -46,7 +46,9 @@ Data make(Index n, Index d, unsigned seed) {
 
 void BM_SelectAlpha(benchmark::State& state) {
   const Index n = state.range(0);
-  const Data s = make(n, 225, 2024);
+  // range(1) = class-centre spread in % (100: well separated, the optimum at the scan's low edge;
+  // 15: overlapping classes, an interior optimum that both modes refine on grids)
+  const Data s = make(n, 225, 2024, static_cast<double>(state.range(1)) / 100.0);
   millnet::classifier::LooReport rep;
   for (auto _ : state) {
     rep = millnet::classifier::select_alpha(s.Xn, s.Y, s.groups, {});
@@ -60,10 +62,11 @@ void BM_SelectAlpha(benchmark::State& state) {
   state.counters["acc_part"] = rep.accuracy_part_at_alpha;
   state.counters["full_passes"] = rep.full_passes;
   state.counters["refine_evals"] = rep.part.refine_evaluations + rep.vector.refine_evaluations;
+  state.counters["edge_part"] = rep.part.edge == millnet::classifier::Edge::None ? 0 : 1;
 }
 
 }  // namespace
 
-BENCHMARK(BM_SelectAlpha)->Arg(120)->Arg(2400)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_SelectAlpha)->Arg(24000)->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK(BM_SelectAlpha)->Args({120, 100})->Args({2400, 100})->Args({2400, 15})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SelectAlpha)->Args({24000, 100})->Args({24000, 15})->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK_MAIN();
