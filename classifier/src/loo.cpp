@@ -532,7 +532,7 @@ void final_pass(const Prepared& P, double alpha, int chosen, Index block_rows, F
 
 // Median nonzero d² over all pairs (N(N−1)/2 ≤ 65,536) or 65,536 pairs from a fixed splitmix64
 // sequence. O(pairs·D).
-double d2_scale(const MatrixXd& Xrows) {
+double d2_scale(const detail::RowMatrixXd& Xrows) {
   const MatrixXd X = Xrows.transpose();  // D×N: one vector per contiguous column
   const Index n = Xrows.rows();
   std::vector<double> v;
@@ -837,7 +837,7 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
     std::vector<Index> rows_idx;
     for (Index i = 0; i < n; i += stride) rows_idx.push_back(i);
     const auto m = static_cast<Index>(rows_idx.size());
-    MatrixXd Q(m, P.X.cols());
+    detail::RowMatrixXd Q(m, P.X.cols());
     VectorXd sqQ(m);
     for (Index t = 0; t < m; ++t) {
       Q.row(t) = P.X.row(rows_idx[static_cast<std::size_t>(t)]);
