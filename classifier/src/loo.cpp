@@ -99,12 +99,14 @@ Figures finish(const std::vector<PartialSums>& blocks, Index n, Index k) {
   return {std::sqrt(err / static_cast<double>(n * k)), static_cast<double>(correct) / static_cast<double>(n)};
 }
 
+void exp_floored(const ArrayXd& delta, double u, ArrayXd& e);
+
 // One full blocked pass at one α with exact exps: O(N²·D + N²).
 Figures full_pass(const Prepared& P, double alpha, int mode, Index block_rows, MatrixXd* outputs) {
   const Index n = P.X.rows(), k = P.Y.cols();
   const Index nb = (n + block_rows - 1) / block_rows;
   std::vector<PartialSums> parts(static_cast<std::size_t>(nb));
-  const double neg_inv_alpha = -1.0 / alpha;
+  const double inv_alpha = 1.0 / alpha;
   detail::for_each_d2_block(P.X, P.sq, P.X, P.sq, block_rows, [&](Index b, Index r0, Index rows, const MatrixXd& D2) {
     ArrayXd w, e;
     Eigen::RowVectorXd out(k);
@@ -113,9 +115,8 @@ Figures full_pass(const Prepared& P, double alpha, int mode, Index block_rows, M
       const Index i = r0 + c;
       w = D2.col(c).array();
       mask(P, i, mode, w);
-      const double m = w.minCoeff();
-      e = ((w - m) * neg_inv_alpha).exp();
-      e = (w == kInf).select(0.0, e);
+      w -= w.minCoeff();
+      exp_floored(w, inv_alpha, e);  // masked (+inf) entries become 0
       combine(P, e, out);
       ps.err += (out - P.Y.row(i)).squaredNorm();
       ps.correct += detail::argmax(out) == P.label[static_cast<std::size_t>(i)] ? 1 : 0;
