@@ -103,10 +103,12 @@ struct LooReport {
 /// Leave-one-out α selection on NORMALIZED inputs Xn (N×D), outputs Y (N×K), groups (N).
 /// Work: one scan pass (N²·D GEMM + N²·steps exps + ≤ N²·candidates multiply/adds, shared by
 /// both modes), an R-nearest cache (N·R memory) for a golden-section refinement (N·R exps per
-/// evaluation) when the cache is exact over the refinement bracket; otherwise one grid pass
-/// (≤ 33 points per mode, exact). Outputs at the chosen α come from that grid pass, the cache, or
-/// one more pass: 1–3 full passes in all. Memory O(N·D + N·R + threads·N·block_rows) (the grid
-/// keeps ≤ N·34·2P doubles, P = distinct output rows, only within 2·N·(D + R)); never N×N.
+/// evaluation) when the cache is exact over the refinement bracket; otherwise a grid (one step
+/// in 1/α, ≤ 17 + 16·2^(1/q) points per mode: 40 at q = 2, exact), evaluated in the scan pass
+/// when a pre-scan of every prescan_stride-th vector predicted it, else in its own pass. Outputs
+/// at the chosen α come from the grid, the cache, or one more pass: 1–3 full passes in all
+/// (usually 1 + 1/prescan_stride). Memory O(N·D + N·R + threads·N·block_rows) (the grid keeps
+/// ≤ N·49·2P doubles, P = distinct output rows, only within 2·N·(D + R)); never N×N.
 /// Deterministic: bitwise identical results for any OpenMP thread count.
 /// Throws millnet::Error on shape mismatch, non-finite values, N < 2, or PartOut with one group.
 [[nodiscard]] LooReport select_alpha(const Eigen::MatrixXd& Xn, const Eigen::MatrixXd& Y,
