@@ -31,7 +31,6 @@
 #include <limits>
 #include <map>
 #include <numeric>
-#include <span>
 #include <string>
 #include <vector>
 
@@ -60,21 +59,6 @@ struct Figures {
   double accuracy = 0;
 };
 
-// Σ_j e_j·y_j / Σ_j e_j over pattern runs; e must have at least one positive entry.
-// O(N + P·K).
-void combine(const Prepared& P, const ArrayXd& e, Eigen::RowVectorXd& out) {
-  out.setZero();
-  double tot = 0;
-  const Index np = P.patterns.rows();
-  for (Index p = 0; p < np; ++p) {
-    const Index a = P.pstart[static_cast<std::size_t>(p)];
-    const double sp = e.segment(a, P.pstart[static_cast<std::size_t>(p) + 1] - a).sum();
-    if (sp != 0.0) out.noalias() += sp * P.patterns.row(p);
-    tot += sp;
-  }
-  out /= tot;
-}
-
 // Sets the excluded entries of stored-vector i's d² row to +inf for the mode. O(group size).
 void mask(const Prepared& P, Index i, int mode, ArrayXd& w) {
   if (mode == kPart) {
@@ -99,7 +83,44 @@ Figures finish(const std::vector<PartialSums>& blocks, Index n, Index k) {
   return {std::sqrt(err / static_cast<double>(n * k)), static_cast<double>(correct) / static_cast<double>(n)};
 }
 
-void exp_floored(const ArrayXd& delta, double u, ArrayXd& e);
+// Figures of one slot (a candidate, a grid point) from per-block rows of slots, in block order.
+Figures finish_slot(const std::vector<std::vector<PartialSums>>& blocks, std::size_t slot, Index n, Index k) {
+  std::vector<PartialSums> col(blocks.size());
+  for (std::size_t b = 0; b < blocks.size(); ++b) col[b] = blocks[b][slot];
+  return finish(col, n, k);
+}
+
+// S[p] = Σ of e over pattern run p. O(N), vectorized.
+void run_sums(const Prepared& P, const ArrayXd& e, double* S) {
+  const Index np = P.patterns.rows();
+  for (Index p = 0; p < np; ++p) {
+    const Index a = P.pstart[static_cast<std::size_t>(p)];
+    S[p] = e.segment(a, P.pstart[static_cast<std::size_t>(p) + 1] - a).sum();
+  }
+}
+
+// Σ_p S_p·pattern_p / Σ_p S_p, skipping zero weights. O(P·K).
+void combine_sums(const Prepared& P, const double* S, Eigen::RowVectorXd& out) {
+  out.setZero();
+  double tot = 0;
+  for (Index p = 0; p < P.patterns.rows(); ++p) {
+    if (S[p] != 0.0) out.noalias() += S[p] * P.patterns.row(p);
+    tot += S[p];
+  }
+  out /= tot;
+}
+
+// e = exp(−δ·u) with values below tol::kSimilarityFloor set to 0 (simd.hpp). O(N).
+void exp_floored(const ArrayXd& delta, double u, ArrayXd& e) {
+  e.resize(delta.size());
+  detail::exp_neg_scaled(delta.data(), u, tol::kSimilarityFloor, e.data(), delta.size());
+}
+
+// Scores row i's prediction `out` into ps.
+void score(const Prepared& P, Index i, const Eigen::RowVectorXd& out, PartialSums& ps) {
+  ps.err += (out - P.Y.row(i)).squaredNorm();
+  ps.correct += detail::argmax(out) == P.label[static_cast<std::size_t>(i)] ? 1 : 0;
+}
 
 // One full blocked pass at one α with exact exps: O(N²·D + N²).
 Figures full_pass(const Prepared& P, double alpha, int mode, Index block_rows, MatrixXd* outputs) {
@@ -109,6 +130,7 @@ Figures full_pass(const Prepared& P, double alpha, int mode, Index block_rows, M
   const double inv_alpha = 1.0 / alpha;
   detail::for_each_d2_block(P.X, P.sq, P.X, P.sq, block_rows, [&](Index b, Index r0, Index rows, const MatrixXd& D2) {
     ArrayXd w, e;
+    std::vector<double> S(static_cast<std::size_t>(P.patterns.rows()));
     Eigen::RowVectorXd out(k);
     PartialSums ps;
     for (Index c = 0; c < rows; ++c) {
@@ -117,9 +139,9 @@ Figures full_pass(const Prepared& P, double alpha, int mode, Index block_rows, M
       mask(P, i, mode, w);
       w -= w.minCoeff();
       exp_floored(w, inv_alpha, e);  // masked (+inf) entries become 0
-      combine(P, e, out);
-      ps.err += (out - P.Y.row(i)).squaredNorm();
-      ps.correct += detail::argmax(out) == P.label[static_cast<std::size_t>(i)] ? 1 : 0;
+      run_sums(P, e, S.data());
+      combine_sums(P, S.data(), out);
+      score(P, i, out, ps);
       if (outputs) outputs->row(P.to_orig[static_cast<std::size_t>(i)]) = out;
     }
     parts[static_cast<std::size_t>(b)] = ps;
@@ -137,8 +159,6 @@ struct Cache {
   double covered[3] = {0, 0, 0};  // α up to which the cache is exact to double precision, per mode
   double covered_refine[3] = {0, 0, 0};  // same with tol::kRefineTruncationMargin (refinement only)
 };
-
-void combine_sums(const Prepared& P, const double* S, Eigen::RowVectorXd& out);
 
 Figures cache_pass(const Prepared& P, const Cache& C, double alpha, int mode, Index block_rows, MatrixXd* outputs) {
   const Index n = P.X.rows(), k = P.Y.cols();
@@ -168,8 +188,7 @@ Figures cache_pass(const Prepared& P, const Cache& C, double alpha, int mode, In
         S[static_cast<std::size_t>(P.pattern[jj])] += e[static_cast<std::size_t>(t - t0)];
       }
       combine_sums(P, S.data(), out);
-      ps.err += (out - P.Y.row(i)).squaredNorm();
-      ps.correct += detail::argmax(out) == P.label[ui] ? 1 : 0;
+      score(P, i, out, ps);
       if (outputs) outputs->row(P.to_orig[ui]) = out;
     }
     parts[static_cast<std::size_t>(b)] = ps;
@@ -229,26 +248,6 @@ void load_row(const Prepared& P, const double* d, Index i, RowState& s) {
     }
   s.self_delta = d[i] - s.mf;
   s.self_pat = P.pattern[static_cast<std::size_t>(i)];
-}
-
-// S[p] = Σ of e over pattern run p. O(N), vectorized.
-void run_sums(const Prepared& P, const ArrayXd& e, double* S) {
-  const Index np = P.patterns.rows();
-  for (Index p = 0; p < np; ++p) {
-    const Index a = P.pstart[static_cast<std::size_t>(p)];
-    S[p] = e.segment(a, P.pstart[static_cast<std::size_t>(p) + 1] - a).sum();
-  }
-}
-
-// Σ_p S_p·pattern_p / Σ_p S_p, skipping zero weights (same order as combine()). O(P·K).
-void combine_sums(const Prepared& P, const double* S, Eigen::RowVectorXd& out) {
-  out.setZero();
-  double tot = 0;
-  for (Index p = 0; p < P.patterns.rows(); ++p) {
-    if (S[p] != 0.0) out.noalias() += S[p] * P.patterns.row(p);
-    tot += S[p];
-  }
-  out /= tot;
 }
 
 // Power sums over one pattern run [a, b) in ONE sweep: out[t·stride] = Σ_j x_j(t) for t < steps,
@@ -319,25 +318,29 @@ void power_sums(const double* e, const double* rr, Index a, Index b, Index steps
   }
 }
 
-// e = exp(−δ·u) with values below tol::kSimilarityFloor set to 0 (simd.hpp). O(N).
-void exp_floored(const ArrayXd& delta, double u, ArrayXd& e) {
-  e.resize(delta.size());
-  detail::exp_neg_scaled(delta.data(), u, tol::kSimilarityFloor, e.data(), delta.size());
+// Sibling run sums at u: O(|G|) exps.
+void sibling_sums(const RowState& s, double u, double* Sg, Index np, std::vector<double>& sib) {
+  std::fill(Sg, Sg + np, 0.0);
+  sib.resize(s.gdelta.size());
+  detail::exp_neg_scaled(s.gdelta.data(), u, tol::kSimilarityFloor, sib.data(), static_cast<Index>(sib.size()));
+  for (std::size_t t = 0; t < sib.size(); ++t) Sg[s.gpat[t]] += sib[t];
 }
 
-// Scores row i's prediction `out` into ps.
-void score(const Prepared& P, Index i, const Eigen::RowVectorXd& out, PartialSums& ps) {
-  ps.err += (out - P.Y.row(i)).squaredNorm();
-  ps.correct += detail::argmax(out) == P.label[static_cast<std::size_t>(i)] ? 1 : 0;
+// Vector-out run sums at u: the other groups' sums S (shift m_p) rescaled to the shift m_v, plus
+// the siblings' sums Sg (shift m_v). O(P).
+void vector_sums(double mp, double mv, double u, const double* S, const double* Sg, Index np, double* T) {
+  const double f = std::exp(-(mp - mv) * u);
+  for (Index p = 0; p < np; ++p) T[p] = S[p] * f + Sg[p];
 }
 
 // Part-out and vector-out predictions of row i at the inverse widths u[0..nu), given the
-// other-group sums Sng (nu×P, shift m_p); adds the siblings' scalar exps. O(nu·(|G| + P·K)).
+// other-group sums Sng (nu×P, shift m_p); adds the siblings' exps. O(nu·(|G| + P·K)).
 void score_modes(const Prepared& P, const RowState& s, Index i, const double* u, Index nu, const double* Sng,
-                 PartialSums* ps_part, PartialSums* ps_vector, Eigen::RowVectorXd& out, std::vector<double>& tmp) {
+                 PartialSums* ps_part, PartialSums* ps_vector, Eigen::RowVectorXd& out, std::vector<double>& tmp,
+                 std::vector<double>& sib) {
   const Index np = P.patterns.rows();
-  tmp.resize(static_cast<std::size_t>(np) + s.gdelta.size());
-  const std::span<double> sib(tmp.data() + np, s.gdelta.size());  // the siblings' similarities
+  tmp.resize(2 * static_cast<std::size_t>(np));
+  double* const Sg = tmp.data() + np;  // the siblings' run sums
   for (Index k = 0; k < nu; ++k) {
     const double* S = Sng + k * np;
     if (ps_part) {
@@ -345,10 +348,8 @@ void score_modes(const Prepared& P, const RowState& s, Index i, const double* u,
       score(P, i, out, ps_part[k]);
     }
     if (ps_vector) {
-      const double f = std::exp(-(s.mp - s.mv) * u[k]);
-      for (Index p = 0; p < np; ++p) tmp[static_cast<std::size_t>(p)] = S[p] * f;
-      detail::exp_neg_scaled(s.gdelta.data(), u[k], tol::kSimilarityFloor, sib.data(), static_cast<Index>(sib.size()));
-      for (std::size_t t = 0; t < sib.size(); ++t) tmp[static_cast<std::size_t>(s.gpat[t])] += sib[t];
+      sibling_sums(s, u[k], Sg, np, sib);
+      vector_sums(s.mp, s.mv, u[k], S, Sg, np, tmp.data());
       combine_sums(P, tmp.data(), out);
       score(P, i, out, ps_vector[k]);
     }
@@ -372,8 +373,7 @@ void final_row(const Prepared& P, const RowShifts& s, double u, const double* S,
   const Index np = P.patterns.rows();
   T.resize(static_cast<std::size_t>(np));
   combine_sums(P, S, part);
-  const double fv = std::exp(-(s.mp - s.mv) * u);
-  for (Index p = 0; p < np; ++p) T[static_cast<std::size_t>(p)] = S[p] * fv + Sg[p];
+  vector_sums(s.mp, s.mv, u, S, Sg, np, T.data());
   combine_sums(P, T.data(), vec);
   const double ff = std::exp(-(s.mp - s.mf) * u), fg = std::exp(-(s.mv - s.mf) * u);
   for (Index p = 0; p < np; ++p) T[static_cast<std::size_t>(p)] = S[p] * ff + Sg[p] * fg;
@@ -382,14 +382,6 @@ void final_row(const Prepared& P, const RowShifts& s, double u, const double* S,
 }
 
 RowShifts shifts_of(const RowState& s) { return {s.mp, s.mv, s.mf, s.self_delta, s.self_pat}; }
-
-// Sibling run sums at u: O(|G|) exps.
-void sibling_sums(const RowState& s, double u, double* Sg, Index np, std::vector<double>& sib) {
-  std::fill(Sg, Sg + np, 0.0);
-  sib.resize(s.gdelta.size());
-  detail::exp_neg_scaled(s.gdelta.data(), u, tol::kSimilarityFloor, sib.data(), static_cast<Index>(sib.size()));
-  for (std::size_t t = 0; t < sib.size(); ++t) Sg[s.gpat[t]] += sib[t];
-}
 
 // Row sums kept from a grid pass for one spec, so that the outputs at any of its points need no
 // further pass: N·points·2P doubles.
@@ -444,19 +436,15 @@ void grid_row(const Prepared& P, const RowState& s, Index i, const std::vector<G
     }
     PartialSums* q = parts[g][static_cast<std::size_t>(b)].data();
     score_modes(P, s, i, B.u.data(), sp.points, B.S.data(), sp.mode == kPart ? q : nullptr,
-                sp.mode == kVector ? q : nullptr, out, B.tmp);
+                sp.mode == kVector ? q : nullptr, out, B.tmp, B.sib);
   }
 }
 
-std::vector<std::vector<Figures>> grid_results(const std::vector<std::vector<std::vector<PartialSums>>>& parts,
+std::vector<std::vector<Figures>> grid_results(const GridParts& parts,
                                                const std::vector<GridSpec>& specs, Index n, Index k) {
   std::vector<std::vector<Figures>> res(specs.size());
   for (std::size_t g = 0; g < specs.size(); ++g)
-    for (Index t = 0; t < specs[g].points; ++t) {
-      std::vector<PartialSums> col(parts[g].size());
-      for (std::size_t b = 0; b < col.size(); ++b) col[b] = parts[g][b][static_cast<std::size_t>(t)];
-      res[g].push_back(finish(col, n, k));
-    }
+    for (Index t = 0; t < specs[g].points; ++t) res[g].push_back(finish_slot(parts[g], static_cast<std::size_t>(t), n, k));
   return res;
 }
 
@@ -533,15 +521,14 @@ void final_pass(const Prepared& P, double alpha, int chosen, Index block_rows, F
 
 // Median nonzero d² over all pairs (N(N−1)/2 ≤ 65,536) or 65,536 pairs from a fixed splitmix64
 // sequence. O(pairs·D).
-double d2_scale(const detail::RowMatrixXd& Xrows) {
-  const MatrixXd X = Xrows.transpose();  // D×N: one vector per contiguous column
-  const Index n = Xrows.rows();
+double d2_scale(const detail::RowMatrixXd& X) {  // row-major: one vector per contiguous row
+  const Index n = X.rows();
   std::vector<double> v;
   const std::uint64_t all = static_cast<std::uint64_t>(n) * static_cast<std::uint64_t>(n - 1) / 2;
   constexpr std::uint64_t kMaxPairs = 65536;
   if (all <= kMaxPairs) {
     for (Index i = 0; i < n; ++i)
-      for (Index j = i + 1; j < n; ++j) v.push_back((X.col(i) - X.col(j)).squaredNorm());
+      for (Index j = i + 1; j < n; ++j) v.push_back((X.row(i) - X.row(j)).squaredNorm());
   } else {
     std::uint64_t state = 0x6d696c6c6e6574ULL;  // fixed seed: "millnet"
     auto next = [&state]() {
@@ -555,7 +542,7 @@ double d2_scale(const detail::RowMatrixXd& Xrows) {
       const auto i = static_cast<Index>(next() % un);
       auto j = static_cast<Index>(next() % (un - 1));
       if (j >= i) ++j;
-      v.push_back((X.col(i) - X.col(j)).squaredNorm());
+      v.push_back((X.row(i) - X.row(j)).squaredNorm());
     }
   }
   v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !(x > 0.0); }), v.end());
@@ -763,7 +750,7 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
   // square and an add per pair and candidate): O(N·(q + C)).
   struct ScanBuffers {
     ArrayXd e;
-    std::vector<double> Sng, tmp;
+    std::vector<double> Sng, tmp, sib;
     std::vector<Lane> acc;
   };
   const auto scan_row = [&](const RowState& s, Index i, PartialSums* sums, ScanBuffers& B, Eigen::RowVectorXd& out) {
@@ -775,7 +762,7 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
         power_sums<true>(B.e.data(), nullptr, P.pstart[static_cast<std::size_t>(p)],
                          P.pstart[static_cast<std::size_t>(p) + 1], steps, B.Sng.data() + r * np + p, q * np, B.acc);
     }
-    score_modes(P, s, i, uscan.data(), nc, B.Sng.data(), sums, same_modes ? nullptr : sums + unc, out, B.tmp);
+    score_modes(P, s, i, uscan.data(), nc, B.Sng.data(), sums, same_modes ? nullptr : sums + unc, out, B.tmp, B.sib);
   };
   const auto best_of = [&](const std::vector<Figures>& f) {  // ties → smaller α
     Index best = 0;
@@ -866,11 +853,7 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
     for (int mode : {kPart, kVector}) {
       if (mode == kVector && same_modes) continue;
       std::vector<Figures> f(unc);
-      for (std::size_t k = 0; k < unc; ++k) {
-        std::vector<PartialSums> col(static_cast<std::size_t>(nbq));
-        for (std::size_t b = 0; b < col.size(); ++b) col[b] = pre[b][static_cast<std::size_t>(mode) * unc + k];
-        f[k] = finish(col, m, kout);
-      }
+      for (std::size_t k = 0; k < unc; ++k) f[k] = finish_slot(pre, static_cast<std::size_t>(mode) * unc + k, m, kout);
       const Index best = best_of(f);
       // The refinement will run on the cache if it covers the bracket for every row: skip the
       // grid when the pre-scanned rows say it will, with a factor 2 to spare for the rows not
@@ -901,7 +884,7 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
       load_row(P, D2.col(c).data(), i, s);
       C.m[kPart][ui] = s.mp;
       C.m[kVector][ui] = s.mv;
-      C.m[kFiltration][ui] = d.minCoeff();
+      C.m[kFiltration][ui] = s.mf;  // load_row's minimum over the whole row
       scan_row(s, i, sums.data(), B, out);
       if (!spec_specs.empty()) grid_row(P, s, i, spec_specs, spec_stores, spec_parts, b, GB, out);
       // R nearest (self and siblings included), in ascending j: expected O(N).
@@ -941,11 +924,7 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
   std::vector<Figures> fig[2];
   for (int mode : {kPart, kVector}) {
     fig[mode].resize(unc);
-    for (std::size_t k = 0; k < unc; ++k) {
-      std::vector<PartialSums> col(static_cast<std::size_t>(nb));
-      for (std::size_t b = 0; b < static_cast<std::size_t>(nb); ++b) col[b] = scan[b][static_cast<std::size_t>(mode) * unc + k];
-      fig[mode][k] = finish(col, n, kout);
-    }
+    for (std::size_t k = 0; k < unc; ++k) fig[mode][k] = finish_slot(scan, static_cast<std::size_t>(mode) * unc + k, n, kout);
   }
   if (same_modes) fig[kVector] = fig[kPart];
   for (Index k = nc - 1; k >= 0; --k) {
