@@ -6,7 +6,6 @@
 
 #include "millnet/core/atomic_file.hpp"
 
-#include <iomanip>
 #include <sstream>
 
 namespace millnet::app {

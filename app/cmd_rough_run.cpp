@@ -12,7 +12,6 @@
 #include "millnet/ingest/mesh_io.hpp"
 
 #include <chrono>
-#include <iomanip>
 #include <iostream>
 #include <sstream>
 
@@ -21,7 +20,6 @@ namespace fs = std::filesystem;
 
 namespace {
 const std::vector<std::string> kMeshExt = {".stl", ".obj", ".ply", ".off", ".3mf", ".gltf", ".glb", ".xyz", ".pts", ".asc"};
-
 
 struct RoughOutcome {
   std::string name, file, error;

@@ -39,7 +39,6 @@ std::string strategy_name(const std::vector<std::string>& names, int slot) {
                                                                        : std::string("?");
 }
 
-
 }  // namespace
 
 datasets::Recipe recipe_from_config(const Json& config) {

@@ -186,17 +186,16 @@ void write_pocket_outputs(const fs::path& dir, const std::string& stem, const po
   }
   write_file_atomic(dir / (stem + ".feed.csv"), feed.str());
   std::vector<std::pair<std::string, std::string>> block;
-  const auto fmt = fixed;
   block.emplace_back("planner", metrics["planner"].get<std::string>());
-  block.emplace_back("tool points", fmt(m.metrics.tool_points, 0));
-  block.emplace_back("cut length", fmt(m.metrics.cut_length_mm, 0) + " mm");
-  block.emplace_back("rapid length", fmt(m.metrics.rapid_length_mm, 0) + " mm");
-  block.emplace_back("retractions", fmt(m.metrics.retractions, 0));
-  block.emplace_back("time (adjusted feed)", fmt(m.metrics.time_adjusted_min, 1) + " min");
-  block.emplace_back("time (constant feed)", fmt(m.metrics.time_constant_min, 1) + " min");
+  block.emplace_back("tool points", fixed(m.metrics.tool_points, 0));
+  block.emplace_back("cut length", fixed(m.metrics.cut_length_mm, 0) + " mm");
+  block.emplace_back("rapid length", fixed(m.metrics.rapid_length_mm, 0) + " mm");
+  block.emplace_back("retractions", fixed(m.metrics.retractions, 0));
+  block.emplace_back("time (adjusted feed)", fixed(m.metrics.time_adjusted_min, 1) + " min");
+  block.emplace_back("time (constant feed)", fixed(m.metrics.time_constant_min, 1) + " min");
   (void)report::pocket_path_png(dir / (stem + ".png"), region, plan.tool_points.pts, m.path,
                                 stem + " - " + metrics["planner"].get<std::string>() + ", tool D" +
-                                    fmt(cut.tool_diameter, 1) + ", stepover " + fmt(cut.stepover, 1),
+                                    fixed(cut.tool_diameter, 1) + ", stepover " + fixed(cut.stepover, 1),
                                 block);
   if (s.size() >= 2) {
     (void)report::profile_png(dir / (stem + ".feed.png"), s,

@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <sstream>
 
 namespace millnet::app {
 namespace fs = std::filesystem;
@@ -77,7 +76,6 @@ std::vector<pocket::Region> level_regions(const std::vector<ingest::ContourLoop>
   }
   return out;
 }
-
 
 }  // namespace
 
