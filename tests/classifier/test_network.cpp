@@ -85,6 +85,27 @@ bool bitwise_equal(const MatrixXd& a, const MatrixXd& b) {
          std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())) == 0;
 }
 
+// The same search with and without a pre-scan (or any other route to the same figures): every
+// reported α, figure and output bit for bit.
+void expect_same_bits(const LooReport& a, const LooReport& b) {
+  EXPECT_EQ(std::memcmp(&a.alpha, &b.alpha, sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(&a.part.alpha, &b.part.alpha, sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(&a.part.rms, &b.part.rms, sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(&a.vector.alpha, &b.vector.alpha, sizeof(double)), 0);
+  EXPECT_TRUE(bitwise_equal(a.verification, b.verification));
+  EXPECT_TRUE(bitwise_equal(a.filtration, b.filtration));
+}
+
+// Each mode's refined optimum: its figure is the reference's at its α, and no scan point is better.
+void expect_optima_match_reference(const LooReport& rep, const MatrixXd& Xn, const Synthetic& s) {
+  for (const ModeOptimum* o : {&rep.part, &rep.vector}) {
+    const int om = o == &rep.part ? 0 : 1;
+    const double ro = rms_error(reference_outputs(Xn, s.Y, s.groups, o->alpha, om), s.Y);
+    EXPECT_NEAR(o->rms, ro, 1e-12 * std::max(1.0, ro)) << "mode " << om;
+    for (const auto& p : rep.curve) EXPECT_LE(o->rms, (om == 0 ? p.rms_part : p.rms_vector) + 1e-12);
+  }
+}
+
 }  // namespace
 
 TEST(Normalizer, HandComputedMeanStdAndConstantColumn) {
@@ -354,11 +375,7 @@ TEST(Loo, GridRefinementWithoutCacheIsExactAndTakesAtMostThreePasses) {
     prm.prescan_stride = 2;
     const LooReport pre = select_alpha(Xn, s.Y, s.groups, prm);
     EXPECT_LE(pre.full_passes, rep.full_passes);
-    EXPECT_EQ(std::memcmp(&pre.alpha, &rep.alpha, sizeof(double)), 0);
-    EXPECT_EQ(std::memcmp(&pre.part.rms, &rep.part.rms, sizeof(double)), 0);
-    EXPECT_EQ(std::memcmp(&pre.vector.alpha, &rep.vector.alpha, sizeof(double)), 0);
-    EXPECT_TRUE(bitwise_equal(pre.verification, rep.verification));
-    EXPECT_TRUE(bitwise_equal(pre.filtration, rep.filtration));
+    expect_same_bits(pre, rep);
     EXPECT_FALSE(rep.neighbour_cache_used);
     EXPECT_LE(rep.full_passes, 3);
     EXPECT_GE(rep.part.refine_evaluations, 3);
@@ -371,13 +388,7 @@ TEST(Loo, GridRefinementWithoutCacheIsExactAndTakesAtMostThreePasses) {
     const double rv = rms_error(reference_outputs(Xn, s.Y, s.groups, rep.alpha, 1), s.Y);
     EXPECT_NEAR(rep.rms_part_at_alpha, rp, 1e-12 * std::max(1.0, rp));
     EXPECT_NEAR(rep.rms_vector_at_alpha, rv, 1e-12 * std::max(1.0, rv));
-    // each mode's refined optimum: its figure is the reference's at its α, and no scan point is better
-    for (const ModeOptimum* o : {&rep.part, &rep.vector}) {
-      const int om = o == &rep.part ? 0 : 1;
-      const double ro = rms_error(reference_outputs(Xn, s.Y, s.groups, o->alpha, om), s.Y);
-      EXPECT_NEAR(o->rms, ro, 1e-12 * std::max(1.0, ro)) << "mode " << om;
-      for (const auto& p : rep.curve) EXPECT_LE(o->rms, (om == 0 ? p.rms_part : p.rms_vector) + 1e-12);
-    }
+    expect_optima_match_reference(rep, Xn, s);
   }
 }
 
@@ -395,18 +406,10 @@ TEST(Loo, SampledNeighbourCutAndPrescanPredictionsKeepEveryBit) {
   prm.prescan_stride = 4;
   const LooReport pre = select_alpha(Xn, s.Y, s.groups, prm);
   EXPECT_LE(pre.full_passes, plain.full_passes);
-  EXPECT_EQ(std::memcmp(&pre.alpha, &plain.alpha, sizeof(double)), 0);
-  EXPECT_EQ(std::memcmp(&pre.part.alpha, &plain.part.alpha, sizeof(double)), 0);
-  EXPECT_EQ(std::memcmp(&pre.vector.alpha, &plain.vector.alpha, sizeof(double)), 0);
-  EXPECT_TRUE(bitwise_equal(pre.verification, plain.verification));
-  EXPECT_TRUE(bitwise_equal(pre.filtration, plain.filtration));
+  expect_same_bits(pre, plain);
   const MatrixXd ver = reference_outputs(Xn, s.Y, s.groups, pre.alpha, 0);
   const MatrixXd fil = reference_outputs(Xn, s.Y, s.groups, pre.alpha, 2);
   EXPECT_LT((ver - pre.verification).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_LT((fil - pre.filtration).cwiseAbs().maxCoeff(), 1e-12);
-  for (const ModeOptimum* o : {&pre.part, &pre.vector}) {
-    const int om = o == &pre.part ? 0 : 1;
-    const double ro = rms_error(reference_outputs(Xn, s.Y, s.groups, o->alpha, om), s.Y);
-    EXPECT_NEAR(o->rms, ro, 1e-12 * std::max(1.0, ro)) << "mode " << om;
-  }
+  expect_optima_match_reference(pre, Xn, s);
 }
