@@ -18,7 +18,6 @@ using ClipperLib::cInt;
 constexpr double kScale = 1.0 / tol::clipper_resolution_mm;
 
 ClipperLib::Path to_path(const std::vector<Vec2>& pts) { return clipper_bridge::to_path(pts, kScale); }
-double path_area(const std::vector<Vec2>& pts) { return clipper_bridge::ring_area(pts); }
 void collect(const ClipperLib::PolyNode& node, std::vector<PolyArea>& out) { clipper_bridge::collect(node, out, kScale); }
 
 ClipperLib::Paths to_paths(const std::vector<PolyArea>& areas) {
@@ -89,8 +88,8 @@ std::vector<PolyArea> difference(const std::vector<PolyArea>& a, const std::vect
 }
 
 double area(const PolyArea& a) {
-  double s = std::abs(path_area(a.outer));
-  for (const auto& h : a.holes) s -= std::abs(path_area(h));
+  double s = std::abs(clipper_bridge::ring_area(a.outer));
+  for (const auto& h : a.holes) s -= std::abs(clipper_bridge::ring_area(h));
   return s;
 }
 

@@ -25,8 +25,6 @@ constexpr double kScale = 1e5;
 constexpr double kTiny = 1e-9;  // mm, strictness margin of ray contacts
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-double ring_area(const std::vector<Vec2>& pts) { return clipper_bridge::ring_area(pts); }
-
 /// Extrema of one loop by hysteresis (O(n)): a reversal of the y-direction counts only once y has
 /// moved more than tol::srp_flat_mm away from the running extreme, so flat tops, Clipper rounding
 /// and flattened arcs give one extremum each.
@@ -71,7 +69,7 @@ void loop_extrema(const std::vector<Vec2>& ring, int component, int loop, bool r
       xmax = std::max(xmax, at(k).x());
     }
     poly.push_back(at(hi + 1));
-    const bool reflex = ring_area(poly) < 0;
+    const bool reflex = clipper_bridge::ring_area(poly) < 0;
     if (reflex_only && !reflex) continue;  // convex extreme: not an SRP
     Srp s;
     s.p = at(off);
