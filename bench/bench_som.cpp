@@ -8,7 +8,6 @@
 #include "millnet/pocket/pocket_io.hpp"
 
 #include <cmath>
-#include <fstream>
 
 namespace mp = millnet::pocket;
 
