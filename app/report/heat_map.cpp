@@ -117,6 +117,17 @@ Layout heat_map_png(const std::filesystem::path& path, const Eigen::MatrixXd& gr
     style.y_target = ny <= 20 ? static_cast<int>(ny) : 8;
   }
   draw_axes(img, x, y, xl, yl, style);
+  if (opt.extent_mm && (!opt.overlay_cuts.empty() || !opt.overlay_rapids.empty())) {
+    // O(overlay points). Cuts in white over a thin black line so they read on every colour.
+    auto to_px = [&](const std::vector<std::array<double, 2>>& pl) {
+      std::vector<cv::Point2d> px;
+      px.reserve(pl.size());
+      for (const auto& p : pl) px.emplace_back(x.to_px(p[0]), y.to_px(p[1]));
+      return px;
+    };
+    for (const auto& pl : opt.overlay_rapids) dashed_polyline(img, to_px(pl), cv::Scalar(60, 60, 230), 1, 6, 4);
+    for (const auto& pl : opt.overlay_cuts) polyline(img, to_px(pl), kWhite, 1);
+  }
   colour_bar(img, left + plot_w + 36, top, 26, top + plot_h, lo, hi, units, &viridis);
   write_png(path, img);
   return make_layout(img, x, y);

@@ -61,6 +61,10 @@ struct HeatMapOptions {
   std::optional<std::array<double, 4>> extent_mm;
   /// Colour range; default = [min, max] of the grid.
   std::optional<std::pair<double, double>> value_range;
+  /// Tool paths drawn over the map (needs extent_mm; points in mm): cutting moves as solid lines,
+  /// rapids dashed. Empty by default (the plain heat map is unchanged).
+  std::vector<std::vector<std::array<double, 2>>> overlay_cuts;
+  std::vector<std::vector<std::array<double, 2>>> overlay_rapids;
 };
 
 /// Heat map of `grid` (rows = y, cols = x; row 0 = smallest y, drawn at the BOTTOM; col 0 = smallest
