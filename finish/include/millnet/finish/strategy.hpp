@@ -1,0 +1,92 @@
+#pragma once
+// The five finishing strategies of Korosec & Kopac §3 (the network's output slots 1..5) as real
+// cutter-location paths on a part's mesh (ARCHITECTURE.md, finish/). How millnet reads each slot:
+//
+//   1  profile + Z finishing, slope mode: where the surface under the contact point is shallower
+//      than the boundary angle, the raster of 2; where it is steeper, the Z-levels of 4; the two
+//      overlap by tol::slope_overlap_deg so that no band between them is left uncut.
+//   2  3D finishing, parallel (raster): passes at constant XY stepover p_f, at raster_angle_deg to
+//      X, zigzag; points placed adaptively along each pass (chord deviation ≤ chord tolerance).
+//   3  profile finishing, scallop-height mode: the raster of 2 whose pass spacing adapts so that
+//      the 3D distance between neighbouring passes keeps the ball's scallop ≤ scallop_mm on slopes
+//      too (extra passes where the slope across the passes needs them).
+//   4  Z-level finishing (waterline): closed contours of constant Z every a_a, where the cutter
+//      touches the part; contour points refined with the drop-cutter to the chord tolerance;
+//      climb milling (material on the right), top-down per island, fewest lifts.
+//   5  profile finishing, equidistant, constant in-feed: passes a constant 3D distance p_f apart
+//      on the surface: level sets of the surface distance from the machining boundary, computed
+//      by fast marching on the cutter-location height field (speed 1/√(1+|∇z|²)).
+//
+// Frame: the mesh is prepared (mm, +Z up); the program's Z = mesh z + z_shift (the caller puts
+// Z = 0 at the stock top). Every CL point comes from the drop-cutter (the path never goes below
+// it); straight feed moves between CL points never dip below the CL surface by more than
+// tol::chord_below_mm; links between passes follow the surface (stay down) when short and clear,
+// otherwise lift to the highest CL point under the link plus clearance_mm (a "lift").
+// Spare slots 6–8 are unnamed: adding a strategy is one function and one registry line
+// (finish/src/strategy.cpp).
+#include "millnet/finish/cutter.hpp"
+#include "millnet/finish/dropcutter.hpp"
+#include "millnet/gcode/program.hpp"
+
+#include <Eigen/Core>
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace millnet::finish {
+
+enum class Strategy : int { SlopeMode = 1, Raster = 2, ScallopMode = 3, Waterline = 4, Equidistant = 5 };
+
+/// "1".."5"; throws millnet::Error naming the accepted values.
+[[nodiscard]] Strategy parse_strategy(std::string_view s);
+/// The paper's name of the slot, e.g. "2 3D finishing (parallel)".
+[[nodiscard]] std::string strategy_name(Strategy s);
+/// All five, in slot order.
+[[nodiscard]] std::vector<Strategy> all_strategies();
+
+struct FinishParams {
+  Cutter tool = Cutter::ball(2);
+  double stepover_mm = 0.2;          ///< p_f: XY pass distance (2, 1), 3D distance (5), start value (3)
+  double step_down_mm = 0.04;        ///< a_a: Z-level step (4, 1)
+  double chord_tolerance_mm = 0.005; ///< CL path vs straight chord, above the surface
+  double boundary_angle_deg = 30;    ///< slope mode split
+  double scallop_mm = 0.005;         ///< scallop-height mode target
+  double raster_angle_deg = 0;       ///< pass direction, degrees from +X
+  double feed_mm_min = 1900;
+  double plunge_feed_mm_min = 600;
+  double spindle_rpm = 18000;
+  double safe_z_mm = 5;              ///< program Z of rapids at start and end (above the stock top)
+  double clearance_mm = 1;           ///< lifts clear the highest CL point under a link by this
+  double z_shift = 0;                ///< program Z = mesh z + z_shift
+  /// Machining boundary (XY box of tool-axis positions, mesh frame); empty ⇒ the part's footprint.
+  double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  std::string program_name;          ///< first header comment
+  std::vector<std::string> comments; ///< further header comments
+  /// Throws millnet::Error naming the parameter (zero stepover, step-down 0, non-finite …).
+  void check() const;
+};
+
+/// One cutting pass: CL points in the mesh frame, cut in order.
+struct Pass {
+  std::vector<Eigen::Vector3d> points;
+  bool closed = false;               ///< waterline / equidistant loop (last point = first point)
+};
+
+struct FinishPlan {
+  Strategy strategy = Strategy::Raster;
+  std::vector<Pass> passes;          ///< in machining order
+  gcode::Program program;            ///< passes linked, in the program frame
+  double path_length_mm = 0;         ///< 3D length of feed moves (cuts and stay-down links)
+  std::size_t lifts = 0;             ///< links that retract (rapid over, plunge back)
+  std::size_t cl_points = 0;         ///< CL points in the program
+  std::size_t drops = 0;             ///< drop-cutter queries spent
+};
+
+/// The strategy's passes on the part (mesh prepared, the drop-cutter built on it with the tool),
+/// linked into a program. Throws millnet::Error on bad parameters or when the cutter is larger
+/// than the machining boundary.
+[[nodiscard]] FinishPlan plan_finish(const ingest::Mesh& mesh, const DropCutter& dropper, Strategy strategy,
+                                     const FinishParams& params);
+
+}  // namespace millnet::finish

@@ -1,0 +1,38 @@
+#pragma once
+// Named tolerances of the finishing strategies. Lengths in mm, angles in degrees.
+namespace millnet::finish::tol {
+
+/// A straight feed move may pass below the CL surface between its end points by at most this
+/// (the simulator calls −0.002 mm a gouge; this keeps the path clear of it).
+inline constexpr double chord_below_mm = 0.001;
+
+/// Along a raster pass, CL points are first dropped this far apart (at most a quarter of the
+/// cutter radius), then intervals are halved where the chord tests fail.
+inline constexpr double initial_sample_mm = 0.1;
+
+/// Adaptive halving stops at this interval length.
+inline constexpr double min_sample_mm = 0.002;
+
+/// Grid of CL heights that seeds the waterline contours (at most half the cutter radius); contour
+/// points are then refined with the drop-cutter to the chord tolerance.
+inline constexpr double waterline_grid_mm = 0.25;
+
+/// Grid of the fast-marching surface distance of the equidistant strategy (at most p_f / 2).
+inline constexpr double equidistant_grid_mm = 0.1;
+
+/// Slope mode: raster keeps points shallower than boundary + this, Z-level points steeper than
+/// boundary − this, so the two bands overlap.
+inline constexpr double slope_overlap_deg = 2.0;
+
+/// Scallop-height mode: passes never come closer than p_f times this (a vertical wall along the
+/// passes would otherwise ask for infinitely many).
+inline constexpr double scallop_min_spacing_rel = 0.1;
+
+/// Links up to this XY length (times the cutter diameter, plus 4 p_f) follow the surface at feed
+/// instead of lifting.
+inline constexpr double stay_down_link_diameters = 2.0;
+
+/// Passes (and pieces of passes) shorter than this are dropped.
+inline constexpr double min_pass_mm = 0.01;
+
+}  // namespace millnet::finish::tol

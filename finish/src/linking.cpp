@@ -1,0 +1,105 @@
+// Passes → one program: the start at safe Z, stay-down links where short (they follow the CL
+// surface at feed, so they cannot gouge), lifts elsewhere (up to the highest CL point under the
+// link plus the clearance, across at rapid, down at rapid to the clearance, plunge at the plunge
+// feed), the end at safe Z.
+#include "sampling.hpp"
+
+#include "millnet/finish/tolerances.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace millnet::finish::detail {
+namespace {
+
+class Builder {
+public:
+  Builder(const FinishParams& p, FinishPlan& plan) : p_(p), plan_(plan) {}
+
+  void rapid(double x, double y, double z, std::uint8_t axes) {
+    gcode::Move m;
+    m.motion = gcode::Motion::Rapid;
+    m.to = {x, y, z + p_.z_shift};
+    m.axes = axes;
+    push(m);
+  }
+  void rapid_z_abs(double z_prog) {  // a program Z (safe Z)
+    gcode::Move m;
+    m.motion = gcode::Motion::Rapid;
+    m.to = {at_[0], at_[1], z_prog};
+    m.axes = gcode::kZ;
+    push(m);
+  }
+  void line(const Eigen::Vector3d& q, double feed) {
+    gcode::Move m;
+    m.motion = gcode::Motion::Line;
+    m.to = {q.x(), q.y(), q.z() + p_.z_shift};
+    m.feed = feed;
+    m.axes = gcode::kXYZ;
+    const double len = std::sqrt((m.to[0] - at_[0]) * (m.to[0] - at_[0]) + (m.to[1] - at_[1]) * (m.to[1] - at_[1]) +
+                                 (m.to[2] - at_[2]) * (m.to[2] - at_[2]));
+    if (len < 1e-9) return;  // nothing to move
+    plan_.path_length_mm += len;
+    ++plan_.cl_points;
+    push(m);
+  }
+
+private:
+  void push(const gcode::Move& m) {
+    at_ = m.to;
+    plan_.program.items.emplace_back(m);
+  }
+  const FinishParams& p_;
+  FinishPlan& plan_;
+  gcode::Point3 at_{0, 0, 0};
+};
+
+}  // namespace
+
+void link_passes(const Sampler& s, const FinishParams& p, FinishPlan& plan) {
+  auto& prog = plan.program;
+  if (!p.program_name.empty()) prog.header.push_back(p.program_name);
+  for (const auto& c : p.comments) prog.header.push_back(c);
+  prog.items.emplace_back(gcode::Comment{strategy_name(plan.strategy) + ", " + p.tool.describe()});
+  prog.items.emplace_back(gcode::Spindle{gcode::SpindleDir::CW, p.spindle_rpm});
+  Builder b(p, plan);
+  b.rapid_z_abs(p.safe_z_mm);
+  const double h0 = std::min(tol::initial_sample_mm, s.cutter().radius() / 4);
+  const double stay_max = p.tool.diameter * tol::stay_down_link_diameters + 4 * p.stepover_mm;
+  const Eigen::Vector3d* prev = nullptr;
+  for (const Pass& pass : plan.passes) {
+    if (pass.points.size() < 2) continue;
+    const Eigen::Vector3d& start = pass.points.front();
+    if (prev == nullptr) {
+      b.rapid(start.x(), start.y(), p.safe_z_mm - p.z_shift, gcode::kX | gcode::kY);
+      b.rapid(start.x(), start.y(), start.z() + p.clearance_mm, gcode::kZ);
+      b.line(start, p.plunge_feed_mm_min);
+    } else {
+      const double d = (start.head<2>() - prev->head<2>()).norm();
+      if (d <= stay_max) {
+        const auto link = sample_segment(s, prev->head<2>(), start.head<2>(), h0, p.chord_tolerance_mm);
+        for (std::size_t i = 1; i + 1 < link.size(); ++i) b.line(link[i].p, p.feed_mm_min);
+        b.line(start, p.feed_mm_min);
+      } else {
+        double top = std::max(prev->z(), start.z());
+        const auto n = static_cast<int>(std::ceil(d / h0));
+        for (int i = 1; i < n; ++i) {
+          const Eigen::Vector2d q = prev->head<2>() + (start.head<2>() - prev->head<2>()) * (i / double(n));
+          top = std::max(top, s.z(q.x(), q.y()));
+        }
+        const double lift = std::min(top + p.clearance_mm, p.safe_z_mm - p.z_shift);
+        b.rapid(prev->x(), prev->y(), lift, gcode::kZ);
+        b.rapid(start.x(), start.y(), lift, gcode::kX | gcode::kY);
+        if (start.z() + p.clearance_mm < lift) b.rapid(start.x(), start.y(), start.z() + p.clearance_mm, gcode::kZ);
+        b.line(start, p.plunge_feed_mm_min);
+        ++plan.lifts;
+      }
+    }
+    for (std::size_t i = 1; i < pass.points.size(); ++i) b.line(pass.points[i], p.feed_mm_min);
+    prev = &pass.points.back();
+  }
+  b.rapid_z_abs(p.safe_z_mm);
+  prog.items.emplace_back(gcode::Spindle{gcode::SpindleDir::Off, 0});
+}
+
+}  // namespace millnet::finish::detail

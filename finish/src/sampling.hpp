@@ -1,0 +1,106 @@
+#pragma once
+// Internal to finish/: CL sampling shared by the strategies (drop-cutter with a floor, adaptive
+// sampling of a straight XY segment, one-sided simplification, the surface slope at a contact).
+#include "millnet/finish/dropcutter.hpp"
+#include "millnet/finish/strategy.hpp"
+#include "millnet/finish/tolerances.hpp"
+
+#include <Eigen/Core>
+
+#include <atomic>
+#include <cstddef>
+#include <vector>
+
+namespace millnet::finish::detail {
+
+/// A CL point with the slope of the surface under its contact (degrees from horizontal).
+struct Sample {
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  double slope_deg = 0;
+};
+
+/// The machining box of tool-axis positions (mesh frame).
+struct Box {
+  double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  [[nodiscard]] bool contains(double x, double y) const { return x >= x0 && x <= x1 && y >= y0 && y <= y1; }
+};
+
+/// The drop-cutter with the machine's floor under the part: where nothing lies under the cutter
+/// (or the part is lower than its own lowest point, which cannot happen), the tip rests on
+/// floor_z (the part's lowest z: the table the part stands on). Counts queries.
+class Sampler {
+public:
+  Sampler(const ingest::Mesh& mesh, const DropCutter& dropper);
+  [[nodiscard]] Sample sample(double x, double y) const;
+  [[nodiscard]] double z(double x, double y) const { return sample(x, y).p.z(); }
+  [[nodiscard]] const Cutter& cutter() const { return dropper_.cutter(); }
+  [[nodiscard]] double floor_z() const { return floor_z_; }
+  [[nodiscard]] double top_z() const { return top_z_; }
+  [[nodiscard]] std::size_t drops() const { return drops_.load(); }
+
+private:
+  const ingest::Mesh& mesh_;
+  const DropCutter& dropper_;
+  double floor_z_ = 0, top_z_ = 0;
+  mutable std::atomic<std::size_t> drops_{0};
+};
+
+/// CL points along the straight XY segment a→b (both ends included): first every ≤ h0, then each
+/// interval halved while its midpoint lies above the chord by more than tol::chord_below_mm or
+/// below it by more than `tol` (down to tol::min_sample_mm).
+[[nodiscard]] std::vector<Sample> sample_segment(const Sampler& s, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                                 double h0, double tol);
+
+/// Drops interior points of a polyline whose removal keeps every dropped point within the
+/// one-sided band [chord − tol, chord + tol::chord_below_mm] of the chord that replaces it
+/// (vertical deviation for points on a straight XY line; 3D distance ≤ chord_below otherwise).
+[[nodiscard]] std::vector<Sample> simplify(const std::vector<Sample>& pts, double tol, bool straight_xy);
+
+/// Splits a polyline into the runs whose points satisfy keep(); runs shorter than
+/// tol::min_pass_mm are dropped.
+template <class Keep>
+[[nodiscard]] std::vector<std::vector<Sample>> runs(const std::vector<Sample>& pts, Keep keep);
+
+[[nodiscard]] double polyline_length(const std::vector<Sample>& pts);
+
+/// The five strategies' pass generators (sampling.cpp, raster.cpp, waterline.cpp, equidistant.cpp).
+std::vector<Pass> to_passes(std::vector<std::vector<Sample>> lines);
+[[nodiscard]] std::vector<std::vector<Sample>> raster_lines(const Sampler& s, const Box& box, const FinishParams& p,
+                                                            bool adaptive_spacing);
+[[nodiscard]] std::vector<std::vector<std::vector<Sample>>> waterline_loops(const Sampler& s, const Box& box,
+                                                                           const FinishParams& p);
+[[nodiscard]] std::vector<std::vector<std::vector<Sample>>> equidistant_loops(const Sampler& s, const Box& box,
+                                                                             const FinishParams& p);
+/// Orders loops grouped by level (outer index: level, top-down / outside-in): after a loop, the
+/// nearest loop of the next level within `near_mm`, else the nearest loop of the highest level
+/// left; closed loops (last point = first point) start at their point nearest to the tool, open
+/// passes keep their start (and so their cutting direction).
+[[nodiscard]] std::vector<std::vector<Sample>> order_by_level(std::vector<std::vector<std::vector<Sample>>> levels,
+                                                              double near_mm);
+[[nodiscard]] inline bool is_closed(const std::vector<Sample>& c) {
+  return c.size() > 2 && (c.front().p - c.back().p).norm() < 1e-12;
+}
+
+/// The linked program (linking.cpp); fills plan.program, path_length_mm, lifts, cl_points.
+void link_passes(const Sampler& s, const FinishParams& p, FinishPlan& plan);
+
+template <class Keep>
+std::vector<std::vector<Sample>> runs(const std::vector<Sample>& pts, Keep keep) {
+  std::vector<std::vector<Sample>> out;
+  std::vector<Sample> cur;
+  auto flush = [&] {
+    if (cur.size() >= 2 && polyline_length(cur) >= tol::min_pass_mm) out.push_back(std::move(cur));
+    cur.clear();
+  };
+  for (const Sample& q : pts) {
+    if (keep(q)) {
+      cur.push_back(q);
+    } else {
+      flush();
+    }
+  }
+  flush();
+  return out;
+}
+
+}  // namespace millnet::finish::detail

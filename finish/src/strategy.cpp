@@ -1,0 +1,160 @@
+// The strategy registry and the top function: passes by the strategy, simplified, linked.
+#include "sampling.hpp"
+
+#include "millnet/core/error.hpp"
+#include "millnet/finish/tolerances.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+
+namespace millnet::finish {
+namespace {
+
+using detail::Box;
+using detail::Sample;
+using detail::Sampler;
+using Lines = std::vector<std::vector<Sample>>;
+
+Lines raster(const Sampler& s, const Box& box, const FinishParams& p) { return detail::raster_lines(s, box, p, false); }
+
+Lines scallop_mode(const Sampler& s, const Box& box, const FinishParams& p) {
+  return detail::raster_lines(s, box, p, true);
+}
+
+double near_mm(const FinishParams& p) { return p.tool.diameter + 4 * p.stepover_mm; }
+
+Lines waterline(const Sampler& s, const Box& box, const FinishParams& p) {
+  return detail::order_by_level(detail::waterline_loops(s, box, p), near_mm(p));
+}
+
+Lines equidistant(const Sampler& s, const Box& box, const FinishParams& p) {
+  return detail::order_by_level(detail::equidistant_loops(s, box, p), near_mm(p));
+}
+
+/// Steep pieces of the Z-levels first (top-down per island), then the shallow runs of the raster.
+Lines slope_mode(const Sampler& s, const Box& box, const FinishParams& p) {
+  const double steep_from = p.boundary_angle_deg - tol::slope_overlap_deg;
+  const double shallow_to = p.boundary_angle_deg + tol::slope_overlap_deg;
+  auto levels = detail::waterline_loops(s, box, p);
+  for (auto& level : levels) {
+    std::vector<std::vector<Sample>> kept;
+    for (auto& loop : level) {
+      if (std::all_of(loop.begin(), loop.end(), [&](const Sample& q) { return q.slope_deg >= steep_from; })) {
+        kept.push_back(std::move(loop));
+        continue;
+      }
+      if (detail::is_closed(loop)) {  // start the ring at a shallow point so pieces do not wrap
+        const auto it =
+            std::find_if(loop.begin(), loop.end(), [&](const Sample& q) { return q.slope_deg < steep_from; });
+        loop.pop_back();
+        std::rotate(loop.begin(), loop.begin() + (it - loop.begin()), loop.end());
+        loop.push_back(loop.front());
+      }
+      for (auto& r : detail::runs(loop, [&](const Sample& q) { return q.slope_deg >= steep_from; }))
+        kept.push_back(std::move(r));
+    }
+    level = std::move(kept);
+  }
+  Lines out = detail::order_by_level(std::move(levels), near_mm(p));
+  for (const auto& line : detail::raster_lines(s, box, p, false))
+    for (auto& r : detail::runs(line, [&](const Sample& q) { return q.slope_deg < shallow_to; }))
+      out.push_back(std::move(r));
+  return out;
+}
+
+struct Entry {
+  Strategy id;
+  const char* name;
+  Lines (*passes)(const Sampler&, const Box&, const FinishParams&);
+  bool straight_passes;  ///< every pass lies on a straight XY line (simplify in Z only)
+};
+
+/// The registry: a new strategy is one function above and one line here (slots 6–8 are free).
+constexpr std::array<Entry, 5> kRegistry{{
+    {Strategy::SlopeMode, "profile + Z finishing, slope mode", slope_mode, false},
+    {Strategy::Raster, "3D finishing (parallel)", raster, true},
+    {Strategy::ScallopMode, "profile finishing, scallop-height mode", scallop_mode, true},
+    {Strategy::Waterline, "Z-level finishing", waterline, false},
+    {Strategy::Equidistant, "profile finishing, equidistant, constant in-feed", equidistant, false},
+}};
+
+const Entry& entry(Strategy s) {
+  for (const Entry& e : kRegistry)
+    if (e.id == s) return e;
+  throw Error("unknown finishing strategy " + std::to_string(static_cast<int>(s)));
+}
+
+void require(bool ok, const std::string& key, const std::string& what) {
+  if (!ok) throw Error("finish: " + key + " " + what);
+}
+
+}  // namespace
+
+Strategy parse_strategy(std::string_view s) {
+  for (const Entry& e : kRegistry)
+    if (s == std::to_string(static_cast<int>(e.id))) return e.id;
+  throw Error("unknown finishing strategy '" + std::string(s) + "' (expected 1, 2, 3, 4 or 5)");
+}
+
+std::string strategy_name(Strategy s) {
+  const Entry& e = entry(s);
+  return std::to_string(static_cast<int>(e.id)) + " " + e.name;
+}
+
+std::vector<Strategy> all_strategies() {
+  std::vector<Strategy> out;
+  for (const Entry& e : kRegistry) out.push_back(e.id);
+  return out;
+}
+
+void FinishParams::check() const {
+  tool.check();
+  auto positive = [](double v) { return std::isfinite(v) && v > 0; };
+  require(positive(stepover_mm), "stepover_mm", "must be > 0 (got " + std::to_string(stepover_mm) + ")");
+  require(positive(step_down_mm), "step_down_mm", "must be > 0 (got " + std::to_string(step_down_mm) + ")");
+  require(positive(chord_tolerance_mm), "chord_tolerance_mm", "must be > 0");
+  require(positive(scallop_mm), "scallop_mm", "must be > 0");
+  require(std::isfinite(boundary_angle_deg) && boundary_angle_deg > 0 && boundary_angle_deg < 90,
+          "boundary_angle_deg", "must be in (0, 90)");
+  require(std::isfinite(raster_angle_deg), "raster_angle_deg", "must be finite");
+  require(positive(feed_mm_min), "feed_mm_min", "must be > 0");
+  require(positive(plunge_feed_mm_min), "plunge_feed_mm_min", "must be > 0");
+  require(positive(spindle_rpm), "spindle_rpm", "must be > 0");
+  require(positive(clearance_mm), "clearance_mm", "must be > 0");
+  require(std::isfinite(safe_z_mm) && std::isfinite(z_shift), "safe_z_mm", "must be finite");
+}
+
+FinishPlan plan_finish(const ingest::Mesh& mesh, const DropCutter& dropper, Strategy strategy,
+                       const FinishParams& params) {
+  params.check();
+  const Entry& e = entry(strategy);
+  const Sampler s(mesh, dropper);
+  Box box{params.x0, params.y0, params.x1, params.y1};
+  if (!(box.x1 > box.x0 && box.y1 > box.y0)) {
+    box = {mesh.V.col(0).minCoeff(), mesh.V.col(1).minCoeff(), mesh.V.col(0).maxCoeff(), mesh.V.col(1).maxCoeff()};
+  }
+  if (std::min(box.x1 - box.x0, box.y1 - box.y0) < params.tool.diameter)
+    throw Error("finish: the tool (" + params.tool.describe() + ") is larger than the machining boundary (" +
+                std::to_string(box.x1 - box.x0) + " × " + std::to_string(box.y1 - box.y0) + " mm)");
+  if (!(s.top_z() + params.z_shift + params.clearance_mm <= params.safe_z_mm))
+    throw Error("finish: safe_z_mm " + std::to_string(params.safe_z_mm) +
+                " is not above the part top plus the clearance (" +
+                std::to_string(s.top_z() + params.z_shift + params.clearance_mm) + ")");
+  FinishPlan plan;
+  plan.strategy = strategy;
+  Lines lines = e.passes(s, box, params);
+  std::vector<Lines::value_type> simple(lines.size());
+#pragma omp parallel for schedule(dynamic, 4)
+  for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(lines.size()); ++i)
+    simple[static_cast<std::size_t>(i)] =
+        detail::simplify(lines[static_cast<std::size_t>(i)], params.chord_tolerance_mm, e.straight_passes);
+  plan.passes = detail::to_passes(std::move(simple));
+  if (plan.passes.empty()) throw Error("finish: no surface under the machining boundary to finish");
+  detail::link_passes(s, params, plan);
+  plan.drops = s.drops();
+  return plan;
+}
+
+}  // namespace millnet::finish

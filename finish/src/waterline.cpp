@@ -1,0 +1,164 @@
+// Z-level (waterline) contours, strategy 4 and the steep half of strategy 1.
+//
+// Per level z: the CL height grid (drop-cutter, ≤ R/2 apart) gives the topology by marching
+// squares of {CL ≥ z}; every crossing is then refined on its grid edge by the drop-cutter
+// (Illinois regula falsi, bracket ≤ chord tolerance, the point returned on the air side, where
+// the cutter at z does not touch); chords whose midpoint would cut into the part are split by a
+// further refined point. Loops are reversed to keep the material on the right (climb milling with
+// M3) and cut open where they run along the machining boundary.
+#include "contours.hpp"
+#include "sampling.hpp"
+
+#include "millnet/finish/tolerances.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace millnet::finish::detail {
+namespace {
+
+/// Point on [in, out] where CL crosses z, within `tol` of it on the air side; also the slope of
+/// the contact on the material side of the final bracket.
+std::pair<Eigen::Vector2d, double> refine_crossing(const Sampler& s, Eigen::Vector2d in, Eigen::Vector2d out,
+                                                   double f_in, double f_out, double z, double tol) {
+  Sample s_in = s.sample(in.x(), in.y());
+  f_in = s_in.p.z() - z;
+  int side = 0;
+  for (int it = 0; it < 60 && (out - in).norm() > tol; ++it) {
+    double t = f_in / (f_in - f_out);  // f_in ≥ 0 > f_out
+    if (!(t > 0.02 && t < 0.98)) t = 0.5;  // discontinuities (walls): bisection
+    const Eigen::Vector2d m = in + t * (out - in);
+    const Sample sm = s.sample(m.x(), m.y());
+    const double fm = sm.p.z() - z;
+    if (fm >= 0) {
+      in = m, f_in = fm, s_in = sm;
+      if (side == 1) f_out *= 0.5;  // Illinois: keep the far end from sticking
+      side = 1;
+    } else {
+      out = m, f_out = fm;
+      if (side == -1) f_in *= 0.5;
+      side = -1;
+    }
+  }
+  return {out, s_in.slope_deg};
+}
+
+/// Splits chords P→Q whose midpoint lies inside the material (the straight move would cut into
+/// the part) by a refined contour point found along the chord's air-side normal (the material is
+/// on the left of the contour as traced, so the air is on the right).
+void split_gouging_chords(const Sampler& s, std::vector<ContourPoint>& loop, double z, double tol) {
+  std::vector<ContourPoint> out;
+  out.reserve(loop.size());
+  struct Item { ContourPoint a, b; int depth; };
+  for (std::size_t i = 0; i + 1 < loop.size(); ++i) {
+    out.push_back(loop[i]);
+    std::vector<Item> stack{{loop[i], loop[i + 1], 0}};
+    // Depth-first, in order: emit points between a and b.
+    std::vector<ContourPoint> seq;
+    while (!stack.empty()) {
+      Item it = stack.back();
+      stack.pop_back();
+      if (it.a.on_boundary || it.b.on_boundary || it.depth >= 8) {
+        seq.push_back(it.b);
+        continue;
+      }
+      const Eigen::Vector2d d = it.b.xy - it.a.xy;
+      const double len = d.norm();
+      const Eigen::Vector2d m = 0.5 * (it.a.xy + it.b.xy);
+      if (!(len > 2 * tol::min_sample_mm) || s.z(m.x(), m.y()) <= z + tol::chord_below_mm) {
+        seq.push_back(it.b);
+        continue;
+      }
+      // Inside on the left of a→b: the air is on the right, normal (dy, −dx).
+      const Eigen::Vector2d n(d.y() / len, -d.x() / len);
+      double reach = std::max(len, tol);
+      Eigen::Vector2d far = m + reach * n;
+      double f_far = s.z(far.x(), far.y()) - z;
+      for (int k = 0; k < 4 && f_far >= 0; ++k) {
+        reach *= 2;
+        far = m + reach * n;
+        f_far = s.z(far.x(), far.y()) - z;
+      }
+      if (f_far >= 0) {  // no air found nearby: keep the chord (cannot happen on a closed contour)
+        seq.push_back(it.b);
+        continue;
+      }
+      const auto [xy, slope] = refine_crossing(s, m, far, 0, f_far, z, tol);
+      const ContourPoint mid{xy, slope, false};
+      stack.push_back({mid, it.b, it.depth + 1});
+      stack.push_back({it.a, mid, it.depth + 1});
+    }
+    // seq holds the ends of the sub-chords in order; the last is loop[i + 1].
+    for (std::size_t k = 0; k + 1 < seq.size(); ++k) out.push_back(seq[k]);
+  }
+  out.push_back(loop.back());
+  loop = std::move(out);
+}
+
+}  // namespace
+
+std::vector<std::vector<std::vector<Sample>>> waterline_loops(const Sampler& s, const Box& box, const FinishParams& p) {
+  const double g = std::min(tol::waterline_grid_mm, s.cutter().radius() / 2);
+  const GridSpec grid = GridSpec::over(box.x0, box.y0, box.x1, box.y1, g);
+  std::vector<double> cl(static_cast<std::size_t>(grid.nx) * static_cast<std::size_t>(grid.ny));
+#pragma omp parallel for schedule(static)
+  for (int i = 0; i < grid.ny; ++i)
+    for (int j = 0; j < grid.nx; ++j) {
+      const Eigen::Vector2d q = grid.node(i, j);
+      cl[static_cast<std::size_t>(i) * static_cast<std::size_t>(grid.nx) + static_cast<std::size_t>(j)] =
+          s.z(q.x(), q.y());
+    }
+  const double top = *std::max_element(cl.begin(), cl.end());
+  std::vector<double> levels;
+  for (int k = 1;; ++k) {
+    const double z = top - k * p.step_down_mm;
+    if (!(z > s.floor_z() + tol::min_sample_mm)) break;
+    levels.push_back(z);
+  }
+  const double tol = p.chord_tolerance_mm;
+  std::vector<std::vector<std::vector<Sample>>> out(levels.size());
+#pragma omp parallel for schedule(dynamic, 1)
+  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(levels.size()); ++k) {
+    const double z = levels[static_cast<std::size_t>(k)];
+    auto place = [&](const Eigen::Vector2d& in, const Eigen::Vector2d& outp, double v_in, double v_out, bool pad) {
+      if (pad) return std::pair<Eigen::Vector2d, double>(in, 90.0);  // clipped at the boundary
+      return refine_crossing(s, in, outp, v_in - z, v_out - z, z, tol);
+    };
+    auto loops = iso_contours(grid, cl, z, place);
+    auto& level_out = out[static_cast<std::size_t>(k)];
+    for (auto& loop : loops) {
+      split_gouging_chords(s, loop, z, tol);
+      std::reverse(loop.begin(), loop.end());  // material on the right: climb milling
+      // Cut the loop open where it runs along the machining boundary.
+      const auto first_pad =
+          std::find_if(loop.begin(), loop.end(), [](const ContourPoint& c) { return c.on_boundary; });
+      std::vector<Sample> pts;
+      auto to_sample = [z](const ContourPoint& c) {
+        Sample q;
+        q.p = Eigen::Vector3d(c.xy.x(), c.xy.y(), z);
+        q.slope_deg = c.aux;
+        return q;
+      };
+      if (first_pad == loop.end()) {
+        for (const auto& c : loop) pts.push_back(to_sample(c));
+        level_out.push_back(std::move(pts));
+        continue;
+      }
+      loop.pop_back();  // open the ring, start at a boundary point
+      std::rotate(loop.begin(), first_pad, loop.end());
+      loop.push_back(loop.front());
+      std::vector<Sample> piece;
+      for (const auto& c : loop) {
+        if (c.on_boundary) {
+          if (piece.size() >= 2 && polyline_length(piece) >= tol::min_pass_mm) level_out.push_back(std::move(piece));
+          piece.clear();
+        } else {
+          piece.push_back(to_sample(c));
+        }
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace millnet::finish::detail
