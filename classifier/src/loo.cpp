@@ -29,7 +29,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -127,7 +126,6 @@ Golden golden_section(F&& f, double lo, double hi, double alpha0, Figures f0, do
   return best;
 }
 
-
 // ---- select_alpha, pass by pass ----------------------------------------------------------------
 // The passes of the header comment, each a member of AlphaSearch (the state they share):
 //   pre-scan   predict_grids       every k-th vector: which refinement grids the scan can evaluate
@@ -147,8 +145,8 @@ void check_params(const AlphaSearchParams& prm) {
 // The scan candidates, descending: α_k = hi · 2^(−r/q) · 2^(−m), k = r + q·m over the range
 // [lo, hi] (relative to the d² scale unless alpha_min/alpha_max are given). ldexp halves exactly,
 // which the squaring chains need.
-std::vector<double> scan_candidates(const AlphaSearchParams& prm, double d2_scale) {
-  double hi = prm.range_high * d2_scale, lo = prm.range_low * d2_scale;
+std::vector<double> scan_candidates(const AlphaSearchParams& prm, double d2_median) {
+  double hi = prm.range_high * d2_median, lo = prm.range_low * d2_median;
   if (prm.alpha_min > 0 || prm.alpha_max > 0) {
     if (!(prm.alpha_min > 0 && prm.alpha_max > prm.alpha_min))
       throw Error("alpha search: alpha_min/alpha_max must both be > 0 with alpha_min < alpha_max");
