@@ -210,7 +210,6 @@ GridParts make_grid_parts(const std::vector<GridSpec>& specs, Index nb) {
   return parts;
 }
 
-
 void grid_row(const Prepared& P, const RowState& s, Index i, const std::vector<GridSpec>& specs,
               std::vector<GridStore>& stores, GridParts& parts, Index b, GridBuffers& B, Eigen::RowVectorXd& out) {
   const Index np = P.patterns.rows();

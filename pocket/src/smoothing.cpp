@@ -142,6 +142,17 @@ ExtraPasses extra_passes(const ToolPoints& tp, std::vector<int>& path, const Mov
   return ex;
 }
 
+/// Savings and counts of the weak smoothing and the extra passes.
+void reordering_stats(const WeakStats& weak, const ExtraPasses& extra, std::map<std::string, double>& st) {
+  st["weak_smoothing_saved_mm"] = weak.saved_mm;
+  st["weak_patterns"] = weak.patterns();
+  st["weak_type1"] = weak.type1;
+  st["weak_type2"] = weak.type2;
+  st["weak_type3"] = weak.type3;
+  st["two_opt_saved_mm"] = extra.saved_mm;
+  st["opt_moves"] = static_cast<double>(extra.moves);
+}
+
 /// Strong smoothing: overcutting moves become links or retractions (a new chain). O(N + link lengths).
 std::vector<std::vector<int>> strong_smoothing(const std::vector<int>& path, MoveCosts& costs,
                                                std::map<std::string, double>& st) {
@@ -257,13 +268,7 @@ SmoothedTour smooth_tour(const ToolPoints& tp, const std::vector<int>& ring, con
   if (params.weak) add_weak(weak, weak_smoothing(tp, path, move_ok));
   ExtraPasses extra;
   if (params.extra_passes && tp.pts.size() >= 4) extra = extra_passes(tp, path, move_ok, costs, params, weak);
-  st["weak_smoothing_saved_mm"] = weak.saved_mm;
-  st["weak_patterns"] = weak.patterns();
-  st["weak_type1"] = weak.type1;
-  st["weak_type2"] = weak.type2;
-  st["weak_type3"] = weak.type3;
-  st["two_opt_saved_mm"] = extra.saved_mm;
-  st["opt_moves"] = static_cast<double>(extra.moves);
+  reordering_stats(weak, extra, st);
 
   out.chains = strong_smoothing(path, costs, st);
   chain_stats(tp, out.chains, st);
