@@ -214,6 +214,7 @@ private:
     Move m;
     m.motion = *motion_;
     const Point3 from = pos_;
+    const std::uint8_t known_before = known_;
     for (std::size_t a = 0; a < 3; ++a) {
       if (axis[a]) {
         const double v = *axis[a] * scale_;
@@ -230,7 +231,7 @@ private:
       m.feed = feed_;
     }
     if (arc) {
-      if ((known_ & (kX | kY)) != (kX | kY)) fail("arc from an unknown XY position");
+      if ((known_before & (kX | kY)) != (kX | kY)) fail("arc from an unknown XY position");
       if (r_word) {
         if (i_word || j_word) fail("arc with both R and I J");
         m.center = radius_centre(from, m.to, *r_word * scale_, m.motion == Motion::ArcCCW);
