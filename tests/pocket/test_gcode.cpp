@@ -74,7 +74,7 @@ TEST(PocketGcode, RoundTripThroughIndependentReplay) {
   millnet::testing::check_gouge(rep, to_replay(r), 3.0);
   EXPECT_EQ(rep.violations, 0) << rep.first_violation;
   // The module's own figures agree with the replay.
-  const MoveStats ms = move_stats(build_moves(levels, gp), gp.cut);
+  const MoveStats ms = move_stats(build_program(levels, gp), gp.cut);
   EXPECT_NEAR(ms.cut_length_mm, rep.cut_length, 1e-3);
   EXPECT_NEAR(ms.rapid_length_mm, rep.rapid_length, 1e-3);
   EXPECT_EQ(ms.retractions, 3u);
@@ -106,7 +106,7 @@ TEST(PocketGcode, HelixAndRampEntriesStayClear) {
   const Region r{rect(0, 0, 60, 14), {}};
   for (const char* entry : {"helix", "ramp"}) {
     GcodeParams gp;
-    gp.entry = entry;
+    gp.entry = parse_entry(entry);
     gp.cut.tool_diameter = 10;
     std::vector<LevelPlan> L(1);
     L[0].z = -5;
@@ -131,10 +131,10 @@ TEST(PocketGcode, HelixAndRampEntriesStayClear) {
 }
 
 TEST(PocketGcode, BadParameters) {
+  EXPECT_THROW((void)parse_entry("drill"), millnet::Error);
+  EXPECT_EQ(parse_entry("ramp"), Entry::Ramp);
+  EXPECT_EQ(to_string(Entry::Helix), "helix");
   GcodeParams gp;
-  gp.entry = "drill";
-  EXPECT_THROW((void)write_gcode({}, gp), millnet::Error);
-  gp.entry = "predrill";
   gp.cut.feed_plunge = 0;
   EXPECT_THROW((void)write_gcode({}, gp), millnet::Error);
   GcodeParams ok;
