@@ -7,10 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 #include <optional>
-#include <sstream>
 
 namespace millnet::pocket {
 
@@ -122,17 +120,7 @@ void helix(Builder& b, const Vec2& p, const Vec2& c, double rh, double z_from, d
   }
 }
 
-std::string fmt(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  std::string s(buf);
-  if (s.find('.') != std::string::npos) {
-    while (!s.empty() && s.back() == '0') s.pop_back();
-    if (!s.empty() && s.back() == '.') s.pop_back();
-  }
-  if (s == "-0") s = "0";
-  return s;
-}
+std::string fmt(double v, int decimals) { return gcode::format_number(v, decimals); }
 
 void check_params(const GcodeParams& gp) {
   const CutParams& c = gp.cut;
