@@ -1,13 +1,18 @@
 // G-code writer checked by the independent replay (tests/testing/gcode_replay).
+#include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
+#include "millnet/gcode/reader.hpp"
 #include "millnet/pocket/gcode.hpp"
 #include "testing/gcode_replay.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <numbers>
 #include <sstream>
+#include <unistd.h>
 
 using namespace millnet::pocket;
 using millnet::testing::ReplayPocket;
@@ -141,4 +146,32 @@ TEST(PocketGcode, BadParameters) {
   std::vector<LevelPlan> L(1);
   L[0].z = 1;  // above the top
   EXPECT_THROW((void)write_gcode(L, ok), millnet::Error);
+}
+
+TEST(PocketGcode, ProgramsReadBackAndLinuxcncAcceptsThem) {
+  const Region r{rect(0, 0, 60, 60), {}};
+  for (Entry e : {Entry::Predrill, Entry::Helix, Entry::Ramp}) {
+    GcodeParams gp;
+    gp.entry = e;
+    gp.cut.tool_diameter = 6;
+    gp.cut.safe_z = 5;
+    const millnet::gcode::Program prog = build_program(two_levels(r), gp);
+    const std::string text = gcode_text(prog, gp);
+    // The one reader gives back the program the writer wrote: same text, same figures.
+    const millnet::gcode::Program back = millnet::gcode::read(text, "pocket.nc");
+    EXPECT_EQ(gcode_text(back, gp), text) << to_string(e);
+    const MoveStats a = move_stats(prog, gp.cut);
+    const MoveStats b = move_stats(back, gp.cut);
+    EXPECT_NEAR(a.cut_length_mm, b.cut_length_mm, 1e-3);
+    // The text does not mark the pre-drilling operation (op 1), so read back its one hole counts
+    // as one more milling plunge.
+    EXPECT_EQ(b.plunges, a.plunges + (e == Entry::Predrill ? 1u : 0u));
+    if (!std::filesystem::exists("/usr/bin/rs274")) continue;
+    const auto f = std::filesystem::temp_directory_path() /
+                   ("millnet_pocket_rs274_" + std::to_string(::getpid()) + std::string(to_string(e)) + ".nc");
+    millnet::write_file_atomic(f, text);
+    const std::string cmd = "/usr/bin/rs274 -g '" + f.string() + "' </dev/null >/dev/null 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << to_string(e);
+    std::filesystem::remove(f);
+  }
 }
