@@ -71,7 +71,7 @@ PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, c
   const Json& pc = config["pocket"];
   PlannerChoice ch;
   ch.name = flags.planner.value_or(pc["planner"].get<std::string>());
-  ch.entry = flags.entry.value_or(pc["entry"].get<std::string>());
+  ch.entry = pocket::parse_entry(flags.entry.value_or(pc["entry"].get<std::string>()));
   ch.contour = flags.contour || pc["contour"].get<bool>();
   ch.frame.origin = {pc["grid"]["origin_x"].get<double>(), pc["grid"]["origin_y"].get<double>()};
   ch.frame.angle_deg = pc["grid"]["angle_deg"].get<double>();
@@ -151,7 +151,7 @@ Json metrics_json(const pocket::PlanResult& plan, const pocket::MachiningResult&
   if (!m.message.empty()) j["message"] = m.message;
   j["planner"] = plan.planner.empty() ? ch.name : plan.planner;
   for (const auto& [k, v] : m.metrics.to_key_values()) j[k] = v;
-  j["entry"] = ch.entry;
+  j["entry"] = std::string(pocket::to_string(ch.entry));
   j["contour"] = ch.contour;
   // The entry points that need a pre-drilled hole (drilled first in the program with entry "predrill").
   Json holes = Json::array();

@@ -39,7 +39,7 @@ struct PlannerChoice {
   pocket::SomParams som;
   pocket::SmoothingParams smooth;
   pocket::ZigzagParams zigzag;
-  std::string entry = "predrill";
+  pocket::Entry entry = pocket::Entry::Predrill;
   bool contour = false;
 };
 [[nodiscard]] PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, const PocketFlags& flags);

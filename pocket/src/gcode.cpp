@@ -1,51 +1,77 @@
-// G-code: levels of 2D plans → moves (entries resolved) → RS-274 text.
+// G-code: levels of 2D plans → a gcode::Program (entries resolved) → RS-274 text (gcode::write).
 #include "millnet/pocket/gcode.hpp"
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
+#include "millnet/gcode/writer.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 #include <optional>
-#include <sstream>
 
 namespace millnet::pocket {
+
+Entry parse_entry(std::string_view name) {
+  if (name == "predrill") return Entry::Predrill;
+  if (name == "helix") return Entry::Helix;
+  if (name == "ramp") return Entry::Ramp;
+  throw Error("gcode: entry must be \"predrill\", \"helix\" or \"ramp\", got \"" + std::string(name) + "\"");
+}
+
+std::string_view to_string(Entry e) {
+  switch (e) {
+    case Entry::Predrill: return "predrill";
+    case Entry::Helix: return "helix";
+    case Entry::Ramp: return "ramp";
+  }
+  return "predrill";
+}
 
 namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kZEps = 1e-9;
 
+/// One motion while the program is built; comments are attached after the fact (the first move of
+/// a level, an entry's first move), so they become Comment items only in to_program.
+struct Step {
+  gcode::Motion g = gcode::Motion::Rapid;
+  std::array<double, 3> to{};
+  std::array<double, 2> center{};
+  double feed = 0;
+  std::string comment;  ///< emitted before the move when not empty
+  bool drill = false;   ///< belongs to the pre-drilling operation (op 1)
+};
+
 struct Builder {
   const GcodeParams& gp;
-  std::vector<Move> moves;
+  std::vector<Step> moves;
   std::array<double, 3> pos{0, 0, 0};
   bool pos_known = false;
 
   void rapid(std::optional<double> x, std::optional<double> y, std::optional<double> z, std::string c = {}) {
-    Move m;
-    m.g = 0;
+    Step m;
+    m.g = gcode::Motion::Rapid;
     m.to = {x.value_or(pos[0]), y.value_or(pos[1]), z.value_or(pos[2])};
     m.comment = std::move(c);
     push(std::move(m));
   }
   void line(double x, double y, double z, double f) {
-    Move m;
-    m.g = 1;
+    Step m;
+    m.g = gcode::Motion::Line;
     m.to = {x, y, z};
     m.feed = f;
     push(std::move(m));
   }
   void arc(bool ccw, const Vec2& c, double x, double y, double z, double f) {
-    Move m;
-    m.g = ccw ? 3 : 2;
+    Step m;
+    m.g = ccw ? gcode::Motion::ArcCCW : gcode::Motion::ArcCW;
     m.to = {x, y, z};
     m.center = {c.x(), c.y()};
     m.feed = f;
     push(std::move(m));
   }
-  void push(Move m) {
+  void push(Step m) {
     const bool same = pos_known && m.to == pos;
     if (same && m.comment.empty()) return;  // zero-length moves say nothing
     pos = m.to;
@@ -94,22 +120,10 @@ void helix(Builder& b, const Vec2& p, const Vec2& c, double rh, double z_from, d
   }
 }
 
-std::string fmt(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  std::string s(buf);
-  if (s.find('.') != std::string::npos) {
-    while (!s.empty() && s.back() == '0') s.pop_back();
-    if (!s.empty() && s.back() == '.') s.pop_back();
-  }
-  if (s == "-0") s = "0";
-  return s;
-}
+std::string fmt(double v, int decimals) { return gcode::format_number(v, decimals); }
 
 void check_params(const GcodeParams& gp) {
   const CutParams& c = gp.cut;
-  if (gp.entry != "predrill" && gp.entry != "helix" && gp.entry != "ramp")
-    throw Error("gcode: entry must be \"predrill\", \"helix\" or \"ramp\", got \"" + gp.entry + "\"");
   auto positive = [](double v, const char* name) {
     if (!(v > 0) || !std::isfinite(v)) throw Error(std::string("gcode: ") + name + " must be > 0, got " + std::to_string(v));
   };
@@ -133,7 +147,8 @@ std::vector<double> level_zs(double depth, double step_down) {
   return z;
 }
 
-std::vector<Move> build_moves(const std::vector<LevelPlan>& levels, const GcodeParams& gp) {
+namespace {
+std::vector<Step> build_steps(const std::vector<LevelPlan>& levels, const GcodeParams& gp) {
   check_params(gp);
   const CutParams& cut = gp.cut;
   Builder b{gp, {}, {}, false};
@@ -144,7 +159,7 @@ std::vector<Move> build_moves(const std::vector<LevelPlan>& levels, const GcodeP
                   " and the top at or below Z = 0");
 
   // 1. Pre-drilling: every distinct predrill point, plain plunges to the deepest level needing it.
-  if (gp.entry == "predrill") {
+  if (gp.entry == Entry::Predrill) {
     std::vector<std::pair<Vec2, double>> holes;  // O(holes²) de-duplication: holes are few
     for (const LevelPlan& L : levels)
       for (const Vec2& p : L.predrill) {
@@ -170,7 +185,7 @@ std::vector<Move> build_moves(const std::vector<LevelPlan>& levels, const GcodeP
   for (std::size_t li = 0; li < levels.size(); ++li) {
     const LevelPlan& L = levels[li];
     std::optional<Clearance> clear;
-    if (gp.entry == "helix" || gp.entry == "ramp") clear.emplace(L.region, cut.clearance());
+    if (gp.entry == Entry::Helix || gp.entry == Entry::Ramp) clear.emplace(L.region, cut.clearance());
     bool first = true;
     for (const Chain& ch : L.path.chains) {
       if (ch.pts.empty()) continue;
@@ -183,7 +198,7 @@ std::vector<Move> build_moves(const std::vector<LevelPlan>& levels, const GcodeP
       }
       // Entry.
       bool entered = false;
-      if (ch.predrill && gp.entry == "ramp" && ch.pts.size() >= 2 && ch.pts[0].bulge == 0.0) {
+      if (ch.predrill && gp.entry == Entry::Ramp && ch.pts.size() >= 2 && ch.pts[0].bulge == 0.0) {
         const Vec2 p1 = ch.pts[1].p();
         const double seg = (p1 - p0).norm();
         const double Lr = std::min(seg, 2 * cut.tool_diameter);
@@ -201,7 +216,7 @@ std::vector<Move> build_moves(const std::vector<LevelPlan>& levels, const GcodeP
           entered = true;
         }
       }
-      if (ch.predrill && !entered && (gp.entry == "helix" || gp.entry == "ramp")) {
+      if (ch.predrill && !entered && (gp.entry == Entry::Helix || gp.entry == Entry::Ramp)) {
         if (auto h = fit_helix(*clear, p0, cut.tool_diameter)) {
           const std::size_t at = b.moves.size();
           helix(b, p0, h->first, h->second, b.pos[2], L.z, cut.feed_plunge, gp.entry_angle_deg);
@@ -211,8 +226,8 @@ std::vector<Move> build_moves(const std::vector<LevelPlan>& levels, const GcodeP
       }
       if (!entered) {
         b.line(p0.x(), p0.y(), L.z, cut.feed_plunge);
-        if (ch.predrill && gp.entry != "predrill")
-          b.moves.back().comment = "WARNING: no room for a " + gp.entry + " entry: plain plunge";
+        if (ch.predrill && gp.entry != Entry::Predrill)
+          b.moves.back().comment = "WARNING: no room for a " + std::string(to_string(gp.entry)) + " entry: plain plunge";
       }
       // Cut.
       for (std::size_t k = 0; k + 1 < ch.pts.size(); ++k) {
@@ -232,109 +247,117 @@ std::vector<Move> build_moves(const std::vector<LevelPlan>& levels, const GcodeP
   return std::move(b.moves);
 }
 
-std::string write_gcode(const std::vector<LevelPlan>& levels, const GcodeParams& gp) {
-  const std::vector<Move> moves = build_moves(levels, gp);
+/// Header comments (the parameters) for the program.
+std::vector<std::string> header(const std::vector<LevelPlan>& levels, const GcodeParams& gp) {
   const CutParams& c = gp.cut;
   const int d = gp.decimals;
-  std::ostringstream os;
-  auto comment = [&](const std::string& s) {
-    std::string t = s;
-    std::replace(t.begin(), t.end(), '(', '[');
-    std::replace(t.begin(), t.end(), ')', ']');
-    os << "(" << t << ")\n";
-  };
-  comment(gp.program_name.empty() ? std::string("millnet pocket") : gp.program_name);
-  comment("generated by millnet; units mm; pocket top Z 0, floor Z " + fmt(-c.depth, d));
-  comment("tool diameter " + fmt(c.tool_diameter, d) + " stepover " + fmt(c.stepover, d) + " stock to leave " +
-          fmt(c.stock_to_leave, d));
-  comment("depth " + fmt(c.depth, d) + " step-down " + fmt(c.step_down, d) + " levels " +
-          std::to_string(levels.size()) + " safe Z " + fmt(c.safe_z, d));
-  comment("feeds: slot f1 " + fmt(c.feed_slot, 1) + " half f2 " + fmt(c.feed_half, 1) + " plunge " +
-          fmt(c.feed_plunge, 1) + " limits " + fmt(c.feed_min, 1) + ".." + fmt(c.feed_max, 1) +
-          (c.feed_adjust ? " adjusted by feed map" : " constant") + "; spindle " + fmt(c.spindle_rpm, 0) + " rpm");
-  comment("entry " + gp.entry);
-  for (const std::string& s : gp.comments) comment(s);
-  os << "G21 G90 G17 G94\n";
-  const bool has_drill = std::any_of(moves.begin(), moves.end(), [](const Move& m) { return m.drill; });
-  double last_f = -1;
+  std::vector<std::string> h;
+  h.push_back(gp.program_name.empty() ? std::string("millnet pocket") : gp.program_name);
+  h.push_back("generated by millnet; units mm; pocket top Z 0, floor Z " + fmt(-c.depth, d));
+  h.push_back("tool diameter " + fmt(c.tool_diameter, d) + " stepover " + fmt(c.stepover, d) + " stock to leave " +
+              fmt(c.stock_to_leave, d));
+  h.push_back("depth " + fmt(c.depth, d) + " step-down " + fmt(c.step_down, d) + " levels " +
+              std::to_string(levels.size()) + " safe Z " + fmt(c.safe_z, d));
+  h.push_back("feeds: slot f1 " + fmt(c.feed_slot, 1) + " half f2 " + fmt(c.feed_half, 1) + " plunge " +
+              fmt(c.feed_plunge, 1) + " limits " + fmt(c.feed_min, 1) + ".." + fmt(c.feed_max, 1) +
+              (c.feed_adjust ? " adjusted by feed map" : " constant") + "; spindle " + fmt(c.spindle_rpm, 0) + " rpm");
+  h.push_back("entry " + std::string(to_string(gp.entry)));
+  for (const std::string& s : gp.comments) h.push_back(s);
+  return h;
+}
+
+/// Steps → items: the drilling operation between "load a drill" and the pause for the end mill,
+/// the spindle on before the first milling feed move, off at the end.
+gcode::Program to_program(const std::vector<Step>& steps, const GcodeParams& gp) {
+  const CutParams& c = gp.cut;
+  const int d = gp.decimals;
+  gcode::Program prog;
+  auto& items = prog.items;
   bool spindle_on = false, in_drill = false;
-  std::array<double, 3> pos{0, 0, 0};
-  std::array<bool, 3> known{false, false, false};  // the first move sets Z only
-  for (std::size_t k = 0; k < moves.size(); ++k) {
-    const Move& m = moves[k];
+  for (std::size_t k = 0; k < steps.size(); ++k) {  // O(steps)
+    const Step& m = steps[k];
     if (m.drill && !in_drill) {
-      comment("PRE-DRILL: load a drill of diameter " + fmt(c.tool_diameter, d) + " mm");
-      os << "M3 S" << fmt(c.spindle_rpm, 0) << "\n";
+      items.emplace_back(gcode::Comment{"PRE-DRILL: load a drill of diameter " + fmt(c.tool_diameter, d) + " mm"});
+      items.emplace_back(gcode::Spindle{gcode::SpindleDir::CW, c.spindle_rpm});
       in_drill = true;
     }
     if (!m.drill && in_drill) {
-      os << "M5\n";
-      comment("change to the end mill of diameter " + fmt(c.tool_diameter, d) + " mm, then resume");
-      os << "M0\n";
+      items.emplace_back(gcode::Spindle{gcode::SpindleDir::Off, c.spindle_rpm});
+      items.emplace_back(
+          gcode::Comment{"change to the end mill of diameter " + fmt(c.tool_diameter, d) + " mm, then resume"});
+      items.emplace_back(gcode::Pause{false});
       in_drill = false;
     }
-    if (!m.drill && m.g != 0 && !spindle_on) {
+    if (!m.drill && m.g != gcode::Motion::Rapid && !spindle_on) {
       // Spindle on before the first milling feed move (the rapids above it are harmless).
-      os << "M3 S" << fmt(c.spindle_rpm, 0) << "\n";
+      items.emplace_back(gcode::Spindle{gcode::SpindleDir::CW, c.spindle_rpm});
       spindle_on = true;
     }
-    if (!m.comment.empty()) comment(m.comment);
-    os << "G" << m.g;
-    const char axes[3] = {'X', 'Y', 'Z'};
-    for (int a = 0; a < 3; ++a) {
-      const auto ai = static_cast<std::size_t>(a);
-      if (k == 0 && a < 2) continue;
-      if (!known[ai] || fmt(m.to[ai], d) != fmt(pos[ai], d) || (m.g >= 2 && a < 2)) {
-        os << " " << axes[a] << fmt(m.to[ai], d);
-        known[ai] = true;
-      }
-    }
-    if (m.g >= 2) os << " I" << fmt(m.center[0] - pos[0], d) << " J" << fmt(m.center[1] - pos[1], d);
-    if (m.g != 0 && m.feed != last_f) {
-      os << " F" << fmt(m.feed, 1);
-      last_f = m.feed;
-    }
-    os << "\n";
-    pos = m.to;
+    if (!m.comment.empty()) items.emplace_back(gcode::Comment{m.comment});
+    gcode::Move mv;
+    mv.motion = m.g;
+    mv.to = m.to;
+    mv.center = m.center;
+    mv.feed = m.feed;
+    mv.axes = k == 0 ? gcode::kZ : gcode::kXYZ;  // the first move sets Z only
+    mv.op = m.drill ? 1 : 0;
+    items.emplace_back(mv);
   }
-  (void)has_drill;
-  if (in_drill) os << "M5\n";
-  if (spindle_on) os << "M5\n";
-  os << "M30\n";
-  return os.str();
+  if (in_drill) items.emplace_back(gcode::Spindle{gcode::SpindleDir::Off, c.spindle_rpm});
+  if (spindle_on) items.emplace_back(gcode::Spindle{gcode::SpindleDir::Off, c.spindle_rpm});
+  return prog;
+}
+}  // namespace
+
+gcode::Program build_program(const std::vector<LevelPlan>& levels, const GcodeParams& gp) {
+  gcode::Program prog = to_program(build_steps(levels, gp), gp);
+  prog.header = header(levels, gp);
+  return prog;
+}
+
+std::string gcode_text(const gcode::Program& program, const GcodeParams& gp) {
+  return gcode::write(program, gcode::linuxcnc(gp.decimals));
+}
+
+std::string write_gcode(const std::vector<LevelPlan>& levels, const GcodeParams& gp) {
+  return gcode_text(build_program(levels, gp), gp);
 }
 
 void write_gcode_file(const std::filesystem::path& path, const std::vector<LevelPlan>& levels, const GcodeParams& gp) {
   write_file_atomic(path, write_gcode(levels, gp));
 }
 
-MoveStats move_stats(const std::vector<Move>& moves, const CutParams& cut) {
+MoveStats move_stats(const gcode::Program& program, const CutParams& cut) {
   MoveStats s;
   std::array<double, 3> pos{0, 0, cut.safe_z};
   bool cut_since = false, retracted_after_cut = false, after_rapid = true;
-  for (const Move& m : moves) {  // O(moves)
+  for (const gcode::Item& item : program.items) {  // O(items)
+    const auto* mp = std::get_if<gcode::Move>(&item);
+    if (mp == nullptr) continue;
+    const gcode::Move& m = *mp;
+    const bool drill = m.op == 1;
     double xy = std::hypot(m.to[0] - pos[0], m.to[1] - pos[1]);
-    if (m.g >= 2) {
+    if (m.motion == gcode::Motion::ArcCW || m.motion == gcode::Motion::ArcCCW) {
       const double r = std::hypot(pos[0] - m.center[0], pos[1] - m.center[1]);
       const double a0 = std::atan2(pos[1] - m.center[1], pos[0] - m.center[0]);
       const double a1 = std::atan2(m.to[1] - m.center[1], m.to[0] - m.center[0]);
-      double sw = m.g == 3 ? a1 - a0 : a0 - a1;
+      double sw = m.motion == gcode::Motion::ArcCCW ? a1 - a0 : a0 - a1;
       while (sw <= 1e-12) sw += 2 * kPi;
       xy = r * sw;
     }
     const double dz = std::abs(m.to[2] - pos[2]);
     const double len3 = std::hypot(xy, dz);
-    if (m.g == 0) {
+    if (m.motion == gcode::Motion::Rapid) {
       s.rapid_length_mm += xy;
       s.time_adjusted_min += len3 / cut.rapid_rate;
       s.time_constant_min += len3 / cut.rapid_rate;
-      if (!m.drill && m.to[2] >= cut.safe_z - kZEps && pos[2] < cut.safe_z - kZEps && cut_since) {
+      if (!drill && m.to[2] >= cut.safe_z - kZEps && pos[2] < cut.safe_z - kZEps && cut_since) {
         retracted_after_cut = true;
         cut_since = false;
       }
       after_rapid = true;
     } else {
-      if (!m.drill && m.to[2] < pos[2] - kZEps && after_rapid) {
+      if (!drill && m.to[2] < pos[2] - kZEps && after_rapid) {
         ++s.plunges;
         if (retracted_after_cut) ++s.retractions;  // a retraction counts when the tool goes back in
         retracted_after_cut = false;
@@ -342,12 +365,12 @@ MoveStats move_stats(const std::vector<Move>& moves, const CutParams& cut) {
       after_rapid = false;
       if (std::min(m.to[2], pos[2]) < 0) {
         s.cut_length_mm += xy;
-        if (!m.drill) cut_since = true;
+        if (!drill) cut_since = true;
       }
       s.plunge_length_mm += dz;
       const double f = m.feed > 0 ? m.feed : cut.feed_half;
       s.time_adjusted_min += len3 / f;
-      const bool lateral = dz < kZEps && !m.drill;
+      const bool lateral = dz < kZEps && !drill;
       s.time_constant_min += len3 / (lateral ? cut.feed_half : f);
     }
     pos = m.to;

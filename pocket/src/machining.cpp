@@ -36,7 +36,7 @@ Chain loop_chain(const std::vector<Vec2>& loop, const Path2D& after, double R) {
 }
 
 void fill_program_metrics(MachiningResult& r, const CutParams& cut, const GcodeParams& gp) {
-  const MoveStats ms = move_stats(r.moves, cut);
+  const MoveStats ms = move_stats(r.program, cut);
   r.metrics.cut_length_mm = ms.cut_length_mm;
   r.metrics.rapid_length_mm = ms.rapid_length_mm;
   r.metrics.retractions = static_cast<double>(ms.retractions);
@@ -50,8 +50,8 @@ void fill_program_metrics(MachiningResult& r, const CutParams& cut, const GcodeP
     for (const Vec2& p : L.predrill)
       if (std::none_of(holes.begin(), holes.end(), [&](const Vec2& h) { return (h - p).norm() < 1e-6; }))
         holes.push_back(p);
-  r.metrics.predrill_points = gp.entry == "predrill" ? static_cast<double>(holes.size()) : 0.0;
-  r.gcode = write_gcode(r.levels, gp);
+  r.metrics.predrill_points = gp.entry == Entry::Predrill ? static_cast<double>(holes.size()) : 0.0;
+  r.gcode = gcode_text(r.program, gp);
 }
 
 GcodeParams gcode_params(const CutParams& cut, const MachiningOptions& opt) {
@@ -97,7 +97,7 @@ MachiningResult machine_levels(std::vector<LevelPlan> levels, const CutParams& c
   }
   if (!levels.empty()) r.path = levels.front().path;
   r.levels = std::move(levels);
-  r.moves = build_moves(r.levels, gp);
+  r.program = build_program(r.levels, gp);
   fill_program_metrics(r, cut, gp);
   return r;
 }
@@ -141,7 +141,7 @@ MachiningResult machine_pocket(const Region& region, const CutParams& cut, const
     top = z;
   }
   const GcodeParams gp = gcode_params(cut, opt);
-  r.moves = build_moves(r.levels, gp);
+  r.program = build_program(r.levels, gp);
   fill_program_metrics(r, cut, gp);
   const auto tl = plan.stats.find("tour_length_mm");
   r.metrics.tour_length_mm = tl != plan.stats.end() ? tl->second : plan.path.cut_length();

@@ -1,13 +1,18 @@
 // G-code writer checked by the independent replay (tests/testing/gcode_replay).
+#include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
+#include "millnet/gcode/reader.hpp"
 #include "millnet/pocket/gcode.hpp"
 #include "testing/gcode_replay.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <numbers>
 #include <sstream>
+#include <unistd.h>
 
 using namespace millnet::pocket;
 using millnet::testing::ReplayPocket;
@@ -74,7 +79,7 @@ TEST(PocketGcode, RoundTripThroughIndependentReplay) {
   millnet::testing::check_gouge(rep, to_replay(r), 3.0);
   EXPECT_EQ(rep.violations, 0) << rep.first_violation;
   // The module's own figures agree with the replay.
-  const MoveStats ms = move_stats(build_moves(levels, gp), gp.cut);
+  const MoveStats ms = move_stats(build_program(levels, gp), gp.cut);
   EXPECT_NEAR(ms.cut_length_mm, rep.cut_length, 1e-3);
   EXPECT_NEAR(ms.rapid_length_mm, rep.rapid_length, 1e-3);
   EXPECT_EQ(ms.retractions, 3u);
@@ -106,7 +111,7 @@ TEST(PocketGcode, HelixAndRampEntriesStayClear) {
   const Region r{rect(0, 0, 60, 14), {}};
   for (const char* entry : {"helix", "ramp"}) {
     GcodeParams gp;
-    gp.entry = entry;
+    gp.entry = parse_entry(entry);
     gp.cut.tool_diameter = 10;
     std::vector<LevelPlan> L(1);
     L[0].z = -5;
@@ -131,14 +136,42 @@ TEST(PocketGcode, HelixAndRampEntriesStayClear) {
 }
 
 TEST(PocketGcode, BadParameters) {
+  EXPECT_THROW((void)parse_entry("drill"), millnet::Error);
+  EXPECT_EQ(parse_entry("ramp"), Entry::Ramp);
+  EXPECT_EQ(to_string(Entry::Helix), "helix");
   GcodeParams gp;
-  gp.entry = "drill";
-  EXPECT_THROW((void)write_gcode({}, gp), millnet::Error);
-  gp.entry = "predrill";
   gp.cut.feed_plunge = 0;
   EXPECT_THROW((void)write_gcode({}, gp), millnet::Error);
   GcodeParams ok;
   std::vector<LevelPlan> L(1);
   L[0].z = 1;  // above the top
   EXPECT_THROW((void)write_gcode(L, ok), millnet::Error);
+}
+
+TEST(PocketGcode, ProgramsReadBackAndLinuxcncAcceptsThem) {
+  const Region r{rect(0, 0, 60, 60), {}};
+  for (Entry e : {Entry::Predrill, Entry::Helix, Entry::Ramp}) {
+    GcodeParams gp;
+    gp.entry = e;
+    gp.cut.tool_diameter = 6;
+    gp.cut.safe_z = 5;
+    const millnet::gcode::Program prog = build_program(two_levels(r), gp);
+    const std::string text = gcode_text(prog, gp);
+    // The one reader gives back the program the writer wrote: same text, same figures.
+    const millnet::gcode::Program back = millnet::gcode::read(text, "pocket.nc");
+    EXPECT_EQ(gcode_text(back, gp), text) << to_string(e);
+    const MoveStats a = move_stats(prog, gp.cut);
+    const MoveStats b = move_stats(back, gp.cut);
+    EXPECT_NEAR(a.cut_length_mm, b.cut_length_mm, 1e-3);
+    // The text does not mark the pre-drilling operation (op 1), so read back its one hole counts
+    // as one more milling plunge.
+    EXPECT_EQ(b.plunges, a.plunges + (e == Entry::Predrill ? 1u : 0u));
+    if (!std::filesystem::exists("/usr/bin/rs274")) continue;
+    const auto f = std::filesystem::temp_directory_path() /
+                   ("millnet_pocket_rs274_" + std::to_string(::getpid()) + std::string(to_string(e)) + ".nc");
+    millnet::write_file_atomic(f, text);
+    const std::string cmd = "/usr/bin/rs274 -g '" + f.string() + "' </dev/null >/dev/null 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << to_string(e);
+    std::filesystem::remove(f);
+  }
 }

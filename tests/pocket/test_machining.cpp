@@ -76,7 +76,7 @@ TEST_P(BenchPocket, GougeFreeAndFiguresAgreeWithReplay) {
   for (const auto& [entry, contour] : runs) {
     {
       MachiningOptions opt;
-      opt.entry = entry;
+      opt.entry = parse_entry(entry);
       SCOPED_TRACE(std::string(GetParam()) + " " + entry);
       opt.contour = contour;
       const MachiningResult m = machine_pocket(pf.region, cut, plan, opt);

@@ -19,8 +19,9 @@ using Point3 = std::array<double, 3>;
 
 enum class Motion : std::uint8_t { Rapid, Line, ArcCW, ArcCCW };  ///< G0, G1, G2, G3
 
-/// Which axes a block states (bit 0 = X, 1 = Y, 2 = Z). A program's first rapid usually states
-/// only Z (the XY position before it is unknown); the writer never writes an axis not stated.
+/// Which axes a block's position is known on (bit 0 = X, 1 = Y, 2 = Z): stated by it or by an
+/// earlier block. A program's first rapid usually states only Z (the XY position before it is
+/// unknown); the writer never writes an axis outside the mask.
 enum AxisMask : std::uint8_t { kX = 1, kY = 2, kZ = 4, kXYZ = 7 };
 
 struct Move {

@@ -7,11 +7,13 @@
 //   levels are machined in the given order (top-down); between chains the tool retracts to safe Z,
 //   rapids above the next start, rapids down to approach_mm above the level's material top, then
 //   plunges (predrilled hole / already-cut point) or enters by helix / ramp.
+#include "millnet/gcode/program.hpp"
 #include "millnet/pocket/toolpath.hpp"
 
-#include <array>
+#include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace millnet::pocket {
@@ -24,9 +26,17 @@ struct LevelPlan {
   std::vector<Vec2> predrill;  ///< entry points needing a pre-drilled hole at this level
 };
 
+/// How the tool enters uncut material: a pre-drilled hole (drilled first, op 1 of the program),
+/// a helix, or a zigzag ramp (both fall back to a plain plunge where they do not fit).
+enum class Entry : std::uint8_t { Predrill, Helix, Ramp };
+
+/// "predrill" | "helix" | "ramp"; throws millnet::Error naming the accepted values.
+[[nodiscard]] Entry parse_entry(std::string_view name);
+[[nodiscard]] std::string_view to_string(Entry e);
+
 struct GcodeParams {
   CutParams cut;
-  std::string entry = "predrill";  ///< "predrill" | "helix" | "ramp"
+  Entry entry = Entry::Predrill;
   std::string program_name;
   std::vector<std::string> comments;
   double approach_mm = 1.0;        ///< rapid down to this height above the material, then feed
@@ -34,28 +44,20 @@ struct GcodeParams {
   int decimals = 4;                ///< coordinate decimals (LinuxCNC and GRBL accept 4–6)
 };
 
-/// One motion of the program (what the text says, in machine order).
-struct Move {
-  int g = 0;                       ///< 0 rapid, 1 line, 2 CW arc, 3 CCW arc
-  std::array<double, 3> to{};      ///< end point X Y Z
-  std::array<double, 2> center{};  ///< arcs: absolute centre
-  double feed = 0;                 ///< mm/min (0 for rapids)
-  std::string comment;             ///< emitted before the move when not empty
-  bool drill = false;              ///< belongs to the pre-drilling operation
-};
+/// The program (header, levels expanded, entries resolved): moves with op = 1 for the
+/// pre-drilling, comments as Comment items, spindle and the drill-to-end-mill pause as items.
+/// Throws millnet::Error on bad parameters (level z ≥ top_z, non-positive feeds…).
+[[nodiscard]] gcode::Program build_program(const std::vector<LevelPlan>& levels, const GcodeParams& params);
 
-/// The program as moves (levels expanded, entries resolved). Throws millnet::Error on bad
-/// parameters (unknown entry mode, level z ≥ top_z, non-positive feeds…).
-[[nodiscard]] std::vector<Move> build_moves(const std::vector<LevelPlan>& levels, const GcodeParams& params);
-
-/// The program text for the moves (header with comments, M3/M5/M30).
+/// The program text (gcode::write, LinuxCNC dialect with params.decimals).
+[[nodiscard]] std::string gcode_text(const gcode::Program& program, const GcodeParams& params);
 [[nodiscard]] std::string write_gcode(const std::vector<LevelPlan>& levels, const GcodeParams& params);
 
 /// write_gcode to a file, atomically.
 void write_gcode_file(const std::filesystem::path& path, const std::vector<LevelPlan>& levels,
                       const GcodeParams& params);
 
-/// Figures of a move list (the same the G-code contains). Times in minutes: G0 at rapid_rate,
+/// Figures of a program (the same the G-code contains); pre-drilling moves are those with op = 1. Times in minutes: G0 at rapid_rate,
 /// feed moves at their feed; "constant" replaces every XY cutting feed by feed_half.
 struct MoveStats {
   double cut_length_mm = 0;    ///< XY length of feed moves below Z = 0 (milling and drilling)
@@ -66,7 +68,7 @@ struct MoveStats {
   double time_adjusted_min = 0;
   double time_constant_min = 0;
 };
-[[nodiscard]] MoveStats move_stats(const std::vector<Move>& moves, const CutParams& cut);
+[[nodiscard]] MoveStats move_stats(const gcode::Program& program, const CutParams& cut);
 
 /// Evenly split step-downs: depth/ceil(depth/step_down) per level, returns the level Zs (< 0, top-down).
 [[nodiscard]] std::vector<double> level_zs(double depth, double step_down);

@@ -3,7 +3,7 @@
 //   region + cut parameters + plan → contour pass (optional) → feed map → levels → G-code → metrics.
 // Example:
 //   PlanResult plan = my_planner(region, cut);              // SOM, zigzag, …
-//   MachiningResult m = machine_pocket(region, cut, plan, {.entry = "predrill", .contour = true});
+//   MachiningResult m = machine_pocket(region, cut, plan, {.entry = Entry::Predrill, .contour = true});
 //   if (m.status != PlanStatus::Ok) { report m.message; write no G-code; }
 //   else write_file_atomic(out / (stem + ".nc"), m.gcode);
 #include "millnet/pocket/feedmap.hpp"
@@ -17,7 +17,7 @@
 namespace millnet::pocket {
 
 struct MachiningOptions {
-  std::string entry = "predrill";  ///< "predrill" | "helix" | "ramp"
+  Entry entry = Entry::Predrill;
   bool contour = false;            ///< final pass along the offset walls of each reachable component
   std::string program_name;
   std::vector<std::string> comments;  ///< extra header comments (e.g. the source file, planner)
@@ -30,7 +30,7 @@ struct MachiningResult {
   Path2D path;                 ///< one level's path with feeds (area clearing + contour chains)
   FeedProfile feed_profile;    ///< per piece: s, engagement, feed, MRR (first level)
   std::vector<LevelPlan> levels;
-  std::vector<Move> moves;
+  gcode::Program program;      ///< what gcode says (empty when status != Ok)
   std::string gcode;           ///< empty when status != Ok
   Metrics metrics;
 };
@@ -47,7 +47,7 @@ struct MachiningResult {
                                              const MachiningOptions& opt = {});
 
 /// Machines a stack of already planned levels (issue 5: a different region and plan per Z level,
-/// top-down; each level's path gets its own feed map). Fills levels, moves, gcode and the program
+/// top-down; each level's path gets its own feed map). Fills levels, program, gcode and the program
 /// figures of metrics (not tool_points / tour / planning time / uncut area).
 [[nodiscard]] MachiningResult machine_levels(std::vector<LevelPlan> levels, const CutParams& cut,
                                              const MachiningOptions& opt = {});

@@ -1,0 +1,53 @@
+#pragma once
+// Program → lengths and machining times: from the feeds alone, and from machine dynamics with a
+// GRBL-style planner (constant acceleration, junction deviation, look-ahead over the whole
+// program).
+//
+// Kinematic model: every line (and every chord of an arc, see kArcChordToleranceMm) is a block
+// with a trapezoidal speed profile: it accelerates and decelerates at acceleration_mm_s2 and
+// cruises at its nominal speed (the feed, capped at max_feed_mm_min; rapids at rapid_mm_min).
+// The speed through the joint of two blocks is at most √(a·δ·s/(1−s)), s = sin(θ/2), θ the angle
+// between the reversed incoming direction and the outgoing one (GRBL's junction deviation δ):
+// straight on (θ = 180°) does not slow down, a reversal (θ = 0) stops. A backward pass from the
+// final stop and a forward pass from the initial stop make every entry speed reachable within
+// its neighbours' lengths. The machine also stops at spindle changes, tool changes and pauses
+// (GRBL synchronises its buffer on them). Travel along an axis before the program first states
+// it is not counted (the start position is unknown).
+#include "millnet/gcode/program.hpp"
+
+#include <cstddef>
+
+namespace millnet::gcode {
+
+/// Arcs are timed as chords deviating at most this much from the arc (GRBL's default arc_tolerance).
+inline constexpr double kArcChordToleranceMm = 0.002;
+
+struct MotionModel {
+  double rapid_mm_min = 5000;
+  double max_feed_mm_min = 5000;
+  double acceleration_mm_s2 = 500;
+  double junction_deviation_mm = 0.01;
+};
+
+struct ProgramStats {
+  double cut_length_mm = 0;     ///< 3D path length of feed moves (G1 G2 G3)
+  double rapid_length_mm = 0;   ///< 3D path length of rapids (G0)
+  double plunge_length_mm = 0;  ///< downward Z travel of feed moves
+  double feed_time_min = 0;     ///< Σ length / feed (rapids at rapid_mm_min, feeds capped at max_feed_mm_min)
+  double kinematic_time_min = 0;  ///< with acceleration and junction speeds (the planner above)
+  std::size_t blocks = 0;       ///< planner blocks (lines + arc chords, zero-length moves skipped)
+};
+
+/// Throws millnet::Error when a model value is not > 0 (junction deviation ≥ 0) or a feed move has
+/// no feed.
+[[nodiscard]] ProgramStats stats(const Program& program, const MotionModel& model);
+
+/// Time (s) of one block of length `len` (mm) entered at v_in, left at v_out, cruising at most at
+/// v_nom (mm/s), accelerating at `a` (mm/s²); v_in, v_out ≤ v_nom and reachable from each other.
+[[nodiscard]] double trapezoid_time_s(double len, double v_in, double v_out, double v_nom, double a);
+
+/// Largest speed (mm/s) through a joint from unit direction u to unit direction v.
+[[nodiscard]] double junction_speed(const Point3& u, const Point3& v, double acceleration_mm_s2,
+                                    double junction_deviation_mm);
+
+}  // namespace millnet::gcode

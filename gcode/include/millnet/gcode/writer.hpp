@@ -1,0 +1,52 @@
+#pragma once
+// Program → G-code text for one controller dialect. One writer for every millnet program.
+//
+// Text layout (every dialect): the header as comment lines, the preamble, the items in order, the
+// end code. Coordinates are absolute (G90) with `decimals` decimals (trailing zeros dropped, "-0"
+// written as "0"); an axis is written when the block states it and its text differs from the
+// previous one (arcs always state X and Y); arc centres as incremental I J (the default IJ mode of
+// both dialects); F only when the feed changes (never on G0); S with no decimals.
+//
+// Dialect differences (what each controller accepts):
+//   LinuxCNC  "T<n> M6" tool changes, M1 optional stop, long comments.
+//   GRBL 1.1  no M6 (error 20, "unsupported command"): a tool change is written as a comment
+//             and M0 so the operator changes the tool by hand; M1 is parsed and ignored (no
+//             pause), so an optional stop is written as M0; comments are kept short because
+//             streaming senders count every character of a line against the 128-byte serial
+//             buffer (GRBL strips comments itself, but only after receiving them).
+#include "millnet/gcode/program.hpp"
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace millnet::gcode {
+
+struct Dialect {
+  std::string name = "linuxcnc";
+  int decimals = 4;                         ///< coordinate decimals (both controllers accept 3–8)
+  int feed_decimals = 1;                    ///< F decimals
+  std::string preamble = "G21 G90 G17 G94";
+  std::string end = "M30";
+  bool tool_change_m6 = true;               ///< false: "(tool change: T<n> …)" + M0
+  bool optional_stop_m1 = true;             ///< false: an optional stop is written as M0
+  std::size_t max_comment_chars = 0;        ///< longer comment text is cut (0: no limit)
+};
+
+[[nodiscard]] Dialect linuxcnc(int decimals = 4);
+[[nodiscard]] Dialect grbl(int decimals = 4);
+/// "linuxcnc" | "grbl"; throws millnet::Error naming the accepted values.
+[[nodiscard]] Dialect dialect_named(std::string_view name, int decimals = 4);
+
+/// The program's text. Throws millnet::Error on a non-finite coordinate or feed, or decimals
+/// outside [3, 8].
+[[nodiscard]] std::string write(const Program& program, const Dialect& dialect);
+
+/// write() to a file, atomically (core's write_file_atomic: nothing half-written).
+void write_file(const std::filesystem::path& path, const Program& program, const Dialect& dialect);
+
+/// Number text as the writer prints it: `decimals` decimals, trailing zeros dropped, "-0" → "0".
+[[nodiscard]] std::string format_number(double v, int decimals);
+
+}  // namespace millnet::gcode

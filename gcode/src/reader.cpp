@@ -1,0 +1,277 @@
+// G-code text → Program (see reader.hpp for the accepted subset).
+#include "millnet/gcode/reader.hpp"
+
+#include "millnet/core/error.hpp"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace millnet::gcode {
+
+namespace {
+
+constexpr double kMmPerInch = 25.4;
+/// An arc's radius may fall short of half its chord by this much (mm) before the R form is refused.
+constexpr double kArcRadiusSlackMm = 1e-4;
+
+struct Word {
+  char letter = 0;
+  double value = 0;
+  std::string text;  ///< as written, for messages
+};
+
+/// One line split into words and comment texts.
+struct Line {
+  std::vector<Word> words;
+  std::vector<std::string> comments;
+};
+
+char upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 'a' + 'A') : c; }
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+
+class Reader {
+public:
+  explicit Reader(std::string_view source) : source_(source) {}
+
+  Program run(std::string_view text) {
+    std::size_t start = 0;
+    while (start <= text.size()) {  // O(characters)
+      std::size_t end = text.find('\n', start);
+      if (end == std::string_view::npos) end = text.size();
+      ++line_no_;
+      if (!line(text.substr(start, end - start))) break;
+      if (end == text.size()) break;
+      start = end + 1;
+    }
+    return std::move(prog_);
+  }
+
+private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw Error(std::string(source_) + ":" + std::to_string(line_no_) + ": " + what);
+  }
+
+  Line split(std::string_view s) const {
+    Line out;
+    std::size_t i = 0;
+    while (i < s.size()) {
+      const char c = s[i];
+      if (is_space(c)) { ++i; continue; }
+      if (c == '(') {
+        const std::size_t close = s.find(')', i);
+        if (close == std::string_view::npos) fail("comment not closed: " + std::string(s.substr(i)));
+        out.comments.emplace_back(s.substr(i + 1, close - i - 1));
+        i = close + 1;
+        continue;
+      }
+      if (c == ';') {
+        std::size_t b = i + 1;
+        while (b < s.size() && is_space(s[b])) ++b;
+        std::size_t e = s.size();
+        while (e > b && is_space(s[e - 1])) --e;
+        out.comments.emplace_back(s.substr(b, e - b));
+        break;
+      }
+      const char L = upper(c);
+      if (L < 'A' || L > 'Z') fail("unsupported character '" + std::string(1, c) + "'");
+      std::size_t j = i + 1;
+      while (j < s.size() && is_space(s[j])) ++j;
+      std::size_t k = j;
+      if (k < s.size() && (s[k] == '+' || s[k] == '-')) ++k;
+      while (k < s.size() && ((s[k] >= '0' && s[k] <= '9') || s[k] == '.')) ++k;
+      std::string num(s.substr(j, k - j));
+      Word w;
+      w.letter = L;
+      w.text = std::string(1, L) + num;
+      std::string digits = num;
+      if (!digits.empty() && digits.front() == '+') digits.erase(0, 1);
+      const char* first = digits.data();
+      const char* last = digits.data() + digits.size();
+      const auto [ptr, ec] = std::from_chars(first, last, w.value);
+      if (digits.empty() || ec != std::errc() || ptr != last || !std::isfinite(w.value))
+        fail("word " + w.text + " has no valid number");
+      out.words.push_back(std::move(w));
+      i = k;
+    }
+    return out;
+  }
+
+  static bool is(double v, double code) { return std::abs(v - code) < 1e-9; }
+
+  void add(Item item) {
+    prog_.items.push_back(std::move(item));
+    prog_.source_line.push_back(line_no_);
+  }
+
+  /// Handles one line; false once the program has ended (M2 / M30).
+  bool line(std::string_view s) {
+    const std::size_t b = s.find_first_not_of(" \t\r");
+    if (b != std::string_view::npos && s[b] == '%' && s.find_first_not_of(" \t\r", b + 1) == std::string_view::npos)
+      return true;  // a programme delimiter line
+    Line ln = split(s);
+    if (ln.words.empty()) {
+      for (std::string& c : ln.comments) {
+        if (!seen_words_) prog_.header.push_back(std::move(c));
+        else add(Comment{std::move(c)});
+      }
+      return true;
+    }
+    seen_words_ = true;
+
+    std::optional<Motion> motion;
+    std::array<std::optional<double>, 3> axis{};
+    std::optional<double> i_word, j_word, r_word, f_word, s_word, t_word;
+    std::vector<int> m_codes;
+    auto once = [&](std::optional<double>& slot, const Word& w) {
+      if (slot) fail("word " + std::string(1, w.letter) + " repeated on the line");
+      slot = w.value;
+    };
+    for (const Word& w : ln.words) {
+      switch (w.letter) {
+        case 'G':
+          if (is(w.value, 0)) motion = Motion::Rapid;
+          else if (is(w.value, 1)) motion = Motion::Line;
+          else if (is(w.value, 2)) motion = Motion::ArcCW;
+          else if (is(w.value, 3)) motion = Motion::ArcCCW;
+          else if (is(w.value, 17) || is(w.value, 94)) {}
+          else if (is(w.value, 20)) scale_ = kMmPerInch;
+          else if (is(w.value, 21)) scale_ = 1;
+          else if (is(w.value, 90)) incremental_ = false;
+          else if (is(w.value, 91)) incremental_ = true;
+          else fail("unsupported word " + w.text);
+          break;
+        case 'M':
+          if (is(w.value, 0) || is(w.value, 1) || is(w.value, 2) || is(w.value, 3) || is(w.value, 4) ||
+              is(w.value, 5) || is(w.value, 6) || is(w.value, 30))
+            m_codes.push_back(static_cast<int>(std::lround(w.value)));
+          else fail("unsupported word " + w.text);
+          break;
+        case 'X': once(axis[0], w); break;
+        case 'Y': once(axis[1], w); break;
+        case 'Z': once(axis[2], w); break;
+        case 'I': once(i_word, w); break;
+        case 'J': once(j_word, w); break;
+        case 'R': once(r_word, w); break;
+        case 'F': once(f_word, w); break;
+        case 'S': once(s_word, w); break;
+        case 'T': once(t_word, w); break;
+        case 'N': break;
+        default: fail("unsupported word " + w.text);
+      }
+    }
+    auto has_m = [&](int code) {
+      for (int m : m_codes)
+        if (m == code) return true;
+      return false;
+    };
+    if (motion) motion_ = motion;
+    if (f_word) {
+      if (*f_word < 0) fail("negative feed F" + std::to_string(*f_word));
+      feed_ = *f_word * scale_;
+    }
+    if (s_word) {
+      if (*s_word < 0) fail("negative spindle speed");
+      rpm_ = *s_word;
+    }
+    if (t_word) tool_ = static_cast<int>(std::lround(*t_word));
+
+    std::size_t comment_used = 0;
+    if (has_m(6)) {
+      if (!tool_) fail("M6 without a tool number (T word)");
+      ToolChange tc;
+      tc.number = *tool_;
+      if (!ln.comments.empty()) tc.description = ln.comments.front(), comment_used = 1;
+      for (std::size_t c = comment_used; c < ln.comments.size(); ++c) add(Comment{ln.comments[c]});
+      add(std::move(tc));
+    } else {
+      for (const std::string& c : ln.comments) add(Comment{c});
+    }
+
+    const int spindle_m = has_m(3) ? 3 : has_m(4) ? 4 : has_m(5) ? 5 : 0;
+    if (spindle_m != 0) {
+      dir_ = spindle_m == 3 ? SpindleDir::CW : spindle_m == 4 ? SpindleDir::CCW : SpindleDir::Off;
+      add(Spindle{dir_, rpm_});
+    } else if (s_word && dir_ != SpindleDir::Off) {
+      add(Spindle{dir_, rpm_});
+    }
+
+    const bool any_axis = axis[0] || axis[1] || axis[2];
+    if (any_axis || i_word || j_word || r_word) move(axis, i_word, j_word, r_word);
+
+    if (has_m(0) || has_m(1)) add(Pause{!has_m(0)});
+    return !(has_m(2) || has_m(30));
+  }
+
+  void move(const std::array<std::optional<double>, 3>& axis, std::optional<double> i_word,
+            std::optional<double> j_word, std::optional<double> r_word) {
+    if (!motion_) fail("axis words with no motion mode (G0 G1 G2 G3) in effect");
+    Move m;
+    m.motion = *motion_;
+    const Point3 from = pos_;
+    const std::uint8_t known_before = known_;
+    for (std::size_t a = 0; a < 3; ++a) {
+      if (axis[a]) {
+        const double v = *axis[a] * scale_;
+        pos_[a] = incremental_ ? pos_[a] + v : v;
+        known_ |= static_cast<std::uint8_t>(1U << a);
+      }
+    }
+    m.to = pos_;
+    m.axes = known_;
+    const bool arc = m.motion == Motion::ArcCW || m.motion == Motion::ArcCCW;
+    if (!arc && (i_word || j_word || r_word)) fail("I, J or R on a straight move");
+    if (m.motion != Motion::Rapid) {
+      if (!(feed_ > 0)) fail("feed move with no feed rate (F)");
+      m.feed = feed_;
+    }
+    if (arc) {
+      if ((known_before & (kX | kY)) != (kX | kY)) fail("arc from an unknown XY position");
+      if (r_word) {
+        if (i_word || j_word) fail("arc with both R and I J");
+        m.center = radius_centre(from, m.to, *r_word * scale_, m.motion == Motion::ArcCCW);
+      } else {
+        if (!i_word && !j_word) fail("arc with neither I J nor R");
+        m.center = {from[0] + i_word.value_or(0) * scale_, from[1] + j_word.value_or(0) * scale_};
+      }
+    }
+    add(m);
+  }
+
+  std::array<double, 2> radius_centre(const Point3& a, const Point3& b, double r, bool ccw) const {
+    const double dx = b[0] - a[0], dy = b[1] - a[1];
+    const double d = std::hypot(dx, dy);
+    if (d < 1e-12) fail("arc by radius R with the same start and end");
+    const double h2 = r * r - d * d / 4;
+    if (h2 < -kArcRadiusSlackMm * std::abs(r)) fail("arc radius R too small to reach the end point");
+    const double h = std::sqrt(std::max(0.0, h2));
+    // The shorter arc has its centre on the left of the chord when counter-clockwise.
+    const double side = (ccw ? 1.0 : -1.0) * (r > 0 ? 1.0 : -1.0);
+    return {(a[0] + b[0]) / 2 - side * h * dy / d, (a[1] + b[1]) / 2 + side * h * dx / d};
+  }
+
+  std::string_view source_;
+  std::size_t line_no_ = 0;
+  Program prog_;
+  bool seen_words_ = false;
+  double scale_ = 1;             ///< mm per program unit
+  bool incremental_ = false;
+  std::optional<Motion> motion_;
+  double feed_ = 0;              ///< mm/min
+  double rpm_ = 0;
+  SpindleDir dir_ = SpindleDir::Off;
+  std::optional<int> tool_;
+  Point3 pos_{0, 0, 0};
+  std::uint8_t known_ = 0;
+};
+
+}  // namespace
+
+Program read(std::string_view text, std::string_view source_name) { return Reader(source_name).run(text); }
+
+}  // namespace millnet::gcode

@@ -1,0 +1,147 @@
+// Program → text (see writer.hpp for the layout and the dialect differences).
+#include "millnet/gcode/writer.hpp"
+
+#include "millnet/core/atomic_file.hpp"
+#include "millnet/core/error.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace millnet::gcode {
+
+std::string format_number(double v, int decimals) {
+  std::array<char, 64> buf{};
+  std::snprintf(buf.data(), buf.size(), "%.*f", decimals, v);
+  std::string s(buf.data());
+  if (s.find('.') != std::string::npos) {
+    while (!s.empty() && s.back() == '0') s.pop_back();
+    if (!s.empty() && s.back() == '.') s.pop_back();
+  }
+  if (s == "-0") s = "0";
+  return s;
+}
+
+Dialect linuxcnc(int decimals) {
+  Dialect d;
+  d.decimals = decimals;
+  return d;
+}
+
+Dialect grbl(int decimals) {
+  Dialect d;
+  d.name = "grbl";
+  d.decimals = decimals;
+  d.tool_change_m6 = false;
+  d.optional_stop_m1 = false;
+  d.max_comment_chars = 60;
+  return d;
+}
+
+Dialect dialect_named(std::string_view name, int decimals) {
+  if (name == "linuxcnc") return linuxcnc(decimals);
+  if (name == "grbl") return grbl(decimals);
+  throw Error("gcode: dialect must be \"linuxcnc\" or \"grbl\", got \"" + std::string(name) + "\"");
+}
+
+namespace {
+
+/// Writes items in order, remembering what the controller already knows (position per axis, feed).
+class Writer {
+public:
+  explicit Writer(const Dialect& d) : d_(d) {}
+
+  void comment(std::string_view text) {
+    std::string t(text);
+    std::replace(t.begin(), t.end(), '(', '[');
+    std::replace(t.begin(), t.end(), ')', ']');
+    if (d_.max_comment_chars > 0 && t.size() > d_.max_comment_chars) t.resize(d_.max_comment_chars);
+    os_ << "(" << t << ")\n";
+  }
+  void line(std::string_view s) { os_ << s << "\n"; }
+
+  void operator()(const Move& m) {
+    for (double v : m.to) finite(v, "coordinate");
+    for (double v : m.center) finite(v, "arc centre");
+    finite(m.feed, "feed");
+    const bool arc = m.motion == Motion::ArcCW || m.motion == Motion::ArcCCW;
+    os_ << "G" << static_cast<int>(m.motion);
+    static constexpr std::array<char, 3> kAxis{'X', 'Y', 'Z'};
+    for (std::size_t a = 0; a < 3; ++a) {
+      if ((m.axes & (1U << a)) == 0 && !(arc && a < 2)) continue;
+      if (!known_[a] || num(m.to[a]) != num(pos_[a]) || (arc && a < 2)) {
+        os_ << " " << kAxis[a] << num(m.to[a]);
+        known_[a] = true;
+      }
+    }
+    if (arc) os_ << " I" << num(m.center[0] - pos_[0]) << " J" << num(m.center[1] - pos_[1]);
+    if (m.motion != Motion::Rapid && m.feed != last_feed_) {
+      os_ << " F" << format_number(m.feed, d_.feed_decimals);
+      last_feed_ = m.feed;
+    }
+    os_ << "\n";
+    pos_ = m.to;
+  }
+  void operator()(const Spindle& s) {
+    finite(s.rpm, "spindle speed");
+    switch (s.dir) {
+      case SpindleDir::Off: line("M5"); break;
+      case SpindleDir::CW: line("M3 S" + format_number(s.rpm, 0)); break;
+      case SpindleDir::CCW: line("M4 S" + format_number(s.rpm, 0)); break;
+    }
+  }
+  void operator()(const ToolChange& t) {
+    if (d_.tool_change_m6) {
+      os_ << "T" << t.number << " M6";
+      if (!t.description.empty()) {
+        os_ << " ";
+        std::string c = t.description;
+        std::replace(c.begin(), c.end(), '(', '[');
+        std::replace(c.begin(), c.end(), ')', ']');
+        os_ << "(" << c << ")";
+      }
+      os_ << "\n";
+    } else {
+      comment("tool change: load T" + std::to_string(t.number) +
+              (t.description.empty() ? std::string() : " " + t.description) + ", then resume");
+      line("M0");
+    }
+  }
+  void operator()(const Pause& p) { line(p.optional && d_.optional_stop_m1 ? "M1" : "M0"); }
+  void operator()(const Comment& c) { comment(c.text); }
+
+  std::string text() const { return os_.str(); }
+
+private:
+  std::string num(double v) const { return format_number(v, d_.decimals); }
+  static void finite(double v, const char* what) {
+    if (!std::isfinite(v)) throw Error(std::string("gcode: non-finite ") + what + " in the program");
+  }
+
+  const Dialect& d_;
+  std::ostringstream os_;
+  Point3 pos_{0, 0, 0};
+  std::array<bool, 3> known_{false, false, false};
+  double last_feed_ = -1;
+};
+
+}  // namespace
+
+std::string write(const Program& program, const Dialect& dialect) {
+  if (dialect.decimals < 3 || dialect.decimals > 8) throw Error("gcode: decimals must be in [3, 8]");
+  if (dialect.feed_decimals < 0 || dialect.feed_decimals > 8) throw Error("gcode: feed decimals must be in [0, 8]");
+  Writer w(dialect);
+  for (const std::string& h : program.header) w.comment(h);
+  w.line(dialect.preamble);
+  for (const Item& item : program.items) std::visit(w, item);  // O(items)
+  w.line(dialect.end);
+  return w.text();
+}
+
+void write_file(const std::filesystem::path& path, const Program& program, const Dialect& dialect) {
+  write_file_atomic(path, write(program, dialect));
+}
+
+}  // namespace millnet::gcode

@@ -1,0 +1,158 @@
+// gcode::write: exact text per dialect, and LinuxCNC's own interpreter accepts what it writes.
+#include "millnet/core/error.hpp"
+#include "millnet/gcode/reader.hpp"
+#include "millnet/gcode/writer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <unistd.h>
+
+using namespace millnet::gcode;
+
+namespace {
+Move mv(Motion m, Point3 to, double feed = 0, std::uint8_t axes = kXYZ) {
+  Move x;
+  x.motion = m;
+  x.to = to;
+  x.feed = feed;
+  x.axes = axes;
+  return x;
+}
+Move arc(Motion m, Point3 to, std::array<double, 2> c, double feed) {
+  Move x = mv(m, to, feed);
+  x.center = c;
+  return x;
+}
+/// A small program with every item kind: rapids, a plunge, lines, both arcs (one helical), feeds
+/// changing, spindle, a tool change, pauses, comments.
+Program sample() {
+  Program p;
+  p.header = {"sample (test)", "units mm"};
+  p.items = {
+      mv(Motion::Rapid, {0, 0, 5}, 0, kZ),
+      ToolChange{2, "6 mm end mill"},
+      mv(Motion::Rapid, {10, 0, 5}),
+      Spindle{SpindleDir::CW, 12000},
+      mv(Motion::Line, {10, 0, -1}, 100),
+      mv(Motion::Line, {20, 0, -1}, 300),
+      arc(Motion::ArcCCW, {20, 10, -1}, {20, 5}, 300),
+      arc(Motion::ArcCW, {10.12345, 10, -1.5}, {15.061725, 10}, 250.25),
+      Comment{"finish"},
+      mv(Motion::Rapid, {10.12345, 10, 5}),
+      Pause{true},
+      Spindle{SpindleDir::Off, 12000},
+      Pause{false},
+  };
+  return p;
+}
+const char* const kSampleLinuxcnc =
+    "(sample [test])\n"
+    "(units mm)\n"
+    "G21 G90 G17 G94\n"
+    "G0 Z5\n"
+    "T2 M6 (6 mm end mill)\n"
+    "G0 X10 Y0\n"
+    "M3 S12000\n"
+    "G1 Z-1 F100\n"
+    "G1 X20 F300\n"
+    "G3 X20 Y10 I0 J5\n"
+    "G2 X10.1235 Y10 Z-1.5 I-4.9383 J0 F250.2\n"
+    "(finish)\n"
+    "G0 Z5\n"
+    "M1\n"
+    "M5\n"
+    "M0\n"
+    "M30\n";
+}  // namespace
+
+TEST(GcodeWriter, LinuxcncExactText) { EXPECT_EQ(write(sample(), linuxcnc()), kSampleLinuxcnc); }
+
+TEST(GcodeWriter, GrblHasNoToolChangeAndNoOptionalStop) {
+  const std::string t = write(sample(), grbl());
+  EXPECT_EQ(t.find("M6"), std::string::npos);
+  EXPECT_EQ(t.find("M1\n"), std::string::npos);
+  EXPECT_NE(t.find("(tool change: load T2 6 mm end mill, then resume)\nM0\n"), std::string::npos) << t;
+  EXPECT_NE(t.find("G0 Z5\nM0\nM5\nM0\nM30\n"), std::string::npos) << t;
+  Program p;
+  p.items = {Comment{std::string(200, 'x')}};
+  const std::string c = write(p, grbl());
+  std::string cut(62, 'x');  // "(" + 60 × x + ")"
+  cut.front() = '(';
+  cut.back() = ')';
+  EXPECT_NE(c.find(cut), std::string::npos) << c;
+  EXPECT_EQ(c.find(std::string(61, 'x')), std::string::npos);
+}
+
+TEST(GcodeWriter, NumberFormat) {
+  EXPECT_EQ(format_number(-0.00001, 4), "0");
+  EXPECT_EQ(format_number(2.50, 4), "2.5");
+  EXPECT_EQ(format_number(3.0, 4), "3");
+  EXPECT_EQ(format_number(-1.23456, 4), "-1.2346");
+  EXPECT_EQ(format_number(12000, 0), "12000");
+  EXPECT_EQ(format_number(1.5, 6), "1.5");
+}
+
+TEST(GcodeWriter, Errors) {
+  Program p;
+  p.items = {mv(Motion::Line, {std::nan(""), 0, 0}, 100)};
+  EXPECT_THROW((void)write(p, linuxcnc()), millnet::Error);
+  EXPECT_THROW((void)write(Program{}, linuxcnc(2)), millnet::Error);
+  EXPECT_THROW((void)dialect_named("fanuc"), millnet::Error);
+  EXPECT_EQ(dialect_named("grbl").name, "grbl");
+}
+
+TEST(GcodeWriter, FileIsWrittenWhole) {
+  const auto dir = std::filesystem::temp_directory_path() / ("millnet_gcode_w_" + std::to_string(::getpid()));
+  const auto f = dir / "a.nc";
+  write_file(f, sample(), linuxcnc());
+  std::ifstream in(f);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text, kSampleLinuxcnc);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(GcodeWriter, RoundTripWriteReadWrite) {
+  for (const Dialect& d : {linuxcnc(), linuxcnc(6), grbl()}) {
+    const std::string once = write(sample(), d);
+    const Program back = read(once, "sample.nc");
+    EXPECT_EQ(back.items.size(), back.source_line.size());
+    EXPECT_EQ(write(back, d), once) << d.name;
+  }
+}
+
+TEST(GcodeWriter, LinuxcncInterpreterAcceptsWrittenPrograms) {
+  if (!std::filesystem::exists("/usr/bin/rs274")) GTEST_SKIP() << "/usr/bin/rs274 (linuxcnc-uspace) missing";
+  const auto dir = std::filesystem::temp_directory_path() / ("millnet_gcode_rs_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  Program helix;  // a helical entry and a full circle, as pocket writes them
+  helix.items = {mv(Motion::Rapid, {0, 0, 5}, 0, kZ),
+                 mv(Motion::Rapid, {3, 0, 5}),
+                 Spindle{SpindleDir::CW, 10000},
+                 mv(Motion::Line, {3, 0, 1}, 200),
+                 arc(Motion::ArcCCW, {-3, 0, 0.5}, {0, 0}, 200),
+                 arc(Motion::ArcCCW, {3, 0, 0}, {0, 0}, 200),
+                 arc(Motion::ArcCCW, {-3, 0, -0.5}, {0, 0}, 200),
+                 arc(Motion::ArcCCW, {3, 0, -1}, {0, 0}, 200),
+                 arc(Motion::ArcCW, {3, 0, -2}, {0, 0}, 400),  // a full circle
+                 mv(Motion::Rapid, {3, 0, 5}),
+                 Spindle{SpindleDir::Off, 0}};
+  int k = 0;
+  const Program programs[] = {helix, sample()};
+  for (const Program& prog : programs) {
+    for (const Dialect& d : {linuxcnc(), grbl()}) {
+      std::string name = "p";
+      name += std::to_string(k++);
+      name += ".nc";
+      const auto f = dir / name;
+      write_file(f, prog, d);
+      const std::string cmd = "/usr/bin/rs274 -g '" + f.string() + "' </dev/null >/dev/null 2>&1";
+      EXPECT_EQ(std::system(cmd.c_str()), 0) << d.name << "\n" << write(prog, d);
+    }
+  }
+  std::filesystem::remove_all(dir);
+}
