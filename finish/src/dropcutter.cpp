@@ -23,6 +23,8 @@ namespace millnet::finish {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Index building runs serially below this many triangles / cells (thread start-up costs more).
+constexpr std::int32_t kSerialBelow = 20000;
 
 /// The cutter as numbers used by the kernels.
 struct Shape {
@@ -269,7 +271,7 @@ struct DropCutter::Impl {
 void DropCutter::Impl::build() {
   const auto nf = static_cast<std::int32_t>(mesh.F.rows());
   boxes.resize(static_cast<std::size_t>(nf));
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nf > kSerialBelow)
   for (std::int32_t f = 0; f < nf; ++f) {
     const auto fi = static_cast<Eigen::Index>(f);
     double bx0 = kInf, by0 = kInf, bx1 = -kInf, by1 = -kInf, bz = -kInf;
@@ -322,7 +324,7 @@ void DropCutter::Impl::build() {
   }
   cells.assign(ncell, Box{0, 0, 0, 0, 0});
   const auto ncell_i = static_cast<std::int64_t>(ncell);
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for schedule(dynamic, 256) if (ncell_i > kSerialBelow)
   for (std::int64_t ci = 0; ci < ncell_i; ++ci) {
     const auto c = static_cast<std::size_t>(ci);
     const auto b = entries.begin() + start[c], e = entries.begin() + start[c + 1];
@@ -423,7 +425,7 @@ std::vector<CLPoint> DropCutter::drop(const std::vector<Eigen::Vector2d>& xy) co
   const auto n = static_cast<std::int64_t>(xy.size());
   std::vector<CLPoint> out(xy.size());
   const std::int64_t nblocks = (n + kBlock - 1) / kBlock;
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(dynamic, 1) if (nblocks > 1)
   for (std::int64_t bk = 0; bk < nblocks; ++bk) {
     std::int32_t hint = -1;
     for (std::int64_t i = bk * kBlock; i < std::min(n, (bk + 1) * kBlock); ++i) {
@@ -441,7 +443,7 @@ std::vector<double> DropCutter::drop_grid(double x0, double y0, double step, int
   if (nx < 0 || ny < 0 || !std::isfinite(step) || !std::isfinite(x0) || !std::isfinite(y0))
     throw Error("drop_grid: need nx, ny >= 0 and finite x0, y0, step");
   std::vector<double> out(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny));
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(dynamic, 1) if (static_cast<std::int64_t>(nx) * ny > 512)
   for (int i = 0; i < ny; ++i) {
     std::int32_t hint = -1;
     const double y = y0 + i * step;
