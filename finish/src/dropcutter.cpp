@@ -25,6 +25,9 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Index building runs serially below this many triangles / cells (thread start-up costs more).
 constexpr std::int32_t kSerialBelow = 20000;
+/// Bounds prune a triangle only when it falls short of the best contact by more than this (mm),
+/// so that rounding in a bound never hides a contact: indexed and brute-force drops agree exactly.
+constexpr double kPruneSlack = 1e-9;
 
 /// The cutter as numbers used by the kernels.
 struct Shape {
@@ -40,6 +43,18 @@ struct Shape {
     if (d <= a) return 0.0;
     const double u = d - a;
     return r - std::sqrt(std::max(0.0, r * r - u * u));
+  }
+  /// False only when a point at height ≤ zmax and squared XY distance ≥ d2 from the axis surely
+  /// cannot lift the cutter above `best`: zmax − h(√d2) < best − kPruneSlack. Uses h⁻¹(t) =
+  /// a + √(2rt − t²), so the ball and flat tests need no square root.
+  [[nodiscard]] bool can_beat(double zmax, double d2, double best) const {
+    const double t = zmax - best + kPruneSlack;
+    if (t <= 0) return false;
+    if (t >= r) return true;
+    const double w = t * (2 * r - t);
+    if (a == 0) return d2 < w;
+    const double dl = a + std::sqrt(w);
+    return d2 < dl * dl;
   }
 };
 
@@ -112,13 +127,12 @@ double bull_edge_argmax(double m, double dp2, double lo, double hi, double r, do
 void eval_triangle(const Shape& sh, const P3& A, const P3& B, const P3& C, std::int32_t id, Best& best) {
   // Vertices.
   for (const P3* v : {&A, &B, &C}) {
-    if (v->z <= best.z) continue;  // h ≥ 0: cannot beat
     const double d2 = v->x * v->x + v->y * v->y;
-    if (d2 > sh.R2) continue;
+    if (d2 > sh.R2 || !sh.can_beat(v->z, d2, best.z)) continue;
     best.consider(v->z - sh.h(std::sqrt(d2)), Contact::Vertex, v->x, v->y, v->z, id);
   }
   const double zmax = std::max({A.z, B.z, C.z});
-  if (zmax <= best.z) return;
+  if (zmax <= best.z - kPruneSlack) return;
   // Facet: the cutter point whose normal is −n touches the plane.
   {
     const double ux = B.x - A.x, uy = B.y - A.y, uz = B.z - A.z;
@@ -154,16 +168,15 @@ void eval_triangle(const Shape& sh, const P3& A, const P3& B, const P3& C, std::
   // perpendicular from the axis; the objective is zf + m·s − h(√(dp² + s²)).
   const std::array<std::pair<const P3*, const P3*>, 3> edges{{{&A, &B}, {&B, &C}, {&C, &A}}};
   for (const auto& [P, Q] : edges) {
-    if (std::max(P->z, Q->z) <= best.z) continue;
     const double ex = Q->x - P->x, ey = Q->y - P->y;
     const double L2 = ex * ex + ey * ey;
     if (L2 < 1e-24) continue;  // vertical edge: its top vertex is the contact
+    const double cr = P->x * ey - P->y * ex;
+    const double dp2 = cr * cr / L2;  // squared distance of the axis from the edge's line
+    if (dp2 > sh.R2 || !sh.can_beat(std::max(P->z, Q->z), dp2, best.z)) continue;
     const double L = std::sqrt(L2);
     const double ux = ex / L, uy = ey / L;
     const double t0 = -(P->x * ux + P->y * uy);
-    const double dp = P->x * uy - P->y * ux;
-    const double dp2 = dp * dp;
-    if (dp2 > sh.R2) continue;
     const double S = std::sqrt(std::max(0.0, sh.R2 - dp2));
     const double lo = std::max(-t0, -S), hi = std::min(L - t0, S);
     if (lo > hi) continue;
@@ -230,6 +243,13 @@ struct Box {
   float x0, y0, x1, y1, zmax;
 };
 
+/// A triangle as listed in a cell: its box is copied next to its id so that a query streams
+/// through one contiguous array and touches the mesh only for the triangles it evaluates.
+struct Entry {
+  Box box;
+  std::int32_t tri;
+};
+
 }  // namespace
 
 // The index is a uniform grid of square cells over the mesh's XY extent. Every triangle is listed
@@ -244,22 +264,22 @@ struct DropCutter::Impl {
   Cutter cutter;
   Shape shape;
   ingest::Mesh mesh;
-  std::vector<Box> boxes;  // per triangle
   double x0 = 0, y0 = 0, inv_cs = 1;
   int nx = 1, ny = 1;
   std::vector<std::int32_t> start;    // nx·ny + 1
-  std::vector<std::int32_t> entries;  // triangle ids, per cell
+  std::vector<Entry> entries;         // per cell, by descending top z
   std::vector<Box> cells;             // per cell: union of boxes, max top z
 
   Impl(const ingest::Mesh& m, const Cutter& c) : cutter(c), shape(c), mesh(m) {}
 
+  // Cell of a coordinate, clamped to the grid (truncation is floor for the positive values).
   [[nodiscard]] int cell_x(double x) const {
-    const double t = std::floor((x - x0) * inv_cs);
+    const double t = (x - x0) * inv_cs;
     if (!(t > 0)) return 0;
     return t >= nx - 1 ? nx - 1 : static_cast<int>(t);
   }
   [[nodiscard]] int cell_y(double y) const {
-    const double t = std::floor((y - y0) * inv_cs);
+    const double t = (y - y0) * inv_cs;
     if (!(t > 0)) return 0;
     return t >= ny - 1 ? ny - 1 : static_cast<int>(t);
   }
@@ -270,7 +290,7 @@ struct DropCutter::Impl {
 
 void DropCutter::Impl::build() {
   const auto nf = static_cast<std::int32_t>(mesh.F.rows());
-  boxes.resize(static_cast<std::size_t>(nf));
+  std::vector<Box> boxes(static_cast<std::size_t>(nf));  // per triangle
 #pragma omp parallel for schedule(static) if (nf > kSerialBelow)
   for (std::int32_t f = 0; f < nf; ++f) {
     const auto fi = static_cast<Eigen::Index>(f);
@@ -319,7 +339,7 @@ void DropCutter::Impl::build() {
       const int ix0 = cell_x(b.x0), ix1 = cell_x(b.x1), iy0 = cell_y(b.y0), iy1 = cell_y(b.y1);
       for (int iy = iy0; iy <= iy1; ++iy)
         for (int ix = ix0; ix <= ix1; ++ix)
-          entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(iy * nx + ix)]++)] = f;
+          entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(iy * nx + ix)]++)] = {b, f};
     }
   }
   cells.assign(ncell, Box{0, 0, 0, 0, 0});
@@ -328,14 +348,13 @@ void DropCutter::Impl::build() {
   for (std::int64_t ci = 0; ci < ncell_i; ++ci) {
     const auto c = static_cast<std::size_t>(ci);
     const auto b = entries.begin() + start[c], e = entries.begin() + start[c + 1];
-    std::sort(b, e, [&](std::int32_t p, std::int32_t q) {
-      const float zp = boxes[static_cast<std::size_t>(p)].zmax, zq = boxes[static_cast<std::size_t>(q)].zmax;
-      return zp != zq ? zp > zq : p < q;
+    std::sort(b, e, [](const Entry& p, const Entry& q) {
+      return p.box.zmax != q.box.zmax ? p.box.zmax > q.box.zmax : p.tri < q.tri;
     });
     if (b == e) continue;
-    Box u = boxes[static_cast<std::size_t>(*b)];
+    Box u = b->box;
     for (auto it = b + 1; it != e; ++it) {
-      const Box& t = boxes[static_cast<std::size_t>(*it)];
+      const Box& t = it->box;
       u.x0 = std::min(u.x0, t.x0);
       u.y0 = std::min(u.y0, t.y0);
       u.x1 = std::max(u.x1, t.x1);
@@ -372,7 +391,7 @@ void DropCutter::Impl::query(double x, double y, std::int32_t hint, Best& best) 
       const double d2 = box_dist2(cells[c], x, y);
       if (d2 > shape.R2) continue;
       const double ub = static_cast<double>(cells[c].zmax) - shape.h(std::sqrt(d2));
-      if (ub <= best.z) continue;
+      if (ub <= best.z - kPruneSlack) continue;
       // Insertion by descending bound (ties: row-major order, already the visiting order).
       std::size_t k = nc++;
       while (k > 0 && cand[k - 1].ub < ub) {
@@ -383,19 +402,18 @@ void DropCutter::Impl::query(double x, double y, std::int32_t hint, Best& best) 
     }
   for (std::size_t k = 0; k < nc; ++k) {
     const Cand& cd = cand[k];
-    if (cd.ub <= best.z) break;
+    if (cd.ub <= best.z - kPruneSlack) break;
     const auto c = static_cast<std::size_t>(cd.iy * nx + cd.ix);
     for (auto i = start[c]; i < start[c + 1]; ++i) {
-      const std::int32_t f = entries[static_cast<std::size_t>(i)];
-      const Box& b = boxes[static_cast<std::size_t>(f)];
-      if (static_cast<double>(b.zmax) <= best.z) break;
+      const Entry& en = entries[static_cast<std::size_t>(i)];
+      const Box& b = en.box;
+      if (static_cast<double>(b.zmax) <= best.z - kPruneSlack) break;
       const double bx0 = b.x0, by0 = b.y0, bx1 = b.x1, by1 = b.y1;
       if (bx0 > qx1 || bx1 < qx0 || by0 > qy1 || by1 < qy0) continue;
       if (cell_x(std::max(bx0, qx0)) != cd.ix || cell_y(std::max(by0, qy0)) != cd.iy) continue;  // listed twice
       const double d2 = box_dist2(b, x, y);
-      if (d2 > shape.R2) continue;
-      if (static_cast<double>(b.zmax) - shape.h(std::sqrt(d2)) <= best.z) continue;
-      eval_face(shape, mesh, f, x, y, best);
+      if (d2 > shape.R2 || !shape.can_beat(static_cast<double>(b.zmax), d2, best.z)) continue;
+      eval_face(shape, mesh, en.tri, x, y, best);
     }
   }
 }

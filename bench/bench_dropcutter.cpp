@@ -1,0 +1,116 @@
+// Drop-cutter throughput (issue 9, Benchmarks): CL points per second for a Ø2 ball over a 0.1 mm
+// grid, with 1 and 2 threads, on a small generated mould part (~4k triangles, datasets::make_part;
+// no real mesh ships with the repo) and on a generated 1,000,000-triangle terrain (200 × 200 mm),
+// plus the index set-up time. Counters: items_per_second = CL points/s; setup_s; triangles.
+#include "millnet/datasets/generator.hpp"
+#include "millnet/finish/dropcutter.hpp"
+
+#include <benchmark/benchmark.h>
+#include <omp.h>
+
+#include <cmath>
+#include <chrono>
+#include <memory>
+
+using namespace millnet;
+using namespace millnet::finish;
+
+namespace {
+
+/// Open height-field terrain over [0, size]² with n×n vertices (2·(n−1)² triangles).
+ingest::Mesh terrain(int n, double size) {
+  ingest::Mesh m;
+  const auto nn = static_cast<Eigen::Index>(n);
+  m.V.resize(nn * nn, 3);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double x = size * j / (n - 1), y = size * i / (n - 1);
+      const double z = 10 + 6 * std::sin(x / 17) * std::cos(y / 23) + 2 * std::sin(x / 5 + y / 7) +
+                       0.4 * std::sin(1.3 * x) * std::cos(1.1 * y);
+      m.V.row(static_cast<Eigen::Index>(i) * nn + j) << x, y, z;
+    }
+  m.F.resize(2 * (nn - 1) * (nn - 1), 3);
+  Eigen::Index t = 0;
+  for (int i = 0; i + 1 < n; ++i)
+    for (int j = 0; j + 1 < n; ++j) {
+      const int a = i * n + j, b = a + 1, c = a + n, d = c + 1;
+      m.F.row(t++) << a, b, d;
+      m.F.row(t++) << a, d, c;
+    }
+  return m;
+}
+
+const ingest::Mesh& small_part() {
+  // Deep cavity family (steep walls, flat floors): 2·(res−1)² top + bottom + walls ≈ 4k triangles.
+  static const ingest::Mesh m = datasets::make_part(datasets::Family::DeepCavity, 0, 7, 33).mesh;
+  return m;
+}
+const ingest::Mesh& big_terrain() {
+  static const ingest::Mesh m = terrain(709, 200);  // 2·708² = 1,002,528 triangles
+  return m;
+}
+
+void BM_Setup(benchmark::State& st, const ingest::Mesh& (*mesh)()) {
+  const ingest::Mesh& m = mesh();
+  omp_set_num_threads(static_cast<int>(st.range(0)));
+  for (auto _ : st) {
+    DropCutter dc(m, Cutter::ball(2));
+    benchmark::DoNotOptimize(dc);
+  }
+  st.counters["triangles"] = static_cast<double>(m.F.rows());
+}
+
+/// A 0.1 mm grid over a window of w × w mm centred on the mesh's footprint.
+void BM_Grid(benchmark::State& st, const ingest::Mesh& (*mesh)(), double w) {
+  const ingest::Mesh& m = mesh();
+  omp_set_num_threads(static_cast<int>(st.range(0)));
+  const auto b = ingest::bounds(m);
+  const double cx = 0.5 * (b.min.x() + b.max.x()), cy = 0.5 * (b.min.y() + b.max.y());
+  const int n = static_cast<int>(std::lround(w / 0.1));
+  const auto t0 = std::chrono::steady_clock::now();
+  const DropCutter dc(m, Cutter::ball(2));
+  const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::size_t contacts = 0;
+  for (auto _ : st) {
+    const std::vector<double> z = dc.drop_grid(cx - w / 2, cy - w / 2, 0.1, n, n);
+    contacts = 0;
+    for (const double v : z) contacts += std::isfinite(v) ? 1u : 0u;
+    benchmark::DoNotOptimize(z.data());
+  }
+  st.SetItemsProcessed(static_cast<std::int64_t>(st.iterations()) * n * n);
+  st.counters["triangles"] = static_cast<double>(m.F.rows());
+  st.counters["setup_s"] = setup;
+  st.counters["points"] = static_cast<double>(n) * n;
+  st.counters["contacts"] = static_cast<double>(contacts);
+}
+
+/// The same through drop(vector<Vector2d>) (full CLPoints).
+void BM_Points(benchmark::State& st, const ingest::Mesh& (*mesh)(), double w) {
+  const ingest::Mesh& m = mesh();
+  omp_set_num_threads(static_cast<int>(st.range(0)));
+  const auto b = ingest::bounds(m);
+  const double cx = 0.5 * (b.min.x() + b.max.x()), cy = 0.5 * (b.min.y() + b.max.y());
+  const int n = static_cast<int>(std::lround(w / 0.1));
+  std::vector<Eigen::Vector2d> pts;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) pts.emplace_back(cx - w / 2 + 0.1 * j, cy - w / 2 + 0.1 * i);
+  const DropCutter dc(m, Cutter::ball(2));
+  for (auto _ : st) {
+    const std::vector<CLPoint> cl = dc.drop(pts);
+    benchmark::DoNotOptimize(cl.data());
+  }
+  st.SetItemsProcessed(static_cast<std::int64_t>(st.iterations()) * n * n);
+}
+
+}  // namespace
+
+BENCHMARK_CAPTURE(BM_Setup, small_part, &small_part)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Setup, terrain_1M, &big_terrain)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+// Small part: the whole 0.1 mm grid over a 60 × 60 mm window (walls, floors, rims).
+BENCHMARK_CAPTURE(BM_Grid, small_part, &small_part, 60.0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Points, small_part, &small_part, 60.0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+// Terrain: a 30 × 30 mm window (90,000 points) of the 200 × 200 mm, 1M-triangle terrain.
+BENCHMARK_CAPTURE(BM_Grid, terrain_1M, &big_terrain, 30.0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Points, terrain_1M, &big_terrain, 30.0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+BENCHMARK_MAIN();
