@@ -19,7 +19,6 @@
 #include <utility>
 
 namespace millnet::finish {
-
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -125,15 +124,11 @@ double bull_edge_argmax(double m, double dp2, double lo, double hi, double r, do
 
 /// All contacts of one triangle; coordinates relative to the axis (the axis is at x = y = 0).
 void eval_triangle(const Shape& sh, const P3& A, const P3& B, const P3& C, std::int32_t id, Best& best) {
-  // Vertices.
-  for (const P3* v : {&A, &B, &C}) {
-    const double d2 = v->x * v->x + v->y * v->y;
-    if (d2 > sh.R2 || !sh.can_beat(v->z, d2, best.z)) continue;
-    best.consider(v->z - sh.h(std::sqrt(d2)), Contact::Vertex, v->x, v->y, v->z, id);
-  }
   const double zmax = std::max({A.z, B.z, C.z});
   if (zmax <= best.z - kPruneSlack) return;
-  // Facet: the cutter point whose normal is −n touches the plane.
+  // Facet: the cutter point whose normal is −n touches the triangle's plane. Its value is the
+  // maximum over the whole plane ∩ disk, so it bounds every contact of the triangle; when the
+  // point lies inside the triangle it is the triangle's maximum (the objective is concave).
   {
     const double ux = B.x - A.x, uy = B.y - A.y, uz = B.z - A.z;
     const double vx = C.x - A.x, vy = C.y - A.y, vz = C.z - A.z;
@@ -148,21 +143,35 @@ void eval_triangle(const Shape& sh, const P3& A, const P3& B, const P3& C, std::
       nx /= len;
       ny /= len;
       nz /= len;
-      const double nxy = std::sqrt(nx * nx + ny * ny);
       double px = 0, py = 0;
-      if (nxy > 1e-15) {
-        const double k = sh.a / nxy + sh.r;
-        px = -k * nx;
-        py = -k * ny;
+      if (sh.a == 0) {  // ball
+        px = -sh.r * nx;
+        py = -sh.r * ny;
+      } else {
+        const double nxy = std::sqrt(nx * nx + ny * ny);
+        if (nxy > 1e-15) {
+          const double k = sh.a / nxy + sh.r;
+          px = -k * nx;
+          py = -k * ny;
+        }
       }
+      const double zc = A.z - (nx * (px - A.x) + ny * (py - A.y)) / nz;
+      const double zf = zc - sh.r * (1 - nz);
+      if (zf <= best.z - kPruneSlack) return;
       const double e0 = (B.x - A.x) * (py - A.y) - (B.y - A.y) * (px - A.x);
       const double e1 = (C.x - B.x) * (py - B.y) - (C.y - B.y) * (px - B.x);
       const double e2 = (A.x - C.x) * (py - C.y) - (A.y - C.y) * (px - C.x);
       if ((e0 >= 0 && e1 >= 0 && e2 >= 0) || (e0 <= 0 && e1 <= 0 && e2 <= 0)) {
-        const double zc = A.z - (nx * (px - A.x) + ny * (py - A.y)) / nz;
-        best.consider(zc - sh.r * (1 - nz), Contact::Facet, px, py, zc, id);
+        best.consider(zf, Contact::Facet, px, py, zc, id);
+        return;
       }
     }
+  }
+  // Vertices.
+  for (const P3* v : {&A, &B, &C}) {
+    const double d2 = v->x * v->x + v->y * v->y;
+    if (d2 > sh.R2 || !sh.can_beat(v->z, d2, best.z)) continue;
+    best.consider(v->z - sh.h(std::sqrt(d2)), Contact::Vertex, v->x, v->y, v->z, id);
   }
   // Edges: in the edge's vertical plane, s is the XY distance along the edge from the foot of the
   // perpendicular from the axis; the objective is zf + m·s − h(√(dp² + s²)).
@@ -173,7 +182,20 @@ void eval_triangle(const Shape& sh, const P3& A, const P3& B, const P3& C, std::
     if (L2 < 1e-24) continue;  // vertical edge: its top vertex is the contact
     const double cr = P->x * ey - P->y * ex;
     const double dp2 = cr * cr / L2;  // squared distance of the axis from the edge's line
-    if (dp2 > sh.R2 || !sh.can_beat(std::max(P->z, Q->z), dp2, best.z)) continue;
+    if (dp2 > sh.R2) continue;
+    // Where the foot of the perpendicular lies off the edge, the distance to the axis grows
+    // monotonically along it: if the nearer end is also the higher one, that vertex is the edge's
+    // maximum; otherwise the nearer end's distance bounds h from below.
+    const double proj = -(P->x * ex + P->y * ey);  // foot at proj / L2 along P→Q
+    double dmin2 = dp2;
+    if (proj <= 0) {
+      if (P->z >= Q->z) continue;
+      dmin2 = P->x * P->x + P->y * P->y;
+    } else if (proj >= L2) {
+      if (Q->z >= P->z) continue;
+      dmin2 = Q->x * Q->x + Q->y * Q->y;
+    }
+    if (dmin2 > sh.R2 || !sh.can_beat(std::max(P->z, Q->z), dmin2, best.z)) continue;
     const double L = std::sqrt(L2);
     const double ux = ex / L, uy = ey / L;
     const double t0 = -(P->x * ux + P->y * uy);
@@ -264,7 +286,7 @@ struct DropCutter::Impl {
   Cutter cutter;
   Shape shape;
   ingest::Mesh mesh;
-  double x0 = 0, y0 = 0, inv_cs = 1;
+  double x0 = 0, y0 = 0, cs = 1, inv_cs = 1;
   int nx = 1, ny = 1;
   std::vector<std::int32_t> start;    // nx·ny + 1
   std::vector<Entry> entries;         // per cell, by descending top z
@@ -282,6 +304,21 @@ struct DropCutter::Impl {
     const double t = (y - y0) * inv_cs;
     if (!(t > 0)) return 0;
     return t >= ny - 1 ? ny - 1 : static_cast<int>(t);
+  }
+
+  /// A small triangle (box no wider than a cell) is listed once, in the cell of its box centre; a
+  /// big one in every cell its box overlaps (tagged big: id stored as −id − 1).
+  struct CellRange {
+    int ix0, ix1, iy0, iy1;
+    bool big;
+  };
+  [[nodiscard]] CellRange cells_of(const Box& b) const {
+    const double bx0 = b.x0, by0 = b.y0, bx1 = b.x1, by1 = b.y1;
+    if (bx1 - bx0 <= cs && by1 - by0 <= cs) {
+      const int ix = cell_x(0.5 * (bx0 + bx1)), iy = cell_y(0.5 * (by0 + by1));
+      return {ix, ix, iy, iy, false};
+    }
+    return {cell_x(bx0), cell_x(bx1), cell_y(by0), cell_y(by1), true};
   }
 
   void build();
@@ -313,7 +350,7 @@ void DropCutter::Impl::build() {
     Y1 = std::max(Y1, static_cast<double>(b.y1));
   }
   const double W = X1 - X0, H = Y1 - Y0;
-  double cs = std::max(shape.R / 2, std::sqrt(W * H / static_cast<double>(nf)));
+  cs = std::max(shape.R / 2, std::sqrt(W * H / static_cast<double>(nf)));
   const double max_cells = 2.0 * static_cast<double>(nf) + 64;
   while ((std::floor(W / cs) + 1) * (std::floor(H / cs) + 1) > max_cells) cs *= 1.25;
   x0 = X0;
@@ -326,9 +363,9 @@ void DropCutter::Impl::build() {
   // Counting sort of (cell, triangle) pairs, in triangle order: deterministic.
   start.assign(ncell + 1, 0);
   for (const Box& b : boxes) {
-    const int ix0 = cell_x(b.x0), ix1 = cell_x(b.x1), iy0 = cell_y(b.y0), iy1 = cell_y(b.y1);
-    for (int iy = iy0; iy <= iy1; ++iy)
-      for (int ix = ix0; ix <= ix1; ++ix) ++start[static_cast<std::size_t>(iy * nx + ix) + 1];
+    const CellRange cr = cells_of(b);
+    for (int iy = cr.iy0; iy <= cr.iy1; ++iy)
+      for (int ix = cr.ix0; ix <= cr.ix1; ++ix) ++start[static_cast<std::size_t>(iy * nx + ix) + 1];
   }
   for (std::size_t c = 0; c < ncell; ++c) start[c + 1] += start[c];
   entries.resize(static_cast<std::size_t>(start[ncell]));
@@ -336,10 +373,11 @@ void DropCutter::Impl::build() {
     std::vector<std::int32_t> fill(start.begin(), start.end() - 1);
     for (std::int32_t f = 0; f < nf; ++f) {
       const Box& b = boxes[static_cast<std::size_t>(f)];
-      const int ix0 = cell_x(b.x0), ix1 = cell_x(b.x1), iy0 = cell_y(b.y0), iy1 = cell_y(b.y1);
-      for (int iy = iy0; iy <= iy1; ++iy)
-        for (int ix = ix0; ix <= ix1; ++ix)
-          entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(iy * nx + ix)]++)] = {b, f};
+      const CellRange cr = cells_of(b);
+      const std::int32_t tag = cr.big ? -f - 1 : f;
+      for (int iy = cr.iy0; iy <= cr.iy1; ++iy)
+        for (int ix = cr.ix0; ix <= cr.ix1; ++ix)
+          entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(iy * nx + ix)]++)] = {b, tag};
     }
   }
   cells.assign(ncell, Box{0, 0, 0, 0, 0});
@@ -349,7 +387,7 @@ void DropCutter::Impl::build() {
     const auto c = static_cast<std::size_t>(ci);
     const auto b = entries.begin() + start[c], e = entries.begin() + start[c + 1];
     std::sort(b, e, [](const Entry& p, const Entry& q) {
-      return p.box.zmax != q.box.zmax ? p.box.zmax > q.box.zmax : p.tri < q.tri;
+      return p.box.zmax != q.box.zmax ? p.box.zmax > q.box.zmax : p.tri < q.tri;  // any fixed order
     });
     if (b == e) continue;
     Box u = b->box;
@@ -381,15 +419,17 @@ void DropCutter::Impl::query(double x, double y, std::int32_t hint, Best& best) 
     double ub;
     int ix, iy;
   };
-  std::array<Cand, 64> cand{};
+  std::array<Cand, 144> cand{};
   std::size_t nc = 0;
-  const int ix0 = cell_x(qx0), ix1 = cell_x(qx1), iy0 = cell_y(qy0), iy1 = cell_y(qy1);
+  // Small triangles are listed by their centre, at most half a cell from their box's edges.
+  const double m = 0.5 * cs;
+  const int ix0 = cell_x(qx0 - m), ix1 = cell_x(qx1 + m), iy0 = cell_y(qy0 - m), iy1 = cell_y(qy1 + m);
   for (int iy = iy0; iy <= iy1; ++iy)
     for (int ix = ix0; ix <= ix1; ++ix) {
       const auto c = static_cast<std::size_t>(iy * nx + ix);
       if (start[c] == start[c + 1]) continue;
       const double d2 = box_dist2(cells[c], x, y);
-      if (d2 > shape.R2) continue;
+      if (d2 > shape.R2 || !shape.can_beat(static_cast<double>(cells[c].zmax), d2, best.z)) continue;
       const double ub = static_cast<double>(cells[c].zmax) - shape.h(std::sqrt(d2));
       if (ub <= best.z - kPruneSlack) continue;
       // Insertion by descending bound (ties: row-major order, already the visiting order).
@@ -410,10 +450,14 @@ void DropCutter::Impl::query(double x, double y, std::int32_t hint, Best& best) 
       if (static_cast<double>(b.zmax) <= best.z - kPruneSlack) break;
       const double bx0 = b.x0, by0 = b.y0, bx1 = b.x1, by1 = b.y1;
       if (bx0 > qx1 || bx1 < qx0 || by0 > qy1 || by1 < qy0) continue;
-      if (cell_x(std::max(bx0, qx0)) != cd.ix || cell_y(std::max(by0, qy0)) != cd.iy) continue;  // listed twice
+      std::int32_t f = en.tri;
+      if (f < 0) {  // big: handled in the cell of the lower-left corner of (box ∩ query square)
+        if (cell_x(std::max(bx0, qx0)) != cd.ix || cell_y(std::max(by0, qy0)) != cd.iy) continue;
+        f = -f - 1;
+      }
       const double d2 = box_dist2(b, x, y);
       if (d2 > shape.R2 || !shape.can_beat(static_cast<double>(b.zmax), d2, best.z)) continue;
-      eval_face(shape, mesh, en.tri, x, y, best);
+      eval_face(shape, mesh, f, x, y, best);
     }
   }
 }
