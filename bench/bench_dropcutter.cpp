@@ -42,7 +42,7 @@ ingest::Mesh terrain(int n, double size) {
 
 const ingest::Mesh& small_part() {
   // Deep cavity family (steep walls, flat floors): 2·(res−1)² top + bottom + walls ≈ 4k triangles.
-  static const ingest::Mesh m = datasets::make_part(datasets::Family::DeepCavity, 0, 7, 33).mesh;
+  static const ingest::Mesh m = datasets::make_part(datasets::Family::DeepCavity, 0, 7, 43).mesh;
   return m;
 }
 const ingest::Mesh& big_terrain() {
@@ -60,27 +60,43 @@ void BM_Setup(benchmark::State& st, const ingest::Mesh& (*mesh)()) {
   st.counters["triangles"] = static_cast<double>(m.F.rows());
 }
 
-/// A 0.1 mm grid over a window of w × w mm centred on the mesh's footprint.
+/// The 0.1 mm grid: over a w × w mm window centred on the footprint, or (w = 0) over the whole
+/// footprint grown by the cutter radius.
+struct Window {
+  double x0, y0;
+  int nx, ny;
+};
+Window window(const ingest::Mesh& m, double w) {
+  const auto b = ingest::bounds(m);
+  if (w <= 0) {
+    const double x0 = b.min.x() - 1, y0 = b.min.y() - 1;
+    return {x0, y0, static_cast<int>(std::lround((b.max.x() + 1 - x0) / 0.1)) + 1,
+            static_cast<int>(std::lround((b.max.y() + 1 - y0) / 0.1)) + 1};
+  }
+  const double cx = 0.5 * (b.min.x() + b.max.x()), cy = 0.5 * (b.min.y() + b.max.y());
+  const int n = static_cast<int>(std::lround(w / 0.1));
+  return {cx - w / 2, cy - w / 2, n, n};
+}
+
 void BM_Grid(benchmark::State& st, const ingest::Mesh& (*mesh)(), double w) {
   const ingest::Mesh& m = mesh();
   omp_set_num_threads(static_cast<int>(st.range(0)));
-  const auto b = ingest::bounds(m);
-  const double cx = 0.5 * (b.min.x() + b.max.x()), cy = 0.5 * (b.min.y() + b.max.y());
-  const int n = static_cast<int>(std::lround(w / 0.1));
+  const Window win = window(m, w);
   const auto t0 = std::chrono::steady_clock::now();
   const DropCutter dc(m, Cutter::ball(2));
   const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::size_t contacts = 0;
   for (auto _ : st) {
-    const std::vector<double> z = dc.drop_grid(cx - w / 2, cy - w / 2, 0.1, n, n);
+    const std::vector<double> z = dc.drop_grid(win.x0, win.y0, 0.1, win.nx, win.ny);
     contacts = 0;
     for (const double v : z) contacts += std::isfinite(v) ? 1u : 0u;
     benchmark::DoNotOptimize(z.data());
   }
-  st.SetItemsProcessed(static_cast<std::int64_t>(st.iterations()) * n * n);
+  const double points = static_cast<double>(win.nx) * win.ny;
+  st.SetItemsProcessed(static_cast<std::int64_t>(static_cast<double>(st.iterations()) * points));
   st.counters["triangles"] = static_cast<double>(m.F.rows());
   st.counters["setup_s"] = setup;
-  st.counters["points"] = static_cast<double>(n) * n;
+  st.counters["points"] = points;
   st.counters["contacts"] = static_cast<double>(contacts);
 }
 
@@ -88,27 +104,25 @@ void BM_Grid(benchmark::State& st, const ingest::Mesh& (*mesh)(), double w) {
 void BM_Points(benchmark::State& st, const ingest::Mesh& (*mesh)(), double w) {
   const ingest::Mesh& m = mesh();
   omp_set_num_threads(static_cast<int>(st.range(0)));
-  const auto b = ingest::bounds(m);
-  const double cx = 0.5 * (b.min.x() + b.max.x()), cy = 0.5 * (b.min.y() + b.max.y());
-  const int n = static_cast<int>(std::lround(w / 0.1));
+  const Window win = window(m, w);
   std::vector<Eigen::Vector2d> pts;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) pts.emplace_back(cx - w / 2 + 0.1 * j, cy - w / 2 + 0.1 * i);
+  for (int i = 0; i < win.ny; ++i)
+    for (int j = 0; j < win.nx; ++j) pts.emplace_back(win.x0 + 0.1 * j, win.y0 + 0.1 * i);
   const DropCutter dc(m, Cutter::ball(2));
   for (auto _ : st) {
     const std::vector<CLPoint> cl = dc.drop(pts);
     benchmark::DoNotOptimize(cl.data());
   }
-  st.SetItemsProcessed(static_cast<std::int64_t>(st.iterations()) * n * n);
+  st.SetItemsProcessed(static_cast<std::int64_t>(st.iterations()) * static_cast<std::int64_t>(pts.size()));
 }
 
 }  // namespace
 
 BENCHMARK_CAPTURE(BM_Setup, small_part, &small_part)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_Setup, terrain_1M, &big_terrain)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
-// Small part: the whole 0.1 mm grid over a 60 × 60 mm window (walls, floors, rims).
-BENCHMARK_CAPTURE(BM_Grid, small_part, &small_part, 60.0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Points, small_part, &small_part, 60.0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+// Small part: the 0.1 mm grid over the whole footprint + 1 mm (walls, floors, rims, outside).
+BENCHMARK_CAPTURE(BM_Grid, small_part, &small_part, 0.0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Points, small_part, &small_part, 0.0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 // Terrain: a 30 × 30 mm window (90,000 points) of the 200 × 200 mm, 1M-triangle terrain.
 BENCHMARK_CAPTURE(BM_Grid, terrain_1M, &big_terrain, 30.0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_Points, terrain_1M, &big_terrain, 30.0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
