@@ -19,6 +19,7 @@
 #include <utility>
 
 namespace millnet::finish {
+
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();

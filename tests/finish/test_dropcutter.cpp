@@ -18,6 +18,7 @@
 
 using namespace millnet::finish;
 using millnet::ingest::Mesh;
+using millnet::testing_ingest::solid;
 using millnet::testing_ingest::surface;
 
 namespace {
@@ -381,7 +382,10 @@ TEST(DropCutter, RandomMeshesMatchBruteForce) {
     const Mesh terrain = surface(
         [&](double x, double y) { return 2 * std::sin(0.7 * x) * std::cos(0.4 * y) + 0.3 * std::sin(5 * x + 3 * y); },
         0, 25, 0, 20, 40, 31);
-    for (const Mesh* m : {&soup, &terrain})
+    // A closed part with vertical walls and a base below the top.
+    const Mesh part = solid([&](double x, double y) { return 6 + 2 * std::cos(0.5 * x) * std::sin(0.3 * y); }, 2, 28, 3,
+                            27, 26, 24);
+    for (const Mesh* m : {&soup, &terrain, &part})
       for (const Cutter& c : all_cutters()) {
         const DropCutter dc(*m, c);
         std::vector<Eigen::Vector2d> pts;
@@ -451,4 +455,21 @@ TEST(DropCutter, ThreadCountInvariant) {
     }
   }
   omp_set_num_threads(saved);
+}
+
+TEST(DropCutter, FarFromTheOriginKeepsPrecision) {
+  // The tilted-plane closed form, with the part 5 m away from the origin.
+  const double ox = 5000, oy = -3000, oz = 200, p = 0.4, q = -0.25;
+  const double L = 50;
+  const auto z = [&](double x, double y) { return p * (x - ox) + q * (y - oy) + oz; };
+  const Eigen::Vector3d a(ox - L, oy - L, z(ox - L, oy - L)), b(ox + L, oy - L, z(ox + L, oy - L)),
+      c(ox + L, oy + L, z(ox + L, oy + L)), d(ox - L, oy + L, z(ox - L, oy + L));
+  const Mesh m = from_triangles({{a, b, c}, {a, c, d}});
+  const double t = std::hypot(p, q);
+  for (const Cutter& cut : all_cutters()) {
+    const DropCutter dc(m, cut);
+    const double x = ox + 1.234567, y = oy - 7.654321;
+    const double expect = z(x, y) + ring(cut) * t + corner(cut) * (std::sqrt(1 + t * t) - 1);
+    EXPECT_NEAR(dc.drop(x, y).z, expect, kExact) << cut.describe();
+  }
 }
