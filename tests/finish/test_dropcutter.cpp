@@ -473,3 +473,30 @@ TEST(DropCutter, FarFromTheOriginKeepsPrecision) {
     EXPECT_NEAR(dc.drop(x, y).z, expect, kExact) << cut.describe();
   }
 }
+
+TEST(DropCutter, BullEdgeDegenerateCases) {
+  // Edges at exactly the ring radius a, grazing the rim, nearly vertical, very short, horizontal.
+  const Cutter c = Cutter::bull(4, 0.7);  // a = 1.3
+  const double R = c.radius(), a = ring(c);
+  int n = 0;
+  for (const double dp : {0.0, 1e-12, a - 1e-12, a, a + 1e-12, 0.5 * (a + R), R - 1e-9, R - 1e-12})
+    for (const double slope : {0.0, 1e-9, 0.3, -2.0, 40.0, -1e3, 1e4})
+      for (const double t0 : {-3.0, -0.5, 0.0, 1e-9, 0.8})
+        for (const double len : {1e-6, 0.01, 0.7, 6.0}) {
+          const Eigen::Vector2d u(0.6, 0.8), nrm(-0.8, 0.6);
+          const Eigen::Vector2d a2 = dp * nrm + t0 * u, b2 = dp * nrm + (t0 + len) * u;
+          const Eigen::Vector2d w = dp * nrm + (t0 + 0.5 * len) * u + 50 * nrm;
+          const Mesh m = from_triangles({{Eigen::Vector3d(a2.x(), a2.y(), 1 + slope * t0),
+                                          Eigen::Vector3d(b2.x(), b2.y(), 1 + slope * (t0 + len)),
+                                          Eigen::Vector3d(w.x(), w.y(), -1e5)}});
+          const double S = std::sqrt(std::max(0.0, R * R - dp * dp));
+          const double lo = std::max(t0, -S), hi = std::min(t0 + len, S);
+          const CLPoint p = drop_brute_force(m, c, 0, 0);
+          if (lo > hi) continue;
+          const double expect = 1 + static_cast<double>(edge_oracle(c, slope, dp, lo, hi));
+          EXPECT_NEAR(p.z, expect, kExact * std::max(1.0, std::abs(slope)))
+              << "dp=" << dp << " slope=" << slope << " t0=" << t0 << " len=" << len;
+          ++n;
+        }
+  EXPECT_GT(n, 500);
+}
