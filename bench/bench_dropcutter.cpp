@@ -78,12 +78,12 @@ Window window(const ingest::Mesh& m, double w) {
   return {cx - w / 2, cy - w / 2, n, n};
 }
 
-void BM_Grid(benchmark::State& st, const ingest::Mesh& (*mesh)(), double w) {
+void BM_Grid(benchmark::State& st, const ingest::Mesh& (*mesh)(), double w, Cutter cutter = Cutter::ball(2)) {
   const ingest::Mesh& m = mesh();
   omp_set_num_threads(static_cast<int>(st.range(0)));
   const Window win = window(m, w);
   const auto t0 = std::chrono::steady_clock::now();
-  const DropCutter dc(m, Cutter::ball(2));
+  const DropCutter dc(m, cutter);
   const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::size_t contacts = 0;
   for (auto _ : st) {
@@ -126,5 +126,8 @@ BENCHMARK_CAPTURE(BM_Points, small_part, &small_part, 0.0)->Arg(1)->Arg(2)->Unit
 // Terrain: a 30 × 30 mm window (90,000 points) of the 200 × 200 mm, 1M-triangle terrain.
 BENCHMARK_CAPTURE(BM_Grid, terrain_1M, &big_terrain, 30.0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_Points, terrain_1M, &big_terrain, 30.0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+// Other cutters, for comparison (not goals): flat Ø2 and bull Ø2 r0.5 on the terrain window.
+BENCHMARK_CAPTURE(BM_Grid, terrain_1M_flat, &big_terrain, 30.0, Cutter::flat(2))->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Grid, terrain_1M_bull, &big_terrain, 30.0, Cutter::bull(2, 0.5))->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();

@@ -105,7 +105,12 @@ double bull_edge_argmax(double m, double dp2, double lo, double hi, double r, do
   if (!(hi > lo)) return lo;
   if (g(lo, nullptr) <= 0) return lo;
   if (g(hi, nullptr) >= 0) return hi;
-  double s = 0.5 * (lo + hi);
+  // Start from the exact answer for dp = 0 (the section is then two circles of radius r centred
+  // at s = ±a), adapted to dp: usually within a few Newton steps of the root.
+  const double ex = std::max(0.0, dp2 < a * a ? 0.0 : std::sqrt(dp2) - a);
+  const double guess = std::copysign(std::sqrt(std::max(0.0, a * a - dp2)), m) +
+                       m * std::sqrt(std::max(0.0, r * r - ex * ex) / (1 + m * m));
+  double s = guess > lo && guess < hi ? guess : 0.5 * (lo + hi);
   for (int it = 0; it < 200; ++it) {
     double dg = 0;
     const double gs = g(s, &dg);
