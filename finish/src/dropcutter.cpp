@@ -12,6 +12,8 @@
 
 #include "millnet/core/error.hpp"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -273,9 +275,13 @@ struct Box {
 
 /// A triangle as listed in a cell: its box is copied next to its id so that a query streams
 /// through one contiguous array and touches the mesh only for the triangles it evaluates.
+/// With its plane bound: the facet formula against the triangle's whole plane, an upper bound of
+/// every contact of the triangle, is zp + gx·(x − box.x0) + gy·(y − box.y0) for the axis at (x, y)
+/// (zp = +inf for vertical triangles).
 struct Entry {
   Box box;
   std::int32_t tri;
+  double zp, gx, gy;
 };
 
 }  // namespace
@@ -334,6 +340,7 @@ struct DropCutter::Impl {
 void DropCutter::Impl::build() {
   const auto nf = static_cast<std::int32_t>(mesh.F.rows());
   std::vector<Box> boxes(static_cast<std::size_t>(nf));  // per triangle
+  std::vector<std::array<double, 3>> planes(static_cast<std::size_t>(nf));  // zp, gx, gy
 #pragma omp parallel for schedule(static) if (nf > kSerialBelow)
   for (std::int32_t f = 0; f < nf; ++f) {
     const auto fi = static_cast<Eigen::Index>(f);
@@ -346,7 +353,22 @@ void DropCutter::Impl::build() {
       by1 = std::max(by1, mesh.V(v, 1));
       bz = std::max(bz, mesh.V(v, 2));
     }
-    boxes[static_cast<std::size_t>(f)] = {round_down(bx0), round_down(by0), round_up(bx1), round_up(by1), round_up(bz)};
+    const Box box{round_down(bx0), round_down(by0), round_up(bx1), round_up(by1), round_up(bz)};
+    boxes[static_cast<std::size_t>(f)] = box;
+    // Plane z = zA + gx·(x − xA) + gy·(y − yA); facet value = plane(axis) + a·|g| + r·(1/nz − 1).
+    const Eigen::Vector3d A = mesh.V.row(static_cast<Eigen::Index>(mesh.F(fi, 0))).transpose();
+    const Eigen::Vector3d B = mesh.V.row(static_cast<Eigen::Index>(mesh.F(fi, 1))).transpose();
+    const Eigen::Vector3d C = mesh.V.row(static_cast<Eigen::Index>(mesh.F(fi, 2))).transpose();
+    Eigen::Vector3d n = (B - A).cross(C - A);
+    if (n.z() < 0) n = -n;
+    const double len = n.norm();
+    std::array<double, 3> pl{kInf, 0, 0};
+    if (len > 0 && n.z() > 1e-12 * len) {
+      const double gx = -n.x() / n.z(), gy = -n.y() / n.z();
+      const double k = shape.a * std::hypot(gx, gy) + shape.r * (len / n.z() - 1);
+      pl = {A.z() + gx * (static_cast<double>(box.x0) - A.x()) + gy * (static_cast<double>(box.y0) - A.y()) + k, gx, gy};
+    }
+    planes[static_cast<std::size_t>(f)] = pl;
   }
   double X0 = kInf, Y0 = kInf, X1 = -kInf, Y1 = -kInf;
   for (const Box& b : boxes) {
@@ -381,9 +403,10 @@ void DropCutter::Impl::build() {
       const Box& b = boxes[static_cast<std::size_t>(f)];
       const CellRange cr = cells_of(b);
       const std::int32_t tag = cr.big ? -f - 1 : f;
+      const auto& pl = planes[static_cast<std::size_t>(f)];
       for (int iy = cr.iy0; iy <= cr.iy1; ++iy)
         for (int ix = cr.ix0; ix <= cr.ix1; ++ix)
-          entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(iy * nx + ix)]++)] = {b, tag};
+          entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(iy * nx + ix)]++)] = {b, tag, pl[0], pl[1], pl[2]};
     }
   }
   cells.assign(ncell, Box{0, 0, 0, 0, 0});
@@ -463,6 +486,7 @@ void DropCutter::Impl::query(double x, double y, std::int32_t hint, Best& best) 
       }
       const double d2 = box_dist2(b, x, y);
       if (d2 > shape.R2 || !shape.can_beat(static_cast<double>(b.zmax), d2, best.z)) continue;
+      if (en.zp + en.gx * (x - bx0) + en.gy * (y - by0) <= best.z - kPruneSlack) continue;
       eval_face(shape, mesh, f, x, y, best);
     }
   }
