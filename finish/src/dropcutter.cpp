@@ -286,14 +286,17 @@ struct Entry {
 
 }  // namespace
 
-// The index is a uniform grid of square cells over the mesh's XY extent. Every triangle is listed
-// in each cell its (un-grown) XY box overlaps; a query visits the cells that the square of side 2R
-// around the axis overlaps — the same triangles as "grown box contains the axis" — and handles a
-// triangle listed in several of them once, in the cell holding the lower-left corner of
-// (triangle box ∩ query square). Each cell's list is sorted by the triangles' top z, descending, and
-// each cell keeps the union of its boxes and their top z: cell and triangle upper bounds
-// zmax − h(distance to the box) let a query stop as soon as no remaining triangle can lift the
-// cutter above the best contact found so far. Cell side ≥ R/2, so a query visits at most 6×6 cells.
+// The index is a uniform grid of square cells (side ≥ R/2) over the mesh's XY extent. A triangle
+// whose XY box fits in a cell is listed once, in the cell of its box centre; a bigger one in every
+// cell its box overlaps. A query visits the cells within R + half a cell of the axis — every
+// triangle whose box grown by R contains the axis is found — and handles a big triangle once, in
+// the cell holding the lower-left corner of (its box ∩ the query square of side 2R). Each cell
+// keeps the union of its boxes and their top z, and its list is sorted by top z, descending.
+// Upper bounds prune: per cell and per triangle zmax − h(distance to the box), per triangle also
+// the facet formula on its whole plane; cells are visited by descending bound, and a query stops as
+// soon as nothing left can lift the cutter above the best contact so far. Batches start each
+// query from the previous point's contact triangle, which usually gives the answer at once.
+// At most 7×7 cells are visited per query (cell side ≥ R/2).
 struct DropCutter::Impl {
   Cutter cutter;
   Shape shape;
@@ -448,7 +451,7 @@ void DropCutter::Impl::query(double x, double y, std::int32_t hint, Best& best) 
     double ub;
     int ix, iy;
   };
-  std::array<Cand, 144> cand{};
+  std::array<Cand, 64> cand{};  // ≥ 7×7: see the index comment
   std::size_t nc = 0;
   // Small triangles are listed by their centre, at most half a cell from their box's edges.
   const double m = 0.5 * cs;
@@ -462,6 +465,7 @@ void DropCutter::Impl::query(double x, double y, std::int32_t hint, Best& best) 
       const double ub = static_cast<double>(cells[c].zmax) - shape.h(std::sqrt(d2));
       if (ub <= best.z - kPruneSlack) continue;
       // Insertion by descending bound (ties: row-major order, already the visiting order).
+      MILLNET_ASSERT(nc < cand.size(), "drop-cutter query visits more cells than the index allows");
       std::size_t k = nc++;
       while (k > 0 && cand[k - 1].ub < ub) {
         cand[k] = cand[k - 1];
@@ -486,7 +490,9 @@ void DropCutter::Impl::query(double x, double y, std::int32_t hint, Best& best) 
       }
       const double d2 = box_dist2(b, x, y);
       if (d2 > shape.R2 || !shape.can_beat(static_cast<double>(b.zmax), d2, best.z)) continue;
-      if (en.zp + en.gx * (x - bx0) + en.gy * (y - by0) <= best.z - kPruneSlack) continue;
+      // Plane bound, with room for its rounding (steep planes have large gx, gy).
+      const double tx = en.gx * (x - bx0), ty = en.gy * (y - by0);
+      if (en.zp + tx + ty + 1e-12 * (std::abs(en.zp) + std::abs(tx) + std::abs(ty)) <= best.z - kPruneSlack) continue;
       eval_face(shape, mesh, f, x, y, best);
     }
   }
