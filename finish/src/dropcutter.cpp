@@ -84,50 +84,66 @@ struct P3 {
 
 /// Bull edge: maximise f(s) = m·s − h(√(dp2 + s²)) on [lo, hi]. f is concave, so its derivative
 /// g(s) = m − h'(d)·s/d is non-increasing; a sign change of g is bracketed and closed in on with
-/// Newton steps that fall back to bisection whenever they leave the bracket. Returns s to ≈1e-13 mm.
-double bull_edge_argmax(double m, double dp2, double lo, double hi, double r, double a) {
-  const auto g = [&](double s, double* dg) {
+/// Newton steps that fall back to bisection whenever they leave the bracket; s to ≈1e-13 mm.
+/// Concavity also gives f ≤ f(s) + g(s)·(s* − s) at every iterate: as soon as that bound keeps
+/// f below `floor`, the edge cannot win and the search stops (returns false).
+bool bull_edge_argmax(double m, double dp2, double lo, double hi, double r, double a, double floor, double& s_out) {
+  // g at s; *f = f(s), *dg = g'(s).
+  const auto g = [&](double s, double* f, double* dg) {
     const double d = std::sqrt(dp2 + s * s);
     if (d <= a) {
-      if (dg) *dg = 0;
+      *f = m * s;
+      *dg = 0;
       return m;
     }
     const double u = d - a;
     const double w = r * r - u * u;
     if (w <= 0) {
-      if (dg) *dg = -kInf;
+      *f = m * s - r;
+      *dg = -kInf;
       return s > 0 ? -kInf : kInf;
     }
     const double sw = std::sqrt(w);
-    const double hp = u / sw;              // h'(d)
-    const double hpp = r * r / (w * sw);   // h''(d)
-    if (dg) *dg = -(hpp * (s / d) * (s / d) + hp * dp2 / (d * d * d));
+    const double hp = u / sw;             // h'(d)
+    const double hpp = r * r / (w * sw);  // h''(d)
+    *f = m * s - (r - sw);
+    *dg = -(hpp * (s / d) * (s / d) + hp * dp2 / (d * d * d));
     return m - hp * s / d;
   };
-  if (!(hi > lo)) return lo;
-  if (g(lo, nullptr) <= 0) return lo;
-  if (g(hi, nullptr) >= 0) return hi;
+  double f = 0, dg = 0;
+  s_out = lo;
+  if (!(hi > lo)) return true;
+  if (g(lo, &f, &dg) <= 0) return true;
+  s_out = hi;
+  if (g(hi, &f, &dg) >= 0) return true;
   // Start from the exact answer for dp = 0 (the section is then two circles of radius r centred
   // at s = ±a), adapted to dp: usually within a few Newton steps of the root.
-  const double ex = std::max(0.0, dp2 < a * a ? 0.0 : std::sqrt(dp2) - a);
+  const double ex = dp2 < a * a ? 0.0 : std::sqrt(dp2) - a;
   const double guess = std::copysign(std::sqrt(std::max(0.0, a * a - dp2)), m) +
                        m * std::sqrt(std::max(0.0, r * r - ex * ex) / (1 + m * m));
   double s = guess > lo && guess < hi ? guess : 0.5 * (lo + hi);
   for (int it = 0; it < 200; ++it) {
-    double dg = 0;
-    const double gs = g(s, &dg);
-    if (gs == 0) return s;
+    const double gs = g(s, &f, &dg);
+    s_out = s;
+    if (gs == 0) return true;
+    if (std::isfinite(gs) && f + (gs > 0 ? gs * (hi - s) : gs * (lo - s)) < floor) return false;
     if (gs > 0)
       lo = s;
     else
       hi = s;
-    if (hi - lo <= 1e-13) return 0.5 * (lo + hi);
+    if (hi - lo <= 1e-13) {
+      s_out = 0.5 * (lo + hi);
+      return true;
+    }
     double sn = (dg < 0 && std::isfinite(dg)) ? s - gs / dg : lo - 1;
     if (!(sn > lo && sn < hi)) sn = 0.5 * (lo + hi);
-    if (std::abs(sn - s) <= 1e-15 * std::max(1.0, std::abs(s))) return sn;
+    if (std::abs(sn - s) <= 1e-15 * std::max(1.0, std::abs(s))) {
+      s_out = sn;
+      return true;
+    }
     s = sn;
   }
-  return s;
+  return true;
 }
 
 /// All contacts of one triangle; coordinates relative to the axis (the axis is at x = y = 0).
@@ -225,7 +241,7 @@ void eval_triangle(const Shape& sh, const P3& A, const P3& B, const P3& C, std::
         break;
       }
       case CutterType::Bull:
-        s = bull_edge_argmax(m, dp2, lo, hi, sh.r, sh.a);
+        if (!bull_edge_argmax(m, dp2, lo, hi, sh.r, sh.a, best.z - kPruneSlack - zf, s)) continue;
         z = zf + m * s - sh.h(std::min(sh.R, std::sqrt(dp2 + s * s)));
         break;
     }
