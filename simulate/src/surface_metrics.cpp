@@ -3,6 +3,8 @@
 #include "millnet/core/error.hpp"
 #include "millnet/simulate/zmap.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -96,8 +98,9 @@ SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& 
   out.ra_share.assign(opt.ra_bins_um.size(), 0);
   if (!opt.ra_map) return out;
   out.ra_um.assign(n, std::numeric_limits<float>::quiet_NaN());
+  const int nthreads = opt.threads > 0 ? opt.threads : std::max(1, omp_get_max_threads());
   const auto nx = static_cast<std::ptrdiff_t>(spec.nx), ny = static_cast<std::ptrdiff_t>(spec.ny);
-#pragma omp parallel
+#pragma omp parallel num_threads(nthreads)
   {
     std::vector<double> prof;
 #pragma omp for schedule(dynamic, 4)

@@ -488,7 +488,7 @@ SweepResult Sweeper::run(ZMap& zm, const gcode::Program& program, const finish::
   }
 
   // 3. Sweep, parallel over row chunks; each cell sees its primitives in program order.
-  const int nthreads = std::max(1, omp_get_max_threads());
+  const int nthreads = opt.threads > 0 ? opt.threads : std::max(1, omp_get_max_threads());
   std::vector<std::vector<double>> thread_cut(static_cast<std::size_t>(nthreads));
   std::uint64_t visited = 0;
   double* z = zm.z_.data();

@@ -104,6 +104,7 @@ struct SweepOptions {
   /// fully known sweeps nothing.
   gcode::Point3 start{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN(),
                       std::numeric_limits<double>::quiet_NaN()};
+  int threads = 0;  ///< OpenMP threads; 0 = the OpenMP default
 };
 
 enum MoveKind : std::uint8_t { kRapidKind = 0, kLineKind = 1, kArcKind = 2 };
@@ -154,9 +155,11 @@ struct MetricsOptions {
   double allowance_mm = 0;                ///< stock the operation should leave on the design
   double tolerance_mm = 0.002;            ///< gouge / remaining-material tolerance
   double sampling_length_mm = 0.8;        ///< ISO 4288 sampling length for Ra
-  /// Ra bin edges, µm, ascending; bin k = [edge k, edge k+1), plus a last open bin ≥ the last edge.
+  /// Ra bin edges, µm, ascending; bin k = [edge k, edge k+1) (values below edge 0 count in bin 0),
+  /// the last bin is open (≥ the last edge). Median and p90 are nearest-rank percentiles.
   std::vector<double> ra_bins_um{0, 0.4, 0.8, 1.6, 3.2, 6.3, 12.5, 25};
   bool ra_map = true;                     ///< compute the per-cell Ra map (and its statistics)
+  int threads = 0;                        ///< OpenMP threads for the Ra map; 0 = the default
 };
 
 struct SurfaceMetrics {
