@@ -84,7 +84,9 @@ struct Seg {
   std::uint8_t kind = kLineKind;
   double ax = 0, ay = 0, az = 0, bx = 0, by = 0, bz = 0;
   // line: derived
-  double dx = 0, dy = 0, dz = 0, L2 = 0, L = 0, ux = 0, uy = 0, m = 0, sq1m = 1;
+  double dx = 0, dy = 0, dz = 0, L2 = 0, L = 0, ux = 0, uy = 0, m = 0, sq1m = 1, inv1m2 = 1;
+  // The sphere at an end is applied by the neighbouring primitive (see link_caps).
+  bool skip_start = false, skip_end = false;
   // planar arc
   double cx = 0, cy = 0, rho0 = 0, th0 = 0, sweep = 0, dir = 1;
   double zmin = 0;           // lowest tip height (no cell under it is lowered below it)
@@ -108,6 +110,7 @@ Seg make_line(const gcode::Point3& s, const gcode::Point3& e, double R) {
     g.uy = g.dy / g.L;
     g.m = g.dz / g.L;
     g.sq1m = std::sqrt(1 + g.m * g.m);
+    g.inv1m2 = 1 / (1 + g.m * g.m);
   }
   g.zmin = std::min(g.az, g.bz);
   g.xlo = std::min(g.ax, g.bx) - R; g.xhi = std::max(g.ax, g.bx) + R;
@@ -127,23 +130,28 @@ bool in_sweep(const Seg& g, double phi) { return wrap(g.dir * (phi - g.th0)) <= 
 
 double env_line_ball(const Seg& g, const Profile& P, double px, double py) {
   const double wx = px - g.ax, wy = py - g.ay;
-  double best = kInf;
-  const double w2 = wx * wx + wy * wy;
-  if (w2 <= P.R2) best = g.az + P.R - std::sqrt(P.R2 - w2);
-  const double vx = px - g.bx, vy = py - g.by;
-  const double v2 = vx * vx + vy * vy;
-  if (v2 <= P.R2) best = std::min(best, g.bz + P.R - std::sqrt(P.R2 - v2));
   if (g.L > 1e-9) {
-    const double s = wx * g.ux + wy * g.uy;
+    // h(t) is convex: when the infinite cylinder's contact lies within the segment it is the
+    // minimum, otherwise the end sphere on the side of the contact is (its disk then reaches p).
     const double q = wx * g.uy - wy * g.ux;
     const double q2 = q * q;
-    if (q2 < P.R2) {
-      const double zeta = g.m * s - g.sq1m * std::sqrt(P.R2 - q2);  // sphere-centre line frame
-      const double sstar = (s + g.m * zeta) / (1 + g.m * g.m);       // contact along the axis
-      if (sstar >= 0 && sstar <= g.L) best = std::min(best, g.az + P.R + zeta);
+    if (q2 > P.R2) return kInf;
+    const double s = wx * g.ux + wy * g.uy;
+    const double zeta = g.m * s - g.sq1m * std::sqrt(P.R2 - q2);  // sphere-centre line frame
+    const double sstar = (s + g.m * zeta) * g.inv1m2;              // contact along the axis
+    if (sstar >= 0 && sstar <= g.L) return g.az + P.R + zeta;
+    if (sstar < 0) {
+      if (g.skip_start) return kInf;  // the previous primitive applied this sphere
+      const double w2 = wx * wx + wy * wy;
+      return w2 <= P.R2 ? g.az + P.R - std::sqrt(P.R2 - w2) : kInf;
     }
+    if (g.skip_end) return kInf;  // the next primitive applies this sphere
+    const double vx = px - g.bx, vy = py - g.by;
+    const double v2 = vx * vx + vy * vy;
+    return v2 <= P.R2 ? g.bz + P.R - std::sqrt(P.R2 - v2) : kInf;
   }
-  return best;
+  const double w2 = wx * wx + wy * wy;  // vertical move: the lower end
+  return w2 <= P.R2 ? g.zmin + P.R - std::sqrt(P.R2 - w2) : kInf;
 }
 
 // The t-interval on which the cutter's disk covers p; false when it never does.
@@ -244,8 +252,8 @@ int row_spans(const Seg& g, double R, double y, Span out[2]) {
   if (g.type == SegType::Line) {
     Span s{0, 0};
     bool any = false;
-    disk_span(g.ax, g.ay, R, y, s, any);
-    disk_span(g.bx, g.by, R, y, s, any);
+    if (!g.skip_start) disk_span(g.ax, g.ay, R, y, s, any);
+    if (!g.skip_end) disk_span(g.bx, g.by, R, y, s, any);
     if (g.L > 1e-9) {  // the rectangle a ± R n, b ± R n (convex: its row cut is one interval)
       const double nx = -g.uy * R, ny = g.ux * R;
       const double px[4] = {g.ax + nx, g.bx + nx, g.bx - nx, g.ax - nx};
@@ -339,6 +347,27 @@ void sweep_row(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t
         sr[ix] = g.serial;
         item_cut = std::max(item_cut, old - h);
       }
+    }
+  }
+}
+
+// At a joint where primitive A ends exactly where B starts (both feeds or both rapids), the
+// sphere (cutter) at the joint is applied by one of them only, and the other skips the half of
+// its end disk that lies outside its band. Exact: behind the start of a line that does not
+// descend (dz ≥ 0) the distance and the height both grow with t, so the minimum there is at the
+// joint; likewise beyond the end of a line that does not ascend. Only the visited cells shrink
+// (by up to πR²/2 per primitive, a lot for the short chords of a finishing path).
+void link_caps(std::vector<Seg>& segs) {
+  for (std::size_t i = 0; i + 1 < segs.size(); ++i) {
+    Seg& a = segs[i];
+    Seg& b = segs[i + 1];
+    if ((a.kind == kRapidKind) != (b.kind == kRapidKind)) continue;
+    if (a.bx != b.ax || a.by != b.ay || a.bz != b.az) continue;
+    if (b.type == SegType::Line && b.L > 1e-9 && b.dz >= 0) {
+      b.skip_start = true;
+    } else if (a.type == SegType::Line && a.L > 1e-9 && a.dz <= 0 && (b.type == SegType::Arc || b.L > 1e-9)) {
+      // (never onto a vertical move: a retract would then be charged with the joint's cut)
+      a.skip_end = true;
     }
   }
 }
@@ -469,6 +498,7 @@ SweepResult Sweeper::run(ZMap& zm, const gcode::Program& program, const finish::
     pos = end;
   }
 
+  link_caps(segs);
   zm.passes_.push_back(std::move(pass));
   zm.next_serial_ += static_cast<std::uint32_t>(nitems);
   res.segments = segs.size();
