@@ -362,3 +362,71 @@ TEST(ZMap, StockFromHeightFieldAddsTheAllowance) {
   EXPECT_EQ(zm.at(0, 1), -3);
   EXPECT_EQ(zm.at(2, 1), 5.5);
 }
+
+TEST(ZMap, PolylinesWithSharedJointsMatchDenseSampling) {
+  // Up and down chords, valleys and peaks, a vertical move and a planar arc in the chain: the
+  // joint spheres are applied once (half caps skipped) and the result must still be exact.
+  const GridSpec g{0, 0, 0.04, 150, 120};
+  const std::vector<gcode::Point3> pts{{0.5, 1.0, -0.2}, {1.5, 1.6, -0.5}, {2.1, 2.2, -0.1}, {2.8, 2.0, -0.4},
+                                       {2.8, 2.0, -0.6}, {3.9, 2.9, -0.6}, {4.5, 2.6, -0.3}, {5.2, 3.3, -0.3}};
+  for (const auto& c : {finish::Cutter::ball(2), finish::Cutter::flat(2), finish::Cutter::bull(2, 0.35)}) {
+    ZMap zm = ZMap::flat(g, 0);
+    SweepOptions o;
+    o.start = pts[0];
+    Program p;
+    for (std::size_t i = 1; i < pts.size(); ++i) add(p, mv(Motion::Line, pts[i][0], pts[i][1], pts[i][2]));
+    add(p, mv(Motion::ArcCW, 5.2, 1.3, -0.3, 5.2, 2.3));  // half circle, planar
+    add(p, mv(Motion::Line, 4.0, 0.9, -0.45));
+    machine(zm, p, c, o);
+    std::vector<gcode::Point3> path;  // dense samples of the whole path
+    for (std::size_t i = 0; i + 1 < pts.size(); ++i)
+      for (int k = 0; k < 4000; ++k) {
+        const double t = k / 4000.0;
+        path.push_back({pts[i][0] + t * (pts[i + 1][0] - pts[i][0]), pts[i][1] + t * (pts[i + 1][1] - pts[i][1]),
+                        pts[i][2] + t * (pts[i + 1][2] - pts[i][2])});
+      }
+    for (int k = 0; k <= 8000; ++k) {
+      const double th = std::numbers::pi / 2 - std::numbers::pi * k / 8000.0;
+      path.push_back({5.2 + std::cos(th), 2.3 + std::sin(th), -0.3});
+    }
+    for (int k = 1; k <= 4000; ++k) {
+      const double t = k / 4000.0;
+      path.push_back({5.2 - 1.2 * t, 1.3 - 0.4 * t, -0.3 - 0.15 * t});
+    }
+    double up = 0, down = 0;
+    for (std::size_t iy = 0; iy < g.ny; iy += 2)
+      for (std::size_t ix = 0; ix < g.nx; ix += 2) {
+        double brute = 0;
+        for (const auto& q : path) {
+          const double f = profile_height(c, std::hypot(g.x(ix) - q[0], g.y(iy) - q[1]));
+          if (std::isfinite(f)) brute = std::min(brute, q[2] + f);
+        }
+        up = std::max(up, zm.at(ix, iy) - brute);
+        down = std::max(down, brute - zm.at(ix, iy));
+      }
+    EXPECT_LT(up, 1e-9) << static_cast<int>(c.type);
+    EXPECT_LT(down, 2e-3) << static_cast<int>(c.type);
+  }
+}
+
+TEST(ZMap, RaOfAScallopedPlaneMatchesTheProfileIntegral) {
+  const double p = 0.2, R = 1;
+  const GridSpec g{-0.005, -0.005, 0.01, 400, 400};
+  ZMap zm = ZMap::flat(g, 0.5);
+  machine(zm, raster(-2, 6, -1.0, p, 31, zero), finish::Cutter::ball(2 * R));
+  const auto m = surface_metrics(zm, design_window(g, 1, 3, 1, 3, zero));
+  // Ra of the periodic scallop profile e(y) = R − √(R² − d²), d = distance to the nearest pass.
+  const int n = 200000;
+  double mean = 0;
+  std::vector<double> e(n);
+  for (int k = 0; k < n; ++k) {
+    const double d = std::abs((k + 0.5) / n * p - p / 2);
+    e[static_cast<std::size_t>(k)] = R - std::sqrt(R * R - (p / 2 - d) * (p / 2 - d));
+    mean += e[static_cast<std::size_t>(k)] / n;
+  }
+  double ra = 0;
+  for (double v : e) ra += std::abs(v - mean) / n;
+  EXPECT_NEAR(m.ra_median_um, 1000 * ra, 0.03 * 1000 * ra);
+  EXPECT_NEAR(m.ra_p90_um, 1000 * ra, 0.05 * 1000 * ra);
+  EXPECT_NEAR(m.ra_mean_um, 1000 * ra, 0.05 * 1000 * ra);
+}
