@@ -372,6 +372,61 @@ void link_caps(std::vector<Seg>& segs) {
   }
 }
 
+
+// The ball/line kernel of sweep_row, written without branches so that the compiler vectorises
+// it (same closed form as env_line_ball; the ternaries select among the three candidates).
+void ball_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t iy, double* z,
+                   std::uint32_t* stamp, double& item_cut, std::uint64_t& visited) {
+  const double y = spec.y(iy);
+  Span spans[2];
+  const int n = row_spans(g, P.R, y, spans);
+  // Locals: the stores below cannot alias them (keeps the loop vectorisable).
+  const double ax = g.ax, bx = g.bx, az = g.az, bz = g.bz, ux = g.ux, uy = g.uy, m = g.m, sq1m = g.sq1m;
+  const double inv = g.inv1m2, L = g.L, R = P.R, R2 = P.R2, x0 = spec.x0, cell = spec.cell;
+  const double wy = y - g.ay, vy = y - g.by;
+  const double qy = -wy * ux, sy = wy * uy;
+  const bool use_a = !g.skip_start, use_b = !g.skip_end;
+  const std::uint32_t serial = g.serial;
+  for (int k = 0; k < n; ++k) {
+    std::size_t i0 = 0, i1 = 0;
+    if (!cell_range(spans[k].lo, spans[k].hi, spec.x0, spec.cell, spec.nx, i0, i1)) continue;
+    visited += i1 - i0 + 1;
+    double* zr = z + iy * spec.nx;
+    std::uint32_t* sr = stamp + iy * spec.nx;
+    double mx = item_cut;
+    const int j0 = static_cast<int>(i0), j1 = static_cast<int>(i1);
+#pragma omp simd reduction(max : mx)
+    for (int ix = j0; ix <= j1; ++ix) {
+      const double x = x0 + (static_cast<double>(ix) + 0.5) * cell;
+      const double wx = x - ax, vx = x - bx;
+      const double q = wx * uy + qy;
+      const double s = wx * ux + sy;
+      const double q2 = q * q;
+      const double zeta = m * s - sq1m * std::sqrt(std::max(R2 - q2, 0.0));
+      const double sstar = (s + m * zeta) * inv;
+      const double w2 = wx * wx + wy * wy, v2 = vx * vx + vy * vy;
+      const double ha = az + R - std::sqrt(std::max(R2 - w2, 0.0));
+      const double hb = bz + R - std::sqrt(std::max(R2 - v2, 0.0));
+      // Bitwise & on bools: no short-circuit control flow in the loop.
+      const bool reach = q2 <= R2;
+      const bool cyl = reach & (sstar >= 0) & (sstar <= L);
+      const bool sa = reach & (sstar < 0) & use_a & (w2 <= R2);
+      const bool sb = reach & (sstar > L) & use_b & (v2 <= R2);
+      const double hc = az + R + zeta;
+      const double h1 = sb ? hb : kInf;
+      const double h2 = sa ? ha : h1;
+      const double h = cyl ? hc : h2;
+      const double old = zr[ix];
+      const bool lower = h < old;
+      zr[ix] = lower ? h : old;
+      sr[ix] = lower ? serial : sr[ix];
+      const double d = old - h;
+      mx = mx > d ? mx : d;
+    }
+    item_cut = mx;
+  }
+}
+
 }  // namespace
 
 double profile_height(const finish::Cutter& cutter, double r) {
@@ -539,6 +594,8 @@ SweepResult Sweeper::run(ZMap& zm, const gcode::Program& program, const finish::
         for (std::size_t iy = a; iy <= b; ++iy) {
           if (g.type == SegType::Arc) {
             sweep_row(g, P, spec, iy, z, stamp, item_cut, visited, env_arc);
+          } else if (P.type == finish::CutterType::Ball && g.L > 1e-9) {
+            ball_line_row(g, P, spec, iy, z, stamp, item_cut, visited);
           } else if (P.type == finish::CutterType::Ball) {
             sweep_row(g, P, spec, iy, z, stamp, item_cut, visited, env_line_ball);
           } else if (P.type == finish::CutterType::Flat) {

@@ -19,6 +19,8 @@ void GridSpec::check() const {
   if (!std::isfinite(cell) || cell <= 0) throw Error("z-map: cell must be a finite size > 0 mm");
   if (!std::isfinite(x0) || !std::isfinite(y0)) throw Error("z-map: grid corner must be finite");
   if (nx == 0 || ny == 0) throw Error("z-map: grid needs at least one cell in X and in Y");
+  if (nx >= (std::size_t{1} << 31) || ny >= (std::size_t{1} << 31))
+    throw Error("z-map: at most 2^31 - 1 cells per row or column");
 }
 
 std::size_t ZMap::bytes_needed(const GridSpec& spec) {
