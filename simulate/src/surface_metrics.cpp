@@ -41,6 +41,15 @@ double profile_ra(const double* e, std::size_t n) {
 
 }  // namespace
 
+std::vector<double> deviation(const ZMap& machined, const std::vector<double>& design) {
+  if (design.size() != machined.heights().size())
+    throw Error("simulate: design surface has " + std::to_string(design.size()) + " values, the z-map " +
+                std::to_string(machined.heights().size()));
+  std::vector<double> e(design.size());
+  for (std::size_t i = 0; i < e.size(); ++i) e[i] = machined.heights()[i] - design[i];
+  return e;
+}
+
 SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& design, const MetricsOptions& opt) {
   const GridSpec& spec = machined.spec();
   if (design.size() != spec.cells())

@@ -143,6 +143,9 @@ TEST(ZMap, FlatEndMillLeavesNoScallop) {
   ZMap zm = ZMap::flat(g, 0.5);
   machine(zm, raster(-4, 8, -2, 1.0, 9, zero), finish::Cutter::flat(4));
   const auto m = surface_metrics(zm, design_window(g, 1, 3, 1, 3, zero));
+  const auto e = deviation(zm, design_window(g, 1, 3, 1, 3, zero));
+  EXPECT_EQ(e[100 * g.nx + 100], 0);
+  EXPECT_TRUE(std::isnan(e[0]));
   EXPECT_EQ(m.scallop_max_mm, 0);
   EXPECT_EQ(m.min_e_mm, 0);
   EXPECT_EQ(m.max_e_mm, 0);

@@ -185,6 +185,10 @@ struct SurfaceMetrics {
   double ra_p90_um = 0;
 };
 
+/// The deviation map e = machined − design per cell (NaN where the design is NaN), for heat maps.
+/// Throws millnet::Error on a size mismatch.
+[[nodiscard]] std::vector<double> deviation(const ZMap& machined, const std::vector<double>& design);
+
 /// `design` is the part's top surface at the z-map's cells (row-major, spec.cells() values, NaN
 /// where there is no surface). Throws millnet::Error on a size mismatch or bad options.
 [[nodiscard]] SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& design,
