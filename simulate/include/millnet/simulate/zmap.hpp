@@ -130,8 +130,12 @@ struct SweepResult {
 /// `program` (feeds AND rapids) and stamps each lowered cell with its move. Only the cells of each
 /// move's swept band are visited (per row, the exact X interval of the band's XY shadow). Parallel
 /// over rows with OpenMP; bit-identical results for any thread count (each cell sees the moves in
-/// program order). Throws millnet::Error on a bad cutter, on a non-finite coordinate or when the
-/// z-map's move stamps would overflow.
+/// program order). Exact for lines (ball, flat: closed forms; bull: golden-section search of the
+/// convex height along the move) and planar arcs (all cutters, closed form); helical arcs follow
+/// chords within helix_chord_tol_mm. The cutter at the joint of two consecutive moves of the same
+/// kind (feed/feed or rapid/rapid) is swept by one of them only, so a cell cut there is charged
+/// (stamp, depth of cut) to either. Throws millnet::Error on a bad cutter, on a non-finite
+/// coordinate or when the z-map's move stamps would overflow.
 SweepResult machine(ZMap& zmap, const gcode::Program& program, const finish::Cutter& cutter,
                     const SweepOptions& options = {});
 
