@@ -7,6 +7,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <cmath>
 
 using namespace millnet;
@@ -101,8 +102,58 @@ void BM_ZMapMetrics(benchmark::State& st) {
   st.counters["cells_per_s"] = benchmark::Counter(static_cast<double>(g.cells()), benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// The rough → finish chain: a Ø10 flat end mill clears the stock in 1 mm levels (zigzag along X at
+// 5 mm stepover, each level 0.3 mm above the surface's highest point under the tool, simplified to
+// the level's own height), then the Ø2 ball raster (1 mm chords) finishes on the same z-map.
+// Reports the largest depth of cut the finishing tool meets.
+void BM_ZMapRoughThenFinish(benchmark::State& st) {
+  const GridSpec g{0, 0, 0.02, 5000, 5000};
+  gcode::Program rough;
+  auto add = [&](gcode::Motion m, double x, double y, double z) {
+    gcode::Move v;
+    v.motion = m;
+    v.to = {x, y, z};
+    v.feed = m == gcode::Motion::Rapid ? 0 : 3000;
+    rough.items.emplace_back(v);
+  };
+  for (double level = 3; level >= -3; level -= 1) {
+    add(gcode::Motion::Rapid, -6, -6, 10);
+    add(gcode::Motion::Rapid, -6, -6, level);
+    for (int k = 0; k <= 22; ++k) {  // passes at y = −5 … 105
+      const double y = -5 + 5.0 * k;
+      const bool fwd = k % 2 == 0;
+      // Stay 0.3 mm above the surface under the whole Ø10 footprint (sampled coarsely).
+      const int n = 111;
+      for (int i = 0; i <= n; ++i) {
+        const double x = fwd ? -5 + i : 105 - i;
+        double top = -1e9;
+        for (double u = -5; u <= 5; u += 1)
+          for (double v = -5; v <= 5; v += 1) top = std::max(top, surface(x + u, y + v));
+        add(gcode::Motion::Line, x, y, std::max(level, top + 0.3));
+      }
+    }
+    add(gcode::Motion::Rapid, -6, 105, 10);
+  }
+  const gcode::Program fin = raster(1.0);
+  double meet = 0, rough_s = 0;
+  for (auto _ : st) {
+    st.PauseTiming();
+    ZMap zm = ZMap::flat(g, 5);
+    st.ResumeTiming();
+    const auto t0 = std::chrono::steady_clock::now();
+    (void)machine(zm, rough, finish::Cutter::flat(10));
+    rough_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const auto r = machine(zm, fin, finish::Cutter::ball(2));
+    meet = r.max_cut_mm[kLineKind];
+  }
+  st.counters["rough_s"] = rough_s;
+  st.counters["rough_moves"] = static_cast<double>(rough.items.size());
+  st.counters["finish_max_depth_of_cut_mm"] = meet;
+}
+
 }  // namespace
 
+BENCHMARK(BM_ZMapRoughThenFinish)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
 BENCHMARK(BM_ZMapMetrics)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
 BENCHMARK(BM_ZMapBallRaster)->Arg(1000)->Arg(250)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
 

@@ -427,6 +427,49 @@ void ball_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::si
   }
 }
 
+
+// The flat/line kernel, branch-free like ball_line_row (same closed form as env_line_flat).
+void flat_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t iy, double* z,
+                   std::uint32_t* stamp, double& item_cut, std::uint64_t& visited) {
+  const double y = spec.y(iy);
+  Span spans[2];
+  const int n = row_spans(g, P.R, y, spans);
+  const double ax = g.ax, az = g.az, dx = g.dx, dy = g.dy, dz = g.dz, L2 = g.L2, inv = 1 / g.L2, R2 = P.R2;
+  const double x0 = spec.x0, cell = spec.cell, wy = y - g.ay;
+  const bool up = dz > 0;
+  const std::uint32_t serial = g.serial;
+  for (int k = 0; k < n; ++k) {
+    std::size_t i0 = 0, i1 = 0;
+    if (!cell_range(spans[k].lo, spans[k].hi, spec.x0, spec.cell, spec.nx, i0, i1)) continue;
+    visited += i1 - i0 + 1;
+    double* zr = z + iy * spec.nx;
+    std::uint32_t* sr = stamp + iy * spec.nx;
+    double mx = item_cut;
+    const int j0 = static_cast<int>(i0), j1 = static_cast<int>(i1);
+#pragma omp simd reduction(max : mx)
+    for (int ix = j0; ix <= j1; ++ix) {
+      const double x = x0 + (static_cast<double>(ix) + 0.5) * cell;
+      const double wx = x - ax;
+      const double w2 = wx * wx + wy * wy;
+      const double wd = wx * dx + wy * dy;
+      const double disc = wd * wd - L2 * (w2 - R2);
+      const double sq = std::sqrt(std::max(disc, 0.0));
+      const double t0 = (wd - sq) * inv, t1 = (wd + sq) * inv;
+      const bool valid = (disc >= 0) & (t1 >= 0) & (t0 <= 1);
+      const double t = up ? std::max(t0, 0.0) : std::min(t1, 1.0);
+      const double hv = az + dz * t;
+      const double h = valid ? hv : kInf;
+      const double old = zr[ix];
+      const bool lower = h < old;
+      zr[ix] = lower ? h : old;
+      sr[ix] = lower ? serial : sr[ix];
+      const double d = old - h;
+      mx = mx > d ? mx : d;
+    }
+    item_cut = mx;
+  }
+}
+
 }  // namespace
 
 double profile_height(const finish::Cutter& cutter, double r) {
@@ -598,6 +641,8 @@ SweepResult Sweeper::run(ZMap& zm, const gcode::Program& program, const finish::
             ball_line_row(g, P, spec, iy, z, stamp, item_cut, visited);
           } else if (P.type == finish::CutterType::Ball) {
             sweep_row(g, P, spec, iy, z, stamp, item_cut, visited, env_line_ball);
+          } else if (P.type == finish::CutterType::Flat && g.L > 1e-9) {
+            flat_line_row(g, P, spec, iy, z, stamp, item_cut, visited);
           } else if (P.type == finish::CutterType::Flat) {
             sweep_row(g, P, spec, iy, z, stamp, item_cut, visited, env_line_flat);
           } else {
