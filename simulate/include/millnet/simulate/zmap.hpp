@@ -1,0 +1,201 @@
+#pragma once
+// Z-map virtual machining (ARCHITECTURE.md, simulate/): a regular XY grid of heights that a
+// cutter, swept along every move of a gcode::Program, lowers to the lower envelope of the swept
+// cutter; then the machined surface is scored against the design surface (deviation, gouge,
+// remaining material, scallop, roughness).
+//
+// Grid: cell (ix, iy), ix in [0, nx) along X (columns), iy in [0, ny) along Y (rows), stored row by
+// row (index iy * nx + ix). (x0, y0) is the lower-left CORNER of the grid; each cell is sampled at
+// its centre (x0 + (ix + ½)·cell, y0 + (iy + ½)·cell). Heights in mm, same frame as the program
+// (Z = tool tip, see gcode/program.hpp).
+//
+// Cutters: finish::Cutter (flat, ball, bull; vertical axis, CL = tip). The simulator evaluates the
+// profile itself from the cutter's public fields (type, diameter, corner_radius): the cutter is a
+// solid of revolution, infinitely long above its profile f(r), r ≤ R:
+//   flat f = 0;  ball f = R − √(R² − r²);  bull f = 0 for r ≤ R − rc, rc − √(rc² − (r − R + rc)²) beyond.
+#include "millnet/finish/cutter.hpp"
+#include "millnet/gcode/program.hpp"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace millnet::simulate {
+
+/// The regular grid shared by a z-map and the design surface it is compared with.
+struct GridSpec {
+  double x0 = 0;        ///< lower-left corner, mm
+  double y0 = 0;
+  double cell = 0.02;   ///< cell edge, mm (> 0)
+  std::size_t nx = 0;   ///< columns (X)
+  std::size_t ny = 0;   ///< rows (Y)
+
+  [[nodiscard]] std::size_t cells() const { return nx * ny; }
+  [[nodiscard]] double x(std::size_t ix) const { return x0 + (static_cast<double>(ix) + 0.5) * cell; }
+  [[nodiscard]] double y(std::size_t iy) const { return y0 + (static_cast<double>(iy) + 0.5) * cell; }
+  /// Throws millnet::Error unless the cell is finite and > 0, nx, ny ≥ 1 and the corner finite.
+  void check() const;
+};
+
+/// Default memory limit of one z-map (heights + move stamps): 2 GiB.
+inline constexpr std::size_t kZMapMaxBytes = std::size_t{2} << 30;
+
+/// Where a cell's height comes from: the pass (one machine() call) and the program item.
+struct MoveRef {
+  std::size_t pass = 0;     ///< 0-based index of the machine() call on this z-map
+  std::size_t item = 0;     ///< index into that program's items
+  std::size_t line = 0;     ///< 1-based G-code source line when the reader filled it, else 0
+};
+
+/// Heights over a GridSpec plus, per cell, a stamp of the move that last lowered it.
+class ZMap {
+ public:
+  /// Bytes a z-map of `spec` needs (8 per height + 4 per stamp).
+  [[nodiscard]] static std::size_t bytes_needed(const GridSpec& spec);
+  /// Flat stock at height `top`. Throws millnet::Error when bytes_needed(spec) > max_bytes.
+  [[nodiscard]] static ZMap flat(const GridSpec& spec, double top, std::size_t max_bytes = kZMapMaxBytes);
+  /// Stock from a height field (row-major, spec.cells() values) raised by `offset` (an allowance);
+  /// NaN heights (no surface) become `nan_fill`. Throws on a size mismatch or above the limit.
+  [[nodiscard]] static ZMap from_heights(const GridSpec& spec, const std::vector<double>& heights,
+                                         double offset = 0, double nan_fill = 0,
+                                         std::size_t max_bytes = kZMapMaxBytes);
+  // A previous simulation is simply a ZMap: copy it (or keep machining the same object).
+
+  [[nodiscard]] const GridSpec& spec() const { return spec_; }
+  [[nodiscard]] const std::vector<double>& heights() const { return z_; }
+  [[nodiscard]] std::vector<double>& heights() { return z_; }
+  [[nodiscard]] double at(std::size_t ix, std::size_t iy) const { return z_[iy * spec_.nx + ix]; }
+  /// Stamps: 0 = never lowered by a move; otherwise a global move serial (see origin()).
+  [[nodiscard]] const std::vector<std::uint32_t>& stamps() const { return stamp_; }
+  /// The move that last lowered cell `index`; false when no move did.
+  [[nodiscard]] bool origin(std::size_t index, MoveRef& out) const;
+  [[nodiscard]] std::size_t passes() const { return passes_.size(); }
+  /// Unit across-feed direction of the move that last lowered cell `index` at (x, y); false when
+  /// no move did or the move has no XY direction (a plunge).
+  [[nodiscard]] bool across_feed(std::size_t index, double x, double y, double& nx, double& ny) const;
+
+ private:
+  friend class Sweeper;
+  struct Pass {
+    std::uint32_t first_serial = 1;             ///< stamp of item 0
+    std::size_t items = 0;
+    std::vector<std::size_t> source_line;       ///< copy of Program::source_line (may be empty)
+    /// Per item, the across-feed direction for roughness profiles: lines (nx, ny, 0) unit;
+    /// arcs (cx, cy, 1): radial from the centre; other items (0, 0, -1).
+    std::vector<std::array<double, 3>> across;
+  };
+  GridSpec spec_;
+  std::vector<double> z_;
+  std::vector<std::uint32_t> stamp_;
+  std::vector<Pass> passes_;
+  std::uint32_t next_serial_ = 1;
+};
+
+struct SweepOptions {
+  /// Helical arcs (G2/G3 whose Z changes) are split into chords whose sagitta is at most this
+  /// (mm). Planar arcs and lines are swept exactly (closed forms, no sampling).
+  double helix_chord_tol_mm = 1e-4;
+  /// A move "cuts" when it lowers some cell by more than this (mm); used for cutting rapids.
+  double cut_eps_mm = 1e-6;
+  /// Known tool position before the first move; NaN axes are unknown. A move whose start is not
+  /// fully known sweeps only its end point (the tool is placed there); a move whose end is not
+  /// fully known sweeps nothing.
+  gcode::Point3 start{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN(),
+                      std::numeric_limits<double>::quiet_NaN()};
+  int threads = 0;  ///< OpenMP threads; 0 = the OpenMP default
+};
+
+enum MoveKind : std::uint8_t { kRapidKind = 0, kLineKind = 1, kArcKind = 2 };
+
+struct SweepResult {
+  std::size_t pass = 0;                   ///< index of this machine() call on the z-map
+  std::size_t feed_moves = 0;             ///< G1/G2/G3 items
+  std::size_t rapid_moves = 0;            ///< G0 items
+  std::size_t segments = 0;               ///< swept primitives (helices count their chords)
+  double feed_length_mm = 0;              ///< 3D path length of G1/G2/G3
+  double rapid_length_mm = 0;
+  /// Rapids that lowered some cell by more than cut_eps_mm (item indices, ascending).
+  std::vector<std::size_t> cutting_rapids;
+  /// Largest depth of cut (height removed at one cell by one move) per MoveKind, mm.
+  std::array<double, 3> max_cut_mm{};
+  /// Item of that largest cut per MoveKind (SIZE_MAX when the kind never cut).
+  std::array<std::size_t, 3> max_cut_item{SIZE_MAX, SIZE_MAX, SIZE_MAX};
+  std::vector<double> item_max_cut_mm;    ///< per program item (0 for non-moves)
+  std::uint64_t cells_visited = 0;        ///< cell evaluations (for the benchmark's cells × moves)
+};
+
+/// Lowers every cell of `zmap` to the lower envelope of `cutter` swept along every move of
+/// `program` (feeds AND rapids) and stamps each lowered cell with its move. Only the cells of each
+/// move's swept band are visited (per row, the exact X interval of the band's XY shadow). Parallel
+/// over rows with OpenMP; bit-identical results for any thread count (each cell sees the moves in
+/// program order). Exact for lines (ball, flat: closed forms; bull: golden-section search of the
+/// convex height along the move) and planar arcs (all cutters, closed form); helical arcs follow
+/// chords within helix_chord_tol_mm. The cutter at the joint of two consecutive moves of the same
+/// kind (feed/feed or rapid/rapid) is swept by one of them only, so a cell cut there is charged
+/// (stamp, depth of cut) to either. Throws millnet::Error on a bad cutter, on a non-finite
+/// coordinate or when the z-map's move stamps would overflow.
+SweepResult machine(ZMap& zmap, const gcode::Program& program, const finish::Cutter& cutter,
+                    const SweepOptions& options = {});
+
+/// The cutter profile f(r) used by the sweep (+inf beyond the radius), for tests and callers.
+[[nodiscard]] double profile_height(const finish::Cutter& cutter, double r);
+
+// ---------------------------------------------------------------------------------------------
+// Metrics against the design surface.
+//
+// Roughness: Ra per cell, the arithmetic mean deviation of the PROFILE of e = machined − design
+// from its least-squares mean line, over one ISO 4288 sampling length (default 0.8 mm) centred at
+// the cell and laid ACROSS the feed direction of the move that last cut the cell. The profile is
+// sampled at the cell centres along the grid axis closest to the across-feed direction, over a
+// length of sampling_length / cos(angle between that axis and the across-feed direction), so
+// that it spans one sampling length measured across the feed (Ra of a periodic scallop profile
+// does not change when the profile is stretched along its axis). Cells never cut use a profile
+// along Y. Cells whose design height is NaN are not part of the surface; profile samples there
+// are skipped, and a cell with fewer than 3 samples has no Ra.
+
+struct MetricsOptions {
+  double allowance_mm = 0;                ///< stock the operation should leave on the design
+  double tolerance_mm = 0.002;            ///< gouge / remaining-material tolerance
+  double sampling_length_mm = 0.8;        ///< ISO 4288 sampling length for Ra
+  /// Ra bin edges, µm, ascending; bin k = [edge k, edge k+1) (values below edge 0 count in bin 0),
+  /// the last bin is open (≥ the last edge). Median and p90 are nearest-rank percentiles.
+  std::vector<double> ra_bins_um{0, 0.4, 0.8, 1.6, 3.2, 6.3, 12.5, 25};
+  bool ra_map = true;                     ///< compute the per-cell Ra map (and its statistics)
+  int threads = 0;                        ///< OpenMP threads for the Ra map; 0 = the default
+};
+
+struct SurfaceMetrics {
+  std::size_t surface_cells = 0;          ///< cells with a design height
+  double min_e_mm = 0;                    ///< min(machined − design)
+  double max_e_mm = 0;
+  double max_gouge_mm = 0;                ///< max(0, −min e)
+  bool gouged = false;                    ///< min e < −tolerance
+  std::size_t gouge_cell = SIZE_MAX;      ///< the deepest gouge's cell
+  bool gouge_has_move = false;
+  MoveRef gouge_move;                     ///< the move that cut the deepest gouge
+  MoveRef first_gouge_move;               ///< the earliest move (pass, item) that left a gouged cell
+  double uncut_area_mm2 = 0;              ///< area with e > allowance + tolerance
+  /// max(e − allowance) over the surface cells that some move lowered (cells the program never
+  /// touched are remaining material, not scallop).
+  double scallop_max_mm = 0;
+  std::vector<float> ra_um;               ///< per cell, µm; NaN off the surface (empty if !ra_map)
+  std::vector<double> ra_bin_edges_um;    ///< copy of the edges
+  std::vector<double> ra_share;           ///< share of the Ra cells per bin (edges.size() bins)
+  std::size_t ra_cells = 0;               ///< cells with an Ra
+  double ra_mean_um = 0;
+  double ra_median_um = 0;
+  double ra_p90_um = 0;
+};
+
+/// The deviation map e = machined − design per cell (NaN where the design is NaN), for heat maps.
+/// Throws millnet::Error on a size mismatch.
+[[nodiscard]] std::vector<double> deviation(const ZMap& machined, const std::vector<double>& design);
+
+/// `design` is the part's top surface at the z-map's cells (row-major, spec.cells() values, NaN
+/// where there is no surface). Throws millnet::Error on a size mismatch or bad options.
+[[nodiscard]] SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& design,
+                                             const MetricsOptions& options = {});
+
+}  // namespace millnet::simulate

@@ -1,0 +1,435 @@
+// Z-map virtual machining: exact grooves (line, arc), scallops of ball rasters on a plane and a
+// tilted plane, flat end mill, gouge reporting, depth of cut in a rough → finish chain, cutting
+// rapids, dense-sampling oracle for every cutter, thread-count independence, memory refusal.
+#include "millnet/simulate/zmap.hpp"
+
+#include "millnet/core/error.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <numbers>
+
+using namespace millnet;
+using namespace millnet::simulate;
+using gcode::Motion;
+using gcode::Move;
+using gcode::Program;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+Move mv(Motion m, double x, double y, double z, double cx = 0, double cy = 0) {
+  Move v;
+  v.motion = m;
+  v.to = {x, y, z};
+  v.center = {cx, cy};
+  v.feed = m == Motion::Rapid ? 0 : 1000;
+  return v;
+}
+
+void add(Program& p, Move m) { p.items.emplace_back(m); }
+
+double ball_f(double R, double r) { return R - std::sqrt(R * R - r * r); }
+
+// A raster of passes along X at y = y_first + k·step (k < n), tip height z(y), from x0 to x1.
+Program raster(double x0, double x1, double y_first, double step, int n, double (*zf)(double)) {
+  Program p;
+  for (int k = 0; k < n; ++k) {
+    const double y = y_first + step * k;
+    add(p, mv(Motion::Rapid, x0, y, 5));
+    add(p, mv(Motion::Line, x0, y, zf(y)));
+    add(p, mv(Motion::Line, x1, y, zf(y)));
+    add(p, mv(Motion::Rapid, x1, y, 5));
+  }
+  return p;
+}
+
+// Design NaN outside [xa, xb] × [ya, yb].
+std::vector<double> design_window(const GridSpec& g, double xa, double xb, double ya, double yb, double (*zf)(double)) {
+  std::vector<double> d(g.cells(), kNaN);
+  for (std::size_t iy = 0; iy < g.ny; ++iy)
+    for (std::size_t ix = 0; ix < g.nx; ++ix) {
+      const double x = g.x(ix), y = g.y(iy);
+      if (x >= xa && x <= xb && y >= ya && y <= yb) d[iy * g.nx + ix] = zf(y);
+    }
+  return d;
+}
+
+double zero(double) { return 0; }
+
+}  // namespace
+
+TEST(ZMap, BallLineLeavesExactCircularGroove) {
+  const GridSpec g{0, 0, 0.05, 200, 80};
+  ZMap zm = ZMap::flat(g, 0);
+  Program p;
+  add(p, mv(Motion::Rapid, -2, 2.025, 5));  // on a row of cell centres
+  add(p, mv(Motion::Line, -2, 2.025, -0.3));
+  add(p, mv(Motion::Line, 12, 2.025, -0.3));
+  add(p, mv(Motion::Rapid, 12, 2.025, 5));
+  const auto res = machine(zm, p, finish::Cutter::ball(2));
+  EXPECT_TRUE(res.cutting_rapids.empty());
+  EXPECT_EQ(res.feed_moves, 2u);
+  EXPECT_EQ(res.rapid_moves, 2u);
+  EXPECT_NEAR(res.max_cut_mm[kLineKind], 0.3, 1e-12);
+  EXPECT_NEAR(res.feed_length_mm, 19.3, 1e-12);
+  for (std::size_t iy = 0; iy < g.ny; ++iy)
+    for (std::size_t ix = 0; ix < g.nx; ++ix) {
+      const double dy = std::abs(g.y(iy) - 2.025);
+      const double expect = dy < 1 ? std::min(0.0, -0.3 + ball_f(1, dy)) : 0.0;
+      ASSERT_NEAR(zm.at(ix, iy), expect, 1e-12) << ix << "," << iy;
+      MoveRef ref;
+      if (expect < 0) {
+        ASSERT_TRUE(zm.origin(iy * g.nx + ix, ref));
+        EXPECT_EQ(ref.item, 2u);
+        EXPECT_EQ(ref.pass, 0u);
+      } else {
+        EXPECT_FALSE(zm.origin(iy * g.nx + ix, ref));
+      }
+    }
+}
+
+TEST(ZMap, BallRasterOnPlaneLeavesTheoreticalScallop) {
+  const double p = 0.2, R = 1;
+  const GridSpec g{-0.005, -0.005, 0.01, 400, 400};  // cell centres at multiples of 0.01: on the cusps
+  ZMap zm = ZMap::flat(g, 0.5);
+  machine(zm, raster(-2, 6, -1.0, p, 31, zero), finish::Cutter::ball(2 * R));
+  const auto m = surface_metrics(zm, design_window(g, 1, 3, 1, 3, zero));
+  const double h = R - std::sqrt(R * R - p * p / 4);
+  EXPECT_NEAR(m.scallop_max_mm, h, 0.02 * h);
+  EXPECT_FALSE(m.gouged);
+  EXPECT_GE(m.min_e_mm, -1e-12);
+  EXPECT_NEAR(m.min_e_mm, 0, 1e-12);
+  // Ra of the scallop profile (its analytic value is ≈ h/4 for a parabola-like arc profile).
+  EXPECT_GT(m.ra_median_um, 0.5);
+  EXPECT_LT(m.ra_median_um, 1000 * h / 2);
+  EXPECT_EQ(m.ra_cells, m.surface_cells);
+  double share = 0;
+  for (double s : m.ra_share) share += s;
+  EXPECT_NEAR(share, 1, 1e-12);
+  EXPECT_GE(m.ra_p90_um, m.ra_median_um);
+}
+
+namespace {
+constexpr double kAlpha = 20 * std::numbers::pi / 180;
+double tilted(double y) { return y * std::tan(kAlpha); }
+double tilted_tip(double y) { return y * std::tan(kAlpha) + 1.0 / std::cos(kAlpha) - 1.0; }  // ball R = 1
+}  // namespace
+
+TEST(ZMap, BallRasterOnTiltedPlaneUsesTheThreeDStepover) {
+  const double py = 0.2, R = 1;
+  const double s = py / std::cos(kAlpha);                   // 3D stepover along the plane
+  const double hn = R - std::sqrt(R * R - s * s / 4);       // scallop normal to the plane
+  // Put cell centres on the cusps: y = midpoint + √(R² − s²/4)·sin α (+ k·py, py = 20 cells).
+  const double cusp = 0.1 + std::sqrt(R * R - s * s / 4) * std::sin(kAlpha);
+  const double cell = 0.01;
+  const double y0 = cusp - 0.5 * cell - 100 * cell;
+  const GridSpec g{-0.005, y0, cell, 400, 400};
+  ZMap zm = ZMap::flat(g, 10);
+  machine(zm, raster(-2, 6, 0.2 * std::round((y0 - 1.5) / 0.2), py, 40, tilted_tip), finish::Cutter::ball(2 * R));
+  const double ya = y0 + 1, yb = y0 + 3;
+  const auto m = surface_metrics(zm, design_window(g, 1, 3, ya, yb, tilted));
+  EXPECT_NEAR(m.scallop_max_mm * std::cos(kAlpha), hn, 0.02 * hn);
+  EXPECT_NEAR(m.min_e_mm, 0, 2e-5);  // the contact lines fall between cell centres
+  EXPECT_GE(m.min_e_mm, -1e-12);
+  EXPECT_FALSE(m.gouged);
+}
+
+TEST(ZMap, FlatEndMillLeavesNoScallop) {
+  const GridSpec g{0, 0, 0.02, 200, 200};
+  ZMap zm = ZMap::flat(g, 0.5);
+  machine(zm, raster(-4, 8, -2, 1.0, 9, zero), finish::Cutter::flat(4));
+  const auto m = surface_metrics(zm, design_window(g, 1, 3, 1, 3, zero));
+  const auto e = deviation(zm, design_window(g, 1, 3, 1, 3, zero));
+  EXPECT_EQ(e[100 * g.nx + 100], 0);
+  EXPECT_TRUE(std::isnan(e[0]));
+  EXPECT_EQ(m.scallop_max_mm, 0);
+  EXPECT_EQ(m.min_e_mm, 0);
+  EXPECT_EQ(m.max_e_mm, 0);
+  EXPECT_EQ(m.uncut_area_mm2, 0);
+  EXPECT_NEAR(m.ra_median_um, 0, 1e-9);
+}
+
+TEST(ZMap, DipBelowDesignIsAGougeAtItsMove) {
+  const GridSpec g{-0.005, -0.005, 0.01, 400, 400};
+  ZMap zm = ZMap::flat(g, 0.5);
+  Program p = raster(-2, 6, -1.0, 0.2, 31, zero);
+  const std::size_t dip = p.items.size() + 2;  // the line that ends 0.05 below the plane
+  add(p, mv(Motion::Rapid, -2, 2, 5));
+  add(p, mv(Motion::Line, -2, 2, 0));
+  add(p, mv(Motion::Line, 2, 2, -0.05));
+  add(p, mv(Motion::Line, 6, 2, 0));
+  add(p, mv(Motion::Rapid, 6, 2, 5));
+  for (std::size_t i = 0; i < p.items.size(); ++i) p.source_line.push_back(100 + i);
+  const auto res = machine(zm, p, finish::Cutter::ball(2));
+  EXPECT_TRUE(res.cutting_rapids.empty());
+  const auto m = surface_metrics(zm, design_window(g, 0.5, 3.5, 0.5, 3.5, zero));
+  EXPECT_TRUE(m.gouged);
+  EXPECT_NEAR(m.max_gouge_mm, 0.05, 1e-9);
+  ASSERT_TRUE(m.gouge_has_move);
+  EXPECT_EQ(m.gouge_move.item, dip);
+  EXPECT_EQ(m.gouge_move.line, 100 + dip);
+  EXPECT_EQ(m.first_gouge_move.item, dip);
+  EXPECT_EQ(m.gouge_cell, 200u * 400u + 200u);  // x = y = 2
+}
+
+TEST(ZMap, PlanarArcEqualsItsAnalyticGroove) {
+  const GridSpec g{0, 0, 0.02, 500, 500};
+  ZMap zm = ZMap::flat(g, 0);
+  Program p;
+  const double cx = 5, cy = 5, r0 = 3, z = -0.3, R = 1;
+  add(p, mv(Motion::Rapid, cx + r0, cy, 5));
+  add(p, mv(Motion::Line, cx + r0, cy, z));
+  add(p, mv(Motion::ArcCCW, cx, cy + r0, z, cx, cy));  // quarter circle, 0 → 90°
+  add(p, mv(Motion::Rapid, cx, cy + r0, 5));
+  machine(zm, p, finish::Cutter::ball(2 * R));
+  std::size_t checked = 0;
+  for (std::size_t iy = 0; iy < g.ny; ++iy)
+    for (std::size_t ix = 0; ix < g.nx; ++ix) {
+      const double dx = g.x(ix) - cx, dy = g.y(iy) - cy;
+      if (dx <= 0 || dy <= 0) continue;  // angular sweep only: the groove of the torus part
+      const double d = std::abs(std::hypot(dx, dy) - r0);
+      const double expect = d < R ? std::min(0.0, z + ball_f(R, d)) : 0.0;
+      ASSERT_NEAR(zm.at(ix, iy), expect, 1e-12);
+      ++checked;
+    }
+  EXPECT_GT(checked, 10000u);
+  // Everywhere: the lower envelope of densely sampled tool positions (an upper bound, close).
+  const int n = 4000;
+  for (std::size_t iy = 0; iy < g.ny; iy += 7)
+    for (std::size_t ix = 0; ix < g.nx; ix += 7) {
+      double brute = 0;
+      for (int k = 0; k <= n; ++k) {
+        const double th = std::numbers::pi / 2 * k / n;
+        const double r = std::hypot(g.x(ix) - cx - r0 * std::cos(th), g.y(iy) - cy - r0 * std::sin(th));
+        if (r <= R) brute = std::min(brute, z + ball_f(R, r));
+      }
+      // plunge at the start: the tip went from 5 down to z at (cx + r0, cy): covered by k = 0.
+      EXPECT_LE(zm.at(ix, iy), brute + 1e-12);
+      EXPECT_GE(zm.at(ix, iy), brute - 2e-3);
+    }
+}
+
+TEST(ZMap, EverySweepMatchesDenseSampling) {
+  const GridSpec g{0, 0, 0.05, 120, 100};
+  const finish::Cutter cutters[] = {finish::Cutter::ball(2), finish::Cutter::flat(2), finish::Cutter::bull(2, 0.3)};
+  const gcode::Point3 a{1.2, 1.1, -0.1}, b{4.7, 3.4, -0.9};
+  for (const auto& c : cutters) {
+    ZMap zm = ZMap::flat(g, 0);
+    SweepOptions o;
+    o.start = a;
+    Program p;
+    add(p, mv(Motion::Line, b[0], b[1], b[2]));
+    machine(zm, p, c, o);
+    const int n = 20000;
+    double worst_up = 0, worst_down = 0;
+    for (std::size_t iy = 0; iy < g.ny; iy += 3)
+      for (std::size_t ix = 0; ix < g.nx; ix += 3) {
+        double brute = 0;
+        for (int k = 0; k <= n; ++k) {
+          const double t = static_cast<double>(k) / n;
+          const double r = std::hypot(g.x(ix) - a[0] - t * (b[0] - a[0]), g.y(iy) - a[1] - t * (b[1] - a[1]));
+          const double f = profile_height(c, r);
+          if (std::isfinite(f)) brute = std::min(brute, a[2] + t * (b[2] - a[2]) + f);
+        }
+        worst_up = std::max(worst_up, zm.at(ix, iy) - brute);
+        worst_down = std::max(worst_down, brute - zm.at(ix, iy));
+      }
+    EXPECT_LT(worst_up, 1e-9) << static_cast<int>(c.type);   // never above a sampled position
+    EXPECT_LT(worst_down, 2e-3) << static_cast<int>(c.type);  // sampling gap only
+  }
+}
+
+TEST(ZMap, HelicalArcFollowsItsChords) {
+  const GridSpec g{0, 0, 0.05, 200, 200};
+  ZMap zm = ZMap::flat(g, 0);
+  SweepOptions o;
+  o.start = {8, 5, -0.1};
+  Program p;
+  add(p, mv(Motion::ArcCW, 5, 2, -0.6, 5, 5));  // quarter turn CW from (8,5) to (5,2), helical
+  const auto res = machine(zm, p, finish::Cutter::ball(2), o);
+  EXPECT_GT(res.segments, 10u);
+  const int n = 20000;
+  double worst = 0;
+  for (std::size_t iy = 0; iy < g.ny; iy += 3)
+    for (std::size_t ix = 0; ix < g.nx; ix += 3) {
+      double brute = 0;
+      for (int k = 0; k <= n; ++k) {
+        const double t = static_cast<double>(k) / n, th = -std::numbers::pi / 2 * t;
+        const double r = std::hypot(g.x(ix) - 5 - 3 * std::cos(th), g.y(iy) - 5 - 3 * std::sin(th));
+        if (r <= 1) brute = std::min(brute, -0.1 - 0.5 * t + ball_f(1, r));
+      }
+      worst = std::max(worst, std::abs(zm.at(ix, iy) - brute));
+    }
+  EXPECT_LT(worst, 3e-3);
+}
+
+TEST(ZMap, RoughThenFinishReportsTheDepthOfCutTheFinisherMeets) {
+  const GridSpec g{0, 0, 0.05, 200, 100};
+  ZMap zm = ZMap::flat(g, 0);
+  Program rough;  // flat Ø6 clears x < 5 down to z = −5
+  for (double x = -2; x <= 2.01; x += 2) {
+    add(rough, mv(Motion::Rapid, x, -4, 5));
+    add(rough, mv(Motion::Line, x, -4, -5));
+    add(rough, mv(Motion::Line, x, 9, -5));
+    add(rough, mv(Motion::Rapid, x, 9, 5));
+  }
+  const auto r1 = machine(zm, rough, finish::Cutter::flat(6));
+  EXPECT_NEAR(r1.max_cut_mm[kLineKind], 5, 1e-12);
+  Program fin;
+  add(fin, mv(Motion::Rapid, 1.025, 2.525, 5));  // on cell centres
+  add(fin, mv(Motion::Line, 1.025, 2.525, -5.1));
+  add(fin, mv(Motion::Line, 9.025, 2.525, -5.1));
+  add(fin, mv(Motion::Rapid, 9.025, 2.525, 5));
+  const auto r2 = machine(zm, fin, finish::Cutter::ball(2));
+  EXPECT_NEAR(r2.max_cut_mm[kLineKind], 5.1, 1e-9);
+  EXPECT_EQ(r2.max_cut_item[kLineKind], 2u);
+  EXPECT_NEAR(r2.item_max_cut_mm[1], 0.1, 1e-9);  // the plunge lands in the roughed area
+  EXPECT_EQ(r2.pass, 1u);
+  MoveRef ref;
+  ASSERT_TRUE(zm.origin(static_cast<std::size_t>(50) * g.nx + 20, ref));  // (1.025, 2.525): finish plunge area
+  EXPECT_EQ(ref.pass, 1u);
+  ASSERT_TRUE(zm.origin(static_cast<std::size_t>(10) * g.nx + 20, ref));  // (1.025, 0.525): roughing only
+  EXPECT_EQ(ref.pass, 0u);
+}
+
+TEST(ZMap, RapidsThatCutAreReported) {
+  const GridSpec g{0, 0, 0.05, 100, 100};
+  ZMap zm = ZMap::flat(g, 0);
+  Program p;
+  add(p, mv(Motion::Rapid, 1, 1, 5));
+  add(p, mv(Motion::Rapid, 1, 1, -1));  // plunges at rapid
+  add(p, mv(Motion::Line, 4, 1, -1));
+  add(p, mv(Motion::Rapid, 4, 4, -1));  // traverses stock at rapid
+  add(p, mv(Motion::Rapid, 4, 4, 5));
+  const auto res = machine(zm, p, finish::Cutter::flat(2));
+  ASSERT_EQ(res.cutting_rapids.size(), 2u);
+  EXPECT_EQ(res.cutting_rapids[0], 1u);
+  EXPECT_EQ(res.cutting_rapids[1], 3u);
+  EXPECT_NEAR(res.max_cut_mm[kRapidKind], 1, 1e-12);
+}
+
+TEST(ZMap, BitIdenticalWithOneAndTwoThreads) {
+  const GridSpec g{0.003, -0.007, 0.013, 377, 311};
+  Program p = raster(-1, 6, -1.3, 0.17, 35, tilted_tip);
+  add(p, mv(Motion::Line, 3, 2, 0.2));
+  add(p, mv(Motion::ArcCCW, 2, 3, 0.2, 2, 2));   // planar
+  add(p, mv(Motion::ArcCW, 2, 1, -0.1, 2, 2));   // helical
+  std::vector<double> design(g.cells());
+  for (std::size_t iy = 0; iy < g.ny; ++iy)
+    for (std::size_t ix = 0; ix < g.nx; ++ix) design[iy * g.nx + ix] = tilted(g.y(iy)) - 0.01;
+  for (const auto& c : {finish::Cutter::ball(2), finish::Cutter::bull(2, 0.4), finish::Cutter::flat(1.5)}) {
+    ZMap a = ZMap::flat(g, 3), b = ZMap::flat(g, 3);
+    SweepOptions o1, o2;
+    o1.threads = 1;
+    o2.threads = 2;
+    const auto ra = machine(a, p, c, o1);
+    const auto rb = machine(b, p, c, o2);
+    ASSERT_EQ(0, std::memcmp(a.heights().data(), b.heights().data(), g.cells() * sizeof(double)));
+    ASSERT_EQ(a.stamps(), b.stamps());
+    EXPECT_EQ(ra.item_max_cut_mm, rb.item_max_cut_mm);
+    EXPECT_EQ(ra.cells_visited, rb.cells_visited);
+    MetricsOptions m1, m2;
+    m1.threads = 1;
+    m2.threads = 2;
+    const auto ma = surface_metrics(a, design, m1);
+    const auto mb = surface_metrics(b, design, m2);
+    ASSERT_EQ(0, std::memcmp(ma.ra_um.data(), mb.ra_um.data(), ma.ra_um.size() * sizeof(float)));
+    EXPECT_EQ(ma.ra_median_um, mb.ra_median_um);
+    EXPECT_EQ(ma.ra_share, mb.ra_share);
+  }
+}
+
+TEST(ZMap, RefusesAGridAboveTheMemoryLimit) {
+  const GridSpec huge{0, 0, 0.001, 100000, 100000};  // 1e10 cells
+  EXPECT_THROW((void)ZMap::flat(huge, 0), Error);
+  try {
+    (void)ZMap::flat(huge, 0);
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("above the limit"), std::string::npos) << e.what();
+  }
+  const GridSpec small{0, 0, 0.1, 100, 100};  // 120 kB
+  EXPECT_THROW((void)ZMap::flat(small, 0, 100000), Error);
+  EXPECT_NO_THROW((void)ZMap::flat(small, 0, 120000));
+  EXPECT_THROW((void)ZMap::flat(GridSpec{0, 0, 0, 10, 10}, 0), Error);
+  EXPECT_THROW((void)ZMap::from_heights(small, std::vector<double>(5, 0.0)), Error);
+}
+
+TEST(ZMap, StockFromHeightFieldAddsTheAllowance) {
+  const GridSpec g{0, 0, 1, 3, 2};
+  const ZMap zm = ZMap::from_heights(g, {0, 1, 2, kNaN, 4, 5}, 0.5, -3);
+  EXPECT_EQ(zm.at(2, 0), 2.5);
+  EXPECT_EQ(zm.at(0, 1), -3);
+  EXPECT_EQ(zm.at(2, 1), 5.5);
+}
+
+TEST(ZMap, PolylinesWithSharedJointsMatchDenseSampling) {
+  // Up and down chords, valleys and peaks, a vertical move and a planar arc in the chain: the
+  // joint spheres are applied once (half caps skipped) and the result must still be exact.
+  const GridSpec g{0, 0, 0.04, 150, 120};
+  const std::vector<gcode::Point3> pts{{0.5, 1.0, -0.2}, {1.5, 1.6, -0.5}, {2.1, 2.2, -0.1}, {2.8, 2.0, -0.4},
+                                       {2.8, 2.0, -0.6}, {3.9, 2.9, -0.6}, {4.5, 2.6, -0.3}, {5.2, 3.3, -0.3}};
+  for (const auto& c : {finish::Cutter::ball(2), finish::Cutter::flat(2), finish::Cutter::bull(2, 0.35)}) {
+    ZMap zm = ZMap::flat(g, 0);
+    SweepOptions o;
+    o.start = pts[0];
+    Program p;
+    for (std::size_t i = 1; i < pts.size(); ++i) add(p, mv(Motion::Line, pts[i][0], pts[i][1], pts[i][2]));
+    add(p, mv(Motion::ArcCW, 5.2, 1.3, -0.3, 5.2, 2.3));  // half circle, planar
+    add(p, mv(Motion::Line, 4.0, 0.9, -0.45));
+    machine(zm, p, c, o);
+    std::vector<gcode::Point3> path;  // dense samples of the whole path
+    for (std::size_t i = 0; i + 1 < pts.size(); ++i)
+      for (int k = 0; k < 4000; ++k) {
+        const double t = k / 4000.0;
+        path.push_back({pts[i][0] + t * (pts[i + 1][0] - pts[i][0]), pts[i][1] + t * (pts[i + 1][1] - pts[i][1]),
+                        pts[i][2] + t * (pts[i + 1][2] - pts[i][2])});
+      }
+    for (int k = 0; k <= 8000; ++k) {
+      const double th = std::numbers::pi / 2 - std::numbers::pi * k / 8000.0;
+      path.push_back({5.2 + std::cos(th), 2.3 + std::sin(th), -0.3});
+    }
+    for (int k = 1; k <= 4000; ++k) {
+      const double t = k / 4000.0;
+      path.push_back({5.2 - 1.2 * t, 1.3 - 0.4 * t, -0.3 - 0.15 * t});
+    }
+    double up = 0, down = 0;
+    for (std::size_t iy = 0; iy < g.ny; iy += 2)
+      for (std::size_t ix = 0; ix < g.nx; ix += 2) {
+        double brute = 0;
+        for (const auto& q : path) {
+          const double f = profile_height(c, std::hypot(g.x(ix) - q[0], g.y(iy) - q[1]));
+          if (std::isfinite(f)) brute = std::min(brute, q[2] + f);
+        }
+        up = std::max(up, zm.at(ix, iy) - brute);
+        down = std::max(down, brute - zm.at(ix, iy));
+      }
+    EXPECT_LT(up, 1e-9) << static_cast<int>(c.type);
+    EXPECT_LT(down, 2e-3) << static_cast<int>(c.type);
+  }
+}
+
+TEST(ZMap, RaOfAScallopedPlaneMatchesTheProfileIntegral) {
+  const double p = 0.2, R = 1;
+  const GridSpec g{-0.005, -0.005, 0.01, 400, 400};
+  ZMap zm = ZMap::flat(g, 0.5);
+  machine(zm, raster(-2, 6, -1.0, p, 31, zero), finish::Cutter::ball(2 * R));
+  const auto m = surface_metrics(zm, design_window(g, 1, 3, 1, 3, zero));
+  // Ra of the periodic scallop profile e(y) = R − √(R² − d²), d = distance to the nearest pass.
+  const int n = 200000;
+  double mean = 0;
+  std::vector<double> e(n);
+  for (int k = 0; k < n; ++k) {
+    const double d = std::abs((k + 0.5) / n * p - p / 2);
+    e[static_cast<std::size_t>(k)] = R - std::sqrt(R * R - (p / 2 - d) * (p / 2 - d));
+    mean += e[static_cast<std::size_t>(k)] / n;
+  }
+  double ra = 0;
+  for (double v : e) ra += std::abs(v - mean) / n;
+  EXPECT_NEAR(m.ra_median_um, 1000 * ra, 0.03 * 1000 * ra);
+  EXPECT_NEAR(m.ra_p90_um, 1000 * ra, 0.05 * 1000 * ra);
+  EXPECT_NEAR(m.ra_mean_um, 1000 * ra, 0.05 * 1000 * ra);
+}
