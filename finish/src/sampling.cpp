@@ -92,7 +92,7 @@ std::vector<Sample> sample_segment(const Sampler& s, const Eigen::Vector2d& a, c
         Sample m = s.sample(q.x(), q.y());
         const double chord = 0.5 * (it.a.p.z() + it.b.p.z());
         const double dev = m.p.z() - chord;  // > 0: the chord would pass under the surface
-        if (dev > tol::chord_below_mm || -dev > tol) {
+        if (dev > 0.5 * tol::chord_below_mm || -dev > tol) {  // half: the dip between samples can be larger
           stack.push_back({m, it.b, tm, it.tb});  // second half after the first
           stack.push_back({it.a, m, it.ta, tm});
           continue;
@@ -136,8 +136,8 @@ std::vector<Sample> simplify(const std::vector<Sample>& pts, double tol, bool st
     double worst_excess = 0;
     for (std::size_t k = i + 1; k < j; ++k) {
       const auto [above, below] = deviation(pts[i], pts[j], pts[k], straight_xy);
-      const double lim_below = straight_xy ? tol : tol::chord_below_mm;
-      const double excess = std::max(above / tol::chord_below_mm, below / lim_below);
+      const double lim_below = straight_xy ? tol : 0.5 * tol::chord_below_mm;
+      const double excess = std::max(above / (0.5 * tol::chord_below_mm), below / lim_below);
       if (excess > 1 && excess > worst_excess) {
         worst_excess = excess;
         worst = k;

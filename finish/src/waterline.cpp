@@ -65,7 +65,7 @@ void split_gouging_chords(const Sampler& s, std::vector<ContourPoint>& loop, dou
       const Eigen::Vector2d d = it.b.xy - it.a.xy;
       const double len = d.norm();
       const Eigen::Vector2d m = 0.5 * (it.a.xy + it.b.xy);
-      if (!(len > 2 * tol::min_sample_mm) || s.z(m.x(), m.y()) <= z + tol::chord_below_mm) {
+      if (!(len > 2 * tol::min_sample_mm) || s.z(m.x(), m.y()) <= z + 0.5 * tol::chord_below_mm) {
         seq.push_back(it.b);
         continue;
       }
