@@ -42,6 +42,8 @@ Registered register_pocket(CLI::App& app);
 Registered register_compare(CLI::App& app);
 Registered register_rough(CLI::App& app);
 Registered register_run(CLI::App& app);
+Registered register_finish(CLI::App& app);
+Registered register_simulate(CLI::App& app);
 
 /// Messages for the user on stderr (suppressed by --quiet, except errors and warnings).
 void info(const std::string& msg);

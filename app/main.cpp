@@ -20,6 +20,8 @@ int main(int argc, char** argv) {
   add(register_pocket);
   add(register_compare);
   add(register_rough);
+  add(register_finish);
+  add(register_simulate);
   add(register_run);
   try {
     app.parse(argc, argv);

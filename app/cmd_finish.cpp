@@ -1,0 +1,132 @@
+// millnet finish --mesh FILE … --out DIR     (the five finishing strategies, optionally simulated)
+// millnet simulate --gcode FILE.nc --mesh FILE --tool … --out DIR   (the z-map simulator on any G-code)
+#include "cli.hpp"
+#include "finish_job.hpp"
+
+#include "millnet/core/error.hpp"
+#include "millnet/ingest/mesh_io.hpp"
+
+namespace millnet::app {
+namespace fs = std::filesystem;
+
+namespace {
+const std::vector<std::string> kMeshExt = {".stl", ".obj", ".ply", ".off", ".3mf", ".gltf", ".glb", ".xyz", ".pts", ".asc", ".txt"};
+
+ingest::Mesh load_prepared(const fs::path& file, const std::string& units, const std::string& up) {
+  ingest::MeshReport rep;
+  ingest::PrepareOptions prep;
+  prep.units = ingest::parse_units(units);
+  prep.up = ingest::parse_up(up);
+  return ingest::prepare(ingest::load_mesh(file, &rep), prep, &rep);
+}
+
+struct MeshFlags {
+  std::optional<std::string> units, up;
+  void add_to(CLI::App* sub) {
+    sub->add_option("--units", units, "units of the mesh files")->check(CLI::IsMember({"mm", "inch", "in", "m"}));
+    sub->add_option("--up", up, "axis of the mesh files that points up")
+        ->check(CLI::IsMember({"+z", "-z", "+y", "-y", "+x", "-x", "z", "y", "x", "auto"}));
+  }
+};
+}  // namespace
+
+Registered register_finish(CLI::App& app) {
+  struct Opts {
+    Common common;
+    MeshFlags mesh_flags;
+    std::vector<std::string> meshes;
+    std::optional<std::string> strategy, tool;
+    std::optional<double> stepover, step_down, boundary_angle, scallop;
+    bool simulate = false;
+    std::string out;
+  };
+  auto o = std::make_shared<Opts>();
+  CLI::App* sub = app.add_subcommand(
+      "finish", "finishing tool paths (Korosec & Kopac strategies 1..5) → G-code, metrics, PNG; --simulate scores them");
+  sub->add_option("--mesh", o->meshes, "mesh file or folder (repeatable; added to /finish/meshes)");
+  o->mesh_flags.add_to(sub);
+  sub->add_option("--strategy", o->strategy, "strategy slot 1..5 or all")
+      ->check(CLI::IsMember({"1", "2", "3", "4", "5", "all"}));
+  sub->add_option("--tool", o->tool, "cutter: ball:D, flat:D or bull:D:r (mm)");
+  sub->add_option("--stepover", o->stepover, "p_f, mm");
+  sub->add_option("--step-down", o->step_down, "a_a, mm");
+  sub->add_option("--boundary-angle", o->boundary_angle, "slope-mode boundary angle, degrees");
+  sub->add_option("--scallop", o->scallop, "scallop-height target, mm");
+  sub->add_flag("--simulate", o->simulate, "machine each program on a z-map and score the surface");
+  sub->add_option("--out", o->out, "output folder")->required();
+  add_common(sub, o->common);
+  return {sub, [o]() {
+            const Json config = setup(o->common);
+            FinishSettings s = finish_settings(config);
+            if (o->strategy) {
+              s.strategies = *o->strategy == "all" ? finish::all_strategies()
+                                                   : std::vector{finish::parse_strategy(*o->strategy)};
+            }
+            if (o->tool) s.params.tool = parse_tool(*o->tool);
+            if (o->stepover) s.params.stepover_mm = *o->stepover;
+            if (o->step_down) s.params.step_down_mm = *o->step_down;
+            if (o->boundary_angle) s.params.boundary_angle_deg = *o->boundary_angle;
+            if (o->scallop) s.params.scallop_mm = *o->scallop;
+            s.simulate = o->simulate;
+            s.params.check();
+            std::vector<std::string> items = config["finish"]["meshes"].get<std::vector<std::string>>();
+            items.insert(items.end(), o->meshes.begin(), o->meshes.end());
+            if (items.empty()) throw Error("no mesh to finish: give --mesh FILE or set /finish/meshes in the config");
+            const auto files = expand_inputs(items, kMeshExt);
+            const std::string units = o->mesh_flags.units.value_or(config["rough"]["units"].get<std::string>());
+            const std::string up = o->mesh_flags.up.value_or(config["rough"]["up"].get<std::string>());
+            std::size_t failed = 0;
+            for (const auto& f : files) {  // a batch keeps going past one bad part
+              try {
+                const auto outcomes = finish_part(load_prepared(f, units, up), f.stem().string(), s, o->out);
+                info("finish: " + f.string() + ": " + std::to_string(outcomes.size()) + " strategies → " + o->out);
+              } catch (const Error& e) {
+                if (files.size() == 1) throw;
+                warn(f.string() + ": " + e.what());
+                ++failed;
+              }
+            }
+            if (failed > 0) throw Error(std::to_string(failed) + " of " + std::to_string(files.size()) + " parts failed");
+            return 0;
+          }};
+}
+
+Registered register_simulate(CLI::App& app) {
+  struct Opts {
+    Common common;
+    MeshFlags mesh_flags;
+    std::vector<std::string> gcode, tools;
+    std::string mesh, stock = "flat", out;
+  };
+  auto o = std::make_shared<Opts>();
+  CLI::App* sub = app.add_subcommand(
+      "simulate", "machine G-code programs on a z-map of the part and score the surface (gouge, scallop, Ra)");
+  sub->add_option("--gcode", o->gcode, "G-code file (repeatable: machined in order on the same stock)")->required();
+  sub->add_option("--tool", o->tools, "cutter per --gcode (ball:D, flat:D, bull:D:r; one for all, or one each)")
+      ->required();
+  sub->add_option("--mesh", o->mesh, "the part's mesh (design surface and frame)")->required();
+  sub->add_option("--stock", o->stock, "flat (a block up to Z 0) or design (the part + /simulate/allowance_mm)")
+      ->check(CLI::IsMember({"flat", "design"}));
+  o->mesh_flags.add_to(sub);
+  sub->add_option("--out", o->out, "output folder")->required();
+  add_common(sub, o->common);
+  return {sub, [o]() {
+            const Json config = setup(o->common);
+            const FinishSettings s = finish_settings(config);
+            if (o->tools.size() != 1 && o->tools.size() != o->gcode.size())
+              throw Error("give one --tool for all programs or one per --gcode (" + std::to_string(o->gcode.size()) +
+                          " programs, " + std::to_string(o->tools.size()) + " tools)");
+            std::vector<std::pair<fs::path, finish::Cutter>> programs;
+            for (std::size_t i = 0; i < o->gcode.size(); ++i)
+              programs.emplace_back(o->gcode[i], parse_tool(o->tools[o->tools.size() == 1 ? 0 : i]));
+            const std::string units = o->mesh_flags.units.value_or(config["rough"]["units"].get<std::string>());
+            const std::string up = o->mesh_flags.up.value_or(config["rough"]["up"].get<std::string>());
+            const Json j = simulate_files(load_prepared(o->mesh, units, up), fs::path(o->mesh).stem().string(), programs,
+                                          o->stock, s, o->out);
+            info("simulate: Ra median " + j["ra_median_um"].dump() + " um, gouge " + j["max_gouge_mm"].dump() + " mm → " +
+                 o->out);
+            return 0;
+          }};
+}
+
+}  // namespace millnet::app

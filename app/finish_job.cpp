@@ -1,0 +1,397 @@
+#include "finish_job.hpp"
+
+#include "cli.hpp"
+#include "text.hpp"
+
+#include "millnet/core/atomic_file.hpp"
+#include "millnet/core/error.hpp"
+#include "millnet/core/progress.hpp"
+#include "millnet/finish/dropcutter.hpp"
+#include "millnet/gcode/reader.hpp"
+#include "millnet/gcode/writer.hpp"
+#include "millnet/ingest/heightfield.hpp"
+#include "millnet/report/plots.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <variant>
+
+namespace millnet::app {
+namespace fs = std::filesystem;
+
+namespace {
+
+/// A picture never needs more than this many cells per side (heat_map_png draws ≥ 1 px per cell).
+constexpr int kMaxPictureCells = 500;
+
+/// The part in the program frame and (for simulation) its design surface on the z-map grid.
+struct PartFrame {
+  double stock_top = 0;  ///< part frame
+  double z_shift = 0;    ///< program Z = part z + z_shift
+  double width = 0, depth = 0;
+  simulate::GridSpec grid;
+  std::vector<double> design;  ///< program frame, NaN off the part
+};
+
+PartFrame part_frame(const ingest::Mesh& mesh, const FinishSettings& s, bool with_design) {
+  PartFrame f;
+  f.stock_top = mesh.V.col(2).maxCoeff() + s.stock_top_above_part_mm;
+  f.z_shift = -f.stock_top;
+  f.width = mesh.V.col(0).maxCoeff();
+  f.depth = mesh.V.col(1).maxCoeff();
+  if (!with_design) return f;
+  f.grid.cell = s.sim.cell_mm;
+  f.grid.nx = static_cast<std::size_t>(std::max(1.0, std::ceil(f.width / s.sim.cell_mm)));
+  f.grid.ny = static_cast<std::size_t>(std::max(1.0, std::ceil(f.depth / s.sim.cell_mm)));
+  f.grid.check();
+  const std::size_t need = simulate::ZMap::bytes_needed(f.grid) + f.grid.cells() * 17;  // + design and raster
+  if (need > simulate::kZMapMaxBytes)
+    throw Error("simulate: a " + std::to_string(f.grid.nx) + " × " + std::to_string(f.grid.ny) + " z-map at " +
+                fixed(s.sim.cell_mm, 3) + " mm cells needs " + std::to_string(need >> 20) + " MiB, above the " +
+                std::to_string(simulate::kZMapMaxBytes >> 20) + " MiB limit (raise /simulate/cell_mm)");
+  const ingest::HeightField hf =
+      ingest::rasterize_top(mesh, 0.5 * f.grid.cell, 0.5 * f.grid.cell, f.grid.cell, static_cast<int>(f.grid.nx),
+                            static_cast<int>(f.grid.ny));
+  f.design.resize(hf.z.size());
+  for (std::size_t i = 0; i < hf.z.size(); ++i)
+    f.design[i] = hf.hit[i] ? hf.z[i] + f.z_shift : std::numeric_limits<double>::quiet_NaN();
+  return f;
+}
+
+/// Block means of a row-major grid (NaN cells skipped, `empty` where a block has none), rows = y.
+Eigen::MatrixXd downsample(const std::vector<double>& v, std::size_t nx, std::size_t ny, double empty) {
+  const std::size_t k = std::max<std::size_t>(1, (std::max(nx, ny) + kMaxPictureCells - 1) / kMaxPictureCells);
+  const std::size_t rx = (nx + k - 1) / k, ry = (ny + k - 1) / k;
+  Eigen::MatrixXd m(static_cast<Eigen::Index>(ry), static_cast<Eigen::Index>(rx));
+  for (std::size_t bi = 0; bi < ry; ++bi)
+    for (std::size_t bj = 0; bj < rx; ++bj) {
+      double sum = 0;
+      std::size_t n = 0;
+      for (std::size_t i = bi * k; i < std::min(ny, (bi + 1) * k); ++i)
+        for (std::size_t j = bj * k; j < std::min(nx, (bj + 1) * k); ++j) {
+          const double x = v[i * nx + j];
+          if (std::isfinite(x)) sum += x, ++n;
+        }
+      m(static_cast<Eigen::Index>(bi), static_cast<Eigen::Index>(bj)) = n ? sum / static_cast<double>(n) : empty;
+    }
+  return m;
+}
+
+/// Cuts (feed moves) and rapids of a program as XY polylines, for pictures.
+void polylines(const gcode::Program& prog, std::vector<std::vector<std::array<double, 2>>>& cuts,
+               std::vector<std::vector<std::array<double, 2>>>& rapids) {
+  std::array<double, 2> at{0, 0};
+  bool have = false, cutting = false;
+  for (const auto& item : prog.items) {
+    const auto* m = std::get_if<gcode::Move>(&item);
+    if (m == nullptr) continue;
+    const std::array<double, 2> to{m->to[0], m->to[1]};
+    const bool cut = m->motion != gcode::Motion::Rapid;
+    if (have && (to[0] != at[0] || to[1] != at[1] || cut)) {
+      auto& list = cut ? cuts : rapids;
+      if (list.empty() || cut != cutting) list.push_back({at});
+      list.back().push_back(to);
+      cutting = cut;
+    }
+    at = to;
+    have = have || (m->axes & (gcode::kX | gcode::kY)) == (gcode::kX | gcode::kY);
+  }
+}
+
+Json histogram_json(const simulate::SurfaceMetrics& m) {
+  return Json{{"bin_edges_um", m.ra_bin_edges_um}, {"shares", m.ra_share}};
+}
+
+Json sim_metrics_json(const simulate::SurfaceMetrics& m, const simulate::SweepResult& sweep) {
+  Json j;
+  j["max_gouge_mm"] = m.max_gouge_mm;
+  j["gouge_line"] = m.gouged ? Json(m.first_gouge_move.line) : Json(nullptr);
+  j["scallop_max_mm"] = m.scallop_max_mm;
+  j["ra_mean_um"] = m.ra_mean_um;
+  j["ra_median_um"] = m.ra_median_um;
+  j["ra_p90_um"] = m.ra_p90_um;
+  j["ra_histogram"] = histogram_json(m);
+  j["uncut_area_mm2"] = m.uncut_area_mm2;
+  j["surface_cells"] = m.surface_cells;
+  j["cutting_rapids"] = sweep.cutting_rapids.size();
+  j["max_depth_of_cut_mm"] = *std::max_element(sweep.max_cut_mm.begin(), sweep.max_cut_mm.end());
+  return j;
+}
+
+void ra_png(const fs::path& path, const PartFrame& f, const simulate::SurfaceMetrics& m, const std::string& title) {
+  const std::vector<double> ra(m.ra_um.begin(), m.ra_um.end());
+  const Eigen::MatrixXd g = downsample(ra, f.grid.nx, f.grid.ny, 0.0);
+  report::HeatMapOptions o;
+  o.extent_mm = std::array<double, 4>{0, static_cast<double>(f.grid.nx) * f.grid.cell, 0,
+                                      static_cast<double>(f.grid.ny) * f.grid.cell};
+  if (!(g.maxCoeff() > g.minCoeff())) o.value_range = std::pair{g.minCoeff(), g.minCoeff() + 1};
+  (void)report::heat_map_png(path, g, title, "Ra (um)", o);
+}
+
+}  // namespace
+
+finish::Cutter parse_tool(const std::string& text) {
+  std::vector<std::string> parts;
+  std::stringstream ss(text);
+  for (std::string p; std::getline(ss, p, ':');) parts.push_back(p);
+  auto num = [&](std::size_t i) {
+    try {
+      std::size_t used = 0;
+      const double v = std::stod(parts.at(i), &used);
+      if (used != parts[i].size()) throw std::invalid_argument("trailing");
+      return v;
+    } catch (const std::exception&) {
+      throw Error("--tool '" + text + "': expected ball:D, flat:D or bull:D:r (mm)");
+    }
+  };
+  finish::Cutter c;
+  if (parts.size() == 2 && parts[0] == "ball") c = finish::Cutter::ball(num(1));
+  else if (parts.size() == 2 && parts[0] == "flat") c = finish::Cutter::flat(num(1));
+  else if (parts.size() == 3 && parts[0] == "bull") c = finish::Cutter::bull(num(1), num(2));
+  else throw Error("--tool '" + text + "': expected ball:D, flat:D or bull:D:r (mm)");
+  c.check();
+  return c;
+}
+
+FinishSettings finish_settings(const Json& config) {
+  const Json& f = config["finish"];
+  FinishSettings s;
+  auto& p = s.params;
+  const Json& t = f["tool"];
+  const std::string type = t["type"].get<std::string>();
+  const double d = t["diameter"].get<double>();
+  p.tool = type == "ball"   ? finish::Cutter::ball(d)
+           : type == "flat" ? finish::Cutter::flat(d)
+                            : finish::Cutter::bull(d, t["corner_radius"].get<double>());
+  p.stepover_mm = f["stepover_mm"].get<double>();
+  p.step_down_mm = f["step_down_mm"].get<double>();
+  p.chord_tolerance_mm = f["chord_tolerance_mm"].get<double>();
+  p.boundary_angle_deg = f["boundary_angle_deg"].get<double>();
+  p.scallop_mm = f["scallop_mm"].get<double>();
+  p.raster_angle_deg = f["raster_angle_deg"].get<double>();
+  p.feed_mm_min = f["feed_mm_min"].get<double>();
+  p.plunge_feed_mm_min = f["plunge_feed_mm_min"].get<double>();
+  p.spindle_rpm = f["spindle_rpm"].get<double>();
+  p.safe_z_mm = f["safe_z_mm"].get<double>();
+  const std::string strat = f["strategy"].get<std::string>();
+  s.strategies = strat == "all" ? finish::all_strategies() : std::vector{finish::parse_strategy(strat)};
+  s.aim.aim = simulate::parse_aim(f["aim"].get<std::string>());
+  s.aim.time_budget_min = f["time_budget_min"].get<double>();
+  const Json& sim = config["simulate"];
+  s.sim.cell_mm = sim["cell_mm"].get<double>();
+  s.sim.allowance_mm = sim["allowance_mm"].get<double>();
+  s.sim.tolerance_mm = sim["tolerance_mm"].get<double>();
+  s.sim.sampling_length_mm = sim["sampling_length_mm"].get<double>();
+  s.sim.ra_bins_um = sim["ra_bins_um"].get<std::vector<double>>();
+  s.aim.gouge_tolerance_mm = s.sim.tolerance_mm;
+  const Json& m = config["machine"];
+  s.machine.acceleration_mm_s2 = m["acceleration_mm_s2"].get<double>();
+  s.machine.junction_deviation_mm = m["junction_deviation_mm"].get<double>();
+  s.machine.rapid_mm_min = m["rapid_mm_min"].get<double>();
+  s.machine.max_feed_mm_min = m["max_feed_mm_min"].get<double>();
+  s.stock_top_above_part_mm = config["rough"]["top_allowance_mm"].get<double>();
+  return s;
+}
+
+std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::string& stem,
+                                         const FinishSettings& settings, const fs::path& out) {
+  settings.params.check();
+  const PartFrame frame = part_frame(mesh, settings, settings.simulate);
+  finish::FinishParams params = settings.params;
+  params.z_shift = frame.z_shift;
+  params.program_name = stem;
+  const finish::DropCutter dropper(mesh, params.tool);
+  // The picture under the paths: the part's heights (program frame), downsampled.
+  const double pic_step = std::max(frame.width, frame.depth) / kMaxPictureCells;
+  const ingest::HeightField hf = ingest::rasterize_top(mesh, std::max(pic_step, 1e-3));
+  Eigen::MatrixXd heights(hf.ny, hf.nx);
+  for (int i = 0; i < hf.ny; ++i)
+    for (int j = 0; j < hf.nx; ++j) heights(i, j) = hf.at(i, j) + frame.z_shift;
+  fs::create_directories(out);
+  std::vector<StrategyOutcome> outcomes;
+  Progress progress("finish " + stem, settings.strategies.size());
+  for (const finish::Strategy strategy : settings.strategies) {
+    const int k = static_cast<int>(strategy);
+    const std::string base = stem + ".s" + std::to_string(k);
+    params.comments = {"strategy: " + finish::strategy_name(strategy), "tool: " + params.tool.describe(),
+                       "frame: Z 0 = stock top = part top + " + fixed(settings.stock_top_above_part_mm, 3) + " mm"};
+    const auto t0 = std::chrono::steady_clock::now();
+    const finish::FinishPlan plan = finish::plan_finish(mesh, dropper, strategy, params);
+    const double plan_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    gcode::write_file(out / (base + ".nc"), plan.program, gcode::linuxcnc());
+    const gcode::ProgramStats st = gcode::stats(plan.program, settings.machine);
+    StrategyOutcome o;
+    o.strategy = strategy;
+    Json& j = o.metrics;
+    j["strategy"] = k;
+    j["strategy_name"] = finish::strategy_name(strategy);
+    j["tool"] = params.tool.describe();
+    j["stock_top_above_part_mm"] = settings.stock_top_above_part_mm;
+    j["path_length_mm"] = plan.path_length_mm;
+    j["time_feed_min"] = st.feed_time_min;
+    j["time_kinematic_min"] = st.kinematic_time_min;
+    j["lifts"] = plan.lifts;
+    j["passes"] = plan.passes.size();
+    j["cl_points"] = plan.cl_points;
+    j["drops"] = plan.drops;
+    j["planning_s"] = plan_s;
+    o.score.slot = k;
+    o.score.time_min = st.kinematic_time_min;
+    {  // path over the height map
+      std::vector<std::vector<std::array<double, 2>>> cuts, rapids;
+      polylines(plan.program, cuts, rapids);
+      report::HeatMapOptions ho;
+      ho.extent_mm = std::array<double, 4>{hf.x0 - 0.5 * hf.step_x, hf.x0 + (hf.nx - 0.5) * hf.step_x,
+                                           hf.y0 - 0.5 * hf.step_y, hf.y0 + (hf.ny - 0.5) * hf.step_y};
+      ho.overlay_cuts = std::move(cuts);
+      ho.overlay_rapids = std::move(rapids);
+      if (!(heights.maxCoeff() > heights.minCoeff())) ho.value_range = std::pair{heights.minCoeff(), heights.minCoeff() + 1};
+      (void)report::heat_map_png(out / (base + ".png"), heights, stem + ": " + finish::strategy_name(strategy),
+                                 "Z (mm)", ho);
+    }
+    if (settings.simulate) {
+      simulate::ZMap z = simulate::ZMap::from_heights(frame.grid, frame.design, settings.sim.allowance_mm,
+                                                      frame.z_shift + settings.sim.allowance_mm);
+      const simulate::SweepResult sw = simulate::machine(z, plan.program, params.tool);
+      simulate::MetricsOptions mo;
+      mo.allowance_mm = 0;
+      mo.tolerance_mm = settings.sim.tolerance_mm;
+      mo.sampling_length_mm = settings.sim.sampling_length_mm;
+      mo.ra_bins_um = settings.sim.ra_bins_um;
+      const simulate::SurfaceMetrics m = simulate::surface_metrics(z, frame.design, mo);
+      j.update(sim_metrics_json(m, sw));
+      // Uncut = the finishing stock left (within the tolerance) where the cutter never reached; the
+      // scallops between passes are scored by scallop and Ra, not counted as uncut.
+      simulate::MetricsOptions uo = mo;
+      uo.ra_map = false;
+      uo.allowance_mm = settings.sim.allowance_mm - 2 * settings.sim.tolerance_mm;
+      j["uncut_area_mm2"] = simulate::surface_metrics(z, frame.design, uo).uncut_area_mm2;
+      if (m.gouged) {  // a gouge from the program itself is a planner bug: say where
+        warn(base + ".nc: gouge " + fixed(m.max_gouge_mm, 4) + " mm first at line " +
+             std::to_string(m.first_gouge_move.line));
+      }
+      o.score.ra_median_um = m.ra_median_um;
+      o.score.ra_p90_um = m.ra_p90_um;
+      o.score.uncut_area_mm2 = j["uncut_area_mm2"].get<double>();
+      o.score.max_gouge_mm = m.max_gouge_mm;
+      o.ra_share = m.ra_share;
+      ra_png(out / (base + ".ra.png"), frame, m, stem + ": " + finish::strategy_name(strategy) + ", roughness Ra");
+    }
+    write_file_atomic(out / (base + ".metrics.json"), j.dump(2) + "\n");
+    outcomes.push_back(std::move(o));
+    progress.tick();
+  }
+  if (outcomes.size() > 1) {
+    std::vector<simulate::StrategyScore> scores;
+    for (const auto& o : outcomes) scores.push_back(o.score);
+    simulate::AimParams aim = settings.aim;
+    if (!settings.simulate) aim.aim = simulate::Aim::Time;  // without a surface only time can rank
+    const std::vector<std::size_t> order = simulate::rank_strategies(scores, aim);
+    std::ostringstream csv, md;
+    csv << "rank,strategy,name,path_length_mm,time_feed_min,time_kinematic_min,lifts";
+    md << "# " << stem << ": finishing strategies ranked by " << simulate::to_string(aim.aim) << "\n\n"
+       << "| rank | strategy | path (m) | time feed (min) | time kinematic (min) | lifts |";
+    if (settings.simulate) {
+      csv << ",ra_median_um,ra_p90_um,scallop_max_mm,max_gouge_mm,uncut_area_mm2";
+      md << " Ra median (µm) | Ra p90 (µm) | scallop (mm) | gouge (mm) | uncut (mm²) |";
+    }
+    csv << "\n";
+    md << "\n|---|---|---|---|---|---|" << (settings.simulate ? "---|---|---|---|---|" : "") << "\n";
+    for (std::size_t r = 0; r < order.size(); ++r) {
+      const Json& j = outcomes[order[r]].metrics;
+      csv << r + 1 << "," << j["strategy"].get<int>() << ",\"" << j["strategy_name"].get<std::string>() << "\","
+          << fixed(j["path_length_mm"].get<double>(), 3) << "," << fixed(j["time_feed_min"].get<double>(), 4) << ","
+          << fixed(j["time_kinematic_min"].get<double>(), 4) << "," << j["lifts"].get<std::size_t>();
+      md << "| " << r + 1 << " | " << j["strategy_name"].get<std::string>() << " | "
+         << fixed(j["path_length_mm"].get<double>() / 1000, 2) << " | " << fixed(j["time_feed_min"].get<double>(), 1)
+         << " | " << fixed(j["time_kinematic_min"].get<double>(), 1) << " | " << j["lifts"].get<std::size_t>() << " |";
+      if (settings.simulate) {
+        csv << "," << fixed(j["ra_median_um"].get<double>(), 3) << "," << fixed(j["ra_p90_um"].get<double>(), 3) << ","
+            << fixed(j["scallop_max_mm"].get<double>(), 4) << "," << fixed(j["max_gouge_mm"].get<double>(), 4) << ","
+            << fixed(j["uncut_area_mm2"].get<double>(), 2);
+        md << " " << fixed(j["ra_median_um"].get<double>(), 2) << " | " << fixed(j["ra_p90_um"].get<double>(), 2)
+           << " | " << fixed(j["scallop_max_mm"].get<double>(), 4) << " | " << fixed(j["max_gouge_mm"].get<double>(), 4)
+           << " | " << fixed(j["uncut_area_mm2"].get<double>(), 1) << " |";
+      }
+      csv << "\n";
+      md << "\n";
+    }
+    write_file_atomic(out / (stem + ".strategies.csv"), csv.str());
+    write_file_atomic(out / (stem + ".strategies.md"), md.str());
+    if (settings.simulate) {  // the paper's Figure 9: share of the surface per Ra bin, per strategy
+      const auto& edges = settings.sim.ra_bins_um;
+      std::vector<std::string> cats;
+      for (std::size_t b = 0; b < edges.size(); ++b)
+        cats.push_back(b + 1 < edges.size() ? fixed(edges[b], 2) + "-" + fixed(edges[b + 1], 2) : ">= " + fixed(edges[b], 2));
+      std::vector<report::NamedValues> series;
+      for (const auto& o : outcomes) {
+        report::NamedValues nv{finish::strategy_name(o.strategy), {}};
+        for (const double s : o.ra_share) nv.values.push_back(100 * s);
+        series.push_back(std::move(nv));
+      }
+      report::BarOptions bo;
+      bo.show_values = false;
+      (void)report::grouped_bar_png(out / (stem + ".strategies.png"), cats, series,
+                                    stem + ": share of the surface per Ra bin (um)", "surface (%)", bo);
+    }
+  }
+  return outcomes;
+}
+
+Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
+                    const std::vector<std::pair<fs::path, finish::Cutter>>& programs, const std::string& stock,
+                    const FinishSettings& settings, const fs::path& out) {
+  if (stock != "flat" && stock != "design") throw Error("--stock '" + stock + "': expected flat or design");
+  const PartFrame frame = part_frame(mesh, settings, true);
+  simulate::ZMap z = stock == "flat" ? simulate::ZMap::flat(frame.grid, 0.0)
+                                     : simulate::ZMap::from_heights(frame.grid, frame.design, settings.sim.allowance_mm,
+                                                                    frame.z_shift + settings.sim.allowance_mm);
+  Json runs = Json::array();
+  for (const auto& [file, cutter] : programs) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw file_error(file.string(), "cannot open the G-code file");
+    std::stringstream text;
+    text << in.rdbuf();
+    const gcode::Program prog = gcode::read(text.str(), file.string());
+    const simulate::SweepResult sw = simulate::machine(z, prog, cutter);
+    const gcode::ProgramStats st = gcode::stats(prog, settings.machine);
+    runs.push_back(Json{{"gcode", file.string()},
+                        {"tool", cutter.describe()},
+                        {"path_length_mm", st.cut_length_mm},
+                        {"time_feed_min", st.feed_time_min},
+                        {"time_kinematic_min", st.kinematic_time_min},
+                        {"max_depth_of_cut_mm", *std::max_element(sw.max_cut_mm.begin(), sw.max_cut_mm.end())},
+                        {"cutting_rapids", sw.cutting_rapids.size()}});
+  }
+  simulate::MetricsOptions mo;
+  mo.allowance_mm = 0;
+  mo.tolerance_mm = settings.sim.tolerance_mm;
+  mo.sampling_length_mm = settings.sim.sampling_length_mm;
+  mo.ra_bins_um = settings.sim.ra_bins_um;
+  const simulate::SurfaceMetrics m = simulate::surface_metrics(z, frame.design, mo);
+  simulate::SweepResult none;
+  Json j = sim_metrics_json(m, none);
+  j.erase("cutting_rapids");
+  j.erase("max_depth_of_cut_mm");
+  if (m.gouged) j["gouge_gcode"] = runs.at(m.first_gouge_move.pass)["gcode"];
+  j["programs"] = runs;
+  j["stock"] = stock;
+  j["stock_top_above_part_mm"] = settings.stock_top_above_part_mm;
+  j["cell_mm"] = frame.grid.cell;
+  fs::create_directories(out);
+  ra_png(out / (stem + ".ra.png"), frame, m, stem + ": roughness Ra");
+  const std::vector<double> e = simulate::deviation(z, frame.design);
+  const Eigen::MatrixXd g = downsample(e, frame.grid.nx, frame.grid.ny, 0.0);
+  report::HeatMapOptions o;
+  o.extent_mm = std::array<double, 4>{0, static_cast<double>(frame.grid.nx) * frame.grid.cell, 0,
+                                      static_cast<double>(frame.grid.ny) * frame.grid.cell};
+  if (!(g.maxCoeff() > g.minCoeff())) o.value_range = std::pair{g.minCoeff(), g.minCoeff() + 1};
+  (void)report::heat_map_png(out / (stem + ".deviation.png"), g, stem + ": machined - design", "mm", o);
+  write_file_atomic(out / (stem + ".sim.json"), j.dump(2) + "\n");
+  return j;
+}
+
+}  // namespace millnet::app

@@ -1,0 +1,69 @@
+#pragma once
+// millnet finish / millnet simulate: wiring of finish:: (tool paths), gcode:: (text, times) and
+// simulate:: (virtual machining) for one part, and the files they write. No algorithm lives here.
+//
+// Frame (the roughing contract): the mesh is prepared (units, up → +Z, footprint lower-left at
+// x = y = 0, lowest point z = 0); program Z = part z − stock_top with stock_top = part top +
+// stock_top_above_part_mm (/rough/top_allowance_mm), so a rough and a finish program of the same
+// part run in the same work offset. Z in the programs is the tool tip.
+#include "config.hpp"
+
+#include "millnet/finish/strategy.hpp"
+#include "millnet/gcode/stats.hpp"
+#include "millnet/ingest/mesh.hpp"
+#include "millnet/simulate/aim.hpp"
+#include "millnet/simulate/zmap.hpp"
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace millnet::app {
+
+struct SimSettings {
+  double cell_mm = 0.02;
+  double allowance_mm = 0.1;     ///< finishing stock over the design surface
+  double tolerance_mm = 0.002;
+  double sampling_length_mm = 0.8;
+  std::vector<double> ra_bins_um;
+};
+
+struct FinishSettings {
+  finish::FinishParams params;            ///< z_shift and the boundary are set per part
+  std::vector<finish::Strategy> strategies;
+  bool simulate = false;
+  double stock_top_above_part_mm = 1;
+  gcode::MotionModel machine;
+  SimSettings sim;
+  simulate::AimParams aim;
+};
+
+/// "ball:2", "flat:10", "bull:6:1" (type:diameter[:corner radius]); throws millnet::Error.
+[[nodiscard]] finish::Cutter parse_tool(const std::string& text);
+
+/// Settings from a checked config (/finish, /simulate, /machine, /rough/top_allowance_mm).
+[[nodiscard]] FinishSettings finish_settings(const Json& config);
+
+/// One strategy's figures (the keys of <stem>.s<k>.metrics.json).
+struct StrategyOutcome {
+  finish::Strategy strategy = finish::Strategy::Raster;
+  Json metrics;
+  simulate::StrategyScore score;
+  std::vector<double> ra_share;  ///< per Ra bin (with --simulate)
+};
+
+/// Plans, writes and (optionally) simulates every strategy of `settings` on the prepared mesh:
+/// DIR/<stem>.s<k>.nc, .metrics.json, .png, .ra.png (with simulate); with several strategies also
+/// <stem>.strategies.csv/.md and <stem>.strategies.png (the paper's Figure 9), ranked by the aim.
+std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::string& stem, const FinishSettings& settings,
+                                         const std::filesystem::path& out);
+
+/// millnet simulate: machines `programs` (read from disk, each with its cutter) one after the
+/// other on one z-map over the part, stock flat at Z = 0 ("flat") or the design + allowance
+/// ("design"); writes DIR/<stem>.sim.json, <stem>.ra.png and <stem>.deviation.png.
+Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
+                    const std::vector<std::pair<std::filesystem::path, finish::Cutter>>& programs,
+                    const std::string& stock, const FinishSettings& settings, const std::filesystem::path& out);
+
+}  // namespace millnet::app
