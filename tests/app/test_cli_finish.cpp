@@ -1,0 +1,133 @@
+// millnet finish and millnet simulate as a user runs them: the files of the contract, programs
+// LinuxCNC accepts, the roughing frame (Z 0 = part top + 1 mm), no gouge in the simulated
+// surface, a gouge reported at its G-code line, and one clear line for bad input with nothing
+// half-written.
+#include "app/cli_runner.hpp"
+#include "ingest/builders.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <regex>
+
+namespace millnet::testing {
+namespace {
+namespace fs = std::filesystem;
+
+/// A dome (max 6 mm) on a 16 × 12 mm block 1 mm thick, as ASCII STL.
+fs::path write_dome(const fs::path& dir) {
+  const auto m = testing_ingest::solid([](double x, double y) {
+    const double r2 = (x - 8) * (x - 8) / 36 + (y - 6) * (y - 6) / 16;
+    return 1 + 5 * std::max(0.0, 1 - r2);
+  }, 0, 16, 0, 12, 32, 24);
+  const fs::path p = dir / "dome.stl";
+  std::ofstream out(p);
+  out << "solid dome\n";
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    out << " facet normal 0 0 0\n  outer loop\n";
+    for (int k = 0; k < 3; ++k) {
+      const auto v = m.V.row(m.F(f, k));
+      out << "   vertex " << v(0) << " " << v(1) << " " << v(2) << "\n";
+    }
+    out << "  endloop\n endfacet\n";
+  }
+  out << "endsolid dome\n";
+  return p;
+}
+
+fs::path write_config(const fs::path& dir) {
+  const fs::path p = dir / "fast.json";
+  std::ofstream(p) << R"({"simulate": {"cell_mm": 0.05}})";
+  return p;
+}
+
+bool rs274_accepts(const fs::path& nc) {
+  const std::string cmd = "/usr/bin/rs274 -g '" + nc.string() + "' </dev/null >/dev/null 2>&1";
+  return std::system(cmd.c_str()) == 0;
+}
+
+TEST(CliFinish, AllStrategiesSimulatedWriteTheContractFilesAndLinuxCncAcceptsThem) {
+  const fs::path d = fresh_dir("finish_all");
+  const fs::path mesh = write_dome(d), cfg = write_config(d);
+  const auto r = run_millnet("finish --quiet --config '" + cfg.string() + "' --mesh '" + mesh.string() +
+                                 "' --strategy all --simulate --stepover 0.5 --step-down 0.5 --out out",
+                             d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const fs::path out = d / "out";
+  for (int k = 1; k <= 5; ++k) {
+    const std::string base = "dome.s" + std::to_string(k);
+    for (const char* ext : {".nc", ".metrics.json", ".png", ".ra.png"})
+      ASSERT_TRUE(fs::exists(out / (base + ext))) << base << ext;
+    const auto j = nlohmann::json::parse(slurp(out / (base + ".metrics.json")));
+    for (const char* key : {"strategy", "path_length_mm", "time_feed_min", "time_kinematic_min", "lifts",
+                            "max_gouge_mm", "scallop_max_mm", "ra_median_um", "ra_p90_um", "ra_histogram",
+                            "uncut_area_mm2"})
+      EXPECT_TRUE(j.contains(key)) << base << " lacks " << key;
+    EXPECT_EQ(j["strategy"].get<int>(), k);
+    EXPECT_LE(j["max_gouge_mm"].get<double>(), 0.002) << base << ": the program gouges the part";
+    EXPECT_GE(j["time_kinematic_min"].get<double>(), j["time_feed_min"].get<double>() * 0.999);
+    if (fs::exists("/usr/bin/rs274")) {
+      EXPECT_TRUE(rs274_accepts(out / (base + ".nc"))) << base;
+    }
+    // The roughing frame: the part top (z 6) is at Z −1, the base (z 0) at Z −7.
+    const std::string text = slurp(out / (base + ".nc"));
+    const std::regex g1(R"(G1[^\n]*Z(-?[0-9.]+))");
+    double zmax = -1e9, zmin = 1e9;
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), g1); it != std::sregex_iterator(); ++it) {
+      const double z = std::stod((*it)[1]);
+      zmax = std::max(zmax, z), zmin = std::min(zmin, z);
+    }
+    EXPECT_LE(zmax, -1 + 1e-3) << base;
+    EXPECT_GE(zmin, -7 - 1e-3) << base;
+  }
+  for (const char* f : {"dome.strategies.csv", "dome.strategies.md", "dome.strategies.png"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  const std::string csv = slurp(out / "dome.strategies.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 6) << csv;  // header + 5 ranked strategies
+}
+
+TEST(CliFinish, BadInputGetsOneLineAndNoFiles) {
+  const fs::path d = fresh_dir("finish_bad");
+  const fs::path mesh = write_dome(d);
+  const auto zero = run_millnet("finish --mesh '" + mesh.string() + "' --stepover 0 --out out", d);
+  EXPECT_EQ(zero.code, 1);
+  EXPECT_NE(zero.err.find("stepover_mm"), std::string::npos) << zero.err;
+  EXPECT_EQ(std::count(zero.err.begin(), zero.err.end(), '\n'), 1) << zero.err;
+  const auto big = run_millnet("finish --mesh '" + mesh.string() + "' --strategy 2 --tool ball:40 --out out", d);
+  EXPECT_EQ(big.code, 1);
+  EXPECT_NE(big.err.find("larger than the machining boundary"), std::string::npos) << big.err;
+  const auto tool = run_millnet("finish --mesh '" + mesh.string() + "' --tool sphere:2 --out out", d);
+  EXPECT_EQ(tool.code, 1);
+  EXPECT_NE(tool.err.find("ball:D"), std::string::npos) << tool.err;
+  EXPECT_EQ(run_millnet("finish --mesh '" + mesh.string() + "' --strategy 7 --out out", d).code, 2);
+  EXPECT_EQ(list_files(d / "out"), "");
+}
+
+TEST(CliSimulate, ReportsAGougeAtItsLineAndRejectsUnknownWords) {
+  const fs::path d = fresh_dir("simulate");
+  const fs::path mesh = write_dome(d), cfg = write_config(d);
+  // Over the flat block (part z 1 → Z −6) a cut at Z −6.05 dips 0.05 mm into it, on line 5.
+  std::ofstream(d / "dip.nc") << "G21 G90 G17 G94\nM3 S18000\nG0 Z5\nG0 X1 Y1\nG1 Z-6.05 F600\nG1 X2 F1900\n"
+                                 "G0 Z5\nM5\nM30\n";
+  const auto r = run_millnet("simulate --quiet --config '" + cfg.string() + "' --mesh '" + mesh.string() +
+                                 "' --gcode dip.nc --tool ball:2 --stock design --out sim",
+                             d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(slurp(d / "sim" / "dome.sim.json"));
+  EXPECT_NEAR(j["max_gouge_mm"].get<double>(), 0.05, 1e-3);
+  EXPECT_EQ(j["gouge_line"].get<int>(), 5);
+  EXPECT_TRUE(fs::exists(d / "sim" / "dome.ra.png"));
+  EXPECT_TRUE(fs::exists(d / "sim" / "dome.deviation.png"));
+
+  std::ofstream(d / "g54.nc") << "G21 G90\nG54\nG0 Z5\nM30\n";
+  const auto bad = run_millnet("simulate --mesh '" + mesh.string() + "' --gcode g54.nc --tool ball:2 --out sim2", d);
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_NE(bad.err.find("g54.nc:2"), std::string::npos) << bad.err;
+  EXPECT_EQ(list_files(d / "sim2"), "");
+}
+
+}  // namespace
+}  // namespace millnet::testing
