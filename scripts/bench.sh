@@ -14,8 +14,8 @@ done
 if [ -z "${1:-}" ] || [[ "finish" =~ ${1} ]]; then
   echo "== millnet finish --strategy all --simulate (s2_gentle_freeform_01)" >&2
   rm -rf build/bench_finish
-  /usr/bin/env time -f "finish all --simulate: %e s wall, %M KB peak" \
-    build/app/millnet finish --quiet --mesh datasets/test_parts/s2_gentle_freeform_01.stl --strategy all --simulate \
+  TIMEFORMAT="finish all --simulate: %R s wall"
+  time build/app/millnet finish --quiet --mesh datasets/test_parts/s2_gentle_freeform_01.stl --strategy all --simulate \
     --out build/bench_finish
   cat build/bench_finish/s2_gentle_freeform_01.strategies.md
 fi
