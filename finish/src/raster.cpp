@@ -55,8 +55,10 @@ bool clip(const PassFrame& f, const Box& box, double v, Eigen::Vector2d* a, Eige
 
 /// Largest XY spacing to the next pass whose 3D distance to this one (at equal u) stays within
 /// d_max everywhere, a few secant-like shrink steps from d_max itself.
+/// `here` holds the heights of the pass at v (every h0 along u; NaN off the box) and is replaced
+/// by those of the pass chosen, so each pass is sampled once more, not twice.
 double next_spacing(const Sampler& s, const PassFrame& f, const Box& box, double v, double d_max, double p_min,
-                    double h0) {
+                    double h0, std::vector<double>& here) {
   const auto nu = static_cast<std::ptrdiff_t>(std::ceil((f.umax - f.umin) / h0)) + 1;
   auto line = [&](double vv) {
     std::vector<double> z(static_cast<std::size_t>(nu), std::numeric_limits<double>::quiet_NaN());
@@ -67,14 +69,17 @@ double next_spacing(const Sampler& s, const PassFrame& f, const Box& box, double
     }
     return z;
   };
-  const std::vector<double> here = line(v);
+  if (here.empty()) here = line(v);
   double p = d_max;
-  for (int iter = 0; iter < 8 && p > p_min; ++iter) {
-    const std::vector<double> next = line(v + p);
+  for (int iter = 0; iter < 8; ++iter) {
+    std::vector<double> next = line(v + p);
     double worst = p;
     for (std::size_t j = 0; j < here.size(); ++j)
       if (!std::isnan(here[j]) && !std::isnan(next[j])) worst = std::max(worst, std::hypot(p, next[j] - here[j]));
-    if (worst <= d_max * (1 + 1e-9)) return p;
+    if (worst <= d_max * (1 + 1e-9) || p <= p_min || iter == 7) {
+      here = std::move(next);
+      return p;
+    }
     p = std::max(p_min, p * d_max / worst * 0.98);
   }
   return p;
@@ -106,8 +111,11 @@ std::vector<std::vector<Sample>> raster_lines(const Sampler& s, const Box& box, 
     const double p_min = p.stepover_mm * tol::scallop_min_spacing_rel;
     double v = f.vmin;
     vs.push_back(v);
+    std::vector<double> here;
     while (v < f.vmax - 1e-9) {
-      v = std::min(f.vmax, v + next_spacing(s, f, box, v, d_max, p_min, h0));
+      const double step = next_spacing(s, f, box, v, d_max, p_min, h0, here);
+      if (v + step > f.vmax) here.clear();  // the last pass sits on the edge, not where sampled
+      v = std::min(f.vmax, v + step);
       vs.push_back(v);
     }
   }
