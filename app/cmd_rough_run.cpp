@@ -28,7 +28,7 @@ struct RoughOutcome {
 };
 
 RoughOutcome rough_one(const fs::path& file, const std::string& name, const std::string& units, const std::string& up,
-                       const RoughParams& params, const fs::path& out) {
+                       const rough::Params& params, const fs::path& out) {
   RoughOutcome o{name, file.string(), "", false, Json::object()};
   try {
     ingest::MeshReport rep;
@@ -36,7 +36,7 @@ RoughOutcome rough_one(const fs::path& file, const std::string& name, const std:
     prep.units = ingest::parse_units(units);
     prep.up = ingest::parse_up(up);
     const ingest::Mesh mesh = ingest::prepare(ingest::load_mesh(file, &rep), prep, &rep);
-    const RoughResult r = rough_mesh(mesh, params);
+    const rough::Result r = rough::rough_mesh(mesh, params);
     o.metrics = write_rough_outputs(out, name, r, params);
     o.ok = r.machining.status == pocket::PlanStatus::Ok;
     if (!o.ok) o.error = file.string() + ": " + r.machining.message;
@@ -70,7 +70,7 @@ Registered register_rough(CLI::App& app) {
             items.insert(items.end(), o->meshes.begin(), o->meshes.end());
             if (items.empty()) throw Error("no mesh to rough: give --mesh FILE or set /rough/meshes in the config");
             const auto files = expand_inputs(items, kMeshExt);
-            const RoughParams params = rough_params(config, explicit_pocket_section(o->common.config), o->flags);
+            const rough::Params params = rough_params(config, explicit_pocket_section(o->common.config), o->flags);
             const std::string units = o->units.value_or(config["rough"]["units"].get<std::string>());
             const std::string up = o->up.value_or(config["rough"]["up"].get<std::string>());
             std::vector<RoughOutcome> done;
@@ -156,7 +156,7 @@ Registered register_run(CLI::App& app) {
             std::vector<PartPrediction> preds;
             std::vector<RoughOutcome> roughs;
             const Json explicit_pocket = explicit_pocket_section(o->config_file);
-            const RoughParams rp = rough_params(config, explicit_pocket, PocketFlags{});
+            const rough::Params rp = rough_params(config, explicit_pocket, PocketFlags{});
             double predict_s = 0, rough_s = 0;
             Progress progress("run: parts", parts.size());
             for (const auto& p : parts) {

@@ -119,10 +119,14 @@ PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, c
   return ch;
 }
 
-pocket::PlanResult plan_region(const pocket::Region& region, const pocket::CutParams& cut, const PlannerChoice& ch) {
-  if (ch.name == "som") return pocket::plan_som(region, cut, ch.frame, ch.som, ch.smooth);
-  if (ch.name == "zigzag") return pocket::plan_zigzag(region, cut, ch.zigzag);
+pocket::PlannerSpec planner_spec(const PlannerChoice& ch) {
+  if (ch.name == "som") return pocket::SomSpec{ch.frame, ch.som, ch.smooth};
+  if (ch.name == "zigzag") return pocket::ZigzagSpec{ch.zigzag};
   throw Error("unknown planner '" + ch.name + "' (expected som or zigzag)");
+}
+
+pocket::PlanResult plan_region(const pocket::Region& region, const pocket::CutParams& cut, const PlannerChoice& ch) {
+  return pocket::plan(region, cut, planner_spec(ch));
 }
 
 Json cut_json(const pocket::CutParams& c) {
