@@ -115,7 +115,6 @@ PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, c
                   ": expected a number of degrees or \"auto\", got \"" + angle + "\"");
     }
   }
-  ch.zigzag.contour = false;  // the contour pass is machine_pocket's, the same for every planner
   return ch;
 }
 
