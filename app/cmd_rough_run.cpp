@@ -9,7 +9,7 @@
 #include "millnet/core/error.hpp"
 #include "millnet/core/progress.hpp"
 #include "millnet/datasets/generator.hpp"
-#include "millnet/ingest/mesh_io.hpp"
+#include "millnet/ingest/io/mesh_io.hpp"
 
 #include <chrono>
 #include <iostream>
@@ -20,7 +20,6 @@ namespace millnet::app {
 namespace fs = std::filesystem;
 
 namespace {
-const std::vector<std::string> kMeshExt = {".stl", ".obj", ".ply", ".off", ".3mf", ".gltf", ".glb", ".xyz", ".pts", ".asc"};
 
 struct RoughOutcome {
   std::string name, file, error;
@@ -86,7 +85,7 @@ Registered register_rough(CLI::App& app) {
             std::vector<std::string> items = config["rough"]["meshes"].get<std::vector<std::string>>();
             items.insert(items.end(), o->meshes.begin(), o->meshes.end());
             if (items.empty()) throw Error("no mesh to rough: give --mesh FILE or set /rough/meshes in the config");
-            const auto files = expand_inputs(items, kMeshExt);
+            const auto files = expand_inputs(items, ingest::mesh_extensions());
             const rough::Params params = rough_params(config, explicit_pocket_section(o->common.config), o->flags);
             const ingest::PrepareOptions prep = prepare_options(o->units.value_or(config["rough"]["units"].get<std::string>()),
                                                                o->up.value_or(config["rough"]["up"].get<std::string>()));

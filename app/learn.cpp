@@ -6,14 +6,14 @@
 
 #include "millnet/augment/variants.hpp"
 #include "millnet/classifier/rank.hpp"
-#include "millnet/classifier_io/model_file.hpp"
+#include "millnet/classifier/io/model_file.hpp"
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/core/progress.hpp"
 #include "millnet/datasets/generator.hpp"
-#include "millnet/datasets/hash.hpp"
+#include "millnet/datasets/io/manifest.hpp"
 #include "millnet/datasets/table.hpp"
-#include "millnet/ingest/mesh_io.hpp"
+#include "millnet/ingest/io/mesh_io.hpp"
 #include "millnet/report/plots.hpp"
 
 #include <algorithm>
@@ -32,6 +32,13 @@ augment::AugmentParams augment_from(const Json& a) {
   for (const auto& s : a["axes"]) p.axes.push_back(augment::parse_axis(s.get<std::string>()));
   p.flip = a["flip"].get<bool>();
   return p;
+}
+
+/// A number as the manifest's writer (format_double) spells it once parsed: integral values as
+/// JSON integers ("1", not "1.0"), so that sampling.json keeps its bytes.
+Json number_json(double v) {
+  if (std::isfinite(v) && std::abs(v) < 9007199254740992.0 && v == std::trunc(v)) return Json(static_cast<std::int64_t>(v));
+  return Json(v);
 }
 
 std::string strategy_name(const std::vector<std::string>& names, int slot) {
@@ -78,20 +85,9 @@ datasets::Recipe recipe_from_config(const Json& config) {
 }
 
 bool build_dataset(const datasets::Recipe& recipe, const fs::path& out_dir, bool reuse) {
-  if (reuse && fs::exists(out_dir / "vectors.csv") && fs::exists(out_dir / "manifest.json")) {
-    try {
-      const Json m = read_json(out_dir / "manifest.json");
-      bool same = m.contains("config") && m["config"] == Json::parse(datasets::recipe_json(recipe)) &&
-                  m.contains("input_files") && m["input_files"].size() == recipe.parts.size();
-      for (std::size_t k = 0; same && k < recipe.parts.size(); ++k)
-        same = m["input_files"][k].value("fnv1a64", "") == datasets::to_hex(datasets::fnv1a64_file(recipe.parts[k].file));
-      if (same) {
-        info("dataset: " + (out_dir / "vectors.csv").string() + " is up to date (same recipe and part files)");
-        return false;
-      }
-    } catch (const std::exception&) {
-      // An unreadable manifest means: rebuild.
-    }
+  if (reuse && datasets_io::table_up_to_date(out_dir, recipe)) {
+    info("dataset: " + (out_dir / "vectors.csv").string() + " is up to date (same recipe and part files)");
+    return false;
   }
   Progress progress("dataset", 0);
   const datasets::Table table = datasets::build_table(recipe, progress.callback());
@@ -111,9 +107,9 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
   // Strategy names live in the manifest beside the CSV; the config's names otherwise.
   std::vector<std::string> names = config["dataset"]["strategies"].get<std::vector<std::string>>();
   const fs::path manifest_path = dataset_csv.parent_path() / "manifest.json";
-  const Json manifest = fs::exists(manifest_path) ? read_json(manifest_path) : Json::object();
-  if (manifest.contains("strategies") && manifest["strategies"].is_array())
-    names = manifest["strategies"].get<std::vector<std::string>>();
+  const datasets_io::Manifest manifest =
+      fs::exists(manifest_path) ? datasets_io::read_manifest(manifest_path) : datasets_io::Manifest{};
+  if (!manifest.strategies.empty()) names = manifest.strategies;
   set.strategies = names;
 
   const Json& t = config["train"];
@@ -141,8 +137,7 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
                    {"raster_mm", config["dataset"]["raster_mm"].get<double>()},
                    {"inputs", table.inputs_per_row()},
                    {"dataset", fs::absolute(dataset_csv).string()}};
-  if (manifest.contains("config") && manifest["config"].is_object() && manifest["config"].contains("raster_mm"))
-    sampling["raster_mm"] = manifest["config"]["raster_mm"];
+  if (manifest.raster_mm) sampling["raster_mm"] = number_json(*manifest.raster_mm);
   write_file_atomic(out_dir / "sampling.json", sampling.dump(2) + "\n");
 
   // LOO curve: alpha,rms (the chosen mode's) + both modes' figures.

@@ -7,7 +7,7 @@
 #include "millnet/pocket/plan.hpp"
 #include "millnet/pocket/planner_som.hpp"
 #include "millnet/pocket/planner_zigzag.hpp"
-#include "millnet/pocket/pocket_io.hpp"
+#include "millnet/pocket/io/pocket_io.hpp"
 
 #include <CLI/CLI.hpp>
 

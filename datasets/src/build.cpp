@@ -5,7 +5,7 @@
 #include "millnet/datasets/features.hpp"
 #include "millnet/datasets/hash.hpp"
 #include "millnet/ingest/heightfield.hpp"
-#include "millnet/ingest/mesh_io.hpp"
+#include "millnet/ingest/io/mesh_io.hpp"
 
 #include <set>
 

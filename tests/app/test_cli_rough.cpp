@@ -5,7 +5,7 @@
 #include "testing/mesh_gouge.hpp"
 
 #include "millnet/datasets/generator.hpp"
-#include "millnet/ingest/mesh_io.hpp"
+#include "millnet/ingest/io/mesh_io.hpp"
 
 #include <gtest/gtest.h>
 
