@@ -4,14 +4,12 @@
 #include "finish_job.hpp"
 
 #include "millnet/core/error.hpp"
-#include "millnet/ingest/mesh_io.hpp"
+#include "millnet/ingest/io/mesh_io.hpp"
 
 namespace millnet::app {
 namespace fs = std::filesystem;
 
 namespace {
-const std::vector<std::string> kMeshExt = {".stl", ".obj", ".ply", ".off", ".3mf", ".gltf", ".glb", ".xyz", ".pts", ".asc", ".txt"};
-
 ingest::Mesh load_prepared(const fs::path& file, const std::string& units, const std::string& up) {
   ingest::MeshReport rep;
   ingest::PrepareOptions prep;
@@ -72,7 +70,7 @@ Registered register_finish(CLI::App& app) {
             std::vector<std::string> items = config["finish"]["meshes"].get<std::vector<std::string>>();
             items.insert(items.end(), o->meshes.begin(), o->meshes.end());
             if (items.empty()) throw Error("no mesh to finish: give --mesh FILE or set /finish/meshes in the config");
-            const auto files = expand_inputs(items, kMeshExt);
+            const auto files = expand_inputs(items, ingest::mesh_extensions());
             const std::string units = o->mesh_flags.units.value_or(config["rough"]["units"].get<std::string>());
             const std::string up = o->mesh_flags.up.value_or(config["rough"]["up"].get<std::string>());
             std::size_t failed = 0;

@@ -3,6 +3,7 @@
 #include "learn.hpp"
 
 #include "millnet/core/error.hpp"
+#include "millnet/ingest/io/mesh_io.hpp"
 
 #include <iostream>
 
@@ -66,10 +67,12 @@ Registered register_predict(CLI::App& app) {
             items.insert(items.end(), o->parts.begin(), o->parts.end());
             if (items.empty()) throw Error("no parts to predict: name files or folders, or set /predict/parts");
             std::vector<PredictInput> inputs;
-            for (const auto& f : expand_inputs(items, {".stl", ".obj", ".ply", ".off", ".3mf", ".gltf", ".glb", ".xyz", ".pts", ".asc"}))
-              inputs.push_back({f, "", 0});
-            const auto res = predict_parts(o->model, config, inputs, o->units.value_or(config["predict"]["units"]),
-                                           o->up.value_or(config["predict"]["up"]), o->out);
+            for (const auto& f : expand_inputs(items, ingest::mesh_extensions()))
+              inputs.push_back({f, "", 0, nullptr});
+            const auto res = predict_parts(load_model_folder(o->model, config), inputs,
+                                           prepare_options(o->units.value_or(config["predict"]["units"]),
+                                                           o->up.value_or(config["predict"]["up"])),
+                                           o->out);
             std::size_t failed = 0;
             for (const auto& r : res) {
               if (!r.ok) {

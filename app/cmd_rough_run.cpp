@@ -9,17 +9,17 @@
 #include "millnet/core/error.hpp"
 #include "millnet/core/progress.hpp"
 #include "millnet/datasets/generator.hpp"
-#include "millnet/ingest/mesh_io.hpp"
+#include "millnet/ingest/io/mesh_io.hpp"
 
 #include <chrono>
 #include <iostream>
+#include <memory>
 #include <sstream>
 
 namespace millnet::app {
 namespace fs = std::filesystem;
 
 namespace {
-const std::vector<std::string> kMeshExt = {".stl", ".obj", ".ply", ".off", ".3mf", ".gltf", ".glb", ".xyz", ".pts", ".asc"};
 
 struct RoughOutcome {
   std::string name, file, error;
@@ -27,16 +27,13 @@ struct RoughOutcome {
   Json metrics;
 };
 
-RoughOutcome rough_one(const fs::path& file, const std::string& name, const std::string& units, const std::string& up,
-                       const RoughParams& params, const fs::path& out) {
-  RoughOutcome o{name, file.string(), "", false, Json::object()};
+/// Roughs one prepared mesh (or reports `load_error` when it could not be read) into `out`.
+RoughOutcome rough_prepared(const ingest::Mesh* mesh, const std::string& load_error, const fs::path& file,
+                            const std::string& name, const rough::Params& params, const fs::path& out) {
+  RoughOutcome o{name, file.string(), load_error, false, Json::object()};
+  if (!mesh) return o;
   try {
-    ingest::MeshReport rep;
-    ingest::PrepareOptions prep;
-    prep.units = ingest::parse_units(units);
-    prep.up = ingest::parse_up(up);
-    const ingest::Mesh mesh = ingest::prepare(ingest::load_mesh(file, &rep), prep, &rep);
-    const RoughResult r = rough_mesh(mesh, params);
+    const rough::Result r = rough::rough_mesh(*mesh, params);
     o.metrics = write_rough_outputs(out, name, r, params);
     o.ok = r.machining.status == pocket::PlanStatus::Ok;
     if (!o.ok) o.error = file.string() + ": " + r.machining.message;
@@ -44,6 +41,25 @@ RoughOutcome rough_one(const fs::path& file, const std::string& name, const std:
     o.error = e.what();
   }
   return o;
+}
+
+/// Reads and prepares a mesh; null and the reason when it cannot be read.
+std::shared_ptr<const ingest::Mesh> load_prepared(const fs::path& file, const ingest::PrepareOptions& prep,
+                                                  std::string* error) {
+  try {
+    ingest::MeshReport rep;
+    return std::make_shared<const ingest::Mesh>(ingest::prepare(ingest::load_mesh(file, &rep), prep, &rep));
+  } catch (const std::exception& e) {
+    *error = e.what();
+    return nullptr;
+  }
+}
+
+RoughOutcome rough_one(const fs::path& file, const std::string& name, const ingest::PrepareOptions& prep,
+                       const rough::Params& params, const fs::path& out) {
+  std::string error;
+  const auto mesh = load_prepared(file, prep, &error);
+  return rough_prepared(mesh.get(), error, file, name, params, out);
 }
 }  // namespace
 
@@ -69,14 +85,14 @@ Registered register_rough(CLI::App& app) {
             std::vector<std::string> items = config["rough"]["meshes"].get<std::vector<std::string>>();
             items.insert(items.end(), o->meshes.begin(), o->meshes.end());
             if (items.empty()) throw Error("no mesh to rough: give --mesh FILE or set /rough/meshes in the config");
-            const auto files = expand_inputs(items, kMeshExt);
-            const RoughParams params = rough_params(config, explicit_pocket_section(o->common.config), o->flags);
-            const std::string units = o->units.value_or(config["rough"]["units"].get<std::string>());
-            const std::string up = o->up.value_or(config["rough"]["up"].get<std::string>());
+            const auto files = expand_inputs(items, ingest::mesh_extensions());
+            const rough::Params params = rough_params(config, explicit_pocket_section(o->common.config), o->flags);
+            const ingest::PrepareOptions prep = prepare_options(o->units.value_or(config["rough"]["units"].get<std::string>()),
+                                                               o->up.value_or(config["rough"]["up"].get<std::string>()));
             std::vector<RoughOutcome> done;
             Progress progress("rough", files.size());
             for (const auto& f : files) {
-              done.push_back(rough_one(f, f.stem().string(), units, up, params, o->out));
+              done.push_back(rough_one(f, f.stem().string(), prep, params, o->out));
               progress.tick();
             }
             progress.finish();
@@ -140,7 +156,7 @@ Registered register_run(CLI::App& app) {
               const Json& run = config["run"];
               if (!run["test_parts"].empty()) {
                 for (const auto& p : run["test_parts"])
-                  parts.push_back({p["file"].get<std::string>(), p.value("name", std::string()), p["label"].get<int>()});
+                  parts.push_back({p["file"].get<std::string>(), p.value("name", std::string()), p["label"].get<int>(), nullptr});
               } else {
                 datasets::GenerateParams g;
                 g.seed = run["generate_test_parts"]["seed"].get<std::uint64_t>();
@@ -149,28 +165,32 @@ Registered register_run(CLI::App& app) {
                 if (config["dataset"]["parts"].empty() && g.seed == config["dataset"]["generate"]["seed"].get<std::uint64_t>())
                   throw Error("/run/generate_test_parts/seed equals /dataset/generate/seed: the test parts would be training parts");
                 for (const auto& gp : datasets::generate_default_parts(run["test_parts_dir"].get<std::string>(), g))
-                  parts.push_back({gp.file, "test_" + gp.name, gp.label});
+                  parts.push_back({gp.file, "test_" + gp.name, gp.label, nullptr});
               }
             });
             // 4. predict and 5. rough, a folder per part
             std::vector<PartPrediction> preds;
             std::vector<RoughOutcome> roughs;
             const Json explicit_pocket = explicit_pocket_section(o->config_file);
-            const RoughParams rp = rough_params(config, explicit_pocket, PocketFlags{});
+            const rough::Params rp = rough_params(config, explicit_pocket, PocketFlags{});
+            const ModelFolder model = load_model_folder(out / "model", config);  // read once for all parts
+            const ingest::PrepareOptions prep = prepare_options(config["predict"]["units"], config["predict"]["up"]);
             double predict_s = 0, rough_s = 0;
             Progress progress("run: parts", parts.size());
             for (const auto& p : parts) {
               const std::string name = p.name.empty() ? p.file.stem().string() : p.name;
               const fs::path dir = out / "parts" / name;
+              auto t0 = clock::now();
+              std::string load_error;
               PredictInput named = p;
               named.name = name;
-              auto t0 = clock::now();
-              auto pr = predict_parts(out / "model", config, {named}, config["predict"]["units"], config["predict"]["up"], dir);
+              named.mesh = load_prepared(p.file, prep, &load_error);  // each mesh read once, for both steps
+              auto pr = predict_parts(model, {named}, prep, dir);
               preds.push_back(pr.front());
               predict_s += std::chrono::duration<double>(clock::now() - t0).count();
               if (config["run"]["rough"].get<bool>()) {
                 t0 = clock::now();
-                roughs.push_back(rough_one(p.file, name, config["predict"]["units"], config["predict"]["up"], rp, dir));
+                roughs.push_back(rough_prepared(named.mesh.get(), load_error, p.file, name, rp, dir));
                 rough_s += std::chrono::duration<double>(clock::now() - t0).count();
               }
               progress.tick();

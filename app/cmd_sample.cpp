@@ -6,21 +6,12 @@
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/ingest/heightfield.hpp"
-#include "millnet/ingest/mesh_io.hpp"
+#include "millnet/ingest/io/grid_csv.hpp"
+#include "millnet/ingest/io/mesh_io.hpp"
 
-#include <sstream>
 
 namespace millnet::app {
 namespace fs = std::filesystem;
-
-std::string grid_csv(const Eigen::MatrixXd& h) {
-  std::ostringstream os;
-  for (Eigen::Index i = 0; i < h.rows(); ++i) {
-    for (Eigen::Index j = 0; j < h.cols(); ++j) os << (j ? "," : "") << format_double(h(i, j));
-    os << "\n";
-  }
-  return os.str();
-}
 
 Registered register_sample(CLI::App& app) {
   struct Opts {
@@ -50,7 +41,7 @@ Registered register_sample(CLI::App& app) {
             const ingest::Grid grid = ingest::sample_grid(mesh, o->raster, o->grid);
             const std::string stem = fs::path(o->mesh).stem().string();
             const fs::path out(o->out);
-            write_file_atomic(out / (stem + ".grid.csv"), grid_csv(grid.h));
+            write_file_atomic(out / (stem + ".grid.csv"), ingest::grid_csv(grid.h));
             write_grid_png(out / (stem + ".png"), grid, stem);
             info("sample: " + o->mesh + ": " + std::to_string(report.triangles) + " triangles (" +
                  std::to_string(report.degenerate_triangles) + " degenerate), footprint " +

@@ -5,15 +5,15 @@
 #include "report_util.hpp"
 
 #include "millnet/augment/variants.hpp"
-#include "millnet/classifier_io/model_file.hpp"
+#include "millnet/classifier/rank.hpp"
+#include "millnet/classifier/io/model_file.hpp"
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/core/progress.hpp"
 #include "millnet/datasets/generator.hpp"
-#include "millnet/datasets/hash.hpp"
+#include "millnet/datasets/io/manifest.hpp"
 #include "millnet/datasets/table.hpp"
-#include "millnet/ingest/heightfield.hpp"
-#include "millnet/ingest/mesh_io.hpp"
+#include "millnet/ingest/io/mesh_io.hpp"
 #include "millnet/report/plots.hpp"
 
 #include <algorithm>
@@ -32,6 +32,13 @@ augment::AugmentParams augment_from(const Json& a) {
   for (const auto& s : a["axes"]) p.axes.push_back(augment::parse_axis(s.get<std::string>()));
   p.flip = a["flip"].get<bool>();
   return p;
+}
+
+/// A number as the manifest's writer (format_double) spells it once parsed: integral values as
+/// JSON integers ("1", not "1.0"), so that sampling.json keeps its bytes.
+Json number_json(double v) {
+  if (std::isfinite(v) && std::abs(v) < 9007199254740992.0 && v == std::trunc(v)) return Json(static_cast<std::int64_t>(v));
+  return Json(v);
 }
 
 std::string strategy_name(const std::vector<std::string>& names, int slot) {
@@ -78,20 +85,9 @@ datasets::Recipe recipe_from_config(const Json& config) {
 }
 
 bool build_dataset(const datasets::Recipe& recipe, const fs::path& out_dir, bool reuse) {
-  if (reuse && fs::exists(out_dir / "vectors.csv") && fs::exists(out_dir / "manifest.json")) {
-    try {
-      const Json m = read_json(out_dir / "manifest.json");
-      bool same = m.contains("config") && m["config"] == Json::parse(datasets::recipe_json(recipe)) &&
-                  m.contains("input_files") && m["input_files"].size() == recipe.parts.size();
-      for (std::size_t k = 0; same && k < recipe.parts.size(); ++k)
-        same = m["input_files"][k].value("fnv1a64", "") == datasets::to_hex(datasets::fnv1a64_file(recipe.parts[k].file));
-      if (same) {
-        info("dataset: " + (out_dir / "vectors.csv").string() + " is up to date (same recipe and part files)");
-        return false;
-      }
-    } catch (const std::exception&) {
-      // An unreadable manifest means: rebuild.
-    }
+  if (reuse && datasets_io::table_up_to_date(out_dir, recipe)) {
+    info("dataset: " + (out_dir / "vectors.csv").string() + " is up to date (same recipe and part files)");
+    return false;
   }
   Progress progress("dataset", 0);
   const datasets::Table table = datasets::build_table(recipe, progress.callback());
@@ -111,9 +107,9 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
   // Strategy names live in the manifest beside the CSV; the config's names otherwise.
   std::vector<std::string> names = config["dataset"]["strategies"].get<std::vector<std::string>>();
   const fs::path manifest_path = dataset_csv.parent_path() / "manifest.json";
-  const Json manifest = fs::exists(manifest_path) ? read_json(manifest_path) : Json::object();
-  if (manifest.contains("strategies") && manifest["strategies"].is_array())
-    names = manifest["strategies"].get<std::vector<std::string>>();
+  const datasets_io::Manifest manifest =
+      fs::exists(manifest_path) ? datasets_io::read_manifest(manifest_path) : datasets_io::Manifest{};
+  if (!manifest.strategies.empty()) names = manifest.strategies;
   set.strategies = names;
 
   const Json& t = config["train"];
@@ -141,8 +137,7 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
                    {"raster_mm", config["dataset"]["raster_mm"].get<double>()},
                    {"inputs", table.inputs_per_row()},
                    {"dataset", fs::absolute(dataset_csv).string()}};
-  if (manifest.contains("config") && manifest["config"].is_object() && manifest["config"].contains("raster_mm"))
-    sampling["raster_mm"] = manifest["config"]["raster_mm"];
+  if (manifest.raster_mm) sampling["raster_mm"] = number_json(*manifest.raster_mm);
   write_file_atomic(out_dir / "sampling.json", sampling.dump(2) + "\n");
 
   // LOO curve: alpha,rms (the chosen mode's) + both modes' figures.
@@ -232,17 +227,27 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
   return s;
 }
 
-std::vector<PartPrediction> predict_parts(const fs::path& model_dir, const Json& config,
-                                          const std::vector<PredictInput>& parts, const std::string& units,
-                                          const std::string& up, const fs::path& out_dir) {
-  const classifier::Model model = classifier_io::load_model(model_dir / "model.json");
-  const Json sampling = read_json(model_dir / "sampling.json");
-  const int n = sampling["grid"].get<int>();
-  const double raster = sampling["raster_mm"].get<double>();
-  const augment::AugmentParams aug = augment_from(config["predict"]["augment"]);
+ModelFolder load_model_folder(const fs::path& dir, const Json& config) {
+  ModelFolder m;
+  m.dir = dir;
+  m.model = classifier_io::load_model(dir / "model.json");
+  const Json sampling = read_json(dir / "sampling.json");
+  m.spec.grid = sampling["grid"].get<int>();
+  m.spec.raster_mm = sampling["raster_mm"].get<double>();
+  m.spec.augment = augment_from(config["predict"]["augment"]);
+  return m;
+}
+
+ingest::PrepareOptions prepare_options(const std::string& units, const std::string& up) {
   ingest::PrepareOptions prep;
   prep.units = ingest::parse_units(units);
   prep.up = ingest::parse_up(up);
+  return prep;
+}
+
+std::vector<PartPrediction> predict_parts(const ModelFolder& folder, const std::vector<PredictInput>& parts,
+                                          const ingest::PrepareOptions& prep, const fs::path& out_dir) {
+  const classifier::Model& model = folder.model;
   const auto K = static_cast<std::size_t>(model.outputs.cols());
 
   std::vector<PartPrediction> results;
@@ -260,53 +265,38 @@ std::vector<PartPrediction> predict_parts(const fs::path& model_dir, const Json&
     pp.strategies = model.strategies;
     Json jp = {{"part", pp.name}, {"file", pp.file}};
     try {
-      ingest::MeshReport rep;
-      const ingest::Mesh mesh = ingest::prepare(ingest::load_mesh(in.file, &rep), prep, &rep);
-      const auto variants = augment::make_variants(pp.name, aug);
-      Eigen::MatrixXd X(static_cast<Eigen::Index>(variants.size()), n * n);
-      for (std::size_t v = 0; v < variants.size(); ++v) {
-        const ingest::Grid g = ingest::sample_grid(augment::apply(mesh, variants[v]), raster, n);
-        for (int r = 0; r < n; ++r)
-          for (int c = 0; c < n; ++c) X(static_cast<Eigen::Index>(v), r * n + c) = g.h(r, c);
+      std::shared_ptr<const ingest::Mesh> mesh = in.mesh;
+      if (!mesh) {
+        ingest::MeshReport rep;
+        mesh = std::make_shared<const ingest::Mesh>(ingest::prepare(ingest::load_mesh(in.file, &rep), prep, &rep));
       }
-      const classifier::Prediction pr = classifier::predict(model, X);
-      const auto M = static_cast<double>(variants.size());
-      pp.mean.assign(K, 0.0);
-      pp.totals.assign(K, 0.0);
-      pp.first_share.assign(K, 0.0);
-      std::vector<int> tops;
-      std::size_t unfamiliar = 0;
+      const datasets::ModelVectors mv = datasets::model_vectors(*mesh, pp.name, folder.spec);
+      const classifier::Prediction pr = classifier::predict(model, mv.inputs);
+      const classifier::Ranking rk = classifier::rank(pr);
+      pp.mean = rk.mean;
+      pp.totals = rk.totals;
+      pp.first_share = rk.first_share;
+      pp.top = rk.top;
+      pp.confidence = rk.confidence;
+      pp.consistency = rk.consistency;
+      pp.d2_min = rk.d2_min;
+      pp.unfamiliar = rk.unfamiliar;
+      pp.ok = true;
+      const std::size_t unfamiliar = rk.unfamiliar_variants;
+      const auto& variants = mv.variants;
       Json jv = Json::array();
       for (std::size_t v = 0; v < variants.size(); ++v) {
         const auto row = pr.probabilities.row(static_cast<Eigen::Index>(v));
-        Eigen::Index best = 0;
-        row.maxCoeff(&best);
-        tops.push_back(static_cast<int>(best) + 1);
-        pp.first_share[static_cast<std::size_t>(best)] += 1.0 / M;
-        for (std::size_t k = 0; k < K; ++k) pp.totals[k] += row(static_cast<Eigen::Index>(k));
-        unfamiliar += pr.unfamiliar[v] ? 1U : 0U;
-        std::vector<double> probs(K);
-        for (std::size_t k = 0; k < K; ++k) probs[k] = row(static_cast<Eigen::Index>(k));
         jv.push_back({{"axis", std::string(1, augment::to_char(variants[v].axis))},
                       {"angle", variants[v].angle_deg},
                       {"flip", variants[v].flip},
-                      {"top", static_cast<int>(best) + 1},
+                      {"top", rk.variant_top[v]},
                       {"d2_min", pr.d2_min(static_cast<Eigen::Index>(v))},
                       {"unfamiliar", static_cast<bool>(pr.unfamiliar[v])},
-                      {"probabilities", probs}});
+                      {"probabilities", std::vector<double>(row.begin(), row.end())}});
       }
-      for (std::size_t k = 0; k < K; ++k) pp.mean[k] = pp.totals[k] / M;
-      pp.top = static_cast<int>(std::max_element(pp.mean.begin(), pp.mean.end()) - pp.mean.begin()) + 1;
-      pp.confidence = pp.mean[static_cast<std::size_t>(pp.top - 1)];
-      pp.consistency = static_cast<double>(std::count(tops.begin(), tops.end(), pp.top)) / M;
-      pp.d2_min = pr.d2_min.minCoeff();
-      pp.unfamiliar = 2 * unfamiliar > variants.size();  // most variants far from every stored model
-      pp.ok = true;
-      std::vector<std::size_t> order(K);
-      for (std::size_t k = 0; k < K; ++k) order[k] = k;
-      std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return pp.mean[a] > pp.mean[b]; });
       Json ranking = Json::array();
-      for (std::size_t k : order)
+      for (std::size_t k : rk.order)
         ranking.push_back({{"slot", k + 1}, {"strategy", model.strategies[k]}, {"probability", pp.mean[k]},
                            {"total", pp.totals[k]}, {"share_first", pp.first_share[k]}});
       jp["status"] = "ok";
@@ -351,7 +341,7 @@ std::vector<PartPrediction> predict_parts(const fs::path& model_dir, const Json&
     progress.tick();
   }
   progress.finish();
-  Json out = {{"model", fs::absolute(model_dir / "model.json").string()},
+  Json out = {{"model", fs::absolute(folder.dir / "model.json").string()},
               {"alpha", model.alpha},
               {"strategies", model.strategies},
               {"unfamiliar_threshold_d2", model.unfamiliar_threshold},

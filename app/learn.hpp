@@ -4,8 +4,11 @@
 
 #include "millnet/classifier/network.hpp"
 #include "millnet/datasets/build.hpp"
+#include "millnet/datasets/features.hpp"
+#include "millnet/ingest/mesh.hpp"
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -56,12 +59,24 @@ struct PredictInput {
   std::filesystem::path file;
   std::string name;   ///< empty ⇒ file stem
   int expected = 0;
+  std::shared_ptr<const ingest::Mesh> mesh;  ///< the prepared mesh when already loaded; null ⇒ read from file
 };
+
+/// A trained model folder, read once: model.json (the classifier) and sampling.json (grid, raster),
+/// with the prediction's augmentation from the config (/predict/augment).
+struct ModelFolder {
+  std::filesystem::path dir;
+  classifier::Model model;
+  datasets::FeatureSpec spec;
+};
+[[nodiscard]] ModelFolder load_model_folder(const std::filesystem::path& dir, const Json& config);
+
+/// Mesh preparation from the --units / --up strings.
+[[nodiscard]] ingest::PrepareOptions prepare_options(const std::string& units, const std::string& up);
 
 /// Predicts every part (a broken part is reported in its entry and the batch goes on) and writes
 /// predictions.json, predictions.csv and one PNG per part into out_dir.
-std::vector<PartPrediction> predict_parts(const std::filesystem::path& model_dir, const Json& config,
-                                          const std::vector<PredictInput>& parts, const std::string& units,
-                                          const std::string& up, const std::filesystem::path& out_dir);
+std::vector<PartPrediction> predict_parts(const ModelFolder& model, const std::vector<PredictInput>& parts,
+                                          const ingest::PrepareOptions& prep, const std::filesystem::path& out_dir);
 
 }  // namespace millnet::app

@@ -3,9 +3,9 @@
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
+#include "millnet/pocket/io/tables.hpp"
 #include "millnet/report/plots.hpp"
 
-#include <sstream>
 
 namespace millnet::app {
 namespace fs = std::filesystem;
@@ -115,14 +115,17 @@ PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, c
                   ": expected a number of degrees or \"auto\", got \"" + angle + "\"");
     }
   }
-  ch.zigzag.contour = false;  // the contour pass is machine_pocket's, the same for every planner
   return ch;
 }
 
-pocket::PlanResult plan_region(const pocket::Region& region, const pocket::CutParams& cut, const PlannerChoice& ch) {
-  if (ch.name == "som") return pocket::plan_som(region, cut, ch.frame, ch.som, ch.smooth);
-  if (ch.name == "zigzag") return pocket::plan_zigzag(region, cut, ch.zigzag);
+pocket::PlannerSpec planner_spec(const PlannerChoice& ch) {
+  if (ch.name == "som") return pocket::SomSpec{ch.frame, ch.som, ch.smooth};
+  if (ch.name == "zigzag") return pocket::ZigzagSpec{ch.zigzag};
   throw Error("unknown planner '" + ch.name + "' (expected som or zigzag)");
+}
+
+pocket::PlanResult plan_region(const pocket::Region& region, const pocket::CutParams& cut, const PlannerChoice& ch) {
+  return pocket::plan(region, cut, planner_spec(ch));
 }
 
 Json cut_json(const pocket::CutParams& c) {
@@ -167,24 +170,16 @@ void write_pocket_outputs(const fs::path& dir, const std::string& stem, const po
   Json metrics = metrics_json(plan, m, cut, ch);
   if (!notes.empty()) metrics["notes"] = notes;
   // Tool points (x,y) in the planner's order of discovery.
-  std::ostringstream pts;
-  pts << "x,y\n";
-  for (const auto& p : plan.tool_points.pts) pts << format_double(p.x()) << "," << format_double(p.y()) << "\n";
-  write_file_atomic(dir / (stem + ".points.csv"), pts.str());
+  write_file_atomic(dir / (stem + ".points.csv"), pocket::tool_points_csv(plan.tool_points.pts));
   // Feed profile along the path (seed Fig. 14).
-  std::ostringstream feed;
-  feed << "chain,segment,s_mm,length_mm,engagement,width_mm,feed_mm_min,mrr_mm3_min\n";
+  write_file_atomic(dir / (stem + ".feed.csv"), pocket::feed_profile_csv(m.feed_profile));
   std::vector<double> s, n3, f, mrr;
-  for (const auto& p : m.feed_profile.pieces) {
-    feed << p.chain << "," << p.segment << "," << format_double(p.s_mm) << "," << format_double(p.length_mm) << ","
-         << format_double(p.engagement) << "," << format_double(p.width_mm) << "," << format_double(p.feed) << ","
-         << format_double(p.mrr_mm3_min) << "\n";
+  for (const auto& p : m.feed_profile.pieces) {  // the plot's series
     s.push_back(p.s_mm);
     n3.push_back(p.engagement);
     f.push_back(p.feed);
     mrr.push_back(p.mrr_mm3_min);
   }
-  write_file_atomic(dir / (stem + ".feed.csv"), feed.str());
   std::vector<std::pair<std::string, std::string>> block;
   block.emplace_back("planner", metrics["planner"].get<std::string>());
   block.emplace_back("tool points", fixed(m.metrics.tool_points, 0));

@@ -4,9 +4,10 @@
 #include "config.hpp"
 
 #include "millnet/pocket/machining.hpp"
+#include "millnet/pocket/plan.hpp"
 #include "millnet/pocket/planner_som.hpp"
 #include "millnet/pocket/planner_zigzag.hpp"
-#include "millnet/pocket/pocket_io.hpp"
+#include "millnet/pocket/io/pocket_io.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -43,6 +44,9 @@ struct PlannerChoice {
   bool contour = false;
 };
 [[nodiscard]] PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, const PocketFlags& flags);
+
+/// The typed planner spec of a choice (throws millnet::Error on an unknown planner name).
+[[nodiscard]] pocket::PlannerSpec planner_spec(const PlannerChoice& choice);
 
 [[nodiscard]] pocket::PlanResult plan_region(const pocket::Region& region, const pocket::CutParams& cut,
                                              const PlannerChoice& choice);

@@ -20,7 +20,4 @@ inline void write_grid_png(const std::filesystem::path& path, const ingest::Grid
                              "height above lowest point (mm)", o);
 }
 
-/// The CSV of a grid: n rows × n columns, rows from min y, columns from min x, shortest round-trip numbers.
-[[nodiscard]] std::string grid_csv(const Eigen::MatrixXd& h);
-
 }  // namespace millnet::app

@@ -2,7 +2,7 @@
 // and the load time of the same mesh as binary STL, reported separately.
 //   bench_ingest --benchmark_filter=Rasterize
 #include "millnet/ingest/heightfield.hpp"
-#include "millnet/ingest/mesh_io.hpp"
+#include "millnet/ingest/io/mesh_io.hpp"
 
 #include <benchmark/benchmark.h>
 #include <omp.h>

@@ -3,11 +3,9 @@
 // planning + machining (regions → planner → feed maps → G-code), with SOM and with zigzag.
 //   bench_pipeline --benchmark_filter=Rough
 // The time per stage of `millnet run` comes from run_report.json ("timing"), see test_scenario.
-#include "config.hpp"
-#include "rough.hpp"
-
 #include "millnet/ingest/heightfield.hpp"
 #include "millnet/ingest/zlevels.hpp"
+#include "millnet/rough/rough.hpp"
 
 #include <benchmark/benchmark.h>
 
@@ -69,15 +67,25 @@ const ingest::Mesh& wavy_part() {
   return m;
 }
 
-app::RoughParams params(const std::string& planner) {
-  const app::Json config = app::default_config(MILLNET_SOURCE_DIR);
-  app::PocketFlags fl;
-  fl.planner = planner;
+/// The default config's roughing (schema defaults, seed 7, zigzag: I-partition, angle searched), with
+/// 10 equal levels down to kFloor.
+rough::Params params(bool som) {
+  rough::Params p;
+  if (som) {
+    pocket::SomSpec s;
+    s.frame.spacing = p.cut.stepover;
+    s.som.seed = 7;
+    p.planner = s;
+  } else {
+    pocket::ZigzagSpec z;
+    z.zigzag.angle_deg = std::nullopt;
+    z.zigzag.partition = pocket::PartitionKind::I;
+    p.planner = z;
+  }
   const ingest::Mesh& m = wavy_part();
   const double top = m.V.col(2).maxCoeff();
   // Stock top = top + 1; 10 equal levels down to kFloor.
-  fl.step_down = (top + 1 - kFloor) / kLevels;
-  app::RoughParams p = app::rough_params(config, app::Json::object(), fl);
+  p.cut.step_down = (top + 1 - kFloor) / kLevels;
   p.floor_allowance_mm = kFloor;
   return p;
 }
@@ -85,7 +93,7 @@ app::RoughParams params(const std::string& planner) {
 // The slicing alone, as rough_mesh does it: the stock height field, then one material_contours per level.
 void BM_RoughSlicing(benchmark::State& state) {
   const ingest::Mesh& m = wavy_part();
-  const app::RoughParams p = params("som");
+  const rough::Params p = params(true);
   const double x0 = -p.margin_mm, x1 = kSide + p.margin_mm, top = m.V.col(2).maxCoeff() + p.top_allowance_mm;
   const int nx = static_cast<int>(std::ceil((x1 - x0) / p.raster_mm)) + 1;
   double raster_s = 0;
@@ -108,10 +116,10 @@ BENCHMARK(BM_RoughSlicing)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(
 // The whole roughing (slicing + planning + machining); arg 0 = SOM, 1 = zigzag.
 void BM_RoughMesh(benchmark::State& state) {
   const ingest::Mesh& m = wavy_part();
-  const app::RoughParams p = params(state.range(0) == 0 ? "som" : "zigzag");
-  app::RoughResult r;
+  const rough::Params p = params(state.range(0) == 0);
+  rough::Result r;
   for (auto _ : state) {
-    r = app::rough_mesh(m, p);
+    r = rough::rough_mesh(m, p);
     benchmark::DoNotOptimize(r.machining.gcode.data());
   }
   if (r.machining.status != pocket::PlanStatus::Ok || static_cast<int>(r.levels.size()) != kLevels) {
@@ -120,7 +128,7 @@ void BM_RoughMesh(benchmark::State& state) {
   }
   std::size_t islands = 0;
   for (const auto& lv : r.levels) islands += lv.islands;
-  state.SetLabel(p.choice.name);
+  state.SetLabel(std::string(pocket::planner_name(p.planner)));
   state.counters["triangles"] = static_cast<double>(m.F.rows());
   state.counters["levels"] = static_cast<double>(r.levels.size());
   state.counters["islands"] = static_cast<double>(islands);

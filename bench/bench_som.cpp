@@ -5,7 +5,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "millnet/pocket/pocket_io.hpp"
+#include "millnet/pocket/io/pocket_io.hpp"
 
 #include <cmath>
 

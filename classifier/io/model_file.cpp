@@ -1,4 +1,4 @@
-#include "millnet/classifier_io/model_file.hpp"
+#include "millnet/classifier/io/model_file.hpp"
 
 #include <cmath>
 #include <string>

@@ -2,9 +2,10 @@
 
 #include "json_text.hpp"
 #include "millnet/core/error.hpp"
+#include "millnet/datasets/features.hpp"
 #include "millnet/datasets/hash.hpp"
 #include "millnet/ingest/heightfield.hpp"
-#include "millnet/ingest/mesh_io.hpp"
+#include "millnet/ingest/io/mesh_io.hpp"
 
 #include <set>
 
@@ -91,7 +92,6 @@ Table build_table(const Recipe& recipe, const ProgressFn& progress) {
   t.has_aspect = recipe.aspect_feature;
   t.strategies = recipe.strategies;
   t.config_json = recipe_json(recipe);
-  const auto n = static_cast<Eigen::Index>(recipe.grid);
   const std::size_t m = t.inputs_per_row();
 
   std::vector<std::vector<augment::Variant>> variants;
@@ -151,9 +151,7 @@ Table build_table(const Recipe& recipe, const ProgressFn& progress) {
       const PartSpec& p = recipe.parts[batch_parts[b]];
       const augment::Variant& var = l.variants[v];
       try {
-        const ingest::Grid g = ingest::sample_grid(augment::apply(l.mesh, var), recipe.raster_mm, recipe.grid);
-        if (g.h.rows() != n || g.h.cols() != n)
-          throw Error("sampler returned a " + std::to_string(g.h.rows()) + "×" + std::to_string(g.h.cols()) + " grid");
+        ModelVector mv = model_vector(l.mesh, var, recipe.raster_mm, recipe.grid);
         Row& r = t.rows[l.first_row + v];
         r.id = part_name(p) + "#" + std::to_string(v + 1);
         r.source = part_name(p);
@@ -161,11 +159,10 @@ Table build_table(const Recipe& recipe, const ProgressFn& progress) {
         r.axis = var.axis;
         r.angle_deg = var.angle_deg;
         r.flip = var.flip;
+        r.inputs = std::move(mv.inputs);
         r.inputs.resize(m);
-        for (Eigen::Index i = 0; i < n; ++i)  // row = y, col = x
-          for (Eigen::Index j = 0; j < n; ++j) r.inputs[static_cast<std::size_t>(i * n + j)] = g.h(i, j);
         r.outputs = one_hot(p.label);
-        r.aspect = g.footprint_y > 0 ? g.footprint_x / g.footprint_y : 0.0;
+        r.aspect = mv.aspect;
       } catch (const std::exception& e) {
         errors[static_cast<std::size_t>(k)] = "variant " + std::to_string(v + 1) + " (axis " +
                                               std::string(1, augment::to_char(var.axis)) + ", angle " +

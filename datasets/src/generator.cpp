@@ -4,7 +4,7 @@
 #include "millnet/core/error.hpp"
 #include "millnet/datasets/rng.hpp"
 #include "millnet/datasets/tolerances.hpp"
-#include "millnet/ingest/mesh_io.hpp"
+#include "millnet/ingest/io/mesh_io.hpp"
 
 #include <algorithm>
 #include <cmath>

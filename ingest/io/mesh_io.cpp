@@ -1,5 +1,5 @@
 // The only file that sees assimp (ARCHITECTURE.md: heavy dependencies stay private at the edge).
-#include "millnet/ingest/mesh_io.hpp"
+#include "millnet/ingest/io/mesh_io.hpp"
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
@@ -184,6 +184,17 @@ Mesh load_with_assimp(const fs::path& path, MeshReport* report) {
 
 }  // namespace
 
+const std::vector<std::string>& point_cloud_extensions() {
+  static const std::vector<std::string> ext = {".xyz", ".pts", ".txt", ".asc"};
+  return ext;
+}
+
+const std::vector<std::string>& mesh_extensions() {
+  static const std::vector<std::string> ext = {".stl", ".obj", ".ply", ".off", ".3mf", ".gltf", ".glb",
+                                               ".xyz", ".pts", ".txt", ".asc"};
+  return ext;
+}
+
 Mesh load_mesh(const fs::path& path, MeshReport* report) {
   const std::string name = path.string();
   std::error_code ec;
@@ -195,7 +206,8 @@ Mesh load_mesh(const fs::path& path, MeshReport* report) {
   }
   const std::string ext = lower_ext(path);
   Mesh m;
-  if (ext == ".xyz" || ext == ".pts" || ext == ".txt" || ext == ".asc") {
+  const auto& clouds = point_cloud_extensions();
+  if (std::find(clouds.begin(), clouds.end(), ext) != clouds.end()) {
     m = load_point_cloud(path, report);
   } else if (ext == ".stl") {
     const std::string bytes = read_file(path);

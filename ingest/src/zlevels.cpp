@@ -1,5 +1,7 @@
 #include "millnet/ingest/zlevels.hpp"
 
+#include "millnet/core/shoelace.hpp"
+
 #include "millnet/core/error.hpp"
 #include "millnet/ingest/tolerances.hpp"
 
@@ -44,16 +46,7 @@ Layout layout(const HeightField& f, double grow_mm) {
 
 double contour_overshoot_mm(const HeightField& field, double grow_mm) { return layout(field, grow_mm).overshoot; }
 
-double signed_area(const std::vector<Eigen::Vector2d>& loop) {
-  double a = 0;
-  // Shoelace formula, O(n).
-  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
-    const Eigen::Vector2d& p = loop[i];
-    const Eigen::Vector2d& q = loop[(i + 1) % n];
-    a += p.x() * q.y() - q.x() * p.y();
-  }
-  return 0.5 * a;
-}
+double signed_area(const std::vector<Eigen::Vector2d>& loop) { return shoelace_area(loop); }
 
 std::vector<ContourLoop> material_contours(const HeightField& f, double level_z, double grow_mm) {
   if (f.nx < 1 || f.ny < 1 || f.z.size() != static_cast<std::size_t>(f.nx) * static_cast<std::size_t>(f.ny))

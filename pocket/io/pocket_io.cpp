@@ -1,5 +1,5 @@
 // Pocket JSON and ASCII DXF readers.
-#include "millnet/pocket/pocket_io.hpp"
+#include "millnet/pocket/io/pocket_io.hpp"
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"

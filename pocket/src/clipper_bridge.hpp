@@ -1,6 +1,7 @@
 #pragma once
 // Conversions between millnet's mm polylines and Clipper 6's integer paths (private to pocket/).
 // Coordinates are scaled by `scale` (integer units per mm) and rounded to the nearest unit.
+#include "millnet/core/shoelace.hpp"
 #include "millnet/pocket/offset.hpp"
 
 #include <polyclipping/clipper.hpp>
@@ -30,17 +31,6 @@ namespace millnet::pocket::clipper_bridge {
   return out;
 }
 
-/// Shoelace area of a closed polyline, mm² (> 0 counter-clockwise). O(points).
-[[nodiscard]] inline double ring_area(const std::vector<Vec2>& pts) {
-  double a = 0;
-  for (std::size_t k = 0; k < pts.size(); ++k) {
-    const Vec2& p = pts[k];
-    const Vec2& q = pts[(k + 1) % pts.size()];
-    a += p.x() * q.y() - p.y() * q.x();
-  }
-  return 0.5 * a;
-}
-
 /// Outer nodes of a PolyTree with their holes (outer CCW, holes CW); outers nested in holes start
 /// new components. O(nodes).
 inline void collect(const ClipperLib::PolyNode& node, std::vector<PolyArea>& out, double scale) {
@@ -48,10 +38,10 @@ inline void collect(const ClipperLib::PolyNode& node, std::vector<PolyArea>& out
     if (child->IsHole()) continue;
     PolyArea a;
     a.outer = from_path(child->Contour, scale);
-    if (ring_area(a.outer) < 0) std::reverse(a.outer.begin(), a.outer.end());
+    if (shoelace_area(a.outer) < 0) std::reverse(a.outer.begin(), a.outer.end());
     for (const ClipperLib::PolyNode* hole : child->Childs) {
       auto h = from_path(hole->Contour, scale);
-      if (ring_area(h) > 0) std::reverse(h.begin(), h.end());
+      if (shoelace_area(h) > 0) std::reverse(h.begin(), h.end());
       a.holes.push_back(std::move(h));
       collect(*hole, out, scale);
     }

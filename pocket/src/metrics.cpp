@@ -1,6 +1,7 @@
 // Metrics: key/value order and the uncut area.
 #include "millnet/pocket/metrics.hpp"
 
+#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
 
 #include <algorithm>

@@ -88,8 +88,8 @@ std::vector<PolyArea> difference(const std::vector<PolyArea>& a, const std::vect
 }
 
 double area(const PolyArea& a) {
-  double s = std::abs(clipper_bridge::ring_area(a.outer));
-  for (const auto& h : a.holes) s -= std::abs(clipper_bridge::ring_area(h));
+  double s = std::abs(shoelace_area(a.outer));
+  for (const auto& h : a.holes) s -= std::abs(shoelace_area(h));
   return s;
 }
 

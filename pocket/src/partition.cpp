@@ -69,7 +69,7 @@ void loop_extrema(const std::vector<Vec2>& ring, int component, int loop, bool r
       xmax = std::max(xmax, at(k).x());
     }
     poly.push_back(at(hi + 1));
-    const bool reflex = clipper_bridge::ring_area(poly) < 0;
+    const bool reflex = shoelace_area(poly) < 0;
     if (reflex_only && !reflex) continue;  // convex extreme: not an SRP
     Srp s;
     s.p = at(off);

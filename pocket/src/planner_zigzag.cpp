@@ -3,6 +3,7 @@
 #include "millnet/pocket/planner_zigzag.hpp"
 
 #include "millnet/core/error.hpp"
+#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
 #include "millnet/pocket/zigzag.hpp"
 
@@ -95,36 +96,6 @@ Candidate evaluate(const std::vector<PolyArea>& reach_world, double angle, Parti
   return c;
 }
 
-/// Closed contour chains of the reachable walls (world frame), ordered greedily from `from`; each
-/// starts at the ring vertex nearest to the previous chain's end. O(R² + V).
-std::vector<std::vector<Vec2>> contours(const std::vector<PolyArea>& reach, Vec2 from) {
-  std::vector<const std::vector<Vec2>*> rings;
-  for (const PolyArea& a : reach) {
-    rings.push_back(&a.outer);
-    for (const auto& h : a.holes) rings.push_back(&h);
-  }
-  std::vector<char> done(rings.size(), 0);
-  std::vector<std::vector<Vec2>> out;
-  for (std::size_t n = 0; n < rings.size(); ++n) {
-    std::size_t best_r = 0, best_v = 0;
-    double bd = std::numeric_limits<double>::infinity();
-    for (std::size_t r = 0; r < rings.size(); ++r) {
-      if (done[r]) continue;
-      for (std::size_t v = 0; v < rings[r]->size(); ++v) {
-        const double d = ((*rings[r])[v] - from).norm();
-        if (d < bd) { bd = d; best_r = r; best_v = v; }
-      }
-    }
-    done[best_r] = 1;
-    const auto& ring = *rings[best_r];
-    std::vector<Vec2> chain;
-    for (std::size_t k = 0; k <= ring.size(); ++k) chain.push_back(ring[(best_v + k) % ring.size()]);
-    from = chain.back();
-    out.push_back(std::move(chain));
-  }
-  return out;
-}
-
 Chain make_chain(const std::vector<Vec2>& pts, const std::string& role, bool predrill) {
   Chain ch;
   ch.role = role;
@@ -209,14 +180,6 @@ PlanResult plan_zigzag(const Region& region, const CutParams& cut, const ZigzagP
     res.path.chains.push_back(make_chain(world, "cut", true));
     res.predrill.push_back(world.front());
   }
-  std::size_t n_contours = 0;
-  if (params.contour) {
-    const Vec2 from = res.path.chains.empty() ? reach.front().outer.front() : res.path.chains.back().pts.back().p();
-    for (const auto& ring : contours(reach, from)) {
-      res.path.chains.push_back(make_chain(ring, "contour", false));  // its walls were reached by the passes
-      ++n_contours;
-    }
-  }
   res.stats["regions"] = best.regions;
   res.stats["faces"] = static_cast<double>(best.part.faces.size());
   res.stats["srps"] = static_cast<double>(best.part.srps.size());
@@ -228,7 +191,7 @@ PlanResult plan_zigzag(const Region& region, const CutParams& cut, const ZigzagP
   res.stats["angle_deg"] = best.angle;
   res.stats["angles_tried"] = static_cast<double>(angles.size());
   res.stats["nonmonotone_faces"] = best.nonmonotone;
-  res.stats["contours"] = static_cast<double>(n_contours);
+  res.stats["contours"] = 0;  // the contour pass is machine_pocket's (the key stays in the metrics files)
   res.stats["zigzag_cut_length_mm"] = best.cut_len;
   res.stats["zigzag_rapid_length_mm"] = best.rapid_len;
   MILLNET_ASSERT(static_cast<int>(best.part.faces.size()) == best.part.formula_regions(),

@@ -11,7 +11,7 @@
 #include <unistd.h>
 
 #include "millnet/classifier/network.hpp"
-#include "millnet/classifier_io/model_file.hpp"
+#include "millnet/classifier/io/model_file.hpp"
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 

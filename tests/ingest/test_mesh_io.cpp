@@ -3,7 +3,7 @@
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/ingest/heightfield.hpp"
-#include "millnet/ingest/mesh_io.hpp"
+#include "millnet/ingest/io/mesh_io.hpp"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 #include "millnet/pocket/machining.hpp"
 #include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
-#include "millnet/pocket/pocket_io.hpp"
+#include "millnet/pocket/io/pocket_io.hpp"
 #include "testing/gcode_replay.hpp"
 
 #include <gtest/gtest.h>

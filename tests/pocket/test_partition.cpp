@@ -1,4 +1,5 @@
 // SRPs, T-partition and I-partition on hand-made pockets (scan lines horizontal, tool R = 5 mm).
+#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/partition.hpp"
 
 #include <gtest/gtest.h>

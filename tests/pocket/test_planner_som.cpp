@@ -2,7 +2,7 @@
 // issue 3 as assertions, with an independent gouge check on flattened walls.
 #include "millnet/pocket/planner_som.hpp"
 
-#include "millnet/pocket/pocket_io.hpp"
+#include "millnet/pocket/io/pocket_io.hpp"
 
 #include <gtest/gtest.h>
 

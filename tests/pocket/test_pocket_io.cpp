@@ -1,6 +1,6 @@
 // Pocket JSON and DXF readers: bench pockets, hand-written DXF, clear errors.
 #include "millnet/core/error.hpp"
-#include "millnet/pocket/pocket_io.hpp"
+#include "millnet/pocket/io/pocket_io.hpp"
 
 #include <gtest/gtest.h>
 

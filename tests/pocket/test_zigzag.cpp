@@ -2,6 +2,8 @@
 // bound, one connected chain per region, retractions = regions − 1.
 #include "millnet/core/error.hpp"
 #include "millnet/pocket/gcode.hpp"
+#include "millnet/pocket/machining.hpp"
+#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/planner_zigzag.hpp"
 #include "testing/gcode_replay.hpp"
 
@@ -174,10 +176,12 @@ TEST(Zigzag, ContourLeavesNothingOnFourIslands) {
   for (auto kind : {PartitionKind::T, PartitionKind::I}) {
     ZigzagParams zp;
     zp.partition = kind;
-    zp.contour = true;
-    const PlanResult p = plan_zigzag(r, cut, zp);
-    ASSERT_EQ(p.status, PlanStatus::Ok);
-    // With the contour along every offset wall, only raster noise may stay uncut (≤ 50 cells).
+    const PlanResult q = plan_zigzag(r, cut, zp);
+    ASSERT_EQ(q.status, PlanStatus::Ok);
+    // With the contour pass along every offset wall (machine_pocket's, the same for every planner),
+    // only raster noise may stay uncut (≤ 50 cells).
+    PlanResult p = q;
+    for (auto& c : contour_chains(r, cut, q.path)) p.path.chains.push_back(std::move(c));
     const double uncut = uncut_area(r, p, 5, 0.1);
     std::printf("four islands %s + contour: uncut %.3f mm²\n", p.planner.c_str(), uncut);
     EXPECT_LE(uncut, 0.5);
@@ -187,8 +191,6 @@ TEST(Zigzag, ContourLeavesNothingOnFourIslands) {
     // Without the contour: more uncut (the cusps at pass ends on slanted walls), bounded by the wall
     // band on the unjoined side: each gap between two passes is joined along the wall on one side,
     // so at most half of the band of width R along the reach walls stays: R · perimeter / 2.
-    zp.contour = false;
-    const PlanResult q = plan_zigzag(r, cut, zp);
     const double uncut2 = uncut_area(r, q, 5, 0.1);
     double perim = 0;
     for (const auto& a : offset_inward(r, 5)) {

@@ -34,7 +34,7 @@ struct ContourLoop {
 /// pixel rounding plus the approxPolyDP tolerance.
 [[nodiscard]] double contour_overshoot_mm(const HeightField& field, double grow_mm);
 
-/// Signed area (mm²) of a closed loop: > 0 counter-clockwise.
+/// Signed area (mm²) of a closed loop: > 0 counter-clockwise (millnet::shoelace_area).
 [[nodiscard]] double signed_area(const std::vector<Eigen::Vector2d>& loop);
 
 }  // namespace millnet::ingest

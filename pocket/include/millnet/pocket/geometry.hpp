@@ -26,6 +26,13 @@ struct Region {
   std::vector<Loop> islands;
 };
 
+/// A polygon with holes as polylines (outer CCW, holes CW, first point not repeated): what
+/// offsets (offset.hpp), partitions and uncut areas are made of.
+struct PolyArea {
+  std::vector<Vec2> outer;
+  std::vector<std::vector<Vec2>> holes;
+};
+
 /// One segment of a loop or path: a line (bulge == 0) or a circular arc from a to b.
 struct Segment {
   Vec2 a, b;

@@ -1,7 +1,7 @@
 #pragma once
 // Figures of one machined pocket (what `millnet pocket` writes to <stem>.metrics.json).
 #include "millnet/pocket/gcode.hpp"
-#include "millnet/pocket/offset.hpp"
+#include "millnet/pocket/geometry.hpp"
 
 #include <map>
 #include <string>

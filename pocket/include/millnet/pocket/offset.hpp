@@ -8,12 +8,6 @@
 
 namespace millnet::pocket {
 
-/// A polygon with holes as polylines (outer CCW, holes CW, first point not repeated).
-struct PolyArea {
-  std::vector<Vec2> outer;
-  std::vector<std::vector<Vec2>> holes;
-};
-
 /// Region offset inward by delta_mm (> 0 shrinks the boundary and grows islands, round joins).
 /// Each connected component of the result is one PolyArea; empty when nothing is left.
 [[nodiscard]] std::vector<PolyArea> offset_inward(const Region& region, double delta_mm,

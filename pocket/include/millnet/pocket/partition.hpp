@@ -19,7 +19,7 @@
 //     built loses exactly one face and stays y-monotone.
 // Faces are built for real: the cuts become slits of half-width tol::slit_half_mm that Clipper
 // subtracts from the area, so every face is a polygon we can count, scan and walk.
-#include "millnet/pocket/offset.hpp"
+#include "millnet/pocket/geometry.hpp"
 
 #include <utility>
 #include <vector>

@@ -18,7 +18,6 @@ struct ZigzagParams {
   /// Reference (pass) direction in degrees from +x, counter-clockwise; nullopt = search.
   std::optional<double> angle_deg = 0.0;
   PartitionKind partition = PartitionKind::T;
-  bool contour = false;          ///< final pass along every offset wall (chains with role "contour")
   double angle_step_deg = 5;     ///< search grid; the pocket's straight-edge directions are added
   /// Search cost per pass (a turn: the machine stops and starts), mm of path; < 0 ⇒ one stepover.
   /// Direction cost = cut + rapid length + turn_penalty_mm · passes, after the fewest regions.

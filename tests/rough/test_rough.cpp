@@ -1,38 +1,35 @@
-// Issue 5, roughing: Z-level regions of analytic solids (box on a plate, hemisphere on a plate)
-// against their exact cross-sections, and a gouge replay of the written G-code against the MESH
+// Issue 5, roughing (rough/): Z-level regions of analytic solids (box on a plate, hemisphere on a
+// plate) against their exact cross-sections, and a gouge replay of the program against the MESH
 // TRIANGLES (exact maximum of the piecewise-linear surface under the tool disk), independent of the
-// planner, the pocket module and the ingest z-buffer. Plus the output files and the CLI batch
-// contract (a broken mesh is reported, the good one still gets its outputs).
-#include "cli_runner.hpp"
-#include "config.hpp"
-#include "rough.hpp"
+// planner, the pocket module and the ingest z-buffer. The CLI batch contract is test_app's
+// (tests/app/test_cli_rough.cpp).
 #include "testing/gcode_replay.hpp"
+#include "testing/mesh_gouge.hpp"
 
 #include "millnet/datasets/generator.hpp"
-#include "millnet/ingest/mesh_io.hpp"
+#include "millnet/ingest/io/mesh_io.hpp"
 #include "millnet/ingest/zlevels.hpp"
+#include "millnet/rough/rough.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 #include <sstream>
 
 namespace {
 
-using millnet::app::Json;
-using millnet::app::RoughParams;
-using millnet::app::RoughResult;
+using millnet::rough::Params;
+using millnet::rough::Result;
+using millnet::rough::rough_mesh;
+using millnet::testing::GougeReport;
+using millnet::testing::replay_against_mesh;
+using millnet::testing::TopOracle;
 namespace ingest = millnet::ingest;
 namespace pocket = millnet::pocket;
 namespace datasets = millnet::datasets;
-namespace fs = std::filesystem;
-using millnet::testing::fresh_dir;
-using millnet::testing::run_millnet;
-using millnet::testing::slurp;
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -90,14 +87,24 @@ void add_hemisphere(ingest::Mesh& m, double cx, double cy, double zc, double r, 
   append(m, v, f);
 }
 
-/// Roughing parameters as the CLI builds them (all-defaults config + flags).
-RoughParams params_for(const std::string& planner, double stock_to_leave, double step_down) {
-  const Json config = millnet::app::default_config(MILLNET_SOURCE_DIR);
-  millnet::app::PocketFlags fl;
-  fl.planner = planner;
-  fl.stock_to_leave = stock_to_leave;
-  fl.step_down = step_down;
-  return millnet::app::rough_params(config, Json::object(), fl);
+/// Roughing parameters as the CLI builds them from the all-defaults config (configs/schema) and the
+/// flags --planner, --stock-to-leave, --step-down.
+Params params_for(const std::string& planner, double stock_to_leave, double step_down) {
+  Params p;  // rough section: the schema's defaults
+  p.cut.stock_to_leave = stock_to_leave;
+  p.cut.step_down = step_down;
+  if (planner == "som") {
+    pocket::SomSpec s;
+    s.frame.spacing = p.cut.stepover;
+    s.som.seed = 7;  // the config's /seed
+    p.planner = s;
+  } else {
+    pocket::ZigzagSpec z;
+    z.zigzag.angle_deg = std::nullopt;                  // "auto"
+    z.zigzag.partition = pocket::PartitionKind::I;      // the schema's default
+    p.planner = z;
+  }
+  return p;
 }
 
 std::vector<Eigen::Vector2d> pts_of(const pocket::Loop& l) {
@@ -142,7 +149,7 @@ double poly_dist(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d
 
 /// The stated contour tolerance of a level's islands (outward): grow + ½ raster diagonal + the
 /// contour overshoot of material_contours().
-double contour_tolerance(const RoughResult& r, const RoughParams& p) {
+double contour_tolerance(const Result& r, const Params& p) {
   return p.contour_tolerance_mm + 0.5 * std::hypot(r.field.step_x, r.field.step_y) +
          ingest::contour_overshoot_mm(r.field, p.contour_tolerance_mm);
 }
@@ -157,12 +164,12 @@ TEST(RoughLevels, BoxOnPlateGivesOneSquareIslandPerLevelAndNoneAboveTheBox) {
     ingest::Mesh m;
     add_box(m, 0, 0, 0, 100, 80, plate_top);
     add_box(m, bx0, by0, plate_top, bx1, by1, box_top);
-    RoughParams p = params_for("som", stl, 5.1);
+    Params p = params_for("som", stl, 5.1);
     // Stock top 30.3, 6 levels of 5.05 mm (25.25, 20.2, …, 5.05, 0): the first lies above the box
     // top but within 0.5 mm of it, so with stock_to_leave 0.5 the box is already an island there;
     // 5.05 lies just above the plate (with stock_to_leave 0 the plate is not yet material).
     p.top_allowance_mm = 5.3;
-    const RoughResult r = rough_mesh(m, p);
+    const Result r = rough_mesh(m, p);
     ASSERT_EQ(r.levels.size(), 6u);
     EXPECT_DOUBLE_EQ(r.stock_top_part, 30.3);
     EXPECT_NEAR(r.stock_x0, -5, 1e-12);
@@ -248,8 +255,8 @@ TEST(RoughLevels, HemisphereGivesCircularIslandsOfTheRightRadius) {
   // lie inside the true sphere's by at most this much (radially, away from the pole).
   const double sag = R * (1 - std::cos(kPi / 256)) + R * (1 - std::cos(0.5 * kPi / 96 / 2));
   for (const double stl : {0.0, 0.5}) {
-    const RoughParams p = params_for("som", stl, 4);
-    const RoughResult r = rough_mesh(m, p);
+    const Params p = params_for("som", stl, 4);
+    const Result r = rough_mesh(m, p);
     const double tol = contour_tolerance(r, p);
     int checked = 0;
     for (std::size_t k = 0; k < r.levels.size(); ++k) {
@@ -309,8 +316,8 @@ TEST(RoughLevels, PlainBoxIsRoughedAroundDownToTheFloor) {
   // level was all material.
   ingest::Mesh m;
   add_box(m, 0, 0, 0, 40, 30, 20);
-  const RoughParams p = params_for("som", 0, 5);
-  const RoughResult r = rough_mesh(m, p);
+  const Params p = params_for("som", 0, 5);
+  const Result r = rough_mesh(m, p);
   ASSERT_EQ(r.machining.status, pocket::PlanStatus::Ok) << r.machining.message;
   ASSERT_EQ(r.levels.size(), 5u);
   ASSERT_EQ(r.machining.levels.size(), 5u) << "every level cuts";
@@ -331,111 +338,6 @@ TEST(RoughLevels, PlainBoxIsRoughedAroundDownToTheFloor) {
   }
   EXPECT_GT(floor_moves, 4);
 }
-
-// ---------------------------------------------------------------------------------------------
-// The gouge oracle: the exact maximum height of the mesh's triangles under a disk.
-
-/// Brute force over the mesh triangles (bucketed in XY only to find the candidates): the maximum z
-/// of a triangle over a closed disk is the max of a linear function over a convex set, attained at
-/// a triangle vertex inside the disk, at an edge–circle intersection, or at the circle point in
-/// the direction of the plane's gradient when it lies inside the triangle (the centre when flat).
-/// Vertical triangles: vertices and edge–circle intersections (exact as well).
-class TopOracle {
- public:
-  explicit TopOracle(const ingest::Mesh& m, double cell = 2.0) : cell_(cell) {
-    x0_ = m.V.col(0).minCoeff() - 1;
-    y0_ = m.V.col(1).minCoeff() - 1;
-    nx_ = static_cast<int>((m.V.col(0).maxCoeff() + 1 - x0_) / cell_) + 1;
-    ny_ = static_cast<int>((m.V.col(1).maxCoeff() + 1 - y0_) / cell_) + 1;
-    zmax_ = m.V.col(2).maxCoeff();
-    buckets_.resize(static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_));
-    // O(#F · cells per triangle).
-    for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
-      Tri t;
-      for (Eigen::Index k = 0; k < 3; ++k) t.v[static_cast<std::size_t>(k)] = m.V.row(m.F(f, k)).transpose();
-      t.lo = t.v[0].head<2>().cwiseMin(t.v[1].head<2>()).cwiseMin(t.v[2].head<2>());
-      t.hi = t.v[0].head<2>().cwiseMax(t.v[1].head<2>()).cwiseMax(t.v[2].head<2>());
-      t.zmax = std::max({t.v[0].z(), t.v[1].z(), t.v[2].z()});
-      const Eigen::Vector2d e1 = (t.v[1] - t.v[0]).head<2>(), e2 = (t.v[2] - t.v[0]).head<2>();
-      t.det = e1.x() * e2.y() - e1.y() * e2.x();
-      t.flat_xy = std::abs(t.det) <= 1e-12 * std::max(1.0, e1.squaredNorm() + e2.squaredNorm());
-      if (!t.flat_xy) {
-        // z = v0.z + g·(p − v0) on the plane.
-        const double dz1 = t.v[1].z() - t.v[0].z(), dz2 = t.v[2].z() - t.v[0].z();
-        t.g = Eigen::Vector2d((dz1 * e2.y() - dz2 * e1.y()) / t.det, (dz2 * e1.x() - dz1 * e2.x()) / t.det);
-      }
-      const std::size_t id = tris_.size();
-      tris_.push_back(t);
-      for (int i = cy(t.lo.y()); i <= cy(t.hi.y()); ++i)
-        for (int j = cx(t.lo.x()); j <= cx(t.hi.x()); ++j) buckets_[idx(i, j)].push_back(id);
-    }
-    stamp_.assign(tris_.size(), 0);
-  }
-
-  [[nodiscard]] double zmax() const { return zmax_; }
-
-  /// Max z of the surface over the closed disk (c, r), considering only triangles that reach above
-  /// `floor`; returns −∞ when none does. O(triangles in the disk's buckets).
-  double max_over_disk(const Eigen::Vector2d& c, double r, double floor = -std::numeric_limits<double>::infinity()) {
-    ++cur_;
-    double best = -std::numeric_limits<double>::infinity();
-    for (int i = cy(c.y() - r); i <= cy(c.y() + r); ++i)
-      for (int j = cx(c.x() - r); j <= cx(c.x() + r); ++j)
-        for (const std::size_t id : buckets_[idx(i, j)]) {
-          if (stamp_[id] == cur_) continue;
-          stamp_[id] = cur_;
-          const Tri& t = tris_[id];
-          if (t.zmax <= floor || t.zmax <= best) continue;
-          if (c.x() + r < t.lo.x() || c.x() - r > t.hi.x() || c.y() + r < t.lo.y() || c.y() - r > t.hi.y()) continue;
-          best = std::max(best, tri_max(t, c, r));
-        }
-    return best;
-  }
-
- private:
-  struct Tri {
-    std::array<Eigen::Vector3d, 3> v;
-    Eigen::Vector2d lo, hi, g = Eigen::Vector2d::Zero();
-    double zmax = 0, det = 0;
-    bool flat_xy = false;
-  };
-
-  static double tri_max(const Tri& t, const Eigen::Vector2d& c, double r) {
-    double best = -std::numeric_limits<double>::infinity();
-    const double r2 = r * r;
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d& a = t.v[static_cast<std::size_t>(k)];
-      const Eigen::Vector3d& b = t.v[static_cast<std::size_t>((k + 1) % 3)];
-      if ((a.head<2>() - c).squaredNorm() <= r2) best = std::max(best, a.z());
-      // |a + s(b − a) − c|² = r², s ∈ [0, 1].
-      const Eigen::Vector2d d = (b - a).head<2>(), f = a.head<2>() - c;
-      const double A = d.squaredNorm();
-      if (A <= 0) continue;
-      const double B = 2 * f.dot(d), C = f.squaredNorm() - r2, disc = B * B - 4 * A * C;
-      if (disc < 0) continue;
-      for (const double s : {(-B - std::sqrt(disc)) / (2 * A), (-B + std::sqrt(disc)) / (2 * A)})
-        if (s >= 0 && s <= 1) best = std::max(best, a.z() + s * (b.z() - a.z()));
-    }
-    if (!t.flat_xy) {
-      const double gn = t.g.norm();
-      const Eigen::Vector2d q = gn > 0 ? Eigen::Vector2d(c + r * t.g / gn) : c;
-      const Eigen::Vector2d e1 = (t.v[1] - t.v[0]).head<2>(), e2 = (t.v[2] - t.v[0]).head<2>(), w = q - t.v[0].head<2>();
-      const double u = (w.x() * e2.y() - w.y() * e2.x()) / t.det, v = (e1.x() * w.y() - e1.y() * w.x()) / t.det;
-      if (u >= 0 && v >= 0 && u + v <= 1) best = std::max(best, t.v[0].z() + t.g.dot(w));
-    }
-    return best;
-  }
-  int cx(double x) const { return std::clamp(static_cast<int>(std::floor((x - x0_) / cell_)), 0, nx_ - 1); }
-  int cy(double y) const { return std::clamp(static_cast<int>(std::floor((y - y0_) / cell_)), 0, ny_ - 1); }
-  std::size_t idx(int i, int j) const { return static_cast<std::size_t>(i) * static_cast<std::size_t>(nx_) + static_cast<std::size_t>(j); }
-
-  double cell_, x0_ = 0, y0_ = 0, zmax_ = 0;
-  int nx_ = 0, ny_ = 0;
-  std::vector<Tri> tris_;
-  std::vector<std::vector<std::size_t>> buckets_;
-  std::vector<unsigned> stamp_;
-  unsigned cur_ = 0;
-};
 
 TEST(RoughOracle, MatchesAnalyticMaximaOfABoxAndAHemisphere) {
   // The oracle itself must be right, or the gouge replay proves nothing.
@@ -461,88 +363,6 @@ TEST(RoughOracle, MatchesAnalyticMaximaOfABoxAndAHemisphere) {
   }
 }
 
-// ---------------------------------------------------------------------------------------------
-// The gouge replay of the written G-code.
-
-struct GougeReport {
-  long samples = 0, checked = 0, near = 0, violations = 0;
-  double worst_depth = 0, worst_radial = 0;
-  std::string first, worst;
-  double min_z = 0;
-};
-
-/// Samples every feed move (G1/G2/G3; arcs on the circle, helices linear in Z) at ≤ step mm and,
-/// at each sample, asserts that the surface under the flat end mill's disk (radius R − 0.001 mm:
-/// the 4-decimal rounding of the program) stays at or below tool Z − stock_to_leave + tol.
-/// `stock_top` converts G-code Z (0 = stock top) to the part frame. Also counts "near" samples:
-/// where a disk 1 mm larger would reach material above the tool tip (the check is not vacuous).
-GougeReport replay_against_mesh(const std::string& gcode, const ingest::Mesh& part, double stock_top, double R, double stl,
-                                double safe_z, double step = 0.1, double tol = 0.005, bool include_rapids = false) {
-  const auto rep = millnet::testing::replay_gcode(gcode, safe_z);
-  TopOracle oracle(part);
-  GougeReport g;
-  g.min_z = rep.min_z;
-  const double r = R - 0.001;
-  auto check = [&](const Eigen::Vector2d& c, double z_gcode, int line) {
-    ++g.samples;
-    const double z_part = z_gcode + stock_top;
-    const double allowed = z_part - stl + tol;  // the surface may reach up to here under the disk
-    if (allowed - 1.0 >= oracle.zmax()) return;  // far above the whole part
-    ++g.checked;
-    if (oracle.max_over_disk(c, r + 1.0, allowed) > allowed) ++g.near;
-    const double top = oracle.max_over_disk(c, r, allowed);
-    if (!(top > allowed)) return;
-    ++g.violations;
-    const double depth = top - (z_part - stl);
-    // Radial intrusion: the largest disk radius that stays clear, by bisection.
-    double lo = 0, hi = r;
-    if (oracle.max_over_disk(c, 0, allowed) > allowed) hi = lo = 0;
-    for (int it = 0; it < 40 && hi - lo > 1e-5; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      (oracle.max_over_disk(c, mid, allowed) > allowed ? hi : lo) = mid;
-    }
-    const double radial = r - lo;
-    char buf[256];
-    std::snprintf(buf, sizeof buf, "line %d: tool at (%.4f, %.4f) Z %.4f (part z %.4f, level Z %.3f): surface %.4f under the disk, "
-                  "%.4f mm too deep, %.4f mm radially into the part",
-                  line, c.x(), c.y(), z_gcode, z_part, z_gcode, top, depth, radial);
-    if (g.first.empty()) g.first = buf;
-    if (depth > g.worst_depth) {
-      g.worst_depth = depth;
-      g.worst = buf;
-    }
-    g.worst_radial = std::max(g.worst_radial, radial);
-  };
-  for (const auto& mv : rep.moves) {
-    if (mv.g == 0 && !include_rapids) continue;
-    const Eigen::Vector2d a(mv.from[0], mv.from[1]), b(mv.to[0], mv.to[1]);
-    if (mv.g <= 1) {
-      const double len = std::max((b - a).norm(), std::abs(mv.to[2] - mv.from[2]));
-      const int n = std::max(1, static_cast<int>(std::ceil(len / step)));
-      for (int i = 0; i <= n; ++i) {
-        const double t = static_cast<double>(i) / n;
-        check(a + t * (b - a), mv.from[2] + t * (mv.to[2] - mv.from[2]), mv.line);
-      }
-      continue;
-    }
-    const Eigen::Vector2d c(mv.center[0], mv.center[1]);
-    const double r0 = (a - c).norm(), r1 = (b - c).norm();
-    const double a0 = std::atan2(a.y() - c.y(), a.x() - c.x()), a1 = std::atan2(b.y() - c.y(), b.x() - c.x());
-    double sw = a1 - a0;
-    if (mv.g == 3) {
-      while (sw <= 1e-12) sw += 2 * kPi;
-    } else {
-      while (sw >= -1e-12) sw -= 2 * kPi;
-    }
-    const int n = std::max(1, static_cast<int>(std::ceil(std::abs(sw) * std::max(r0, r1) / step)));
-    for (int i = 0; i <= n; ++i) {
-      const double t = static_cast<double>(i) / n, ang = a0 + t * sw, rr = r0 + t * (r1 - r0);
-      check(c + rr * Eigen::Vector2d(std::cos(ang), std::sin(ang)), mv.from[2] + t * (mv.to[2] - mv.from[2]), mv.line);
-    }
-  }
-  return g;
-}
-
 struct GougeCase {
   datasets::Family family;
   int index;
@@ -561,15 +381,13 @@ TEST_P(RoughGouge, WrittenGcodeNeverCutsBelowTheMeshPlusStockToLeave) {
   // Seed 7, 45×45 top grid (~4k top triangles): fast, and the walls stay steep.
   const auto gen = datasets::make_part(gc.family, gc.index, 7, 45);
   const ingest::Mesh part = ingest::prepare(gen.mesh, {});
-  const RoughParams p = params_for(gc.planner, gc.stl, 5);
-  const RoughResult r = rough_mesh(part, p);
+  const Params p = params_for(gc.planner, gc.stl, 5);
+  const Result r = rough_mesh(part, p);
   ASSERT_EQ(r.machining.status, pocket::PlanStatus::Ok) << r.machining.message;
   const std::string stem = case_name(testing::TestParamInfo<GougeCase>(gc, 0));
-  const auto dir = fresh_dir("rough_gouge_" + stem);
-  const Json metrics = millnet::app::write_rough_outputs(dir, stem, r, p);
-  const std::string gcode = slurp(dir / (stem + ".nc"));
+  const std::string& gcode = r.machining.gcode;
   ASSERT_FALSE(gcode.empty());
-  // The frame, computed independently of RoughResult: Z = 0 at the part's top + top allowance.
+  // The frame, computed independently of Result: Z = 0 at the part's top + top allowance.
   const double stock_top = part.V.col(2).maxCoeff() + p.top_allowance_mm;
   const double R = p.cut.tool_diameter / 2;
   const GougeReport g = replay_against_mesh(gcode, part, stock_top, R, gc.stl, p.cut.safe_z);
@@ -595,8 +413,10 @@ TEST_P(RoughGouge, WrittenGcodeNeverCutsBelowTheMeshPlusStockToLeave) {
   EXPECT_EQ(g0.violations, 0) << g0.first;
   // The metrics agree with the replay (independent parser).
   const auto rep = millnet::testing::replay_gcode(gcode, p.cut.safe_z);
-  EXPECT_EQ(metrics["levels"].get<std::size_t>(), r.levels.size());
-  EXPECT_NEAR(metrics["cut_length_mm"].get<double>(), rep.cut_length, 1e-3 * rep.cut_length + 0.5);
+  double level_cut = 0;
+  for (const auto& s : millnet::rough::level_summaries(r)) level_cut += s.cut_length_mm;
+  EXPECT_NEAR(r.machining.metrics.cut_length_mm, rep.cut_length, 1e-3 * rep.cut_length + 0.5);
+  EXPECT_NEAR(level_cut, r.machining.metrics.cut_length_mm, 1e-6 * level_cut + 1e-6);
 }
 
 INSTANTIATE_TEST_SUITE_P(GeneratedParts, RoughGouge,
@@ -608,84 +428,5 @@ INSTANTIATE_TEST_SUITE_P(GeneratedParts, RoughGouge,
                                          GougeCase{datasets::Family::SteepPlateaus, 1, "zigzag", 0.0},
                                          GougeCase{datasets::Family::SteepPlateaus, 0, "som", 0.5}),
                          case_name);
-
-// ---------------------------------------------------------------------------------------------
-// Outputs and the CLI.
-
-TEST(RoughCli, BatchReportsTheBrokenMeshAndWritesTheGoodOnesOutputsInTheGcodeFrame) {
-  const auto d = fresh_dir("rough_cli_batch");
-  // The good part far from the origin, so that the frame contract (X/Y origin at the footprint's
-  // lower-left after prepare, Z = 0 at the stock top) is exercised.
-  const auto gen = datasets::make_part(datasets::Family::SteepPlateaus, 1, 7, 40);
-  ingest::Mesh moved = gen.mesh;
-  for (Eigen::Index i = 0; i < moved.V.rows(); ++i) moved.V.row(i) += Eigen::RowVector3d(250, -40, 13);
-  ingest::save_stl_binary(moved, d / "good.stl");
-  {
-    std::ofstream f(d / "junk.stl", std::ios::binary);
-    for (int i = 0; i < 1000; ++i) f.put(static_cast<char>((i * 7919) % 251));
-  }
-  const auto res = run_millnet("rough --mesh good.stl --mesh junk.stl --planner zigzag --stock-to-leave 0.5 --out o", d);
-  EXPECT_EQ(res.code, 1) << res.err;
-  EXPECT_NE(res.err.find("junk.stl"), std::string::npos) << res.err;
-  EXPECT_EQ(res.err.find("good.stl"), std::string::npos) << res.err;
-  const fs::path o = d / "o";
-  ASSERT_TRUE(fs::exists(o / "good.nc")) << millnet::testing::list_files(o);
-  EXPECT_FALSE(fs::exists(o / "junk.nc"));
-  EXPECT_FALSE(fs::exists(o / "junk.metrics.json"));
-  const Json summary = Json::parse(slurp(o / "rough_summary.json"));
-  ASSERT_EQ(summary.size(), 2u);
-  std::size_t errors = 0;
-  for (const auto& s : summary)
-    if (s["status"] == "error") {
-      ++errors;
-      EXPECT_EQ(s["part"], "junk");
-      EXPECT_NE(s["error"].get<std::string>().find("junk.stl"), std::string::npos);
-    } else {
-      EXPECT_EQ(s["part"], "good");
-    }
-  EXPECT_EQ(errors, 1u);
-
-  const Json m = Json::parse(slurp(o / "good.metrics.json"));
-  EXPECT_EQ(m["status"], "ok");
-  EXPECT_DOUBLE_EQ(m["stock_top_above_part_mm"].get<double>(), 1.0);
-  EXPECT_DOUBLE_EQ(m["stock_to_leave_mm"].get<double>(), 0.5);
-  ASSERT_TRUE(m["per_level"].is_array());
-  const std::size_t levels = m["levels"].get<std::size_t>();
-  ASSERT_EQ(m["per_level"].size(), levels);
-  const ingest::Mesh part = ingest::prepare(gen.mesh, {});
-  const double part_top = part.V.col(2).maxCoeff();
-  EXPECT_NEAR(m["stock"]["height_mm"].get<double>(), part_top + 1, 1e-4);  // STL is float32
-  EXPECT_EQ(levels, static_cast<std::size_t>(std::ceil((part_top + 1) / 5 - 1e-9)));
-  double prev = 0, cut_sum = 0;
-  for (std::size_t k = 0; k < levels; ++k) {
-    const Json& lv = m["per_level"][k];
-    EXPECT_EQ(lv["level"].get<std::size_t>(), k + 1);
-    EXPECT_LT(lv["z"].get<double>(), prev);
-    EXPECT_LE(prev - lv["z"].get<double>(), 5 + 1e-9);
-    prev = lv["z"].get<double>();
-    for (const char* key : {"z_part_mm", "regions", "islands", "chains", "retractions", "cut_length_mm", "status"})
-      EXPECT_TRUE(lv.contains(key)) << key;
-    cut_sum += lv["cut_length_mm"].get<double>();
-    const fs::path png = o / ("good.level_" + std::to_string(k + 1) + ".png");
-    ASSERT_TRUE(fs::exists(png)) << png;
-    EXPECT_EQ(slurp(png).substr(1, 3), "PNG");
-  }
-  EXPECT_NEAR(prev, -(part_top + 1), 1e-4);  // the last level at the part's lowest point
-  EXPECT_FALSE(fs::exists(o / ("good.level_" + std::to_string(levels + 1) + ".png")));
-  EXPECT_NEAR(cut_sum, m["cut_length_mm"].get<double>(), 1e-6 * cut_sum + 1e-6);
-
-  // The program is in the promised frame: replayed against the part as prepared (moved back to
-  // the origin), it never gouges, and it reaches the floor.
-  const std::string gcode = slurp(o / "good.nc");
-  const GougeReport g = replay_against_mesh(gcode, part, part_top + 1, 5, 0.5, 5);
-  EXPECT_EQ(g.violations, 0) << g.first;
-  EXPECT_GT(g.near, 100);
-  EXPECT_NEAR(g.min_z, -(part_top + 1), 1e-3);
-  // …and the same program 1.5 mm off in X gouges: the check sees the frame.
-  ingest::Mesh off = part;
-  for (Eigen::Index i = 0; i < off.V.rows(); ++i) off.V(i, 0) += 1.5;
-  const GougeReport bad = replay_against_mesh(gcode, off, part_top + 1, 5, 0.5, 5);
-  EXPECT_GT(bad.violations, 0) << "a 1.5 mm frame error went unnoticed";
-}
 
 }  // namespace

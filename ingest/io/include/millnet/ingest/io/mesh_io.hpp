@@ -3,6 +3,9 @@
 #include "millnet/ingest/mesh.hpp"
 
 #include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
 
 namespace millnet::ingest {
 
@@ -11,6 +14,14 @@ namespace millnet::ingest {
 /// Coordinates exactly as in the file (no units, no up, no recentring: see prepare()).
 /// Throws millnet::Error naming the file: missing/unreadable, unknown format, no triangles, NaN/inf.
 [[nodiscard]] Mesh load_mesh(const std::filesystem::path& path, MeshReport* report = nullptr);
+
+/// The extensions load_mesh reads (lower case, with the dot): the one list the commands use to
+/// pick mesh files out of folders. Adding a mesh format: its reader in mesh_io.cpp (a branch of
+/// load_mesh, or assimp's own list) and its extension here.
+[[nodiscard]] const std::vector<std::string>& mesh_extensions();
+
+/// Point-cloud extensions ("x y z" text), a subset of mesh_extensions().
+[[nodiscard]] const std::vector<std::string>& point_cloud_extensions();
 
 /// Writes a binary STL (80-byte header, little-endian float32, facet normals computed), atomically.
 void save_stl_binary(const Mesh& mesh, const std::filesystem::path& path, std::string_view header = "millnet");

@@ -1,0 +1,44 @@
+#pragma once
+// Mesh → model vectors, the one path shared by dataset building and prediction:
+//   prepared mesh → rotated/flipped variants (augment) → n×n height grid per variant (ingest) →
+//   one row of n² heights per variant (row-major, row = y, col = x).
+//   ModelVectors mv = model_vectors(mesh, "part", spec);   // mv.inputs: M × n²
+#include "millnet/augment/variants.hpp"
+#include "millnet/ingest/mesh.hpp"
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace millnet::datasets {
+
+/// How a part is turned into model vectors (a trained model's sampling: the same spec must be used
+/// for its training table and for every prediction).
+struct FeatureSpec {
+  double raster_mm = 1.0;  ///< > 0
+  int grid = 15;           ///< n of the n×n grid, ≥ 2
+  augment::AugmentParams augment = augment::AugmentParams::defaults();
+};
+
+/// One variant's model vector.
+struct ModelVector {
+  std::vector<double> inputs;  ///< n² heights, row-major (row = y, col = x)
+  double aspect = 0;           ///< footprint x / y of the variant's grid (0 when y = 0)
+};
+
+/// apply(mesh, variant) → sample_grid(raster_mm, grid) → one vector. Throws millnet::Error when the
+/// sampler does not return an n×n grid. O(triangles + raster points).
+[[nodiscard]] ModelVector model_vector(const ingest::Mesh& mesh, const augment::Variant& variant, double raster_mm,
+                                       int grid);
+
+struct ModelVectors {
+  std::vector<augment::Variant> variants;  ///< augment::make_variants order
+  Eigen::MatrixXd inputs;                  ///< one row per variant, n² columns
+};
+
+/// Every variant of `spec.augment` of the prepared `mesh` (`source` names the part, as in
+/// make_variants). O(variants · (triangles + raster points)).
+[[nodiscard]] ModelVectors model_vectors(const ingest::Mesh& mesh, const std::string& source, const FeatureSpec& spec);
+
+}  // namespace millnet::datasets

@@ -1,0 +1,34 @@
+#include "millnet/datasets/features.hpp"
+
+#include "millnet/core/error.hpp"
+#include "millnet/ingest/heightfield.hpp"
+
+namespace millnet::datasets {
+
+ModelVector model_vector(const ingest::Mesh& mesh, const augment::Variant& variant, double raster_mm, int grid) {
+  const ingest::Grid g = ingest::sample_grid(augment::apply(mesh, variant), raster_mm, grid);
+  const auto n = static_cast<Eigen::Index>(grid);
+  if (g.h.rows() != n || g.h.cols() != n)
+    throw Error("sampler returned a " + std::to_string(g.h.rows()) + "×" + std::to_string(g.h.cols()) + " grid");
+  ModelVector mv;
+  mv.inputs.resize(static_cast<std::size_t>(n * n));
+  for (Eigen::Index i = 0; i < n; ++i)  // row = y, col = x
+    for (Eigen::Index j = 0; j < n; ++j) mv.inputs[static_cast<std::size_t>(i * n + j)] = g.h(i, j);
+  mv.aspect = g.footprint_y > 0 ? g.footprint_x / g.footprint_y : 0.0;
+  return mv;
+}
+
+ModelVectors model_vectors(const ingest::Mesh& mesh, const std::string& source, const FeatureSpec& spec) {
+  ModelVectors out;
+  out.variants = augment::make_variants(source, spec.augment);
+  const auto cols = static_cast<Eigen::Index>(spec.grid) * static_cast<Eigen::Index>(spec.grid);
+  out.inputs.resize(static_cast<Eigen::Index>(out.variants.size()), cols);
+  for (std::size_t v = 0; v < out.variants.size(); ++v) {
+    const ModelVector mv = model_vector(mesh, out.variants[v], spec.raster_mm, spec.grid);
+    for (Eigen::Index c = 0; c < cols; ++c)
+      out.inputs(static_cast<Eigen::Index>(v), c) = mv.inputs[static_cast<std::size_t>(c)];
+  }
+  return out;
+}
+
+}  // namespace millnet::datasets

@@ -1,0 +1,39 @@
+#pragma once
+// The planner facade: one call for every planner, chosen by a typed spec (no planner names as
+// strings across the seam).
+//
+//   PlanResult r = plan(region, cut, SomSpec{frame, som, smooth});
+//   PlanResult z = plan(region, cut, ZigzagSpec{zigzag_params});
+//
+// Adding a planner: its params struct and plan_<name>() in pocket (a header and a .cpp), a spec
+// struct here, one alternative in PlannerSpec, and one line in plan() / planner_name().
+#include "millnet/pocket/planner.hpp"
+#include "millnet/pocket/planner_som.hpp"
+#include "millnet/pocket/planner_zigzag.hpp"
+
+#include <string_view>
+#include <variant>
+
+namespace millnet::pocket {
+
+/// The SOM planner (grid tool points → self-organising tour → smoothing).
+struct SomSpec {
+  GridFrame frame;
+  SomParams som;
+  SmoothingParams smooth;
+};
+
+/// The zigzag planner with T- or I-partition.
+struct ZigzagSpec {
+  ZigzagParams zigzag;
+};
+
+using PlannerSpec = std::variant<SomSpec, ZigzagSpec>;
+
+/// Plans one validated, normalized region with the planner `spec` names (pocket/planner.hpp contract).
+[[nodiscard]] PlanResult plan(const Region& region, const CutParams& cut, const PlannerSpec& spec);
+
+/// The planner's configuration name: "som" or "zigzag".
+[[nodiscard]] std::string_view planner_name(const PlannerSpec& spec);
+
+}  // namespace millnet::pocket

@@ -1,0 +1,90 @@
+#pragma once
+// Roughing a part from its mesh (issue 5): the part sits in a stock block; at each Z level the
+// material to remove is a pocket whose islands are the part's cross-sections.
+//
+//   rough::Params p;  p.cut = …;  p.planner = pocket::SomSpec{…};  p.machining.entry = …;
+//   rough::Result r = rough::rough_mesh(prepared_mesh, p);
+//   if (r.machining.status == pocket::PlanStatus::Ok) write r.machining.gcode;
+//
+// Frames: the mesh is prepared (units, up → +Z, footprint lower-left at x = y = 0, lowest point at
+// z = 0). The G-code frame keeps X/Y and puts Z = 0 at the stock top: z_gcode = z_part − stock_top.
+//
+// Per level z (from the top down at ≤ step_down; the last level at the part's lowest point plus
+// floor_allowance_mm):
+//   * islands = outlines of the raster points whose height ≥ z − stock_to_leave (axial allowance),
+//     traced by ingest::material_contours, grown outward (never into the part) by
+//     contour_tolerance_mm + half a raster diagonal, simplified on the material side;
+//   * the stock region = the stock rectangle grown by twice the tool clearance (R + stock to leave),
+//     so that tool centres may pass one clearance outside the stock edge: the disk clears the whole
+//     margin down to the part (with only one clearance a margin narrower than the clearance plus
+//     the contour growth left the tool no room, and a ring of material stood around the part);
+//   * raster points off the part are set below every level's cut-off, so the margin is never
+//     taken for material at the bottom level;
+//   * holes in the material (cavities) become pockets of their own, with the material inside them
+//     as islands (nesting by containment, level_regions);
+//   * every region goes to the planner (pocket::plan); levels are machined top-down with safe
+//     retracts, one feed map per level (pocket::machine_levels).
+#include "millnet/ingest/heightfield.hpp"
+#include "millnet/ingest/mesh.hpp"
+#include "millnet/ingest/zlevels.hpp"
+#include "millnet/pocket/machining.hpp"
+#include "millnet/pocket/plan.hpp"
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace millnet::rough {
+
+struct Params {
+  double margin_mm = 5;             ///< stock = footprint rectangle grown by this
+  double top_allowance_mm = 1;      ///< stock top above the part's highest point
+  double raster_mm = 0.25;          ///< height-field raster of the slicing
+  double contour_tolerance_mm = 0.05;
+  double floor_allowance_mm = 0;    ///< last level this far above the part's lowest point
+  pocket::CutParams cut;            ///< depth is derived (stock top − last level)
+  pocket::PlannerSpec planner;      ///< the planner of every region
+  /// Entry and program options; rough_mesh sets contour = false and the header comment.
+  pocket::MachiningOptions machining;
+};
+
+struct Level {
+  double z_part = 0;   ///< level height in the part frame (mm above the part's lowest point)
+  double z = 0;        ///< G-code Z (≤ 0)
+  std::vector<pocket::Region> regions;
+  std::vector<pocket::PlanResult> plans;
+  std::size_t islands = 0;
+  std::string status = "ok";   ///< "ok", or why nothing is cut at this level
+};
+
+struct Result {
+  double stock_top_part = 0;            ///< stock top in the part frame
+  double stock_x0 = 0, stock_y0 = 0, stock_x1 = 0, stock_y1 = 0;  ///< stock rectangle, mm
+  ingest::HeightField field;            ///< the slicing height field (part frame)
+  std::vector<Level> levels;
+  pocket::MachiningResult machining;    ///< program over all levels
+  double planning_time_s = 0;
+  std::size_t tool_points = 0;
+};
+
+/// Plans and machines `mesh` (already prepared). Throws millnet::Error on bad parameters.
+[[nodiscard]] Result rough_mesh(const ingest::Mesh& mesh, const Params& params);
+
+/// Regions of one level: the stock region (boundary `stock`, every top-level material outline as an
+/// island), then one region per material hole (cavity) with the outlines nested in it as islands.
+/// `islands` (optional) receives the number of islands over all regions. O(outlines · holes · vertices).
+[[nodiscard]] std::vector<pocket::Region> level_regions(const std::vector<ingest::ContourLoop>& loops,
+                                                        const pocket::Loop& stock, std::size_t* islands = nullptr);
+
+/// What a report shows of one level: its machined paths (with feeds, program order) and counts.
+struct LevelSummary {
+  pocket::Path2D path;                 ///< the level's machined chains
+  std::size_t tool_points = 0;         ///< over the level's regions
+  std::size_t chains = 0;              ///< planned chains over the level's regions
+  double cut_length_mm = 0;
+};
+
+/// One summary per level of `r`, in level order.
+[[nodiscard]] std::vector<LevelSummary> level_summaries(const Result& r);
+
+}  // namespace millnet::rough

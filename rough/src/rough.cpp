@@ -1,0 +1,195 @@
+#include "millnet/rough/rough.hpp"
+
+#include "millnet/core/atomic_file.hpp"
+#include "millnet/core/error.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace millnet::rough {
+
+namespace {
+
+pocket::Loop to_loop(const std::vector<Eigen::Vector2d>& pts, bool reverse) {
+  pocket::Loop l;
+  l.reserve(pts.size());
+  for (const auto& p : pts) l.push_back({p.x(), p.y(), 0.0});
+  if (reverse) std::reverse(l.begin(), l.end());
+  return l;
+}
+
+pocket::Loop rectangle(double x0, double y0, double x1, double y1) {
+  return {{x0, y0, 0}, {x1, y0, 0}, {x1, y1, 0}, {x0, y1, 0}};
+}
+
+std::string fixed(double v, int decimals) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(decimals) << v;
+  return os.str();
+}
+
+/// The stock and its slicing height field; raster points off the part are set below every level's
+/// cut-off (the fill z_min would make the whole stock material at the floor level). O(raster points).
+void make_stock(const ingest::Mesh& mesh, const ingest::Box3& box, const Params& p, Result& res) {
+  res.stock_x0 = box.min.x() - p.margin_mm;
+  res.stock_y0 = box.min.y() - p.margin_mm;
+  res.stock_x1 = box.max.x() + p.margin_mm;
+  res.stock_y1 = box.max.y() + p.margin_mm;
+  res.stock_top_part = box.max.z() + p.top_allowance_mm;
+  // The height field covers the stock (points off the part carry z_min = the part's lowest point).
+  const int nx = static_cast<int>(std::ceil((res.stock_x1 - res.stock_x0) / p.raster_mm)) + 1;
+  const int ny = static_cast<int>(std::ceil((res.stock_y1 - res.stock_y0) / p.raster_mm)) + 1;
+  res.field = ingest::rasterize_top(mesh, res.stock_x0, res.stock_y0, p.raster_mm, nx, ny);
+  for (std::size_t i = 0; i < res.field.z.size(); ++i)
+    if (!res.field.hit[i]) res.field.z[i] = box.min.z() - p.cut.stock_to_leave - 1.0;
+}
+
+/// Slices and plans one level; appends the plans with a path to `plans`.
+Level plan_level(const Result& res, const Params& p, const pocket::Loop& stock, double z_part, double top_z,
+                 std::vector<pocket::LevelPlan>& plans, std::size_t& tool_points) {
+  Level lv;
+  lv.z_part = z_part;
+  lv.z = lv.z_part - res.stock_top_part;
+  // The tool's flat bottom at z_part must stay stock_to_leave above the part: material is every
+  // point whose surface lies above z_part − stock_to_leave.
+  const auto loops = ingest::material_contours(res.field, lv.z_part - p.cut.stock_to_leave, p.contour_tolerance_mm);
+  lv.regions = level_regions(loops, stock, &lv.islands);
+  for (std::size_t ri = 0; ri < lv.regions.size(); ++ri) {
+    auto& region = lv.regions[ri];
+    try {
+      (void)pocket::validate_and_normalize(region, "level Z" + fixed(lv.z, 3) + " region " + std::to_string(ri + 1));
+    } catch (const Error& e) {
+      throw Error(std::string("slicing produced an invalid region: ") + e.what());
+    }
+    pocket::PlanResult plan = pocket::plan(region, p.cut, p.planner);
+    tool_points += plan.tool_points.pts.size();
+    if (plan.status == pocket::PlanStatus::Ok && !plan.path.chains.empty()) {
+      pocket::LevelPlan lp;
+      lp.z = lv.z;
+      lp.top_z = top_z;
+      lp.region = region;
+      lp.path = plan.path;
+      lp.predrill = plan.predrill;
+      plans.push_back(std::move(lp));
+    } else if (ri == 0) {
+      lv.status = std::string(pocket::to_string(plan.status)) + (plan.message.empty() ? "" : ": " + plan.message);
+    }
+    lv.plans.push_back(std::move(plan));
+  }
+  return lv;
+}
+
+}  // namespace
+
+std::vector<pocket::Region> level_regions(const std::vector<ingest::ContourLoop>& loops, const pocket::Loop& stock,
+                                          std::size_t* islands) {
+  std::size_t n_islands = 0;
+  // Containment tree: for every outer loop, the innermost hole that contains it (or none).
+  std::vector<int> holder(loops.size(), -1);
+  std::vector<double> hole_area(loops.size(), 0);
+  std::vector<pocket::Loop> hole_loop(loops.size());  // built once, not once per outer loop
+  for (std::size_t h = 0; h < loops.size(); ++h)
+    if (loops[h].hole) {
+      hole_area[h] = std::abs(ingest::signed_area(loops[h].pts));
+      hole_loop[h] = to_loop(loops[h].pts, false);
+    }
+  for (std::size_t o = 0; o < loops.size(); ++o) {
+    if (loops[o].hole || loops[o].pts.empty()) continue;
+    const Eigen::Vector2d probe = loops[o].pts.front();
+    double best = 0;
+    for (std::size_t h = 0; h < loops.size(); ++h) {
+      if (!loops[h].hole) continue;
+      if (pocket::inside(hole_loop[h], {probe.x(), probe.y()}) && (holder[o] < 0 || hole_area[h] < best)) {
+        holder[o] = static_cast<int>(h);
+        best = hole_area[h];
+      }
+    }
+  }
+  std::vector<pocket::Region> out;
+  pocket::Region top;
+  top.boundary = stock;
+  for (std::size_t o = 0; o < loops.size(); ++o)
+    if (!loops[o].hole && holder[o] < 0) {
+      top.islands.push_back(to_loop(loops[o].pts, true));  // CCW outline → CW island
+      ++n_islands;
+    }
+  out.push_back(std::move(top));
+  for (std::size_t h = 0; h < loops.size(); ++h) {
+    if (!loops[h].hole) continue;
+    pocket::Region cav;
+    cav.boundary = to_loop(loops[h].pts, true);  // CW hole → CCW boundary
+    for (std::size_t o = 0; o < loops.size(); ++o)
+      if (!loops[o].hole && holder[o] == static_cast<int>(h)) {
+        cav.islands.push_back(to_loop(loops[o].pts, true));
+        ++n_islands;
+      }
+    out.push_back(std::move(cav));
+  }
+  if (islands) *islands = n_islands;
+  return out;
+}
+
+Result rough_mesh(const ingest::Mesh& mesh, const Params& p) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (p.cut.step_down <= 0) throw Error("/pocket/step_down must be > 0");
+  const ingest::Box3 box = ingest::bounds(mesh);
+  Result res;
+  make_stock(mesh, box, p, res);
+  const double floor = box.min.z() + p.floor_allowance_mm;
+  const double height = res.stock_top_part - floor;
+  if (height <= 0) throw Error("nothing to rough: the stock top is not above the floor");
+  const int n_levels = static_cast<int>(std::ceil(height / p.cut.step_down - 1e-9));
+  const double dz = height / n_levels;
+  const double clearance = p.cut.clearance();
+  // Tool centres may pass up to one clearance outside the stock edge (the tool then just touches
+  // it from the air side), so that the margin ring around the part is cleared even when the margin
+  // is narrower than the clearance plus the islands' growth.
+  const pocket::Loop stock = rectangle(res.stock_x0 - 2 * clearance, res.stock_y0 - 2 * clearance,
+                                       res.stock_x1 + 2 * clearance, res.stock_y1 + 2 * clearance);
+  std::vector<pocket::LevelPlan> plans;
+  double top_z = 0;
+  for (int k = 1; k <= n_levels; ++k) {
+    res.levels.push_back(plan_level(res, p, stock, res.stock_top_part - k * dz, top_z, plans, res.tool_points));
+    top_z = res.levels.back().z;
+  }
+  if (plans.empty()) {
+    res.machining.status = pocket::PlanStatus::NothingToCut;
+    res.machining.message = "no level has room for the tool";
+  } else {
+    pocket::MachiningOptions mo = p.machining;
+    mo.contour = false;
+    mo.comments = {"roughing: stock top Z 0 = part top + " + format_double(p.top_allowance_mm) + " mm, " +
+                   std::to_string(res.levels.size()) + " Z levels"};
+    pocket::CutParams cut = p.cut;
+    cut.depth = height;  // the program's floor: the last level
+    res.machining = pocket::machine_levels(std::move(plans), cut, mo);
+  }
+  res.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+std::vector<LevelSummary> level_summaries(const Result& r) {
+  std::vector<LevelSummary> out;
+  out.reserve(r.levels.size());
+  std::size_t li = 0;
+  for (const Level& lv : r.levels) {
+    LevelSummary s;
+    for (const auto& pl : lv.plans) {
+      s.tool_points += pl.tool_points.pts.size();
+      s.chains += pl.path.chains.size();
+    }
+    // The machined paths (with feeds) of this level, in program order.
+    while (li < r.machining.levels.size() && std::abs(r.machining.levels[li].z - lv.z) < 1e-9) {
+      for (const auto& c : r.machining.levels[li].path.chains) s.path.chains.push_back(c);
+      ++li;
+    }
+    s.cut_length_mm = s.path.cut_length();
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+}  // namespace millnet::rough
