@@ -23,6 +23,19 @@ void add_common(CLI::App* sub, Common& common, bool with_config) {
         ->check(CLI::ExistingFile);
 }
 
+void MeshFlags::add_to(CLI::App* sub, const std::string& what) {
+  sub->add_option("--units", units, "units of the " + what)->check(CLI::IsMember({"mm", "inch", "in", "m"}));
+  sub->add_option("--up", up, "axis of the " + what + " that points up")
+      ->check(CLI::IsMember({"+z", "-z", "+y", "-y", "+x", "-x", "z", "y", "x", "auto"}));
+}
+
+ingest::PrepareOptions MeshFlags::prepare(const Json* section) const {
+  ingest::PrepareOptions prep;
+  prep.units = ingest::parse_units(units.value_or(section ? (*section)["units"].get<std::string>() : "mm"));
+  prep.up = ingest::parse_up(up.value_or(section ? (*section)["up"].get<std::string>() : "+z"));
+  return prep;
+}
+
 Json setup(const Common& common) {
   g_quiet = common.quiet;
   Progress::set_quiet(common.quiet);

@@ -3,6 +3,8 @@
 // --threads N, --config FILE), and the registry main() dispatches through.
 #include "config.hpp"
 
+#include "millnet/ingest/mesh.hpp"
+
 #include <CLI/CLI.hpp>
 
 #include <filesystem>
@@ -17,6 +19,15 @@ struct Common {
   bool quiet = false;
   int threads = -1;              ///< -1 = from config (0 = all cores)
   std::string config;            ///< empty = defaults
+};
+
+/// --units and --up, shared by every command that reads meshes (sample, predict, rough, finish,
+/// simulate): the accepted values are listed once here and parsed once in prepare().
+struct MeshFlags {
+  std::optional<std::string> units, up;
+  void add_to(CLI::App* sub, const std::string& what = "mesh files");
+  /// The preparation: the flags, else the config section's "units"/"up" (mm, +z without a section).
+  [[nodiscard]] ingest::PrepareOptions prepare(const Json* section) const;
 };
 
 /// Adds --quiet, --threads and (when with_config) --config to a subcommand.

@@ -10,22 +10,10 @@ namespace millnet::app {
 namespace fs = std::filesystem;
 
 namespace {
-ingest::Mesh load_prepared(const fs::path& file, const std::string& units, const std::string& up) {
+ingest::Mesh load_prepared(const fs::path& file, const ingest::PrepareOptions& prep) {
   ingest::MeshReport rep;
-  ingest::PrepareOptions prep;
-  prep.units = ingest::parse_units(units);
-  prep.up = ingest::parse_up(up);
   return ingest::prepare(ingest::load_mesh(file, &rep), prep, &rep);
 }
-
-struct MeshFlags {
-  std::optional<std::string> units, up;
-  void add_to(CLI::App* sub) {
-    sub->add_option("--units", units, "units of the mesh files")->check(CLI::IsMember({"mm", "inch", "in", "m"}));
-    sub->add_option("--up", up, "axis of the mesh files that points up")
-        ->check(CLI::IsMember({"+z", "-z", "+y", "-y", "+x", "-x", "z", "y", "x", "auto"}));
-  }
-};
 }  // namespace
 
 Registered register_finish(CLI::App& app) {
@@ -71,12 +59,11 @@ Registered register_finish(CLI::App& app) {
             items.insert(items.end(), o->meshes.begin(), o->meshes.end());
             if (items.empty()) throw Error("no mesh to finish: give --mesh FILE or set /finish/meshes in the config");
             const auto files = expand_inputs(items, ingest::mesh_extensions());
-            const std::string units = o->mesh_flags.units.value_or(config["rough"]["units"].get<std::string>());
-            const std::string up = o->mesh_flags.up.value_or(config["rough"]["up"].get<std::string>());
+            const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"]);
             std::size_t failed = 0;
             for (const auto& f : files) {  // a batch keeps going past one bad part
               try {
-                const auto outcomes = finish_part(load_prepared(f, units, up), f.stem().string(), s, o->out);
+                const auto outcomes = finish_part(load_prepared(f, prep), f.stem().string(), s, o->out);
                 info("finish: " + f.string() + ": " + std::to_string(outcomes.size()) + " strategies → " + o->out);
               } catch (const Error& e) {
                 if (files.size() == 1) throw;
@@ -117,9 +104,8 @@ Registered register_simulate(CLI::App& app) {
             std::vector<std::pair<fs::path, finish::Cutter>> programs;
             for (std::size_t i = 0; i < o->gcode.size(); ++i)
               programs.emplace_back(o->gcode[i], parse_tool(o->tools[o->tools.size() == 1 ? 0 : i]));
-            const std::string units = o->mesh_flags.units.value_or(config["rough"]["units"].get<std::string>());
-            const std::string up = o->mesh_flags.up.value_or(config["rough"]["up"].get<std::string>());
-            const Json j = simulate_files(load_prepared(o->mesh, units, up), fs::path(o->mesh).stem().string(), programs,
+            const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"]);
+            const Json j = simulate_files(load_prepared(o->mesh, prep), fs::path(o->mesh).stem().string(), programs,
                                           o->stock, s, o->out);
             info("simulate: Ra median " + j["ra_median_um"].dump() + " um, gouge " + j["max_gouge_mm"].dump() + " mm → " +
                  o->out);

@@ -48,16 +48,14 @@ Registered register_predict(CLI::App& app) {
   struct Opts {
     Common common;
     std::string model, out;
-    std::optional<std::string> units, up;
+    MeshFlags mesh_flags;
     std::vector<std::string> parts;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* sub = app.add_subcommand("predict", "rank the finishing strategies of parts (files or folders)");
   sub->add_option("--model", o->model, "folder of `millnet train` (model.json, sampling.json)")->required()
       ->check(CLI::ExistingDirectory);
-  sub->add_option("--units", o->units, "units of the part files")->check(CLI::IsMember({"mm", "inch", "in", "m"}));
-  sub->add_option("--up", o->up, "axis of the part files that points up")
-      ->check(CLI::IsMember({"+z", "-z", "+y", "-y", "+x", "-x", "z", "y", "x", "auto"}));
+  o->mesh_flags.add_to(sub, "part files");
   sub->add_option("--out", o->out, "output folder (predictions.json, predictions.csv, one PNG per part)")->required();
   sub->add_option("parts", o->parts, "part files or folders (added to /predict/parts of the config)");
   add_common(sub, o->common);
@@ -70,8 +68,7 @@ Registered register_predict(CLI::App& app) {
             for (const auto& f : expand_inputs(items, ingest::mesh_extensions()))
               inputs.push_back({f, "", 0, nullptr});
             const auto res = predict_parts(load_model_folder(o->model, config), inputs,
-                                           prepare_options(o->units.value_or(config["predict"]["units"]),
-                                                           o->up.value_or(config["predict"]["up"])),
+                                           o->mesh_flags.prepare(&config["predict"]),
                                            o->out);
             std::size_t failed = 0;
             for (const auto& r : res) {

@@ -68,15 +68,13 @@ Registered register_rough(CLI::App& app) {
     Common common;
     PocketFlags flags;
     std::vector<std::string> meshes;
-    std::optional<std::string> units, up;
+    MeshFlags mesh_flags;
     std::string out;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* sub = app.add_subcommand("rough", "Z-level roughing of parts from their meshes → G-code, metrics, one PNG per level");
   sub->add_option("--mesh", o->meshes, "mesh file or folder (repeatable; added to /rough/meshes of the config)");
-  sub->add_option("--units", o->units, "units of the mesh files")->check(CLI::IsMember({"mm", "inch", "in", "m"}));
-  sub->add_option("--up", o->up, "axis of the mesh files that points up")
-      ->check(CLI::IsMember({"+z", "-z", "+y", "-y", "+x", "-x", "z", "y", "x", "auto"}));
+  o->mesh_flags.add_to(sub);
   sub->add_option("--out", o->out, "output folder")->required();
   o->flags.add_to(sub, true, false);
   add_common(sub, o->common);
@@ -87,8 +85,7 @@ Registered register_rough(CLI::App& app) {
             if (items.empty()) throw Error("no mesh to rough: give --mesh FILE or set /rough/meshes in the config");
             const auto files = expand_inputs(items, ingest::mesh_extensions());
             const rough::Params params = rough_params(config, explicit_pocket_section(o->common.config), o->flags);
-            const ingest::PrepareOptions prep = prepare_options(o->units.value_or(config["rough"]["units"].get<std::string>()),
-                                                               o->up.value_or(config["rough"]["up"].get<std::string>()));
+            const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"]);
             std::vector<RoughOutcome> done;
             Progress progress("rough", files.size());
             for (const auto& f : files) {

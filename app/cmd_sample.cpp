@@ -16,16 +16,15 @@ namespace fs = std::filesystem;
 Registered register_sample(CLI::App& app) {
   struct Opts {
     Common common;
-    std::string mesh, out, units = "mm", up = "+z";
+    MeshFlags mesh_flags;
+    std::string mesh, out;
     double raster = 1.0;
     int grid = 15;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* sub = app.add_subcommand("sample", "sample a mesh into an n×n height grid (CSV + PNG heat map)");
   sub->add_option("--mesh", o->mesh, "mesh file (STL, OBJ, PLY, OFF, 3MF, glTF, … or x y z points)")->required();
-  sub->add_option("--units", o->units, "units of the file")->check(CLI::IsMember({"mm", "inch", "in", "m"}));
-  sub->add_option("--up", o->up, "axis of the file that points up")
-      ->check(CLI::IsMember({"+z", "-z", "+y", "-y", "+x", "-x", "z", "y", "x", "auto"}));
+  o->mesh_flags.add_to(sub, "file");
   sub->add_option("--raster", o->raster, "raster spacing, mm")->check(CLI::PositiveNumber);
   sub->add_option("--grid", o->grid, "grid size n")->check(CLI::Range(2, 64));
   sub->add_option("--out", o->out, "output folder")->required();
@@ -34,10 +33,7 @@ Registered register_sample(CLI::App& app) {
             (void)setup(o->common);
             ingest::MeshReport report;
             const ingest::Mesh raw = ingest::load_mesh(o->mesh, &report);
-            ingest::PrepareOptions prep;
-            prep.units = ingest::parse_units(o->units);
-            prep.up = ingest::parse_up(o->up);
-            const ingest::Mesh mesh = ingest::prepare(raw, prep, &report);
+            const ingest::Mesh mesh = ingest::prepare(raw, o->mesh_flags.prepare(nullptr), &report);
             const ingest::Grid grid = ingest::sample_grid(mesh, o->raster, o->grid);
             const std::string stem = fs::path(o->mesh).stem().string();
             const fs::path out(o->out);
