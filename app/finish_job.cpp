@@ -101,6 +101,16 @@ void polylines(const gcode::Program& prog, std::vector<std::vector<std::array<do
   }
 }
 
+/// Scoring a finished surface: nothing should be left above the design (allowance 0).
+simulate::MetricsOptions metrics_options(const SimSettings& sim) {
+  simulate::MetricsOptions mo;
+  mo.allowance_mm = 0;
+  mo.tolerance_mm = sim.tolerance_mm;
+  mo.sampling_length_mm = sim.sampling_length_mm;
+  mo.ra_bins_um = sim.ra_bins_um;
+  return mo;
+}
+
 Json histogram_json(const simulate::SurfaceMetrics& m) {
   return Json{{"bin_edges_um", m.ra_bin_edges_um}, {"shares", m.ra_share}};
 }
@@ -256,11 +266,7 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
       simulate::ZMap z = simulate::ZMap::from_heights(frame.grid, frame.design, settings.sim.allowance_mm,
                                                       frame.z_shift + settings.sim.allowance_mm);
       const simulate::SweepResult sw = simulate::machine(z, plan.program, params.tool);
-      simulate::MetricsOptions mo;
-      mo.allowance_mm = 0;
-      mo.tolerance_mm = settings.sim.tolerance_mm;
-      mo.sampling_length_mm = settings.sim.sampling_length_mm;
-      mo.ra_bins_um = settings.sim.ra_bins_um;
+      const simulate::MetricsOptions mo = metrics_options(settings.sim);
       const simulate::SurfaceMetrics m = simulate::surface_metrics(z, frame.design, mo);
       j.update(sim_metrics_json(m, sw));
       // Uncut = the finishing stock left (within the tolerance) where the cutter never reached; the
@@ -366,11 +372,7 @@ Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
                         {"max_depth_of_cut_mm", *std::max_element(sw.max_cut_mm.begin(), sw.max_cut_mm.end())},
                         {"cutting_rapids", sw.cutting_rapids.size()}});
   }
-  simulate::MetricsOptions mo;
-  mo.allowance_mm = 0;
-  mo.tolerance_mm = settings.sim.tolerance_mm;
-  mo.sampling_length_mm = settings.sim.sampling_length_mm;
-  mo.ra_bins_um = settings.sim.ra_bins_um;
+  const simulate::MetricsOptions mo = metrics_options(settings.sim);
   const simulate::SurfaceMetrics m = simulate::surface_metrics(z, frame.design, mo);
   simulate::SweepResult none;
   Json j = sim_metrics_json(m, none);

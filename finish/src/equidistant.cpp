@@ -85,14 +85,7 @@ std::vector<std::vector<std::vector<Sample>>> equidistant_loops(const Sampler& s
                                                                const FinishParams& p) {
   const double g = std::min(tol::equidistant_grid_mm, p.stepover_mm / 2);
   const GridSpec grid = GridSpec::over(box.x0, box.y0, box.x1, box.y1, g);
-  std::vector<double> cl(static_cast<std::size_t>(grid.nx) * static_cast<std::size_t>(grid.ny));
-#pragma omp parallel for schedule(static)
-  for (int i = 0; i < grid.ny; ++i)
-    for (int j = 0; j < grid.nx; ++j) {
-      const Eigen::Vector2d q = grid.node(i, j);
-      cl[static_cast<std::size_t>(i) * static_cast<std::size_t>(grid.nx) + static_cast<std::size_t>(j)] =
-          s.z(q.x(), q.y());
-    }
+  const std::vector<double> cl = cl_heights(s, grid.x0, grid.y0, grid.x1, grid.y1, grid.step, grid.nx, grid.ny);
   const std::vector<double> T = fast_marching(grid, cl);
   const double t_max = *std::max_element(T.begin(), T.end());
   std::vector<double> levels;

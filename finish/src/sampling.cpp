@@ -63,6 +63,17 @@ Sample Sampler::sample(double x, double y) const {
   return s;
 }
 
+std::vector<double> cl_heights(const Sampler& s, double x0, double y0, double x1, double y1, double step, int nx,
+                               int ny) {
+  std::vector<double> cl(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny));
+#pragma omp parallel for schedule(static)
+  for (int i = 0; i < ny; ++i)
+    for (int j = 0; j < nx; ++j)
+      cl[static_cast<std::size_t>(i) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(j)] =
+          s.z(std::min(x0 + step * j, x1), std::min(y0 + step * i, y1));
+  return cl;
+}
+
 std::vector<Sample> sample_segment(const Sampler& s, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double h0,
                                    double tol) {
   const double len = (b - a).norm();

@@ -45,6 +45,11 @@ private:
   mutable std::atomic<std::size_t> drops_{0};
 };
 
+/// CL heights (floor applied) at the nodes x0 + j·step, y0 + i·step clamped to (x1, y1), rows = y;
+/// parallel, deterministic.
+[[nodiscard]] std::vector<double> cl_heights(const Sampler& s, double x0, double y0, double x1, double y1, double step,
+                                             int nx, int ny);
+
 /// CL points along the straight XY segment a→b (both ends included): first every ≤ h0, then each
 /// interval halved while its midpoint lies above the chord by more than tol::chord_below_mm or
 /// below it by more than `tol` (down to tol::min_sample_mm).

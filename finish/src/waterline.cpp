@@ -100,14 +100,7 @@ void split_gouging_chords(const Sampler& s, std::vector<ContourPoint>& loop, dou
 std::vector<std::vector<std::vector<Sample>>> waterline_loops(const Sampler& s, const Box& box, const FinishParams& p) {
   const double g = std::min(tol::waterline_grid_mm, s.cutter().radius() / 2);
   const GridSpec grid = GridSpec::over(box.x0, box.y0, box.x1, box.y1, g);
-  std::vector<double> cl(static_cast<std::size_t>(grid.nx) * static_cast<std::size_t>(grid.ny));
-#pragma omp parallel for schedule(static)
-  for (int i = 0; i < grid.ny; ++i)
-    for (int j = 0; j < grid.nx; ++j) {
-      const Eigen::Vector2d q = grid.node(i, j);
-      cl[static_cast<std::size_t>(i) * static_cast<std::size_t>(grid.nx) + static_cast<std::size_t>(j)] =
-          s.z(q.x(), q.y());
-    }
+  const std::vector<double> cl = cl_heights(s, grid.x0, grid.y0, grid.x1, grid.y1, grid.step, grid.nx, grid.ny);
   const double top = *std::max_element(cl.begin(), cl.end());
   std::vector<double> levels;
   for (int k = 1;; ++k) {
