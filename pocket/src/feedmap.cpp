@@ -72,8 +72,7 @@ void split_long(Chain& ch, double max_len) {
 }  // namespace
 
 FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cut, double axial_depth_mm) {
-  if (!(cut.tool_diameter > 0)) throw Error("feed map: tool_diameter must be > 0");
-  if (!(cut.stepover > 0)) throw Error("feed map: stepover must be > 0");
+  cut.check("feed map");
   const double g = cut.feed_grid > 0 ? cut.feed_grid : cut.tool_diameter / 10;
   const double R = cut.tool_diameter / 2;
   FeedProfile prof;

@@ -11,9 +11,7 @@ namespace millnet::pocket {
 PlanResult plan_som(const Region& region, const CutParams& cut, const GridFrame& frame, const SomParams& som,
                     const SmoothingParams& smooth) {
   const auto t0 = std::chrono::steady_clock::now();
-  if (!(cut.tool_diameter > 0) || !std::isfinite(cut.tool_diameter))
-    throw Error("plan_som: 'tool_diameter' must be > 0");
-  if (!(cut.stock_to_leave >= 0)) throw Error("plan_som: 'stock_to_leave' must be ≥ 0");
+  cut.check("plan_som");
   PlanResult res;
   res.planner = "som";
   const double clearance = cut.clearance();

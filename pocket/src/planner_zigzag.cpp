@@ -133,12 +133,7 @@ std::vector<double> candidate_angles(const Region& region, double step_deg) {
 PlanResult plan_zigzag(const Region& region, const CutParams& cut, const ZigzagParams& params,
                        std::vector<AngleScore>* scores) {
   const auto t0 = std::chrono::steady_clock::now();
-  if (!(cut.tool_diameter > 0) || !std::isfinite(cut.tool_diameter))
-    throw Error("zigzag: tool_diameter must be > 0 mm, got " + std::to_string(cut.tool_diameter));
-  if (!(cut.stepover > 0) || cut.stepover > cut.tool_diameter)
-    throw Error("zigzag: stepover must be in (0, tool_diameter = " + std::to_string(cut.tool_diameter) +
-                "] mm, got " + std::to_string(cut.stepover));
-  if (!(cut.stock_to_leave >= 0)) throw Error("zigzag: stock_to_leave must be ≥ 0 mm");
+  cut.check("zigzag");
   PlanResult res;
   res.planner = params.partition == PartitionKind::T ? "zigzag-t" : "zigzag-i";
   const auto reach = offset_inward(region, cut.clearance(), tol::arc_chord_mm);

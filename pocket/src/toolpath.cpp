@@ -1,6 +1,11 @@
 // Path2D figures and PlanStatus names.
 #include "millnet/pocket/toolpath.hpp"
 
+#include "millnet/core/error.hpp"
+
+#include <cmath>
+#include <string>
+
 namespace millnet::pocket {
 
 namespace {
@@ -33,6 +38,15 @@ const char* to_string(PlanStatus s) {
     case PlanStatus::NothingToCut: return "nothing_to_cut";
   }
   return "unknown";
+}
+
+void CutParams::check(const std::string& who) const {
+  if (!(tool_diameter > 0) || !std::isfinite(tool_diameter))
+    throw Error(who + ": tool_diameter must be > 0 mm, got " + std::to_string(tool_diameter));
+  if (!(stepover > 0) || stepover > tool_diameter)
+    throw Error(who + ": stepover must be in (0, tool_diameter = " + std::to_string(tool_diameter) + "] mm, got " +
+                std::to_string(stepover));
+  if (!(stock_to_leave >= 0)) throw Error(who + ": stock_to_leave must be ≥ 0 mm");
 }
 
 }  // namespace millnet::pocket

@@ -44,6 +44,10 @@ struct CutParams {
   bool feed_adjust = true;
   double rapid_rate = 5000;     ///< mm/min, for time estimates of G0 moves
   [[nodiscard]] double clearance() const { return tool_diameter / 2 + stock_to_leave; }
+  /// The one check of the cutting parameters every planner and the feed map rely on: a finite
+  /// tool_diameter > 0, stepover in (0, tool_diameter], stock_to_leave ≥ 0. Throws millnet::Error
+  /// "<who>: <key> …" naming the value.
+  void check(const std::string& who) const;
 };
 
 /// Outcome of planning; an empty path always comes with a non-Ok status and a message.
