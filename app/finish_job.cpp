@@ -108,6 +108,7 @@ simulate::MetricsOptions metrics_options(const SimSettings& sim) {
   mo.tolerance_mm = sim.tolerance_mm;
   mo.sampling_length_mm = sim.sampling_length_mm;
   mo.ra_bins_um = sim.ra_bins_um;
+  mo.ra_every = static_cast<std::size_t>(std::max(1.0, std::round(sim.ra_spacing_mm / sim.cell_mm)));
   return mo;
 }
 
@@ -196,6 +197,7 @@ FinishSettings finish_settings(const Json& config) {
   s.sim.tolerance_mm = sim["tolerance_mm"].get<double>();
   s.sim.sampling_length_mm = sim["sampling_length_mm"].get<double>();
   s.sim.ra_bins_um = sim["ra_bins_um"].get<std::vector<double>>();
+  s.sim.ra_spacing_mm = sim["ra_spacing_mm"].get<double>();
   s.aim.gouge_tolerance_mm = s.sim.tolerance_mm;
   const Json& m = config["machine"];
   s.machine.acceleration_mm_s2 = m["acceleration_mm_s2"].get<double>();
@@ -222,15 +224,15 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
     for (int j = 0; j < hf.nx; ++j) heights(i, j) = hf.at(i, j) + frame.z_shift;
   fs::create_directories(out);
   std::vector<StrategyOutcome> outcomes;
+  params.comments = {"tool: " + params.tool.describe(),
+                     "frame: Z 0 = stock top = part top + " + fixed(settings.stock_top_above_part_mm, 3) + " mm"};
+  const std::vector<finish::FinishPlan> plans = finish::plan_finish(mesh, dropper, settings.strategies, params);
   Progress progress("finish " + stem, settings.strategies.size());
-  for (const finish::Strategy strategy : settings.strategies) {
+  for (const finish::FinishPlan& plan : plans) {
+    const finish::Strategy strategy = plan.strategy;
     const int k = static_cast<int>(strategy);
     const std::string base = stem + ".s" + std::to_string(k);
-    params.comments = {"strategy: " + finish::strategy_name(strategy), "tool: " + params.tool.describe(),
-                       "frame: Z 0 = stock top = part top + " + fixed(settings.stock_top_above_part_mm, 3) + " mm"};
-    const auto t0 = std::chrono::steady_clock::now();
-    const finish::FinishPlan plan = finish::plan_finish(mesh, dropper, strategy, params);
-    const double plan_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double plan_s = plan.planning_s;
     gcode::write_file(out / (base + ".nc"), plan.program, gcode::linuxcnc());
     const gcode::ProgramStats st = gcode::stats(plan.program, settings.machine);
     StrategyOutcome o;

@@ -26,6 +26,7 @@ struct SimSettings {
   double allowance_mm = 0.1;     ///< finishing stock over the design surface
   double tolerance_mm = 0.002;
   double sampling_length_mm = 0.8;
+  double ra_spacing_mm = 0.1;    ///< Ra centres this far apart (whole cells)
   std::vector<double> ra_bins_um;
 };
 

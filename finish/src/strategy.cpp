@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
+#include <optional>
 #include <cmath>
 #include <string>
 
@@ -17,27 +19,44 @@ using detail::Sample;
 using detail::Sampler;
 using Lines = std::vector<std::vector<Sample>>;
 
-Lines raster(const Sampler& s, const Box& box, const FinishParams& p) { return detail::raster_lines(s, box, p, false); }
+using Levels = std::vector<std::vector<std::vector<Sample>>>;
 
-Lines scallop_mode(const Sampler& s, const Box& box, const FinishParams& p) {
-  return detail::raster_lines(s, box, p, true);
-}
+/// Pieces that several strategies share, computed once per plan_finish call: the fixed-spacing
+/// raster lines (2 and the shallow part of 1) and the Z-level loops (4 and the steep part of 1).
+struct Shared {
+  const Sampler& s;
+  const Box& box;
+  const FinishParams& p;
+  std::optional<Lines> raster;
+  std::optional<Levels> levels;
+  const Lines& raster_lines() {
+    if (!raster) raster = detail::raster_lines(s, box, p, false);
+    return *raster;
+  }
+  const Levels& waterline_loops() {
+    if (!levels) levels = detail::waterline_loops(s, box, p);
+    return *levels;
+  }
+};
+
+Lines raster(Shared& sh) { return sh.raster_lines(); }
+
+Lines scallop_mode(Shared& sh) { return detail::raster_lines(sh.s, sh.box, sh.p, true); }
 
 double near_mm(const FinishParams& p) { return p.tool.diameter + 4 * p.stepover_mm; }
 
-Lines waterline(const Sampler& s, const Box& box, const FinishParams& p) {
-  return detail::order_by_level(detail::waterline_loops(s, box, p), near_mm(p));
-}
+Lines waterline(Shared& sh) { return detail::order_by_level(sh.waterline_loops(), near_mm(sh.p)); }
 
-Lines equidistant(const Sampler& s, const Box& box, const FinishParams& p) {
-  return detail::order_by_level(detail::equidistant_loops(s, box, p), near_mm(p));
+Lines equidistant(Shared& sh) {
+  return detail::order_by_level(detail::equidistant_loops(sh.s, sh.box, sh.p), near_mm(sh.p));
 }
 
 /// Steep pieces of the Z-levels first (top-down per island), then the shallow runs of the raster.
-Lines slope_mode(const Sampler& s, const Box& box, const FinishParams& p) {
+Lines slope_mode(Shared& sh) {
+  const FinishParams& p = sh.p;
   const double steep_from = p.boundary_angle_deg - tol::slope_overlap_deg;
   const double shallow_to = p.boundary_angle_deg + tol::slope_overlap_deg;
-  auto levels = detail::waterline_loops(s, box, p);
+  Levels levels = sh.waterline_loops();
   for (auto& level : levels) {
     std::vector<std::vector<Sample>> kept;
     for (auto& loop : level) {
@@ -58,7 +77,7 @@ Lines slope_mode(const Sampler& s, const Box& box, const FinishParams& p) {
     level = std::move(kept);
   }
   Lines out = detail::order_by_level(std::move(levels), near_mm(p));
-  for (const auto& line : detail::raster_lines(s, box, p, false))
+  for (const auto& line : sh.raster_lines())
     for (auto& r : detail::runs(line, [&](const Sample& q) { return q.slope_deg < shallow_to; }))
       out.push_back(std::move(r));
   return out;
@@ -67,7 +86,7 @@ Lines slope_mode(const Sampler& s, const Box& box, const FinishParams& p) {
 struct Entry {
   Strategy id;
   const char* name;
-  Lines (*passes)(const Sampler&, const Box&, const FinishParams&);
+  Lines (*passes)(Shared&);
   bool straight_passes;  ///< every pass lies on a straight XY line (simplify in Z only)
 };
 
@@ -126,10 +145,10 @@ void FinishParams::check() const {
   require(std::isfinite(safe_z_mm) && std::isfinite(z_shift), "safe_z_mm", "must be finite");
 }
 
-FinishPlan plan_finish(const ingest::Mesh& mesh, const DropCutter& dropper, Strategy strategy,
-                       const FinishParams& params) {
+std::vector<FinishPlan> plan_finish(const ingest::Mesh& mesh, const DropCutter& dropper,
+                                    const std::vector<Strategy>& strategies, const FinishParams& params) {
   params.check();
-  const Entry& e = entry(strategy);
+  for (const Strategy st : strategies) (void)entry(st);
   const Sampler s(mesh, dropper);
   Box box{params.x0, params.y0, params.x1, params.y1};
   if (!(box.x1 > box.x0 && box.y1 > box.y0)) {
@@ -142,19 +161,33 @@ FinishPlan plan_finish(const ingest::Mesh& mesh, const DropCutter& dropper, Stra
     throw Error("finish: safe_z_mm " + std::to_string(params.safe_z_mm) +
                 " is not above the part top plus the clearance (" +
                 std::to_string(s.top_z() + params.z_shift + params.clearance_mm) + ")");
-  FinishPlan plan;
-  plan.strategy = strategy;
-  Lines lines = e.passes(s, box, params);
-  std::vector<Lines::value_type> simple(lines.size());
+  Shared shared{s, box, params, std::nullopt, std::nullopt};
+  std::vector<FinishPlan> plans;
+  for (const Strategy strategy : strategies) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::size_t drops0 = s.drops();
+    const Entry& e = entry(strategy);
+    FinishPlan plan;
+    plan.strategy = strategy;
+    Lines lines = e.passes(shared);
+    std::vector<Lines::value_type> simple(lines.size());
 #pragma omp parallel for schedule(dynamic, 4)
-  for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(lines.size()); ++i)
-    simple[static_cast<std::size_t>(i)] =
-        detail::simplify(lines[static_cast<std::size_t>(i)], params.chord_tolerance_mm, e.straight_passes);
-  plan.passes = detail::to_passes(std::move(simple));
-  if (plan.passes.empty()) throw Error("finish: no surface under the machining boundary to finish");
-  detail::link_passes(s, params, plan);
-  plan.drops = s.drops();
-  return plan;
+    for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(lines.size()); ++i)
+      simple[static_cast<std::size_t>(i)] =
+          detail::simplify(lines[static_cast<std::size_t>(i)], params.chord_tolerance_mm, e.straight_passes);
+    plan.passes = detail::to_passes(std::move(simple));
+    if (plan.passes.empty()) throw Error("finish: no surface under the machining boundary to finish");
+    detail::link_passes(s, params, plan);
+    plan.drops = s.drops() - drops0;
+    plan.planning_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    plans.push_back(std::move(plan));
+  }
+  return plans;
+}
+
+FinishPlan plan_finish(const ingest::Mesh& mesh, const DropCutter& dropper, Strategy strategy,
+                       const FinishParams& params) {
+  return std::move(plan_finish(mesh, dropper, std::vector{strategy}, params).front());
 }
 
 }  // namespace millnet::finish

@@ -66,6 +66,7 @@ SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& 
   if (!(opt.sampling_length_mm > 0)) throw Error("simulate: Ra sampling length must be > 0 mm");
   if (opt.ra_bins_um.empty() || !std::is_sorted(opt.ra_bins_um.begin(), opt.ra_bins_um.end()))
     throw Error("simulate: Ra bin edges must be a non-empty ascending list (um)");
+  if (opt.ra_every < 1) throw Error("simulate: the Ra stride must be >= 1 cell");
 
   SurfaceMetrics out;
   const auto& z = machined.heights();
@@ -115,14 +116,17 @@ SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& 
   out.ra_um.assign(n, std::numeric_limits<float>::quiet_NaN());
   const int nthreads = opt.threads > 0 ? opt.threads : std::max(1, omp_get_max_threads());
   const auto nx = static_cast<std::ptrdiff_t>(spec.nx), ny = static_cast<std::ptrdiff_t>(spec.ny);
+  const auto every = static_cast<std::ptrdiff_t>(opt.ra_every), first = every / 2;
+  const std::ptrdiff_t rows = ny > first ? (ny - first + every - 1) / every : 0;
 #pragma omp parallel num_threads(nthreads)
   {
     // The profile buffer starts on a 64-byte boundary in every thread, so the vectorised sums in
     // profile_ra group their terms the same way whatever the thread (bit-identical Ra maps).
     std::vector<double> prof_store;
 #pragma omp for schedule(dynamic, 4)
-    for (std::ptrdiff_t iy = 0; iy < ny; ++iy) {
-      for (std::ptrdiff_t ix = 0; ix < nx; ++ix) {
+    for (std::ptrdiff_t row = 0; row < rows; ++row) {
+      const std::ptrdiff_t iy = first + row * every;
+      for (std::ptrdiff_t ix = first; ix < nx; ix += every) {
         const auto i = static_cast<std::size_t>(iy * nx + ix);
         if (std::isnan(design[i])) continue;
         const auto ux = static_cast<std::size_t>(ix), uy = static_cast<std::size_t>(iy);

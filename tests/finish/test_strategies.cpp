@@ -282,5 +282,31 @@ TEST(FinishStrategy, SamePathWithOneOrTwoThreads) {
   }
 }
 
+TEST(FinishStrategy, PlanningSeveralTogetherEqualsPlanningEachAlone) {
+  // Shared pieces (raster lines, Z-level loops) are computed once and must not change a plan.
+  const auto mesh = pyramid();
+  const DropCutter dc(mesh, Cutter::ball(2));
+  const auto p = small_params();
+  const std::vector<Strategy> order{Strategy::Waterline, Strategy::SlopeMode, Strategy::Raster,
+                                    Strategy::Equidistant, Strategy::ScallopMode};
+  const std::vector<FinishPlan> together = plan_finish(mesh, dc, order, p);
+  ASSERT_EQ(together.size(), order.size());
+  std::size_t drops_together = 0, drops_alone = 0;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const FinishPlan alone = plan_finish(mesh, dc, order[k], p);
+    EXPECT_EQ(together[k].strategy, order[k]);
+    const auto ma = moves(together[k].program), mb = moves(alone.program);
+    ASSERT_EQ(ma.size(), mb.size()) << strategy_name(order[k]);
+    for (std::size_t i = 0; i < ma.size(); ++i) ASSERT_EQ(ma[i].to, mb[i].to) << strategy_name(order[k]) << " move " << i;
+    EXPECT_EQ(together[k].lifts, alone.lifts);
+    drops_together += together[k].drops;
+    drops_alone += alone.drops;
+  }
+  // Slope mode after the waterline and before the raster: its Z-levels come free, its raster is
+  // charged to it and comes free to the raster.
+  EXPECT_LT(together[1].drops, plan_finish(mesh, dc, Strategy::SlopeMode, p).drops);
+  EXPECT_LT(drops_together, drops_alone);
+}
+
 }  // namespace
 }  // namespace millnet::finish

@@ -433,3 +433,35 @@ TEST(ZMap, RaOfAScallopedPlaneMatchesTheProfileIntegral) {
   EXPECT_NEAR(m.ra_p90_um, 1000 * ra, 0.05 * 1000 * ra);
   EXPECT_NEAR(m.ra_mean_um, 1000 * ra, 0.05 * 1000 * ra);
 }
+
+TEST(ZMap, RaStrideKeepsTheLatticeCellsBitForBitAndLeavesTheRestNaN) {
+  const double p = 0.2, R = 1;
+  const GridSpec g{-0.005, -0.005, 0.01, 400, 400};
+  ZMap zm = ZMap::flat(g, 0.5);
+  machine(zm, raster(-2, 6, -1.0, p, 31, zero), finish::Cutter::ball(2 * R));
+  const auto design = design_window(g, 1, 3, 1, 3, zero);
+  const auto full = surface_metrics(zm, design);
+  MetricsOptions o;
+  o.ra_every = 5;
+  const auto thin = surface_metrics(zm, design, o);
+  std::size_t lattice = 0;
+  for (std::size_t iy = 0; iy < g.ny; ++iy)
+    for (std::size_t ix = 0; ix < g.nx; ++ix) {
+      const std::size_t i = iy * g.nx + ix;
+      if (ix % 5 == 2 && iy % 5 == 2) {
+        if (!std::isnan(full.ra_um[i])) ++lattice;
+        EXPECT_EQ(std::memcmp(&thin.ra_um[i], &full.ra_um[i], sizeof(float)), 0) << ix << "," << iy;
+      } else {
+        EXPECT_TRUE(std::isnan(thin.ra_um[i])) << ix << "," << iy;
+      }
+    }
+  EXPECT_EQ(thin.ra_cells, lattice);
+  EXPECT_NEAR(static_cast<double>(thin.ra_cells) * 25, static_cast<double>(full.ra_cells), 0.05 * static_cast<double>(full.ra_cells));
+  EXPECT_NEAR(thin.ra_median_um, full.ra_median_um, 0.02 * full.ra_median_um);
+  // Everything but the Ra map is the same.
+  EXPECT_EQ(thin.max_gouge_mm, full.max_gouge_mm);
+  EXPECT_EQ(thin.scallop_max_mm, full.scallop_max_mm);
+  EXPECT_EQ(thin.uncut_area_mm2, full.uncut_area_mm2);
+  o.ra_every = 0;
+  EXPECT_THROW((void)surface_metrics(zm, design, o), Error);
+}

@@ -62,7 +62,7 @@ struct FinishParams {
   /// Machining boundary (XY box of tool-axis positions, mesh frame); empty ⇒ the part's footprint.
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
   std::string program_name;          ///< first header comment
-  std::vector<std::string> comments; ///< further header comments
+  std::vector<std::string> comments; ///< further header comments (after "strategy: <name>")
   /// Throws millnet::Error naming the parameter (zero stepover, step-down 0, non-finite …).
   void check() const;
 };
@@ -81,6 +81,7 @@ struct FinishPlan {
   std::size_t lifts = 0;             ///< links that retract (rapid over, plunge back)
   std::size_t cl_points = 0;         ///< CL points in the program
   std::size_t drops = 0;             ///< drop-cutter queries spent
+  double planning_s = 0;             ///< wall time spent planning (timing only, not deterministic)
 };
 
 /// The strategy's passes on the part (mesh prepared, the drop-cutter built on it with the tool),
@@ -88,5 +89,15 @@ struct FinishPlan {
 /// than the machining boundary.
 [[nodiscard]] FinishPlan plan_finish(const ingest::Mesh& mesh, const DropCutter& dropper, Strategy strategy,
                                      const FinishParams& params);
+
+/// Several strategies on the same part, one plan each in the order given. Pieces that strategies
+/// share are computed once: the raster lines of 2 are the shallow runs' source in 1, the Z-level
+/// loops of 4 the steep pieces' source in 1, so planning 1, 2 and 4 together costs about what 2
+/// and 4 cost. Each plan equals what plan_finish(…, strategy, …) returns alone; its `drops` and
+/// `planning_s` count the work done for it (a shared piece is charged to the first plan that
+/// needs it).
+[[nodiscard]] std::vector<FinishPlan> plan_finish(const ingest::Mesh& mesh, const DropCutter& dropper,
+                                                  const std::vector<Strategy>& strategies,
+                                                  const FinishParams& params);
 
 }  // namespace millnet::finish
