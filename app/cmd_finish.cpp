@@ -82,6 +82,7 @@ Registered register_simulate(CLI::App& app) {
     MeshFlags mesh_flags;
     std::vector<std::string> gcode, tools;
     std::string mesh, stock = "flat", out;
+    bool save_stock = false;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* sub = app.add_subcommand(
@@ -90,8 +91,10 @@ Registered register_simulate(CLI::App& app) {
   sub->add_option("--tool", o->tools, "cutter per --gcode (ball:D, flat:D, bull:D:r; one for all, or one each)")
       ->required();
   sub->add_option("--mesh", o->mesh, "the part's mesh (design surface and frame)")->required();
-  sub->add_option("--stock", o->stock, "flat (a block up to Z 0) or design (the part + /simulate/allowance_mm)")
-      ->check(CLI::IsMember({"flat", "design"}));
+  sub->add_option("--stock", o->stock,
+                  "flat (a block up to Z 0), design (the part + /simulate/allowance_mm), or a FILE.zmap saved by an "
+                  "earlier simulate --save-stock of the same part");
+  sub->add_flag("--save-stock", o->save_stock, "also write the machined z-map as DIR/<stem>.zmap (8 bytes per cell)");
   o->mesh_flags.add_to(sub);
   sub->add_option("--out", o->out, "output folder")->required();
   add_common(sub, o->common);
@@ -106,7 +109,7 @@ Registered register_simulate(CLI::App& app) {
               programs.emplace_back(o->gcode[i], parse_tool(o->tools[o->tools.size() == 1 ? 0 : i]));
             const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"]);
             const Json j = simulate_files(load_prepared(o->mesh, prep), fs::path(o->mesh).stem().string(), programs,
-                                          o->stock, s, o->out);
+                                          o->stock, s, o->out, o->save_stock);
             info("simulate: Ra median " + j["ra_median_um"].dump() + " um, gouge " + j["max_gouge_mm"].dump() + " mm → " +
                  o->out);
             return 0;

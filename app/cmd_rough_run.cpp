@@ -1,6 +1,7 @@
 // millnet rough --mesh FILE … --out DIR   (or a batch: /rough/meshes of the config)
-// millnet run [FILE] [--out DIR]          (dataset → train → predict → rough on the test parts, summary page)
+// millnet run [FILE] [--out DIR]          (dataset → train → predict → rough → finish on the test parts, summary page)
 #include "cli.hpp"
+#include "finish_job.hpp"
 #include "text.hpp"
 #include "learn.hpp"
 #include "rough.hpp"
@@ -10,6 +11,7 @@
 #include "millnet/core/progress.hpp"
 #include "millnet/datasets/generator.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
+#include "millnet/simulate/aim.hpp"
 
 #include <chrono>
 #include <iostream>
@@ -145,11 +147,76 @@ std::vector<PredictInput> run_test_parts(const Json& config) {
   return parts;
 }
 
+/// One test part finished with every strategy (simulated), and its roughing + the network's top
+/// strategy machined one after the other on one z-map.
+struct FinishOutcome {
+  bool ok = false;
+  std::string error;
+  std::vector<int> slots;           ///< the strategies simulated, ascending
+  std::vector<int> network_rank;    ///< per slot: 1-based rank by the network's totals
+  std::vector<int> simulated_rank;  ///< per slot: 1-based rank by the simulation under the aim
+  std::vector<double> ra_median_um; ///< per slot
+  double spearman = 0;
+  bool chained = false;             ///< rough + top strategy simulated on one z-map
+  Json chain;                       ///< <name>.rough_finish.sim.json
+};
+
 struct PartOutcomes {
   std::vector<PartPrediction> preds;
   std::vector<RoughOutcome> roughs;
-  double predict_s = 0, rough_s = 0;
+  std::vector<FinishOutcome> finishes;
+  double predict_s = 0, rough_s = 0, finish_s = 0;
+  std::string finish_settings_note, aim;  ///< for the summary
 };
+
+/// The network's ranking of `slots` by the part's totals over the variants (the paper's Figure 8),
+/// highest first, ties by slot: 1-based rank per slot.
+std::vector<int> network_ranks(const PartPrediction& pr, const std::vector<int>& slots) {
+  std::vector<std::size_t> idx(slots.size());
+  for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+  auto total = [&](std::size_t i) {
+    const auto k = static_cast<std::size_t>(slots[i] - 1);
+    return k < pr.totals.size() ? pr.totals[k] : 0.0;
+  };
+  std::stable_sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return total(a) > total(b); });
+  std::vector<int> rank(slots.size());
+  for (std::size_t r = 0; r < idx.size(); ++r) rank[idx[r]] = static_cast<int>(r + 1);
+  return rank;
+}
+
+/// Finishes the prepared part with every strategy (simulated, files in dir/finish/), then machines
+/// the roughing program dir/<name>.nc and the top strategy's program one after the other on one
+/// z-map from flat stock (dir/<name>.rough_finish.sim.json and its pictures).
+FinishOutcome finish_test_part(const ingest::Mesh& mesh, const std::string& name, const PartPrediction& pr,
+                               const RoughOutcome* rough, const FinishSettings& settings, double rough_tool_mm,
+                               const fs::path& dir) {
+  FinishOutcome fo;
+  try {
+    const std::vector<StrategyOutcome> outs = finish_part(mesh, name, settings, dir / "finish");
+    for (const auto& o : outs) {
+      fo.slots.push_back(static_cast<int>(o.strategy));
+      fo.simulated_rank.push_back(o.rank);
+      fo.ra_median_um.push_back(o.score.ra_median_um);
+    }
+    if (pr.ok) {
+      fo.network_rank = network_ranks(pr, fo.slots);
+      fo.spearman = simulate::spearman(fo.network_rank, fo.simulated_rank);
+    }
+    const auto top = std::find(fo.slots.begin(), fo.slots.end(), pr.top);
+    if (pr.ok && rough != nullptr && rough->ok && top != fo.slots.end()) {
+      const fs::path finish_nc = dir / "finish" / (name + ".s" + std::to_string(pr.top) + ".nc");
+      fo.chain = simulate_files(mesh, name + ".rough_finish",
+                                {{dir / (name + ".nc"), finish::Cutter::flat(rough_tool_mm)},
+                                 {finish_nc, settings.params.tool}},
+                                "flat", settings, dir);
+      fo.chained = true;
+    }
+    fo.ok = true;
+  } catch (const std::exception& e) {
+    fo.error = e.what();
+  }
+  return fo;
+}
 
 /// Predicts (and roughs, when /run/rough) every part into out/parts/<name>/: the model is read
 /// once, each mesh once.
@@ -163,6 +230,13 @@ PartOutcomes predict_and_rough(const Json& config, const std::string& config_fil
   auto& rough_s = po.rough_s;
 const Json explicit_pocket = explicit_pocket_section(config_file);
 const rough::Params rp = rough_params(config, explicit_pocket, PocketFlags{});
+const bool finishing = config["run"]["finish"].get<bool>();
+FinishSettings fset = finish_settings(config);
+fset.strategies = finish::all_strategies();
+fset.simulate = true;
+po.finish_settings_note = fset.params.tool.describe() + ", p_f " + fixed(fset.params.stepover_mm, 2) + " mm, a_a " +
+                          fixed(fset.params.step_down_mm, 2) + " mm, " + fixed(fset.params.feed_mm_min, 0) + " mm/min";
+po.aim = simulate::to_string(fset.aim.aim);
 const ModelFolder model = load_model_folder(out / "model", config);  // read once for all parts
 const ingest::PrepareOptions prep = prepare_options(config["predict"]["units"], config["predict"]["up"]);
 Progress progress("run: parts", parts.size());
@@ -182,10 +256,54 @@ for (const auto& p : parts) {
     roughs.push_back(rough_prepared(named.mesh.get(), load_error, p.file, name, rp, dir));
     rough_s += std::chrono::duration<double>(clock::now() - t0).count();
   }
+  if (finishing) {
+    t0 = clock::now();
+    if (named.mesh)
+      po.finishes.push_back(finish_test_part(*named.mesh, name, preds.back(), roughs.empty() ? nullptr : &roughs.back(),
+                                             fset, rp.cut.tool_diameter, dir));
+    else
+      po.finishes.push_back(FinishOutcome{false, load_error, {}, {}, {}, {}, 0, false, Json()});
+    po.finish_s += std::chrono::duration<double>(clock::now() - t0).count();
+  }
   progress.tick();
 }
 progress.finish();
   return po;
+}
+
+/// Per part: both rankings (slot order, best first), ρ, and the rough + top chain's figures.
+Json finishing_json(const PartOutcomes& po) {
+  Json out = Json::array();
+  for (std::size_t i = 0; i < po.finishes.size() && i < po.preds.size(); ++i) {
+    const auto& f = po.finishes[i];
+    Json j{{"part", po.preds[i].name}, {"status", f.ok ? "ok" : "error"}};
+    if (!f.ok) {
+      j["error"] = f.error;
+      out.push_back(j);
+      continue;
+    }
+    auto order = [&](const std::vector<int>& rank) {
+      std::vector<int> by(f.slots.size());
+      for (std::size_t k = 0; k < f.slots.size(); ++k) by[static_cast<std::size_t>(rank[k] - 1)] = f.slots[k];
+      return by;
+    };
+    j["simulated_ranking"] = order(f.simulated_rank);
+    j["ra_median_um"] = f.ra_median_um;
+    if (!f.network_rank.empty()) {
+      j["network_ranking"] = order(f.network_rank);
+      j["spearman"] = f.spearman;
+    }
+    if (f.chained) {
+      const Json& c = f.chain;
+      j["rough_then_top"] = {{"strategy", po.preds[i].top},
+                             {"finisher_max_depth_of_cut_mm", c["programs"][1]["max_depth_of_cut_mm"]},
+                             {"ra_median_um", c["ra_median_um"]},
+                             {"uncut_area_mm2", c["uncut_area_mm2"]},
+                             {"max_gouge_mm", c["max_gouge_mm"]}};
+    }
+    out.push_back(j);
+  }
+  return out;
 }
 
 /// summary.md and run_report.json; 1 when a part failed.
@@ -234,6 +352,56 @@ for (std::size_t i = 0; i < preds.size(); ++i) {
 }
 if (labelled)
   md << "\nHeld-out test parts predicted as their family's strategy: " << correct << " of " << labelled << ".\n";
+if (!po.finishes.empty()) {
+  md << "\n## Finishing: the network's ranking beside the simulated one\n\n"
+     << "Every part finished with the five strategies (" << po.finish_settings_note << "), each program read back "
+     << "and machined on a z-map from the design + finishing stock, ranked by the aim (" << po.aim << "); the "
+     << "network ranks them by its totals over the variants (the paper's Figure 8 beside its Figure 9). ρ is "
+     << "Spearman's rank correlation of the two rankings (1 = same order, −1 = reversed). Then the roughing "
+     << "program and the network's top strategy machined one after the other on one z-map from flat stock.\n\n"
+     << "| part | network ranking | simulated ranking | ρ | top strategy's simulated rank | Ra median of the "
+        "top (µm) | best Ra median (µm) | rough + top: deepest cut of the finisher (mm) | rough + top: Ra median "
+        "(µm) | rough + top: uncut (mm²) | rough + top: gouge (mm) |\n"
+     << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  auto order_text = [](const std::vector<int>& slots, const std::vector<int>& rank) {
+    std::vector<int> by(slots.size());
+    for (std::size_t i = 0; i < slots.size(); ++i) by[static_cast<std::size_t>(rank[i] - 1)] = slots[i];
+    std::string t;
+    for (std::size_t r = 0; r < by.size(); ++r) t += (r ? " > " : "") + std::to_string(by[r]);
+    return t;
+  };
+  double rho_sum = 0;
+  std::size_t rho_n = 0;
+  for (std::size_t i = 0; i < po.finishes.size() && i < preds.size(); ++i) {
+    const auto& f = po.finishes[i];
+    const auto& pr = preds[i];
+    md << "| " << pr.name << " | ";
+    if (!f.ok) {
+      ++failures;
+      md << "error: " << f.error << " | | | | | | | | | |\n";
+      continue;
+    }
+    const double best = *std::min_element(f.ra_median_um.begin(), f.ra_median_um.end());
+    const auto top = std::find(f.slots.begin(), f.slots.end(), pr.top);
+    const std::size_t ti = static_cast<std::size_t>(top - f.slots.begin());
+    md << (f.network_rank.empty() ? "-" : order_text(f.slots, f.network_rank)) << " | "
+       << order_text(f.slots, f.simulated_rank) << " | "
+       << (f.network_rank.empty() ? "-" : fixed(f.spearman, 2)) << " | "
+       << (top != f.slots.end() ? std::to_string(f.simulated_rank[ti]) : "-") << " | "
+       << (top != f.slots.end() ? fixed(f.ra_median_um[ti], 2) : "-") << " | " << fixed(best, 2) << " | ";
+    if (!f.network_rank.empty()) rho_sum += f.spearman, ++rho_n;
+    if (f.chained) {
+      const Json& c = f.chain;
+      md << fixed(c["programs"][1]["max_depth_of_cut_mm"].get<double>(), 2) << " | "
+         << fixed(c["ra_median_um"].get<double>(), 2) << " | " << fixed(c["uncut_area_mm2"].get<double>(), 1) << " | "
+         << fixed(c["max_gouge_mm"].get<double>(), 4) << " |\n";
+    } else {
+      md << "- | - | - | - |\n";
+    }
+  }
+  if (rho_n)
+    md << "\nMean ρ over " << rho_n << " parts: " << fixed(rho_sum / static_cast<double>(rho_n), 2) << ".\n";
+}
 md << "\n## Parts\n";
 for (std::size_t i = 0; i < preds.size(); ++i) {
   const auto& pr = preds[i];
@@ -247,6 +415,16 @@ for (std::size_t i = 0; i < preds.size(); ++i) {
     if (levels > 1)
       md << "![level " << levels << "](parts/" << pr.name << "/" << pr.name << ".level_" << levels << ".png)\n";
   }
+  if (i < po.finishes.size() && po.finishes[i].ok) {
+    const std::string d = "parts/" + pr.name + "/";
+    md << "\nFinishing: [the five strategies ranked](" << d << "finish/" << pr.name << ".strategies.md); share of "
+       << "the surface per Ra bin, per strategy:\n\n![Ra per strategy](" << d << "finish/" << pr.name
+       << ".strategies.png)\n";
+    if (po.finishes[i].chained)
+      md << "\nRoughing, then strategy " << pr.top << ", on one z-map ([figures](" << d << pr.name
+         << ".rough_finish.sim.json)):\n\n![Ra](" << d << pr.name << ".rough_finish.ra.png) ![machined − design]("
+         << d << pr.name << ".rough_finish.deviation.png)\n";
+  }
 }
 md << "\n## Time per stage\n\n| stage | seconds |\n|---|---:|\n";
 for (auto it = timing.begin(); it != timing.end(); ++it) md << "| " << it.key() << " | " << fixed(it.value().get<double>(), 2) << " |\n";
@@ -254,7 +432,7 @@ write_file_atomic(out / "summary.md", md.str());
 write_file_atomic(out / "run_report.json",
                   Json{{"timing", timing}, {"parts", preds.size()}, {"correct", correct}, {"labelled", labelled},
                        {"failures", failures}, {"alpha", ts.alpha}, {"accuracy_part", ts.accuracy_part},
-                       {"accuracy_vector", ts.accuracy_vector}}
+                       {"accuracy_vector", ts.accuracy_vector}, {"finishing", finishing_json(po)}}
                           .dump(2) + "\n");
 info("run: " + std::to_string(preds.size()) + " parts; summary → " + (out / "summary.md").string());
   return failures ? 1 : 0;
@@ -286,6 +464,7 @@ int run_run(const RunOpts& o) {
   const PartOutcomes po = predict_and_rough(config, o.config_file, parts, out);
   timing["predict_s"] = po.predict_s;
   timing["rough_s"] = po.rough_s;
+  if (!po.finishes.empty()) timing["finish_s"] = po.finish_s;
   // 6. summary page
   return write_run_summary(o.config_file, ts, po, timing, out);
 }
@@ -294,7 +473,7 @@ int run_run(const RunOpts& o) {
 
 Registered register_run(CLI::App& app) {
   auto o = std::make_shared<RunOpts>();
-  CLI::App* sub = app.add_subcommand("run", "the whole pipeline: dataset → train → predict → rough, with a summary page");
+  CLI::App* sub = app.add_subcommand("run", "the whole pipeline: dataset → train → predict → rough → finish (simulated), with a summary page");
   sub->add_option("config", o->config_file, "config file (default configs/default.json)")->check(CLI::ExistingFile);
   sub->add_option("--out", o->out, "output folder (default: /output of the config)");
   add_common(sub, o->common, false);

@@ -11,6 +11,7 @@
 #include "millnet/gcode/writer.hpp"
 #include "millnet/ingest/heightfield.hpp"
 #include "millnet/report/plots.hpp"
+#include "millnet/simulate/io/zmap_file.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -99,6 +100,20 @@ void polylines(const gcode::Program& prog, std::vector<std::vector<std::array<do
     at = to;
     have = have || (m->axes & (gcode::kX | gcode::kY)) == (gcode::kX | gcode::kY);
   }
+}
+
+/// A stock saved by an earlier `simulate --save-stock`: its grid must be the part's.
+simulate::ZMap stock_from_file(const std::string& file, const simulate::GridSpec& g) {
+  simulate::ZMap z = simulate::io::read_zmap(file);
+  const simulate::GridSpec& s = z.spec();
+  auto same = [](double a, double b) { return std::abs(a - b) <= 1e-9; };
+  if (s.nx != g.nx || s.ny != g.ny || !same(s.cell, g.cell) || !same(s.x0, g.x0) || !same(s.y0, g.y0))
+    throw file_error(file, "its grid (" + std::to_string(s.nx) + " × " + std::to_string(s.ny) + " cells of " +
+                               fixed(s.cell, 4) + " mm at " + fixed(s.x0, 3) + ", " + fixed(s.y0, 3) +
+                               ") is not this part's (" + std::to_string(g.nx) + " × " + std::to_string(g.ny) +
+                               " cells of " + fixed(g.cell, 4) + " mm at " + fixed(g.x0, 3) + ", " + fixed(g.y0, 3) +
+                               "): save and reuse a stock with the same mesh, --units, --up and /simulate/cell_mm");
+  return z;
 }
 
 /// Scoring a finished surface: nothing should be left above the design (allowance 0).
@@ -191,6 +206,7 @@ FinishSettings finish_settings(const Json& config) {
   s.strategies = strat == "all" ? finish::all_strategies() : std::vector{finish::parse_strategy(strat)};
   s.aim.aim = simulate::parse_aim(f["aim"].get<std::string>());
   s.aim.time_budget_min = f["time_budget_min"].get<double>();
+  s.aim.complete_share = f["complete_margin_share"].get<double>();
   const Json& sim = config["simulate"];
   s.sim.cell_mm = sim["cell_mm"].get<double>();
   s.sim.allowance_mm = sim["allowance_mm"].get<double>();
@@ -285,6 +301,7 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
       o.score.ra_p90_um = m.ra_p90_um;
       o.score.uncut_area_mm2 = j["uncut_area_mm2"].get<double>();
       o.score.max_gouge_mm = m.max_gouge_mm;
+      o.score.surface_area_mm2 = static_cast<double>(m.surface_cells) * frame.grid.cell * frame.grid.cell;
       o.ra_share = m.ra_share;
       ra_png(out / (base + ".ra.png"), frame, m, stem + ": " + finish::strategy_name(strategy) + ", roughness Ra");
     }
@@ -298,6 +315,7 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
     simulate::AimParams aim = settings.aim;
     if (!settings.simulate) aim.aim = simulate::Aim::Time;  // without a surface only time can rank
     const std::vector<std::size_t> order = simulate::rank_strategies(scores, aim);
+    for (std::size_t r = 0; r < order.size(); ++r) outcomes[order[r]].rank = static_cast<int>(r + 1);
     std::ostringstream csv, md;
     csv << "rank,strategy,name,path_length_mm,time_feed_min,time_kinematic_min,lifts";
     md << "# " << stem << ": finishing strategies ranked by " << simulate::to_string(aim.aim) << "\n\n"
@@ -351,12 +369,13 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
 
 Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
                     const std::vector<std::pair<fs::path, finish::Cutter>>& programs, const std::string& stock,
-                    const FinishSettings& settings, const fs::path& out) {
-  if (stock != "flat" && stock != "design") throw Error("--stock '" + stock + "': expected flat or design");
+                    const FinishSettings& settings, const fs::path& out, bool save_stock) {
   const PartFrame frame = part_frame(mesh, settings, true);
-  simulate::ZMap z = stock == "flat" ? simulate::ZMap::flat(frame.grid, 0.0)
-                                     : simulate::ZMap::from_heights(frame.grid, frame.design, settings.sim.allowance_mm,
-                                                                    frame.z_shift + settings.sim.allowance_mm);
+  simulate::ZMap z = stock == "flat"     ? simulate::ZMap::flat(frame.grid, 0.0)
+                     : stock == "design" ? simulate::ZMap::from_heights(frame.grid, frame.design,
+                                                                        settings.sim.allowance_mm,
+                                                                        frame.z_shift + settings.sim.allowance_mm)
+                                         : stock_from_file(stock, frame.grid);
   Json runs = Json::array();
   for (const auto& [file, cutter] : programs) {
     std::ifstream in(file, std::ios::binary);
@@ -394,6 +413,10 @@ Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
                                       static_cast<double>(frame.grid.ny) * frame.grid.cell};
   if (!(g.maxCoeff() > g.minCoeff())) o.value_range = std::pair{g.minCoeff(), g.minCoeff() + 1};
   (void)report::heat_map_png(out / (stem + ".deviation.png"), g, stem + ": machined - design", "mm", o);
+  if (save_stock) {
+    simulate::io::write_zmap(out / (stem + ".zmap"), z);
+    j["saved_stock"] = (out / (stem + ".zmap")).string();
+  }
   write_file_atomic(out / (stem + ".sim.json"), j.dump(2) + "\n");
   return j;
 }

@@ -52,6 +52,7 @@ struct StrategyOutcome {
   Json metrics;
   simulate::StrategyScore score;
   std::vector<double> ra_share;  ///< per Ra bin (with --simulate)
+  int rank = 0;                  ///< 1-based rank by the aim when several strategies ran, else 0
 };
 
 /// Plans, writes and (optionally) simulates every strategy of `settings` on the prepared mesh:
@@ -61,10 +62,13 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
                                          const std::filesystem::path& out);
 
 /// millnet simulate: machines `programs` (read from disk, each with its cutter) one after the
-/// other on one z-map over the part, stock flat at Z = 0 ("flat") or the design + allowance
-/// ("design"); writes DIR/<stem>.sim.json, <stem>.ra.png and <stem>.deviation.png.
+/// other on one z-map over the part, stock flat at Z = 0 ("flat"), the design + allowance
+/// ("design") or a z-map file saved by an earlier simulation of the same part (any other value: its
+/// path; the grid must match); writes DIR/<stem>.sim.json, <stem>.ra.png and <stem>.deviation.png,
+/// and with save_stock the machined z-map as DIR/<stem>.zmap.
 Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
                     const std::vector<std::pair<std::filesystem::path, finish::Cutter>>& programs,
-                    const std::string& stock, const FinishSettings& settings, const std::filesystem::path& out);
+                    const std::string& stock, const FinishSettings& settings, const std::filesystem::path& out,
+                    bool save_stock = false);
 
 }  // namespace millnet::app

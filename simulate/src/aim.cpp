@@ -30,6 +30,12 @@ std::vector<std::size_t> rank_strategies(const std::vector<StrategyScore>& score
   std::vector<std::size_t> order(scores.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   auto gouges = [&](const StrategyScore& s) { return s.max_gouge_mm > params.gouge_tolerance_mm; };
+  double least_uncut = std::numeric_limits<double>::infinity();
+  for (const StrategyScore& s : scores)
+    if (!gouges(s)) least_uncut = std::min(least_uncut, s.uncut_area_mm2);
+  auto complete = [&](const StrategyScore& s) {
+    return s.uncut_area_mm2 <= least_uncut + params.complete_share * s.surface_area_mm2;
+  };
   auto quality_key = [](const StrategyScore& s) {
     return std::make_tuple(s.ra_median_um, s.ra_p90_um, s.uncut_area_mm2, s.time_min, s.slot);
   };
@@ -38,6 +44,8 @@ std::vector<std::size_t> rank_strategies(const std::vector<StrategyScore>& score
     const StrategyScore& a = scores[ia];
     const StrategyScore& b = scores[ib];
     if (gouges(a) != gouges(b)) return !gouges(a);
+    if (complete(a) != complete(b)) return complete(a);
+    if (!complete(a) && a.uncut_area_mm2 != b.uncut_area_mm2) return a.uncut_area_mm2 < b.uncut_area_mm2;
     switch (params.aim) {
       case Aim::Quality: return quality_key(a) < quality_key(b);
       case Aim::Time: return time_key(a) < time_key(b);

@@ -41,6 +41,24 @@ TEST(Aim, GougingStrategyGoesLastWhateverItsRoughness) {
   EXPECT_EQ(slots(s, rank_strategies(s, p)), (std::vector<int>{1, 2}));
 }
 
+TEST(Aim, AStrategyThatLeavesTheSurfaceUnfinishedGoesAfterTheCompleteOnes) {
+  // Surface 10,000 mm²: margin 1 % = 100 mm² over the least uncut non-gouging strategy (160 mm²).
+  std::vector<StrategyScore> s{score(1, 1.2, 1.3, 30, 0, 170), score(2, 1.25, 1.3, 30, 0, 260),
+                               score(3, 1.3, 1.4, 30, 0, 160), score(4, 0.0, 0.0, 20, 0, 9000),
+                               score(5, 0.5, 0.6, 20, 0.01, 10)};  // 5 gouges: its 10 mm² sets no floor
+  for (auto& x : s) x.surface_area_mm2 = 10000;
+  // Complete: uncut ≤ 160 + 100 = 260 mm², so 1, 2 (exactly 260) and 3; 4 is not.
+  EXPECT_EQ(slots(s, rank_strategies(s, {})), (std::vector<int>{1, 2, 3, 4, 5}));
+  s[1].uncut_area_mm2 = 261;  // now 2 is incomplete, still before the incomplete 4 (less uncut)
+  EXPECT_EQ(slots(s, rank_strategies(s, {})), (std::vector<int>{1, 3, 2, 4, 5}));
+  AimParams time;
+  time.aim = Aim::Time;  // incompleteness outranks time too
+  EXPECT_EQ(slots(s, rank_strategies(s, time)), (std::vector<int>{1, 3, 2, 4, 5}));
+  AimParams loose;
+  loose.complete_share = 1;  // everything within 10,000 mm² of the least: Ra decides
+  EXPECT_EQ(slots(s, rank_strategies(s, loose)), (std::vector<int>{4, 1, 2, 3, 5}));
+}
+
 TEST(Aim, TimeAndQualityWithinBudget) {
   const std::vector<StrategyScore> s = {score(1, 0.8, 1.0, 10), score(2, 0.5, 0.6, 30), score(3, 0.4, 0.5, 40),
                                         score(4, 1.2, 1.3, 5)};

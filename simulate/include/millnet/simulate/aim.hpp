@@ -4,7 +4,13 @@
 // shortest machining time, or the best surface within a time budget.
 //
 // Every rule puts a strategy that gouges the part (max_gouge_mm > gouge tolerance) after every
-// strategy that does not: a gouged part is scrap, whatever its roughness or time.
+// strategy that does not: a gouged part is scrap, whatever its roughness or time. Next, a strategy
+// that leaves part of the surface unfinished goes after every strategy that finishes it: its
+// untouched stock is a flat, smooth plane whose Ra of ~0 would otherwise win the quality rule (a
+// Z-level finish leaves a plateau's top as it found it). "Complete" is relative, because some
+// stock is out of every strategy's reach (a ball cannot enter the concave corner at a wall's
+// foot): uncut area ≤ the smallest uncut area among the non-gouging strategies + complete_share ×
+// the surface area.
 #include <string>
 #include <string_view>
 #include <vector>
@@ -23,6 +29,7 @@ struct StrategyScore {
   double ra_median_um = 0;       ///< median areal roughness over the surface, µm
   double ra_p90_um = 0;          ///< 90th percentile, µm
   double uncut_area_mm2 = 0;     ///< surface left with more than allowance + tolerance
+  double surface_area_mm2 = 0;   ///< the scored surface (for the completeness margin)
   double max_gouge_mm = 0;       ///< deepest cut below the design surface (≥ 0)
   double time_min = 0;           ///< machining time (kinematic), min
 };
@@ -31,13 +38,15 @@ struct AimParams {
   Aim aim = Aim::Quality;
   double time_budget_min = 60;   ///< QualityWithinTime only
   double gouge_tolerance_mm = 0.002;
+  double complete_share = 0.01;  ///< completeness margin, share of the surface area
 };
 
 /// Indices into `scores`, best first. Rules (ties broken by the next key, finally by slot):
-///  * Quality: non-gouging first; then ra_median, ra_p90, uncut area, time;
-///  * Time: non-gouging first; then time, ra_median;
-///  * QualityWithinTime: non-gouging first; then those within the budget by Quality, then the
-///    others by time.
+/// non-gouging first; then complete before incomplete (above); incomplete ones by uncut area;
+/// among the complete ones:
+///  * Quality: ra_median, ra_p90, uncut area, time;
+///  * Time: time, ra_median;
+///  * QualityWithinTime: those within the budget by Quality, then the others by time.
 /// O(n log n). Deterministic (a total order).
 [[nodiscard]] std::vector<std::size_t> rank_strategies(const std::vector<StrategyScore>& scores,
                                                        const AimParams& params);
