@@ -283,7 +283,11 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
     if (settings.simulate) {
       simulate::ZMap z = simulate::ZMap::from_heights(frame.grid, frame.design, settings.sim.allowance_mm,
                                                       frame.z_shift + settings.sim.allowance_mm);
-      const simulate::SweepResult sw = simulate::machine(z, plan.program, params.tool);
+      // The program as the machine gets it: read back from the file just written (gouges are
+      // reported at their line).
+      const fs::path nc = out / (base + ".nc");
+      const gcode::Program back = gcode::read(read_file(nc), nc.string());
+      const simulate::SweepResult sw = simulate::machine(z, back, params.tool);
       const simulate::MetricsOptions mo = metrics_options(settings.sim);
       const simulate::SurfaceMetrics m = simulate::surface_metrics(z, frame.design, mo);
       j.update(sim_metrics_json(m, sw));

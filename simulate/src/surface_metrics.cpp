@@ -79,18 +79,38 @@ SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& 
   std::size_t uncut = 0;
   std::uint32_t first_gouge_stamp = std::numeric_limits<std::uint32_t>::max();
   std::size_t first_gouge_cell = SIZE_MAX;
+  // A gouge is measured along the surface normal: e·cos(slope) = e / √(1 + |∇design|²), the
+  // gradient by central differences of the design (one-sided at its edges). On a steep wall a
+  // vertical e overstates the cut by 1/cos(slope) (19× at 87°), which is not how a surface
+  // deviation is measured (nor what a chord tolerance bounds).
+  const std::size_t gnx = spec.nx, gny = spec.ny;
+  auto normal_e = [&](std::size_t i, double e) {
+    const std::size_t ix = i % gnx, iy = i / gnx;
+    auto slope = [&](std::size_t lo, std::size_t hi, double span) {
+      return std::isnan(design[lo]) || std::isnan(design[hi]) ? 0.0 : (design[hi] - design[lo]) / span;
+    };
+    const std::size_t xl = ix > 0 ? i - 1 : i, xh = ix + 1 < gnx ? i + 1 : i;
+    const std::size_t yl = iy > 0 ? i - gnx : i, yh = iy + 1 < gny ? i + gnx : i;
+    const double gx = xh > xl ? slope(xl, xh, static_cast<double>(xh - xl) * spec.cell) : 0.0;
+    const double gy = yh > yl ? slope(yl, yh, static_cast<double>((yh - yl) / gnx) * spec.cell) : 0.0;
+    return e / std::sqrt(1 + gx * gx + gy * gy);
+  };
+  double min_en = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < n; ++i) {
     if (std::isnan(design[i])) continue;
     ++out.surface_cells;
     const double e = z[i] - design[i];
-    if (e < min_e) {
-      min_e = e;
-      out.gouge_cell = i;
-    }
+    min_e = std::min(min_e, e);
     max_e = std::max(max_e, e);
     if (e > opt.allowance_mm + opt.tolerance_mm) ++uncut;
     if (stamps[i] != 0) scallop = std::max(scallop, e - opt.allowance_mm);
-    if (e < -opt.tolerance_mm && stamps[i] != 0 && stamps[i] < first_gouge_stamp) {
+    if (!(e < 0)) continue;
+    const double en = normal_e(i, e);
+    if (en < min_en) {
+      min_en = en;
+      out.gouge_cell = i;
+    }
+    if (en < -opt.tolerance_mm && stamps[i] != 0 && stamps[i] < first_gouge_stamp) {
       first_gouge_stamp = stamps[i];
       first_gouge_cell = i;
     }
@@ -98,8 +118,8 @@ SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& 
   if (out.surface_cells == 0) throw Error("simulate: the design surface has no cell on the z-map");
   out.min_e_mm = min_e;
   out.max_e_mm = max_e;
-  out.max_gouge_mm = std::max(0.0, -min_e);
-  out.gouged = min_e < -opt.tolerance_mm;
+  out.max_gouge_mm = std::isfinite(min_en) ? -min_en : 0.0;
+  out.gouged = min_en < -opt.tolerance_mm;
   out.uncut_area_mm2 = static_cast<double>(uncut) * cell_area;
   out.scallop_max_mm = std::isfinite(scallop) ? std::max(0.0, scallop) : 0;
   if (out.gouged) {

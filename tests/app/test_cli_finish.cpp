@@ -129,5 +129,53 @@ TEST(CliSimulate, ReportsAGougeAtItsLineAndRejectsUnknownWords) {
   EXPECT_EQ(list_files(d / "sim2"), "");
 }
 
+TEST(CliSimulate, AStockSavedByOneRunContinuesInTheNextAsIfItWereOneRun) {
+  const fs::path d = fresh_dir("simulate_stock");
+  const fs::path mesh = write_dome(d), cfg = write_config(d);
+  // A "roughing" pass with a flat mill at Z −2.5 over the dome, then a ball pass lower down.
+  std::ofstream(d / "a.nc") << "G21 G90 G17 G94\nM3 S9000\nG0 Z5\nG0 X-2 Y3\nG1 Z-2.5 F300\nG1 X18 F1500\n"
+                               "G1 Y9\nG1 X-2\nG0 Z5\nM5\nM30\n";
+  std::ofstream(d / "b.nc") << "G21 G90 G17 G94\nM3 S18000\nG0 Z5\nG0 X-2 Y6\nG1 Z-6 F600\nG1 X18 F1900\n"
+                               "G0 Z5\nM5\nM30\n";
+  const std::string base = "simulate --quiet --config '" + cfg.string() + "' --mesh '" + mesh.string() + "' ";
+  const auto both =
+      run_millnet(base + "--gcode a.nc --gcode b.nc --tool flat:6 --tool ball:2 --save-stock --out one", d);
+  ASSERT_EQ(both.code, 0) << both.err;
+  const auto first = run_millnet(base + "--gcode a.nc --tool flat:6 --save-stock --out s1", d);
+  ASSERT_EQ(first.code, 0) << first.err;
+  ASSERT_TRUE(fs::exists(d / "s1" / "dome.zmap"));
+  const auto second =
+      run_millnet(base + "--gcode b.nc --tool ball:2 --stock s1/dome.zmap --save-stock --out s2", d);
+  ASSERT_EQ(second.code, 0) << second.err;
+  // The machined heights are the same bytes; so are the figures that depend on heights only (Ra
+  // may differ: a stock read back has no move history, so cells that only the first program cut
+  // take their Ra profile along Y).
+  EXPECT_TRUE(slurp(d / "one" / "dome.zmap") == slurp(d / "s2" / "dome.zmap"));
+  const auto j1 = nlohmann::json::parse(slurp(d / "one" / "dome.sim.json"));
+  const auto j2 = nlohmann::json::parse(slurp(d / "s2" / "dome.sim.json"));
+  for (const char* k : {"max_gouge_mm", "uncut_area_mm2"}) EXPECT_EQ(j1[k].get<double>(), j2[k].get<double>()) << k;
+  EXPECT_GT(j1["programs"][1]["max_depth_of_cut_mm"].get<double>(), 0.5);
+  EXPECT_EQ(j1["programs"][1]["max_depth_of_cut_mm"], j2["programs"][0]["max_depth_of_cut_mm"]);
+
+  // A stock of another grid, a truncated file, a text file: one line naming the file; nothing written.
+  std::ofstream(d / "coarse.json") << R"({"simulate": {"cell_mm": 0.1}})";
+  const auto grid = run_millnet("simulate --config coarse.json --mesh '" + mesh.string() +
+                                    "' --gcode b.nc --tool ball:2 --stock s1/dome.zmap --out bad1", d);
+  EXPECT_EQ(grid.code, 1);
+  EXPECT_NE(grid.err.find("dome.zmap"), std::string::npos) << grid.err;
+  EXPECT_NE(grid.err.find("is not this part's"), std::string::npos) << grid.err;
+  EXPECT_EQ(std::count(grid.err.begin(), grid.err.end(), '\n'), 1) << grid.err;
+  const std::string bytes = slurp(d / "s1" / "dome.zmap");
+  std::ofstream(d / "cut.zmap", std::ios::binary) << bytes.substr(0, bytes.size() - 5);
+  const auto cut = run_millnet(base + "--gcode b.nc --tool ball:2 --stock cut.zmap --out bad2", d);
+  EXPECT_EQ(cut.code, 1);
+  EXPECT_NE(cut.err.find("cut.zmap"), std::string::npos) << cut.err;
+  EXPECT_NE(cut.err.find("bytes of heights"), std::string::npos) << cut.err;
+  const auto text = run_millnet(base + "--gcode b.nc --tool ball:2 --stock a.nc --out bad3", d);
+  EXPECT_EQ(text.code, 1);
+  EXPECT_NE(text.err.find("not a millnet z-map"), std::string::npos) << text.err;
+  for (const char* o : {"bad1", "bad2", "bad3"}) EXPECT_EQ(list_files(d / o), "") << o;
+}
+
 }  // namespace
 }  // namespace millnet::testing

@@ -465,3 +465,26 @@ TEST(ZMap, RaStrideKeepsTheLatticeCellsBitForBitAndLeavesTheRestNaN) {
   o.ra_every = 0;
   EXPECT_THROW((void)surface_metrics(zm, design, o), Error);
 }
+
+TEST(ZMap, AGougeIsMeasuredAlongTheSurfaceNormal) {
+  // Design z = x·tan 60° over a 2 × 2 mm window; the machined surface 0.01 mm lower everywhere
+  // (vertically): 0.01·cos 60° = 0.005 mm deep along the normal. On flat ground the two agree.
+  const GridSpec g{0, 0, 0.01, 200, 200};
+  const double t = std::tan(std::numbers::pi / 3);
+  std::vector<double> design(g.cells());
+  for (std::size_t iy = 0; iy < g.ny; ++iy)
+    for (std::size_t ix = 0; ix < g.nx; ++ix) design[iy * g.nx + ix] = g.x(ix) * t;
+  const ZMap low = ZMap::from_heights(g, design, -0.01);
+  MetricsOptions o;
+  o.ra_map = false;
+  o.tolerance_mm = 0.004;
+  auto m = surface_metrics(low, design, o);
+  EXPECT_NEAR(m.min_e_mm, -0.01, 1e-12);
+  EXPECT_NEAR(m.max_gouge_mm, 0.005, 1e-9);
+  EXPECT_TRUE(m.gouged);
+  o.tolerance_mm = 0.006;
+  EXPECT_FALSE(surface_metrics(low, design, o).gouged);
+  std::vector<double> flat(g.cells(), 1.0);
+  m = surface_metrics(ZMap::from_heights(g, flat, -0.01), flat, o);
+  EXPECT_NEAR(m.max_gouge_mm, 0.01, 1e-12);
+}

@@ -175,8 +175,10 @@ struct SurfaceMetrics {
   std::size_t surface_cells = 0;          ///< cells with a design height
   double min_e_mm = 0;                    ///< min(machined − design)
   double max_e_mm = 0;
-  double max_gouge_mm = 0;                ///< max(0, −min e)
-  bool gouged = false;                    ///< min e < −tolerance
+  /// Deepest cut below the design measured along the surface normal: max(0, −min e·cos(slope)),
+  /// the slope from the design's central differences (on flat ground, −min e).
+  double max_gouge_mm = 0;
+  bool gouged = false;                    ///< max_gouge_mm > tolerance
   std::size_t gouge_cell = SIZE_MAX;      ///< the deepest gouge's cell
   bool gouge_has_move = false;
   MoveRef gouge_move;                     ///< the move that cut the deepest gouge
