@@ -14,15 +14,19 @@ Registered register_dataset(CLI::App& app) {
   struct Opts {
     Common common;
     std::string out;
+    bool agreement = false;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* sub = app.add_subcommand("dataset", "(re)generate the model-vector table from the config's recipe");
   sub->add_option("--out", o->out, "output folder (vectors.csv, manifest.json)")->required();
+  sub->add_flag("--agreement", o->agreement,
+                "also plan and simulate the five finishing strategies on every part and report how often the "
+                "simulated best agrees with the recipe's label (agreement.md; minutes per part)");
   add_common(sub, o->common);
   sub->get_option("--config")->required();
   return {sub, [o]() {
             const Json config = setup(o->common);
-            (void)build_dataset(recipe_from_config(config), o->out, false);
+            (void)build_dataset(recipe_from_config(config), o->out, false, config, o->agreement);
             return 0;
           }};
 }

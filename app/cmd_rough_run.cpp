@@ -453,7 +453,7 @@ int run_run(const RunOpts& o) {
   // 1. dataset (rebuilt only when the recipe or a part file changed)
   const fs::path ds_dir =
       config["dataset"].contains("output") ? fs::path(config["dataset"]["output"].get<std::string>()) : out / "dataset";
-  stage("dataset_s", [&] { (void)build_dataset(recipe_from_config(config), ds_dir, true); });
+  stage("dataset_s", [&] { (void)build_dataset(recipe_from_config(config), ds_dir, true, config); });
   // 2. train
   TrainSummary ts;
   stage("train_s", [&] { ts = train_model(ds_dir / "vectors.csv", config, out / "model"); });

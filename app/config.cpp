@@ -93,6 +93,20 @@ public:
     } else if (type == "number_or_string") {
       if (!value.is_number() && !value.is_string())
         throw Error(at + ": expected a number or a string, got " + type_name(value));
+    } else if (type == "integer_or_string") {
+      if (value.is_number_integer() || value.is_number_unsigned()) {
+        bounds(value.get<double>(), rule, at);
+      } else {
+        const Json strings = rule.value("strings", Json::array());
+        bool ok = value.is_string();
+        if (ok) {
+          ok = false;
+          for (const auto& e : strings) ok = ok || e == value;
+        }
+        if (!ok)
+          throw Error(at + ": expected an integer or one of " + strings.dump() + ", got " + type_name(value) + " " +
+                      shown(value));
+      }
     } else if (!type.empty()) {
       throw Error("schema: unknown type '" + type + "' at " + ptr);
     }

@@ -1,6 +1,7 @@
 #include "learn.hpp"
 
 #include "cli.hpp"
+#include "finish_job.hpp"
 #include "text.hpp"
 #include "report_util.hpp"
 
@@ -17,6 +18,7 @@
 #include "millnet/report/plots.hpp"
 
 #include <algorithm>
+#include <map>
 #include <cmath>
 #include <sstream>
 
@@ -76,22 +78,146 @@ datasets::Recipe recipe_from_config(const Json& config) {
     for (const auto& p : d["parts"]) {
       datasets::PartSpec s;
       s.file = p["file"].get<std::string>();
-      s.label = p["label"].get<int>();
+      if (p["label"].is_string()) {  // "simulate" (the schema allows nothing else)
+        s.label_by_simulation = true;
+      } else {
+        s.label = p["label"].get<int>();
+      }
       s.name = p.value("name", std::string());
       r.parts.push_back(std::move(s));
     }
   }
+  if (std::any_of(r.parts.begin(), r.parts.end(), [](const auto& p) { return p.label_by_simulation; })) {
+    Json f = config["finish"];
+    f.erase("meshes");
+    f.erase("strategy");
+    r.simulation_settings_json = Json{{"finish", f}, {"simulate", config["simulate"]}}.dump();
+  }
   return r;
 }
 
-bool build_dataset(const datasets::Recipe& recipe, const fs::path& out_dir, bool reuse) {
-  if (reuse && datasets_io::table_up_to_date(out_dir, recipe)) {
+namespace {
+
+/// One part's strategies as the simulation ranked them.
+struct SimulatedLabel {
+  std::string name;
+  int recipe_label = 0;  ///< the recipe's label (0 for a part labelled by simulation)
+  int best = 0;          ///< the slot ranked first
+  Json figures;          ///< per strategy
+};
+
+/// Plans and simulates the five strategies on each part (files in dir/<name>/) and returns the
+/// slot the aim ranks first. A part that fails stops the build (all-or-nothing, as the table).
+std::vector<SimulatedLabel> simulate_labels(const datasets::Recipe& recipe, const std::vector<std::size_t>& which,
+                                            const FinishSettings& settings, const fs::path& dir) {
+  ingest::PrepareOptions prep;
+  prep.units = recipe.units;
+  prep.up = recipe.up;
+  std::vector<SimulatedLabel> out;
+  Progress progress("dataset: labels by simulation", which.size());
+  for (const std::size_t k : which) {
+    const datasets::PartSpec& p = recipe.parts[k];
+    const std::string name = p.name.empty() ? p.file.stem().string() : p.name;
+    SimulatedLabel sl{name, p.label_by_simulation ? 0 : p.label, 0, Json::array()};
+    try {
+      const ingest::Mesh mesh = ingest::prepare(ingest::load_mesh(p.file), prep);
+      for (const StrategyOutcome& o : finish_part(mesh, name, settings, dir / name)) {
+        if (o.rank == 1) sl.best = static_cast<int>(o.strategy);
+        sl.figures.push_back(Json{{"strategy", static_cast<int>(o.strategy)},
+                                  {"rank", o.rank},
+                                  {"ra_median_um", o.score.ra_median_um},
+                                  {"ra_p90_um", o.score.ra_p90_um},
+                                  {"uncut_area_mm2", o.score.uncut_area_mm2},
+                                  {"max_gouge_mm", o.score.max_gouge_mm},
+                                  {"time_kinematic_min", o.score.time_min}});
+      }
+    } catch (const std::exception& e) {
+      throw Error("dataset: part '" + name + "' (" + p.file.string() + "): labelling by simulation: " + e.what());
+    }
+    out.push_back(std::move(sl));
+    progress.tick();
+  }
+  progress.finish();
+  return out;
+}
+
+/// The agreement of the simulated best with the recipe's labels, per label: JSON and a Markdown table.
+std::pair<Json, std::string> agreement(const std::vector<SimulatedLabel>& labels, const datasets::Recipe& recipe) {
+  std::map<int, std::pair<int, int>> per;          // label → (parts, agreeing)
+  std::map<int, std::map<int, int>> best_counts;   // label → simulated best → parts
+  for (const auto& l : labels) {
+    if (l.recipe_label < 1) continue;
+    auto& [n, agree] = per[l.recipe_label];
+    ++n;
+    agree += l.best == l.recipe_label ? 1 : 0;
+    ++best_counts[l.recipe_label][l.best];
+  }
+  Json j = Json::array();
+  std::ostringstream md;
+  md << "| label (recipe) | parts | simulated best = label | simulated best (parts) |\n|---|---:|---:|---|\n";
+  int total = 0, total_agree = 0;
+  for (const auto& [label, c] : per) {
+    std::string dist;
+    Json bj = Json::object();
+    for (const auto& [b, n] : best_counts[label]) {
+      dist += (dist.empty() ? "" : ", ") + std::to_string(b) + ": " + std::to_string(n);
+      bj[std::to_string(b)] = n;
+    }
+    j.push_back(Json{{"label", label}, {"parts", c.first}, {"agree", c.second}, {"simulated_best", bj}});
+    md << "| " << label << " " << strategy_name({recipe.strategies.begin(), recipe.strategies.end()}, label) << " | "
+       << c.first << " | " << c.second << " | " << dist << " |\n";
+    total += c.first;
+    total_agree += c.second;
+  }
+  md << "| all | " << total << " | " << total_agree << " | |\n";
+  return {j, md.str()};
+}
+
+}  // namespace
+
+bool build_dataset(datasets::Recipe recipe, const fs::path& out_dir, bool reuse, const Json& config,
+                   bool with_agreement) {
+  if (reuse && !with_agreement && datasets_io::table_up_to_date(out_dir, recipe)) {
     info("dataset: " + (out_dir / "vectors.csv").string() + " is up to date (same recipe and part files)");
     return false;
   }
+  std::vector<std::size_t> which;
+  for (std::size_t k = 0; k < recipe.parts.size(); ++k)
+    if (recipe.parts[k].label_by_simulation || with_agreement) which.push_back(k);
+  std::string labelling;
+  if (!which.empty()) {
+    FinishSettings fs_ = finish_settings(config);
+    fs_.strategies = finish::all_strategies();
+    fs_.simulate = true;
+    const std::vector<SimulatedLabel> labels = simulate_labels(recipe, which, fs_, out_dir / "labelling");
+    Json parts = Json::array();
+    for (std::size_t i = 0; i < which.size(); ++i) {
+      datasets::PartSpec& p = recipe.parts[which[i]];
+      if (p.label_by_simulation) p.label = labels[i].best;
+      parts.push_back(Json{{"name", labels[i].name},
+                           {"label_by_simulation", p.label_by_simulation},
+                           {"recipe_label", labels[i].recipe_label},
+                           {"simulated_best", labels[i].best},
+                           {"strategies", labels[i].figures}});
+    }
+    Json lj{{"aim", simulate::to_string(fs_.aim.aim)}, {"parts", parts}};
+    if (with_agreement) {
+      auto [aj, md] = agreement(labels, recipe);
+      lj["agreement"] = aj;
+      write_file_atomic(out_dir / "agreement.md",
+                        "# How often the simulated best strategy agrees with the recipe's label\n\nAim: " +
+                            std::string(simulate::to_string(fs_.aim.aim)) + "; five strategies planned and "
+                            "simulated per part (millnet finish --strategy all --simulate; figures per part in "
+                            "manifest.json under labelling, files in labelling/).\n\n" + md);
+      info("dataset: agreement of the simulated best with the labels → " + (out_dir / "agreement.md").string() + "\n" +
+           md);
+    }
+    labelling = lj.dump(1);
+  }
   Progress progress("dataset", 0);
-  const datasets::Table table = datasets::build_table(recipe, progress.callback());
+  datasets::Table table = datasets::build_table(recipe, progress.callback());
   progress.finish();
+  table.labelling_json = labelling;
   datasets::write_table(table, out_dir);
   info("dataset: " + std::to_string(table.rows.size()) + " vectors from " + std::to_string(recipe.parts.size()) +
        " parts → " + (out_dir / "vectors.csv").string());

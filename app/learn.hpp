@@ -21,8 +21,13 @@ namespace millnet::app {
 
 /// Builds the table of `recipe` into out_dir (vectors.csv + manifest.json). When `reuse` and
 /// out_dir already holds a table built from the same recipe and the same part-file bytes, nothing is
-/// rebuilt. Returns true when it was (re)built.
-bool build_dataset(const datasets::Recipe& recipe, const std::filesystem::path& out_dir, bool reuse);
+/// rebuilt. Parts labelled "simulate" get the strategy their virtual machining ranks first
+/// (settings from the config's /finish and /simulate; each part's five programs and figures in
+/// out_dir/labelling/<name>/, every strategy's figures in the manifest under "labelling"). With
+/// `with_agreement`, every part is simulated and out_dir/agreement.md tells how often the
+/// simulated best agrees with the recipe's label. Returns true when the table was (re)built.
+bool build_dataset(datasets::Recipe recipe, const std::filesystem::path& out_dir, bool reuse, const Json& config,
+                   bool with_agreement = false);
 
 /// Figures of a training run (also written to DIR/train_report.json).
 struct TrainSummary {

@@ -7,6 +7,7 @@
 #include "millnet/ingest/heightfield.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
 
+#include <algorithm>
 #include <set>
 
 namespace millnet::datasets {
@@ -57,7 +58,8 @@ std::string recipe_json(const Recipe& r) {
   std::string j = "{\"parts\": [";
   for (std::size_t k = 0; k < r.parts.size(); ++k)
     j += (k ? ", " : "") + std::string("{\"file\": ") + json_string(r.parts[k].file.generic_string()) +
-         ", \"label\": " + std::to_string(r.parts[k].label) + ", \"name\": " + json_string(part_name(r.parts[k])) + "}";
+         ", \"label\": " + (r.parts[k].label_by_simulation ? std::string("\"simulate\"") : std::to_string(r.parts[k].label)) +
+         ", \"name\": " + json_string(part_name(r.parts[k])) + "}";
   j += "], \"units\": " + json_string(units_name(r.units)) + ", \"up\": " + json_string(ingest::to_string(r.up)) +
        ", \"raster_mm\": " + json_number(r.raster_mm, "raster_mm") + ", \"grid\": " + std::to_string(r.grid) +
        ", \"augment\": {\"angles_deg\": [";
@@ -72,6 +74,8 @@ std::string recipe_json(const Recipe& r) {
   if (r.generate)
     j += ", \"generate\": {\"seed\": " + std::to_string(r.generate->seed) + ", \"per_family\": " +
          std::to_string(r.generate->per_family) + ", \"resolution\": " + std::to_string(r.generate->resolution) + "}";
+  const bool simulated = std::any_of(r.parts.begin(), r.parts.end(), [](const PartSpec& p) { return p.label_by_simulation; });
+  if (simulated && !r.simulation_settings_json.empty()) j += ", \"label_by_simulation\": " + r.simulation_settings_json;
   return j + "}";
 }
 
@@ -83,6 +87,8 @@ Table build_table(const Recipe& recipe, const ProgressFn& progress) {
   for (const auto& p : recipe.parts) {
     if (p.label < 0 || p.label > static_cast<int>(kStrategySlots))
       throw Error("dataset recipe: part " + p.file.string() + ": label " + std::to_string(p.label) + " outside 0..8");
+    if (p.label_by_simulation && p.label < 1)
+      throw Error("dataset recipe: part " + p.file.string() + ": its label by simulation was not resolved");
     if (!names.insert(part_name(p)).second)
       throw Error("dataset recipe: two parts are named '" + part_name(p) + "' (names group the variants of one part)");
   }

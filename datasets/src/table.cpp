@@ -228,7 +228,9 @@ void write_table(const Table& table, const fs::path& dir) {
          std::to_string(s.degenerate_triangles) + "}";
   }
   j += table.sources.empty() ? "],\n" : "\n  ],\n";
-  j += "  \"config\": " + (table.config_json.empty() ? std::string("null") : table.config_json) + "\n}\n";
+  j += "  \"config\": " + (table.config_json.empty() ? std::string("null") : table.config_json);
+  if (!table.labelling_json.empty()) j += ",\n  \"labelling\": " + table.labelling_json;
+  j += "\n}\n";
 
   // CSV first: a manifest never describes a CSV that is not there.
   write_file_atomic(dir / "vectors.csv", csv);

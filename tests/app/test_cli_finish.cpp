@@ -177,5 +177,53 @@ TEST(CliSimulate, AStockSavedByOneRunContinuesInTheNextAsIfItWereOneRun) {
   for (const char* o : {"bad1", "bad2", "bad3"}) EXPECT_EQ(list_files(d / o), "") << o;
 }
 
+TEST(CliDataset, APartLabelledBySimulationGetsTheStrategyItsSimulationRanksFirst) {
+  const fs::path d = fresh_dir("dataset_simulate");
+  const fs::path mesh = write_dome(d);
+  fs::copy_file(mesh, d / "dome2.stl");
+  std::ofstream(d / "cfg.json") << R"({"dataset": {"parts": [{"file": "dome.stl", "label": "simulate"},
+                                                             {"file": "dome2.stl", "label": 2}],
+                                                   "raster_mm": 0.5,
+                                                   "augment": {"angles_deg": [0, 10], "axes": ["x"], "flip": false}},
+                                       "finish": {"stepover_mm": 0.5, "step_down_mm": 0.5},
+                                       "simulate": {"cell_mm": 0.05}})";
+  const auto r = run_millnet("dataset --quiet --config cfg.json --agreement --out ds", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto m = nlohmann::json::parse(slurp(d / "ds" / "manifest.json"));
+  ASSERT_TRUE(m.contains("labelling")) << m.dump();
+  const auto& parts = m["labelling"]["parts"];
+  ASSERT_EQ(parts.size(), 2u);
+  EXPECT_EQ(m["config"]["parts"][0]["label"], "simulate");
+  EXPECT_EQ(m["config"]["parts"][1]["label"], 2);
+  for (const auto& p : parts) {
+    ASSERT_EQ(p["strategies"].size(), 5u);
+    int best = 0;
+    for (const auto& st : p["strategies"])
+      if (st["rank"] == 1) best = st["strategy"].get<int>();
+    EXPECT_EQ(p["simulated_best"].get<int>(), best);
+    EXPECT_TRUE(fs::exists(d / "ds" / "labelling" / p["name"].get<std::string>() / (p["name"].get<std::string>() + ".strategies.md")));
+  }
+  // The simulated part's rows carry its simulated best (the same mesh: the same best as dome2's
+  // simulation), the other part keeps its label 2.
+  const int best = parts[0]["simulated_best"].get<int>();
+  EXPECT_EQ(parts[1]["simulated_best"].get<int>(), best);
+  const std::string csv = slurp(d / "ds" / "vectors.csv");
+  EXPECT_NE(csv.find("\ndome#1,dome," + std::to_string(best) + ","), std::string::npos) << csv.substr(0, 200);
+  EXPECT_NE(csv.find("\ndome2#1,dome2,2,"), std::string::npos);
+  // The agreement counts only the recipe-labelled part.
+  const auto& ag = m["labelling"]["agreement"];
+  ASSERT_EQ(ag.size(), 1u);
+  EXPECT_EQ(ag[0]["label"], 2);
+  EXPECT_EQ(ag[0]["parts"], 1);
+  EXPECT_EQ(ag[0]["agree"], best == 2 ? 1 : 0);
+  EXPECT_TRUE(fs::exists(d / "ds" / "agreement.md"));
+
+  std::ofstream(d / "bad.json") << R"({"dataset": {"parts": [{"file": "dome.stl", "label": "simulated"}]}})";
+  const auto bad = run_millnet("dataset --config bad.json --out ds2", d);
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_NE(bad.err.find("/dataset/parts/0/label"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("[\"simulate\"]"), std::string::npos) << bad.err;
+}
+
 }  // namespace
 }  // namespace millnet::testing

@@ -1,7 +1,8 @@
 // Scenarios (tests/scenarios/*.json): the shipped pipeline run end to end through the CLI, with the
 // figures it must meet stored next to the scenario. `millnet run configs/default.json` is the
-// README's first command: dataset → train → predict → rough, one folder per test part and a
-// summary page. One run (~30 s on two cores) serves every assertion.
+// README's first command: dataset → train → predict → rough → finish (five strategies simulated per
+// part), one folder per test part and a summary page. One run (~5 min on two cores) serves every
+// assertion.
 #include "cli_runner.hpp"
 
 #include <nlohmann/json.hpp>
@@ -10,6 +11,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <algorithm>
 #include <set>
 
 namespace {
@@ -43,7 +45,7 @@ TEST(Scenario, DefaultPipelineRunsEndToEndAndMeetsItsFigures) {
   EXPECT_GE(acc, sc["min_accuracy_part"].get<double>());
   EXPECT_EQ(rep["labelled"].get<std::size_t>(), n_parts);
   EXPECT_GE(rep["correct"].get<std::size_t>(), sc["min_correct"].get<std::size_t>());
-  for (const char* stage : {"dataset_s", "train_s", "test_parts_s", "predict_s", "rough_s"}) {
+  for (const char* stage : {"dataset_s", "train_s", "test_parts_s", "predict_s", "rough_s", "finish_s"}) {
     ASSERT_TRUE(rep["timing"].contains(stage)) << stage;
     EXPECT_GE(rep["timing"][stage].get<double>(), 0.0) << stage;
   }
@@ -86,6 +88,42 @@ TEST(Scenario, DefaultPipelineRunsEndToEndAndMeetsItsFigures) {
     EXPECT_NE(summary.find("parts/" + name + "/" + name + ".level_1.png"), std::string::npos);
   }
   EXPECT_EQ(correct, rep["correct"].get<std::size_t>()) << "run_report.json disagrees with the parts' predictions.json";
+
+  // Finishing: every part finished with the five strategies and simulated; both rankings are
+  // permutations of 1..5 and ρ is Spearman's of the two; roughing + the top strategy on one z-map.
+  ASSERT_TRUE(rep.contains("finishing"));
+  ASSERT_EQ(rep["finishing"].size(), n_parts);
+  EXPECT_NE(summary.find("## Finishing: the network's ranking beside the simulated one"), std::string::npos);
+  for (const Json& f : rep["finishing"]) {
+    const std::string name = f["part"].get<std::string>();
+    SCOPED_TRACE(name);
+    ASSERT_EQ(f["status"], "ok") << f.dump();
+    const auto net = f["network_ranking"].get<std::vector<int>>();
+    const auto sim = f["simulated_ranking"].get<std::vector<int>>();
+    EXPECT_EQ(std::set<int>(net.begin(), net.end()), (std::set<int>{1, 2, 3, 4, 5}));
+    EXPECT_EQ(std::set<int>(sim.begin(), sim.end()), (std::set<int>{1, 2, 3, 4, 5}));
+    double d2 = 0;
+    for (int slot = 1; slot <= 5; ++slot) {
+      const auto rn = std::find(net.begin(), net.end(), slot) - net.begin();
+      const auto rs = std::find(sim.begin(), sim.end(), slot) - sim.begin();
+      d2 += static_cast<double>((rn - rs) * (rn - rs));
+    }
+    EXPECT_NEAR(f["spearman"].get<double>(), 1 - 6 * d2 / 120, 1e-12);
+    const Json pred = Json::parse(slurp(out / "parts" / name / "predictions.json"));
+    EXPECT_EQ(net.front(), pred["parts"][0]["top"].get<int>()) << "the network's first is its prediction";
+    const fs::path fin = out / "parts" / name / "finish";
+    for (int k = 1; k <= 5; ++k) {
+      const Json m = Json::parse(slurp(fin / (name + ".s" + std::to_string(k) + ".metrics.json")));
+      EXPECT_LE(m["max_gouge_mm"].get<double>(), 0.002) << "strategy " << k << " gouges the part";
+    }
+    EXPECT_TRUE(fs::exists(fin / (name + ".strategies.png")));
+    ASSERT_TRUE(f.contains("rough_then_top"));
+    EXPECT_EQ(f["rough_then_top"]["strategy"].get<int>(), net.front());
+    EXPECT_GT(f["rough_then_top"]["finisher_max_depth_of_cut_mm"].get<double>(), 0.0);
+    EXPECT_TRUE(fs::exists(out / "parts" / name / (name + ".rough_finish.sim.json")));
+    std::printf("[scenario] %-28s network %s simulated %s rho %.2f\n", name.c_str(), f["network_ranking"].dump().c_str(),
+                f["simulated_ranking"].dump().c_str(), f["spearman"].get<double>());
+  }
   EXPECT_NE(summary.find("predicted as their family's strategy: " + std::to_string(correct) + " of " + std::to_string(n_parts)),
             std::string::npos);
 }

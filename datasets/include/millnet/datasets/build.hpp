@@ -20,6 +20,10 @@ struct PartSpec {
   std::filesystem::path file;   ///< mesh file (any format ingest::load_mesh reads)
   int label = 0;                ///< 1..8, 0 = unknown
   std::string name;             ///< source name in the table; empty ⇒ the file's stem
+  /// The recipe says "label": "simulate": the caller sets `label` to the strategy its virtual
+  /// machining ranks first before build_table; recipe_json echoes "simulate" (so an up-to-date
+  /// check needs no simulation).
+  bool label_by_simulation = false;
 };
 
 /// The plain-struct form of a dataset recipe (the CLI parses datasets/recipe.json into it).
@@ -33,6 +37,9 @@ struct Recipe {
   StrategyNames strategies = default_strategy_names();
   bool aspect_feature = false;                ///< add the `aspect` column
   std::optional<GenerateParams> generate;     ///< echoed in the manifest when the parts were generated
+  /// JSON text of the settings that simulated labels depend on (tool, stepover, aim, …), echoed as
+  /// "label_by_simulation" when some part is labelled by simulation; empty otherwise.
+  std::string simulation_settings_json;
 };
 
 /// Parts of generate_default_parts as recipe parts.

@@ -62,6 +62,9 @@ struct Table {
   // Provenance, written to the manifest (not to the CSV; empty after read_table).
   std::vector<SourceFile> sources;
   std::string config_json;              ///< JSON text echoed as manifest "config" (must be valid JSON; empty ⇒ null)
+  /// JSON text written as manifest "labelling" (every strategy's simulated figures per part, the
+  /// agreement with the recipe's labels); empty ⇒ the key is left out.
+  std::string labelling_json;
 
   [[nodiscard]] std::size_t inputs_per_row() const { return static_cast<std::size_t>(grid_n) * static_cast<std::size_t>(grid_n); }
   /// N×n² inputs (row i = rows[i]).
