@@ -131,10 +131,15 @@ Json histogram_json(const simulate::SurfaceMetrics& m) {
   return Json{{"bin_edges_um", m.ra_bin_edges_um}, {"shares", m.ra_share}};
 }
 
-Json sim_metrics_json(const simulate::SurfaceMetrics& m, const simulate::SweepResult& sweep) {
+Json sim_metrics_json(const simulate::SurfaceMetrics& m, const simulate::SweepResult& sweep,
+                      const simulate::GridSpec& grid) {
   Json j;
   j["max_gouge_mm"] = m.max_gouge_mm;
   j["gouge_line"] = m.gouged ? Json(m.first_gouge_move.line) : Json(nullptr);
+  if (m.gouged && m.gouge_cell < grid.cells()) {  // where the deepest one is, and the move that cut it
+    j["gouge_deepest_xy_mm"] = {grid.x(m.gouge_cell % grid.nx), grid.y(m.gouge_cell / grid.nx)};
+    j["gouge_deepest_line"] = m.gouge_has_move ? Json(m.gouge_move.line) : Json(nullptr);
+  }
   j["scallop_max_mm"] = m.scallop_max_mm;
   j["ra_mean_um"] = m.ra_mean_um;
   j["ra_median_um"] = m.ra_median_um;
@@ -290,7 +295,7 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
       const simulate::SweepResult sw = simulate::machine(z, back, params.tool);
       const simulate::MetricsOptions mo = metrics_options(settings.sim);
       const simulate::SurfaceMetrics m = simulate::surface_metrics(z, frame.design, mo);
-      j.update(sim_metrics_json(m, sw));
+      j.update(sim_metrics_json(m, sw, frame.grid));
       // Uncut = the finishing stock left (within the tolerance) where the cutter never reached; the
       // scallops between passes are scored by scallop and Ra, not counted as uncut.
       simulate::MetricsOptions uo = mo;
@@ -400,7 +405,7 @@ Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
   const simulate::MetricsOptions mo = metrics_options(settings.sim);
   const simulate::SurfaceMetrics m = simulate::surface_metrics(z, frame.design, mo);
   simulate::SweepResult none;
-  Json j = sim_metrics_json(m, none);
+  Json j = sim_metrics_json(m, none, frame.grid);
   j.erase("cutting_rapids");
   j.erase("max_depth_of_cut_mm");
   if (m.gouged) j["gouge_gcode"] = runs.at(m.first_gouge_move.pass)["gcode"];

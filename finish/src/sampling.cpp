@@ -103,7 +103,20 @@ std::vector<Sample> sample_segment(const Sampler& s, const Eigen::Vector2d& a, c
         Sample m = s.sample(q.x(), q.y());
         const double chord = 0.5 * (it.a.p.z() + it.b.p.z());
         const double dev = m.p.z() - chord;  // > 0: the chord would pass under the surface
-        if (dev > 0.5 * tol::chord_below_mm || -dev > tol) {  // half: the dip between samples can be larger
+        double above = dev;
+        // Where the path climbs or turns (a wall's edge, a crease), the CL can lie under the chord
+        // at the midpoint and above it off the middle (concave then convex): test the quarter
+        // points too. Gentle, smooth intervals keep the one midpoint test.
+        const double rise = std::abs(it.b.p.z() - it.a.p.z());
+        if (rise > 0.1 * seg || std::abs(it.b.slope_deg - it.a.slope_deg) > 5) {
+          for (const double f : {0.25, 0.75}) {
+            const double tq = it.ta + f * (it.tb - it.ta);
+            const Eigen::Vector2d qq = a + tq * (b - a);
+            const double zq = s.z(qq.x(), qq.y());
+            above = std::max(above, zq - (it.a.p.z() + f * (it.b.p.z() - it.a.p.z())));
+          }
+        }
+        if (above > 0.5 * tol::chord_below_mm || -dev > tol) {  // half: the dip between samples can be larger
           stack.push_back({m, it.b, tm, it.tb});  // second half after the first
           stack.push_back({it.a, m, it.ta, tm});
           continue;

@@ -51,7 +51,9 @@ private:
                                              int nx, int ny);
 
 /// CL points along the straight XY segment a→b (both ends included): first every ≤ h0, then each
-/// interval halved while its midpoint lies above the chord by more than tol::chord_below_mm or
+/// interval halved while its midpoint (and, where the interval climbs more than 1 in 10 or the
+/// contact slope turns by more than 5°, its quarter points) lies above the chord by more than
+/// half of tol::chord_below_mm or
 /// below it by more than `tol` (down to tol::min_sample_mm).
 [[nodiscard]] std::vector<Sample> sample_segment(const Sampler& s, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                                                  double h0, double tol);

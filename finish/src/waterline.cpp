@@ -3,8 +3,8 @@
 // Per level z: the CL height grid (drop-cutter, ≤ R/2 apart) gives the topology by marching
 // squares of {CL ≥ z}; every crossing is then refined on its grid edge by the drop-cutter
 // (Illinois regula falsi, bracket ≤ chord tolerance, the point returned on the air side, where
-// the cutter at z does not touch); chords whose midpoint would cut into the part are split by a
-// further refined point. Loops are reversed to keep the material on the right (climb milling with
+// the cutter at z does not touch); chords that would cut into the part anywhere along them
+// (sampled ≤ min(0.1 mm, R/4) apart) are split by a further refined point. Loops are reversed to keep the material on the right (climb milling with
 // M3) and cut open where they run along the machining boundary.
 #include "contours.hpp"
 #include "sampling.hpp"
@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace millnet::finish::detail {
 namespace {
@@ -43,10 +44,12 @@ std::pair<Eigen::Vector2d, double> refine_crossing(const Sampler& s, Eigen::Vect
   return {out, s_in.slope_deg};
 }
 
-/// Splits chords P→Q whose midpoint lies inside the material (the straight move would cut into
-/// the part) by a refined contour point found along the chord's air-side normal (the material is
-/// on the left of the contour as traced, so the air is on the right).
+/// Splits chords P→Q that pass through the material (checked every ≤ min(0.1 mm, R/4) along the
+/// chord; the straight move would cut into the part) at their deepest point, by a refined contour
+/// point found along the chord's air-side normal (the material is on the left of the contour as
+/// traced, so the air is on the right).
 void split_gouging_chords(const Sampler& s, std::vector<ContourPoint>& loop, double z, double tol) {
+  const double h = std::min(tol::initial_sample_mm, s.cutter().radius() / 4);
   std::vector<ContourPoint> out;
   out.reserve(loop.size());
   struct Item { ContourPoint a, b; int depth; };
@@ -64,18 +67,33 @@ void split_gouging_chords(const Sampler& s, std::vector<ContourPoint>& loop, dou
       }
       const Eigen::Vector2d d = it.b.xy - it.a.xy;
       const double len = d.norm();
-      const Eigen::Vector2d m = 0.5 * (it.a.xy + it.b.xy);
-      if (!(len > 2 * tol::min_sample_mm) || s.z(m.x(), m.y()) <= z + 0.5 * tol::chord_below_mm) {
+      if (!(len > 2 * tol::min_sample_mm)) {
+        seq.push_back(it.b);
+        continue;
+      }
+      // The chord's interior every ≤ h (at least its midpoint): the worst point decides, since a
+      // narrow feature can cut a long chord off its middle.
+      const int pieces = std::max(2, static_cast<int>(std::ceil(len / h)));
+      Eigen::Vector2d m = 0.5 * (it.a.xy + it.b.xy);
+      double worst = -std::numeric_limits<double>::infinity();
+      for (int k = 1; k < pieces; ++k) {
+        const Eigen::Vector2d q = it.a.xy + (static_cast<double>(k) / pieces) * d;
+        const double f = s.z(q.x(), q.y()) - z;
+        if (f > worst) worst = f, m = q;
+      }
+      if (worst <= 0.5 * tol::chord_below_mm) {
         seq.push_back(it.b);
         continue;
       }
       // Inside on the left of a→b: the air is on the right, normal (dy, −dx).
+      // March out along the normal in steps of h to the FIRST air point, so the refined point is
+      // the nearest crossing (a far probe can land on another branch of the level set).
       const Eigen::Vector2d n(d.y() / len, -d.x() / len);
-      double reach = std::max(len, tol);
-      Eigen::Vector2d far = m + reach * n;
-      double f_far = s.z(far.x(), far.y()) - z;
-      for (int k = 0; k < 4 && f_far >= 0; ++k) {
-        reach *= 2;
+      const double max_reach = std::max(2 * len, 4 * s.cutter().radius());
+      Eigen::Vector2d near = m, far = m;
+      double f_far = worst;
+      for (double reach = h; reach <= max_reach + 1e-12 && f_far >= 0; reach += h) {
+        near = far;
         far = m + reach * n;
         f_far = s.z(far.x(), far.y()) - z;
       }
@@ -83,7 +101,7 @@ void split_gouging_chords(const Sampler& s, std::vector<ContourPoint>& loop, dou
         seq.push_back(it.b);
         continue;
       }
-      const auto [xy, slope] = refine_crossing(s, m, far, 0, f_far, z, tol);
+      const auto [xy, slope] = refine_crossing(s, near, far, 0, f_far, z, tol);
       const ContourPoint mid{xy, slope, false};
       stack.push_back({mid, it.b, it.depth + 1});
       stack.push_back({it.a, mid, it.depth + 1});
