@@ -68,19 +68,20 @@ Registered register_compare(CLI::App& app) {
                << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
             for (const auto& r : rows) {
               const auto& mt = r.m.metrics;
-              auto stat = [&](const char* k) {
-                auto it = r.plan.stats.find(k);
-                return it == r.plan.stats.end() ? 0.0 : it->second;
-              };
-              const double regions = r.planner == "som" ? 1.0 + mt.retractions / std::max(1.0, mt.levels) : stat("regions");
+              // Passes and partition faces are the zigzag's figures: 0 for the SOM, and for a zigzag
+              // that found no room for the tool (no figures).
+              const auto* zz = std::get_if<pocket::ZigzagStats>(&r.plan.stats);
+              const double passes = zz ? static_cast<double>(zz->passes) : 0.0;
+              const double regions = r.planner == "som" ? 1.0 + mt.retractions / std::max(1.0, mt.levels)
+                                                        : (zz ? zz->regions : 0.0);
               csv << r.planner << "," << pocket::to_string(r.m.status) << "," << format_double(mt.tool_points) << ","
-                  << format_double(stat("passes")) << "," << format_double(regions) << ","
+                  << format_double(passes) << "," << format_double(regions) << ","
                   << format_double(mt.cut_length_mm) << "," << format_double(mt.rapid_length_mm) << ","
                   << format_double(mt.retractions) << "," << format_double(mt.plunges) << ","
                   << format_double(mt.predrill_points) << "," << format_double(mt.time_adjusted_min) << ","
                   << format_double(mt.time_constant_min) << "," << format_double(mt.uncut_area_mm2) << ","
                   << format_double(mt.planning_time_s) << "\n";
-              md << "| " << r.planner << " | " << fixed(mt.tool_points, 0) << " | " << fixed(stat("passes"), 0) << " | "
+              md << "| " << r.planner << " | " << fixed(mt.tool_points, 0) << " | " << fixed(passes, 0) << " | "
                  << fixed(regions, 0) << " | " << fixed(mt.cut_length_mm, 0) << " | " << fixed(mt.rapid_length_mm, 0)
                  << " | " << fixed(mt.retractions, 0) << " | " << fixed(mt.plunges, 0) << " | "
                  << fixed(mt.time_adjusted_min, 1) << " | " << fixed(mt.time_constant_min, 1) << " | "
