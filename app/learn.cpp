@@ -92,7 +92,7 @@ bool build_dataset(const datasets::Recipe& recipe, const fs::path& out_dir, bool
   Progress progress("dataset", 0);
   const datasets::Table table = datasets::build_table(recipe, progress.callback());
   progress.finish();
-  datasets::write_table(table, out_dir);
+  datasets_io::write_table(table, out_dir);
   info("dataset: " + std::to_string(table.rows.size()) + " vectors from " + std::to_string(recipe.parts.size()) +
        " parts → " + (out_dir / "vectors.csv").string());
   return true;
