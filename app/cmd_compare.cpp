@@ -12,89 +12,121 @@ namespace millnet::app {
 namespace fs = std::filesystem;
 
 namespace {
+
+struct CompareOpts {
+  Common common;
+  PocketFlags flags;
+  std::string pocket, out;
+};
+
 struct Row {
   std::string planner;
   pocket::PlanResult plan;
   pocket::MachiningResult m;
+  /// Passes and partition faces are the zigzag's figures: 0 for the SOM, and for a zigzag that found
+  /// no room for the tool (no figures). The SOM's regions: tool-down chains per level.
+  [[nodiscard]] double passes() const {
+    const auto* zz = std::get_if<pocket::ZigzagStats>(&plan.stats);
+    return zz ? static_cast<double>(zz->passes) : 0.0;
+  }
+  [[nodiscard]] double regions() const {
+    if (planner == "som") return 1.0 + m.metrics.retractions / std::max(1.0, m.metrics.levels);
+    const auto* zz = std::get_if<pocket::ZigzagStats>(&plan.stats);
+    return zz ? zz->regions : 0.0;
+  }
 };
+
+/// Plans and machines the pocket with every planner (SOM, zigzag T, zigzag I), writing each one's
+/// pocket outputs (<stem>.<planner>.*) as it goes.
+std::vector<Row> plan_every_planner(const CompareOpts& o, const Json& config, const pocket::PocketFile& file,
+                                    const pocket::CutParams& cut) {
+  const std::string stem = fs::path(o.pocket).stem().string();
+  std::vector<Row> rows;
+  for (const char* name : {"som", "zigzag-t", "zigzag-i"}) {
+    PocketFlags f = o.flags;
+    const std::string n = name;
+    f.planner = n == "som" ? "som" : "zigzag";
+    if (n != "som") f.partition = n == "zigzag-t" ? "t" : "i";
+    if (!f.angle) f.angle = "auto";
+    const PlannerChoice ch = planner_choice(config, cut, f);
+    Row r{n, plan_region(file.region, cut, ch), {}};
+    pocket::MachiningOptions mo;
+    mo.entry = ch.entry;
+    mo.contour = ch.contour;
+    mo.program_name = stem + "-" + n;
+    r.m = pocket::machine_pocket(file.region, cut, r.plan, mo);
+    write_pocket_outputs(o.out, stem + "." + n, file.region, cut, ch, r.plan, r.m, {});
+    info("compare: " + n + " done");
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
+std::string compare_csv(const std::vector<Row>& rows) {
+  std::ostringstream csv;
+  csv << "planner,status,tool_points,passes,regions,cut_length_mm,rapid_length_mm,retractions,plunges,"
+         "predrill_points,time_adjusted_min,time_constant_min,uncut_area_mm2,planning_time_s\n";
+  for (const auto& r : rows) {
+    const auto& mt = r.m.metrics;
+    csv << r.planner << "," << pocket::to_string(r.m.status) << "," << format_double(mt.tool_points) << ","
+        << format_double(r.passes()) << "," << format_double(r.regions()) << "," << format_double(mt.cut_length_mm)
+        << "," << format_double(mt.rapid_length_mm) << "," << format_double(mt.retractions) << ","
+        << format_double(mt.plunges) << "," << format_double(mt.predrill_points) << ","
+        << format_double(mt.time_adjusted_min) << "," << format_double(mt.time_constant_min) << ","
+        << format_double(mt.uncut_area_mm2) << "," << format_double(mt.planning_time_s) << "\n";
+  }
+  return csv.str();
+}
+
+std::string compare_md(const std::vector<Row>& rows, const pocket::CutParams& cut, const fs::path& pocket_file) {
+  const std::string stem = pocket_file.stem().string();
+  std::ostringstream md;
+  md << "# Planner comparison: " << pocket_file.filename().string() << "\n\n"
+     << "Tool Ø" << fixed(cut.tool_diameter, 2) << " mm, stepover " << fixed(cut.stepover, 2) << " mm, depth "
+     << fixed(cut.depth, 2) << " mm (step-down " << fixed(cut.step_down, 2) << " mm), stock to leave "
+     << fixed(cut.stock_to_leave, 2) << " mm.\n\n"
+     << "| planner | tool points | passes | regions | cut (mm) | rapid (mm) | retractions | plunges | "
+        "time adjusted (min) | time constant (min) | uncut (mm²) | planning (s) |\n"
+     << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const auto& r : rows) {
+    const auto& mt = r.m.metrics;
+    md << "| " << r.planner << " | " << fixed(mt.tool_points, 0) << " | " << fixed(r.passes(), 0) << " | "
+       << fixed(r.regions(), 0) << " | " << fixed(mt.cut_length_mm, 0) << " | " << fixed(mt.rapid_length_mm, 0)
+       << " | " << fixed(mt.retractions, 0) << " | " << fixed(mt.plunges, 0) << " | "
+       << fixed(mt.time_adjusted_min, 1) << " | " << fixed(mt.time_constant_min, 1) << " | "
+       << fixed(mt.uncut_area_mm2, 1) << " | " << fixed(mt.planning_time_s, 3) << " |\n";
+  }
+  md << "\nPictures: ";
+  for (const auto& r : rows) md << "![" << r.planner << "](" << stem << "." << r.planner << ".png) ";
+  md << "\n\nRetractions are counted over all step-down levels; \"regions\" is the number of tool-down"
+        " chains per level (zigzag: partition faces cut; SOM: chains after linking).\n";
+  return md.str();
+}
+
+/// millnet compare: every planner on one pocket → their pocket outputs, compare.csv, compare.md.
+int run_compare(const CompareOpts& o) {
+  const Json config = setup(o.common);
+  const pocket::PocketFile file = pocket::read_pocket(o.pocket);
+  const pocket::CutParams cut = cut_params(config, explicit_pocket_section(o.common.config), &file, o.flags);
+  const std::vector<Row> rows = plan_every_planner(o, config, file, cut);
+  const std::string md = compare_md(rows, cut, o.pocket);
+  write_file_atomic(fs::path(o.out) / "compare.csv", compare_csv(rows));
+  write_file_atomic(fs::path(o.out) / "compare.md", md);
+  if (!o.common.quiet) std::fputs(md.c_str(), stdout);
+  return 0;
+}
 
 }  // namespace
 
 Registered register_compare(CLI::App& app) {
-  struct Opts {
-    Common common;
-    PocketFlags flags;
-    std::string pocket, out;
-  };
-  auto o = std::make_shared<Opts>();
+  auto o = std::make_shared<CompareOpts>();
   CLI::App* sub = app.add_subcommand("compare", "run every planner (SOM, zigzag T, zigzag I) on one pocket and tool");
   sub->add_option("--pocket", o->pocket, "pocket file (.json or .dxf)")->required();
   sub->add_option("--out", o->out, "output folder")->required();
   o->flags.add_to(sub, false);
   sub->add_option("--angle", o->flags.angle, "zigzag reference angle in degrees, or auto (default auto)");
   add_common(sub, o->common);
-  return {sub, [o]() {
-            const Json config = setup(o->common);
-            const pocket::PocketFile file = pocket::read_pocket(o->pocket);
-            const pocket::CutParams cut = cut_params(config, explicit_pocket_section(o->common.config), &file, o->flags);
-            const std::string stem = fs::path(o->pocket).stem().string();
-            std::vector<Row> rows;
-            for (const char* name : {"som", "zigzag-t", "zigzag-i"}) {
-              PocketFlags f = o->flags;
-              const std::string n = name;
-              f.planner = n == "som" ? "som" : "zigzag";
-              if (n != "som") f.partition = n == "zigzag-t" ? "t" : "i";
-              if (!f.angle) f.angle = "auto";
-              const PlannerChoice ch = planner_choice(config, cut, f);
-              Row r{n, plan_region(file.region, cut, ch), {}};
-              pocket::MachiningOptions mo;
-              mo.entry = ch.entry;
-              mo.contour = ch.contour;
-              mo.program_name = stem + "-" + n;
-              r.m = pocket::machine_pocket(file.region, cut, r.plan, mo);
-              write_pocket_outputs(o->out, stem + "." + n, file.region, cut, ch, r.plan, r.m, {});
-              info("compare: " + n + " done");
-              rows.push_back(std::move(r));
-            }
-            std::ostringstream csv, md;
-            csv << "planner,status,tool_points,passes,regions,cut_length_mm,rapid_length_mm,retractions,plunges,"
-                   "predrill_points,time_adjusted_min,time_constant_min,uncut_area_mm2,planning_time_s\n";
-            md << "# Planner comparison: " << fs::path(o->pocket).filename().string() << "\n\n"
-               << "Tool Ø" << fixed(cut.tool_diameter, 2) << " mm, stepover " << fixed(cut.stepover, 2)
-               << " mm, depth " << fixed(cut.depth, 2) << " mm (step-down " << fixed(cut.step_down, 2)
-               << " mm), stock to leave " << fixed(cut.stock_to_leave, 2) << " mm.\n\n"
-               << "| planner | tool points | passes | regions | cut (mm) | rapid (mm) | retractions | plunges | "
-                  "time adjusted (min) | time constant (min) | uncut (mm²) | planning (s) |\n"
-               << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-            for (const auto& r : rows) {
-              const auto& mt = r.m.metrics;
-              auto stat = [&](const char* k) {
-                auto it = r.plan.stats.find(k);
-                return it == r.plan.stats.end() ? 0.0 : it->second;
-              };
-              const double regions = r.planner == "som" ? 1.0 + mt.retractions / std::max(1.0, mt.levels) : stat("regions");
-              csv << r.planner << "," << pocket::to_string(r.m.status) << "," << format_double(mt.tool_points) << ","
-                  << format_double(stat("passes")) << "," << format_double(regions) << ","
-                  << format_double(mt.cut_length_mm) << "," << format_double(mt.rapid_length_mm) << ","
-                  << format_double(mt.retractions) << "," << format_double(mt.plunges) << ","
-                  << format_double(mt.predrill_points) << "," << format_double(mt.time_adjusted_min) << ","
-                  << format_double(mt.time_constant_min) << "," << format_double(mt.uncut_area_mm2) << ","
-                  << format_double(mt.planning_time_s) << "\n";
-              md << "| " << r.planner << " | " << fixed(mt.tool_points, 0) << " | " << fixed(stat("passes"), 0) << " | "
-                 << fixed(regions, 0) << " | " << fixed(mt.cut_length_mm, 0) << " | " << fixed(mt.rapid_length_mm, 0)
-                 << " | " << fixed(mt.retractions, 0) << " | " << fixed(mt.plunges, 0) << " | "
-                 << fixed(mt.time_adjusted_min, 1) << " | " << fixed(mt.time_constant_min, 1) << " | "
-                 << fixed(mt.uncut_area_mm2, 1) << " | " << fixed(mt.planning_time_s, 3) << " |\n";
-            }
-            md << "\nPictures: ";
-            for (const auto& r : rows) md << "![" << r.planner << "](" << stem << "." << r.planner << ".png) ";
-            md << "\n\nRetractions are counted over all step-down levels; \"regions\" is the number of tool-down"
-                  " chains per level (zigzag: partition faces cut; SOM: chains after linking).\n";
-            write_file_atomic(fs::path(o->out) / "compare.csv", csv.str());
-            write_file_atomic(fs::path(o->out) / "compare.md", md.str());
-            if (!o->common.quiet) std::fputs(md.str().c_str(), stdout);
-            return 0;
-          }};
+  return {sub, [o]() { return run_compare(*o); }};
 }
 
 }  // namespace millnet::app

@@ -5,18 +5,84 @@
 #include "millnet/core/error.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
 
+#include <algorithm>
 #include <iostream>
 
 namespace millnet::app {
 namespace fs = std::filesystem;
 
+namespace {
+
+struct DatasetOpts {
+  Common common;
+  std::string out;
+  bool agreement = false;
+};
+
+struct TrainOpts {
+  Common common;
+  std::string dataset, out;
+};
+
+struct PredictOpts {
+  Common common;
+  std::string model, out;
+  MeshFlags mesh_flags;
+  std::vector<std::string> parts;
+};
+
+/// millnet dataset: the config's recipe → vectors.csv + manifest.json (always rebuilt).
+int run_dataset(const DatasetOpts& o) {
+  const Json config = setup(o.common);
+  (void)build_dataset(recipe_from_config(config), o.out, false, config, o.agreement);
+  return 0;
+}
+
+/// millnet train: vectors.csv → model folder.
+int run_train(const TrainOpts& o) {
+  const Json config = setup(o.common);
+  (void)train_model(o.dataset, config, o.out);
+  return 0;
+}
+
+/// One line per predicted part; the failed ones are in predictions.json.
+void report_predictions(const std::vector<PartPrediction>& res) {
+  for (const auto& r : res) {
+    if (!r.ok) continue;
+    info("predict: " + r.name + ": strategy " + std::to_string(r.top) + " (" +
+         r.strategies[static_cast<std::size_t>(r.top - 1)] + "), confidence " +
+         std::to_string(static_cast<int>(100 * r.confidence + 0.5)) + " %, consistency " +
+         std::to_string(static_cast<int>(100 * r.consistency + 0.5)) + " %");
+  }
+}
+
+/// millnet predict: the config's and the command line's parts → predictions; exit 1 when a part
+/// could not be read (the others are still predicted).
+int run_predict(const PredictOpts& o) {
+  const Json config = setup(o.common);
+  std::vector<std::string> items = config["predict"]["parts"].get<std::vector<std::string>>();
+  items.insert(items.end(), o.parts.begin(), o.parts.end());
+  if (items.empty()) throw Error("no parts to predict: name files or folders, or set /predict/parts");
+  std::vector<PredictInput> inputs;
+  for (const auto& f : expand_inputs(items, ingest::mesh_extensions())) inputs.push_back({f, "", 0, nullptr});
+  const auto res =
+      predict_parts(load_model_folder(o.model, config), inputs, o.mesh_flags.prepare(&config["predict"]), o.out);
+  report_predictions(res);
+  const auto failed = static_cast<std::size_t>(std::count_if(res.begin(), res.end(), [](const auto& r) { return !r.ok; }));
+  info("predict: " + std::to_string(res.size() - failed) + " of " + std::to_string(res.size()) +
+       " parts predicted → " + (fs::path(o.out) / "predictions.json").string());
+  if (failed) {
+    std::cerr << "millnet predict: error: " << failed << " of " << res.size()
+              << " parts could not be read (see predictions.json)\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
 Registered register_dataset(CLI::App& app) {
-  struct Opts {
-    Common common;
-    std::string out;
-    bool agreement = false;
-  };
-  auto o = std::make_shared<Opts>();
+  auto o = std::make_shared<DatasetOpts>();
   CLI::App* sub = app.add_subcommand("dataset", "(re)generate the model-vector table from the config's recipe");
   sub->add_option("--out", o->out, "output folder (vectors.csv, manifest.json)")->required();
   sub->add_flag("--agreement", o->agreement,
@@ -24,38 +90,20 @@ Registered register_dataset(CLI::App& app) {
                 "simulated best agrees with the recipe's label (agreement.md; minutes per part)");
   add_common(sub, o->common);
   sub->get_option("--config")->required();
-  return {sub, [o]() {
-            const Json config = setup(o->common);
-            (void)build_dataset(recipe_from_config(config), o->out, false, config, o->agreement);
-            return 0;
-          }};
+  return {sub, [o]() { return run_dataset(*o); }};
 }
 
 Registered register_train(CLI::App& app) {
-  struct Opts {
-    Common common;
-    std::string dataset, out;
-  };
-  auto o = std::make_shared<Opts>();
+  auto o = std::make_shared<TrainOpts>();
   CLI::App* sub = app.add_subcommand("train", "store the vectors and choose α by leave-one-out");
   sub->add_option("--dataset", o->dataset, "vectors.csv of `millnet dataset`")->required();
   sub->add_option("--out", o->out, "output folder (model.json, loo_curve.csv, verification.csv, PNGs)")->required();
   add_common(sub, o->common);
-  return {sub, [o]() {
-            const Json config = setup(o->common);
-            (void)train_model(o->dataset, config, o->out);
-            return 0;
-          }};
+  return {sub, [o]() { return run_train(*o); }};
 }
 
 Registered register_predict(CLI::App& app) {
-  struct Opts {
-    Common common;
-    std::string model, out;
-    MeshFlags mesh_flags;
-    std::vector<std::string> parts;
-  };
-  auto o = std::make_shared<Opts>();
+  auto o = std::make_shared<PredictOpts>();
   CLI::App* sub = app.add_subcommand("predict", "rank the finishing strategies of parts (files or folders)");
   sub->add_option("--model", o->model, "folder of `millnet train` (model.json, sampling.json)")->required()
       ->check(CLI::ExistingDirectory);
@@ -63,37 +111,7 @@ Registered register_predict(CLI::App& app) {
   sub->add_option("--out", o->out, "output folder (predictions.json, predictions.csv, one PNG per part)")->required();
   sub->add_option("parts", o->parts, "part files or folders (added to /predict/parts of the config)");
   add_common(sub, o->common);
-  return {sub, [o]() {
-            const Json config = setup(o->common);
-            std::vector<std::string> items = config["predict"]["parts"].get<std::vector<std::string>>();
-            items.insert(items.end(), o->parts.begin(), o->parts.end());
-            if (items.empty()) throw Error("no parts to predict: name files or folders, or set /predict/parts");
-            std::vector<PredictInput> inputs;
-            for (const auto& f : expand_inputs(items, ingest::mesh_extensions()))
-              inputs.push_back({f, "", 0, nullptr});
-            const auto res = predict_parts(load_model_folder(o->model, config), inputs,
-                                           o->mesh_flags.prepare(&config["predict"]),
-                                           o->out);
-            std::size_t failed = 0;
-            for (const auto& r : res) {
-              if (!r.ok) {
-                ++failed;
-                continue;
-              }
-              info("predict: " + r.name + ": strategy " + std::to_string(r.top) + " (" +
-                   r.strategies[static_cast<std::size_t>(r.top - 1)] + "), confidence " +
-                   std::to_string(static_cast<int>(100 * r.confidence + 0.5)) + " %, consistency " +
-                   std::to_string(static_cast<int>(100 * r.consistency + 0.5)) + " %");
-            }
-            info("predict: " + std::to_string(res.size() - failed) + " of " + std::to_string(res.size()) +
-                 " parts predicted → " + (fs::path(o->out) / "predictions.json").string());
-            if (failed) {
-              std::cerr << "millnet predict: error: " << failed << " of " << res.size()
-                        << " parts could not be read (see predictions.json)\n";
-              return 1;
-            }
-            return 0;
-          }};
+  return {sub, [o]() { return run_predict(*o); }};
 }
 
 }  // namespace millnet::app

@@ -9,19 +9,40 @@
 #include "millnet/ingest/io/grid_csv.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
 
-
 namespace millnet::app {
 namespace fs = std::filesystem;
 
+namespace {
+
+struct SampleOpts {
+  Common common;
+  MeshFlags mesh_flags;
+  std::string mesh, out;
+  double raster = 1.0;
+  int grid = 15;
+};
+
+/// millnet sample: mesh → prepared mesh → n×n grid → CSV + PNG.
+int run_sample(const SampleOpts& o) {
+  (void)setup(o.common);
+  ingest::MeshReport report;
+  const ingest::Mesh raw = ingest::load_mesh(o.mesh, &report);
+  const ingest::Mesh mesh = ingest::prepare(raw, o.mesh_flags.prepare(nullptr), &report);
+  const ingest::Grid grid = ingest::sample_grid(mesh, o.raster, o.grid);
+  const std::string stem = fs::path(o.mesh).stem().string();
+  const fs::path out(o.out);
+  write_file_atomic(out / (stem + ".grid.csv"), ingest::grid_csv(grid.h));
+  write_grid_png(out / (stem + ".png"), grid, stem);
+  info("sample: " + o.mesh + ": " + std::to_string(report.triangles) + " triangles (" +
+       std::to_string(report.degenerate_triangles) + " degenerate), footprint " + format_double(grid.footprint_x) +
+       " × " + format_double(grid.footprint_y) + " mm → " + (out / (stem + ".grid.csv")).string());
+  return 0;
+}
+
+}  // namespace
+
 Registered register_sample(CLI::App& app) {
-  struct Opts {
-    Common common;
-    MeshFlags mesh_flags;
-    std::string mesh, out;
-    double raster = 1.0;
-    int grid = 15;
-  };
-  auto o = std::make_shared<Opts>();
+  auto o = std::make_shared<SampleOpts>();
   CLI::App* sub = app.add_subcommand("sample", "sample a mesh into an n×n height grid (CSV + PNG heat map)");
   sub->add_option("--mesh", o->mesh, "mesh file (STL, OBJ, PLY, OFF, 3MF, glTF, … or x y z points)")->required();
   o->mesh_flags.add_to(sub, "file");
@@ -29,22 +50,7 @@ Registered register_sample(CLI::App& app) {
   sub->add_option("--grid", o->grid, "grid size n")->check(CLI::Range(2, 64));
   sub->add_option("--out", o->out, "output folder")->required();
   add_common(sub, o->common, false);
-  return {sub, [o]() {
-            (void)setup(o->common);
-            ingest::MeshReport report;
-            const ingest::Mesh raw = ingest::load_mesh(o->mesh, &report);
-            const ingest::Mesh mesh = ingest::prepare(raw, o->mesh_flags.prepare(nullptr), &report);
-            const ingest::Grid grid = ingest::sample_grid(mesh, o->raster, o->grid);
-            const std::string stem = fs::path(o->mesh).stem().string();
-            const fs::path out(o->out);
-            write_file_atomic(out / (stem + ".grid.csv"), ingest::grid_csv(grid.h));
-            write_grid_png(out / (stem + ".png"), grid, stem);
-            info("sample: " + o->mesh + ": " + std::to_string(report.triangles) + " triangles (" +
-                 std::to_string(report.degenerate_triangles) + " degenerate), footprint " +
-                 format_double(grid.footprint_x) + " × " + format_double(grid.footprint_y) + " mm → " +
-                 (out / (stem + ".grid.csv")).string());
-            return 0;
-          }};
+  return {sub, [o]() { return run_sample(*o); }};
 }
 
 }  // namespace millnet::app

@@ -212,13 +212,13 @@ bool build_dataset(datasets::Recipe recipe, const fs::path& out_dir, bool reuse,
       info("dataset: agreement of the simulated best with the labels → " + (out_dir / "agreement.md").string() + "\n" +
            md);
     }
-    labelling = lj.dump(1);
+    labelling = lj.dump();
   }
   Progress progress("dataset", 0);
   datasets::Table table = datasets::build_table(recipe, progress.callback());
   progress.finish();
   table.labelling_json = labelling;
-  datasets::write_table(table, out_dir);
+  datasets_io::write_table(table, out_dir);
   info("dataset: " + std::to_string(table.rows.size()) + " vectors from " + std::to_string(recipe.parts.size()) +
        " parts → " + (out_dir / "vectors.csv").string());
   return true;
@@ -254,16 +254,20 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
   tp.unfamiliar_percentile = t["unfamiliar_percentile"].get<double>();
   Progress progress("train (leave-one-out)", 0);
   tp.search.progress = progress.callback();
-  const classifier::Model model = classifier::train(set, tp);
+  classifier::Model model = classifier::train(set, tp);
   progress.finish();
   const classifier::LooReport& loo = model.loo;
 
+  // The model describes its own inputs (model.json "features"): the table's raster and grid; the
+  // classifier learns from the n² heights only (Table::inputs_matrix), never from an aspect column.
+  const double raster_mm = manifest.raster_mm ? *manifest.raster_mm : config["dataset"]["raster_mm"].get<double>();
+  model.input_spec = classifier::InputSpec{raster_mm, table.grid_n, false};
   classifier_io::save_model(model, out_dir / "model.json");
-  Json sampling = {{"grid", table.grid_n},
-                   {"raster_mm", config["dataset"]["raster_mm"].get<double>()},
-                   {"inputs", table.inputs_per_row()},
-                   {"dataset", fs::absolute(dataset_csv).string()}};
-  if (manifest.raster_mm) sampling["raster_mm"] = number_json(*manifest.raster_mm);
+  // sampling.json: the same spec for readers of model folders from before "features".
+  const Json sampling = {{"grid", table.grid_n},
+                         {"raster_mm", manifest.raster_mm ? number_json(raster_mm) : Json(raster_mm)},
+                         {"inputs", table.inputs_per_row()},
+                         {"dataset", fs::absolute(dataset_csv).string()}};
   write_file_atomic(out_dir / "sampling.json", sampling.dump(2) + "\n");
 
   // LOO curve: alpha,rms (the chosen mode's) + both modes' figures.
@@ -357,9 +361,22 @@ ModelFolder load_model_folder(const fs::path& dir, const Json& config) {
   ModelFolder m;
   m.dir = dir;
   m.model = classifier_io::load_model(dir / "model.json");
-  const Json sampling = read_json(dir / "sampling.json");
-  m.spec.grid = sampling["grid"].get<int>();
-  m.spec.raster_mm = sampling["raster_mm"].get<double>();
+  if (const auto& s = m.model.input_spec) {
+    if (s->aspect_feature)
+      throw file_error((dir / "model.json").string(),
+                       "features.aspect_feature: true, but predict computes the grid heights only");
+    m.spec.grid = s->grid;
+    m.spec.raster_mm = s->raster_mm;
+  } else {  // a model folder from before model.json carried its features
+    const fs::path path = dir / "sampling.json";
+    const Json sampling = read_json(path);
+    if (!sampling.is_object() || !sampling.contains("grid") || !sampling["grid"].is_number_integer())
+      throw file_error(path.string(), "grid: expected an integer (model.json has no \"features\" either)");
+    if (!sampling.contains("raster_mm") || !sampling["raster_mm"].is_number())
+      throw file_error(path.string(), "raster_mm: expected a number (model.json has no \"features\" either)");
+    m.spec.grid = sampling["grid"].get<int>();
+    m.spec.raster_mm = sampling["raster_mm"].get<double>();
+  }
   m.spec.augment = augment_from(config["predict"]["augment"]);
   return m;
 }

@@ -37,7 +37,8 @@ struct TrainSummary {
   std::size_t vectors = 0, parts = 0;
 };
 
-/// Trains on a vectors.csv and writes model.json, sampling.json, loo_curve.csv/.png,
+/// Trains on a vectors.csv and writes model.json (with its "features"), sampling.json (the same
+/// raster and grid, for older readers), loo_curve.csv/.png,
 /// verification.csv/.png and train_report.json into out_dir.
 TrainSummary train_model(const std::filesystem::path& dataset_csv, const Json& config,
                          const std::filesystem::path& out_dir);
@@ -67,8 +68,9 @@ struct PredictInput {
   std::shared_ptr<const ingest::Mesh> mesh;  ///< the prepared mesh when already loaded; null ⇒ read from file
 };
 
-/// A trained model folder, read once: model.json (the classifier) and sampling.json (grid, raster),
-/// with the prediction's augmentation from the config (/predict/augment).
+/// A trained model folder, read once: model.json (the classifier and, under "features", its inputs'
+/// raster and grid; sampling.json instead for folders written before that key), with the
+/// prediction's augmentation from the config (/predict/augment).
 struct ModelFolder {
   std::filesystem::path dir;
   classifier::Model model;

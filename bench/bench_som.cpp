@@ -72,17 +72,18 @@ void BM_PlanSom(benchmark::State& state, const char* name, bool linking) {
     r = mp::plan_som(region, cut, frame, {}, sp);
     benchmark::DoNotOptimize(r.path.chains.data());
   }
-  const double n = r.stats.at("tool_points");
+  const mp::SomStats& st = std::get<mp::SomStats>(r.stats);
+  const double n = static_cast<double>(st.tool_points);
   state.counters["N"] = n;
   state.counters["cut_mm"] = r.path.cut_length();
   state.counters["rapid_mm"] = r.path.rapid_length();
   state.counters["retractions"] = static_cast<double>(r.path.retractions());
-  state.counters["regions"] = r.stats.at("reachable_regions");
+  state.counters["regions"] = st.smoothing.reachable_regions;
   state.counters["cut_over_bound"] = r.path.cut_length() / ((n - 1) * cut.stepover);
-  state.counters["som_mm"] = r.stats.at("som_tour_length_mm");
-  state.counters["weak_saved"] = r.stats.at("weak_smoothing_saved_mm");
-  state.counters["opt_saved"] = r.stats.at("two_opt_saved_mm");
-  state.counters["links"] = r.stats.at("links");
+  state.counters["som_mm"] = st.smoothing.som_tour_length_mm;
+  state.counters["weak_saved"] = st.smoothing.weak.saved_mm;
+  state.counters["opt_saved"] = st.smoothing.two_opt_saved_mm;
+  state.counters["links"] = st.smoothing.links;
   state.counters["plan_s"] = r.planning_time_s;
 }
 BENCHMARK_CAPTURE(BM_PlanSom, four_islands, "four_islands", true)->Unit(benchmark::kMillisecond)->Iterations(1);

@@ -46,12 +46,13 @@ void BM_Zigzag(benchmark::State& st, const std::string& name, PartitionKind kind
     res = plan_zigzag(r, cut, zp);
     benchmark::DoNotOptimize(res);
   }
-  st.counters["regions"] = res.stats.at("regions");
+  const ZigzagStats& zs = std::get<ZigzagStats>(res.stats);
+  st.counters["regions"] = zs.regions;
   st.counters["retractions"] = static_cast<double>(res.path.retractions());
-  st.counters["srps"] = res.stats.at("srps");
-  st.counters["nls"] = res.stats.at("nls");
-  st.counters["passes"] = res.stats.at("passes");
-  st.counters["angle_deg"] = res.stats.at("angle_deg");
+  st.counters["srps"] = static_cast<double>(zs.srps);
+  st.counters["nls"] = zs.nls;
+  st.counters["passes"] = static_cast<double>(zs.passes);
+  st.counters["angle_deg"] = zs.angle_deg;
   st.counters["cut_mm"] = res.path.cut_length();
   st.counters["rapid_mm"] = res.path.rapid_length();
   st.counters["plan_s"] = res.planning_time_s;

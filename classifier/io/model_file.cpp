@@ -110,6 +110,21 @@ struct Reader {
     if (s == "high") return Edge::High;
     fail(path, "expected \"none\", \"low\" or \"high\", got \"" + s + "\"");
   }
+  classifier::InputSpec input_spec(const json& j, const std::string& path, Index stored_inputs) const {
+    classifier::InputSpec s;
+    s.raster_mm = number(at(j, "raster_mm", path), path + ".raster_mm");
+    if (!(s.raster_mm > 0)) fail(path + ".raster_mm", "expected a number > 0");
+    s.grid = integer(at(j, "grid", path), path + ".grid");
+    if (s.grid < 2) fail(path + ".grid", "expected an integer ≥ 2, got " + std::to_string(s.grid));
+    s.aspect_feature = boolean(at(j, "aspect_feature", path), path + ".aspect_feature");
+    const int inputs = integer(at(j, "inputs", path), path + ".inputs");
+    if (inputs != s.inputs())
+      fail(path + ".inputs", "expected " + std::to_string(s.inputs()) + " (grid²" + (s.aspect_feature ? " + 1" : "") +
+                                 "), got " + std::to_string(inputs));
+    if (inputs != stored_inputs)
+      fail(path + ".inputs", std::to_string(inputs) + " differs from the stored inputs' width " + std::to_string(stored_inputs));
+    return s;
+  }
   ModeOptimum optimum(const json& j, const std::string& path) const {
     ModeOptimum o;
     o.alpha = number(at(j, "alpha", path), path + ".alpha");
@@ -138,6 +153,15 @@ void save_model(const Model& m, const std::filesystem::path& path) {
   j["stored"] = {{"inputs", matrix(m.inputs, "stored.inputs")},
                  {"outputs", matrix(m.outputs, "stored.outputs")},
                  {"groups", m.groups}};
+  if (m.input_spec) {
+    const classifier::InputSpec& s = *m.input_spec;
+    if (s.inputs() != d) throw Error("save_model: the input spec's " + std::to_string(s.inputs()) +
+                                     " inputs differ from the stored inputs' " + std::to_string(d));
+    j["features"] = {{"raster_mm", finite(s.raster_mm, "features.raster_mm")},
+                     {"grid", s.grid},
+                     {"inputs", s.inputs()},
+                     {"aspect_feature", s.aspect_feature}};
+  }
   j["unfamiliar"] = {{"threshold", finite(m.unfamiliar_threshold, "unfamiliar.threshold")},
                      {"factor", finite(m.unfamiliar_factor, "unfamiliar.factor")},
                      {"percentile", finite(m.unfamiliar_percentile, "unfamiliar.percentile")}};
@@ -204,6 +228,7 @@ Model load_model(const std::filesystem::path& path) {
   m.unfamiliar_threshold = rd.number(rd.at(un, "threshold", "unfamiliar"), "unfamiliar.threshold");
   m.unfamiliar_factor = rd.number(rd.at(un, "factor", "unfamiliar"), "unfamiliar.factor");
   m.unfamiliar_percentile = rd.number(rd.at(un, "percentile", "unfamiliar"), "unfamiliar.percentile");
+  if (j.contains("features")) m.input_spec = rd.input_spec(j["features"], "features", d);
   const json& lo = rd.at(j, "loo", "");
   auto& L = m.loo;
   const std::string mode = rd.string(rd.at(lo, "mode", "loo"), "loo.mode");

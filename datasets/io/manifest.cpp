@@ -1,11 +1,18 @@
 #include "millnet/datasets/io/manifest.hpp"
 
+#include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
+#include "millnet/core/json_text.hpp"
 #include "millnet/datasets/hash.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <fstream>
+#include <set>
+
+#ifndef MILLNET_VERSION
+#define MILLNET_VERSION "unknown"
+#endif
 
 namespace millnet::datasets_io {
 namespace fs = std::filesystem;
@@ -15,42 +22,205 @@ namespace {
 
 Json read_json_file(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path.string() + ": cannot open for reading");
+  if (!in) throw file_error(path.string(), "cannot open for reading");
   try {
     return Json::parse(in);
   } catch (const std::exception& e) {
-    throw Error(path.string() + ": " + e.what());
+    throw file_error(path.string(), std::string("not valid JSON (") + e.what() + ")");
   }
 }
 
+/// config.raster_mm when config is an object that has it.
+std::optional<double> config_raster_mm(const Json& config) {
+  if (!config.is_object() || !config.contains("raster_mm")) return std::nullopt;
+  return config["raster_mm"].get<double>();
+}
+
+// Reader with the key path in every message.
+struct Reader {
+  std::string file;
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const { throw file_error(file, key + ": " + what); }
+  const Json& at(const Json& obj, const std::string& key, const std::string& path) const {
+    const std::string full = path.empty() ? key : path + "." + key;
+    if (!obj.is_object()) fail(path.empty() ? "(top level)" : path, std::string("expected an object, got ") + obj.type_name());
+    const auto it = obj.find(key);
+    if (it == obj.end()) fail(full, "missing key");
+    return *it;
+  }
+  std::string string(const Json& j, const std::string& path) const {
+    if (!j.is_string()) fail(path, std::string("expected a string, got ") + j.type_name());
+    return j.get<std::string>();
+  }
+  template <class Int>
+  Int integer(const Json& j, const std::string& path) const {
+    if (!j.is_number_integer() || (std::is_unsigned_v<Int> && !j.is_number_unsigned()))
+      fail(path, std::string("expected ") + (std::is_unsigned_v<Int> ? "a count" : "an integer") + ", got " +
+                     (j.is_number() ? j.dump() : j.type_name()));
+    return j.get<Int>();
+  }
+  bool boolean(const Json& j, const std::string& path) const {
+    if (!j.is_boolean()) fail(path, std::string("expected true or false, got ") + j.type_name());
+    return j.get<bool>();
+  }
+  const Json& array(const Json& j, const std::string& path) const {
+    if (!j.is_array()) fail(path, std::string("expected an array, got ") + j.type_name());
+    return j;
+  }
+  // Shorthands for a key of an object at `path`.
+  std::string string_at(const Json& o, const std::string& k, const std::string& path) const {
+    return string(at(o, k, path), path.empty() ? k : path + "." + k);
+  }
+  template <class Int>
+  Int integer_at(const Json& o, const std::string& k, const std::string& path) const {
+    return integer<Int>(at(o, k, path), path.empty() ? k : path + "." + k);
+  }
+};
+
 }  // namespace
 
-Manifest read_manifest(const fs::path& path) {
-  const Json m = read_json_file(path);
-  Manifest out;
-  try {
-    if (m.contains("strategies") && m["strategies"].is_array())
-      out.strategies = m["strategies"].get<std::vector<std::string>>();
-    if (m.contains("config") && m["config"].is_object() && m["config"].contains("raster_mm"))
-      out.raster_mm = m["config"]["raster_mm"].get<double>();
-    if (m.contains("input_files") && m["input_files"].is_array())
-      for (const auto& f : m["input_files"])
-        out.input_files.push_back({f.value("name", std::string()), f.value("file", std::string()), f.value("label", 0),
-                                   f.value("fnv1a64", std::string())});
-  } catch (const std::exception& e) {
-    throw Error(path.string() + ": " + e.what());
+Manifest manifest_of(const datasets::Table& table, std::string_view csv) {
+  Manifest m;
+  m.program_version = MILLNET_VERSION;
+  m.csv_fnv1a64 = datasets::to_hex(datasets::fnv1a64(csv));
+  m.csv_bytes = csv.size();
+  m.grid = table.grid_n;
+  m.aspect_column = table.has_aspect;
+  std::set<std::string> parts;
+  for (const datasets::Row& r : table.rows) {  // O(rows)
+    ++m.rows_per_label[r.label];
+    parts.insert(r.source);
   }
-  return out;
+  m.rows = table.rows.size();
+  m.parts = parts.size();
+  m.strategies.assign(table.strategies.begin(), table.strategies.end());
+  for (const datasets::SourceFile& s : table.sources)
+    m.input_files.push_back({s.name, s.file, s.label, datasets::to_hex(s.fnv1a64), s.bytes, s.triangles,
+                             s.degenerate_triangles});
+  m.labelling_json = table.labelling_json;
+  if (!table.config_json.empty()) {
+    m.config_json = table.config_json;
+    try {
+      m.raster_mm = config_raster_mm(Json::parse(table.config_json));
+    } catch (const std::exception& e) {
+      throw Error(std::string("manifest: the table's config echo is not valid JSON (") + e.what() + ")");
+    }
+  }
+  return m;
+}
+
+std::string manifest_text(const Manifest& m) {
+  const std::size_t inputs = static_cast<std::size_t>(m.grid) * static_cast<std::size_t>(m.grid);
+  std::string j = "{\n";
+  j += "  \"format\": \"millnet-vectors\",\n  \"format_version\": " + std::to_string(kManifestFormatVersion) + ",\n";
+  j += "  \"program\": \"millnet\",\n  \"program_version\": " + json_string(m.program_version) + ",\n";
+  j += "  \"csv\": \"vectors.csv\",\n";
+  j += "  \"csv_fnv1a64\": \"" + m.csv_fnv1a64 + "\",\n";
+  j += "  \"csv_bytes\": " + std::to_string(m.csv_bytes) + ",\n";
+  j += "  \"grid\": " + std::to_string(m.grid) + ",\n";
+  j += "  \"inputs\": " + std::to_string(inputs) + ",\n";
+  j += "  \"outputs\": " + std::to_string(datasets::kStrategySlots) + ",\n";
+  j += std::string("  \"aspect_column\": ") + (m.aspect_column ? "true" : "false") + ",\n";
+  j += "  \"counts\": {\"rows\": " + std::to_string(m.rows) + ", \"parts\": " + std::to_string(m.parts) +
+       ", \"rows_per_label\": {";
+  bool first = true;
+  for (const auto& [label, count] : m.rows_per_label) {
+    j += (first ? "" : ", ") + json_string(std::to_string(label)) + ": " + std::to_string(count);
+    first = false;
+  }
+  j += "}},\n  \"strategies\": [";
+  for (std::size_t k = 0; k < m.strategies.size(); ++k) j += (k ? ", " : "") + json_string(m.strategies[k]);
+  j += "],\n  \"hash\": \"fnv1a64\",\n  \"input_files\": [";
+  for (std::size_t k = 0; k < m.input_files.size(); ++k) {
+    const ManifestFile& s = m.input_files[k];
+    j += (k ? ",\n    " : "\n    ");
+    j += "{\"name\": " + json_string(s.name) + ", \"file\": " + json_string(s.file) + ", \"label\": " +
+         std::to_string(s.label) + ", \"fnv1a64\": \"" + s.fnv1a64 + "\", \"bytes\": " + std::to_string(s.bytes) +
+         ", \"triangles\": " + std::to_string(s.triangles) + ", \"degenerate_triangles\": " +
+         std::to_string(s.degenerate_triangles) + "}";
+  }
+  j += m.input_files.empty() ? "],\n" : "\n  ],\n";
+  j += "  \"config\": " + m.config_json;
+  if (!m.labelling_json.empty()) j += ",\n  \"labelling\": " + m.labelling_json;
+  j += "\n}\n";
+  return j;
+}
+
+void write_table(const datasets::Table& table, const fs::path& dir) {
+  const std::string csv = datasets::table_csv(table);
+  const std::string manifest = manifest_text(manifest_of(table, csv));
+  // CSV first: a manifest never describes a CSV that is not there.
+  write_file_atomic(dir / "vectors.csv", csv);
+  write_file_atomic(dir / "manifest.json", manifest);
+}
+
+Manifest read_manifest(const fs::path& path) {
+  const Json j = read_json_file(path);
+  const Reader rd{path.string()};
+  if (const std::string f = rd.string_at(j, "format", ""); f != "millnet-vectors")
+    rd.fail("format", "expected \"millnet-vectors\", got \"" + f + "\"");
+  if (const int v = rd.integer_at<int>(j, "format_version", ""); v != kManifestFormatVersion)
+    rd.fail("format_version", "this millnet reads manifest version " + std::to_string(kManifestFormatVersion) +
+                                  ", the file is version " + std::to_string(v));
+  Manifest m;
+  m.program_version = rd.string_at(j, "program_version", "");
+  m.csv_fnv1a64 = rd.string_at(j, "csv_fnv1a64", "");
+  m.csv_bytes = rd.integer_at<std::size_t>(j, "csv_bytes", "");
+  m.grid = rd.integer_at<int>(j, "grid", "");
+  m.aspect_column = rd.boolean(rd.at(j, "aspect_column", ""), "aspect_column");
+  const Json& counts = rd.at(j, "counts", "");
+  m.rows = rd.integer_at<std::size_t>(counts, "rows", "counts");
+  m.parts = rd.integer_at<std::size_t>(counts, "parts", "counts");
+  const Json& per_label = rd.at(counts, "rows_per_label", "counts");
+  if (!per_label.is_object()) rd.fail("counts.rows_per_label", std::string("expected an object, got ") + per_label.type_name());
+  for (const auto& [label, rows] : per_label.items()) {
+    const std::string key = "counts.rows_per_label." + label;
+    int l = 0;
+    try {
+      std::size_t used = 0;
+      l = std::stoi(label, &used);
+      if (used != label.size()) throw std::invalid_argument(label);
+    } catch (const std::exception&) {
+      rd.fail(key, "expected a label number as the key");
+    }
+    m.rows_per_label[l] = rd.integer<std::size_t>(rows, key);
+  }
+  const Json& strategies = rd.array(rd.at(j, "strategies", ""), "strategies");
+  for (std::size_t k = 0; k < strategies.size(); ++k)
+    m.strategies.push_back(rd.string(strategies[k], "strategies[" + std::to_string(k) + "]"));
+  const Json& files = rd.array(rd.at(j, "input_files", ""), "input_files");
+  for (std::size_t k = 0; k < files.size(); ++k) {
+    const std::string p = "input_files[" + std::to_string(k) + "]";
+    ManifestFile f;
+    f.name = rd.string_at(files[k], "name", p);
+    f.file = rd.string_at(files[k], "file", p);
+    f.label = rd.integer_at<int>(files[k], "label", p);
+    f.fnv1a64 = rd.string_at(files[k], "fnv1a64", p);
+    f.bytes = rd.integer_at<std::uintmax_t>(files[k], "bytes", p);
+    f.triangles = rd.integer_at<std::size_t>(files[k], "triangles", p);
+    f.degenerate_triangles = rd.integer_at<std::size_t>(files[k], "degenerate_triangles", p);
+    m.input_files.push_back(std::move(f));
+  }
+  const Json& config = rd.at(j, "config", "");
+  if (!config.is_null() && !config.is_object()) rd.fail("config", std::string("expected an object or null, got ") + config.type_name());
+  m.config_json = config.dump();
+  if (config.is_object() && config.contains("raster_mm") && !config["raster_mm"].is_number())
+    rd.fail("config.raster_mm", std::string("expected a number, got ") + config["raster_mm"].type_name());
+  m.raster_mm = config_raster_mm(config);
+  if (j.contains("labelling")) {
+    if (!j["labelling"].is_object()) rd.fail("labelling", std::string("expected an object, got ") + j["labelling"].type_name());
+    m.labelling_json = j["labelling"].dump();
+  }
+  return m;
 }
 
 bool table_up_to_date(const fs::path& dir, const datasets::Recipe& recipe) {
   if (!fs::exists(dir / "vectors.csv") || !fs::exists(dir / "manifest.json")) return false;
   try {
-    const Json m = read_json_file(dir / "manifest.json");
-    bool same = m.contains("config") && m["config"] == Json::parse(datasets::recipe_json(recipe)) &&
-                m.contains("input_files") && m["input_files"].size() == recipe.parts.size();
+    const Manifest m = read_manifest(dir / "manifest.json");
+    bool same = Json::parse(m.config_json) == Json::parse(datasets::recipe_json(recipe)) &&
+                m.input_files.size() == recipe.parts.size();
     for (std::size_t k = 0; same && k < recipe.parts.size(); ++k)
-      same = m["input_files"][k].value("fnv1a64", "") == datasets::to_hex(datasets::fnv1a64_file(recipe.parts[k].file));
+      same = m.input_files[k].fnv1a64 == datasets::to_hex(datasets::fnv1a64_file(recipe.parts[k].file));
     return same;
   } catch (const std::exception&) {
     return false;  // an unreadable manifest means: rebuild

@@ -1,6 +1,6 @@
 #include "millnet/datasets/build.hpp"
 
-#include "json_text.hpp"
+#include "millnet/core/json_text.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/datasets/features.hpp"
 #include "millnet/datasets/hash.hpp"
@@ -12,8 +12,6 @@
 
 namespace millnet::datasets {
 namespace fs = std::filesystem;
-using detail::json_number;
-using detail::json_string;
 
 namespace {
 

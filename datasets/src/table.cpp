@@ -1,6 +1,5 @@
 #include "millnet/datasets/table.hpp"
 
-#include "json_text.hpp"
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/datasets/hash.hpp"
@@ -11,14 +10,8 @@
 #include <set>
 #include <string_view>
 
-#ifndef MILLNET_VERSION
-#define MILLNET_VERSION "unknown"
-#endif
-
 namespace millnet::datasets {
 namespace fs = std::filesystem;
-using detail::json_number;
-using detail::json_string;
 
 namespace {
 
@@ -189,52 +182,6 @@ std::string table_csv(const Table& table) {
     out += '\n';
   }
   return out;
-}
-
-void write_table(const Table& table, const fs::path& dir) {
-  const std::string csv = table_csv(table);
-  std::map<int, std::size_t> per_label;
-  std::set<std::string> parts;
-  for (const Row& r : table.rows) {
-    ++per_label[r.label];
-    parts.insert(r.source);
-  }
-  std::string j = "{\n";
-  j += "  \"format\": \"millnet-vectors\",\n  \"format_version\": 1,\n";
-  j += "  \"program\": \"millnet\",\n  \"program_version\": " + json_string(MILLNET_VERSION) + ",\n";
-  j += "  \"csv\": \"vectors.csv\",\n";
-  j += "  \"csv_fnv1a64\": \"" + to_hex(fnv1a64(csv)) + "\",\n";
-  j += "  \"csv_bytes\": " + std::to_string(csv.size()) + ",\n";
-  j += "  \"grid\": " + std::to_string(table.grid_n) + ",\n";
-  j += "  \"inputs\": " + std::to_string(table.inputs_per_row()) + ",\n";
-  j += "  \"outputs\": " + std::to_string(kStrategySlots) + ",\n";
-  j += std::string("  \"aspect_column\": ") + (table.has_aspect ? "true" : "false") + ",\n";
-  j += "  \"counts\": {\"rows\": " + std::to_string(table.rows.size()) + ", \"parts\": " + std::to_string(parts.size()) +
-       ", \"rows_per_label\": {";
-  bool first = true;
-  for (const auto& [label, count] : per_label) {
-    j += (first ? "" : ", ") + json_string(std::to_string(label)) + ": " + std::to_string(count);
-    first = false;
-  }
-  j += "}},\n  \"strategies\": [";
-  for (std::size_t k = 0; k < kStrategySlots; ++k) j += (k ? ", " : "") + json_string(table.strategies[k]);
-  j += "],\n  \"hash\": \"fnv1a64\",\n  \"input_files\": [";
-  for (std::size_t k = 0; k < table.sources.size(); ++k) {
-    const SourceFile& s = table.sources[k];
-    j += (k ? ",\n    " : "\n    ");
-    j += "{\"name\": " + json_string(s.name) + ", \"file\": " + json_string(s.file) + ", \"label\": " +
-         std::to_string(s.label) + ", \"fnv1a64\": \"" + to_hex(s.fnv1a64) + "\", \"bytes\": " + std::to_string(s.bytes) +
-         ", \"triangles\": " + std::to_string(s.triangles) + ", \"degenerate_triangles\": " +
-         std::to_string(s.degenerate_triangles) + "}";
-  }
-  j += table.sources.empty() ? "],\n" : "\n  ],\n";
-  j += "  \"config\": " + (table.config_json.empty() ? std::string("null") : table.config_json);
-  if (!table.labelling_json.empty()) j += ",\n  \"labelling\": " + table.labelling_json;
-  j += "\n}\n";
-
-  // CSV first: a manifest never describes a CSV that is not there.
-  write_file_atomic(dir / "vectors.csv", csv);
-  write_file_atomic(dir / "manifest.json", j);
 }
 
 Table read_table(const fs::path& csv_path) {

@@ -163,7 +163,10 @@ Mesh load_with_assimp(const fs::path& path, MeshReport* report) {
     importer.GetExtensionList(list);
     throw file_error(name, "unknown mesh format '" + ext + "' (readable: " + list + ", and point clouds .xyz .pts .txt .asc)");
   }
-  const aiScene* scene = importer.ReadFile(name, aiProcess_JoinIdenticalVertices | aiProcess_Triangulate);
+  // Validation first: assimp's later steps index vertices through the faces unchecked, so a face index
+  // out of range corrupted the heap (tests/corpus/mesh/ply_face_index_out_of_range.ply).
+  const aiScene* scene =
+      importer.ReadFile(name, aiProcess_ValidateDataStructure | aiProcess_JoinIdenticalVertices | aiProcess_Triangulate);
   if (!scene || !scene->mRootNode)
     throw file_error(name, std::string("cannot read mesh: ") + importer.GetErrorString());
   std::vector<double> V;

@@ -143,8 +143,8 @@ MachiningResult machine_pocket(const Region& region, const CutParams& cut, const
   const GcodeParams gp = gcode_params(cut, opt);
   r.program = build_program(r.levels, gp);
   fill_program_metrics(r, cut, gp);
-  const auto tl = plan.stats.find("tour_length_mm");
-  r.metrics.tour_length_mm = tl != plan.stats.end() ? tl->second : plan.path.cut_length();
+  const auto* som = std::get_if<SomStats>(&plan.stats);
+  r.metrics.tour_length_mm = som ? som->smoothing.tour_length_mm : plan.path.cut_length();
   const UncutArea u = uncut_area(region, path, cut.clearance(), cut.tool_diameter / 2);
   r.metrics.uncut_area_mm2 = u.uncut_mm2;
   r.metrics.reachable_area_mm2 = u.reachable_mm2;

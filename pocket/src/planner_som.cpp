@@ -18,7 +18,6 @@ PlanResult plan_som(const Region& region, const CutParams& cut, const GridFrame&
   res.tool_points = make_tool_points(region, frame, clearance);  // O(grid cells)
   const ToolPoints& tp = res.tool_points;
   const std::size_t n = tp.pts.size();
-  res.stats["tool_points"] = static_cast<double>(n);
   if (n == 0) {
     std::ostringstream msg;
     msg << "no tool point fits: no grid point (spacing " << frame.spacing << " mm) keeps the tool disk (radius "
@@ -32,11 +31,7 @@ PlanResult plan_som(const Region& region, const CutParams& cut, const GridFrame&
   const MoveOk move_ok = [&clear](const Vec2& p, const Vec2& q) { return clear.move_ok(p, q); };
 
   const SomResult ring = som_tour(tp.pts, som);
-  res.stats["som_passes"] = ring.passes;
-  res.stats["som_converged"] = ring.converged ? 1.0 : 0.0;
-  res.stats["som_nodes"] = static_cast<double>(ring.nodes);
   SmoothedTour sm = smooth_tour(tp, ring.order, move_ok, smooth);
-  for (const auto& [k, v] : sm.stats) res.stats[k] = v;
 
   for (const auto& ch : sm.chains) {  // O(path vertices)
     Chain c;
@@ -49,13 +44,19 @@ PlanResult plan_som(const Region& region, const CutParams& cut, const GridFrame&
     res.predrill.push_back(c.pts.front().p());
     res.path.chains.push_back(std::move(c));
   }
-  res.stats["cut_length_mm"] = res.path.cut_length();
-  res.stats["rapid_length_mm"] = res.path.rapid_length();
-  res.stats["retractions"] = static_cast<double>(res.path.retractions());
-  res.stats["predrill_points"] = static_cast<double>(res.predrill.size());
-  const double bound = (static_cast<double>(n) - 1) * frame.spacing;
-  res.stats["grid_bound_mm"] = bound;
-  res.stats["cut_over_bound"] = bound > 0 ? res.path.cut_length() / bound : 1.0;
+  SomStats st;
+  st.tool_points = n;
+  st.som_passes = ring.passes;
+  st.som_converged = ring.converged;
+  st.som_nodes = ring.nodes;
+  st.smoothing = sm.stats;
+  st.cut_length_mm = res.path.cut_length();
+  st.rapid_length_mm = res.path.rapid_length();
+  st.retractions = res.path.retractions();
+  st.predrill_points = res.predrill.size();
+  st.grid_bound_mm = (static_cast<double>(n) - 1) * frame.spacing;
+  st.cut_over_bound = st.grid_bound_mm > 0 ? st.cut_length_mm / st.grid_bound_mm : 1.0;
+  res.stats = st;
   res.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
 }

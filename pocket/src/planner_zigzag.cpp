@@ -175,20 +175,21 @@ PlanResult plan_zigzag(const Region& region, const CutParams& cut, const ZigzagP
     res.path.chains.push_back(make_chain(world, "cut", true));
     res.predrill.push_back(world.front());
   }
-  res.stats["regions"] = best.regions;
-  res.stats["faces"] = static_cast<double>(best.part.faces.size());
-  res.stats["srps"] = static_cast<double>(best.part.srps.size());
-  res.stats["nls"] = best.part.nls;
-  res.stats["islands"] = best.part.n_islands;
-  res.stats["components"] = best.part.n_components;
-  res.stats["formula_regions"] = best.part.formula_regions();
-  res.stats["passes"] = static_cast<double>(best.passes);
-  res.stats["angle_deg"] = best.angle;
-  res.stats["angles_tried"] = static_cast<double>(angles.size());
-  res.stats["nonmonotone_faces"] = best.nonmonotone;
-  res.stats["contours"] = 0;  // the contour pass is machine_pocket's (the key stays in the metrics files)
-  res.stats["zigzag_cut_length_mm"] = best.cut_len;
-  res.stats["zigzag_rapid_length_mm"] = best.rapid_len;
+  ZigzagStats st;
+  st.regions = best.regions;
+  st.faces = best.part.faces.size();
+  st.srps = best.part.srps.size();
+  st.nls = best.part.nls;
+  st.islands = best.part.n_islands;
+  st.components = best.part.n_components;
+  st.formula_regions = best.part.formula_regions();
+  st.passes = best.passes;
+  st.angle_deg = best.angle;
+  st.angles_tried = angles.size();
+  st.nonmonotone_faces = best.nonmonotone;
+  st.zigzag_cut_length_mm = best.cut_len;
+  st.zigzag_rapid_length_mm = best.rapid_len;
+  res.stats = st;
   MILLNET_ASSERT(static_cast<int>(best.part.faces.size()) == best.part.formula_regions(),
                  "partition face count differs from n_s - n_i + n_c - n_n");
   if (res.path.chains.empty()) {

@@ -142,20 +142,9 @@ ExtraPasses extra_passes(const ToolPoints& tp, std::vector<int>& path, const Mov
   return ex;
 }
 
-/// Savings and counts of the weak smoothing and the extra passes.
-void reordering_stats(const WeakStats& weak, const ExtraPasses& extra, std::map<std::string, double>& st) {
-  st["weak_smoothing_saved_mm"] = weak.saved_mm;
-  st["weak_patterns"] = weak.patterns();
-  st["weak_type1"] = weak.type1;
-  st["weak_type2"] = weak.type2;
-  st["weak_type3"] = weak.type3;
-  st["two_opt_saved_mm"] = extra.saved_mm;
-  st["opt_moves"] = static_cast<double>(extra.moves);
-}
 
 /// Strong smoothing: overcutting moves become links or retractions (a new chain). O(N + link lengths).
-std::vector<std::vector<int>> strong_smoothing(const std::vector<int>& path, MoveCosts& costs,
-                                               std::map<std::string, double>& st) {
+std::vector<std::vector<int>> strong_smoothing(const std::vector<int>& path, MoveCosts& costs, SmoothingStats& st) {
   std::vector<std::vector<int>> chains;
   int before_linking = 0, links = 0;
   double link_len = 0;
@@ -177,24 +166,45 @@ std::vector<std::vector<int>> strong_smoothing(const std::vector<int>& path, Mov
       chains.emplace_back(1, b);
     }
   }
-  st["retractions_before_linking"] = before_linking;
-  st["links"] = links;
-  st["link_length_mm"] = link_len;
+  st.retractions_before_linking = before_linking;
+  st.links = links;
+  st.link_length_mm = link_len;
   return chains;
 }
 
 /// Cut and rapid lengths of the chains and the retractions between them.
-void chain_stats(const ToolPoints& tp, const std::vector<std::vector<int>>& chains, std::map<std::string, double>& st) {
+void chain_stats(const ToolPoints& tp, const std::vector<std::vector<int>>& chains, SmoothingStats& st) {
   double cut = 0;
   for (const auto& c : chains) cut += polyline_length(tp, c);
   double rapid = 0;
   for (std::size_t k = 1; k < chains.size(); ++k) rapid += dist(tp, chains[k - 1].back(), chains[k].front());
-  st["retractions"] = static_cast<double>(chains.size() - 1);
-  st["tour_length_mm"] = cut;
-  st["rapid_length_mm"] = rapid;
+  st.retractions = chains.size() - 1;
+  st.tour_length_mm = cut;
+  st.rapid_length_mm = rapid;
 }
 
 }  // namespace
+
+std::vector<std::pair<std::string, double>> SmoothingStats::key_values() const {
+  // Sorted by key: the order the metrics files have had since these figures lived in a std::map.
+  return {{"link_length_mm", link_length_mm},
+          {"links", links},
+          {"min_retractions", min_retractions},
+          {"opt_moves", static_cast<double>(opt_moves)},
+          {"rapid_length_mm", rapid_length_mm},
+          {"reachable_regions", reachable_regions},
+          {"retractions", static_cast<double>(retractions)},
+          {"retractions_before_linking", retractions_before_linking},
+          {"som_overcut_moves", som_overcut_moves},
+          {"som_tour_length_mm", som_tour_length_mm},
+          {"tour_length_mm", tour_length_mm},
+          {"two_opt_saved_mm", two_opt_saved_mm},
+          {"weak_patterns", weak.patterns()},
+          {"weak_smoothing_saved_mm", weak.saved_mm},
+          {"weak_type1", weak.type1},
+          {"weak_type2", weak.type2},
+          {"weak_type3", weak.type3}};
+}
 
 WeakStats weak_smoothing(const ToolPoints& tp, std::vector<int>& path, const MoveOk& move_ok) {
   WeakStats st;
@@ -257,18 +267,18 @@ SmoothedTour smooth_tour(const ToolPoints& tp, const std::vector<int>& ring, con
   const detail::GridGraph graph(tp, move_ok);
   MoveCosts costs(tp, move_ok, graph, params);
   const int regions = graph.components();
-  st["reachable_regions"] = regions;
-  st["min_retractions"] = regions - 1;
+  st.reachable_regions = regions;
+  st.min_retractions = regions - 1;
 
   std::vector<int> path = open_at_costliest_move(ring, costs);
-  st["som_tour_length_mm"] = polyline_length(tp, path);
-  st["som_overcut_moves"] = overcut_moves(path, costs);
+  st.som_tour_length_mm = polyline_length(tp, path);
+  st.som_overcut_moves = overcut_moves(path, costs);
 
-  WeakStats weak;
-  if (params.weak) add_weak(weak, weak_smoothing(tp, path, move_ok));
+  if (params.weak) add_weak(st.weak, weak_smoothing(tp, path, move_ok));
   ExtraPasses extra;
-  if (params.extra_passes && tp.pts.size() >= 4) extra = extra_passes(tp, path, move_ok, costs, params, weak);
-  reordering_stats(weak, extra, st);
+  if (params.extra_passes && tp.pts.size() >= 4) extra = extra_passes(tp, path, move_ok, costs, params, st.weak);
+  st.two_opt_saved_mm = extra.saved_mm;
+  st.opt_moves = extra.moves;
 
   out.chains = strong_smoothing(path, costs, st);
   chain_stats(tp, out.chains, st);

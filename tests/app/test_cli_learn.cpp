@@ -68,6 +68,8 @@ void write_config(const fs::path& dir) {
 })";
 }
 
+void write_file(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
+
 }  // namespace
 
 TEST(CliLearn, SampleWritesTheAnalyticRampGrid) {
@@ -247,4 +249,55 @@ TEST(CliLearn, DatasetTrainPredictEndToEnd) {
   const Csv pcsv = read_csv(d / "P" / "predictions.csv");
   EXPECT_EQ(pcsv.size(), 5u);
   EXPECT_EQ(pcsv[0][0], "part");
+}
+
+TEST(CliLearn, ModelFolderDescribesItself) {
+  const auto d = fresh_dir("cli_learn_model_folder");
+  write_config(d);
+  ASSERT_EQ(run_millnet("dataset --config c.json --quiet --out D", d).code, 0);
+  auto r = run_millnet("train --dataset D/vectors.csv --config c.json --quiet --out M", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  // model.json carries sampling.json's raster and grid under "features".
+  const json model = json::parse(slurp(d / "M" / "model.json"));
+  const json sampling = json::parse(slurp(d / "M" / "sampling.json"));
+  ASSERT_TRUE(model.contains("features")) << model.dump().substr(0, 300);
+  EXPECT_EQ(model["features"]["grid"], sampling["grid"]);
+  EXPECT_EQ(model["features"]["raster_mm"].get<double>(), sampling["raster_mm"].get<double>());
+  EXPECT_EQ(model["features"]["inputs"], sampling["inputs"]);
+  EXPECT_EQ(model["features"]["aspect_feature"], false);
+
+  fs::copy_file(d / "parts" / (fs::directory_iterator(d / "parts")->path().filename()), d / "part.stl");
+  r = run_millnet("predict --model M --config c.json --quiet --out P part.stl", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string reference = slurp(d / "P" / "predictions.csv");
+  const auto folder = [&](const std::string& name) {
+    fs::copy(d / "M", d / name);
+    return d / name;
+  };
+  // model.json's features win: no sampling.json, or a wrong one, predicts the same.
+  fs::remove(folder("M_self") / "sampling.json");
+  write_file(folder("M_wrong") / "sampling.json", R"({"grid": 5, "raster_mm": 7})");
+  for (const std::string m : {"M_self", "M_wrong"}) {
+    r = run_millnet("predict --model " + m + " --config c.json --quiet --out P_" + m + " part.stl", d);
+    EXPECT_EQ(r.code, 0) << m << ": " << r.err;
+    EXPECT_EQ(slurp(d / ("P_" + m) / "predictions.csv"), reference) << m;
+  }
+  // A folder from before "features": sampling.json is read (a wrong one now breaks the prediction).
+  json old = model;
+  old.erase("features");
+  write_file(folder("M_old") / "model.json", old.dump(1) + "\n");
+  write_file(folder("M_old_wrong") / "model.json", old.dump(1) + "\n");
+  write_file(d / "M_old_wrong" / "sampling.json", R"({"grid": 5, "raster_mm": 7})");
+  r = run_millnet("predict --model M_old --config c.json --quiet --out P_old part.stl", d);
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(slurp(d / "P_old" / "predictions.csv"), reference);
+  r = run_millnet("predict --model M_old_wrong --config c.json --quiet --out P_old_wrong part.stl", d);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(slurp(d / "P_old_wrong" / "predictions.csv"), reference);
+  // Neither features nor sampling.json: the error names the file and the key.
+  fs::remove(folder("M_none") / "sampling.json");
+  write_file(d / "M_none" / "model.json", old.dump(1) + "\n");
+  r = run_millnet("predict --model M_none --config c.json --quiet --out P_none part.stl", d);
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("sampling.json"), std::string::npos) << r.err;
 }

@@ -145,6 +145,39 @@ TEST(ModelFile, BadFilesNameFileAndKey) {
   fs::remove_all(dir);
 }
 
+TEST(ModelFile, FeaturesAreOneAddedKeyThatRoundTrips) {
+  const fs::path dir = temp_dir();
+  Model m = small_model();  // 5 inputs: a 2×2 grid and the aspect
+  classifier_io::save_model(m, dir / "bare.json");
+  EXPECT_FALSE(classifier_io::load_model(dir / "bare.json").input_spec.has_value());
+  m.input_spec = InputSpec{0.5, 2, true};
+  classifier_io::save_model(m, dir / "features.json");
+  const Model r = classifier_io::load_model(dir / "features.json");
+  ASSERT_TRUE(r.input_spec.has_value());
+  EXPECT_EQ(*r.input_spec, *m.input_spec);
+  // The file is the one without features plus the "features" object (keys sorted: after "alpha").
+  std::string expect = read_file(dir / "bare.json");
+  const auto at = expect.find("\n \"format\"");
+  ASSERT_NE(at, std::string::npos);
+  expect.insert(at, "\n \"features\": {\n  \"aspect_feature\": true,\n  \"grid\": 2,\n  \"inputs\": 5,\n  \"raster_mm\": 0.5\n },");
+  EXPECT_EQ(read_file(dir / "features.json"), expect);
+  // A spec that does not describe the stored inputs is refused on save and on load.
+  Model wrong = m;
+  wrong.input_spec = InputSpec{0.5, 3, false};
+  EXPECT_THROW(classifier_io::save_model(wrong, dir / "wrong.json"), millnet::Error);
+  std::string text = read_file(dir / "features.json");
+  text.replace(text.find("\"grid\": 2"), 9, "\"grid\": 3");
+  write(dir / "grid.json", text);
+  std::string e = error_of(dir / "grid.json");
+  EXPECT_NE(e.find("grid.json: features.inputs: expected 10 (grid² + 1), got 5"), std::string::npos) << e;
+  text = read_file(dir / "features.json");
+  text.replace(text.find("\"raster_mm\": 0.5"), 17, "\"raster_mm\": -1.0");
+  write(dir / "raster.json", text);
+  e = error_of(dir / "raster.json");
+  EXPECT_NE(e.find("raster.json: features.raster_mm: expected a number > 0"), std::string::npos) << e;
+  fs::remove_all(dir);
+}
+
 TEST(ModelFile, NonFiniteIsRefusedAndNothingIsWritten) {
   Model m = small_model();
   m.inputs(2, 2) = std::numeric_limits<double>::quiet_NaN();

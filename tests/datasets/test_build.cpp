@@ -3,6 +3,7 @@
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/datasets/build.hpp"
+#include "millnet/datasets/io/manifest.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -13,6 +14,7 @@
 
 namespace fs = std::filesystem;
 using namespace millnet::datasets;
+using millnet::datasets_io::write_table;
 
 namespace {
 
@@ -161,4 +163,17 @@ TEST(DefaultTrainingSet, NearestNeighbourLeaveOnePartOutAccuracy) {
   std::printf("[ figure ] default training set, 1-NN leave-one-part-out accuracy: %.4f (%d/%ld)\n", acc, correct,
               static_cast<long>(N));
   EXPECT_GE(acc, 0.95);
+}
+
+TEST(BuildTable, UpToDateUntilAPartFileChanges) {
+  const fs::path d = fresh("up_to_date");
+  const Recipe r = small_recipe(d);
+  EXPECT_FALSE(millnet::datasets_io::table_up_to_date(d / "t", r));  // nothing written yet
+  write_table(build_table(r), d / "t");
+  EXPECT_TRUE(millnet::datasets_io::table_up_to_date(d / "t", r));
+  Recipe other = r;
+  other.raster_mm = 2.5;  // another recipe echo
+  EXPECT_FALSE(millnet::datasets_io::table_up_to_date(d / "t", other));
+  millnet::write_file_atomic(r.parts[1].file, millnet::read_file(r.parts[1].file) + " ");  // other bytes
+  EXPECT_FALSE(millnet::datasets_io::table_up_to_date(d / "t", r));
 }

@@ -3,6 +3,7 @@
 #include "millnet/core/error.hpp"
 #include "millnet/datasets/hash.hpp"
 #include "millnet/datasets/table.hpp"
+#include "millnet/datasets/io/manifest.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -15,6 +16,7 @@
 
 namespace fs = std::filesystem;
 using namespace millnet::datasets;
+using millnet::datasets_io::write_table;
 
 namespace {
 

@@ -52,7 +52,7 @@ TEST_P(PlanSomBench, MeetsTheIssueGoals) {
   const mp::GridFrame frame{{0, 0}, 0, cut.stepover};
   const auto r = mp::plan_som(region, cut, frame, {}, {});
   ASSERT_EQ(r.status, mp::PlanStatus::Ok) << r.message;
-  const double n = r.stats.at("tool_points");
+  const double n = static_cast<double>(std::get<mp::SomStats>(r.stats).tool_points);
   ASSERT_GT(n, 10);
   // every tool point is cut, inside chains that move only between tool points
   std::set<std::pair<double, double>> visited;
@@ -60,7 +60,7 @@ TEST_P(PlanSomBench, MeetsTheIssueGoals) {
     for (const auto& v : ch.pts) visited.insert({v.x, v.y});
   EXPECT_EQ(visited.size(), r.tool_points.pts.size());
   // goals: retractions = separate reachable regions − 1, no gouge, cut ≤ 1.05·(N − 1)·g
-  EXPECT_EQ(static_cast<double>(r.path.retractions()), r.stats.at("reachable_regions") - 1) << GetParam();
+  EXPECT_EQ(r.path.retractions(), static_cast<std::size_t>(std::get<mp::SomStats>(r.stats).smoothing.reachable_regions - 1)) << GetParam();
   EXPECT_EQ(r.predrill.size(), r.path.chains.size());
   EXPECT_GE(min_wall_distance(region, r.path), cut.clearance() - 0.01) << GetParam();
   EXPECT_LE(r.path.cut_length(), 1.05 * (n - 1) * cut.stepover) << GetParam();
@@ -86,7 +86,7 @@ TEST(PlanSom, SeedLikeStrongSmoothingRetractsAndStaysGougeFree) {
   ASSERT_EQ(r.status, mp::PlanStatus::Ok);
   // the plain SOM tour crosses islands: without links every crossing is a retraction
   EXPECT_GT(r.path.retractions(), 0U);
-  EXPECT_EQ(static_cast<double>(r.path.retractions()), r.stats.at("retractions_before_linking"));
+  EXPECT_EQ(r.path.retractions(), static_cast<std::size_t>(std::get<mp::SomStats>(r.stats).smoothing.retractions_before_linking));
   EXPECT_GE(min_wall_distance(region, r.path), cut.clearance() - 0.01);
 }
 

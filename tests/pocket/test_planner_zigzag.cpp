@@ -51,9 +51,10 @@ TEST(DirectionSearch, LongThinPocketAlongItsLength) {
   std::vector<AngleScore> scores;
   const PlanResult p = plan_zigzag(r, tool10(), zp, &scores);
   ASSERT_EQ(p.status, PlanStatus::Ok);
-  EXPECT_NEAR(p.stats.at("angle_deg"), 33.0, 1e-9);
-  EXPECT_EQ(p.stats.at("regions"), 1.0);
-  EXPECT_EQ(p.stats.at("passes"), 3.0);
+  const ZigzagStats& st = std::get<ZigzagStats>(p.stats);
+  EXPECT_NEAR(st.angle_deg, 33.0, 1e-9);
+  EXPECT_EQ(st.regions, 1);
+  EXPECT_EQ(st.passes, 3U);
   for (const auto& s : scores) {
     EXPECT_EQ(s.regions, 1) << s.angle_deg;
     if (HasFailure()) std::printf("%g: %d regions %.3f mm\n", s.angle_deg, s.regions, s.length_mm);
@@ -71,8 +72,8 @@ TEST(DirectionSearch, LShapedPocketFewestRegionsThenLongestEdge) {
   std::vector<AngleScore> scores;
   const PlanResult p = plan_zigzag(r, tool10(), zp, &scores);
   ASSERT_EQ(p.status, PlanStatus::Ok);
-  EXPECT_NEAR(p.stats.at("angle_deg"), 20.0, 1e-9);
-  EXPECT_EQ(p.stats.at("regions"), 1.0);
+  EXPECT_NEAR(std::get<ZigzagStats>(p.stats).angle_deg, 20.0, 1e-9);
+  EXPECT_EQ(std::get<ZigzagStats>(p.stats).regions, 1);
   int one = 0, two = 0;
   for (const auto& s : scores) {
     const double rel = std::fmod(s.angle_deg - 20 + 360, 180.0);  // direction in the L's own frame
@@ -81,7 +82,7 @@ TEST(DirectionSearch, LShapedPocketFewestRegionsThenLongestEdge) {
   }
   EXPECT_GT(one, 10);
   EXPECT_GT(two, 10);
-  EXPECT_LT(angle_diff(p.stats.at("angle_deg"), 20), 1e-9);
+  EXPECT_LT(angle_diff(std::get<ZigzagStats>(p.stats).angle_deg, 20), 1e-9);
 }
 
 TEST(DirectionSearch, FixedAngleIsUsedAsGiven) {
@@ -89,8 +90,8 @@ TEST(DirectionSearch, FixedAngleIsUsedAsGiven) {
   ZigzagParams zp;
   zp.angle_deg = 37.5;
   const PlanResult p = plan_zigzag(r, tool10(), zp);
-  EXPECT_EQ(p.stats.at("angle_deg"), 37.5);
-  EXPECT_EQ(p.stats.at("angles_tried"), 1.0);
+  EXPECT_EQ(std::get<ZigzagStats>(p.stats).angle_deg, 37.5);
+  EXPECT_EQ(std::get<ZigzagStats>(p.stats).angles_tried, 1U);
   EXPECT_EQ(p.planner, "zigzag-t");
   // Deterministic: the same input gives the same path, vertex for vertex.
   const PlanResult q = plan_zigzag(r, tool10(), zp);

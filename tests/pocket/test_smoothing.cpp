@@ -186,18 +186,18 @@ TEST(StrongSmoothing, RowOrderAcrossTheIslandSplitsOrLinks) {
 
   // Seed behaviour: no links, no reordering ⇒ every overcutting move is a retraction.
   const auto seed_like = mp::smooth_tour(tp, ring, ok, {.linking = false, .weak = false, .extra_passes = false});
-  EXPECT_GT(seed_like.stats.at("retractions"), 0.0);
-  EXPECT_EQ(seed_like.stats.at("retractions"), seed_like.stats.at("retractions_before_linking"));
-  EXPECT_EQ(seed_like.chains.size(), static_cast<std::size_t>(seed_like.stats.at("retractions")) + 1);
+  EXPECT_GT(seed_like.stats.retractions, 0U);
+  EXPECT_EQ(seed_like.stats.retractions, static_cast<std::size_t>(seed_like.stats.retractions_before_linking));
+  EXPECT_EQ(seed_like.chains.size(), seed_like.stats.retractions + 1);
 
   // Linking without reordering: the same moves become links, no retraction left.
   const auto linked = mp::smooth_tour(tp, ring, ok, {.weak = false, .extra_passes = false});
-  EXPECT_EQ(linked.stats.at("retractions"), 0.0);
-  EXPECT_EQ(linked.stats.at("links"), seed_like.stats.at("retractions_before_linking"));
+  EXPECT_EQ(linked.stats.retractions, 0U);
+  EXPECT_EQ(linked.stats.links, seed_like.stats.retractions_before_linking);
 
   // Everything on: connected region ⇒ one chain, every move gouge-free, every point visited.
   const auto full = mp::smooth_tour(tp, ring, ok, {});
-  EXPECT_EQ(full.stats.at("reachable_regions"), 1.0);
+  EXPECT_EQ(full.stats.reachable_regions, 1);
   ASSERT_EQ(full.chains.size(), 1U);
   EXPECT_TRUE(mp::is_permutation_of(full.order, tp.pts.size()));
   std::set<int> seen;
@@ -209,8 +209,8 @@ TEST(StrongSmoothing, RowOrderAcrossTheIslandSplitsOrLinks) {
   }
   EXPECT_EQ(seen.size(), tp.pts.size());
   // Shorter than the row order with links, and close to the grid bound (N − 1)·g.
-  EXPECT_LT(full.stats.at("tour_length_mm"), linked.stats.at("tour_length_mm"));
-  EXPECT_LE(full.stats.at("tour_length_mm"), 1.10 * (static_cast<double>(tp.pts.size()) - 1) * g);
+  EXPECT_LT(full.stats.tour_length_mm, linked.stats.tour_length_mm);
+  EXPECT_LE(full.stats.tour_length_mm, 1.10 * (static_cast<double>(tp.pts.size()) - 1) * g);
 }
 
 TEST(StrongSmoothing, SeparateRegionsNeedOneRetractionEach) {
@@ -225,13 +225,13 @@ TEST(StrongSmoothing, SeparateRegionsNeedOneRetractionEach) {
   };
   const auto som = mp::som_tour(tp.pts, {.seed = 9});
   const auto r = mp::smooth_tour(tp, som.order, wall, {});
-  EXPECT_EQ(r.stats.at("reachable_regions"), 2.0);
-  EXPECT_EQ(r.stats.at("retractions"), 1.0);
+  EXPECT_EQ(r.stats.reachable_regions, 2);
+  EXPECT_EQ(r.stats.retractions, 1U);
   EXPECT_EQ(r.chains.size(), 2U);
   // bound: all unit steps, (N − 2)·g; 2-opt/Or-opt is a local search, allowed 3 % above it
   const double bound = (static_cast<double>(tp.pts.size()) - 2) * g;
-  EXPECT_GE(r.stats.at("tour_length_mm"), bound - 1e-9);
-  EXPECT_LE(r.stats.at("tour_length_mm"), 1.03 * bound);
+  EXPECT_GE(r.stats.tour_length_mm, bound - 1e-9);
+  EXPECT_LE(r.stats.tour_length_mm, 1.03 * bound);
 }
 
 TEST(StrongSmoothing, SameInputSameResult) {
@@ -242,7 +242,7 @@ TEST(StrongSmoothing, SameInputSameResult) {
   const auto a = mp::smooth_tour(tp, som.order, ok, {});
   const auto b = mp::smooth_tour(tp, som.order, ok, {});
   EXPECT_EQ(a.chains, b.chains);
-  EXPECT_EQ(a.stats, b.stats);
+  EXPECT_EQ(a.stats.key_values(), b.stats.key_values());
 }
 
 TEST(StrongSmoothing, RejectsANonPermutation) {

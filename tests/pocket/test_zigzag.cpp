@@ -155,7 +155,7 @@ TEST(Zigzag, RectangleCoverageMatchesCuspBound) {
   const PlanResult p = plan_zigzag(r, cut, zp);
   ASSERT_EQ(p.status, PlanStatus::Ok);
   EXPECT_EQ(p.path.chains.size(), 1u);
-  const double n = p.stats.at("passes");
+  const double n = static_cast<double>(std::get<ZigzagStats>(p.stats).passes);
   EXPECT_EQ(n, 11.0);  // ceil(49.996 / 5) + 1
   const double s = (50 - 2 * tol::scan_clear_mm) / (n - 1);
   const double predicted = (n - 1) * cusp(s, 5) + 2 * tol::scan_clear_mm * 90;
@@ -217,13 +217,13 @@ TEST(Zigzag, OneChainPerRegionAndRetractions) {
     zp.partition = kind;
     const PlanResult p = plan_zigzag(r, cut, zp);
     ASSERT_EQ(p.status, PlanStatus::Ok);
-    EXPECT_EQ(p.stats.at("regions"), regions);
+    EXPECT_EQ(std::get<ZigzagStats>(p.stats).regions, regions);
     EXPECT_EQ(p.path.chains.size(), static_cast<std::size_t>(regions));
     EXPECT_EQ(p.path.retractions(), static_cast<std::size_t>(regions - 1));
     EXPECT_EQ(p.predrill.size(), static_cast<std::size_t>(regions));
     const auto rep = replay(r, p, cut);
     EXPECT_EQ(rep.violations, 0) << rep.first_violation;
-    EXPECT_LT(uncut_area(r, p, 5, 0.1), 2 * p.stats.at("passes") * cusp(5, 5) + 0.5);
+    EXPECT_LT(uncut_area(r, p, 5, 0.1), 2 * static_cast<double>(std::get<ZigzagStats>(p.stats).passes) * cusp(5, 5) + 0.5);
   }
 }
 
@@ -241,8 +241,9 @@ TEST(Zigzag, GougeFreeAtOddAnglesWithArcs) {
     zp.partition = PartitionKind::I;
     const PlanResult p = plan_zigzag(r, cut, zp);
     ASSERT_EQ(p.status, PlanStatus::Ok);
-    EXPECT_EQ(p.stats.at("nonmonotone_faces"), 0.0) << ang;
-    EXPECT_EQ(p.stats.at("faces"), p.stats.at("formula_regions")) << ang;
+    const ZigzagStats& st = std::get<ZigzagStats>(p.stats);
+    EXPECT_EQ(st.nonmonotone_faces, 0) << ang;
+    EXPECT_EQ(st.faces, static_cast<std::size_t>(st.formula_regions)) << ang;
     const auto rep = replay(r, p, cut);
     EXPECT_EQ(rep.violations, 0) << "angle " << ang << ": " << rep.first_violation;
   }

@@ -15,6 +15,7 @@
 // (one-hot strategy labels).
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -145,6 +146,19 @@ struct TrainParams {
   double fixed_alpha = 0.0;
 };
 
+/// How one input row is made from a part: the height-field raster and the n×n grid it is resampled
+/// to, row-major. Recorded by whoever built the training table, so that a model file describes its
+/// own inputs; the classifier itself never reads it.
+struct InputSpec {
+  double raster_mm = 0;          ///< > 0
+  int grid = 0;                  ///< n ≥ 2
+  bool aspect_feature = false;   ///< the footprint aspect follows the n² heights as one more input
+  [[nodiscard]] Eigen::Index inputs() const {
+    return static_cast<Eigen::Index>(grid) * grid + (aspect_feature ? 1 : 0);
+  }
+  bool operator==(const InputSpec&) const = default;
+};
+
 /// A trained network: everything needed to predict, plus the LOO record.
 struct Model {
   double alpha = 0;
@@ -156,6 +170,7 @@ struct Model {
   double unfamiliar_threshold = 0;      ///< on d²_min (normalized units)
   double unfamiliar_factor = 0, unfamiliar_percentile = 0;
   LooReport loo;
+  std::optional<InputSpec> input_spec;  ///< empty in model files written before it was recorded
 };
 
 /// Validates the set, fits the normalizer, selects α (or uses params.fixed_alpha), and stores.

@@ -2,7 +2,8 @@
 // The model-vector table (Korosec & Kopac §3.5): one row per augmented variant of a part, n×n grid
 // heights as inputs (n = 15 in the paper: 225 inputs) and 8 one-hot strategy outputs.
 //
-// On disk (ARCHITECTURE.md "Formats"): <dir>/vectors.csv + <dir>/manifest.json.
+// On disk (ARCHITECTURE.md "Formats"): <dir>/vectors.csv + <dir>/manifest.json, written together by
+// datasets_io::write_table (millnet/datasets/io/manifest.hpp, the manifest's one owner).
 //   CSV header, exactly:  id,source,label,axis,angle,flip,in_1_1,…,in_n_n,out_1,…,out_8[,aspect]
 //   * in_<r>_<c>: height in mm above the variant's lowest point at grid row r (r = 1 at min y) and
 //     column c (c = 1 at min x), 1-based; the grid spans the footprint rectangle corner to corner.
@@ -59,7 +60,7 @@ struct Table {
   bool has_aspect = false;              ///< write/read the optional `aspect` column
   StrategyNames strategies = default_strategy_names();
   std::vector<Row> rows;
-  // Provenance, written to the manifest (not to the CSV; empty after read_table).
+  // Provenance for the manifest (not in the CSV; empty after read_table).
   std::vector<SourceFile> sources;
   std::string config_json;              ///< JSON text echoed as manifest "config" (must be valid JSON; empty ⇒ null)
   /// JSON text written as manifest "labelling" (every strategy's simulated figures per part, the
@@ -81,14 +82,9 @@ struct Table {
 /// One-hot output for a 1-based label (all zeros for 0). Throws millnet::Error outside 0..8.
 [[nodiscard]] std::array<double, kStrategySlots> one_hot(int label);
 
-/// Writes <dir>/vectors.csv then <dir>/manifest.json, each atomically (temporary file + rename; a
-/// failure leaves no partial file). Creates dir. The manifest holds: format + program version,
-/// grid, counts (rows, parts, rows per label), strategy names, the config echo, the source files
-/// with FNV-1a 64 hashes, and the hash of vectors.csv itself. Throws millnet::Error.
-/// O(rows · n²).
-void write_table(const Table& table, const std::filesystem::path& dir);
-
-/// The CSV text write_table writes (exposed for hashing and tests).
+/// The CSV text of the table (datasets_io::write_table writes it beside the manifest). Throws
+/// millnet::Error for a row with the wrong number of inputs, a label outside 0..8, a duplicate id or
+/// a text field with a line break. O(rows · n²).
 [[nodiscard]] std::string table_csv(const Table& table);
 
 /// Reads a vectors.csv (the strategy names are the defaults: names live in the manifest). Errors

@@ -2,8 +2,8 @@
 // Figures of one machined pocket (what `millnet pocket` writes to <stem>.metrics.json).
 #include "millnet/pocket/gcode.hpp"
 #include "millnet/pocket/geometry.hpp"
+#include "millnet/pocket/planner_stats.hpp"
 
-#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -12,7 +12,7 @@ namespace millnet::pocket {
 
 struct Metrics {
   double tool_points = 0;
-  double tour_length_mm = 0;    ///< planner's tour length (stats) or the level path's cut length
+  double tour_length_mm = 0;    ///< the SOM tour's length (SmoothingStats) or the level path's cut length
   double cut_length_mm = 0;     ///< XY feed length of the whole program (all levels, entries, contour)
   double rapid_length_mm = 0;   ///< XY rapid length of the whole program (incl. pre-drilling)
   double retractions = 0;       ///< milling retractions to safe Z followed by another entry
@@ -25,9 +25,9 @@ struct Metrics {
   double reachable_area_mm2 = 0;
   double pocket_area_mm2 = 0;
   double levels = 0;
-  std::map<std::string, double> planner_stats;  ///< merged as they are
-  /// Ordered (key, value) pairs: the fields above in this order, then the planner stats (a planner
-  /// key equal to a field name is skipped: the field wins).
+  PlannerStats planner_stats;   ///< the plan's figures, as they are
+  /// Ordered (key, value) pairs: the fields above in this order, then key_values(planner_stats) (a
+  /// planner key equal to a field name is skipped: the field wins).
   [[nodiscard]] std::vector<std::pair<std::string, double>> to_key_values() const;
 };
 

@@ -2,10 +2,10 @@
 // One planner interface: a planner turns a validated, normalized region and the cut parameters into
 // a 2D plan at one level (feeds unassigned). pocket/machining.hpp then adjusts feeds from the feed
 // map, repeats the plan at every step-down, writes G-code and metrics.
+#include "millnet/pocket/planner_stats.hpp"
 #include "millnet/pocket/toolpath.hpp"
 #include "millnet/pocket/toolpoints.hpp"
 
-#include <map>
 #include <string>
 #include <vector>
 
@@ -18,8 +18,7 @@ struct PlanResult {
   ToolPoints tool_points;                ///< the grid points the path visits (SOM); may be empty
   Path2D path;                           ///< chains in machining order, feeds 0 (unassigned)
   std::vector<Vec2> predrill;            ///< entry points that need a pre-drilled hole
-  std::map<std::string, double> stats;   ///< planner figures, e.g. "tour_length_mm",
-                                         ///< "weak_smoothing_saved_mm", "regions", "passes"
+  PlannerStats stats;                    ///< the planner's figures (SomStats, ZigzagStats, …)
   double planning_time_s = 0;
 };
 

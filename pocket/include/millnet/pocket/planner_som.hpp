@@ -13,9 +13,8 @@ namespace millnet::pocket {
 ///     grid g (the caller usually sets frame.spacing = cut.stepover);
 ///   * path: chains of straight moves between tool points (bulges 0), feeds 0 (unassigned), role "cut",
 ///     predrill = true (each chain starts in uncut material); predrill lists every chain's start;
-///   * stats: SmoothedTour::stats plus "tool_points", "som_passes", "som_converged", "som_nodes",
-///     "cut_length_mm", "rapid_length_mm", "grid_bound_mm" = (N − 1)·g, "cut_over_bound".
-/// No tool point ⇒ status NoToolPoints with a message and an empty path. Deterministic for som.seed.
+///   * stats: SomStats (the smoothing's figures, the SOM's, the path's lengths, grid_bound_mm = (N − 1)·g).
+/// No tool point ⇒ status NoToolPoints with a message, an empty path and no stats (std::monostate). Deterministic for som.seed.
 /// Example: `auto r = plan_som(region, cut, GridFrame{{0, 0}, 0, cut.stepover}, {}, {});`
 [[nodiscard]] PlanResult plan_som(const Region& region, const CutParams& cut, const GridFrame& frame,
                                   const SomParams& som, const SmoothingParams& smooth);

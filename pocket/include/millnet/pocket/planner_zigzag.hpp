@@ -36,8 +36,7 @@ struct AngleScore {
 /// The tool centre stays in offset_inward(region, cut.clearance()) (Clipper, arcs within
 /// tol::arc_chord_mm). Chains are in machining order in world coordinates, feeds unassigned.
 /// PlanResult::planner = "zigzag-t" | "zigzag-i"; predrill = the entry of every zigzag chain;
-/// stats: "regions" (zigzag chains = faces cut), "srps", "nls", "islands", "formula_regions",
-/// "passes", "angle_deg", "angles_tried", "nonmonotone_faces", "contours".
+/// stats: ZigzagStats of the chosen direction (none when the tool fits nowhere).
 /// Throws millnet::Error for stepover ∉ (0, tool diameter] or a non-positive tool diameter.
 /// Status NoToolPoints (empty path, message) when the tool fits nowhere.
 [[nodiscard]] PlanResult plan_zigzag(const Region& region, const CutParams& cut, const ZigzagParams& params,

@@ -16,9 +16,10 @@
 // Lengths in mm; a path is a sequence of indices into ToolPoints::pts.
 #include "millnet/pocket/toolpoints.hpp"
 
+#include <cstddef>
 #include <functional>
-#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace millnet::pocket {
@@ -44,6 +45,29 @@ struct WeakStats {
   [[nodiscard]] int patterns() const { return type1 + type2 + type3; }
 };
 
+/// Figures of smooth_tour(), in mm and counts.
+struct SmoothingStats {
+  int reachable_regions = 0;           ///< components of the tool-point grid graph
+  int min_retractions = 0;             ///< reachable_regions − 1
+  double som_tour_length_mm = 0;       ///< the ring opened at its costliest move, before smoothing
+  int som_overcut_moves = 0;           ///< its moves that are not move_ok
+  WeakStats weak;                      ///< weak smoothing, before and after the extra passes
+  double two_opt_saved_mm = 0;         ///< saved by the extra passes (and the weak smoothing after them)
+  long opt_moves = 0;                  ///< improving moves the extra passes applied
+  int retractions_before_linking = 0;  ///< moves that are not move_ok on the final order
+  int links = 0;                       ///< of those, the ones that became links
+  double link_length_mm = 0;
+  std::size_t retractions = 0;         ///< chains − 1
+  double tour_length_mm = 0;           ///< cut length of the chains (links included)
+  double rapid_length_mm = 0;          ///< chain end → next chain start
+
+  /// (key, value) pairs sorted by key: "link_length_mm", "links", "min_retractions", "opt_moves",
+  /// "rapid_length_mm", "reachable_regions", "retractions", "retractions_before_linking",
+  /// "som_overcut_moves", "som_tour_length_mm", "tour_length_mm", "two_opt_saved_mm",
+  /// "weak_patterns", "weak_smoothing_saved_mm", "weak_type1", "weak_type2", "weak_type3".
+  [[nodiscard]] std::vector<std::pair<std::string, double>> key_values() const;
+};
+
 /// Weak smoothing of an open path (indices into tp.pts, each grid point given by tp.ij) in place,
 /// repeated until no pattern is left. O(N) per sweep (type 3 finds crossing partners through a hash
 /// of grid cells); each rewrite shortens the path, so the number of sweeps is bounded.
@@ -54,11 +78,7 @@ WeakStats weak_smoothing(const ToolPoints& tp, std::vector<int>& path, const Mov
 struct SmoothedTour {
   std::vector<int> order;                 ///< open path through every tool point once
   std::vector<std::vector<int>> chains;   ///< cut with the tool down; a retraction between chains
-  std::map<std::string, double> stats;    ///< "som_tour_length_mm", "tour_length_mm",
-      ///< "weak_smoothing_saved_mm", "weak_patterns", "weak_type1|2|3", "two_opt_saved_mm",
-      ///< "opt_moves", "links", "link_length_mm", "retractions_before_linking", "retractions",
-      ///< "reachable_regions" (components of the grid graph), "min_retractions" (= regions − 1),
-      ///< "som_overcut_moves", "rapid_length_mm"
+  SmoothingStats stats;                   ///< all zero when there is no tool point
 };
 
 /// Strong smoothing, weak smoothing and the extra passes on a closed tour (e.g. the SOM ring order)

@@ -1,6 +1,6 @@
 #pragma once
-// Minimal JSON text writing for manifests (modules do not depend on a JSON library: JSON parsing
-// stays in app/). Only what the manifest needs: escaped strings and finite numbers.
+// Minimal JSON text writing for files whose layout is written by hand (the dataset manifest and its
+// recipe echo), so that modules need no JSON library. Only escaped strings and finite numbers.
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 
@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-namespace millnet::datasets::detail {
+namespace millnet {
 
 inline std::string json_string(std::string_view s) {
   std::string out = "\"";
@@ -40,4 +40,4 @@ inline std::string json_number(double v, std::string_view key) {
   return format_double(v);
 }
 
-}  // namespace millnet::datasets::detail
+}  // namespace millnet

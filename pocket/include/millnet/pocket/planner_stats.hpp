@@ -1,0 +1,61 @@
+#pragma once
+// Typed figures per planner (PlanResult::stats). A reader names a field, so a renamed figure is a
+// compile error, not a silent 0. key_values() lists them for the metrics files, sorted by key (the
+// order those files have had since the figures lived in a std::map).
+#include "millnet/pocket/smoothing.hpp"
+
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+namespace millnet::pocket {
+
+/// The SOM planner's figures (plan_som).
+struct SomStats {
+  std::size_t tool_points = 0;
+  int som_passes = 0;
+  bool som_converged = false;
+  std::size_t som_nodes = 0;
+  SmoothingStats smoothing;         ///< smooth_tour's figures
+  double cut_length_mm = 0;         ///< of the planned path (links included)
+  double rapid_length_mm = 0;       ///< of the planned path (the smoothing's own figure is replaced)
+  std::size_t retractions = 0;      ///< of the planned path (the smoothing's own figure is replaced)
+  std::size_t predrill_points = 0;  ///< chain starts
+  double grid_bound_mm = 0;         ///< (N − 1)·g, the shortest conceivable tour through N points
+  double cut_over_bound = 0;        ///< cut_length_mm / grid_bound_mm (1 when the bound is 0)
+
+  /// Its own figures and the smoothing's (its own win on a shared key), sorted by key.
+  [[nodiscard]] std::vector<std::pair<std::string, double>> key_values() const;
+};
+
+/// The zigzag planner's figures (plan_zigzag), for the chosen direction.
+struct ZigzagStats {
+  int regions = 0;                  ///< zigzag chains = partition faces cut
+  std::size_t faces = 0;            ///< partition faces
+  std::size_t srps = 0;             ///< split reference points
+  int nls = 0;                      ///< NLS cuts kept (I-partition)
+  int islands = 0;                  ///< holes of the reachable area
+  int components = 0;               ///< components of the reachable area
+  int formula_regions = 0;          ///< n_s − n_i + n_c − nls
+  std::size_t passes = 0;
+  double angle_deg = 0;
+  std::size_t angles_tried = 0;
+  int nonmonotone_faces = 0;
+  double zigzag_cut_length_mm = 0;
+  double zigzag_rapid_length_mm = 0;
+
+  /// Sorted by key; with "contours" = 0 (the contour pass is machine_pocket's; the key stays in the
+  /// metrics files).
+  [[nodiscard]] std::vector<std::pair<std::string, double>> key_values() const;
+};
+
+/// One alternative per planner; std::monostate when the planner stopped before planning (status
+/// NoToolPoints) and has no figures.
+using PlannerStats = std::variant<std::monostate, SomStats, ZigzagStats>;
+
+/// The figures of whichever planner, as SomStats/ZigzagStats::key_values; none for std::monostate.
+[[nodiscard]] std::vector<std::pair<std::string, double>> key_values(const PlannerStats& stats);
+
+}  // namespace millnet::pocket

@@ -1,0 +1,56 @@
+#include "millnet/pocket/planner_stats.hpp"
+
+#include <algorithm>
+
+namespace millnet::pocket {
+
+std::vector<std::pair<std::string, double>> SomStats::key_values() const {
+  std::vector<std::pair<std::string, double>> kv = {{"cut_length_mm", cut_length_mm},
+                                                    {"cut_over_bound", cut_over_bound},
+                                                    {"grid_bound_mm", grid_bound_mm},
+                                                    {"predrill_points", static_cast<double>(predrill_points)},
+                                                    {"rapid_length_mm", rapid_length_mm},
+                                                    {"retractions", static_cast<double>(retractions)},
+                                                    {"som_converged", som_converged ? 1.0 : 0.0},
+                                                    {"som_nodes", static_cast<double>(som_nodes)},
+                                                    {"som_passes", som_passes},
+                                                    {"tool_points", static_cast<double>(tool_points)}};
+  const std::size_t own = kv.size();
+  for (auto& [k, v] : smoothing.key_values()) {  // O(keys²), a few dozen
+    const bool taken = std::any_of(kv.begin(), kv.begin() + static_cast<std::ptrdiff_t>(own),
+                                   [&](const auto& e) { return e.first == k; });
+    if (!taken) kv.emplace_back(std::move(k), v);
+  }
+  std::sort(kv.begin(), kv.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  return kv;
+}
+
+std::vector<std::pair<std::string, double>> ZigzagStats::key_values() const {
+  return {{"angle_deg", angle_deg},
+          {"angles_tried", static_cast<double>(angles_tried)},
+          {"components", components},
+          {"contours", 0.0},
+          {"faces", static_cast<double>(faces)},
+          {"formula_regions", formula_regions},
+          {"islands", islands},
+          {"nls", nls},
+          {"nonmonotone_faces", nonmonotone_faces},
+          {"passes", static_cast<double>(passes)},
+          {"regions", regions},
+          {"srps", static_cast<double>(srps)},
+          {"zigzag_cut_length_mm", zigzag_cut_length_mm},
+          {"zigzag_rapid_length_mm", zigzag_rapid_length_mm}};
+}
+
+std::vector<std::pair<std::string, double>> key_values(const PlannerStats& stats) {
+  return std::visit(
+      [](const auto& s) -> std::vector<std::pair<std::string, double>> {
+        if constexpr (std::is_same_v<std::decay_t<decltype(s)>, std::monostate>)
+          return {};
+        else
+          return s.key_values();
+      },
+      stats);
+}
+
+}  // namespace millnet::pocket
