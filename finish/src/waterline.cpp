@@ -52,16 +52,20 @@ void split_gouging_chords(const Sampler& s, std::vector<ContourPoint>& loop, dou
   const double h = std::min(tol::initial_sample_mm, s.cutter().radius() / 4);
   std::vector<ContourPoint> out;
   out.reserve(loop.size());
-  struct Item { ContourPoint a, b; int depth; };
+  struct Item { ContourPoint a, b; };
+  constexpr int kMaxSplits = 64;
   for (std::size_t i = 0; i + 1 < loop.size(); ++i) {
     out.push_back(loop[i]);
-    std::vector<Item> stack{{loop[i], loop[i + 1], 0}};
+    std::vector<Item> stack{{loop[i], loop[i + 1]}};
+    int splits = 0;
     // Depth-first, in order: emit points between a and b.
     std::vector<ContourPoint> seq;
     while (!stack.empty()) {
       Item it = stack.back();
       stack.pop_back();
-      if (it.a.on_boundary || it.b.on_boundary || it.depth >= 8) {
+      // A budget of splits per original chord (not a depth: a split near one end leaves the other
+      // sub-chord almost as long, and the next split there is one level deeper).
+      if (it.a.on_boundary || it.b.on_boundary || splits >= kMaxSplits) {
         seq.push_back(it.b);
         continue;
       }
@@ -86,16 +90,28 @@ void split_gouging_chords(const Sampler& s, std::vector<ContourPoint>& loop, dou
         continue;
       }
       // Inside on the left of a→b: the air is on the right, normal (dy, −dx).
-      // March out along the normal in steps of h to the FIRST air point, so the refined point is
-      // the nearest crossing (a far probe can land on another branch of the level set).
+      // March out along the normal, on both sides (the air side first on ties), to the NEAREST
+      // air point: reach grows from the tolerance, doubling up to h, then in steps of h. A far
+      // probe can land on another branch of the level set, and on a thin sliver of material the
+      // air can be nearer on the left than on the right.
       const Eigen::Vector2d n(d.y() / len, -d.x() / len);
       const double max_reach = std::max(2 * len, 4 * s.cutter().radius());
       Eigen::Vector2d near = m, far = m;
       double f_far = worst;
-      for (double reach = h; reach <= max_reach + 1e-12 && f_far >= 0; reach += h) {
-        near = far;
-        far = m + reach * n;
-        f_far = s.z(far.x(), far.y()) - z;
+      double prev = 0;
+      for (double reach = std::min(tol, h); reach <= max_reach + 1e-12 && f_far >= 0;
+           reach = reach < h ? std::min(2 * reach, h) : reach + h) {
+        for (const double side : {1.0, -1.0}) {
+          const Eigen::Vector2d q = m + side * reach * n;
+          const double fq = s.z(q.x(), q.y()) - z;
+          if (fq < 0) {
+            near = m + side * prev * n;
+            far = q;
+            f_far = fq;
+            break;
+          }
+        }
+        prev = reach;
       }
       if (f_far >= 0) {  // no air found nearby: keep the chord (cannot happen on a closed contour)
         seq.push_back(it.b);
@@ -103,8 +119,9 @@ void split_gouging_chords(const Sampler& s, std::vector<ContourPoint>& loop, dou
       }
       const auto [xy, slope] = refine_crossing(s, near, far, 0, f_far, z, tol);
       const ContourPoint mid{xy, slope, false};
-      stack.push_back({mid, it.b, it.depth + 1});
-      stack.push_back({it.a, mid, it.depth + 1});
+      ++splits;
+      stack.push_back({mid, it.b});
+      stack.push_back({it.a, mid});
     }
     // seq holds the ends of the sub-chords in order; the last is loop[i + 1].
     for (std::size_t k = 0; k + 1 < seq.size(); ++k) out.push_back(seq[k]);
