@@ -112,10 +112,9 @@ TEST(Scenario, DefaultPipelineRunsEndToEndAndMeetsItsFigures) {
     EXPECT_NEAR(f["spearman"].get<double>(), 1 - 6 * d2 / 120, 1e-12);
     const Json pred = Json::parse(slurp(out / "parts" / name / "predictions.json"));
     EXPECT_EQ(net.front(), pred["parts"][0]["top"].get<int>()) << "the network's first is its prediction";
-    // Gouges are measured and rank a strategy after every one that does not gouge. (Not asserted
-    // absent here: on the held-out parts s3 and s4 some programs still cut below the design by
-    // more than the 0.002 mm tolerance, an open defect of the finishing planners; the analytic
-    // no-gouge tests in tests/finish hold.)
+    // Gouges are measured and rank a strategy after every one that does not gouge. Their absence
+    // is asserted by tests/finish (brute-force oracles, including the narrow-ridge regression that
+    // the held-out parts s3 and s4 exposed); here a gouge is printed, so the run's log shows it.
     const fs::path fin = out / "parts" / name / "finish";
     std::vector<int> gouging, clean;
     for (int k = 1; k <= 5; ++k) {
