@@ -9,13 +9,6 @@
 namespace millnet::app {
 namespace fs = std::filesystem;
 
-namespace {
-ingest::Mesh load_prepared(const fs::path& file, const ingest::PrepareOptions& prep) {
-  ingest::MeshReport rep;
-  return ingest::prepare(ingest::load_mesh(file, &rep), prep, &rep);
-}
-}  // namespace
-
 Registered register_finish(CLI::App& app) {
   struct Opts {
     Common common;
@@ -63,7 +56,7 @@ Registered register_finish(CLI::App& app) {
             std::size_t failed = 0;
             for (const auto& f : files) {  // a batch keeps going past one bad part
               try {
-                const auto outcomes = finish_part(load_prepared(f, prep), f.stem().string(), s, o->out);
+                const auto outcomes = finish_part(ingest::load_prepared(f, prep), f.stem().string(), s, o->out);
                 info("finish: " + f.string() + ": " + std::to_string(outcomes.size()) + " strategies → " + o->out);
               } catch (const Error& e) {
                 if (files.size() == 1) throw;
@@ -108,7 +101,7 @@ Registered register_simulate(CLI::App& app) {
             for (std::size_t i = 0; i < o->gcode.size(); ++i)
               programs.emplace_back(o->gcode[i], parse_tool(o->tools[o->tools.size() == 1 ? 0 : i]));
             const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"]);
-            const Json j = simulate_files(load_prepared(o->mesh, prep), fs::path(o->mesh).stem().string(), programs,
+            const Json j = simulate_files(ingest::load_prepared(o->mesh, prep), fs::path(o->mesh).stem().string(), programs,
                                           o->stock, s, o->out, o->save_stock);
             info("simulate: Ra median " + j["ra_median_um"].dump() + " um, gouge " + j["max_gouge_mm"].dump() + " mm → " +
                  o->out);

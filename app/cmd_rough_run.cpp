@@ -49,8 +49,7 @@ RoughOutcome rough_prepared(const ingest::Mesh* mesh, const std::string& load_er
 std::shared_ptr<const ingest::Mesh> load_prepared(const fs::path& file, const ingest::PrepareOptions& prep,
                                                   std::string* error) {
   try {
-    ingest::MeshReport rep;
-    return std::make_shared<const ingest::Mesh>(ingest::prepare(ingest::load_mesh(file, &rep), prep, &rep));
+    return std::make_shared<const ingest::Mesh>(ingest::load_prepared(file, prep));
   } catch (const std::exception& e) {
     *error = e.what();
     return nullptr;
@@ -169,6 +168,13 @@ struct PartOutcomes {
   std::string finish_settings_note, aim;  ///< for the summary
 };
 
+/// The slots best first, from the 1-based rank of each slot.
+std::vector<int> ranking_order(const std::vector<int>& slots, const std::vector<int>& rank) {
+  std::vector<int> by(slots.size());
+  for (std::size_t i = 0; i < slots.size(); ++i) by[static_cast<std::size_t>(rank[i] - 1)] = slots[i];
+  return by;
+}
+
 /// The network's ranking of `slots` by the part's totals over the variants (the paper's Figure 8),
 /// highest first, ties by slot: 1-based rank per slot.
 std::vector<int> network_ranks(const PartPrediction& pr, const std::vector<int>& slots) {
@@ -282,15 +288,10 @@ Json finishing_json(const PartOutcomes& po) {
       out.push_back(j);
       continue;
     }
-    auto order = [&](const std::vector<int>& rank) {
-      std::vector<int> by(f.slots.size());
-      for (std::size_t k = 0; k < f.slots.size(); ++k) by[static_cast<std::size_t>(rank[k] - 1)] = f.slots[k];
-      return by;
-    };
-    j["simulated_ranking"] = order(f.simulated_rank);
+    j["simulated_ranking"] = ranking_order(f.slots, f.simulated_rank);
     j["ra_median_um"] = f.ra_median_um;
     if (!f.network_rank.empty()) {
-      j["network_ranking"] = order(f.network_rank);
+      j["network_ranking"] = ranking_order(f.slots, f.network_rank);
       j["spearman"] = f.spearman;
     }
     if (f.chained) {
@@ -364,8 +365,7 @@ if (!po.finishes.empty()) {
         "(µm) | rough + top: uncut (mm²) | rough + top: gouge (mm) |\n"
      << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   auto order_text = [](const std::vector<int>& slots, const std::vector<int>& rank) {
-    std::vector<int> by(slots.size());
-    for (std::size_t i = 0; i < slots.size(); ++i) by[static_cast<std::size_t>(rank[i] - 1)] = slots[i];
+    const std::vector<int> by = ranking_order(slots, rank);
     std::string t;
     for (std::size_t r = 0; r < by.size(); ++r) t += (r ? " > " : "") + std::to_string(by[r]);
     return t;

@@ -120,7 +120,7 @@ std::vector<SimulatedLabel> simulate_labels(const datasets::Recipe& recipe, cons
     const std::string name = p.name.empty() ? p.file.stem().string() : p.name;
     SimulatedLabel sl{name, p.label_by_simulation ? 0 : p.label, 0, Json::array()};
     try {
-      const ingest::Mesh mesh = ingest::prepare(ingest::load_mesh(p.file), prep);
+      const ingest::Mesh mesh = ingest::load_prepared(p.file, prep);
       for (const StrategyOutcome& o : finish_part(mesh, name, settings, dir / name)) {
         if (o.rank == 1) sl.best = static_cast<int>(o.strategy);
         sl.figures.push_back(Json{{"strategy", static_cast<int>(o.strategy)},
@@ -409,10 +409,7 @@ std::vector<PartPrediction> predict_parts(const ModelFolder& folder, const std::
     Json jp = {{"part", pp.name}, {"file", pp.file}};
     try {
       std::shared_ptr<const ingest::Mesh> mesh = in.mesh;
-      if (!mesh) {
-        ingest::MeshReport rep;
-        mesh = std::make_shared<const ingest::Mesh>(ingest::prepare(ingest::load_mesh(in.file, &rep), prep, &rep));
-      }
+      if (!mesh) mesh = std::make_shared<const ingest::Mesh>(ingest::load_prepared(in.file, prep));
       const datasets::ModelVectors mv = datasets::model_vectors(*mesh, pp.name, folder.spec);
       const classifier::Prediction pr = classifier::predict(model, mv.inputs);
       const classifier::Ranking rk = classifier::rank(pr);

@@ -198,6 +198,12 @@ const std::vector<std::string>& mesh_extensions() {
   return ext;
 }
 
+Mesh load_prepared(const fs::path& path, const PrepareOptions& options, MeshReport* report) {
+  MeshReport local;
+  MeshReport* rep = report != nullptr ? report : &local;
+  return prepare(load_mesh(path, rep), options, rep);
+}
+
 Mesh load_mesh(const fs::path& path, MeshReport* report) {
   const std::string name = path.string();
   std::error_code ec;

@@ -15,6 +15,10 @@ namespace millnet::ingest {
 /// Throws millnet::Error naming the file: missing/unreadable, unknown format, no triangles, NaN/inf.
 [[nodiscard]] Mesh load_mesh(const std::filesystem::path& path, MeshReport* report = nullptr);
 
+/// load_mesh then prepare (units, up, recentring): the part as every command works on it.
+[[nodiscard]] Mesh load_prepared(const std::filesystem::path& path, const PrepareOptions& options,
+                                 MeshReport* report = nullptr);
+
 /// The extensions load_mesh reads (lower case, with the dot): the one list the commands use to
 /// pick mesh files out of folders. Adding a mesh format: its reader in mesh_io.cpp (a branch of
 /// load_mesh, or assimp's own list) and its extension here.
