@@ -300,6 +300,8 @@ Json finishing_json(const PartOutcomes& po) {
                              {"finisher_max_depth_of_cut_mm", c["programs"][1]["max_depth_of_cut_mm"]},
                              {"ra_median_um", c["ra_median_um"]},
                              {"uncut_area_mm2", c["uncut_area_mm2"]},
+                             {"rest_area_mm2", c["rest_area_mm2"]},
+                             {"scallop_max_mm", c["scallop_max_mm"]},
                              {"max_gouge_mm", c["max_gouge_mm"]}};
     }
     out.push_back(j);
@@ -359,11 +361,15 @@ if (!po.finishes.empty()) {
      << "and machined on a z-map from the design + finishing stock, ranked by the aim (" << po.aim << "); the "
      << "network ranks them by its totals over the variants (the paper's Figure 8 beside its Figure 9). ρ is "
      << "Spearman's rank correlation of the two rankings (1 = same order, −1 = reversed). Then the roughing "
-     << "program and the network's top strategy machined one after the other on one z-map from flat stock.\n\n"
+     << "program and the network's top strategy machined one after the other on one z-map from flat stock. "
+     << "Material left above the design by more than the tolerance (along the surface normal) is a scallop "
+     << "when it lies between passes that reached the design within the tool's radius on both sides, rest "
+     << "material when the finishing tool cannot reach the design there (a concave corner tighter than it: "
+     << "the same for every strategy), and uncut otherwise.\n\n"
      << "| part | network ranking | simulated ranking | ρ | top strategy's simulated rank | Ra median of the "
         "top (µm) | best Ra median (µm) | rough + top: deepest cut of the finisher (mm) | rough + top: Ra median "
-        "(µm) | rough + top: uncut (mm²) | rough + top: gouge (mm) |\n"
-     << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+        "(µm) | rough + top: uncut (mm²) | rough + top: rest material (mm²) | rough + top: gouge (mm) |\n"
+     << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   auto order_text = [](const std::vector<int>& slots, const std::vector<int>& rank) {
     const std::vector<int> by = ranking_order(slots, rank);
     std::string t;
@@ -394,9 +400,10 @@ if (!po.finishes.empty()) {
       const Json& c = f.chain;
       md << fixed(c["programs"][1]["max_depth_of_cut_mm"].get<double>(), 2) << " | "
          << fixed(c["ra_median_um"].get<double>(), 2) << " | " << fixed(c["uncut_area_mm2"].get<double>(), 1) << " | "
+         << fixed(c["rest_area_mm2"].get<double>(), 1) << " | "
          << fixed(c["max_gouge_mm"].get<double>(), 4) << " |\n";
     } else {
-      md << "- | - | - | - |\n";
+      md << "- | - | - | - | - |\n";
     }
   }
   if (rho_n)

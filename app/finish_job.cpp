@@ -146,6 +146,9 @@ Json sim_metrics_json(const simulate::SurfaceMetrics& m, const simulate::SweepRe
   j["ra_p90_um"] = m.ra_p90_um;
   j["ra_histogram"] = histogram_json(m);
   j["uncut_area_mm2"] = m.uncut_area_mm2;
+  j["remaining_area_mm2"] = m.remaining_area_mm2;
+  j["scallop_area_mm2"] = m.scallop_area_mm2;
+  j["rest_area_mm2"] = m.rest_area_mm2;
   j["surface_cells"] = m.surface_cells;
   j["cutting_rapids"] = sweep.cutting_rapids.size();
   j["max_depth_of_cut_mm"] = *std::max_element(sweep.max_cut_mm.begin(), sweep.max_cut_mm.end());
@@ -293,22 +296,19 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
       const fs::path nc = out / (base + ".nc");
       const gcode::Program back = gcode::read(read_file(nc), nc.string());
       const simulate::SweepResult sw = simulate::machine(z, back, params.tool);
-      const simulate::MetricsOptions mo = metrics_options(settings.sim);
+      // Uncut = reachable material the program left; the scallops between passes are scored by
+      // scallop and Ra, and the rest material no program with this cutter can clear is apart.
+      simulate::MetricsOptions mo = metrics_options(settings.sim);
+      mo.cutter = params.tool;
       const simulate::SurfaceMetrics m = simulate::surface_metrics(z, frame.design, mo);
       j.update(sim_metrics_json(m, sw, frame.grid));
-      // Uncut = the finishing stock left (within the tolerance) where the cutter never reached; the
-      // scallops between passes are scored by scallop and Ra, not counted as uncut.
-      simulate::MetricsOptions uo = mo;
-      uo.ra_map = false;
-      uo.allowance_mm = settings.sim.allowance_mm - 2 * settings.sim.tolerance_mm;
-      j["uncut_area_mm2"] = simulate::surface_metrics(z, frame.design, uo).uncut_area_mm2;
       if (m.gouged) {  // a gouge from the program itself is a planner bug: say where
         warn(base + ".nc: gouge " + fixed(m.max_gouge_mm, 4) + " mm first at line " +
              std::to_string(m.first_gouge_move.line));
       }
       o.score.ra_median_um = m.ra_median_um;
       o.score.ra_p90_um = m.ra_p90_um;
-      o.score.uncut_area_mm2 = j["uncut_area_mm2"].get<double>();
+      o.score.uncut_area_mm2 = m.uncut_area_mm2;
       o.score.max_gouge_mm = m.max_gouge_mm;
       o.score.surface_area_mm2 = static_cast<double>(m.surface_cells) * frame.grid.cell * frame.grid.cell;
       o.ra_share = m.ra_share;
@@ -402,7 +402,8 @@ Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
                         {"max_depth_of_cut_mm", *std::max_element(sw.max_cut_mm.begin(), sw.max_cut_mm.end())},
                         {"cutting_rapids", sw.cutting_rapids.size()}});
   }
-  const simulate::MetricsOptions mo = metrics_options(settings.sim);
+  simulate::MetricsOptions mo = metrics_options(settings.sim);
+  if (!programs.empty()) mo.cutter = programs.back().second;  // scallop and rest of the last tool
   const simulate::SurfaceMetrics m = simulate::surface_metrics(z, frame.design, mo);
   simulate::SweepResult none;
   Json j = sim_metrics_json(m, none, frame.grid);

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
 
 namespace millnet::simulate {
 
@@ -45,6 +46,177 @@ double profile_ra(const double* e, std::size_t n) {
   return acc / s0;
 }
 
+// The design's gradient (dz/dx, dz/dy) at cell i by central differences (one-sided at the grid's
+// and the surface's edges; 0 across a NaN neighbour).
+std::pair<double, double> gradient(const GridSpec& spec, const std::vector<double>& design, std::size_t i) {
+  const std::size_t nx = spec.nx, ny = spec.ny, ix = i % nx, iy = i / nx;
+  auto slope = [&](std::size_t lo, std::size_t hi, double span) {
+    return std::isnan(design[lo]) || std::isnan(design[hi]) ? 0.0 : (design[hi] - design[lo]) / span;
+  };
+  const std::size_t xl = ix > 0 ? i - 1 : i, xh = ix + 1 < nx ? i + 1 : i;
+  const std::size_t yl = iy > 0 ? i - nx : i, yh = iy + 1 < ny ? i + nx : i;
+  const double gx = xh > xl ? slope(xl, xh, static_cast<double>(xh - xl) * spec.cell) : 0.0;
+  const double gy = yh > yl ? slope(yl, yh, static_cast<double>((yh - yl) / nx) * spec.cell) : 0.0;
+  return {gx, gy};
+}
+
+// cos of the design's slope at cell i, for measuring a height difference e above or below the
+// design along the surface normal: e·cos. The slope takes, per axis, the steeper of the two
+// one-sided differences: on smooth ground the same as central differences to O(cell·curvature),
+// and at a crease (a wall's top or foot, where a z-map cell straddles two faces) e·cos is then
+// about the distance to the nearer face — not the distance to a blend of the two.
+double cos_slope(const GridSpec& spec, const std::vector<double>& design, std::size_t i) {
+  const std::size_t nx = spec.nx, ny = spec.ny, ix = i % nx, iy = i / nx;
+  auto steeper = [&](bool has_lo, std::size_t lo, bool has_hi, std::size_t hi) {
+    double g = 0;
+    if (has_lo && !std::isnan(design[lo])) g = std::abs(design[i] - design[lo]);
+    if (has_hi && !std::isnan(design[hi])) g = std::max(g, std::abs(design[hi] - design[i]));
+    return g / spec.cell;
+  };
+  const double gx = steeper(ix > 0, i - 1, ix + 1 < nx, i + 1);
+  const double gy = steeper(iy > 0, i - nx, iy + 1 < ny, i + nx);
+  return 1 / std::sqrt(1 + gx * gx + gy * gy);
+}
+
+// Can `cutter` touch the design at cell c without cutting into it anywhere else by more than
+// `tol`? The cutter is placed so that its profile passes through (c, design(c)) with its axis
+// offset from c down the slope by t: first the contact offset of a smooth surface with the
+// design's normal at c (ball R·sinθ, bull (R − rc) + rc·sinθ, flat R on a slope), then 0, R/2, R.
+// Each placement is checked against the design sampled every `stride` cells under the cutter.
+// O(t's × (R / (stride·cell))²) per call.
+bool reachable(const GridSpec& spec, const std::vector<double>& design, const finish::Cutter& cutter,
+               std::size_t c, std::size_t stride, double tol) {
+  const double dc = design[c];
+  if (std::isnan(dc)) return true;
+  const auto [gx, gy] = gradient(spec, design, c);
+  const double g = std::hypot(gx, gy), sin_t = g / std::sqrt(1 + g * g);
+  const double ux = g > 0 ? -gx / g : 0.0, uy = g > 0 ? -gy / g : 0.0;  // down the slope
+  const double R = cutter.radius(), rc = cutter.corner_radius;
+  double contact = 0;
+  switch (cutter.type) {
+    case finish::CutterType::Ball: contact = R * sin_t; break;
+    case finish::CutterType::Bull: contact = (R - rc) + rc * sin_t; break;
+    case finish::CutterType::Flat: contact = g > 0 ? R : 0.0; break;
+  }
+  const double cx = spec.x(c % spec.nx), cy = spec.y(c / spec.nx);
+  const auto nx = static_cast<std::ptrdiff_t>(spec.nx), ny = static_cast<std::ptrdiff_t>(spec.ny);
+  const auto st = static_cast<std::ptrdiff_t>(stride);
+  const auto span = static_cast<std::ptrdiff_t>(std::ceil(R / spec.cell));
+  for (const double t : {contact, 0.0, 0.5 * R, R}) {
+    const double px = cx + t * ux, py = cy + t * uy;
+    const double tip = dc - cutter.profile_height(std::min(t, R));
+    const auto pix = static_cast<std::ptrdiff_t>(std::floor((px - spec.x0) / spec.cell));
+    const auto piy = static_cast<std::ptrdiff_t>(std::floor((py - spec.y0) / spec.cell));
+    bool ok = true;
+    for (std::ptrdiff_t a = -span - (-span % st); ok && a <= span; a += st) {
+      const std::ptrdiff_t qy = piy + a;
+      if (qy < 0 || qy >= ny) continue;
+      const double dy = spec.y(static_cast<std::size_t>(qy)) - py;
+      for (std::ptrdiff_t b = -span - (-span % st); b <= span; b += st) {
+        const std::ptrdiff_t qx = pix + b;
+        if (qx < 0 || qx >= nx) continue;
+        const double dx = spec.x(static_cast<std::size_t>(qx)) - px;
+        const double r = std::hypot(dx, dy);
+        if (r > R) continue;
+        const double dq = design[static_cast<std::size_t>(qy * nx + qx)];
+        if (dq > tip + cutter.profile_height(r) + tol) {
+          ok = false;
+          break;
+        }
+      }
+    }
+    if (ok) return true;
+  }
+  return false;
+}
+
+// Splits the remaining material (cells with e > allowance + tolerance) into rest, scallop and
+// uncut (definitions in zmap.hpp). Cells: the rest test once per k × k block that holds material
+// left (O((R / (k·cell))²) each), each such cell's walk ≤ 2·R / cell cells. Counts and
+// the max are reductions: the same for any thread count.
+void split_remaining(const ZMap& machined, const std::vector<double>& design, const MetricsOptions& opt,
+                     SurfaceMetrics& out) {
+  const GridSpec& spec = machined.spec();
+  const finish::Cutter& cutter = *opt.cutter;
+  cutter.check();
+  const auto& z = machined.heights();
+  const std::size_t nx = spec.nx, ny = spec.ny, k = opt.reach_every;
+  // Material above the design + allowance, along the normal (NaN off the surface).
+  auto above = [&](std::size_t i) { return (z[i] - design[i] - opt.allowance_mm) * cos_slope(spec, design, i); };
+  auto left = [&](std::size_t i) { return !std::isnan(design[i]) && above(i) > opt.tolerance_mm; };
+  // The rest test runs once per k × k block of cells that holds material left: at the block's
+  // such cell nearest to the block's centre (first in row order on a tie), and every cell left in
+  // the block takes its answer.
+  const std::size_t lx = (nx + k - 1) / k, ly = (ny + k - 1) / k;
+  std::vector<std::size_t> probe(lx * ly, SIZE_MAX);
+  std::vector<std::size_t> probe_d2(lx * ly, SIZE_MAX);
+  for (std::size_t iy = 0; iy < ny; ++iy)
+    for (std::size_t ix = 0; ix < nx; ++ix) {
+      if (!left(iy * nx + ix)) continue;
+      const std::size_t b = iy / k * lx + ix / k;
+      const auto dx = static_cast<std::ptrdiff_t>(2 * (ix % k)) - static_cast<std::ptrdiff_t>(k - 1);
+      const auto dy = static_cast<std::ptrdiff_t>(2 * (iy % k)) - static_cast<std::ptrdiff_t>(k - 1);
+      const auto d2 = static_cast<std::size_t>(dx * dx + dy * dy);
+      if (d2 < probe_d2[b]) {
+        probe_d2[b] = d2;
+        probe[b] = iy * nx + ix;
+      }
+    }
+  std::vector<std::uint8_t> reach(lx * ly, 1);  // 1 = reachable, 0 = rest
+  const int nthreads = opt.threads > 0 ? opt.threads : std::max(1, omp_get_max_threads());
+  const auto nl = static_cast<std::ptrdiff_t>(reach.size());
+#pragma omp parallel for schedule(dynamic, 64) num_threads(nthreads)
+  for (std::ptrdiff_t l = 0; l < nl; ++l) {
+    const auto ul = static_cast<std::size_t>(l);
+    if (probe[ul] != SIZE_MAX) reach[ul] = reachable(spec, design, cutter, probe[ul], k, opt.tolerance_mm) ? 1 : 0;
+  }
+  const auto steps = static_cast<std::ptrdiff_t>(std::ceil(cutter.radius() / spec.cell));
+  // Walks from cell i across the feed to a cell cut to the design, on both sides.
+  auto between_passes = [&](std::size_t i) {
+    const double x = spec.x(i % nx), y = spec.y(i / nx);
+    double ax = 0, ay = 0;
+    if (!machined.across_feed(i, x, y, ax, ay)) return false;
+    for (const double side : {-1.0, 1.0}) {
+      bool met = false;
+      for (std::ptrdiff_t s = 1; s <= steps && !met; ++s) {
+        const double d = side * static_cast<double>(s) * spec.cell;
+        const double qx = std::floor((x + d * ax - spec.x0) / spec.cell), qy = std::floor((y + d * ay - spec.y0) / spec.cell);
+        if (qx < 0 || qy < 0 || qx >= static_cast<double>(nx) || qy >= static_cast<double>(ny)) break;
+        const std::size_t j = static_cast<std::size_t>(qy) * nx + static_cast<std::size_t>(qx);
+        if (std::isnan(design[j])) break;
+        met = above(j) <= opt.tolerance_mm;
+      }
+      if (!met) return false;
+    }
+    return true;
+  };
+  std::size_t rest = 0, scallop = 0, uncut = 0;
+  double scallop_max = 0;
+  const auto rows = static_cast<std::ptrdiff_t>(ny);
+#pragma omp parallel for schedule(dynamic, 8) num_threads(nthreads) reduction(+ : rest, scallop, uncut) \
+    reduction(max : scallop_max)
+  for (std::ptrdiff_t r = 0; r < rows; ++r) {
+    const auto iy = static_cast<std::size_t>(r);
+    for (std::size_t ix = 0; ix < nx; ++ix) {
+      const std::size_t i = iy * nx + ix;
+      if (!left(i)) continue;
+      if (reach[iy / k * lx + ix / k] == 0) {
+        ++rest;
+      } else if (between_passes(i)) {
+        ++scallop;
+        scallop_max = std::max(scallop_max, above(i));
+      } else {
+        ++uncut;
+      }
+    }
+  }
+  const double cell_area = spec.cell * spec.cell;
+  out.rest_area_mm2 = static_cast<double>(rest) * cell_area;
+  out.scallop_area_mm2 = static_cast<double>(scallop) * cell_area;
+  out.uncut_area_mm2 = static_cast<double>(uncut) * cell_area;
+  out.scallop_max_mm = scallop_max;
+}
+
 }  // namespace
 
 std::vector<double> deviation(const ZMap& machined, const std::vector<double>& design) {
@@ -67,6 +239,7 @@ SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& 
   if (opt.ra_bins_um.empty() || !std::is_sorted(opt.ra_bins_um.begin(), opt.ra_bins_um.end()))
     throw Error("simulate: Ra bin edges must be a non-empty ascending list (um)");
   if (opt.ra_every < 1) throw Error("simulate: the Ra stride must be >= 1 cell");
+  if (opt.reach_every < 1) throw Error("simulate: the rest-material block size must be >= 1 cell");
 
   SurfaceMetrics out;
   const auto& z = machined.heights();
@@ -79,22 +252,11 @@ SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& 
   std::size_t uncut = 0;
   std::uint32_t first_gouge_stamp = std::numeric_limits<std::uint32_t>::max();
   std::size_t first_gouge_cell = SIZE_MAX;
-  // A gouge is measured along the surface normal: e·cos(slope) = e / √(1 + |∇design|²), the
+  // Gouge, remaining material and scallop are measured along the surface normal:
+  // e·cos(slope) = e / √(1 + |∇design|²), the
   // gradient by central differences of the design (one-sided at its edges). On a steep wall a
   // vertical e overstates the cut by 1/cos(slope) (19× at 87°), which is not how a surface
   // deviation is measured (nor what a chord tolerance bounds).
-  const std::size_t gnx = spec.nx, gny = spec.ny;
-  auto normal_e = [&](std::size_t i, double e) {
-    const std::size_t ix = i % gnx, iy = i / gnx;
-    auto slope = [&](std::size_t lo, std::size_t hi, double span) {
-      return std::isnan(design[lo]) || std::isnan(design[hi]) ? 0.0 : (design[hi] - design[lo]) / span;
-    };
-    const std::size_t xl = ix > 0 ? i - 1 : i, xh = ix + 1 < gnx ? i + 1 : i;
-    const std::size_t yl = iy > 0 ? i - gnx : i, yh = iy + 1 < gny ? i + gnx : i;
-    const double gx = xh > xl ? slope(xl, xh, static_cast<double>(xh - xl) * spec.cell) : 0.0;
-    const double gy = yh > yl ? slope(yl, yh, static_cast<double>((yh - yl) / gnx) * spec.cell) : 0.0;
-    return e / std::sqrt(1 + gx * gx + gy * gy);
-  };
   double min_en = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < n; ++i) {
     if (std::isnan(design[i])) continue;
@@ -102,10 +264,11 @@ SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& 
     const double e = z[i] - design[i];
     min_e = std::min(min_e, e);
     max_e = std::max(max_e, e);
-    if (e > opt.allowance_mm + opt.tolerance_mm) ++uncut;
-    if (stamps[i] != 0) scallop = std::max(scallop, e - opt.allowance_mm);
+    const double cs = cos_slope(spec, design, i);
+    if ((e - opt.allowance_mm) * cs > opt.tolerance_mm) ++uncut;
+    if (stamps[i] != 0) scallop = std::max(scallop, (e - opt.allowance_mm) * cs);
     if (!(e < 0)) continue;
-    const double en = normal_e(i, e);
+    const double en = e * cs;
     if (en < min_en) {
       min_en = en;
       out.gouge_cell = i;
@@ -120,8 +283,10 @@ SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& 
   out.max_e_mm = max_e;
   out.max_gouge_mm = std::isfinite(min_en) ? -min_en : 0.0;
   out.gouged = min_en < -opt.tolerance_mm;
-  out.uncut_area_mm2 = static_cast<double>(uncut) * cell_area;
+  out.remaining_area_mm2 = static_cast<double>(uncut) * cell_area;
+  out.uncut_area_mm2 = out.remaining_area_mm2;
   out.scallop_max_mm = std::isfinite(scallop) ? std::max(0.0, scallop) : 0;
+  if (opt.cutter) split_remaining(machined, design, opt, out);
   if (out.gouged) {
     out.gouge_has_move = machined.origin(out.gouge_cell, out.gouge_move);
     if (first_gouge_cell != SIZE_MAX) (void)machined.origin(first_gouge_cell, out.first_gouge_move);

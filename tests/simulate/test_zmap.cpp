@@ -132,10 +132,78 @@ TEST(ZMap, BallRasterOnTiltedPlaneUsesTheThreeDStepover) {
   machine(zm, raster(-2, 6, 0.2 * std::round((y0 - 1.5) / 0.2), py, 40, tilted_tip), finish::Cutter::ball(2 * R));
   const double ya = y0 + 1, yb = y0 + 3;
   const auto m = surface_metrics(zm, design_window(g, 1, 3, ya, yb, tilted));
-  EXPECT_NEAR(m.scallop_max_mm * std::cos(kAlpha), hn, 0.02 * hn);
+  EXPECT_NEAR(m.scallop_max_mm, hn, 0.02 * hn);  // measured along the plane's normal
   EXPECT_NEAR(m.min_e_mm, 0, 2e-5);  // the contact lines fall between cell centres
   EXPECT_GE(m.min_e_mm, -1e-12);
   EXPECT_FALSE(m.gouged);
+}
+
+TEST(ZMap, WithTheCutterScallopsBetweenPassesAreToldFromUncutBands) {
+  // Passes along X on a plane at y = 0 … 1.0 every 0.2, a 0.6 mm gap, 1.6 … 2.6 every 0.2, a 3 mm
+  // gap, 5.6 … 7.0. The 0.6 mm gap (< 2R) leaves a cusp R − √(R² − 0.3²); the 3 mm gap is a band
+  // no pass met: uncut, of width 3 − 2·√(2R·tol − tol²) (where the ball's flank rises above tol).
+  const double R = 1, tol = 0.002;
+  const GridSpec g{-0.005, -0.005, 0.01, 800, 800};  // cell centres on multiples of 0.01
+  ZMap zm = ZMap::flat(g, 0.5);
+  Program p = raster(-2, 10, 0.0, 0.2, 6, zero);
+  for (const Program& q : {raster(-2, 10, 1.6, 0.2, 6, zero), raster(-2, 10, 5.6, 0.2, 8, zero)})
+    p.items.insert(p.items.end(), q.items.begin(), q.items.end());
+  machine(zm, p, finish::Cutter::ball(2 * R));
+  const auto design = design_window(g, 1, 7, 0.0, 7.0, zero);  // 6 mm along X
+  MetricsOptions o;
+  o.tolerance_mm = tol;
+  o.cutter = finish::Cutter::ball(2 * R);
+  const auto m = surface_metrics(zm, design, o);
+  EXPECT_NEAR(m.scallop_max_mm, R - std::sqrt(R * R - 0.09), 1e-9);  // the cusp at y = 1.3
+  EXPECT_EQ(m.rest_area_mm2, 0);
+  const double band = 3 - 2 * std::sqrt(2 * R * tol - tol * tol);
+  EXPECT_NEAR(m.uncut_area_mm2, band * 6, 6 * 0.03);
+  EXPECT_NEAR(m.remaining_area_mm2, m.uncut_area_mm2 + m.scallop_area_mm2 + m.rest_area_mm2, 1e-9);
+  EXPECT_GT(m.scallop_area_mm2, 0.3 * 6);
+  // Without the cutter all of it is uncut, and the scallop is the band's height, not a cusp's.
+  o.cutter.reset();
+  const auto plain = surface_metrics(zm, design, o);
+  EXPECT_NEAR(plain.uncut_area_mm2, m.remaining_area_mm2, 1e-9);
+  EXPECT_GT(plain.scallop_max_mm, 0.4);
+}
+
+TEST(ZMap, WithTheCutterAConcaveCornerTighterThanTheBallIsRestMaterial) {
+  // A floor at 0 for x < 3 and a vertical wall up to a top at 5 for x ≥ 3. Passes along Y every
+  // 0.1 mm: on the floor up to x = 1.99 (the ball next to the wall), on the top from 3. The ball
+  // cannot reach the floor within R − √(2R·tol − tol²) of the wall: rest material, the same for
+  // any program with this ball. Cusps of a 0.1 mm stepover (0.00125 mm) are under the tolerance.
+  const double R = 1, tol = 0.002;
+  const GridSpec g{-0.01, -0.01, 0.02, 250, 250};  // cell centres on multiples of 0.02
+  ZMap zm = ZMap::flat(g, 6);
+  Program p;
+  auto pass = [&](double x, double z) {
+    add(p, mv(Motion::Rapid, x, -2, 8));
+    add(p, mv(Motion::Line, x, -2, z));
+    add(p, mv(Motion::Line, x, 7, z));
+    add(p, mv(Motion::Rapid, x, 7, 8));
+  };
+  for (int k = 0; k < 20; ++k) pass(0.1 * k, 0);
+  pass(1.99, 0);  // (a ball at x = 2 would reach the wall's cells at x = 3 at its equator)
+  for (int k = 0; k <= 15; ++k) pass(3 + 0.1 * k, 5);
+  machine(zm, p, finish::Cutter::ball(2 * R));
+  std::vector<double> design(g.cells(), kNaN);
+  for (std::size_t iy = 0; iy < g.ny; ++iy)
+    for (std::size_t ix = 0; ix < g.nx; ++ix) {
+      const double x = g.x(ix), y = g.y(iy);
+      if (x >= 0.5 && x <= 4 && y >= 1 && y <= 3 + 1e-9) design[iy * g.nx + ix] = x < 3 - 1e-9 ? 0 : 5;
+    }
+  MetricsOptions o;
+  o.tolerance_mm = tol;
+  o.cutter = finish::Cutter::ball(2 * R);
+  const auto m = surface_metrics(zm, design, o);
+  EXPECT_FALSE(m.gouged);
+  // The floor's last column (x = 2.98) straddles the wall: along the normal it is ~0. Length 2 mm
+  // (101 rows of 0.02); the lattice (every 5th cell) blurs the band's edge by ≤ 0.05 mm.
+  const double rest = (R + 0.01 - std::sqrt(2 * R * tol - tol * tol) - 0.02) * 101 * 0.02;
+  EXPECT_NEAR(m.rest_area_mm2, rest, 0.06 * 101 * 0.02);
+  EXPECT_NEAR(m.uncut_area_mm2, 0, 0.06 * 101 * 0.02);
+  EXPECT_EQ(m.scallop_area_mm2, 0);
+  EXPECT_EQ(m.scallop_max_mm, 0);
 }
 
 TEST(ZMap, FlatEndMillLeavesNoScallop) {

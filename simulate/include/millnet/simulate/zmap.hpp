@@ -20,6 +20,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <vector>
 
 namespace millnet::simulate {
@@ -169,6 +170,14 @@ struct MetricsOptions {
   /// a sampling length, 0.8 mm, so a 0.1 mm lattice of centres loses nothing a histogram shows).
   std::size_t ra_every = 1;
   int threads = 0;                        ///< OpenMP threads for the Ra map; 0 = the default
+  /// The cutter of the last program: with it, the material left above the design is split into
+  /// scallop, rest material and uncut (see SurfaceMetrics). Without it, all of it counts as uncut
+  /// and scallop_max_mm is max(e − allowance) over the cells some move lowered.
+  std::optional<finish::Cutter> cutter;
+  /// The rest-material test runs once per block of reach_every × reach_every cells (≥ 1) that
+  /// holds material left, at the block's such cell nearest its centre; every cell left in the
+  /// block takes that answer. The test samples the design under the cutter at the same stride.
+  std::size_t reach_every = 5;
 };
 
 struct SurfaceMetrics {
@@ -183,9 +192,24 @@ struct SurfaceMetrics {
   bool gouge_has_move = false;
   MoveRef gouge_move;                     ///< the move that cut the deepest gouge
   MoveRef first_gouge_move;               ///< the earliest move (pass, item) that left a gouged cell
-  double uncut_area_mm2 = 0;              ///< area with e > allowance + tolerance
-  /// max(e − allowance) over the surface cells that some move lowered (cells the program never
-  /// touched are remaining material, not scallop).
+  /// Remaining material: the area with (e − allowance)·cos(slope) > tolerance (measured along the
+  /// surface normal, like the gouge: on an 87° wall a vertical e overstates it 19×). With options.cutter it is split
+  /// into three parts, each cell in exactly one:
+  ///  - rest: the cutter cannot touch the design there without cutting into it elsewhere by more
+  ///    than the tolerance (a concave corner tighter than the cutter): no program with this
+  ///    cutter can clear it — the same for every strategy;
+  ///  - scallop: the cutter can reach it, and walking across the feed of the move that last cut
+  ///    it, the surface is cut to the design (within the tolerance) on both sides within the
+  ///    cutter's radius: a cusp between neighbouring passes;
+  ///  - uncut: the rest of it — reachable material that the program left.
+  /// Without options.cutter, uncut = remaining and the other two are 0.
+  double remaining_area_mm2 = 0;
+  double uncut_area_mm2 = 0;
+  double scallop_area_mm2 = 0;
+  double rest_area_mm2 = 0;
+  /// With options.cutter: max((e − allowance)·cos(slope)) over the scallop cells (0 when there is
+  /// none): the height of the cusps between passes along the normal, not of material the passes
+  /// never met. Without it: the same max over the surface cells that some move lowered.
   double scallop_max_mm = 0;
   std::vector<float> ra_um;               ///< per cell, µm; NaN off the surface (empty if !ra_map)
   std::vector<double> ra_bin_edges_um;    ///< copy of the edges
