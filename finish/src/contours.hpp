@@ -38,6 +38,7 @@ struct ContourPoint {
   Eigen::Vector2d xy;
   double aux = 0;            ///< what the placement function attached (the waterline: the slope)
   bool on_boundary = false;
+  double lift = 0;           ///< the waterline: height above the level where a chord is lifted
 };
 
 /// Places the crossing on the grid edge from an inside node to an outside node. `outside_is_pad`

@@ -4,8 +4,10 @@
 // squares of {CL ≥ z}; every crossing is then refined on its grid edge by the drop-cutter
 // (Illinois regula falsi, bracket ≤ chord tolerance, the point returned on the air side, where
 // the cutter at z does not touch); chords that would cut into the part anywhere along them
-// (sampled ≤ min(0.1 mm, R/4) apart) are split by a further refined point. Loops are reversed to keep the material on the right (climb milling with
-// M3) and cut open where they run along the machining boundary.
+// (sampled ≤ min(0.1 mm, R/4) apart) are split by a further refined point; a chord whose splits
+// run out of their budget (the level set finer than they can follow) rides over the material on
+// the drop-cutter instead. Loops are reversed to keep the material on the right (climb milling
+// with M3) and cut open where they run along the machining boundary.
 #include "contours.hpp"
 #include "sampling.hpp"
 
@@ -58,14 +60,13 @@ void split_gouging_chords(const Sampler& s, std::vector<ContourPoint>& loop, dou
     out.push_back(loop[i]);
     std::vector<Item> stack{{loop[i], loop[i + 1]}};
     int splits = 0;
+    bool exhausted = false;
     // Depth-first, in order: emit points between a and b.
     std::vector<ContourPoint> seq;
     while (!stack.empty()) {
       Item it = stack.back();
       stack.pop_back();
-      // A budget of splits per original chord (not a depth: a split near one end leaves the other
-      // sub-chord almost as long, and the next split there is one level deeper).
-      if (it.a.on_boundary || it.b.on_boundary || splits >= kMaxSplits) {
+      if (it.a.on_boundary || it.b.on_boundary) {
         seq.push_back(it.b);
         continue;
       }
@@ -88,6 +89,12 @@ void split_gouging_chords(const Sampler& s, std::vector<ContourPoint>& loop, dou
       if (worst <= 0.5 * tol::chord_below_mm) {
         seq.push_back(it.b);
         continue;
+      }
+      // A budget of splits per original chord (not a depth: a split near one end leaves the other
+      // sub-chord almost as long, and the next split there is one level deeper).
+      if (splits >= kMaxSplits) {
+        exhausted = true;
+        break;
       }
       // Inside on the left of a→b: the air is on the right, normal (dy, −dx).
       // March out along the normal, on both sides (the air side first on ties), to the NEAREST
@@ -122,6 +129,17 @@ void split_gouging_chords(const Sampler& s, std::vector<ContourPoint>& loop, dou
       ++splits;
       stack.push_back({mid, it.b});
       stack.push_back({it.a, mid});
+    }
+    if (exhausted) {
+      // The level set here is finer than the splits can follow (a sliver of material a hair above
+      // the level, crossed again and again): the chord keeps its ends and rides over the material
+      // on the drop-cutter instead — never below it, a lift of at most the sliver's height.
+      seq.clear();
+      const std::vector<Sample> over = sample_segment(s, loop[i].xy, loop[i + 1].xy, h, tol);
+      for (std::size_t k = 1; k < over.size(); ++k) {
+        const Sample& q = over[k];
+        seq.push_back(ContourPoint{q.p.head<2>(), q.slope_deg, false, std::max(0.0, q.p.z() - z)});
+      }
     }
     // seq holds the ends of the sub-chords in order; the last is loop[i + 1].
     for (std::size_t k = 0; k + 1 < seq.size(); ++k) out.push_back(seq[k]);
@@ -163,7 +181,7 @@ std::vector<std::vector<std::vector<Sample>>> waterline_loops(const Sampler& s, 
       std::vector<Sample> pts;
       auto to_sample = [z](const ContourPoint& c) {
         Sample q;
-        q.p = Eigen::Vector3d(c.xy.x(), c.xy.y(), z);
+        q.p = Eigen::Vector3d(c.xy.x(), c.xy.y(), z + c.lift);
         q.slope_deg = c.aux;
         return q;
       };
