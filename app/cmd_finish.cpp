@@ -20,12 +20,19 @@ Registered register_finish(CLI::App& app) {
     std::string out;
   };
   auto o = std::make_shared<Opts>();
+  auto parse_strategy_flag = [](const std::string& v) {
+    try {
+      return finish::parse_strategy(v);
+    } catch (const Error&) {
+      throw Error("--strategy: unknown finishing strategy '" + v + "' (expected 1, 2, 3, 4, 5 or all)");
+    }
+  };
   CLI::App* sub = app.add_subcommand(
       "finish", "finishing tool paths (Korosec & Kopac strategies 1..5) → G-code, metrics, PNG; --simulate scores them");
   sub->add_option("--mesh", o->meshes, "mesh file or folder (repeatable; added to /finish/meshes)");
   o->mesh_flags.add_to(sub);
-  sub->add_option("--strategy", o->strategy, "strategy slot 1..5 or all")
-      ->check(CLI::IsMember({"1", "2", "3", "4", "5", "all"}));
+  // Checked by finish::parse_strategy: one line and exit 1, like every other bad value.
+  sub->add_option("--strategy", o->strategy, "strategy slot 1..5 or all");
   sub->add_option("--tool", o->tool, "cutter: ball:D, flat:D or bull:D:r (mm)");
   sub->add_option("--stepover", o->stepover, "p_f, mm");
   sub->add_option("--step-down", o->step_down, "a_a, mm");
@@ -34,12 +41,12 @@ Registered register_finish(CLI::App& app) {
   sub->add_flag("--simulate", o->simulate, "machine each program on a z-map and score the surface");
   sub->add_option("--out", o->out, "output folder")->required();
   add_common(sub, o->common);
-  return {sub, [o]() {
+  return {sub, [o, parse_strategy_flag]() {
             const Json config = setup(o->common);
             FinishSettings s = finish_settings(config);
             if (o->strategy) {
               s.strategies = *o->strategy == "all" ? finish::all_strategies()
-                                                   : std::vector{finish::parse_strategy(*o->strategy)};
+                                                   : std::vector{parse_strategy_flag(*o->strategy)};
             }
             if (o->tool) s.params.tool = parse_tool(*o->tool);
             if (o->stepover) s.params.stepover_mm = *o->stepover;

@@ -4,6 +4,8 @@
 #include "millnet/core/error.hpp"
 #include "millnet/finish/tolerances.hpp"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -149,6 +151,16 @@ std::vector<FinishPlan> plan_finish(const ingest::Mesh& mesh, const DropCutter& 
                                     const std::vector<Strategy>& strategies, const FinishParams& params) {
   params.check();
   for (const Strategy st : strategies) (void)entry(st);
+  // The part is machined from above: it needs a face that looks up (n_z > 0). O(#F).
+  bool faces_up = false;
+  for (Eigen::Index f = 0; f < mesh.F.rows() && !faces_up; ++f) {
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    faces_up = n.z() > 1e-9 * n.norm();
+  }
+  if (!faces_up)
+    throw Error("finish: the mesh has no top surface: none of its " + std::to_string(mesh.F.rows()) +
+                " faces looks up (is --up right?)");
   const Sampler s(mesh, dropper);
   Box box{params.x0, params.y0, params.x1, params.y1};
   if (!(box.x1 > box.x0 && box.y1 > box.y0)) {

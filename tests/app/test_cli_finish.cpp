@@ -102,7 +102,19 @@ TEST(CliFinish, BadInputGetsOneLineAndNoFiles) {
   const auto tool = run_millnet("finish --mesh '" + mesh.string() + "' --tool sphere:2 --out out", d);
   EXPECT_EQ(tool.code, 1);
   EXPECT_NE(tool.err.find("ball:D"), std::string::npos) << tool.err;
-  EXPECT_EQ(run_millnet("finish --mesh '" + mesh.string() + "' --strategy 7 --out out", d).code, 2);
+  auto one_line = [](const auto& r, const std::string& what) {
+    EXPECT_EQ(r.code, 1) << r.err;
+    EXPECT_NE(r.err.find(what), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  };
+  one_line(run_millnet("finish --mesh '" + mesh.string() + "' --strategy 7 --out out", d), "--strategy");
+  one_line(run_millnet("finish --mesh '" + mesh.string() + "' --strategy 4 --step-down 0 --out out", d), "step_down_mm");
+  {  // a mesh with no face looking up (one vertical triangle)
+    std::ofstream wall(d / "wall.stl");
+    wall << "solid w\nfacet normal 1 0 0\nouter loop\nvertex 0 0 0\nvertex 0 10 0\nvertex 0 5 10\nendloop\n"
+            "endfacet\nendsolid w\n";
+  }
+  one_line(run_millnet("finish --mesh wall.stl --strategy all --simulate --out out", d), "no top surface");
   EXPECT_EQ(list_files(d / "out"), "");
 }
 
