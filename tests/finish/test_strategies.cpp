@@ -8,6 +8,7 @@
 #include "millnet/finish/tolerances.hpp"
 
 #include "ingest/builders.hpp"
+#include "millnet/datasets/generator.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
 
 #include <gtest/gtest.h>
@@ -361,8 +362,11 @@ TEST(FinishStrategy, WaterlineRidesOverASliverItsSplitsCannotFollow) {
   // Regression (default training part s3_varying_curvature_06, strategy 4, level Z −1.2001 of the
   // program): a sliver of the level set a hair above the level, crossed back and forth by the 64
   // splits of one chord; the last sub-chord cut 0.0052 mm into the part at (5.79, 52.03).
-  const auto mesh = ingest::load_prepared(
-      std::filesystem::path(MILLNET_SOURCE_DIR) / "datasets" / "parts" / "s3_varying_curvature_06.stl", {});
+  // The part as `millnet dataset` writes it (binary STL, float vertices) and every command reads it.
+  const std::filesystem::path stl = std::filesystem::temp_directory_path() / "millnet_test_s3_varying_curvature_06.stl";
+  ingest::save_stl_binary(datasets::make_part(datasets::Family::VaryingCurvature, 5, 7).mesh, stl);
+  const auto mesh = ingest::load_prepared(stl, {});
+  std::filesystem::remove(stl);
   const DropCutter dc(mesh, Cutter::ball(2));
   FinishParams p;
   p.tool = Cutter::ball(2);

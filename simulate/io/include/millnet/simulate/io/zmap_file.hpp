@@ -9,7 +9,8 @@
 //            "heights": "float64le"}   (the GridSpec, zmap.hpp)
 //   then     exactly nx·ny IEEE-754 doubles, little-endian, row by row (index iy·nx + ix), the
 //            heights in the program frame (mm). Nothing follows.
-// Move stamps are not saved: a stock read back has no move history (every stamp 0).
+// Move stamps are not saved: a stock read back has no move history (every stamp 0), so material
+// that only an earlier run cut counts as uncut, not as scallop, until a program of this run cuts it.
 #include "millnet/simulate/zmap.hpp"
 
 #include <filesystem>
