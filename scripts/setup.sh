@@ -5,7 +5,8 @@ set -euo pipefail
 PKGS=(build-essential cmake ninja-build pkg-config
       libeigen3-dev libassimp-dev libopencv-dev nlohmann-json3-dev
       libgtest-dev libgmock-dev libcli11-dev libbenchmark-dev libpolyclipping-dev libnanoflann-dev
-      linuxcnc-uspace)  # LinuxCNC's rs274 interpreter: tests check that every program millnet writes is accepted
+      linuxcnc-uspace   # LinuxCNC's rs274 interpreter: tests check that every program millnet writes is accepted
+      clang libclang-rt-14-dev libomp-14-dev)  # libFuzzer and clang's OpenMP: scripts/fuzz.sh
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -344,7 +344,8 @@ struct DropCutter::Impl {
     bool big;
   };
   [[nodiscard]] CellRange cells_of(const Box& b) const {
-    const double bx0 = b.x0, by0 = b.y0, bx1 = b.x1, by1 = b.y1;
+    const double bx0 = static_cast<double>(b.x0), by0 = static_cast<double>(b.y0), bx1 = static_cast<double>(b.x1),
+                 by1 = static_cast<double>(b.y1);
     if (bx1 - bx0 <= cs && by1 - by0 <= cs) {
       const int ix = cell_x(0.5 * (bx0 + bx1)), iy = cell_y(0.5 * (by0 + by1));
       return {ix, ix, iy, iy, false};
@@ -497,7 +498,8 @@ void DropCutter::Impl::query(double x, double y, std::int32_t hint, Best& best) 
       const Entry& en = entries[static_cast<std::size_t>(i)];
       const Box& b = en.box;
       if (static_cast<double>(b.zmax) <= best.z - kPruneSlack) break;
-      const double bx0 = b.x0, by0 = b.y0, bx1 = b.x1, by1 = b.y1;
+      const double bx0 = static_cast<double>(b.x0), by0 = static_cast<double>(b.y0), bx1 = static_cast<double>(b.x1),
+                 by1 = static_cast<double>(b.y1);
       if (bx0 > qx1 || bx1 < qx0 || by0 > qy1 || by1 < qy0) continue;
       std::int32_t f = en.tri;
       if (f < 0) {  // big: handled in the cell of the lower-left corner of (box ∩ query square)

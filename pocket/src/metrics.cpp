@@ -19,10 +19,10 @@ std::vector<std::pair<std::string, double>> Metrics::to_key_values() const {
       {"uncut_area_mm2", uncut_area_mm2},     {"reachable_area_mm2", reachable_area_mm2},
       {"pocket_area_mm2", pocket_area_mm2},   {"levels", levels}};
   const std::size_t fixed = kv.size();
-  for (const auto& [k, v] : key_values(planner_stats)) {  // O(stats · fields)
+  for (const auto& stat : key_values(planner_stats)) {  // O(stats · fields)
     const bool taken = std::any_of(kv.begin(), kv.begin() + static_cast<std::ptrdiff_t>(fixed),
-                                   [&](const auto& e) { return e.first == k; });
-    if (!taken) kv.emplace_back(k, v);
+                                   [&](const auto& e) { return e.first == stat.first; });
+    if (!taken) kv.push_back(stat);
   }
   return kv;
 }

@@ -16,10 +16,10 @@ std::vector<std::pair<std::string, double>> SomStats::key_values() const {
                                                     {"som_passes", som_passes},
                                                     {"tool_points", static_cast<double>(tool_points)}};
   const std::size_t own = kv.size();
-  for (auto& [k, v] : smoothing.key_values()) {  // O(keys²), a few dozen
+  for (auto& stat : smoothing.key_values()) {  // O(keys²), a few dozen
     const bool taken = std::any_of(kv.begin(), kv.begin() + static_cast<std::ptrdiff_t>(own),
-                                   [&](const auto& e) { return e.first == k; });
-    if (!taken) kv.emplace_back(std::move(k), v);
+                                   [&](const auto& e) { return e.first == stat.first; });
+    if (!taken) kv.push_back(std::move(stat));
   }
   std::sort(kv.begin(), kv.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   return kv;

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# Runs millnet's libFuzzer targets (fuzz/README.md) under ASan + UBSan:
+#   scripts/fuzz.sh TARGET|all [SECONDS per target, default 60]
+# Builds build-fuzz/ with clang first. Seeds: fuzz/seeds/<target>/ and the test corpus; the corpus
+# grown by a run stays in build-fuzz/corpus/<target> (not in git) and seeds the next run there.
+# Exits non-zero on the first finding (crash, leak, timeout > 10 s, RSS > 2 GB, an exception other
+# than millnet::Error); the input is kept in build-fuzz/findings/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+target=${1:?usage: scripts/fuzz.sh TARGET|all [SECONDS]}
+seconds=${2:-60}
+scripts/setup.sh
+CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DMILLNET_FUZZ=ON -DMILLNET_TESTS=OFF -DMILLNET_BENCH=OFF -DMILLNET_NATIVE=OFF >/dev/null
+cmake --build build-fuzz -j "${JOBS:-$(nproc)}" --target fuzz_all
+if [ "$target" = all ]; then
+  targets=$(cd fuzz && ls fuzz_*.cpp | sed 's/^fuzz_//; s/\.cpp$//')
+else
+  targets=$target
+fi
+# Seeds from the regression corpus and the shipped data, by reader.
+seed_dirs() {
+  case $1 in
+    pocket_json) echo tests/corpus/pocket ../shared/bench/pockets ;;
+    pocket_dxf) echo tests/corpus/pocket ;;
+    mesh_stl|mesh_ply|mesh_off|points) echo tests/corpus/mesh ;;
+    config) echo tests/corpus/config configs ;;
+    model) echo tests/corpus/model ;;
+    vectors) echo tests/corpus/vectors ;;
+    manifest) echo tests/corpus/manifest ;;
+    gcode) echo tests/corpus/gcode ;;
+    zmap) echo ;;
+  esac
+}
+export ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+mkdir -p build-fuzz/findings
+status=0
+for t in $targets; do
+  [ -x "build-fuzz/fuzz/fuzz_$t" ] || { echo "fuzz: no target '$t' (see fuzz/)" >&2; exit 2; }
+  corpus=build-fuzz/corpus/$t
+  mkdir -p "$corpus"
+  seeds=()
+  [ -d "fuzz/seeds/$t" ] && seeds+=("fuzz/seeds/$t")
+  for d in $(seed_dirs "$t"); do [ -d "$d" ] && seeds+=("$d"); done
+  echo "== fuzz_$t: ${seconds} s" >&2
+  log=build-fuzz/fuzz_$t.log
+  if ! "build-fuzz/fuzz/fuzz_$t" "$corpus" "${seeds[@]}" -max_total_time="$seconds" -timeout=10 \
+       -rss_limit_mb=2048 -malloc_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
+       -artifact_prefix=build-fuzz/findings/"$t"- >"$log" 2>&1; then
+    tail -40 "$log" >&2
+    echo "fuzz: fuzz_$t found a problem; the input is in build-fuzz/findings/" >&2
+    status=1
+    break
+  fi
+  grep -E "^stat::number_of_executed_units|^stat::peak_rss_mb" "$log" | sed "s/^/fuzz_$t /" >&2
+done
+exit $status
