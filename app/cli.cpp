@@ -29,6 +29,24 @@ void MeshFlags::add_to(CLI::App* sub, const std::string& what) {
       ->check(CLI::IsMember({"+z", "-z", "+y", "-y", "+x", "-x", "z", "y", "x", "auto"}));
 }
 
+void PocketFlags::add_to(CLI::App* sub, bool with_planner_flags, bool with_depth) {
+  sub->add_option("--tool-diameter", tool_diameter, "flat end mill diameter, mm")->check(CLI::PositiveNumber);
+  sub->add_option("--stepover", stepover, "grid spacing / pass distance, mm")->check(CLI::PositiveNumber);
+  if (with_depth) sub->add_option("--depth", depth, "pocket depth, mm (floor Z = -depth)")->check(CLI::PositiveNumber);
+  sub->add_option("--step-down", step_down, "maximum depth of cut per level, mm")->check(CLI::PositiveNumber);
+  sub->add_option("--safe-z", safe_z, "retract height, mm")->check(CLI::PositiveNumber);
+  sub->add_option("--stock-to-leave", stock_to_leave, "radial allowance on walls and islands, mm")
+      ->check(CLI::NonNegativeNumber);
+  sub->add_option("--entry", entry, "entry into uncut material")->check(CLI::IsMember({"predrill", "helix", "ramp"}));
+  sub->add_flag("--contour", contour, "finish with a contour pass along the walls");
+  if (with_planner_flags) {
+    sub->add_option("--planner", planner, "planner")->check(CLI::IsMember({"som", "zigzag"}));
+    sub->add_option("--partition", partition, "zigzag partition (T: Tang, I: Suh & Kim)")
+        ->check(CLI::IsMember({"t", "i", "T", "I"}));
+    sub->add_option("--angle", angle, "zigzag reference angle in degrees, or auto");
+  }
+}
+
 ingest::PrepareOptions MeshFlags::prepare(const Json* section) const {
   ingest::PrepareOptions prep;
   prep.units = ingest::parse_units(units.value_or(section ? (*section)["units"].get<std::string>() : "mm"));

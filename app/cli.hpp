@@ -30,6 +30,15 @@ struct MeshFlags {
   [[nodiscard]] ingest::PrepareOptions prepare(const Json* section) const;
 };
 
+/// Command-line overrides of the pocket section (flags win over the config, which wins over the
+/// pocket file's own keys).
+struct PocketFlags {
+  std::optional<double> tool_diameter, stepover, depth, step_down, safe_z, stock_to_leave;
+  bool contour = false;
+  std::optional<std::string> planner, partition, angle, entry;
+  void add_to(CLI::App* sub, bool with_planner_flags = true, bool with_depth = true);
+};
+
 /// Adds --quiet, --threads and (when with_config) --config to a subcommand.
 void add_common(CLI::App* sub, Common& common, bool with_config = true);
 

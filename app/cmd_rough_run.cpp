@@ -9,6 +9,7 @@
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/core/progress.hpp"
+#include "millnet/classifier/rank.hpp"
 #include "millnet/datasets/generator.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
 #include "millnet/simulate/aim.hpp"
@@ -127,22 +128,12 @@ struct RunOpts {
 };
 
 /// The held-out parts: the config's list, or parts generated with their own seed.
-std::vector<PredictInput> run_test_parts(const Json& config) {
+std::vector<PredictInput> run_test_parts(const RunSettings& run) {
   std::vector<PredictInput> parts;
-  const Json& run = config["run"];
-  if (!run["test_parts"].empty()) {
-    for (const auto& p : run["test_parts"])
-      parts.push_back({p["file"].get<std::string>(), p.value("name", std::string()), p["label"].get<int>(), nullptr});
-  } else {
-    datasets::GenerateParams g;
-    g.seed = run["generate_test_parts"]["seed"].get<std::uint64_t>();
-    g.per_family = run["generate_test_parts"]["per_family"].get<int>();
-    g.resolution = config["dataset"]["generate"]["resolution"].get<int>();
-    if (config["dataset"]["parts"].empty() && g.seed == config["dataset"]["generate"]["seed"].get<std::uint64_t>())
-      throw Error("/run/generate_test_parts/seed equals /dataset/generate/seed: the test parts would be training parts");
-    for (const auto& gp : datasets::generate_default_parts(run["test_parts_dir"].get<std::string>(), g))
+  for (const auto& p : run.test_parts) parts.push_back({p.file, p.name, p.label, nullptr});
+  if (parts.empty())
+    for (const auto& gp : datasets::generate_default_parts(run.generate_dir, run.generate))
       parts.push_back({gp.file, "test_" + gp.name, gp.label, nullptr});
-  }
   return parts;
 }
 
@@ -168,28 +159,6 @@ struct PartOutcomes {
   std::string finish_settings_note, aim;  ///< for the summary
 };
 
-/// The slots best first, from the 1-based rank of each slot.
-std::vector<int> ranking_order(const std::vector<int>& slots, const std::vector<int>& rank) {
-  std::vector<int> by(slots.size());
-  for (std::size_t i = 0; i < slots.size(); ++i) by[static_cast<std::size_t>(rank[i] - 1)] = slots[i];
-  return by;
-}
-
-/// The network's ranking of `slots` by the part's totals over the variants (the paper's Figure 8),
-/// highest first, ties by slot: 1-based rank per slot.
-std::vector<int> network_ranks(const PartPrediction& pr, const std::vector<int>& slots) {
-  std::vector<std::size_t> idx(slots.size());
-  for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = i;
-  auto total = [&](std::size_t i) {
-    const auto k = static_cast<std::size_t>(slots[i] - 1);
-    return k < pr.totals.size() ? pr.totals[k] : 0.0;
-  };
-  std::stable_sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return total(a) > total(b); });
-  std::vector<int> rank(slots.size());
-  for (std::size_t r = 0; r < idx.size(); ++r) rank[idx[r]] = static_cast<int>(r + 1);
-  return rank;
-}
-
 /// Finishes the prepared part with every strategy (simulated, files in dir/finish/), then machines
 /// the roughing program dir/<name>.nc and the top strategy's program one after the other on one
 /// z-map from flat stock (dir/<name>.rough_finish.sim.json and its pictures).
@@ -205,7 +174,7 @@ FinishOutcome finish_test_part(const ingest::Mesh& mesh, const std::string& name
       fo.ra_median_um.push_back(o.score.ra_median_um);
     }
     if (pr.ok) {
-      fo.network_rank = network_ranks(pr, fo.slots);
+      fo.network_rank = classifier::slot_ranks(pr.totals, fo.slots);  // the paper's Figure 8 totals
       fo.spearman = simulate::spearman(fo.network_rank, fo.simulated_rank);
     }
     const auto top = std::find(fo.slots.begin(), fo.slots.end(), pr.top);
@@ -236,10 +205,8 @@ PartOutcomes predict_and_rough(const Json& config, const std::string& config_fil
   auto& rough_s = po.rough_s;
 const Json explicit_pocket = explicit_pocket_section(config_file);
 const rough::Params rp = rough_params(config, explicit_pocket, PocketFlags{});
-const bool finishing = config["run"]["finish"].get<bool>();
-FinishSettings fset = finish_settings(config);
-fset.strategies = finish::all_strategies();
-fset.simulate = true;
+const RunSettings run = run_settings(config);
+const FinishSettings fset = simulated_finish_settings(config);
 po.finish_settings_note = fset.params.tool.describe() + ", p_f " + fixed(fset.params.stepover_mm, 2) + " mm, a_a " +
                           fixed(fset.params.step_down_mm, 2) + " mm, " + fixed(fset.params.feed_mm_min, 0) + " mm/min";
 po.aim = simulate::to_string(fset.aim.aim);
@@ -257,12 +224,12 @@ for (const auto& p : parts) {
   auto pr = predict_parts(model, {named}, prep, dir);
   preds.push_back(pr.front());
   predict_s += std::chrono::duration<double>(clock::now() - t0).count();
-  if (config["run"]["rough"].get<bool>()) {
+  if (run.rough) {
     t0 = clock::now();
     roughs.push_back(rough_prepared(named.mesh.get(), load_error, p.file, name, rp, dir));
     rough_s += std::chrono::duration<double>(clock::now() - t0).count();
   }
-  if (finishing) {
+  if (run.finish) {
     t0 = clock::now();
     if (named.mesh)
       po.finishes.push_back(finish_test_part(*named.mesh, name, preds.back(), roughs.empty() ? nullptr : &roughs.back(),
@@ -288,10 +255,10 @@ Json finishing_json(const PartOutcomes& po) {
       out.push_back(j);
       continue;
     }
-    j["simulated_ranking"] = ranking_order(f.slots, f.simulated_rank);
+    j["simulated_ranking"] = simulate::slots_by_rank(f.slots, f.simulated_rank);
     j["ra_median_um"] = f.ra_median_um;
     if (!f.network_rank.empty()) {
-      j["network_ranking"] = ranking_order(f.slots, f.network_rank);
+      j["network_ranking"] = simulate::slots_by_rank(f.slots, f.network_rank);
       j["spearman"] = f.spearman;
     }
     if (f.chained) {
@@ -371,7 +338,7 @@ if (!po.finishes.empty()) {
         "(µm) | rough + top: uncut (mm²) | rough + top: rest material (mm²) | rough + top: gouge (mm) |\n"
      << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   auto order_text = [](const std::vector<int>& slots, const std::vector<int>& rank) {
-    const std::vector<int> by = ranking_order(slots, rank);
+    const std::vector<int> by = simulate::slots_by_rank(slots, rank);
     std::string t;
     for (std::size_t r = 0; r < by.size(); ++r) t += (r ? " > " : "") + std::to_string(by[r]);
     return t;
@@ -466,7 +433,7 @@ int run_run(const RunOpts& o) {
   stage("train_s", [&] { ts = train_model(ds_dir / "vectors.csv", config, out / "model"); });
   // 3. test parts
   std::vector<PredictInput> parts;
-  stage("test_parts_s", [&] { parts = run_test_parts(config); });
+  stage("test_parts_s", [&] { parts = run_test_parts(run_settings(config)); });
   // 4. predict and 5. rough, a folder per part
   const PartOutcomes po = predict_and_rough(config, o.config_file, parts, out);
   timing["predict_s"] = po.predict_s;

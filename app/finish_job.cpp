@@ -7,10 +7,12 @@
 #include "millnet/core/error.hpp"
 #include "millnet/core/progress.hpp"
 #include "millnet/finish/dropcutter.hpp"
+#include "millnet/gcode/polylines.hpp"
 #include "millnet/gcode/reader.hpp"
 #include "millnet/gcode/writer.hpp"
 #include "millnet/ingest/heightfield.hpp"
 #include "millnet/report/plots.hpp"
+#include "millnet/simulate/maps.hpp"
 #include "millnet/simulate/io/zmap_file.hpp"
 
 #include <algorithm>
@@ -56,50 +58,13 @@ PartFrame part_frame(const ingest::Mesh& mesh, const FinishSettings& s, bool wit
   const ingest::HeightField hf =
       ingest::rasterize_top(mesh, 0.5 * f.grid.cell, 0.5 * f.grid.cell, f.grid.cell, static_cast<int>(f.grid.nx),
                             static_cast<int>(f.grid.ny));
-  f.design.resize(hf.z.size());
-  for (std::size_t i = 0; i < hf.z.size(); ++i)
-    f.design[i] = hf.hit[i] ? hf.z[i] + f.z_shift : std::numeric_limits<double>::quiet_NaN();
+  f.design = simulate::design_heights(hf, f.z_shift);
   return f;
 }
 
-/// Block means of a row-major grid (NaN cells skipped, `empty` where a block has none), rows = y.
-Eigen::MatrixXd downsample(const std::vector<double>& v, std::size_t nx, std::size_t ny, double empty) {
-  const std::size_t k = std::max<std::size_t>(1, (std::max(nx, ny) + kMaxPictureCells - 1) / kMaxPictureCells);
-  const std::size_t rx = (nx + k - 1) / k, ry = (ny + k - 1) / k;
-  Eigen::MatrixXd m(static_cast<Eigen::Index>(ry), static_cast<Eigen::Index>(rx));
-  for (std::size_t bi = 0; bi < ry; ++bi)
-    for (std::size_t bj = 0; bj < rx; ++bj) {
-      double sum = 0;
-      std::size_t n = 0;
-      for (std::size_t i = bi * k; i < std::min(ny, (bi + 1) * k); ++i)
-        for (std::size_t j = bj * k; j < std::min(nx, (bj + 1) * k); ++j) {
-          const double x = v[i * nx + j];
-          if (std::isfinite(x)) sum += x, ++n;
-        }
-      m(static_cast<Eigen::Index>(bi), static_cast<Eigen::Index>(bj)) = n ? sum / static_cast<double>(n) : empty;
-    }
-  return m;
-}
-
-/// Cuts (feed moves) and rapids of a program as XY polylines, for pictures.
-void polylines(const gcode::Program& prog, std::vector<std::vector<std::array<double, 2>>>& cuts,
-               std::vector<std::vector<std::array<double, 2>>>& rapids) {
-  std::array<double, 2> at{0, 0};
-  bool have = false, cutting = false;
-  for (const auto& item : prog.items) {
-    const auto* m = std::get_if<gcode::Move>(&item);
-    if (m == nullptr) continue;
-    const std::array<double, 2> to{m->to[0], m->to[1]};
-    const bool cut = m->motion != gcode::Motion::Rapid;
-    if (have && (to[0] != at[0] || to[1] != at[1] || cut)) {
-      auto& list = cut ? cuts : rapids;
-      if (list.empty() || cut != cutting) list.push_back({at});
-      list.back().push_back(to);
-      cutting = cut;
-    }
-    at = to;
-    have = have || (m->axes & (gcode::kX | gcode::kY)) == (gcode::kX | gcode::kY);
-  }
+/// A map of the part's z-map grid shrunk for a picture (block means, `empty` where a block has no cell).
+Eigen::MatrixXd picture_map(const std::vector<double>& v, const simulate::GridSpec& g, double empty) {
+  return simulate::block_means(v, g.nx, g.ny, kMaxPictureCells, empty);
 }
 
 /// A stock saved by an earlier `simulate --save-stock`: its grid must be the part's.
@@ -157,7 +122,7 @@ Json sim_metrics_json(const simulate::SurfaceMetrics& m, const simulate::SweepRe
 
 void ra_png(const fs::path& path, const PartFrame& f, const simulate::SurfaceMetrics& m, const std::string& title) {
   const std::vector<double> ra(m.ra_um.begin(), m.ra_um.end());
-  const Eigen::MatrixXd g = downsample(ra, f.grid.nx, f.grid.ny, 0.0);
+  const Eigen::MatrixXd g = picture_map(ra, f.grid, 0.0);
   report::HeatMapOptions o;
   o.extent_mm = std::array<double, 4>{0, static_cast<double>(f.grid.nx) * f.grid.cell, 0,
                                       static_cast<double>(f.grid.ny) * f.grid.cell};
@@ -166,71 +131,6 @@ void ra_png(const fs::path& path, const PartFrame& f, const simulate::SurfaceMet
 }
 
 }  // namespace
-
-finish::Cutter parse_tool(const std::string& text) {
-  std::vector<std::string> parts;
-  std::stringstream ss(text);
-  for (std::string p; std::getline(ss, p, ':');) parts.push_back(p);
-  auto num = [&](std::size_t i) {
-    try {
-      std::size_t used = 0;
-      const double v = std::stod(parts.at(i), &used);
-      if (used != parts[i].size()) throw std::invalid_argument("trailing");
-      return v;
-    } catch (const std::exception&) {
-      throw Error("--tool '" + text + "': expected ball:D, flat:D or bull:D:r (mm)");
-    }
-  };
-  finish::Cutter c;
-  if (parts.size() == 2 && parts[0] == "ball") c = finish::Cutter::ball(num(1));
-  else if (parts.size() == 2 && parts[0] == "flat") c = finish::Cutter::flat(num(1));
-  else if (parts.size() == 3 && parts[0] == "bull") c = finish::Cutter::bull(num(1), num(2));
-  else throw Error("--tool '" + text + "': expected ball:D, flat:D or bull:D:r (mm)");
-  c.check();
-  return c;
-}
-
-FinishSettings finish_settings(const Json& config) {
-  const Json& f = config["finish"];
-  FinishSettings s;
-  auto& p = s.params;
-  const Json& t = f["tool"];
-  const std::string type = t["type"].get<std::string>();
-  const double d = t["diameter"].get<double>();
-  p.tool = type == "ball"   ? finish::Cutter::ball(d)
-           : type == "flat" ? finish::Cutter::flat(d)
-                            : finish::Cutter::bull(d, t["corner_radius"].get<double>());
-  p.stepover_mm = f["stepover_mm"].get<double>();
-  p.step_down_mm = f["step_down_mm"].get<double>();
-  p.chord_tolerance_mm = f["chord_tolerance_mm"].get<double>();
-  p.boundary_angle_deg = f["boundary_angle_deg"].get<double>();
-  p.scallop_mm = f["scallop_mm"].get<double>();
-  p.raster_angle_deg = f["raster_angle_deg"].get<double>();
-  p.feed_mm_min = f["feed_mm_min"].get<double>();
-  p.plunge_feed_mm_min = f["plunge_feed_mm_min"].get<double>();
-  p.spindle_rpm = f["spindle_rpm"].get<double>();
-  p.safe_z_mm = f["safe_z_mm"].get<double>();
-  const std::string strat = f["strategy"].get<std::string>();
-  s.strategies = strat == "all" ? finish::all_strategies() : std::vector{finish::parse_strategy(strat)};
-  s.aim.aim = simulate::parse_aim(f["aim"].get<std::string>());
-  s.aim.time_budget_min = f["time_budget_min"].get<double>();
-  s.aim.complete_share = f["complete_margin_share"].get<double>();
-  const Json& sim = config["simulate"];
-  s.sim.cell_mm = sim["cell_mm"].get<double>();
-  s.sim.allowance_mm = sim["allowance_mm"].get<double>();
-  s.sim.tolerance_mm = sim["tolerance_mm"].get<double>();
-  s.sim.sampling_length_mm = sim["sampling_length_mm"].get<double>();
-  s.sim.ra_bins_um = sim["ra_bins_um"].get<std::vector<double>>();
-  s.sim.ra_spacing_mm = sim["ra_spacing_mm"].get<double>();
-  s.aim.gouge_tolerance_mm = s.sim.tolerance_mm;
-  const Json& m = config["machine"];
-  s.machine.acceleration_mm_s2 = m["acceleration_mm_s2"].get<double>();
-  s.machine.junction_deviation_mm = m["junction_deviation_mm"].get<double>();
-  s.machine.rapid_mm_min = m["rapid_mm_min"].get<double>();
-  s.machine.max_feed_mm_min = m["max_feed_mm_min"].get<double>();
-  s.stock_top_above_part_mm = config["rough"]["top_allowance_mm"].get<double>();
-  return s;
-}
 
 std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::string& stem,
                                          const FinishSettings& settings, const fs::path& out) {
@@ -243,9 +143,7 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
   // The picture under the paths: the part's heights (program frame), downsampled.
   const double pic_step = std::max(frame.width, frame.depth) / kMaxPictureCells;
   const ingest::HeightField hf = ingest::rasterize_top(mesh, std::max(pic_step, 1e-3));
-  Eigen::MatrixXd heights(hf.ny, hf.nx);
-  for (int i = 0; i < hf.ny; ++i)
-    for (int j = 0; j < hf.nx; ++j) heights(i, j) = hf.at(i, j) + frame.z_shift;
+  const Eigen::MatrixXd heights = ingest::height_matrix(hf, frame.z_shift);
   fs::create_directories(out);
   std::vector<StrategyOutcome> outcomes;
   params.comments = {"tool: " + params.tool.describe(),
@@ -277,13 +175,12 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
     o.score.slot = k;
     o.score.time_min = st.kinematic_time_min;
     {  // path over the height map
-      std::vector<std::vector<std::array<double, 2>>> cuts, rapids;
-      polylines(plan.program, cuts, rapids);
+      gcode::XyPaths paths = gcode::xy_paths(plan.program);
       report::HeatMapOptions ho;
       ho.extent_mm = std::array<double, 4>{hf.x0 - 0.5 * hf.step_x, hf.x0 + (hf.nx - 0.5) * hf.step_x,
                                            hf.y0 - 0.5 * hf.step_y, hf.y0 + (hf.ny - 0.5) * hf.step_y};
-      ho.overlay_cuts = std::move(cuts);
-      ho.overlay_rapids = std::move(rapids);
+      ho.overlay_cuts = std::move(paths.cuts);
+      ho.overlay_rapids = std::move(paths.rapids);
       if (!(heights.maxCoeff() > heights.minCoeff())) ho.value_range = std::pair{heights.minCoeff(), heights.minCoeff() + 1};
       (void)report::heat_map_png(out / (base + ".png"), heights, stem + ": " + finish::strategy_name(strategy),
                                  "Z (mm)", ho);
@@ -324,7 +221,8 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
     simulate::AimParams aim = settings.aim;
     if (!settings.simulate) aim.aim = simulate::Aim::Time;  // without a surface only time can rank
     const std::vector<std::size_t> order = simulate::rank_strategies(scores, aim);
-    for (std::size_t r = 0; r < order.size(); ++r) outcomes[order[r]].rank = static_cast<int>(r + 1);
+    const std::vector<int> rank = simulate::ranks_from_order(order);
+    for (std::size_t i = 0; i < outcomes.size(); ++i) outcomes[i].rank = rank[i];
     std::ostringstream csv, md;
     csv << "rank,strategy,name,path_length_mm,time_feed_min,time_kinematic_min,lifts";
     md << "# " << stem << ": finishing strategies ranked by " << simulate::to_string(aim.aim) << "\n\n"
@@ -417,7 +315,7 @@ Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
   fs::create_directories(out);
   ra_png(out / (stem + ".ra.png"), frame, m, stem + ": roughness Ra");
   const std::vector<double> e = simulate::deviation(z, frame.design);
-  const Eigen::MatrixXd g = downsample(e, frame.grid.nx, frame.grid.ny, 0.0);
+  const Eigen::MatrixXd g = picture_map(e, frame.grid, 0.0);
   report::HeatMapOptions o;
   o.extent_mm = std::array<double, 4>{0, static_cast<double>(frame.grid.nx) * frame.grid.cell, 0,
                                       static_cast<double>(frame.grid.ny) * frame.grid.cell};

@@ -6,7 +6,7 @@
 // x = y = 0, lowest point z = 0); program Z = part z − stock_top with stock_top = part top +
 // stock_top_above_part_mm (/rough/top_allowance_mm), so a rough and a finish program of the same
 // part run in the same work offset. Z in the programs is the tool tip.
-#include "config.hpp"
+#include "settings.hpp"
 
 #include "millnet/finish/strategy.hpp"
 #include "millnet/gcode/stats.hpp"
@@ -20,31 +20,6 @@
 #include <vector>
 
 namespace millnet::app {
-
-struct SimSettings {
-  double cell_mm = 0.02;
-  double allowance_mm = 0.1;     ///< finishing stock over the design surface
-  double tolerance_mm = 0.002;
-  double sampling_length_mm = 0.8;
-  double ra_spacing_mm = 0.1;    ///< Ra centres this far apart (whole cells)
-  std::vector<double> ra_bins_um;
-};
-
-struct FinishSettings {
-  finish::FinishParams params;            ///< z_shift and the boundary are set per part
-  std::vector<finish::Strategy> strategies;
-  bool simulate = false;
-  double stock_top_above_part_mm = 1;
-  gcode::MotionModel machine;
-  SimSettings sim;
-  simulate::AimParams aim;
-};
-
-/// "ball:2", "flat:10", "bull:6:1" (type:diameter[:corner radius]); throws millnet::Error.
-[[nodiscard]] finish::Cutter parse_tool(const std::string& text);
-
-/// Settings from a checked config (/finish, /simulate, /machine, /rough/top_allowance_mm).
-[[nodiscard]] FinishSettings finish_settings(const Json& config);
 
 /// One strategy's figures (the keys of <stem>.s<k>.metrics.json).
 struct StrategyOutcome {

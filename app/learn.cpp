@@ -11,6 +11,7 @@
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/core/progress.hpp"
+#include "millnet/datasets/agreement.hpp"
 #include "millnet/datasets/generator.hpp"
 #include "millnet/datasets/io/manifest.hpp"
 #include "millnet/datasets/table.hpp"
@@ -18,7 +19,6 @@
 #include "millnet/report/plots.hpp"
 
 #include <algorithm>
-#include <map>
 #include <cmath>
 #include <sstream>
 
@@ -26,15 +26,6 @@ namespace millnet::app {
 namespace fs = std::filesystem;
 
 namespace {
-
-augment::AugmentParams augment_from(const Json& a) {
-  augment::AugmentParams p;
-  p.angles_deg = a["angles_deg"].get<std::vector<double>>();
-  p.axes.clear();
-  for (const auto& s : a["axes"]) p.axes.push_back(augment::parse_axis(s.get<std::string>()));
-  p.flip = a["flip"].get<bool>();
-  return p;
-}
 
 /// A number as the manifest's writer (format_double) spells it once parsed: integral values as
 /// JSON integers ("1", not "1.0"), so that sampling.json keeps its bytes.
@@ -49,52 +40,6 @@ std::string strategy_name(const std::vector<std::string>& names, int slot) {
 }
 
 }  // namespace
-
-datasets::Recipe recipe_from_config(const Json& config) {
-  const Json& d = config["dataset"];
-  datasets::Recipe r;
-  r.units = ingest::parse_units(d["units"].get<std::string>());
-  r.up = ingest::parse_up(d["up"].get<std::string>());
-  r.raster_mm = d["raster_mm"].get<double>();
-  r.grid = d["grid"].get<int>();
-  r.augment = augment_from(d["augment"]);
-  r.aspect_feature = d["aspect_feature"].get<bool>();
-  const auto names = d["strategies"].get<std::vector<std::string>>();
-  if (names.size() != datasets::kStrategySlots)
-    throw Error("/dataset/strategies: expected exactly " + std::to_string(datasets::kStrategySlots) + " names, got " +
-                std::to_string(names.size()));
-  std::copy(names.begin(), names.end(), r.strategies.begin());
-  if (d["parts"].empty()) {
-    datasets::GenerateParams g;
-    g.seed = d["generate"]["seed"].get<std::uint64_t>();
-    g.per_family = d["generate"]["per_family"].get<int>();
-    g.resolution = d["generate"]["resolution"].get<int>();
-    const fs::path dir = d["parts_dir"].get<std::string>();
-    info("dataset: generating the default training parts (" + std::to_string(g.per_family) + " per family, seed " +
-         std::to_string(g.seed) + ") into " + dir.string());
-    r.parts = datasets::to_part_specs(datasets::generate_default_parts(dir, g));
-    r.generate = g;
-  } else {
-    for (const auto& p : d["parts"]) {
-      datasets::PartSpec s;
-      s.file = p["file"].get<std::string>();
-      if (p["label"].is_string()) {  // "simulate" (the schema allows nothing else)
-        s.label_by_simulation = true;
-      } else {
-        s.label = p["label"].get<int>();
-      }
-      s.name = p.value("name", std::string());
-      r.parts.push_back(std::move(s));
-    }
-  }
-  if (std::any_of(r.parts.begin(), r.parts.end(), [](const auto& p) { return p.label_by_simulation; })) {
-    Json f = config["finish"];
-    f.erase("meshes");
-    f.erase("strategy");
-    r.simulation_settings_json = Json{{"finish", f}, {"simulate", config["simulate"]}}.dump();
-  }
-  return r;
-}
 
 namespace {
 
@@ -143,31 +88,24 @@ std::vector<SimulatedLabel> simulate_labels(const datasets::Recipe& recipe, cons
 
 /// The agreement of the simulated best with the recipe's labels, per label: JSON and a Markdown table.
 std::pair<Json, std::string> agreement(const std::vector<SimulatedLabel>& labels, const datasets::Recipe& recipe) {
-  std::map<int, std::pair<int, int>> per;          // label → (parts, agreeing)
-  std::map<int, std::map<int, int>> best_counts;   // label → simulated best → parts
-  for (const auto& l : labels) {
-    if (l.recipe_label < 1) continue;
-    auto& [n, agree] = per[l.recipe_label];
-    ++n;
-    agree += l.best == l.recipe_label ? 1 : 0;
-    ++best_counts[l.recipe_label][l.best];
-  }
+  std::vector<datasets::LabelledBest> parts;
+  for (const auto& l : labels) parts.push_back({l.recipe_label, l.best});
   Json j = Json::array();
   std::ostringstream md;
   md << "| label (recipe) | parts | simulated best = label | simulated best (parts) |\n|---|---:|---:|---|\n";
   int total = 0, total_agree = 0;
-  for (const auto& [label, c] : per) {
+  for (const datasets::LabelAgreement& a : datasets::label_agreement(parts)) {
     std::string dist;
     Json bj = Json::object();
-    for (const auto& [b, n] : best_counts[label]) {
+    for (const auto& [b, n] : a.simulated_best) {
       dist += (dist.empty() ? "" : ", ") + std::to_string(b) + ": " + std::to_string(n);
       bj[std::to_string(b)] = n;
     }
-    j.push_back(Json{{"label", label}, {"parts", c.first}, {"agree", c.second}, {"simulated_best", bj}});
-    md << "| " << label << " " << strategy_name({recipe.strategies.begin(), recipe.strategies.end()}, label) << " | "
-       << c.first << " | " << c.second << " | " << dist << " |\n";
-    total += c.first;
-    total_agree += c.second;
+    j.push_back(Json{{"label", a.label}, {"parts", a.parts}, {"agree", a.agree}, {"simulated_best", bj}});
+    md << "| " << a.label << " " << strategy_name({recipe.strategies.begin(), recipe.strategies.end()}, a.label)
+       << " | " << a.parts << " | " << a.agree << " | " << dist << " |\n";
+    total += a.parts;
+    total_agree += a.agree;
   }
   md << "| all | " << total << " | " << total_agree << " | |\n";
   return {j, md.str()};
@@ -186,9 +124,7 @@ bool build_dataset(datasets::Recipe recipe, const fs::path& out_dir, bool reuse,
     if (recipe.parts[k].label_by_simulation || with_agreement) which.push_back(k);
   std::string labelling;
   if (!which.empty()) {
-    FinishSettings fs_ = finish_settings(config);
-    fs_.strategies = finish::all_strategies();
-    fs_.simulate = true;
+    const FinishSettings fs_ = simulated_finish_settings(config);
     const std::vector<SimulatedLabel> labels = simulate_labels(recipe, which, fs_, out_dir / "labelling");
     Json parts = Json::array();
     for (std::size_t i = 0; i < which.size(); ++i) {
@@ -238,20 +174,7 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
   if (!manifest.strategies.empty()) names = manifest.strategies;
   set.strategies = names;
 
-  const Json& t = config["train"];
-  classifier::TrainParams tp;
-  tp.search.mode = classifier::loo_mode_from_string(t["loo"].get<std::string>());
-  tp.search.steps_per_octave = t["steps_per_octave"].get<int>();
-  tp.search.range_low = t["range_low"].get<double>();
-  tp.search.range_high = t["range_high"].get<double>();
-  if (!t["alpha_min"].is_null() && !t["alpha_max"].is_null()) {
-    tp.search.alpha_min = t["alpha_min"].get<double>();
-    tp.search.alpha_max = t["alpha_max"].get<double>();
-  }
-  tp.search.refine_tolerance_octaves = t["refine_tolerance_octaves"].get<double>();
-  if (!t["fixed_alpha"].is_null()) tp.fixed_alpha = t["fixed_alpha"].get<double>();
-  tp.unfamiliar_factor = t["unfamiliar_factor"].get<double>();
-  tp.unfamiliar_percentile = t["unfamiliar_percentile"].get<double>();
+  classifier::TrainParams tp = train_params(config);
   Progress progress("train (leave-one-out)", 0);
   tp.search.progress = progress.callback();
   classifier::Model model = classifier::train(set, tp);
@@ -377,15 +300,8 @@ ModelFolder load_model_folder(const fs::path& dir, const Json& config) {
     m.spec.grid = sampling["grid"].get<int>();
     m.spec.raster_mm = sampling["raster_mm"].get<double>();
   }
-  m.spec.augment = augment_from(config["predict"]["augment"]);
+  m.spec.augment = predict_augment(config);
   return m;
-}
-
-ingest::PrepareOptions prepare_options(const std::string& units, const std::string& up) {
-  ingest::PrepareOptions prep;
-  prep.units = ingest::parse_units(units);
-  prep.up = ingest::parse_up(up);
-  return prep;
 }
 
 std::vector<PartPrediction> predict_parts(const ModelFolder& folder, const std::vector<PredictInput>& parts,

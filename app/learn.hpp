@@ -1,6 +1,6 @@
 #pragma once
 // The learning pipeline's steps as functions, shared by `dataset`, `train`, `predict` and `run`.
-#include "config.hpp"
+#include "settings.hpp"
 
 #include "millnet/classifier/network.hpp"
 #include "millnet/datasets/build.hpp"
@@ -14,10 +14,6 @@
 #include <vector>
 
 namespace millnet::app {
-
-/// The dataset recipe of a checked config; generates the default training parts into
-/// dataset.parts_dir when dataset.parts is empty (deterministic: same seed ⇒ same bytes).
-[[nodiscard]] datasets::Recipe recipe_from_config(const Json& config);
 
 /// Builds the table of `recipe` into out_dir (vectors.csv + manifest.json). When `reuse` and
 /// out_dir already holds a table built from the same recipe and the same part-file bytes, nothing is
@@ -77,9 +73,6 @@ struct ModelFolder {
   datasets::FeatureSpec spec;
 };
 [[nodiscard]] ModelFolder load_model_folder(const std::filesystem::path& dir, const Json& config);
-
-/// Mesh preparation from the --units / --up strings.
-[[nodiscard]] ingest::PrepareOptions prepare_options(const std::string& units, const std::string& up);
 
 /// Predicts every part (a broken part is reported in its entry and the batch goes on) and writes
 /// predictions.json, predictions.csv and one PNG per part into out_dir.

@@ -7,21 +7,6 @@
 namespace millnet::app {
 namespace fs = std::filesystem;
 
-rough::Params rough_params(const Json& config, const Json& explicit_pocket, const PocketFlags& flags) {
-  const Json& r = config["rough"];
-  rough::Params p;
-  p.margin_mm = r["margin_mm"].get<double>();
-  p.top_allowance_mm = r["top_allowance_mm"].get<double>();
-  p.raster_mm = r["raster_mm"].get<double>();
-  p.contour_tolerance_mm = r["contour_tolerance_mm"].get<double>();
-  p.floor_allowance_mm = r["floor_allowance_mm"].get<double>();
-  p.cut = cut_params(config, explicit_pocket, nullptr, flags);
-  const PlannerChoice choice = planner_choice(config, p.cut, flags);
-  p.planner = planner_spec(choice);
-  p.machining.entry = choice.entry;
-  return p;
-}
-
 Json write_rough_outputs(const fs::path& dir, const std::string& stem, const rough::Result& r, const rough::Params& p) {
   const std::vector<rough::LevelSummary> summaries = rough::level_summaries(r);
   Json levels = Json::array();

@@ -37,4 +37,17 @@ Ranking rank(const Prediction& pr) {
   return r;
 }
 
+std::vector<int> slot_ranks(const std::vector<double>& totals, const std::vector<int>& slots) {
+  std::vector<std::size_t> idx(slots.size());
+  for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+  auto total = [&](std::size_t i) {
+    const auto k = static_cast<std::size_t>(slots[i] - 1);
+    return k < totals.size() ? totals[k] : 0.0;
+  };
+  std::stable_sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return total(a) > total(b); });
+  std::vector<int> rank(slots.size());
+  for (std::size_t r = 0; r < idx.size(); ++r) rank[idx[r]] = static_cast<int>(r + 1);
+  return rank;
+}
+
 }  // namespace millnet::classifier

@@ -283,6 +283,13 @@ Grid resample(const HeightField& field, int n) {
   return g;
 }
 
+Eigen::MatrixXd height_matrix(const HeightField& field, double offset) {
+  Eigen::MatrixXd m(field.ny, field.nx);
+  for (int i = 0; i < field.ny; ++i)
+    for (int j = 0; j < field.nx; ++j) m(i, j) = field.at(i, j) + offset;
+  return m;
+}
+
 Grid sample_grid(const Mesh& mesh, double raster_mm, int n) { return resample(rasterize_top(mesh, raster_mm), n); }
 
 }  // namespace millnet::ingest

@@ -60,6 +60,23 @@ std::vector<std::size_t> rank_strategies(const std::vector<StrategyScore>& score
   return order;
 }
 
+std::vector<int> ranks_from_order(const std::vector<std::size_t>& order) {
+  std::vector<int> rank(order.size());
+  for (std::size_t r = 0; r < order.size(); ++r) rank[order[r]] = static_cast<int>(r + 1);
+  return rank;
+}
+
+std::vector<int> slots_by_rank(const std::vector<int>& slots, const std::vector<int>& rank) {
+  if (slots.size() != rank.size()) throw Error("slots_by_rank: slots and ranks differ in length");
+  std::vector<int> by(slots.size());
+  for (std::size_t i = 0; i < slots.size(); ++i) {
+    if (rank[i] < 1 || static_cast<std::size_t>(rank[i]) > slots.size())
+      throw Error("slots_by_rank: rank " + std::to_string(rank[i]) + " outside 1.." + std::to_string(slots.size()));
+    by[static_cast<std::size_t>(rank[i] - 1)] = slots[i];
+  }
+  return by;
+}
+
 double spearman(const std::vector<int>& rank_a, const std::vector<int>& rank_b) {
   if (rank_a.size() != rank_b.size()) throw Error("spearman: the two rankings differ in length");
   const auto n = static_cast<double>(rank_a.size());

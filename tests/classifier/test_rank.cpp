@@ -67,3 +67,13 @@ TEST(Rank, TiesKeepTheFirstSlotAndANoVariantPredictionThrows) {
 }
 
 }  // namespace
+
+TEST(Rank, SlotRanksOrderTheSlotsByTotalsHighestFirst) {
+  using millnet::classifier::slot_ranks;
+  // totals of slots 1..3: 0.2, 0.9, 0.5 ⇒ slot 2 first, slot 3 second, slot 1 third.
+  EXPECT_EQ(slot_ranks({0.2, 0.9, 0.5}, {1, 2, 3}), (std::vector<int>{3, 1, 2}));
+  // Ties keep the order of `slots`; a slot beyond the totals counts as 0.
+  EXPECT_EQ(slot_ranks({0.5, 0.5, 0.1}, {2, 1, 3, 7}), (std::vector<int>{1, 2, 3, 4}));
+  EXPECT_EQ(slot_ranks({0.1, 0.0}, {5, 2, 1}), (std::vector<int>{2, 3, 1}));
+  EXPECT_TRUE(slot_ranks({1.0}, {}).empty());
+}

@@ -224,3 +224,19 @@ TEST(HeightField, BadParametersThrow) {
   EXPECT_THROW((void)resample(rasterize_top(m, 0.5), 1), millnet::Error);
   EXPECT_THROW((void)rasterize_top(Mesh{}, 1.0), millnet::Error);
 }
+
+TEST(HeightField, HeightMatrixIsTheRasterRowsByYPlusTheOffset) {
+  HeightField hf;
+  hf.nx = 3;
+  hf.ny = 2;
+  hf.z = {1, 2, 3,   // row 0 (min y)
+          4, 5, 6};
+  hf.hit = {1, 1, 1, 1, 0, 1};
+  const Eigen::MatrixXd m = height_matrix(hf, -10.0);
+  ASSERT_EQ(m.rows(), 2);
+  ASSERT_EQ(m.cols(), 3);
+  EXPECT_DOUBLE_EQ(m(0, 0), -9.0);
+  EXPECT_DOUBLE_EQ(m(0, 2), -7.0);
+  EXPECT_DOUBLE_EQ(m(1, 1), -5.0);  // the fill value shifts too
+  EXPECT_DOUBLE_EQ(height_matrix(hf)(1, 2), 6.0);
+}

@@ -87,3 +87,19 @@ TEST(Aim, SpearmanHandComputed) {
   EXPECT_DOUBLE_EQ(spearman({1, 2, 3, 4, 5}, {1, 2, 4, 3, 5}), 0.9);
   EXPECT_TRUE(std::isnan(spearman({1}, {1})));
 }
+
+TEST(Aim, RanksFromOrderInvertTheOrder) {
+  // order: item 2 best, then 0, then 3, then 1 ⇒ ranks 2, 4, 1, 3.
+  EXPECT_EQ(ranks_from_order({2, 0, 3, 1}), (std::vector<int>{2, 4, 1, 3}));
+  EXPECT_TRUE(ranks_from_order({}).empty());
+}
+
+TEST(Aim, SlotsByRankListTheSlotsBestFirst) {
+  // slots 1..5 ranked 3, 1, 5, 2, 4 ⇒ best first 2, 4, 1, 5, 3.
+  EXPECT_EQ(slots_by_rank({1, 2, 3, 4, 5}, {3, 1, 5, 2, 4}), (std::vector<int>{2, 4, 1, 5, 3}));
+  // Round trip with ranks_from_order on non-contiguous slots.
+  const std::vector<int> slots{1, 3, 7};
+  EXPECT_EQ(slots_by_rank(slots, ranks_from_order({1, 2, 0})), (std::vector<int>{3, 7, 1}));
+  EXPECT_THROW((void)slots_by_rank({1, 2}, {1}), millnet::Error);
+  EXPECT_THROW((void)slots_by_rank({1, 2}, {1, 3}), millnet::Error);
+}

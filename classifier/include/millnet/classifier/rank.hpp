@@ -26,4 +26,9 @@ struct Ranking {
 /// Aggregates the M variant rows of `pr` (M ≥ 1, K columns). Throws millnet::Error when M = 0. O(M·K + K log K).
 [[nodiscard]] Ranking rank(const Prediction& pr);
 
+/// The 1-based rank of each of `slots` (1-based strategy slots, e.g. the strategies a part was
+/// finished with) by totals[slot − 1], highest first; ties keep the order of `slots`; a slot beyond
+/// totals counts as 0. E.g. totals {0.2, 0.9, 0.5}, slots {1, 2, 3} ⇒ {3, 1, 2}. O(n log n).
+[[nodiscard]] std::vector<int> slot_ranks(const std::vector<double>& totals, const std::vector<int>& slots);
+
 }  // namespace millnet::classifier

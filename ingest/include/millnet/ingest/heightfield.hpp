@@ -45,6 +45,10 @@ struct HeightField {
 /// roughing, where the stock is larger than the part). Points not under the part get z_min.
 [[nodiscard]] HeightField rasterize_top(const Mesh& mesh, double x0, double y0, double step, int nx, int ny);
 
+/// The raster as an ny × nx matrix (row i = y index, column j = x index) of z + offset (the fill
+/// value z_min + offset where no triangle hit), e.g. heights in a program frame for a picture.
+[[nodiscard]] Eigen::MatrixXd height_matrix(const HeightField& field, double offset = 0.0);
+
 /// n×n model grid: heights in mm above the part's lowest point, rows = y (min y first), cols = x;
 /// spans the footprint rectangle corner to corner. Bilinear interpolation of the raster.
 /// Non-square footprints: the grid is stretched to n×n (grid column c sits at

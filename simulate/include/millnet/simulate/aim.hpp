@@ -11,6 +11,7 @@
 // stock is out of every strategy's reach (a ball cannot enter the concave corner at a wall's
 // foot): uncut area ≤ the smallest uncut area among the non-gouging strategies + complete_share ×
 // the surface area.
+#include <cstddef>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -50,6 +51,14 @@ struct AimParams {
 /// O(n log n). Deterministic (a total order).
 [[nodiscard]] std::vector<std::size_t> rank_strategies(const std::vector<StrategyScore>& scores,
                                                        const AimParams& params);
+
+/// The 1-based rank of each item from an order of the items, best first (order[r] = the item at
+/// rank r + 1, a permutation of 0..n−1, e.g. rank_strategies'): rank[order[r]] = r + 1. O(n).
+[[nodiscard]] std::vector<int> ranks_from_order(const std::vector<std::size_t>& order);
+
+/// The slots best first, from the 1-based rank of each slot (rank[i] is slots[i]'s rank, a
+/// permutation of 1..n): the inverse of ranks_from_order, spelled in slots. O(n).
+[[nodiscard]] std::vector<int> slots_by_rank(const std::vector<int>& slots, const std::vector<int>& rank);
 
 /// Spearman's rank correlation of two rankings of the same n items (rank_a[i], rank_b[i] = the
 /// 1-based rank of item i in each; no ties): 1 − 6·Σd² / (n(n² − 1)). n < 2 ⇒ NaN.

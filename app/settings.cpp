@@ -1,0 +1,298 @@
+#include "settings.hpp"
+
+#include "millnet/core/atomic_file.hpp"
+#include "millnet/core/error.hpp"
+
+#include <algorithm>
+#include <sstream>
+
+namespace millnet::app {
+namespace fs = std::filesystem;
+
+namespace {
+
+augment::AugmentParams augment_from(const Json& a) {
+  augment::AugmentParams p;
+  p.angles_deg = a["angles_deg"].get<std::vector<double>>();
+  p.axes.clear();
+  for (const auto& s : a["axes"]) p.axes.push_back(augment::parse_axis(s.get<std::string>()));
+  p.flip = a["flip"].get<bool>();
+  return p;
+}
+
+}  // namespace
+
+Json explicit_pocket_section(const std::string& config_path) {
+  if (config_path.empty()) return Json::object();
+  const Json raw = read_json(config_path);
+  if (raw.is_object() && raw.contains("pocket") && raw["pocket"].is_object()) return raw["pocket"];
+  return Json::object();
+}
+
+pocket::CutParams cut_params(const Json& config, const Json& explicit_pocket, const pocket::PocketFile* file,
+                             const PocketFlags& flags) {
+  const Json& pc = config["pocket"];
+  pocket::CutParams c;
+  auto pick = [&](double& dst, const char* key, const std::optional<double>& from_file, const std::optional<double>& flag) {
+    dst = pc[key].get<double>();                                     // config (explicit or default)
+    if (from_file && !explicit_pocket.contains(key)) dst = *from_file;  // the pocket file's own key
+    if (flag) dst = *flag;                                           // the command line
+  };
+  const std::optional<double> none;
+  pick(c.tool_diameter, "tool_diameter", file ? file->tool_diameter : none, flags.tool_diameter);
+  pick(c.stepover, "stepover", file ? file->stepover : none, flags.stepover);
+  pick(c.stock_to_leave, "stock_to_leave", file ? file->stock_to_leave : none, flags.stock_to_leave);
+  pick(c.depth, "depth", file ? file->depth : none, flags.depth);
+  pick(c.step_down, "step_down", file ? file->step_down : none, flags.step_down);
+  pick(c.safe_z, "safe_z", file ? file->safe_z : none, flags.safe_z);
+  pick(c.feed_slot, "feed_slot", file ? file->feed_slot : none, none);
+  pick(c.feed_half, "feed_half", file ? file->feed_half : none, none);
+  pick(c.feed_plunge, "feed_plunge", file ? file->feed_plunge : none, none);
+  pick(c.spindle_rpm, "spindle_rpm", file ? file->spindle_rpm : none, none);
+  c.feed_min = pc["feed_min"].get<double>();
+  c.feed_max = pc["feed_max"].get<double>();
+  c.feed_grid = pc["feed_grid"].get<double>();
+  c.feed_adjust = pc["feed_adjust"].get<bool>();
+  c.rapid_rate = pc["rapid_rate"].get<double>();
+  if (c.stepover > c.tool_diameter)
+    throw Error("stepover " + format_double(c.stepover) + " mm exceeds the tool diameter " +
+                format_double(c.tool_diameter) + " mm: ridges of material would be left between passes");
+  if (c.feed_min > c.feed_max) throw Error("/pocket/feed_min exceeds /pocket/feed_max");
+  return c;
+}
+
+PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, const PocketFlags& flags) {
+  const Json& pc = config["pocket"];
+  PlannerChoice ch;
+  ch.name = flags.planner.value_or(pc["planner"].get<std::string>());
+  ch.entry = pocket::parse_entry(flags.entry.value_or(pc["entry"].get<std::string>()));
+  ch.contour = flags.contour || pc["contour"].get<bool>();
+  ch.frame.origin = {pc["grid"]["origin_x"].get<double>(), pc["grid"]["origin_y"].get<double>()};
+  ch.frame.angle_deg = pc["grid"]["angle_deg"].get<double>();
+  ch.frame.spacing = cut.stepover;
+  const Json& s = pc["som"];
+  ch.som.node_factor = s["node_factor"].get<double>();
+  ch.som.g0 = s["g0"].get<double>();
+  ch.som.alpha = s["alpha"].get<double>();
+  ch.som.adaptive_alpha = s["adaptive_alpha"].get<bool>();
+  ch.som.c = s["c"].get<double>();
+  ch.som.k_scale_mm = s["k_scale_mm"].get<double>();
+  ch.som.alpha_min = s["alpha_min"].get<double>();
+  ch.som.w = s["w"].get<double>();
+  ch.som.max_passes = s["max_passes"].get<int>();
+  ch.som.tolerance_mm = s["tolerance_mm"].get<double>();
+  ch.som.seed = config["seed"].get<std::uint64_t>();
+  const Json& m = pc["smoothing"];
+  ch.smooth.linking = m["linking"].get<bool>();
+  ch.smooth.link_max_ratio = m["link_max_ratio"].get<double>();
+  ch.smooth.link_max_mm = m["link_max_mm"].get<double>();
+  ch.smooth.weak = m["weak"].get<bool>();
+  ch.smooth.extra_passes = m["extra_passes"].get<bool>();
+  ch.smooth.opt_neighbours = m["opt_neighbours"].get<int>();
+  ch.smooth.retract_penalty_mm = m["retract_penalty_mm"].get<double>();
+  ch.smooth.max_opt_moves = m["max_opt_moves"].get<long>();
+  const Json& z = pc["zigzag"];
+  std::string part = flags.partition.value_or(z["partition"].get<std::string>());
+  ch.zigzag.partition = (part == "t" || part == "T") ? pocket::PartitionKind::T : pocket::PartitionKind::I;
+  std::string angle = flags.angle ? *flags.angle : (z["angle"].is_string() ? z["angle"].get<std::string>() : "");
+  if (!flags.angle && z["angle"].is_number()) {
+    ch.zigzag.angle_deg = z["angle"].get<double>();
+  } else if (angle == "auto") {
+    ch.zigzag.angle_deg = std::nullopt;
+  } else {
+    try {
+      std::size_t used = 0;
+      ch.zigzag.angle_deg = std::stod(angle, &used);
+      if (used != angle.size()) throw std::invalid_argument(angle);
+    } catch (const std::exception&) {
+      throw Error((flags.angle ? std::string("--angle") : std::string("/pocket/zigzag/angle")) +
+                  ": expected a number of degrees or \"auto\", got \"" + angle + "\"");
+    }
+  }
+  return ch;
+}
+
+pocket::PlannerSpec planner_spec(const PlannerChoice& ch) {
+  if (ch.name == "som") return pocket::SomSpec{ch.frame, ch.som, ch.smooth};
+  if (ch.name == "zigzag") return pocket::ZigzagSpec{ch.zigzag};
+  throw Error("unknown planner '" + ch.name + "' (expected som or zigzag)");
+}
+
+rough::Params rough_params(const Json& config, const Json& explicit_pocket, const PocketFlags& flags) {
+  const Json& r = config["rough"];
+  rough::Params p;
+  p.margin_mm = r["margin_mm"].get<double>();
+  p.top_allowance_mm = r["top_allowance_mm"].get<double>();
+  p.raster_mm = r["raster_mm"].get<double>();
+  p.contour_tolerance_mm = r["contour_tolerance_mm"].get<double>();
+  p.floor_allowance_mm = r["floor_allowance_mm"].get<double>();
+  p.cut = cut_params(config, explicit_pocket, nullptr, flags);
+  const PlannerChoice choice = planner_choice(config, p.cut, flags);
+  p.planner = planner_spec(choice);
+  p.machining.entry = choice.entry;
+  return p;
+}
+
+finish::Cutter parse_tool(const std::string& text) {
+  std::vector<std::string> parts;
+  std::stringstream ss(text);
+  for (std::string p; std::getline(ss, p, ':');) parts.push_back(p);
+  auto num = [&](std::size_t i) {
+    try {
+      std::size_t used = 0;
+      const double v = std::stod(parts.at(i), &used);
+      if (used != parts[i].size()) throw std::invalid_argument("trailing");
+      return v;
+    } catch (const std::exception&) {
+      throw Error("--tool '" + text + "': expected ball:D, flat:D or bull:D:r (mm)");
+    }
+  };
+  finish::Cutter c;
+  if (parts.size() == 2 && parts[0] == "ball") c = finish::Cutter::ball(num(1));
+  else if (parts.size() == 2 && parts[0] == "flat") c = finish::Cutter::flat(num(1));
+  else if (parts.size() == 3 && parts[0] == "bull") c = finish::Cutter::bull(num(1), num(2));
+  else throw Error("--tool '" + text + "': expected ball:D, flat:D or bull:D:r (mm)");
+  c.check();
+  return c;
+}
+
+FinishSettings finish_settings(const Json& config) {
+  const Json& f = config["finish"];
+  FinishSettings s;
+  auto& p = s.params;
+  const Json& t = f["tool"];
+  const std::string type = t["type"].get<std::string>();
+  const double d = t["diameter"].get<double>();
+  p.tool = type == "ball"   ? finish::Cutter::ball(d)
+           : type == "flat" ? finish::Cutter::flat(d)
+                            : finish::Cutter::bull(d, t["corner_radius"].get<double>());
+  p.stepover_mm = f["stepover_mm"].get<double>();
+  p.step_down_mm = f["step_down_mm"].get<double>();
+  p.chord_tolerance_mm = f["chord_tolerance_mm"].get<double>();
+  p.boundary_angle_deg = f["boundary_angle_deg"].get<double>();
+  p.scallop_mm = f["scallop_mm"].get<double>();
+  p.raster_angle_deg = f["raster_angle_deg"].get<double>();
+  p.feed_mm_min = f["feed_mm_min"].get<double>();
+  p.plunge_feed_mm_min = f["plunge_feed_mm_min"].get<double>();
+  p.spindle_rpm = f["spindle_rpm"].get<double>();
+  p.safe_z_mm = f["safe_z_mm"].get<double>();
+  const std::string strat = f["strategy"].get<std::string>();
+  s.strategies = strat == "all" ? finish::all_strategies() : std::vector{finish::parse_strategy(strat)};
+  s.aim.aim = simulate::parse_aim(f["aim"].get<std::string>());
+  s.aim.time_budget_min = f["time_budget_min"].get<double>();
+  s.aim.complete_share = f["complete_margin_share"].get<double>();
+  const Json& sim = config["simulate"];
+  s.sim.cell_mm = sim["cell_mm"].get<double>();
+  s.sim.allowance_mm = sim["allowance_mm"].get<double>();
+  s.sim.tolerance_mm = sim["tolerance_mm"].get<double>();
+  s.sim.sampling_length_mm = sim["sampling_length_mm"].get<double>();
+  s.sim.ra_bins_um = sim["ra_bins_um"].get<std::vector<double>>();
+  s.sim.ra_spacing_mm = sim["ra_spacing_mm"].get<double>();
+  s.aim.gouge_tolerance_mm = s.sim.tolerance_mm;
+  const Json& m = config["machine"];
+  s.machine.acceleration_mm_s2 = m["acceleration_mm_s2"].get<double>();
+  s.machine.junction_deviation_mm = m["junction_deviation_mm"].get<double>();
+  s.machine.rapid_mm_min = m["rapid_mm_min"].get<double>();
+  s.machine.max_feed_mm_min = m["max_feed_mm_min"].get<double>();
+  s.stock_top_above_part_mm = config["rough"]["top_allowance_mm"].get<double>();
+  return s;
+}
+
+datasets::Recipe recipe_from_config(const Json& config) {
+  const Json& d = config["dataset"];
+  datasets::Recipe r;
+  r.units = ingest::parse_units(d["units"].get<std::string>());
+  r.up = ingest::parse_up(d["up"].get<std::string>());
+  r.raster_mm = d["raster_mm"].get<double>();
+  r.grid = d["grid"].get<int>();
+  r.augment = augment_from(d["augment"]);
+  r.aspect_feature = d["aspect_feature"].get<bool>();
+  const auto names = d["strategies"].get<std::vector<std::string>>();
+  if (names.size() != datasets::kStrategySlots)
+    throw Error("/dataset/strategies: expected exactly " + std::to_string(datasets::kStrategySlots) + " names, got " +
+                std::to_string(names.size()));
+  std::copy(names.begin(), names.end(), r.strategies.begin());
+  if (d["parts"].empty()) {
+    datasets::GenerateParams g;
+    g.seed = d["generate"]["seed"].get<std::uint64_t>();
+    g.per_family = d["generate"]["per_family"].get<int>();
+    g.resolution = d["generate"]["resolution"].get<int>();
+    const fs::path dir = d["parts_dir"].get<std::string>();
+    info("dataset: generating the default training parts (" + std::to_string(g.per_family) + " per family, seed " +
+         std::to_string(g.seed) + ") into " + dir.string());
+    r.parts = datasets::to_part_specs(datasets::generate_default_parts(dir, g));
+    r.generate = g;
+  } else {
+    for (const auto& p : d["parts"]) {
+      datasets::PartSpec s;
+      s.file = p["file"].get<std::string>();
+      if (p["label"].is_string()) {  // "simulate" (the schema allows nothing else)
+        s.label_by_simulation = true;
+      } else {
+        s.label = p["label"].get<int>();
+      }
+      s.name = p.value("name", std::string());
+      r.parts.push_back(std::move(s));
+    }
+  }
+  if (std::any_of(r.parts.begin(), r.parts.end(), [](const auto& p) { return p.label_by_simulation; })) {
+    Json f = config["finish"];
+    f.erase("meshes");
+    f.erase("strategy");
+    r.simulation_settings_json = Json{{"finish", f}, {"simulate", config["simulate"]}}.dump();
+  }
+  return r;
+}
+
+ingest::PrepareOptions prepare_options(const std::string& units, const std::string& up) {
+  ingest::PrepareOptions prep;
+  prep.units = ingest::parse_units(units);
+  prep.up = ingest::parse_up(up);
+  return prep;
+}
+
+FinishSettings simulated_finish_settings(const Json& config) {
+  FinishSettings s = finish_settings(config);
+  s.strategies = finish::all_strategies();
+  s.simulate = true;
+  return s;
+}
+
+classifier::TrainParams train_params(const Json& config) {
+  const Json& t = config["train"];
+  classifier::TrainParams tp;
+  tp.search.mode = classifier::loo_mode_from_string(t["loo"].get<std::string>());
+  tp.search.steps_per_octave = t["steps_per_octave"].get<int>();
+  tp.search.range_low = t["range_low"].get<double>();
+  tp.search.range_high = t["range_high"].get<double>();
+  if (!t["alpha_min"].is_null() && !t["alpha_max"].is_null()) {
+    tp.search.alpha_min = t["alpha_min"].get<double>();
+    tp.search.alpha_max = t["alpha_max"].get<double>();
+  }
+  tp.search.refine_tolerance_octaves = t["refine_tolerance_octaves"].get<double>();
+  if (!t["fixed_alpha"].is_null()) tp.fixed_alpha = t["fixed_alpha"].get<double>();
+  tp.unfamiliar_factor = t["unfamiliar_factor"].get<double>();
+  tp.unfamiliar_percentile = t["unfamiliar_percentile"].get<double>();
+  return tp;
+}
+
+augment::AugmentParams predict_augment(const Json& config) { return augment_from(config["predict"]["augment"]); }
+
+RunSettings run_settings(const Json& config) {
+  const Json& run = config["run"];
+  RunSettings s;
+  s.rough = run["rough"].get<bool>();
+  s.finish = run["finish"].get<bool>();
+  for (const auto& p : run["test_parts"])
+    s.test_parts.push_back({p["file"].get<std::string>(), p.value("name", std::string()), p["label"].get<int>()});
+  s.generate.seed = run["generate_test_parts"]["seed"].get<std::uint64_t>();
+  s.generate.per_family = run["generate_test_parts"]["per_family"].get<int>();
+  s.generate.resolution = config["dataset"]["generate"]["resolution"].get<int>();
+  s.generate_dir = run["test_parts_dir"].get<std::string>();
+  if (s.test_parts.empty() && config["dataset"]["parts"].empty() &&
+      s.generate.seed == config["dataset"]["generate"]["seed"].get<std::uint64_t>())
+    throw Error("/run/generate_test_parts/seed equals /dataset/generate/seed: the test parts would be training parts");
+  return s;
+}
+
+}  // namespace millnet::app

@@ -1,0 +1,123 @@
+#pragma once
+// The one place where a checked config (and the command-line flags that override it) becomes the
+// modules' parameter structs. Every command reads its settings from here; JSON goes no further.
+//
+//   pocket, compare, rough, run:  cut_params, planner_choice → planner_spec, rough_params
+//   finish, simulate, dataset (labels by simulation), run:  finish_settings, simulated_finish_settings
+//   dataset, train, predict, run:  recipe_from_config, train_params, predict_augment, run_settings
+#include "cli.hpp"
+#include "config.hpp"
+
+#include "millnet/augment/variants.hpp"
+#include "millnet/classifier/network.hpp"
+#include "millnet/datasets/build.hpp"
+#include "millnet/datasets/generator.hpp"
+#include "millnet/finish/strategy.hpp"
+#include "millnet/gcode/stats.hpp"
+#include "millnet/ingest/mesh.hpp"
+#include "millnet/pocket/machining.hpp"
+#include "millnet/pocket/plan.hpp"
+#include "millnet/pocket/planner_som.hpp"
+#include "millnet/pocket/planner_zigzag.hpp"
+#include "millnet/pocket/io/pocket_io.hpp"
+#include "millnet/rough/rough.hpp"
+#include "millnet/simulate/aim.hpp"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace millnet::app {
+
+// ---- pocket (pocket, compare, rough, run) ----
+
+/// `explicit_pocket` = the "pocket" object as written in the config file (no defaults), so that a
+/// pocket file's own keys are overridden only by keys the user actually wrote.
+[[nodiscard]] pocket::CutParams cut_params(const Json& config, const Json& explicit_pocket,
+                                           const pocket::PocketFile* file, const PocketFlags& flags);
+
+/// The pocket section as written in the config file named by --config (empty object otherwise).
+[[nodiscard]] Json explicit_pocket_section(const std::string& config_path);
+
+struct PlannerChoice {
+  std::string name = "som";           ///< "som" | "zigzag"
+  pocket::GridFrame frame;
+  pocket::SomParams som;
+  pocket::SmoothingParams smooth;
+  pocket::ZigzagParams zigzag;
+  pocket::Entry entry = pocket::Entry::Predrill;
+  bool contour = false;
+};
+[[nodiscard]] PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, const PocketFlags& flags);
+
+/// The typed planner spec of a choice (throws millnet::Error on an unknown planner name). A new
+/// planner: its config key → spec here.
+[[nodiscard]] pocket::PlannerSpec planner_spec(const PlannerChoice& choice);
+
+// ---- rough (rough, run) ----
+
+/// rough::Params from a checked config (rough + pocket sections) and the pocket flags.
+[[nodiscard]] rough::Params rough_params(const Json& config, const Json& explicit_pocket, const PocketFlags& flags);
+
+// ---- finish and simulate (finish, simulate, dataset labels by simulation, run) ----
+
+struct SimSettings {
+  double cell_mm = 0.02;
+  double allowance_mm = 0.1;     ///< finishing stock over the design surface
+  double tolerance_mm = 0.002;
+  double sampling_length_mm = 0.8;
+  double ra_spacing_mm = 0.1;    ///< Ra centres this far apart (whole cells)
+  std::vector<double> ra_bins_um;
+};
+
+struct FinishSettings {
+  finish::FinishParams params;            ///< z_shift and the boundary are set per part
+  std::vector<finish::Strategy> strategies;
+  bool simulate = false;
+  double stock_top_above_part_mm = 1;
+  gcode::MotionModel machine;
+  SimSettings sim;
+  simulate::AimParams aim;
+};
+
+/// "ball:2", "flat:10", "bull:6:1" (type:diameter[:corner radius]); throws millnet::Error.
+[[nodiscard]] finish::Cutter parse_tool(const std::string& text);
+
+/// Settings from a checked config (/finish, /simulate, /machine, /rough/top_allowance_mm).
+[[nodiscard]] FinishSettings finish_settings(const Json& config);
+
+/// finish_settings with every strategy, simulated: how a part is labelled by simulation (dataset)
+/// and how run finishes its test parts.
+[[nodiscard]] FinishSettings simulated_finish_settings(const Json& config);
+
+// ---- learning (dataset, train, predict, run) ----
+
+/// The dataset recipe of a checked config; generates the default training parts into
+/// dataset.parts_dir when dataset.parts is empty (deterministic: same seed ⇒ same bytes).
+[[nodiscard]] datasets::Recipe recipe_from_config(const Json& config);
+
+/// /train → the classifier's training parameters (the progress callback is the caller's).
+[[nodiscard]] classifier::TrainParams train_params(const Json& config);
+
+/// /predict/augment: the variants a part is predicted over.
+[[nodiscard]] augment::AugmentParams predict_augment(const Json& config);
+
+/// Mesh preparation from the --units / --up strings.
+[[nodiscard]] ingest::PrepareOptions prepare_options(const std::string& units, const std::string& up);
+
+/// /run: which stages run after predict, and where the held-out test parts come from.
+struct RunSettings {
+  bool rough = true;
+  bool finish = true;
+  struct TestPart {
+    std::filesystem::path file;
+    std::string name;   ///< empty ⇒ file stem
+    int label = 0;
+  };
+  std::vector<TestPart> test_parts;  ///< /run/test_parts; empty ⇒ generated
+  datasets::GenerateParams generate; ///< /run/generate_test_parts (seed checked against the training parts')
+  std::filesystem::path generate_dir;
+};
+[[nodiscard]] RunSettings run_settings(const Json& config);
+
+}  // namespace millnet::app

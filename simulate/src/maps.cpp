@@ -1,0 +1,35 @@
+#include "millnet/simulate/maps.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace millnet::simulate {
+
+std::vector<double> design_heights(const ingest::HeightField& hf, double z_shift) {
+  std::vector<double> design(hf.z.size());
+  for (std::size_t i = 0; i < hf.z.size(); ++i)
+    design[i] = hf.hit[i] ? hf.z[i] + z_shift : std::numeric_limits<double>::quiet_NaN();
+  return design;
+}
+
+Eigen::MatrixXd block_means(const std::vector<double>& v, std::size_t nx, std::size_t ny, std::size_t max_cells,
+                            double empty) {
+  const std::size_t k = std::max<std::size_t>(1, (std::max(nx, ny) + max_cells - 1) / max_cells);
+  const std::size_t rx = (nx + k - 1) / k, ry = (ny + k - 1) / k;
+  Eigen::MatrixXd m(static_cast<Eigen::Index>(ry), static_cast<Eigen::Index>(rx));
+  for (std::size_t bi = 0; bi < ry; ++bi)
+    for (std::size_t bj = 0; bj < rx; ++bj) {
+      double sum = 0;
+      std::size_t n = 0;
+      for (std::size_t i = bi * k; i < std::min(ny, (bi + 1) * k); ++i)
+        for (std::size_t j = bj * k; j < std::min(nx, (bj + 1) * k); ++j) {
+          const double x = v[i * nx + j];
+          if (std::isfinite(x)) sum += x, ++n;
+        }
+      m(static_cast<Eigen::Index>(bi), static_cast<Eigen::Index>(bj)) = n ? sum / static_cast<double>(n) : empty;
+    }
+  return m;
+}
+
+}  // namespace millnet::simulate
