@@ -4,6 +4,9 @@
 #include "millnet/core/progress.hpp"
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <optional>
 #include <iostream>
 #include <omp.h>
 
@@ -14,10 +17,51 @@ namespace {
 bool g_quiet = false;
 }
 
+CLI::Validator schema_range(const std::string& pointer) {
+  const Json* rule = &schema();
+  for (std::size_t b = 1; b < pointer.size();) {
+    std::size_t e = pointer.find('/', b);
+    if (e == std::string::npos) e = pointer.size();
+    rule = &(*rule)["properties"][pointer.substr(b, e - b)];
+    b = e + 1;
+  }
+  std::string range;
+  std::optional<double> lo, hi;
+  bool lo_open = false;
+  if (rule->contains("exclusiveMinimum")) {
+    lo = (*rule)["exclusiveMinimum"].get<double>();
+    lo_open = true;
+    range = " > " + (*rule)["exclusiveMinimum"].dump();
+  } else if (rule->contains("minimum")) {
+    lo = (*rule)["minimum"].get<double>();
+    range = " ≥ " + (*rule)["minimum"].dump();
+  }
+  if (rule->contains("maximum")) {
+    hi = (*rule)["maximum"].get<double>();
+    range += (range.empty() ? " ≤ " : " and ≤ ") + (*rule)["maximum"].dump();
+  }
+  const bool integer = rule->value("type", "") == "integer";
+  const std::string expected = std::string("expected ") + (integer ? "an integer" : "a finite number") + range + " (" + pointer + ")";
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        double v = 0;
+        const char* b = text.data();
+        const char* e = text.data() + text.size();
+        if (b < e && *b == '+') ++b;
+        const auto r = std::from_chars(b, e, v);
+        bool ok = r.ec == std::errc() && r.ptr == e && std::isfinite(v);
+        if (ok && integer) ok = v == std::floor(v);
+        if (ok && lo) ok = lo_open ? v > *lo : v >= *lo;
+        if (ok && hi) ok = v <= *hi;
+        return ok ? std::string() : expected + ", got " + text.substr(0, 40);
+      },
+      (integer ? "INT" : "NUMBER") + range);
+}
+
 void add_common(CLI::App* sub, Common& common, bool with_config) {
   sub->add_flag("--quiet,-q", common.quiet, "no progress or information on stderr (errors still printed)");
-  sub->add_option("--threads", common.threads, "OpenMP threads (0 = all cores; default from the config)")
-      ->check(CLI::NonNegativeNumber);
+  sub->add_option("--threads", common.threads, "OpenMP threads (0 = all cores, at most 1024; default from the config)")
+      ->check(schema_range("/threads"));
   if (with_config)
     sub->add_option("--config", common.config, "JSON config (configs/schema/millnet.schema.json)")
         ->check(CLI::ExistingFile);

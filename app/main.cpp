@@ -11,6 +11,10 @@ int main(int argc, char** argv) {
   CLI::App app{"millnet — strategy learning and pocket roughing for CAM engineers", "millnet"};
   app.set_version_flag("--version", std::string(MILLNET_VERSION));
   app.require_subcommand(1);
+  // One line per usage error (CLI11's default adds "Run with --help for more information." on a second).
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return "millnet: usage error: " + std::string(e.what()) + " (see --help)\n";
+  });
   std::vector<Registered> commands;
   auto add = [&](Registered (*reg)(CLI::App&)) { commands.push_back(reg(app)); };
   add(register_sample);

@@ -1,4 +1,5 @@
 #include "pocket_job.hpp"
+#include "cli.hpp"
 #include "text.hpp"
 
 #include "millnet/core/atomic_file.hpp"
@@ -6,18 +7,20 @@
 #include "millnet/pocket/io/tables.hpp"
 #include "millnet/report/plots.hpp"
 
+#include <cmath>
+
 
 namespace millnet::app {
 namespace fs = std::filesystem;
 
 void PocketFlags::add_to(CLI::App* sub, bool with_planner_flags, bool with_depth) {
-  sub->add_option("--tool-diameter", tool_diameter, "flat end mill diameter, mm")->check(CLI::PositiveNumber);
-  sub->add_option("--stepover", stepover, "grid spacing / pass distance, mm")->check(CLI::PositiveNumber);
-  if (with_depth) sub->add_option("--depth", depth, "pocket depth, mm (floor Z = -depth)")->check(CLI::PositiveNumber);
-  sub->add_option("--step-down", step_down, "maximum depth of cut per level, mm")->check(CLI::PositiveNumber);
-  sub->add_option("--safe-z", safe_z, "retract height, mm")->check(CLI::PositiveNumber);
+  sub->add_option("--tool-diameter", tool_diameter, "flat end mill diameter, mm")->check(schema_range("/pocket/tool_diameter"));
+  sub->add_option("--stepover", stepover, "grid spacing / pass distance, mm")->check(schema_range("/pocket/stepover"));
+  if (with_depth) sub->add_option("--depth", depth, "pocket depth, mm (floor Z = -depth)")->check(schema_range("/pocket/depth"));
+  sub->add_option("--step-down", step_down, "maximum depth of cut per level, mm")->check(schema_range("/pocket/step_down"));
+  sub->add_option("--safe-z", safe_z, "retract height, mm")->check(schema_range("/pocket/safe_z"));
   sub->add_option("--stock-to-leave", stock_to_leave, "radial allowance on walls and islands, mm")
-      ->check(CLI::NonNegativeNumber);
+      ->check(schema_range("/pocket/stock_to_leave"));
   sub->add_option("--entry", entry, "entry into uncut material")->check(CLI::IsMember({"predrill", "helix", "ramp"}));
   sub->add_flag("--contour", contour, "finish with a contour pass along the walls");
   if (with_planner_flags) {
@@ -109,10 +112,10 @@ PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, c
     try {
       std::size_t used = 0;
       ch.zigzag.angle_deg = std::stod(angle, &used);
-      if (used != angle.size()) throw std::invalid_argument(angle);
+      if (used != angle.size() || !(std::abs(*ch.zigzag.angle_deg) <= 360)) throw std::invalid_argument(angle);
     } catch (const std::exception&) {
       throw Error((flags.angle ? std::string("--angle") : std::string("/pocket/zigzag/angle")) +
-                  ": expected a number of degrees or \"auto\", got \"" + angle + "\"");
+                  ": expected a number of degrees in [-360, 360] or \"auto\", got \"" + angle.substr(0, 40) + "\"");
     }
   }
   return ch;
