@@ -1,5 +1,6 @@
 // millnet command-line entry point: a thin CLI11 dispatcher. Each subcommand lives in app/cmd_*.cpp.
-// Exit codes: 0 success, 1 bad input (one clear line on stderr), 2 usage error.
+// Exit codes: 0 success, 1 bad input, flag values out of range included (one clear line on
+// stderr), 2 usage error (unknown or missing flag; one line too).
 #include "cli.hpp"
 
 #include "millnet/core/error.hpp"
@@ -29,6 +30,14 @@ int main(int argc, char** argv) {
   add(register_run);
   try {
     app.parse(argc, argv);
+  } catch (const CLI::ValidationError& e) {
+    // A flag's value out of its range (NaN, 1e308, --threads 100000): bad input like a bad config
+    // value, so one line and exit 1 (issue 15); unknown flags and missing ones stay usage errors.
+    std::string who = "millnet";
+    for (const auto& c : commands)
+      if (c.sub->parsed()) who += " " + c.sub->get_name();
+    std::cerr << who << ": error: " << e.what() << "\n";
+    return 1;
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);  // prints help/version (code 0) or the usage error
     return code == 0 ? 0 : 2;

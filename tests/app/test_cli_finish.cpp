@@ -93,7 +93,7 @@ TEST(CliFinish, BadInputGetsOneLineAndNoFiles) {
   const fs::path d = fresh_dir("finish_bad");
   const fs::path mesh = write_dome(d);
   const auto zero = run_millnet("finish --mesh '" + mesh.string() + "' --stepover 0 --out out", d);
-  EXPECT_EQ(zero.code, 2);  // a usage error: the flag is checked against /finish/stepover_mm's range
+  EXPECT_EQ(zero.code, 1);  // the flag is checked against /finish/stepover_mm's range
   EXPECT_NE(zero.err.find("stepover_mm"), std::string::npos) << zero.err;
   EXPECT_EQ(std::count(zero.err.begin(), zero.err.end(), '\n'), 1) << zero.err;
   const auto big = run_millnet("finish --mesh '" + mesh.string() + "' --strategy 2 --tool ball:40 --out out", d);
@@ -102,7 +102,7 @@ TEST(CliFinish, BadInputGetsOneLineAndNoFiles) {
   const auto tool = run_millnet("finish --mesh '" + mesh.string() + "' --tool sphere:2 --out out", d);
   EXPECT_EQ(tool.code, 1);
   EXPECT_NE(tool.err.find("ball:D"), std::string::npos) << tool.err;
-  EXPECT_EQ(run_millnet("finish --mesh '" + mesh.string() + "' --strategy 7 --out out", d).code, 2);
+  EXPECT_EQ(run_millnet("finish --mesh '" + mesh.string() + "' --strategy 7 --out out", d).code, 1);  // a value out of range: bad input
   EXPECT_EQ(list_files(d / "out"), "");
 }
 
