@@ -4,6 +4,9 @@
 #include "millnet/core/progress.hpp"
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <optional>
 #include <iostream>
 #include <omp.h>
 
@@ -14,10 +17,51 @@ namespace {
 bool g_quiet = false;
 }
 
+CLI::Validator schema_range(const std::string& pointer) {
+  const Json* rule = &schema();
+  for (std::size_t b = 1; b < pointer.size();) {
+    std::size_t e = pointer.find('/', b);
+    if (e == std::string::npos) e = pointer.size();
+    rule = &(*rule)["properties"][pointer.substr(b, e - b)];
+    b = e + 1;
+  }
+  std::string range;
+  std::optional<double> lo, hi;
+  bool lo_open = false;
+  if (rule->contains("exclusiveMinimum")) {
+    lo = (*rule)["exclusiveMinimum"].get<double>();
+    lo_open = true;
+    range = " > " + (*rule)["exclusiveMinimum"].dump();
+  } else if (rule->contains("minimum")) {
+    lo = (*rule)["minimum"].get<double>();
+    range = " ≥ " + (*rule)["minimum"].dump();
+  }
+  if (rule->contains("maximum")) {
+    hi = (*rule)["maximum"].get<double>();
+    range += (range.empty() ? " ≤ " : " and ≤ ") + (*rule)["maximum"].dump();
+  }
+  const bool integer = rule->value("type", "") == "integer";
+  const std::string expected = std::string("expected ") + (integer ? "an integer" : "a finite number") + range + " (" + pointer + ")";
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        double v = 0;
+        const char* b = text.data();
+        const char* e = text.data() + text.size();
+        if (b < e && *b == '+') ++b;
+        const auto r = std::from_chars(b, e, v);
+        bool ok = r.ec == std::errc() && r.ptr == e && std::isfinite(v);
+        if (ok && integer) ok = v == std::floor(v);
+        if (ok && lo) ok = lo_open ? v > *lo : v >= *lo;
+        if (ok && hi) ok = v <= *hi;
+        return ok ? std::string() : expected + ", got " + text.substr(0, 40);
+      },
+      (integer ? "INT" : "NUMBER") + range);
+}
+
 void add_common(CLI::App* sub, Common& common, bool with_config) {
   sub->add_flag("--quiet,-q", common.quiet, "no progress or information on stderr (errors still printed)");
-  sub->add_option("--threads", common.threads, "OpenMP threads (0 = all cores; default from the config)")
-      ->check(CLI::NonNegativeNumber);
+  sub->add_option("--threads", common.threads, "OpenMP threads (0 = all cores, at most 1024; default from the config)")
+      ->check(schema_range("/threads"));
   if (with_config)
     sub->add_option("--config", common.config, "JSON config (configs/schema/millnet.schema.json)")
         ->check(CLI::ExistingFile);
@@ -30,13 +74,13 @@ void MeshFlags::add_to(CLI::App* sub, const std::string& what) {
 }
 
 void PocketFlags::add_to(CLI::App* sub, bool with_planner_flags, bool with_depth) {
-  sub->add_option("--tool-diameter", tool_diameter, "flat end mill diameter, mm")->check(CLI::PositiveNumber);
-  sub->add_option("--stepover", stepover, "grid spacing / pass distance, mm")->check(CLI::PositiveNumber);
-  if (with_depth) sub->add_option("--depth", depth, "pocket depth, mm (floor Z = -depth)")->check(CLI::PositiveNumber);
-  sub->add_option("--step-down", step_down, "maximum depth of cut per level, mm")->check(CLI::PositiveNumber);
-  sub->add_option("--safe-z", safe_z, "retract height, mm")->check(CLI::PositiveNumber);
+  sub->add_option("--tool-diameter", tool_diameter, "flat end mill diameter, mm")->check(schema_range("/pocket/tool_diameter"));
+  sub->add_option("--stepover", stepover, "grid spacing / pass distance, mm")->check(schema_range("/pocket/stepover"));
+  if (with_depth) sub->add_option("--depth", depth, "pocket depth, mm (floor Z = -depth)")->check(schema_range("/pocket/depth"));
+  sub->add_option("--step-down", step_down, "maximum depth of cut per level, mm")->check(schema_range("/pocket/step_down"));
+  sub->add_option("--safe-z", safe_z, "retract height, mm")->check(schema_range("/pocket/safe_z"));
   sub->add_option("--stock-to-leave", stock_to_leave, "radial allowance on walls and islands, mm")
-      ->check(CLI::NonNegativeNumber);
+      ->check(schema_range("/pocket/stock_to_leave"));
   sub->add_option("--entry", entry, "entry into uncut material")->check(CLI::IsMember({"predrill", "helix", "ramp"}));
   sub->add_flag("--contour", contour, "finish with a contour pass along the walls");
   if (with_planner_flags) {

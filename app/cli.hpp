@@ -39,6 +39,12 @@ struct PocketFlags {
   void add_to(CLI::App* sub, bool with_planner_flags = true, bool with_depth = true);
 };
 
+/// A flag's check against the schema's range for `pointer` (e.g. "/pocket/tool_diameter"): a finite
+/// number within minimum / exclusiveMinimum / maximum, so that a flag and its config key accept the
+/// same values (issue 15: NaN passed CLI11's PositiveNumber, 1e308 passed everything).
+/// The usage error reads "--tool-diameter: expected a finite number > 0 and ≤ 1000 (/pocket/tool_diameter), got nan".
+[[nodiscard]] CLI::Validator schema_range(const std::string& pointer);
+
 /// Adds --quiet, --threads and (when with_config) --config to a subcommand.
 void add_common(CLI::App* sub, Common& common, bool with_config = true);
 

@@ -107,6 +107,7 @@ std::string compare_md(const std::vector<Row>& rows, const pocket::CutParams& cu
 int run_compare(const CompareOpts& o) {
   const Json config = setup(o.common);
   const pocket::PocketFile file = pocket::read_pocket(o.pocket);
+  check_pocket_file(file, o.pocket);
   const pocket::CutParams cut = cut_params(config, explicit_pocket_section(o.common.config), &file, o.flags);
   const std::vector<Row> rows = plan_every_planner(o, config, file, cut);
   const std::string md = compare_md(rows, cut, o.pocket);

@@ -34,10 +34,11 @@ Registered register_finish(CLI::App& app) {
   // Checked by finish::parse_strategy: one line and exit 1, like every other bad value.
   sub->add_option("--strategy", o->strategy, "strategy slot 1..5 or all");
   sub->add_option("--tool", o->tool, "cutter: ball:D, flat:D or bull:D:r (mm)");
-  sub->add_option("--stepover", o->stepover, "p_f, mm");
-  sub->add_option("--step-down", o->step_down, "a_a, mm");
-  sub->add_option("--boundary-angle", o->boundary_angle, "slope-mode boundary angle, degrees");
-  sub->add_option("--scallop", o->scallop, "scallop-height target, mm");
+  sub->add_option("--stepover", o->stepover, "p_f, mm")->check(schema_range("/finish/stepover_mm"));
+  sub->add_option("--step-down", o->step_down, "a_a, mm")->check(schema_range("/finish/step_down_mm"));
+  sub->add_option("--boundary-angle", o->boundary_angle, "slope-mode boundary angle, degrees")
+      ->check(schema_range("/finish/boundary_angle_deg"));
+  sub->add_option("--scallop", o->scallop, "scallop-height target, mm")->check(schema_range("/finish/scallop_mm"));
   sub->add_flag("--simulate", o->simulate, "machine each program on a z-map and score the surface");
   sub->add_option("--out", o->out, "output folder")->required();
   add_common(sub, o->common);

@@ -21,6 +21,7 @@ struct PocketOpts {
 int run_pocket(const PocketOpts& o) {
   const Json config = setup(o.common);
   const pocket::PocketFile file = pocket::read_pocket(o.pocket);
+  check_pocket_file(file, o.pocket);
   for (const auto& n : file.notes) info("pocket: " + o.pocket + ": " + n);
   const pocket::CutParams cut = cut_params(config, explicit_pocket_section(o.common.config), &file, o.flags);
   const PlannerChoice choice = planner_choice(config, cut, o.flags);

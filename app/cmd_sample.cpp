@@ -46,7 +46,7 @@ Registered register_sample(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("sample", "sample a mesh into an n×n height grid (CSV + PNG heat map)");
   sub->add_option("--mesh", o->mesh, "mesh file (STL, OBJ, PLY, OFF, 3MF, glTF, … or x y z points)")->required();
   o->mesh_flags.add_to(sub, "file");
-  sub->add_option("--raster", o->raster, "raster spacing, mm")->check(CLI::PositiveNumber);
+  sub->add_option("--raster", o->raster, "raster spacing, mm")->check(schema_range("/dataset/raster_mm"));
   sub->add_option("--grid", o->grid, "grid size n")->check(CLI::Range(2, 64));
   sub->add_option("--out", o->out, "output folder")->required();
   add_common(sub, o->common, false);

@@ -2,8 +2,11 @@
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
+#include "millnet/core/json_input.hpp"
+#include "millnet/pocket/io/pocket_io.hpp"
 
 #include <cmath>
+#include <optional>
 
 namespace millnet::app {
 namespace fs = std::filesystem;
@@ -23,7 +26,11 @@ std::string type_name(const Json& v) {
   return "an object";
 }
 
+/// A value as the checker's messages show it: at most 40 characters, arrays and objects by their
+/// size (never dumped whole: a 10 MB array or a deep value is not printed).
 std::string shown(const Json& v) {
+  if (v.is_array()) return "(" + std::to_string(v.size()) + " items)";
+  if (v.is_object()) return "(" + std::to_string(v.size()) + " keys)";
   std::string s = v.dump();
   if (s.size() > 40) s = s.substr(0, 37) + "...";
   return s;
@@ -123,13 +130,18 @@ private:
     for (auto it = props.begin(); it != props.end(); ++it) s += (s.empty() ? "" : ", ") + it.key();
     return s.empty() ? "none" : s;
   }
+  /// 100000 rather than 1e+05 for whole numbers.
+  static std::string number(double x) {
+    if (x == std::floor(x) && std::abs(x) < 1e15) return std::to_string(static_cast<long long>(x));
+    return format_double(x);
+  }
   static void bounds(double x, const Json& rule, const std::string& at) {
     if (rule.contains("minimum") && x < rule["minimum"].get<double>())
-      throw Error(at + ": must be ≥ " + rule["minimum"].dump() + ", got " + format_double(x));
+      throw Error(at + ": must be ≥ " + rule["minimum"].dump() + ", got " + number(x));
     if (rule.contains("exclusiveMinimum") && x <= rule["exclusiveMinimum"].get<double>())
-      throw Error(at + ": must be > " + rule["exclusiveMinimum"].dump() + ", got " + format_double(x));
+      throw Error(at + ": must be > " + rule["exclusiveMinimum"].dump() + ", got " + number(x));
     if (rule.contains("maximum") && x > rule["maximum"].get<double>())
-      throw Error(at + ": must be ≤ " + rule["maximum"].dump() + ", got " + format_double(x));
+      throw Error(at + ": must be ≤ " + rule["maximum"].dump() + ", got " + number(x));
   }
   fs::path base_;
   std::string source_;
@@ -162,8 +174,11 @@ const Json& schema() {
 
 Json read_json(const fs::path& path) {
   const std::string text = read_file(path);
+  check_json_nesting(text, path.string());
   try {
     return Json::parse(text);
+  } catch (const Json::out_of_range& e) {  // a number too large for a double ("1e309")
+    throw file_error(path.string(), "invalid JSON: " + json_error_text(e.what()));
   } catch (const Json::parse_error& e) {
     // nlohmann reports a byte offset; turn it into line:column.
     std::size_t line = 1, col = 1;
@@ -180,6 +195,18 @@ Json read_json(const fs::path& path) {
 void check_config(Json& config, const fs::path& base, const std::string& source) {
   merge_recipe(config, base, source);
   Checker(base, source).check(config, schema(), "");
+}
+
+void check_pocket_file(const pocket::PocketFile& file, const std::string& source) {
+  Json values = Json::object();
+  const std::pair<const char*, const std::optional<double>*> keys[] = {
+      {"tool_diameter", &file.tool_diameter}, {"stepover", &file.stepover},     {"depth", &file.depth},
+      {"safe_z", &file.safe_z},               {"step_down", &file.step_down},   {"stock_to_leave", &file.stock_to_leave},
+      {"feed_slot", &file.feed_slot},         {"feed_half", &file.feed_half},   {"feed_plunge", &file.feed_plunge},
+      {"spindle_rpm", &file.spindle_rpm}};
+  for (const auto& [k, v] : keys)
+    if (v->has_value()) values[k] = **v;
+  Checker(fs::path(source).parent_path(), source, false).check(values, schema()["properties"]["pocket"], "");
 }
 
 Json load_config(const fs::path& path) {

@@ -10,6 +10,10 @@
 #include <filesystem>
 #include <string>
 
+namespace millnet::pocket {
+struct PocketFile;
+}
+
 namespace millnet::app {
 
 using Json = nlohmann::json;
@@ -25,6 +29,10 @@ using Json = nlohmann::json;
 
 /// Validates `config` (in place: defaults filled, paths resolved against `base`), `source` names it in errors.
 void check_config(Json& config, const std::filesystem::path& base, const std::string& source);
+
+/// The numbers a pocket file carries (tool_diameter, feed_slot, …) checked against the ranges of
+/// their /pocket/… keys in the schema, as if the config had them: "<source>: /feed_slot: must be > 0, got 0".
+void check_pocket_file(const pocket::PocketFile& file, const std::string& source);
 
 /// Reads a JSON file with clear parse errors (file:line:column).
 [[nodiscard]] Json read_json(const std::filesystem::path& path);

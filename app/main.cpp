@@ -1,5 +1,6 @@
 // millnet command-line entry point: a thin CLI11 dispatcher. Each subcommand lives in app/cmd_*.cpp.
-// Exit codes: 0 success, 1 bad input (one clear line on stderr), 2 usage error.
+// Exit codes: 0 success, 1 bad input, flag values out of range included (one clear line on
+// stderr), 2 usage error (unknown or missing flag; one line too).
 #include "cli.hpp"
 
 #include "millnet/core/error.hpp"
@@ -11,6 +12,10 @@ int main(int argc, char** argv) {
   CLI::App app{"millnet — strategy learning and pocket roughing for CAM engineers", "millnet"};
   app.set_version_flag("--version", std::string(MILLNET_VERSION));
   app.require_subcommand(1);
+  // One line per usage error (CLI11's default adds "Run with --help for more information." on a second).
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return "millnet: usage error: " + std::string(e.what()) + " (see --help)\n";
+  });
   std::vector<Registered> commands;
   auto add = [&](Registered (*reg)(CLI::App&)) { commands.push_back(reg(app)); };
   add(register_sample);
@@ -25,6 +30,14 @@ int main(int argc, char** argv) {
   add(register_run);
   try {
     app.parse(argc, argv);
+  } catch (const CLI::ValidationError& e) {
+    // A flag's value out of its range (NaN, 1e308, --threads 100000): bad input like a bad config
+    // value, so one line and exit 1 (issue 15); unknown flags and missing ones stay usage errors.
+    std::string who = "millnet";
+    for (const auto& c : commands)
+      if (c.sub->parsed()) who += " " + c.sub->get_name();
+    std::cerr << who << ": error: " << e.what() << "\n";
+    return 1;
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);  // prints help/version (code 0) or the usage error
     return code == 0 ? 0 : 2;

@@ -1,5 +1,7 @@
 #include "settings.hpp"
 
+#include <cmath>
+
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 
@@ -103,10 +105,10 @@ PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, c
     try {
       std::size_t used = 0;
       ch.zigzag.angle_deg = std::stod(angle, &used);
-      if (used != angle.size()) throw std::invalid_argument(angle);
+      if (used != angle.size() || !(std::abs(*ch.zigzag.angle_deg) <= 360)) throw std::invalid_argument(angle);
     } catch (const std::exception&) {
       throw Error((flags.angle ? std::string("--angle") : std::string("/pocket/zigzag/angle")) +
-                  ": expected a number of degrees or \"auto\", got \"" + angle + "\"");
+                  ": expected a number of degrees in [-360, 360] or \"auto\", got \"" + angle.substr(0, 40) + "\"");
     }
   }
   return ch;

@@ -8,6 +8,7 @@
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
+#include "millnet/core/json_input.hpp"
 
 namespace millnet::classifier_io {
 
@@ -191,12 +192,13 @@ void save_model(const Model& m, const std::filesystem::path& path) {
 
 Model load_model(const std::filesystem::path& path) {
   const std::string text = read_file(path);
+  check_json_nesting(text, path.string());
   Reader rd{path.string()};
   json j;
   try {
     j = json::parse(text);
-  } catch (const json::parse_error& e) {
-    throw file_error(path.string(), std::string("not valid JSON (") + e.what() + ")");
+  } catch (const json::exception& e) {
+    throw file_error(path.string(), "not valid JSON (" + json_error_text(e.what()) + ")");
   }
   if (!j.is_object()) rd.fail("(top level)", "expected an object, got " + Reader::type_name(j));
   if (rd.string(rd.at(j, "format", ""), "format") != "millnet-model")

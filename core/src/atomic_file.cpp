@@ -63,6 +63,10 @@ std::string read_file(const fs::path& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw file_error(path.string(), "no such file");
   if (fs::is_directory(path, ec)) throw file_error(path.string(), "is a folder, expected a file");
+  // Before opening: a FIFO blocks the open, /dev/zero (behind a symlink named x.stl) never ends
+  // (tests/corpus/cli: not_a_regular_file_*).
+  if (!fs::is_regular_file(path, ec))
+    throw file_error(path.string(), "not a regular file (a device, FIFO or socket), expected a file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw file_error(path.string(), "cannot open for reading");
   std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -2,6 +2,7 @@
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
+#include "millnet/core/json_input.hpp"
 #include "millnet/core/json_text.hpp"
 #include "millnet/datasets/hash.hpp"
 
@@ -21,12 +22,12 @@ using Json = nlohmann::json;
 namespace {
 
 Json read_json_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw file_error(path.string(), "cannot open for reading");
+  const std::string text = read_file(path);  // refuses what is not a regular file
+  check_json_nesting(text, path.string());
   try {
-    return Json::parse(in);
+    return Json::parse(text);
   } catch (const std::exception& e) {
-    throw file_error(path.string(), std::string("not valid JSON (") + e.what() + ")");
+    throw file_error(path.string(), "not valid JSON (" + json_error_text(e.what()) + ")");
   }
 }
 

@@ -11,9 +11,12 @@
 #include "contours.hpp"
 #include "sampling.hpp"
 
+#include "millnet/core/atomic_file.hpp"
+#include "millnet/core/error.hpp"
 #include "millnet/finish/tolerances.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 
@@ -156,8 +159,13 @@ std::vector<std::vector<std::vector<Sample>>> waterline_loops(const Sampler& s, 
   const std::vector<double> cl = cl_heights(s, grid.x0, grid.y0, grid.x1, grid.y1, grid.step, grid.nx, grid.ny);
   const double top = *std::max_element(cl.begin(), cl.end());
   std::vector<double> levels;
-  for (int k = 1;; ++k) {
-    const double z = top - k * p.step_down_mm;
+  const double estimate = std::floor((top - s.floor_z()) / p.step_down_mm);
+  if (!(estimate <= tol::max_waterline_levels))
+    throw Error("step_down_mm " + format_double(p.step_down_mm) + " over a height of " + format_double(top - s.floor_z()) +
+                " mm makes " + format_double(estimate) + " Z levels; at most " +
+                format_double(tol::max_waterline_levels) + " (raise the step-down)");
+  for (std::int64_t k = 1;; ++k) {
+    const double z = top - static_cast<double>(k) * p.step_down_mm;
     if (!(z > s.floor_z() + tol::min_sample_mm)) break;
     levels.push_back(z);
   }

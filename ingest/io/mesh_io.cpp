@@ -1,9 +1,12 @@
 // The only file that sees assimp (ARCHITECTURE.md: heavy dependencies stay private at the edge).
+// One owner per format: binary STL, PLY, OFF and point clouds are read by millnet (PLY/OFF in
+// ply_off.cpp), ASCII STL, OBJ, 3MF and glTF by assimp, always with aiProcess_ValidateDataStructure.
 #include "millnet/ingest/io/mesh_io.hpp"
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/ingest/pointcloud.hpp"
+#include "ply_off.hpp"
 
 #include <Eigen/Geometry>
 #include <assimp/Importer.hpp>
@@ -209,6 +212,9 @@ Mesh load_mesh(const fs::path& path, MeshReport* report) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw file_error(name, "no such file");
   if (fs::is_directory(path, ec)) throw file_error(name, "is a folder, expected a mesh file");
+  // Refused before anything opens it: a FIFO blocks the open, /dev/zero behind x.stl never ends.
+  if (!fs::is_regular_file(path, ec))
+    throw file_error(name, "not a regular file (a device, FIFO or socket), expected a mesh file");
   {
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw file_error(name, "cannot open for reading");
@@ -237,6 +243,12 @@ Mesh load_mesh(const fs::path& path, MeshReport* report) {
       throw file_error(name, "not an STL file: neither binary (" + std::to_string(bytes.size()) +
                                  " bytes, expected 84 + 50·n) nor ASCII (does not start with 'solid')");
     }
+  } else if (ext == ".ply" || ext == ".off") {
+    // Our own readers: assimp's aborted, crashed, hung or clamped indices on malformed PLY/OFF
+    // (tests/corpus/mesh/ply_*, off_*).
+    const std::string bytes = read_file(path);
+    m = ext == ".ply" ? detail::parse_ply(bytes, name) : detail::parse_off(bytes, name);
+    if (report) report->notes.push_back("polygons triangulated as fans; stored normals and colours ignored");
   } else {
     m = load_with_assimp(path, report);
   }

@@ -138,12 +138,21 @@ void check_params(const GcodeParams& gp) {
 }
 }  // namespace
 
+std::int64_t level_count(double depth, double step_down) {
+  if (!(depth > 0) || !std::isfinite(depth)) throw Error("depth must be > 0, got " + format_double(depth));
+  if (!(step_down > 0) || !std::isfinite(step_down)) throw Error("step_down must be > 0, got " + format_double(step_down));
+  const double n = std::ceil(depth / step_down - 1e-9);  // a double first: it may be far beyond any integer
+  if (!(n <= static_cast<double>(kMaxLevels)))
+    throw Error("depth " + format_double(depth) + " mm at step-down " + format_double(step_down) + " mm makes " +
+                format_double(n) + " Z levels; at most " + std::to_string(kMaxLevels) + " (raise the step-down)");
+  return std::max<std::int64_t>(1, static_cast<std::int64_t>(n));
+}
+
 std::vector<double> level_zs(double depth, double step_down) {
-  if (!(depth > 0) || !std::isfinite(depth)) throw Error("depth must be > 0, got " + std::to_string(depth));
-  if (!(step_down > 0) || !std::isfinite(step_down)) throw Error("step_down must be > 0, got " + std::to_string(step_down));
-  const int n = std::max(1, static_cast<int>(std::ceil(depth / step_down - 1e-9)));
+  const std::int64_t n = level_count(depth, step_down);
   std::vector<double> z;
-  for (int k = 1; k <= n; ++k) z.push_back(-depth * k / n);
+  z.reserve(static_cast<std::size_t>(n));
+  for (std::int64_t k = 1; k <= n; ++k) z.push_back(-depth * static_cast<double>(k) / static_cast<double>(n));
   return z;
 }
 

@@ -7,6 +7,7 @@
 #include "millnet/pocket/tolerances.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -46,6 +47,59 @@ bool angle_in_arc(const Arc& arc, double phi) {
 
 bool point_on_arc_span(const Arc& arc, const Vec2& q) {
   return angle_in_arc(arc, std::atan2(q.y() - arc.center.y(), q.x() - arc.center.x()));
+}
+
+BoxTree::BoxTree(std::vector<BBox> boxes) : boxes_(std::move(boxes)), idx_(boxes_.size()) {
+  for (std::size_t i = 0; i < idx_.size(); ++i) idx_[i] = i;
+  nodes_.reserve(2 * idx_.size() / 4 + 1);
+  if (!idx_.empty()) (void)build(0, idx_.size());
+}
+
+// O(n log n): a median split per level (nth_element), depth ≈ log2(n / 8).
+std::size_t BoxTree::build(std::size_t begin, std::size_t end) {
+  const std::size_t me = nodes_.size();
+  nodes_.push_back({});
+  BBox b;
+  for (std::size_t k = begin; k < end; ++k) {
+    b.lo = b.lo.cwiseMin(boxes_[idx_[k]].lo);
+    b.hi = b.hi.cwiseMax(boxes_[idx_[k]].hi);
+  }
+  nodes_[me].box = b;
+  nodes_[me].begin = begin;
+  nodes_[me].end = end;
+  if (end - begin <= 8) return me;
+  const int axis = (b.hi.x() - b.lo.x()) >= (b.hi.y() - b.lo.y()) ? 0 : 1;
+  const std::size_t mid = begin + (end - begin) / 2;
+  const auto first = idx_.begin() + static_cast<std::ptrdiff_t>(begin);
+  std::nth_element(first, idx_.begin() + static_cast<std::ptrdiff_t>(mid), idx_.begin() + static_cast<std::ptrdiff_t>(end),
+                   [&](std::size_t u, std::size_t v) {
+                     const double cu = boxes_[u].lo(axis) + boxes_[u].hi(axis), cv = boxes_[v].lo(axis) + boxes_[v].hi(axis);
+                     return cu < cv || (cu == cv && u < v);
+                   });
+  const std::size_t l = build(begin, mid);
+  const std::size_t r = build(mid, end);
+  nodes_[me].left = l;
+  nodes_[me].right = r;
+  return me;
+}
+
+void BoxTree::overlapping(const BBox& q, std::vector<std::size_t>& out) const {
+  out.clear();
+  if (nodes_.empty()) return;
+  std::size_t stack[128];
+  std::size_t top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes_[stack[--top]];
+    if (!n.box.overlaps(q)) continue;
+    if (n.left == 0) {
+      for (std::size_t k = n.begin; k < n.end; ++k)
+        if (boxes_[idx_[k]].overlaps(q)) out.push_back(idx_[k]);
+      continue;
+    }
+    stack[top++] = n.left;
+    stack[top++] = n.right;
+  }
 }
 
 BBox bbox(const Segment& s) {
@@ -385,12 +439,32 @@ void check_and_split(Loop& loop, const std::string& source, const std::string& n
   loop = std::move(out);
 }
 
-/// Self-intersection check, O(n²) segment pairs (pockets have at most a few thousand segments).
+/// Boxes of the segments, grown by 10·join_mm so that every contact intersections() can report
+/// (it accepts points up to a relative 1e-12 beyond the ends) lies in both boxes.
+std::vector<detail::BBox> grown_boxes(const std::vector<Segment>& segs) {
+  std::vector<detail::BBox> boxes(segs.size());
+  for (std::size_t i = 0; i < segs.size(); ++i) {
+    detail::BBox b = detail::bbox(segs[i]);
+    const double g = 10 * tol::join_mm + 1e-9 * std::max({b.lo.cwiseAbs().maxCoeff(), b.hi.cwiseAbs().maxCoeff(), 1.0});
+    b.lo.array() -= g;
+    b.hi.array() += g;
+    boxes[i] = b;
+  }
+  return boxes;
+}
+
+/// Self-intersection check: segment pairs whose boxes overlap (a box tree), tested in the order of
+/// the all-pairs loop it replaced, so the first crossing reported is the same. O(n log n + pairs).
 void check_simple(const Loop& loop, const std::string& source, const std::string& name) {
   const std::vector<Segment> segs = segments(loop);
   const std::size_t n = segs.size();
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t j = i + 1; j < n; ++j) {
+  const detail::BoxTree tree(grown_boxes(segs));
+  std::vector<std::size_t> near;
+  for (std::size_t i = 0; i < n; ++i) {
+    tree.overlapping(tree.box(i), near);
+    std::sort(near.begin(), near.end());
+    for (const std::size_t j : near) {
+      if (j <= i) continue;
       const bool next = j == i + 1, wrap = (i == 0 && j == n - 1);
       for (const Vec2& q : detail::intersections(segs[i], segs[j])) {
         // Neighbours share a vertex; touching there is not a crossing.
@@ -400,6 +474,7 @@ void check_simple(const Loop& loop, const std::string& source, const std::string
                     " and segment " + std::to_string(j) + " at " + fmt_pt(q));
       }
     }
+  }
 }
 
 }  // namespace
@@ -415,21 +490,37 @@ NormalizeReport validate_and_normalize(Region& region, const std::string& source
   for (std::size_t k = 0; k < region.islands.size(); ++k) check_simple(region.islands[k], source, loop_name(k + 1));
 
   // Loops against loops: any contact is a crossing (a wall touching another leaves no room for a
-  // tool and makes the region ill-defined). O(Σ nᵢ·nⱼ).
+  // tool and makes the region ill-defined). Pairs of segments of different loops whose boxes
+  // overlap (one box tree over all), tested in the order (loop a, loop b, i, j) of the all-pairs
+  // loop it replaced. O(N log N + pairs) for N segments in all.
   std::vector<const Loop*> loops{&region.boundary};
   for (const Loop& l : region.islands) loops.push_back(&l);
-  std::vector<std::vector<Segment>> segs;
-  for (const Loop* l : loops) segs.push_back(segments(*l));
-  for (std::size_t a = 0; a < loops.size(); ++a)
-    for (std::size_t b = a + 1; b < loops.size(); ++b)
-      for (std::size_t i = 0; i < segs[a].size(); ++i)
-        for (std::size_t j = 0; j < segs[b].size(); ++j) {
-          const auto hits = detail::intersections(segs[a][i], segs[b][j]);
-          if (!hits.empty())
-            throw Error(where(source, loop_name(b)) + " crosses " + loop_name(a) + " (segment " +
-                        std::to_string(j) + " meets segment " + std::to_string(i) + " at " +
-                        fmt_pt(hits.front()) + ")");
-        }
+  std::vector<Segment> all;
+  std::vector<std::pair<std::size_t, std::size_t>> id;  // (loop, segment)
+  for (std::size_t a = 0; a < loops.size(); ++a) {
+    const std::vector<Segment> s = segments(*loops[a]);
+    for (std::size_t i = 0; i < s.size(); ++i) id.emplace_back(a, i);
+    all.insert(all.end(), s.begin(), s.end());
+  }
+  if (loops.size() > 1) {
+    const detail::BoxTree tree(grown_boxes(all));
+    std::vector<std::array<std::size_t, 4>> pairs;  // (a, b, i, j) with a < b
+    std::vector<std::size_t> near;
+    for (std::size_t u = 0; u < all.size(); ++u) {
+      tree.overlapping(tree.box(u), near);
+      for (const std::size_t v : near)
+        if (id[u].first < id[v].first) pairs.push_back({id[u].first, id[v].first, id[u].second, id[v].second});
+    }
+    std::sort(pairs.begin(), pairs.end());
+    std::vector<std::size_t> start(loops.size() + 1, 0);
+    for (std::size_t a = 0; a < loops.size(); ++a) start[a + 1] = start[a] + loops[a]->size();
+    for (const auto& [a, b, i, j] : pairs) {
+      const auto hits = detail::intersections(all[start[a] + i], all[start[b] + j]);
+      if (!hits.empty())
+        throw Error(where(source, loop_name(b)) + " crosses " + loop_name(a) + " (segment " + std::to_string(j) +
+                    " meets segment " + std::to_string(i) + " at " + fmt_pt(hits.front()) + ")");
+    }
+  }
   for (std::size_t k = 0; k < region.islands.size(); ++k) {
     const Vec2 p = region.islands[k][0].p();
     if (!detail::strictly_inside_loop(region.boundary, p))

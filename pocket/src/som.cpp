@@ -69,6 +69,7 @@ public:
 
   /// Nearest node to q (smallest index on ties). Rings of cells around q's cell are scanned until the
   /// ring's lower bound exceeds the best distance: O(cells within the nearest distance).
+  /// Returns {-1, inf} when no node is at a finite distance: callers go through nearest_node().
   std::pair<int, double> nearest(const Vec2& q, const std::vector<Vec2>& nodes) const {
     const int cx = std::clamp(static_cast<int>(std::floor((q.x() - lo_.x()) * inv_s_)), 0, nx_ - 1);
     const int cy = std::clamp(static_cast<int>(std::floor((q.y() - lo_.y()) * inv_s_)), 0, ny_ - 1);
@@ -117,6 +118,17 @@ private:
   std::vector<int> cell_of_;
   std::vector<std::size_t> slot_of_;
 };
+
+/// The grid's nearest node to city i; found-nothing (every squared distance overflowed) is an error,
+/// never an index (issue 15: /pocket/som/w 1e307 indexed with -1 and corrupted the heap).
+std::pair<std::size_t, double> nearest_node(const NodeGrid& grid, const std::vector<Vec2>& X, std::size_t i,
+                                            const std::vector<Vec2>& C, double w) {
+  const auto [j, d2] = grid.nearest(X[i], C);
+  if (j < 0)
+    throw Error("som_tour: no ring node at a finite distance from tool point " + std::to_string(i) +
+                " (coordinates scaled by w = " + std::to_string(w) + " overflow)");
+  return {static_cast<std::size_t>(j), d2};
+}
 
 void check_params(const SomParams& p) {
   auto bad = [](const std::string& key, const std::string& what) {
@@ -200,6 +212,10 @@ SomResult som_tour(const std::vector<Vec2>& cities, const SomParams& params) {
     lo = lo.cwiseMin(X[i]);
     hi = hi.cwiseMax(X[i]);
   }
+  // Every squared distance in the scaled plane is at most the box diagonal's square: it must be finite.
+  if (!std::isfinite((hi - lo).squaredNorm()))
+    throw Error("som parameters: 'w' = " + std::to_string(params.w) +
+                " scales the tool points beyond the range of squared distances (lower w)");
   const std::size_t m = std::max<std::size_t>(
       3, static_cast<std::size_t>(std::llround(params.node_factor * static_cast<double>(n))));
   res.nodes = m;
@@ -242,9 +258,9 @@ SomResult som_tour(const std::vector<Vec2>& cities, const SomParams& params) {
   auto mapped = [&]() {  // O(N·query): every city has its own node within tol
     std::fill(owner.begin(), owner.end(), -1);
     for (std::size_t i = 0; i < n; ++i) {
-      const auto [j, d2] = grid.nearest(X[i], C);
-      if (d2 > tol2 || owner[static_cast<std::size_t>(j)] >= 0) return false;
-      owner[static_cast<std::size_t>(j)] = static_cast<int>(i);
+      const auto [j, d2] = nearest_node(grid, X, i, C, params.w);
+      if (d2 > tol2 || owner[j] >= 0) return false;
+      owner[j] = static_cast<int>(i);
     }
     return true;
   };
@@ -264,7 +280,7 @@ SomResult som_tour(const std::vector<Vec2>& cities, const SomParams& params) {
     const auto mi = static_cast<std::ptrdiff_t>(m);
     for (std::size_t idx = 0; idx < n; ++idx) {  // O(N·(query + width))
       const Vec2& x = X[perm[idx]];
-      const int jc = grid.nearest(x, C).first;
+      const auto jc = static_cast<std::ptrdiff_t>(nearest_node(grid, X, perm[idx], C, params.w).first);
       std::ptrdiff_t j = jc - width;
       if (j < 0) j += mi;
       for (std::ptrdiff_t k = -width; k <= width; ++k, ++j) {
@@ -298,8 +314,8 @@ SomResult som_tour(const std::vector<Vec2>& cities, const SomParams& params) {
   std::vector<std::tuple<int, double, int>> key(n);
   std::fill(owner.begin(), owner.end(), -1);
   for (std::size_t i = 0; i < n; ++i) {
-    const int j = grid.nearest(X[i], C).first;
-    const auto ju = static_cast<std::size_t>(j);
+    const std::size_t ju = nearest_node(grid, X, i, C, params.w).first;
+    const int j = static_cast<int>(ju);
     const Vec2 dir = C[(ju + 1) % m] - C[(ju + m - 1) % m];
     key[i] = {j, (X[i] - C[ju]).dot(dir), static_cast<int>(i)};
     if (owner[ju] >= 0) ++res.shared_nodes;

@@ -2,6 +2,7 @@
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
+#include "millnet/pocket/gcode.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -141,8 +142,9 @@ Result rough_mesh(const ingest::Mesh& mesh, const Params& p) {
   const double floor = box.min.z() + p.floor_allowance_mm;
   const double height = res.stock_top_part - floor;
   if (height <= 0) throw Error("nothing to rough: the stock top is not above the floor");
-  const int n_levels = static_cast<int>(std::ceil(height / p.cut.step_down - 1e-9));
-  const double dz = height / n_levels;
+  // Counted in 64 bits and bounded before any level is planned (issue 15: --step-down 1e-9).
+  const std::int64_t n_levels = pocket::level_count(height, p.cut.step_down);
+  const double dz = height / static_cast<double>(n_levels);
   const double clearance = p.cut.clearance();
   // Tool centres may pass up to one clearance outside the stock edge (the tool then just touches
   // it from the air side), so that the margin ring around the part is cleared even when the margin
@@ -151,8 +153,9 @@ Result rough_mesh(const ingest::Mesh& mesh, const Params& p) {
                                        res.stock_x1 + 2 * clearance, res.stock_y1 + 2 * clearance);
   std::vector<pocket::LevelPlan> plans;
   double top_z = 0;
-  for (int k = 1; k <= n_levels; ++k) {
-    res.levels.push_back(plan_level(res, p, stock, res.stock_top_part - k * dz, top_z, plans, res.tool_points));
+  for (std::int64_t k = 1; k <= n_levels; ++k) {
+    res.levels.push_back(plan_level(res, p, stock, res.stock_top_part - static_cast<double>(k) * dz, top_z, plans,
+                                    res.tool_points));
     top_z = res.levels.back().z;
   }
   if (plans.empty()) {

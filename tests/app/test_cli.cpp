@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <fstream>
 
 using millnet::testing::fresh_dir;
@@ -27,7 +29,11 @@ TEST(Cli, UsageErrorsExitTwo) {
   EXPECT_EQ(run_millnet("", d).code, 2);
   EXPECT_EQ(run_millnet("frobnicate", d).code, 2);
   EXPECT_EQ(run_millnet("sample --out x", d).code, 2);               // --mesh missing
-  EXPECT_EQ(run_millnet("sample --mesh a.stl --out x --grid abc", d).code, 2);
+  // A flag's value out of its range is bad input like a bad config value: exit 1, one line naming it.
+  const auto bad = run_millnet("sample --mesh a.stl --out x --grid abc", d);
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_NE(bad.err.find("--grid"), std::string::npos) << bad.err;
+  EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
 }
 
 TEST(Cli, MissingMeshIsBadInputNamingTheFile) {

@@ -93,7 +93,7 @@ TEST(CliFinish, BadInputGetsOneLineAndNoFiles) {
   const fs::path d = fresh_dir("finish_bad");
   const fs::path mesh = write_dome(d);
   const auto zero = run_millnet("finish --mesh '" + mesh.string() + "' --stepover 0 --out out", d);
-  EXPECT_EQ(zero.code, 1);
+  EXPECT_EQ(zero.code, 1);  // the flag is checked against /finish/stepover_mm's range
   EXPECT_NE(zero.err.find("stepover_mm"), std::string::npos) << zero.err;
   EXPECT_EQ(std::count(zero.err.begin(), zero.err.end(), '\n'), 1) << zero.err;
   const auto big = run_millnet("finish --mesh '" + mesh.string() + "' --strategy 2 --tool ball:40 --out out", d);

@@ -7,6 +7,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 
 namespace fs = std::filesystem;
 using millnet::app::Json;
@@ -80,4 +82,27 @@ TEST(Config, InvalidJsonNamesLine) {
     EXPECT_NE(std::string(e.what()).find(p.string() + ":4:"), std::string::npos) << e.what();
   }
   fs::remove(p);
+}
+
+namespace {
+// Every number/integer rule under `rule` (items of arrays too) without a lower and an upper bound.
+void unbounded(const Json& rule, const std::string& ptr, std::vector<std::string>& out) {
+  const std::string type = rule.value("type", "");
+  if (type == "object" && rule.contains("properties"))
+    for (auto it = rule["properties"].begin(); it != rule["properties"].end(); ++it) unbounded(it.value(), ptr + "/" + it.key(), out);
+  if (type == "array" && rule.contains("items")) unbounded(rule["items"], ptr + "/*", out);
+  if (type == "number" || type == "integer" || type == "integer_or_string")
+    if (!(rule.contains("minimum") || rule.contains("exclusiveMinimum")) || !rule.contains("maximum")) out.push_back(ptr);
+}
+}  // namespace
+
+// Issue 15: "every numeric key has a documented finite range" (1e307 for /pocket/som/w corrupted
+// the heap, 100000 threads crashed OpenMP, 2^32+1 parts per family became 1). A new key without
+// both bounds fails here, naming it.
+TEST(Config, EveryNumericKeyHasAFiniteRange) {
+  std::vector<std::string> missing;
+  unbounded(millnet::app::schema(), "", missing);
+  std::string list;
+  for (const auto& m : missing) list += m + "\n";
+  EXPECT_TRUE(missing.empty()) << "numeric keys without minimum and maximum:\n" << list;
 }

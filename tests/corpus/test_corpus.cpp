@@ -1,6 +1,7 @@
 // The regression corpus (tests/corpus/README.md): every case tests/corpus/<reader>/<case>.<ext> is a
 // malformed input that its reader must refuse with a millnet::Error naming the case's file and
 // containing every line of <case>.expect.
+#include "app/cli_runner.hpp"
 #include "config.hpp"  // app/: load_config
 #include "millnet/classifier/io/model_file.hpp"
 #include "millnet/core/atomic_file.hpp"
@@ -20,6 +21,9 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <sys/resource.h>
+#include <sys/stat.h>
 
 namespace fs = std::filesystem;
 
@@ -58,6 +62,7 @@ TEST(Corpus, EveryCaseThrowsItsExpectedError) {
   for (const auto& dir : fs::directory_iterator(root)) {
     if (!dir.is_directory()) continue;
     const std::string reader = dir.path().filename().string();
+    if (reader == "cli") continue;  // whole runs of the executable: EveryCliCaseFailsWithOneLine
     if (!readers().count(reader)) {
       ADD_FAILURE() << dir.path() << ": no reader for this folder (add one to readers() in test_corpus.cpp)";
       continue;
@@ -89,5 +94,72 @@ TEST(Corpus, EveryCaseThrowsItsExpectedError) {
     } catch (const std::exception& e) {
       ADD_FAILURE() << name << ": threw a std::exception that is not millnet::Error: " << e.what();
     }
+  }
+}
+
+namespace {
+
+/// Inputs that cannot be committed (a FIFO, a symlink to a device, 140 KB of brackets, a 100,000-vertex
+/// boundary) are made by the case's generator in its scratch folder {tmp} before the run.
+using Generator = std::function<void(const fs::path& tmp)>;
+
+const std::map<std::string, Generator>& generators() {
+  static const std::map<std::string, Generator> g = {
+      {"not_a_regular_file_dev_zero", [](const fs::path& t) { fs::create_symlink("/dev/zero", t / "x.stl"); }},
+      {"not_a_regular_file_fifo", [](const fs::path& t) { ASSERT_EQ(::mkfifo((t / "x.stl").c_str(), 0600), 0); }},
+      {"not_a_regular_file_folder", [](const fs::path& t) { fs::create_directories(t / "x.stl"); }},
+      {"config_fifo", [](const fs::path& t) { ASSERT_EQ(::mkfifo((t / "c.json").c_str(), 0600), 0); }},
+      {"config_nested_70000_levels",
+       [](const fs::path& t) {
+         millnet::write_file_atomic(t / "deep.json", "{\"pocket\": {\"som\": {\"w\": " + std::string(70000, '[') +
+                                                         std::string(70000, ']') + "}}}");
+       }},
+  };
+  return g;
+}
+
+std::string replace_all(std::string s, const std::string& from, const std::string& to) {
+  for (std::size_t p = s.find(from); p != std::string::npos; p = s.find(from, p + to.size())) s.replace(p, from.size(), to);
+  return s;
+}
+
+}  // namespace
+
+// tests/corpus/cli/<case>.args: one hostile run of the executable (README.md). Every case must exit
+// with its code (1 = bad input; "# exit 2" in the .args for a usage error), print exactly one line on
+// stderr containing every line of <case>.expect, leave its output folder empty, finish within 60 s
+// and stay under 1 GB resident.
+TEST(Corpus, EveryCliCaseFailsWithOneLine) {
+  const fs::path root = fs::path(MILLNET_SOURCE_DIR) / "tests" / "corpus";
+  std::vector<fs::path> cases;
+  for (const auto& f : fs::directory_iterator(root / "cli"))
+    if (f.path().extension() == ".args") cases.push_back(f.path());
+  std::sort(cases.begin(), cases.end());
+  ASSERT_GE(cases.size(), 10u);
+  for (const fs::path& c : cases) {
+    const std::string name = c.stem().string();
+    SCOPED_TRACE("cli/" + name);
+    const fs::path tmp = millnet::testing::fresh_dir("corpus_cli/" + name);
+    const fs::path out = tmp / "out";
+    if (generators().count(name)) generators().at(name)(tmp);
+    int expected_code = 1;
+    std::string args;
+    std::istringstream in(millnet::read_file(c));
+    for (std::string line; std::getline(in, line);) {
+      if (line.rfind("# exit ", 0) == 0) expected_code = std::stoi(line.substr(7));
+      else if (!line.empty() && line[0] != '#') args += (args.empty() ? "" : " ") + line;
+    }
+    args = replace_all(replace_all(replace_all(args, "{corpus}", root.string()), "{tmp}", tmp.string()), "{out}", out.string());
+    const fs::path expect = fs::path(c).replace_extension(".expect");
+    ASSERT_TRUE(fs::exists(expect)) << name << ": no " << expect.filename() << " beside it";
+    const auto r = millnet::testing::run_millnet(args + " --quiet", tmp, 60);
+    EXPECT_EQ(r.code, expected_code) << name << ": " << args << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << name << ": expected one line on stderr, got\n" << r.err;
+    for (const std::string& p : expected_parts(expect))
+      EXPECT_NE(r.err.find(p), std::string::npos) << name << ": expected stderr to contain\n  " << p << "\ngot\n  " << r.err;
+    EXPECT_EQ(millnet::testing::list_files(out), "") << name << ": files left in the output folder";
+    rusage ru{};
+    ::getrusage(RUSAGE_CHILDREN, &ru);  // the largest child so far, in KiB
+    EXPECT_LT(ru.ru_maxrss, 1024L * 1024L) << name << ": peak memory of a run ≥ 1 GB";
   }
 }

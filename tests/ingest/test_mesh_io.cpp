@@ -7,11 +7,16 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <limits>
 #include <random>
+
+#include <sys/stat.h>
 
 using namespace millnet::ingest;
 using namespace millnet::testing_ingest;
@@ -195,4 +200,124 @@ TEST(MeshIO, ErrorsNameTheFile) {
   expect_load_error(dir / "garbage.obj", "");
   fs::create_directories(dir / "folder.stl");
   expect_load_error(dir / "folder.stl", "is a folder");
+}
+
+namespace {
+
+// The cube of box() with its six sides as quads (fan (a,b,c),(a,c,d) = box()'s two triangles per side).
+const std::array<std::array<int, 4>, 6> kCubeQuads = {{{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                                       {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}};
+
+Mesh cube_fans() {
+  Mesh m = box(0, 0, 0, 10, 20, 5);
+  m.F.resize(12, 3);
+  for (int q = 0; q < 6; ++q) {
+    const auto& v = kCubeQuads[static_cast<std::size_t>(q)];
+    m.F.row(2 * q) << v[0], v[1], v[2];
+    m.F.row(2 * q + 1) << v[0], v[2], v[3];
+  }
+  return m;
+}
+
+// Same triangles, same order, same corners (bit for bit), whatever the vertex numbering.
+void expect_same_triangles(const Mesh& a, const Mesh& b) {
+  ASSERT_EQ(a.F.rows(), b.F.rows());
+  for (Eigen::Index t = 0; t < a.F.rows(); ++t)
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(a.V.row(a.F(t, k)), b.V.row(b.F(t, k))) << "triangle " << t;
+}
+
+template <class T> void put(std::string& s, T v, bool big) {
+  char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));
+  if (big) std::reverse(b, b + sizeof(T));
+  s.append(b, sizeof(T));
+}
+
+// A binary PLY of cube_fans() with properties to skip: double x y z, float normals, uchar colour,
+// an extra element between vertices and faces, a texture list before the indices, a flag after.
+std::string binary_cube_ply(bool big) {
+  const Mesh m = cube_fans();
+  std::string s = std::string("ply\nformat ") + (big ? "binary_big_endian" : "binary_little_endian") +
+                  " 1.0\ncomment made by hand\nelement vertex 8\nproperty double x\nproperty float nx\n"
+                  "property double y\nproperty double z\nproperty uchar red\n"
+                  "element material 2\nproperty list uchar float values\nproperty short id\n"
+                  "element face 6\nproperty list uchar float texcoord\nproperty list uchar uint vertex_indices\n"
+                  "property char flags\nend_header\n";
+  for (Eigen::Index i = 0; i < 8; ++i) {
+    put(s, m.V(i, 0), big);
+    put(s, 0.5f, big);
+    put(s, m.V(i, 1), big);
+    put(s, m.V(i, 2), big);
+    put(s, static_cast<unsigned char>(200), big);
+  }
+  for (int i = 0; i < 2; ++i) {
+    put(s, static_cast<unsigned char>(i + 1), big);
+    for (int j = 0; j <= i; ++j) put(s, 1.5f, big);
+    put(s, static_cast<std::int16_t>(-7), big);
+  }
+  for (const auto& q : kCubeQuads) {
+    put(s, static_cast<unsigned char>(2), big);
+    put(s, 0.25f, big);
+    put(s, 0.75f, big);
+    put(s, static_cast<unsigned char>(4), big);
+    for (int v : q) put(s, static_cast<std::uint32_t>(v), big);
+    put(s, static_cast<char>(-1), big);
+  }
+  return s;
+}
+
+}  // namespace
+
+// millnet's own PLY/OFF readers (issue 15): the same cube as quads in ASCII PLY, binary PLY (both
+// endians, with properties and an element to skip) and OFF (comments, counts on the keyword line,
+// a colour after a face) reads as the same triangles as its binary STL.
+TEST(MeshIO, CubeInPlyAndOffReadsAsTheStlCube) {
+  TempDir dir;
+  const Mesh cube = cube_fans();
+  save_stl_binary(cube, dir / "cube.stl");
+  const Mesh stl = load_mesh(dir / "cube.stl");
+  expect_same_triangles(stl, cube);
+
+  std::string ascii = "ply\r\nformat ascii 1.0\r\nelement vertex 8\r\nproperty float x\r\nproperty float y\r\n"
+                      "property float z\r\nproperty uchar red\r\nelement face 6\r\n"
+                      "property list uchar int vertex_indices\r\nend_header\r\n";
+  std::string off = "# a cube\nOFF 8 6 12\n";
+  for (Eigen::Index i = 0; i < 8; ++i) {
+    char line[100];
+    std::snprintf(line, sizeof line, "%g %g %g", cube.V(i, 0), cube.V(i, 1), cube.V(i, 2));
+    ascii += std::string(line) + " 255\r\n";
+    off += std::string(line) + "  # vertex " + std::to_string(i) + "\n\n";
+  }
+  for (const auto& q : kCubeQuads) {
+    const std::string f = "4 " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(q[2]) + " " +
+                          std::to_string(q[3]);
+    ascii += f + "\r\n";
+    off += f + " 0.5 0.5 0.5\n";
+  }
+  write_text(dir / "cube.ply", ascii);
+  write_text(dir / "le.ply", binary_cube_ply(false));
+  write_text(dir / "be.ply", binary_cube_ply(true));
+  write_text(dir / "cube.off", off);
+  for (const char* f : {"cube.ply", "le.ply", "be.ply", "cube.off"}) {
+    SCOPED_TRACE(f);
+    const Mesh m = load_mesh(dir / f);
+    EXPECT_EQ(m.V.rows(), 8);
+    expect_same_triangles(m, stl);
+  }
+  // Counts on their own line after the keyword, and no keyword at all (both allowed by OFF).
+  write_text(dir / "own_line.off", "OFF\n# counts next\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n");
+  write_text(dir / "no_keyword.off", "4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n");
+  EXPECT_EQ(load_mesh(dir / "own_line.off").F.rows(), 2);
+  EXPECT_EQ(load_mesh(dir / "no_keyword.off").F.rows(), 2);
+}
+
+// A path that is not a regular file is refused before it is opened (a FIFO would block the open,
+// /dev/zero never ends).
+TEST(MeshIO, NotARegularFileIsRefusedAtOnce) {
+  TempDir dir;
+  fs::create_symlink("/dev/zero", dir / "zero.stl");
+  expect_load_error(dir / "zero.stl", "not a regular file");
+  ASSERT_EQ(::mkfifo((dir / "pipe.ply").c_str(), 0600), 0);
+  expect_load_error(dir / "pipe.ply", "not a regular file");
+  EXPECT_THROW((void)millnet::read_file(dir / "pipe.ply"), millnet::Error);
 }

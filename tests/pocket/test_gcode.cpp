@@ -175,3 +175,21 @@ TEST(PocketGcode, ProgramsReadBackAndLinuxcncAcceptsThem) {
     std::filesystem::remove(f);
   }
 }
+
+// Issue 15: `--depth 1e11` or `--step-down 1e-9` overflowed the level count (an int) into
+// "levels 1" and one plunge to the floor. Counted in 64 bits and bounded before use.
+TEST(PocketGcode, LevelCountIsBoundedBeforeUse) {
+  EXPECT_EQ(level_count(5, 2), 3);
+  EXPECT_EQ(level_count(5, 10), 1);
+  EXPECT_EQ(level_count(10000, 1), 10000);
+  for (const auto& [depth, step] : {std::pair{1e11, 5.0}, std::pair{5.0, 1e-9}, std::pair{1e308, 1e-308}}) {
+    try {
+      (void)level_zs(depth, step);
+      FAIL() << depth << " / " << step << " accepted";
+    } catch (const millnet::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("Z levels; at most 10000"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW((void)level_count(std::nan(""), 1), millnet::Error);
+  EXPECT_THROW((void)level_count(5, std::nan("")), millnet::Error);
+}

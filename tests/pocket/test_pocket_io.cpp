@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <ctime>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <numbers>
 #include <sstream>
@@ -64,7 +66,7 @@ TEST(PocketIO, JsonErrorsNameTheKey) {
   EXPECT_NE(error_of([&] { (void)parse_pocket_json("{", "p.json"); }).find("invalid JSON"), std::string::npos);
   const std::string outside = R"({"boundary":[[0,0],[10,0],[10,10],[0,10]],"islands":[[[20,20],[30,20],[30,30]]]})";
   EXPECT_NE(error_of([&] { (void)parse_pocket_json(outside, "p.json"); }).find("outside"), std::string::npos);
-  // Unknown keys are ignored; [x, y] means a line; a clockwise boundary is reversed with a note.
+  // Free-text keys ("note") are allowed; [x, y] means a line; a clockwise boundary is reversed with a note.
   const PocketFile f = parse_pocket_json(R"({"note":"hi","boundary":[[0,0],[0,10],[10,10],[10,0]]})", "p.json");
   EXPECT_NEAR(signed_area(f.region.boundary), 100, 1e-12);
   EXPECT_EQ(f.notes.size(), 1u);
@@ -131,4 +133,49 @@ TEST(PocketIO, DxfErrors) {
   EXPECT_NE(error_of([&] { (void)parse_pocket_dxf(badnum, "b.dxf"); }).find("b.dxf:20: group 10: expected a number"), std::string::npos)
       << error_of([&] { (void)parse_pocket_dxf(badnum, "b.dxf"); });
   EXPECT_NE(error_of([&] { (void)parse_pocket_dxf(dxf(""), "e.dxf"); }).find("no closed outline"), std::string::npos);
+}
+
+// Issue 15: a DXF cut between entities (no ENDSEC / EOF) lost the islands after the cut and planned
+// through them; now an error naming the line where the file ends.
+TEST(PocketIO, TruncatedDxfIsAnErrorNamingWhereItEnds) {
+  const std::string full = dxf("0\nCIRCLE\n5\nA\n10\n0\n20\n0\n40\n20\n0\nCIRCLE\n5\nB\n10\n0\n20\n0\n40\n5\n");
+  EXPECT_EQ(parse_pocket_dxf(full, "full.dxf").region.islands.size(), 1u);
+  const std::string cut = full.substr(0, full.find("0\nCIRCLE\n5\nB"));  // between the two circles
+  const std::string m = error_of([&] { (void)parse_pocket_dxf(cut, "cut.dxf"); });
+  EXPECT_NE(m.find("cut.dxf:"), std::string::npos) << m;
+  EXPECT_NE(m.find("without \"0 EOF\""), std::string::npos) << m;
+  const std::string no_endsec = cut + "0\nEOF\n";
+  EXPECT_NE(error_of([&] { (void)parse_pocket_dxf(no_endsec, "e.dxf"); }).find("no ENDSEC"), std::string::npos);
+}
+
+// Issue 15: misspelt keys in a pocket file were ignored (the program was written for the default
+// tool); now an error naming the key and the likely meant one.
+TEST(PocketIO, UnknownPocketKeyIsAnError) {
+  const std::string m = error_of([] {
+    (void)parse_pocket_json(R"({"tool_diamter": 3, "boundary": [[0,0],[10,0],[10,10],[0,10]]})", "p.json");
+  });
+  EXPECT_NE(m.find("p.json: \"tool_diamter\": unknown key (did you mean \"tool_diameter\"?)"), std::string::npos) << m;
+  EXPECT_NO_THROW((void)parse_pocket_json(R"({"note": "x", "name": "y", "boundary": [[0,0],[10,0],[10,10],[0,10]]})", "q.json"));
+}
+
+// Issue 15: 100,000 LINE entities chained into one loop took 44 s (a scan of all pieces per join);
+// a hash grid of the end points makes it linear.
+TEST(PocketIO, HundredThousandLinesChainFast) {
+  const int n = 100000;
+  std::ostringstream e;
+  e.precision(17);
+  auto P = [&](int k) { return std::pair{1000 * std::cos(2 * kPi * k / n), 1000 * std::sin(2 * kPi * k / n)}; };
+  for (int k = 0; k < n; ++k) {
+    // every other line reversed, so that joins go both ways
+    const auto [x0, y0] = P(k % 2 ? k + 1 : k);
+    const auto [x1, y1] = P(k % 2 ? k : k + 1);
+    e << "0\nLINE\n5\n" << k << "\n10\n" << x0 << "\n20\n" << y0 << "\n11\n" << x1 << "\n21\n" << y1 << "\n";
+  }
+  const std::string text = dxf(e.str());
+  const std::clock_t t0 = std::clock();  // CPU time: other work on the machine does not count
+  const PocketFile f = parse_pocket_dxf(text, "big.dxf");
+  const double s = static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC;
+  std::printf("100,000 LINE entities read and chained: %.3f s CPU\n", s);
+  EXPECT_EQ(f.region.boundary.size(), static_cast<std::size_t>(n));
+  EXPECT_LT(s, 2.0);
 }

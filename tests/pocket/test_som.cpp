@@ -128,3 +128,18 @@ TEST(Som, BadParametersThrow) {
   std::vector<mp::Vec2> nan{{0, 0}, {std::nan(""), 1}};
   EXPECT_THROW((void)mp::som_tour(nan, {}), millnet::Error);
 }
+
+// Issue 15: /pocket/som/w 1e307 made every squared distance overflow; the nearest-node search found
+// nothing and its −1 was used as an index (double free). Now refused, naming 'w'; a large but
+// representable w still gives a permutation.
+TEST(Som, WeightThatOverflowsTheSquaredDistancesIsRefused) {
+  const auto pts = random_points(50, 3, 100);
+  try {
+    (void)mp::som_tour(pts, {.w = 1e307});
+    FAIL() << "w = 1e307 accepted";
+  } catch (const millnet::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'w'"), std::string::npos) << e.what();
+  }
+  const auto r = mp::som_tour(pts, {.w = 1e6});
+  EXPECT_TRUE(mp::is_permutation_of(r.order, pts.size()));
+}

@@ -13,7 +13,8 @@ namespace millnet {
 void write_file_atomic(const std::filesystem::path& path, std::string_view content);
 void write_file_atomic(const std::filesystem::path& path, const std::vector<unsigned char>& bytes);
 
-/// Reads a whole file; throws millnet::Error naming the path when it cannot be read.
+/// Reads a whole regular file; throws millnet::Error naming the path when it is missing, a folder,
+/// not a regular file (device, FIFO, socket) or cannot be read.
 [[nodiscard]] std::string read_file(const std::filesystem::path& path);
 
 /// A stream to a temporary file that becomes `path` on commit(); removed if never committed.

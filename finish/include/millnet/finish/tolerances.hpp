@@ -17,6 +17,10 @@ inline constexpr double min_sample_mm = 0.002;
 /// points are then refined with the drop-cutter to the chord tolerance.
 inline constexpr double waterline_grid_mm = 0.25;
 
+/// Most Z levels of the waterline strategies, counted before any is computed (issue 15: a step-down
+/// of 1e-9 mm counted levels in an int that overflowed).
+inline constexpr double max_waterline_levels = 20000;
+
 /// Grid of the fast-marching surface distance of the equidistant strategy (at most p_f / 2).
 inline constexpr double equidistant_grid_mm = 0.1;
 

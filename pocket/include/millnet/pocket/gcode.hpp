@@ -70,7 +70,17 @@ struct MoveStats {
 };
 [[nodiscard]] MoveStats move_stats(const gcode::Program& program, const CutParams& cut);
 
-/// Evenly split step-downs: depth/ceil(depth/step_down) per level, returns the level Zs (< 0, top-down).
+/// Most Z levels of one program (a pocket or a roughing run).
+inline constexpr std::int64_t kMaxLevels = 10000;
+
+/// ceil(depth / step_down) (at least 1), counted in 64 bits and bounded before any level is
+/// planned: throws millnet::Error "depth D mm at step-down S mm makes N Z levels; at most 10000"
+/// above kMaxLevels, and for a depth or step-down that is not finite and > 0 (issue 15:
+/// `--step-down 1e-9` overflowed an int into "levels 1" and one plunge to the floor).
+[[nodiscard]] std::int64_t level_count(double depth, double step_down);
+
+/// Evenly split step-downs: depth/level_count(depth, step_down) per level, returns the level Zs
+/// (< 0, top-down). Throws as level_count().
 [[nodiscard]] std::vector<double> level_zs(double depth, double step_down);
 
 }  // namespace millnet::pocket

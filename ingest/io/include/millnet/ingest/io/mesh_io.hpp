@@ -9,10 +9,13 @@
 
 namespace millnet::ingest {
 
-/// Loads a triangle mesh with assimp (STL binary/ASCII, OBJ, PLY, OFF, 3MF, glTF, …) or a point
-/// cloud ("x y z" per line, extensions .xyz/.pts/.txt/.asc; triangulated as a height field over XY).
+/// Loads a triangle mesh — binary STL, PLY (ASCII/binary) and OFF by millnet's own readers, ASCII
+/// STL, OBJ, 3MF, glTF through assimp — or a point cloud ("x y z" per line, extensions
+/// .xyz/.pts/.txt/.asc; triangulated as a height field over XY). Polygons become triangle fans.
 /// Coordinates exactly as in the file (no units, no up, no recentring: see prepare()).
-/// Throws millnet::Error naming the file: missing/unreadable, unknown format, no triangles, NaN/inf.
+/// Throws millnet::Error naming the file (and line or byte offset): missing, not a regular file,
+/// unreadable, unknown format, malformed (counts the file cannot hold, indices out of range, faces
+/// of fewer than 3 vertices), no triangles, NaN/inf.
 [[nodiscard]] Mesh load_mesh(const std::filesystem::path& path, MeshReport* report = nullptr);
 
 /// load_mesh then prepare (units, up, recentring): the part as every command works on it.

@@ -3,8 +3,9 @@
 // 2000+). The region comes back validated and normalized (boundary CCW, islands CW).
 //   JSON: {"units":"mm","boundary":[[x,y,bulge],…],"islands":[[[x,y,bulge],…],…], optional numbers
 //          "tool_diameter","stepover","depth","safe_z","step_down","stock_to_leave","feed_slot",
-//          "feed_half","feed_plunge","spindle_rpm"}; [x, y] without bulge means a line; other keys
-//          ("note", "format", …) are ignored.
+//          "feed_half","feed_plunge","spindle_rpm"} and free text "note", "name", "comment", "format";
+//          [x, y] without bulge means a line; any other key is an error naming it (the numbers'
+//          ranges are the config's /pocket/… ones, checked by the app).
 //   DXF:  ENTITIES LWPOLYLINE (bulges, closed flag 70&1), POLYLINE/VERTEX/SEQEND, LINE, ARC, CIRCLE;
 //          loose and open pieces are chained into closed loops when their ends lie within
 //          tol::chain_join_mm; the loop enclosing the others is the boundary, loops inside it
