@@ -1,6 +1,6 @@
 // The only file that sees assimp (ARCHITECTURE.md: heavy dependencies stay private at the edge).
-// One owner per format: binary STL, PLY, OFF and point clouds are read by millnet (PLY/OFF in
-// ply_off.cpp), ASCII STL, OBJ, 3MF and glTF by assimp, always with aiProcess_ValidateDataStructure.
+// One owner per format: STL (binary and ASCII), PLY, OFF and point clouds are read by millnet (the
+// text ones and PLY in ply_off.cpp), OBJ, 3MF and glTF by assimp, always with aiProcess_ValidateDataStructure.
 #include "millnet/ingest/io/mesh_io.hpp"
 
 #include "millnet/core/atomic_file.hpp"
@@ -238,7 +238,8 @@ Mesh load_mesh(const fs::path& path, MeshReport* report) {
         report->notes.push_back("binary STL whose header starts with 'solid' (read as binary: size = 84 + 50·n)");
       m = parse_stl_binary(bytes, name, report);
     } else if (head == "solid") {
-      m = load_with_assimp(path, report);
+      m = detail::parse_stl_ascii(bytes, name);
+      if (report) report->notes.push_back("ASCII STL: stored normals ignored");
     } else {
       throw file_error(name, "not an STL file: neither binary (" + std::to_string(bytes.size()) +
                                  " bytes, expected 84 + 50·n) nor ASCII (does not start with 'solid')");

@@ -3,12 +3,15 @@
 
 #include "millnet/core/error.hpp"
 
+#include <array>
 #include <bit>
 #include <cctype>
 #include <charconv>
 #include <cstdint>
+#include <cmath>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -493,6 +496,81 @@ Mesh parse_off(const std::string& bytes, const std::string& name) {
     }
     fan(poly, F);  // extra values after the indices (a colour) are ignored
   }
+  return to_mesh(V, F);
+}
+
+
+// ---------------------------------------------------------------- ASCII STL
+
+Mesh parse_stl_ascii(const std::string& bytes, const std::string& name) {
+  std::vector<double> V;
+  std::vector<std::int32_t> F;
+  std::map<std::array<double, 3>, std::int32_t> index;  // identical vertices joined; O(log #V)
+  std::vector<std::int64_t> poly;
+  std::size_t pos = 0, line = 0;
+  std::string_view text(bytes);
+  std::vector<std::string_view> w;
+  // The next non-blank line's words; false at the end of the file.
+  auto next = [&]() {
+    while (pos < text.size()) {
+      const std::size_t end = std::min(text.find('\n', pos), text.size());
+      w = words(text.substr(pos, end - pos));
+      pos = end + 1;
+      ++line;
+      if (!w.empty()) return true;
+    }
+    w.clear();
+    return false;
+  };
+  auto fail = [&](const std::string& what) {
+    return file_error(name + ":" + std::to_string(line), what);
+  };
+  auto is = [](std::string_view word, std::string_view key) {
+    if (word.size() != key.size()) return false;
+    for (std::size_t i = 0; i < key.size(); ++i)
+      if (std::tolower(static_cast<unsigned char>(word[i])) != key[i]) return false;
+    return true;
+  };
+  auto found = [&]() { return w.empty() ? std::string("the end of the file") : "\"" + shorten(w[0]) + "\""; };
+  bool in_solid = false;
+  std::size_t solids = 0;
+  while (next()) {
+    if (!in_solid) {
+      if (!is(w[0], "solid")) throw fail("expected \"solid\", found " + found());
+      in_solid = true;
+      ++solids;
+      continue;
+    }
+    if (is(w[0], "endsolid")) {
+      in_solid = false;
+      continue;
+    }
+    if (!is(w[0], "facet")) throw fail("expected \"facet\" or \"endsolid\", found " + found());
+    if (!next() || !is(w[0], "outer") || w.size() < 2 || !is(w[1], "loop"))
+      throw fail("expected \"outer loop\", found " + found());
+    poly.clear();
+    while (next() && is(w[0], "vertex")) {
+      if (w.size() < 4) throw fail("expected \"vertex x y z\"");
+      std::array<double, 3> p{};
+      for (std::size_t k = 0; k < 3; ++k) {
+        const auto v = to_double(w[k + 1]);
+        if (!v || !std::isfinite(*v)) throw fail("\"" + shorten(w[k + 1]) + "\" is not a finite number");
+        p[k] = *v;
+      }
+      const auto [it, inserted] = index.try_emplace(p, static_cast<std::int32_t>(V.size() / 3));
+      if (inserted) {
+        if (V.size() / 3 >= static_cast<std::size_t>(kMaxVertices)) throw fail("more than 2^31 − 1 vertices");
+        V.insert(V.end(), p.begin(), p.end());
+      }
+      poly.push_back(it->second);
+    }
+    if (w.empty() || !is(w[0], "endloop")) throw fail("expected \"vertex x y z\" or \"endloop\", found " + found());
+    if (poly.size() < 3) throw fail("a facet with " + std::to_string(poly.size()) + " vertices, expected 3");
+    fan(poly, F);
+    if (!next() || !is(w[0], "endfacet")) throw fail("expected \"endfacet\", found " + found());
+  }
+  if (in_solid) throw file_error(name, "the file ends inside a solid (no \"endsolid\": truncated?)");
+  if (solids == 0) throw file_error(name, "empty ASCII STL file");
   return to_mesh(V, F);
 }
 

@@ -21,6 +21,12 @@ namespace millnet::ingest::detail {
 /// '#' starts a comment; polygons are triangulated as a fan. O(file size).
 [[nodiscard]] Mesh parse_off(const std::string& bytes, const std::string& name);
 
+/// ASCII STL: one or more "solid … endsolid", each of "facet [normal i j k] / outer loop /
+/// vertex x y z (3, or more: a fan) / endloop / endfacet"; keywords in any case; stored normals
+/// ignored; bit-identical vertices joined. O(file size · log #V). assimp's reader leaked on
+/// malformed files (fuzz_mesh_stl). Throws millnet::Error "<name>:<line>: expected …, found …".
+[[nodiscard]] Mesh parse_stl_ascii(const std::string& bytes, const std::string& name);
+
 /// Most bytes a PLY header may take before "end_header" (a file without it is refused, not scanned whole).
 inline constexpr std::size_t kMaxPlyHeaderBytes = 1 << 20;
 
