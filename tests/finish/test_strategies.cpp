@@ -368,11 +368,9 @@ TEST(FinishStrategy, WaterlineRidesOverASliverItsSplitsCannotFollow) {
   const auto mesh = ingest::load_prepared(stl, {});
   std::filesystem::remove(stl);
   const DropCutter dc(mesh, Cutter::ball(2));
-  FinishParams p;
-  p.tool = Cutter::ball(2);
+  FinishParams p = small_params();  // at the default run's p_f and a_a
   p.stepover_mm = 0.2;
   p.step_down_mm = 0.04;
-  p.chord_tolerance_mm = 0.005;
   p.safe_z_mm = 5;
   p.z_shift = -(mesh.V.col(2).maxCoeff() + 1);  // the program frame: Z 0 = part top + 1 mm
   const std::vector<FinishPlan> plans = plan_finish(mesh, dc, std::vector{Strategy::Waterline}, p);
