@@ -105,9 +105,14 @@ Mesh triangulate_height_field(const Vertices& points, const std::string& source)
   // hull and those triangles go missing (holes along the cloud's border). A rectangle 10⁴× the
   // points' extent keeps them (the points keep float precision ~1e-3 of 1e4 units).
   cv::Subdiv2D subdiv(cv::Rect(-100000000, -100000000, 200010000, 200010000));
-  subdiv.insert(uniq);
   std::vector<cv::Vec6f> tris;
-  subdiv.getTriangleList(tris);
+  try {
+    subdiv.insert(uniq);
+    subdiv.getTriangleList(tris);
+  } catch (const cv::Exception&) {  // degenerate or extreme input (fuzz_points): OpenCV's own text is no help
+    throw Error(source + ": the points cannot be triangulated in XY (their spread of " + std::to_string(extent) +
+                " mm leaves too little float precision, or they are degenerate); expected a height field's points in mm");
+  }
   std::vector<std::array<std::int32_t, 3>> faces;
   faces.reserve(tris.size());
   for (const cv::Vec6f& t : tris) {
