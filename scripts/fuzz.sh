@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Runs millnet's libFuzzer targets (fuzz/README.md) under ASan + UBSan:
 #   scripts/fuzz.sh TARGET|all [SECONDS per target, default 60]
+#   FUZZ_RUNS=N scripts/fuzz.sh TARGET|all   N inputs per target from seed 1 instead of a time
+#                                            budget: the same inputs on every machine (CI uses it,
+#                                            so that CI checks exactly what was run before landing)
 # Builds build-fuzz/ with clang first. Seeds: fuzz/seeds/<target>/ and the test corpus; the corpus
 # grown by a run stays in build-fuzz/corpus/<target> (not in git) and seeds the next run there.
 # Exits non-zero on the first finding (crash, leak, timeout > 10 s, RSS > 2 GB, an exception other
@@ -43,9 +46,15 @@ for t in $targets; do
   seeds=()
   [ -d "fuzz/seeds/$t" ] && seeds+=("fuzz/seeds/$t")
   for d in $(seed_dirs "$t"); do [ -d "$d" ] && seeds+=("$d"); done
-  echo "== fuzz_$t: ${seconds} s" >&2
+  if [ -n "${FUZZ_RUNS:-}" ]; then
+    budget=(-runs="$FUZZ_RUNS" -seed=1)
+    echo "== fuzz_$t: $FUZZ_RUNS inputs from seed 1" >&2
+  else
+    budget=(-max_total_time="$seconds")
+    echo "== fuzz_$t: ${seconds} s" >&2
+  fi
   log=build-fuzz/fuzz_$t.log
-  if ! "build-fuzz/fuzz/fuzz_$t" "$corpus" "${seeds[@]}" -max_total_time="$seconds" -timeout=10 \
+  if ! "build-fuzz/fuzz/fuzz_$t" "$corpus" "${seeds[@]}" "${budget[@]}" -timeout=10 \
        -rss_limit_mb=2048 -malloc_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
        -artifact_prefix=build-fuzz/findings/"$t"- >"$log" 2>&1; then
     tail -40 "$log" >&2
