@@ -50,7 +50,8 @@ PartFrame part_frame(const ingest::Mesh& mesh, const FinishSettings& s, bool wit
   f.grid.nx = static_cast<std::size_t>(std::max(1.0, std::ceil(f.width / s.sim.cell_mm)));
   f.grid.ny = static_cast<std::size_t>(std::max(1.0, std::ceil(f.depth / s.sim.cell_mm)));
   f.grid.check();
-  const std::size_t need = simulate::ZMap::bytes_needed(f.grid) + f.grid.cells() * 17;  // + design and raster
+  // + design and raster (17 B per cell), + the metrics' per-cell excess (8 B)
+  const std::size_t need = simulate::ZMap::bytes_needed(f.grid) + f.grid.cells() * 25;
   if (need > simulate::kZMapMaxBytes)
     throw Error("simulate: a " + std::to_string(f.grid.nx) + " × " + std::to_string(f.grid.ny) + " z-map at " +
                 fixed(s.sim.cell_mm, 3) + " mm cells needs " + std::to_string(need >> 20) + " MiB, above the " +

@@ -134,16 +134,14 @@ bool reachable(const GridSpec& spec, const std::vector<double>& design, const fi
 // uncut (definitions in zmap.hpp). Cells: the rest test once per k × k block that holds material
 // left (O((R / (k·cell))²) each), each such cell's walk ≤ 2·R / cell cells. Counts and
 // the max are reductions: the same for any thread count.
-void split_remaining(const ZMap& machined, const std::vector<double>& design, const MetricsOptions& opt,
-                     SurfaceMetrics& out) {
+// `above` is (e − allowance)·cos(slope) per cell (NaN off the surface), computed once by the caller.
+void split_remaining(const ZMap& machined, const std::vector<double>& design, const std::vector<double>& above,
+                     const MetricsOptions& opt, SurfaceMetrics& out) {
   const GridSpec& spec = machined.spec();
   const finish::Cutter& cutter = *opt.cutter;
   cutter.check();
-  const auto& z = machined.heights();
   const std::size_t nx = spec.nx, ny = spec.ny, k = opt.reach_every;
-  // Material above the design + allowance, along the normal (NaN off the surface).
-  auto above = [&](std::size_t i) { return (z[i] - design[i] - opt.allowance_mm) * cos_slope(spec, design, i); };
-  auto left = [&](std::size_t i) { return !std::isnan(design[i]) && above(i) > opt.tolerance_mm; };
+  auto left = [&](std::size_t i) { return above[i] > opt.tolerance_mm; };  // false on NaN
   // The rest test runs once per k × k block of cells that holds material left: at the block's
   // such cell nearest to the block's centre (first in row order on a tie), and every cell left in
   // the block takes its answer.
@@ -184,7 +182,7 @@ void split_remaining(const ZMap& machined, const std::vector<double>& design, co
         if (qx < 0 || qy < 0 || qx >= static_cast<double>(nx) || qy >= static_cast<double>(ny)) break;
         const std::size_t j = static_cast<std::size_t>(qy) * nx + static_cast<std::size_t>(qx);
         if (std::isnan(design[j])) break;
-        met = above(j) <= opt.tolerance_mm;
+        met = above[j] <= opt.tolerance_mm;
       }
       if (!met) return false;
     }
@@ -204,7 +202,7 @@ void split_remaining(const ZMap& machined, const std::vector<double>& design, co
         ++rest;
       } else if (between_passes(i)) {
         ++scallop;
-        scallop_max = std::max(scallop_max, above(i));
+        scallop_max = std::max(scallop_max, above[i]);
       } else {
         ++uncut;
       }
@@ -249,12 +247,14 @@ SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& 
   double min_e = std::numeric_limits<double>::infinity();
   double max_e = -std::numeric_limits<double>::infinity();
   double scallop = -std::numeric_limits<double>::infinity();
-  std::size_t uncut = 0;
+  std::size_t remaining = 0;
+  // (e − allowance) along the normal per cell, kept only when split_remaining needs it.
+  std::vector<double> above;
+  if (opt.cutter) above.assign(n, std::numeric_limits<double>::quiet_NaN());
   std::uint32_t first_gouge_stamp = std::numeric_limits<std::uint32_t>::max();
   std::size_t first_gouge_cell = SIZE_MAX;
-  // Gouge, remaining material and scallop are measured along the surface normal:
-  // e·cos(slope) = e / √(1 + |∇design|²), the
-  // gradient by central differences of the design (one-sided at its edges). On a steep wall a
+  // Gouge, remaining material and scallop are measured along the surface normal: e·cos(slope),
+  // the slope from cos_slope (the steeper one-sided difference per axis). On a steep wall a
   // vertical e overstates the cut by 1/cos(slope) (19× at 87°), which is not how a surface
   // deviation is measured (nor what a chord tolerance bounds).
   double min_en = std::numeric_limits<double>::infinity();
@@ -265,8 +265,10 @@ SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& 
     min_e = std::min(min_e, e);
     max_e = std::max(max_e, e);
     const double cs = cos_slope(spec, design, i);
-    if ((e - opt.allowance_mm) * cs > opt.tolerance_mm) ++uncut;
-    if (stamps[i] != 0) scallop = std::max(scallop, (e - opt.allowance_mm) * cs);
+    const double en_left = (e - opt.allowance_mm) * cs;
+    if (!above.empty()) above[i] = en_left;
+    if (en_left > opt.tolerance_mm) ++remaining;
+    if (stamps[i] != 0) scallop = std::max(scallop, en_left);
     if (!(e < 0)) continue;
     const double en = e * cs;
     if (en < min_en) {
@@ -283,10 +285,10 @@ SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& 
   out.max_e_mm = max_e;
   out.max_gouge_mm = std::isfinite(min_en) ? -min_en : 0.0;
   out.gouged = min_en < -opt.tolerance_mm;
-  out.remaining_area_mm2 = static_cast<double>(uncut) * cell_area;
+  out.remaining_area_mm2 = static_cast<double>(remaining) * cell_area;
   out.uncut_area_mm2 = out.remaining_area_mm2;
   out.scallop_max_mm = std::isfinite(scallop) ? std::max(0.0, scallop) : 0;
-  if (opt.cutter) split_remaining(machined, design, opt, out);
+  if (opt.cutter) split_remaining(machined, design, above, opt, out);
   if (out.gouged) {
     out.gouge_has_move = machined.origin(out.gouge_cell, out.gouge_move);
     if (first_gouge_cell != SIZE_MAX) (void)machined.origin(first_gouge_cell, out.first_gouge_move);
