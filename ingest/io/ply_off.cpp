@@ -395,12 +395,14 @@ Mesh parse_ply(const std::string& bytes, const std::string& name) {
 
 namespace {
 
-/// The meaningful lines of an OFF file: comments ('#' to the end of the line) and blank lines dropped.
-class OffLines {
+/// The meaningful lines of a text mesh file: blank lines, and with a comment character (OFF: '#')
+/// the rest of a line after it, dropped.
+class TextLines {
 public:
-  OffLines(const std::string& bytes, const std::string& name) : b_(bytes), name_(name) {}
+  TextLines(const std::string& bytes, const std::string& name, char comment = '\0')
+      : b_(bytes), name_(name), comment_(comment) {}
 
-  /// The next non-empty line's words, or false at the end of the file.
+  /// The next non-empty line's words, or false (and no words) at the end of the file.
   bool next(std::vector<std::string_view>& w) {
     while (pos_ < b_.size()) {
       std::size_t end = b_.find('\n', pos_);
@@ -408,10 +410,12 @@ public:
       std::string_view line(b_.data() + pos_, end - pos_);
       pos_ = end + 1;
       ++line_;
-      if (const auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+      if (comment_ != '\0')
+        if (const auto c = line.find(comment_); c != std::string_view::npos) line = line.substr(0, c);
       w = words(line);
       if (!w.empty()) return true;
     }
+    w.clear();
     return false;
   }
   long line() const { return line_; }
@@ -421,6 +425,7 @@ public:
 private:
   const std::string& b_;
   const std::string& name_;
+  char comment_;
   std::size_t pos_ = 0;
   long line_ = 0;
 };
@@ -438,7 +443,7 @@ bool off_keyword(std::string_view w) {
 }  // namespace
 
 Mesh parse_off(const std::string& bytes, const std::string& name) {
-  OffLines in(bytes, name);
+  TextLines in(bytes, name, '#');
   std::vector<std::string_view> w;
   if (!in.next(w)) throw file_error(name, "empty OFF file");
   std::size_t first = 0;  // where the counts start on this line
@@ -507,24 +512,10 @@ Mesh parse_stl_ascii(const std::string& bytes, const std::string& name) {
   std::vector<std::int32_t> F;
   std::map<std::array<double, 3>, std::int32_t> index;  // identical vertices joined; O(log #V)
   std::vector<std::int64_t> poly;
-  std::size_t pos = 0, line = 0;
-  std::string_view text(bytes);
+  TextLines in(bytes, name);
   std::vector<std::string_view> w;
-  // The next non-blank line's words; false at the end of the file.
-  auto next = [&]() {
-    while (pos < text.size()) {
-      const std::size_t end = std::min(text.find('\n', pos), text.size());
-      w = words(text.substr(pos, end - pos));
-      pos = end + 1;
-      ++line;
-      if (!w.empty()) return true;
-    }
-    w.clear();
-    return false;
-  };
-  auto fail = [&](const std::string& what) {
-    return file_error(name + ":" + std::to_string(line), what);
-  };
+  auto next = [&] { return in.next(w); };
+  auto fail = [&](const std::string& what) { return in.error(what); };
   auto is = [](std::string_view word, std::string_view key) {
     if (word.size() != key.size()) return false;
     for (std::size_t i = 0; i < key.size(); ++i)

@@ -2,6 +2,7 @@
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
+#include "millnet/core/json_input.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -85,7 +86,7 @@ ZMap read_zmap(const fs::path& path, std::size_t max_bytes) {
     g.nx = h["nx"].get<std::size_t>();
     g.ny = h["ny"].get<std::size_t>();
   } catch (const std::exception& e) {
-    throw file_error(where, std::string("line 2: bad header: ") + e.what());
+    throw file_error(where, "line 2: bad header: " + json_error_text(e.what()));
   }
   try {
     g.check();
