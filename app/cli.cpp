@@ -74,7 +74,11 @@ void MeshFlags::add_to(CLI::App* sub, const std::string& what) {
 }
 
 void PocketFlags::add_to(CLI::App* sub, bool with_planner_flags, bool with_depth) {
-  sub->add_option("--tool-diameter", tool_diameter, "flat end mill diameter, mm")->check(schema_range("/pocket/tool_diameter"));
+  auto* by_id = sub->add_option("--tool", tool_id, "roughing tool: an id of the tool library (configs/tools.json)");
+  sub->add_option("--tool-diameter", tool_diameter, "flat end mill diameter, mm (a tool given inline)")
+      ->check(schema_range("/pocket/tool_diameter"))
+      ->excludes(by_id);
+  sub->add_option("--material", material, "workpiece material id (configs/materials.json)");
   sub->add_option("--stepover", stepover, "grid spacing / pass distance, mm")->check(schema_range("/pocket/stepover"));
   if (with_depth) sub->add_option("--depth", depth, "pocket depth, mm (floor Z = -depth)")->check(schema_range("/pocket/depth"));
   sub->add_option("--step-down", step_down, "maximum depth of cut per level, mm")->check(schema_range("/pocket/step_down"));

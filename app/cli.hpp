@@ -36,6 +36,7 @@ struct PocketFlags {
   std::optional<double> tool_diameter, stepover, depth, step_down, safe_z, stock_to_leave;
   bool contour = false;
   std::optional<std::string> planner, partition, angle, entry;
+  std::optional<std::string> tool_id, material;  ///< --tool ID (library), --material ID
   void add_to(CLI::App* sub, bool with_planner_flags = true, bool with_depth = true);
 };
 

@@ -39,7 +39,7 @@ struct Row {
 /// Plans and machines the pocket with every planner (SOM, zigzag T, zigzag I), writing each one's
 /// pocket outputs (<stem>.<planner>.*) as it goes.
 std::vector<Row> plan_every_planner(const CompareOpts& o, const Json& config, const pocket::PocketFile& file,
-                                    const pocket::CutParams& cut) {
+                                    const pocket::CutParams& cut, const Json& cutting_data) {
   const std::string stem = fs::path(o.pocket).stem().string();
   std::vector<Row> rows;
   for (const char* name : {"som", "zigzag-t", "zigzag-i"}) {
@@ -55,7 +55,7 @@ std::vector<Row> plan_every_planner(const CompareOpts& o, const Json& config, co
     mo.contour = ch.contour;
     mo.program_name = stem + "-" + n;
     r.m = pocket::machine_pocket(file.region, cut, r.plan, mo);
-    write_pocket_outputs(o.out, stem + "." + n, file.region, cut, ch, r.plan, r.m, {});
+    write_pocket_outputs(o.out, stem + "." + n, file.region, cut, ch, r.plan, r.m, {}, cutting_data);
     info("compare: " + n + " done");
     rows.push_back(std::move(r));
   }
@@ -108,8 +108,9 @@ int run_compare(const CompareOpts& o) {
   const Json config = setup(o.common);
   const pocket::PocketFile file = pocket::read_pocket(o.pocket);
   check_pocket_file(file, o.pocket);
-  const pocket::CutParams cut = cut_params(config, explicit_pocket_section(o.common.config), &file, o.flags);
-  const std::vector<Row> rows = plan_every_planner(o, config, file, cut);
+  CuttingRecord cutting;
+  const pocket::CutParams cut = cut_params(config, explicit_pocket_section(o.common.config), &file, o.flags, &cutting);
+  const std::vector<Row> rows = plan_every_planner(o, config, file, cut, cutting.to_json());
   const std::string md = compare_md(rows, cut, o.pocket);
   write_file_atomic(fs::path(o.out) / "compare.csv", compare_csv(rows));
   write_file_atomic(fs::path(o.out) / "compare.md", md);

@@ -14,7 +14,7 @@ Registered register_finish(CLI::App& app) {
     Common common;
     MeshFlags mesh_flags;
     std::vector<std::string> meshes;
-    std::optional<std::string> strategy, tool;
+    std::optional<std::string> strategy, tool, material;
     std::optional<double> stepover, step_down, boundary_angle, scallop;
     bool simulate = false;
     std::string out;
@@ -33,7 +33,8 @@ Registered register_finish(CLI::App& app) {
   o->mesh_flags.add_to(sub);
   // Checked by finish::parse_strategy: one line and exit 1, like every other bad value.
   sub->add_option("--strategy", o->strategy, "strategy slot 1..5 or all");
-  sub->add_option("--tool", o->tool, "cutter: ball:D, flat:D or bull:D:r (mm)");
+  sub->add_option("--tool", o->tool, "cutter: a tool library id (configs/tools.json), or ball:D, flat:D or bull:D:r (mm)");
+  sub->add_option("--material", o->material, "workpiece material id (configs/materials.json)");
   sub->add_option("--stepover", o->stepover, "p_f, mm")->check(schema_range("/finish/stepover_mm"));
   sub->add_option("--step-down", o->step_down, "a_a, mm")->check(schema_range("/finish/step_down_mm"));
   sub->add_option("--boundary-angle", o->boundary_angle, "slope-mode boundary angle, degrees")
@@ -44,12 +45,11 @@ Registered register_finish(CLI::App& app) {
   add_common(sub, o->common);
   return {sub, [o, parse_strategy_flag]() {
             const Json config = setup(o->common);
-            FinishSettings s = finish_settings(config);
+            FinishSettings s = finish_settings(config, {o->tool, o->material});
             if (o->strategy) {
               s.strategies = *o->strategy == "all" ? finish::all_strategies()
                                                    : std::vector{parse_strategy_flag(*o->strategy)};
             }
-            if (o->tool) s.params.tool = parse_tool(*o->tool);
             if (o->stepover) s.params.stepover_mm = *o->stepover;
             if (o->step_down) s.params.step_down_mm = *o->step_down;
             if (o->boundary_angle) s.params.boundary_angle_deg = *o->boundary_angle;
@@ -89,7 +89,8 @@ Registered register_simulate(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "simulate", "machine G-code programs on a z-map of the part and score the surface (gouge, scallop, Ra)");
   sub->add_option("--gcode", o->gcode, "G-code file (repeatable: machined in order on the same stock)")->required();
-  sub->add_option("--tool", o->tools, "cutter per --gcode (ball:D, flat:D, bull:D:r; one for all, or one each)")
+  sub->add_option("--tool", o->tools,
+                  "cutter per --gcode (a tool library id, or ball:D, flat:D, bull:D:r; one for all, or one each)")
       ->required();
   sub->add_option("--mesh", o->mesh, "the part's mesh (design surface and frame)")->required();
   sub->add_option("--stock", o->stock,
@@ -107,7 +108,7 @@ Registered register_simulate(CLI::App& app) {
                           " programs, " + std::to_string(o->tools.size()) + " tools)");
             std::vector<std::pair<fs::path, finish::Cutter>> programs;
             for (std::size_t i = 0; i < o->gcode.size(); ++i)
-              programs.emplace_back(o->gcode[i], parse_tool(o->tools[o->tools.size() == 1 ? 0 : i]));
+              programs.emplace_back(o->gcode[i], tool_arg(o->tools[o->tools.size() == 1 ? 0 : i], config));
             const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"]);
             const Json j = simulate_files(ingest::load_prepared(o->mesh, prep), fs::path(o->mesh).stem().string(), programs,
                                           o->stock, s, o->out, o->save_stock);

@@ -23,7 +23,8 @@ int run_pocket(const PocketOpts& o) {
   const pocket::PocketFile file = pocket::read_pocket(o.pocket);
   check_pocket_file(file, o.pocket);
   for (const auto& n : file.notes) info("pocket: " + o.pocket + ": " + n);
-  const pocket::CutParams cut = cut_params(config, explicit_pocket_section(o.common.config), &file, o.flags);
+  CuttingRecord cutting;
+  const pocket::CutParams cut = cut_params(config, explicit_pocket_section(o.common.config), &file, o.flags, &cutting);
   const PlannerChoice choice = planner_choice(config, cut, o.flags);
   const pocket::PlanResult plan = plan_region(file.region, cut, choice);
   pocket::MachiningOptions mo;
@@ -33,7 +34,7 @@ int run_pocket(const PocketOpts& o) {
   mo.comments = {"pocket: " + fs::path(o.pocket).filename().string(), "planner: " + plan.planner};
   const pocket::MachiningResult m = pocket::machine_pocket(file.region, cut, plan, mo);
   const std::string stem = fs::path(o.pocket).stem().string();
-  write_pocket_outputs(o.out, stem, file.region, cut, choice, plan, m, file.notes);
+  write_pocket_outputs(o.out, stem, file.region, cut, choice, plan, m, file.notes, cutting.to_json());
   if (m.status != pocket::PlanStatus::Ok) {
     throw Error(o.pocket + ": " + pocket::to_string(m.status) + ": " + m.message + " (no G-code written; see " +
                 (fs::path(o.out) / (stem + ".metrics.json")).string() + ")");

@@ -32,12 +32,13 @@ struct RoughOutcome {
 
 /// Roughs one prepared mesh (or reports `load_error` when it could not be read) into `out`.
 RoughOutcome rough_prepared(const ingest::Mesh* mesh, const std::string& load_error, const fs::path& file,
-                            const std::string& name, const rough::Params& params, const fs::path& out) {
+                            const std::string& name, const rough::Params& params, const fs::path& out,
+                            const Json& cutting_data) {
   RoughOutcome o{name, file.string(), load_error, false, Json::object()};
   if (!mesh) return o;
   try {
     const rough::Result r = rough::rough_mesh(*mesh, params);
-    o.metrics = write_rough_outputs(out, name, r, params);
+    o.metrics = write_rough_outputs(out, name, r, params, cutting_data);
     o.ok = r.machining.status == pocket::PlanStatus::Ok;
     if (!o.ok) o.error = file.string() + ": " + r.machining.message;
   } catch (const std::exception& e) {
@@ -58,10 +59,10 @@ std::shared_ptr<const ingest::Mesh> load_prepared(const fs::path& file, const in
 }
 
 RoughOutcome rough_one(const fs::path& file, const std::string& name, const ingest::PrepareOptions& prep,
-                       const rough::Params& params, const fs::path& out) {
+                       const rough::Params& params, const fs::path& out, const Json& cutting_data) {
   std::string error;
   const auto mesh = load_prepared(file, prep, &error);
-  return rough_prepared(mesh.get(), error, file, name, params, out);
+  return rough_prepared(mesh.get(), error, file, name, params, out, cutting_data);
 }
 }  // namespace
 
@@ -86,12 +87,15 @@ Registered register_rough(CLI::App& app) {
             items.insert(items.end(), o->meshes.begin(), o->meshes.end());
             if (items.empty()) throw Error("no mesh to rough: give --mesh FILE or set /rough/meshes in the config");
             const auto files = expand_inputs(items, ingest::mesh_extensions());
-            const rough::Params params = rough_params(config, explicit_pocket_section(o->common.config), o->flags);
+            CuttingRecord cutting;
+            const rough::Params params =
+                rough_params(config, explicit_pocket_section(o->common.config), o->flags, &cutting);
+            const Json cutting_data = cutting.to_json();
             const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"]);
             std::vector<RoughOutcome> done;
             Progress progress("rough", files.size());
             for (const auto& f : files) {
-              done.push_back(rough_one(f, f.stem().string(), prep, params, o->out));
+              done.push_back(rough_one(f, f.stem().string(), prep, params, o->out, cutting_data));
               progress.tick();
             }
             progress.finish();
@@ -204,7 +208,9 @@ PartOutcomes predict_and_rough(const Json& config, const std::string& config_fil
   auto& predict_s = po.predict_s;
   auto& rough_s = po.rough_s;
 const Json explicit_pocket = explicit_pocket_section(config_file);
-const rough::Params rp = rough_params(config, explicit_pocket, PocketFlags{});
+CuttingRecord rough_cutting;
+const rough::Params rp = rough_params(config, explicit_pocket, PocketFlags{}, &rough_cutting);
+const Json rough_cutting_data = rough_cutting.to_json();
 const RunSettings run = run_settings(config);
 const FinishSettings fset = simulated_finish_settings(config);
 po.finish_settings_note = fset.params.tool.describe() + ", p_f " + fixed(fset.params.stepover_mm, 2) + " mm, a_a " +
@@ -226,7 +232,7 @@ for (const auto& p : parts) {
   predict_s += std::chrono::duration<double>(clock::now() - t0).count();
   if (run.rough) {
     t0 = clock::now();
-    roughs.push_back(rough_prepared(named.mesh.get(), load_error, p.file, name, rp, dir));
+    roughs.push_back(rough_prepared(named.mesh.get(), load_error, p.file, name, rp, dir, rough_cutting_data));
     rough_s += std::chrono::duration<double>(clock::now() - t0).count();
   }
   if (run.finish) {

@@ -94,7 +94,7 @@ public:
       if (!value.is_string()) throw Error(at + ": expected a string, got " + type_name(value) + " " + shown(value));
       if (rule.value("format", "") == "path") {
         fs::path p = value.get<std::string>();
-        if (p.is_relative()) p = base_ / p;
+        if (!p.empty() && p.is_relative()) p = base_ / p;
         value = p.lexically_normal().string();
       }
     } else if (type == "number_or_string") {
@@ -195,6 +195,10 @@ Json read_json(const fs::path& path) {
 void check_config(Json& config, const fs::path& base, const std::string& source) {
   merge_recipe(config, base, source);
   Checker(base, source).check(config, schema(), "");
+}
+
+void check_against(Json& doc, const Json& rule, const fs::path& base, const std::string& source) {
+  Checker(base, source).check(doc, rule, "");
 }
 
 void check_pocket_file(const pocket::PocketFile& file, const std::string& source) {

@@ -34,6 +34,10 @@ void check_config(Json& config, const std::filesystem::path& base, const std::st
 /// their /pocket/… keys in the schema, as if the config had them: "<source>: /feed_slot: must be > 0, got 0".
 void check_pocket_file(const pocket::PocketFile& file, const std::string& source);
 
+/// Validates `doc` against `rule` (a schema of the same subset), filling defaults and resolving
+/// "path" values against `base`; errors name `source` and the key.
+void check_against(Json& doc, const Json& rule, const std::filesystem::path& base, const std::string& source);
+
 /// Reads a JSON file with clear parse errors (file:line:column).
 [[nodiscard]] Json read_json(const std::filesystem::path& path);
 

@@ -137,6 +137,14 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
                                          const FinishSettings& settings, const fs::path& out) {
   settings.params.check();
   const PartFrame frame = part_frame(mesh, settings, settings.simulate);
+  if (const tooling::Tool& tool = settings.cutting.tool; tool.stickout_mm > 0) {
+    // The tool reaches down from the stock top at most to the part's lowest point.
+    const double reach = frame.stock_top - mesh.V.col(2).minCoeff();
+    if (reach > tool.stickout_mm)
+      throw Error(tool.label() + ": the part reaches " + fixed(reach, 2) + " mm below the stock top, beyond the tool's stick-out " +
+                  format_double(tool.stickout_mm) + " mm by " + fixed(reach - tool.stickout_mm, 2) +
+                  " mm: the holder would hit the part");
+  }
   finish::FinishParams params = settings.params;
   params.z_shift = frame.z_shift;
   params.program_name = stem;
@@ -147,8 +155,10 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
   const Eigen::MatrixXd heights = ingest::height_matrix(hf, frame.z_shift);
   fs::create_directories(out);
   std::vector<StrategyOutcome> outcomes;
-  params.comments = {"tool: " + params.tool.describe(),
-                     "frame: Z 0 = stock top = part top + " + fixed(settings.stock_top_above_part_mm, 3) + " mm"};
+  std::vector<std::string> tool_lines = settings.cutting.header();
+  if (tool_lines.empty()) tool_lines.push_back("tool: " + params.tool.describe());
+  params.comments = tool_lines;
+  params.comments.push_back("frame: Z 0 = stock top = part top + " + fixed(settings.stock_top_above_part_mm, 3) + " mm");
   const std::vector<finish::FinishPlan> plans = finish::plan_finish(mesh, dropper, settings.strategies, params);
   Progress progress("finish " + stem, settings.strategies.size());
   for (const finish::FinishPlan& plan : plans) {
@@ -164,6 +174,7 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
     j["strategy"] = k;
     j["strategy_name"] = finish::strategy_name(strategy);
     j["tool"] = params.tool.describe();
+    j["cutting_data"] = settings.cutting.to_json();
     j["stock_top_above_part_mm"] = settings.stock_top_above_part_mm;
     j["path_length_mm"] = plan.path_length_mm;
     j["time_feed_min"] = st.feed_time_min;

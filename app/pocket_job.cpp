@@ -52,8 +52,10 @@ Json metrics_json(const pocket::PlanResult& plan, const pocket::MachiningResult&
 
 void write_pocket_outputs(const fs::path& dir, const std::string& stem, const pocket::Region& region,
                           const pocket::CutParams& cut, const PlannerChoice& ch, const pocket::PlanResult& plan,
-                          const pocket::MachiningResult& m, const std::vector<std::string>& notes) {
+                          const pocket::MachiningResult& m, const std::vector<std::string>& notes,
+                          const Json& cutting_data) {
   Json metrics = metrics_json(plan, m, cut, ch);
+  if (!cutting_data.is_null()) metrics["cutting_data"] = cutting_data;
   if (!notes.empty()) metrics["notes"] = notes;
   // Tool points (x,y) in the planner's order of discovery.
   write_file_atomic(dir / (stem + ".points.csv"), pocket::tool_points_csv(plan.tool_points.pts));

@@ -31,8 +31,131 @@ Json explicit_pocket_section(const std::string& config_path) {
   return Json::object();
 }
 
+namespace {
+
+/// A spindle speed or feed the program would run at, against the machine's limit: one line naming
+/// where the figure came from, the limit's key and the excess.
+void check_machine_limit(const CuttingSettings& cs, const std::string& key, const Figure& f) {
+  const bool rpm = key == "spindle_rpm";
+  const double lim = rpm ? cs.machine.max_rpm : cs.machine.max_feed_mm_min;
+  if (f.value > lim * (1 + 1e-12))
+    throw Error(f.source + ": " + key + " " + format_double(f.value) + (rpm ? " rpm" : " mm/min") + " exceeds the machine's " +
+                (rpm ? "/machine/max_spindle_rpm " : "/machine/max_feed_mm_min ") + format_double(lim) + " by " +
+                format_double(f.value - lim));
+}
+
+/// The roughing tool and its cutting data (issue 17): which tool (flag, config, pocket file, inline
+/// or library), then spindle speed and feeds from tool × material × machine in library mode, each
+/// figure the user wrote taking its place. Fills `record` (when given) with every figure's source.
+void apply_cutting_data(pocket::CutParams& c, const Json& config, const Json& explicit_pocket,
+                        const pocket::PocketFile* file, const PocketFlags& flags, CuttingRecord* record) {
+  const Json& pc = config["pocket"];
+  const CuttingSettings cs = cutting_settings(config, flags.material);
+  CuttingRecord rec;
+  rec.library_feeds = cs.library_feeds;
+  const bool file_d = file && file->tool_diameter && !explicit_pocket.contains("tool_diameter") &&
+                      !explicit_pocket.contains("tool");
+  std::optional<ToolLibrary> lib;
+  auto library = [&]() -> const ToolLibrary& {
+    if (!lib) lib = tool_library(config);
+    return *lib;
+  };
+  if (flags.tool_id) {
+    rec.tool = library().tool(*flags.tool_id, "--tool");
+    rec.tool_from = "flag --tool";
+  } else if (flags.tool_diameter) {
+    rec.tool = inline_tool(tooling::ToolType::Flat, c.tool_diameter, 0, cs);
+    rec.tool_from = "flag --tool-diameter";
+  } else if (file_d) {
+    rec.tool = inline_tool(tooling::ToolType::Flat, c.tool_diameter, 0, cs);
+    rec.tool_from = "pocket file tool_diameter";
+  } else if (explicit_pocket.contains("tool_diameter") && !explicit_pocket.contains("tool")) {
+    rec.tool = inline_tool(tooling::ToolType::Flat, c.tool_diameter, 0, cs);
+    rec.tool_from = "config /pocket/tool_diameter";
+  } else if (const std::string id = pc["tool"].get<std::string>(); !id.empty()) {
+    rec.tool = library().tool(id, "/pocket/tool");
+    rec.tool_from = "config /pocket/tool";
+    if (explicit_pocket.contains("tool_diameter") && std::abs(c.tool_diameter - rec.tool.diameter_mm) > 1e-9)
+      throw Error("/pocket/tool " + id + " is D" + format_double(rec.tool.diameter_mm) + " mm but /pocket/tool_diameter is " +
+                  format_double(c.tool_diameter) + " mm: write one of them");
+  } else {
+    rec.tool = inline_tool(tooling::ToolType::Flat, c.tool_diameter, 0, cs);
+    rec.tool_from = "config /pocket/tool_diameter";
+  }
+  const tooling::Tool& tool = rec.tool;
+  if (tool.type == tooling::ToolType::Ball || tool.type == tooling::ToolType::Drill)
+    throw Error(rec.tool_from + ": " + tool.label() + " cannot rough a pocket: give a flat or bull-nose end mill");
+  c.tool_diameter = tool.diameter_mm;
+  const double ap = std::min(c.step_down, c.depth);
+  if (tool.flute_length_mm > 0 && ap > tool.flute_length_mm)
+    throw Error(tool.label() + ": its flute length " + format_double(tool.flute_length_mm) +
+                " mm is shorter than the depth of cut per level " + format_double(ap) +
+                " mm by " + format_double(ap - tool.flute_length_mm) + " mm (lower --step-down / /pocket/step_down)");
+  if (tool.stickout_mm > 0 && c.depth > tool.stickout_mm)
+    throw Error(tool.label() + ": the pocket depth " + format_double(c.depth) + " mm exceeds its stick-out " +
+                format_double(tool.stickout_mm) + " mm by " + format_double(c.depth - tool.stickout_mm) +
+                " mm: the holder would hit the stock");
+
+  // A figure the user wrote: config key, or the pocket file's own key (as cut_params picks them).
+  auto written = [&](const char* key, const std::optional<double>& from_file) -> std::optional<Figure> {
+    if (explicit_pocket.contains(key)) return Figure{pc[key].get<double>(), std::string("config /pocket/") + key};
+    if (from_file) return Figure{*from_file, std::string("pocket file ") + key};
+    return std::nullopt;
+  };
+  const std::optional<double> none;
+  const auto w_rpm = written("spindle_rpm", file ? file->spindle_rpm : none);
+  const auto w_half = written("feed_half", file ? file->feed_half : none);
+  const auto w_slot = written("feed_slot", file ? file->feed_slot : none);
+  const auto w_plunge = written("feed_plunge", file ? file->feed_plunge : none);
+  const auto w_min = written("feed_min", none);
+  const auto w_max = written("feed_max", none);
+  auto& figs = rec.figures;
+  if (w_rpm) check_machine_limit(cs, "spindle_rpm", *w_rpm);
+  if (cs.library_feeds) {
+    const tooling::Material& mat = library().material(cs.material_id, cs.material_from.substr(cs.material_from.find(' ') + 1));
+    rec.material_id = mat.id;
+    rec.material_from = cs.material_from;
+    tooling::Overrides ov = cs.overrides;
+    if (w_rpm) ov.rpm = w_rpm->value;
+    rec.data = tooling::cutting_data(tool, mat, ap, cs.machine, cs.factors, ov);
+    const tooling::CuttingData& d = rec.data;
+    const std::string lib_src = "library: " + mat.id + " × " + (tool.id.empty() ? std::string("inline tool") : tool.id);
+    c.spindle_rpm = d.rpm;
+    figs.push_back({"spindle_rpm", {d.rpm, w_rpm ? w_rpm->source : lib_src + (d.rpm_limited_by.empty() ? "" : ", limited by " + d.rpm_limited_by)}});
+    c.feed_half = w_half ? w_half->value : d.feed_mm_min;
+    figs.push_back({"feed_half", {c.feed_half, w_half ? w_half->source : lib_src + ": fz·z·n"}});
+    c.feed_slot = w_slot ? w_slot->value : d.feed_slot_mm_min;
+    figs.push_back({"feed_slot", {c.feed_slot, w_slot ? w_slot->source : lib_src + ": feed_half × /cutting/slot_factor"}});
+    c.feed_plunge = w_plunge ? w_plunge->value : d.feed_plunge_mm_min;
+    figs.push_back({"feed_plunge", {c.feed_plunge, w_plunge ? w_plunge->source : lib_src + ": feed_half × /cutting/plunge_factor"}});
+    c.feed_entry = w_plunge ? w_plunge->value : d.feed_ramp_mm_min;
+    figs.push_back({"feed_entry", {c.feed_entry, w_plunge ? w_plunge->source : lib_src + ": feed_half × /cutting/ramp_factor"}});
+    c.feed_min = w_min ? w_min->value : std::min(c.feed_slot, c.feed_half);
+    figs.push_back({"feed_min", {c.feed_min, w_min ? w_min->source : "the slot feed (eq. 9 at full engagement)"}});
+    c.feed_max = w_max ? w_max->value : std::max(d.feed_max_mm_min, c.feed_half);
+    figs.push_back({"feed_max", {c.feed_max, w_max ? w_max->source : "feed_half × /cutting/max_chip_thinning, at most /machine/max_feed_mm_min"}});
+    c.max_chip_thinning = cs.factors.max_chip_thinning > 1 ? cs.factors.max_chip_thinning : 0.0;
+  } else {
+    auto fixed = [&](const char* key, double v, const std::optional<Figure>& w) {
+      figs.push_back({key, {v, w ? w->source : std::string("config /pocket/") + key + " (fixed feeds)"}});
+    };
+    fixed("spindle_rpm", c.spindle_rpm, w_rpm);
+    fixed("feed_half", c.feed_half, w_half);
+    fixed("feed_slot", c.feed_slot, w_slot);
+    fixed("feed_plunge", c.feed_plunge, w_plunge);
+    fixed("feed_min", c.feed_min, w_min);
+    fixed("feed_max", c.feed_max, w_max);
+  }
+  // Written figures and the fixed ones stay within the machine: say which and by how much.
+  for (const auto& [key, f] : figs) check_machine_limit(cs, key, f);
+  c.header = rec.header();
+  if (record) *record = std::move(rec);
+}
+
+}  // namespace
+
 pocket::CutParams cut_params(const Json& config, const Json& explicit_pocket, const pocket::PocketFile* file,
-                             const PocketFlags& flags) {
+                             const PocketFlags& flags, CuttingRecord* record) {
   const Json& pc = config["pocket"];
   pocket::CutParams c;
   auto pick = [&](double& dst, const char* key, const std::optional<double>& from_file, const std::optional<double>& flag) {
@@ -56,6 +179,7 @@ pocket::CutParams cut_params(const Json& config, const Json& explicit_pocket, co
   c.feed_grid = pc["feed_grid"].get<double>();
   c.feed_adjust = pc["feed_adjust"].get<bool>();
   c.rapid_rate = pc["rapid_rate"].get<double>();
+  apply_cutting_data(c, config, explicit_pocket, file, flags, record);
   if (c.stepover > c.tool_diameter)
     throw Error("stepover " + format_double(c.stepover) + " mm exceeds the tool diameter " +
                 format_double(c.tool_diameter) + " mm: ridges of material would be left between passes");
@@ -120,7 +244,8 @@ pocket::PlannerSpec planner_spec(const PlannerChoice& ch) {
   throw Error("unknown planner '" + ch.name + "' (expected som or zigzag)");
 }
 
-rough::Params rough_params(const Json& config, const Json& explicit_pocket, const PocketFlags& flags) {
+rough::Params rough_params(const Json& config, const Json& explicit_pocket, const PocketFlags& flags,
+                           CuttingRecord* record) {
   const Json& r = config["rough"];
   rough::Params p;
   p.margin_mm = r["margin_mm"].get<double>();
@@ -128,7 +253,7 @@ rough::Params rough_params(const Json& config, const Json& explicit_pocket, cons
   p.raster_mm = r["raster_mm"].get<double>();
   p.contour_tolerance_mm = r["contour_tolerance_mm"].get<double>();
   p.floor_allowance_mm = r["floor_allowance_mm"].get<double>();
-  p.cut = cut_params(config, explicit_pocket, nullptr, flags);
+  p.cut = cut_params(config, explicit_pocket, nullptr, flags, record);
   const PlannerChoice choice = planner_choice(config, p.cut, flags);
   p.planner = planner_spec(choice);
   p.machining.entry = choice.entry;
@@ -158,7 +283,88 @@ finish::Cutter parse_tool(const std::string& text) {
   return c;
 }
 
-FinishSettings finish_settings(const Json& config) {
+finish::Cutter tool_arg(const std::string& text, const Json& config) {
+  if (text.find(':') != std::string::npos) return parse_tool(text);
+  return cutter_of(tool_library(config).tool(text, "--tool"));
+}
+
+namespace {
+
+tooling::ToolType tool_type_of(const finish::Cutter& c) {
+  switch (c.type) {
+    case finish::CutterType::Flat: return tooling::ToolType::Flat;
+    case finish::CutterType::Ball: return tooling::ToolType::Ball;
+    case finish::CutterType::Bull: return tooling::ToolType::Bull;
+  }
+  return tooling::ToolType::Flat;
+}
+
+/// The finishing tool and its cutting data (issue 17), into s.params and s.cutting.
+void finish_cutting_data(FinishSettings& s, const Json& config, const FinishToolFlags& flags) {
+  const Json& f = config["finish"];
+  auto& p = s.params;
+  const CuttingSettings cs = cutting_settings(config, flags.material);
+  CuttingRecord& rec = s.cutting;
+  rec.library_feeds = cs.library_feeds;
+  std::optional<ToolLibrary> lib;
+  auto library = [&]() -> const ToolLibrary& {
+    if (!lib) lib = tool_library(config);
+    return *lib;
+  };
+  if (flags.tool && flags.tool->find(':') == std::string::npos) {
+    rec.tool = library().tool(*flags.tool, "--tool");
+    rec.tool_from = "flag --tool";
+    p.tool = cutter_of(rec.tool);
+  } else if (flags.tool) {
+    p.tool = parse_tool(*flags.tool);
+    rec.tool = inline_tool(tool_type_of(p.tool), p.tool.diameter, p.tool.corner_radius, cs);
+    rec.tool_from = "flag --tool";
+  } else if (const std::string id = f["tool"]["id"].get<std::string>(); !id.empty()) {
+    rec.tool = library().tool(id, "/finish/tool/id");
+    rec.tool_from = "config /finish/tool/id";
+    p.tool = cutter_of(rec.tool);
+  } else {
+    rec.tool = inline_tool(tool_type_of(p.tool), p.tool.diameter, p.tool.corner_radius, cs);
+    rec.tool_from = "config /finish/tool";
+  }
+  auto written = [&](const char* key) -> std::optional<Figure> {
+    if (f[key].is_null()) return std::nullopt;
+    return Figure{f[key].get<double>(), std::string("config /finish/") + key};
+  };
+  const auto w_rpm = written("spindle_rpm"), w_feed = written("feed_mm_min"), w_plunge = written("plunge_feed_mm_min");
+  auto& figs = rec.figures;
+  if (w_rpm) check_machine_limit(cs, "spindle_rpm", *w_rpm);
+  if (cs.library_feeds) {
+    const tooling::Material& mat = library().material(cs.material_id, cs.material_from.substr(cs.material_from.find(' ') + 1));
+    rec.material_id = mat.id;
+    rec.material_from = cs.material_from;
+    tooling::Overrides ov = cs.overrides;
+    if (w_rpm) ov.rpm = w_rpm->value;
+    // The axial depth of a finishing cut is the stock it removes over the design surface.
+    rec.data = tooling::cutting_data(rec.tool, mat, config["simulate"]["allowance_mm"].get<double>(), cs.machine,
+                                     cs.factors, ov);
+    const std::string lib_src = "library: " + mat.id + " × " + (rec.tool.id.empty() ? std::string("inline tool") : rec.tool.id);
+    p.spindle_rpm = rec.data.rpm;
+    figs.push_back({"spindle_rpm", {p.spindle_rpm, w_rpm ? w_rpm->source
+                                                       : lib_src + (rec.data.rpm_limited_by.empty() ? "" : ", limited by " + rec.data.rpm_limited_by)}});
+    p.feed_mm_min = w_feed ? w_feed->value : rec.data.feed_mm_min;
+    figs.push_back({"feed_mm_min", {p.feed_mm_min, w_feed ? w_feed->source : lib_src + ": fz·z·n at D_eff"}});
+    p.plunge_feed_mm_min = w_plunge ? w_plunge->value : rec.data.feed_plunge_mm_min;
+    figs.push_back({"plunge_feed_mm_min", {p.plunge_feed_mm_min, w_plunge ? w_plunge->source : lib_src + ": feed × /cutting/plunge_factor"}});
+  } else {
+    p.spindle_rpm = w_rpm ? w_rpm->value : 18000;
+    figs.push_back({"spindle_rpm", {p.spindle_rpm, w_rpm ? w_rpm->source : "fixed: Korosec & Kopac §6.2, 18,000 min^-1"}});
+    p.feed_mm_min = w_feed ? w_feed->value : 1900;
+    figs.push_back({"feed_mm_min", {p.feed_mm_min, w_feed ? w_feed->source : "fixed: Korosec & Kopac §6.2, 1900 mm/min"}});
+    p.plunge_feed_mm_min = w_plunge ? w_plunge->value : 600;
+    figs.push_back({"plunge_feed_mm_min", {p.plunge_feed_mm_min, w_plunge ? w_plunge->source : "fixed: millnet's 600 mm/min"}});
+  }
+  for (const auto& [key, fig] : figs) check_machine_limit(cs, key, fig);
+}
+
+}  // namespace
+
+FinishSettings finish_settings(const Json& config, const FinishToolFlags& flags) {
   const Json& f = config["finish"];
   FinishSettings s;
   auto& p = s.params;
@@ -174,9 +380,6 @@ FinishSettings finish_settings(const Json& config) {
   p.boundary_angle_deg = f["boundary_angle_deg"].get<double>();
   p.scallop_mm = f["scallop_mm"].get<double>();
   p.raster_angle_deg = f["raster_angle_deg"].get<double>();
-  p.feed_mm_min = f["feed_mm_min"].get<double>();
-  p.plunge_feed_mm_min = f["plunge_feed_mm_min"].get<double>();
-  p.spindle_rpm = f["spindle_rpm"].get<double>();
   p.safe_z_mm = f["safe_z_mm"].get<double>();
   const std::string strat = f["strategy"].get<std::string>();
   s.strategies = strat == "all" ? finish::all_strategies() : std::vector{finish::parse_strategy(strat)};
@@ -197,6 +400,7 @@ FinishSettings finish_settings(const Json& config) {
   s.machine.rapid_mm_min = m["rapid_mm_min"].get<double>();
   s.machine.max_feed_mm_min = m["max_feed_mm_min"].get<double>();
   s.stock_top_above_part_mm = config["rough"]["top_allowance_mm"].get<double>();
+  finish_cutting_data(s, config, flags);
   return s;
 }
 
@@ -241,7 +445,10 @@ datasets::Recipe recipe_from_config(const Json& config) {
     Json f = config["finish"];
     f.erase("meshes");
     f.erase("strategy");
-    r.simulation_settings_json = Json{{"finish", f}, {"simulate", config["simulate"]}}.dump();
+    // Everything a simulated label depends on: the strategies' settings, the simulator's, and the
+    // cutting data and machine that set the programs' feeds (the "time" aims rank by them).
+    r.simulation_settings_json =
+        Json{{"finish", f}, {"simulate", config["simulate"]}, {"cutting", config["cutting"]}, {"machine", config["machine"]}}.dump();
   }
   return r;
 }
@@ -254,7 +461,7 @@ ingest::PrepareOptions prepare_options(const std::string& units, const std::stri
 }
 
 FinishSettings simulated_finish_settings(const Json& config) {
-  FinishSettings s = finish_settings(config);
+  FinishSettings s = finish_settings(config, {});
   s.strategies = finish::all_strategies();
   s.simulate = true;
   return s;

@@ -7,6 +7,7 @@
 //   dataset, train, predict, run:  recipe_from_config, train_params, predict_augment, run_settings
 #include "cli.hpp"
 #include "config.hpp"
+#include "cutting.hpp"
 
 #include "millnet/augment/variants.hpp"
 #include "millnet/classifier/network.hpp"
@@ -33,8 +34,11 @@ namespace millnet::app {
 
 /// `explicit_pocket` = the "pocket" object as written in the config file (no defaults), so that a
 /// pocket file's own keys are overridden only by keys the user actually wrote.
+/// The roughing tool and its cutting data too (library or fixed feeds, issue 17); `record`, when
+/// given, receives every figure with its source (the metrics' "cutting_data").
 [[nodiscard]] pocket::CutParams cut_params(const Json& config, const Json& explicit_pocket,
-                                           const pocket::PocketFile* file, const PocketFlags& flags);
+                                           const pocket::PocketFile* file, const PocketFlags& flags,
+                                           CuttingRecord* record = nullptr);
 
 /// The pocket section as written in the config file named by --config (empty object otherwise).
 [[nodiscard]] Json explicit_pocket_section(const std::string& config_path);
@@ -57,7 +61,8 @@ struct PlannerChoice {
 // ---- rough (rough, run) ----
 
 /// rough::Params from a checked config (rough + pocket sections) and the pocket flags.
-[[nodiscard]] rough::Params rough_params(const Json& config, const Json& explicit_pocket, const PocketFlags& flags);
+[[nodiscard]] rough::Params rough_params(const Json& config, const Json& explicit_pocket, const PocketFlags& flags,
+                                         CuttingRecord* record = nullptr);
 
 // ---- finish and simulate (finish, simulate, dataset labels by simulation, run) ----
 
@@ -78,13 +83,24 @@ struct FinishSettings {
   gcode::MotionModel machine;
   SimSettings sim;
   simulate::AimParams aim;
+  CuttingRecord cutting;                  ///< the tool, its cutting data and each figure's source
 };
 
 /// "ball:2", "flat:10", "bull:6:1" (type:diameter[:corner radius]); throws millnet::Error.
 [[nodiscard]] finish::Cutter parse_tool(const std::string& text);
 
-/// Settings from a checked config (/finish, /simulate, /machine, /rough/top_allowance_mm).
-[[nodiscard]] FinishSettings finish_settings(const Json& config);
+/// The command line's choice of finishing tool and material (finish --tool, --material).
+struct FinishToolFlags {
+  std::optional<std::string> tool;      ///< a library id, or ball:D / flat:D / bull:D:r
+  std::optional<std::string> material;
+};
+
+/// Settings from a checked config (/finish, /simulate, /machine, /cutting, /rough/top_allowance_mm)
+/// and the flags: the tool, then its cutting data (library or fixed feeds).
+[[nodiscard]] FinishSettings finish_settings(const Json& config, const FinishToolFlags& flags = {});
+
+/// A --tool value of finish or simulate: ball:D, flat:D, bull:D:r, or a tool library id.
+[[nodiscard]] finish::Cutter tool_arg(const std::string& text, const Json& config);
 
 /// finish_settings with every strategy, simulated: how a part is labelled by simulation (dataset)
 /// and how run finishes its test parts.

@@ -3,6 +3,7 @@
 
 #include "geometry_internal.hpp"
 #include "millnet/core/error.hpp"
+#include "millnet/tooling/cutting.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +12,11 @@ namespace millnet::pocket {
 
 double feed_for_engagement(double n3, double n1, double n2, const CutParams& cut) {
   if (n1 == n2) throw Error("feed map: n1 == n2 (tool diameter and radius give the same cell count)");
+  if (cut.max_chip_thinning > 1 && n3 < n2) {  // radial chip thinning, a_e = D·n₃/n₁
+    const double ae = std::max(cut.tool_diameter * n3 / n1, 1e-9 * cut.tool_diameter);
+    const double k = std::min(tooling::chip_thinning_factor(cut.tool_diameter, ae), cut.max_chip_thinning);
+    return std::clamp(cut.feed_half * k, cut.feed_min, cut.feed_max);
+  }
   const double f = cut.feed_half + (cut.feed_half - cut.feed_slot) / (n2 - n1) * (n3 - n2);
   return std::clamp(f, cut.feed_min, cut.feed_max);
 }

@@ -193,6 +193,7 @@ std::vector<Step> build_steps(const std::vector<LevelPlan>& levels, const GcodeP
   // 2. Levels top-down, chains in order.
   for (std::size_t li = 0; li < levels.size(); ++li) {
     const LevelPlan& L = levels[li];
+    const double entry_feed = cut.feed_entry > 0 ? cut.feed_entry : cut.feed_plunge;
     std::optional<Clearance> clear;
     if (gp.entry == Entry::Helix || gp.entry == Entry::Ramp) clear.emplace(L.region, cut.clearance());
     bool first = true;
@@ -219,7 +220,7 @@ std::vector<Step> build_steps(const std::vector<LevelPlan>& levels, const GcodeP
           if (legs % 2 == 1) ++legs;  // end back at p0
           for (int k = 1; k <= legs; ++k) {
             const Vec2& t = (k % 2 == 1) ? q : p0;
-            b.line(t.x(), t.y(), z0 - (z0 - L.z) * k / legs, cut.feed_plunge);
+            b.line(t.x(), t.y(), z0 - (z0 - L.z) * k / legs, entry_feed);
           }
           b.moves[b.moves.size() - static_cast<std::size_t>(legs)].comment = "ramp entry";
           entered = true;
@@ -228,7 +229,7 @@ std::vector<Step> build_steps(const std::vector<LevelPlan>& levels, const GcodeP
       if (ch.predrill && !entered && (gp.entry == Entry::Helix || gp.entry == Entry::Ramp)) {
         if (auto h = fit_helix(*clear, p0, cut.tool_diameter)) {
           const std::size_t at = b.moves.size();
-          helix(b, p0, h->first, h->second, b.pos[2], L.z, cut.feed_plunge, gp.entry_angle_deg);
+          helix(b, p0, h->first, h->second, b.pos[2], L.z, entry_feed, gp.entry_angle_deg);
           if (at < b.moves.size()) b.moves[at].comment = "helix entry, radius " + fmt(h->second, gp.decimals);
           entered = true;
         }
@@ -270,6 +271,7 @@ std::vector<std::string> header(const std::vector<LevelPlan>& levels, const Gcod
   h.push_back("feeds: slot f1 " + fmt(c.feed_slot, 1) + " half f2 " + fmt(c.feed_half, 1) + " plunge " +
               fmt(c.feed_plunge, 1) + " limits " + fmt(c.feed_min, 1) + ".." + fmt(c.feed_max, 1) +
               (c.feed_adjust ? " adjusted by feed map" : " constant") + "; spindle " + fmt(c.spindle_rpm, 0) + " rpm");
+  for (const std::string& s : c.header) h.push_back(s);
   h.push_back("entry " + std::string(to_string(gp.entry)));
   for (const std::string& s : gp.comments) h.push_back(s);
   return h;

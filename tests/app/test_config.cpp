@@ -1,5 +1,6 @@
 // Config checking: strict keys and types named by their JSON pointer, defaults, path resolution.
 #include "config.hpp"
+#include "cutting.hpp"
 
 #include "millnet/core/error.hpp"
 
@@ -7,6 +8,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -62,12 +64,41 @@ TEST(Config, DefaultsAreFilledAndPathsResolvedAgainstTheConfigFolder) {
 
 TEST(Config, EveryShippedConfigValidates) {
   int n = 0;
-  for (const auto& e : fs::directory_iterator(fs::path(MILLNET_SOURCE_DIR) / "configs")) {
-    if (e.path().extension() != ".json") continue;
+  for (const auto& e : fs::recursive_directory_iterator(fs::path(MILLNET_SOURCE_DIR) / "configs")) {
+    if (e.path().extension() != ".json" || e.path().parent_path().filename() == "schema") continue;
+    const std::string name = e.path().filename().string();
+    if (name == "tools.json" || name == "materials.json") continue;  // their own schemas (below)
     EXPECT_NO_THROW((void)millnet::app::load_config(e.path())) << e.path();
     ++n;
   }
-  EXPECT_GE(n, 1);
+  EXPECT_GE(n, 6);  // default, pocket, predict, rough, train, presets/shin-suh-1995
+}
+
+TEST(Config, TheShippedToolLibraryAndMaterialTableValidateAndAreComplete) {
+  const fs::path dir = fs::path(MILLNET_SOURCE_DIR) / "configs";
+  nlohmann::json tools = millnet::app::read_json(dir / "tools.json");
+  nlohmann::json mats = millnet::app::read_json(dir / "materials.json");
+  EXPECT_NO_THROW(millnet::app::check_tool_library(tools, "tools.json"));
+  EXPECT_NO_THROW(millnet::app::check_material_table(mats, "materials.json"));
+  // The materials, each with a source on every row, covering carbide from 0.1 to 1000 mm.
+  std::set<std::string> ids;
+  for (const auto& m : mats["materials"]) {
+    ids.insert(m["id"].get<std::string>());
+    double covered = 0.1;
+    for (const auto& r : m["cutting"]) {
+      EXPECT_FALSE(r["source"].get<std::string>().empty()) << m["id"];
+      if (r["tool_material"] == "carbide" && r["d_min"].get<double>() == covered) covered = r["d_max"].get<double>();
+    }
+    EXPECT_EQ(covered, 1000) << m["id"] << ": carbide rows leave a gap";
+  }
+  for (const char* id : {"aluminium-6061", "aluminium-7075", "steel-free-cutting", "steel-p20", "stainless-304",
+                         "cast-iron-grey", "brass", "pom", "machining-wax", "steel-hardened-54hrc"})
+    EXPECT_TRUE(ids.count(id)) << id;
+  // The default config's tools exist in the library.
+  std::set<std::string> tool_ids;
+  for (const auto& t : tools["tools"]) tool_ids.insert(t["id"].get<std::string>());
+  EXPECT_TRUE(tool_ids.count("em10-3f-carbide"));
+  EXPECT_TRUE(tool_ids.count("bn2-2f-carbide"));
 }
 
 TEST(Config, InvalidJsonNamesLine) {

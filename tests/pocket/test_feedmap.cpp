@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <algorithm>
 
 using namespace millnet::pocket;
@@ -43,6 +45,23 @@ TEST(PocketFeedMap, SeedExampleEquation9) {
   lim.feed_min = 60;
   EXPECT_DOUBLE_EQ(feed_for_engagement(0, 10, 5, lim), 120);   // 150 clamped
   EXPECT_DOUBLE_EQ(feed_for_engagement(10, 10, 5, lim), 60);   // 50 clamped
+}
+
+TEST(PocketFeedMap, ChipThinningRaisesTheFeedBelowHalfEngagement) {
+  CutParams c = seed_params();  // D = 40, n1 = 10, n2 = 5, f1 = 50, f2 = 100
+  c.max_chip_thinning = 3;
+  c.feed_max = 1000;
+  // a_e = D·n3/n1: n3 = 1 ⇒ a_e = 4 mm = 10 % of D ⇒ RCTF = 1/(2·√(0.1·0.9)) = 5/3.
+  EXPECT_NEAR(feed_for_engagement(1, 10, 5, c), 100 * 5.0 / 3.0, 1e-9);
+  // n3 = 2.5 ⇒ a_e = 25 % ⇒ RCTF = 1/(2·√(0.25·0.75)) = 1.1547.
+  EXPECT_NEAR(feed_for_engagement(2.5, 10, 5, c), 100 / (2 * std::sqrt(0.25 * 0.75)), 1e-9);
+  // At and above half engagement eq. 9 as before; no engagement: the cap (3 × f2), then feed_max.
+  EXPECT_DOUBLE_EQ(feed_for_engagement(5, 10, 5, c), 100);
+  EXPECT_DOUBLE_EQ(feed_for_engagement(10, 10, 5, c), 50);
+  EXPECT_DOUBLE_EQ(feed_for_engagement(7.5, 10, 5, c), 75);
+  EXPECT_DOUBLE_EQ(feed_for_engagement(0, 10, 5, c), 300);
+  c.feed_max = 250;
+  EXPECT_DOUBLE_EQ(feed_for_engagement(0, 10, 5, c), 250);
 }
 
 TEST(PocketFeedMap, SlotThenHalfSlotThenAirCut) {

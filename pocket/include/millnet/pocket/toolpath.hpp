@@ -43,6 +43,12 @@ struct CutParams {
   double feed_grid = 0;         ///< feed-map cell, 0 ⇒ tool_diameter / 10
   bool feed_adjust = true;
   double rapid_rate = 5000;     ///< mm/min, for time estimates of G0 moves
+  double feed_entry = 0;        ///< helix and ramp entry feed; 0 ⇒ feed_plunge
+  /// > 1: below half-width engagement the feed map raises f₂ by the radial chip-thinning factor
+  /// (tooling::chip_thinning_factor) capped at this value (and at feed_max); 0 ⇒ eq. 9 extrapolated
+  /// below n₂ as the paper does.
+  double max_chip_thinning = 0;
+  std::vector<std::string> header;  ///< extra header comments (the tool and its cutting data)
   [[nodiscard]] double clearance() const { return tool_diameter / 2 + stock_to_leave; }
   /// The one check of the cutting parameters every planner and the feed map rely on: a finite
   /// tool_diameter > 0, stepover in (0, tool_diameter], stock_to_leave ≥ 0. Throws millnet::Error

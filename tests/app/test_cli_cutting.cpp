@@ -1,0 +1,202 @@
+// Cutting data as a user meets it (issue 17): programs at the speed and feeds of the tool library ×
+// the material table (hand-computed), each figure's source in the metrics, a written figure
+// replacing the computed one, the 1995 preset reproducing the programs of before byte for byte,
+// and one clear line (nothing written) for an unknown tool or material, a flute too short for the
+// depth of cut, and figures outside the machine's limits.
+#include "app/cli_runner.hpp"
+#include "ingest/builders.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <fstream>
+#include <regex>
+
+namespace millnet::testing {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string bench(const std::string& name) { return std::string(MILLNET_SHARED_DIR) + "/bench/pockets/" + name + ".json"; }
+
+std::uint64_t fnv1a(const std::string& s) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (unsigned char c : s) {
+    h ^= c;
+    h *= 0x100000001b3ull;
+  }
+  return h;
+}
+
+fs::path write_rect(const fs::path& d) {
+  std::ofstream(d / "rect.json") << R"({"boundary": [[0,0,0],[80,0,0],[80,50,0],[0,50,0]], "islands": []})";
+  return d / "rect.json";
+}
+
+std::size_t lines(const std::string& s) { return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n')); }
+
+/// The largest F word of a program.
+double max_feed(const std::string& nc) {
+  const std::regex f(R"(F([0-9.]+))");
+  double m = 0;
+  for (auto it = std::sregex_iterator(nc.begin(), nc.end(), f); it != std::sregex_iterator(); ++it)
+    m = std::max(m, std::stod((*it)[1]));
+  return m;
+}
+
+}  // namespace
+
+// The programs of the bench pockets as millnet wrote them before it had cutting data (main at
+// ddf3d95, tool Ø10, stepover 5, depth 5): FNV-1a of each .nc, and its size.
+TEST(CliCutting, The1995PresetReproducesTheProgramsOfBeforeByteForByte) {
+  struct Golden {
+    const char* tag;
+    std::uint64_t hash;
+    std::size_t size;
+  };
+  const Golden golden[] = {
+      {"comb.som", 0x463428238585f53eull, 3955},
+      {"comb.som.contour", 0xac63bc64b6167c5bull, 13171},
+      {"comb.zigzag", 0x33cb26b18a615626ull, 5343},
+      {"comb.zigzag.contour", 0xeceac9d4dd56610full, 14428},
+      {"eight_islands.som", 0x3bfdd8dd2ebdd514ull, 5070},
+      {"eight_islands.som.contour", 0x8ce634cfc10f5778ull, 156041},
+      {"eight_islands.zigzag", 0xb597ae26f7f757a8ull, 42754},
+      {"eight_islands.zigzag.contour", 0x7ef6abc6f4932dafull, 183765},
+      {"four_islands.som", 0x828049b388711121ull, 3452},
+      {"four_islands.som.contour", 0xefbf1c2e7f92b48bull, 110430},
+      {"four_islands.zigzag", 0xe238ec6ab1d43807ull, 25572},
+      {"four_islands.zigzag.contour", 0x1ec9ddebc2bbf444ull, 129437},
+  };
+  const fs::path d = fresh_dir("cutting_preset");
+  const std::string preset = std::string(MILLNET_SOURCE_DIR) + "/configs/presets/shin-suh-1995.json";
+  for (const Golden& g : golden) {
+    SCOPED_TRACE(g.tag);
+    const std::string tag = g.tag;
+    const std::string pocket = tag.substr(0, tag.find('.'));
+    const bool zigzag = tag.find("zigzag") != std::string::npos, contour = tag.find("contour") != std::string::npos;
+    const auto r = run_millnet("pocket -q --config '" + preset + "' --pocket '" + bench(pocket) + "' --planner " +
+                                   (zigzag ? "zigzag" : "som") + (contour ? " --contour" : "") +
+                                   " --tool-diameter 10 --stepover 5 --depth 5 --out " + tag,
+                               d);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string nc = slurp(d / tag / (pocket + ".nc"));
+    EXPECT_EQ(nc.size(), g.size);
+    EXPECT_EQ(fnv1a(nc), g.hash) << nc.substr(0, 600);
+  }
+}
+
+TEST(CliCutting, LibraryToolInAluminiumRunsAtTheHandComputedSpeedAndFeed) {
+  const fs::path d = fresh_dir("cutting_library");
+  const fs::path p = write_rect(d);
+  const auto r = run_millnet("pocket -q --pocket '" + p.string() +
+                                 "' --tool em10-3f-carbide --material aluminium-6061 --stepover 5 --depth 5 --out o",
+                             d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string nc = slurp(d / "o" / "rect.nc");
+  const json m = json::parse(slurp(d / "o" / "rect.metrics.json"));
+  // Vc 300 m/min (6061, carbide, Ø6–12.5): n = 300000/(π·10) = 9549 rpm; f = 0.05·3·9549 = 1432 mm/min.
+  EXPECT_NE(nc.find("S9549"), std::string::npos) << nc.substr(0, 800);
+  EXPECT_NE(nc.find("half f2 1432 "), std::string::npos) << nc.substr(0, 800);
+  EXPECT_NE(nc.find("(tool: em10-3f-carbide: D10 mm 3-flute carbide flat end mill)"), std::string::npos);
+  EXPECT_NE(nc.find("aluminium-6061, Vc 300 m/min, fz 0.05 mm"), std::string::npos);
+  const json& c = m.at("cutting_data");
+  EXPECT_EQ(c["mode"], "library");
+  EXPECT_EQ(c["tool"]["id"], "em10-3f-carbide");
+  EXPECT_EQ(c["tool"]["from"], "flag --tool");
+  EXPECT_EQ(c["material"]["from"], "flag --material");
+  EXPECT_DOUBLE_EQ(c["figures"]["spindle_rpm"]["value"].get<double>(), 9549);
+  EXPECT_DOUBLE_EQ(c["figures"]["feed_half"]["value"].get<double>(), 1432);
+  EXPECT_NE(c["figures"]["feed_half"]["from"].get<std::string>().find("library"), std::string::npos);
+  EXPECT_DOUBLE_EQ(m["parameters"]["spindle_rpm"].get<double>(), 9549);
+  // Radial chip thinning lets light cuts run faster than f2, never beyond f2 × 3 or the machine.
+  const double fmax = max_feed(nc);
+  EXPECT_GT(fmax, 1432);
+  EXPECT_LE(fmax, 3 * 1432 + 1e-9);
+  if (fs::exists("/usr/bin/rs274")) {
+    const std::string cmd = "/usr/bin/rs274 -g '" + (d / "o" / "rect.nc").string() + "' </dev/null >/dev/null 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0);
+  }
+}
+
+TEST(CliCutting, AWrittenFigureReplacesTheComputedOneAndSaysWhereItCameFrom) {
+  const fs::path d = fresh_dir("cutting_written");
+  const fs::path p = write_rect(d);
+  std::ofstream(d / "c.json") << R"({"pocket": {"tool": "em10-3f-carbide", "feed_half": 1000},
+                                    "cutting": {"material": "steel-p20"}})";
+  const auto r = run_millnet("pocket -q --config c.json --pocket '" + p.string() + "' --stepover 5 --depth 5 --out o", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json c = json::parse(slurp(d / "o" / "rect.metrics.json")).at("cutting_data");
+  EXPECT_EQ(c["figures"]["feed_half"]["from"], "config /pocket/feed_half");
+  EXPECT_DOUBLE_EQ(c["figures"]["feed_half"]["value"].get<double>(), 1000);
+  // P20 carbide Ø6–12.5: Vc 110 → n = 110000/(π·10) = 3501 rpm, from the library.
+  EXPECT_DOUBLE_EQ(c["figures"]["spindle_rpm"]["value"].get<double>(), 3501);
+  EXPECT_EQ(c["material"]["id"], "steel-p20");
+  EXPECT_EQ(c["material"]["from"], "config /cutting/material");
+}
+
+TEST(CliCutting, BadToolMaterialOrLimitsGetOneLineAndNoFiles) {
+  const fs::path d = fresh_dir("cutting_bad");
+  const fs::path p = write_rect(d);
+  std::ofstream(d / "fast.json") << R"({"pocket": {"spindle_rpm": 30000}})";
+  std::ofstream(d / "slowspindle.json") << R"({"machine": {"min_spindle_rpm": 12000}})";
+  struct Case {
+    const char* name;
+    std::string args;
+    const char* expect;
+  };
+  const Case cases[] = {
+      {"unknown_tool", "--tool em10-3f-carbid", "unknown tool id 'em10-3f-carbid' (did you mean 'em10-3f-carbide'?)"},
+      {"unknown_material", "--tool em10-3f-carbide --material alu", "unknown material id 'alu'"},
+      {"short_flutes", "--tool em3-2f-carbide --stepover 1.5 --depth 10 --step-down 10",
+       "flute length 8 mm is shorter than the depth of cut per level 10 mm by 2 mm"},
+      {"too_deep_for_stickout", "--tool em3-2f-carbide --stepover 1.5 --depth 25 --step-down 5",
+       "the pocket depth 25 mm exceeds its stick-out 20 mm by 5 mm"},
+      {"rpm_over_machine", "--config ../fast.json --tool em10-3f-carbide",
+       "spindle_rpm 30000 rpm exceeds the machine's /machine/max_spindle_rpm 24000 by 6000"},
+      {"rpm_below_machine", "--config ../slowspindle.json --tool em10-3f-carbide",
+       "rpm is below the machine's minimum 12000 rpm by 2451 rpm"},
+      {"ball_for_roughing", "--tool bn6-2f-carbide", "cannot rough a pocket"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const fs::path w = d / c.name;
+    const auto r = run_millnet("pocket -q --pocket '" + p.string() + "' " + c.args + " --out o", w);
+    EXPECT_EQ(r.code, 1) << r.err;
+    EXPECT_EQ(lines(r.err), 1u) << r.err;
+    EXPECT_NE(r.err.find(c.expect), std::string::npos) << r.err;
+    EXPECT_EQ(list_files(w / "o"), "");
+  }
+  // --tool and --tool-diameter name the tool twice.
+  const auto both = run_millnet("pocket -q --pocket '" + p.string() + "' --tool em10-3f-carbide --tool-diameter 6 --out o",
+                                d / "both");
+  EXPECT_EQ(both.code, 2) << both.err;
+}
+
+TEST(CliCutting, AShopLibraryAddsToolsAndIsCheckedLikeAConfig) {
+  const fs::path d = fresh_dir("cutting_shop");
+  const fs::path p = write_rect(d);
+  std::ofstream(d / "tools.json") << R"({"tools": [{"id": "shop-em8", "type": "flat", "diameter": 8, "flutes": 4,
+                                        "tool_material": "carbide", "flute_length": 20, "stickout": 30}]})";
+  std::ofstream(d / "c.json") << R"({"cutting": {"tools_file": "tools.json"}})";
+  auto r = run_millnet("pocket -q --config c.json --pocket '" + p.string() + "' --tool shop-em8 --stepover 4 --depth 5 --out o", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json c = json::parse(slurp(d / "o" / "rect.metrics.json")).at("cutting_data");
+  EXPECT_EQ(c["tool"]["flutes"], 4);
+  // 6061 carbide Ø6–12.5: n = 300000/(π·8) = 11937 rpm, f = 0.05·4·11937 = 2387 mm/min.
+  EXPECT_DOUBLE_EQ(c["figures"]["spindle_rpm"]["value"].get<double>(), 11937);
+  EXPECT_DOUBLE_EQ(c["figures"]["feed_half"]["value"].get<double>(), 2387);
+  // A misspelt key of the shop's file: one line naming the file and the key.
+  std::ofstream(d / "bad_tools.json") << R"({"tools": [{"id": "x", "type": "flat", "diameter": 8, "flutez": 4,
+                                            "tool_material": "carbide"}]})";
+  std::ofstream(d / "bad.json") << R"({"cutting": {"tools_file": "bad_tools.json"}})";
+  r = run_millnet("pocket -q --config bad.json --pocket '" + p.string() + "' --tool x --out o2", d);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("bad_tools.json: /tools/0/flutez: unknown key"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d / "o2"));
+}
+
+}  // namespace millnet::testing
