@@ -5,7 +5,10 @@
 // cut; the engagement of a step is the number of newly cut cells (scaled to a full cell step). For
 // each stepover-long piece of the path, n₃ = the largest engagement of its steps and
 //     f = f₂ + (f₂ − f₁)/(n₂ − n₁)·(n₃ − n₂),  n₁ = D/grid (slot), n₂ = R/grid (half slot),
-// clamped to [f_min, f_max]. A full slot (n₃ = n₁) gets f₁, a half slot f₂.
+// clamped to [f_min, f_max]. A full slot (n₃ = n₁) gets f₁, a half slot f₂. With
+// CutParams::max_chip_thinning > 1 (cutting data from the tool library, docs/CUTTING.md) a piece
+// engaged less than half (n₃ < n₂) gets f₂·RCTF(a_e) instead, a_e = D·n₃/n₁, the radial
+// chip-thinning factor capped at max_chip_thinning, then clamped likewise.
 #include "millnet/pocket/toolpath.hpp"
 
 #include <vector>
