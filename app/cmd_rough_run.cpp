@@ -37,6 +37,15 @@ RoughOutcome rough_prepared(const ingest::Mesh* mesh, const std::string& load_er
   RoughOutcome o{name, file.string(), load_error, false, Json::object()};
   if (!mesh) return o;
   try {
+    // The holder must stay above the stock: the levels reach from the stock top to the part's base.
+    if (!cutting_data.is_null()) {
+      const double stick = cutting_data["tool"]["stickout_mm"].get<double>();
+      const double reach = mesh->V.col(2).maxCoeff() - mesh->V.col(2).minCoeff() + params.top_allowance_mm;
+      if (stick > 0 && reach > stick)
+        throw Error(file.string() + ": the part reaches " + fixed(reach, 2) + " mm below the stock top, beyond the stick-out " +
+                    format_double(stick) + " mm of " + cutting_data["tool"]["label"].get<std::string>() + " by " +
+                    fixed(reach - stick, 2) + " mm: the holder would hit the stock");
+    }
     const rough::Result r = rough::rough_mesh(*mesh, params);
     o.metrics = write_rough_outputs(out, name, r, params, cutting_data);
     o.ok = r.machining.status == pocket::PlanStatus::Ok;

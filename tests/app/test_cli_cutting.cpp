@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <regex>
@@ -44,6 +45,27 @@ double max_feed(const std::string& nc) {
   for (auto it = std::sregex_iterator(nc.begin(), nc.end(), f); it != std::sregex_iterator(); ++it)
     m = std::max(m, std::stod((*it)[1]));
   return m;
+}
+
+/// A 30 mm tall bump on a 20 × 20 mm block, as ASCII STL.
+fs::path write_tall(const fs::path& dir) {
+  const auto m = testing_ingest::solid([](double x, double y) {
+    const double r2 = ((x - 10) * (x - 10) + (y - 10) * (y - 10)) / 49;
+    return 1 + 29 * std::max(0.0, 1 - r2);
+  }, 0, 20, 0, 20, 20, 20);
+  const fs::path p = dir / "tall.stl";
+  std::ofstream out(p);
+  out << "solid tall\n";
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    out << " facet normal 0 0 0\n  outer loop\n";
+    for (int k = 0; k < 3; ++k) {
+      const auto v = m.V.row(m.F(f, k));
+      out << "   vertex " << v(0) << " " << v(1) << " " << v(2) << "\n";
+    }
+    out << "  endloop\n endfacet\n";
+  }
+  out << "endsolid tall\n";
+  return p;
 }
 
 }  // namespace
@@ -173,6 +195,39 @@ TEST(CliCutting, BadToolMaterialOrLimitsGetOneLineAndNoFiles) {
   const auto both = run_millnet("pocket -q --pocket '" + p.string() + "' --tool em10-3f-carbide --tool-diameter 6 --out o",
                                 d / "both");
   EXPECT_EQ(both.code, 2) << both.err;
+}
+
+TEST(CliCutting, APartDeeperThanTheToolsStickOutIsRefusedByRoughAndFinish) {
+  const fs::path d = fresh_dir("cutting_stickout");
+  const fs::path mesh = write_tall(d);
+  // 30 mm of part + 1 mm of stock on top: 31 mm below the stock top; em3-2f-carbide sticks out 20 mm.
+  auto r = run_millnet("rough -q --mesh '" + mesh.string() + "' --tool em3-2f-carbide --stepover 1.5 --out o", d);
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("reaches 31.00 mm below the stock top, beyond the stick-out 20 mm"), std::string::npos) << r.err;
+  EXPECT_EQ(list_files(d / "o"), "");
+  // A Ø6 ball that sticks out 35 mm reaches it.
+  std::ofstream(d / "tools.json") << R"({"tools": [{"id": "short-ball", "type": "ball", "diameter": 6, "flutes": 2,
+                                        "tool_material": "carbide", "flute_length": 10, "stickout": 25}]})";
+  std::ofstream(d / "c.json") << R"({"cutting": {"tools_file": "tools.json"}})";
+  r = run_millnet("finish -q --config c.json --mesh '" + mesh.string() + "' --tool short-ball --strategy 2 --out f", d);
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("beyond the tool's stick-out 25 mm by 6.00 mm"), std::string::npos) << r.err;
+  EXPECT_EQ(list_files(d / "f"), "");
+  // The library's Ø6 ball (stick-out 35 mm) finishes it, at its cutting data, and names itself.
+  r = run_millnet("finish -q --mesh '" + mesh.string() + "' --tool bn6-2f-carbide --material steel-p20 --strategy 2 "
+                  "--stepover 1 --out g", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string nc = slurp(d / "g" / "tall.s2.nc");
+  EXPECT_NE(nc.find("(tool: bn6-2f-carbide: D6 mm 2-flute carbide ball-nose end mill)"), std::string::npos) << nc.substr(0, 600);
+  const json c = json::parse(slurp(d / "g" / "tall.s2.metrics.json")).at("cutting_data");
+  // P20, carbide Ø6–12.5: Vc 110, fz 0.035; a_p = the finishing stock 0.1 mm ⇒ D_eff = 2·√(0.1·5.9) = 1.5362 mm,
+  // n = 110000/(π·1.5362) = 22792 rpm (under the machine's 24,000), f = 0.035·2·22792 = 1595 mm/min.
+  EXPECT_NEAR(c["d_eff_mm"].get<double>(), 2 * std::sqrt(0.1 * 5.9), 1e-9);
+  EXPECT_DOUBLE_EQ(c["figures"]["spindle_rpm"]["value"].get<double>(), 22792);
+  EXPECT_DOUBLE_EQ(c["figures"]["feed_mm_min"]["value"].get<double>(), 1595);
+  EXPECT_NE(nc.find("S22792"), std::string::npos);
 }
 
 TEST(CliCutting, AShopLibraryAddsToolsAndIsCheckedLikeAConfig) {
