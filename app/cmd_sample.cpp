@@ -47,8 +47,8 @@ Registered register_sample(CLI::App& app) {
   sub->add_option("--mesh", o->mesh, "mesh file (STL, OBJ, PLY, OFF, 3MF, glTF, … or x y z points)")->required();
   o->mesh_flags.add_to(sub, "file");
   sub->add_option("--raster", o->raster, "raster spacing, mm")->check(schema_range("/dataset/raster_mm"));
-  sub->add_option("--grid", o->grid, "grid size n")->check(CLI::Range(2, 64));
-  sub->add_option("--out", o->out, "output folder")->required();
+  sub->add_option("--grid", o->grid, "grid size n")->check(schema_range("/dataset/grid"));
+  sub->add_option("--out", o->out, "output folder")->check(output_path())->required();
   add_common(sub, o->common, false);
   return {sub, [o]() { return run_sample(*o); }};
 }

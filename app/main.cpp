@@ -4,8 +4,11 @@
 #include "cli.hpp"
 
 #include "millnet/core/error.hpp"
+#include "millnet/core/output_set.hpp"
 
 #include <iostream>
+#include <new>
+#include <optional>
 
 int main(int argc, char** argv) {
   using namespace millnet::app;
@@ -44,13 +47,28 @@ int main(int argc, char** argv) {
   }
   for (auto& [sub, body] : commands) {
     if (!sub->parsed()) continue;
+    const std::string cmd = sub->get_name();
+    const bool all_or_nothing = cmd != "run" && cmd != "dataset";
     try {
-      return body();
+      // A command's outputs are committed together when it returns, or not at all when it throws
+      // (issue 15; core/output_set.hpp). `dataset` and `run` write caches that their later stages
+      // read back by path; they check their inputs before writing instead.
+      std::optional<millnet::OutputSet> outputs;
+      if (all_or_nothing) outputs.emplace();
+      const int code = body();
+      if (outputs) outputs->commit();
+      return code;
     } catch (const millnet::Error& e) {
-      std::cerr << "millnet " << sub->get_name() << ": error: " << e.what() << "\n";
+      std::cerr << "millnet " << cmd << ": error: " << e.what() << "\n";
+      return 1;
+    } catch (const std::bad_alloc&) {
+      // Not the library's "std::bad_alloc" (tests/corpus/cli/out_of_memory.args).
+      std::cerr << "millnet " << cmd << ": error: out of memory while running " << cmd
+                << " on these inputs" << (all_or_nothing ? "; nothing was written" : "")
+                << " (smaller inputs or settings, or more memory)\n";
       return 1;
     } catch (const std::exception& e) {
-      std::cerr << "millnet " << sub->get_name() << ": error: " << e.what() << "\n";
+      std::cerr << "millnet " << cmd << ": error: " << e.what() << "\n";
       return 1;
     }
   }
