@@ -10,6 +10,7 @@
 #include "millnet/classifier/io/model_file.hpp"
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
+#include "millnet/core/output_set.hpp"
 #include "millnet/core/progress.hpp"
 #include "millnet/datasets/agreement.hpp"
 #include "millnet/datasets/generator.hpp"
@@ -154,7 +155,11 @@ bool build_dataset(datasets::Recipe recipe, const fs::path& out_dir, bool reuse,
   datasets::Table table = datasets::build_table(recipe, progress.callback());
   progress.finish();
   table.labelling_json = labelling;
-  datasets_io::write_table(table, out_dir);
+  {
+    OutputSet table_files;  // vectors.csv and manifest.json together or neither (core/output_set.hpp)
+    datasets_io::write_table(table, out_dir);
+    table_files.commit();
+  }
   info("dataset: " + std::to_string(table.rows.size()) + " vectors from " + std::to_string(recipe.parts.size()) +
        " parts → " + (out_dir / "vectors.csv").string());
   return true;
