@@ -212,6 +212,11 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
     vec_rms.push_back(c.rms_vector);
   }
   write_file_atomic(out_dir / "loo_curve.csv", curve.str());
+  if (xs.empty()) {  // /train/fixed_alpha: no scan, the one point at the given α (the chart failed on "no points")
+    xs = {model.alpha};
+    part_rms = {loo.rms_part_at_alpha};
+    vec_rms = {loo.rms_vector_at_alpha};
+  }
   report::LinePlotOptions lo;
   lo.log_x = true;
   lo.show_points = true;

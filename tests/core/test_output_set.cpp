@@ -21,7 +21,7 @@ fs::path fresh_set_dir(const std::string& name) {
 }
 std::size_t files_in(const fs::path& d) {
   std::size_t n = 0;
-  for (const auto& e : fs::recursive_directory_iterator(d)) n += e.is_regular_file() ? 1 : 0;
+  for (const auto& e : fs::recursive_directory_iterator(d)) n += e.is_regular_file() ? 1U : 0U;
   return n;
 }
 }  // namespace
