@@ -149,6 +149,11 @@ const std::map<std::string, Generator>& generators() {
          millnet::write_file_atomic(t / "c.json", R"({"train": {"fixed_alpha": 1}})");  // no scan: no edge warning
          fs::create_directories(t / "out" / "loo_curve.png");
        }},
+      {"sample_footprint_zero",
+       [](const fs::path& t) {
+         millnet::write_file_atomic(t / "wall.stl", "solid wall\n facet normal 0 1 0\n  outer loop\n   vertex 0 0 0\n"
+                                                    "   vertex 10 0 0\n   vertex 0 0 10\n  endloop\n endfacet\nendsolid wall\n");
+       }},
       {"rough_second_mesh_missing", [](const fs::path& t) { write_box_stl(t / "part.stl"); }},
       {"out_of_memory", [](const fs::path& t) { write_box_stl(t / "part.stl"); }},
       {"not_a_regular_file_dev_zero", [](const fs::path& t) { fs::create_symlink("/dev/zero", t / "x.stl"); }},
