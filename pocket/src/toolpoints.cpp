@@ -39,10 +39,14 @@ ToolPoints make_tool_points(const Region& region, const GridFrame& frame, double
   }
   const double span = std::max(umax - umin, vmax - vmin) / frame.spacing;
   // Names the flag and the key, not this function (issue 15; tests/corpus/cli/pocket_grid_too_fine.args).
-  if (span > 2e5)
+  if (span > 2e5) {
+    auto whole = [](double x) {  // 1000000 rather than 1e+06
+      return x < 1e15 ? std::to_string(static_cast<long long>(std::ceil(x))) : format_double(x);
+    };
     throw Error("--stepover / /pocket/stepover: stepover " + format_double(frame.spacing) + " mm over a pocket " +
-                format_double(span * frame.spacing) + " mm across makes " + format_double(std::ceil(span)) +
+                whole(span * frame.spacing) + " mm across makes " + whole(span) +
                 " tool points per side; at most 200000 (raise the stepover)");
+  }
   const int j0 = static_cast<int>(std::floor(umin / frame.spacing)), j1 = static_cast<int>(std::ceil(umax / frame.spacing));
   const int i0 = static_cast<int>(std::floor(vmin / frame.spacing)), i1 = static_cast<int>(std::ceil(vmax / frame.spacing));
   // O(rows · cols) point_ok queries, each looking at the walls in nearby buckets only.
