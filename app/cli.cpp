@@ -50,12 +50,30 @@ CLI::Validator schema_range(const std::string& pointer) {
         if (b < e && *b == '+') ++b;
         const auto r = std::from_chars(b, e, v);
         bool ok = r.ec == std::errc() && r.ptr == e && std::isfinite(v);
-        if (ok && integer) ok = v == std::floor(v);
+        // An integer flag is plain decimal digits: CLI11 reads "15.5" as nothing (a usage error) and
+        // "010" as octal 8, "0x10" as 16 (issue 15: a grid of 15.5 became 15;
+        // tests/corpus/cli/flag_grid_15_5.args).
+        if (ok && integer) {
+          const char* d = text.data();
+          if (d < e && (*d == '+' || *d == '-')) ++d;
+          ok = d < e && std::all_of(d, e, [](char c) { return c >= '0' && c <= '9'; }) && !(*d == '0' && e - d > 1);
+        }
         if (ok && lo) ok = lo_open ? v > *lo : v >= *lo;
         if (ok && hi) ok = v <= *hi;
         return ok ? std::string() : expected + ", got " + text.substr(0, 40);
       },
       (integer ? "INT" : "NUMBER") + range);
+}
+
+CLI::Validator output_path() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        // Issue 15: `--out ""` wrote into the current folder (tests/corpus/cli/flag_out_empty.args).
+        if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+          return "expected a folder to write into, got an empty path";
+        return std::string();
+      },
+      "PATH");
 }
 
 void add_common(CLI::App* sub, Common& common, bool with_config) {
@@ -133,7 +151,11 @@ std::vector<fs::path> expand_inputs(const std::vector<std::string>& items, const
       if (found.empty()) throw file_error(p.string(), "folder holds no input files");
       out.insert(out.end(), found.begin(), found.end());
     } else {
-      out.push_back(p);  // existence is checked (and reported per file) by whoever reads it
+      // A missing file given by name is found before anything is written (issue 15: `rough` with a
+      // missing second mesh left the first mesh's outputs; tests/corpus/cli/rough_second_mesh_missing.args).
+      // A file that exists but cannot be read is reported per file by whoever reads it.
+      if (!fs::exists(p, ec)) throw file_error(p.string(), "no such file");
+      out.push_back(p);
     }
   }
   return out;

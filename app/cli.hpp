@@ -46,6 +46,10 @@ struct PocketFlags {
 /// The usage error reads "--tool-diameter: expected a finite number > 0 and ≤ 1000 (/pocket/tool_diameter), got nan".
 [[nodiscard]] CLI::Validator schema_range(const std::string& pointer);
 
+/// --out (and every other output path flag): refuses an empty or blank path, which would write
+/// into the current folder. The error reads "--out: expected a folder to write into, got an empty path".
+[[nodiscard]] CLI::Validator output_path();
+
 /// Adds --quiet, --threads and (when with_config) --config to a subcommand.
 void add_common(CLI::App* sub, Common& common, bool with_config = true);
 

@@ -124,7 +124,7 @@ Registered register_compare(CLI::App& app) {
   auto o = std::make_shared<CompareOpts>();
   CLI::App* sub = app.add_subcommand("compare", "run every planner (SOM, zigzag T, zigzag I) on one pocket and tool");
   sub->add_option("--pocket", o->pocket, "pocket file (.json or .dxf)")->required();
-  sub->add_option("--out", o->out, "output folder")->required();
+  sub->add_option("--out", o->out, "output folder")->check(output_path())->required();
   o->flags.add_to(sub, false);
   sub->add_option("--angle", o->flags.angle, "zigzag reference angle in degrees, or auto (default auto)");
   add_common(sub, o->common);

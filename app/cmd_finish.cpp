@@ -4,6 +4,7 @@
 #include "finish_job.hpp"
 
 #include "millnet/core/error.hpp"
+#include "millnet/core/output_set.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
 
 namespace millnet::app {
@@ -41,7 +42,7 @@ Registered register_finish(CLI::App& app) {
       ->check(schema_range("/finish/boundary_angle_deg"));
   sub->add_option("--scallop", o->scallop, "scallop-height target, mm")->check(schema_range("/finish/scallop_mm"));
   sub->add_flag("--simulate", o->simulate, "machine each program on a z-map and score the surface");
-  sub->add_option("--out", o->out, "output folder")->required();
+  sub->add_option("--out", o->out, "output folder")->check(output_path())->required();
   add_common(sub, o->common);
   return {sub, [o, parse_strategy_flag]() {
             const Json config = setup(o->common);
@@ -64,7 +65,9 @@ Registered register_finish(CLI::App& app) {
             std::size_t failed = 0;
             for (const auto& f : files) {  // a batch keeps going past one bad part
               try {
+                OutputSet part;  // this part's files complete, or none of them (core/output_set.hpp)
                 const auto outcomes = finish_part(ingest::load_prepared(f, prep), f.stem().string(), s, o->out);
+                part.commit();
                 info("finish: " + f.string() + ": " + std::to_string(outcomes.size()) + " strategies → " + o->out);
               } catch (const Error& e) {
                 if (files.size() == 1) throw;
@@ -98,7 +101,7 @@ Registered register_simulate(CLI::App& app) {
                   "earlier simulate --save-stock of the same part");
   sub->add_flag("--save-stock", o->save_stock, "also write the machined z-map as DIR/<stem>.zmap (8 bytes per cell)");
   o->mesh_flags.add_to(sub);
-  sub->add_option("--out", o->out, "output folder")->required();
+  sub->add_option("--out", o->out, "output folder")->check(output_path())->required();
   add_common(sub, o->common);
   return {sub, [o]() {
             const Json config = setup(o->common);

@@ -84,7 +84,7 @@ int run_predict(const PredictOpts& o) {
 Registered register_dataset(CLI::App& app) {
   auto o = std::make_shared<DatasetOpts>();
   CLI::App* sub = app.add_subcommand("dataset", "(re)generate the model-vector table from the config's recipe");
-  sub->add_option("--out", o->out, "output folder (vectors.csv, manifest.json)")->required();
+  sub->add_option("--out", o->out, "output folder (vectors.csv, manifest.json)")->check(output_path())->required();
   sub->add_flag("--agreement", o->agreement,
                 "also plan and simulate the five finishing strategies on every part and report how often the "
                 "simulated best agrees with the recipe's label (agreement.md; minutes per part)");
@@ -97,7 +97,7 @@ Registered register_train(CLI::App& app) {
   auto o = std::make_shared<TrainOpts>();
   CLI::App* sub = app.add_subcommand("train", "store the vectors and choose α by leave-one-out");
   sub->add_option("--dataset", o->dataset, "vectors.csv of `millnet dataset`")->required();
-  sub->add_option("--out", o->out, "output folder (model.json, loo_curve.csv, verification.csv, PNGs)")->required();
+  sub->add_option("--out", o->out, "output folder (model.json, loo_curve.csv, verification.csv, PNGs)")->check(output_path())->required();
   add_common(sub, o->common);
   return {sub, [o]() { return run_train(*o); }};
 }
@@ -108,7 +108,7 @@ Registered register_predict(CLI::App& app) {
   sub->add_option("--model", o->model, "folder of `millnet train` (model.json, sampling.json)")->required()
       ->check(CLI::ExistingDirectory);
   o->mesh_flags.add_to(sub, "part files");
-  sub->add_option("--out", o->out, "output folder (predictions.json, predictions.csv, one PNG per part)")->required();
+  sub->add_option("--out", o->out, "output folder (predictions.json, predictions.csv, one PNG per part)")->check(output_path())->required();
   sub->add_option("parts", o->parts, "part files or folders (added to /predict/parts of the config)");
   add_common(sub, o->common);
   return {sub, [o]() { return run_predict(*o); }};

@@ -53,7 +53,7 @@ Registered register_pocket(CLI::App& app) {
   auto o = std::make_shared<PocketOpts>();
   CLI::App* sub = app.add_subcommand("pocket", "rough-cut tool path of a pocket (SOM or zigzag) → G-code, metrics, PNG");
   sub->add_option("--pocket", o->pocket, "pocket file (.json or .dxf)")->required();
-  sub->add_option("--out", o->out, "output folder")->required();
+  sub->add_option("--out", o->out, "output folder")->check(output_path())->required();
   o->flags.add_to(sub);
   add_common(sub, o->common);
   return {sub, [o]() { return run_pocket(*o); }};

@@ -8,6 +8,7 @@
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
+#include "millnet/core/output_set.hpp"
 #include "millnet/core/progress.hpp"
 #include "millnet/classifier/rank.hpp"
 #include "millnet/datasets/generator.hpp"
@@ -17,6 +18,7 @@
 #include <chrono>
 #include <iostream>
 #include <memory>
+#include <new>
 #include <sstream>
 
 namespace millnet::app {
@@ -46,10 +48,14 @@ RoughOutcome rough_prepared(const ingest::Mesh* mesh, const std::string& load_er
                     format_double(stick) + " mm of " + cutting_data["tool"]["label"].get<std::string>() + " by " +
                     fixed(reach - stick, 2) + " mm: the holder would hit the stock");
     }
+    OutputSet part;  // this part's files complete, or none of them (core/output_set.hpp)
     const rough::Result r = rough::rough_mesh(*mesh, params);
     o.metrics = write_rough_outputs(out, name, r, params, cutting_data);
+    part.commit();
     o.ok = r.machining.status == pocket::PlanStatus::Ok;
     if (!o.ok) o.error = file.string() + ": " + r.machining.message;
+  } catch (const std::bad_alloc&) {
+    o.error = file.string() + ": out of memory while roughing this part";
   } catch (const std::exception& e) {
     o.error = e.what();
   }
@@ -61,6 +67,9 @@ std::shared_ptr<const ingest::Mesh> load_prepared(const fs::path& file, const in
                                                   std::string* error) {
   try {
     return std::make_shared<const ingest::Mesh>(ingest::load_prepared(file, prep));
+  } catch (const std::bad_alloc&) {
+    *error = file.string() + ": out of memory while reading this mesh";
+    return nullptr;
   } catch (const std::exception& e) {
     *error = e.what();
     return nullptr;
@@ -87,7 +96,7 @@ Registered register_rough(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("rough", "Z-level roughing of parts from their meshes → G-code, metrics, one PNG per level");
   sub->add_option("--mesh", o->meshes, "mesh file or folder (repeatable; added to /rough/meshes of the config)");
   o->mesh_flags.add_to(sub);
-  sub->add_option("--out", o->out, "output folder")->required();
+  sub->add_option("--out", o->out, "output folder")->check(output_path())->required();
   o->flags.add_to(sub, true, false);
   add_common(sub, o->common);
   return {sub, [o]() {
@@ -433,6 +442,17 @@ int run_run(const RunOpts& o) {
   c.config = o.config_file;
   const Json config = setup(c);
   const fs::path out = o.out.empty() ? fs::path(config["output"].get<std::string>()) : fs::path(o.out);
+  // Every setting of every stage is checked before the first stage writes anything (issue 15: a
+  // seed clash was found after nine files were written; tests/corpus/cli/run_seed_clash.args).
+  try {
+    (void)run_settings(config);
+    (void)rough_params(config, explicit_pocket_section(o.config_file), PocketFlags{});
+    (void)simulated_finish_settings(config);
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    if (what.find(o.config_file) != std::string::npos) throw;
+    throw file_error(o.config_file, what);
+  }
   Json timing = Json::object();
   auto stage = [&](const char* name, auto&& fn) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -464,7 +484,7 @@ Registered register_run(CLI::App& app) {
   auto o = std::make_shared<RunOpts>();
   CLI::App* sub = app.add_subcommand("run", "the whole pipeline: dataset → train → predict → rough → finish (simulated), with a summary page");
   sub->add_option("config", o->config_file, "config file (default configs/default.json)")->check(CLI::ExistingFile);
-  sub->add_option("--out", o->out, "output folder (default: /output of the config)");
+  sub->add_option("--out", o->out, "output folder (default: /output of the config)")->check(output_path());
   add_common(sub, o->common, false);
   return {sub, [o]() { return run_run(*o); }};
 }

@@ -5,6 +5,7 @@
 #include "report_util.hpp"
 
 #include "millnet/core/atomic_file.hpp"
+#include "millnet/core/error.hpp"
 #include "millnet/ingest/heightfield.hpp"
 #include "millnet/ingest/io/grid_csv.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
@@ -29,6 +30,12 @@ int run_sample(const SampleOpts& o) {
   const ingest::Mesh raw = ingest::load_mesh(o.mesh, &report);
   const ingest::Mesh mesh = ingest::prepare(raw, o.mesh_flags.prepare(nullptr), &report);
   const ingest::Grid grid = ingest::sample_grid(mesh, o.raster, o.grid);
+  // Before anything is written: the heat map's "extent_mm must be finite … with min < max" was the
+  // message for a part without a footprint (issue 15; tests/corpus/cli/sample_footprint_zero.args).
+  if (!(grid.footprint_x > 0) || !(grid.footprint_y > 0))
+    throw file_error(o.mesh, "the part's footprint seen from " + (o.mesh_flags.up ? *o.mesh_flags.up : std::string("+z")) +
+                                 " is " + format_double(grid.footprint_x) + " × " + format_double(grid.footprint_y) +
+                                 " mm, expected an extent in X and in Y (a wall or a line seen from above?)");
   const std::string stem = fs::path(o.mesh).stem().string();
   const fs::path out(o.out);
   write_file_atomic(out / (stem + ".grid.csv"), ingest::grid_csv(grid.h));
@@ -47,8 +54,8 @@ Registered register_sample(CLI::App& app) {
   sub->add_option("--mesh", o->mesh, "mesh file (STL, OBJ, PLY, OFF, 3MF, glTF, … or x y z points)")->required();
   o->mesh_flags.add_to(sub, "file");
   sub->add_option("--raster", o->raster, "raster spacing, mm")->check(schema_range("/dataset/raster_mm"));
-  sub->add_option("--grid", o->grid, "grid size n")->check(CLI::Range(2, 64));
-  sub->add_option("--out", o->out, "output folder")->required();
+  sub->add_option("--grid", o->grid, "grid size n")->check(schema_range("/dataset/grid"));
+  sub->add_option("--out", o->out, "output folder")->check(output_path())->required();
   add_common(sub, o->common, false);
   return {sub, [o]() { return run_sample(*o); }};
 }

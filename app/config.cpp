@@ -93,6 +93,16 @@ public:
     } else if (type == "string") {
       if (!value.is_string()) throw Error(at + ": expected a string, got " + type_name(value) + " " + shown(value));
       if (rule.value("format", "") == "path") {
+        // An empty path resolved to the config's folder: "output": "" wrote into it (issue 15;
+        // tests/corpus/config/output_empty.json).
+        // Unless the key says "" means none ("allowEmpty": /cutting/tools_file).
+        if (value.get<std::string>().find_first_not_of(" \t\r\n") == std::string::npos) {
+          if (rule.value("allowEmpty", false)) {
+            value = "";
+            return;
+          }
+          throw Error(at + ": expected a path, got an empty string");
+        }
         fs::path p = value.get<std::string>();
         if (!p.empty() && p.is_relative()) p = base_ / p;
         value = p.lexically_normal().string();

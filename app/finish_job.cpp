@@ -297,11 +297,8 @@ Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
                                          : stock_from_file(stock, frame.grid);
   Json runs = Json::array();
   for (const auto& [file, cutter] : programs) {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw file_error(file.string(), "cannot open the G-code file");
-    std::stringstream text;
-    text << in.rdbuf();
-    const gcode::Program prog = gcode::read(text.str(), file.string());
+    // read_file: a program this command wrote is read from its OutputSet's temporary (core/output_set.hpp).
+    const gcode::Program prog = gcode::read(read_file(file), file.string());
     const simulate::SweepResult sw = simulate::machine(z, prog, cutter);
     const gcode::ProgramStats st = gcode::stats(prog, settings.machine);
     runs.push_back(Json{{"gcode", file.string()},

@@ -10,6 +10,7 @@
 #include "millnet/classifier/io/model_file.hpp"
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
+#include "millnet/core/output_set.hpp"
 #include "millnet/core/progress.hpp"
 #include "millnet/datasets/agreement.hpp"
 #include "millnet/datasets/generator.hpp"
@@ -154,7 +155,11 @@ bool build_dataset(datasets::Recipe recipe, const fs::path& out_dir, bool reuse,
   datasets::Table table = datasets::build_table(recipe, progress.callback());
   progress.finish();
   table.labelling_json = labelling;
-  datasets_io::write_table(table, out_dir);
+  {
+    OutputSet table_files;  // vectors.csv and manifest.json together or neither (core/output_set.hpp)
+    datasets_io::write_table(table, out_dir);
+    table_files.commit();
+  }
   info("dataset: " + std::to_string(table.rows.size()) + " vectors from " + std::to_string(recipe.parts.size()) +
        " parts → " + (out_dir / "vectors.csv").string());
   return true;
@@ -207,6 +212,11 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
     vec_rms.push_back(c.rms_vector);
   }
   write_file_atomic(out_dir / "loo_curve.csv", curve.str());
+  if (xs.empty()) {  // /train/fixed_alpha: no scan, the one point at the given α (the chart failed on "no points")
+    xs = {model.alpha};
+    part_rms = {loo.rms_part_at_alpha};
+    vec_rms = {loo.rms_vector_at_alpha};
+  }
   report::LinePlotOptions lo;
   lo.log_x = true;
   lo.show_points = true;

@@ -4,8 +4,22 @@
 #include "cli.hpp"
 
 #include "millnet/core/error.hpp"
+#include "millnet/core/json_input.hpp"
+#include "millnet/core/output_set.hpp"
 
 #include <iostream>
+#include <new>
+#include <optional>
+
+namespace {
+/// Every error is one line on stderr, whatever text a library put into it.
+std::string one_line(std::string s) {
+  for (char& c : s)
+    if (c == '\n' || c == '\r') c = ' ';
+  if (s.size() > 2000) s = s.substr(0, 1997) + "...";
+  return s;
+}
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace millnet::app;
@@ -44,13 +58,32 @@ int main(int argc, char** argv) {
   }
   for (auto& [sub, body] : commands) {
     if (!sub->parsed()) continue;
+    const std::string cmd = sub->get_name();
+    const bool all_or_nothing = cmd != "run" && cmd != "dataset";
     try {
-      return body();
+      // A command's outputs are committed together when it returns, or not at all when it throws
+      // (issue 15; core/output_set.hpp). `dataset` and `run` write caches that their later stages
+      // read back by path; they check their inputs before writing instead.
+      std::optional<millnet::OutputSet> outputs;
+      if (all_or_nothing) outputs.emplace();
+      const int code = body();
+      if (outputs) outputs->commit();
+      return code;
     } catch (const millnet::Error& e) {
-      std::cerr << "millnet " << sub->get_name() << ": error: " << e.what() << "\n";
+      std::cerr << "millnet " << cmd << ": error: " << one_line(e.what()) << "\n";
+      return 1;
+    } catch (const std::bad_alloc&) {
+      // Not the library's "std::bad_alloc" (tests/corpus/cli/out_of_memory.args).
+      std::cerr << "millnet " << cmd << ": error: out of memory while running " << cmd
+                << " on these inputs" << (all_or_nothing ? "; nothing was written" : "")
+                << " (smaller inputs or settings, or more memory)\n";
       return 1;
     } catch (const std::exception& e) {
-      std::cerr << "millnet " << sub->get_name() << ": error: " << e.what() << "\n";
+      // A library's exception that no reader turned into a millnet::Error: at least without its
+      // "[json.exception.type_error.302] " prefix.
+      const std::string what = e.what();
+      std::cerr << "millnet " << cmd << ": error: "
+                << one_line(what.rfind("[json.exception", 0) == 0 ? millnet::json_error_text(what) : what) << "\n";
       return 1;
     }
   }

@@ -1,6 +1,7 @@
 #include "millnet/core/atomic_file.hpp"
 
 #include "millnet/core/error.hpp"
+#include "millnet/core/output_set.hpp"
 
 #include <charconv>
 #include <system_error>
@@ -43,6 +44,10 @@ void AtomicOFStream::commit() {
   const bool ok = static_cast<bool>(out_);
   out_.close();
   if (!ok) throw file_error(path_.string(), "write failed");
+  if (OutputSet::stage(tmp_, path_)) {  // an open set renames it with the command's other outputs
+    committed_ = true;
+    return;
+  }
   std::error_code ec;
   fs::rename(tmp_, path_, ec);
   if (ec) throw file_error(path_.string(), "cannot rename temporary file into place: " + ec.message());
@@ -59,7 +64,9 @@ void write_file_atomic(const fs::path& path, const std::vector<unsigned char>& b
   write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
-std::string read_file(const fs::path& path) {
+std::string read_file(const fs::path& requested) {
+  // A file this command wrote into its still open OutputSet is read from its temporary.
+  const fs::path path = OutputSet::pending(requested).value_or(requested);
   std::error_code ec;
   if (!fs::exists(path, ec)) throw file_error(path.string(), "no such file");
   if (fs::is_directory(path, ec)) throw file_error(path.string(), "is a folder, expected a file");

@@ -34,6 +34,7 @@ Json read_json_file(const fs::path& path) {
 /// config.raster_mm when config is an object that has it.
 std::optional<double> config_raster_mm(const Json& config) {
   if (!config.is_object() || !config.contains("raster_mm")) return std::nullopt;
+  if (!config["raster_mm"].is_number()) throw Error("config echo: raster_mm: expected a number");
   return config["raster_mm"].get<double>();
 }
 
@@ -103,7 +104,7 @@ Manifest manifest_of(const datasets::Table& table, std::string_view csv) {
     try {
       m.raster_mm = config_raster_mm(Json::parse(table.config_json));
     } catch (const std::exception& e) {
-      throw Error(std::string("manifest: the table's config echo is not valid JSON (") + e.what() + ")");
+      throw Error(std::string("manifest: the table's config echo is not valid JSON (") + json_error_text(e.what()) + ")");
     }
   }
   return m;

@@ -161,7 +161,7 @@ std::vector<std::vector<std::vector<Sample>>> waterline_loops(const Sampler& s, 
   std::vector<double> levels;
   const double estimate = std::floor((top - s.floor_z()) / p.step_down_mm);
   if (!(estimate <= tol::max_waterline_levels))
-    throw Error("step_down_mm " + format_double(p.step_down_mm) + " over a height of " + format_double(top - s.floor_z()) +
+    throw Error("--step-down / /finish/step_down_mm: step-down " + format_double(p.step_down_mm) + " over a height of " + format_double(top - s.floor_z()) +
                 " mm makes " + format_double(estimate) + " Z levels; at most " +
                 format_double(tol::max_waterline_levels) + " (raise the step-down)");
   for (std::int64_t k = 1;; ++k) {

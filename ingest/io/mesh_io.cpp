@@ -171,7 +171,15 @@ Mesh load_with_assimp(const fs::path& path, MeshReport* report) {
   const aiScene* scene =
       importer.ReadFile(name, aiProcess_ValidateDataStructure | aiProcess_JoinIdenticalVertices | aiProcess_Triangulate);
   if (!scene || !scene->mRootNode)
-    throw file_error(name, std::string("cannot read mesh: ") + importer.GetErrorString());
+  {
+    // assimp's message may quote the rest of the file (a 5 KB line of an ASCII STL, issue 15): one
+    // line, at most 160 characters of it (tests/corpus/mesh/obj_long_garbage_line.obj).
+    std::string why = importer.GetErrorString();
+    for (char& c : why)
+      if (c == '\n' || c == '\r' || c == '\t') c = ' ';
+    if (why.size() > 160) why = why.substr(0, 157) + "...";
+    throw file_error(name, "cannot read mesh: " + why);
+  }
   std::vector<double> V;
   std::vector<std::int32_t> F;
   std::size_t skipped = 0;

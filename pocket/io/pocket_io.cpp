@@ -33,6 +33,17 @@ double json_number(const json& j, const std::string& source, const std::string& 
   return v;
 }
 
+// Coordinates are range-checked here, before Clipper sees them: its integer grid (tol::
+// clipper_resolution_mm) ends near ±4.6e14 mm, and its "Coordinate outside allowed range" names
+// neither the file nor the vertex (issue 15; tests/corpus/cli/pocket_coordinate_1e300.args).
+constexpr double kMaxCoordinateMm = 1e6;
+
+double coordinate(double v, const std::string& where) {
+  if (!(std::abs(v) <= kMaxCoordinateMm))
+    throw Error(where + ": coordinate " + format_double(v) + " mm is outside the allowed range, expected -1000000…1000000 mm");
+  return v;
+}
+
 Loop json_loop(const json& j, const std::string& source, const std::string& key) {
   if (!j.is_array()) throw Error(source + ": " + key + ": expected an array of [x, y, bulge]");
   Loop loop;
@@ -42,8 +53,8 @@ Loop json_loop(const json& j, const std::string& source, const std::string& key)
     if (!v.is_array() || v.size() < 2 || v.size() > 3)
       throw Error(source + ": " + vk + ": expected [x, y] or [x, y, bulge]");
     Vertex x;
-    x.x = json_number(v[0], source, vk + "[0]");
-    x.y = json_number(v[1], source, vk + "[1]");
+    x.x = coordinate(json_number(v[0], source, vk + "[0]"), source + ": " + vk + "[0]");
+    x.y = coordinate(json_number(v[1], source, vk + "[1]"), source + ": " + vk + "[1]");
     x.bulge = v.size() == 3 ? json_number(v[2], source, vk + "[2]") : 0.0;
     loop.push_back(x);
   }
@@ -136,14 +147,17 @@ std::vector<Pair> dxf_pairs(const std::string& text, const std::string& source) 
 }
 
 double dxf_number(const Pair& p, const std::string& source) {
+  double v = 0;
   try {
     std::size_t used = 0;
-    const double v = std::stod(p.value, &used);
+    v = std::stod(p.value, &used);
     if (used != p.value.size() || !std::isfinite(v)) throw std::invalid_argument(p.value);
-    return v;
   } catch (const std::exception&) {
     throw line_error(source, p.line + 1, "group " + std::to_string(p.code) + ": expected a number, got '" + p.value + "'");
   }
+  if ((p.code >= 10 && p.code <= 39) || p.code == 40)  // coordinates and radii: before Clipper sees them
+    (void)coordinate(v, source + ":" + std::to_string(p.line + 1) + ": group " + std::to_string(p.code));
+  return v;
 }
 
 /// An open piece or a closed loop read from the DXF, with where it came from.

@@ -143,7 +143,8 @@ std::int64_t level_count(double depth, double step_down) {
   if (!(step_down > 0) || !std::isfinite(step_down)) throw Error("step_down must be > 0, got " + format_double(step_down));
   const double n = std::ceil(depth / step_down - 1e-9);  // a double first: it may be far beyond any integer
   if (!(n <= static_cast<double>(kMaxLevels)))
-    throw Error("depth " + format_double(depth) + " mm at step-down " + format_double(step_down) + " mm makes " +
+    // Names the flag and the key that set it (issue 15; tests/corpus/cli/flag_step_down_1e-9.args).
+    throw Error("--step-down / /pocket/step_down: depth " + format_double(depth) + " mm at step-down " + format_double(step_down) + " mm makes " +
                 format_double(n) + " Z levels; at most " + std::to_string(kMaxLevels) + " (raise the step-down)");
   return std::max<std::int64_t>(1, static_cast<std::int64_t>(n));
 }

@@ -2,6 +2,7 @@
 #include "millnet/pocket/toolpoints.hpp"
 
 #include "geometry_internal.hpp"
+#include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 
 #include <cmath>
@@ -18,7 +19,7 @@ Vec2 GridFrame::at(int i, int j) const {
 
 ToolPoints make_tool_points(const Region& region, const GridFrame& frame, double clearance_mm) {
   if (!(frame.spacing > 0) || !std::isfinite(frame.spacing))
-    throw Error("make_tool_points: grid spacing must be > 0, got " + std::to_string(frame.spacing));
+    throw Error("--stepover / /pocket/stepover: the tool-point grid spacing must be > 0, got " + format_double(frame.spacing));
   ToolPoints tp;
   tp.frame = frame;
   if (region.boundary.empty()) return tp;
@@ -37,7 +38,15 @@ ToolPoints make_tool_points(const Region& region, const GridFrame& frame, double
     }
   }
   const double span = std::max(umax - umin, vmax - vmin) / frame.spacing;
-  if (span > 2e5) throw Error("make_tool_points: grid of " + std::to_string(span) + " points per side is too fine");
+  // Names the flag and the key, not this function (issue 15; tests/corpus/cli/pocket_grid_too_fine.args).
+  if (span > 2e5) {
+    auto whole = [](double x) {  // 1000000 rather than 1e+06
+      return x < 1e15 ? std::to_string(static_cast<long long>(std::ceil(x))) : format_double(x);
+    };
+    throw Error("--stepover / /pocket/stepover: stepover " + format_double(frame.spacing) + " mm over a pocket " +
+                whole(span * frame.spacing) + " mm across makes " + whole(span) +
+                " tool points per side; at most 200000 (raise the stepover)");
+  }
   const int j0 = static_cast<int>(std::floor(umin / frame.spacing)), j1 = static_cast<int>(std::ceil(umax / frame.spacing));
   const int i0 = static_cast<int>(std::floor(vmin / frame.spacing)), i1 = static_cast<int>(std::ceil(vmax / frame.spacing));
   // O(rows · cols) point_ok queries, each looking at the walls in nearby buckets only.

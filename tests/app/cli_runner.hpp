@@ -23,11 +23,14 @@ inline std::string slurp(const std::filesystem::path& p) {
 
 /// `args` is appended to the executable path as shell words (callers quote what needs quoting).
 /// With timeout_s > 0 the run is killed after that many seconds (exit code 124).
-inline CliResult run_millnet(const std::string& args, const std::filesystem::path& workdir, int timeout_s = 0) {
+/// With memory_kib > 0 the run's address space is limited to that many KiB (`ulimit -v`).
+inline CliResult run_millnet(const std::string& args, const std::filesystem::path& workdir, int timeout_s = 0,
+                             long memory_kib = 0) {
   std::filesystem::create_directories(workdir);
   const auto out = workdir / "cli.stdout", err = workdir / "cli.stderr";
   const std::string limit = timeout_s > 0 ? "timeout -k 5 " + std::to_string(timeout_s) + " " : "";
-  const std::string cmd = "cd '" + workdir.string() + "' && " + limit + "'" + std::string(MILLNET_EXE) + "' " + args + " >'" +
+  const std::string ulimit = memory_kib > 0 ? "ulimit -v " + std::to_string(memory_kib) + " && " : "";
+  const std::string cmd = "cd '" + workdir.string() + "' && " + ulimit + limit + "'" + std::string(MILLNET_EXE) + "' " + args + " >'" +
                           out.string() + "' 2>'" + err.string() + "' </dev/null";
   const int status = std::system(cmd.c_str());
   CliResult r;

@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -103,8 +104,58 @@ namespace {
 /// boundary) are made by the case's generator in its scratch folder {tmp} before the run.
 using Generator = std::function<void(const fs::path& tmp)>;
 
+/// A closed 20 × 20 × 10 mm box as ASCII STL: a good part for the cases whose other input is bad.
+void write_box_stl(const fs::path& p) {
+  const double v[8][3] = {{0, 0, 0}, {20, 0, 0}, {20, 20, 0}, {0, 20, 0}, {0, 0, 10}, {20, 0, 10}, {20, 20, 10}, {0, 20, 10}};
+  const int f[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                        {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+  std::ostringstream s;
+  s << "solid box\n";
+  for (const auto& t : f) {
+    s << " facet normal 0 0 0\n  outer loop\n";
+    for (int k = 0; k < 3; ++k) s << "   vertex " << v[t[k]][0] << " " << v[t[k]][1] << " " << v[t[k]][2] << "\n";
+    s << "  endloop\n endfacet\n";
+  }
+  s << "endsolid box\n";
+  millnet::write_file_atomic(p, s.str());
+}
+
+/// A small vectors.csv (2×2 grid, 3 parts × 2 rows, labels 1…3) that `train` accepts.
+void write_small_vectors(const fs::path& p) {
+  std::string csv = "id,source,label,axis,angle,flip,in_1_1,in_1_2,in_2_1,in_2_2,out_1,out_2,out_3,out_4,out_5,out_6,out_7,out_8\n";
+  for (int part = 1; part <= 3; ++part)
+    for (int r = 0; r < 2; ++r) {
+      csv += "p" + std::to_string(part) + "#" + std::to_string(r + 1) + ",p" + std::to_string(part) + "," +
+             std::to_string(part) + ",x," + std::to_string(90 * r) + ",0";
+      for (int k = 0; k < 4; ++k) csv += "," + std::to_string(part * (k + 1) + r);
+      for (int k = 1; k <= 8; ++k) csv += k == part ? ",1" : ",0";
+      csv += "\n";
+    }
+  millnet::write_file_atomic(p, csv);
+}
+
 const std::map<std::string, Generator>& generators() {
   static const std::map<std::string, Generator> g = {
+      // Outputs are committed together or not at all (issue 15): the second output cannot be
+      // written (a folder stands at its name), so the first must not be left either.
+      {"sample_picture_fails",
+       [](const fs::path& t) {
+         write_box_stl(t / "part.stl");
+         fs::create_directories(t / "out" / "part.png");
+       }},
+      {"train_chart_fails",
+       [](const fs::path& t) {
+         write_small_vectors(t / "vectors.csv");
+         millnet::write_file_atomic(t / "c.json", R"({"train": {"fixed_alpha": 1}})");  // no scan: no edge warning
+         fs::create_directories(t / "out" / "loo_curve.png");
+       }},
+      {"sample_footprint_zero",
+       [](const fs::path& t) {
+         millnet::write_file_atomic(t / "wall.stl", "solid wall\n facet normal 0 1 0\n  outer loop\n   vertex 0 0 0\n"
+                                                    "   vertex 10 0 0\n   vertex 0 0 10\n  endloop\n endfacet\nendsolid wall\n");
+       }},
+      {"rough_second_mesh_missing", [](const fs::path& t) { write_box_stl(t / "part.stl"); }},
+      {"out_of_memory", [](const fs::path& t) { write_box_stl(t / "part.stl"); }},
       {"not_a_regular_file_dev_zero", [](const fs::path& t) { fs::create_symlink("/dev/zero", t / "x.stl"); }},
       {"not_a_regular_file_fifo", [](const fs::path& t) { ASSERT_EQ(::mkfifo((t / "x.stl").c_str(), 0600), 0); }},
       {"not_a_regular_file_folder", [](const fs::path& t) { fs::create_directories(t / "x.stl"); }},
@@ -143,21 +194,36 @@ TEST(Corpus, EveryCliCaseFailsWithOneLine) {
     const fs::path out = tmp / "out";
     if (generators().count(name)) generators().at(name)(tmp);
     int expected_code = 1;
+    long memory_kib = 0;
     std::string args;
     std::istringstream in(millnet::read_file(c));
     for (std::string line; std::getline(in, line);) {
       if (line.rfind("# exit ", 0) == 0) expected_code = std::stoi(line.substr(7));
+      else if (line.rfind("# ulimit -v ", 0) == 0) memory_kib = std::stol(line.substr(12));
       else if (!line.empty() && line[0] != '#') args += (args.empty() ? "" : " ") + line;
     }
     args = replace_all(replace_all(replace_all(args, "{corpus}", root.string()), "{tmp}", tmp.string()), "{out}", out.string());
     const fs::path expect = fs::path(c).replace_extension(".expect");
     ASSERT_TRUE(fs::exists(expect)) << name << ": no " << expect.filename() << " beside it";
-    const auto r = millnet::testing::run_millnet(args + " --quiet", tmp, 60);
+    // Nothing may be written outside the output folder either (`--out ""` wrote into the current folder).
+    const std::string before = millnet::testing::list_files(tmp);
+    const auto r = millnet::testing::run_millnet(args + " --quiet", tmp, 60, memory_kib);
     EXPECT_EQ(r.code, expected_code) << name << ": " << args << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << name << ": expected one line on stderr, got\n" << r.err;
     for (const std::string& p : expected_parts(expect))
       EXPECT_NE(r.err.find(p), std::string::npos) << name << ": expected stderr to contain\n  " << p << "\ngot\n  " << r.err;
     EXPECT_EQ(millnet::testing::list_files(out), "") << name << ": files left in the output folder";
+    std::set<std::string> added;
+    {
+      std::istringstream after(millnet::testing::list_files(tmp)), was(before);
+      for (std::string f; std::getline(after, f);) added.insert(f);
+      for (std::string f; std::getline(was, f);) added.erase(f);
+      added.erase("cli.stdout");
+      added.erase("cli.stderr");
+    }
+    std::string stray;
+    for (const auto& f : added) stray += f + "\n";
+    EXPECT_EQ(stray, "") << name << ": files written outside the output folder (in the working folder " << tmp << ")";
     rusage ru{};
     ::getrusage(RUSAGE_CHILDREN, &ru);  // the largest child so far, in KiB
     EXPECT_LT(ru.ru_maxrss, 1024L * 1024L) << name << ": peak memory of a run ≥ 1 GB";
