@@ -28,7 +28,7 @@ int run_sample(const SampleOpts& o) {
   ingest::MeshReport report;
   const ingest::Mesh raw = ingest::load_mesh(o.mesh, &report);
   const ingest::Mesh mesh = ingest::prepare(raw, o.mesh_flags.prepare(nullptr), &report);
-  const ingest::Grid grid = ingest::sample_grid(mesh, o.raster, o.grid);
+  const ingest::Grid grid = ingest::sample_grid(mesh, o.raster, o.grid, work_limits());
   const std::string stem = fs::path(o.mesh).stem().string();
   const fs::path out(o.out);
   write_file_atomic(out / (stem + ".grid.csv"), ingest::grid_csv(grid.h));

@@ -1,4 +1,5 @@
 #include "settings.hpp"
+#include "cli.hpp"
 
 #include <cmath>
 
@@ -132,6 +133,7 @@ rough::Params rough_params(const Json& config, const Json& explicit_pocket, cons
   const PlannerChoice choice = planner_choice(config, p.cut, flags);
   p.planner = planner_spec(choice);
   p.machining.entry = choice.entry;
+  p.limits = work_limits();
   return p;
 }
 
@@ -178,6 +180,7 @@ FinishSettings finish_settings(const Json& config) {
   p.plunge_feed_mm_min = f["plunge_feed_mm_min"].get<double>();
   p.spindle_rpm = f["spindle_rpm"].get<double>();
   p.safe_z_mm = f["safe_z_mm"].get<double>();
+  p.limits = work_limits();
   const std::string strat = f["strategy"].get<std::string>();
   s.strategies = strat == "all" ? finish::all_strategies() : std::vector{finish::parse_strategy(strat)};
   s.aim.aim = simulate::parse_aim(f["aim"].get<std::string>());
