@@ -210,6 +210,7 @@ datasets::Recipe recipe_from_config(const Json& config) {
   r.up = ingest::parse_up(d["up"].get<std::string>());
   r.raster_mm = d["raster_mm"].get<double>();
   r.grid = d["grid"].get<int>();
+  r.limits = work_limits();
   r.augment = augment_from(d["augment"]);
   r.aspect_feature = d["aspect_feature"].get<bool>();
   const auto names = d["strategies"].get<std::vector<std::string>>();

@@ -7,11 +7,11 @@
 
 namespace millnet {
 
-std::string format_count(double n) {
+std::string format_count(double n, int decimals) {
   if (std::isnan(n)) return "NaN";
   if (std::isinf(n)) return "more than 1e308";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1e", n);
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.*e", decimals, n);
   // "1.0e+10" → "1.0e10", "2.0e-03" → "2.0e-3"
   std::string s(buf), out;
   const auto e = s.find('e');
@@ -54,10 +54,14 @@ std::string format_bytes(double bytes) {
 }
 
 void check_work(const WorkEstimate& est, const WorkLimits& limits) {
-  const std::string head = est.cause + " makes " + format_count(est.count) + " " + est.unit + " (≈ " +
+  const bool over_count = !est.memory_only && !(est.count <= limits.max_work);
+  // As many digits as it takes for an estimate just over the limit not to print as the limit.
+  int dec = 1;
+  while (over_count && dec < 15 && format_count(est.count, dec) == format_count(limits.max_work, dec)) ++dec;
+  const std::string head = est.cause + " makes " + format_count(est.count, dec) + " " + est.unit + " (≈ " +
                            format_bytes(est.bytes) + ")";
-  if (!est.memory_only && !(est.count <= limits.max_work))
-    throw Error(head + "; the limit is " + format_count(limits.max_work) + " (--max-work, /limits/max_work)");
+  if (over_count)
+    throw Error(head + "; the limit is " + format_count(limits.max_work, dec) + " (--max-work, /limits/max_work)");
   if (!(est.bytes <= limits.max_memory_bytes))
     throw Error(head + "; the memory limit is " + format_size(limits.max_memory_bytes / (1024.0 * 1024.0)) +
                 " MiB (--max-memory-mb, /limits/max_memory_mb)");

@@ -34,8 +34,9 @@ struct WorkEstimate {
 /// est.memory_only) or est.bytes > limits.max_memory_bytes (a NaN count or size is refused too). A count equal to the limit passes.
 void check_work(const WorkEstimate& est, const WorkLimits& limits);
 
-/// "1.0e10": two significant digits in scientific notation (a count in a refusal).
-[[nodiscard]] std::string format_count(double n);
+/// "1.0e10": scientific notation with `decimals` digits after the point (a count in a refusal;
+/// check_work adds digits until an estimate and its limit print differently).
+[[nodiscard]] std::string format_count(double n, int decimals = 1);
 /// A size or resolution in a cause: up to 6 significant digits (12 decimals below 0.001), no
 /// exponent from 1e-7 to 1e12 ("0.00001", "100", "1000000", "12.3457").
 [[nodiscard]] std::string format_size(double v);
