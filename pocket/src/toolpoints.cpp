@@ -5,6 +5,7 @@
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -52,6 +53,8 @@ ToolPoints make_tool_points(const Region& region, const GridFrame& frame, double
   if (!(std::max(r.j1 - r.j0, r.i1 - r.i0) <= 2e5))
     throw Error("make_tool_points: grid of " + format_double(std::max(r.j1 - r.j0, r.i1 - r.i0)) +
                 " points per side is too fine");
+  if (!(std::max({std::abs(r.i0), std::abs(r.i1), std::abs(r.j0), std::abs(r.j1)}) < 2e9))
+    throw Error("make_tool_points: the grid origin lies too far from the pocket for int grid indices");
   const Clearance clear(region, clearance_mm);
   const int j0 = static_cast<int>(r.j0), j1 = static_cast<int>(r.j1);
   const int i0 = static_cast<int>(r.i0), i1 = static_cast<int>(r.i1);

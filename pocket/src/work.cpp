@@ -4,6 +4,7 @@
 #include "geometry_internal.hpp"
 #include "millnet/core/atomic_file.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <variant>
 
@@ -41,6 +42,11 @@ std::vector<WorkEstimate> estimate_work(const Region& region, const CutParams& c
   if (const auto* som = std::get_if<SomSpec>(&spec)) {
     const double n = grid_range(region, som->frame).points();
     out.push_back({over("stepover", som->frame.spacing, box), n, "tool points", 24.0 * n});
+    // The ring: M = max(3, round(node_factor · N)) nodes, N ≤ the grid points (som.hpp).
+    const double m = std::max(3.0, std::round(som->som.node_factor * n));
+    out.push_back({"node_factor " + mm(som->som.node_factor) + " × the tool points of " +
+                       over("stepover", som->frame.spacing, box),
+                   m, "SOM ring nodes", 32.0 * m});
   } else if (const auto* zz = std::get_if<ZigzagSpec>(&spec)) {
     const double diag = (box.hi - box.lo).norm();
     const double lines = std::floor(diag / cut.stepover) + 1;

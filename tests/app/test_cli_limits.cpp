@@ -27,20 +27,21 @@ using millnet::testing::run_millnet;
 const std::string kSquare = std::string(MILLNET_SOURCE_DIR) + "/tests/corpus/cli/square100.json";
 }  // namespace
 
-// 100 mm square, D 10, stepover 1: 101² = 10,201 tool-point grid points and 112² = 12,544 feed-map
-// cells (tests/pocket/test_work.cpp).
+// 100 mm square, D 10, stepover 1: 101² = 10,201 tool-point grid points, 20,402 SOM ring nodes and
+// 112² = 12,544 feed-map cells (tests/pocket/test_work.cpp).
 TEST(CliLimits, MaxWorkBelowTheEstimateRefusesAndAtTheEstimateRuns) {
   const fs::path d = fresh_dir("cli_limits/max_work");
   const std::string base = "pocket --pocket '" + kSquare + "' --stepover 1 --tool-diameter 10 --quiet --out out";
-  const auto refused = run_millnet(base + " --max-work 12543", d, 60);
+  const auto refused = run_millnet(base + " --max-work 20401", d, 60);
   EXPECT_EQ(refused.code, 1) << refused.err;
   EXPECT_EQ(std::count(refused.err.begin(), refused.err.end(), '\n'), 1) << refused.err;
-  EXPECT_NE(refused.err.find("millnet pocket: error: feed_grid 1 mm over a 100 × 100 mm pocket makes 1.2544e4 feed-map "
-                             "cells (≈ 13 kB); the limit is 1.2543e4 (--max-work, /limits/max_work)"),
+  EXPECT_NE(refused.err.find("millnet pocket: error: node_factor 2 × the tool points of stepover 1 mm over a 100 × 100 "
+                             "mm pocket makes 2.0402e4 SOM ring nodes (≈ 653 kB); the limit is 2.0401e4 (--max-work, "
+                             "/limits/max_work)"),
             std::string::npos)
       << refused.err;
   EXPECT_EQ(list_files(d / "out"), "");
-  const auto ran = run_millnet(base + " --max-work 12544", d, 120);
+  const auto ran = run_millnet(base + " --max-work 20402", d, 120);
   EXPECT_EQ(ran.code, 0) << ran.err;
   EXPECT_TRUE(fs::exists(d / "out" / "square100.nc"));
 }

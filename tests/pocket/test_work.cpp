@@ -39,7 +39,7 @@ TEST(PocketWork, ToolPointGridOfA100mmSquareAtStepover1Is101Squared) {
   // Grid rows and columns 0..100 at spacing 1 from the origin: 101 × 101 = 10,201 points visited;
   // the tool points are a subset (D 10 keeps 91 × 91 of them).
   const auto e = estimate_work(square(100), cut(10, 1), som(1));
-  ASSERT_EQ(e.size(), 2U);
+  ASSERT_EQ(e.size(), 3U);
   EXPECT_EQ(e[0].count, 101.0 * 101.0);
   EXPECT_EQ(e[0].unit, "tool points");
   EXPECT_EQ(e[0].bytes, 24.0 * 101 * 101);
@@ -48,9 +48,13 @@ TEST(PocketWork, ToolPointGridOfA100mmSquareAtStepover1Is101Squared) {
   const ToolPoints tp = make_tool_points(square(100), som(1).frame, 5);
   EXPECT_LE(static_cast<double>(tp.pts.size()), e[0].count);
   EXPECT_EQ(tp.pts.size(), 91U * 91U);
+  // Ring: node_factor 2 × the grid points (an upper bound of 2 × the 8,281 tool points).
+  EXPECT_EQ(e[1].unit, "SOM ring nodes");
+  EXPECT_EQ(e[1].count, 2.0 * 101 * 101);
+  EXPECT_EQ(e[1].cause, "node_factor 2 × the tool points of stepover 1 mm over a 100 × 100 mm pocket");
   // Feed map: D/10 = 1 mm cells over the box grown by R + g = 6 on each side: 112 × 112.
-  EXPECT_EQ(e[1].unit, "feed-map cells");
-  EXPECT_EQ(e[1].count, 112.0 * 112.0);
+  EXPECT_EQ(e[2].unit, "feed-map cells");
+  EXPECT_EQ(e[2].count, 112.0 * 112.0);
 }
 
 TEST(PocketWork, IssueExampleStepover0001IsRefusedWithTheDocumentedLine) {
@@ -69,9 +73,15 @@ TEST(PocketWork, IssueExampleVertex1kmAwayIsRefusedByItsFeedMap) {
 }
 
 TEST(PocketWork, JustUnderTheLimitIsNotRefusedJustOverIs) {
-  // 100 mm square, stepover 1: 10,201 grid points, 12,544 feed-map cells.
-  EXPECT_EQ(refusal(square(100), cut(10, 1), som(1), WorkLimits{12544, 1e9}), "");
-  EXPECT_NE(refusal(square(100), cut(10, 1), som(1), WorkLimits{12543, 1e9}), "");
+  // 100 mm square, stepover 1: 10,201 grid points, 20,402 ring nodes, 12,544 feed-map cells.
+  EXPECT_EQ(refusal(square(100), cut(10, 1), som(1), WorkLimits{20402, 1e9}), "");
+  EXPECT_NE(refusal(square(100), cut(10, 1), som(1), WorkLimits{20401, 1e9}).find("makes 2.0402e4 SOM ring nodes"),
+            std::string::npos);
+  // The zigzag planner has no ring: its largest figure is the feed map.
+  ZigzagSpec z;
+  z.zigzag.angle_deg = 0.0;
+  EXPECT_EQ(refusal(square(100), cut(10, 1), z, WorkLimits{12544, 1e9}), "");
+  EXPECT_NE(refusal(square(100), cut(10, 1), z, WorkLimits{12543, 1e9}).find("feed-map cells"), std::string::npos);
   EXPECT_NE(refusal(square(100), cut(10, 1), som(1), WorkLimits{1e9, 24.0 * 10201 - 1}).find("memory limit"),
             std::string::npos);
 }

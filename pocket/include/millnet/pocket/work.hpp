@@ -2,8 +2,9 @@
 // What planning and machining one pocket region will cost, from its size and the resolutions, before
 // anything is allocated (issue 12 §1; core/budget.hpp). Counts are exact or stated upper bounds:
 //  * SOM: the tool-point grid make_tool_points visits, rows × columns of grid_range() (exact; the
-//    tool points are a subset, the SOM ring holds ≤ 3 nodes per tool point). 24 bytes per grid point
-//    (a point and its indices), the SOM ring's nodes counted in the same figure.
+//    tool points are a subset), 24 bytes per grid point (a point and its indices); then its ring,
+//    M = max(3, round(node_factor · grid points)) nodes (an upper bound: M = node_factor · tool
+//    points), 32 bytes per node.
 //  * zigzag: scan lines = (box diagonal / stepover + 1) per direction tried (one with a fixed angle,
 //    else ⌈180 / angle_step⌉ + one per boundary segment), 64 bytes per line — an upper bound.
 //  * feed map (every planner, machine_pocket): cells of the boundary's box grown by R + g on each
@@ -16,7 +17,7 @@
 namespace millnet::pocket {
 
 /// The estimates of one region (validated, normalized) planned with `spec` and machined with `cut`:
-/// first the planner's (tool points or scan lines), then the feed map's.
+/// first the planner's (tool points and ring nodes, or scan lines), then the feed map's.
 [[nodiscard]] std::vector<WorkEstimate> estimate_work(const Region& region, const CutParams& cut,
                                                       const PlannerSpec& spec);
 
