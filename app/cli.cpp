@@ -15,6 +15,7 @@ namespace fs = std::filesystem;
 
 namespace {
 bool g_quiet = false;
+WorkLimits g_limits;
 }
 
 CLI::Validator schema_range(const std::string& pointer) {
@@ -80,6 +81,12 @@ void add_common(CLI::App* sub, Common& common, bool with_config) {
   sub->add_flag("--quiet,-q", common.quiet, "no progress or information on stderr (errors still printed)");
   sub->add_option("--threads", common.threads, "OpenMP threads (0 = all cores, at most 1024; default from the config)")
       ->check(schema_range("/threads"));
+  sub->add_option("--max-work", common.max_work,
+                  "items (points, cells, lines) one stage may make before it is refused (default /limits/max_work)")
+      ->check(schema_range("/limits/max_work"));
+  sub->add_option("--max-memory-mb", common.max_memory_mb,
+                  "MiB one stage may hold before it is refused (default /limits/max_memory_mb)")
+      ->check(schema_range("/limits/max_memory_mb"));
   if (with_config)
     sub->add_option("--config", common.config, "JSON config (configs/schema/millnet.schema.json)")
         ->check(CLI::ExistingFile);
@@ -126,8 +133,13 @@ Json setup(const Common& common) {
   Json config = common.config.empty() ? default_config(fs::current_path()) : load_config(common.config);
   int threads = common.threads >= 0 ? common.threads : config.value("threads", 0);
   if (threads > 0) omp_set_num_threads(threads);
+  const Json& lim = config["limits"];
+  g_limits.max_work = common.max_work.value_or(lim["max_work"].get<double>());
+  g_limits.max_memory_bytes = common.max_memory_mb.value_or(lim["max_memory_mb"].get<double>()) * 1024.0 * 1024.0;
   return config;
 }
+
+const WorkLimits& work_limits() { return g_limits; }
 
 void info(const std::string& msg) {
   if (!g_quiet) std::cerr << msg << "\n";

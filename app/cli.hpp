@@ -3,6 +3,7 @@
 // --threads N, --config FILE), and the registry main() dispatches through.
 #include "config.hpp"
 
+#include "millnet/core/budget.hpp"
 #include "millnet/ingest/mesh.hpp"
 
 #include <CLI/CLI.hpp>
@@ -19,6 +20,7 @@ struct Common {
   bool quiet = false;
   int threads = -1;              ///< -1 = from config (0 = all cores)
   std::string config;            ///< empty = defaults
+  std::optional<double> max_work, max_memory_mb;  ///< override /limits (issue 12)
 };
 
 /// --units and --up, shared by every command that reads meshes (sample, predict, rough, finish,
@@ -50,12 +52,17 @@ struct PocketFlags {
 /// into the current folder. The error reads "--out: expected a folder to write into, got an empty path".
 [[nodiscard]] CLI::Validator output_path();
 
-/// Adds --quiet, --threads and (when with_config) --config to a subcommand.
+/// Adds --quiet, --threads, --max-work, --max-memory-mb and (when with_config) --config to a subcommand.
 void add_common(CLI::App* sub, Common& common, bool with_config = true);
 
 /// Loads the config named by --config (or the defaults), applies --quiet and --threads
-/// (OpenMP thread count; 0 = all cores). Returns the checked config.
+/// (OpenMP thread count; 0 = all cores) and the work limits (/limits, --max-work, --max-memory-mb).
+/// Returns the checked config.
 [[nodiscard]] Json setup(const Common& common);
+
+/// The work limits setup() settled (the defaults before it ran), handed to every module whose cost
+/// is size × resolution.
+[[nodiscard]] const WorkLimits& work_limits();
 
 /// Runs a command body: returns 0, or 1 after printing "millnet <cmd>: error: <what>" for a millnet::Error.
 using Command = std::function<int()>;

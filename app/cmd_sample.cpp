@@ -29,7 +29,7 @@ int run_sample(const SampleOpts& o) {
   ingest::MeshReport report;
   const ingest::Mesh raw = ingest::load_mesh(o.mesh, &report);
   const ingest::Mesh mesh = ingest::prepare(raw, o.mesh_flags.prepare(nullptr), &report);
-  const ingest::Grid grid = ingest::sample_grid(mesh, o.raster, o.grid);
+  const ingest::Grid grid = ingest::sample_grid(mesh, o.raster, o.grid, work_limits());
   // Before anything is written: the heat map's "extent_mm must be finite … with min < max" was the
   // message for a part without a footprint (issue 15; tests/corpus/cli/sample_footprint_zero.args).
   if (!(grid.footprint_x > 0) || !(grid.footprint_y > 0))

@@ -39,6 +39,11 @@ struct PartFrame {
   std::vector<double> design;  ///< program frame, NaN off the part
 };
 
+/// The z-map's own backstop at the run's memory limit (--max-memory-mb), not its 2 GiB default.
+std::size_t zmap_max_bytes() {
+  return static_cast<std::size_t>(std::min(work_limits().max_memory_bytes, 1e18));
+}
+
 PartFrame part_frame(const ingest::Mesh& mesh, const FinishSettings& s, bool with_design) {
   PartFrame f;
   f.stock_top = mesh.V.col(2).maxCoeff() + s.stock_top_above_part_mm;
@@ -50,12 +55,8 @@ PartFrame part_frame(const ingest::Mesh& mesh, const FinishSettings& s, bool wit
   f.grid.nx = static_cast<std::size_t>(std::max(1.0, std::ceil(f.width / s.sim.cell_mm)));
   f.grid.ny = static_cast<std::size_t>(std::max(1.0, std::ceil(f.depth / s.sim.cell_mm)));
   f.grid.check();
-  // + design and raster (17 B per cell), + the metrics' per-cell excess (8 B)
-  const std::size_t need = simulate::ZMap::bytes_needed(f.grid) + f.grid.cells() * 25;
-  if (need > simulate::kZMapMaxBytes)
-    throw Error("simulate: a " + std::to_string(f.grid.nx) + " × " + std::to_string(f.grid.ny) + " z-map at " +
-                fixed(s.sim.cell_mm, 3) + " mm cells needs " + std::to_string(need >> 20) + " MiB, above the " +
-                std::to_string(simulate::kZMapMaxBytes >> 20) + " MiB limit (raise /simulate/cell_mm)");
+  // + design and raster (17 B per cell), + the metrics' per-cell excess (8 B), before any is allocated
+  check_work(simulate::zmap_work(f.grid, 25), work_limits());
   const ingest::HeightField hf =
       ingest::rasterize_top(mesh, 0.5 * f.grid.cell, 0.5 * f.grid.cell, f.grid.cell, static_cast<int>(f.grid.nx),
                             static_cast<int>(f.grid.ny));
@@ -199,7 +200,7 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
     }
     if (settings.simulate) {
       simulate::ZMap z = simulate::ZMap::from_heights(frame.grid, frame.design, settings.sim.allowance_mm,
-                                                      frame.z_shift + settings.sim.allowance_mm);
+                                                      frame.z_shift + settings.sim.allowance_mm, zmap_max_bytes());
       // The program as the machine gets it: read back from the file just written (gouges are
       // reported at their line).
       const fs::path nc = out / (base + ".nc");
@@ -290,10 +291,11 @@ Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
                     const std::vector<std::pair<fs::path, finish::Cutter>>& programs, const std::string& stock,
                     const FinishSettings& settings, const fs::path& out, bool save_stock) {
   const PartFrame frame = part_frame(mesh, settings, true);
-  simulate::ZMap z = stock == "flat"     ? simulate::ZMap::flat(frame.grid, 0.0)
+  simulate::ZMap z = stock == "flat"     ? simulate::ZMap::flat(frame.grid, 0.0, zmap_max_bytes())
                      : stock == "design" ? simulate::ZMap::from_heights(frame.grid, frame.design,
                                                                         settings.sim.allowance_mm,
-                                                                        frame.z_shift + settings.sim.allowance_mm)
+                                                                        frame.z_shift + settings.sim.allowance_mm,
+                                                                        zmap_max_bytes())
                                          : stock_from_file(stock, frame.grid);
   Json runs = Json::array();
   for (const auto& [file, cutter] : programs) {

@@ -336,7 +336,7 @@ std::vector<PartPrediction> predict_parts(const ModelFolder& folder, const std::
     try {
       std::shared_ptr<const ingest::Mesh> mesh = in.mesh;
       if (!mesh) mesh = std::make_shared<const ingest::Mesh>(ingest::load_prepared(in.file, prep));
-      const datasets::ModelVectors mv = datasets::model_vectors(*mesh, pp.name, folder.spec);
+      const datasets::ModelVectors mv = datasets::model_vectors(*mesh, pp.name, folder.spec, work_limits());
       const classifier::Prediction pr = classifier::predict(model, mv.inputs);
       const classifier::Ranking rk = classifier::rank(pr);
       pp.mean = rk.mean;

@@ -1,9 +1,11 @@
 #include "pocket_job.hpp"
+#include "cli.hpp"
 #include "text.hpp"
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/pocket/io/tables.hpp"
+#include "millnet/pocket/work.hpp"
 #include "millnet/report/plots.hpp"
 
 
@@ -11,7 +13,9 @@ namespace millnet::app {
 namespace fs = std::filesystem;
 
 pocket::PlanResult plan_region(const pocket::Region& region, const pocket::CutParams& cut, const PlannerChoice& ch) {
-  return pocket::plan(region, cut, planner_spec(ch));
+  const pocket::PlannerSpec spec = planner_spec(ch);
+  pocket::check_work(region, cut, spec, work_limits());  // before anything is allocated (issue 12)
+  return pocket::plan(region, cut, spec);
 }
 
 Json cut_json(const pocket::CutParams& c) {

@@ -1,4 +1,5 @@
 #include "settings.hpp"
+#include "cli.hpp"
 
 #include <cmath>
 
@@ -257,6 +258,7 @@ rough::Params rough_params(const Json& config, const Json& explicit_pocket, cons
   const PlannerChoice choice = planner_choice(config, p.cut, flags);
   p.planner = planner_spec(choice);
   p.machining.entry = choice.entry;
+  p.limits = work_limits();
   return p;
 }
 
@@ -381,6 +383,7 @@ FinishSettings finish_settings(const Json& config, const FinishToolFlags& flags)
   p.scallop_mm = f["scallop_mm"].get<double>();
   p.raster_angle_deg = f["raster_angle_deg"].get<double>();
   p.safe_z_mm = f["safe_z_mm"].get<double>();
+  p.limits = work_limits();
   const std::string strat = f["strategy"].get<std::string>();
   s.strategies = strat == "all" ? finish::all_strategies() : std::vector{finish::parse_strategy(strat)};
   s.aim.aim = simulate::parse_aim(f["aim"].get<std::string>());
@@ -411,6 +414,7 @@ datasets::Recipe recipe_from_config(const Json& config) {
   r.up = ingest::parse_up(d["up"].get<std::string>());
   r.raster_mm = d["raster_mm"].get<double>();
   r.grid = d["grid"].get<int>();
+  r.limits = work_limits();
   r.augment = augment_from(d["augment"]);
   r.aspect_feature = d["aspect_feature"].get<bool>();
   const auto names = d["strategies"].get<std::vector<std::string>>();

@@ -1,6 +1,7 @@
 #include "millnet/core/atomic_file.hpp"
 
 #include "millnet/core/error.hpp"
+#include "millnet/core/interrupt.hpp"
 #include "millnet/core/output_set.hpp"
 
 #include <charconv>
@@ -27,8 +28,12 @@ void ensure_parent(const fs::path& path) {
 
 AtomicOFStream::AtomicOFStream(fs::path path, bool binary) : path_(std::move(path)), tmp_(temp_name(path_)) {
   ensure_parent(path_);
+  slot_ = register_temp_file(tmp_);  // before the file exists: an interrupt from here on removes it
   out_.open(tmp_, binary ? std::ios::out | std::ios::binary | std::ios::trunc : std::ios::out | std::ios::trunc);
-  if (!out_) throw file_error(path_.string(), "cannot open for writing");
+  if (!out_) {
+    unregister_temp_file(slot_);
+    throw file_error(path_.string(), "cannot open for writing");
+  }
 }
 
 AtomicOFStream::~AtomicOFStream() {
@@ -37,21 +42,27 @@ AtomicOFStream::~AtomicOFStream() {
     std::error_code ec;
     fs::remove(tmp_, ec);
   }
+  unregister_temp_file(slot_);
 }
 
 void AtomicOFStream::commit() {
   out_.flush();
   const bool ok = static_cast<bool>(out_);
   out_.close();
-  if (!ok) throw file_error(path_.string(), "write failed");
+  if (!ok) throw file_error(path_.string(), "write failed");  // the destructor removes the temporary
   if (OutputSet::stage(tmp_, path_)) {  // an open set renames it with the command's other outputs
     committed_ = true;
+    // The temporary stays registered for an interrupt until the set renames or removes it; its
+    // slot is reclaimed once the file is gone (interrupt.cpp).
+    slot_ = -1;
     return;
   }
   std::error_code ec;
   fs::rename(tmp_, path_, ec);
   if (ec) throw file_error(path_.string(), "cannot rename temporary file into place: " + ec.message());
   committed_ = true;
+  unregister_temp_file(slot_);
+  slot_ = -1;
 }
 
 void write_file_atomic(const fs::path& path, std::string_view content) {

@@ -105,6 +105,13 @@ Table build_table(const Recipe& recipe, const ProgressFn& progress) {
     if (variants.back().empty()) throw Error("dataset recipe: the augmentation gives no variants (no angles?)");
     total += variants.back().size();
   }
+  {  // the table's values before its rows are allocated (issue 12): rows × inputs per row
+    const double values = static_cast<double>(total) * static_cast<double>(m);
+    check_work({std::to_string(recipe.parts.size()) + " parts × their " + std::to_string(total) +
+                    " augmented variants at grid " + std::to_string(recipe.grid),
+                values, "model-vector table values", 8.0 * values},
+               recipe.limits);
+  }
   t.rows.resize(total);
   std::size_t row_at = 0;
   if (progress) progress(0, total);
@@ -155,7 +162,7 @@ Table build_table(const Recipe& recipe, const ProgressFn& progress) {
       const PartSpec& p = recipe.parts[batch_parts[b]];
       const augment::Variant& var = l.variants[v];
       try {
-        ModelVector mv = model_vector(l.mesh, var, recipe.raster_mm, recipe.grid);
+        ModelVector mv = model_vector(l.mesh, var, recipe.raster_mm, recipe.grid, recipe.limits);
         Row& r = t.rows[l.first_row + v];
         r.id = part_name(p) + "#" + std::to_string(v + 1);
         r.source = part_name(p);

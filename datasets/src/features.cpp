@@ -5,8 +5,9 @@
 
 namespace millnet::datasets {
 
-ModelVector model_vector(const ingest::Mesh& mesh, const augment::Variant& variant, double raster_mm, int grid) {
-  const ingest::Grid g = ingest::sample_grid(augment::apply(mesh, variant), raster_mm, grid);
+ModelVector model_vector(const ingest::Mesh& mesh, const augment::Variant& variant, double raster_mm, int grid,
+                         const WorkLimits& limits) {
+  const ingest::Grid g = ingest::sample_grid(augment::apply(mesh, variant), raster_mm, grid, limits);
   const auto n = static_cast<Eigen::Index>(grid);
   if (g.h.rows() != n || g.h.cols() != n)
     throw Error("sampler returned a " + std::to_string(g.h.rows()) + "×" + std::to_string(g.h.cols()) + " grid");
@@ -18,13 +19,14 @@ ModelVector model_vector(const ingest::Mesh& mesh, const augment::Variant& varia
   return mv;
 }
 
-ModelVectors model_vectors(const ingest::Mesh& mesh, const std::string& source, const FeatureSpec& spec) {
+ModelVectors model_vectors(const ingest::Mesh& mesh, const std::string& source, const FeatureSpec& spec,
+                           const WorkLimits& limits) {
   ModelVectors out;
   out.variants = augment::make_variants(source, spec.augment);
   const auto cols = static_cast<Eigen::Index>(spec.grid) * static_cast<Eigen::Index>(spec.grid);
   out.inputs.resize(static_cast<Eigen::Index>(out.variants.size()), cols);
   for (std::size_t v = 0; v < out.variants.size(); ++v) {
-    const ModelVector mv = model_vector(mesh, out.variants[v], spec.raster_mm, spec.grid);
+    const ModelVector mv = model_vector(mesh, out.variants[v], spec.raster_mm, spec.grid, limits);
     for (Eigen::Index c = 0; c < cols; ++c)
       out.inputs(static_cast<Eigen::Index>(v), c) = mv.inputs[static_cast<std::size_t>(c)];
   }

@@ -3,6 +3,7 @@
 
 #include "millnet/core/error.hpp"
 #include "millnet/finish/tolerances.hpp"
+#include "millnet/finish/work.hpp"
 
 #include <Eigen/Geometry>
 
@@ -166,6 +167,8 @@ std::vector<FinishPlan> plan_finish(const ingest::Mesh& mesh, const DropCutter& 
   if (!(box.x1 > box.x0 && box.y1 > box.y0)) {
     box = {mesh.V.col(0).minCoeff(), mesh.V.col(1).minCoeff(), mesh.V.col(0).maxCoeff(), mesh.V.col(1).maxCoeff()};
   }
+  for (const WorkEstimate& e : estimate_work(box.x0, box.y0, box.x1, box.y1, strategies, params))
+    check_work(e, params.limits);  // before any CL point is dropped (issue 12)
   if (std::min(box.x1 - box.x0, box.y1 - box.y0) < params.tool.diameter)
     throw Error("finish: the tool (" + params.tool.describe() + ") is larger than the machining boundary (" +
                 std::to_string(box.x1 - box.x0) + " × " + std::to_string(box.y1 - box.y0) + " mm)");

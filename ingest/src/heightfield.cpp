@@ -218,10 +218,11 @@ HeightField rasterize(const Mesh& mesh, const Frame& fr) {
 
 }  // namespace
 
-HeightField rasterize_top(const Mesh& mesh, double raster_mm) {
+HeightField rasterize_top(const Mesh& mesh, double raster_mm, const WorkLimits& limits) {
   if (!(raster_mm > 0) || !std::isfinite(raster_mm))
     throw Error("rasterize_top: raster_mm must be a finite number > 0, got " + std::to_string(raster_mm));
   validate(mesh, "rasterize_top");
+  check_work(raster_work(mesh, raster_mm), limits);
   const Box3 box = bounds(mesh);
   Frame fr{box.min.x(), box.min.y(), raster_mm, raster_mm, 1, 1};
   const double w = box.max.x() - box.min.x(), h = box.max.y() - box.min.y();
@@ -238,6 +239,20 @@ HeightField rasterize_top(const Mesh& mesh, double raster_mm) {
     fr.sy = h / (fr.ny - 1);
   }
   return rasterize(mesh, fr);
+}
+
+WorkEstimate raster_work(double width_mm, double height_mm, double raster_mm, const std::string& what) {
+  const double cx = std::ceil(width_mm / raster_mm - 1e-9), cy = std::ceil(height_mm / raster_mm - 1e-9);
+  const double n = (std::max(cx, 0.0) + 1) * (std::max(cy, 0.0) + 1);
+  return {"raster_mm " + format_size(raster_mm) + " mm over a " + format_size(width_mm) + " × " +
+              format_size(height_mm) + " mm " + what,
+          n, "height-field raster points", n * (sizeof(double) + sizeof(std::uint8_t))};
+}
+
+WorkEstimate raster_work(const Mesh& mesh, double raster_mm) {
+  validate(mesh, "rasterize_top");
+  const Box3 box = bounds(mesh);
+  return raster_work(box.max.x() - box.min.x(), box.max.y() - box.min.y(), raster_mm, "mesh footprint");
 }
 
 HeightField rasterize_top(const Mesh& mesh, double x0, double y0, double step, int nx, int ny) {
@@ -290,6 +305,8 @@ Eigen::MatrixXd height_matrix(const HeightField& field, double offset) {
   return m;
 }
 
-Grid sample_grid(const Mesh& mesh, double raster_mm, int n) { return resample(rasterize_top(mesh, raster_mm), n); }
+Grid sample_grid(const Mesh& mesh, double raster_mm, int n, const WorkLimits& limits) {
+  return resample(rasterize_top(mesh, raster_mm, limits), n);
+}
 
 }  // namespace millnet::ingest

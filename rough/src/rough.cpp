@@ -1,5 +1,7 @@
 #include "millnet/rough/rough.hpp"
 
+#include "millnet/pocket/work.hpp"
+
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/pocket/gcode.hpp"
@@ -41,6 +43,8 @@ void make_stock(const ingest::Mesh& mesh, const ingest::Box3& box, const Params&
   res.stock_y1 = box.max.y() + p.margin_mm;
   res.stock_top_part = box.max.z() + p.top_allowance_mm;
   // The height field covers the stock (points off the part carry z_min = the part's lowest point).
+  check_work(ingest::raster_work(res.stock_x1 - res.stock_x0, res.stock_y1 - res.stock_y0, p.raster_mm, "stock"),
+             p.limits);
   const int nx = static_cast<int>(std::ceil((res.stock_x1 - res.stock_x0) / p.raster_mm)) + 1;
   const int ny = static_cast<int>(std::ceil((res.stock_y1 - res.stock_y0) / p.raster_mm)) + 1;
   res.field = ingest::rasterize_top(mesh, res.stock_x0, res.stock_y0, p.raster_mm, nx, ny);
@@ -65,6 +69,7 @@ Level plan_level(const Result& res, const Params& p, const pocket::Loop& stock, 
     } catch (const Error& e) {
       throw Error(std::string("slicing produced an invalid region: ") + e.what());
     }
+    pocket::check_work(region, p.cut, p.planner, p.limits);
     pocket::PlanResult plan = pocket::plan(region, p.cut, p.planner);
     tool_points += plan.tool_points.pts.size();
     if (plan.status == pocket::PlanStatus::Ok && !plan.path.chains.empty()) {

@@ -29,6 +29,16 @@ std::size_t ZMap::bytes_needed(const GridSpec& spec) {
   return spec.cells() * kPerCell;
 }
 
+WorkEstimate zmap_work(const GridSpec& spec, double extra_bytes_per_cell) {
+  const double cells = static_cast<double>(spec.nx) * static_cast<double>(spec.ny);
+  WorkEstimate e{"cell_mm " + format_size(spec.cell) + " mm over a " +
+                     format_size(spec.cell * static_cast<double>(spec.nx)) + " × " +
+                     format_size(spec.cell * static_cast<double>(spec.ny)) + " mm z-map", cells, "z-map cells",
+                 cells * (static_cast<double>(sizeof(double) + sizeof(std::uint32_t)) + extra_bytes_per_cell)};
+  e.memory_only = true;
+  return e;
+}
+
 ZMap ZMap::flat(const GridSpec& spec, double top, std::size_t max_bytes) {
   spec.check();
   if (!std::isfinite(top)) throw Error("z-map: stock top must be finite");

@@ -1,6 +1,7 @@
 #pragma once
 // Outputs are never left half-written: everything goes to "<path>.tmp-<pid>" in the same folder
 // and is renamed over <path> only when complete (rename is atomic on POSIX within a file system).
+// While it is open, the temporary file is registered for removal on SIGINT/SIGTERM (interrupt.hpp).
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -32,6 +33,7 @@ private:
   std::filesystem::path path_, tmp_;
   std::ofstream out_;
   bool committed_ = false;
+  int slot_ = -1;  ///< the temporary file's entry in the interrupt table (interrupt.hpp)
 };
 
 /// Shortest decimal text that reads back to the same double (round trip bit for bit), "%.17g"-free.

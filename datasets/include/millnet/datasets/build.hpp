@@ -4,6 +4,7 @@
 // sampled aborts the build with an error naming its file (a training set silently missing a part
 // would train a different classifier than the one asked for).
 #include "millnet/augment/variants.hpp"
+#include "millnet/core/budget.hpp"
 #include "millnet/core/progress.hpp"
 #include "millnet/datasets/generator.hpp"
 #include "millnet/datasets/table.hpp"
@@ -40,6 +41,9 @@ struct Recipe {
   /// JSON text of the settings that simulated labels depend on (tool, stepover, aim, …), echoed as
   /// "label_by_simulation" when some part is labelled by simulation; empty otherwise.
   std::string simulation_settings_json;
+  /// Budgets of the table (rows × inputs per row, counted before any part is read) and of each
+  /// variant's height-field raster (ingest::raster_work), issue 12.
+  WorkLimits limits;
 };
 
 /// Parts of generate_default_parts as recipe parts.

@@ -4,6 +4,7 @@
 //   one row of n² heights per variant (row-major, row = y, col = x).
 //   ModelVectors mv = model_vectors(mesh, "part", spec);   // mv.inputs: M × n²
 #include "millnet/augment/variants.hpp"
+#include "millnet/core/budget.hpp"
 #include "millnet/ingest/mesh.hpp"
 
 #include <Eigen/Core>
@@ -28,9 +29,10 @@ struct ModelVector {
 };
 
 /// apply(mesh, variant) → sample_grid(raster_mm, grid) → one vector. Throws millnet::Error when the
-/// sampler does not return an n×n grid. O(triangles + raster points).
+/// sampler does not return an n×n grid, or when the variant's raster exceeds `limits`
+/// (ingest::raster_work, issue 12). O(triangles + raster points).
 [[nodiscard]] ModelVector model_vector(const ingest::Mesh& mesh, const augment::Variant& variant, double raster_mm,
-                                       int grid);
+                                       int grid, const WorkLimits& limits = {});
 
 struct ModelVectors {
   std::vector<augment::Variant> variants;  ///< augment::make_variants order
@@ -39,6 +41,7 @@ struct ModelVectors {
 
 /// Every variant of `spec.augment` of the prepared `mesh` (`source` names the part, as in
 /// make_variants). O(variants · (triangles + raster points)).
-[[nodiscard]] ModelVectors model_vectors(const ingest::Mesh& mesh, const std::string& source, const FeatureSpec& spec);
+[[nodiscard]] ModelVectors model_vectors(const ingest::Mesh& mesh, const std::string& source, const FeatureSpec& spec,
+                                         const WorkLimits& limits = {});
 
 }  // namespace millnet::datasets

@@ -24,6 +24,7 @@
 // otherwise lift to the highest CL point under the link plus clearance_mm (a "lift").
 // Spare slots 6–8 are unnamed: adding a strategy is one function and one registry line
 // (finish/src/strategy.cpp).
+#include "millnet/core/budget.hpp"
 #include "millnet/finish/cutter.hpp"
 #include "millnet/finish/dropcutter.hpp"
 #include "millnet/gcode/program.hpp"
@@ -63,6 +64,8 @@ struct FinishParams {
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
   std::string program_name;          ///< first header comment
   std::vector<std::string> comments; ///< further header comments (after "strategy: <name>")
+  /// Budgets of the CL grids (finish/work.hpp), checked by plan_finish before any point is dropped.
+  WorkLimits limits;
   /// Throws millnet::Error naming the parameter (zero stepover, step-down 0, non-finite …).
   void check() const;
 };

@@ -3,11 +3,13 @@
 // covered by a raster of points; each is projected vertically onto the top surface, keeping the
 // highest hit. Implemented as z-buffer rasterization over triangles (each triangle visits only the
 // raster points under its XY bounding box), O(#F + raster points), OpenMP over row bands.
+#include "millnet/core/budget.hpp"
 #include "millnet/ingest/mesh.hpp"
 
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace millnet::ingest {
@@ -39,7 +41,8 @@ struct HeightField {
 ///  * OpenMP over bands of 16 rows, each owned by one thread: bitwise identical results for any
 ///    thread count. Cost O(#V + #F + Σ raster points in each triangle's XY bounding box).
 /// Throws millnet::Error for an invalid mesh (see validate()) or a raster of more than 4·10⁸ points.
-[[nodiscard]] HeightField rasterize_top(const Mesh& mesh, double raster_mm);
+/// `limits`: raster_work(mesh, raster_mm) is checked against them first (issue 12).
+[[nodiscard]] HeightField rasterize_top(const Mesh& mesh, double raster_mm, const WorkLimits& limits = {});
 
 /// Same, over an explicit rectangle [x0, x0 + (nx−1)·step] × [y0, y0 + (ny−1)·step] (used for
 /// roughing, where the stock is larger than the part). Points not under the part get z_min.
@@ -64,7 +67,16 @@ struct Grid {
 /// (r·(ny−1)/(n−1), c·(nx−1)/(n−1)); h = z − field.z_min. Throws millnet::Error for n < 2.
 [[nodiscard]] Grid resample(const HeightField& field, int n);
 
+/// The cost of rasterize_top over a width × height (mm) footprint at `raster_mm` (issue 12): raster
+/// points (⌈width/raster⌉ + 1)·(⌈height/raster⌉ + 1), exact as rasterize_top sizes them, 9 bytes each
+/// (z and hit). `what` names the footprint ("mesh footprint", "stock"). Check it with
+/// millnet::check_work before rasterizing.
+[[nodiscard]] WorkEstimate raster_work(double width_mm, double height_mm, double raster_mm,
+                                       const std::string& what = "footprint");
+/// Same over the mesh's XY bounds (the footprint rasterize_top(mesh, raster_mm) covers).
+[[nodiscard]] WorkEstimate raster_work(const Mesh& mesh, double raster_mm);
+
 /// rasterize_top + resample.
-[[nodiscard]] Grid sample_grid(const Mesh& mesh, double raster_mm, int n);
+[[nodiscard]] Grid sample_grid(const Mesh& mesh, double raster_mm, int n, const WorkLimits& limits = {});
 
 }  // namespace millnet::ingest

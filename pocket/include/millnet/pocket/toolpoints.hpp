@@ -22,6 +22,14 @@ struct ToolPoints {
   std::vector<std::array<int, 2>> ij;   ///< grid indices (i = row, j = column) of each point
 };
 
+/// The grid indices make_tool_points visits: rows i0..i1, columns j0..j1 (whole numbers held as
+/// doubles, so that a too fine grid is counted, not overflowed). Empty boundary ⇒ an empty range.
+struct GridRange {
+  double i0 = 0, i1 = -1, j0 = 0, j1 = -1;
+  [[nodiscard]] double points() const { return (i1 - i0 + 1) * (j1 - j0 + 1); }
+};
+[[nodiscard]] GridRange grid_range(const Region& region, const GridFrame& frame);
+
 /// All grid points whose disk of radius `clearance_mm` is inside the region (Clearance::point_ok).
 [[nodiscard]] ToolPoints make_tool_points(const Region& region, const GridFrame& frame, double clearance_mm);
 

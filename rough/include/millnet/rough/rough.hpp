@@ -27,6 +27,7 @@
 #include "millnet/ingest/heightfield.hpp"
 #include "millnet/ingest/mesh.hpp"
 #include "millnet/ingest/zlevels.hpp"
+#include "millnet/core/budget.hpp"
 #include "millnet/pocket/machining.hpp"
 #include "millnet/pocket/plan.hpp"
 
@@ -46,6 +47,9 @@ struct Params {
   pocket::PlannerSpec planner;      ///< the planner of every region
   /// Entry and program options; rough_mesh sets contour = false and the header comment.
   pocket::MachiningOptions machining;
+  /// Budgets of the slicing raster (ingest::raster_work over the stock) and of every region's plan
+  /// (pocket::check_work), checked before each is allocated (issue 12).
+  WorkLimits limits;
 };
 
 struct Level {

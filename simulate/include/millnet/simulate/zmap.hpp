@@ -13,6 +13,7 @@
 // profile itself from the cutter's public fields (type, diameter, corner_radius): the cutter is a
 // solid of revolution, infinitely long above its profile f(r), r ≤ R:
 //   flat f = 0;  ball f = R − √(R² − r²);  bull f = 0 for r ≤ R − rc, rc − √(rc² − (r − R + rc)²) beyond.
+#include "millnet/core/budget.hpp"
 #include "millnet/finish/cutter.hpp"
 #include "millnet/gcode/program.hpp"
 
@@ -42,6 +43,12 @@ struct GridSpec {
 
 /// Default memory limit of one z-map (heights + move stamps): 2 GiB.
 inline constexpr std::size_t kZMapMaxBytes = std::size_t{2} << 30;
+
+/// The cost of a z-map over `spec` (issue 12): its cells, with ZMap::bytes_needed plus
+/// `extra_bytes_per_cell` of per-cell data its caller keeps beside it (design heights, metrics).
+/// Memory-only (core/budget.hpp): a cell costs a few bytes and constant time. Check it with
+/// millnet::check_work before ZMap::flat / from_heights, which keep their own max_bytes backstop.
+[[nodiscard]] WorkEstimate zmap_work(const GridSpec& spec, double extra_bytes_per_cell = 0);
 
 /// Where a cell's height comes from: the pass (one machine() call) and the program item.
 struct MoveRef {

@@ -1,0 +1,55 @@
+// Work estimates of the finishing strategies (work.hpp): raster drop-cutter grids, waterline CL
+// grids, equidistant fast-marching grids.
+#include "millnet/finish/work.hpp"
+
+#include "millnet/finish/tolerances.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace millnet::finish {
+
+namespace {
+std::string over(const char* key, double v, double w, double h) {
+  return std::string(key) + " " + format_size(v) + " mm over a " + format_size(w) + " × " + format_size(h) +
+         " mm machining boundary";
+}
+double grid_points(double w, double h, double g) {
+  return (std::ceil(w / g - 1e-9) + 1) * (std::ceil(h / g - 1e-9) + 1);
+}
+}  // namespace
+
+std::vector<WorkEstimate> estimate_work(double x0, double y0, double x1, double y1,
+                                        const std::vector<Strategy>& strategies, const FinishParams& p) {
+  p.check();
+  const double w = x1 - x0, h = y1 - y0, R = p.tool.radius();
+  bool raster = false, waterline = false, equidistant = false;
+  for (const Strategy s : strategies) {
+    raster |= s == Strategy::SlopeMode || s == Strategy::Raster || s == Strategy::ScallopMode;
+    waterline |= s == Strategy::SlopeMode || s == Strategy::Waterline;
+    equidistant |= s == Strategy::Equidistant;
+  }
+  std::vector<WorkEstimate> out;
+  if (raster) {
+    const double a = p.raster_angle_deg * std::numbers::pi / 180.0;
+    const double c = std::abs(std::cos(a)), s = std::abs(std::sin(a));
+    const double along = w * c + h * s, across = w * s + h * c;  // the rotated box's sides
+    const double h0 = std::min(tol::initial_sample_mm, R / 4);
+    const double n = (std::ceil(across / p.stepover_mm - 1e-9) + 1) * (std::ceil(along / h0 - 1e-9) + 1);
+    out.push_back({over("stepover", p.stepover_mm, w, h), n, "raster CL points", 24.0 * n});
+  }
+  if (waterline) {
+    const double g = std::min(tol::waterline_grid_mm, R / 2);
+    const double n = grid_points(w, h, g);
+    out.push_back({over("tool radius", R, w, h), n, "waterline CL grid points", 24.0 * n});
+  }
+  if (equidistant) {
+    const double g = std::min(tol::equidistant_grid_mm, p.stepover_mm / 2);
+    const double n = grid_points(w, h, g);
+    out.push_back({over("stepover", p.stepover_mm, w, h), n, "equidistant grid points", 24.0 * n});
+  }
+  return out;
+}
+
+}  // namespace millnet::finish
