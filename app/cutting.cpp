@@ -143,15 +143,18 @@ const tooling::Material& ToolLibrary::material(const std::string& id, const std:
 }
 
 ToolLibrary tool_library(const Json& config) {
-  ToolLibrary lib;
-  {
+  // The built-in library, parsed and checked once per process.
+  static const ToolLibrary built_in = [] {
+    ToolLibrary b;
     Json t = Json::parse(kToolsText);
     check_tool_library(t, "built-in configs/tools.json");
-    merge(lib.tools, tools_of(t), "tool", "built-in configs/tools.json");
+    merge(b.tools, tools_of(t), "tool", "built-in configs/tools.json");
     Json m = Json::parse(kMaterialsText);
     check_material_table(m, "built-in configs/materials.json");
-    merge(lib.materials, materials_of(m), "material", "built-in configs/materials.json");
-  }
+    merge(b.materials, materials_of(m), "material", "built-in configs/materials.json");
+    return b;
+  }();
+  ToolLibrary lib = built_in;
   const Json& c = config["cutting"];
   if (const std::string f = c["tools_file"].get<std::string>(); !f.empty()) {
     Json t = read_json(f);

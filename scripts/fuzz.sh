@@ -28,6 +28,7 @@ seed_dirs() {
     pocket_dxf) echo tests/corpus/pocket ;;
     mesh_stl|mesh_ply|mesh_off|points) echo tests/corpus/mesh ;;
     config) echo tests/corpus/config configs ;;
+    tool_library) echo configs ;;
     model) echo tests/corpus/model ;;
     vectors) echo tests/corpus/vectors ;;
     manifest) echo tests/corpus/manifest ;;
