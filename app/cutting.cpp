@@ -1,6 +1,7 @@
 #include "cutting.hpp"
 
 #include "millnet/core/atomic_file.hpp"
+#include "millnet/core/edit_distance.hpp"
 #include "millnet/core/error.hpp"
 
 #include <algorithm>
@@ -22,22 +23,6 @@ const char* kMaterialsText =
 const char* kMaterialsSchemaText =
 #include "millnet_materials_schema.inc"
     ;
-
-/// Levenshtein distance, for "did you mean". O(|a|·|b|), ids are short.
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diag = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
 
 template <class T>
 const T& find_id(const std::vector<T>& items, const std::string& id, const std::string& what, const char* kind,

@@ -45,6 +45,19 @@ void check_machine_limit(const CuttingSettings& cs, const std::string& key, cons
                 format_double(f.value - lim));
 }
 
+/// Library mode: the material's row for rec.tool, the cutting data at axial depth `ap` (a written
+/// spindle speed as the override), into rec; returns the figures' source "library: <material> × <tool>".
+std::string library_data(CuttingRecord& rec, const CuttingSettings& cs, const ToolLibrary& lib, double ap,
+                         const std::optional<Figure>& written_rpm) {
+  const tooling::Material& mat = lib.material(cs.material_id, cs.material_from.substr(cs.material_from.find(' ') + 1));
+  rec.material_id = mat.id;
+  rec.material_from = cs.material_from;
+  tooling::Overrides ov = cs.overrides;
+  if (written_rpm) ov.rpm = written_rpm->value;
+  rec.data = tooling::cutting_data(rec.tool, mat, ap, cs.machine, cs.factors, ov);
+  return "library: " + mat.id + " × " + (rec.tool.id.empty() ? std::string("inline tool") : rec.tool.id);
+}
+
 /// The roughing tool and its cutting data (issue 17): which tool (flag, config, pocket file, inline
 /// or library), then spindle speed and feeds from tool × material × machine in library mode, each
 /// figure the user wrote taking its place. Fills `record` (when given) with every figure's source.
@@ -113,14 +126,8 @@ void apply_cutting_data(pocket::CutParams& c, const Json& config, const Json& ex
   auto& figs = rec.figures;
   if (w_rpm) check_machine_limit(cs, "spindle_rpm", *w_rpm);
   if (cs.library_feeds) {
-    const tooling::Material& mat = library().material(cs.material_id, cs.material_from.substr(cs.material_from.find(' ') + 1));
-    rec.material_id = mat.id;
-    rec.material_from = cs.material_from;
-    tooling::Overrides ov = cs.overrides;
-    if (w_rpm) ov.rpm = w_rpm->value;
-    rec.data = tooling::cutting_data(tool, mat, ap, cs.machine, cs.factors, ov);
+    const std::string lib_src = library_data(rec, cs, library(), ap, w_rpm);
     const tooling::CuttingData& d = rec.data;
-    const std::string lib_src = "library: " + mat.id + " × " + (tool.id.empty() ? std::string("inline tool") : tool.id);
     c.spindle_rpm = d.rpm;
     figs.push_back({"spindle_rpm", {d.rpm, w_rpm ? w_rpm->source : lib_src + (d.rpm_limited_by.empty() ? "" : ", limited by " + d.rpm_limited_by)}});
     c.feed_half = w_half ? w_half->value : d.feed_mm_min;
@@ -337,15 +344,9 @@ void finish_cutting_data(FinishSettings& s, const Json& config, const FinishTool
   auto& figs = rec.figures;
   if (w_rpm) check_machine_limit(cs, "spindle_rpm", *w_rpm);
   if (cs.library_feeds) {
-    const tooling::Material& mat = library().material(cs.material_id, cs.material_from.substr(cs.material_from.find(' ') + 1));
-    rec.material_id = mat.id;
-    rec.material_from = cs.material_from;
-    tooling::Overrides ov = cs.overrides;
-    if (w_rpm) ov.rpm = w_rpm->value;
     // The axial depth of a finishing cut is the stock it removes over the design surface.
-    rec.data = tooling::cutting_data(rec.tool, mat, config["simulate"]["allowance_mm"].get<double>(), cs.machine,
-                                     cs.factors, ov);
-    const std::string lib_src = "library: " + mat.id + " × " + (rec.tool.id.empty() ? std::string("inline tool") : rec.tool.id);
+    const std::string lib_src =
+        library_data(rec, cs, library(), config["simulate"]["allowance_mm"].get<double>(), w_rpm);
     p.spindle_rpm = rec.data.rpm;
     figs.push_back({"spindle_rpm", {p.spindle_rpm, w_rpm ? w_rpm->source
                                                        : lib_src + (rec.data.rpm_limited_by.empty() ? "" : ", limited by " + rec.data.rpm_limited_by)}});

@@ -2,6 +2,7 @@
 #include "millnet/pocket/io/pocket_io.hpp"
 
 #include "millnet/core/atomic_file.hpp"
+#include "millnet/core/edit_distance.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/core/json_input.hpp"
 #include "millnet/pocket/tolerances.hpp"
@@ -68,21 +69,6 @@ const std::vector<std::string>& pocket_keys() {
                                              "safe_z", "step_down", "stock_to_leave", "feed_slot", "feed_half",
                                              "feed_plunge", "spindle_rpm", "note", "name", "comment", "format"};
   return k;
-}
-
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {  // O(|a|·|b|)
-    std::size_t diag = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
 }
 
 void check_pocket_keys(const json& j, const std::string& source) {

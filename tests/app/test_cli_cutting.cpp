@@ -5,6 +5,7 @@
 // depth of cut, and figures outside the machine's limits.
 #include "app/cli_runner.hpp"
 #include "ingest/builders.hpp"
+#include "millnet/ingest/io/mesh_io.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -47,24 +48,14 @@ double max_feed(const std::string& nc) {
   return m;
 }
 
-/// A 30 mm tall bump on a 20 × 20 mm block, as ASCII STL.
+/// A 30 mm tall bump on a 20 × 20 mm block, as binary STL.
 fs::path write_tall(const fs::path& dir) {
   const auto m = testing_ingest::solid([](double x, double y) {
     const double r2 = ((x - 10) * (x - 10) + (y - 10) * (y - 10)) / 49;
     return 1 + 29 * std::max(0.0, 1 - r2);
   }, 0, 20, 0, 20, 20, 20);
   const fs::path p = dir / "tall.stl";
-  std::ofstream out(p);
-  out << "solid tall\n";
-  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
-    out << " facet normal 0 0 0\n  outer loop\n";
-    for (int k = 0; k < 3; ++k) {
-      const auto v = m.V.row(m.F(f, k));
-      out << "   vertex " << v(0) << " " << v(1) << " " << v(2) << "\n";
-    }
-    out << "  endloop\n endfacet\n";
-  }
-  out << "endsolid tall\n";
+  ingest::save_stl_binary(m, p);
   return p;
 }
 
