@@ -87,6 +87,9 @@ void add_common(CLI::App* sub, Common& common, bool with_config) {
   sub->add_option("--max-memory-mb", common.max_memory_mb,
                   "MiB one stage may hold before it is refused (default /limits/max_memory_mb)")
       ->check(schema_range("/limits/max_memory_mb"));
+  sub->add_option("--max-pairs", common.max_pairs,
+                  "vector pairs the classifier's leave-one-out may compare before it is refused (default /limits/max_pairs)")
+      ->check(schema_range("/limits/max_pairs"));
   if (with_config)
     sub->add_option("--config", common.config, "JSON config (configs/schema/millnet.schema.json)")
         ->check(CLI::ExistingFile);
@@ -136,6 +139,7 @@ Json setup(const Common& common) {
   const Json& lim = config["limits"];
   g_limits.max_work = common.max_work.value_or(lim["max_work"].get<double>());
   g_limits.max_memory_bytes = common.max_memory_mb.value_or(lim["max_memory_mb"].get<double>()) * 1024.0 * 1024.0;
+  g_limits.max_pairs = common.max_pairs.value_or(lim["max_pairs"].get<double>());
   return config;
 }
 

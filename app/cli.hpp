@@ -20,7 +20,7 @@ struct Common {
   bool quiet = false;
   int threads = -1;              ///< -1 = from config (0 = all cores)
   std::string config;            ///< empty = defaults
-  std::optional<double> max_work, max_memory_mb;  ///< override /limits (issue 12)
+  std::optional<double> max_work, max_memory_mb, max_pairs;  ///< override /limits (issue 12)
 };
 
 /// --units and --up, shared by every command that reads meshes (sample, predict, rough, finish,

@@ -476,6 +476,7 @@ classifier::TrainParams train_params(const Json& config) {
   const Json& t = config["train"];
   classifier::TrainParams tp;
   tp.search.mode = classifier::loo_mode_from_string(t["loo"].get<std::string>());
+  tp.limits = work_limits();
   tp.search.steps_per_octave = t["steps_per_octave"].get<int>();
   tp.search.range_low = t["range_low"].get<double>();
   tp.search.range_high = t["range_high"].get<double>();

@@ -90,8 +90,21 @@ double percentile(std::vector<double> v, double p) {
 
 }  // namespace
 
+WorkEstimate estimate_loo_work(Eigen::Index n_vectors, Eigen::Index n_inputs) {
+  const double n = static_cast<double>(n_vectors), k = static_cast<double>(n_inputs);
+  WorkEstimate e;
+  e.cause = "leave-one-out over " + format_size(n) + " stored vectors";
+  e.count = n * n;
+  e.unit = "vector pairs";
+  e.bytes = 8 * n * k + 12 * 256 * n;
+  e.pairs = true;
+  return e;
+}
+
 Model train(const TrainingSet& set, const TrainParams& params) {
   validate(set);
+  // Before the normalizer's copy and any distance: N² pairs, refused in one line over the limit.
+  check_work(estimate_loo_work(set.inputs.rows(), set.inputs.cols()), params.limits);
   if (!(params.unfamiliar_factor > 0)) throw Error("train: unfamiliar_factor must be > 0");
   if (!(params.unfamiliar_percentile > 0 && params.unfamiliar_percentile <= 1))
     throw Error("train: unfamiliar_percentile must be in (0, 1]");

@@ -54,14 +54,16 @@ std::string format_bytes(double bytes) {
 }
 
 void check_work(const WorkEstimate& est, const WorkLimits& limits) {
-  const bool over_count = !est.memory_only && !(est.count <= limits.max_work);
+  const double limit = est.pairs ? limits.max_pairs : limits.max_work;
+  const bool over_count = !est.memory_only && !(est.count <= limit);
   // As many digits as it takes for an estimate just over the limit not to print as the limit.
   int dec = 1;
-  while (over_count && dec < 15 && format_count(est.count, dec) == format_count(limits.max_work, dec)) ++dec;
+  while (over_count && dec < 15 && format_count(est.count, dec) == format_count(limit, dec)) ++dec;
   const std::string head = est.cause + " makes " + format_count(est.count, dec) + " " + est.unit + " (≈ " +
                            format_bytes(est.bytes) + ")";
   if (over_count)
-    throw Error(head + "; the limit is " + format_count(limits.max_work, dec) + " (--max-work, /limits/max_work)");
+    throw Error(head + "; the limit is " + format_count(limit, dec) +
+                (est.pairs ? " (--max-pairs, /limits/max_pairs)" : " (--max-work, /limits/max_work)"));
   if (!(est.bytes <= limits.max_memory_bytes))
     throw Error(head + "; the memory limit is " + format_size(limits.max_memory_bytes / (1024.0 * 1024.0)) +
                 " MiB (--max-memory-mb, /limits/max_memory_mb)");

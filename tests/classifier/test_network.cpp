@@ -137,3 +137,28 @@ TEST(Model, FixedAlphaMatchesReference) {
   EXPECT_NEAR(m.loo.rms_vector_at_alpha, rms_error(reference_outputs(Xn, s.Y, s.groups, 0.7, 1), s.Y), 1e-12);
   EXPECT_LT((m.loo.filtration - reference_outputs(Xn, s.Y, s.groups, 0.7, 2)).cwiseAbs().maxCoeff(), 1e-12);
 }
+
+// Issue 12 §1: the leave-one-out's N² pairs are counted before any is computed.
+TEST(Model, LeaveOneOutPairsAreRefusedOverTheLimitAndRunAtIt) {
+  Synthetic s = make_clusters(3, 4, 4, 6, 9, 5.0, 0.5, 0.1);
+  const Index n = s.X.rows();
+  TrainingSet set{s.X, s.Y, s.groups, {"s1", "s2", "s3", "s4"}};
+  const millnet::WorkEstimate e = estimate_loo_work(n, 9);
+  EXPECT_DOUBLE_EQ(e.count, static_cast<double>(n * n));
+  EXPECT_DOUBLE_EQ(e.bytes, 8.0 * n * 9 + 12.0 * 256 * n);
+  TrainParams p;
+  p.limits.max_pairs = static_cast<double>(n * n) - 1;
+  try {
+    (void)train(set, p);
+    FAIL() << "N² − 1 pairs allowed, N² asked: must be refused";
+  } catch (const millnet::Error& err) {
+    const std::string msg = err.what();
+    EXPECT_NE(msg.find("leave-one-out over " + std::to_string(n) + " stored vectors makes"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("(--max-pairs, /limits/max_pairs)"), std::string::npos) << msg;
+  }
+  p.limits.max_pairs = static_cast<double>(n * n);  // exactly the estimate: runs
+  EXPECT_NO_THROW((void)train(set, p));
+  p.fixed_alpha = 0.5;  // no search, but still N² pairs for the LOO figures
+  p.limits.max_pairs = 1;
+  EXPECT_THROW((void)train(set, p), millnet::Error);
+}

@@ -149,6 +149,7 @@ const std::map<std::string, Generator>& generators() {
          millnet::write_file_atomic(t / "c.json", R"({"train": {"fixed_alpha": 1}})");  // no scan: no edge warning
          fs::create_directories(t / "out" / "loo_curve.png");
        }},
+      {"limits_train_loo_pairs", [](const fs::path& t) { write_small_vectors(t / "vectors.csv"); }},
       {"sample_footprint_zero",
        [](const fs::path& t) {
          millnet::write_file_atomic(t / "wall.stl", "solid wall\n facet normal 0 1 0\n  outer loop\n   vertex 0 0 0\n"

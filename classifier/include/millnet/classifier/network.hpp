@@ -13,6 +13,7 @@
 //   s̄_j = s_j / Σ s                          output = Σ_j s̄_j · y_j
 // so the outputs are probabilities summing to 1 whenever every stored output row sums to 1
 // (one-hot strategy labels).
+#include "millnet/core/budget.hpp"
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -144,7 +145,14 @@ struct TrainParams {
   double unfamiliar_percentile = 0.95;
   /// > 0: skip the search and use this α (the LOO figures are then computed at it).
   double fixed_alpha = 0.0;
+  /// The leave-one-out's N² vector pairs are checked against limits.max_pairs before any is
+  /// computed (issue 12 §1; estimate_loo_work).
+  WorkLimits limits;
 };
+
+/// The leave-one-out's cost: N² vector pairs of `inputs`-long distances (the training set's N×inputs
+/// matrix, normalized, and the R-nearest cache of 256 per vector: 8·N·inputs + 12·256·N bytes).
+[[nodiscard]] WorkEstimate estimate_loo_work(Eigen::Index n_vectors, Eigen::Index n_inputs);
 
 /// How one input row is made from a part: the height-field raster and the n×n grid it is resampled
 /// to, row-major. Recorded by whoever built the training table, so that a model file describes its

@@ -17,6 +17,9 @@ namespace millnet {
 struct WorkLimits {
   double max_work = 2e7;                                   ///< items (points, cells, pairs) per stage
   double max_memory_bytes = 8.0 * 1024 * 1024 * 1024;      ///< bytes one stage may allocate (8 GiB)
+  /// Vector pairs of an N² stage (the classifier's leave-one-out distances): 5e9 ≈ 70,000 stored
+  /// vectors, about 5 minutes at the 1.6e7 pairs/s measured on two cores (bench_classifier).
+  double max_pairs = 5e9;
 };
 
 /// A stage's cost, computed from the input before anything is allocated.
@@ -28,6 +31,8 @@ struct WorkEstimate {
   /// Checked against the memory limit only: stages whose cost per item is a few bytes of storage and
   /// a constant time (a z-map's cells), where the memory, not the count, is what runs out.
   bool memory_only = false;
+  /// Checked against max_pairs instead of max_work: an N² stage whose items are vector pairs.
+  bool pairs = false;
 };
 
 /// Throws millnet::Error with the one-line refusal when est.count > limits.max_work (unless
