@@ -1,5 +1,6 @@
 #include "millnet/ingest/heightfield.hpp"
 
+#include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/ingest/tolerances.hpp"
 
@@ -131,8 +132,8 @@ HeightField rasterize(const Mesh& mesh, const Frame& fr) {
   if (fr.nx < 1 || fr.ny < 1) throw Error("rasterize_top: the raster needs at least 1×1 points");
   const double npts = static_cast<double>(fr.nx) * static_cast<double>(fr.ny);
   if (npts > 4.0e8)
-    throw Error("rasterize_top: a raster of " + std::to_string(fr.nx) + "×" + std::to_string(fr.ny) +
-                " points is too large; choose a coarser raster_mm");
+    throw Error("height-field raster: " + std::to_string(fr.nx) + " × " + std::to_string(fr.ny) +
+                " points is more than 4e8; choose a coarser raster step (--raster, raster_mm)");
 
   HeightField f;
   f.x0 = fr.x0;
@@ -220,7 +221,8 @@ HeightField rasterize(const Mesh& mesh, const Frame& fr) {
 
 HeightField rasterize_top(const Mesh& mesh, double raster_mm, const WorkLimits& limits) {
   if (!(raster_mm > 0) || !std::isfinite(raster_mm))
-    throw Error("rasterize_top: raster_mm must be a finite number > 0, got " + std::to_string(raster_mm));
+    throw Error("height-field raster: the raster step (--raster, raster_mm) must be a finite number > 0, got " +
+                format_double(raster_mm));
   validate(mesh, "rasterize_top");
   check_work(raster_work(mesh, raster_mm), limits);
   const Box3 box = bounds(mesh);
@@ -229,7 +231,9 @@ HeightField rasterize_top(const Mesh& mesh, double raster_mm, const WorkLimits& 
   // Enough points that the step does not exceed raster_mm, then shrink the step so the raster
   // spans the footprint corner to corner (the 1e-9 keeps 100.0000000001 steps at 100).
   const double cx = std::ceil(w / raster_mm - 1e-9), cy = std::ceil(h / raster_mm - 1e-9);
-  if (cx > 1e6 || cy > 1e6) throw Error("rasterize_top: footprint too large for raster_mm = " + std::to_string(raster_mm));
+  if (cx > 1e6 || cy > 1e6)
+    throw Error("height-field raster: a " + format_double(w) + " × " + format_double(h) + " mm footprint at a step of " +
+                format_double(raster_mm) + " mm makes more than 1e6 points per side; choose a coarser raster step (--raster, raster_mm)");
   if (w > 0) {
     fr.nx = static_cast<int>(cx) + 1;
     fr.sx = w / (fr.nx - 1);
