@@ -203,6 +203,11 @@ TEST(Corpus, EveryCliCaseFailsWithOneLine) {
       else if (line.rfind("# ulimit -v ", 0) == 0) memory_kib = std::stol(line.substr(12));
       else if (!line.empty() && line[0] != '#') args += (args.empty() ? "" : " ") + line;
     }
+#if defined(__SANITIZE_ADDRESS__)
+    // AddressSanitizer reserves terabytes of shadow address space at start: under `ulimit -v` it
+    // aborts before main, so an out-of-memory case can only be checked in the plain build.
+    if (memory_kib > 0) continue;
+#endif
     args = replace_all(replace_all(replace_all(args, "{corpus}", root.string()), "{tmp}", tmp.string()), "{out}", out.string());
     const fs::path expect = fs::path(c).replace_extension(".expect");
     ASSERT_TRUE(fs::exists(expect)) << name << ": no " << expect.filename() << " beside it";
