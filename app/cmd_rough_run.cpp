@@ -35,22 +35,21 @@ struct RoughOutcome {
 /// Roughs one prepared mesh (or reports `load_error` when it could not be read) into `out`.
 RoughOutcome rough_prepared(const ingest::Mesh* mesh, const std::string& load_error, const fs::path& file,
                             const std::string& name, const rough::Params& params, const fs::path& out,
-                            const Json& cutting_data) {
+                            const CuttingRecord& cutting) {
   RoughOutcome o{name, file.string(), load_error, false, Json::object()};
   if (!mesh) return o;
   try {
     // The holder must stay above the stock: the levels reach from the stock top to the part's base.
-    if (!cutting_data.is_null()) {
-      const double stick = cutting_data["tool"]["stickout_mm"].get<double>();
+    if (const double stick = cutting.tool.stickout_mm; stick > 0) {
       const double reach = mesh->V.col(2).maxCoeff() - mesh->V.col(2).minCoeff() + params.top_allowance_mm;
-      if (stick > 0 && reach > stick)
+      if (reach > stick)
         throw Error(file.string() + ": the part reaches " + fixed(reach, 2) + " mm below the stock top, beyond the stick-out " +
-                    format_double(stick) + " mm of " + cutting_data["tool"]["label"].get<std::string>() + " by " +
-                    fixed(reach - stick, 2) + " mm: the holder would hit the stock");
+                    format_double(stick) + " mm of " + cutting.tool.label() + " by " + fixed(reach - stick, 2) +
+                    " mm: the holder would hit the stock");
     }
     OutputSet part;  // this part's files complete, or none of them (core/output_set.hpp)
     const rough::Result r = rough::rough_mesh(*mesh, params);
-    o.metrics = write_rough_outputs(out, name, r, params, cutting_data);
+    o.metrics = write_rough_outputs(out, name, r, params, cutting.to_json());
     part.commit();
     o.ok = r.machining.status == pocket::PlanStatus::Ok;
     if (!o.ok) o.error = file.string() + ": " + r.machining.message;
@@ -77,10 +76,10 @@ std::shared_ptr<const ingest::Mesh> load_prepared(const fs::path& file, const in
 }
 
 RoughOutcome rough_one(const fs::path& file, const std::string& name, const ingest::PrepareOptions& prep,
-                       const rough::Params& params, const fs::path& out, const Json& cutting_data) {
+                       const rough::Params& params, const fs::path& out, const CuttingRecord& cutting) {
   std::string error;
   const auto mesh = load_prepared(file, prep, &error);
-  return rough_prepared(mesh.get(), error, file, name, params, out, cutting_data);
+  return rough_prepared(mesh.get(), error, file, name, params, out, cutting);
 }
 }  // namespace
 
@@ -108,12 +107,11 @@ Registered register_rough(CLI::App& app) {
             CuttingRecord cutting;
             const rough::Params params =
                 rough_params(config, explicit_pocket_section(o->common.config), o->flags, &cutting);
-            const Json cutting_data = cutting.to_json();
             const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"]);
             std::vector<RoughOutcome> done;
             Progress progress("rough", files.size());
             for (const auto& f : files) {
-              done.push_back(rough_one(f, f.stem().string(), prep, params, o->out, cutting_data));
+              done.push_back(rough_one(f, f.stem().string(), prep, params, o->out, cutting));
               progress.tick();
             }
             progress.finish();
@@ -228,7 +226,6 @@ PartOutcomes predict_and_rough(const Json& config, const std::string& config_fil
 const Json explicit_pocket = explicit_pocket_section(config_file);
 CuttingRecord rough_cutting;
 const rough::Params rp = rough_params(config, explicit_pocket, PocketFlags{}, &rough_cutting);
-const Json rough_cutting_data = rough_cutting.to_json();
 const RunSettings run = run_settings(config);
 const FinishSettings fset = simulated_finish_settings(config);
 po.finish_settings_note = fset.params.tool.describe() + ", p_f " + fixed(fset.params.stepover_mm, 2) + " mm, a_a " +
@@ -250,7 +247,7 @@ for (const auto& p : parts) {
   predict_s += std::chrono::duration<double>(clock::now() - t0).count();
   if (run.rough) {
     t0 = clock::now();
-    roughs.push_back(rough_prepared(named.mesh.get(), load_error, p.file, name, rp, dir, rough_cutting_data));
+    roughs.push_back(rough_prepared(named.mesh.get(), load_error, p.file, name, rp, dir, rough_cutting));
     rough_s += std::chrono::duration<double>(clock::now() - t0).count();
   }
   if (run.finish) {

@@ -44,22 +44,24 @@ const T& find_id(const std::vector<T>& items, const std::string& id, const std::
   throw Error(msg);
 }
 
+tooling::Tool tool_of(const Json& j) {
+  tooling::Tool t;
+  t.id = j["id"].get<std::string>();
+  t.description = j["description"].get<std::string>();
+  t.type = tooling::parse_tool_type(j["type"].get<std::string>());
+  t.diameter_mm = j["diameter"].get<double>();
+  t.corner_radius_mm = t.type == tooling::ToolType::Ball ? t.diameter_mm / 2 : j["corner_radius"].get<double>();
+  t.flutes = j["flutes"].get<int>();
+  t.flute_length_mm = j["flute_length"].get<double>();
+  t.stickout_mm = j["stickout"].get<double>();
+  t.material = tooling::parse_tool_material(j["tool_material"].get<std::string>());
+  t.max_rpm = j["max_rpm"].get<double>();
+  return t;
+}
+
 std::vector<tooling::Tool> tools_of(const Json& doc) {
   std::vector<tooling::Tool> out;
-  for (const Json& j : doc["tools"]) {
-    tooling::Tool t;
-    t.id = j["id"].get<std::string>();
-    t.description = j["description"].get<std::string>();
-    t.type = tooling::parse_tool_type(j["type"].get<std::string>());
-    t.diameter_mm = j["diameter"].get<double>();
-    t.corner_radius_mm = t.type == tooling::ToolType::Ball ? t.diameter_mm / 2 : j["corner_radius"].get<double>();
-    t.flutes = j["flutes"].get<int>();
-    t.flute_length_mm = j["flute_length"].get<double>();
-    t.stickout_mm = j["stickout"].get<double>();
-    t.material = tooling::parse_tool_material(j["tool_material"].get<std::string>());
-    t.max_rpm = j["max_rpm"].get<double>();
-    out.push_back(std::move(t));
-  }
+  for (const Json& j : doc["tools"]) out.push_back(tool_of(j));
   return out;
 }
 
@@ -100,11 +102,7 @@ std::string fmt(double v, int decimals) {
 void check_tool_library(Json& doc, const std::string& source) {
   static const Json rule = Json::parse(kToolsSchemaText);
   check_against(doc, rule, fs::path(source).parent_path(), source);
-  for (std::size_t i = 0; i < doc["tools"].size(); ++i) {
-    const Json& j = doc["tools"][i];
-    tooling::Tool t = tools_of(Json{{"tools", Json::array({j})}}).front();
-    t.check(source + ": /tools/" + std::to_string(i));
-  }
+  for (std::size_t i = 0; i < doc["tools"].size(); ++i) tool_of(doc["tools"][i]).check(source + ": /tools/" + std::to_string(i));
 }
 
 void check_material_table(Json& doc, const std::string& source) {
@@ -162,9 +160,11 @@ CuttingSettings cutting_settings(const Json& config, const std::optional<std::st
   s.library_feeds = c["feeds"].get<std::string>() == "library";
   if (material_flag) {
     s.material_id = *material_flag;
+    s.material_key = "--material";
     s.material_from = "flag --material";
   } else {
     s.material_id = c["material"].get<std::string>();
+    s.material_key = "/cutting/material";
     s.material_from = "config /cutting/material";
   }
   const Json& m = config["machine"];
@@ -175,7 +175,7 @@ CuttingSettings cutting_settings(const Json& config, const std::optional<std::st
     throw Error("/machine/min_spindle_rpm exceeds /machine/max_spindle_rpm");
   s.factors.slot = c["slot_factor"].get<double>();
   s.factors.plunge = c["plunge_factor"].get<double>();
-  s.factors.ramp = s.factors.helix = c["ramp_factor"].get<double>();
+  s.factors.ramp = c["ramp_factor"].get<double>();
   s.factors.max_chip_thinning = c["max_chip_thinning"].get<double>();
   s.overrides.vc_m_min = c["vc_m_min"].get<double>();
   s.overrides.fz_mm = c["fz_mm"].get<double>();

@@ -34,6 +34,7 @@ void check_material_table(Json& doc, const std::string& source);
 struct CuttingSettings {
   bool library_feeds = true;          ///< /cutting/feeds == "library"
   std::string material_id;
+  std::string material_key;           ///< "--material" | "/cutting/material": where the id was given
   std::string material_from;          ///< "flag --material" | "config /cutting/material"
   tooling::MachineLimits machine;
   tooling::FeedFactors factors;

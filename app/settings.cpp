@@ -45,11 +45,18 @@ void check_machine_limit(const CuttingSettings& cs, const std::string& key, cons
                 format_double(f.value - lim));
 }
 
+/// `dst` = the figure the user wrote, else `computed`; recorded in rec.figures with its source.
+void take(CuttingRecord& rec, const char* key, double& dst, double computed, const std::optional<Figure>& written,
+          const std::string& why) {
+  dst = written ? written->value : computed;
+  rec.figures.push_back({key, {dst, written ? written->source : why}});
+}
+
 /// Library mode: the material's row for rec.tool, the cutting data at axial depth `ap` (a written
 /// spindle speed as the override), into rec; returns the figures' source "library: <material> × <tool>".
 std::string library_data(CuttingRecord& rec, const CuttingSettings& cs, const ToolLibrary& lib, double ap,
                          const std::optional<Figure>& written_rpm) {
-  const tooling::Material& mat = lib.material(cs.material_id, cs.material_from.substr(cs.material_from.find(' ') + 1));
+  const tooling::Material& mat = lib.material(cs.material_id, cs.material_key);
   rec.material_id = mat.id;
   rec.material_from = cs.material_from;
   tooling::Overrides ov = cs.overrides;
@@ -69,13 +76,9 @@ void apply_cutting_data(pocket::CutParams& c, const Json& config, const Json& ex
   rec.library_feeds = cs.library_feeds;
   const bool file_d = file && file->tool_diameter && !explicit_pocket.contains("tool_diameter") &&
                       !explicit_pocket.contains("tool");
-  std::optional<ToolLibrary> lib;
-  auto library = [&]() -> const ToolLibrary& {
-    if (!lib) lib = tool_library(config);
-    return *lib;
-  };
+  const ToolLibrary lib = tool_library(config);
   if (flags.tool_id) {
-    rec.tool = library().tool(*flags.tool_id, "--tool");
+    rec.tool = lib.tool(*flags.tool_id, "--tool");
     rec.tool_from = "flag --tool";
   } else if (flags.tool_diameter) {
     rec.tool = inline_tool(tooling::ToolType::Flat, c.tool_diameter, 0, cs);
@@ -87,7 +90,7 @@ void apply_cutting_data(pocket::CutParams& c, const Json& config, const Json& ex
     rec.tool = inline_tool(tooling::ToolType::Flat, c.tool_diameter, 0, cs);
     rec.tool_from = "config /pocket/tool_diameter";
   } else if (const std::string id = pc["tool"].get<std::string>(); !id.empty()) {
-    rec.tool = library().tool(id, "/pocket/tool");
+    rec.tool = lib.tool(id, "/pocket/tool");
     rec.tool_from = "config /pocket/tool";
     if (explicit_pocket.contains("tool_diameter") && std::abs(c.tool_diameter - rec.tool.diameter_mm) > 1e-9)
       throw Error("/pocket/tool " + id + " is D" + format_double(rec.tool.diameter_mm) + " mm but /pocket/tool_diameter is " +
@@ -123,39 +126,30 @@ void apply_cutting_data(pocket::CutParams& c, const Json& config, const Json& ex
   const auto w_plunge = written("feed_plunge", file ? file->feed_plunge : none);
   const auto w_min = written("feed_min", none);
   const auto w_max = written("feed_max", none);
-  auto& figs = rec.figures;
-  if (w_rpm) check_machine_limit(cs, "spindle_rpm", *w_rpm);
+  if (w_rpm) check_machine_limit(cs, "spindle_rpm", *w_rpm);  // before the speed is used, naming its key
   if (cs.library_feeds) {
-    const std::string lib_src = library_data(rec, cs, library(), ap, w_rpm);
+    const std::string src = library_data(rec, cs, lib, ap, w_rpm);
     const tooling::CuttingData& d = rec.data;
-    c.spindle_rpm = d.rpm;
-    figs.push_back({"spindle_rpm", {d.rpm, w_rpm ? w_rpm->source : lib_src + (d.rpm_limited_by.empty() ? "" : ", limited by " + d.rpm_limited_by)}});
-    c.feed_half = w_half ? w_half->value : d.feed_mm_min;
-    figs.push_back({"feed_half", {c.feed_half, w_half ? w_half->source : lib_src + ": fz·z·n"}});
-    c.feed_slot = w_slot ? w_slot->value : d.feed_slot_mm_min;
-    figs.push_back({"feed_slot", {c.feed_slot, w_slot ? w_slot->source : lib_src + ": feed_half × /cutting/slot_factor"}});
-    c.feed_plunge = w_plunge ? w_plunge->value : d.feed_plunge_mm_min;
-    figs.push_back({"feed_plunge", {c.feed_plunge, w_plunge ? w_plunge->source : lib_src + ": feed_half × /cutting/plunge_factor"}});
-    c.feed_entry = w_plunge ? w_plunge->value : d.feed_ramp_mm_min;
-    figs.push_back({"feed_entry", {c.feed_entry, w_plunge ? w_plunge->source : lib_src + ": feed_half × /cutting/ramp_factor"}});
-    c.feed_min = w_min ? w_min->value : std::min(c.feed_slot, c.feed_half);
-    figs.push_back({"feed_min", {c.feed_min, w_min ? w_min->source : "the slot feed (eq. 9 at full engagement)"}});
-    c.feed_max = w_max ? w_max->value : std::max(d.feed_max_mm_min, c.feed_half);
-    figs.push_back({"feed_max", {c.feed_max, w_max ? w_max->source : "feed_half × /cutting/max_chip_thinning, at most /machine/max_feed_mm_min"}});
+    take(rec, "spindle_rpm", c.spindle_rpm, d.rpm, w_rpm, src + (d.rpm_limited_by.empty() ? "" : ", limited by " + d.rpm_limited_by));
+    take(rec, "feed_half", c.feed_half, d.feed_mm_min, w_half, src + ": fz·z·n");
+    take(rec, "feed_slot", c.feed_slot, d.feed_slot_mm_min, w_slot, src + ": feed_half × /cutting/slot_factor");
+    take(rec, "feed_plunge", c.feed_plunge, d.feed_plunge_mm_min, w_plunge, src + ": feed_half × /cutting/plunge_factor");
+    take(rec, "feed_entry", c.feed_entry, d.feed_ramp_mm_min, w_plunge, src + ": feed_half × /cutting/ramp_factor");
+    take(rec, "feed_min", c.feed_min, std::min(c.feed_slot, c.feed_half), w_min, "the slot feed (eq. 9 at full engagement)");
+    take(rec, "feed_max", c.feed_max, std::max(d.feed_max_mm_min, c.feed_half), w_max,
+         "feed_half × /cutting/max_chip_thinning, at most /machine/max_feed_mm_min");
     c.max_chip_thinning = cs.factors.max_chip_thinning > 1 ? cs.factors.max_chip_thinning : 0.0;
-  } else {
-    auto fixed = [&](const char* key, double v, const std::optional<Figure>& w) {
-      figs.push_back({key, {v, w ? w->source : std::string("config /pocket/") + key + " (fixed feeds)"}});
-    };
-    fixed("spindle_rpm", c.spindle_rpm, w_rpm);
-    fixed("feed_half", c.feed_half, w_half);
-    fixed("feed_slot", c.feed_slot, w_slot);
-    fixed("feed_plunge", c.feed_plunge, w_plunge);
-    fixed("feed_min", c.feed_min, w_min);
-    fixed("feed_max", c.feed_max, w_max);
+  } else {  // the values cut_params picked (config, pocket file) in the same order as `written`
+    const std::pair<const char*, double*> keys[] = {{"spindle_rpm", &c.spindle_rpm}, {"feed_half", &c.feed_half},
+                                                    {"feed_slot", &c.feed_slot},     {"feed_plunge", &c.feed_plunge},
+                                                    {"feed_min", &c.feed_min},       {"feed_max", &c.feed_max}};
+    const std::optional<Figure>* w[] = {&w_rpm, &w_half, &w_slot, &w_plunge, &w_min, &w_max};
+    for (std::size_t k = 0; k < std::size(keys); ++k)
+      take(rec, keys[k].first, *keys[k].second, *keys[k].second, *w[k],
+           std::string("config /pocket/") + keys[k].first + " (fixed feeds)");
   }
   // Written figures and the fixed ones stay within the machine: say which and by how much.
-  for (const auto& [key, f] : figs) check_machine_limit(cs, key, f);
+  for (const auto& [key, f] : rec.figures) check_machine_limit(cs, key, f);
   c.header = rec.header();
   if (record) *record = std::move(rec);
 }
@@ -315,13 +309,9 @@ void finish_cutting_data(FinishSettings& s, const Json& config, const FinishTool
   const CuttingSettings cs = cutting_settings(config, flags.material);
   CuttingRecord& rec = s.cutting;
   rec.library_feeds = cs.library_feeds;
-  std::optional<ToolLibrary> lib;
-  auto library = [&]() -> const ToolLibrary& {
-    if (!lib) lib = tool_library(config);
-    return *lib;
-  };
+  const ToolLibrary lib = tool_library(config);
   if (flags.tool && flags.tool->find(':') == std::string::npos) {
-    rec.tool = library().tool(*flags.tool, "--tool");
+    rec.tool = lib.tool(*flags.tool, "--tool");
     rec.tool_from = "flag --tool";
     p.tool = cutter_of(rec.tool);
   } else if (flags.tool) {
@@ -329,7 +319,7 @@ void finish_cutting_data(FinishSettings& s, const Json& config, const FinishTool
     rec.tool = inline_tool(tool_type_of(p.tool), p.tool.diameter, p.tool.corner_radius, cs);
     rec.tool_from = "flag --tool";
   } else if (const std::string id = f["tool"]["id"].get<std::string>(); !id.empty()) {
-    rec.tool = library().tool(id, "/finish/tool/id");
+    rec.tool = lib.tool(id, "/finish/tool/id");
     rec.tool_from = "config /finish/tool/id";
     p.tool = cutter_of(rec.tool);
   } else {
@@ -341,28 +331,21 @@ void finish_cutting_data(FinishSettings& s, const Json& config, const FinishTool
     return Figure{f[key].get<double>(), std::string("config /finish/") + key};
   };
   const auto w_rpm = written("spindle_rpm"), w_feed = written("feed_mm_min"), w_plunge = written("plunge_feed_mm_min");
-  auto& figs = rec.figures;
-  if (w_rpm) check_machine_limit(cs, "spindle_rpm", *w_rpm);
+  if (w_rpm) check_machine_limit(cs, "spindle_rpm", *w_rpm);  // before the speed is used, naming its key
   if (cs.library_feeds) {
     // The axial depth of a finishing cut is the stock it removes over the design surface.
-    const std::string lib_src =
-        library_data(rec, cs, library(), config["simulate"]["allowance_mm"].get<double>(), w_rpm);
-    p.spindle_rpm = rec.data.rpm;
-    figs.push_back({"spindle_rpm", {p.spindle_rpm, w_rpm ? w_rpm->source
-                                                       : lib_src + (rec.data.rpm_limited_by.empty() ? "" : ", limited by " + rec.data.rpm_limited_by)}});
-    p.feed_mm_min = w_feed ? w_feed->value : rec.data.feed_mm_min;
-    figs.push_back({"feed_mm_min", {p.feed_mm_min, w_feed ? w_feed->source : lib_src + ": fz·z·n at D_eff"}});
-    p.plunge_feed_mm_min = w_plunge ? w_plunge->value : rec.data.feed_plunge_mm_min;
-    figs.push_back({"plunge_feed_mm_min", {p.plunge_feed_mm_min, w_plunge ? w_plunge->source : lib_src + ": feed × /cutting/plunge_factor"}});
-  } else {
-    p.spindle_rpm = w_rpm ? w_rpm->value : 18000;
-    figs.push_back({"spindle_rpm", {p.spindle_rpm, w_rpm ? w_rpm->source : "fixed: Korosec & Kopac §6.2, 18,000 min^-1"}});
-    p.feed_mm_min = w_feed ? w_feed->value : 1900;
-    figs.push_back({"feed_mm_min", {p.feed_mm_min, w_feed ? w_feed->source : "fixed: Korosec & Kopac §6.2, 1900 mm/min"}});
-    p.plunge_feed_mm_min = w_plunge ? w_plunge->value : 600;
-    figs.push_back({"plunge_feed_mm_min", {p.plunge_feed_mm_min, w_plunge ? w_plunge->source : "fixed: millnet's 600 mm/min"}});
+    const std::string src = library_data(rec, cs, lib, config["simulate"]["allowance_mm"].get<double>(), w_rpm);
+    const tooling::CuttingData& d = rec.data;
+    take(rec, "spindle_rpm", p.spindle_rpm, d.rpm, w_rpm, src + (d.rpm_limited_by.empty() ? "" : ", limited by " + d.rpm_limited_by));
+    take(rec, "feed_mm_min", p.feed_mm_min, d.feed_mm_min, w_feed, src + ": fz·z·n at D_eff");
+    take(rec, "plunge_feed_mm_min", p.plunge_feed_mm_min, d.feed_plunge_mm_min, w_plunge, src + ": feed × /cutting/plunge_factor");
+  } else {  // FinishParams' defaults are the paper's §6.2 figures
+    const finish::FinishParams paper;
+    take(rec, "spindle_rpm", p.spindle_rpm, paper.spindle_rpm, w_rpm, "fixed: Korosec & Kopac §6.2, 18,000 min^-1");
+    take(rec, "feed_mm_min", p.feed_mm_min, paper.feed_mm_min, w_feed, "fixed: Korosec & Kopac §6.2, 1900 mm/min");
+    take(rec, "plunge_feed_mm_min", p.plunge_feed_mm_min, paper.plunge_feed_mm_min, w_plunge, "fixed: millnet's 600 mm/min");
   }
-  for (const auto& [key, fig] : figs) check_machine_limit(cs, key, fig);
+  for (const auto& [key, fig] : rec.figures) check_machine_limit(cs, key, fig);
 }
 
 }  // namespace

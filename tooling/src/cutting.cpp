@@ -143,7 +143,6 @@ CuttingData cutting_data(const Tool& tool, const Material& material, double ap, 
   c.feed_slot_mm_min = whole(c.feed_mm_min * ff.slot);
   c.feed_plunge_mm_min = tool.type == ToolType::Drill ? c.feed_mm_min : whole(c.feed_mm_min * ff.plunge);
   c.feed_ramp_mm_min = whole(c.feed_mm_min * ff.ramp);
-  c.feed_helix_mm_min = whole(c.feed_mm_min * ff.helix);
   c.max_chip_thinning = std::max(1.0, ff.max_chip_thinning);
   c.feed_max_mm_min = std::min(m.max_feed_mm_min, whole(c.feed_mm_min * c.max_chip_thinning));
   if (!(c.feed_mm_min > 0))

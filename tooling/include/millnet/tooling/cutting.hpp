@@ -16,8 +16,8 @@
 //   that restores the chip thickness is f·RCTF with
 //            RCTF(a_e) = D / (2·√(a_e·(D − a_e)))   for a_e < D/2, else 1,
 //          capped at FeedFactors::max_chip_thinning (1.667 at a_e = 10 % D).
-//   Slot (a_e = D): f·slot (full engagement, chips evacuate worse); plunge f·plunge, ramp
-//   f·ramp, helix f·helix: the documented fractions of FeedFactors.
+//   Slot (a_e = D): f·slot (full engagement, chips evacuate worse); plunge f·plunge, ramp and
+//   helix entries f·ramp: the documented fractions of FeedFactors.
 #include <string>
 #include <vector>
 
@@ -77,8 +77,7 @@ struct MachineLimits {
 struct FeedFactors {
   double slot = 0.8;                  ///< full-width slot feed / half-width feed
   double plunge = 0.3;                ///< straight plunge (a drill: 1, its own f_z·n)
-  double ramp = 0.5;
-  double helix = 0.5;
+  double ramp = 0.5;                  ///< ramp and helix entries
   double max_chip_thinning = 3;       ///< cap of RCTF (≈ a_e 2.9 % of D)
 };
 
@@ -102,7 +101,7 @@ struct CuttingData {
   double feed_mm_min = 0;             ///< half-width or more: f_z·z·n (capped by the machine)
   bool feed_limited = false;          ///< capped at the machine's max feed
   double feed_slot_mm_min = 0;
-  double feed_plunge_mm_min = 0, feed_ramp_mm_min = 0, feed_helix_mm_min = 0;
+  double feed_plunge_mm_min = 0, feed_ramp_mm_min = 0;  ///< ramp: ramp and helix entries
   double feed_max_mm_min = 0;         ///< highest thinned feed: min(machine max, feed·max RCTF)
   double max_chip_thinning = 1;
   std::string source;                 ///< the material row's source
