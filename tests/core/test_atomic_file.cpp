@@ -10,20 +10,13 @@
 #include <filesystem>
 #include <limits>
 
+#include "testing/tmp_dirs.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
-fs::path fresh(const std::string& name) {
-  const fs::path d = fs::path(MILLNET_BINARY_DIR) / "test_tmp" / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-std::size_t files_in(const fs::path& d) {
-  std::size_t n = 0;
-  for (const auto& e : fs::recursive_directory_iterator(d)) n += e.is_regular_file() ? 1U : 0U;
-  return n;
-}
+const auto& fresh = millnet::testing::fresh_tmp_dir;
+using millnet::testing::files_in;
 }  // namespace
 
 TEST(AtomicFile, WritesCreatesFoldersAndReplacesWhole) {

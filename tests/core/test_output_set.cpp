@@ -9,21 +9,14 @@
 #include <stdexcept>
 #include <string>
 
+#include "testing/tmp_dirs.hpp"
+
 namespace fs = std::filesystem;
 using millnet::OutputSet;
 
 namespace {
-fs::path fresh_set_dir(const std::string& name) {
-  const fs::path d = fs::path(MILLNET_BINARY_DIR) / "test_tmp" / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-std::size_t files_in(const fs::path& d) {
-  std::size_t n = 0;
-  for (const auto& e : fs::recursive_directory_iterator(d)) n += e.is_regular_file() ? 1U : 0U;
-  return n;
-}
+const auto& fresh_set_dir = millnet::testing::fresh_tmp_dir;
+using millnet::testing::files_in;
 }  // namespace
 
 TEST(OutputSet, FilesAppearOnlyOnCommitAndCanBeReadBackBefore) {
