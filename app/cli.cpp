@@ -116,7 +116,7 @@ void PocketFlags::add_to(CLI::App* sub, bool with_planner_flags, bool with_depth
   sub->add_option("--entry", entry, "entry into uncut material")->check(CLI::IsMember({"predrill", "helix", "ramp"}));
   sub->add_flag("--contour", contour, "finish with a contour pass along the walls");
   if (with_planner_flags) {
-    sub->add_option("--planner", planner, "planner")->check(CLI::IsMember({"som", "zigzag"}));
+    sub->add_option("--planner", planner, "planner")->check(CLI::IsMember({"som", "zigzag", "offset"}));
     sub->add_option("--partition", partition, "zigzag partition (T: Tang, I: Suh & Kim)")
         ->check(CLI::IsMember({"t", "i", "T", "I"}));
     sub->add_option("--angle", angle, "zigzag reference angle in degrees, or auto");

@@ -6,7 +6,9 @@
 
 #include "millnet/core/atomic_file.hpp"
 
+#include <algorithm>
 #include <sstream>
+#include <tuple>
 
 namespace millnet::app {
 namespace fs = std::filesystem;
@@ -42,17 +44,18 @@ std::vector<Row> plan_every_planner(const CompareOpts& o, const Json& config, co
                                     const pocket::CutParams& cut, const Json& cutting_data) {
   const std::string stem = fs::path(o.pocket).stem().string();
   std::vector<Row> rows;
-  for (const char* name : {"som", "zigzag-t", "zigzag-i"}) {
+  for (const char* name : {"som", "zigzag-t", "zigzag-i", "offset"}) {
     PocketFlags f = o.flags;
     const std::string n = name;
-    f.planner = n == "som" ? "som" : "zigzag";
-    if (n != "som") f.partition = n == "zigzag-t" ? "t" : "i";
+    f.planner = n == "som" || n == "offset" ? n : "zigzag";
+    if (n.rfind("zigzag", 0) == 0) f.partition = n == "zigzag-t" ? "t" : "i";
     if (!f.angle) f.angle = "auto";
     const PlannerChoice ch = planner_choice(config, cut, f);
     Row r{n, plan_region(file.region, cut, ch), {}};
     pocket::MachiningOptions mo;
     mo.entry = ch.entry;
     mo.contour = ch.contour;
+    mo.machine = motion_model(config);
     mo.program_name = stem + "-" + n;
     r.m = pocket::machine_pocket(file.region, cut, r.plan, mo);
     write_pocket_outputs(o.out, stem + "." + n, file.region, cut, ch, r.plan, r.m, {}, cutting_data);
@@ -62,18 +65,43 @@ std::vector<Row> plan_every_planner(const CompareOpts& o, const Json& config, co
   return rows;
 }
 
+/// A pocket counts as cleared when at most this much of its reachable area stays uncut (issue 11's
+/// goal), mm².
+constexpr double kClearedUncutMm2 = 2.0;
+
+/// Rank of each row (1 = best) by time to a cleared pocket: planners that clear it first, each
+/// group by the motion model's time (ties: the order of the rows).
+std::vector<std::size_t> ranks(const std::vector<Row>& rows) {
+  std::vector<std::size_t> order(rows.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  auto key = [&](std::size_t i) {
+    const auto& m = rows[i].m;
+    const bool ok = m.status == pocket::PlanStatus::Ok;
+    return std::tuple(!ok, !(m.metrics.uncut_area_mm2 <= kClearedUncutMm2), m.metrics.time_kinematic_min);
+  };
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
+  std::vector<std::size_t> rank(rows.size());
+  for (std::size_t k = 0; k < order.size(); ++k) rank[order[k]] = k + 1;
+  return rank;
+}
+
 std::string compare_csv(const std::vector<Row>& rows) {
   std::ostringstream csv;
   csv << "planner,status,tool_points,passes,regions,cut_length_mm,rapid_length_mm,retractions,plunges,"
-         "predrill_points,time_adjusted_min,time_constant_min,uncut_area_mm2,planning_time_s\n";
-  for (const auto& r : rows) {
+         "predrill_points,time_adjusted_min,time_constant_min,uncut_area_mm2,planning_time_s,"
+         "time_kinematic_min,max_engagement_deg,rank\n";
+  const std::vector<std::size_t> rank = ranks(rows);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const Row& r = rows[i];
     const auto& mt = r.m.metrics;
     csv << r.planner << "," << pocket::to_string(r.m.status) << "," << format_double(mt.tool_points) << ","
         << format_double(r.passes()) << "," << format_double(r.regions()) << "," << format_double(mt.cut_length_mm)
         << "," << format_double(mt.rapid_length_mm) << "," << format_double(mt.retractions) << ","
         << format_double(mt.plunges) << "," << format_double(mt.predrill_points) << ","
         << format_double(mt.time_adjusted_min) << "," << format_double(mt.time_constant_min) << ","
-        << format_double(mt.uncut_area_mm2) << "," << format_double(mt.planning_time_s) << "\n";
+        << format_double(mt.uncut_area_mm2) << "," << format_double(mt.planning_time_s) << ","
+        << format_double(mt.time_kinematic_min) << "," << format_double(mt.max_engagement_deg) << "," << rank[i]
+        << "\n";
   }
   return csv.str();
 }
@@ -85,6 +113,21 @@ std::string compare_md(const std::vector<Row>& rows, const pocket::CutParams& cu
      << "Tool Ø" << fixed(cut.tool_diameter, 2) << " mm, stepover " << fixed(cut.stepover, 2) << " mm, depth "
      << fixed(cut.depth, 2) << " mm (step-down " << fixed(cut.step_down, 2) << " mm), stock to leave "
      << fixed(cut.stock_to_leave, 2) << " mm.\n\n"
+     << "## Ranked by time to a cleared pocket\n\n"
+     << "Time on the machine (motion model: /machine acceleration, junction deviation, rapids), planners that "
+        "leave at most " << fixed(kClearedUncutMm2, 0) << " mm² of the reachable area uncut first.\n\n"
+     << "| rank | planner | time on the machine (min) | uncut (mm²) | retractions | largest engagement (°) |\n"
+     << "|---:|---|---:|---:|---:|---:|\n";
+  const std::vector<std::size_t> rank = ranks(rows);
+  for (std::size_t k = 1; k <= rows.size(); ++k)
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      if (rank[i] == k) {
+        const auto& mt = rows[i].m.metrics;
+        md << "| " << k << " | " << rows[i].planner << " | " << fixed(mt.time_kinematic_min, 2) << " | "
+           << fixed(mt.uncut_area_mm2, 1) << " | " << fixed(mt.retractions, 0) << " | "
+           << fixed(mt.max_engagement_deg, 0) << " |\n";
+      }
+  md << "\n## All figures\n\n"
      << "| planner | tool points | passes | regions | cut (mm) | rapid (mm) | retractions | plunges | "
         "time adjusted (min) | time constant (min) | uncut (mm²) | planning (s) |\n"
      << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";

@@ -189,6 +189,16 @@ pocket::CutParams cut_params(const Json& config, const Json& explicit_pocket, co
   return c;
 }
 
+gcode::MotionModel motion_model(const Json& config) {
+  const Json& m = config["machine"];
+  gcode::MotionModel mm;
+  mm.acceleration_mm_s2 = m["acceleration_mm_s2"].get<double>();
+  mm.junction_deviation_mm = m["junction_deviation_mm"].get<double>();
+  mm.rapid_mm_min = m["rapid_mm_min"].get<double>();
+  mm.max_feed_mm_min = m["max_feed_mm_min"].get<double>();
+  return mm;
+}
+
 PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, const PocketFlags& flags) {
   const Json& pc = config["pocket"];
   PlannerChoice ch;
@@ -219,6 +229,7 @@ PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, c
   ch.smooth.opt_neighbours = m["opt_neighbours"].get<int>();
   ch.smooth.retract_penalty_mm = m["retract_penalty_mm"].get<double>();
   ch.smooth.max_opt_moves = m["max_opt_moves"].get<long>();
+  ch.offset.climb = pc["offset"]["direction"].get<std::string>() == "climb";
   const Json& z = pc["zigzag"];
   std::string part = flags.partition.value_or(z["partition"].get<std::string>());
   ch.zigzag.partition = (part == "t" || part == "T") ? pocket::PartitionKind::T : pocket::PartitionKind::I;
@@ -243,7 +254,8 @@ PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, c
 pocket::PlannerSpec planner_spec(const PlannerChoice& ch) {
   if (ch.name == "som") return pocket::SomSpec{ch.frame, ch.som, ch.smooth};
   if (ch.name == "zigzag") return pocket::ZigzagSpec{ch.zigzag};
-  throw Error("unknown planner '" + ch.name + "' (expected som or zigzag)");
+  if (ch.name == "offset") return pocket::OffsetSpec{ch.offset};
+  throw Error("unknown planner '" + ch.name + "' (expected som, zigzag or offset)");
 }
 
 rough::Params rough_params(const Json& config, const Json& explicit_pocket, const PocketFlags& flags,
@@ -259,6 +271,7 @@ rough::Params rough_params(const Json& config, const Json& explicit_pocket, cons
   const PlannerChoice choice = planner_choice(config, p.cut, flags);
   p.planner = planner_spec(choice);
   p.machining.entry = choice.entry;
+  p.machining.machine = motion_model(config);
   p.limits = work_limits();
   return p;
 }
@@ -381,11 +394,7 @@ FinishSettings finish_settings(const Json& config, const FinishToolFlags& flags)
   s.sim.ra_bins_um = sim["ra_bins_um"].get<std::vector<double>>();
   s.sim.ra_spacing_mm = sim["ra_spacing_mm"].get<double>();
   s.aim.gouge_tolerance_mm = s.sim.tolerance_mm;
-  const Json& m = config["machine"];
-  s.machine.acceleration_mm_s2 = m["acceleration_mm_s2"].get<double>();
-  s.machine.junction_deviation_mm = m["junction_deviation_mm"].get<double>();
-  s.machine.rapid_mm_min = m["rapid_mm_min"].get<double>();
-  s.machine.max_feed_mm_min = m["max_feed_mm_min"].get<double>();
+  s.machine = motion_model(config);
   s.stock_top_above_part_mm = config["rough"]["top_allowance_mm"].get<double>();
   finish_cutting_data(s, config, flags);
   return s;

@@ -44,14 +44,18 @@ namespace millnet::app {
 [[nodiscard]] Json explicit_pocket_section(const std::string& config_path);
 
 struct PlannerChoice {
-  std::string name = "som";           ///< "som" | "zigzag"
+  std::string name = "som";           ///< "som" | "zigzag" | "offset"
   pocket::GridFrame frame;
   pocket::SomParams som;
   pocket::SmoothingParams smooth;
   pocket::ZigzagParams zigzag;
+  pocket::OffsetParams offset;
   pocket::Entry entry = pocket::Entry::Predrill;
   bool contour = false;
 };
+/// The machine profile of the motion-time model (/machine/…).
+[[nodiscard]] gcode::MotionModel motion_model(const Json& config);
+
 [[nodiscard]] PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, const PocketFlags& flags);
 
 /// The typed planner spec of a choice (throws millnet::Error on an unknown planner name). A new

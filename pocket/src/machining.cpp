@@ -35,8 +35,11 @@ Chain loop_chain(const std::vector<Vec2>& loop, const Path2D& after, double R) {
   return ch;
 }
 
-void fill_program_metrics(MachiningResult& r, const CutParams& cut, const GcodeParams& gp) {
+void fill_program_metrics(MachiningResult& r, const CutParams& cut, const GcodeParams& gp,
+                          const gcode::MotionModel& machine) {
   const MoveStats ms = move_stats(r.program, cut);
+  r.metrics.time_kinematic_min = gcode::stats(r.program, machine).kinematic_time_min;
+  r.metrics.max_engagement_deg = max_engagement_deg(r.feed_profile);
   r.metrics.cut_length_mm = ms.cut_length_mm;
   r.metrics.rapid_length_mm = ms.rapid_length_mm;
   r.metrics.retractions = static_cast<double>(ms.retractions);
@@ -75,6 +78,13 @@ void collect_predrill(LevelPlan& L) {
 }
 }  // namespace
 
+double max_engagement_deg(const FeedProfile& profile) {
+  double best = 0;
+  for (const FeedPiece& p : profile.pieces)  // O(pieces)
+    best = std::max(best, profile.n1 > 0 ? std::clamp(p.engagement / profile.n1, 0.0, 1.0) : 0.0);
+  return std::acos(1 - 2 * best) * 180 / M_PI;
+}
+
 std::vector<Chain> contour_chains(const Region& region, const CutParams& cut, const Path2D& after) {
   std::vector<Chain> out;
   const auto comps = offset_inward(region, cut.clearance() + tol::contour_margin_mm, tol::contour_chord_mm);
@@ -98,7 +108,7 @@ MachiningResult machine_levels(std::vector<LevelPlan> levels, const CutParams& c
   if (!levels.empty()) r.path = levels.front().path;
   r.levels = std::move(levels);
   r.program = build_program(r.levels, gp);
-  fill_program_metrics(r, cut, gp);
+  fill_program_metrics(r, cut, gp, opt.machine);
   return r;
 }
 
@@ -121,7 +131,7 @@ MachiningResult machine_pocket(const Region& region, const CutParams& cut, const
   const std::vector<double> zs = level_zs(cut.depth, cut.step_down);
   Path2D path = plan.path;
   for (Chain& c : path.chains) c.feed.clear();  // the feed map decides
-  if (opt.contour)
+  if (opt.contour && !plan.walls_cut)
     for (Chain& c : contour_chains(region, cut, plan.path)) path.chains.push_back(std::move(c));
   // Feeds on the first level; deeper levels repeat the same plan under already-cut material, so
   // each one sees the same engagement: one feed map serves all.
@@ -142,7 +152,7 @@ MachiningResult machine_pocket(const Region& region, const CutParams& cut, const
   }
   const GcodeParams gp = gcode_params(cut, opt);
   r.program = build_program(r.levels, gp);
-  fill_program_metrics(r, cut, gp);
+  fill_program_metrics(r, cut, gp, opt.machine);
   const auto* som = std::get_if<SomStats>(&plan.stats);
   r.metrics.tour_length_mm = som ? som->smoothing.tour_length_mm : plan.path.cut_length();
   const UncutArea u = uncut_area(region, path, cut.clearance(), cut.tool_diameter / 2);

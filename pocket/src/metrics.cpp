@@ -17,7 +17,8 @@ std::vector<std::pair<std::string, double>> Metrics::to_key_values() const {
       {"predrill_points", predrill_points},   {"planning_time_s", planning_time_s},
       {"time_adjusted_min", time_adjusted_min}, {"time_constant_min", time_constant_min},
       {"uncut_area_mm2", uncut_area_mm2},     {"reachable_area_mm2", reachable_area_mm2},
-      {"pocket_area_mm2", pocket_area_mm2},   {"levels", levels}};
+      {"pocket_area_mm2", pocket_area_mm2},   {"levels", levels},
+      {"time_kinematic_min", time_kinematic_min}, {"max_engagement_deg", max_engagement_deg}};
   const std::size_t fixed = kv.size();
   for (const auto& stat : key_values(planner_stats)) {  // O(stats · fields)
     const bool taken = std::any_of(kv.begin(), kv.begin() + static_cast<std::ptrdiff_t>(fixed),

@@ -13,13 +13,15 @@ Overload(F...) -> Overload<F...>;
 
 PlanResult plan(const Region& region, const CutParams& cut, const PlannerSpec& spec) {
   return std::visit(Overload{[&](const SomSpec& s) { return plan_som(region, cut, s.frame, s.som, s.smooth); },
-                             [&](const ZigzagSpec& z) { return plan_zigzag(region, cut, z.zigzag); }},
+                             [&](const ZigzagSpec& z) { return plan_zigzag(region, cut, z.zigzag); },
+                             [&](const OffsetSpec& o) { return plan_offset(region, cut, o.offset); }},
                     spec);
 }
 
 std::string_view planner_name(const PlannerSpec& spec) {
   return std::visit(Overload{[](const SomSpec&) { return std::string_view("som"); },
-                             [](const ZigzagSpec&) { return std::string_view("zigzag"); }},
+                             [](const ZigzagSpec&) { return std::string_view("zigzag"); },
+                             [](const OffsetSpec&) { return std::string_view("offset"); }},
                     spec);
 }
 

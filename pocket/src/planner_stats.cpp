@@ -42,6 +42,18 @@ std::vector<std::pair<std::string, double>> ZigzagStats::key_values() const {
           {"zigzag_rapid_length_mm", zigzag_rapid_length_mm}};
 }
 
+std::vector<std::pair<std::string, double>> OffsetStats::key_values() const {
+  return {{"components", static_cast<double>(components)},
+          {"links", static_cast<double>(links)},
+          {"nodes", static_cast<double>(nodes)},
+          {"offset_cut_length_mm", cut_length_mm},
+          {"offset_rapid_length_mm", rapid_length_mm},
+          {"offset_retractions", static_cast<double>(retractions)},
+          {"offsets", static_cast<double>(offsets)},
+          {"rings", static_cast<double>(rings)},
+          {"splits", static_cast<double>(splits)}};
+}
+
 std::vector<std::pair<std::string, double>> key_values(const PlannerStats& stats) {
   return std::visit(
       [](const auto& s) -> std::vector<std::pair<std::string, double>> {

@@ -3,6 +3,7 @@
 
 #include "geometry_internal.hpp"
 #include "millnet/core/atomic_file.hpp"
+#include "millnet/pocket/tolerances.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -57,6 +58,16 @@ std::vector<WorkEstimate> estimate_work(const Region& region, const CutParams& c
     }
     const double n = lines * directions;
     out.push_back({over("stepover", cut.stepover, box), n, "zigzag scan lines", 64.0 * n});
+  } else if (std::holds_alternative<OffsetSpec>(spec)) {
+    // Offsets: at most half the box's smaller side / stepover + 1 of them, each as many vertices as
+    // the walls flattened at the contour chord (round joins add about as many again): an upper bound
+    // of the ring vertices, 16 bytes each.
+    double verts = 0;
+    verts += static_cast<double>(flatten(region.boundary, tol::contour_chord_mm).size());
+    for (const Loop& isl : region.islands) verts += static_cast<double>(flatten(isl, tol::contour_chord_mm).size());
+    const double k = std::floor(0.5 * std::min(box.hi.x() - box.lo.x(), box.hi.y() - box.lo.y()) / cut.stepover) + 1;
+    const double n = 2 * verts * k;
+    out.push_back({over("stepover", cut.stepover, box), n, "offset ring vertices", 16.0 * n});
   }
   const double g = cut.feed_grid > 0 ? cut.feed_grid : cut.tool_diameter / 10;
   const double R = cut.tool_diameter / 2;

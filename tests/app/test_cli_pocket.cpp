@@ -181,13 +181,16 @@ TEST_P(CliBenchPocket, EveryPlannerIsGougeFreeAndAgreesWithReplay) {
       {"zz-t", "--planner zigzag --partition t --angle auto", true},
       {"zz-i-contour", "--planner zigzag --partition i --angle auto --contour", true},
       {"zz-i-helix", "--planner zigzag --partition i --angle auto --entry helix --contour", false},
+      {"offset-helix", "--planner offset --entry helix", false},
+      {"offset-predrill", "--planner offset", true},
   };
   double som_cut = 0, som_contour_cut = 0;
   for (const Variant& v : variants) {
     SCOPED_TRACE(name + " " + v.tag);
     const PocketRun pr = run_pocket(bench(name), v.flags, fresh_dir("cli_pocket_" + name + "_" + v.tag));
     ASSERT_EQ(pr.r.code, 0) << pr.r.err;
-    EXPECT_EQ(pr.metrics.value("planner", "").substr(0, 3), std::string(v.tag).substr(0, 2) == "zz" ? "zig" : "som");
+    const std::string tag = v.tag;
+    EXPECT_EQ(pr.metrics.value("planner", "").substr(0, 3), tag.substr(0, 2) == "zz" ? "zig" : tag.substr(0, 3) == "off" ? "off" : "som");
     // The bench files say Ø10, stepover 5, depth 5; the default step-down 5 ⇒ one level.
     EXPECT_EQ(pr.metrics["parameters"]["tool_diameter"].get<double>(), 10);
     const ReplayResult rep = check_run(pr, name, pocket, 10, 5, v.predrill);
@@ -202,6 +205,13 @@ TEST_P(CliBenchPocket, EveryPlannerIsGougeFreeAndAgreesWithReplay) {
       som_cut = rep.cut_length;
     }
     if (std::string(v.tag) == "som-contour") som_contour_cut = rep.cut_length;
+    if (tag.substr(0, 6) == "offset") {
+      // Issue 11: walls included, one reachable region ⇒ no retraction, and nothing reachable uncut.
+      EXPECT_EQ(num(pr.metrics, "retractions"), 0);
+      if (!v.predrill) EXPECT_EQ(rep.retractions, 0);  // (the pre-drilling operation lifts once)
+      EXPECT_LE(num(pr.metrics, "uncut_area_mm2"), 2.0);
+      EXPECT_GT(num(pr.metrics, "time_kinematic_min"), num(pr.metrics, "cut_length_mm") / 1500 / 10);
+    }
     if (std::string(v.tag) == "som-helix") {
       EXPECT_NE(pr.nc.find("helix entry"), std::string::npos);
     }
@@ -407,13 +417,31 @@ TEST(CliCompare, WritesOneRowPerPlannerConsistentWithPocket) {
     ASSERT_EQ(cells.size(), head.size()) << line;
     rows.push_back(cells);
   }
-  ASSERT_EQ(rows.size(), 3u);
+  ASSERT_EQ(rows.size(), 4u);
   EXPECT_EQ(rows[0][c_planner], "som");
   EXPECT_EQ(rows[1][c_planner], "zigzag-t");
   EXPECT_EQ(rows[2][c_planner], "zigzag-i");
+  EXPECT_EQ(rows[3][c_planner], "offset");
+  // Ranked by time to a cleared pocket: ranks 1..4, a cleared planner (uncut ≤ 2 mm²) before any
+  // other, and among the cleared ones the shorter time on the machine first.
+  const std::size_t c_rank = col("rank"), c_kin = col("time_kinematic_min"), c_uncut = col("uncut_area_mm2");
+  (void)col("max_engagement_deg");
+  std::vector<std::size_t> seen;
+  for (const auto& row : rows) seen.push_back(std::stoul(row[c_rank]));
+  std::sort(seen.begin(), seen.end());
+  EXPECT_EQ(seen, (std::vector<std::size_t>{1, 2, 3, 4}));
+  for (const auto& a : rows)
+    for (const auto& b : rows) {
+      const bool ca = std::stod(a[c_uncut]) <= 2, cb = std::stod(b[c_uncut]) <= 2;
+      if (std::stoul(a[c_rank]) < std::stoul(b[c_rank]))
+        EXPECT_TRUE((ca && !cb) || (ca == cb && std::stod(a[c_kin]) <= std::stod(b[c_kin])))
+            << a[c_planner] << " ranked before " << b[c_planner];
+    }
+  EXPECT_EQ(rows[3][c_ret], "0");  // one reachable region: the offset planner never retracts
   for (const auto& row : rows) EXPECT_EQ(row[c_status], "ok") << row[c_planner];
   const std::string md = slurp(d / "D" / "compare.md");
-  for (const char* p : {"| som |", "| zigzag-t |", "| zigzag-i |"}) EXPECT_NE(md.find(p), std::string::npos) << p;
+  EXPECT_NE(md.find("Ranked by time to a cleared pocket"), std::string::npos);
+  for (const char* p : {"| som |", "| zigzag-t |", "| zigzag-i |", "| offset |"}) EXPECT_NE(md.find(p), std::string::npos) << p;
   for (const char* p : {"som", "zigzag-t", "zigzag-i"})
     EXPECT_TRUE(fs::exists(d / "D" / (std::string("four_islands.") + p + ".png"))) << list_files(d / "D");
   // Same pocket and tool through `millnet pocket`: the same figures.

@@ -129,10 +129,12 @@ TEST(PocketMachining, ContourPassShrinksUncutArea) {
   EXPECT_EQ(b.path.chains.size(), a.path.chains.size() + loops);
   // Keys come out in the documented order; a hand-made plan has no planner figures to add.
   const auto kv = b.metrics.to_key_values();
-  ASSERT_EQ(kv.size(), 14u);
+  ASSERT_EQ(kv.size(), 16u);
   EXPECT_EQ(kv[0].first, "tool_points");
   EXPECT_EQ(kv[1].first, "tour_length_mm");
-  EXPECT_EQ(kv.back().first, "levels");
+  EXPECT_EQ(kv[13].first, "levels");
+  EXPECT_EQ(kv[14].first, "time_kinematic_min");
+  EXPECT_EQ(kv.back().first, "max_engagement_deg");
 }
 
 TEST(PocketMachining, EmptyPlanGivesStatusNotGcode) {

@@ -89,7 +89,7 @@ TEST(PlannerStats, MetricsListTheFieldsThenThePlannersOtherKeys) {
   const std::vector<std::string> expect = {
       "tool_points", "tour_length_mm", "cut_length_mm", "rapid_length_mm", "retractions", "plunges",
       "predrill_points", "planning_time_s", "time_adjusted_min", "time_constant_min", "uncut_area_mm2",
-      "reachable_area_mm2", "pocket_area_mm2", "levels",
+      "reachable_area_mm2", "pocket_area_mm2", "levels", "time_kinematic_min", "max_engagement_deg",
       "cut_over_bound", "grid_bound_mm", "link_length_mm", "links", "min_retractions", "opt_moves",
       "reachable_regions", "retractions_before_linking", "som_converged", "som_nodes", "som_overcut_moves",
       "som_passes", "som_tour_length_mm", "two_opt_saved_mm", "weak_patterns", "weak_smoothing_saved_mm",

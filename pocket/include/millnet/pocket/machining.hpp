@@ -6,6 +6,7 @@
 //   MachiningResult m = machine_pocket(region, cut, plan, {.entry = Entry::Predrill, .contour = true});
 //   if (m.status != PlanStatus::Ok) { report m.message; write no G-code; }
 //   else write_file_atomic(out / (stem + ".nc"), m.gcode);
+#include "millnet/gcode/stats.hpp"
 #include "millnet/pocket/feedmap.hpp"
 #include "millnet/pocket/gcode.hpp"
 #include "millnet/pocket/metrics.hpp"
@@ -22,6 +23,7 @@ struct MachiningOptions {
   std::string program_name;
   std::vector<std::string> comments;  ///< extra header comments (e.g. the source file, planner)
   int decimals = 4;
+  gcode::MotionModel machine;      ///< for Metrics::time_kinematic_min
 };
 
 struct MachiningResult {
@@ -40,6 +42,9 @@ struct MachiningResult {
 /// vertex nearest to the area-clearing path (`after`; no pre-drill needed when that vertex lies
 /// within R/2 of it). O(loop vertices · path vertices).
 [[nodiscard]] std::vector<Chain> contour_chains(const Region& region, const CutParams& cut, const Path2D& after);
+
+/// Largest engagement angle of a feed profile (Metrics::max_engagement_deg), degrees.
+[[nodiscard]] double max_engagement_deg(const FeedProfile& profile);
 
 /// Runs everything after planning. The region must be validated (validate_and_normalize). Throws
 /// millnet::Error on bad parameters; a plan without a path comes back with its status and message.

@@ -21,6 +21,12 @@ struct Metrics {
   double planning_time_s = 0;
   double time_adjusted_min = 0; ///< with the feed-map feeds (rapids at rapid_rate)
   double time_constant_min = 0; ///< every lateral cut at f₂
+  /// The program run through the machine's motion model (gcode::stats: acceleration, junction
+  /// deviation, look-ahead), MachiningOptions::machine: what the machine takes.
+  double time_kinematic_min = 0;
+  /// Largest radial engagement along the first level, from the feed map's cells: the arc of the
+  /// tool's circumference in the cut, acos(1 − 2·a_e/D) with a_e = D·n₃/n₁ (full slot = 180°).
+  double max_engagement_deg = 0;
   double uncut_area_mm2 = 0;    ///< reachable area − swept area at the floor level (Clipper)
   double reachable_area_mm2 = 0;
   double pocket_area_mm2 = 0;

@@ -8,6 +8,7 @@
 // Adding a planner: its params struct and plan_<name>() in pocket (a header and a .cpp), a spec
 // struct here, one alternative in PlannerSpec, and one line in plan() / planner_name().
 #include "millnet/pocket/planner.hpp"
+#include "millnet/pocket/planner_offset.hpp"
 #include "millnet/pocket/planner_som.hpp"
 #include "millnet/pocket/planner_zigzag.hpp"
 
@@ -28,12 +29,17 @@ struct ZigzagSpec {
   ZigzagParams zigzag;
 };
 
-using PlannerSpec = std::variant<SomSpec, ZigzagSpec>;
+/// The offset (contour-parallel) planner: rings at the stepover, inside out, walls included.
+struct OffsetSpec {
+  OffsetParams offset;
+};
+
+using PlannerSpec = std::variant<SomSpec, ZigzagSpec, OffsetSpec>;
 
 /// Plans one validated, normalized region with the planner `spec` names (pocket/planner.hpp contract).
 [[nodiscard]] PlanResult plan(const Region& region, const CutParams& cut, const PlannerSpec& spec);
 
-/// The planner's configuration name: "som" or "zigzag".
+/// The planner's configuration name: "som", "zigzag" or "offset".
 [[nodiscard]] std::string_view planner_name(const PlannerSpec& spec);
 
 }  // namespace millnet::pocket

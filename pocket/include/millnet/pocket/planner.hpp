@@ -19,6 +19,9 @@ struct PlanResult {
   Path2D path;                           ///< chains in machining order, feeds 0 (unassigned)
   std::vector<Vec2> predrill;            ///< entry points that need a pre-drilled hole
   PlannerStats stats;                    ///< the planner's figures (SomStats, ZigzagStats, …)
+  /// The path already runs along every wall (the offset planner's first rings): machine_pocket
+  /// adds no contour pass.
+  bool walls_cut = false;
   double planning_time_s = 0;
 };
 

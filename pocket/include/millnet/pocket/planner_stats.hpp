@@ -51,9 +51,23 @@ struct ZigzagStats {
   [[nodiscard]] std::vector<std::pair<std::string, double>> key_values() const;
 };
 
+/// The offset planner's figures (plan_offset).
+struct OffsetStats {
+  std::size_t rings = 0;            ///< loops cut (all offsets, walls included)
+  std::size_t offsets = 0;          ///< offset distances with something left (K)
+  std::size_t nodes = 0;            ///< connected components over all offsets
+  std::size_t components = 0;       ///< components of the reachable area (roots)
+  std::size_t splits = 0;           ///< nodes with more than one child (where the offsets split)
+  std::size_t links = 0;            ///< ring-to-ring moves with the tool down
+  std::size_t retractions = 0;      ///< of the planned path
+  double cut_length_mm = 0;         ///< of the planned path (links included)
+  double rapid_length_mm = 0;
+  [[nodiscard]] std::vector<std::pair<std::string, double>> key_values() const;
+};
+
 /// One alternative per planner; std::monostate when the planner stopped before planning (status
 /// NoToolPoints) and has no figures.
-using PlannerStats = std::variant<std::monostate, SomStats, ZigzagStats>;
+using PlannerStats = std::variant<std::monostate, SomStats, ZigzagStats, OffsetStats>;
 
 /// The figures of whichever planner, as SomStats/ZigzagStats::key_values; none for std::monostate.
 [[nodiscard]] std::vector<std::pair<std::string, double>> key_values(const PlannerStats& stats);

@@ -1,0 +1,411 @@
+// The offset (contour-parallel) planner (planner_offset.hpp).
+#include "millnet/pocket/planner_offset.hpp"
+
+#include "millnet/pocket/offset.hpp"
+#include "millnet/pocket/tolerances.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <optional>
+#include <queue>
+#include <vector>
+
+namespace millnet::pocket {
+
+namespace {
+
+/// Leftover middles smaller than this are slivers of the booleans, not material, mm².
+constexpr double kMinMiddleMm2 = 0.05;
+
+/// One connected component of one offset A_k.
+struct Node {
+  std::size_t level = 0;
+  PolyArea area;
+  std::optional<std::size_t> parent;
+  std::vector<std::size_t> children;
+  std::size_t depth_below = 0;  ///< levels of the deepest descendant below this node
+};
+
+/// Point in a simple polygon (crossing number; a point on the edge may go either way, which is
+/// fine: it is used only for points well inside, a child's first vertex in its parent).
+bool in_polygon(const std::vector<Vec2>& poly, const Vec2& p) {
+  bool in = false;
+  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    const Vec2& a = poly[i];
+    const Vec2& b = poly[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) &&
+        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
+      in = !in;
+  }
+  return in;
+}
+
+bool in_area(const PolyArea& a, const Vec2& p) {
+  if (!in_polygon(a.outer, p)) return false;
+  return std::none_of(a.holes.begin(), a.holes.end(), [&](const auto& h) { return in_polygon(h, p); });
+}
+
+/// The offsets A_0, A_1, … as a forest of nodes (roots: the reachable area's components).
+std::vector<Node> offset_tree(const Region& region, const CutParams& cut, std::size_t& levels) {
+  std::vector<Node> nodes;
+  std::vector<std::size_t> previous;  // node indices of the level above
+  const double d0 = cut.clearance() + tol::contour_margin_mm;
+  for (std::size_t k = 0;; ++k) {
+    std::vector<PolyArea> comps = offset_inward(region, d0 + static_cast<double>(k) * cut.stepover, tol::contour_chord_mm);
+    comps.erase(std::remove_if(comps.begin(), comps.end(), [](const PolyArea& a) { return a.outer.size() < 3; }),
+                comps.end());
+    if (comps.empty()) break;
+    levels = k + 1;
+    std::vector<std::size_t> current;
+    for (PolyArea& a : comps) {
+      Node n;
+      n.level = k;
+      if (k > 0)  // O(components of the level above · their vertices)
+        for (std::size_t q : previous)
+          if (in_area(nodes[q].area, a.outer.front())) {
+            n.parent = q;
+            break;
+          }
+      n.area = std::move(a);
+      current.push_back(nodes.size());
+      if (n.parent) nodes[*n.parent].children.push_back(nodes.size());
+      nodes.push_back(std::move(n));
+    }
+    previous = std::move(current);
+  }
+  // A leaf's middle lies up to one stepover from its ring. With stepover ≤ R that is swept (at
+  // most a cusp the tool's edge touches); above R one more ring at half a stepover cuts it.
+  // (Beside a split, a middle wider than R stays: the metrics' uncut area reports it.)
+  const std::size_t before = nodes.size();
+  for (std::size_t i = 0; i < before && cut.stepover > cut.tool_diameter / 2; ++i) {
+    if (!nodes[i].children.empty()) continue;
+    for (PolyArea& a : offset_areas({nodes[i].area}, -0.5 * cut.stepover, tol::contour_chord_mm)) {
+      if (a.outer.size() < 3 || area(a) < kMinMiddleMm2) continue;
+      Node n;
+      n.level = nodes[i].level + 1;
+      n.parent = i;
+      n.area = std::move(a);
+      nodes[i].children.push_back(nodes.size());
+      nodes.push_back(std::move(n));
+    }
+  }
+  for (std::size_t i = nodes.size(); i-- > 0;)  // children come after parents
+    for (std::size_t c : nodes[i].children)
+      nodes[i].depth_below = std::max(nodes[i].depth_below, nodes[c].depth_below + 1);
+  return nodes;
+}
+
+/// Builds the path. A ring is appended as a closed loop; to get there the tool goes on along the
+/// ring it has just cut (already cut, so nothing changes but time) to the vertex from which a
+/// straight move to the new ring sweeps no wall (Clearance::move_ok), choosing the pair that
+/// minimises that walk plus the move. Only where no pair is free does it retract.
+class PathBuilder {
+public:
+  PathBuilder(const Region& region, const CutParams& cut, const OffsetParams& params)
+      : clear_(region, cut.clearance()), R_(cut.tool_diameter / 2), climb_(params.climb) {
+    const std::vector<Vec2> b = flatten(region.boundary, tol::arc_chord_mm);
+    box_lo_ = box_hi_ = b.front();
+    for (const Vec2& p : b) {
+      box_lo_ = box_lo_.cwiseMin(p);
+      box_hi_ = box_hi_.cwiseMax(p);
+    }
+  }
+
+  /// Smallest distance between a vertex of the ring just cut (or the current point) and `loop`:
+  /// the order of the loops of one node. O(ring · loop vertices).
+  [[nodiscard]] double gap_to(const std::vector<Vec2>& loop) const {
+    double best = std::numeric_limits<double>::infinity();
+    const std::vector<Vec2>& from = last_.empty() ? origin_ : last_;
+    for (const Vec2& a : from)
+      for (const Vec2& b : loop) best = std::min(best, (a - b).squaredNorm());
+    return std::sqrt(best);
+  }
+
+  void add_ring(const std::vector<Vec2>& loop) {
+    std::vector<Vec2> ring = loop;
+    if (!climb_) std::reverse(ring.begin(), ring.end());
+    std::size_t start = 0;
+    if (last_.empty()) {
+      path_.chains.push_back(Chain{});
+      path_.chains.back().predrill = true;
+    } else if (!link_to(ring, start)) {
+      ++retractions_;
+      start = nearest(ring, last_.front());
+      Chain c;
+      c.predrill = !near_cut(ring[start]);
+      path_.chains.push_back(std::move(c));
+    }
+    last_.clear();
+    for (std::size_t i = 0; i < ring.size(); ++i) last_.push_back(ring[(start + i) % ring.size()]);
+    Chain& c = path_.chains.back();
+    for (std::size_t i = 0; i <= last_.size(); ++i) push(c, last_[i % last_.size()]);
+    ++rings_;
+  }
+
+  Path2D take() { return std::move(path_); }
+  std::size_t rings() const { return rings_; }
+  std::size_t links() const { return links_; }
+  std::size_t retractions() const { return retractions_; }
+
+private:
+  static void push(Chain& c, const Vec2& p) {
+    if (!c.pts.empty() && (c.pts.back().p() - p).norm() <= tol::join_mm) return;
+    c.pts.push_back({p.x(), p.y(), 0.0});
+  }
+
+  static std::size_t nearest(const std::vector<Vec2>& ring, const Vec2& p) {
+    std::size_t best_i = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < ring.size(); ++i)
+      if (const double d = (ring[i] - p).squaredNorm(); d < best) {
+        best = d;
+        best_i = i;
+      }
+    return best_i;
+  }
+
+  /// Walks on along last_ to vertex i, then straight to ring[j], for the cheapest free (i, j):
+  /// for each i its nearest j (O(|last_|·|ring|)), candidates by walk + move, the first that
+  /// move_ok accepts. Appends the walk and sets `start` = j; false when none is free.
+  bool link_to(const std::vector<Vec2>& ring, std::size_t& start) {
+    const std::size_t n = last_.size();
+    std::vector<double> walk(n + 1, 0.0);  // walk[i]: along last_ from its start (= its end) to vertex i
+    for (std::size_t i = 1; i <= n; ++i) walk[i] = walk[i - 1] + (last_[i % n] - last_[i - 1]).norm();
+    struct Cand {
+      double cost;
+      std::size_t i, j;
+    };
+    std::vector<Cand> cands;
+    cands.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t j = nearest(ring, last_[i]);
+      cands.push_back({walk[i] + (ring[j] - last_[i]).norm(), i, j});
+    }
+    std::sort(cands.begin(), cands.end(), [](const Cand& a, const Cand& b) {
+      return a.cost < b.cost || (a.cost == b.cost && a.i < b.i);
+    });
+    for (const Cand& k : cands) {  // usually the first few
+      if (!clear_.move_ok(last_[k.i], ring[k.j])) continue;
+      Chain& c = path_.chains.back();
+      for (std::size_t i = 1; i <= k.i; ++i) push(c, last_[i]);
+      ++links_;
+      start = k.j;
+      return true;
+    }
+    return link_via(ring, walk, start);
+  }
+
+  /// Where no straight move is free (the offsets split around islands): the shortest way from
+  /// the ring just cut to the new ring's vertex nearest to it, searched on a grid of free tool
+  /// centres (A*, 8 neighbours), pulled taut into straight moves that move_ok accepts.
+  bool link_via(const std::vector<Vec2>& ring, const std::vector<double>& /*walk*/, std::size_t& start) {
+    const Vec2 from = last_.front();
+    const std::size_t j = nearest(ring, from);
+    std::vector<Vec2> way;
+    if (!grid_path(from, ring[j], way)) return false;
+    std::vector<Vec2> taut{from};
+    std::size_t k = 0;
+    while (k + 1 < way.size()) {  // O(way²) move checks at worst; ways are short
+      std::size_t far = k + 1;
+      if (!clear_.move_ok(taut.back(), way[far])) return false;
+      while (far + 1 < way.size() && clear_.move_ok(taut.back(), way[far + 1])) ++far;
+      taut.push_back(way[far]);
+      k = far;
+    }
+    Chain& c = path_.chains.back();
+    for (std::size_t t = 1; t < taut.size(); ++t) push(c, taut[t]);
+    ++links_;
+    ++grid_links_;
+    start = j;
+    return true;
+  }
+
+  /// A* over cells of h mm (the free ones: point_ok at the centre); way = from, cell centres, to.
+  bool grid_path(const Vec2& from, const Vec2& to, std::vector<Vec2>& way) {
+    if (free_.empty()) build_grid();
+    auto cell_of = [&](const Vec2& p) -> long {
+      const long cx = std::lround((p.x() - lo_.x()) / h_), cy = std::lround((p.y() - lo_.y()) / h_);
+      if (cx < 0 || cy < 0 || cx >= nx_ || cy >= ny_) return -1;
+      return cy * nx_ + cx;
+    };
+    auto centre = [&](long c) { return Vec2(lo_.x() + static_cast<double>(c % nx_) * h_, lo_.y() + static_cast<double>(c / nx_) * h_); };
+    // Enter and leave the grid at the nearest free cell the straight move reaches.
+    auto attach = [&](const Vec2& p) -> long {
+      const long c0 = cell_of(p);
+      if (c0 < 0) return -1;
+      long best = -1;
+      double bd = std::numeric_limits<double>::infinity();
+      for (long dy = -2; dy <= 2; ++dy)
+        for (long dx = -2; dx <= 2; ++dx) {
+          const long cx = c0 % nx_ + dx, cy = c0 / nx_ + dy;
+          if (cx < 0 || cy < 0 || cx >= nx_ || cy >= ny_) continue;
+          const long c = cy * nx_ + cx;
+          const double d = (centre(c) - p).norm();
+          if (free_[static_cast<std::size_t>(c)] && d < bd && clear_.move_ok(p, centre(c))) {
+            bd = d;
+            best = c;
+          }
+        }
+      return best;
+    };
+    const long s = attach(from), g = attach(to);
+    if (s < 0 || g < 0) return false;
+    const std::size_t n = free_.size();
+    std::vector<double> dist(n, std::numeric_limits<double>::infinity());
+    std::vector<long> prev(n, -1);
+    using Item = std::pair<double, long>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+    const Vec2 goal = centre(g);
+    dist[static_cast<std::size_t>(s)] = 0;
+    open.push({(centre(s) - goal).norm(), s});
+    while (!open.empty()) {  // O(cells · log cells)
+      const auto [f, c] = open.top();
+      open.pop();
+      if (c == g) break;
+      const double dc = dist[static_cast<std::size_t>(c)];
+      if (f > dc + (centre(c) - goal).norm() + 1e-9) continue;  // stale
+      const long cx = c % nx_, cy = c / nx_;
+      for (long dy = -1; dy <= 1; ++dy)
+        for (long dx = -1; dx <= 1; ++dx) {
+          const long x = cx + dx, y = cy + dy;
+          if ((dx == 0 && dy == 0) || x < 0 || y < 0 || x >= nx_ || y >= ny_) continue;
+          const long q = y * nx_ + x;
+          if (!free_[static_cast<std::size_t>(q)]) continue;
+          const double nd = dc + h_ * ((dx != 0 && dy != 0) ? M_SQRT2 : 1.0);
+          if (nd < dist[static_cast<std::size_t>(q)]) {
+            dist[static_cast<std::size_t>(q)] = nd;
+            prev[static_cast<std::size_t>(q)] = c;
+            open.push({nd + (centre(q) - goal).norm(), q});
+          }
+        }
+    }
+    if (prev[static_cast<std::size_t>(g)] < 0 && g != s) return false;
+    std::vector<Vec2> rev{to};
+    for (long c = g; c >= 0; c = prev[static_cast<std::size_t>(c)]) rev.push_back(centre(c));
+    rev.push_back(from);
+    way.assign(rev.rbegin(), rev.rend());
+    return true;
+  }
+
+  /// Free-centre grid over the region's box: h = max(R/4, box/512) so that it has ≤ 512² cells.
+  void build_grid() {
+    lo_ = box_lo_;
+    const Vec2 ext = box_hi_ - box_lo_;
+    h_ = std::max({R_ / 4, ext.x() / 512, ext.y() / 512});
+    nx_ = static_cast<long>(std::ceil(ext.x() / h_)) + 1;
+    ny_ = static_cast<long>(std::ceil(ext.y() / h_)) + 1;
+    free_.assign(static_cast<std::size_t>(nx_ * ny_), 0);
+    for (long c = 0; c < nx_ * ny_; ++c)
+      free_[static_cast<std::size_t>(c)] =
+          clear_.point_ok(Vec2(lo_.x() + static_cast<double>(c % nx_) * h_, lo_.y() + static_cast<double>(c / nx_) * h_));
+  }
+
+  /// Within R/2 of a vertex already cut (the contour pass's rule: no pre-drill needed there).
+  bool near_cut(const Vec2& p) const {
+    for (const Chain& c : path_.chains)  // O(path vertices), at most once per retraction
+      for (const Vertex& v : c.pts)
+        if ((v.p() - p).norm() <= 0.5 * R_) return true;
+    return false;
+  }
+
+  Clearance clear_;
+  double R_;
+  bool climb_;
+  Path2D path_;
+  std::vector<Vec2> last_;    ///< the ring just cut, from its start vertex
+  std::vector<Vec2> origin_;  ///< empty: no ring cut yet
+  std::size_t rings_ = 0, links_ = 0, retractions_ = 0, grid_links_ = 0;
+  Vec2 box_lo_, box_hi_, lo_;
+  double h_ = 0;
+  long nx_ = 0, ny_ = 0;
+  std::vector<char> free_;
+};
+
+/// The node's loops (outer and islands), each next the one nearest the ring just cut.
+void add_rings(PathBuilder& b, const Node& n) {
+  std::vector<const std::vector<Vec2>*> left{&n.area.outer};
+  for (const auto& h : n.area.holes) left.push_back(&h);
+  while (!left.empty()) {
+    std::size_t pick = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < left.size() && left.size() > 1; ++k)
+      if (const double g = b.gap_to(*left[k]); g < best) {
+        best = g;
+        pick = k;
+      }
+    b.add_ring(*left[pick]);
+    left.erase(left.begin() + static_cast<std::ptrdiff_t>(pick));
+  }
+}
+
+/// The node and everything below it, each ring after the ring around it (top-down), children
+/// deepest first.
+void cut_down(PathBuilder& b, const std::vector<Node>& nodes, std::size_t i) {
+  add_rings(b, nodes[i]);
+  std::vector<std::size_t> kids = nodes[i].children;
+  std::stable_sort(kids.begin(), kids.end(),
+                   [&](std::size_t x, std::size_t y) { return nodes[x].depth_below > nodes[y].depth_below; });
+  for (std::size_t c : kids) cut_down(b, nodes, c);
+}
+
+/// One reachable component: in at the deepest leaf, up to the root, side branches top-down.
+void cut_root(PathBuilder& b, const std::vector<Node>& nodes, std::size_t root) {
+  std::vector<std::size_t> way{root};  // root … leaf along the deepest children
+  while (!nodes[way.back()].children.empty()) {
+    const auto& kids = nodes[way.back()].children;
+    way.push_back(*std::max_element(kids.begin(), kids.end(), [&](std::size_t x, std::size_t y) {
+      return nodes[x].depth_below < nodes[y].depth_below;  // first of the deepest
+    }));
+  }
+  for (std::size_t w = way.size(); w-- > 0;) {
+    const std::size_t i = way[w];
+    add_rings(b, nodes[i]);
+    for (std::size_t c : nodes[i].children)
+      if (w + 1 >= way.size() || c != way[w + 1]) cut_down(b, nodes, c);
+  }
+}
+
+}  // namespace
+
+PlanResult plan_offset(const Region& region, const CutParams& cut, const OffsetParams& params) {
+  cut.check("offset planner");
+  const auto t0 = std::chrono::steady_clock::now();
+  PlanResult res;
+  res.planner = "offset";
+  std::size_t levels = 0;
+  const std::vector<Node> nodes = offset_tree(region, cut, levels);
+  OffsetStats st;
+  st.offsets = levels;
+  st.nodes = nodes.size();
+  if (nodes.empty()) {
+    res.status = PlanStatus::NoToolPoints;
+    res.message = "the tool (clearance " + std::to_string(cut.clearance()) + " mm) fits nowhere in the pocket";
+    res.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return res;
+  }
+  PathBuilder b(region, cut, params);
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    if (nodes[i].children.size() > 1) ++st.splits;
+    if (!nodes[i].parent) {
+      ++st.components;
+      cut_root(b, nodes, i);
+    }
+  }
+  st.rings = b.rings();
+  st.links = b.links();
+  st.retractions = b.retractions();
+  res.path = b.take();
+  for (const Chain& c : res.path.chains)
+    if (c.predrill && !c.pts.empty()) res.predrill.push_back(c.pts.front().p());
+  st.cut_length_mm = res.path.cut_length();
+  st.rapid_length_mm = res.path.rapid_length();
+  res.stats = st;
+  res.walls_cut = true;
+  res.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+}  // namespace millnet::pocket

@@ -1,0 +1,212 @@
+// The offset (contour-parallel) planner: every bench pocket cleared with the tool down, no gouge
+// (independent G-code replay), nothing reachable left uncut; offsets that split, a region too
+// narrow for a helix, an island that touches the first ring, two components, direction.
+#include "millnet/pocket/machining.hpp"
+#include "millnet/pocket/offset.hpp"
+#include "millnet/pocket/plan.hpp"
+#include "millnet/pocket/io/pocket_io.hpp"
+#include "testing/gcode_replay.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+using namespace millnet::pocket;
+namespace {
+millnet::testing::ReplayPocket to_replay(const Region& r) {
+  millnet::testing::ReplayPocket p;
+  for (const Vertex& v : r.boundary) p.boundary.push_back({v.x, v.y, v.bulge});
+  for (const Loop& l : r.islands) {
+    p.islands.emplace_back();
+    for (const Vertex& v : l) p.islands.back().push_back({v.x, v.y, v.bulge});
+  }
+  return p;
+}
+
+CutParams bench_cut() {
+  CutParams cut;
+  cut.tool_diameter = 10;
+  cut.stepover = 5;
+  cut.depth = 5;
+  cut.step_down = 5;
+  cut.feed_slot = cut.feed_half = cut.feed_min = cut.feed_max = 1500;
+  cut.feed_plunge = 300;
+  cut.feed_adjust = false;
+  return cut;
+}
+
+struct Outcome {
+  PlanResult plan;
+  MachiningResult m;
+  millnet::testing::ReplayResult rep;
+  std::size_t uncovered = 0;  ///< grid points a centred tool could reach that no cutting move swept
+  std::size_t probed = 0;
+};
+
+/// Plans, machines (helix entry), replays the G-code and checks coverage independently of the
+/// planner: every point of a 0.5 mm grid where the tool fits with 0.2 mm to spare (so it is
+/// certainly reachable) must lie within R + 0.01 mm of a replayed cutting move sampled every 0.25 mm
+/// (a missing ring leaves points up to a stepover farther).
+Outcome run(const Region& region, const CutParams& cut, bool climb = true) {
+  Outcome o;
+  o.plan = plan(region, cut, OffsetSpec{OffsetParams{climb}});
+  MachiningOptions opt;
+  opt.entry = Entry::Helix;
+  opt.contour = true;
+  o.m = machine_pocket(region, cut, o.plan, opt);
+  if (o.m.status != PlanStatus::Ok) return o;
+  o.rep = millnet::testing::replay_gcode(o.m.gcode, cut.safe_z);
+  millnet::testing::check_gouge(o.rep, to_replay(region), cut.tool_diameter / 2);
+  const double R = cut.tool_diameter / 2, h = 0.5;
+  const std::vector<Vec2> b = flatten(region.boundary, 0.01);
+  Vec2 lo = b.front(), hi = b.front();
+  for (const Vec2& p : b) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const long nx = std::lround((hi.x() - lo.x()) / h) + 1, ny = std::lround((hi.y() - lo.y()) / h) + 1;
+  std::vector<char> cut_cell(static_cast<std::size_t>(nx * ny), 0);
+  // Within the tool's radius up to the replay's 0.01 mm: where stepover = R the middle of a ring is
+  // exactly R from it, a cusp of no area the tool's edge touches.
+  const double r_stamp = R + 0.01;
+  const long rc = static_cast<long>(std::floor(r_stamp / h));
+  auto stamp = [&](double x, double y) {
+    const long cx = std::lround((x - lo.x()) / h), cy = std::lround((y - lo.y()) / h);
+    for (long dy = -rc - 1; dy <= rc + 1; ++dy)
+      for (long dx = -rc - 1; dx <= rc + 1; ++dx) {
+        const long gx = cx + dx, gy = cy + dy;
+        if (gx < 0 || gy < 0 || gx >= nx || gy >= ny) continue;
+        if (std::hypot(lo.x() + gx * h - x, lo.y() + gy * h - y) <= r_stamp) cut_cell[gy * nx + gx] = 1;
+      }
+  };
+  for (const auto& mv : o.rep.moves) {
+    if (mv.g == 0 || mv.to[2] > -1e-9 || mv.from[2] > -1e-9) continue;
+    const double len = std::hypot(mv.to[0] - mv.from[0], mv.to[1] - mv.from[1]);
+    if (mv.g == 1) {
+      const int n = std::max(1, static_cast<int>(std::ceil(len / 0.25)));
+      for (int k = 0; k <= n; ++k)
+        stamp(mv.from[0] + (mv.to[0] - mv.from[0]) * k / n, mv.from[1] + (mv.to[1] - mv.from[1]) * k / n);
+    } else {  // arc: by angle about its centre
+      const double cx = mv.center[0], cy = mv.center[1];
+      const double r = std::hypot(mv.from[0] - cx, mv.from[1] - cy);
+      double a0 = std::atan2(mv.from[1] - cy, mv.from[0] - cx), a1 = std::atan2(mv.to[1] - cy, mv.to[0] - cx);
+      double sweep = a1 - a0;
+      if (mv.g == 3 && sweep <= 0) sweep += 2 * M_PI;
+      if (mv.g == 2 && sweep >= 0) sweep -= 2 * M_PI;
+      const int n = std::max(1, static_cast<int>(std::ceil(std::abs(sweep) * r / 0.25)));
+      for (int k = 0; k <= n; ++k) stamp(cx + r * std::cos(a0 + sweep * k / n), cy + r * std::sin(a0 + sweep * k / n));
+    }
+  }
+  const Clearance walls(region, 0.0);
+  for (long gy = 0; gy < ny; ++gy)
+    for (long gx = 0; gx < nx; ++gx) {
+      const Vec2 p(lo.x() + gx * h, lo.y() + gy * h);
+      if (!inside(region, p) || walls.wall_distance(p) < R + 0.2) continue;
+      ++o.probed;
+      if (!cut_cell[gy * nx + gx]) ++o.uncovered;
+    }
+  return o;
+}
+
+Loop rect(double x0, double y0, double x1, double y1) { return {{x0, y0, 0}, {x1, y0, 0}, {x1, y1, 0}, {x0, y1, 0}}; }
+Loop circle_cw(double cx, double cy, double r) { return {{cx - r, cy, -1}, {cx + r, cy, -1}}; }
+}  // namespace
+
+class OffsetBench : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(OffsetBench, ClearsWithTheToolDownAndNoGouge) {
+  const PocketFile pf = read_pocket(std::string(MILLNET_SHARED_DIR) + "/bench/pockets/" + GetParam() + ".json");
+  const CutParams cut = bench_cut();
+  const Outcome o = run(pf.region, cut);
+  ASSERT_EQ(o.m.status, PlanStatus::Ok) << o.m.message;
+  EXPECT_TRUE(o.plan.walls_cut);
+  EXPECT_EQ(o.rep.violations, 0) << o.rep.first_violation;
+  EXPECT_LT(o.rep.worst_mm, 0.01);
+  // One reachable component each: not a single retraction, one entry.
+  const auto& st = std::get<OffsetStats>(o.plan.stats);
+  EXPECT_EQ(st.components, 1u);
+  EXPECT_EQ(o.m.metrics.retractions, 0);
+  EXPECT_EQ(o.rep.retractions, 0);
+  EXPECT_EQ(o.m.metrics.plunges, 1);
+  EXPECT_LE(o.m.metrics.uncut_area_mm2, 2.0);
+  EXPECT_GT(o.probed, 1000u);
+  EXPECT_EQ(o.uncovered, 0u);
+  EXPECT_GT(o.m.metrics.time_kinematic_min, o.m.path.cut_length() / 1500);  // never faster than the feed
+}
+
+INSTANTIATE_TEST_SUITE_P(Pockets, OffsetBench, ::testing::Values("four_islands", "comb", "eight_islands"));
+
+TEST(PlannerOffset, OffsetsThatSplitAreLinkedWithTheToolDown) {
+  // Two 40 mm rooms joined by a 14 mm corridor: the tool (Ø10) passes, the offsets split in two.
+  Region r;
+  r.boundary = {{0, 0, 0}, {40, 0, 0}, {40, 13, 0}, {70, 13, 0}, {70, 0, 0}, {110, 0, 0},
+                {110, 40, 0}, {70, 40, 0}, {70, 27, 0}, {40, 27, 0}, {40, 40, 0}, {0, 40, 0}};
+  validate_and_normalize(r, "test");
+  const Outcome o = run(r, bench_cut());
+  ASSERT_EQ(o.m.status, PlanStatus::Ok);
+  const auto& st = std::get<OffsetStats>(o.plan.stats);
+  EXPECT_GE(st.splits, 1u);
+  EXPECT_EQ(st.components, 1u);
+  EXPECT_EQ(o.m.metrics.retractions, 0);
+  EXPECT_EQ(o.rep.violations, 0) << o.rep.first_violation;
+  EXPECT_EQ(o.uncovered, 0u);
+  EXPECT_LE(o.m.metrics.uncut_area_mm2, 2.0);
+}
+
+TEST(PlannerOffset, ANeckTheToolCannotPassMakesTwoComponentsAndOneRetraction) {
+  // The same rooms joined by an 8 mm neck: a Ø10 tool cannot pass, so two components.
+  Region r;
+  r.boundary = {{0, 0, 0}, {40, 0, 0}, {40, 16, 0}, {70, 16, 0}, {70, 0, 0}, {110, 0, 0},
+                {110, 40, 0}, {70, 40, 0}, {70, 24, 0}, {40, 24, 0}, {40, 40, 0}, {0, 40, 0}};
+  validate_and_normalize(r, "test");
+  const Outcome o = run(r, bench_cut());
+  ASSERT_EQ(o.m.status, PlanStatus::Ok);
+  EXPECT_EQ(std::get<OffsetStats>(o.plan.stats).components, 2u);
+  EXPECT_EQ(o.m.metrics.retractions, 1);
+  EXPECT_EQ(o.rep.violations, 0) << o.rep.first_violation;
+  EXPECT_EQ(o.uncovered, 0u);
+}
+
+TEST(PlannerOffset, ARegionTooNarrowForAHelixStillEntersAndClears) {
+  // A 12 mm slot: the tool centre has a 2 mm wide strip, no room for a helix; the entry falls back
+  // to a plunge and the slot is still cut end to end without touching its walls.
+  Region r;
+  r.boundary = rect(0, 0, 80, 12);
+  validate_and_normalize(r, "test");
+  const Outcome o = run(r, bench_cut());
+  ASSERT_EQ(o.m.status, PlanStatus::Ok);
+  EXPECT_EQ(o.rep.violations, 0) << o.rep.first_violation;
+  EXPECT_EQ(o.m.metrics.retractions, 0);
+  EXPECT_LE(o.m.metrics.uncut_area_mm2, 2.0);
+  EXPECT_NEAR(o.m.metrics.reachable_area_mm2, 80 * 12 - (4 - M_PI) * 25, 0.5);  // four rounded corners
+}
+
+TEST(PlannerOffset, AnIslandTouchingTheFirstRing) {
+  // The island's grown ring touches the wall's first ring (10 mm = 2 × clearance between them).
+  Region r;
+  r.boundary = rect(0, 0, 100, 80);
+  r.islands = {circle_cw(50, 20, 10)};
+  validate_and_normalize(r, "test");
+  const Outcome o = run(r, bench_cut());
+  ASSERT_EQ(o.m.status, PlanStatus::Ok);
+  EXPECT_EQ(o.rep.violations, 0) << o.rep.first_violation;
+  EXPECT_EQ(o.m.metrics.retractions, 0);
+  EXPECT_EQ(o.uncovered, 0u);
+  EXPECT_LE(o.m.metrics.uncut_area_mm2, 2.0);
+}
+
+TEST(PlannerOffset, ClimbRunsTheWallCounterClockwiseAndConventionalReverses) {
+  Region r;
+  r.boundary = rect(0, 0, 60, 40);
+  validate_and_normalize(r, "test");
+  const CutParams cut = bench_cut();
+  auto wall_area = [&](bool climb) {
+    // The last ring of the only chain is the wall ring (inside out): its signed area.
+    const PlanResult p = plan_offset(r, cut, OffsetParams{climb});
+    const auto& pts = p.path.chains.back().pts;
+    const std::size_t n = 4 * 0 + pts.size();
+    double a = 0;
+    for (std::size_t k = n - 1 - 4; k + 1 < n; ++k) a += pts[k].x * pts[k + 1].y - pts[k + 1].x * pts[k].y;
+    return a;
+  };
+  EXPECT_GT(wall_area(true), 0);
+  EXPECT_LT(wall_area(false), 0);
+}
