@@ -114,7 +114,9 @@ void PocketFlags::add_to(CLI::App* sub, bool with_planner_flags, bool with_depth
   sub->add_option("--stock-to-leave", stock_to_leave, "radial allowance on walls and islands, mm")
       ->check(schema_range("/pocket/stock_to_leave"));
   sub->add_option("--entry", entry, "entry into uncut material")->check(CLI::IsMember({"predrill", "helix", "ramp"}));
-  sub->add_flag("--contour", contour, "finish with a contour pass along the walls");
+  auto* with = sub->add_flag("--contour", contour, "cut the wall pass (the default: /pocket/contour true)");
+  sub->add_flag("--no-contour", no_contour, "leave the wall pass out: parts of the reachable region near the walls stay uncut")
+      ->excludes(with);
   if (with_planner_flags) {
     sub->add_option("--planner", planner, "planner")->check(CLI::IsMember({"som", "zigzag", "offset"}));
     sub->add_option("--partition", partition, "zigzag partition (T: Tang, I: Suh & Kim)")

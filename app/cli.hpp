@@ -37,6 +37,7 @@ struct MeshFlags {
 struct PocketFlags {
   std::optional<double> tool_diameter, stepover, depth, step_down, safe_z, stock_to_leave;
   bool contour = false;
+  bool no_contour = false;  ///< --no-contour: leave the wall pass out (/pocket/contour false)
   std::optional<std::string> planner, partition, angle, entry;
   std::optional<std::string> tool_id, material;  ///< --tool ID (library), --material ID
   void add_to(CLI::App* sub, bool with_planner_flags = true, bool with_depth = true);

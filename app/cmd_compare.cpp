@@ -55,6 +55,7 @@ std::vector<Row> plan_every_planner(const CompareOpts& o, const Json& config, co
     pocket::MachiningOptions mo;
     mo.entry = ch.entry;
     mo.contour = ch.contour;
+    mo.link_walls = ch.link_walls;
     mo.machine = motion_model(config);
     mo.program_name = stem + "-" + n;
     r.m = pocket::machine_pocket(file.region, cut, r.plan, mo);

@@ -30,6 +30,7 @@ int run_pocket(const PocketOpts& o) {
   pocket::MachiningOptions mo;
   mo.entry = choice.entry;
   mo.contour = choice.contour;
+  mo.link_walls = choice.link_walls;
   mo.machine = motion_model(config);
   mo.program_name = fs::path(o.pocket).stem().string();
   mo.comments = {"pocket: " + fs::path(o.pocket).filename().string(), "planner: " + plan.planner};

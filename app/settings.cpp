@@ -204,7 +204,8 @@ PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, c
   PlannerChoice ch;
   ch.name = flags.planner.value_or(pc["planner"].get<std::string>());
   ch.entry = pocket::parse_entry(flags.entry.value_or(pc["entry"].get<std::string>()));
-  ch.contour = flags.contour || pc["contour"].get<bool>();
+  ch.contour = !flags.no_contour && (flags.contour || pc["contour"].get<bool>());
+  ch.link_walls = pc["link_walls"].get<bool>();
   ch.frame.origin = {pc["grid"]["origin_x"].get<double>(), pc["grid"]["origin_y"].get<double>()};
   ch.frame.angle_deg = pc["grid"]["angle_deg"].get<double>();
   ch.frame.spacing = cut.stepover;
@@ -271,6 +272,8 @@ rough::Params rough_params(const Json& config, const Json& explicit_pocket, cons
   const PlannerChoice choice = planner_choice(config, p.cut, flags);
   p.planner = planner_spec(choice);
   p.machining.entry = choice.entry;
+  p.machining.contour = choice.contour;  // the wall pass per level region (rough adds it, issue 11)
+  p.machining.link_walls = choice.link_walls;
   p.machining.machine = motion_model(config);
   p.limits = work_limits();
   return p;

@@ -52,6 +52,7 @@ struct PlannerChoice {
   pocket::OffsetParams offset;
   pocket::Entry entry = pocket::Entry::Predrill;
   bool contour = false;
+  bool link_walls = true;
 };
 /// The machine profile of the motion-time model (/machine/…).
 [[nodiscard]] gcode::MotionModel motion_model(const Json& config);

@@ -78,6 +78,32 @@ void collect_predrill(LevelPlan& L) {
 }
 }  // namespace
 
+void link_wall_chains(const Region& region, const CutParams& cut, Path2D& path, std::vector<Chain>& walls) {
+  const Clearance clear(region, cut.clearance());
+  for (Chain& w : walls) {
+    if (path.chains.empty() || path.chains.back().pts.empty() || w.pts.size() < 3) {
+      path.chains.push_back(std::move(w));
+      continue;
+    }
+    Chain& prev = path.chains.back();
+    const Vec2 end = prev.pts.back().p();
+    // w is closed (last = first): rotate its distinct vertices to start nearest `end`.
+    const std::size_t n = w.pts.size() - 1;
+    std::size_t best = 0;
+    for (std::size_t k = 1; k < n; ++k)
+      if ((w.pts[k].p() - end).squaredNorm() < (w.pts[best].p() - end).squaredNorm()) best = k;
+    if (!clear.move_ok(end, w.pts[best].p())) {
+      path.chains.push_back(std::move(w));
+      continue;
+    }
+    for (std::size_t i = 0; i <= n; ++i) {
+      const Vertex& v = w.pts[(best + i) % n];
+      if ((prev.pts.back().p() - v.p()).norm() > tol::join_mm) prev.pts.push_back({v.x, v.y, 0.0});
+    }
+    prev.feed.clear();
+  }
+}
+
 double max_engagement_deg(const FeedProfile& profile) {
   double best = 0;
   for (const FeedPiece& p : profile.pieces)  // O(pieces)
@@ -131,8 +157,14 @@ MachiningResult machine_pocket(const Region& region, const CutParams& cut, const
   const std::vector<double> zs = level_zs(cut.depth, cut.step_down);
   Path2D path = plan.path;
   for (Chain& c : path.chains) c.feed.clear();  // the feed map decides
-  if (opt.contour && !plan.walls_cut)
-    for (Chain& c : contour_chains(region, cut, plan.path)) path.chains.push_back(std::move(c));
+  if (opt.contour && !plan.walls_cut) {
+    std::vector<Chain> walls = contour_chains(region, cut, plan.path);
+    if (opt.link_walls) {
+      link_wall_chains(region, cut, path, walls);
+    } else {
+      for (Chain& c : walls) path.chains.push_back(std::move(c));
+    }
+  }
   // Feeds on the first level; deeper levels repeat the same plan under already-cut material, so
   // each one sees the same engagement: one feed map serves all.
   const FeedProfile prof = assign_feeds(path, region, cut, cut.depth / static_cast<double>(zs.size()));

@@ -324,9 +324,10 @@ private:
   std::vector<char> free_;
 };
 
-/// The node's loops (outer and islands), each next the one nearest the ring just cut.
+/// The node's island loops, each next the one nearest the ring just cut, then its outer loop (at
+/// the root: the wall pass last).
 void add_rings(PathBuilder& b, const Node& n) {
-  std::vector<const std::vector<Vec2>*> left{&n.area.outer};
+  std::vector<const std::vector<Vec2>*> left;
   for (const auto& h : n.area.holes) left.push_back(&h);
   while (!left.empty()) {
     std::size_t pick = 0;
@@ -339,33 +340,35 @@ void add_rings(PathBuilder& b, const Node& n) {
     b.add_ring(*left[pick]);
     left.erase(left.begin() + static_cast<std::ptrdiff_t>(pick));
   }
+  b.add_ring(n.area.outer);
 }
 
-/// The node and everything below it, each ring after the ring around it (top-down), children
-/// deepest first.
-void cut_down(PathBuilder& b, const std::vector<Node>& nodes, std::size_t i) {
-  add_rings(b, nodes[i]);
+/// The outer ring of the first deepest leaf below node i (where its subtree is entered).
+const std::vector<Vec2>& deepest_leaf_ring(const std::vector<Node>& nodes, std::size_t i) {
+  while (!nodes[i].children.empty())
+    i = *std::max_element(nodes[i].children.begin(), nodes[i].children.end(), [&](std::size_t x, std::size_t y) {
+      return nodes[x].depth_below < nodes[y].depth_below;
+    });
+  return nodes[i].area.outer;
+}
+
+/// The node and everything below it, inside out: each child's subtree (the nearest first), then
+/// the node's own rings. The first subtree of a sibling is entered from the ring just cut, through
+/// material the parent's ring has not reached yet (a short slotting move, gouge-checked).
+void cut_inside_out(PathBuilder& b, const std::vector<Node>& nodes, std::size_t i) {
   std::vector<std::size_t> kids = nodes[i].children;
-  std::stable_sort(kids.begin(), kids.end(),
-                   [&](std::size_t x, std::size_t y) { return nodes[x].depth_below > nodes[y].depth_below; });
-  for (std::size_t c : kids) cut_down(b, nodes, c);
-}
-
-/// One reachable component: in at the deepest leaf, up to the root, side branches top-down.
-void cut_root(PathBuilder& b, const std::vector<Node>& nodes, std::size_t root) {
-  std::vector<std::size_t> way{root};  // root … leaf along the deepest children
-  while (!nodes[way.back()].children.empty()) {
-    const auto& kids = nodes[way.back()].children;
-    way.push_back(*std::max_element(kids.begin(), kids.end(), [&](std::size_t x, std::size_t y) {
-      return nodes[x].depth_below < nodes[y].depth_below;  // first of the deepest
-    }));
+  while (!kids.empty()) {
+    std::size_t pick = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < kids.size() && kids.size() > 1; ++k)
+      if (const double g = b.gap_to(deepest_leaf_ring(nodes, kids[k])); g < best) {
+        best = g;
+        pick = k;
+      }
+    cut_inside_out(b, nodes, kids[pick]);
+    kids.erase(kids.begin() + static_cast<std::ptrdiff_t>(pick));
   }
-  for (std::size_t w = way.size(); w-- > 0;) {
-    const std::size_t i = way[w];
-    add_rings(b, nodes[i]);
-    for (std::size_t c : nodes[i].children)
-      if (w + 1 >= way.size() || c != way[w + 1]) cut_down(b, nodes, c);
-  }
+  add_rings(b, nodes[i]);
 }
 
 }  // namespace
@@ -391,7 +394,7 @@ PlanResult plan_offset(const Region& region, const CutParams& cut, const OffsetP
     if (nodes[i].children.size() > 1) ++st.splits;
     if (!nodes[i].parent) {
       ++st.components;
-      cut_root(b, nodes, i);
+      cut_inside_out(b, nodes, i);
     }
   }
   st.rings = b.rings();

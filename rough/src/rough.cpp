@@ -52,6 +52,32 @@ void make_stock(const ingest::Mesh& mesh, const ingest::Box3& box, const Params&
     if (!res.field.hit[i]) res.field.z[i] = box.min.z() - p.cut.stock_to_leave - 1.0;
 }
 
+/// The wall pass of one level's region (issue 11: complete clearing): contour chains along the
+/// part's walls and islands. The stock's own outline (`stock`, the first region's boundary, which
+/// lies in the air) gets none.
+void add_wall_pass(const pocket::Region& region, const pocket::Loop* stock, const pocket::CutParams& cut, bool link,
+                   pocket::PlanResult& plan) {
+  std::vector<pocket::Chain> walls = pocket::contour_chains(region, cut, plan.path);
+  if (stock) {
+    pocket::Region outline;
+    outline.boundary = *stock;
+    const pocket::Clearance air(outline, 0.0);
+    walls.erase(std::remove_if(walls.begin(), walls.end(),
+                               [&](const pocket::Chain& c) {
+                                 return air.wall_distance(c.pts.front().p()) < cut.clearance() + 0.01;
+                               }),
+                walls.end());
+  }
+  const std::size_t before = plan.path.chains.size();
+  if (link) {
+    pocket::link_wall_chains(region, cut, plan.path, walls);
+  } else {
+    for (pocket::Chain& c : walls) plan.path.chains.push_back(std::move(c));
+  }
+  for (std::size_t k = before; k < plan.path.chains.size(); ++k)
+    if (plan.path.chains[k].predrill) plan.predrill.push_back(plan.path.chains[k].pts.front().p());
+}
+
 /// Slices and plans one level; appends the plans with a path to `plans`.
 Level plan_level(const Result& res, const Params& p, const pocket::Loop& stock, double z_part, double top_z,
                  std::vector<pocket::LevelPlan>& plans, std::size_t& tool_points) {
@@ -73,6 +99,7 @@ Level plan_level(const Result& res, const Params& p, const pocket::Loop& stock, 
     pocket::PlanResult plan = pocket::plan(region, p.cut, p.planner);
     tool_points += plan.tool_points.pts.size();
     if (plan.status == pocket::PlanStatus::Ok && !plan.path.chains.empty()) {
+      if (p.machining.contour && !plan.walls_cut) add_wall_pass(region, ri == 0 ? &stock : nullptr, p.cut, p.machining.link_walls, plan);
       pocket::LevelPlan lp;
       lp.z = lv.z;
       lp.top_z = top_z;

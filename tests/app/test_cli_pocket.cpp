@@ -175,10 +175,10 @@ TEST_P(CliBenchPocket, EveryPlannerIsGougeFreeAndAgreesWithReplay) {
     bool predrill;
   };
   const Variant variants[] = {
-      {"som", "--planner som", true},
+      {"som", "--planner som --no-contour", true},
       {"som-contour", "--planner som --contour", true},
       {"som-helix", "--planner som --entry helix", false},
-      {"zz-t", "--planner zigzag --partition t --angle auto", true},
+      {"zz-t", "--planner zigzag --partition t --angle auto --no-contour", true},
       {"zz-i-contour", "--planner zigzag --partition i --angle auto --contour", true},
       {"zz-i-helix", "--planner zigzag --partition i --angle auto --entry helix --contour", false},
       {"offset-helix", "--planner offset --entry helix", false},

@@ -117,7 +117,14 @@ TEST(PocketMachining, ContourPassShrinksUncutArea) {
   MachiningOptions opt;
   const MachiningResult a = machine_pocket(pf.region, cut, plan, opt);
   opt.contour = true;
+  opt.link_walls = false;
   const MachiningResult b = machine_pocket(pf.region, cut, plan, opt);
+  opt.link_walls = true;
+  const MachiningResult linked = machine_pocket(pf.region, cut, plan, opt);
+  // Linked, the same loops join the chains before them where the move is clear: fewer chains, and
+  // no more left uncut (the links sweep a little more).
+  EXPECT_LT(linked.path.chains.size(), b.path.chains.size());
+  EXPECT_LE(linked.metrics.uncut_area_mm2, b.metrics.uncut_area_mm2 + 1e-6);
   // The grid leaves scallops along the walls; the wall pass removes nearly all of them.
   EXPECT_GT(a.metrics.uncut_area_mm2, 50);
   EXPECT_LT(b.metrics.uncut_area_mm2, 0.05 * a.metrics.uncut_area_mm2);

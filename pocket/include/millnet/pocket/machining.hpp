@@ -20,6 +20,10 @@ namespace millnet::pocket {
 struct MachiningOptions {
   Entry entry = Entry::Predrill;
   bool contour = false;            ///< final pass along the offset walls of each reachable component
+  /// Each wall loop starts at its vertex nearest the tool and joins the chain before it where the
+  /// straight move there sweeps no wall: no retraction (issue 11). false: every loop is a chain of
+  /// its own, entered after a retraction (the programs of before, configs/presets/shin-suh-1995).
+  bool link_walls = true;
   std::string program_name;
   std::vector<std::string> comments;  ///< extra header comments (e.g. the source file, planner)
   int decimals = 4;
@@ -42,6 +46,11 @@ struct MachiningResult {
 /// vertex nearest to the area-clearing path (`after`; no pre-drill needed when that vertex lies
 /// within R/2 of it). O(loop vertices · path vertices).
 [[nodiscard]] std::vector<Chain> contour_chains(const Region& region, const CutParams& cut, const Path2D& after);
+
+/// Appends the wall loops (contour_chains) to the path, each joined to the chain before it (started
+/// at its vertex nearest that chain's end) where the straight move sweeps no wall; the others stay
+/// chains of their own. O(loops · loop vertices) plus one clearance check per loop.
+void link_wall_chains(const Region& region, const CutParams& cut, Path2D& path, std::vector<Chain>& walls);
 
 /// Largest engagement angle of a feed profile (Metrics::max_engagement_deg), degrees.
 [[nodiscard]] double max_engagement_deg(const FeedProfile& profile);
