@@ -49,7 +49,7 @@ RoughOutcome rough_prepared(const ingest::Mesh* mesh, const std::string& load_er
     }
     OutputSet part;  // this part's files complete, or none of them (core/output_set.hpp)
     const rough::Result r = rough::rough_mesh(*mesh, params);
-    o.metrics = write_rough_outputs(out, name, r, params, cutting.to_json());
+    o.metrics = write_rough_outputs(out, name, r, params, cutting.to_json(), mesh);
     part.commit();
     o.ok = r.machining.status == pocket::PlanStatus::Ok;
     if (!o.ok) o.error = file.string() + ": " + r.machining.message;
