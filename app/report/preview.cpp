@@ -163,7 +163,10 @@ PreviewPath preview_path(const PreviewProgram& program, std::size_t max_points, 
       raw.push_back({cur, StepKind::Rapid, 0.0, line});
       continue;
     }
-    const StepKind kind = step_kind(static_cast<int>(mv->motion), cur, mv->to);
+    StepKind kind = step_kind(static_cast<int>(mv->motion), cur, mv->to);
+    // A line down while XY moves is a ramp only as an entry (after a rapid or another entry move); in
+    // the material it is a cut (finishing programs descend along the surface all the time).
+    if (kind == StepKind::Ramp && !raw.empty() && raw.back().kind == StepKind::Cut) kind = StepKind::Cut;
     if (mv->motion == gcode::Motion::ArcCW || mv->motion == gcode::Motion::ArcCCW) {
       const double cx = mv->center[0], cy = mv->center[1];
       const double r = std::hypot(cur[0] - cx, cur[1] - cy);

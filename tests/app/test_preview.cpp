@@ -43,7 +43,7 @@ constexpr const char* kProgram =
     "G0 X10 Y0\n"             // 3
     "G1 Z-1 F100\n"           // 4  plunge
     "G1 X20 Y0 F600\n"        // 5  cut
-    "G1 X30 Y0 Z-2 F300\n"    // 6  ramp
+    "G1 X30 Y0 Z-2 F300\n"    // 6  down while cutting: a cut, not an entry ramp
     "G3 X30 Y0 Z-3 I0 J5 F400\n"  // 7  helix: a full circle round (30, 5), 1 mm down
     "G2 X40 Y10 I10 J0 F800\n"    // 8  arc cut, quarter circle round (40, 0)
     "G0 Z5\n"                 // 9
@@ -57,7 +57,7 @@ TEST(PreviewPath, RoundTripsTheMovesWithTheirKindFeedAndLine) {
   // Every move's end point is on the path at its line, in order, with its kind and feed.
   struct End { std::uint32_t line; double x, y, z; StepKind kind; double feed; };
   const std::vector<End> ends = {{3, 10, 0, 5, StepKind::Rapid, 0}, {4, 10, 0, -1, StepKind::Plunge, 100},
-                                 {5, 20, 0, -1, StepKind::Cut, 600},  {6, 30, 0, -2, StepKind::Ramp, 300},
+                                 {5, 20, 0, -1, StepKind::Cut, 600},  {6, 30, 0, -2, StepKind::Cut, 300},
                                  {7, 30, 0, -3, StepKind::Helix, 400}, {8, 40, 10, -3, StepKind::Cut, 800},
                                  {9, 40, 10, 5, StepKind::Rapid, 0}};
   std::size_t at = 0;
@@ -84,6 +84,14 @@ TEST(PreviewPath, RoundTripsTheMovesWithTheirKindFeedAndLine) {
   }
   EXPECT_EQ(helix, 60u);
   EXPECT_EQ(quarter, 15u);
+}
+
+TEST(PreviewPath, ARampIsALineDownEnteringFromARapid) {
+  const PreviewPath path = preview_path({"r", "G21\nG0 X0 Y0 Z1\nG1 X5 Y0 Z-0.5 F300\nG1 X0 Y0 Z-1\nG1 X5 Y0\nM30\n", "r.nc"}, 100, 6);
+  ASSERT_EQ(path.kind.size(), 4u);
+  EXPECT_EQ(path.kind[1], static_cast<std::uint8_t>(StepKind::Ramp));
+  EXPECT_EQ(path.kind[2], static_cast<std::uint8_t>(StepKind::Ramp));  // the zigzag ramp goes on
+  EXPECT_EQ(path.kind[3], static_cast<std::uint8_t>(StepKind::Cut));
 }
 
 TEST(PreviewData, EmbedsThePathTheLinesTextAndSaysWhatWasDecimated) {

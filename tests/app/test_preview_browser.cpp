@@ -117,7 +117,7 @@ TEST(PreviewBrowser, RoughPageRendersPartStockAndPaths) {
   if (!have_chromium()) GTEST_SKIP() << kChromium << " is not installed (scripts/setup.sh installs chromium)";
   const fs::path d = fresh_dir("preview_rough");
   const fs::path stl = write_part_stl(d);
-  const auto r = run_millnet("rough --mesh '" + stl.string() + "' --planner zigzag --tool-diameter 4 --step-down 2 --quiet --out o", d);
+  const auto r = run_millnet("rough --mesh '" + stl.string() + "' --planner zigzag --tool-diameter 4 --stepover 2 --step-down 2 --quiet --out o", d);
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string html = slurp(d / "o" / "dome.html");
   EXPECT_NE(html.find("\"part\":{\"V\":"), std::string::npos);
