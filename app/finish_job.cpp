@@ -349,7 +349,7 @@ Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
     simulate::io::write_zmap(out / (stem + ".zmap"), z);
     j["saved_stock"] = (out / (stem + ".zmap")).string();
   }
-  if (preview_settings().enabled) {
+  if (preview_settings().enabled && !programs.empty()) {
     report::PreviewInput page;  // the 3D page of the programs on the machined surface (issue 16)
     page.title = stem + " — simulation";
     for (const auto& [file, cutter] : programs) page.programs.push_back({file.filename().string(), read_file(file), file.string()});
