@@ -1,4 +1,5 @@
 #include "cli.hpp"
+#include "preview.hpp"
 
 #include "millnet/core/error.hpp"
 #include "millnet/core/progress.hpp"
@@ -90,6 +91,8 @@ void add_common(CLI::App* sub, Common& common, bool with_config) {
   sub->add_option("--max-pairs", common.max_pairs,
                   "vector pairs the classifier's leave-one-out may compare before it is refused (default /limits/max_pairs)")
       ->check(schema_range("/limits/max_pairs"));
+  sub->add_flag("--no-preview", common.no_preview,
+                "do not write the <stem>.html 3D preview pages next to programs and height fields (/report/preview)");
   if (with_config)
     sub->add_option("--config", common.config, "JSON config (configs/schema/millnet.schema.json)")
         ->check(CLI::ExistingFile);
@@ -142,6 +145,12 @@ Json setup(const Common& common) {
   g_limits.max_work = common.max_work.value_or(lim["max_work"].get<double>());
   g_limits.max_memory_bytes = common.max_memory_mb.value_or(lim["max_memory_mb"].get<double>()) * 1024.0 * 1024.0;
   g_limits.max_pairs = common.max_pairs.value_or(lim["max_pairs"].get<double>());
+  const Json& rep = config["report"];
+  PreviewSettings ps;
+  ps.enabled = !common.no_preview && rep["preview"].get<bool>();
+  ps.limits.max_path_points = rep["max_path_points"].get<std::size_t>();
+  ps.limits.max_surface_cells = rep["max_surface_cells"].get<std::size_t>();
+  set_preview_settings(ps);
   return config;
 }
 

@@ -21,6 +21,7 @@ struct Common {
   int threads = -1;              ///< -1 = from config (0 = all cores)
   std::string config;            ///< empty = defaults
   std::optional<double> max_work, max_memory_mb, max_pairs;  ///< override /limits (issue 12)
+  bool no_preview = false;       ///< --no-preview: no <stem>.html pages (/report/preview)
 };
 
 /// --units and --up, shared by every command that reads meshes (sample, predict, rough, finish,
@@ -83,6 +84,7 @@ Registered register_rough(CLI::App& app);
 Registered register_run(CLI::App& app);
 Registered register_finish(CLI::App& app);
 Registered register_simulate(CLI::App& app);
+Registered register_view(CLI::App& app);
 
 /// Messages for the user on stderr (suppressed by --quiet, except errors and warnings).
 void info(const std::string& msg);

@@ -1,6 +1,7 @@
 // millnet rough --mesh FILE … --out DIR   (or a batch: /rough/meshes of the config)
 // millnet run [FILE] [--out DIR]          (dataset → train → predict → rough → finish on the test parts, summary page)
 #include "cli.hpp"
+#include "preview.hpp"
 #include "finish_job.hpp"
 #include "text.hpp"
 #include "learn.hpp"
@@ -49,7 +50,7 @@ RoughOutcome rough_prepared(const ingest::Mesh* mesh, const std::string& load_er
     }
     OutputSet part;  // this part's files complete, or none of them (core/output_set.hpp)
     const rough::Result r = rough::rough_mesh(*mesh, params);
-    o.metrics = write_rough_outputs(out, name, r, params, cutting.to_json());
+    o.metrics = write_rough_outputs(out, name, r, params, cutting.to_json(), mesh);
     part.commit();
     o.ok = r.machining.status == pocket::PlanStatus::Ok;
     if (!o.ok) o.error = file.string() + ": " + r.machining.message;
@@ -424,6 +425,55 @@ for (std::size_t i = 0; i < preds.size(); ++i) {
 md << "\n## Time per stage\n\n| stage | seconds |\n|---|---:|\n";
 for (auto it = timing.begin(); it != timing.end(); ++it) md << "| " << it.key() << " | " << fixed(it.value().get<double>(), 2) << " |\n";
 write_file_atomic(out / "summary.md", md.str());
+if (preview_settings().enabled) {  // summary.html: the table, each part's 3D pages, charts (issue 16)
+  report::SummaryPage page;
+  page.title = "millnet run: " + fs::path(config_file).filename().string();
+  page.header = {"part", "expected", "predicted strategy", "confidence", "roughing time (min)", "retractions",
+                 "cut length (mm)", "levels", "3D preview"};
+  report::SummaryChart time_chart{"roughing time per part", "min", {}, {{"roughing time (min)", {}}}};
+  report::SummaryChart ra_chart{"finishing: simulated Ra median per strategy", "Ra median (µm)", {}, {}};
+  for (std::size_t i = 0; i < preds.size(); ++i) {
+    const auto& pr = preds[i];
+    std::vector<std::string> row{pr.name, pr.expected ? std::to_string(pr.expected) : "-"};
+    if (pr.ok) row.insert(row.end(), {std::to_string(pr.top) + " " + pr.strategies[static_cast<std::size_t>(pr.top - 1)],
+                                      fixed(100 * pr.confidence, 0) + " %"});
+    else row.insert(row.end(), {"error: " + pr.error, ""});
+    if (i < roughs.size() && roughs[i].ok) {
+      const Json& m = roughs[i].metrics;
+      row.insert(row.end(), {fixed(m["time_adjusted_min"].get<double>(), 1), fixed(m["retractions"].get<double>(), 0),
+                             fixed(m["cut_length_mm"].get<double>(), 0), m["levels"].dump(),
+                             "link:roughing|parts/" + pr.name + "/" + pr.name + ".html"});
+      time_chart.labels.push_back(pr.name);
+      time_chart.series[0].second.push_back(m["time_adjusted_min"].get<double>());
+      page.previews.emplace_back(pr.name + ": roughing", "parts/" + pr.name + "/" + pr.name + ".html");
+    } else {
+      row.insert(row.end(), {"", "", "", "", ""});
+    }
+    page.rows.push_back(row);
+    if (i < po.finishes.size() && po.finishes[i].ok) {
+      const auto& f = po.finishes[i];
+      ra_chart.labels.push_back(pr.name);
+      for (std::size_t k = 0; k < f.slots.size(); ++k) {
+        const std::string sname = "strategy " + std::to_string(f.slots[k]);
+        auto it = std::find_if(ra_chart.series.begin(), ra_chart.series.end(), [&](const auto& x) { return x.first == sname; });
+        if (it == ra_chart.series.end()) {
+          ra_chart.series.emplace_back(sname, std::vector<double>(ra_chart.labels.size() - 1, std::nan("")));
+          it = ra_chart.series.end() - 1;
+        }
+        it->second.push_back(f.ra_median_um[k]);
+        page.previews.emplace_back(pr.name + ": finishing, " + sname, "parts/" + pr.name + "/finish/" + pr.name + ".s" +
+                                                                       std::to_string(f.slots[k]) + ".html");
+      }
+      for (auto& sr : ra_chart.series) sr.second.resize(ra_chart.labels.size(), std::nan(""));
+      if (f.chained)
+        page.previews.emplace_back(pr.name + ": roughing + top strategy, simulated",
+                                   "parts/" + pr.name + "/" + pr.name + ".rough_finish.html");
+    }
+  }
+  if (!time_chart.labels.empty()) page.charts.push_back(time_chart);
+  if (!ra_chart.labels.empty()) page.charts.push_back(ra_chart);
+  report::write_summary_html(out / "summary.html", page);
+}
 write_file_atomic(out / "run_report.json",
                   Json{{"timing", timing}, {"parts", preds.size()}, {"correct", correct}, {"labelled", labelled},
                        {"failures", failures}, {"alpha", ts.alpha}, {"accuracy_part", ts.accuracy_part},

@@ -1,6 +1,7 @@
 #include "finish_job.hpp"
 
 #include "cli.hpp"
+#include "preview.hpp"
 #include "text.hpp"
 
 #include "millnet/core/atomic_file.hpp"
@@ -198,6 +199,7 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
       (void)report::heat_map_png(out / (base + ".png"), heights, stem + ": " + finish::strategy_name(strategy),
                                  "Z (mm)", ho);
     }
+    std::optional<report::PreviewSurface> surface;
     if (settings.simulate) {
       simulate::ZMap z = simulate::ZMap::from_heights(frame.grid, frame.design, settings.sim.allowance_mm,
                                                       frame.z_shift + settings.sim.allowance_mm, zmap_max_bytes());
@@ -212,6 +214,7 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
       mo.cutter = params.tool;
       const simulate::SurfaceMetrics m = simulate::surface_metrics(z, frame.design, mo);
       j.update(sim_metrics_json(m, sw, frame.grid));
+      if (preview_settings().enabled) surface = preview_surface(z, simulate::deviation(z, frame.design));
       if (m.gouged) {  // a gouge from the program itself is a planner bug: say where
         warn(base + ".nc: gouge " + fixed(m.max_gouge_mm, 4) + " mm first at line " +
              std::to_string(m.first_gouge_move.line));
@@ -223,6 +226,16 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
       o.score.surface_area_mm2 = static_cast<double>(m.surface_cells) * frame.grid.cell * frame.grid.cell;
       o.ra_share = m.ra_share;
       ra_png(out / (base + ".ra.png"), frame, m, stem + ": " + finish::strategy_name(strategy) + ", roughness Ra");
+    }
+    {
+      report::PreviewInput page;  // the 3D page of the program (issue 16), with its machined surface when simulated
+      page.title = base + " — " + finish::strategy_name(strategy);
+      page.programs.push_back({finish::strategy_name(strategy), read_file(out / (base + ".nc")), (out / (base + ".nc")).string()});
+      page.tool = {params.tool.diameter, params.tool.corner_radius, params.tool.describe()};
+      set_preview_part(page, mesh, frame.z_shift);
+      page.stock = std::array<double, 6>{0, 0, frame.z_shift + mesh.V.col(2).minCoeff(), frame.width, frame.depth, 0};
+      page.surface = std::move(surface);
+      (void)write_program_preview(out / (base + ".html"), std::move(page));
     }
     write_file_atomic(out / (base + ".metrics.json"), j.dump(2) + "\n");
     outcomes.push_back(std::move(o));
@@ -335,6 +348,16 @@ Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
   if (save_stock) {
     simulate::io::write_zmap(out / (stem + ".zmap"), z);
     j["saved_stock"] = (out / (stem + ".zmap")).string();
+  }
+  if (preview_settings().enabled && !programs.empty()) {
+    report::PreviewInput page;  // the 3D page of the programs on the machined surface (issue 16)
+    page.title = stem + " — simulation";
+    for (const auto& [file, cutter] : programs) page.programs.push_back({file.filename().string(), read_file(file), file.string()});
+    page.tool = {programs.back().second.diameter, programs.back().second.corner_radius, programs.back().second.describe()};
+    set_preview_part(page, mesh, frame.z_shift);
+    page.stock = std::array<double, 6>{0, 0, frame.z_shift + mesh.V.col(2).minCoeff(), frame.width, frame.depth, 0};
+    page.surface = preview_surface(z, e);
+    (void)write_program_preview(out / (stem + ".html"), std::move(page));
   }
   write_file_atomic(out / (stem + ".sim.json"), j.dump(2) + "\n");
   return j;

@@ -42,6 +42,7 @@ int main(int argc, char** argv) {
   add(register_finish);
   add(register_simulate);
   add(register_run);
+  add(register_view);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ValidationError& e) {

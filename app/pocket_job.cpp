@@ -1,4 +1,5 @@
 #include "pocket_job.hpp"
+#include "preview.hpp"
 #include "cli.hpp"
 #include "text.hpp"
 
@@ -91,7 +92,14 @@ void write_pocket_outputs(const fs::path& dir, const std::string& stem, const po
                                {"MRR (mm^3/min)", {{"MRR", mrr}}}},
                               stem + ": engagement, feed and MRR along the path (first level)", {.steps = true});
   }
-  if (m.status == pocket::PlanStatus::Ok) write_file_atomic(dir / (stem + ".nc"), m.gcode);
+  if (m.status == pocket::PlanStatus::Ok) {
+    write_file_atomic(dir / (stem + ".nc"), m.gcode);
+    report::PreviewInput page;  // the 3D page of the program just written (issue 16)
+    page.title = stem + " — " + metrics["planner"].get<std::string>();
+    page.programs.push_back({metrics["planner"].get<std::string>(), m.gcode, (dir / (stem + ".nc")).string()});
+    page.tool = {cut.tool_diameter, 0, "flat D" + fixed(cut.tool_diameter, 2)};
+    (void)write_program_preview(dir / (stem + ".html"), std::move(page));
+  }
   write_file_atomic(dir / (stem + ".metrics.json"), metrics.dump(2) + "\n");
 }
 

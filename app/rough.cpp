@@ -1,4 +1,5 @@
 #include "rough.hpp"
+#include "preview.hpp"
 #include "text.hpp"
 
 #include "millnet/core/atomic_file.hpp"
@@ -8,7 +9,7 @@ namespace millnet::app {
 namespace fs = std::filesystem;
 
 Json write_rough_outputs(const fs::path& dir, const std::string& stem, const rough::Result& r, const rough::Params& p,
-                         const Json& cutting_data) {
+                         const Json& cutting_data, const ingest::Mesh* part) {
   const std::vector<rough::LevelSummary> summaries = rough::level_summaries(r);
   Json levels = Json::array();
   for (std::size_t k = 0; k < r.levels.size(); ++k) {
@@ -46,7 +47,19 @@ Json write_rough_outputs(const fs::path& dir, const std::string& stem, const rou
   j["per_level"] = levels;
   j["parameters"] = cut_json(p.cut);
   if (!cutting_data.is_null()) j["cutting_data"] = cutting_data;
-  if (r.machining.status == pocket::PlanStatus::Ok) write_file_atomic(dir / (stem + ".nc"), r.machining.gcode);
+  if (r.machining.status == pocket::PlanStatus::Ok) {
+    write_file_atomic(dir / (stem + ".nc"), r.machining.gcode);
+    report::PreviewInput page;  // the 3D page of the program just written (issue 16)
+    page.title = stem + " — roughing, " + std::string(pocket::planner_name(p.planner));
+    page.programs.push_back({"roughing", r.machining.gcode, (dir / (stem + ".nc")).string()});
+    page.tool = {p.cut.tool_diameter, 0, "flat D" + fixed(p.cut.tool_diameter, 2)};
+    // Program Z = part z − stock top (rough.hpp); the part's base is its lowest point.
+    const double base = part != nullptr ? part->V.col(2).minCoeff() : 0.0;
+    page.stock = std::array<double, 6>{r.stock_x0, r.stock_y0, base - r.stock_top_part, r.stock_x1, r.stock_y1, 0};
+    if (part != nullptr) set_preview_part(page, *part, -r.stock_top_part);
+    page.notes.push_back(std::to_string(r.levels.size()) + " Z levels");
+    (void)write_program_preview(dir / (stem + ".html"), std::move(page));
+  }
   write_file_atomic(dir / (stem + ".metrics.json"), j.dump(2) + "\n");
   return j;
 }
