@@ -13,6 +13,6 @@ namespace millnet::app {
 /// Writes <stem>.nc, <stem>.metrics.json and <stem>.level_<k>.png (k = 1 = top level) into dir.
 /// Returns the metrics JSON.
 Json write_rough_outputs(const std::filesystem::path& dir, const std::string& stem, const rough::Result& r,
-                         const rough::Params& params, const Json& cutting_data = Json());
+                         const rough::Params& params, const Json& cutting_data = Json(), const Json& cad = Json());
 
 }  // namespace millnet::app
