@@ -18,7 +18,7 @@ if(MILLNET_BENCH)
 endif()
 # Open CASCADE 7.6 (libocct-data-exchange-dev, libocct-modeling-algorithms-dev, …): STEP/IGES parts,
 # private to ingest/io/cad_occt.cpp. ON when found; OFF builds read meshes only (CAD files: a clear error).
-find_package(OpenCASCADE 7.6 QUIET CONFIG)
+find_package(OpenCASCADE QUIET CONFIG)  # 7.6 on Debian 12 (its config accepts no version request)
 option(MILLNET_CAD "Read STEP/IGES parts through Open CASCADE" ${OpenCASCADE_FOUND})
 if(MILLNET_CAD AND NOT OpenCASCADE_FOUND)
   message(FATAL_ERROR "MILLNET_CAD=ON but Open CASCADE was not found (apt-get install libocct-data-exchange-dev "

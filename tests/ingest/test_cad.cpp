@@ -14,6 +14,7 @@
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepAlgoAPI_Fuse.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepBuilderAPI_Transform.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
@@ -68,7 +69,15 @@ double analytic_height(double x, double y, double* edge_distance) {
   return 10;
 }
 
-void write_step(const TopoDS_Shape& shape, const fs::path& file, const char* unit) {
+// Open CASCADE 7.6's writer labels the file with write.step.unit but writes the session's numbers
+// unchanged, so an inch file is written from the part scaled by 1/25.4 (the test checks the numbers).
+void write_step(const TopoDS_Shape& part, const fs::path& file, const char* unit) {
+  TopoDS_Shape shape = part;
+  if (std::string(unit) == "INCH") {
+    gp_Trsf t;
+    t.SetScale(gp_Pnt(0, 0, 0), 1 / 25.4);
+    shape = BRepBuilderAPI_Transform(part, t, Standard_True).Shape();
+  }
   STEPControl_Writer w;
   Interface_Static::SetCVal("write.step.unit", unit);
   ASSERT_EQ(w.Transfer(shape, STEPControl_AsIs), IFSelect_RetDone);
@@ -155,7 +164,9 @@ TEST(Cad, StepInMillimetresMatchesTheAnalyticHeightsWithinTheChordTolerance) {
 TEST(Cad, StepInInchReadsBackInMillimetres) {
   const auto d = fresh_dir("cad_step_inch");
   write_step(dome_pocket_block(), d / "part_in.stp", "INCH");
-  EXPECT_NE(slurp(d / "part_in.stp").find("INCH"), std::string::npos) << "the file states inch";
+  const std::string text = slurp(d / "part_in.stp");
+  EXPECT_NE(text.find("INCH"), std::string::npos) << "the file states inch";
+  EXPECT_NE(text.find("1.57480"), std::string::npos) << "and holds inch numbers (40 mm = 1.5748 in)";
   ingest::MeshReport rep;
   const ingest::Mesh m = load(d / "part_in.stp", &rep);
   EXPECT_EQ(rep.cad.file_unit, "inch");
@@ -295,8 +306,8 @@ TEST(Cad, RoughOnAStepPartWritesAProgramRs274AcceptsAndTheCadMetrics) {
   EXPECT_EQ(metrics["cad"]["file_unit"], "inch");
   EXPECT_EQ(metrics["cad"]["chord_tolerance_mm"], 0.005);
   EXPECT_EQ(metrics["cad"]["angular_deflection_rad"], 0.2);
-  EXPECT_NEAR(metrics["stock"]["x1"].get<double>() - metrics["stock"]["x0"].get<double>(), 40, 2.0 + 1e-6)
-      << "the stock spans the part in mm (plus its margin), not 40/25.4";
+  EXPECT_NEAR(metrics["stock"]["x1"].get<double>() - metrics["stock"]["x0"].get<double>(), 40 + 2 * 5, 1e-6)
+      << "the stock spans the part in mm plus 2 × /rough/margin_mm (5), not 40/25.4";
   if (fs::exists("/usr/bin/rs274")) {
     const std::string cmd = "/usr/bin/rs274 -g '" + (d / "o" / "part.nc").string() + "' </dev/null >/dev/null 2>&1";
     EXPECT_EQ(std::system(cmd.c_str()), 0);
