@@ -3,12 +3,15 @@
 
 #include "millnet/core/error.hpp"
 #include "millnet/core/progress.hpp"
+#include "millnet/ingest/io/mesh_io.hpp"
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <optional>
 #include <iostream>
+#include <map>
+#include <mutex>
 #include <omp.h>
 
 namespace millnet::app {
@@ -102,6 +105,55 @@ void MeshFlags::add_to(CLI::App* sub, const std::string& what) {
   sub->add_option("--units", units, "units of the " + what)->check(CLI::IsMember({"mm", "inch", "in", "m"}));
   sub->add_option("--up", up, "axis of the " + what + " that points up")
       ->check(CLI::IsMember({"+z", "-z", "+y", "-y", "+x", "-x", "z", "y", "x", "auto"}));
+  sub->add_option("--body", body,
+                  "STEP/IGES: keep one body, by name or 1-based index (default: every solid, shell and face; /mesh/cad_body)");
+}
+
+ingest::CadOptions cad_options(const Json& config) {
+  ingest::CadOptions c;
+  if (!config.contains("mesh")) return c;
+  const Json& m = config["mesh"];
+  c.chord_tolerance_mm = m.value("chord_tolerance_mm", c.chord_tolerance_mm);
+  c.angular_deflection_rad = m.value("angular_deflection_rad", c.angular_deflection_rad);
+  c.body = m.value("cad_body", std::string());
+  return c;
+}
+
+namespace {
+std::mutex g_cad_mutex;
+std::map<std::string, Json> g_cad;  // file → its "cad" metrics (load_part)
+}  // namespace
+
+ingest::Mesh load_part(const fs::path& file, const ingest::PrepareOptions& prep) {
+  ingest::MeshReport rep;
+  ingest::Mesh m = ingest::load_prepared(file, prep, &rep);
+  if (rep.is_cad) {
+    const ingest::CadReport& c = rep.cad;
+    Json j = {{"format", c.format},
+              {"file_unit", c.file_unit},
+              {"file_unit_mm", c.file_unit_mm},
+              {"units_overridden", c.units_overridden},
+              {"chord_tolerance_mm", c.chord_tolerance_mm},
+              {"angular_deflection_rad", c.angular_deflection_rad},
+              {"body", c.body.empty() ? Json("all") : Json(c.body)},
+              {"bodies", c.bodies},
+              {"faces", c.faces},
+              {"triangles", rep.triangles}};
+    bool first = false;
+    {
+      std::lock_guard<std::mutex> lock(g_cad_mutex);
+      first = g_cad.find(file.string()) == g_cad.end();
+      g_cad[file.string()] = j;
+    }
+    if (first && !c.units_note.empty()) std::cerr << "note: " << c.units_note << "\n";
+  }
+  return m;
+}
+
+Json cad_metrics(const fs::path& file) {
+  std::lock_guard<std::mutex> lock(g_cad_mutex);
+  const auto it = g_cad.find(file.string());
+  return it == g_cad.end() ? Json() : it->second;
 }
 
 void PocketFlags::add_to(CLI::App* sub, bool with_planner_flags, bool with_depth) {
@@ -128,10 +180,14 @@ void PocketFlags::add_to(CLI::App* sub, bool with_planner_flags, bool with_depth
   }
 }
 
-ingest::PrepareOptions MeshFlags::prepare(const Json* section) const {
+ingest::PrepareOptions MeshFlags::prepare(const Json* section, const Json* config) const {
   ingest::PrepareOptions prep;
-  prep.units = ingest::parse_units(units.value_or(section ? (*section)["units"].get<std::string>() : "mm"));
+  const std::string u = units.value_or(section ? (*section)["units"].get<std::string>() : "mm");
+  prep.units = ingest::parse_units(u);
+  prep.units_explicit = units.has_value() || u != "mm";
   prep.up = ingest::parse_up(up.value_or(section ? (*section)["up"].get<std::string>() : "+z"));
+  if (config) prep.cad = cad_options(*config);
+  if (body) prep.cad.body = *body;
   return prep;
 }
 

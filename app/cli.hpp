@@ -28,10 +28,26 @@ struct Common {
 /// simulate): the accepted values are listed once here and parsed once in prepare().
 struct MeshFlags {
   std::optional<std::string> units, up;
+  std::optional<std::string> body;  ///< --body NAME|N: one body of a STEP/IGES assembly (/mesh/cad_body)
   void add_to(CLI::App* sub, const std::string& what = "mesh files");
-  /// The preparation: the flags, else the config section's "units"/"up" (mm, +z without a section).
-  [[nodiscard]] ingest::PrepareOptions prepare(const Json* section) const;
+  /// The preparation: the flags, else the config section's "units"/"up" (mm, +z without a section),
+  /// and the CAD tessellation of /mesh (config; defaults without one), --body winning over /mesh/cad_body.
+  /// Units are explicit (they override a CAD file's own unit) when --units is given or the section's
+  /// units differ from the default "mm".
+  [[nodiscard]] ingest::PrepareOptions prepare(const Json* section, const Json* config = nullptr) const;
 };
+
+/// /mesh of a checked config: chord_tolerance_mm, angular_deflection_rad, cad_body.
+[[nodiscard]] ingest::CadOptions cad_options(const Json& config);
+
+/// ingest::load_prepared, plus: the CAD units note (a --units that contradicts a STEP/IGES file's own
+/// unit) printed once on stderr, and what reading a CAD file found kept for cad_metrics(file).
+[[nodiscard]] ingest::Mesh load_part(const std::filesystem::path& file, const ingest::PrepareOptions& prep);
+
+/// The "cad" object of a part's metrics — {format, file_unit, file_unit_mm, units_overridden,
+/// chord_tolerance_mm, angular_deflection_rad, body, bodies, faces} — for a CAD file load_part read;
+/// null for mesh files.
+[[nodiscard]] Json cad_metrics(const std::filesystem::path& file);
 
 /// Command-line overrides of the pocket section (flags win over the config, which wins over the
 /// pocket file's own keys).

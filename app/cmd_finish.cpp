@@ -61,12 +61,12 @@ Registered register_finish(CLI::App& app) {
             items.insert(items.end(), o->meshes.begin(), o->meshes.end());
             if (items.empty()) throw Error("no mesh to finish: give --mesh FILE or set /finish/meshes in the config");
             const auto files = expand_inputs(items, ingest::mesh_extensions());
-            const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"]);
+            const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"], &config);
             std::size_t failed = 0;
             for (const auto& f : files) {  // a batch keeps going past one bad part
               try {
                 OutputSet part;  // this part's files complete, or none of them (core/output_set.hpp)
-                const auto outcomes = finish_part(ingest::load_prepared(f, prep), f.stem().string(), s, o->out);
+                const auto outcomes = finish_part(load_part(f, prep), f.stem().string(), s, o->out, cad_metrics(f));
                 part.commit();
                 info("finish: " + f.string() + ": " + std::to_string(outcomes.size()) + " strategies → " + o->out);
               } catch (const Error& e) {
@@ -112,8 +112,8 @@ Registered register_simulate(CLI::App& app) {
             std::vector<std::pair<fs::path, finish::Cutter>> programs;
             for (std::size_t i = 0; i < o->gcode.size(); ++i)
               programs.emplace_back(o->gcode[i], tool_arg(o->tools[o->tools.size() == 1 ? 0 : i], config));
-            const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"]);
-            const Json j = simulate_files(ingest::load_prepared(o->mesh, prep), fs::path(o->mesh).stem().string(), programs,
+            const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"], &config);
+            const Json j = simulate_files(load_part(o->mesh, prep), fs::path(o->mesh).stem().string(), programs,
                                           o->stock, s, o->out, o->save_stock);
             info("simulate: Ra median " + j["ra_median_um"].dump() + " um, gouge " + j["max_gouge_mm"].dump() + " mm → " +
                  o->out);

@@ -66,7 +66,7 @@ int run_predict(const PredictOpts& o) {
   std::vector<PredictInput> inputs;
   for (const auto& f : expand_inputs(items, ingest::mesh_extensions())) inputs.push_back({f, "", 0, nullptr});
   const auto res =
-      predict_parts(load_model_folder(o.model, config), inputs, o.mesh_flags.prepare(&config["predict"]), o.out);
+      predict_parts(load_model_folder(o.model, config), inputs, o.mesh_flags.prepare(&config["predict"], &config), o.out);
   report_predictions(res);
   const auto failed = static_cast<std::size_t>(std::count_if(res.begin(), res.end(), [](const auto& r) { return !r.ok; }));
   info("predict: " + std::to_string(res.size() - failed) + " of " + std::to_string(res.size()) +

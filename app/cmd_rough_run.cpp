@@ -50,7 +50,7 @@ RoughOutcome rough_prepared(const ingest::Mesh* mesh, const std::string& load_er
     }
     OutputSet part;  // this part's files complete, or none of them (core/output_set.hpp)
     const rough::Result r = rough::rough_mesh(*mesh, params);
-    o.metrics = write_rough_outputs(out, name, r, params, cutting.to_json(), mesh);
+    o.metrics = write_rough_outputs(out, name, r, params, cutting.to_json(), mesh, cad_metrics(file));
     part.commit();
     o.ok = r.machining.status == pocket::PlanStatus::Ok;
     if (!o.ok) o.error = file.string() + ": " + r.machining.message;
@@ -66,7 +66,7 @@ RoughOutcome rough_prepared(const ingest::Mesh* mesh, const std::string& load_er
 std::shared_ptr<const ingest::Mesh> load_prepared(const fs::path& file, const ingest::PrepareOptions& prep,
                                                   std::string* error) {
   try {
-    return std::make_shared<const ingest::Mesh>(ingest::load_prepared(file, prep));
+    return std::make_shared<const ingest::Mesh>(load_part(file, prep));
   } catch (const std::bad_alloc&) {
     *error = file.string() + ": out of memory while reading this mesh";
     return nullptr;
@@ -108,7 +108,7 @@ Registered register_rough(CLI::App& app) {
             CuttingRecord cutting;
             const rough::Params params =
                 rough_params(config, explicit_pocket_section(o->common.config), o->flags, &cutting);
-            const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"]);
+            const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"], &config);
             std::vector<RoughOutcome> done;
             Progress progress("rough", files.size());
             for (const auto& f : files) {
@@ -233,7 +233,9 @@ po.finish_settings_note = fset.params.tool.describe() + ", p_f " + fixed(fset.pa
                           fixed(fset.params.step_down_mm, 2) + " mm, " + fixed(fset.params.feed_mm_min, 0) + " mm/min";
 po.aim = simulate::to_string(fset.aim.aim);
 const ModelFolder model = load_model_folder(out / "model", config);  // read once for all parts
-const ingest::PrepareOptions prep = prepare_options(config["predict"]["units"], config["predict"]["up"]);
+ingest::PrepareOptions prep = prepare_options(config["predict"]["units"], config["predict"]["up"]);
+prep.units_explicit = config["predict"]["units"].get<std::string>() != "mm";
+prep.cad = cad_options(config);
 Progress progress("run: parts", parts.size());
 for (const auto& p : parts) {
   const std::string name = p.name.empty() ? p.file.stem().string() : p.name;

@@ -27,8 +27,8 @@ struct SampleOpts {
 int run_sample(const SampleOpts& o) {
   (void)setup(o.common);
   ingest::MeshReport report;
-  const ingest::Mesh raw = ingest::load_mesh(o.mesh, &report);
-  const ingest::Mesh mesh = ingest::prepare(raw, o.mesh_flags.prepare(nullptr), &report);
+  const ingest::Mesh mesh = ingest::load_prepared(o.mesh, o.mesh_flags.prepare(nullptr), &report);
+  if (report.is_cad && !report.cad.units_note.empty()) std::cerr << "note: " << report.cad.units_note << "\n";
   const ingest::Grid grid = ingest::sample_grid(mesh, o.raster, o.grid, work_limits());
   // Before anything is written: the heat map's "extent_mm must be finite … with min < max" was the
   // message for a part without a footprint (issue 15; tests/corpus/cli/sample_footprint_zero.args).

@@ -136,7 +136,7 @@ void ra_png(const fs::path& path, const PartFrame& f, const simulate::SurfaceMet
 }  // namespace
 
 std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::string& stem,
-                                         const FinishSettings& settings, const fs::path& out) {
+                                         const FinishSettings& settings, const fs::path& out, const Json& cad) {
   settings.params.check();
   const PartFrame frame = part_frame(mesh, settings, settings.simulate);
   if (const tooling::Tool& tool = settings.cutting.tool; tool.stickout_mm > 0) {
@@ -177,6 +177,7 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
     j["strategy_name"] = finish::strategy_name(strategy);
     j["tool"] = params.tool.describe();
     j["cutting_data"] = settings.cutting.to_json();
+    if (!cad.is_null()) j["cad"] = cad;
     j["stock_top_above_part_mm"] = settings.stock_top_above_part_mm;
     j["path_length_mm"] = plan.path_length_mm;
     j["time_feed_min"] = st.feed_time_min;

@@ -33,8 +33,9 @@ struct StrategyOutcome {
 /// Plans, writes and (optionally) simulates every strategy of `settings` on the prepared mesh:
 /// DIR/<stem>.s<k>.nc, .metrics.json, .png, .ra.png (with simulate); with several strategies also
 /// <stem>.strategies.csv/.md and <stem>.strategies.png (the paper's Figure 9), ranked by the aim.
+/// `cad` (cad_metrics of the part's file, null for meshes) goes into each metrics file as "cad".
 std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::string& stem, const FinishSettings& settings,
-                                         const std::filesystem::path& out);
+                                         const std::filesystem::path& out, const Json& cad = Json());
 
 /// millnet simulate: machines `programs` (read from disk, each with its cutter) one after the
 /// other on one z-map over the part, stock flat at Z = 0 ("flat"), the design + allowance

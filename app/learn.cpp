@@ -58,6 +58,8 @@ std::vector<SimulatedLabel> simulate_labels(const datasets::Recipe& recipe, cons
                                             const FinishSettings& settings, const fs::path& dir) {
   ingest::PrepareOptions prep;
   prep.units = recipe.units;
+  prep.units_explicit = recipe.units_explicit;
+  prep.cad = recipe.cad;
   prep.up = recipe.up;
   std::vector<SimulatedLabel> out;
   Progress progress("dataset: labels by simulation", which.size());
@@ -66,8 +68,8 @@ std::vector<SimulatedLabel> simulate_labels(const datasets::Recipe& recipe, cons
     const std::string name = p.name.empty() ? p.file.stem().string() : p.name;
     SimulatedLabel sl{name, p.label_by_simulation ? 0 : p.label, 0, Json::array()};
     try {
-      const ingest::Mesh mesh = ingest::load_prepared(p.file, prep);
-      for (const StrategyOutcome& o : finish_part(mesh, name, settings, dir / name)) {
+      const ingest::Mesh mesh = load_part(p.file, prep);
+      for (const StrategyOutcome& o : finish_part(mesh, name, settings, dir / name, cad_metrics(p.file))) {
         if (o.rank == 1) sl.best = static_cast<int>(o.strategy);
         sl.figures.push_back(Json{{"strategy", static_cast<int>(o.strategy)},
                                   {"rank", o.rank},
@@ -335,7 +337,8 @@ std::vector<PartPrediction> predict_parts(const ModelFolder& folder, const std::
     Json jp = {{"part", pp.name}, {"file", pp.file}};
     try {
       std::shared_ptr<const ingest::Mesh> mesh = in.mesh;
-      if (!mesh) mesh = std::make_shared<const ingest::Mesh>(ingest::load_prepared(in.file, prep));
+      if (!mesh) mesh = std::make_shared<const ingest::Mesh>(load_part(in.file, prep));
+      if (const Json cad = cad_metrics(in.file); !cad.is_null()) jp["cad"] = cad;
       const datasets::ModelVectors mv = datasets::model_vectors(*mesh, pp.name, folder.spec, work_limits());
       const classifier::Prediction pr = classifier::predict(model, mv.inputs);
       const classifier::Ranking rk = classifier::rank(pr);

@@ -9,7 +9,7 @@ namespace millnet::app {
 namespace fs = std::filesystem;
 
 Json write_rough_outputs(const fs::path& dir, const std::string& stem, const rough::Result& r, const rough::Params& p,
-                         const Json& cutting_data, const ingest::Mesh* part) {
+                         const Json& cutting_data, const ingest::Mesh* part, const Json& cad) {
   const std::vector<rough::LevelSummary> summaries = rough::level_summaries(r);
   Json levels = Json::array();
   for (std::size_t k = 0; k < r.levels.size(); ++k) {
@@ -47,6 +47,7 @@ Json write_rough_outputs(const fs::path& dir, const std::string& stem, const rou
   j["per_level"] = levels;
   j["parameters"] = cut_json(p.cut);
   if (!cutting_data.is_null()) j["cutting_data"] = cutting_data;
+  if (!cad.is_null()) j["cad"] = cad;  // the part came from STEP/IGES: its unit and tessellation
   if (r.machining.status == pocket::PlanStatus::Ok) {
     write_file_atomic(dir / (stem + ".nc"), r.machining.gcode);
     report::PreviewInput page;  // the 3D page of the program just written (issue 16)

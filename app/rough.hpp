@@ -15,6 +15,6 @@ namespace millnet::app {
 /// Returns the metrics JSON.
 Json write_rough_outputs(const std::filesystem::path& dir, const std::string& stem, const rough::Result& r,
                          const rough::Params& params, const Json& cutting_data = Json(),
-                         const ingest::Mesh* part = nullptr);
+                         const ingest::Mesh* part = nullptr, const Json& cad = Json());
 
 }  // namespace millnet::app

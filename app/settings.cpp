@@ -407,6 +407,8 @@ datasets::Recipe recipe_from_config(const Json& config) {
   const Json& d = config["dataset"];
   datasets::Recipe r;
   r.units = ingest::parse_units(d["units"].get<std::string>());
+  r.units_explicit = d["units"].get<std::string>() != "mm";
+  r.cad = cad_options(config);
   r.up = ingest::parse_up(d["up"].get<std::string>());
   r.raster_mm = d["raster_mm"].get<double>();
   r.grid = d["grid"].get<int>();

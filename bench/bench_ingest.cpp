@@ -5,6 +5,15 @@
 #include "millnet/ingest/io/mesh_io.hpp"
 
 #include <benchmark/benchmark.h>
+#if MILLNET_HAVE_CAD
+#include <BRepAlgoAPI_Fuse.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <STEPControl_Writer.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_ListOfShape.hxx>
+#include <gp_Ax2.hxx>
+#endif
 #include <omp.h>
 
 #include <cmath>
@@ -78,6 +87,51 @@ void BM_LoadBinaryStl(benchmark::State& state) {
   std::filesystem::remove(path);
 }
 BENCHMARK(BM_LoadBinaryStl)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+#if MILLNET_HAVE_CAD
+// Read + tessellate a STEP part of a few hundred faces (issue 16): a 130 × 130 × 10 mm plate with
+// a 12 × 12 grid of Ø6 mm bosses 4 mm high (2 faces each) fused on top, written once as STEP.
+const std::filesystem::path& bosses_step(std::size_t* faces) {
+  static std::size_t n = 0;
+  static const std::filesystem::path path = [] {
+    TopTools_ListOfShape args, tools;
+    args.Append(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 130, 130, 10).Shape());
+    for (int i = 0; i < 12; ++i)
+      for (int j = 0; j < 12; ++j)
+        tools.Append(BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(10 + 10 * i, 10 + 10 * j, 10), gp_Dir(0, 0, 1)), 3, 4).Shape());
+    BRepAlgoAPI_Fuse fuse;
+    fuse.SetArguments(args);
+    fuse.SetTools(tools);
+    fuse.Build();
+    const TopoDS_Shape part = fuse.Shape();
+    for (TopExp_Explorer x(part, TopAbs_FACE); x.More(); x.Next()) ++n;
+    const auto p = std::filesystem::temp_directory_path() / ("millnet_bench_bosses_" + std::to_string(::getpid()) + ".step");
+    STEPControl_Writer w;
+    w.Transfer(part, STEPControl_AsIs);
+    w.Write(p.string().c_str());
+    return p;
+  }();
+  *faces = n;
+  return path;
+}
+
+void BM_LoadStepTessellate(benchmark::State& state) {
+  std::size_t faces = 0;
+  const auto& path = bosses_step(&faces);
+  CadOptions cad;
+  cad.chord_tolerance_mm = state.range(0) == 0 ? 0.005 : 0.05;
+  std::int64_t triangles = 0;
+  for (auto _ : state) {
+    Mesh m = load_mesh(path, cad);
+    triangles = m.F.rows();
+    benchmark::DoNotOptimize(m.V.data());
+  }
+  state.counters["faces"] = static_cast<double>(faces);
+  state.counters["triangles"] = static_cast<double>(triangles);
+  state.counters["chord_mm"] = cad.chord_tolerance_mm;
+}
+BENCHMARK(BM_LoadStepTessellate)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+#endif
 
 }  // namespace
 

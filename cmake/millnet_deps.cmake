@@ -16,3 +16,14 @@ endif()
 if(MILLNET_BENCH)
   find_package(benchmark REQUIRED)                   # libbenchmark-dev
 endif()
+# Open CASCADE 7.6 (libocct-data-exchange-dev, libocct-modeling-algorithms-dev, …): STEP/IGES parts,
+# private to ingest/io/cad_occt.cpp. ON when found; OFF builds read meshes only (CAD files: a clear error).
+find_package(OpenCASCADE QUIET CONFIG)  # 7.6 on Debian 12 (its config accepts no version request)
+option(MILLNET_CAD "Read STEP/IGES parts through Open CASCADE" ${OpenCASCADE_FOUND})
+if(MILLNET_CAD AND NOT OpenCASCADE_FOUND)
+  message(FATAL_ERROR "MILLNET_CAD=ON but Open CASCADE was not found (apt-get install libocct-data-exchange-dev "
+                      "libocct-modeling-algorithms-dev libocct-modeling-data-dev libocct-foundation-dev)")
+endif()
+message(STATUS "millnet: CAD (STEP/IGES through Open CASCADE ${OpenCASCADE_VERSION}): ${MILLNET_CAD}")
+# The Open CASCADE toolkits the reader links (the tests add TKPrim and TKBO to build parts).
+set(MILLNET_OCCT_LIBS TKSTEP TKSTEPBase TKIGES TKXSBase TKMesh TKTopAlgo TKBRep TKG3d TKMath TKernel)

@@ -118,6 +118,8 @@ Table build_table(const Recipe& recipe, const ProgressFn& progress) {
 
   ingest::PrepareOptions popts;
   popts.units = recipe.units;
+  popts.units_explicit = recipe.units_explicit;
+  popts.cad = recipe.cad;
   popts.up = recipe.up;
   std::size_t next_part = 0;
   while (next_part < recipe.parts.size()) {  // batches of parts: O(parts) iterations in all
@@ -135,7 +137,7 @@ Table build_table(const Recipe& recipe, const ProgressFn& progress) {
       try {
         src.fnv1a64 = fnv1a64_file(p.file, &src.bytes);
         ingest::MeshReport rep;
-        l.mesh = ingest::prepare(ingest::load_mesh(p.file, &rep), popts, &rep);
+        l.mesh = ingest::load_prepared(p.file, popts, &rep);
         src.triangles = rep.triangles;
         src.degenerate_triangles = rep.degenerate_triangles;
       } catch (const std::exception& e) {

@@ -6,6 +6,7 @@
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/ingest/pointcloud.hpp"
+#include "cad.hpp"
 #include "ply_off.hpp"
 
 #include <Eigen/Geometry>
@@ -205,17 +206,38 @@ const std::vector<std::string>& point_cloud_extensions() {
 
 const std::vector<std::string>& mesh_extensions() {
   static const std::vector<std::string> ext = {".stl", ".obj", ".ply", ".off", ".3mf", ".gltf", ".glb",
-                                               ".xyz", ".pts", ".txt", ".asc"};
+                                               ".xyz", ".pts", ".txt", ".asc", ".step", ".stp", ".iges", ".igs"};
   return ext;
 }
 
 Mesh load_prepared(const fs::path& path, const PrepareOptions& options, MeshReport* report) {
   MeshReport local;
   MeshReport* rep = report != nullptr ? report : &local;
-  return prepare(load_mesh(path, rep), options, rep);
+  Mesh raw = load_mesh(path, options.cad, rep);
+  if (!rep->is_cad) return prepare(raw, options, rep);
+  // A CAD file was read in mm from its own unit; an explicit --units reinterprets its numbers.
+  PrepareOptions o = options;
+  o.units = Units::mm;
+  CadReport& cad = rep->cad;
+  if (options.units_explicit) {
+    const double factor = units_to_mm(options.units) / cad.file_unit_mm;
+    if (factor != 1.0) {
+      raw.V *= factor;
+      cad.units_overridden = !cad.file_unit.empty();
+      const std::string asked = options.units == Units::mm ? "mm" : options.units == Units::inch ? "inch" : "m";
+      cad.units_note = path.string() + ": the file states " + (cad.file_unit.empty() ? "no unit" : "unit " + cad.file_unit) +
+                       ", read as " + asked + " as asked (--units / config units)";
+      rep->notes.push_back(cad.units_note);
+    }
+  }
+  return prepare(raw, o, rep);
 }
 
-Mesh load_mesh(const fs::path& path, MeshReport* report) {
+Mesh load_mesh(const fs::path& path, MeshReport* report) { return load_mesh(path, CadOptions{}, report); }
+
+bool cad_supported() { return detail::cad_supported(); }
+
+Mesh load_mesh(const fs::path& path, const CadOptions& cad, MeshReport* report) {
   const std::string name = path.string();
   std::error_code ec;
   if (!fs::exists(path, ec)) throw file_error(name, "no such file");
@@ -230,7 +252,10 @@ Mesh load_mesh(const fs::path& path, MeshReport* report) {
   const std::string ext = lower_ext(path);
   Mesh m;
   const auto& clouds = point_cloud_extensions();
-  if (std::find(clouds.begin(), clouds.end(), ext) != clouds.end()) {
+  const auto& cads = detail::cad_extensions();
+  if (std::find(cads.begin(), cads.end(), ext) != cads.end()) {
+    m = detail::load_cad(path, cad, report);
+  } else if (std::find(clouds.begin(), clouds.end(), ext) != clouds.end()) {
     m = load_point_cloud(path, report);
   } else if (ext == ".stl") {
     const std::string bytes = read_file(path);

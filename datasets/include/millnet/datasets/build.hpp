@@ -31,6 +31,8 @@ struct PartSpec {
 struct Recipe {
   std::vector<PartSpec> parts;
   ingest::Units units = ingest::Units::mm;
+  bool units_explicit = false;  ///< units override a STEP/IGES part's own unit (see ingest::PrepareOptions)
+  ingest::CadOptions cad;       ///< tessellation of STEP/IGES parts
   ingest::Up up = ingest::Up::PosZ;
   double raster_mm = 1.0;                     ///< > 0
   int grid = 15;                              ///< n of the n×n grid, ≥ 2

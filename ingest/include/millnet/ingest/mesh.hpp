@@ -38,6 +38,29 @@ enum class Up { PosZ, NegZ, PosY, NegY, PosX, NegX, Auto };
 [[nodiscard]] Up parse_up(std::string_view s);
 [[nodiscard]] std::string to_string(Up u);
 
+/// How a CAD part (STEP .step/.stp, IGES .iges/.igs) becomes a mesh: Open CASCADE's mesher with
+/// both deflections (each edge and face is refined until both hold), and which body to keep.
+struct CadOptions {
+  double chord_tolerance_mm = 0.005;    ///< linear deflection: largest facet-to-surface distance, mm
+  double angular_deflection_rad = 0.2;  ///< largest angle between neighbouring facets' normals, rad
+  /// "" = every solid, shell and free face together; else one body by name or 1-based index ("2").
+  std::string body;
+};
+
+/// What reading a CAD part found (MeshReport::cad; empty for mesh formats).
+struct CadReport {
+  std::string format;             ///< "STEP" | "IGES"
+  std::string file_unit;          ///< the file's declared length unit, e.g. "mm", "inch" ("" = not stated)
+  double file_unit_mm = 1.0;      ///< mm per file unit (1 when not stated)
+  bool units_overridden = false;  ///< --units / config units contradicted file_unit and won
+  double chord_tolerance_mm = 0;  ///< as used
+  double angular_deflection_rad = 0;
+  std::vector<std::string> bodies;  ///< every body in the file, "name" or "body N" when unnamed
+  std::string body;                 ///< the body kept ("" = all)
+  std::size_t faces = 0;            ///< B-rep faces tessellated
+  std::string units_note;           ///< one line for the user when the units were overridden ("" = none)
+};
+
 /// What was found and done while loading and preparing a mesh (reported, never fatal).
 struct MeshReport {
   std::size_t triangles = 0;
@@ -48,6 +71,8 @@ struct MeshReport {
   Up up_used = Up::PosZ;                  ///< resolved axis when Auto was asked
   Eigen::Vector3d recentred_by = Eigen::Vector3d::Zero();  ///< mm subtracted (after units/up)
   std::vector<std::string> notes;         ///< human-readable remarks (e.g. "stored normals ignored")
+  bool is_cad = false;                    ///< read from STEP/IGES: `cad` is filled
+  CadReport cad;
 };
 
 /// Throws millnet::Error (prefixed with `source`) when the mesh has no triangles, an index out of
@@ -60,6 +85,11 @@ struct PrepareOptions {
   /// Translate so that the footprint's lower-left corner is at x = y = 0 and the lowest point at
   /// z = 0 (in double, before any float work): parts far from the origin lose no precision.
   bool recentre = true;
+  /// A CAD file states its length unit and is read in mm from it; `units` then applies only when
+  /// units_explicit (a --units flag, or a config's units other than the default "mm"), and a note says
+  /// so when it contradicts the file. Mesh formats carry no unit: `units` always applies to them.
+  bool units_explicit = false;
+  CadOptions cad{};  ///< tessellation and body choice for CAD files (ignored for meshes)
 };
 
 /// Applies units, turns the chosen up axis onto +Z (a proper rotation, det = +1), recentres.

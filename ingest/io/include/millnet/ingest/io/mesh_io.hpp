@@ -10,7 +10,8 @@
 namespace millnet::ingest {
 
 /// Loads a triangle mesh — binary STL, PLY (ASCII/binary) and OFF by millnet's own readers, ASCII
-/// STL, OBJ, 3MF, glTF through assimp — or a point cloud ("x y z" per line, extensions
+/// STL, OBJ, 3MF, glTF through assimp, STEP (.step/.stp) and IGES (.iges/.igs) parts through Open
+/// CASCADE (tessellated with CadOptions' defaults; in mm from the file's own unit) — or a point cloud ("x y z" per line, extensions
 /// .xyz/.pts/.txt/.asc; triangulated as a height field over XY). Polygons become triangle fans.
 /// Coordinates exactly as in the file (no units, no up, no recentring: see prepare()).
 /// Throws millnet::Error naming the file (and line or byte offset): missing, not a regular file,
@@ -18,7 +19,17 @@ namespace millnet::ingest {
 /// of fewer than 3 vertices), no triangles, NaN/inf.
 [[nodiscard]] Mesh load_mesh(const std::filesystem::path& path, MeshReport* report = nullptr);
 
-/// load_mesh then prepare (units, up, recentring): the part as every command works on it.
+/// The same, with the tessellation and body choice for CAD files (report->cad tells what was read:
+/// the file's unit, its bodies, the deflections used). A CAD file in a build without Open CASCADE
+/// (MILLNET_CAD=OFF) throws "<file>: built without CAD support (…)".
+[[nodiscard]] Mesh load_mesh(const std::filesystem::path& path, const CadOptions& cad, MeshReport* report = nullptr);
+
+/// True when this build reads STEP/IGES (CMake option MILLNET_CAD).
+[[nodiscard]] bool cad_supported();
+
+/// load_mesh then prepare (units, up, recentring): the part as every command works on it. A CAD file
+/// keeps its own unit unless options.units_explicit; then `units` reinterprets its numbers, and
+/// report->cad.units_note (also in notes) says so when that contradicts the file's unit.
 [[nodiscard]] Mesh load_prepared(const std::filesystem::path& path, const PrepareOptions& options,
                                  MeshReport* report = nullptr);
 
