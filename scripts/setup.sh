@@ -5,6 +5,7 @@ set -euo pipefail
 PKGS=(build-essential cmake ninja-build pkg-config
       libeigen3-dev libassimp-dev libopencv-dev nlohmann-json3-dev
       libgtest-dev libgmock-dev libcli11-dev libbenchmark-dev libpolyclipping-dev libnanoflann-dev
+      libopenmpi-dev openmpi-bin   # MPI: mpirun -np K millnet dataset|predict|finish (issue 10)
       linuxcnc-uspace   # LinuxCNC's rs274 interpreter: tests check that every program millnet writes is accepted
       clang libclang-rt-14-dev libomp-14-dev)  # libFuzzer and clang's OpenMP: scripts/fuzz.sh
 missing=()
