@@ -30,23 +30,12 @@ namespace fs = std::filesystem;
 
 namespace {
 int g_rank = 0, g_size = 1;
+#ifdef MILLNET_HAVE_MPI
 bool g_started = false;
+#endif
 
 constexpr int kTagResult = 1;  // worker → rank 0: [int64 index][uint8 ok][bytes]; index −1 = "ready"
 constexpr int kTagWork = 2;    // rank 0 → worker: int64 next index; −1 = "no more"
-
-bool launched_by_mpi() {
-  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
-    if (const char* s = std::getenv(v); s && *s) return true;
-  return false;
-}
-
-std::string header(std::int64_t index, bool ok) {
-  std::string h(9, '\0');
-  std::memcpy(h.data(), &index, 8);
-  h[8] = ok ? 1 : 0;
-  return h;
-}
 
 /// Results received but not yet delivered, shared by rank 0's worker and communication threads.
 struct Board {
@@ -82,6 +71,19 @@ std::pair<bool, std::string> run_unit(const UnitWork& work, std::size_t i) {
 }
 
 #ifdef MILLNET_HAVE_MPI
+bool launched_by_mpi() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
+    if (const char* s = std::getenv(v); s && *s) return true;
+  return false;
+}
+
+std::string header(std::int64_t index, bool ok) {
+  std::string h(9, '\0');
+  std::memcpy(h.data(), &index, 8);
+  h[8] = ok ? 1 : 0;
+  return h;
+}
+
 /// Rank 0's communication thread: answers every other rank until each has been told "no more".
 void serve(Board& b, DistributeStats& stats, bool stop_on_error) {
   int active = g_size - 1;
