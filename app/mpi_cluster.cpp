@@ -103,6 +103,7 @@ void serve(Board& b, DistributeStats& stats, bool stop_on_error) {
     stats.bytes_to_root += static_cast<std::uint64_t>(count);
     std::int64_t index = -1;
     std::memcpy(&index, buf.data(), 8);
+    if (index >= 0) ++stats.remote_units;
     if (index >= 0)
       b.put(static_cast<std::size_t>(index), buf[8] != 0,
             std::string(buf.data() + 9, static_cast<std::size_t>(count) - 9), stop_on_error);
@@ -249,10 +250,12 @@ DistributeStats distribute(std::size_t n, const UnitWork& work, const UnitResult
 
 void log_distribution(const std::string& what, const DistributeStats& s) {
   if (g_size <= 1 || g_rank != 0) return;
-  const double per = s.units ? static_cast<double>(s.bytes_to_root) / static_cast<double>(s.units) : 0.0;
-  info(what + ": " + std::to_string(s.units) + " work units over " + std::to_string(g_size) + " MPI ranks; " +
-       std::to_string(s.bytes_to_root) + " bytes gathered by rank 0 from the other ranks (" +
-       std::to_string(static_cast<long long>(per + 0.5)) + " per unit on average), " +
+  const double per =
+      s.remote_units ? static_cast<double>(s.bytes_to_root) / static_cast<double>(s.remote_units) : 0.0;
+  info(what + ": " + std::to_string(s.units) + " work units over " + std::to_string(g_size) + " MPI ranks (" +
+       std::to_string(s.units - s.remote_units) + " on rank 0); " + std::to_string(s.bytes_to_root) +
+       " bytes gathered by rank 0 from the other ranks (" + std::to_string(static_cast<long long>(per + 0.5)) +
+       " per unit they computed), " +
        std::to_string(s.bytes_from_root) + " bytes of unit indices sent");
 }
 

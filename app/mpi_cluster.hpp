@@ -34,6 +34,7 @@ using UnitResult = std::function<void(std::size_t index, bool ok, std::string&& 
 
 struct DistributeStats {
   std::size_t units = 0, delivered = 0;
+  std::size_t remote_units = 0;       ///< units computed by ranks other than 0
   std::uint64_t bytes_to_root = 0;    ///< result messages received by rank 0 (headers included)
   std::uint64_t bytes_from_root = 0;  ///< index messages sent by rank 0
 };
