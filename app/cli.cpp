@@ -1,5 +1,6 @@
 #include "cli.hpp"
 #include "preview.hpp"
+#include "mpi_cluster.hpp"
 
 #include "millnet/core/error.hpp"
 #include "millnet/core/progress.hpp"
@@ -192,8 +193,9 @@ ingest::PrepareOptions MeshFlags::prepare(const Json* section, const Json* confi
 }
 
 Json setup(const Common& common) {
-  g_quiet = common.quiet;
-  Progress::set_quiet(common.quiet);
+  // Under MPI only rank 0 talks (the others' errors still print).
+  g_quiet = common.quiet || !cluster_root();
+  Progress::set_quiet(g_quiet);
   Json config = common.config.empty() ? default_config(fs::current_path()) : load_config(common.config);
   int threads = common.threads >= 0 ? common.threads : config.value("threads", 0);
   if (threads > 0) omp_set_num_threads(threads);

@@ -2,6 +2,7 @@
 // millnet simulate --gcode FILE.nc --mesh FILE --tool … --out DIR   (the z-map simulator on any G-code)
 #include "cli.hpp"
 #include "finish_job.hpp"
+#include "mpi_cluster.hpp"
 
 #include "millnet/core/error.hpp"
 #include "millnet/core/output_set.hpp"
@@ -63,6 +64,38 @@ Registered register_finish(CLI::App& app) {
             const auto files = expand_inputs(items, ingest::mesh_extensions());
             const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"], &config);
             std::size_t failed = 0;
+            if (cluster_size() > 1) {  // MPI: work unit = part; rank 0 writes each part's files in order
+              const auto work = [&](std::size_t i) {
+                std::size_t strategies = 0;
+                std::string files_of_part = write_and_pack([&](const std::string& scratch) {
+                  strategies = finish_part(ingest::load_prepared(files[i], prep), files[i].stem().string(), s, scratch).size();
+                });
+                std::string msg;
+                put_bytes(msg, std::to_string(strategies));
+                put_bytes(msg, files_of_part);
+                return msg;
+              };
+              const auto take = [&](std::size_t i, bool ok, std::string&& bytes) {
+                const fs::path& f = files[i];
+                if (!ok) {
+                  if (files.size() == 1) throw Error(bytes);
+                  warn(f.string() + ": " + bytes);
+                  ++failed;
+                  return;
+                }
+                std::size_t pos = 0;
+                const std::string strategies = get_bytes(bytes, pos);
+                OutputSet part;
+                unpack_files(get_bytes(bytes, pos), o->out);
+                part.commit();
+                info("finish: " + f.string() + ": " + strategies + " strategies → " + o->out);
+              };
+              const DistributeStats st = distribute(files.size(), work, take, false, "finish: parts");
+              if (!cluster_root()) return 0;
+              log_distribution("finish", st);
+              if (failed > 0) throw Error(std::to_string(failed) + " of " + std::to_string(files.size()) + " parts failed");
+              return 0;
+            }
             for (const auto& f : files) {  // a batch keeps going past one bad part
               try {
                 OutputSet part;  // this part's files complete, or none of them (core/output_set.hpp)

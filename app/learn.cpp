@@ -2,6 +2,7 @@
 
 #include "cli.hpp"
 #include "finish_job.hpp"
+#include "mpi_cluster.hpp"
 #include "text.hpp"
 #include "report_util.hpp"
 
@@ -52,40 +53,72 @@ struct SimulatedLabel {
   Json figures;          ///< per strategy
 };
 
-/// Plans and simulates the five strategies on each part (files in dir/<name>/) and returns the
-/// slot the aim ranks first. A part that fails stops the build (all-or-nothing, as the table).
-std::vector<SimulatedLabel> simulate_labels(const datasets::Recipe& recipe, const std::vector<std::size_t>& which,
-                                            const FinishSettings& settings, const fs::path& dir) {
+/// Plans and simulates the five strategies on recipe part k (files in dir/<name>/). Throws
+/// millnet::Error naming the part.
+SimulatedLabel simulate_label(const datasets::Recipe& recipe, std::size_t k, const FinishSettings& settings,
+                              const fs::path& dir) {
   ingest::PrepareOptions prep;
   prep.units = recipe.units;
   prep.units_explicit = recipe.units_explicit;
   prep.cad = recipe.cad;
   prep.up = recipe.up;
-  std::vector<SimulatedLabel> out;
-  Progress progress("dataset: labels by simulation", which.size());
-  for (const std::size_t k : which) {
-    const datasets::PartSpec& p = recipe.parts[k];
-    const std::string name = p.name.empty() ? p.file.stem().string() : p.name;
-    SimulatedLabel sl{name, p.label_by_simulation ? 0 : p.label, 0, Json::array()};
-    try {
-      const ingest::Mesh mesh = load_part(p.file, prep);
-      for (const StrategyOutcome& o : finish_part(mesh, name, settings, dir / name, cad_metrics(p.file))) {
-        if (o.rank == 1) sl.best = static_cast<int>(o.strategy);
-        sl.figures.push_back(Json{{"strategy", static_cast<int>(o.strategy)},
-                                  {"rank", o.rank},
-                                  {"ra_median_um", o.score.ra_median_um},
-                                  {"ra_p90_um", o.score.ra_p90_um},
-                                  {"uncut_area_mm2", o.score.uncut_area_mm2},
-                                  {"max_gouge_mm", o.score.max_gouge_mm},
-                                  {"time_kinematic_min", o.score.time_min}});
-      }
-    } catch (const std::exception& e) {
-      throw Error("dataset: part '" + name + "' (" + p.file.string() + "): labelling by simulation: " + e.what());
+  const datasets::PartSpec& p = recipe.parts[k];
+  const std::string name = p.name.empty() ? p.file.stem().string() : p.name;
+  SimulatedLabel sl{name, p.label_by_simulation ? 0 : p.label, 0, Json::array()};
+  try {
+    const ingest::Mesh mesh = load_part(p.file, prep);
+    for (const StrategyOutcome& o : finish_part(mesh, name, settings, dir / name, cad_metrics(p.file))) {
+      if (o.rank == 1) sl.best = static_cast<int>(o.strategy);
+      sl.figures.push_back(Json{{"strategy", static_cast<int>(o.strategy)},
+                                {"rank", o.rank},
+                                {"ra_median_um", o.score.ra_median_um},
+                                {"ra_p90_um", o.score.ra_p90_um},
+                                {"uncut_area_mm2", o.score.uncut_area_mm2},
+                                {"max_gouge_mm", o.score.max_gouge_mm},
+                                {"time_kinematic_min", o.score.time_min}});
     }
-    out.push_back(std::move(sl));
-    progress.tick();
+  } catch (const std::exception& e) {
+    throw Error("dataset: part '" + name + "' (" + p.file.string() + "): labelling by simulation: " + e.what());
   }
-  progress.finish();
+  return sl;
+}
+
+/// Plans and simulates the five strategies on each part (files in dir/<name>/) and returns the
+/// slot the aim ranks first. A part that fails stops the build (all-or-nothing, as the table).
+/// Under MPI the work unit is a part: its programs, metrics and pictures come back to rank 0 as
+/// bytes and are written there, in part order, as soon as the parts before them are in.
+std::vector<SimulatedLabel> simulate_labels(const datasets::Recipe& recipe, const std::vector<std::size_t>& which,
+                                            const FinishSettings& settings, const fs::path& dir) {
+  std::vector<SimulatedLabel> out;
+  if (cluster_size() == 1) {
+    Progress progress("dataset: labels by simulation", which.size());
+    for (const std::size_t k : which) {
+      out.push_back(simulate_label(recipe, k, settings, dir));
+      progress.tick();
+    }
+    progress.finish();
+    return out;
+  }
+  const auto work = [&](std::size_t i) {
+    SimulatedLabel sl;
+    std::string files = write_and_pack([&](const std::string& scratch) { sl = simulate_label(recipe, which[i], settings, scratch); });
+    const std::vector<std::uint8_t> cbor =
+        Json::to_cbor(Json{{"name", sl.name}, {"recipe_label", sl.recipe_label}, {"best", sl.best}, {"figures", sl.figures}});
+    std::string msg;
+    put_bytes(msg, std::string(cbor.begin(), cbor.end()));
+    put_bytes(msg, files);
+    return msg;
+  };
+  const auto take = [&](std::size_t, bool ok, std::string&& bytes) {
+    if (!ok) throw Error(bytes);  // the part's own message (simulate_label names it)
+    std::size_t pos = 0;
+    const Json j = Json::from_cbor(get_bytes(bytes, pos));
+    unpack_files(get_bytes(bytes, pos), dir.string());
+    out.push_back(SimulatedLabel{j["name"].get<std::string>(), j["recipe_label"].get<int>(), j["best"].get<int>(),
+                                 j["figures"]});
+  };
+  const DistributeStats st = distribute(which.size(), work, take, true, "dataset: labels by simulation");
+  log_distribution("dataset: labels by simulation", st);
   return out;
 }
 
@@ -129,6 +162,7 @@ bool build_dataset(datasets::Recipe recipe, const fs::path& out_dir, bool reuse,
   if (!which.empty()) {
     const FinishSettings fs_ = simulated_finish_settings(config);
     const std::vector<SimulatedLabel> labels = simulate_labels(recipe, which, fs_, out_dir / "labelling");
+    if (!cluster_root()) return false;  // rank 0 writes the table; the others only simulated
     Json parts = Json::array();
     for (std::size_t i = 0; i < which.size(); ++i) {
       datasets::PartSpec& p = recipe.parts[which[i]];
@@ -153,6 +187,7 @@ bool build_dataset(datasets::Recipe recipe, const fs::path& out_dir, bool reuse,
     }
     labelling = lj.dump();
   }
+  if (!cluster_root()) return false;
   Progress progress("dataset", 0);
   datasets::Table table = datasets::build_table(recipe, progress.callback());
   progress.finish();
@@ -316,6 +351,79 @@ ModelFolder load_model_folder(const fs::path& dir, const Json& config) {
   return m;
 }
 
+namespace {
+
+/// One part predicted, on whichever rank computed it: its predictions.json entry and its figures,
+/// as CBOR (doubles bit-exact, so rank 0 writes the bytes of a one-process run).
+std::string predict_one(const ModelFolder& folder, const PredictInput& in, const ingest::PrepareOptions& prep) {
+  const classifier::Model& model = folder.model;
+  PartPrediction pp;
+  pp.file = in.file.string();
+  pp.name = in.name.empty() ? in.file.stem().string() : in.name;
+  pp.expected = in.expected;
+  Json jp = {{"part", pp.name}, {"file", pp.file}};
+  try {
+    std::shared_ptr<const ingest::Mesh> mesh = in.mesh;
+    if (!mesh) mesh = std::make_shared<const ingest::Mesh>(load_part(in.file, prep));
+    if (const Json cad = cad_metrics(in.file); !cad.is_null()) jp["cad"] = cad;
+    const datasets::ModelVectors mv = datasets::model_vectors(*mesh, pp.name, folder.spec, work_limits());
+    const classifier::Prediction pr = classifier::predict(model, mv.inputs);
+    const classifier::Ranking rk = classifier::rank(pr);
+    pp.mean = rk.mean;
+    pp.totals = rk.totals;
+    pp.first_share = rk.first_share;
+    pp.top = rk.top;
+    pp.confidence = rk.confidence;
+    pp.consistency = rk.consistency;
+    pp.d2_min = rk.d2_min;
+    pp.unfamiliar = rk.unfamiliar;
+    pp.ok = true;
+    const std::size_t unfamiliar = rk.unfamiliar_variants;
+    const auto& variants = mv.variants;
+    Json jv = Json::array();
+    for (std::size_t v = 0; v < variants.size(); ++v) {
+      const auto row = pr.probabilities.row(static_cast<Eigen::Index>(v));
+      jv.push_back({{"axis", std::string(1, augment::to_char(variants[v].axis))},
+                    {"angle", variants[v].angle_deg},
+                    {"flip", variants[v].flip},
+                    {"top", rk.variant_top[v]},
+                    {"d2_min", pr.d2_min(static_cast<Eigen::Index>(v))},
+                    {"unfamiliar", static_cast<bool>(pr.unfamiliar[v])},
+                    {"probabilities", std::vector<double>(row.begin(), row.end())}});
+    }
+    Json ranking = Json::array();
+    for (std::size_t k : rk.order)
+      ranking.push_back({{"slot", k + 1}, {"strategy", model.strategies[k]}, {"probability", pp.mean[k]},
+                         {"total", pp.totals[k]}, {"share_first", pp.first_share[k]}});
+    jp["status"] = "ok";
+    jp["top"] = pp.top;
+    jp["top_name"] = strategy_name(model.strategies, pp.top);
+    jp["confidence"] = pp.confidence;
+    jp["consistency"] = pp.consistency;
+    jp["unfamiliar"] = pp.unfamiliar;
+    jp["unfamiliar_variants"] = unfamiliar;
+    jp["d2_min"] = pp.d2_min;
+    if (pp.expected) jp["expected"] = pp.expected;
+    jp["ranking"] = ranking;
+    jp["variants"] = jv;
+  } catch (const std::exception& e) {
+    pp.ok = false;
+    pp.error = e.what();
+    jp["status"] = "error";
+    jp["error"] = pp.error;
+  }
+  const Json unit = {{"jp", jp},
+                     {"pp",
+                      {{"name", pp.name}, {"file", pp.file}, {"ok", pp.ok}, {"error", pp.error}, {"top", pp.top},
+                       {"confidence", pp.confidence}, {"consistency", pp.consistency}, {"unfamiliar", pp.unfamiliar},
+                       {"d2_min", pp.d2_min}, {"expected", pp.expected}, {"mean", pp.mean}, {"totals", pp.totals},
+                       {"first_share", pp.first_share}}}};
+  const std::vector<std::uint8_t> cbor = Json::to_cbor(unit);
+  return std::string(cbor.begin(), cbor.end());
+}
+
+}  // namespace
+
 std::vector<PartPrediction> predict_parts(const ModelFolder& folder, const std::vector<PredictInput>& parts,
                                           const ingest::PrepareOptions& prep, const fs::path& out_dir) {
   const classifier::Model& model = folder.model;
@@ -327,76 +435,48 @@ std::vector<PartPrediction> predict_parts(const ModelFolder& folder, const std::
   csv << "part,file,status,top,top_name,confidence,consistency,unfamiliar,d2_min,expected";
   for (std::size_t k = 1; k <= K; ++k) csv << ",p_" << k;
   csv << ",error\n";
-  Progress progress("predict", parts.size());
-  for (const auto& in : parts) {
+  // Work unit = part (any rank); rank 0 takes them in part order: pictures, warnings, the tables.
+  const auto emit = [&](std::size_t, bool ok, std::string&& bytes) {
+    if (!ok) throw Error("predict: " + bytes);  // predict_one reports a part's failure in its entry
+    Json unit = Json::from_cbor(bytes);
+    Json& jp = unit["jp"];
+    const Json& u = unit["pp"];
     PartPrediction pp;
-    pp.file = in.file.string();
-    pp.name = in.name.empty() ? in.file.stem().string() : in.name;
-    pp.expected = in.expected;
+    pp.name = u["name"].get<std::string>();
+    pp.file = u["file"].get<std::string>();
+    pp.ok = u["ok"].get<bool>();
+    pp.error = u["error"].get<std::string>();
+    pp.top = u["top"].get<int>();
+    pp.confidence = u["confidence"].get<double>();
+    pp.consistency = u["consistency"].get<double>();
+    pp.unfamiliar = u["unfamiliar"].get<bool>();
+    pp.d2_min = u["d2_min"].get<double>();
+    pp.expected = u["expected"].get<int>();
+    pp.mean = u["mean"].get<std::vector<double>>();
+    pp.totals = u["totals"].get<std::vector<double>>();
+    pp.first_share = u["first_share"].get<std::vector<double>>();
     pp.strategies = model.strategies;
-    Json jp = {{"part", pp.name}, {"file", pp.file}};
-    try {
-      std::shared_ptr<const ingest::Mesh> mesh = in.mesh;
-      if (!mesh) mesh = std::make_shared<const ingest::Mesh>(load_part(in.file, prep));
-      if (const Json cad = cad_metrics(in.file); !cad.is_null()) jp["cad"] = cad;
-      const datasets::ModelVectors mv = datasets::model_vectors(*mesh, pp.name, folder.spec, work_limits());
-      const classifier::Prediction pr = classifier::predict(model, mv.inputs);
-      const classifier::Ranking rk = classifier::rank(pr);
-      pp.mean = rk.mean;
-      pp.totals = rk.totals;
-      pp.first_share = rk.first_share;
-      pp.top = rk.top;
-      pp.confidence = rk.confidence;
-      pp.consistency = rk.consistency;
-      pp.d2_min = rk.d2_min;
-      pp.unfamiliar = rk.unfamiliar;
-      pp.ok = true;
-      const std::size_t unfamiliar = rk.unfamiliar_variants;
-      const auto& variants = mv.variants;
-      Json jv = Json::array();
-      for (std::size_t v = 0; v < variants.size(); ++v) {
-        const auto row = pr.probabilities.row(static_cast<Eigen::Index>(v));
-        jv.push_back({{"axis", std::string(1, augment::to_char(variants[v].axis))},
-                      {"angle", variants[v].angle_deg},
-                      {"flip", variants[v].flip},
-                      {"top", rk.variant_top[v]},
-                      {"d2_min", pr.d2_min(static_cast<Eigen::Index>(v))},
-                      {"unfamiliar", static_cast<bool>(pr.unfamiliar[v])},
-                      {"probabilities", std::vector<double>(row.begin(), row.end())}});
+    if (pp.ok) {
+      try {
+        pp.png = out_dir / (pp.name + ".png");
+        (void)report::grouped_bar_png(pp.png, model.strategies,
+                                      {{"mean probability over " + std::to_string(jp["variants"].size()) + " variants", pp.mean},
+                                       {"share of variants ranking it first", pp.first_share}},
+                                      pp.name + ": predicted finishing strategy " + std::to_string(pp.top) +
+                                          " (consistency " + fixed(100 * pp.consistency, 0) + " %)" +
+                                          (pp.unfamiliar ? " - UNFAMILIAR part" : ""),
+                                      "probability / share", {.show_values = true, .value_decimals = 2, .y_range = std::pair{0.0, 1.0}});
+        if (pp.unfamiliar)
+          warn("predict: " + pp.file + ": far from every stored model (d² = " + fixed(pp.d2_min, 1) +
+               " > threshold " + fixed(model.unfamiliar_threshold, 1) + "): the prediction is an extrapolation");
+      } catch (const std::exception& e) {
+        pp.ok = false;
+        pp.error = e.what();
+        jp["status"] = "error";
+        jp["error"] = pp.error;
       }
-      Json ranking = Json::array();
-      for (std::size_t k : rk.order)
-        ranking.push_back({{"slot", k + 1}, {"strategy", model.strategies[k]}, {"probability", pp.mean[k]},
-                           {"total", pp.totals[k]}, {"share_first", pp.first_share[k]}});
-      jp["status"] = "ok";
-      jp["top"] = pp.top;
-      jp["top_name"] = strategy_name(model.strategies, pp.top);
-      jp["confidence"] = pp.confidence;
-      jp["consistency"] = pp.consistency;
-      jp["unfamiliar"] = pp.unfamiliar;
-      jp["unfamiliar_variants"] = unfamiliar;
-      jp["d2_min"] = pp.d2_min;
-      if (pp.expected) jp["expected"] = pp.expected;
-      jp["ranking"] = ranking;
-      jp["variants"] = jv;
-      pp.png = out_dir / (pp.name + ".png");
-      (void)report::grouped_bar_png(pp.png, model.strategies,
-                                    {{"mean probability over " + std::to_string(variants.size()) + " variants", pp.mean},
-                                     {"share of variants ranking it first", pp.first_share}},
-                                    pp.name + ": predicted finishing strategy " + std::to_string(pp.top) +
-                                        " (consistency " + fixed(100 * pp.consistency, 0) + " %)" +
-                                        (pp.unfamiliar ? " - UNFAMILIAR part" : ""),
-                                    "probability / share", {.show_values = true, .value_decimals = 2, .y_range = std::pair{0.0, 1.0}});
-      if (pp.unfamiliar)
-        warn("predict: " + pp.file + ": far from every stored model (d² = " + fixed(pp.d2_min, 1) +
-             " > threshold " + fixed(model.unfamiliar_threshold, 1) + "): the prediction is an extrapolation");
-    } catch (const std::exception& e) {
-      pp.ok = false;
-      pp.error = e.what();
-      jp["status"] = "error";
-      jp["error"] = pp.error;
-      warn("predict: " + pp.error);
     }
+    if (!pp.ok) warn("predict: " + pp.error);
     csv << pp.name << "," << pp.file << "," << (pp.ok ? "ok" : "error") << "," << pp.top << ","
         << (pp.ok ? "\"" + strategy_name(model.strategies, pp.top) + "\"" : "") << "," << format_double(pp.confidence)
         << "," << format_double(pp.consistency) << "," << (pp.unfamiliar ? 1 : 0) << "," << format_double(pp.d2_min)
@@ -405,11 +485,13 @@ std::vector<PartPrediction> predict_parts(const ModelFolder& folder, const std::
     std::string err = pp.error;
     std::replace(err.begin(), err.end(), '"', '\'');
     csv << "," << (err.empty() ? "" : "\"" + err + "\"") << "\n";
-    jparts.push_back(jp);
+    jparts.push_back(std::move(jp));
     results.push_back(std::move(pp));
-    progress.tick();
-  }
-  progress.finish();
+  };
+  const DistributeStats st = distribute(
+      parts.size(), [&](std::size_t i) { return predict_one(folder, parts[i], prep); }, emit, false, "predict");
+  if (!cluster_root()) return results;
+  log_distribution("predict", st);
   Json out = {{"model", fs::absolute(folder.dir / "model.json").string()},
               {"alpha", model.alpha},
               {"strategies", model.strategies},

@@ -2,6 +2,7 @@
 // Exit codes: 0 success, 1 bad input, flag values out of range included (one clear line on
 // stderr), 2 usage error (unknown or missing flag; one line too).
 #include "cli.hpp"
+#include "mpi_cluster.hpp"
 
 #include "millnet/core/error.hpp"
 #include "millnet/core/json_input.hpp"
@@ -23,6 +24,7 @@ std::string one_line(std::string s) {
 
 int main(int argc, char** argv) {
   using namespace millnet::app;
+  cluster_init(argc, argv);  // MPI only under a launcher (mpirun, srun); one rank otherwise
   CLI::App app{"millnet — strategy learning and pocket roughing for CAM engineers", "millnet"};
   app.set_version_flag("--version", std::string(MILLNET_VERSION));
   app.require_subcommand(1);
@@ -51,9 +53,10 @@ int main(int argc, char** argv) {
     std::string who = "millnet";
     for (const auto& c : commands)
       if (c.sub->parsed()) who += " " + c.sub->get_name();
-    std::cerr << who << ": error: " << e.what() << "\n";
+    if (cluster_root()) std::cerr << who << ": error: " << e.what() << "\n";  // every rank parsed the same words
     return 1;
   } catch (const CLI::ParseError& e) {
+    if (!cluster_root()) return e.get_exit_code() == 0 ? 0 : 2;
     const int code = app.exit(e);  // prints help/version (code 0) or the usage error
     return code == 0 ? 0 : 2;
   }
@@ -71,7 +74,8 @@ int main(int argc, char** argv) {
       if (outputs) outputs->commit();
       return code;
     } catch (const millnet::Error& e) {
-      std::cerr << "millnet " << cmd << ": error: " << one_line(e.what()) << "\n";
+      // Under MPI every rank reads the same input and meets the same bad value: rank 0 says it once.
+      if (cluster_root()) std::cerr << "millnet " << cmd << ": error: " << one_line(e.what()) << "\n";
       return 1;
     } catch (const std::bad_alloc&) {
       // Not the library's "std::bad_alloc" (tests/corpus/cli/out_of_memory.args).

@@ -60,7 +60,7 @@ endfunction()
 # tests/<module>/*.cpp and discovered by ctest. The working directory is the source root so that
 # tests can read configs/ and datasets/ with relative paths.
 function(millnet_add_test module)
-  cmake_parse_arguments(T "" "" "DEPS" ${ARGN})
+  cmake_parse_arguments(T "" "LABELS" "DEPS" ${ARGN})
   file(GLOB T_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/tests/${module}/*.cpp)
   if(NOT T_SOURCES)
     return()
@@ -75,8 +75,12 @@ function(millnet_add_test module)
     MILLNET_EXE="$<TARGET_FILE:millnet>"
     MILLNET_SHARED_DIR="${PROJECT_SOURCE_DIR}/../shared")
   add_dependencies(test_${module} millnet)
+  set(T_LABELS_PROP "")
+  if(T_LABELS)
+    set(T_LABELS_PROP LABELS ${T_LABELS})
+  endif()
   gtest_discover_tests(test_${module}
     WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
     DISCOVERY_TIMEOUT 60
-    PROPERTIES ENVIRONMENT "OMP_NUM_THREADS=2")
+    PROPERTIES ENVIRONMENT "OMP_NUM_THREADS=2" ${T_LABELS_PROP})
 endfunction()
