@@ -166,7 +166,7 @@ int run_compare(const CompareOpts& o) {
 
 Registered register_compare(CLI::App& app) {
   auto o = std::make_shared<CompareOpts>();
-  CLI::App* sub = app.add_subcommand("compare", "run every planner (SOM, zigzag T, zigzag I) on one pocket and tool");
+  CLI::App* sub = app.add_subcommand("compare", "run every planner (SOM, zigzag T, zigzag I, offset) on one pocket and tool, ranked by time to a cleared pocket");
   sub->add_option("--pocket", o->pocket, "pocket file (.json or .dxf)")->required();
   sub->add_option("--out", o->out, "output folder")->check(output_path())->required();
   o->flags.add_to(sub, false);
