@@ -1,6 +1,7 @@
 // The only file that sees Open CASCADE (ARCHITECTURE.md: heavy dependencies stay private at the edge),
 // compiled with it only when CMake found it (MILLNET_CAD); otherwise CAD files are a clear error.
 #include "cad.hpp"
+#include "weld_key.hpp"
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
@@ -196,19 +197,8 @@ std::size_t pick_body(const std::vector<Body>& bodies, const std::string& wanted
 Mesh tessellate(const TopoDS_Shape& shape, const CadOptions& o, std::size_t* faces) {
   // Sequential (isInParallel = false): the triangles do not depend on the thread count.
   BRepMesh_IncrementalMesh mesher(shape, o.chord_tolerance_mm, Standard_False, o.angular_deflection_rad, Standard_False);
-  struct Key {
-    std::uint64_t a, b, c;
-    bool operator==(const Key&) const = default;
-  };
-  struct Hash {
-    std::size_t operator()(const Key& k) const noexcept {
-      std::uint64_t h = k.a * 0x9E3779B97F4A7C15ull;
-      h ^= (k.b + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2));
-      h ^= (k.c + 0x94D049BB133111EBull + (h << 6) + (h >> 2));
-      return static_cast<std::size_t>(h);
-    }
-  };
-  std::unordered_map<Key, std::int32_t, Hash> index;
+  using Key = detail::WeldKey<std::uint64_t>;
+  detail::WeldIndex<std::uint64_t> index;
   std::vector<double> V;
   std::vector<std::int32_t> F;
   std::vector<std::int32_t> local;

@@ -8,6 +8,7 @@
 #include "millnet/ingest/pointcloud.hpp"
 #include "cad.hpp"
 #include "ply_off.hpp"
+#include "weld_key.hpp"
 
 #include <Eigen/Geometry>
 #include <assimp/Importer.hpp>
@@ -42,19 +43,8 @@ std::string lower_ext(const fs::path& p) {
 Mesh parse_stl_binary(const std::string& bytes, const std::string& name, MeshReport* report) {
   std::uint32_t n = 0;
   std::memcpy(&n, bytes.data() + 80, 4);
-  struct Key {
-    std::uint32_t a, b, c;
-    bool operator==(const Key&) const = default;
-  };
-  struct Hash {
-    std::size_t operator()(const Key& k) const noexcept {
-      std::uint64_t h = k.a * 0x9E3779B97F4A7C15ull;
-      h ^= (k.b + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2));
-      h ^= (k.c + 0x94D049BB133111EBull + (h << 6) + (h >> 2));
-      return static_cast<std::size_t>(h);
-    }
-  };
-  std::unordered_map<Key, std::int32_t, Hash> index;
+  using Key = detail::WeldKey<std::uint32_t>;
+  detail::WeldIndex<std::uint32_t> index;
   index.reserve(static_cast<std::size_t>(n) / 2 + 16);
   std::vector<float> verts;
   verts.reserve(static_cast<std::size_t>(n) * 3 / 2 + 16);

@@ -6,6 +6,7 @@
 #include "app/cli_runner.hpp"
 #include "ingest/builders.hpp"
 
+#include "millnet/ingest/io/mesh_io.hpp"
 #include "millnet/report/preview.hpp"
 
 #include <opencv2/core.hpp>
@@ -86,17 +87,7 @@ fs::path write_part_stl(const fs::path& dir) {
     return 1 + 5 * std::max(0.0, 1 - r2);
   }, 0, 20, 0, 16, 40, 32);
   const fs::path p = dir / "dome.stl";
-  std::ofstream out(p);
-  out << "solid dome\n";
-  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
-    out << " facet normal 0 0 0\n  outer loop\n";
-    for (int k = 0; k < 3; ++k) {
-      const auto v = m.V.row(m.F(f, k));
-      out << "   vertex " << v(0) << " " << v(1) << " " << v(2) << "\n";
-    }
-    out << "  endloop\n endfacet\n";
-  }
-  out << "endsolid dome\n";
+  millnet::ingest::save_stl_binary(m, p);
   return p;
 }
 

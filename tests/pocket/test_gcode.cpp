@@ -4,6 +4,7 @@
 #include "millnet/gcode/reader.hpp"
 #include "millnet/pocket/gcode.hpp"
 #include "testing/gcode_replay.hpp"
+#include "testing/pocket_replay.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,18 +16,10 @@
 #include <unistd.h>
 
 using namespace millnet::pocket;
+using millnet::testing::to_replay;
 using millnet::testing::ReplayPocket;
 namespace {
 Loop rect(double x0, double y0, double x1, double y1) { return {{x0, y0, 0}, {x1, y0, 0}, {x1, y1, 0}, {x0, y1, 0}}; }
-ReplayPocket to_replay(const Region& r) {
-  ReplayPocket p;
-  for (const Vertex& v : r.boundary) p.boundary.push_back({v.x, v.y, v.bulge});
-  for (const Loop& l : r.islands) {
-    p.islands.emplace_back();
-    for (const Vertex& v : l) p.islands.back().push_back({v.x, v.y, v.bulge});
-  }
-  return p;
-}
 /// Two chains in a 60×60 pocket: a line/arc chain and a square, feeds varying.
 Path2D sample_path() {
   Path2D p;

@@ -6,6 +6,7 @@
 #include "millnet/pocket/plan.hpp"
 #include "millnet/pocket/io/pocket_io.hpp"
 #include "testing/gcode_replay.hpp"
+#include "testing/pocket_replay.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,16 +14,8 @@
 #include <vector>
 
 using namespace millnet::pocket;
+using millnet::testing::to_replay;
 namespace {
-millnet::testing::ReplayPocket to_replay(const Region& r) {
-  millnet::testing::ReplayPocket p;
-  for (const Vertex& v : r.boundary) p.boundary.push_back({v.x, v.y, v.bulge});
-  for (const Loop& l : r.islands) {
-    p.islands.emplace_back();
-    for (const Vertex& v : l) p.islands.back().push_back({v.x, v.y, v.bulge});
-  }
-  return p;
-}
 
 CutParams bench_cut() {
   CutParams cut;
