@@ -68,6 +68,10 @@ int main(int argc, char** argv) {
       // A command's outputs are committed together when it returns, or not at all when it throws
       // (issue 15; core/output_set.hpp). `dataset` and `run` write caches that their later stages
       // read back by path; they check their inputs before writing instead.
+      if (cluster_size() > 1 && cmd != "dataset" && cmd != "predict" && cmd != "finish")
+        throw millnet::Error("runs on one process: under mpirun only dataset, predict and finish share their work "
+                             "over the ranks (started on " + std::to_string(cluster_size()) +
+                             " ranks, every one would write the same files); run it without mpirun");
       std::optional<millnet::OutputSet> outputs;
       if (all_or_nothing) outputs.emplace();
       const int code = body();

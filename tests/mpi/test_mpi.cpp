@@ -204,5 +204,14 @@ TEST(Mpi, FinishAllSimulatedOverAFolderIsTheOneProcessBytesAndGoesPastABrokenPar
   EXPECT_EQ(list_files(d / "btwo"), "");
 }
 
+TEST(Mpi, ACommandThatDoesNotShareItsWorkRefusesToRunOnSeveralRanks) {
+  const fs::path d = fresh_dir("mpi_refuse");
+  write_parts(d);
+  const CliResult r = run_ranks(2, "rough --quiet --mesh parts/a_dome.stl --out rough", d);
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("millnet rough: error: runs on one process"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d / "rough" / "a_dome.nc"));
+}
+
 }  // namespace
 }  // namespace millnet::testing
