@@ -28,6 +28,8 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -317,6 +319,47 @@ TEST(Cad, RoughOnAStepPartWritesAProgramRs274AcceptsAndTheCadMetrics) {
   EXPECT_EQ(s.code, 0) << s.err;
   EXPECT_NE(s.err.find("note: "), std::string::npos) << s.err;
   EXPECT_NE(s.err.find("inch"), std::string::npos) << s.err;
+}
+
+// "Done means" of issue 16: `millnet predict … part.step` ranks a STEP part with its unit read from
+// the file, exactly as it ranks the same part given as a mesh (millnet's own tessellation of it
+// saved as binary STL: floats instead of doubles, so the probabilities agree to 1e-3).
+TEST(Cad, PredictRanksAStepPartAsTheSameMeshInStl) {
+  const auto d = fresh_dir("cad_predict_cli");
+  write_step(dome_pocket_block(), d / "part.step", "MM");
+  ingest::MeshReport rep;
+  ingest::save_stl_binary(load(d / "part.step", &rep), d / "same.stl");
+  std::ofstream(d / "c.json") << R"({
+  "seed": 7,
+  "dataset": {
+    "parts_dir": "parts",
+    "generate": {"seed": 11, "per_family": 1, "resolution": 40},
+    "augment": {"angles_deg": [-10, 0, 10], "axes": ["x"], "flip": false}
+  },
+  "predict": {"augment": {"angles_deg": [0, 10], "axes": ["z"], "flip": false}}
+})";
+  ASSERT_EQ(run_millnet("dataset --config c.json --quiet --out D", d).code, 0);
+  const auto t = run_millnet("train --dataset D/vectors.csv --config c.json --quiet --out M", d);
+  ASSERT_EQ(t.code, 0) << t.err;
+  const auto r = run_millnet("predict --model M --config c.json --quiet --out P part.step same.stl", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto pred = nlohmann::json::parse(slurp(d / "P" / "predictions.json"));
+  std::map<std::string, nlohmann::json> by;
+  for (const auto& p : pred["parts"]) by[p["part"].get<std::string>()] = p;
+  ASSERT_TRUE(by.count("part") && by.count("same")) << pred.dump().substr(0, 400);
+  EXPECT_EQ(by["part"]["status"], "ok");
+  EXPECT_EQ(by["same"]["status"], "ok");
+  ASSERT_TRUE(by["part"].contains("cad"));
+  EXPECT_EQ(by["part"]["cad"]["file_unit"], "mm");
+  EXPECT_FALSE(by["same"].contains("cad"));
+  EXPECT_EQ(by["part"]["top"], by["same"]["top"]);
+  const auto& a = by["part"]["ranking"];
+  const auto& b = by["same"]["ranking"];
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a[k]["slot"], b[k]["slot"]);
+    EXPECT_NEAR(a[k]["probability"].get<double>(), b[k]["probability"].get<double>(), 1e-3);
+  }
 }
 
 }  // namespace
