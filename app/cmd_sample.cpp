@@ -2,6 +2,7 @@
 //   → DIR/<stem>.grid.csv (n rows × n columns, mm above the part's lowest point; rows from min y to max y,
 //     columns from min x to max x; the grid spans the footprint rectangle corner to corner), DIR/<stem>.png
 #include "cli.hpp"
+#include "preview.hpp"
 #include "report_util.hpp"
 
 #include "millnet/core/atomic_file.hpp"
@@ -23,7 +24,33 @@ struct SampleOpts {
   int grid = 15;
 };
 
-/// millnet sample: mesh → prepared mesh → n×n grid → CSV + PNG.
+/// The 3D page of a sampled part (issue 16): the part shaded and its n×n grid as a surface over it,
+/// coloured by height. The grid's nodes span the footprint corner to corner, so a node is the centre
+/// of a cell of footprint/(n − 1) in x and in y (the page's surface format).
+void write_grid_page(const fs::path& html, const ingest::Mesh& mesh, const ingest::Grid& grid, const std::string& stem) {
+  const Eigen::RowVector3d lo = mesh.V.colwise().minCoeff().cast<double>();
+  const Eigen::RowVector3d hi = mesh.V.colwise().maxCoeff().cast<double>();
+  const auto n = grid.h.rows();
+  report::PreviewInput page;
+  page.title = stem + " — " + std::to_string(n) + "×" + std::to_string(n) + " height grid";
+  set_preview_part(page, mesh);
+  page.stock = std::array<double, 6>{lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z()};
+  report::PreviewSurface s;
+  s.z = grid.h.array() + lo.z();
+  s.value = grid.h;
+  s.cell_mm = grid.footprint_x / static_cast<double>(n - 1);
+  s.cell_y_mm = grid.footprint_y / static_cast<double>(n - 1);
+  s.x0 = lo.x() - 0.5 * s.cell_mm;
+  s.y0 = lo.y() - 0.5 * s.cell_y_mm;
+  s.layer = "height grid";
+  s.value_name = "height above the part's lowest point";
+  page.surface = std::move(s);
+  page.notes.push_back("footprint " + format_double(grid.footprint_x) + " × " + format_double(grid.footprint_y) +
+                       " mm; the model vector's inputs are these heights");
+  (void)write_program_preview(html, std::move(page));
+}
+
+/// millnet sample: mesh → prepared mesh → n×n grid → CSV + PNG + 3D page.
 int run_sample(const SampleOpts& o) {
   (void)setup(o.common);
   ingest::MeshReport report;
@@ -40,6 +67,7 @@ int run_sample(const SampleOpts& o) {
   const fs::path out(o.out);
   write_file_atomic(out / (stem + ".grid.csv"), ingest::grid_csv(grid.h));
   write_grid_png(out / (stem + ".png"), grid, stem);
+  write_grid_page(out / (stem + ".html"), mesh, grid, stem);
   info("sample: " + o.mesh + ": " + std::to_string(report.triangles) + " triangles (" +
        std::to_string(report.degenerate_triangles) + " degenerate), footprint " + format_double(grid.footprint_x) +
        " × " + format_double(grid.footprint_y) + " mm → " + (out / (stem + ".grid.csv")).string());

@@ -294,8 +294,11 @@ std::string preview_data_json(const PreviewInput& in) {
       }
     }
     const double cell = s.cell_mm * static_cast<double>(stride);
+    const double cy_mm = s.cell_y_mm > 0 ? s.cell_y_mm : s.cell_mm;
+    const double celly = cy_mm * static_cast<double>(stride);
     o << ",\"surface\":{\"rows\":" << rows << ",\"cols\":" << cols << ",\"x0\":" << jnum(s.x0 + s.cell_mm * 0.5 - cell * 0.5)
-      << ",\"y0\":" << jnum(s.y0 + s.cell_mm * 0.5 - cell * 0.5) << ",\"cell\":" << jnum(cell)
+      << ",\"y0\":" << jnum(s.y0 + cy_mm * 0.5 - celly * 0.5) << ",\"cell\":" << jnum(cell)
+      << ",\"celly\":" << jnum(celly) << ",\"layer\":" << jstr(s.layer)
       << ",\"name\":" << jstr(s.value_name) << ",\"units\":" << jstr(s.units) << ",\"z\":" << jarr(z, jnum)
       << ",\"v\":" << jarr(val, [](double x) { return std::isfinite(x) ? std::to_string(std::round(x * 1e6) / 1e6) : std::string("null"); })
       << '}';

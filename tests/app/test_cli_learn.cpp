@@ -99,6 +99,23 @@ TEST(CliLearn, SampleWritesTheAnalyticRampGrid) {
   EXPECT_LT(worst, 1e-9);
   EXPECT_NEAR(std::stod(g[7][7]), 0.5 * 15 + 0.25 * 10, 1e-6);  // an interior point: exact
   EXPECT_TRUE(is_png(d / "S" / "ramp.png"));
+  // The 3D page (issue 16): the grid as a surface of 15 × 15 nodes, cells of 30/14 × 20/14 mm
+  // centred on the nodes, so the first node sits at the footprint's corner (0, 0).
+  const std::string page = slurp(d / "S" / "ramp.html");
+  const auto surf = page.find("\"surface\":{");
+  ASSERT_NE(surf, std::string::npos);
+  const auto num_after = [&](const std::string& key) {
+    const auto k = page.find("\"" + key + "\":", surf);
+    return k == std::string::npos ? std::nan("") : std::stod(page.substr(k + key.size() + 3, 24));
+  };
+  EXPECT_EQ(num_after("rows"), 15);
+  EXPECT_EQ(num_after("cols"), 15);
+  constexpr double kPageMm = 5e-4 + 1e-12;  // the page writes mm to 0.001
+  EXPECT_NEAR(num_after("cell"), 30.0 / 14, kPageMm);
+  EXPECT_NEAR(num_after("celly"), 20.0 / 14, kPageMm);
+  EXPECT_NEAR(num_after("x0") + 0.5 * 30.0 / 14, 0, kPageMm);
+  EXPECT_NEAR(num_after("y0") + 0.5 * 20.0 / 14, 0, kPageMm);
+  EXPECT_NE(page.find("\"layer\":\"height grid\"", surf), std::string::npos);
   // --grid changes the shape; the same command gives the same bytes.
   ASSERT_EQ(run_millnet("sample --mesh ramp.stl --grid 5 --quiet --out S5", d).code, 0);
   const Csv g5 = read_csv(d / "S5" / "ramp.grid.csv");

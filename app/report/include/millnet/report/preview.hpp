@@ -57,6 +57,8 @@ struct PreviewTool {
 struct PreviewSurface {
   Eigen::MatrixXd z, value;
   double x0 = 0, y0 = 0, cell_mm = 1;
+  double cell_y_mm = 0;                  ///< cell size along y; 0 ⇒ cell_mm (square cells)
+  std::string layer = "machined surface";  ///< the layer's name (a height grid is not machined)
   std::string value_name = "deviation";  ///< legend title
   std::string units = "mm";
 };
