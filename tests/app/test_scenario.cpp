@@ -53,6 +53,7 @@ TEST(Scenario, DefaultPipelineRunsEndToEndAndMeetsItsFigures) {
 
   // One folder per part, named test_s<family>_…, with the prediction and the roughing outputs.
   const std::string summary = slurp(out / "summary.md");
+  const std::string summary_html = slurp(out / "summary.html");  // issue 16: the page of the run
   const std::string prefix = sc["part_prefix"].get<std::string>();
   std::set<std::string> names;
   std::size_t correct = 0;
@@ -87,6 +88,9 @@ TEST(Scenario, DefaultPipelineRunsEndToEndAndMeetsItsFigures) {
     for (std::size_t k = 1; k <= levels; ++k)
       EXPECT_TRUE(fs::exists(dir / (name + ".level_" + std::to_string(k) + ".png"))) << k;
     EXPECT_NE(summary.find("parts/" + name + "/" + name + ".level_1.png"), std::string::npos);
+    // Issue 16: the roughing program's 3D page, linked from summary.html.
+    EXPECT_TRUE(fs::exists(dir / (name + ".html")));
+    EXPECT_NE(summary_html.find("parts/" + name + "/" + name + ".html"), std::string::npos) << name;
   }
   EXPECT_EQ(correct, rep["correct"].get<std::size_t>()) << "run_report.json disagrees with the parts' predictions.json";
 
