@@ -119,8 +119,9 @@ public:
   [[nodiscard]] double gap_to(const std::vector<Vec2>& loop) const {
     double best = std::numeric_limits<double>::infinity();
     const std::vector<Vec2>& from = last_.empty() ? origin_ : last_;
-    for (const Vec2& a : from)
-      for (const Vec2& b : loop) best = std::min(best, (a - b).squaredNorm());
+    const std::size_t sa = stride(from.size()), sb = stride(loop.size());
+    for (std::size_t i = 0; i < from.size(); i += sa)
+      for (std::size_t j = 0; j < loop.size(); j += sb) best = std::min(best, (from[i] - loop[j]).squaredNorm());
     return std::sqrt(best);
   }
 
@@ -156,6 +157,12 @@ private:
     c.pts.push_back({p.x(), p.y(), 0.0});
   }
 
+  /// Every k-th vertex of a loop of n, at most kSamples of them: the ring orders and link exits
+  /// are chosen among these, so that a link costs O(kSamples · ring) however fine the rings are
+  /// (a rough level's contours have thousands of vertices).
+  static std::size_t stride(std::size_t n) { return std::max<std::size_t>(1, n / kSamples); }
+  static constexpr std::size_t kSamples = 128;
+
   static std::size_t nearest(const std::vector<Vec2>& ring, const Vec2& p) {
     std::size_t best_i = 0;
     double best = std::numeric_limits<double>::infinity();
@@ -180,7 +187,7 @@ private:
     };
     std::vector<Cand> cands;
     cands.reserve(n);
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; i < n; i += stride(n)) {
       const std::size_t j = nearest(ring, last_[i]);
       cands.push_back({walk[i] + (ring[j] - last_[i]).norm(), i, j});
     }
