@@ -118,7 +118,7 @@ public:
   /// the order of the loops of one node. O(ring · loop vertices).
   [[nodiscard]] double gap_to(const std::vector<Vec2>& loop) const {
     double best = std::numeric_limits<double>::infinity();
-    const std::vector<Vec2>& from = last_.empty() ? origin_ : last_;
+    const std::vector<Vec2>& from = last_;  // none cut yet: every loop is as near (infinity)
     const std::size_t sa = stride(from.size()), sb = stride(loop.size());
     for (std::size_t i = 0; i < from.size(); i += sa)
       for (std::size_t j = 0; j < loop.size(); j += sb) best = std::min(best, (from[i] - loop[j]).squaredNorm());
@@ -202,13 +202,13 @@ private:
       start = k.j;
       return true;
     }
-    return link_via(ring, walk, start);
+    return link_via(ring, start);
   }
 
   /// Where no straight move is free (the offsets split around islands): the shortest way from
   /// the ring just cut to the new ring's vertex nearest to it, searched on a grid of free tool
   /// centres (A*, 8 neighbours), pulled taut into straight moves that move_ok accepts.
-  bool link_via(const std::vector<Vec2>& ring, const std::vector<double>& /*walk*/, std::size_t& start) {
+  bool link_via(const std::vector<Vec2>& ring, std::size_t& start) {
     const Vec2 from = last_.front();
     const std::size_t j = nearest(ring, from);
     std::vector<Vec2> way;
@@ -323,7 +323,6 @@ private:
   bool climb_;
   Path2D path_;
   std::vector<Vec2> last_;    ///< the ring just cut, from its start vertex
-  std::vector<Vec2> origin_;  ///< empty: no ring cut yet
   std::size_t rings_ = 0, links_ = 0, retractions_ = 0, grid_links_ = 0;
   Vec2 box_lo_, box_hi_, lo_;
   double h_ = 0;

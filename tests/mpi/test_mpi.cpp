@@ -7,6 +7,7 @@
 // build no LeakSanitizer in the ranks (see run_ranks).
 #include "app/cli_runner.hpp"
 #include "ingest/builders.hpp"
+#include "millnet/ingest/io/mesh_io.hpp"
 
 #include <gtest/gtest.h>
 
@@ -19,18 +20,7 @@ namespace {
 namespace fs = std::filesystem;
 
 void write_stl(const fs::path& p, const std::function<double(double, double)>& f, double w, double d) {
-  const auto m = testing_ingest::solid(f, 0, w, 0, d, 16, 12);
-  std::ofstream out(p);
-  out << "solid part\n";
-  for (Eigen::Index i = 0; i < m.F.rows(); ++i) {
-    out << " facet normal 0 0 0\n  outer loop\n";
-    for (int k = 0; k < 3; ++k) {
-      const auto v = m.V.row(m.F(i, k));
-      out << "   vertex " << v(0) << " " << v(1) << " " << v(2) << "\n";
-    }
-    out << "  endloop\n endfacet\n";
-  }
-  out << "endsolid part\n";
+  millnet::ingest::save_stl_binary(testing_ingest::solid(f, 0, w, 0, d, 16, 12), p);
 }
 
 /// Three small parts of different shapes (and so different costs) in dir/parts.
