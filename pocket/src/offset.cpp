@@ -105,6 +105,13 @@ std::vector<PolyArea> offset_inward(const Region& region, double delta_mm, doubl
   return run_offset(co, -delta_mm, chord_tol_mm);
 }
 
+PolyArea simplified(const PolyArea& a, double eps_mm) {
+  PolyArea out;
+  out.outer = simplify_closed(a.outer, eps_mm);
+  for (const auto& h : a.holes) out.holes.push_back(simplify_closed(h, eps_mm));
+  return out;
+}
+
 std::vector<PolyArea> offset_areas(const std::vector<PolyArea>& areas, double delta_mm, double chord_tol_mm) {
   ClipperLib::ClipperOffset co;
   co.AddPaths(to_paths(areas), ClipperLib::jtRound, ClipperLib::etClosedPolygon);

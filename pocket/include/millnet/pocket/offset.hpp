@@ -22,6 +22,11 @@ namespace millnet::pocket {
 [[nodiscard]] std::vector<PolyArea> offset_areas(const std::vector<PolyArea>& areas, double delta_mm,
                                                  double chord_tol_mm = 0.001);
 
+/// The area with each loop simplified (Douglas–Peucker, closed): every dropped vertex lies within
+/// eps_mm of the chord that replaces it, so each loop moves by at most eps_mm. A loop keeps at least
+/// 3 vertices. O(n log n) typical per loop.
+[[nodiscard]] PolyArea simplified(const PolyArea& a, double eps_mm);
+
 /// Area swept by a disk of radius_mm moving along each open polyline (union of capsules; a
 /// single-point polyline is a disk). Round ends and joins, chord error ≤ chord_tol_mm.
 [[nodiscard]] std::vector<PolyArea> swept_area(const std::vector<std::vector<Vec2>>& polylines, double radius_mm,
