@@ -234,6 +234,7 @@ PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, c
   const Json& z = pc["zigzag"];
   std::string part = flags.partition.value_or(z["partition"].get<std::string>());
   ch.zigzag.partition = (part == "t" || part == "T") ? pocket::PartitionKind::T : pocket::PartitionKind::I;
+  ch.zigzag.link_regions = z["link_regions"].get<bool>();
   std::string angle = flags.angle ? *flags.angle : (z["angle"].is_string() ? z["angle"].get<std::string>() : "");
   if (!flags.angle && z["angle"].is_number()) {
     ch.zigzag.angle_deg = z["angle"].get<double>();

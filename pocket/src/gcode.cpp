@@ -208,33 +208,40 @@ std::vector<Step> build_steps(const std::vector<LevelPlan>& levels, const GcodeP
         first = false;
       }
       // Entry.
-      bool entered = false;
-      if (ch.predrill && gp.entry == Entry::Ramp && ch.pts.size() >= 2 && ch.pts[0].bulge == 0.0) {
+      // A ramp along the chain's first (straight) segment: the tool stays on the chain's own
+      // footprint, so it sweeps nothing the chain does not. Entry "ramp" tries it first and falls
+      // back to a helix; entry "helix" falls back to it where no helix fits (at a wall, where
+      // every zigzag pass ends): a plain plunge into uncut material only where neither fits.
+      const auto try_ramp = [&]() {
+        if (!(ch.predrill && ch.pts.size() >= 2 && ch.pts[0].bulge == 0.0)) return false;
         const Vec2 p1 = ch.pts[1].p();
         const double seg = (p1 - p0).norm();
         const double Lr = std::min(seg, 2 * cut.tool_diameter);
-        if (Lr >= 0.05 * cut.tool_diameter) {
-          const Vec2 q = p0 + (p1 - p0) * (Lr / seg);
-          const double z0 = b.pos[2];
-          const double drop = Lr * std::tan(gp.entry_angle_deg * kPi / 180);
-          int legs = std::max(2, static_cast<int>(std::ceil((z0 - L.z) / drop)));
-          if (legs % 2 == 1) ++legs;  // end back at p0
-          for (int k = 1; k <= legs; ++k) {
-            const Vec2& t = (k % 2 == 1) ? q : p0;
-            b.line(t.x(), t.y(), z0 - (z0 - L.z) * k / legs, entry_feed);
-          }
-          b.moves[b.moves.size() - static_cast<std::size_t>(legs)].comment = "ramp entry";
-          entered = true;
+        if (Lr < 0.05 * cut.tool_diameter) return false;
+        const Vec2 q = p0 + (p1 - p0) * (Lr / seg);
+        const double z0 = b.pos[2];
+        const double drop = Lr * std::tan(gp.entry_angle_deg * kPi / 180);
+        int legs = std::max(2, static_cast<int>(std::ceil((z0 - L.z) / drop)));
+        if (legs % 2 == 1) ++legs;  // end back at p0
+        for (int k = 1; k <= legs; ++k) {
+          const Vec2& t = (k % 2 == 1) ? q : p0;
+          b.line(t.x(), t.y(), z0 - (z0 - L.z) * k / legs, entry_feed);
         }
-      }
-      if (ch.predrill && !entered && (gp.entry == Entry::Helix || gp.entry == Entry::Ramp)) {
-        if (auto h = fit_helix(*clear, p0, cut.tool_diameter)) {
-          const std::size_t at = b.moves.size();
-          helix(b, p0, h->first, h->second, b.pos[2], L.z, entry_feed, gp.entry_angle_deg);
-          if (at < b.moves.size()) b.moves[at].comment = "helix entry, radius " + fmt(h->second, gp.decimals);
-          entered = true;
-        }
-      }
+        b.moves[b.moves.size() - static_cast<std::size_t>(legs)].comment = "ramp entry";
+        return true;
+      };
+      const auto try_helix = [&]() {
+        if (!ch.predrill) return false;
+        const auto h = fit_helix(*clear, p0, cut.tool_diameter);
+        if (!h) return false;
+        const std::size_t at = b.moves.size();
+        helix(b, p0, h->first, h->second, b.pos[2], L.z, entry_feed, gp.entry_angle_deg);
+        if (at < b.moves.size()) b.moves[at].comment = "helix entry, radius " + fmt(h->second, gp.decimals);
+        return true;
+      };
+      bool entered = false;
+      if (gp.entry == Entry::Ramp) entered = try_ramp() || try_helix();
+      if (gp.entry == Entry::Helix) entered = try_helix() || try_ramp();
       if (!entered) {
         b.line(p0.x(), p0.y(), L.z, cut.feed_plunge);
         if (ch.predrill && gp.entry != Entry::Predrill)

@@ -36,6 +36,7 @@ std::vector<std::pair<std::string, double>> ZigzagStats::key_values() const {
           {"nls", nls},
           {"nonmonotone_faces", nonmonotone_faces},
           {"passes", static_cast<double>(passes)},
+          {"region_links", static_cast<double>(region_links)},
           {"regions", regions},
           {"srps", static_cast<double>(srps)},
           {"zigzag_cut_length_mm", zigzag_cut_length_mm},

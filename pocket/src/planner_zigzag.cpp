@@ -12,6 +12,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 namespace millnet::pocket {
@@ -104,6 +105,54 @@ Chain make_chain(const std::vector<Vec2>& pts, const std::string& role, bool pre
   return ch;
 }
 
+/// ZigzagParams::link_regions. Regions are taken in the planner's order; region i joins the chain
+/// before it (as it is, or reversed: a zigzag cut backwards is the same passes) when the straight
+/// move from that chain's end to its start is clear of the walls and its swept disk cuts at most
+/// kLinkNewMaterialMm2 outside the area swept so far plus the disk at the start (where the region's
+/// first pass engages anyway). The shorter admissible link wins. O(regions · swept-area booleans
+/// over the path so far).
+std::vector<std::vector<Vec2>> link_regions(std::vector<std::vector<Vec2>> chains, const Region& region,
+                                            const CutParams& cut, std::size_t& links) {
+  if (chains.size() < 2) return chains;
+  const Clearance clear(region, cut.clearance());
+  const double R = cut.tool_diameter / 2;
+  std::vector<std::vector<Vec2>> out{std::move(chains.front())};
+  std::vector<std::vector<Vec2>> swept_lines{out.front()};
+  for (std::size_t i = 1; i < chains.size(); ++i) {
+    std::vector<Vec2>& next = chains[i];
+    const Vec2 end = out.back().back();
+    std::optional<bool> pick;  // reversed?
+    double best_len = std::numeric_limits<double>::infinity();
+    std::optional<std::vector<PolyArea>> done;  // computed once, on the first wall-clear candidate
+    for (const bool rev : {false, true}) {
+      const Vec2 start = rev ? next.back() : next.front();
+      const double len = (start - end).norm();
+      if (len >= best_len || !clear.move_ok(end, start)) continue;
+      if (!done) {
+        auto lines = swept_lines;
+        done = swept_area(lines, R, tol::arc_chord_mm);
+      }
+      std::vector<PolyArea> allowed = *done;
+      for (PolyArea& a : swept_area({{start}}, R, tol::arc_chord_mm)) allowed.push_back(std::move(a));
+      const double fresh = area(difference(swept_area({{end, start}}, R, tol::arc_chord_mm), allowed));
+      if (fresh > kLinkNewMaterialMm2) continue;
+      pick = rev;
+      best_len = len;
+    }
+    if (pick) {
+      if (*pick) std::reverse(next.begin(), next.end());
+      std::vector<Vec2>& prev = out.back();
+      for (const Vec2& p : next)
+        if ((p - prev.back()).norm() > tol::join_mm) prev.push_back(p);
+      ++links;
+    } else {
+      out.push_back(next);
+    }
+    swept_lines.push_back(std::move(next));
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<double> candidate_angles(const Region& region, double step_deg) {
@@ -168,10 +217,16 @@ PlanResult plan_zigzag(const Region& region, const CutParams& cut, const ZigzagP
     if (better) { best = std::move(c); have = true; }
   }
 
+  std::vector<std::vector<Vec2>> worlds;
   for (const auto& ch : best.chains) {
     std::vector<Vec2> world;
     world.reserve(ch.size());
     for (const Vec2& p : ch) world.push_back(from_scan_frame(p, best.angle));
+    worlds.push_back(std::move(world));
+  }
+  std::size_t links = 0;
+  if (params.link_regions) worlds = link_regions(std::move(worlds), region, cut, links);
+  for (const auto& world : worlds) {
     res.path.chains.push_back(make_chain(world, "cut", true));
     res.predrill.push_back(world.front());
   }
@@ -189,6 +244,7 @@ PlanResult plan_zigzag(const Region& region, const CutParams& cut, const ZigzagP
   st.nonmonotone_faces = best.nonmonotone;
   st.zigzag_cut_length_mm = best.cut_len;
   st.zigzag_rapid_length_mm = best.rapid_len;
+  st.region_links = links;
   res.stats = st;
   MILLNET_ASSERT(static_cast<int>(best.part.faces.size()) == best.part.formula_regions(),
                  "partition face count differs from n_s - n_i + n_c - n_n");

@@ -160,7 +160,7 @@ TEST(PlannerOffset, ANeckTheToolCannotPassMakesTwoComponentsAndOneRetraction) {
 
 TEST(PlannerOffset, ARegionTooNarrowForAHelixStillEntersAndClears) {
   // A 12 mm slot: the tool centre has a 2 mm wide strip, no room for a helix; the entry falls back
-  // to a plunge and the slot is still cut end to end without touching its walls.
+  // to a ramp along the ring and the slot is still cut end to end without touching its walls.
   Region r;
   r.boundary = rect(0, 0, 80, 12);
   validate_and_normalize(r, "test");

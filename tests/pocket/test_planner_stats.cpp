@@ -69,7 +69,8 @@ TEST(PlannerStats, ZigzagKeysSortedWithTheContoursKey) {
   const auto kv = z.key_values();
   const auto k = keys(kv);
   EXPECT_TRUE(std::is_sorted(k.begin(), k.end()));
-  EXPECT_EQ(kv.size(), 14u);
+  EXPECT_EQ(kv.size(), 15u);
+  EXPECT_EQ(value(kv, "region_links"), 0.0);
   EXPECT_EQ(value(kv, "contours"), 0.0);
   EXPECT_EQ(value(kv, "passes"), 11.0);
   EXPECT_EQ(value(kv, "angle_deg"), 37.5);

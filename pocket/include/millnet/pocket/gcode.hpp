@@ -6,7 +6,9 @@
 // Every level is planned on its own (issue 5 passes a different region and plan per Z level):
 //   levels are machined in the given order (top-down); between chains the tool retracts to safe Z,
 //   rapids above the next start, rapids down to approach_mm above the level's material top, then
-//   plunges (predrilled hole / already-cut point) or enters by helix / ramp.
+//   plunges (predrilled hole / already-cut point) or enters by helix / ramp: entry "helix" falls
+//   back to a ramp along the chain's first segment, "ramp" to a helix; a plain plunge into uncut
+//   material (with a WARNING comment) only where neither fits.
 #include "millnet/gcode/program.hpp"
 #include "millnet/pocket/toolpath.hpp"
 

@@ -43,6 +43,7 @@ struct ZigzagStats {
   double angle_deg = 0;
   std::size_t angles_tried = 0;
   int nonmonotone_faces = 0;
+  std::size_t region_links = 0;     ///< regions joined to the one before with the tool down (link_regions)
   double zigzag_cut_length_mm = 0;
   double zigzag_rapid_length_mm = 0;
 
