@@ -24,6 +24,7 @@ Json write_rough_outputs(const fs::path& dir, const std::string& stem, const rou
                       {"chains", s.chains},
                       {"retractions", s.chains > 0 ? s.chains - 1 : 0},
                       {"cut_length_mm", s.cut_length_mm},
+                      {"uncut_area_mm2", s.uncut_area_mm2},
                       {"status", lv.status}});
     (void)report::level_png(dir / (stem + ".level_" + std::to_string(k + 1) + ".png"), lv.regions, s.path, lv.z,
                             stem, {{"islands", std::to_string(lv.islands)}, {"cut", fixed(s.cut_length_mm, 0) + " mm"},

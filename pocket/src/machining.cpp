@@ -135,6 +135,15 @@ MachiningResult machine_levels(std::vector<LevelPlan> levels, const CutParams& c
   r.levels = std::move(levels);
   r.program = build_program(r.levels, gp);
   fill_program_metrics(r, cut, gp, opt.machine);
+  // Complete clearing, level by level (issue 11): what each level region's path leaves of the
+  // area the tool can reach there. O(levels · booleans over the level's path).
+  for (const LevelPlan& L : r.levels) {
+    const UncutArea u = uncut_area(L.region, L.path, cut.clearance(), cut.tool_diameter / 2);
+    r.level_uncut_mm2.push_back(u.uncut_mm2);
+    r.metrics.uncut_area_mm2 += u.uncut_mm2;
+    r.metrics.reachable_area_mm2 += u.reachable_mm2;
+    r.metrics.pocket_area_mm2 += area(L.region);
+  }
   return r;
 }
 

@@ -219,6 +219,7 @@ std::vector<LevelSummary> level_summaries(const Result& r) {
     // The machined paths (with feeds) of this level, in program order.
     while (li < r.machining.levels.size() && std::abs(r.machining.levels[li].z - lv.z) < 1e-9) {
       for (const auto& c : r.machining.levels[li].path.chains) s.path.chains.push_back(c);
+      if (li < r.machining.level_uncut_mm2.size()) s.uncut_area_mm2 += r.machining.level_uncut_mm2[li];
       ++li;
     }
     s.cut_length_mm = s.path.cut_length();

@@ -98,6 +98,8 @@ Params params_for(const std::string& planner, double stock_to_leave, double step
     s.frame.spacing = p.cut.stepover;
     s.som.seed = 7;  // the config's /seed
     p.planner = s;
+  } else if (planner == "offset") {
+    p.planner = pocket::OffsetSpec{};  // climb, the schema's default
   } else {
     pocket::ZigzagSpec z;
     z.zigzag.angle_deg = std::nullopt;                  // "auto"
@@ -420,13 +422,15 @@ TEST_P(RoughGouge, WrittenGcodeNeverCutsBelowTheMeshPlusStockToLeave) {
 }
 
 INSTANTIATE_TEST_SUITE_P(GeneratedParts, RoughGouge,
-                         // Each part with both planners and both allowances, each planner with both
+                         // Each part with the planners and both allowances, each planner with both
                          // allowances (a pairwise cover of the 2×2×2 grid, for time).
                          // (steep_plateaus index 0 with zigzag is left out: its planning takes ~6 min.)
                          testing::Values(GougeCase{datasets::Family::DeepCavity, 0, "som", 0.0},
                                          GougeCase{datasets::Family::DeepCavity, 0, "zigzag", 0.5},
                                          GougeCase{datasets::Family::SteepPlateaus, 1, "zigzag", 0.0},
-                                         GougeCase{datasets::Family::SteepPlateaus, 0, "som", 0.5}),
+                                         GougeCase{datasets::Family::SteepPlateaus, 0, "som", 0.5},
+                                         GougeCase{datasets::Family::DeepCavity, 0, "offset", 0.5},
+                                         GougeCase{datasets::Family::SteepPlateaus, 1, "offset", 0.0}),
                          case_name);
 
 }  // namespace

@@ -36,6 +36,9 @@ struct MachiningResult {
   Path2D path;                 ///< one level's path with feeds (area clearing + contour chains)
   FeedProfile feed_profile;    ///< per piece: s, engagement, feed, MRR (first level)
   std::vector<LevelPlan> levels;
+  /// machine_levels: per entry of `levels`, the reachable area of its region the level's path
+  /// leaves uncut, mm² (uncut_area); the metrics hold their sums.
+  std::vector<double> level_uncut_mm2;
   gcode::Program program;      ///< what gcode says (empty when status != Ok)
   std::string gcode;           ///< empty when status != Ok
   Metrics metrics;

@@ -86,6 +86,7 @@ struct LevelSummary {
   std::size_t tool_points = 0;         ///< over the level's regions
   std::size_t chains = 0;              ///< planned chains over the level's regions
   double cut_length_mm = 0;
+  double uncut_area_mm2 = 0;           ///< reachable area of the level's regions left uncut
 };
 
 /// One summary per level of `r`, in level order.
