@@ -17,17 +17,7 @@ using namespace millnet::pocket;
 using millnet::testing::to_replay;
 namespace {
 
-CutParams bench_cut() {
-  CutParams cut;
-  cut.tool_diameter = 10;
-  cut.stepover = 5;
-  cut.depth = 5;
-  cut.step_down = 5;
-  cut.feed_slot = cut.feed_half = cut.feed_min = cut.feed_max = 1500;
-  cut.feed_plunge = 300;
-  cut.feed_adjust = false;
-  return cut;
-}
+CutParams bench_cut() { return millnet::testing::issue11_bench_cut(); }
 
 struct Outcome {
   PlanResult plan;

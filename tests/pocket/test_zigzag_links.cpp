@@ -20,17 +20,7 @@ using millnet::testing::to_replay;
 
 namespace {
 
-CutParams bench_cut() {
-  CutParams cut;
-  cut.tool_diameter = 10;
-  cut.stepover = 5;
-  cut.depth = 5;
-  cut.step_down = 5;
-  cut.feed_slot = cut.feed_half = cut.feed_min = cut.feed_max = 1500;
-  cut.feed_plunge = 300;
-  cut.feed_adjust = false;
-  return cut;
-}
+CutParams bench_cut() { return millnet::testing::issue11_bench_cut(); }
 
 /// Cells of h mm swept by a disk of radius r along the chains' segments (in order), with a probe
 /// that counts, before a segment is stamped, its swept cells that are still uncut.
