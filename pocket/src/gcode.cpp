@@ -106,8 +106,11 @@ std::optional<std::pair<Vec2, double>> fit_helix(const Clearance& clear, const V
 }
 
 void helix(Builder& b, const Vec2& p, const Vec2& c, double rh, double z_from, double z_to, double feed,
-           double angle_deg) {
-  // Half turns (G3, counter-clockwise) descending evenly, then one flat turn to clear the core.
+           double angle_deg, double flat_feed) {
+  // Half turns (G3, counter-clockwise) descending evenly at the entry feed, then one flat turn at
+  // the floor at the cutting feed: it only trims the last half-pitch wedge of the ramp (≤ pitch/2
+  // deep), a light cut, not a ramp into material (at 300 mm/min it was 0.09 of the 0.52 min the
+  // bench pockets' helix took).
   const double pitch = 2 * kPi * rh * std::tan(angle_deg * kPi / 180);
   const int halves = std::max(2, static_cast<int>(std::ceil((z_from - z_to) / (pitch / 2))));
   const Vec2 opp = 2 * c - p;
@@ -116,7 +119,7 @@ void helix(Builder& b, const Vec2& p, const Vec2& c, double rh, double z_from, d
   for (int h = 1; h <= halves + 2; ++h) {
     z = h <= halves ? z_from - (z_from - z_to) * h / halves : z_to;
     const Vec2& q = (h % 2 == 1) ? opp : p;
-    b.arc(true, c, q.x(), q.y(), z, feed);
+    b.arc(true, c, q.x(), q.y(), z, h <= halves ? feed : flat_feed);
   }
 }
 
@@ -235,7 +238,8 @@ std::vector<Step> build_steps(const std::vector<LevelPlan>& levels, const GcodeP
         const auto h = fit_helix(*clear, p0, cut.tool_diameter);
         if (!h) return false;
         const std::size_t at = b.moves.size();
-        helix(b, p0, h->first, h->second, b.pos[2], L.z, entry_feed, gp.entry_angle_deg);
+        helix(b, p0, h->first, h->second, b.pos[2], L.z, entry_feed, gp.entry_angle_deg,
+              std::max(entry_feed, cut.feed_slot > 0 ? cut.feed_slot : cut.feed_half));
         if (at < b.moves.size()) b.moves[at].comment = "helix entry, radius " + fmt(h->second, gp.decimals);
         return true;
       };

@@ -128,6 +128,40 @@ TEST(PocketGcode, HelixAndRampEntriesStayClear) {
   }
 }
 
+TEST(PocketGcode, HelixDescendsAtTheEntryFeedAndTrimsItsFloorAtTheSlotFeed) {
+  // Issue 11's setting: ramps at 300 mm/min, cutting at 1500. Every descending move of the helix is
+  // at the entry feed; the flat turn at the floor (two half turns, no descent) at the slot feed.
+  const Region r{rect(0, 0, 60, 40), {}};
+  GcodeParams gp;
+  gp.entry = Entry::Helix;
+  gp.cut.tool_diameter = 10;
+  gp.cut.feed_slot = gp.cut.feed_half = 1500;
+  gp.cut.feed_plunge = 300;
+  std::vector<LevelPlan> L(1);
+  L[0].z = -5;
+  L[0].region = r;
+  Chain c;
+  c.pts = {{30, 20, 0}, {45, 20, 0}};
+  L[0].path.chains = {c};
+  const auto rep = millnet::testing::replay_gcode(write_gcode(L, gp), gp.cut.safe_z);
+  int descending = 0, flat = 0;
+  for (const auto& m : rep.moves) {
+    if (m.g != 2 && m.g != 3) continue;
+    if (m.to[2] < m.from[2] - 1e-9) {
+      ++descending;
+      EXPECT_DOUBLE_EQ(m.feed, 300) << "line " << m.line;
+    } else {
+      ++flat;
+      EXPECT_NEAR(m.to[2], -5, 1e-9) << "line " << m.line;
+      EXPECT_DOUBLE_EQ(m.feed, 1500) << "line " << m.line;
+    }
+  }
+  // From 1 mm above the stock to −5 at 3°, radius 4.5: a pitch of 2π·4.5·tan 3° = 1.48 mm, so
+  // ⌈6 / 0.741⌉ = 9 descending half turns, then 2 flat ones.
+  EXPECT_EQ(descending, 9);
+  EXPECT_EQ(flat, 2);
+}
+
 TEST(PocketGcode, BadParameters) {
   EXPECT_THROW((void)parse_entry("drill"), millnet::Error);
   EXPECT_EQ(parse_entry("ramp"), Entry::Ramp);
