@@ -9,11 +9,14 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <condition_variable>
+#include <csignal>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <mutex>
@@ -297,8 +300,50 @@ std::string pack_files(const std::string& dir) {
   return out;
 }
 
+namespace {
+/// The process exists and is not a zombie (a killed rank stays one until its parent, or the
+/// container's init, reaps it; kill(pid, 0) succeeds on it). Unsure (EPERM) counts as alive.
+bool process_alive(long pid) {
+  if (::kill(static_cast<pid_t>(pid), 0) != 0) return errno != ESRCH;
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  if (!std::getline(stat, line)) return true;
+  const std::size_t close = line.rfind(')');  // "pid (comm) S ...": comm may hold spaces and parentheses
+  return close == std::string::npos || close + 2 >= line.size() || line[close + 2] != 'Z';
+}
+
+/// Scratch folders of ranks that died (SIGKILL, the node's OOM killer, mpirun's SIGTERM after
+/// another rank died: no destructor ran) are removed by the next run on the node: a folder
+/// "millnet-unit-<pid>-<n>" whose process no longer exists. O(entries of the temporary folder),
+/// once per process. A reused pid keeps its folder until that process is gone too.
+void sweep_dead_scratch(const fs::path& tmp) {
+  static std::once_flag once;
+  std::call_once(once, [&] {
+    std::error_code ec;
+    for (fs::directory_iterator it(tmp, ec), end; !ec && it != end; it.increment(ec)) {
+      const std::string name = it->path().filename().string();
+      if (!name.starts_with("millnet-unit-")) continue;
+      const std::string rest = name.substr(13);
+      const std::size_t dash = rest.find('-');
+      if (dash == std::string::npos || dash == 0) continue;
+      long pid = 0;
+      try {
+        pid = std::stol(rest.substr(0, dash));
+      } catch (...) {
+        continue;
+      }
+      if (pid <= 0 || pid == static_cast<long>(::getpid())) continue;
+      if (process_alive(pid)) continue;
+      std::error_code rm;
+      fs::remove_all(it->path(), rm);
+    }
+  });
+}
+}  // namespace
+
 std::string write_and_pack(const std::function<void(const std::string& dir)>& write) {
   static std::atomic<unsigned> counter{0};
+  sweep_dead_scratch(fs::temp_directory_path());
   const fs::path dir = fs::temp_directory_path() / ("millnet-unit-" + std::to_string(static_cast<long>(::getpid())) +
                                                     "-" + std::to_string(counter++));
   struct Cleanup {

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <sstream>
 
 namespace millnet::testing {
 namespace {
@@ -192,6 +193,60 @@ TEST(Mpi, FinishAllSimulatedOverAFolderIsTheOneProcessBytesAndGoesPastABrokenPar
   EXPECT_NE(bone.err.find("1 of 3 parts failed"), std::string::npos) << bone.err;
   EXPECT_EQ(list_files(d / "bone"), "");
   EXPECT_EQ(list_files(d / "btwo"), "");
+}
+
+TEST(Mpi, ARankThatDiesFailsTheRunWithAClearLineAndLeavesNoOutputNorScratch) {
+  // Rank 1 is killed (SIGKILL, as the OOM killer or a lost node would) while it computes a part
+  // (once its scratch folder exists): mpirun must exit non-zero naming the rank that died, --out must stay empty (rank 0 writes
+  // only through the command's OutputSet, and its SIGTERM handler removes the staged temporaries),
+  // and the dead ranks' scratch folders must be gone after the next run on the node.
+  const fs::path d = fresh_dir("mpi_rank_dies");
+  write_parts(d);
+  const fs::path tmp = d / "tmp";
+  fs::create_directories(tmp);
+  const std::string env = "TMPDIR='" + tmp.string() + "' OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+                          "OMPI_MCA_rmaps_base_oversubscribe=1 ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" ";
+  const std::string mpirun = "mpirun -np 2 --oversubscribe --bind-to none --mca btl self,vader"
+                             " --mca btl_vader_single_copy_mechanism none '" + std::string(MILLNET_EXE) + "' ";
+  // Full finishing settings: each part takes seconds, so rank 1 is found while it computes.
+  const std::string finish = "finish --quiet --mesh parts --strategy all --simulate --threads 1 ";
+  // The launcher in the background; the test's own rank 1 (its working folder is d) found in /proc
+  // and killed; then mpirun's exit status. Written to a file: no shell quoting of the script itself.
+  std::ofstream(d / "kill.sh") << "cd '" << d.string() << "' || exit 1\n"
+                               << env << "timeout -k 5 240 " << mpirun << finish
+                               << "--out out >run.stdout 2>run.stderr </dev/null &\n"
+                               << "MP=$!; K=0\n"
+                               << "for i in $(seq 1 1200); do\n"
+                               << "  for p in $(pgrep -f -- '" << MILLNET_EXE << " finish'); do\n"
+                               << "    if [ \"$(readlink /proc/$p/cwd)\" = '" << d.string() << "' ] &&\n"
+                               << "       tr '\\0' '\\n' </proc/$p/environ 2>/dev/null | grep -qx OMPI_COMM_WORLD_RANK=1 &&\n"
+                               << "       ls -d tmp/millnet-unit-$p-* >/dev/null 2>&1; then\n"
+                               << "      kill -9 $p && K=1; break 2\n"
+                               << "    fi\n"
+                               << "  done\n"
+                               << "  sleep 0.05\n"
+                               << "done\n"
+                               << "wait $MP; echo \"$? $K\" >status\n";
+  ASSERT_EQ(std::system(("bash '" + (d / "kill.sh").string() + "'").c_str()), 0);
+  std::istringstream st(slurp(d / "status"));
+  int rc = -1, killed = 0;
+  st >> rc >> killed;
+  const std::string err = slurp(d / "run.stderr");
+  ASSERT_EQ(killed, 1) << "rank 1 was never seen computing; stderr:\n" << err;
+  EXPECT_FALSE(fs::is_empty(tmp)) << "the killed rank's scratch folder is still there (nothing can remove it)";
+  EXPECT_NE(rc, 0) << err;
+  EXPECT_NE(err.find("rank 1"), std::string::npos) << err;  // mpirun: "process rank 1 ... exited on signal 9"
+  EXPECT_NE(err.find("signal 9"), std::string::npos) << err;
+  EXPECT_EQ(list_files(d / "out"), "");  // nothing half-written: no part, no temporary
+
+  // The next run on the node (a good one) removes the dead ranks' scratch and leaves none of its own.
+  std::ofstream(d / "cfg.json") << "{" << kCoarse << "}";
+  const std::string again = "cd '" + d.string() + "' && " + env + "timeout -k 5 240 " + mpirun +
+                            "finish --quiet --config cfg.json --mesh parts/b_ridge.stl --strategy all --simulate "
+                            "--threads 1 --out again >again.stdout 2>again.stderr </dev/null";
+  EXPECT_EQ(std::system(again.c_str()), 0) << slurp(d / "again.stderr");
+  EXPECT_TRUE(fs::exists(d / "again" / "b_ridge.strategies.csv"));
+  EXPECT_TRUE(fs::is_empty(tmp)) << "scratch left in " << tmp;
 }
 
 TEST(Mpi, ACommandThatDoesNotShareItsWorkRefusesToRunOnSeveralRanks) {
