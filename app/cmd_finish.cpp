@@ -11,6 +11,28 @@
 namespace millnet::app {
 namespace fs = std::filesystem;
 
+namespace {
+/// A strategy's outcome as it travels from a rank to rank 0 (CBOR: doubles bit for bit).
+Json outcome_json(const StrategyOutcome& o) {
+  const simulate::StrategyScore& c = o.score;
+  return Json{{"strategy", static_cast<int>(o.strategy)},
+              {"metrics", o.metrics},
+              {"score", {c.slot, c.ra_median_um, c.ra_p90_um, c.uncut_area_mm2, c.surface_area_mm2, c.max_gouge_mm, c.time_min}},
+              {"ra_share", o.ra_share}};
+}
+
+StrategyOutcome outcome_from_json(const Json& j) {
+  StrategyOutcome o;
+  o.strategy = static_cast<finish::Strategy>(j.at("strategy").get<int>());
+  o.metrics = j.at("metrics");
+  const Json& c = j.at("score");
+  o.score = {c.at(0).get<int>(),    c.at(1).get<double>(), c.at(2).get<double>(), c.at(3).get<double>(),
+             c.at(4).get<double>(), c.at(5).get<double>(), c.at(6).get<double>()};
+  o.ra_share = j.at("ra_share").get<std::vector<double>>();
+  return o;
+}
+}  // namespace
+
 Registered register_finish(CLI::App& app) {
   struct Opts {
     Common common;
@@ -64,33 +86,52 @@ Registered register_finish(CLI::App& app) {
             const auto files = expand_inputs(items, ingest::mesh_extensions());
             const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"], &config);
             std::size_t failed = 0;
-            if (cluster_size() > 1) {  // MPI: work unit = part; rank 0 writes each part's files in order
-              const auto work = [&](std::size_t i) {
-                std::size_t strategies = 0;
-                std::string files_of_part = write_and_pack([&](const std::string& scratch) {
-                  strategies = finish_part(ingest::load_prepared(files[i], prep), files[i].stem().string(), s, scratch).size();
+            if (cluster_size() > 1) {
+              // MPI: work unit = part × strategy (unit u: part u / S, strategy u % S), so a library
+              // of fewer parts than ranks still keeps every rank busy. Rank 0 writes each unit's
+              // files as it is delivered (in unit order) and a part's ranking files after its last
+              // strategy: the bytes of the one-process run.
+              const std::size_t S = s.strategies.size();
+              const auto work = [&](std::size_t u) {
+                const fs::path& f = files[u / S];
+                StrategyOutcome o;
+                std::string files_of_unit = write_and_pack([&](const std::string& scratch) {
+                  o = finish_strategy(load_part(f, prep), f.stem().string(), s, s.strategies[u % S], scratch,
+                                      cad_metrics(f));
                 });
+                const std::vector<std::uint8_t> cbor = Json::to_cbor(outcome_json(o));
                 std::string msg;
-                put_bytes(msg, std::to_string(strategies));
-                put_bytes(msg, files_of_part);
+                put_bytes(msg, std::string(cbor.begin(), cbor.end()));
+                put_bytes(msg, files_of_unit);
                 return msg;
               };
-              const auto take = [&](std::size_t i, bool ok, std::string&& bytes) {
-                const fs::path& f = files[i];
+              std::vector<StrategyOutcome> part_outcomes;
+              std::optional<std::string> part_error;
+              const auto take = [&](std::size_t u, bool ok, std::string&& bytes) {
+                const fs::path& f = files[u / S];
+                if (u % S == 0) {
+                  part_outcomes.clear();
+                  part_error.reset();
+                }
                 if (!ok) {
-                  if (files.size() == 1) throw Error(bytes);
-                  warn(f.string() + ": " + bytes);
+                  if (!part_error) part_error = bytes;
+                } else if (!part_error) {
+                  std::size_t pos = 0;
+                  const std::string cbor = get_bytes(bytes, pos);
+                  part_outcomes.push_back(outcome_from_json(Json::from_cbor(cbor)));
+                  unpack_files(get_bytes(bytes, pos), o->out);
+                }
+                if (u % S != S - 1) return;
+                if (part_error) {  // the part's first failure, once, as the one-process run reports it
+                  if (files.size() == 1) throw Error(*part_error);
+                  warn(f.string() + ": " + *part_error);
                   ++failed;
                   return;
                 }
-                std::size_t pos = 0;
-                const std::string strategies = get_bytes(bytes, pos);
-                OutputSet part;
-                unpack_files(get_bytes(bytes, pos), o->out);
-                part.commit();
-                info("finish: " + f.string() + ": " + strategies + " strategies → " + o->out);
+                write_strategy_ranking(f.stem().string(), s, part_outcomes, o->out);
+                info("finish: " + f.string() + ": " + std::to_string(part_outcomes.size()) + " strategies → " + o->out);
               };
-              const DistributeStats st = distribute(files.size(), work, take, false, "finish: parts");
+              const DistributeStats st = distribute(files.size() * S, work, take, false, "finish: parts × strategies");
               if (!cluster_root()) return 0;
               log_distribution("finish", st);
               if (failed > 0) throw Error(std::to_string(failed) + " of " + std::to_string(files.size()) + " parts failed");

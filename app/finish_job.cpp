@@ -135,10 +135,23 @@ void ra_png(const fs::path& path, const PartFrame& f, const simulate::SurfaceMet
 
 }  // namespace
 
-std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::string& stem,
-                                         const FinishSettings& settings, const fs::path& out, const Json& cad) {
+namespace {
+
+/// What every strategy of a part shares: its frame, the finishing parameters with the part's Z
+/// shift and the program header, the drop cutter and the height picture under the paths.
+struct PartJob {
+  PartFrame frame;
+  finish::FinishParams params;
+  std::optional<finish::DropCutter> dropper;
+  ingest::HeightField hf;
+  Eigen::MatrixXd heights;
+};
+
+PartJob part_job(const ingest::Mesh& mesh, const std::string& stem, const FinishSettings& settings, const fs::path& out) {
+  PartJob job;
   settings.params.check();
-  const PartFrame frame = part_frame(mesh, settings, settings.simulate);
+  job.frame = part_frame(mesh, settings, settings.simulate);
+  const PartFrame& frame = job.frame;
   if (const tooling::Tool& tool = settings.cutting.tool; tool.stickout_mm > 0) {
     // The tool reaches down from the stock top at most to the part's lowest point.
     const double reach = frame.stock_top - mesh.V.col(2).minCoeff();
@@ -147,101 +160,135 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
                   format_double(tool.stickout_mm) + " mm by " + fixed(reach - tool.stickout_mm, 2) +
                   " mm: the holder would hit the part");
   }
-  finish::FinishParams params = settings.params;
+  finish::FinishParams& params = job.params;
+  params = settings.params;
   params.z_shift = frame.z_shift;
   params.program_name = stem;
-  const finish::DropCutter dropper(mesh, params.tool);
+  job.dropper.emplace(mesh, params.tool);
   // The picture under the paths: the part's heights (program frame), downsampled.
   const double pic_step = std::max(frame.width, frame.depth) / kMaxPictureCells;
-  const ingest::HeightField hf = ingest::rasterize_top(mesh, std::max(pic_step, 1e-3));
-  const Eigen::MatrixXd heights = ingest::height_matrix(hf, frame.z_shift);
+  job.hf = ingest::rasterize_top(mesh, std::max(pic_step, 1e-3));
+  job.heights = ingest::height_matrix(job.hf, frame.z_shift);
   fs::create_directories(out);
-  std::vector<StrategyOutcome> outcomes;
   std::vector<std::string> tool_lines = settings.cutting.header();
   if (tool_lines.empty()) tool_lines.push_back("tool: " + params.tool.describe());
   params.comments = tool_lines;
   params.comments.push_back("frame: Z 0 = stock top = part top + " + fixed(settings.stock_top_above_part_mm, 3) + " mm");
-  const std::vector<finish::FinishPlan> plans = finish::plan_finish(mesh, dropper, settings.strategies, params);
+  return job;
+}
+
+/// One planned strategy written (program, metrics, pictures, page) and, with settings.simulate,
+/// machined on the z-map and scored.
+StrategyOutcome strategy_outcome(const ingest::Mesh& mesh, const std::string& stem, const FinishSettings& settings,
+                                 const PartJob& job, const finish::FinishPlan& plan, const fs::path& out,
+                                 const Json& cad) {
+  const PartFrame& frame = job.frame;
+  const finish::FinishParams& params = job.params;
+  const ingest::HeightField& hf = job.hf;
+  const Eigen::MatrixXd& heights = job.heights;
+  const finish::Strategy strategy = plan.strategy;
+  const int k = static_cast<int>(strategy);
+  const std::string base = stem + ".s" + std::to_string(k);
+  const double plan_s = plan.planning_s;
+  gcode::write_file(out / (base + ".nc"), plan.program, gcode::linuxcnc());
+  const gcode::ProgramStats st = gcode::stats(plan.program, settings.machine);
+  StrategyOutcome o;
+  o.strategy = strategy;
+  Json& j = o.metrics;
+  j["strategy"] = k;
+  j["strategy_name"] = finish::strategy_name(strategy);
+  j["tool"] = params.tool.describe();
+  j["cutting_data"] = settings.cutting.to_json();
+  if (!cad.is_null()) j["cad"] = cad;
+  j["stock_top_above_part_mm"] = settings.stock_top_above_part_mm;
+  j["path_length_mm"] = plan.path_length_mm;
+  j["time_feed_min"] = st.feed_time_min;
+  j["time_kinematic_min"] = st.kinematic_time_min;
+  j["lifts"] = plan.lifts;
+  j["passes"] = plan.passes.size();
+  j["cl_points"] = plan.cl_points;
+  j["drops"] = plan.drops_needed;  // a property of the strategy: the same planned alone (MPI) or with others
+  j["planning_s"] = plan_s;
+  o.score.slot = k;
+  o.score.time_min = st.kinematic_time_min;
+  {  // path over the height map
+    gcode::XyPaths paths = gcode::xy_paths(plan.program);
+    report::HeatMapOptions ho;
+    ho.extent_mm = std::array<double, 4>{hf.x0 - 0.5 * hf.step_x, hf.x0 + (hf.nx - 0.5) * hf.step_x,
+                                         hf.y0 - 0.5 * hf.step_y, hf.y0 + (hf.ny - 0.5) * hf.step_y};
+    ho.overlay_cuts = std::move(paths.cuts);
+    ho.overlay_rapids = std::move(paths.rapids);
+    if (!(heights.maxCoeff() > heights.minCoeff())) ho.value_range = std::pair{heights.minCoeff(), heights.minCoeff() + 1};
+    (void)report::heat_map_png(out / (base + ".png"), heights, stem + ": " + finish::strategy_name(strategy),
+                               "Z (mm)", ho);
+  }
+  std::optional<report::PreviewSurface> surface;
+  if (settings.simulate) {
+    simulate::ZMap z = simulate::ZMap::from_heights(frame.grid, frame.design, settings.sim.allowance_mm,
+                                                    frame.z_shift + settings.sim.allowance_mm, zmap_max_bytes());
+    // The program as the machine gets it: read back from the file just written (gouges are
+    // reported at their line).
+    const fs::path nc = out / (base + ".nc");
+    const gcode::Program back = gcode::read(read_file(nc), nc.string());
+    const simulate::SweepResult sw = simulate::machine(z, back, params.tool);
+    // Uncut = reachable material the program left; the scallops between passes are scored by
+    // scallop and Ra, and the rest material no program with this cutter can clear is apart.
+    simulate::MetricsOptions mo = metrics_options(settings.sim);
+    mo.cutter = params.tool;
+    const simulate::SurfaceMetrics m = simulate::surface_metrics(z, frame.design, mo);
+    j.update(sim_metrics_json(m, sw, frame.grid));
+    if (preview_settings().enabled) surface = preview_surface(z, simulate::deviation(z, frame.design));
+    if (m.gouged) {  // a gouge from the program itself is a planner bug: say where
+      warn(base + ".nc: gouge " + fixed(m.max_gouge_mm, 4) + " mm first at line " +
+           std::to_string(m.first_gouge_move.line));
+    }
+    o.score.ra_median_um = m.ra_median_um;
+    o.score.ra_p90_um = m.ra_p90_um;
+    o.score.uncut_area_mm2 = m.uncut_area_mm2;
+    o.score.max_gouge_mm = m.max_gouge_mm;
+    o.score.surface_area_mm2 = static_cast<double>(m.surface_cells) * frame.grid.cell * frame.grid.cell;
+    o.ra_share = m.ra_share;
+    ra_png(out / (base + ".ra.png"), frame, m, stem + ": " + finish::strategy_name(strategy) + ", roughness Ra");
+  }
+  {
+    report::PreviewInput page;  // the 3D page of the program (issue 16), with its machined surface when simulated
+    page.title = base + " — " + finish::strategy_name(strategy);
+    page.programs.push_back({finish::strategy_name(strategy), read_file(out / (base + ".nc")), (out / (base + ".nc")).string()});
+    page.tool = {params.tool.diameter, params.tool.corner_radius, params.tool.describe()};
+    set_preview_part(page, mesh, frame.z_shift);
+    page.stock = std::array<double, 6>{0, 0, frame.z_shift + mesh.V.col(2).minCoeff(), frame.width, frame.depth, 0};
+    page.surface = std::move(surface);
+    (void)write_program_preview(out / (base + ".html"), std::move(page));
+  }
+  write_file_atomic(out / (base + ".metrics.json"), j.dump(2) + "\n");
+  return o;
+}
+
+}  // namespace
+
+std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::string& stem,
+                                         const FinishSettings& settings, const fs::path& out, const Json& cad) {
+  const PartJob job = part_job(mesh, stem, settings, out);
+  const std::vector<finish::FinishPlan> plans = finish::plan_finish(mesh, *job.dropper, settings.strategies, job.params);
+  std::vector<StrategyOutcome> outcomes;
   Progress progress("finish " + stem, settings.strategies.size());
   for (const finish::FinishPlan& plan : plans) {
-    const finish::Strategy strategy = plan.strategy;
-    const int k = static_cast<int>(strategy);
-    const std::string base = stem + ".s" + std::to_string(k);
-    const double plan_s = plan.planning_s;
-    gcode::write_file(out / (base + ".nc"), plan.program, gcode::linuxcnc());
-    const gcode::ProgramStats st = gcode::stats(plan.program, settings.machine);
-    StrategyOutcome o;
-    o.strategy = strategy;
-    Json& j = o.metrics;
-    j["strategy"] = k;
-    j["strategy_name"] = finish::strategy_name(strategy);
-    j["tool"] = params.tool.describe();
-    j["cutting_data"] = settings.cutting.to_json();
-    if (!cad.is_null()) j["cad"] = cad;
-    j["stock_top_above_part_mm"] = settings.stock_top_above_part_mm;
-    j["path_length_mm"] = plan.path_length_mm;
-    j["time_feed_min"] = st.feed_time_min;
-    j["time_kinematic_min"] = st.kinematic_time_min;
-    j["lifts"] = plan.lifts;
-    j["passes"] = plan.passes.size();
-    j["cl_points"] = plan.cl_points;
-    j["drops"] = plan.drops;
-    j["planning_s"] = plan_s;
-    o.score.slot = k;
-    o.score.time_min = st.kinematic_time_min;
-    {  // path over the height map
-      gcode::XyPaths paths = gcode::xy_paths(plan.program);
-      report::HeatMapOptions ho;
-      ho.extent_mm = std::array<double, 4>{hf.x0 - 0.5 * hf.step_x, hf.x0 + (hf.nx - 0.5) * hf.step_x,
-                                           hf.y0 - 0.5 * hf.step_y, hf.y0 + (hf.ny - 0.5) * hf.step_y};
-      ho.overlay_cuts = std::move(paths.cuts);
-      ho.overlay_rapids = std::move(paths.rapids);
-      if (!(heights.maxCoeff() > heights.minCoeff())) ho.value_range = std::pair{heights.minCoeff(), heights.minCoeff() + 1};
-      (void)report::heat_map_png(out / (base + ".png"), heights, stem + ": " + finish::strategy_name(strategy),
-                                 "Z (mm)", ho);
-    }
-    std::optional<report::PreviewSurface> surface;
-    if (settings.simulate) {
-      simulate::ZMap z = simulate::ZMap::from_heights(frame.grid, frame.design, settings.sim.allowance_mm,
-                                                      frame.z_shift + settings.sim.allowance_mm, zmap_max_bytes());
-      // The program as the machine gets it: read back from the file just written (gouges are
-      // reported at their line).
-      const fs::path nc = out / (base + ".nc");
-      const gcode::Program back = gcode::read(read_file(nc), nc.string());
-      const simulate::SweepResult sw = simulate::machine(z, back, params.tool);
-      // Uncut = reachable material the program left; the scallops between passes are scored by
-      // scallop and Ra, and the rest material no program with this cutter can clear is apart.
-      simulate::MetricsOptions mo = metrics_options(settings.sim);
-      mo.cutter = params.tool;
-      const simulate::SurfaceMetrics m = simulate::surface_metrics(z, frame.design, mo);
-      j.update(sim_metrics_json(m, sw, frame.grid));
-      if (preview_settings().enabled) surface = preview_surface(z, simulate::deviation(z, frame.design));
-      if (m.gouged) {  // a gouge from the program itself is a planner bug: say where
-        warn(base + ".nc: gouge " + fixed(m.max_gouge_mm, 4) + " mm first at line " +
-             std::to_string(m.first_gouge_move.line));
-      }
-      o.score.ra_median_um = m.ra_median_um;
-      o.score.ra_p90_um = m.ra_p90_um;
-      o.score.uncut_area_mm2 = m.uncut_area_mm2;
-      o.score.max_gouge_mm = m.max_gouge_mm;
-      o.score.surface_area_mm2 = static_cast<double>(m.surface_cells) * frame.grid.cell * frame.grid.cell;
-      o.ra_share = m.ra_share;
-      ra_png(out / (base + ".ra.png"), frame, m, stem + ": " + finish::strategy_name(strategy) + ", roughness Ra");
-    }
-    {
-      report::PreviewInput page;  // the 3D page of the program (issue 16), with its machined surface when simulated
-      page.title = base + " — " + finish::strategy_name(strategy);
-      page.programs.push_back({finish::strategy_name(strategy), read_file(out / (base + ".nc")), (out / (base + ".nc")).string()});
-      page.tool = {params.tool.diameter, params.tool.corner_radius, params.tool.describe()};
-      set_preview_part(page, mesh, frame.z_shift);
-      page.stock = std::array<double, 6>{0, 0, frame.z_shift + mesh.V.col(2).minCoeff(), frame.width, frame.depth, 0};
-      page.surface = std::move(surface);
-      (void)write_program_preview(out / (base + ".html"), std::move(page));
-    }
-    write_file_atomic(out / (base + ".metrics.json"), j.dump(2) + "\n");
-    outcomes.push_back(std::move(o));
+    outcomes.push_back(strategy_outcome(mesh, stem, settings, job, plan, out, cad));
     progress.tick();
   }
+  write_strategy_ranking(stem, settings, outcomes, out);
+  return outcomes;
+}
+
+StrategyOutcome finish_strategy(const ingest::Mesh& mesh, const std::string& stem, const FinishSettings& settings,
+                                finish::Strategy strategy, const fs::path& out, const Json& cad) {
+  const PartJob job = part_job(mesh, stem, settings, out);
+  const finish::FinishPlan plan = finish::plan_finish(mesh, *job.dropper, strategy, job.params);
+  return strategy_outcome(mesh, stem, settings, job, plan, out, cad);
+}
+
+void write_strategy_ranking(const std::string& stem, const FinishSettings& settings, std::vector<StrategyOutcome>& outcomes,
+                            const fs::path& out) {
   if (outcomes.size() > 1) {
     std::vector<simulate::StrategyScore> scores;
     for (const auto& o : outcomes) scores.push_back(o.score);
@@ -298,7 +345,6 @@ std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::st
                                     stem + ": share of the surface per Ra bin (um)", "surface (%)", bo);
     }
   }
-  return outcomes;
 }
 
 Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,

@@ -32,12 +32,26 @@ struct Shared {
   const FinishParams& p;
   std::optional<Lines> raster;
   std::optional<Levels> levels;
+  std::size_t raster_drops = 0, levels_drops = 0;  ///< what each piece cost when it was computed
+  std::size_t reused_drops = 0;  ///< the current plan's: pieces it used that an earlier plan paid for
   const Lines& raster_lines() {
-    if (!raster) raster = detail::raster_lines(s, box, p, false);
+    if (!raster) {
+      const std::size_t d0 = s.drops();
+      raster = detail::raster_lines(s, box, p, false);
+      raster_drops = s.drops() - d0;
+    } else {
+      reused_drops += raster_drops;
+    }
     return *raster;
   }
   const Levels& waterline_loops() {
-    if (!levels) levels = detail::waterline_loops(s, box, p);
+    if (!levels) {
+      const std::size_t d0 = s.drops();
+      levels = detail::waterline_loops(s, box, p);
+      levels_drops = s.drops() - d0;
+    } else {
+      reused_drops += levels_drops;
+    }
     return *levels;
   }
 };
@@ -181,6 +195,7 @@ std::vector<FinishPlan> plan_finish(const ingest::Mesh& mesh, const DropCutter& 
   for (const Strategy strategy : strategies) {
     const auto t0 = std::chrono::steady_clock::now();
     const std::size_t drops0 = s.drops();
+    shared.reused_drops = 0;
     const Entry& e = entry(strategy);
     FinishPlan plan;
     plan.strategy = strategy;
@@ -194,6 +209,7 @@ std::vector<FinishPlan> plan_finish(const ingest::Mesh& mesh, const DropCutter& 
     if (plan.passes.empty()) throw Error("finish: no surface under the machining boundary to finish");
     detail::link_passes(s, params, plan);
     plan.drops = s.drops() - drops0;
+    plan.drops_needed = plan.drops + shared.reused_drops;
     plan.planning_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     plans.push_back(std::move(plan));
   }

@@ -84,6 +84,9 @@ struct FinishPlan {
   std::size_t lifts = 0;             ///< links that retract (rapid over, plunge back)
   std::size_t cl_points = 0;         ///< CL points in the program
   std::size_t drops = 0;             ///< drop-cutter queries spent
+  /// Drop-cutter queries the strategy's path needs, shared pieces included: the same whether it
+  /// is planned alone or with others (drops counts only the work this call did for it).
+  std::size_t drops_needed = 0;
   double planning_s = 0;             ///< wall time spent planning (timing only, not deterministic)
 };
 
