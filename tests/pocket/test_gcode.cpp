@@ -99,6 +99,19 @@ TEST(PocketGcode, RoundTripThroughIndependentReplay) {
   EXPECT_EQ(text, write_gcode(levels, gp));
 }
 
+namespace {
+/// One level at Z −5 of region r with a single chain (entering uncut material).
+std::vector<LevelPlan> one_chain_at_z5(const Region& r, std::vector<Vertex> pts) {
+  std::vector<LevelPlan> L(1);
+  L[0].z = -5;
+  L[0].region = r;
+  Chain c;
+  c.pts = std::move(pts);
+  L[0].path.chains = {c};
+  return L;
+}
+}  // namespace
+
 TEST(PocketGcode, HelixAndRampEntriesStayClear) {
   // A tight pocket: 14 mm wide, tool Ø10: the helix must shrink to fit (clearance 5, room 2 mm).
   const Region r{rect(0, 0, 60, 14), {}};
@@ -106,13 +119,7 @@ TEST(PocketGcode, HelixAndRampEntriesStayClear) {
     GcodeParams gp;
     gp.entry = parse_entry(entry);
     gp.cut.tool_diameter = 10;
-    std::vector<LevelPlan> L(1);
-    L[0].z = -5;
-    L[0].region = r;
-    Chain c;
-    c.pts = {{10, 7, 0}, {50, 7, 0}};
-    L[0].path.chains = {c};
-    const std::string text = write_gcode(L, gp);
+    const std::string text = write_gcode(one_chain_at_z5(r, {{10, 7, 0}, {50, 7, 0}}), gp);
     auto rep = millnet::testing::replay_gcode(text, gp.cut.safe_z);
     millnet::testing::check_gouge(rep, to_replay(r), 5.0);
     EXPECT_EQ(rep.violations, 0) << entry << ": " << rep.first_violation;
@@ -137,13 +144,8 @@ TEST(PocketGcode, HelixDescendsAtTheEntryFeedAndTrimsItsFloorAtTheSlotFeed) {
   gp.cut.tool_diameter = 10;
   gp.cut.feed_slot = gp.cut.feed_half = 1500;
   gp.cut.feed_plunge = 300;
-  std::vector<LevelPlan> L(1);
-  L[0].z = -5;
-  L[0].region = r;
-  Chain c;
-  c.pts = {{30, 20, 0}, {45, 20, 0}};
-  L[0].path.chains = {c};
-  const auto rep = millnet::testing::replay_gcode(write_gcode(L, gp), gp.cut.safe_z);
+  const auto rep = millnet::testing::replay_gcode(write_gcode(one_chain_at_z5(r, {{30, 20, 0}, {45, 20, 0}}), gp),
+                                                  gp.cut.safe_z);
   int descending = 0, flat = 0;
   for (const auto& m : rep.moves) {
     if (m.g != 2 && m.g != 3) continue;
