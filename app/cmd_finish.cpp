@@ -94,12 +94,12 @@ Registered register_finish(CLI::App& app) {
               const std::size_t S = s.strategies.size();
               const auto work = [&](std::size_t u) {
                 const fs::path& f = files[u / S];
-                StrategyOutcome o;
+                StrategyOutcome outcome;
                 std::string files_of_unit = write_and_pack([&](const std::string& scratch) {
-                  o = finish_strategy(load_part(f, prep), f.stem().string(), s, s.strategies[u % S], scratch,
-                                      cad_metrics(f));
+                  outcome = finish_strategy(load_part(f, prep), f.stem().string(), s, s.strategies[u % S], scratch,
+                                            cad_metrics(f));
                 });
-                const std::vector<std::uint8_t> cbor = Json::to_cbor(outcome_json(o));
+                const std::vector<std::uint8_t> cbor = Json::to_cbor(outcome_json(outcome));
                 std::string msg;
                 put_bytes(msg, std::string(cbor.begin(), cbor.end()));
                 put_bytes(msg, files_of_unit);

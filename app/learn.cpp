@@ -22,6 +22,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <optional>
 #include <sstream>
 
 namespace millnet::app {
@@ -147,6 +149,80 @@ std::pair<Json, std::string> agreement(const std::vector<SimulatedLabel>& labels
   return {j, md.str()};
 }
 
+/// The table's rows over the ranks (issue 10): the work unit is one (part, variant) pair, handed
+/// out dynamically in table order; a rank keeps the last part it loaded (memory: one part per
+/// rank), and the raster sampling inside a unit uses the rank's OpenMP threads. A unit's result is
+/// its row (and, for a part's first variant, the part's manifest record), binary; rank 0 writes
+/// each row as soon as the rows before it are in. A unit that fails stops the build with its
+/// message (the part and the variant, as one process says it).
+void build_rows_distributed(const datasets::Recipe& recipe, const datasets::TablePlan& plan,
+                            datasets_io::TableWriter* writer, std::vector<datasets::SourceFile>& sources) {
+  std::vector<std::pair<std::size_t, std::size_t>> units;  // (part, variant) in table order
+  units.reserve(plan.rows);
+  for (std::size_t k = 0; k < plan.variants.size(); ++k)
+    for (std::size_t v = 0; v < plan.variants[k].size(); ++v) units.emplace_back(k, v);
+  std::optional<std::size_t> held;  // the part this rank holds
+  datasets::LoadedPart part;
+  const auto put_u64 = [](std::string& out, std::uint64_t x) { out.append(reinterpret_cast<const char*>(&x), 8); };
+  const auto work = [&](std::size_t i) {
+    const auto [k, v] = units[i];
+    if (held != k) {
+      held.reset();
+      part = datasets::load_table_part(recipe, k);
+      held = k;
+    }
+    const datasets::Row r = datasets::variant_row(recipe, plan, k, part.mesh, v);
+    // The row: its inputs and aspect as raw doubles (bit for bit); the rest rank 0 knows from the unit.
+    std::string msg(reinterpret_cast<const char*>(r.inputs.data()), r.inputs.size() * sizeof(double));
+    msg.append(reinterpret_cast<const char*>(&r.aspect), sizeof(double));
+    if (v == 0) {
+      const datasets::SourceFile& s = part.source;
+      put_u64(msg, s.fnv1a64);
+      put_u64(msg, static_cast<std::uint64_t>(s.bytes));
+      put_u64(msg, s.triangles);
+      put_u64(msg, s.degenerate_triangles);
+    }
+    return msg;
+  };
+  const std::size_t m = plan.header.inputs_per_row();
+  const auto take = [&](std::size_t i, bool ok, std::string&& bytes) {
+    if (!ok) throw Error(bytes);  // names the part (and the variant)
+    const auto [k, v] = units[i];
+    const datasets::PartSpec& p = recipe.parts[k];
+    const augment::Variant& var = plan.variants[k][v];
+    const std::size_t need = (m + 1) * sizeof(double) + (v == 0 ? 32 : 0);
+    if (bytes.size() != need) throw Error("mpi: a table row of " + std::to_string(bytes.size()) + " bytes, expected " +
+                                          std::to_string(need));
+    datasets::Row r;
+    r.source = p.name.empty() ? p.file.stem().string() : p.name;
+    r.id = r.source + "#" + std::to_string(v + 1);
+    r.label = p.label;
+    r.axis = var.axis;
+    r.angle_deg = var.angle_deg;
+    r.flip = var.flip;
+    r.inputs.resize(m);
+    std::memcpy(r.inputs.data(), bytes.data(), m * sizeof(double));
+    std::memcpy(&r.aspect, bytes.data() + m * sizeof(double), sizeof(double));
+    r.outputs = datasets::one_hot(p.label);
+    if (v == 0) {
+      std::uint64_t f[4];
+      std::memcpy(f, bytes.data() + (m + 1) * sizeof(double), 32);
+      datasets::SourceFile s;
+      s.name = r.source;
+      s.file = p.file.generic_string();
+      s.label = p.label;
+      s.fnv1a64 = f[0];
+      s.bytes = static_cast<std::uintmax_t>(f[1]);
+      s.triangles = static_cast<std::size_t>(f[2]);
+      s.degenerate_triangles = static_cast<std::size_t>(f[3]);
+      sources.push_back(std::move(s));
+    }
+    writer->add(r);
+  };
+  const DistributeStats st = distribute(units.size(), work, take, true, "dataset");
+  log_distribution("dataset: model vectors", st);
+}
+
 }  // namespace
 
 bool build_dataset(datasets::Recipe recipe, const fs::path& out_dir, bool reuse, const Json& config,
@@ -162,42 +238,57 @@ bool build_dataset(datasets::Recipe recipe, const fs::path& out_dir, bool reuse,
   if (!which.empty()) {
     const FinishSettings fs_ = simulated_finish_settings(config);
     const std::vector<SimulatedLabel> labels = simulate_labels(recipe, which, fs_, out_dir / "labelling");
-    if (!cluster_root()) return false;  // rank 0 writes the table; the others only simulated
-    Json parts = Json::array();
-    for (std::size_t i = 0; i < which.size(); ++i) {
-      datasets::PartSpec& p = recipe.parts[which[i]];
-      if (p.label_by_simulation) p.label = labels[i].best;
-      parts.push_back(Json{{"name", labels[i].name},
-                           {"label_by_simulation", p.label_by_simulation},
-                           {"recipe_label", labels[i].recipe_label},
-                           {"simulated_best", labels[i].best},
-                           {"strategies", labels[i].figures}});
+    if (!cluster_root()) {
+      // Rank 0 holds the simulated labels and writes the labelling; the other ranks go on to sample
+      // the table's heights, which do not depend on a label (rank 0 puts each row's label in).
+      for (const std::size_t k : which)
+        if (recipe.parts[k].label_by_simulation) recipe.parts[k].label = 1;
+    } else {
+      Json parts = Json::array();
+      for (std::size_t i = 0; i < which.size(); ++i) {
+        datasets::PartSpec& p = recipe.parts[which[i]];
+        if (p.label_by_simulation) p.label = labels[i].best;
+        parts.push_back(Json{{"name", labels[i].name},
+                             {"label_by_simulation", p.label_by_simulation},
+                             {"recipe_label", labels[i].recipe_label},
+                             {"simulated_best", labels[i].best},
+                             {"strategies", labels[i].figures}});
+      }
+      Json lj{{"aim", simulate::to_string(fs_.aim.aim)}, {"parts", parts}};
+      if (with_agreement) {
+        auto [aj, md] = agreement(labels, recipe);
+        lj["agreement"] = aj;
+        write_file_atomic(out_dir / "agreement.md",
+                          "# How often the simulated best strategy agrees with the recipe's label\n\nAim: " +
+                              std::string(simulate::to_string(fs_.aim.aim)) + "; five strategies planned and "
+                              "simulated per part (millnet finish --strategy all --simulate; figures per part in "
+                              "manifest.json under labelling, files in labelling/).\n\n" + md);
+        info("dataset: agreement of the simulated best with the labels → " + (out_dir / "agreement.md").string() + "\n" +
+             md);
+      }
+      labelling = lj.dump();
     }
-    Json lj{{"aim", simulate::to_string(fs_.aim.aim)}, {"parts", parts}};
-    if (with_agreement) {
-      auto [aj, md] = agreement(labels, recipe);
-      lj["agreement"] = aj;
-      write_file_atomic(out_dir / "agreement.md",
-                        "# How often the simulated best strategy agrees with the recipe's label\n\nAim: " +
-                            std::string(simulate::to_string(fs_.aim.aim)) + "; five strategies planned and "
-                            "simulated per part (millnet finish --strategy all --simulate; figures per part in "
-                            "manifest.json under labelling, files in labelling/).\n\n" + md);
-      info("dataset: agreement of the simulated best with the labels → " + (out_dir / "agreement.md").string() + "\n" +
-           md);
-    }
-    labelling = lj.dump();
   }
-  if (!cluster_root()) return false;
-  Progress progress("dataset", 0);
-  datasets::Table table = datasets::build_table(recipe, progress.callback());
-  progress.finish();
-  table.labelling_json = labelling;
-  {
-    OutputSet table_files;  // vectors.csv and manifest.json together or neither (core/output_set.hpp)
-    datasets_io::write_table(table, out_dir);
-    table_files.commit();
+  // The table: rows streamed to vectors.csv in table order, never all held (issue 10).
+  const datasets::TablePlan plan = datasets::plan_table(recipe);
+  std::optional<datasets_io::TableWriter> writer;
+  std::optional<OutputSet> table_files;  // vectors.csv and manifest.json together or neither (core/output_set.hpp)
+  if (cluster_root()) {
+    table_files.emplace();
+    writer.emplace(out_dir, plan.header.grid_n, plan.header.has_aspect, plan.header.strategies);
   }
-  info("dataset: " + std::to_string(table.rows.size()) + " vectors from " + std::to_string(recipe.parts.size()) +
+  std::vector<datasets::SourceFile> sources;
+  if (cluster_size() == 1) {
+    Progress progress("dataset", 0);
+    datasets::build_rows(recipe, plan, [&](datasets::Row&& r) { writer->add(r); }, sources, progress.callback());
+    progress.finish();
+  } else {
+    build_rows_distributed(recipe, plan, writer ? &*writer : nullptr, sources);
+    if (!cluster_root()) return false;  // rank 0 writes the table
+  }
+  writer->finish(sources, plan.header.config_json, labelling);
+  table_files->commit();
+  info("dataset: " + std::to_string(writer->rows()) + " vectors from " + std::to_string(recipe.parts.size()) +
        " parts → " + (out_dir / "vectors.csv").string());
   return true;
 }
@@ -429,12 +520,33 @@ std::vector<PartPrediction> predict_parts(const ModelFolder& folder, const std::
   const classifier::Model& model = folder.model;
   const auto K = static_cast<std::size_t>(model.outputs.cols());
 
-  std::vector<PartPrediction> results;
-  Json jparts = Json::array();
+  std::vector<PartPrediction> results;  // per part its summary (K means); the variants go to disk
+  // predictions.json and predictions.csv are streamed as the parts come in, in part order (issue 10:
+  // rank 0 of a large batch holds no table): the bytes of `out.dump(2)` for the whole document, the
+  // parts' array written element by element (each element's dump(2), indented two levels).
+  std::optional<AtomicOFStream> json_out, csv_out;
+  std::string json_tail;
+  bool first_part = true;
+  if (cluster_root()) {
+    const Json head = {{"model", fs::absolute(folder.dir / "model.json").string()},
+                       {"alpha", model.alpha},
+                       {"strategies", model.strategies},
+                       {"unfamiliar_threshold_d2", model.unfamiliar_threshold},
+                       {"parts", "\x01"}};
+    const std::string text = head.dump(2) + "\n";
+    const std::string mark = "\"parts\": \"\\u0001\"";
+    const std::size_t at = text.find(mark);
+    if (at == std::string::npos) throw Error("predict: internal: the document's layout changed");
+    json_out.emplace(out_dir / "predictions.json");
+    json_out->stream() << text.substr(0, at) << "\"parts\": [";
+    json_tail = text.substr(at + mark.size());
+    csv_out.emplace(out_dir / "predictions.csv");
+  }
   std::ostringstream csv;
   csv << "part,file,status,top,top_name,confidence,consistency,unfamiliar,d2_min,expected";
   for (std::size_t k = 1; k <= K; ++k) csv << ",p_" << k;
   csv << ",error\n";
+  if (csv_out) csv_out->stream() << csv.str();
   // Work unit = part (any rank); rank 0 takes them in part order: pictures, warnings, the tables.
   const auto emit = [&](std::size_t, bool ok, std::string&& bytes) {
     if (!ok) throw Error("predict: " + bytes);  // predict_one reports a part's failure in its entry
@@ -477,6 +589,7 @@ std::vector<PartPrediction> predict_parts(const ModelFolder& folder, const std::
       }
     }
     if (!pp.ok) warn("predict: " + pp.error);
+    csv.str("");
     csv << pp.name << "," << pp.file << "," << (pp.ok ? "ok" : "error") << "," << pp.top << ","
         << (pp.ok ? "\"" + strategy_name(model.strategies, pp.top) + "\"" : "") << "," << format_double(pp.confidence)
         << "," << format_double(pp.consistency) << "," << (pp.unfamiliar ? 1 : 0) << "," << format_double(pp.d2_min)
@@ -485,20 +598,24 @@ std::vector<PartPrediction> predict_parts(const ModelFolder& folder, const std::
     std::string err = pp.error;
     std::replace(err.begin(), err.end(), '"', '\'');
     csv << "," << (err.empty() ? "" : "\"" + err + "\"") << "\n";
-    jparts.push_back(std::move(jp));
+    csv_out->stream() << csv.str();
+    std::string element = jp.dump(2);  // one level in: every line of it indented by four spaces
+    std::string indented = "    ";
+    for (const char c : element) {
+      indented += c;
+      if (c == '\n') indented += "    ";
+    }
+    json_out->stream() << (first_part ? "\n" : ",\n") << indented;
+    first_part = false;
     results.push_back(std::move(pp));
   };
   const DistributeStats st = distribute(
       parts.size(), [&](std::size_t i) { return predict_one(folder, parts[i], prep); }, emit, false, "predict");
   if (!cluster_root()) return results;
   log_distribution("predict", st);
-  Json out = {{"model", fs::absolute(folder.dir / "model.json").string()},
-              {"alpha", model.alpha},
-              {"strategies", model.strategies},
-              {"unfamiliar_threshold_d2", model.unfamiliar_threshold},
-              {"parts", jparts}};
-  write_file_atomic(out_dir / "predictions.json", out.dump(2) + "\n");
-  write_file_atomic(out_dir / "predictions.csv", csv.str());
+  json_out->stream() << (first_part ? "]" : "\n  ]") << json_tail;
+  json_out->commit();
+  csv_out->commit();
   return results;
 }
 

@@ -8,7 +8,9 @@
 #include "millnet/core/json_input.hpp"
 #include "millnet/core/output_set.hpp"
 
+#include <chrono>
 #include <iostream>
+#include <thread>
 #include <new>
 #include <optional>
 
@@ -19,6 +21,25 @@ std::string one_line(std::string s) {
     if (c == '\n' || c == '\r') c = ' ';
   if (s.size() > 2000) s = s.substr(0, 1997) + "...";
   return s;
+}
+/// The command's one error line, and under MPI the end of every rank. Every rank reads the same
+/// input and meets the same bad value: rank 0 says it once. A failure rank 0 broadcast at the end of
+/// a distribution (a part that stops `dataset`) ends every rank together; any other failure ends
+/// the run with MPI_Abort, since the other ranks may be waiting for this one in a distribution
+/// (rank 0 failing to create --out while the others start on the parts). A rank other than 0 that
+/// fails alone says why, with its rank, after a grace second (when every rank fails alike, rank
+/// 0's abort ends it first and the line is said once).
+int fail(const std::string& cmd, const std::string& what) {
+  using namespace millnet::app;
+  if (cluster_root()) std::cerr << "millnet " << cmd << ": error: " << what << "\n";
+  if (cluster_size() > 1 && !cluster_failure_shared()) {
+    if (!cluster_root()) {
+      std::this_thread::sleep_for(std::chrono::seconds(1));
+      std::cerr << "millnet " << cmd << ": error on MPI rank " << cluster_rank() << ": " << what << "\n";
+    }
+    cluster_abort(1);
+  }
+  return 1;
 }
 }  // namespace
 
@@ -78,22 +99,17 @@ int main(int argc, char** argv) {
       if (outputs) outputs->commit();
       return code;
     } catch (const millnet::Error& e) {
-      // Under MPI every rank reads the same input and meets the same bad value: rank 0 says it once.
-      if (cluster_root()) std::cerr << "millnet " << cmd << ": error: " << one_line(e.what()) << "\n";
-      return 1;
+      return fail(cmd, one_line(e.what()));
     } catch (const std::bad_alloc&) {
       // Not the library's "std::bad_alloc" (tests/corpus/cli/out_of_memory.args).
-      std::cerr << "millnet " << cmd << ": error: out of memory while running " << cmd
-                << " on these inputs" << (all_or_nothing ? "; nothing was written" : "")
-                << " (smaller inputs or settings, or more memory)\n";
-      return 1;
+      return fail(cmd, "out of memory while running " + cmd + " on these inputs" +
+                           (all_or_nothing ? "; nothing was written" : "") +
+                           " (smaller inputs or settings, or more memory)");
     } catch (const std::exception& e) {
       // A library's exception that no reader turned into a millnet::Error: at least without its
       // "[json.exception.type_error.302] " prefix.
       const std::string what = e.what();
-      std::cerr << "millnet " << cmd << ": error: "
-                << one_line(what.rfind("[json.exception", 0) == 0 ? millnet::json_error_text(what) : what) << "\n";
-      return 1;
+      return fail(cmd, one_line(what.rfind("[json.exception", 0) == 0 ? millnet::json_error_text(what) : what));
     }
   }
   return 2;

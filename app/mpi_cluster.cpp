@@ -37,8 +37,17 @@ int g_rank = 0, g_size = 1;
 bool g_started = false;
 #endif
 
-constexpr int kTagResult = 1;  // worker → rank 0: [int64 index][uint8 ok][bytes]; index −1 = "ready"
-constexpr int kTagWork = 2;    // rank 0 → worker: int64 next index; −1 = "no more"
+// Tags, per distribution: a command may distribute several times in a row (dataset: the labels by
+// simulation, then the table's rows), and a rank told "no more" goes on to the next distribution
+// while rank 0 still serves the last one. Its "ready" for the next one must not be taken as a
+// request in this one (that hung `mpirun -np 3 millnet dataset` with two parts to label), so each
+// distribution has its own pair of tags: every rank calls distribute() in the same order.
+bool g_failure_shared = false;  // a distribution ended in a failure every rank was told of
+#ifdef MILLNET_HAVE_MPI
+int g_generation = 0;  // distributions started by this rank
+int tag_result() { return 2 + 2 * (g_generation % 16000); }  // worker → rank 0: [int64 index][uint8 ok][bytes]; −1 = "ready"
+int tag_work() { return 3 + 2 * (g_generation % 16000); }    // rank 0 → worker: int64 next index; −1 = "no more"
+#endif
 
 /// Results received but not yet delivered, shared by rank 0's worker and communication threads.
 struct Board {
@@ -94,7 +103,7 @@ void serve(Board& b, DistributeStats& stats, bool stop_on_error) {
   while (active > 0) {
     int flag = 0;
     MPI_Status st;
-    MPI_Iprobe(MPI_ANY_SOURCE, kTagResult, MPI_COMM_WORLD, &flag, &st);
+    MPI_Iprobe(MPI_ANY_SOURCE, tag_result(), MPI_COMM_WORLD, &flag, &st);
     if (!flag) {  // a sleeping poll: the rank's own worker thread keeps the core
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
       continue;
@@ -102,7 +111,7 @@ void serve(Board& b, DistributeStats& stats, bool stop_on_error) {
     int count = 0;
     MPI_Get_count(&st, MPI_BYTE, &count);
     buf.resize(static_cast<std::size_t>(std::max(count, 9)));
-    MPI_Recv(buf.data(), count, MPI_BYTE, st.MPI_SOURCE, kTagResult, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    MPI_Recv(buf.data(), count, MPI_BYTE, st.MPI_SOURCE, tag_result(), MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     stats.bytes_to_root += static_cast<std::uint64_t>(count);
     std::int64_t index = -1;
     std::memcpy(&index, buf.data(), 8);
@@ -112,7 +121,7 @@ void serve(Board& b, DistributeStats& stats, bool stop_on_error) {
             std::string(buf.data() + 9, static_cast<std::size_t>(count) - 9), stop_on_error);
     const std::size_t t = b.take();
     const std::int64_t next = t < b.n ? static_cast<std::int64_t>(t) : -1;
-    MPI_Send(&next, 8, MPI_BYTE, st.MPI_SOURCE, kTagWork, MPI_COMM_WORLD);
+    MPI_Send(&next, 8, MPI_BYTE, st.MPI_SOURCE, tag_work(), MPI_COMM_WORLD);
     stats.bytes_from_root += 8;
     if (next < 0) --active;
   }
@@ -124,9 +133,9 @@ void work_for_root(const UnitWork& work) {
   for (;;) {
     if (msg.size() > static_cast<std::size_t>(INT32_MAX))
       msg = header(-1, false);  // unreachable for our payloads; never send a count MPI cannot hold
-    MPI_Send(msg.data(), static_cast<int>(msg.size()), MPI_BYTE, 0, kTagResult, MPI_COMM_WORLD);
+    MPI_Send(msg.data(), static_cast<int>(msg.size()), MPI_BYTE, 0, tag_result(), MPI_COMM_WORLD);
     std::int64_t next = -1;
-    MPI_Recv(&next, 8, MPI_BYTE, 0, kTagWork, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    MPI_Recv(&next, 8, MPI_BYTE, 0, tag_work(), MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     if (next < 0) return;
     auto [ok, bytes] = run_unit(work, static_cast<std::size_t>(next));
     if (bytes.size() > static_cast<std::size_t>(INT32_MAX) - 16) {
@@ -171,6 +180,18 @@ void cluster_finalize() {
 #endif
 }
 
+bool cluster_failure_shared() { return g_failure_shared; }
+
+void cluster_abort(int code) {
+#ifdef MILLNET_HAVE_MPI
+  if (!g_started || g_size <= 1) return;
+  std::cerr.flush();
+  MPI_Abort(MPI_COMM_WORLD, code);
+#else
+  (void)code;
+#endif
+}
+
 int cluster_rank() { return g_rank; }
 int cluster_size() { return g_size; }
 
@@ -178,8 +199,17 @@ DistributeStats distribute(std::size_t n, const UnitWork& work, const UnitResult
                            const std::string& label) {
   DistributeStats stats;
 #ifdef MILLNET_HAVE_MPI
+  ++g_generation;
   if (g_size > 1 && g_rank != 0) {
     work_for_root(work);
+    // Rank 0 says whether the distribution failed: a rank must not go on to the command's next
+    // distribution (or finish as if it succeeded) when rank 0 has stopped.
+    char failed = 0;
+    MPI_Bcast(&failed, 1, MPI_CHAR, 0, MPI_COMM_WORLD);
+    if (failed) {
+      g_failure_shared = true;
+      throw Error("the run stopped on rank 0");  // rank 0 prints the reason; this rank says nothing
+    }
     return stats;
   }
 #endif
@@ -245,6 +275,13 @@ DistributeStats distribute(std::size_t n, const UnitWork& work, const UnitResult
     if (deliver()) halt();
   }
   if (comm.joinable()) comm.join();
+#ifdef MILLNET_HAVE_MPI
+  if (g_size > 1) {
+    char failed = failure ? 1 : 0;
+    MPI_Bcast(&failed, 1, MPI_CHAR, 0, MPI_COMM_WORLD);
+    if (failed) g_failure_shared = true;
+  }
+#endif
   progress.finish();
   stats.delivered = delivered;
   if (failure) std::rethrow_exception(failure);

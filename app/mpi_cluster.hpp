@@ -22,6 +22,12 @@ namespace millnet::app {
 void cluster_init(int& argc, char**& argv);
 /// Ends MPI (if started). Called at exit; safe to call twice.
 void cluster_finalize();
+/// True once a distribution has ended in a failure that rank 0 broadcast to every rank (each
+/// leaves the command together: rank 0 with the error, the others quietly).
+[[nodiscard]] bool cluster_failure_shared();
+/// Ends every rank at once (MPI_Abort) when a rank fails outside a shared failure: a rank that
+/// stops alone would leave the others waiting for it in a distribution. No-op on one rank.
+void cluster_abort(int code);
 [[nodiscard]] int cluster_rank();
 [[nodiscard]] int cluster_size();
 [[nodiscard]] inline bool cluster_root() { return cluster_rank() == 0; }

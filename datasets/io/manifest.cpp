@@ -155,6 +155,81 @@ void write_table(const datasets::Table& table, const fs::path& dir) {
   write_file_atomic(dir / "manifest.json", manifest);
 }
 
+struct TableWriter::Impl {
+  AtomicOFStream csv;
+  std::uint64_t hash = 0xCBF29CE484222325ULL;  // fnv1a64's basis, continued chunk by chunk
+  std::size_t bytes = 0;
+  std::map<int, std::size_t> rows_per_label;
+  std::set<std::string> sources;      // every source seen: O(parts)
+  std::string current_source;
+  std::set<std::string> current_ids;  // the ids of the current source's rows: O(variants)
+  std::string line;
+  explicit Impl(const fs::path& path) : csv(path) {}
+  void write(const std::string& text) {
+    csv.stream().write(text.data(), static_cast<std::streamsize>(text.size()));
+    hash = datasets::fnv1a64(text, hash);
+    bytes += text.size();
+  }
+};
+
+TableWriter::TableWriter(const fs::path& dir, int grid_n, bool has_aspect, datasets::StrategyNames strategies)
+    : dir_(dir), grid_n_(grid_n), has_aspect_(has_aspect), strategies_(std::move(strategies)) {
+  const std::string header = datasets::csv_header(grid_n, has_aspect);  // throws for a bad grid
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw Error(dir.string() + ": cannot create the folder (" + ec.message() + ")");
+  impl_ = std::make_unique<Impl>(dir / "vectors.csv");
+  impl_->write(header);
+}
+
+TableWriter::~TableWriter() = default;
+
+void TableWriter::add(const datasets::Row& r) {
+  Impl& w = *impl_;
+  if (r.source != w.current_source || w.sources.empty()) {
+    if (!w.sources.insert(r.source).second)
+      throw Error("table: the rows of source '" + r.source + "' are not consecutive");
+    w.current_source = r.source;
+    w.current_ids.clear();
+  }
+  if (!w.current_ids.insert(r.id).second) throw Error("table: duplicate row id '" + r.id + "'");
+  w.line.clear();
+  datasets::append_csv_row(w.line, r, grid_n_, has_aspect_);
+  w.write(w.line);
+  ++w.rows_per_label[r.label];
+  ++rows_;
+}
+
+void TableWriter::finish(const std::vector<datasets::SourceFile>& sources, const std::string& config_json,
+                         const std::string& labelling_json) {
+  Impl& w = *impl_;
+  Manifest m;
+  m.program_version = MILLNET_VERSION;
+  m.csv_fnv1a64 = datasets::to_hex(w.hash);
+  m.csv_bytes = w.bytes;
+  m.grid = grid_n_;
+  m.aspect_column = has_aspect_;
+  m.rows = rows_;
+  m.parts = w.sources.size();
+  m.rows_per_label = w.rows_per_label;
+  m.strategies.assign(strategies_.begin(), strategies_.end());
+  for (const datasets::SourceFile& s : sources)
+    m.input_files.push_back({s.name, s.file, s.label, datasets::to_hex(s.fnv1a64), s.bytes, s.triangles,
+                             s.degenerate_triangles});
+  m.labelling_json = labelling_json;
+  if (!config_json.empty()) {
+    m.config_json = config_json;
+    try {
+      m.raster_mm = config_raster_mm(Json::parse(config_json));
+    } catch (const std::exception& e) {
+      throw Error(std::string("manifest: the table's config echo is not valid JSON (") + json_error_text(e.what()) + ")");
+    }
+  }
+  const std::string manifest = manifest_text(m);
+  w.csv.commit();  // CSV first: a manifest never describes a CSV that is not there
+  write_file_atomic(dir_ / "manifest.json", manifest);
+}
+
 Manifest read_manifest(const fs::path& path) {
   const Json j = read_json_file(path);
   const Reader rd{path.string()};

@@ -37,12 +37,6 @@ Error part_error(const PartSpec& p, const std::string& what) {
   return Error("part '" + part_name(p) + "': " + file + ": " + what);
 }
 
-struct Loaded {
-  ingest::Mesh mesh;
-  std::vector<augment::Variant> variants;
-  std::size_t first_row = 0;
-};
-
 }  // namespace
 
 std::vector<PartSpec> to_part_specs(const std::vector<GeneratedPart>& parts) {
@@ -77,7 +71,7 @@ std::string recipe_json(const Recipe& r) {
   return j + "}";
 }
 
-Table build_table(const Recipe& recipe, const ProgressFn& progress) {
+TablePlan plan_table(const Recipe& recipe) {
   if (recipe.parts.empty()) throw Error("dataset recipe: no parts");
   if (!(recipe.raster_mm > 0)) throw Error("dataset recipe: raster_mm must be > 0, got " + format_double(recipe.raster_mm));
   if (recipe.grid < 2) throw Error("dataset recipe: grid must be ≥ 2, got " + std::to_string(recipe.grid));
@@ -90,105 +84,123 @@ Table build_table(const Recipe& recipe, const ProgressFn& progress) {
     if (!names.insert(part_name(p)).second)
       throw Error("dataset recipe: two parts are named '" + part_name(p) + "' (names group the variants of one part)");
   }
-
-  Table t;
-  t.grid_n = recipe.grid;
-  t.has_aspect = recipe.aspect_feature;
-  t.strategies = recipe.strategies;
-  t.config_json = recipe_json(recipe);
-  const std::size_t m = t.inputs_per_row();
-
-  std::vector<std::vector<augment::Variant>> variants;
-  std::size_t total = 0;
+  TablePlan plan;
+  plan.header.grid_n = recipe.grid;
+  plan.header.has_aspect = recipe.aspect_feature;
+  plan.header.strategies = recipe.strategies;
+  plan.header.config_json = recipe_json(recipe);
   for (const auto& p : recipe.parts) {
-    variants.push_back(augment::make_variants(part_name(p), recipe.augment));
-    if (variants.back().empty()) throw Error("dataset recipe: the augmentation gives no variants (no angles?)");
-    total += variants.back().size();
+    plan.variants.push_back(augment::make_variants(part_name(p), recipe.augment));
+    if (plan.variants.back().empty()) throw Error("dataset recipe: the augmentation gives no variants (no angles?)");
+    plan.first_row.push_back(plan.rows);
+    plan.rows += plan.variants.back().size();
   }
-  {  // the table's values before its rows are allocated (issue 12): rows × inputs per row
-    const double values = static_cast<double>(total) * static_cast<double>(m);
-    check_work({std::to_string(recipe.parts.size()) + " parts × their " + std::to_string(total) +
-                    " augmented variants at grid " + std::to_string(recipe.grid),
-                values, "model-vector table values", 8.0 * values},
-               recipe.limits);
-  }
-  t.rows.resize(total);
-  std::size_t row_at = 0;
-  if (progress) progress(0, total);
+  // The table's values before any part is read (issue 12): rows × inputs per row.
+  const double values = static_cast<double>(plan.rows) * static_cast<double>(plan.header.inputs_per_row());
+  check_work({std::to_string(recipe.parts.size()) + " parts × their " + std::to_string(plan.rows) +
+                  " augmented variants at grid " + std::to_string(recipe.grid),
+              values, "model-vector table values", 8.0 * values},
+             recipe.limits);
+  return plan;
+}
 
+LoadedPart load_table_part(const Recipe& recipe, std::size_t k) {
+  const PartSpec& p = recipe.parts[k];
   ingest::PrepareOptions popts;
   popts.units = recipe.units;
   popts.units_explicit = recipe.units_explicit;
   popts.cad = recipe.cad;
   popts.up = recipe.up;
+  LoadedPart l;
+  l.source.name = part_name(p);
+  l.source.file = p.file.generic_string();
+  l.source.label = p.label;
+  try {
+    l.source.fnv1a64 = fnv1a64_file(p.file, &l.source.bytes);
+    ingest::MeshReport rep;
+    l.mesh = ingest::load_prepared(p.file, popts, &rep);
+    l.source.triangles = rep.triangles;
+    l.source.degenerate_triangles = rep.degenerate_triangles;
+  } catch (const std::exception& e) {
+    throw part_error(p, e.what());
+  }
+  return l;
+}
+
+Row variant_row(const Recipe& recipe, const TablePlan& plan, std::size_t k, const ingest::Mesh& mesh, std::size_t v) {
+  const PartSpec& p = recipe.parts[k];
+  const augment::Variant& var = plan.variants[k][v];
+  try {
+    ModelVector mv = model_vector(mesh, var, recipe.raster_mm, recipe.grid, recipe.limits);
+    Row r;
+    r.id = part_name(p) + "#" + std::to_string(v + 1);
+    r.source = part_name(p);
+    r.label = p.label;
+    r.axis = var.axis;
+    r.angle_deg = var.angle_deg;
+    r.flip = var.flip;
+    r.inputs = std::move(mv.inputs);
+    r.inputs.resize(plan.header.inputs_per_row());
+    r.outputs = one_hot(p.label);
+    r.aspect = mv.aspect;
+    return r;
+  } catch (const std::exception& e) {
+    throw part_error(p, "variant " + std::to_string(v + 1) + " (axis " + std::string(1, augment::to_char(var.axis)) +
+                            ", angle " + format_double(var.angle_deg) + "°, flip " + (var.flip ? "1" : "0") +
+                            "): " + e.what());
+  }
+}
+
+void build_rows(const Recipe& recipe, const TablePlan& plan, const RowSink& sink, std::vector<SourceFile>& sources,
+                const ProgressFn& progress) {
+  const std::size_t total = plan.rows;
+  std::size_t row_at = 0;
+  if (progress) progress(0, total);
   std::size_t next_part = 0;
   while (next_part < recipe.parts.size()) {  // batches of parts: O(parts) iterations in all
     // 1. Load serially (clear errors, bounded memory).
-    std::vector<Loaded> batch;
+    std::vector<ingest::Mesh> meshes;
     std::vector<std::size_t> batch_parts;
     std::size_t triangles = 0;
-    while (next_part < recipe.parts.size() && (batch.empty() || triangles < kBatchTriangles)) {
-      const PartSpec& p = recipe.parts[next_part];
-      SourceFile src;
-      src.name = part_name(p);
-      src.file = p.file.generic_string();
-      src.label = p.label;
-      Loaded l;
-      try {
-        src.fnv1a64 = fnv1a64_file(p.file, &src.bytes);
-        ingest::MeshReport rep;
-        l.mesh = ingest::load_prepared(p.file, popts, &rep);
-        src.triangles = rep.triangles;
-        src.degenerate_triangles = rep.degenerate_triangles;
-      } catch (const std::exception& e) {
-        throw part_error(p, e.what());
-      }
-      l.variants = variants[next_part];
-      l.first_row = row_at;
-      row_at += l.variants.size();
+    while (next_part < recipe.parts.size() && (meshes.empty() || triangles < kBatchTriangles)) {
+      LoadedPart l = load_table_part(recipe, next_part);
       triangles += static_cast<std::size_t>(l.mesh.F.rows());
-      t.sources.push_back(std::move(src));
-      batch.push_back(std::move(l));
+      sources.push_back(std::move(l.source));
+      meshes.push_back(std::move(l.mesh));
       batch_parts.push_back(next_part++);
     }
     // 2. (part, variant) pairs of the batch in parallel; each writes only its own row and error slot.
     std::vector<std::pair<std::size_t, std::size_t>> tasks;
-    for (std::size_t b = 0; b < batch.size(); ++b)
-      for (std::size_t v = 0; v < batch[b].variants.size(); ++v) tasks.emplace_back(b, v);
+    for (std::size_t b = 0; b < meshes.size(); ++b)
+      for (std::size_t v = 0; v < plan.variants[batch_parts[b]].size(); ++v) tasks.emplace_back(b, v);
+    std::vector<Row> rows(tasks.size());
     std::vector<std::string> errors(tasks.size());
     const auto n_tasks = static_cast<long>(tasks.size());
 #pragma omp parallel for schedule(dynamic, 1)
     for (long k = 0; k < n_tasks; ++k) {  // O(tasks · (triangles + raster points))
       const auto [b, v] = tasks[static_cast<std::size_t>(k)];
-      const Loaded& l = batch[b];
-      const PartSpec& p = recipe.parts[batch_parts[b]];
-      const augment::Variant& var = l.variants[v];
       try {
-        ModelVector mv = model_vector(l.mesh, var, recipe.raster_mm, recipe.grid, recipe.limits);
-        Row& r = t.rows[l.first_row + v];
-        r.id = part_name(p) + "#" + std::to_string(v + 1);
-        r.source = part_name(p);
-        r.label = p.label;
-        r.axis = var.axis;
-        r.angle_deg = var.angle_deg;
-        r.flip = var.flip;
-        r.inputs = std::move(mv.inputs);
-        r.inputs.resize(m);
-        r.outputs = one_hot(p.label);
-        r.aspect = mv.aspect;
+        rows[static_cast<std::size_t>(k)] = variant_row(recipe, plan, batch_parts[b], meshes[b], v);
       } catch (const std::exception& e) {
-        errors[static_cast<std::size_t>(k)] = "variant " + std::to_string(v + 1) + " (axis " +
-                                              std::string(1, augment::to_char(var.axis)) + ", angle " +
-                                              format_double(var.angle_deg) + "°, flip " + (var.flip ? "1" : "0") +
-                                              "): " + e.what();
+        errors[static_cast<std::size_t>(k)] = e.what();
       } catch (...) {
-        errors[static_cast<std::size_t>(k)] = "variant " + std::to_string(v + 1) + ": unknown error";
+        errors[static_cast<std::size_t>(k)] =
+            part_error(recipe.parts[batch_parts[b]], "variant " + std::to_string(v + 1) + ": unknown error").what();
       }
     }
     for (std::size_t k = 0; k < tasks.size(); ++k)  // first failure in index order: thread-count independent
-      if (!errors[k].empty()) throw part_error(recipe.parts[batch_parts[tasks[k].first]], errors[k]);
+      if (!errors[k].empty()) throw Error(errors[k]);
+    for (Row& r : rows) sink(std::move(r));
+    row_at += rows.size();
     if (progress) progress(row_at, total);
   }
+}
+
+Table build_table(const Recipe& recipe, const ProgressFn& progress) {
+  const TablePlan plan = plan_table(recipe);
+  Table t = plan.header;
+  t.rows.reserve(plan.rows);
+  build_rows(recipe, plan, [&](Row&& r) { t.rows.push_back(std::move(r)); }, t.sources, progress);
   return t;
 }
 

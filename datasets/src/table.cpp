@@ -140,46 +140,55 @@ std::vector<std::string> column_names(int grid_n, bool with_aspect) {
   return cols;
 }
 
-std::string table_csv(const Table& table) {
-  const auto cols = column_names(table.grid_n, table.has_aspect);
-  const std::size_t m = table.inputs_per_row();
+std::string csv_header(int grid_n, bool with_aspect) {
+  const auto cols = column_names(grid_n, with_aspect);
   std::string out;
-  out.reserve((table.rows.size() + 1) * (m + 16) * 8);
   for (std::size_t k = 0; k < cols.size(); ++k) {
     if (k) out += ',';
     out += cols[k];
   }
   out += '\n';
+  return out;
+}
+
+void append_csv_row(std::string& out, const Row& r, int grid_n, bool with_aspect) {
+  const std::size_t m = static_cast<std::size_t>(grid_n) * static_cast<std::size_t>(grid_n);
+  if (r.inputs.size() != m)
+    throw Error("table: row '" + r.id + "' has " + std::to_string(r.inputs.size()) + " inputs, expected " + std::to_string(m));
+  if (r.label < 0 || r.label > static_cast<int>(kStrategySlots))
+    throw Error("table: row '" + r.id + "' has label " + std::to_string(r.label) + " outside 0..8");
+  out += csv_text_field(r.id, "id");
+  out += ',';
+  out += csv_text_field(r.source, "source");
+  out += ',';
+  out += std::to_string(r.label);
+  out += ',';
+  out += augment::to_char(r.axis);
+  out += ',';
+  out += format_double(r.angle_deg);
+  out += r.flip ? ",1" : ",0";
+  for (const double v : r.inputs) {  // O(n²)
+    out += ',';
+    out += format_double(v);
+  }
+  for (const double v : r.outputs) {
+    out += ',';
+    out += format_double(v);
+  }
+  if (with_aspect) {
+    out += ',';
+    out += format_double(r.aspect);
+  }
+  out += '\n';
+}
+
+std::string table_csv(const Table& table) {
+  std::string out = csv_header(table.grid_n, table.has_aspect);
+  out.reserve((table.rows.size() + 1) * (table.inputs_per_row() + 16) * 8);
   std::set<std::string> ids;
   for (const Row& r : table.rows) {  // O(N·n²)
-    if (r.inputs.size() != m)
-      throw Error("table: row '" + r.id + "' has " + std::to_string(r.inputs.size()) + " inputs, expected " + std::to_string(m));
-    if (r.label < 0 || r.label > static_cast<int>(kStrategySlots))
-      throw Error("table: row '" + r.id + "' has label " + std::to_string(r.label) + " outside 0..8");
     if (!ids.insert(r.id).second) throw Error("table: duplicate row id '" + r.id + "'");
-    out += csv_text_field(r.id, "id");
-    out += ',';
-    out += csv_text_field(r.source, "source");
-    out += ',';
-    out += std::to_string(r.label);
-    out += ',';
-    out += augment::to_char(r.axis);
-    out += ',';
-    out += format_double(r.angle_deg);
-    out += r.flip ? ",1" : ",0";
-    for (const double v : r.inputs) {
-      out += ',';
-      out += format_double(v);
-    }
-    for (const double v : r.outputs) {
-      out += ',';
-      out += format_double(v);
-    }
-    if (table.has_aspect) {
-      out += ',';
-      out += format_double(r.aspect);
-    }
-    out += '\n';
+    append_csv_row(out, r, table.grid_n, table.has_aspect);
   }
   return out;
 }

@@ -149,3 +149,42 @@ TEST(Manifest, ErrorsNameTheFileAndTheKey) {
   EXPECT_TRUE(contains(error_of(d / "g.json"), "g.json: not valid JSON")) << error_of(d / "g.json");
   EXPECT_TRUE(contains(error_of(d / "none.json"), "none.json: no such file"));
 }
+
+// The streamed table (issue 10: rank 0 writes rows as they come in) is write_table's bytes, and it
+// leaves nothing when it is not finished.
+TEST(TableWriter, StreamedRowsAreWriteTablesBytes) {
+  Table t = tiny_table();
+  t.has_aspect = true;
+  t.rows[1].aspect = 1.25;
+  t.labelling_json = R"({"aim": "ra"})";
+  const fs::path a = temp_dir("writer_whole"), b = temp_dir("writer_stream");
+  write_table(t, a);
+  {
+    TableWriter w(b, t.grid_n, t.has_aspect, t.strategies);
+    for (const Row& r : t.rows) w.add(r);
+    EXPECT_EQ(w.rows(), 2u);
+    EXPECT_FALSE(fs::exists(b / "vectors.csv"));  // a temporary until finish()
+    w.finish(t.sources, t.config_json, t.labelling_json);
+  }
+  EXPECT_EQ(millnet::read_file(a / "vectors.csv"), millnet::read_file(b / "vectors.csv"));
+  EXPECT_EQ(millnet::read_file(a / "manifest.json"), millnet::read_file(b / "manifest.json"));
+}
+
+TEST(TableWriter, RefusesRowsItCannotVouchForAndLeavesNothingUnfinished) {
+  const Table t = tiny_table();
+  const fs::path d = temp_dir("writer_bad");
+  {
+    TableWriter w(d, t.grid_n, false, t.strategies);
+    w.add(t.rows[0]);
+    EXPECT_THROW(w.add(t.rows[0]), millnet::Error);  // the same id twice
+    w.add(t.rows[1]);
+    Row back = t.rows[0];
+    back.id = "r9";
+    EXPECT_THROW(w.add(back), millnet::Error);  // source "a" again after "b": not consecutive
+    Row short_row = t.rows[1];
+    short_row.id = "r8";
+    short_row.inputs.pop_back();
+    EXPECT_THROW(w.add(short_row), millnet::Error);  // 3 inputs for a 2×2 grid
+  }
+  EXPECT_TRUE(fs::is_empty(d)) << "an unfinished writer left a file";
+}

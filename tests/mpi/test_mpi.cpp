@@ -10,6 +10,7 @@
 #include "millnet/ingest/io/mesh_io.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <fstream>
@@ -110,6 +111,32 @@ TEST(Mpi, DatasetLabelledBySimulationIsTheOneProcessBytesOnTwoAndOnMoreRanksThan
   expect_same_tree(d / "one", d / "three");
 }
 
+// The table itself is shared as (part, variant) units: more units than ranks, more ranks than
+// parts, one rank per thread or not, the bytes of one process.
+TEST(Mpi, DatasetTableRowsArePartTimesVariantUnitsWithTheOneProcessBytes) {
+  const fs::path d = fresh_dir("mpi_dataset_rows");
+  write_parts(d);
+  std::ofstream(d / "cfg.json") << R"({"dataset": {"parts": [{"file": "parts/a_dome.stl", "label": 1},
+                                                             {"file": "parts/b_ridge.stl", "label": 2},
+                                                             {"file": "parts/c_step.stl", "label": 3}],
+                                                   "raster_mm": 0.5,
+                                                   "augment": {"angles_deg": [0, 30, 60, 90], "axes": ["z"], "flip": false}}})";
+  const auto one = run_ranks(0, "dataset --quiet --threads 2 --config cfg.json --out one", d);
+  ASSERT_EQ(one.code, 0) << one.err;
+  const auto two = run_ranks(2, "dataset --threads 1 --config cfg.json --out two", d);
+  ASSERT_EQ(two.code, 0) << two.err;
+  EXPECT_NE(two.err.find("dataset: model vectors: 12 work units over 2 MPI ranks"), std::string::npos) << two.err;
+  expect_same_tree(d / "one", d / "two");
+  const auto five = run_ranks(5, "dataset --quiet --threads 1 --config cfg.json --out five", d);
+  ASSERT_EQ(five.code, 0) << five.err;
+  expect_same_tree(d / "one", d / "five");
+  // 12 rows, 4 per part, in part order.
+  const std::string csv = slurp(d / "five" / "vectors.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 13);
+  EXPECT_LT(csv.find("\na_dome#4,"), csv.find("\nb_ridge#1,"));
+  EXPECT_LT(csv.find("\nb_ridge#4,"), csv.find("\nc_step#1,"));
+}
+
 TEST(Mpi, DatasetStopsAtABrokenPartNamingItAndWritesNoTable) {
   const fs::path d = fresh_dir("mpi_dataset_broken");
   write_parts(d);
@@ -122,6 +149,9 @@ TEST(Mpi, DatasetStopsAtABrokenPartNamingItAndWritesNoTable) {
                                        )" << kCoarse << "}";
   const auto r = run_ranks(2, "dataset --quiet --threads 1 --config cfg.json --out ds", d);
   EXPECT_NE(r.code, 0);
+  // Rank 0 tells the others that the labelling failed: rank 1 must not go on to the table's
+  // distribution and wait there for ever (timeout's 124).
+  EXPECT_NE(r.code, 124) << r.err;
   EXPECT_NE(r.err.find("part 'broken'"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("broken.stl"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(d / "ds" / "vectors.csv"));
@@ -157,6 +187,10 @@ TEST(Mpi, PredictOverAFolderIsTheOneProcessBytesAndReportsTheBrokenPart) {
   EXPECT_NE(two.err.find("1 of 4 parts could not be read"), std::string::npos) << two.err;
   expect_same_tree(d / "one", d / "two");
   EXPECT_NE(slurp(d / "two" / "predictions.csv").find("\nc_step,new/c_step.stl,ok,"), std::string::npos);
+  // predictions.json is streamed part by part: it is still the document nlohmann writes for it.
+  const std::string pj = slurp(d / "two" / "predictions.json");
+  EXPECT_EQ(nlohmann::json::parse(pj).dump(2) + "\n", pj);
+  EXPECT_EQ(nlohmann::json::parse(pj)["parts"].size(), 4u);
   // More ranks than parts.
   const auto five = run_ranks(5, "predict --quiet --config cfg.json --model model --threads 1 new --out five", d);
   EXPECT_EQ(five.code, 1) << five.err;
@@ -247,6 +281,21 @@ TEST(Mpi, ARankThatDiesFailsTheRunWithAClearLineAndLeavesNoOutputNorScratch) {
   EXPECT_EQ(std::system(again.c_str()), 0) << slurp(d / "again.stderr");
   EXPECT_TRUE(fs::exists(d / "again" / "b_ridge.strategies.csv"));
   EXPECT_TRUE(fs::is_empty(tmp)) << "scratch left in " << tmp;
+}
+
+// Rank 0 fails alone, outside a distribution, while rank 1 already waits in one (--out cannot be
+// created: only rank 0 writes): the run ends at once with rank 0's line, not at the timeout.
+TEST(Mpi, ARank0FailureOutsideADistributionEndsEveryRank) {
+  const fs::path d = fresh_dir("mpi_rank0_alone");
+  write_parts(d);
+  std::ofstream(d / "cfg.json") << R"({"dataset": {"parts": [{"file": "parts/a_dome.stl", "label": 1}],
+                                                   "raster_mm": 0.5,
+                                                   "augment": {"angles_deg": [0, 90], "axes": ["z"], "flip": false}}})";
+  std::ofstream(d / "afile") << "x\n";
+  const auto r = run_ranks(2, "dataset --quiet --threads 1 --config cfg.json --out afile/ds", d);
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.code, 124) << r.err;
+  EXPECT_EQ(r.err.rfind("millnet dataset: error: afile/ds: cannot create the folder", 0), 0u) << r.err;
 }
 
 TEST(Mpi, ACommandThatDoesNotShareItsWorkRefusesToRunOnSeveralRanks) {

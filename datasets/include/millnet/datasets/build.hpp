@@ -11,6 +11,7 @@
 #include "millnet/ingest/mesh.hpp"
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -53,6 +54,38 @@ struct Recipe {
 
 /// The recipe as JSON text in the recipe.json shape (for the manifest's config echo).
 [[nodiscard]] std::string recipe_json(const Recipe& recipe);
+
+/// A recipe's table before any part is read: the recipe checked (labels, names, raster, grid),
+/// every part's variants and first row, the header fields of the Table (no rows), and the table's
+/// size checked against recipe.limits. Throws millnet::Error. O(parts · variants).
+struct TablePlan {
+  std::vector<std::vector<augment::Variant>> variants;  ///< per part, augment::make_variants order
+  std::vector<std::size_t> first_row;                   ///< per part: its first row's index
+  std::size_t rows = 0;
+  Table header;                                         ///< grid_n, has_aspect, strategies, config_json
+};
+[[nodiscard]] TablePlan plan_table(const Recipe& recipe);
+
+/// Part k loaded and prepared for sampling, with its manifest record (hash, size, triangles).
+/// Throws millnet::Error naming the part and its file.
+struct LoadedPart {
+  ingest::Mesh mesh;
+  SourceFile source;
+};
+[[nodiscard]] LoadedPart load_table_part(const Recipe& recipe, std::size_t k);
+
+/// The row of variant v of part k (its mesh loaded by load_table_part). Throws millnet::Error
+/// naming the part and the variant. O(triangles + raster points).
+[[nodiscard]] Row variant_row(const Recipe& recipe, const TablePlan& plan, std::size_t k, const ingest::Mesh& mesh,
+                              std::size_t v);
+
+using RowSink = std::function<void(Row&&)>;
+
+/// Every row in table order to `sink` (and every part's record to `sources`), holding one batch of
+/// parts (≈ 4 M triangles) and its rows at a time: OpenMP over the batch's (part, variant) pairs,
+/// rows delivered in order after the batch. Throws the first failure in index order.
+void build_rows(const Recipe& recipe, const TablePlan& plan, const RowSink& sink, std::vector<SourceFile>& sources,
+                const ProgressFn& progress = {});
 
 /// Builds the table. Rows are ordered part by part, variants in augment::make_variants order;
 /// ids are "<name>#<k>" (k = 1-based variant index). OpenMP over (part, variant) pairs with results

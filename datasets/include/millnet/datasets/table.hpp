@@ -82,6 +82,14 @@ struct Table {
 /// One-hot output for a 1-based label (all zeros for 0). Throws millnet::Error outside 0..8.
 [[nodiscard]] std::array<double, kStrategySlots> one_hot(int label);
 
+/// The CSV header line (with its '\n') for grid n.
+[[nodiscard]] std::string csv_header(int grid_n, bool with_aspect);
+
+/// Appends one row's CSV line (with its '\n'). Throws millnet::Error for the wrong number of
+/// inputs, a label outside 0..8 or a text field with a line break (ids are not checked: the caller
+/// knows its ids). O(n²).
+void append_csv_row(std::string& out, const Row& row, int grid_n, bool with_aspect);
+
 /// The CSV text of the table (datasets_io::write_table writes it beside the manifest). Throws
 /// millnet::Error for a row with the wrong number of inputs, a label outside 0..8, a duplicate id or
 /// a text field with a line break. O(rows · n²).

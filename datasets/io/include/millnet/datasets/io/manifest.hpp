@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -70,6 +71,36 @@ struct Manifest {
 /// failure leaves no partial file: a manifest never describes a CSV that is not there). Creates dir.
 /// Throws millnet::Error (inconsistent rows: see datasets::table_csv). O(rows · n²).
 void write_table(const datasets::Table& table, const std::filesystem::path& dir);
+
+/// vectors.csv written row by row, then its manifest: the bytes of write_table for the same rows,
+/// with one row in memory at a time (rank 0 of `mpirun … millnet dataset` streams a library's table
+/// to disk as the rows come in, issue 10). The CSV goes to a temporary file (core/atomic_file.hpp)
+/// that becomes vectors.csv in finish() (staged in the open OutputSet, if any), then the manifest;
+/// a writer destroyed before finish() leaves nothing. Memory: O(parts) (the part names counted).
+class TableWriter {
+public:
+  /// Creates `dir` and opens the CSV with its header. Throws millnet::Error.
+  TableWriter(const std::filesystem::path& dir, int grid_n, bool has_aspect, datasets::StrategyNames strategies);
+  TableWriter(const TableWriter&) = delete;
+  TableWriter& operator=(const TableWriter&) = delete;
+  ~TableWriter();
+  /// Appends one row. The rows of one source must be consecutive and their ids distinct (as
+  /// build_table makes them); throws millnet::Error otherwise or as datasets::append_csv_row. O(n²).
+  void add(const datasets::Row& row);
+  /// Writes <dir>/vectors.csv then <dir>/manifest.json (config and labelling echoed as in Table).
+  void finish(const std::vector<datasets::SourceFile>& sources, const std::string& config_json,
+              const std::string& labelling_json);
+  [[nodiscard]] std::size_t rows() const { return rows_; }
+
+private:
+  struct Impl;
+  std::filesystem::path dir_;
+  int grid_n_;
+  bool has_aspect_;
+  datasets::StrategyNames strategies_;
+  std::unique_ptr<Impl> impl_;
+  std::size_t rows_ = 0;
+};
 
 /// Reads <path>. Throws millnet::Error "<file>: <key>: what" when it cannot be read or parsed, a key
 /// is missing or has the wrong type, "format" is not "millnet-vectors" or "format_version" is not 1.
