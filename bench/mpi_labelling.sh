@@ -2,7 +2,7 @@
 # Issue 10's benchmark: labelling N parts by simulation (five finishing strategies planned and
 # simulated per part) with 1 rank × 2 threads, then 2 ranks × 1 thread; prints wall times and the
 # bytes rank 0 gathered. Figures go into docs/scaling.md, not into tests.
-#   [ORDER=mpi-first] bench/mpi_labelling.sh [BUILD_DIR] [N]     (default build, 20 parts)
+#   [ORDER=mpi-first] [EXTRA=--no-preview] bench/mpi_labelling.sh [BUILD_DIR] [N]     (default build, 20 parts)
 # Settings (coarse, so the whole run takes minutes on 2 cores): stepover 1 mm, step-down 1 mm,
 # z-map cell 0.1 mm, raster 0.5 mm, 2 variants per part; parts are 10–30 mm height fields.
 set -euo pipefail
@@ -58,8 +58,9 @@ PY
 cd "$W"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 MPIRUN="mpirun --oversubscribe --bind-to none --mca btl self,vader --mca btl_vader_single_copy_mechanism none"
-one_rank() { "$EXE" dataset --quiet --threads 2 --config cfg.json --out one; }
-two_ranks() { $MPIRUN -np 2 "$EXE" dataset --threads 1 --config cfg.json --out two 2>&1 | grep "work units" || true; }
+# EXTRA: more flags for both runs, e.g. EXTRA=--no-preview (no 3D pages: 1.2–1.5 MB each, 5 per part).
+one_rank() { "$EXE" dataset --quiet --threads 2 --config cfg.json --out one ${EXTRA:-}; }
+two_ranks() { $MPIRUN -np 2 "$EXE" dataset --threads 1 --config cfg.json --out two ${EXTRA:-} 2>&1 | grep "work units" || true; }
 if [ "${ORDER:-}" = mpi-first ]; then  # the other order, to see the load's drift
   t0=$(date +%s.%N); two_ranks; t1=$(date +%s.%N); one_rank; t2=$(date +%s.%N)
   T1=$(echo "$t2 - $t1" | bc); T2=$(echo "$t1 - $t0" | bc)
