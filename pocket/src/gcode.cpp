@@ -121,6 +121,11 @@ void helix(Builder& b, const Vec2& p, const Vec2& c, double rh, double z_from, d
     const Vec2& q = (h % 2 == 1) ? opp : p;
     b.arc(true, c, q.x(), q.y(), z, h <= halves ? feed : flat_feed);
   }
+  // An odd number of half turns ends opposite p: back to p across the bore (inside the helix's
+  // circle of centres, all cut), where the chain begins. Until 2026-11-25 the chain's first move
+  // started from the far side: a line to its second vertex, never checked against the walls, and
+  // an arc (arc_fit.hpp) would have been written from the wrong start.
+  if (halves % 2 == 1) b.line(p.x(), p.y(), z_to, flat_feed);
 }
 
 std::string fmt(double v, int decimals) { return gcode::format_number(v, decimals); }

@@ -1,6 +1,7 @@
 // The offset (contour-parallel) planner (planner_offset.hpp).
 #include "millnet/pocket/planner_offset.hpp"
 
+#include "millnet/pocket/arc_fit.hpp"
 #include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
 
@@ -404,6 +405,10 @@ PlanResult plan_offset(const Region& region, const CutParams& cut, const OffsetP
   st.links = b.links();
   st.retractions = b.retractions();
   res.path = b.take();
+  // The rings' round joins and wall arcs as G2/G3 (arc_fit.hpp): a few hundred arcs instead of
+  // thousands of sub-millimetre chords; each arc checked against the walls' clearance.
+  const Clearance walls(region, cut.clearance());
+  st.arcs = fit_arcs(res.path, tol::arc_fit_mm, &walls);
   for (const Chain& c : res.path.chains)
     if (c.predrill && !c.pts.empty()) res.predrill.push_back(c.pts.front().p());
   st.cut_length_mm = res.path.cut_length();

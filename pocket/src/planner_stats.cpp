@@ -44,7 +44,8 @@ std::vector<std::pair<std::string, double>> ZigzagStats::key_values() const {
 }
 
 std::vector<std::pair<std::string, double>> OffsetStats::key_values() const {
-  return {{"components", static_cast<double>(components)},
+  return {{"arcs", static_cast<double>(arcs)},
+          {"components", static_cast<double>(components)},
           {"links", static_cast<double>(links)},
           {"nodes", static_cast<double>(nodes)},
           {"offset_cut_length_mm", cut_length_mm},

@@ -61,6 +61,7 @@ struct OffsetStats {
   std::size_t splits = 0;           ///< nodes with more than one child (where the offsets split)
   std::size_t links = 0;            ///< ring-to-ring moves with the tool down
   std::size_t retractions = 0;      ///< of the planned path
+  std::size_t arcs = 0;             ///< G2/G3 arcs fitted to the chorded rings (arc_fit.hpp)
   double cut_length_mm = 0;         ///< of the planned path (links included)
   double rapid_length_mm = 0;
   [[nodiscard]] std::vector<std::pair<std::string, double>> key_values() const;

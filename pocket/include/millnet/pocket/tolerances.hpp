@@ -17,4 +17,13 @@ inline constexpr double contour_chord_mm = 0.0002;
 inline constexpr double contour_margin_mm = 2 * contour_chord_mm + 2 * clipper_resolution_mm;
                                                        ///< (covers Clipper's chord and rounding errors)
 inline constexpr double uncut_chord_mm = 0.0002;       ///< chord error of the uncut-area booleans
+/// Arc fitting (arc_fit.hpp): how far a fitted arc may move from the chorded path it replaces. The
+/// offsets' round joins are chorded at arc_chord_mm and their rings simplified within it, twice
+/// over for the inner rings (offset of an offset): their vertices lie within 2·arc_chord_mm of
+/// the true circle.
+inline constexpr double arc_fit_mm = 2 * arc_chord_mm;
+/// Spacing of the clearance samples along a fitted arc. Between two samples the arc comes at most
+/// its sagitta over this spacing closer to a wall it runs along (0.05² / 8r: 0.06 µm at r = 5 mm),
+/// far below the tests' 0.01 mm replay tolerance.
+inline constexpr double arc_fit_sample_mm = 0.05;
 }  // namespace millnet::pocket::tol
