@@ -230,6 +230,9 @@ PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, c
   ch.smooth.opt_neighbours = m["opt_neighbours"].get<int>();
   ch.smooth.retract_penalty_mm = m["retract_penalty_mm"].get<double>();
   ch.smooth.max_opt_moves = m["max_opt_moves"].get<long>();
+  ch.som_path.walls = s["walls"].get<bool>();
+  ch.som_path.blend_corners = m["blend_corners"].get<bool>();
+  ch.som_path.blend_radius_mm = m["blend_radius_mm"].get<double>();
   ch.offset.climb = pc["offset"]["direction"].get<std::string>() == "climb";
   const Json& z = pc["zigzag"];
   std::string part = flags.partition.value_or(z["partition"].get<std::string>());
@@ -254,7 +257,7 @@ PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, c
 }
 
 pocket::PlannerSpec planner_spec(const PlannerChoice& ch) {
-  if (ch.name == "som") return pocket::SomSpec{ch.frame, ch.som, ch.smooth};
+  if (ch.name == "som") return pocket::SomSpec{ch.frame, ch.som, ch.smooth, ch.som_path};
   if (ch.name == "zigzag") return pocket::ZigzagSpec{ch.zigzag};
   if (ch.name == "offset") return pocket::OffsetSpec{ch.offset};
   throw Error("unknown planner '" + ch.name + "' (expected som, zigzag or offset)");

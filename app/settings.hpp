@@ -48,6 +48,7 @@ struct PlannerChoice {
   pocket::GridFrame frame;
   pocket::SomParams som;
   pocket::SmoothingParams smooth;
+  pocket::SomPathParams som_path;   ///< /pocket/som/walls, /pocket/smoothing/blend_corners, …
   pocket::ZigzagParams zigzag;
   pocket::OffsetParams offset;
   pocket::Entry entry = pocket::Entry::Predrill;

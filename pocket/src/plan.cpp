@@ -12,7 +12,7 @@ Overload(F...) -> Overload<F...>;
 }  // namespace
 
 PlanResult plan(const Region& region, const CutParams& cut, const PlannerSpec& spec) {
-  return std::visit(Overload{[&](const SomSpec& s) { return plan_som(region, cut, s.frame, s.som, s.smooth); },
+  return std::visit(Overload{[&](const SomSpec& s) { return plan_som(region, cut, s.frame, s.som, s.smooth, s.path); },
                              [&](const ZigzagSpec& z) { return plan_zigzag(region, cut, z.zigzag); },
                              [&](const OffsetSpec& o) { return plan_offset(region, cut, o.offset); }},
                     spec);

@@ -1,24 +1,113 @@
 #include "millnet/pocket/planner_som.hpp"
 
 #include "millnet/core/error.hpp"
+#include "millnet/pocket/offset.hpp"
+#include "millnet/pocket/tolerances.hpp"
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
+#include <tuple>
 
 namespace millnet::pocket {
 
+namespace {
+
+/// A chain being built: tool-centre points and whether each may be blended (grid points yes, ring
+/// vertices no: the ring must pass through them to sweep the wall).
+struct Poly {
+  std::vector<Vec2> pts;
+  std::vector<char> blendable;
+};
+
+/// The wall rings: the loops of the region offset inward by clearance + tol::contour_margin_mm
+/// (contour_chains' loops), outer CCW, holes CW. Loops of fewer than 3 vertices are skipped.
+std::vector<std::vector<Vec2>> wall_rings(const Region& region, double clearance) {
+  std::vector<std::vector<Vec2>> rings;
+  for (PolyArea& a : offset_inward(region, clearance + tol::contour_margin_mm, tol::contour_chord_mm)) {
+    if (a.outer.size() >= 3) rings.push_back(std::move(a.outer));
+    for (auto& h : a.holes)
+      if (h.size() >= 3) rings.push_back(std::move(h));
+  }
+  return rings;
+}
+
+/// Splices the closed `ring` into one of `chains` with the tool down: after vertex k of a chain
+/// the tool goes straight to ring vertex v, around the ring back to v, then on to vertex k + 1 (or
+/// the chain ends there). The cheapest (added length) of the candidates whose two moves are
+/// move_ok; candidates pair each chain vertex with its kNear nearest ring vertices. False when
+/// none is free. O(chain vertices · ring vertices) distances, then move_ok calls in cost order.
+bool splice_ring(std::vector<Poly>& chains, const std::vector<Vec2>& ring, const Clearance& clear) {
+  constexpr std::size_t kNear = 4;
+  struct Cand {
+    double cost;
+    std::size_t c, k, v;
+  };
+  std::vector<Cand> cands;
+  const std::size_t n = ring.size();
+  std::vector<std::pair<double, std::size_t>> d(n);
+  for (std::size_t c = 0; c < chains.size(); ++c) {
+    const auto& P = chains[c].pts;
+    std::vector<std::array<std::size_t, kNear>> near(P.size());
+    for (std::size_t k = 0; k < P.size(); ++k) {
+      for (std::size_t v = 0; v < n; ++v) d[v] = {(ring[v] - P[k]).squaredNorm(), v};
+      const std::size_t m = std::min(kNear, n);
+      std::partial_sort(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(m), d.end());
+      for (std::size_t i = 0; i < kNear; ++i) near[k][i] = d[std::min(i, m - 1)].second;
+    }
+    for (std::size_t k = 0; k < P.size(); ++k) {
+      const bool last = k + 1 == P.size();
+      for (std::size_t from = k; from <= (last ? k : k + 1); ++from)
+        for (std::size_t v : near[from]) {
+          const double out = (ring[v] - P[k]).norm();
+          const double cost = last ? out : out + (P[k + 1] - ring[v]).norm() - (P[k + 1] - P[k]).norm();
+          cands.push_back({cost, c, k, v});
+        }
+    }
+  }
+  std::sort(cands.begin(), cands.end(), [](const Cand& a, const Cand& b) {
+    return std::tie(a.cost, a.c, a.k, a.v) < std::tie(b.cost, b.c, b.k, b.v);
+  });
+  for (const Cand& x : cands) {
+    Poly& ch = chains[x.c];
+    const bool last = x.k + 1 == ch.pts.size();
+    if (!clear.move_ok(ch.pts[x.k], ring[x.v])) continue;
+    if (!last && !clear.move_ok(ring[x.v], ch.pts[x.k + 1])) continue;
+    std::vector<Vec2> loop;
+    for (std::size_t i = 0; i <= n; ++i) loop.push_back(ring[(x.v + i) % n]);
+    const auto at = static_cast<std::ptrdiff_t>(x.k + 1);
+    ch.pts.insert(ch.pts.begin() + at, loop.begin(), loop.end());
+    ch.blendable.insert(ch.blendable.begin() + at, loop.size(), 0);
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 PlanResult plan_som(const Region& region, const CutParams& cut, const GridFrame& frame, const SomParams& som,
-                    const SmoothingParams& smooth) {
+                    const SmoothingParams& smooth, const SomPathParams& path) {
   const auto t0 = std::chrono::steady_clock::now();
   cut.check("plan_som");
   PlanResult res;
   res.planner = "som";
   const double clearance = cut.clearance();
-  res.tool_points = make_tool_points(region, frame, clearance);  // O(grid cells)
+  // Coverage slack of the grid: a point more than R inside the rings lies ≤ g/√2 from a grid point
+  // that keeps ≥ s from the rings, so grid points nearer to them than s can go (the rings sweep
+  // what they would), and a corner blend may leave a grid point by less than s.
+  const double R = cut.tool_diameter / 2;
+  const double slack = std::max(0.0, R - frame.spacing / std::sqrt(2.0));
+  if (!(path.blend_radius_mm >= 0) || !std::isfinite(path.blend_radius_mm))
+    throw Error("/pocket/smoothing/blend_radius_mm: must be a number ≥ 0");
+  std::vector<std::vector<Vec2>> rings;
+  if (path.walls) rings = wall_rings(region, clearance);
+  res.tool_points = make_tool_points(region, frame, clearance + (path.walls ? slack : 0.0));  // O(grid cells)
   const ToolPoints& tp = res.tool_points;
   const std::size_t n = tp.pts.size();
-  if (n == 0) {
+  if (n == 0 && rings.empty()) {
     std::ostringstream msg;
     msg << "no tool point fits: no grid point (spacing " << frame.spacing << " mm) keeps the tool disk (radius "
         << clearance << " mm incl. stock to leave) inside the pocket";
@@ -30,20 +119,52 @@ PlanResult plan_som(const Region& region, const CutParams& cut, const GridFrame&
   const Clearance clear(region, clearance);
   const MoveOk move_ok = [&clear](const Vec2& p, const Vec2& q) { return clear.move_ok(p, q); };
 
-  const SomResult ring = som_tour(tp.pts, som);
-  SmoothedTour sm = smooth_tour(tp, ring.order, move_ok, smooth);
-
+  SomResult ring;
+  SmoothedTour sm;
+  if (n > 0) {
+    ring = som_tour(tp.pts, som);
+    sm = smooth_tour(tp, ring.order, move_ok, smooth);
+  }
+  std::vector<Poly> polys;
   for (const auto& ch : sm.chains) {  // O(path vertices)
+    Poly p;
+    for (int k : ch) p.pts.push_back(tp.pts[static_cast<std::size_t>(k)]);
+    p.blendable.assign(p.pts.size(), 1);
+    polys.push_back(std::move(p));
+  }
+  std::size_t ring_links = 0;
+  for (const auto& r : rings) {  // each: O(path vertices · ring vertices)
+    if (splice_ring(polys, r, clear)) {
+      ++ring_links;
+      continue;
+    }
+    Poly p;
+    p.pts = r;
+    p.pts.push_back(r.front());
+    p.blendable.assign(p.pts.size(), 0);
+    polys.push_back(std::move(p));
+  }
+  CornerBlendParams bp;
+  bp.max_radius_mm = path.blend_radius_mm > 0 ? path.blend_radius_mm : 0.5 * frame.spacing;
+  bp.max_deviation_mm = 0.9 * slack;
+  bp.clearance_mm = clearance;
+  const bool blend = path.blend_corners && slack > 0;
+  std::size_t arcs = 0;
+  for (const Poly& p : polys) {
     Chain c;
-    for (int k : ch) {
-      const Vec2& p = tp.pts[static_cast<std::size_t>(k)];
-      c.pts.push_back(Vertex{p.x(), p.y(), 0.0});
+    if (blend) {
+      CornerBlendStats bs;
+      c.pts = blend_corners(p.pts, p.blendable, bp, move_ok, &bs);
+      arcs += static_cast<std::size_t>(bs.blended);
+    } else {
+      for (const Vec2& q : p.pts) c.pts.push_back(Vertex{q.x(), q.y(), 0.0});
     }
     c.predrill = true;
     c.role = "cut";
     res.predrill.push_back(c.pts.front().p());
     res.path.chains.push_back(std::move(c));
   }
+  res.walls_cut = path.walls;
   SomStats st;
   st.tool_points = n;
   st.som_passes = ring.passes;
@@ -54,8 +175,11 @@ PlanResult plan_som(const Region& region, const CutParams& cut, const GridFrame&
   st.rapid_length_mm = res.path.rapid_length();
   st.retractions = res.path.retractions();
   st.predrill_points = res.predrill.size();
-  st.grid_bound_mm = (static_cast<double>(n) - 1) * frame.spacing;
+  st.grid_bound_mm = n > 0 ? (static_cast<double>(n) - 1) * frame.spacing : 0.0;
   st.cut_over_bound = st.grid_bound_mm > 0 ? st.cut_length_mm / st.grid_bound_mm : 1.0;
+  st.wall_rings = rings.size();
+  st.wall_ring_links = ring_links;
+  st.corner_arcs = arcs;
   res.stats = st;
   res.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;

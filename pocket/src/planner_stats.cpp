@@ -5,7 +5,8 @@
 namespace millnet::pocket {
 
 std::vector<std::pair<std::string, double>> SomStats::key_values() const {
-  std::vector<std::pair<std::string, double>> kv = {{"cut_length_mm", cut_length_mm},
+  std::vector<std::pair<std::string, double>> kv = {{"corner_arcs", static_cast<double>(corner_arcs)},
+                                                    {"cut_length_mm", cut_length_mm},
                                                     {"cut_over_bound", cut_over_bound},
                                                     {"grid_bound_mm", grid_bound_mm},
                                                     {"predrill_points", static_cast<double>(predrill_points)},
@@ -14,7 +15,9 @@ std::vector<std::pair<std::string, double>> SomStats::key_values() const {
                                                     {"som_converged", som_converged ? 1.0 : 0.0},
                                                     {"som_nodes", static_cast<double>(som_nodes)},
                                                     {"som_passes", som_passes},
-                                                    {"tool_points", static_cast<double>(tool_points)}};
+                                                    {"tool_points", static_cast<double>(tool_points)},
+                                                    {"wall_ring_links", static_cast<double>(wall_ring_links)},
+                                                    {"wall_rings", static_cast<double>(wall_rings)}};
   const std::size_t own = kv.size();
   for (auto& stat : smoothing.key_values()) {  // O(keys²), a few dozen
     const bool taken = std::any_of(kv.begin(), kv.begin() + static_cast<std::ptrdiff_t>(own),

@@ -174,9 +174,15 @@ TEST_P(CliBenchPocket, EveryPlannerIsGougeFreeAndAgreesWithReplay) {
     std::string flags;
     bool predrill;
   };
+  // The seed's SOM planner (grid points only, sharp corners: /pocket/som/walls and
+  // /pocket/smoothing/blend_corners off, as in the 1995 preset) with and without the contour pass,
+  // and today's (wall rings in the tour, corner arcs: it cuts the walls itself, issue 11).
+  const std::string seed = "--config '" + std::string(MILLNET_SOURCE_DIR) + "/configs/presets/shin-suh-1995.json' ";
   const Variant variants[] = {
+      {"som-seed", seed + "--planner som --no-contour", true},
+      {"som-contour", seed + "--planner som --contour", true},
       {"som", "--planner som --no-contour", true},
-      {"som-contour", "--planner som --contour", true},
+      {"som-walls-contour", "--planner som --contour", true},
       {"som-helix", "--planner som --entry helix", false},
       {"zz-t", "--planner zigzag --partition t --angle auto --no-contour", true},
       {"zz-i-contour", "--planner zigzag --partition i --angle auto --contour", true},
@@ -184,7 +190,7 @@ TEST_P(CliBenchPocket, EveryPlannerIsGougeFreeAndAgreesWithReplay) {
       {"offset-helix", "--planner offset --entry helix", false},
       {"offset-predrill", "--planner offset", true},
   };
-  double som_cut = 0, som_contour_cut = 0;
+  double som_cut = 0, som_contour_cut = 0, som_walls_cut = 0;
   for (const Variant& v : variants) {
     SCOPED_TRACE(name + " " + v.tag);
     const PocketRun pr = run_pocket(bench(name), v.flags, fresh_dir("cli_pocket_" + name + "_" + v.tag));
@@ -195,7 +201,7 @@ TEST_P(CliBenchPocket, EveryPlannerIsGougeFreeAndAgreesWithReplay) {
     EXPECT_EQ(pr.metrics["parameters"]["tool_diameter"].get<double>(), 10);
     const ReplayResult rep = check_run(pr, name, pocket, 10, 5, v.predrill);
     EXPECT_EQ(rep.cut_length_by_z.size(), 1u);
-    if (std::string(v.tag) == "som") {
+    if (std::string(v.tag) == "som-seed") {
       // Issue 3's goals with linking on: the reachable region of each bench pocket is connected.
       EXPECT_EQ(num(pr.metrics, "retractions"), 0);
       const double n = num(pr.metrics, "tool_points");
@@ -205,6 +211,15 @@ TEST_P(CliBenchPocket, EveryPlannerIsGougeFreeAndAgreesWithReplay) {
       som_cut = rep.cut_length;
     }
     if (std::string(v.tag) == "som-contour") som_contour_cut = rep.cut_length;
+    if (tag == "som" || tag == "som-walls-contour") {
+      // Issue 11: the SOM alone clears the pocket (walls included, no contour pass added either
+      // way), one reachable region ⇒ no retraction.
+      EXPECT_EQ(num(pr.metrics, "retractions"), 0);
+      EXPECT_LE(num(pr.metrics, "uncut_area_mm2"), 2.0);
+      EXPECT_GT(num(pr.metrics, "corner_arcs"), 0);
+      if (tag == "som") som_walls_cut = rep.cut_length;
+      else EXPECT_NEAR(rep.cut_length, som_walls_cut, 1e-6);
+    }
     if (tag.substr(0, 6) == "offset") {
       // Issue 11: walls included, one reachable region ⇒ no retraction, and nothing reachable uncut.
       EXPECT_EQ(num(pr.metrics, "retractions"), 0);

@@ -50,7 +50,10 @@ TEST_P(PlanSomBench, MeetsTheIssueGoals) {
   const mp::Region region = load_bench_pocket(GetParam());
   mp::CutParams cut;  // Ø10, stepover 5
   const mp::GridFrame frame{{0, 0}, 0, cut.stepover};
-  const auto r = mp::plan_som(region, cut, frame, {}, {});
+  // The seed's planner (issue 3): grid points only, no wall rings, no corner arcs (test_som_walls.cpp
+  // has the planner with them).
+  const mp::SomPathParams seed{.walls = false, .blend_corners = false};
+  const auto r = mp::plan_som(region, cut, frame, {}, {}, seed);
   ASSERT_EQ(r.status, mp::PlanStatus::Ok) << r.message;
   const double n = static_cast<double>(std::get<mp::SomStats>(r.stats).tool_points);
   ASSERT_GT(n, 10);
@@ -65,7 +68,7 @@ TEST_P(PlanSomBench, MeetsTheIssueGoals) {
   EXPECT_GE(min_wall_distance(region, r.path), cut.clearance() - 0.01) << GetParam();
   EXPECT_LE(r.path.cut_length(), 1.05 * (n - 1) * cut.stepover) << GetParam();
   // deterministic
-  const auto again = mp::plan_som(region, cut, frame, {}, {});
+  const auto again = mp::plan_som(region, cut, frame, {}, {}, seed);
   ASSERT_EQ(again.path.chains.size(), r.path.chains.size());
   for (std::size_t k = 0; k < r.path.chains.size(); ++k) {
     ASSERT_EQ(again.path.chains[k].pts.size(), r.path.chains[k].pts.size());
@@ -82,7 +85,8 @@ TEST(PlanSom, SeedLikeStrongSmoothingRetractsAndStaysGougeFree) {
   const mp::Region region = load_bench_pocket("four_islands");
   mp::CutParams cut;
   const mp::GridFrame frame{{0, 0}, 0, cut.stepover};
-  const auto r = mp::plan_som(region, cut, frame, {}, {.linking = false, .weak = true, .extra_passes = false});
+  const auto r = mp::plan_som(region, cut, frame, {}, {.linking = false, .weak = true, .extra_passes = false},
+                              {.walls = false, .blend_corners = false});
   ASSERT_EQ(r.status, mp::PlanStatus::Ok);
   // the plain SOM tour crosses islands: without links every crossing is a retraction
   EXPECT_GT(r.path.retractions(), 0U);

@@ -55,7 +55,7 @@ TEST(PlannerStats, SomOwnFiguresWinOverTheSmoothingsAndStaySorted) {
   const auto k = keys(kv);
   EXPECT_TRUE(std::is_sorted(k.begin(), k.end()));
   EXPECT_EQ(std::adjacent_find(k.begin(), k.end()), k.end());
-  EXPECT_EQ(kv.size(), 25u);  // 10 own + 17 smoothing − 2 shared
+  EXPECT_EQ(kv.size(), 28u);  // 13 own (corner_arcs, wall_rings, wall_ring_links: issue 11) + 17 smoothing − 2 shared
   EXPECT_EQ(value(kv, "retractions"), 2.0);
   EXPECT_EQ(value(kv, "rapid_length_mm"), 25.0);
   EXPECT_EQ(value(kv, "som_converged"), 1.0);
@@ -91,10 +91,10 @@ TEST(PlannerStats, MetricsListTheFieldsThenThePlannersOtherKeys) {
       "tool_points", "tour_length_mm", "cut_length_mm", "rapid_length_mm", "retractions", "plunges",
       "predrill_points", "planning_time_s", "time_adjusted_min", "time_constant_min", "uncut_area_mm2",
       "reachable_area_mm2", "pocket_area_mm2", "levels", "time_kinematic_min", "max_engagement_deg",
-      "cut_over_bound", "grid_bound_mm", "link_length_mm", "links", "min_retractions", "opt_moves",
+      "corner_arcs", "cut_over_bound", "grid_bound_mm", "link_length_mm", "links", "min_retractions", "opt_moves",
       "reachable_regions", "retractions_before_linking", "som_converged", "som_nodes", "som_overcut_moves",
-      "som_passes", "som_tour_length_mm", "two_opt_saved_mm", "weak_patterns", "weak_smoothing_saved_mm",
-      "weak_type1", "weak_type2", "weak_type3"};
+      "som_passes", "som_tour_length_mm", "two_opt_saved_mm", "wall_ring_links", "wall_rings", "weak_patterns",
+      "weak_smoothing_saved_mm", "weak_type1", "weak_type2", "weak_type3"};
   EXPECT_EQ(keys(kv), expect);
   EXPECT_EQ(value(kv, "tool_points"), 7.0);  // the field wins
   EXPECT_EQ(value(kv, "grid_bound_mm"), 12.5);

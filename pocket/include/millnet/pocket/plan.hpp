@@ -22,6 +22,7 @@ struct SomSpec {
   GridFrame frame;
   SomParams som;
   SmoothingParams smooth;
+  SomPathParams path;  ///< wall rings and corner arcs (issue 11)
 };
 
 /// The zigzag planner with T- or I-partition.

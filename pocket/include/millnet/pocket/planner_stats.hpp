@@ -25,6 +25,9 @@ struct SomStats {
   std::size_t predrill_points = 0;  ///< chain starts
   double grid_bound_mm = 0;         ///< (N − 1)·g, the shortest conceivable tour through N points
   double cut_over_bound = 0;        ///< cut_length_mm / grid_bound_mm (1 when the bound is 0)
+  std::size_t wall_rings = 0;       ///< wall rings cut (SomPathParams::walls)
+  std::size_t wall_ring_links = 0;  ///< of those, spliced into a chain with the tool down
+  std::size_t corner_arcs = 0;      ///< corners blended by arcs (SomPathParams::blend_corners)
 
   /// Its own figures and the smoothing's (its own win on a shared key), sorted by key.
   [[nodiscard]] std::vector<std::pair<std::string, double>> key_values() const;

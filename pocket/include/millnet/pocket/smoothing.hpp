@@ -97,4 +97,38 @@ struct SmoothedTour {
 [[nodiscard]] std::vector<int> find_link(const ToolPoints& tp, int a, int b, const MoveOk& move_ok,
                                          double max_len_mm);
 
+/// Corner blending (issue 11): a corner P of a polyline A→P→B that turns by φ becomes a tangent arc
+/// of radius r from A' = P − t·u to B' = P + t·w (u, w the unit directions in and out, t = r·tan(φ/2),
+/// bulge ±tan(φ/4), positive for a left turn), so that the machine keeps its speed through it (the
+/// motion model times an arc as chords whose joints turn by a fraction of a degree, instead of one
+/// joint of φ). r is the largest value ≤ max_radius_mm for which
+///   * t ≤ half of each neighbouring segment (blends of neighbouring corners never overlap),
+///   * the arc's midpoint lies ≤ max_deviation_mm from P: e = r·(1/cos(φ/2) − 1) (coverage: every
+///     point of the path before the blend is within that distance of the path after it),
+///   * t ≤ 0.99·√3·clearance_mm and move_ok(A', B'): the arc lies inside the triangle A'PB', whose
+///     sides A'P and PB' are parts of moves already move_ok; a triangle whose three sides keep the
+///     clearance and whose longest side is < 2√3·clearance keeps it everywhere inside (a wall point
+///     inside would lie within the inradius ≤ side/(2√3) of a side), so the arc does not overcut;
+/// r is halved (at most 4 times) while move_ok(A', B') fails; a corner whose r would fall below
+/// min_radius_mm, a reversal (φ ≈ 180°) and a vertex not `blendable` stay sharp. Straight-on
+/// vertices (φ < 1e-9) are dropped (collinear moves merged). O(n) move_ok calls.
+struct CornerBlendParams {
+  double max_radius_mm = 2.5;
+  double max_deviation_mm = 1.0;
+  double min_radius_mm = 0.05;
+  double clearance_mm = 5;       ///< the tool centre's clearance (Clearance::clearance())
+};
+
+struct CornerBlendStats {
+  int corners = 0;     ///< vertices where the path turns
+  int blended = 0;     ///< of those, replaced by an arc
+  int merged = 0;      ///< straight-on vertices dropped
+};
+
+/// The polyline `pts` (open, ≥ 1 point) as vertices with bulges: corners at vertices with
+/// blendable[k] != 0 blended (the two ends are never touched). blendable.size() == pts.size().
+[[nodiscard]] std::vector<Vertex> blend_corners(const std::vector<Vec2>& pts, const std::vector<char>& blendable,
+                                                const CornerBlendParams& params, const MoveOk& move_ok,
+                                                CornerBlendStats* stats = nullptr);
+
 }  // namespace millnet::pocket
