@@ -1,6 +1,8 @@
 #include "millnet/pocket/planner_som.hpp"
 
+
 #include "millnet/core/error.hpp"
+#include "millnet/pocket/arc_fit.hpp"
 #include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
 
@@ -170,6 +172,10 @@ PlanResult plan_som(const Region& region, const CutParams& cut, const GridFrame&
     res.path.chains.push_back(std::move(c));
   }
   res.walls_cut = path.walls;
+  // The wall rings' chorded round joins and wall arcs as G2/G3 (arc_fit.hpp), as the offset
+  // planner's; the tour's own moves are 5 mm lines and blends, which no circle fits within 2 µm.
+  // Only with the rings (the seed's tour, the 1995 preset, keeps its bytes).
+  if (path.walls) fit_arcs(res.path, tol::arc_fit_mm, &clear);
   SomStats st;
   st.tool_points = n;
   st.som_passes = ring.passes;
