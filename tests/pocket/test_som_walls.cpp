@@ -236,7 +236,6 @@ TEST_P(SomAloneBench, ClearsThePocketByItselfWithoutGouge) {
   ASSERT_GE(o.components, 1u);
   EXPECT_LE(o.m.metrics.retractions, static_cast<double>(o.components - 1));
   EXPECT_LE(o.rep.retractions, static_cast<int>(o.components - 1));
-  EXPECT_LE(o.plan.planning_time_s, 1.0);
   EXPECT_GT(o.m.metrics.time_kinematic_min, o.m.path.cut_length() / 1500);  // never faster than the feed
   // Deterministic.
   const Outcome again = run(region, cut, Entry::Helix);
