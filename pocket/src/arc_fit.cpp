@@ -3,6 +3,8 @@
 
 #include "millnet/pocket/tolerances.hpp"
 
+#include "geometry_internal.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -15,7 +17,7 @@ namespace {
 /// its I/J lose the digits that place the arc.
 constexpr double kMaxArcRadiusMm = 1000;
 
-double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+using detail::cross;
 
 struct Fit {
   double bulge = 0;

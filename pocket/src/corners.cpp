@@ -4,6 +4,8 @@
 #include "millnet/core/error.hpp"
 #include "millnet/pocket/tolerances.hpp"
 
+#include "geometry_internal.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -15,7 +17,7 @@ constexpr double kStraightRad = 1e-9;   ///< a turn this small is straight on
 constexpr double kReversalRad = std::numbers::pi - 1e-6;
 constexpr int kHalvings = 4;
 
-double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+using detail::cross;
 
 /// Appends v, or gives its bulge to the last vertex when v coincides with it.
 void push(std::vector<Vertex>& out, const Vec2& p, double bulge) {

@@ -18,7 +18,7 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kTwoPi = 2 * std::numbers::pi;
 
-double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+using detail::cross;
 
 /// Angle of (q − p0) measured from the arc start, in [0, 2π), in the arc's own sense of travel.
 double angle_from_start(const Arc& arc, double phi) {

@@ -8,6 +8,9 @@
 
 namespace millnet::pocket::detail {
 
+/// z of the 2D cross product a × b (> 0: b turns left of a).
+inline double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
 struct BBox {
   Vec2 lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
   Vec2 hi{-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};

@@ -1,6 +1,5 @@
 #include "millnet/pocket/planner_som.hpp"
 
-
 #include "millnet/core/error.hpp"
 #include "millnet/pocket/arc_fit.hpp"
 #include "millnet/pocket/offset.hpp"
