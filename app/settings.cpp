@@ -180,6 +180,7 @@ pocket::CutParams cut_params(const Json& config, const Json& explicit_pocket, co
   c.feed_max = pc["feed_max"].get<double>();
   c.feed_grid = pc["feed_grid"].get<double>();
   c.feed_adjust = pc["feed_adjust"].get<bool>();
+  c.feed_pool_short_steps = pc["feed_map_pooling"].get<bool>();
   c.rapid_rate = pc["rapid_rate"].get<double>();
   apply_cutting_data(c, config, explicit_pocket, file, flags, record);
   if (c.stepover > c.tool_diameter)

@@ -118,6 +118,10 @@ FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cu
     split_long(ch, cut.stepover);
     ch.feed.assign(ch.pts.size() - 1, cut.feed_half);
     map.mark(ch.pts.front().p(), R);  // the plunge: not a lateral engagement
+    // Steps shorter than half a cell (segments under g/2) are pooled until they make half a cell:
+    // one fresh cell over a 0.05 mm step, scaled to a full cell, reads as 20 cells (a slot) where
+    // the crescent is a sliver. A segment that completes no pool reads the last pooled value.
+    double pool_fresh = 0, pool_len = 0, last_n = 0;
     // O(segments · steps per segment · (D/g)²).
     for (std::size_t k = 0; k + 1 < ch.pts.size(); ++k) {
       const Segment s{ch.pts[k].p(), ch.pts[k + 1].p(), ch.pts[k].bulge};
@@ -125,13 +129,26 @@ FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cu
       const int steps = std::max(1, static_cast<int>(std::ceil(len / g - 1e-9)));
       const double step_len = len / steps;
       double n3 = 0;
+      bool measured = false;
       for (int i = 1; i <= steps; ++i) {
         const int fresh = map.mark(point_at(s, static_cast<double>(i) / steps), R);
         // Scale to a full cell step (short steps cut fewer cells at the same width); a disk cannot
         // engage more than its diameter, so the scaled count is capped at n₁ (raster noise).
-        const double n = step_len > 0 ? fresh * (g / step_len) : 0.0;
-        n3 = std::max(n3, std::min(n, prof.n1));
+        double n = 0;
+        if (step_len >= 0.5 * g || !cut.feed_pool_short_steps) {
+          n = fresh * (g / step_len);
+        } else {
+          pool_fresh += fresh;
+          pool_len += step_len;
+          if (pool_len < 0.5 * g) continue;
+          n = pool_fresh * (g / pool_len);
+          pool_fresh = pool_len = 0;
+        }
+        last_n = std::min(n, prof.n1);
+        n3 = std::max(n3, last_n);
+        measured = true;
       }
+      if (!measured) n3 = last_n;
       FeedPiece p;
       p.chain = ci;
       p.segment = k;

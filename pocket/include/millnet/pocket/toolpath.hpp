@@ -42,6 +42,10 @@ struct CutParams {
   double spindle_rpm = 3000;
   double feed_grid = 0;         ///< feed-map cell, 0 ⇒ tool_diameter / 10
   bool feed_adjust = true;
+  /// The feed map pools steps shorter than half a cell until they make half a cell before reading
+  /// an engagement (feedmap.hpp); false: every step scaled on its own, as the 1995 preset's
+  /// programs were written (a 0.05 mm step with one fresh cell then reads as a slot).
+  bool feed_pool_short_steps = true;
   double rapid_rate = 5000;     ///< mm/min, for time estimates of G0 moves
   double feed_entry = 0;        ///< helix and ramp entry feed; 0 ⇒ feed_plunge
   /// > 1: below half-width engagement the feed map raises f₂ by the radial chip-thinning factor
