@@ -118,9 +118,10 @@ FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cu
     split_long(ch, cut.stepover);
     ch.feed.assign(ch.pts.size() - 1, cut.feed_half);
     map.mark(ch.pts.front().p(), R);  // the plunge: not a lateral engagement
-    // Steps shorter than half a cell (segments under g/2) are pooled until they make half a cell:
-    // one fresh cell over a 0.05 mm step, scaled to a full cell, reads as 20 cells (a slot) where
-    // the crescent is a sliver. A segment that completes no pool reads the last pooled value.
+    // Steps shorter than a cell are pooled until they make a cell: a column of cells is cut once
+    // per cell of travel, so a step of a tenth of a cell reads 0 or ten columns, scaled to a full
+    // cell (a slot where the crescent is half). A segment that completes no pool reads the last
+    // pooled value.
     double pool_fresh = 0, pool_len = 0, last_n = 0;
     // O(segments · steps per segment · (D/g)²).
     for (std::size_t k = 0; k + 1 < ch.pts.size(); ++k) {
@@ -135,12 +136,12 @@ FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cu
         // Scale to a full cell step (short steps cut fewer cells at the same width); a disk cannot
         // engage more than its diameter, so the scaled count is capped at n₁ (raster noise).
         double n = 0;
-        if (step_len >= 0.5 * g || !cut.feed_pool_short_steps) {
+        if (step_len >= g * (1 - 1e-9) || !cut.feed_pool_short_steps) {
           n = fresh * (g / step_len);
         } else {
           pool_fresh += fresh;
           pool_len += step_len;
-          if (pool_len < 0.5 * g) continue;
+          if (pool_len < g * (1 - 1e-9)) continue;
           n = pool_fresh * (g / pool_len);
           pool_fresh = pool_len = 0;
         }

@@ -104,3 +104,29 @@ TEST(PocketFeedMap, CellsOutsideTheRegionHoldNoMaterial) {
   for (double f : q.chains[0].feed) EXPECT_EQ(f, 100);
   EXPECT_NEAR(median_engagement(prof2, 0), 10, 1.0);
 }
+
+TEST(PocketFeedMap, ShortStepsArePooledSoARoundingCellDoesNotReadAsASlot) {
+  // A half-engaged cut (beside a slot, at R) written as 0.4 mm segments (a tenth of the 4 mm cell).
+  // Alone, a step reads 0 or one new column of cells scaled ×10 (a slot, n₁ = 10); pooled over a
+  // cell of travel, every piece reads the half slot it is (n₂ = 5).
+  const Region r{rect(0, 0, 400, 400), {}};
+  auto run = [&](bool pool) {
+    CutParams c = seed_params();
+    c.feed_pool_short_steps = pool;
+    Path2D p;
+    p.chains.push_back(line_chain({100, 100}, {300, 100}));  // the slot
+    Chain fine;
+    for (int k = 0; k <= 500; ++k) fine.pts.push_back({100 + 0.4 * k, 120, 0});
+    p.chains.push_back(fine);
+    const FeedProfile prof = assign_feeds(p, r, c, 1.0);
+    double hi = 0;
+    for (const FeedPiece& q : prof.pieces)
+      if (q.chain == 1 && q.s_mm > 200 + 20) hi = std::max(hi, q.engagement);  // past the entry
+    return hi;
+  };
+  // n₂ = 5 give or take the crescent's front: a window of one cell of travel gets the cells of the
+  // curved front unevenly (3 to 7 here, as a whole-cell step of a long segment does).
+  EXPECT_LE(run(true), 7.5);
+  EXPECT_GE(run(true), 3.0);
+  EXPECT_GE(run(false), 9.9);  // the artifact the pooling removes (kept for the 1995 preset)
+}

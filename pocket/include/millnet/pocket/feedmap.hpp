@@ -2,9 +2,9 @@
 // Feed adjustment from a feed map (Shin & Suh §6, eq. 9). A fine grid over the pocket (cell =
 // CutParams::feed_grid, 0 ⇒ D/10) starts uncut; cells whose centre lies outside the region hold no
 // material. As the tool moves along the path in steps of one cell, the cells under its disk become
-// cut; the engagement of a step is the number of newly cut cells (scaled to a full cell step; steps
-// under half a cell are pooled until they make half a cell, CutParams::feed_pool_short_steps, so
-// that one cell's rounding on a 0.05 mm step does not read as a slot). For
+// cut; the engagement of a step is the number of newly cut cells per cell of travel (steps shorter
+// than a cell are pooled until they make one, CutParams::feed_pool_short_steps, so that one
+// column of cells on a 0.05 mm step does not read as a slot). For
 // each stepover-long piece of the path, n₃ = the largest engagement of its steps and
 //     f = f₂ + (f₂ − f₁)/(n₂ − n₁)·(n₃ − n₂),  n₁ = D/grid (slot), n₂ = R/grid (half slot),
 // clamped to [f_min, f_max]. A full slot (n₃ = n₁) gets f₁, a half slot f₂. With

@@ -42,8 +42,8 @@ struct CutParams {
   double spindle_rpm = 3000;
   double feed_grid = 0;         ///< feed-map cell, 0 ⇒ tool_diameter / 10
   bool feed_adjust = true;
-  /// The feed map pools steps shorter than half a cell until they make half a cell before reading
-  /// an engagement (feedmap.hpp); false: every step scaled on its own, as the 1995 preset's
+  /// The feed map pools steps shorter than a cell until they make a cell before reading an
+  /// engagement (feedmap.hpp); false: every step scaled to a cell on its own, as the 1995 preset's
   /// programs were written (a 0.05 mm step with one fresh cell then reads as a slot).
   bool feed_pool_short_steps = true;
   double rapid_rate = 5000;     ///< mm/min, for time estimates of G0 moves
