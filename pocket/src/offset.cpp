@@ -120,14 +120,54 @@ std::vector<PolyArea> offset_areas(const std::vector<PolyArea>& areas, double de
 
 std::vector<PolyArea> swept_area(const std::vector<std::vector<Vec2>>& polylines, double radius_mm,
                                  double chord_tol_mm) {
-  ClipperLib::ClipperOffset co;
-  for (const auto& pl : polylines) {
-    if (pl.empty()) continue;
-    ClipperLib::Path p = to_path(pl);
+  // Each polyline is cut into pieces of kPiece segments (neighbours share a vertex), each piece's
+  // swept outline made on its own, and the outlines united pairwise, level by level. One offset of
+  // a whole long path is one outline crossing itself wherever passes overlap, and Clipper's sweep
+  // over it is quadratic in the overlapping edges (a 20,000-vertex adaptive path: 25 s); a union
+  // of two halves keeps only their outer boundary, so each level handles the boundary of what is
+  // cut so far. The union is exact on Clipper's integer grid whatever the grouping.
+  constexpr std::size_t kPiece = 64;
+  std::vector<ClipperLib::Paths> parts;
+  auto offset_piece = [&](const std::vector<Vec2>& pts) {
+    ClipperLib::Path p = to_path(pts);
     if (p.size() == 1) p.push_back(p.front());  // a plunge: Clipper rounds a zero-length path into a disk
+    ClipperLib::ClipperOffset co;
+    co.ArcTolerance = std::max(chord_tol_mm, tol::clipper_resolution_mm) * kScale;
     co.AddPath(p, ClipperLib::jtRound, ClipperLib::etOpenRound);
+    ClipperLib::Paths out;
+    co.Execute(out, radius_mm * kScale);
+    parts.push_back(std::move(out));
+  };
+  for (const auto& pl : polylines) {  // O(vertices)
+    if (pl.empty()) continue;
+    for (std::size_t a = 0;; a += kPiece) {
+      const std::size_t b = std::min(a + kPiece, pl.size() - 1);
+      offset_piece(std::vector<Vec2>(pl.begin() + static_cast<std::ptrdiff_t>(a), pl.begin() + static_cast<std::ptrdiff_t>(b) + 1));
+      if (b + 1 >= pl.size()) break;
+    }
   }
-  return run_offset(co, radius_mm, chord_tol_mm);
+  auto unite = [](const ClipperLib::Paths& x, const ClipperLib::Paths& y) {
+    ClipperLib::Clipper c;
+    c.AddPaths(x, ClipperLib::ptSubject, true);
+    c.AddPaths(y, ClipperLib::ptClip, true);
+    ClipperLib::Paths out;
+    c.Execute(ClipperLib::ctUnion, out, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+    return out;
+  };
+  while (parts.size() > 1) {  // O(log pieces) levels
+    std::vector<ClipperLib::Paths> next;
+    for (std::size_t i = 0; i + 1 < parts.size(); i += 2) next.push_back(unite(parts[i], parts[i + 1]));
+    if (parts.size() % 2 == 1) next.push_back(std::move(parts.back()));
+    parts = std::move(next);
+  }
+  std::vector<PolyArea> out;
+  if (parts.empty()) return out;
+  ClipperLib::Clipper c;
+  c.AddPaths(parts.front(), ClipperLib::ptSubject, true);
+  ClipperLib::PolyTree tree;
+  c.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  collect(tree, out);
+  return out;
 }
 
 std::vector<PolyArea> difference(const std::vector<PolyArea>& a, const std::vector<PolyArea>& b) {
