@@ -174,7 +174,7 @@ void PocketFlags::add_to(CLI::App* sub, bool with_planner_flags, bool with_depth
   sub->add_flag("--no-contour", no_contour, "leave the wall pass out: parts of the reachable region near the walls stay uncut")
       ->excludes(with);
   if (with_planner_flags) {
-    sub->add_option("--planner", planner, "planner")->check(CLI::IsMember({"som", "zigzag", "offset"}));
+    sub->add_option("--planner", planner, "planner")->check(CLI::IsMember({"som", "zigzag", "offset", "adaptive"}));
     sub->add_option("--partition", partition, "zigzag partition (T: Tang, I: Suh & Kim)")
         ->check(CLI::IsMember({"t", "i", "T", "I"}));
     sub->add_option("--angle", angle, "zigzag reference angle in degrees, or auto");

@@ -38,16 +38,16 @@ struct Row {
   }
 };
 
-/// Plans and machines the pocket with every planner (SOM, zigzag T, zigzag I), writing each one's
+/// Plans and machines the pocket with every planner (SOM, zigzag T, zigzag I, offset, adaptive), writing each one's
 /// pocket outputs (<stem>.<planner>.*) as it goes.
 std::vector<Row> plan_every_planner(const CompareOpts& o, const Json& config, const pocket::PocketFile& file,
                                     const pocket::CutParams& cut, const Json& cutting_data) {
   const std::string stem = fs::path(o.pocket).stem().string();
   std::vector<Row> rows;
-  for (const char* name : {"som", "zigzag-t", "zigzag-i", "offset"}) {
+  for (const char* name : {"som", "zigzag-t", "zigzag-i", "offset", "adaptive"}) {
     PocketFlags f = o.flags;
     const std::string n = name;
-    f.planner = n == "som" || n == "offset" ? n : "zigzag";
+    f.planner = n == "som" || n == "offset" || n == "adaptive" ? n : "zigzag";
     if (n.rfind("zigzag", 0) == 0) f.partition = n == "zigzag-t" ? "t" : "i";
     if (!f.angle) f.angle = "auto";
     const PlannerChoice ch = planner_choice(config, cut, f);

@@ -235,6 +235,12 @@ PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, c
   ch.som_path.blend_corners = m["blend_corners"].get<bool>();
   ch.som_path.blend_radius_mm = m["blend_radius_mm"].get<double>();
   ch.offset.climb = pc["offset"]["direction"].get<std::string>() == "climb";
+  const Json& ad = pc["adaptive"];
+  ch.adaptive.max_engagement_deg = ad["max_engagement_deg"].get<double>();
+  ch.adaptive.climb = ad["direction"].get<std::string>() == "climb";
+  ch.adaptive.step_mm = ad["step_mm"].get<double>();
+  ch.adaptive.raster_mm = ad["raster_mm"].get<double>();
+  ch.adaptive.safety = ad["safety"].get<double>();
   const Json& z = pc["zigzag"];
   std::string part = flags.partition.value_or(z["partition"].get<std::string>());
   ch.zigzag.partition = (part == "t" || part == "T") ? pocket::PartitionKind::T : pocket::PartitionKind::I;
@@ -261,7 +267,8 @@ pocket::PlannerSpec planner_spec(const PlannerChoice& ch) {
   if (ch.name == "som") return pocket::SomSpec{ch.frame, ch.som, ch.smooth, ch.som_path};
   if (ch.name == "zigzag") return pocket::ZigzagSpec{ch.zigzag};
   if (ch.name == "offset") return pocket::OffsetSpec{ch.offset};
-  throw Error("unknown planner '" + ch.name + "' (expected som, zigzag or offset)");
+  if (ch.name == "adaptive") return pocket::AdaptiveSpec{ch.adaptive};
+  throw Error("unknown planner '" + ch.name + "' (expected som, zigzag, offset or adaptive)");
 }
 
 rough::Params rough_params(const Json& config, const Json& explicit_pocket, const PocketFlags& flags,

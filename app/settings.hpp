@@ -44,13 +44,14 @@ namespace millnet::app {
 [[nodiscard]] Json explicit_pocket_section(const std::string& config_path);
 
 struct PlannerChoice {
-  std::string name = "som";           ///< "som" | "zigzag" | "offset"
+  std::string name = "som";           ///< "som" | "zigzag" | "offset" | "adaptive"
   pocket::GridFrame frame;
   pocket::SomParams som;
   pocket::SmoothingParams smooth;
   pocket::SomPathParams som_path;   ///< /pocket/som/walls, /pocket/smoothing/blend_corners, …
   pocket::ZigzagParams zigzag;
   pocket::OffsetParams offset;
+  pocket::AdaptiveParams adaptive;
   pocket::Entry entry = pocket::Entry::Predrill;
   bool contour = false;
   bool link_walls = true;

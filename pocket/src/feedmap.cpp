@@ -77,7 +77,8 @@ void split_long(Chain& ch, double max_len) {
 }
 }  // namespace
 
-FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cut, double axial_depth_mm) {
+FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cut, double axial_depth_mm,
+                         const std::vector<EntryHole>& holes) {
   cut.check("feed map");
   const double g = cut.feed_grid > 0 ? cut.feed_grid : cut.tool_diameter / 10;
   const double R = cut.tool_diameter / 2;
@@ -118,6 +119,8 @@ FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cu
     split_long(ch, cut.stepover);
     ch.feed.assign(ch.pts.size() - 1, cut.feed_half);
     map.mark(ch.pts.front().p(), R);  // the plunge: not a lateral engagement
+    for (const EntryHole& h : holes)  // what the entry cleared (a helix): not the chain's engagement
+      if (h.chain == ci) map.mark(h.centre, h.radius_mm);
     // Steps shorter than a cell are pooled until they make a cell: a column of cells is cut once
     // per cell of travel, so a step of a tenth of a cell reads 0 or ten columns, scaled to a full
     // cell (a slot where the crescent is half). A segment that completes no pool reads the last

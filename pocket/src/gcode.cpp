@@ -146,6 +146,10 @@ void check_params(const GcodeParams& gp) {
 }
 }  // namespace
 
+std::optional<std::pair<Vec2, double>> entry_helix(const Clearance& clear, const Vec2& p, double D) {
+  return fit_helix(clear, p, D);
+}
+
 std::int64_t level_count(double depth, double step_down) {
   if (!(depth > 0) || !std::isfinite(depth)) throw Error("depth must be > 0, got " + format_double(depth));
   if (!(step_down > 0) || !std::isfinite(step_down)) throw Error("step_down must be > 0, got " + format_double(step_down));

@@ -176,7 +176,18 @@ MachiningResult machine_pocket(const Region& region, const CutParams& cut, const
   }
   // Feeds on the first level; deeper levels repeat the same plan under already-cut material, so
   // each one sees the same engagement: one feed map serves all.
-  const FeedProfile prof = assign_feeds(path, region, cut, cut.depth / static_cast<double>(zs.size()));
+  std::vector<EntryHole> holes;
+  if (plan.helix_entry_holes && opt.entry == Entry::Helix) {
+    // The disks build_program's helices clear (the same entry_helix, the same clearance).
+    const Clearance clear(region, cut.clearance());
+    for (std::size_t ci = 0; ci < path.chains.size(); ++ci) {
+      const Chain& c = path.chains[ci];
+      if (!c.predrill || c.pts.empty()) continue;
+      if (const auto hx = entry_helix(clear, c.pts.front().p(), cut.tool_diameter))
+        holes.push_back({ci, hx->first, hx->second + cut.tool_diameter / 2});
+    }
+  }
+  const FeedProfile prof = assign_feeds(path, region, cut, cut.depth / static_cast<double>(zs.size()), holes);
   r.feed_profile = prof;
   r.path = path;
   double top = 0;

@@ -59,6 +59,23 @@ std::vector<std::pair<std::string, double>> OffsetStats::key_values() const {
           {"splits", static_cast<double>(splits)}};
 }
 
+std::vector<std::pair<std::string, double>> AdaptiveStats::key_values() const {
+  return {{"adaptive_cut_length_mm", cut_length_mm},
+          {"adaptive_rapid_length_mm", rapid_length_mm},
+          {"adaptive_retractions", static_cast<double>(retractions)},
+          {"components", static_cast<double>(components)},
+          {"entries", static_cast<double>(entries)},
+          {"entries_without_helix", static_cast<double>(entries_without_helix)},
+          {"links", static_cast<double>(links)},
+          {"passes", static_cast<double>(passes)},
+          {"reentries", static_cast<double>(reentries)},
+          {"steps", static_cast<double>(steps)},
+          {"target_deg", target_deg},
+          {"uncut_target_mm2", uncut_target_mm2},
+          {"vertices", static_cast<double>(vertices)},
+          {"wall_retractions", static_cast<double>(wall_retractions)}};
+}
+
 std::vector<std::pair<std::string, double>> key_values(const PlannerStats& stats) {
   return std::visit(
       [](const auto& s) -> std::vector<std::pair<std::string, double>> {

@@ -68,6 +68,13 @@ std::vector<WorkEstimate> estimate_work(const Region& region, const CutParams& c
     const double k = std::floor(0.5 * std::min(box.hi.x() - box.lo.x(), box.hi.y() - box.lo.y()) / cut.stepover) + 1;
     const double n = 2 * verts * k;
     out.push_back({over("stepover", cut.stepover, box), n, "offset ring vertices", 16.0 * n});
+  } else if (const auto* ad = std::get_if<AdaptiveSpec>(&spec)) {
+    // The cleared-area raster over the box grown by D (a byte of state and of target, a double of
+    // wall distance and an int of component per cell).
+    const double h = ad->adaptive.raster_mm > 0 ? ad->adaptive.raster_mm : cut.tool_diameter / 40;
+    const double n = std::ceil((box.hi.x() - box.lo.x() + 2 * cut.tool_diameter) / h) *
+                     std::ceil((box.hi.y() - box.lo.y() + 2 * cut.tool_diameter) / h);
+    out.push_back({over("raster_mm", h, box), n, "adaptive raster cells", 24.0 * n});
   }
   const double g = cut.feed_grid > 0 ? cut.feed_grid : cut.tool_diameter / 10;
   const double R = cut.tool_diameter / 2;

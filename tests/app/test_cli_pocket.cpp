@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <fstream>
 #include <numbers>
@@ -189,6 +190,7 @@ TEST_P(CliBenchPocket, EveryPlannerIsGougeFreeAndAgreesWithReplay) {
       {"zz-i-helix", "--planner zigzag --partition i --angle auto --entry helix --contour", false},
       {"offset-helix", "--planner offset --entry helix", false},
       {"offset-predrill", "--planner offset", true},
+      {"adaptive-helix", "--planner adaptive --entry helix", false},
   };
   double som_cut = 0, som_contour_cut = 0, som_walls_cut = 0;
   for (const Variant& v : variants) {
@@ -196,7 +198,10 @@ TEST_P(CliBenchPocket, EveryPlannerIsGougeFreeAndAgreesWithReplay) {
     const PocketRun pr = run_pocket(bench(name), v.flags, fresh_dir("cli_pocket_" + name + "_" + v.tag));
     ASSERT_EQ(pr.r.code, 0) << pr.r.err;
     const std::string tag = v.tag;
-    EXPECT_EQ(pr.metrics.value("planner", "").substr(0, 3), tag.substr(0, 2) == "zz" ? "zig" : tag.substr(0, 3) == "off" ? "off" : "som");
+    EXPECT_EQ(pr.metrics.value("planner", "").substr(0, 3), tag.substr(0, 2) == "zz"    ? "zig"
+                                                             : tag.substr(0, 3) == "off" ? "off"
+                                                             : tag.substr(0, 3) == "ada" ? "ada"
+                                                                                         : "som");
     // The bench files say Ø10, stepover 5, depth 5; the default step-down 5 ⇒ one level.
     EXPECT_EQ(pr.metrics["parameters"]["tool_diameter"].get<double>(), 10);
     const ReplayResult rep = check_run(pr, name, pocket, 10, 5, v.predrill);
@@ -226,6 +231,17 @@ TEST_P(CliBenchPocket, EveryPlannerIsGougeFreeAndAgreesWithReplay) {
       if (!v.predrill) EXPECT_EQ(rep.retractions, 0);  // (the pre-drilling operation lifts once)
       EXPECT_LE(num(pr.metrics, "uncut_area_mm2"), 2.0);
       EXPECT_GT(num(pr.metrics, "time_kinematic_min"), num(pr.metrics, "cut_length_mm") / 1500 / 10);
+    }
+    if (tag.substr(0, 8) == "adaptive") {
+      // Issue 11: one reachable region ⇒ no retraction, nothing reachable uncut, one helix entry.
+      EXPECT_EQ(num(pr.metrics, "retractions"), 0);
+      EXPECT_EQ(rep.retractions, 0);
+      EXPECT_LE(num(pr.metrics, "uncut_area_mm2"), 2.0);
+      EXPECT_NE(pr.nc.find("helix entry"), std::string::npos);
+      if (fs::exists("/usr/bin/rs274")) {  // LinuxCNC's own interpreter accepts the program
+        const std::string cmd = "/usr/bin/rs274 -g '" + (pr.out / (name + ".nc")).string() + "' </dev/null >/dev/null 2>&1";
+        EXPECT_EQ(std::system(cmd.c_str()), 0);
+      }
     }
     if (std::string(v.tag) == "som-helix") {
       EXPECT_NE(pr.nc.find("helix entry"), std::string::npos);
@@ -432,19 +448,20 @@ TEST(CliCompare, WritesOneRowPerPlannerConsistentWithPocket) {
     ASSERT_EQ(cells.size(), head.size()) << line;
     rows.push_back(cells);
   }
-  ASSERT_EQ(rows.size(), 4u);
+  ASSERT_EQ(rows.size(), 5u);
   EXPECT_EQ(rows[0][c_planner], "som");
   EXPECT_EQ(rows[1][c_planner], "zigzag-t");
   EXPECT_EQ(rows[2][c_planner], "zigzag-i");
   EXPECT_EQ(rows[3][c_planner], "offset");
-  // Ranked by time to a cleared pocket: ranks 1..4, a cleared planner (uncut ≤ 2 mm²) before any
+  EXPECT_EQ(rows[4][c_planner], "adaptive");
+  // Ranked by time to a cleared pocket: ranks 1..5, a cleared planner (uncut ≤ 2 mm²) before any
   // other, and among the cleared ones the shorter time on the machine first.
   const std::size_t c_rank = col("rank"), c_kin = col("time_kinematic_min"), c_uncut = col("uncut_area_mm2");
   (void)col("max_engagement_deg");
   std::vector<std::size_t> seen;
   for (const auto& row : rows) seen.push_back(std::stoul(row[c_rank]));
   std::sort(seen.begin(), seen.end());
-  EXPECT_EQ(seen, (std::vector<std::size_t>{1, 2, 3, 4}));
+  EXPECT_EQ(seen, (std::vector<std::size_t>{1, 2, 3, 4, 5}));
   for (const auto& a : rows)
     for (const auto& b : rows) {
       const bool ca = std::stod(a[c_uncut]) <= 2, cb = std::stod(b[c_uncut]) <= 2;
@@ -456,7 +473,7 @@ TEST(CliCompare, WritesOneRowPerPlannerConsistentWithPocket) {
   for (const auto& row : rows) EXPECT_EQ(row[c_status], "ok") << row[c_planner];
   const std::string md = slurp(d / "D" / "compare.md");
   EXPECT_NE(md.find("Ranked by time to a cleared pocket"), std::string::npos);
-  for (const char* p : {"| som |", "| zigzag-t |", "| zigzag-i |", "| offset |"}) EXPECT_NE(md.find(p), std::string::npos) << p;
+  for (const char* p : {"| som |", "| zigzag-t |", "| zigzag-i |", "| offset |", "| adaptive |"}) EXPECT_NE(md.find(p), std::string::npos) << p;
   for (const char* p : {"som", "zigzag-t", "zigzag-i"})
     EXPECT_TRUE(fs::exists(d / "D" / (std::string("four_islands.") + p + ".png"))) << list_files(d / "D");
   // Same pocket and tool through `millnet pocket`: the same figures.

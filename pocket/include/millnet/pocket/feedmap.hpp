@@ -36,10 +36,20 @@ struct FeedProfile {
   std::vector<FeedPiece> pieces;
 };
 
+/// A disk an entry has already cleared when chain `chain` starts (a helix: its centre, radius
+/// rh + R): the feed map marks it cut there instead of the tool's own disk.
+struct EntryHole {
+  std::size_t chain = 0;
+  Vec2 centre = Vec2::Zero();
+  double radius_mm = 0;
+};
+
 /// Splits segments longer than 1.5 × stepover into equal pieces (geometry unchanged), runs the feed
 /// map over the chains in order and fills every Chain::feed (f₂ everywhere when cut.feed_adjust is
-/// false, the profile still reported). axial_depth_mm (> 0) only scales the MRR column.
-/// O(path length / grid · (D/grid)²) plus O(cells · walls) to seed the map.
-FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cut, double axial_depth_mm);
+/// false, the profile still reported). axial_depth_mm (> 0) only scales the MRR column. `holes`:
+/// what entries clear before their chain starts (empty: each chain start marks the tool's disk, a
+/// plunge). O(path length / grid · (D/grid)²) plus O(cells · walls) to seed the map.
+FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cut, double axial_depth_mm,
+                         const std::vector<EntryHole>& holes = {});
 
 }  // namespace millnet::pocket

@@ -14,8 +14,10 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace millnet::pocket {
@@ -45,6 +47,12 @@ struct GcodeParams {
   double entry_angle_deg = 3.0;    ///< helix / ramp descent angle
   int decimals = 4;                ///< coordinate decimals (LinuxCNC and GRBL accept 4–6)
 };
+
+/// The helix build_program makes to enter a chain at p (Entry::Helix): its centre and radius rh,
+/// chosen so that the whole helix of tool centres keeps `clear`'s clearance (radius ≤ 0.45·D,
+/// shrunk and turned round p until it fits). It clears a disk of radius rh + D/2 round the centre.
+/// Empty when none fits (build_program then ramps or plunges).
+[[nodiscard]] std::optional<std::pair<Vec2, double>> entry_helix(const Clearance& clear, const Vec2& p, double D);
 
 /// The program (header, levels expanded, entries resolved): moves with op = 1 for the
 /// pre-drilling, comments as Comment items, spindle and the drill-to-end-mill pause as items.

@@ -4,10 +4,12 @@
 //
 //   PlanResult r = plan(region, cut, SomSpec{frame, som, smooth});
 //   PlanResult z = plan(region, cut, ZigzagSpec{zigzag_params});
+//   PlanResult a = plan(region, cut, AdaptiveSpec{adaptive_params});
 //
 // Adding a planner: its params struct and plan_<name>() in pocket (a header and a .cpp), a spec
 // struct here, one alternative in PlannerSpec, and one line in plan() / planner_name().
 #include "millnet/pocket/planner.hpp"
+#include "millnet/pocket/planner_adaptive.hpp"
 #include "millnet/pocket/planner_offset.hpp"
 #include "millnet/pocket/planner_som.hpp"
 #include "millnet/pocket/planner_zigzag.hpp"
@@ -35,12 +37,17 @@ struct OffsetSpec {
   OffsetParams offset;
 };
 
-using PlannerSpec = std::variant<SomSpec, ZigzagSpec, OffsetSpec>;
+/// The adaptive (constant-engagement) planner: passes that keep the engagement at a target angle.
+struct AdaptiveSpec {
+  AdaptiveParams adaptive;
+};
+
+using PlannerSpec = std::variant<SomSpec, ZigzagSpec, OffsetSpec, AdaptiveSpec>;
 
 /// Plans one validated, normalized region with the planner `spec` names (pocket/planner.hpp contract).
 [[nodiscard]] PlanResult plan(const Region& region, const CutParams& cut, const PlannerSpec& spec);
 
-/// The planner's configuration name: "som", "zigzag" or "offset".
+/// The planner's configuration name: "som", "zigzag", "offset" or "adaptive".
 [[nodiscard]] std::string_view planner_name(const PlannerSpec& spec);
 
 }  // namespace millnet::pocket

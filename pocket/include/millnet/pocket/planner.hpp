@@ -22,6 +22,10 @@ struct PlanResult {
   /// The path already runs along every wall (the offset planner's first rings): machine_pocket
   /// adds no contour pass.
   bool walls_cut = false;
+  /// The plan counts on what a helix entry clears (the adaptive planner): with Entry::Helix,
+  /// machine_pocket's feed map marks each helix's disk (entry_helix: radius rh + R) at its chain's
+  /// start. Off for the other planners, whose feeds and programs stay as they were.
+  bool helix_entry_holes = false;
   double planning_time_s = 0;
 };
 

@@ -70,9 +70,28 @@ struct OffsetStats {
   [[nodiscard]] std::vector<std::pair<std::string, double>> key_values() const;
 };
 
+/// The adaptive planner's figures (plan_adaptive).
+struct AdaptiveStats {
+  double target_deg = 0;              ///< the engagement the planner kept to
+  std::size_t components = 0;         ///< components of the tool centres' raster
+  std::size_t entries = 0;            ///< helix entries (one per component)
+  std::size_t entries_without_helix = 0;  ///< entries where no helix fits (a ramp or plunge)
+  std::size_t reentries = 0;          ///< retractions to a cleared start no link reached
+  std::size_t wall_retractions = 0;   ///< wall loops no link reached
+  std::size_t passes = 0;             ///< constant-engagement passes
+  std::size_t links = 0;              ///< pass-to-pass moves with the tool down
+  std::size_t steps = 0;              ///< planning steps
+  std::size_t vertices = 0;           ///< of the simplified path
+  std::size_t retractions = 0;        ///< of the planned path
+  double cut_length_mm = 0;           ///< of the planned path (links included)
+  double rapid_length_mm = 0;
+  double uncut_target_mm2 = 0;        ///< raster estimate left for the contour pass
+  [[nodiscard]] std::vector<std::pair<std::string, double>> key_values() const;
+};
+
 /// One alternative per planner; std::monostate when the planner stopped before planning (status
 /// NoToolPoints) and has no figures.
-using PlannerStats = std::variant<std::monostate, SomStats, ZigzagStats, OffsetStats>;
+using PlannerStats = std::variant<std::monostate, SomStats, ZigzagStats, OffsetStats, AdaptiveStats>;
 
 /// The figures of whichever planner, as SomStats/ZigzagStats::key_values; none for std::monostate.
 [[nodiscard]] std::vector<std::pair<std::string, double>> key_values(const PlannerStats& stats);

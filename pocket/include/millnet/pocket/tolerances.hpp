@@ -26,4 +26,8 @@ inline constexpr double arc_fit_mm = 2 * arc_chord_mm;
 /// its sagitta over this spacing closer to a wall it runs along (0.05² / 8r: 0.06 µm at r = 5 mm),
 /// far below the tests' 0.01 mm replay tolerance.
 inline constexpr double arc_fit_sample_mm = 0.05;
+/// The adaptive planner's step points are simplified within this (Douglas–Peucker): the path
+/// moves ≤ 0.005 mm, a sliver of engagement far below the feed map's cell, while a 5 mm trochoid
+/// needs a vertex every ≈ 0.45 mm instead of every planning step (0.25 mm).
+inline constexpr double adaptive_simplify_mm = 0.005;
 }  // namespace millnet::pocket::tol

@@ -1,0 +1,952 @@
+// The adaptive (constant-engagement) planner (planner_adaptive.hpp).
+#include "millnet/pocket/planner_adaptive.hpp"
+
+#include "millnet/core/error.hpp"
+#include "millnet/pocket/gcode.hpp"
+#include "millnet/pocket/offset.hpp"
+#include "millnet/pocket/tolerances.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <optional>
+#include <queue>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+namespace millnet::pocket {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// Link lattice spacing, mm: positions a link may pass through and passes may start from.
+constexpr double kLatticeMm = 1.0;
+/// Lattice positions keep this much more than the cutting clearance from the walls, mm: a chord
+/// between two of them then cannot dip into the clearance round a convex island (sagitta of a
+/// 1.5 mm chord on a 5 mm arc: 0.06 mm).
+constexpr double kLinkMarginMm = 0.1;
+/// Turn per step while cutting (the first step of a pass searches ±90°), degrees.
+constexpr double kMaxTurnDeg = 12;
+/// A pass senses uncut material this far beyond the tool's radius, mm; it also ends after R plus
+/// this much path that cut nothing.
+constexpr double kSenseMm = 3.0;
+/// A pass ends when the best step it may take points more than this off the front's tangent, away
+/// from the material (it could only back away), degrees.
+constexpr double kBlockedDeg = 75;
+/// A ride back along the front stops when a step would point more than this away from the material.
+constexpr double kRideAwayDeg = 60;
+/// Rides back shorter than kRideMinMm gain nothing; none goes beyond kRideMaxMm.
+constexpr double kRideMinMm = 1.0;
+constexpr double kRideMaxMm = 300.0;
+/// The passes leave a band of this fraction of the target's engaged width along the walls; the wall
+/// pass cuts it (a thinner band than the target: the wall pass's engagement stays below it).
+constexpr double kWallBand = 0.0;
+/// Raster cells of uncut material worth a pass (fewer are raster noise).
+constexpr int kMinWorkCells = 4;
+
+Vec2 rot(const Vec2& v, double a) {
+  const double c = std::cos(a), s = std::sin(a);
+  return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
+}
+
+/// Squared Euclidean distance transform (Felzenszwalb–Huttenlocher) of a grid: for every cell, the
+/// squared distance (in cells) to the nearest seed cell; kInf where there is none. O(cells).
+std::vector<double> edt(const std::vector<std::uint8_t>& seed, int nx, int ny) {
+  const double big = 1e20;
+  std::vector<double> g(seed.size());
+  for (std::size_t i = 0; i < seed.size(); ++i) g[i] = seed[i] ? 0.0 : big;
+  const int n = std::max(nx, ny);
+  std::vector<double> f(static_cast<std::size_t>(n)), d(static_cast<std::size_t>(n)), z(static_cast<std::size_t>(n) + 1);
+  std::vector<int> v(static_cast<std::size_t>(n));
+  auto pass = [&](int len) {
+    int k = 0;
+    v[0] = 0;
+    z[0] = -big;
+    z[1] = big;
+    for (int q = 1; q < len; ++q) {
+      double s;
+      for (;;) {
+        const int p = v[static_cast<std::size_t>(k)];
+        s = ((f[static_cast<std::size_t>(q)] + q * q) - (f[static_cast<std::size_t>(p)] + p * p)) / (2.0 * (q - p));
+        if (s <= z[static_cast<std::size_t>(k)] && k > 0) {
+          --k;
+          continue;
+        }
+        if (s <= z[static_cast<std::size_t>(k)]) {  // k == 0
+          v[0] = q;
+          z[0] = -big;
+          z[1] = big;
+          k = -1;
+        }
+        break;
+      }
+      if (k >= 0) {
+        ++k;
+        v[static_cast<std::size_t>(k)] = q;
+        z[static_cast<std::size_t>(k)] = s;
+        z[static_cast<std::size_t>(k) + 1] = big;
+      } else {
+        k = 0;
+      }
+    }
+    k = 0;
+    for (int q = 0; q < len; ++q) {
+      while (z[static_cast<std::size_t>(k) + 1] < q) ++k;
+      const int p = v[static_cast<std::size_t>(k)];
+      d[static_cast<std::size_t>(q)] = (q - p) * (q - p) + f[static_cast<std::size_t>(p)];
+    }
+  };
+  for (int x = 0; x < nx; ++x) {  // columns
+    for (int y = 0; y < ny; ++y) f[static_cast<std::size_t>(y)] = g[static_cast<std::size_t>(y) * nx + x];
+    pass(ny);
+    for (int y = 0; y < ny; ++y) g[static_cast<std::size_t>(y) * nx + x] = d[static_cast<std::size_t>(y)];
+  }
+  for (int y = 0; y < ny; ++y) {  // rows
+    for (int x = 0; x < nx; ++x) f[static_cast<std::size_t>(x)] = g[static_cast<std::size_t>(y) * nx + x];
+    pass(nx);
+    for (int x = 0; x < nx; ++x) g[static_cast<std::size_t>(y) * nx + x] = d[static_cast<std::size_t>(x)];
+  }
+  for (double& e : g)
+    if (e >= big / 2) e = kInf;
+  return g;
+}
+
+/// The cleared-area raster: 0 = no material (centre outside the region), 1 = uncut, 2 = cut; a
+/// cell is cut when its centre lies within R of a tool centre (the feed map's rule). Blocks of
+/// kB × kB cells count their uncut cells (all, and those of the clearing's target) so that the
+/// lattice's queries skip cleared blocks.
+class Raster {
+public:
+  static constexpr int kB = 4;
+
+  Raster(const Region& region, double h, double margin) : h_(h) {
+    const std::vector<Vec2> b = flatten(region.boundary, tol::arc_chord_mm);
+    Vec2 lo = b.front(), hi = b.front();
+    for (const Vec2& p : b) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    lo_ = lo - Vec2(margin, margin);
+    nx_ = static_cast<int>(std::ceil((hi.x() - lo.x() + 2 * margin) / h)) + 1;
+    ny_ = static_cast<int>(std::ceil((hi.y() - lo.y() + 2 * margin) / h)) + 1;
+    if (static_cast<double>(nx_) * ny_ > 4e7)
+      throw Error("adaptive planner: raster of " + std::to_string(nx_) + " x " + std::to_string(ny_) +
+                  " cells is too fine; raise raster_mm");
+    st_.assign(static_cast<std::size_t>(nx_) * ny_, 0);
+    target_.assign(st_.size(), 0);
+    const Clearance inside_q(region, 0.0);
+    for (int y = 0; y < ny_; ++y)
+      for (int x = 0; x < nx_; ++x)
+        if (inside_q.point_ok(centre(x, y))) st_[idx(x, y)] = 1;
+    bx_ = (nx_ + kB - 1) / kB;
+    by_ = (ny_ + kB - 1) / kB;
+  }
+
+  [[nodiscard]] int nx() const { return nx_; }
+  [[nodiscard]] int ny() const { return ny_; }
+  [[nodiscard]] double h() const { return h_; }
+  [[nodiscard]] std::size_t idx(int x, int y) const { return static_cast<std::size_t>(y) * nx_ + x; }
+  [[nodiscard]] Vec2 centre(int x, int y) const { return lo_ + Vec2((x + 0.5) * h_, (y + 0.5) * h_); }
+  [[nodiscard]] std::uint8_t state(std::size_t i) const { return st_[i]; }
+  [[nodiscard]] const std::vector<std::uint8_t>& states() const { return st_; }
+  std::vector<std::uint8_t>& target() { return target_; }
+
+  /// Call once target() is filled.
+  void count_blocks() {
+    uncut_.assign(static_cast<std::size_t>(bx_) * by_, 0);
+    tuncut_.assign(uncut_.size(), 0);
+    for (int y = 0; y < ny_; ++y)
+      for (int x = 0; x < nx_; ++x)
+        if (st_[idx(x, y)] == 1) {
+          ++uncut_[block(x, y)];
+          if (target_[idx(x, y)]) ++tuncut_[block(x, y)];
+        }
+  }
+
+  /// Calls f(i) for every cell whose centre lies within r of c. O((2r/h)²).
+  template <class F>
+  void disk(const Vec2& c, double r, F&& f) const {
+    const int y0 = std::max(0, static_cast<int>(std::ceil((c.y() - r - lo_.y()) / h_ - 0.5)));
+    const int y1 = std::min(ny_ - 1, static_cast<int>(std::floor((c.y() + r - lo_.y()) / h_ - 0.5)));
+    for (int y = y0; y <= y1; ++y) {
+      const double dy = lo_.y() + (y + 0.5) * h_ - c.y();
+      const double w2 = r * r - dy * dy;
+      if (w2 < 0) continue;
+      const double w = std::sqrt(w2);
+      const int x0 = std::max(0, static_cast<int>(std::ceil((c.x() - w - lo_.x()) / h_ - 0.5)));
+      const int x1 = std::min(nx_ - 1, static_cast<int>(std::floor((c.x() + w - lo_.x()) / h_ - 0.5)));
+      for (int x = x0; x <= x1; ++x) f(idx(x, y));
+    }
+  }
+
+  /// Uncut cells within r of c (what a tool there would cut).
+  [[nodiscard]] int fresh(const Vec2& c, double r) const {
+    int n = 0;
+    disk(c, r, [&](std::size_t i) { n += st_[i] == 1; });
+    return n;
+  }
+
+  /// Cuts the cells within r of c; returns how many were uncut.
+  int mark(const Vec2& c, double r) {
+    int n = 0;
+    disk(c, r, [&](std::size_t i) {
+      if (st_[i] != 1) return;
+      st_[i] = 2;
+      ++n;
+      const int x = static_cast<int>(i % static_cast<std::size_t>(nx_)), y = static_cast<int>(i / static_cast<std::size_t>(nx_));
+      --uncut_[block(x, y)];
+      if (target_[i]) --tuncut_[block(x, y)];
+    });
+    return n;
+  }
+
+  /// No uncut cell within r of c (block-pruned).
+  [[nodiscard]] bool clear_within(const Vec2& c, double r) const {
+    bool ok = true;
+    blocks(c, r, uncut_, [&](int x, int y) {
+      if (st_[idx(x, y)] == 1 && (centre(x, y) - c).squaredNorm() <= r * r) ok = false;
+      return ok;
+    });
+    return ok;
+  }
+
+  /// Uncut target cells within r of c, up to `enough`, and the nearest one.
+  int target_within(const Vec2& c, double r, Vec2& nearest) const {
+    int n = 0;
+    double best = kInf;
+    blocks(c, r, tuncut_, [&](int x, int y) {
+      const std::size_t i = idx(x, y);
+      if (st_[i] != 1 || !target_[i]) return true;
+      const double d = (centre(x, y) - c).squaredNorm();
+      if (d > r * r) return true;
+      ++n;
+      if (d < best) {
+        best = d;
+        nearest = centre(x, y);
+      }
+      return true;
+    });
+    return n;
+  }
+
+  /// Uncut target cells within r of c and their centroid.
+  int target_centroid(const Vec2& c, double r, Vec2& centroid) const {
+    int n = 0;
+    Vec2 sum(0, 0);
+    blocks(c, r, tuncut_, [&](int x, int y) {
+      const std::size_t i = idx(x, y);
+      if (st_[i] != 1 || !target_[i]) return true;
+      const Vec2 q = centre(x, y);
+      if ((q - c).squaredNorm() > r * r) return true;
+      ++n;
+      sum += q;
+      return true;
+    });
+    if (n > 0) centroid = sum / n;
+    return n;
+  }
+
+  [[nodiscard]] std::size_t uncut_target_cells() const {
+    std::size_t n = 0;
+    for (int v : tuncut_) n += static_cast<std::size_t>(v);
+    return n;
+  }
+
+private:
+  [[nodiscard]] std::size_t block(int x, int y) const { return static_cast<std::size_t>(y / kB) * bx_ + x / kB; }
+
+  /// Visits the cells of the blocks within r of c whose count is > 0; f(x, y) returns false to stop.
+  template <class F>
+  void blocks(const Vec2& c, double r, const std::vector<int>& count, F&& f) const {
+    const double bs = kB * h_;
+    const int bx0 = std::max(0, static_cast<int>(std::floor((c.x() - r - lo_.x()) / bs)));
+    const int bx1 = std::min(bx_ - 1, static_cast<int>(std::floor((c.x() + r - lo_.x()) / bs)));
+    const int by0 = std::max(0, static_cast<int>(std::floor((c.y() - r - lo_.y()) / bs)));
+    const int by1 = std::min(by_ - 1, static_cast<int>(std::floor((c.y() + r - lo_.y()) / bs)));
+    for (int by = by0; by <= by1; ++by)
+      for (int bx = bx0; bx <= bx1; ++bx) {
+        if (count[static_cast<std::size_t>(by) * bx_ + bx] <= 0) continue;
+        const Vec2 blo = lo_ + Vec2(bx * bs, by * bs);
+        const Vec2 q = c.cwiseMax(blo).cwiseMin(blo + Vec2(bs, bs));
+        if ((q - c).squaredNorm() > r * r) continue;
+        for (int y = by * kB; y < std::min(ny_, (by + 1) * kB); ++y)
+          for (int x = bx * kB; x < std::min(nx_, (bx + 1) * kB); ++x)
+            if (!f(x, y)) return;
+      }
+  }
+
+  double h_;
+  Vec2 lo_;
+  int nx_ = 0, ny_ = 0, bx_ = 0, by_ = 0;
+  std::vector<std::uint8_t> st_, target_;
+  std::vector<int> uncut_, tuncut_;
+};
+
+/// Douglas–Peucker on an open polyline within eps, keeping a chord only where the walls allow it.
+void simplify_into(const std::vector<Vec2>& pts, double eps, const Clearance& walls, std::vector<Vec2>& out) {
+  if (pts.empty()) return;
+  std::vector<char> keep(pts.size(), 0);
+  keep.front() = keep.back() = 1;
+  std::vector<std::pair<std::size_t, std::size_t>> stack{{0, pts.size() - 1}};
+  while (!stack.empty()) {
+    const auto [a, b] = stack.back();
+    stack.pop_back();
+    if (b <= a + 1) continue;
+    const Vec2 A = pts[a], B = pts[b];
+    const Vec2 ab = B - A;
+    const double L2 = ab.squaredNorm();
+    double worst = -1;
+    std::size_t wi = a + 1;
+    for (std::size_t i = a + 1; i < b; ++i) {
+      const double t = L2 > 0 ? std::clamp((pts[i] - A).dot(ab) / L2, 0.0, 1.0) : 0.0;
+      const double d = (pts[i] - (A + t * ab)).norm();
+      if (d > worst) {
+        worst = d;
+        wi = i;
+      }
+    }
+    if (worst <= eps && walls.move_ok(A, B)) continue;
+    keep[wi] = 1;
+    stack.push_back({a, wi});
+    stack.push_back({wi, b});
+  }
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    if (keep[i]) out.push_back(pts[i]);
+}
+
+/// The band of material the passes leave along the walls for the wall pass, mm: kWallBand of the
+/// target's engaged width. The passes' centres keep half of it more than the wall pass's clearance
+/// and reach half of it less than R, so the band is its full width (the wall pass's engagement).
+double wall_band(const CutParams& cut, double target_deg) {
+  const double R = cut.tool_diameter / 2;
+  return kWallBand * R * (1 - std::cos(target_deg * kPi / 180));
+}
+
+class Planner {
+public:
+  Planner(const Region& region, const CutParams& cut, const AdaptiveParams& prm, double target_deg)
+      : region_(region),
+        cut_(cut),
+        R_(cut.tool_diameter / 2),
+        climb_(prm.climb),
+        step_(prm.step_mm > 0 ? prm.step_mm : cut.tool_diameter / 40),
+        raster_(region, prm.raster_mm > 0 ? prm.raster_mm : cut.tool_diameter / 40, cut.tool_diameter),
+        walls_(region, cut.clearance() + tol::contour_margin_mm + 0.5 * wall_band(cut, target_deg)),
+        exact_(region, cut.clearance()),
+        link_walls_(region, cut.clearance() + tol::contour_margin_mm + kLinkMarginMm) {
+    const double h = raster_.h();
+    const double width = R_ * (1 - std::cos(target_deg * kPi / 180));  // engaged width a_e
+    max_cells_ = prm.safety * width * step_ / (h * h);
+    band_ = wall_band(cut, target_deg);
+    Rr_ = R_;
+    prepare();
+  }
+
+  void run() {
+    std::optional<Vec2> pos;  // tool down here, or nullopt (retracted)
+    std::size_t guard = 0;
+    const std::size_t max_rounds = 200000;
+    while (guard++ < max_rounds) {
+      if (pos) {
+        Vec2 start, toward;
+        std::vector<Vec2> way;
+        // First the front's upstream end: ride back along the material (kept on the other side,
+        // nothing cut) to where the front meets a wall, and climb-cut it again from there.
+        if (last_cells_ >= kMinWorkCells && ride_back(*pos, way)) {
+          append_link(way);
+          last_cells_ = cut_pass(way.back(), last_heading_, true);
+          pos = current_end();
+          continue;
+        }
+        way.clear();
+        if (find_start(*pos, start, toward, way)) {
+          const bool ok = link_along(way);
+          if (ok) {
+            const double got = cut_pass(start, first_dir(start, toward), true);
+            last_cells_ = got;
+            if (got < kMinWorkCells) dead_[lattice_index(start)] = 1;
+            pos = current_end();
+            continue;
+          }
+          dead_[lattice_index(start)] = 1;
+          continue;
+        }
+        pos.reset();  // nothing linkable from here
+      }
+      // Retracted: a new component's entry, or a start elsewhere in one already entered.
+      if (!enter_next(pos)) break;
+    }
+    cut_walls();
+  }
+
+  /// The wall pass: every loop of A_0 (outer loops counter-clockwise, island loops clockwise for
+  /// climb; reversed for conventional), the nearest loop next, each from its vertex nearest the
+  /// tool, reached with the tool down through cut area (a retraction only where no way is free).
+  void cut_walls() {
+    if (chains_.empty()) return;
+    std::vector<std::vector<Vec2>> loops;
+    for (const PolyArea& a : offset_inward(region_, cut_.clearance() + tol::contour_margin_mm, tol::contour_chord_mm)) {
+      if (a.outer.size() >= 3) loops.push_back(a.outer);
+      for (const auto& h : a.holes)
+        if (h.size() >= 3) loops.push_back(h);
+    }
+    for (auto& l : loops)
+      if (!climb_) std::reverse(l.begin(), l.end());
+    while (!loops.empty()) {
+      const Vec2 at_ = current_end();
+      std::size_t li = 0, vi = 0;
+      double best = kInf;
+      for (std::size_t i = 0; i < loops.size(); ++i)
+        for (std::size_t j = 0; j < loops[i].size(); ++j)
+          if (const double dd = (loops[i][j] - at_).squaredNorm(); dd < best) {
+            best = dd;
+            li = i;
+            vi = j;
+          }
+      std::vector<Vec2> loop;
+      for (std::size_t j = 0; j <= loops[li].size(); ++j) loop.push_back(loops[li][(vi + j) % loops[li].size()]);
+      loops.erase(loops.begin() + static_cast<std::ptrdiff_t>(li));
+      Vec2 start, toward;
+      std::vector<Vec2> way;
+      if (!(find_start(at_, start, toward, way, &loop.front()) && link_along(way))) {
+        chains_.push_back(RawChain{});
+        chains_.back().predrill = !safe(loop.front());
+        ++stats_.wall_retractions;
+      }
+      RawChain& c = chains_.back();
+      for (std::size_t j = 0; j < loop.size(); ++j) {
+        if (!c.pts.empty()) {
+          const Vec2 a = c.pts.back(), b = loop[j];
+          const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / step_)));
+          for (int t = 1; t <= n; ++t) raster_.mark(a + (b - a) * (static_cast<double>(t) / n), Rr_);
+        }
+        c.pts.push_back(loop[j]);
+      }
+    }
+  }
+
+  PlanResult result(PlanResult res) {
+    AdaptiveStats& st = stats_;
+    for (auto& raw : chains_) {
+      Chain c;
+      c.predrill = raw.predrill;
+      std::vector<Vec2> pts;
+      simplify_into(raw.pts, tol::adaptive_simplify_mm, exact_, pts);
+      for (const Vec2& p : pts) {
+        if (!c.pts.empty() && (c.pts.back().p() - p).norm() <= tol::join_mm) continue;
+        c.pts.push_back({p.x(), p.y(), 0.0});
+      }
+      if (c.pts.size() == 1) c.pts.push_back(c.pts.front());  // a lone entry: keep it a move
+      res.path.chains.push_back(std::move(c));
+    }
+    for (const Chain& c : res.path.chains)
+      if (c.predrill && !c.pts.empty()) res.predrill.push_back(c.pts.front().p());
+    st.retractions = res.path.retractions();
+    st.cut_length_mm = res.path.cut_length();
+    st.rapid_length_mm = res.path.rapid_length();
+    st.uncut_target_mm2 = static_cast<double>(raster_.uncut_target_cells()) * raster_.h() * raster_.h();
+    std::size_t v = 0;
+    for (const Chain& c : res.path.chains) v += c.pts.size();
+    st.vertices = v;
+    res.stats = st;
+    return res;
+  }
+
+  AdaptiveStats stats_;
+
+private:
+  struct RawChain {
+    std::vector<Vec2> pts;
+    bool predrill = true;
+  };
+
+  /// Target cells (within R of an allowed raster centre), raster components of allowed centres,
+  /// their entry points (largest distance to the material's edge), the lattice.
+  void prepare() {
+    const int nx = raster_.nx(), ny = raster_.ny();
+    const double h = raster_.h();
+    const auto& st = raster_.states();
+    std::vector<std::uint8_t> empty(st.size());
+    for (std::size_t i = 0; i < st.size(); ++i) empty[i] = st[i] == 0;
+    wall_d2_ = edt(empty, nx, ny);  // squared cells to the nearest cell outside the region
+    const double cl = walls_.clearance();
+    allowed_.assign(st.size(), 0);
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) {
+        const std::size_t i = raster_.idx(x, y);
+        if (st[i] == 0) continue;
+        const double d = std::sqrt(wall_d2_[i]) * h;  // within ~h of the wall distance
+        if (d < cl - 2 * h) continue;
+        allowed_[i] = d > cl + 2 * h ? 1 : static_cast<std::uint8_t>(walls_.point_ok(raster_.centre(x, y)));
+      }
+    const std::vector<double> to_allowed = edt(allowed_, nx, ny);
+    auto& target = raster_.target();
+    const double reach = (R_ - std::max(0.5 * h, 0.5 * band_)) / h;
+    for (std::size_t i = 0; i < st.size(); ++i) target[i] = st[i] == 1 && to_allowed[i] <= reach * reach;
+    raster_.count_blocks();
+    // Components of allowed centres (8-connected flood fill), in raster order.
+    comp_.assign(st.size(), -1);
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) {
+        const std::size_t s = raster_.idx(x, y);
+        if (!allowed_[s] || comp_[s] >= 0) continue;
+        const int id = static_cast<int>(entries_.size());
+        std::size_t best = s;
+        std::vector<std::size_t> stack{s};
+        comp_[s] = id;
+        while (!stack.empty()) {
+          const std::size_t i = stack.back();
+          stack.pop_back();
+          if (wall_d2_[i] > wall_d2_[best] || (wall_d2_[i] == wall_d2_[best] && i < best)) best = i;
+          const int cx = static_cast<int>(i % static_cast<std::size_t>(nx)), cy = static_cast<int>(i / static_cast<std::size_t>(nx));
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int qx = cx + dx, qy = cy + dy;
+              if (qx < 0 || qy < 0 || qx >= nx || qy >= ny) continue;
+              const std::size_t q = raster_.idx(qx, qy);
+              if (allowed_[q] && comp_[q] < 0) {
+                comp_[q] = id;
+                stack.push_back(q);
+              }
+            }
+        }
+        entries_.push_back({raster_.centre(static_cast<int>(best % static_cast<std::size_t>(nx)),
+                                           static_cast<int>(best / static_cast<std::size_t>(nx))),
+                            false});
+      }
+    stats_.components = entries_.size();
+    // Lattice over the raster's box.
+    lat_lo_ = raster_.centre(0, 0);
+    lnx_ = static_cast<int>(std::floor((nx - 1) * h / kLatticeMm)) + 1;
+    lny_ = static_cast<int>(std::floor((ny - 1) * h / kLatticeMm)) + 1;
+    lat_ok_.assign(static_cast<std::size_t>(lnx_) * lny_, -1);
+    dead_.assign(lat_ok_.size(), 0);
+  }
+
+  [[nodiscard]] Vec2 lattice_point(std::size_t k) const {
+    return lat_lo_ + kLatticeMm * Vec2(static_cast<double>(k % static_cast<std::size_t>(lnx_)),
+                                       static_cast<double>(k / static_cast<std::size_t>(lnx_)));
+  }
+  [[nodiscard]] std::size_t lattice_index(const Vec2& p) const {
+    const int x = std::clamp(static_cast<int>(std::lround((p.x() - lat_lo_.x()) / kLatticeMm)), 0, lnx_ - 1);
+    const int y = std::clamp(static_cast<int>(std::lround((p.y() - lat_lo_.y()) / kLatticeMm)), 0, lny_ - 1);
+    return static_cast<std::size_t>(y) * lnx_ + x;
+  }
+  /// Allowed for links (cached: walls do not move).
+  bool lattice_allowed(std::size_t k) {
+    if (lat_ok_[k] < 0) lat_ok_[k] = link_walls_.point_ok(lattice_point(k)) ? 1 : 0;
+    return lat_ok_[k] == 1;
+  }
+
+  /// The tool's disk there is cleared (up to raster noise).
+  [[nodiscard]] bool safe(const Vec2& p) const { return raster_.clear_within(p, Rr_); }
+
+  /// The straight move a→b with the tool down: no wall, at most the target's cut per step.
+  [[nodiscard]] bool link_ok(const Vec2& a, const Vec2& b) const {
+    if (!exact_.move_ok(a, b)) return false;
+    const double L = (b - a).norm();
+    const int n = std::max(1, static_cast<int>(std::ceil(L / step_)));
+    for (int i = 1; i <= n; ++i)
+      if (raster_.fresh(a + (b - a) * (static_cast<double>(i) / n), Rr_) > max_cells_ * (L / n) / step_ + 0.5) return false;
+    return true;
+  }
+
+  /// Dijkstra from `from` over safe, allowed lattice positions to the nearest one with uncut target
+  /// material within reach; the way there (from first, the start last).
+  /// With `goal`: the way to that point instead (the lattice position nearest it that a straight
+  /// link reaches, then the goal).
+  bool find_start(const Vec2& from, Vec2& start, Vec2& toward, std::vector<Vec2>& way, const Vec2* goal = nullptr) {
+    if (goal && link_ok(from, *goal)) {
+      way = {from, *goal};
+      start = toward = *goal;
+      return true;
+    }
+    const std::size_t n = lat_ok_.size();
+    std::vector<double> dist(n, kInf);
+    std::vector<long> prev(n, -1);
+    std::vector<std::uint8_t> state(n, 0);  // 0 unknown, 1 usable, 2 not
+    auto usable = [&](std::size_t k) {
+      if (state[k] == 0) state[k] = (lattice_allowed(k) && safe(lattice_point(k))) ? 1 : 2;
+      return state[k] == 1;
+    };
+    using Item = std::pair<double, std::size_t>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+    const std::size_t c0 = lattice_index(from);
+    const int cx0 = static_cast<int>(c0 % static_cast<std::size_t>(lnx_)), cy0 = static_cast<int>(c0 / static_cast<std::size_t>(lnx_));
+    // Seeds: the lattice positions round the tool a straight link reaches, in growing rings.
+    const int max_ring = static_cast<int>(std::ceil((R_ + 3) / kLatticeMm));
+    for (int r = 1; r <= max_ring && open.empty(); ++r)
+      for (int dy = -r; dy <= r; ++dy)
+        for (int dx = -r; dx <= r; ++dx) {
+          if (std::max(std::abs(dx), std::abs(dy)) != r) continue;
+          const int x = cx0 + dx, y = cy0 + dy;
+          if (x < 0 || y < 0 || x >= lnx_ || y >= lny_) continue;
+          const std::size_t k = static_cast<std::size_t>(y) * lnx_ + x;
+          if (!usable(k) || !link_ok(from, lattice_point(k))) continue;
+          const double d = (lattice_point(k) - from).norm();
+          if (d < dist[k]) {
+            dist[k] = d;
+            open.push({d, k});
+          }
+        }
+    const double reach = R_ + 1.5 * kLatticeMm;
+    while (!open.empty()) {  // O(lattice · log lattice) at worst
+      const auto [d, k] = open.top();
+      open.pop();
+      if (d > dist[k]) continue;
+      Vec2 near;
+      const bool found = goal ? (lattice_point(k) - *goal).norm() <= 2.5 * kLatticeMm && link_ok(lattice_point(k), *goal)
+                              : !dead_[k] && raster_.target_within(lattice_point(k), reach, near) >= kMinWorkCells;
+      if (found) {
+        start = goal ? *goal : lattice_point(k);
+        toward = goal ? *goal : near;
+        std::vector<Vec2> rev;
+        if (goal) rev.push_back(*goal);
+        for (long c = static_cast<long>(k); c >= 0; c = prev[static_cast<std::size_t>(c)]) rev.push_back(lattice_point(static_cast<std::size_t>(c)));
+        rev.push_back(from);
+        way.assign(rev.rbegin(), rev.rend());
+        return true;
+      }
+      const int x0 = static_cast<int>(k % static_cast<std::size_t>(lnx_)), y0 = static_cast<int>(k / static_cast<std::size_t>(lnx_));
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int x = x0 + dx, y = y0 + dy;
+          if ((dx == 0 && dy == 0) || x < 0 || y < 0 || x >= lnx_ || y >= lny_) continue;
+          const std::size_t q = static_cast<std::size_t>(y) * lnx_ + x;
+          if (!usable(q)) continue;
+          const double nd = d + kLatticeMm * ((dx != 0 && dy != 0) ? std::numbers::sqrt2 : 1.0);
+          if (nd < dist[q]) {
+            dist[q] = nd;
+            prev[q] = static_cast<long>(k);
+            open.push({nd, q});
+          }
+        }
+    }
+    return false;
+  }
+
+  /// Cuts along `way` (from the tool's position) pulled taut: each straight move as long as
+  /// link_ok allows. False (nothing appended) when a move between two lattice neighbours fails.
+  bool link_along(const std::vector<Vec2>& way) {
+    std::vector<Vec2> taut{way.front()};
+    std::size_t k = 0;
+    while (k + 1 < way.size()) {
+      std::size_t far = k + 1;
+      if (!link_ok(taut.back(), way[far])) return false;
+      while (far + 1 < way.size() && link_ok(taut.back(), way[far + 1])) ++far;
+      taut.push_back(way[far]);
+      k = far;
+    }
+    RawChain& c = chains_.back();
+    for (std::size_t i = 1; i < taut.size(); ++i) {
+      const Vec2 a = taut[i - 1], b = taut[i];
+      const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / step_)));
+      for (int j = 1; j <= n; ++j) raster_.mark(a + (b - a) * (static_cast<double>(j) / n), Rr_);
+      c.pts.push_back(b);
+    }
+    ++stats_.links;
+    return true;
+  }
+
+  [[nodiscard]] Vec2 current_end() const { return chains_.back().pts.back(); }
+
+  /// The first direction at a pass start: across the line to the nearest uncut material, so that
+  /// the material is on the right (climb) or on the left (conventional).
+  [[nodiscard]] Vec2 first_dir(const Vec2& start, const Vec2& toward) const {
+    Vec2 v = toward - start;
+    if (v.norm() < 1e-9) v = Vec2(1, 0);
+    return rot(v.normalized(), climb_ ? kPi / 2 : -kPi / 2);
+  }
+
+  /// Fresh cells of a step to q, or +inf where the move is not allowed.
+  [[nodiscard]] double cost(const Vec2& p, const Vec2& q) const {
+    if (!walls_.move_ok(p, q)) return kInf;
+    return raster_.fresh(q, Rr_);
+  }
+
+  /// From p (the end of a pass), rides back along the front with the material on the other side
+  /// than a cutting pass keeps it, cutting nothing (every step's newly cut cells = 0), as far as
+  /// the front goes: until the material is out of sensing range, a wall or the material turns the
+  /// ride away (a step more than kRideAwayDeg off the front's tangent), or kRideMaxMm. `way` gets
+  /// the ride (p first). False when it is shorter than kRideMinMm (nothing gained).
+  bool ride_back(const Vec2& p0, std::vector<Vec2>& way) {
+    way.assign(1, p0);
+    const double side = climb_ ? 1.0 : -1.0;
+    Vec2 p = p0;
+    double len = 0;
+    Vec2 hd(0, 0);
+    while (len < kRideMaxMm) {
+      Vec2 cen;
+      if (raster_.target_centroid(p, R_ + kSenseMm, cen) < kMinWorkCells) break;
+      Vec2 u = cen - p;
+      if (u.norm() < 1e-9) break;
+      u.normalize();
+      const Vec2 t0 = rot(u, -side * kPi / 2);  // the material on the other side
+      auto dir = [&](double th) { return rot(t0, side * th); };
+      auto free = [&](double th) { return cost(p, p + step_ * dir(th)) <= 0; };
+      double lo = -kRideAwayDeg * kPi / 180;
+      if (!free(lo)) break;
+      double hi = kPi / 2;
+      if (free(hi)) lo = hi;
+      else
+        for (int it = 0; it < 7; ++it) {
+          const double mid = 0.5 * (lo + hi);
+          if (free(mid)) lo = mid;
+          else hi = mid;
+        }
+      const Vec2 nd = dir(lo);
+      if (hd.norm() > 0 && hd.dot(nd) < std::cos(kPi / 2)) break;  // it would turn back on itself
+      p += step_ * nd;
+      hd = nd;
+      way.push_back(p);
+      len += step_;
+    }
+    last_heading_ = hd.norm() > 0 ? Vec2(-hd) : Vec2(1, 0);
+    return len >= kRideMinMm;
+  }
+
+  /// Appends a tool-down move along `way` (from the chain's end) to the current chain; the raster
+  /// marks it (it cuts nothing by construction, up to the raster).
+  void append_link(const std::vector<Vec2>& way) {
+    RawChain& c = chains_.back();
+    for (std::size_t i = 1; i < way.size(); ++i) {
+      raster_.mark(way[i], Rr_);
+      c.pts.push_back(way[i]);
+    }
+    ++stats_.links;
+  }
+
+  /// One pass from p (already there, its disk cleared) heading about d. Returns the cells cut.
+  ///
+  /// The steering: the material is sensed as the centroid of the uncut target cells within
+  /// R + kSenseMm of the tool (so the pass finds it again after a turn, unlike a one-step probe);
+  /// the tangent t0 keeps it on the right (climb) or left (conventional). Each step goes in the
+  /// direction turned as far toward the material as the step's newly cut area allows (≤ the
+  /// target's: bisection over θ ∈ [−90°, 90°] from t0), so that in open material the pass rides
+  /// the cut boundary at the target engagement (rings that spiral out), slides along walls (a move
+  /// the walls refuse costs +inf) and loops round where the material is narrow. A pass ends when no
+  /// target material is within sensing range, when every direction is refused, or after
+  /// kIdleMm of path that cut nothing (that tail is dropped).
+  double cut_pass(Vec2 p, Vec2 d, bool first_wide) {
+    RawChain& c = chains_.back();
+    if (c.pts.empty() || (c.pts.back() - p).norm() > tol::join_mm) c.pts.push_back(p);
+    const std::size_t base = c.pts.size();
+    why_ = 0;
+    const double side = climb_ ? 1.0 : -1.0;  // rot(t0, -side·θ), θ > 0: toward the material
+    const std::size_t idle_steps = static_cast<std::size_t>(std::ceil((R_ + kSenseMm) / step_));
+    double total = 0;
+    std::size_t idle = 0, last_productive = base;
+    const std::size_t max_steps = 4000000;
+    auto at = [&](const Vec2& dir) { return Vec2(p + step_ * dir); };
+    for (std::size_t n = 0; n < max_steps; ++n) {
+      Vec2 cen;
+      if (raster_.target_centroid(p, R_ + kSenseMm, cen) < kMinWorkCells) { why_ = 1; break; }  // nothing near: done
+      Vec2 u = cen - p;
+      if (u.norm() < 1e-9) u = d;
+      u.normalize();
+      const Vec2 t0 = rot(u, side * kPi / 2);
+      auto dir = [&](double th) { return rot(t0, -side * th); };
+      std::optional<double> chosen;
+      if (cost(p, at(dir(kPi / 2))) <= max_cells_) {
+        chosen = kPi / 2;  // light material everywhere (or none within a step): head for it
+      } else {
+        double lo = -kPi / 2;
+        bool ok = cost(p, at(dir(lo))) <= max_cells_;
+        for (const double th : {-2 * kPi / 3, -5 * kPi / 6, -kPi})
+          if (!ok && cost(p, at(dir(th))) <= max_cells_) {
+            lo = th;
+            ok = true;
+          }
+        if (ok) {
+          double hi = kPi / 2;
+          for (int it = 0; it < 7; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            if (cost(p, at(dir(mid))) <= max_cells_) lo = mid;
+            else hi = mid;
+          }
+          chosen = lo;
+        }
+      }
+      if (!chosen || (n > 0 && *chosen < -kBlockedDeg * kPi / 180)) { why_ = 2; break; }  // blocked: the pass ends
+      Vec2 nd = dir(*chosen);
+      if (n > 0 || !first_wide) {
+        // Smoothness: a turn toward the material of at most kMaxTurnDeg per step (a turn away from
+        // it is what keeps the cut at the target and is kept).
+        double turn = std::remainder(std::atan2(nd.y(), nd.x()) - std::atan2(d.y(), d.x()), 2 * kPi);
+        if (std::abs(turn) > kPi - 1e-6) turn = -side * kPi;  // a reversal: round toward the material
+        const double lim = kMaxTurnDeg * kPi / 180;
+        if (-side * turn > lim) {
+          const Vec2 lim_dir = rot(d, -side * lim);
+          if (cost(p, at(lim_dir)) <= max_cells_) nd = lim_dir;
+        }
+      }
+      const Vec2 q = at(nd);
+      const int got = raster_.mark(q, Rr_);
+      if (std::getenv("ADAPTIVE_STEP") && stats_.passes + 1 == static_cast<std::size_t>(std::atoi(std::getenv("ADAPTIVE_STEP"))))
+        std::fprintf(stderr, "  p %.2f %.2f cen %.2f %.2f th %.0f got %d\n", p.x(), p.y(), cen.x(), cen.y(), *chosen * 180 / kPi, got);
+      d = nd;
+      p = q;
+      c.pts.push_back(q);
+      total += got;
+      ++stats_.steps;
+      if (got > 0) {
+        idle = 0;
+        last_productive = c.pts.size();
+      } else if (++idle >= idle_steps) {
+        why_ = 3;
+        break;
+      }
+    }
+    c.pts.resize(std::max(last_productive, base));  // drop the idle tail
+    ++stats_.passes;
+    if (std::getenv("ADAPTIVE_TRACE"))
+      std::fprintf(stderr, "pass %zu why %d start %.2f %.2f steps %zu cells %.0f\n", stats_.passes, why_, c.pts[base - 1].x(),
+                   c.pts[base - 1].y(), c.pts.size() - base, total);
+    return total;
+  }
+
+  /// Enters the next component not entered yet (helix at its entry point), or re-enters with a
+  /// plunge at a cleared start that no link reaches. False when nothing is left.
+  bool enter_next(std::optional<Vec2>& pos) {
+    // A component not entered yet, the nearest entry first.
+    std::optional<std::size_t> pick;
+    for (std::size_t k = 0; k < entries_.size(); ++k) {
+      if (entries_[k].entered) continue;
+      if (!pick) pick = k;
+      else if (!chains_.empty() && (entries_[k].p - current_end()).norm() < (entries_[*pick].p - current_end()).norm())
+        pick = k;
+    }
+    if (pick) {
+      Entry_& e = entries_[*pick];
+      e.entered = true;
+      chains_.push_back(RawChain{});
+      chains_.back().predrill = true;
+      ++stats_.entries;
+      Vec2 d(0, 1);
+      if (const auto hx = entry_helix(exact_, e.p, cut_.tool_diameter)) {
+        raster_.mark(hx->first, hx->second + Rr_);
+        // The helix's flat turn at the floor, in the plan too (it cuts nothing the helix has not;
+        // it makes the path sweep the hole, for the uncut-area figures).
+        const Vec2 out = e.p - hx->first;
+        const int nseg = std::max(8, static_cast<int>(std::ceil(2 * kPi * hx->second / step_)));
+        chains_.back().pts.push_back(e.p);
+        for (int k = 1; k <= nseg; ++k)
+          chains_.back().pts.push_back(hx->first + rot(out, (climb_ ? 1.0 : -1.0) * 2 * kPi * k / nseg));
+        d = rot(out.normalized(), climb_ ? kPi / 2 : -kPi / 2);  // round the hole, material outside
+      } else {
+        raster_.mark(e.p, Rr_);
+        ++stats_.entries_without_helix;
+      }
+      last_cells_ = cut_pass(e.p, d, true);
+      pos = current_end();
+      return true;
+    }
+    // Every component entered: uncut target left where no link reaches? Re-enter at a cleared start.
+    if (raster_.uncut_target_cells() < static_cast<std::size_t>(kMinWorkCells)) return false;
+    for (std::size_t k = 0; k < lat_ok_.size(); ++k) {  // O(lattice), only after a failed search
+      if (dead_[k] || !lattice_allowed(k)) continue;
+      const Vec2 p = lattice_point(k);
+      Vec2 near;
+      if (raster_.target_within(p, R_ + 1.5 * kLatticeMm, near) < kMinWorkCells || !safe(p)) continue;
+      chains_.push_back(RawChain{});
+      chains_.back().predrill = false;
+      ++stats_.reentries;
+      const double got = cut_pass(p, first_dir(p, near), true);
+      last_cells_ = got;
+      if (got < kMinWorkCells) dead_[k] = 1;
+      pos = current_end();
+      return true;
+    }
+    return false;
+  }
+
+  struct Entry_ {
+    Vec2 p;
+    bool entered = false;
+  };
+
+  const Region& region_;
+  CutParams cut_;
+  double R_;
+  bool climb_;
+  double step_;
+  Raster raster_;
+  Clearance walls_;       ///< cutting moves: the contour pass's clearance
+  Clearance exact_;       ///< links and simplified chords: the tool's clearance
+  Clearance link_walls_;  ///< lattice positions
+  double max_cells_ = 0;  ///< fresh cells allowed per step
+  int why_ = 0;
+  double last_cells_ = 0;  ///< cells the last pass cut
+  Vec2 last_heading_{1, 0};
+  double band_ = 0;       ///< material left along the walls for the wall pass, mm
+  /// The tool's radius on the raster (the feed map's rule: a cell is cut when its centre is).
+  double Rr_ = 0;
+  std::vector<double> wall_d2_;
+  std::vector<std::uint8_t> allowed_;
+  std::vector<int> comp_;
+  std::vector<Entry_> entries_;
+  Vec2 lat_lo_;
+  int lnx_ = 0, lny_ = 0;
+  std::vector<signed char> lat_ok_;
+  std::vector<std::uint8_t> dead_;
+  std::vector<RawChain> chains_;
+};
+
+}  // namespace
+
+double adaptive_target_deg(const CutParams& cut, const AdaptiveParams& params) {
+  double deg = params.max_engagement_deg;
+  if (deg == 0) {
+    const double R = cut.tool_diameter / 2;
+    deg = std::acos(std::clamp(1 - cut.stepover / R, -1.0, 1.0)) * 180 / kPi;
+  }
+  if (!(deg > 0 && deg <= 180) || !std::isfinite(deg))
+    throw Error("adaptive planner: max_engagement_deg must be in (0, 180], got " + std::to_string(deg));
+  return deg;
+}
+
+PlanResult plan_adaptive(const Region& region, const CutParams& cut, const AdaptiveParams& params) {
+  cut.check("adaptive planner");
+  const double target = adaptive_target_deg(cut, params);
+  if (!(params.safety > 0 && params.safety <= 1))
+    throw Error("adaptive planner: safety must be in (0, 1], got " + std::to_string(params.safety));
+  if (params.step_mm < 0 || params.raster_mm < 0 || !std::isfinite(params.step_mm) || !std::isfinite(params.raster_mm))
+    throw Error("adaptive planner: step_mm and raster_mm must be >= 0 (0 = default)");
+  const auto t0 = std::chrono::steady_clock::now();
+  PlanResult res;
+  res.planner = "adaptive";
+  res.walls_cut = true;
+  res.helix_entry_holes = true;
+  const auto comps = offset_inward(region, cut.clearance() + tol::contour_margin_mm, tol::contour_chord_mm);
+  if (comps.empty()) {
+    res.status = PlanStatus::NoToolPoints;
+    res.message = "the tool (clearance " + std::to_string(cut.clearance()) + " mm) fits nowhere in the pocket";
+    res.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return res;
+  }
+  Planner p(region, cut, params, target);
+  p.run();
+  p.stats_.target_deg = target;
+  res = p.result(std::move(res));
+  if (res.path.chains.empty()) {
+    // Components thinner than a raster cell: their outer loops (machine_pocket's contour pass
+    // retraces them; the path must not be empty).
+    for (const PolyArea& a : comps) {
+      Chain c;
+      for (const Vec2& v : a.outer) c.pts.push_back({v.x(), v.y(), 0.0});
+      if (!c.pts.empty()) {
+        c.pts.push_back(c.pts.front());
+        res.predrill.push_back(c.pts.front().p());
+        res.path.chains.push_back(std::move(c));
+      }
+    }
+  }
+  res.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+}  // namespace millnet::pocket
