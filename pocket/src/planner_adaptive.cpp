@@ -138,10 +138,29 @@ public:
                   " cells is too fine; raise raster_mm");
     st_.assign(static_cast<std::size_t>(nx_) * ny_, 0);
     target_.assign(st_.size(), 0);
-    const Clearance inside_q(region, 0.0);
-    for (int y = 0; y < ny_; ++y)
-      for (int x = 0; x < nx_; ++x)
-        if (inside_q.point_ok(centre(x, y))) st_[idx(x, y)] = 1;
+    // Material: cells whose centre lies inside the region, filled row by row between the crossings
+    // of the row's centre line with the flattened loops (even-odd: islands lie inside the
+    // boundary and apart). O(rows · loop vertices + cells).
+    std::vector<std::vector<Vec2>> loops{b};
+    for (const Loop& isl : region.islands) loops.push_back(flatten(isl, tol::arc_chord_mm));
+    std::vector<double> xs;
+    for (int y = 0; y < ny_; ++y) {
+      const double yc = centre(0, y).y();
+      xs.clear();
+      for (const auto& l : loops)
+        for (std::size_t i = 0; i < l.size(); ++i) {
+          const Vec2& a = l[i];
+          const Vec2& c = l[(i + 1) % l.size()];
+          if ((a.y() <= yc) == (c.y() <= yc)) continue;  // half-open: a vertex on the line counts once
+          xs.push_back(a.x() + (yc - a.y()) * (c.x() - a.x()) / (c.y() - a.y()));
+        }
+      std::sort(xs.begin(), xs.end());
+      for (std::size_t k = 0; k + 1 < xs.size(); k += 2) {
+        const int x0 = std::max(0, static_cast<int>(std::ceil((xs[k] - lo_.x()) / h_ - 0.5)));
+        const int x1 = std::min(nx_ - 1, static_cast<int>(std::floor((xs[k + 1] - lo_.x()) / h_ - 0.5)));
+        for (int x = x0; x <= x1; ++x) st_[idx(x, y)] = 1;
+      }
+    }
     bx_ = (nx_ + kB - 1) / kB;
     by_ = (ny_ + kB - 1) / kB;
   }
@@ -664,9 +683,18 @@ private:
 
   /// Fresh cells of a step to q, or +inf where the move is not allowed.
   [[nodiscard]] double cost(const Vec2& p, const Vec2& q) const {
-    if (!walls_.move_ok(p, q)) return kInf;
+    // A move no longer than the room p has beyond the clearance cannot reach a wall (every point of
+    // it lies within its length of p): one distance query per position instead of an exact sweep
+    // per candidate direction.
+    if (!(p == room_at_)) {
+      room_at_ = p;
+      room_ = walls_.point_ok(p) ? walls_.wall_distance(p) - walls_.clearance() : -1.0;
+    }
+    if (!((q - p).norm() < room_) && !walls_.move_ok(p, q)) return kInf;
     return raster_.fresh(q, Rr_);
   }
+  mutable Vec2 room_at_{kInf, kInf};
+  mutable double room_ = -1;
 
   /// From p (the end of a pass), rides back along the front with the material on the other side
   /// than a cutting pass keeps it, cutting nothing (every step's newly cut cells = 0), as far as
