@@ -45,6 +45,14 @@ constexpr double kRideAwayDeg = 60;
 /// Rides back shorter than kRideMinMm gain nothing; none goes beyond kRideMaxMm.
 constexpr double kRideMinMm = 1.0;
 constexpr double kRideMaxMm = 300.0;
+/// A tool with no link out backtracks along its own path, trying a link every kBacktrackMm, at
+/// most kBacktrackTries times.
+constexpr double kBacktrackMm = 2.0;
+constexpr int kBacktrackTries = 60;
+/// Wall loops: a possible start every kWallStartMm of straight edge; the kWallStartTries nearest
+/// starts are tried in turn.
+constexpr double kWallStartMm = 5.0;
+constexpr std::size_t kWallStartTries = 40;
 /// The passes leave a band of this fraction of the target's engaged width along the walls; the wall
 /// pass cuts it (a thinner band than the target: the wall pass's engagement stays below it).
 constexpr double kWallBand = 0.0;
@@ -413,25 +421,43 @@ public:
       for (const auto& h : a.holes)
         if (h.size() >= 3) loops.push_back(h);
     }
-    for (auto& l : loops)
+    for (auto& l : loops) {
       if (!climb_) std::reverse(l.begin(), l.end());
+      // Straight edges get a vertex every kWallStartMm: a loop may start there (a corner holds
+      // the band the passes could not reach, which a link into it would cut at once).
+      std::vector<Vec2> dense;
+      for (std::size_t j = 0; j < l.size(); ++j) {
+        const Vec2 a = l[j], b = l[(j + 1) % l.size()];
+        const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / kWallStartMm)));
+        for (int t = 0; t < n; ++t) dense.push_back(a + (b - a) * (static_cast<double>(t) / n));
+      }
+      l = std::move(dense);
+    }
     while (!loops.empty()) {
       const Vec2 at_ = current_end();
-      std::size_t li = 0, vi = 0;
-      double best = kInf;
+      // Candidate starts: every loop's vertices, nearest first; the first a link reaches (or a
+      // backtrack along the path, for the nearest) wins.
+      std::vector<std::pair<double, std::pair<std::size_t, std::size_t>>> cand;
       for (std::size_t i = 0; i < loops.size(); ++i)
-        for (std::size_t j = 0; j < loops[i].size(); ++j)
-          if (const double dd = (loops[i][j] - at_).squaredNorm(); dd < best) {
-            best = dd;
-            li = i;
-            vi = j;
-          }
+        for (std::size_t j = 0; j < loops[i].size(); ++j) cand.push_back({(loops[i][j] - at_).squaredNorm(), {i, j}});
+      const std::size_t keep = std::min<std::size_t>(cand.size(), kWallStartTries);
+      std::partial_sort(cand.begin(), cand.begin() + static_cast<std::ptrdiff_t>(keep), cand.end());
+      std::size_t li = cand.front().second.first, vi = cand.front().second.second;
+      bool linked = false;
+      for (std::size_t k = 0; k < keep && !linked; ++k) {
+        Vec2 start, toward;
+        std::vector<Vec2> way;
+        const auto [i, j] = cand[k].second;
+        if (find_start(at_, start, toward, way, &loops[i][j]) && link_along(way)) {
+          li = i;
+          vi = j;
+          linked = true;
+        }
+      }
       std::vector<Vec2> loop;
       for (std::size_t j = 0; j <= loops[li].size(); ++j) loop.push_back(loops[li][(vi + j) % loops[li].size()]);
       loops.erase(loops.begin() + static_cast<std::ptrdiff_t>(li));
-      Vec2 start, toward;
-      std::vector<Vec2> way;
-      if (!(find_start(at_, start, toward, way, &loop.front()) && link_along(way))) {
+      if (!linked && !backtrack_to(loop.front())) {
         chains_.push_back(RawChain{});
         chains_.back().predrill = !safe(loop.front());
         ++stats_.wall_retractions;
@@ -695,6 +721,31 @@ private:
   }
   mutable Vec2 room_at_{kInf, kInf};
   mutable double room_ = -1;
+
+  /// Where no link leaves the tool's position: back along the chain's own path (cut area, the tool
+  /// down) to a point every kBacktrackMm from which a link reaches `goal`, then that link. False
+  /// (nothing appended) when none within kBacktrackTries does. O(tries · lattice search).
+  bool backtrack_to(const Vec2& goal) {
+    RawChain& c = chains_.back();
+    if (c.pts.size() < 2) return false;
+    double run = 0;
+    int tries = 0;
+    for (std::size_t k = c.pts.size() - 1; k-- > 0 && tries < kBacktrackTries;) {
+      run += (c.pts[k + 1] - c.pts[k]).norm();
+      if (run < kBacktrackMm) continue;
+      run = 0;
+      ++tries;
+      Vec2 start, toward;
+      std::vector<Vec2> way;
+      if (!find_start(c.pts[k], start, toward, way, &goal)) continue;
+      const std::vector<Vec2> back(c.pts.rbegin() + 1, c.pts.rend() - static_cast<std::ptrdiff_t>(k));
+      for (const Vec2& q : back) c.pts.push_back(q);  // retrace: already cut
+      if (link_along(way)) return true;
+      c.pts.resize(c.pts.size() - back.size());
+      return false;
+    }
+    return false;
+  }
 
   /// From p (the end of a pass), rides back along the front with the material on the other side
   /// than a cutting pass keeps it, cutting nothing (every step's newly cut cells = 0), as far as
