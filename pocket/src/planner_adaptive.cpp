@@ -14,8 +14,6 @@
 #include <numbers>
 #include <optional>
 #include <queue>
-#include <cstdio>
-#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -53,11 +51,13 @@ constexpr int kBacktrackTries = 60;
 /// starts are tried in turn.
 constexpr double kWallStartMm = 5.0;
 constexpr std::size_t kWallStartTries = 40;
-/// The passes leave a band of this fraction of the target's engaged width along the walls; the wall
-/// pass cuts it (a thinner band than the target: the wall pass's engagement stays below it).
-constexpr double kWallBand = 0.0;
 /// Raster cells of uncut material worth a pass (fewer are raster noise).
 constexpr int kMinWorkCells = 4;
+
+/// Row-major index of (x, y) in a grid nx wide.
+std::size_t lin(int x, int y, int nx) {
+  return static_cast<std::size_t>(y) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(x);
+}
 
 Vec2 rot(const Vec2& v, double a) {
   const double c = std::cos(a), s = std::sin(a);
@@ -112,14 +112,14 @@ std::vector<double> edt(const std::vector<std::uint8_t>& seed, int nx, int ny) {
     }
   };
   for (int x = 0; x < nx; ++x) {  // columns
-    for (int y = 0; y < ny; ++y) f[static_cast<std::size_t>(y)] = g[static_cast<std::size_t>(y) * nx + x];
+    for (int y = 0; y < ny; ++y) f[static_cast<std::size_t>(y)] = g[lin(x, y, nx)];
     pass(ny);
-    for (int y = 0; y < ny; ++y) g[static_cast<std::size_t>(y) * nx + x] = d[static_cast<std::size_t>(y)];
+    for (int y = 0; y < ny; ++y) g[lin(x, y, nx)] = d[static_cast<std::size_t>(y)];
   }
   for (int y = 0; y < ny; ++y) {  // rows
-    for (int x = 0; x < nx; ++x) f[static_cast<std::size_t>(x)] = g[static_cast<std::size_t>(y) * nx + x];
+    for (int x = 0; x < nx; ++x) f[static_cast<std::size_t>(x)] = g[lin(x, y, nx)];
     pass(nx);
-    for (int x = 0; x < nx; ++x) g[static_cast<std::size_t>(y) * nx + x] = d[static_cast<std::size_t>(x)];
+    for (int x = 0; x < nx; ++x) g[lin(x, y, nx)] = d[static_cast<std::size_t>(x)];
   }
   for (double& e : g)
     if (e >= big / 2) e = kInf;
@@ -144,7 +144,7 @@ public:
     if (static_cast<double>(nx_) * ny_ > 4e7)
       throw Error("adaptive planner: raster of " + std::to_string(nx_) + " x " + std::to_string(ny_) +
                   " cells is too fine; raise raster_mm");
-    st_.assign(static_cast<std::size_t>(nx_) * ny_, 0);
+    st_.assign(lin(0, ny_, nx_), 0);
     target_.assign(st_.size(), 0);
     // Material: cells whose centre lies inside the region, filled row by row between the crossings
     // of the row's centre line with the flattened loops (even-odd: islands lie inside the
@@ -176,7 +176,7 @@ public:
   [[nodiscard]] int nx() const { return nx_; }
   [[nodiscard]] int ny() const { return ny_; }
   [[nodiscard]] double h() const { return h_; }
-  [[nodiscard]] std::size_t idx(int x, int y) const { return static_cast<std::size_t>(y) * nx_ + x; }
+  [[nodiscard]] std::size_t idx(int x, int y) const { return lin(x, y, nx_); }
   [[nodiscard]] Vec2 centre(int x, int y) const { return lo_ + Vec2((x + 0.5) * h_, (y + 0.5) * h_); }
   [[nodiscard]] std::uint8_t state(std::size_t i) const { return st_[i]; }
   [[nodiscard]] const std::vector<std::uint8_t>& states() const { return st_; }
@@ -184,7 +184,7 @@ public:
 
   /// Call once target() is filled.
   void count_blocks() {
-    uncut_.assign(static_cast<std::size_t>(bx_) * by_, 0);
+    uncut_.assign(lin(0, by_, bx_), 0);
     tuncut_.assign(uncut_.size(), 0);
     for (int y = 0; y < ny_; ++y)
       for (int x = 0; x < nx_; ++x)
@@ -284,7 +284,7 @@ public:
   }
 
 private:
-  [[nodiscard]] std::size_t block(int x, int y) const { return static_cast<std::size_t>(y / kB) * bx_ + x / kB; }
+  [[nodiscard]] std::size_t block(int x, int y) const { return lin(x / kB, y / kB, bx_); }
 
   /// Visits the cells of the blocks within r of c whose count is > 0; f(x, y) returns false to stop.
   template <class F>
@@ -296,7 +296,7 @@ private:
     const int by1 = std::min(by_ - 1, static_cast<int>(std::floor((c.y() + r - lo_.y()) / bs)));
     for (int by = by0; by <= by1; ++by)
       for (int bx = bx0; bx <= bx1; ++bx) {
-        if (count[static_cast<std::size_t>(by) * bx_ + bx] <= 0) continue;
+        if (count[lin(bx, by, bx_)] <= 0) continue;
         const Vec2 blo = lo_ + Vec2(bx * bs, by * bs);
         const Vec2 q = c.cwiseMax(blo).cwiseMin(blo + Vec2(bs, bs));
         if ((q - c).squaredNorm() > r * r) continue;
@@ -345,14 +345,6 @@ void simplify_into(const std::vector<Vec2>& pts, double eps, const Clearance& wa
     if (keep[i]) out.push_back(pts[i]);
 }
 
-/// The band of material the passes leave along the walls for the wall pass, mm: kWallBand of the
-/// target's engaged width. The passes' centres keep half of it more than the wall pass's clearance
-/// and reach half of it less than R, so the band is its full width (the wall pass's engagement).
-double wall_band(const CutParams& cut, double target_deg) {
-  const double R = cut.tool_diameter / 2;
-  return kWallBand * R * (1 - std::cos(target_deg * kPi / 180));
-}
-
 class Planner {
 public:
   Planner(const Region& region, const CutParams& cut, const AdaptiveParams& prm, double target_deg)
@@ -362,13 +354,12 @@ public:
         climb_(prm.climb),
         step_(prm.step_mm > 0 ? prm.step_mm : cut.tool_diameter / 40),
         raster_(region, prm.raster_mm > 0 ? prm.raster_mm : cut.tool_diameter / 40, cut.tool_diameter),
-        walls_(region, cut.clearance() + tol::contour_margin_mm + 0.5 * wall_band(cut, target_deg)),
+        walls_(region, cut.clearance() + tol::contour_margin_mm),
         exact_(region, cut.clearance()),
         link_walls_(region, cut.clearance() + tol::contour_margin_mm + kLinkMarginMm) {
     const double h = raster_.h();
     const double width = R_ * (1 - std::cos(target_deg * kPi / 180));  // engaged width a_e
     max_cells_ = prm.safety * width * step_ / (h * h);
-    band_ = wall_band(cut, target_deg);
     Rr_ = R_;
     prepare();
   }
@@ -530,7 +521,7 @@ private:
       }
     const std::vector<double> to_allowed = edt(allowed_, nx, ny);
     auto& target = raster_.target();
-    const double reach = (R_ - std::max(0.5 * h, 0.5 * band_)) / h;
+    const double reach = (R_ - 0.5 * h) / h;
     for (std::size_t i = 0; i < st.size(); ++i) target[i] = st[i] == 1 && to_allowed[i] <= reach * reach;
     raster_.count_blocks();
     // Components of allowed centres (8-connected flood fill), in raster order.
@@ -568,7 +559,7 @@ private:
     lat_lo_ = raster_.centre(0, 0);
     lnx_ = static_cast<int>(std::floor((nx - 1) * h / kLatticeMm)) + 1;
     lny_ = static_cast<int>(std::floor((ny - 1) * h / kLatticeMm)) + 1;
-    lat_ok_.assign(static_cast<std::size_t>(lnx_) * lny_, -1);
+    lat_ok_.assign(lin(0, lny_, lnx_), -1);
     dead_.assign(lat_ok_.size(), 0);
   }
 
@@ -579,7 +570,7 @@ private:
   [[nodiscard]] std::size_t lattice_index(const Vec2& p) const {
     const int x = std::clamp(static_cast<int>(std::lround((p.x() - lat_lo_.x()) / kLatticeMm)), 0, lnx_ - 1);
     const int y = std::clamp(static_cast<int>(std::lround((p.y() - lat_lo_.y()) / kLatticeMm)), 0, lny_ - 1);
-    return static_cast<std::size_t>(y) * lnx_ + x;
+    return lin(x, y, lnx_);
   }
   /// Allowed for links (cached: walls do not move).
   bool lattice_allowed(std::size_t k) {
@@ -630,7 +621,7 @@ private:
           if (std::max(std::abs(dx), std::abs(dy)) != r) continue;
           const int x = cx0 + dx, y = cy0 + dy;
           if (x < 0 || y < 0 || x >= lnx_ || y >= lny_) continue;
-          const std::size_t k = static_cast<std::size_t>(y) * lnx_ + x;
+          const std::size_t k = lin(x, y, lnx_);
           if (!usable(k) || !link_ok(from, lattice_point(k))) continue;
           const double d = (lattice_point(k) - from).norm();
           if (d < dist[k]) {
@@ -661,7 +652,7 @@ private:
         for (int dx = -1; dx <= 1; ++dx) {
           const int x = x0 + dx, y = y0 + dy;
           if ((dx == 0 && dy == 0) || x < 0 || y < 0 || x >= lnx_ || y >= lny_) continue;
-          const std::size_t q = static_cast<std::size_t>(y) * lnx_ + x;
+          const std::size_t q = lin(x, y, lnx_);
           if (!usable(q)) continue;
           const double nd = d + kLatticeMm * ((dx != 0 && dy != 0) ? std::numbers::sqrt2 : 1.0);
           if (nd < dist[q]) {
@@ -814,7 +805,6 @@ private:
     RawChain& c = chains_.back();
     if (c.pts.empty() || (c.pts.back() - p).norm() > tol::join_mm) c.pts.push_back(p);
     const std::size_t base = c.pts.size();
-    why_ = 0;
     const double side = climb_ ? 1.0 : -1.0;  // rot(t0, -side·θ), θ > 0: toward the material
     const std::size_t idle_steps = static_cast<std::size_t>(std::ceil((R_ + kSenseMm) / step_));
     double total = 0;
@@ -823,7 +813,7 @@ private:
     auto at = [&](const Vec2& dir) { return Vec2(p + step_ * dir); };
     for (std::size_t n = 0; n < max_steps; ++n) {
       Vec2 cen;
-      if (raster_.target_centroid(p, R_ + kSenseMm, cen) < kMinWorkCells) { why_ = 1; break; }  // nothing near: done
+      if (raster_.target_centroid(p, R_ + kSenseMm, cen) < kMinWorkCells) break;  // nothing near: done
       Vec2 u = cen - p;
       if (u.norm() < 1e-9) u = d;
       u.normalize();
@@ -850,7 +840,7 @@ private:
           chosen = lo;
         }
       }
-      if (!chosen || (n > 0 && *chosen < -kBlockedDeg * kPi / 180)) { why_ = 2; break; }  // blocked: the pass ends
+      if (!chosen || (n > 0 && *chosen < -kBlockedDeg * kPi / 180)) break;  // blocked (it could only back away)
       Vec2 nd = dir(*chosen);
       if (n > 0 || !first_wide) {
         // Smoothness: a turn toward the material of at most kMaxTurnDeg per step (a turn away from
@@ -865,8 +855,6 @@ private:
       }
       const Vec2 q = at(nd);
       const int got = raster_.mark(q, Rr_);
-      if (std::getenv("ADAPTIVE_STEP") && stats_.passes + 1 == static_cast<std::size_t>(std::atoi(std::getenv("ADAPTIVE_STEP"))))
-        std::fprintf(stderr, "  p %.2f %.2f cen %.2f %.2f th %.0f got %d\n", p.x(), p.y(), cen.x(), cen.y(), *chosen * 180 / kPi, got);
       d = nd;
       p = q;
       c.pts.push_back(q);
@@ -876,15 +864,11 @@ private:
         idle = 0;
         last_productive = c.pts.size();
       } else if (++idle >= idle_steps) {
-        why_ = 3;
         break;
       }
     }
     c.pts.resize(std::max(last_productive, base));  // drop the idle tail
     ++stats_.passes;
-    if (std::getenv("ADAPTIVE_TRACE"))
-      std::fprintf(stderr, "pass %zu why %d start %.2f %.2f steps %zu cells %.0f\n", stats_.passes, why_, c.pts[base - 1].x(),
-                   c.pts[base - 1].y(), c.pts.size() - base, total);
     return total;
   }
 
@@ -958,10 +942,8 @@ private:
   Clearance exact_;       ///< links and simplified chords: the tool's clearance
   Clearance link_walls_;  ///< lattice positions
   double max_cells_ = 0;  ///< fresh cells allowed per step
-  int why_ = 0;
   double last_cells_ = 0;  ///< cells the last pass cut
   Vec2 last_heading_{1, 0};
-  double band_ = 0;       ///< material left along the walls for the wall pass, mm
   /// The tool's radius on the raster (the feed map's rule: a cell is cut when its centre is).
   double Rr_ = 0;
   std::vector<double> wall_d2_;

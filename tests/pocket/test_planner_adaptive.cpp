@@ -74,49 +74,7 @@ Outcome run(const Region& region, const CutParams& cut, const AdaptiveParams& ap
   if (o.m.status != PlanStatus::Ok) return o;
   o.rep = millnet::testing::replay_gcode(o.m.gcode, cut.safe_z);
   millnet::testing::check_gouge(o.rep, to_replay(region), cut.tool_diameter / 2);
-  const double R = cut.tool_diameter / 2, h = 0.5;
-  const std::vector<Vec2> b = flatten(region.boundary, 0.01);
-  Vec2 lo = b.front(), hi = b.front();
-  for (const Vec2& p : b) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  const long nx = std::lround((hi.x() - lo.x()) / h) + 1, ny = std::lround((hi.y() - lo.y()) / h) + 1;
-  std::vector<char> cut_cell(static_cast<std::size_t>(nx * ny), 0);
-  const double r_stamp = R + 0.01;
-  const long rc = static_cast<long>(std::floor(r_stamp / h));
-  auto stamp = [&](double x, double y) {
-    const long cx = std::lround((x - lo.x()) / h), cy = std::lround((y - lo.y()) / h);
-    for (long dy = -rc - 1; dy <= rc + 1; ++dy)
-      for (long dx = -rc - 1; dx <= rc + 1; ++dx) {
-        const long gx = cx + dx, gy = cy + dy;
-        if (gx < 0 || gy < 0 || gx >= nx || gy >= ny) continue;
-        if (std::hypot(lo.x() + gx * h - x, lo.y() + gy * h - y) <= r_stamp) cut_cell[gy * nx + gx] = 1;
-      }
-  };
-  for (const auto& mv : o.rep.moves) {
-    if (mv.g == 0 || mv.to[2] > -1e-9 || mv.from[2] > -1e-9) continue;
-    const double len = std::hypot(mv.to[0] - mv.from[0], mv.to[1] - mv.from[1]);
-    if (mv.g == 1) {
-      const int n = std::max(1, static_cast<int>(std::ceil(len / 0.25)));
-      for (int k = 0; k <= n; ++k)
-        stamp(mv.from[0] + (mv.to[0] - mv.from[0]) * k / n, mv.from[1] + (mv.to[1] - mv.from[1]) * k / n);
-    } else {
-      const double cx = mv.center[0], cy = mv.center[1];
-      const double r = std::hypot(mv.from[0] - cx, mv.from[1] - cy);
-      double a0 = std::atan2(mv.from[1] - cy, mv.from[0] - cx), a1 = std::atan2(mv.to[1] - cy, mv.to[0] - cx);
-      double sweep = a1 - a0;
-      if (mv.g == 3 && sweep <= 0) sweep += 2 * M_PI;
-      if (mv.g == 2 && sweep >= 0) sweep -= 2 * M_PI;
-      const int n = std::max(1, static_cast<int>(std::ceil(std::abs(sweep) * r / 0.25)));
-      for (int k = 0; k <= n; ++k) stamp(cx + r * std::cos(a0 + sweep * k / n), cy + r * std::sin(a0 + sweep * k / n));
-    }
-  }
-  const Clearance walls(region, 0.0);
-  for (long gy = 0; gy < ny; ++gy)
-    for (long gx = 0; gx < nx; ++gx) {
-      const Vec2 p(lo.x() + gx * h, lo.y() + gy * h);
-      if (!inside(region, p) || walls.wall_distance(p) < R + 0.2) continue;
-      ++o.probed;
-      if (!cut_cell[gy * nx + gx]) ++o.uncovered;
-    }
+  o.uncovered = millnet::testing::unswept_points(o.rep, region, cut.tool_diameter / 2, o.probed);
   return o;
 }
 
@@ -196,8 +154,10 @@ TEST(PlannerAdaptive, ALowerTargetCutsLongerAndEngagesLess) {
   EXPECT_LE(o90.m.metrics.max_engagement_deg, 90 + kEngTolDeg);
 }
 
-// KNOWN GAP (disabled, not hidden): at a 45° target the feed map measures 75.5° somewhere on this
-// pocket (not located yet: a link, the wall pass or an entry); 90° stays within its tolerance.
+// KNOWN GAP (disabled, not hidden): at a 45° target the feed map measures 60° (75.5° before the
+// passes sensed the material beyond one step) on six 5 mm pieces of straight runs near the end of
+// the program, where 13 target cells were left before the wall pass; not located further. 90°
+// stays within its tolerance on every bench pocket.
 TEST(PlannerAdaptive, DISABLED_AFortyFiveDegreeTargetStaysWithinItsTolerance) {
   Region r;
   r.boundary = rect(0, 0, 60, 40);

@@ -9,19 +9,28 @@
 //           (the contour pass's own offset), every move checked exactly (Clearance::move_ok).
 //   entry   per reachable component, at the point farthest from the walls; the helix machine_pocket
 //           makes there (entry_helix) clears a disk of radius rh + R, which the raster starts with.
-//   passes  the tool advances in steps of step_mm; each step's direction is searched (bisection
-//           over the turn angle, material kept on the right for climb milling) so that the newly
-//           cut area of the step is the largest one ≤ safety · a_e(target) · step. Where material
-//           is narrow this turns into curved / trochoidal moves by itself. A pass ends when every
-//           direction is blocked (walls, too much material) or the tool has cut nothing for a
-//           while (the idle tail is dropped).
-//   links   the next pass starts at the nearest tool position (Dijkstra over a 1 mm lattice of
-//           positions whose disk is fully cleared) with uncut material within reach; the tool goes
-//           there with its tool down along moves that sweep no wall and cut at most the target
-//           (pulled taut); only where no such way exists does it retract (then a new entry).
+//   passes  the tool advances in steps of step_mm. It senses the material as the centroid of the
+//           uncut target cells within R + 3 mm (so it finds the material again after a turn) and
+//           takes, of the directions from "along the material's edge" (material on the right for
+//           climb) to "straight at it", the one turned furthest toward the material whose newly
+//           cut area is ≤ safety · a_e(target) · step (bisection). In open material that rides the
+//           cut boundary at the target: rings spiralling out from the helix. Moves the walls
+//           refuse cost +inf, so a pass slides along a wall; a turn toward the material is limited
+//           to 12° a step, so where the material is narrow the pass curls (trochoid-like loops).
+//           A pass ends when it could only back away (blocked by a wall and the material ahead),
+//           when no target material is in range, or after R + 3 mm that cut nothing (dropped).
+//   fronts  a pass that ended blocked is followed by a ride back along the front it was cutting
+//           (material on the other side, nothing cut, tool down) to where the front meets a wall,
+//           and a new pass from there: climb milling kept, the front cleared from its far end.
+//   links   otherwise the next pass starts at the nearest tool position (Dijkstra over a 1 mm
+//           lattice of positions whose disk is fully cleared) with uncut material within reach;
+//           the tool goes there with its tool down along moves that sweep no wall and cut at most
+//           the target (pulled taut); where no way leaves the tool's position it first backtracks
+//           along its own path; only where none exists does it retract (then a new entry).
 //   end     when no reachable position sees uncut material of the clearing's target area (the
-//           cells the tool can reach from A_0); machine_pocket's contour pass (walls_cut = false)
-//           then trims what the raster left along the walls.
+//           cells within R − h/2 of A_0); then the wall pass: every loop of A_0 from its vertex
+//           nearest the tool that a link reaches, which trims what the raster left along the
+//           walls (walls_cut = true: machine_pocket adds no contour pass).
 //   output  each chain's step points simplified within tol::adaptive_simplify_mm (Douglas–Peucker,
 //           every kept chord checked against the walls).
 //
