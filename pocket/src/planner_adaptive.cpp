@@ -561,6 +561,7 @@ private:
     lny_ = static_cast<int>(std::floor((ny - 1) * h / kLatticeMm)) + 1;
     lat_ok_.assign(lin(0, lny_, lnx_), -1);
     dead_.assign(lat_ok_.size(), 0);
+    lat_safe_.assign(lat_ok_.size(), 0);
   }
 
   [[nodiscard]] Vec2 lattice_point(std::size_t k) const {
@@ -606,7 +607,11 @@ private:
     std::vector<long> prev(n, -1);
     std::vector<std::uint8_t> state(n, 0);  // 0 unknown, 1 usable, 2 not
     auto usable = [&](std::size_t k) {
-      if (state[k] == 0) state[k] = (lattice_allowed(k) && safe(lattice_point(k))) ? 1 : 2;
+      if (state[k] == 0) {
+        // Cutting only removes material: a position once found cleared stays cleared.
+        if (!lat_safe_[k] && lattice_allowed(k) && safe(lattice_point(k))) lat_safe_[k] = 1;
+        state[k] = lat_safe_[k] ? 1 : 2;
+      }
       return state[k] == 1;
     };
     using Item = std::pair<double, std::size_t>;
@@ -954,6 +959,7 @@ private:
   int lnx_ = 0, lny_ = 0;
   std::vector<signed char> lat_ok_;
   std::vector<std::uint8_t> dead_;
+  std::vector<std::uint8_t> lat_safe_;  ///< lattice positions known allowed and cleared
   std::vector<RawChain> chains_;
 };
 
