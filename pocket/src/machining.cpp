@@ -113,12 +113,8 @@ double max_engagement_deg(const FeedProfile& profile) {
 
 std::vector<Chain> contour_chains(const Region& region, const CutParams& cut, const Path2D& after) {
   std::vector<Chain> out;
-  const auto comps = offset_inward(region, cut.clearance() + tol::contour_margin_mm, tol::contour_chord_mm);
-  for (const PolyArea& a : comps) {  // O(components · loops)
-    if (a.outer.size() >= 3) out.push_back(loop_chain(a.outer, after, cut.tool_diameter / 2));
-    for (const auto& h : a.holes)
-      if (h.size() >= 3) out.push_back(loop_chain(h, after, cut.tool_diameter / 2));
-  }
+  for (const auto& loop : wall_loops(region, cut.clearance()))  // O(loops)
+    out.push_back(loop_chain(loop, after, cut.tool_diameter / 2));
   return out;
 }
 

@@ -170,6 +170,16 @@ std::vector<PolyArea> swept_area(const std::vector<std::vector<Vec2>>& polylines
   return out;
 }
 
+std::vector<std::vector<Vec2>> wall_loops(const Region& region, double clearance_mm) {
+  std::vector<std::vector<Vec2>> loops;
+  for (PolyArea& a : offset_inward(region, clearance_mm + tol::contour_margin_mm, tol::contour_chord_mm)) {
+    if (a.outer.size() >= 3) loops.push_back(std::move(a.outer));
+    for (auto& h : a.holes)
+      if (h.size() >= 3) loops.push_back(std::move(h));
+  }
+  return loops;
+}
+
 std::vector<PolyArea> difference(const std::vector<PolyArea>& a, const std::vector<PolyArea>& b) {
   ClipperLib::Clipper c;
   c.AddPaths(to_paths(a), ClipperLib::ptSubject, true);

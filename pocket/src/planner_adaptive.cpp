@@ -406,12 +406,7 @@ public:
   /// tool, reached with the tool down through cut area (a retraction only where no way is free).
   void cut_walls() {
     if (chains_.empty()) return;
-    std::vector<std::vector<Vec2>> loops;
-    for (const PolyArea& a : offset_inward(region_, cut_.clearance() + tol::contour_margin_mm, tol::contour_chord_mm)) {
-      if (a.outer.size() >= 3) loops.push_back(a.outer);
-      for (const auto& h : a.holes)
-        if (h.size() >= 3) loops.push_back(h);
-    }
+    std::vector<std::vector<Vec2>> loops = wall_loops(region_, cut_.clearance());
     for (auto& l : loops) {
       if (!climb_) std::reverse(l.begin(), l.end());
       // Straight edges get a vertex every kWallStartMm: a loop may start there (a corner holds

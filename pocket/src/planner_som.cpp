@@ -24,18 +24,6 @@ struct Poly {
   std::vector<char> blendable;
 };
 
-/// The wall rings: the loops of the region offset inward by clearance + tol::contour_margin_mm
-/// (contour_chains' loops), outer CCW, holes CW. Loops of fewer than 3 vertices are skipped.
-std::vector<std::vector<Vec2>> wall_rings(const Region& region, double clearance) {
-  std::vector<std::vector<Vec2>> rings;
-  for (PolyArea& a : offset_inward(region, clearance + tol::contour_margin_mm, tol::contour_chord_mm)) {
-    if (a.outer.size() >= 3) rings.push_back(std::move(a.outer));
-    for (auto& h : a.holes)
-      if (h.size() >= 3) rings.push_back(std::move(h));
-  }
-  return rings;
-}
-
 /// Splices the closed `ring` into one of `chains` with the tool down: after vertex k of a chain
 /// the tool goes straight to ring vertex v, around the ring back to v, then on to vertex k + 1 (or
 /// the chain ends there). The cheapest (added length) of the candidates whose two moves are
@@ -104,7 +92,7 @@ PlanResult plan_som(const Region& region, const CutParams& cut, const GridFrame&
   if (!(path.blend_radius_mm >= 0) || !std::isfinite(path.blend_radius_mm))
     throw Error("/pocket/smoothing/blend_radius_mm: must be a number ≥ 0");
   std::vector<std::vector<Vec2>> rings;
-  if (path.walls) rings = wall_rings(region, clearance);
+  if (path.walls) rings = wall_loops(region, clearance);
   res.tool_points = make_tool_points(region, frame, clearance + (path.walls ? slack : 0.0));  // O(grid cells)
   const ToolPoints& tp = res.tool_points;
   const std::size_t n = tp.pts.size();

@@ -32,6 +32,12 @@ namespace millnet::pocket {
 [[nodiscard]] std::vector<PolyArea> swept_area(const std::vector<std::vector<Vec2>>& polylines, double radius_mm,
                                                double chord_tol_mm = 0.001);
 
+/// The wall loops: the loops of the region offset inward by clearance_mm + tol::contour_margin_mm
+/// (where the tool centre runs along every wall: the contour pass, the SOM's wall rings, the
+/// adaptive planner's wall pass), per component its outer loop (counter-clockwise) then its holes
+/// (clockwise). Loops of fewer than 3 vertices are skipped.
+[[nodiscard]] std::vector<std::vector<Vec2>> wall_loops(const Region& region, double clearance_mm);
+
 /// a minus b (Clipper difference), as areas.
 [[nodiscard]] std::vector<PolyArea> difference(const std::vector<PolyArea>& a, const std::vector<PolyArea>& b);
 
