@@ -178,7 +178,6 @@ public:
   [[nodiscard]] double h() const { return h_; }
   [[nodiscard]] std::size_t idx(int x, int y) const { return lin(x, y, nx_); }
   [[nodiscard]] Vec2 centre(int x, int y) const { return lo_ + Vec2((x + 0.5) * h_, (y + 0.5) * h_); }
-  [[nodiscard]] std::uint8_t state(std::size_t i) const { return st_[i]; }
   [[nodiscard]] const std::vector<std::uint8_t>& states() const { return st_; }
   std::vector<std::uint8_t>& target() { return target_; }
 
@@ -241,39 +240,27 @@ public:
     return ok;
   }
 
-  /// Uncut target cells within r of c, up to `enough`, and the nearest one.
-  int target_within(const Vec2& c, double r, Vec2& nearest) const {
+  /// Uncut target cells within r of c: their number, the nearest one and their centroid (each
+  /// written only when there is one).
+  int target_near(const Vec2& c, double r, Vec2* nearest, Vec2* centroid = nullptr) const {
     int n = 0;
     double best = kInf;
-    blocks(c, r, tuncut_, [&](int x, int y) {
-      const std::size_t i = idx(x, y);
-      if (st_[i] != 1 || !target_[i]) return true;
-      const double d = (centre(x, y) - c).squaredNorm();
-      if (d > r * r) return true;
-      ++n;
-      if (d < best) {
-        best = d;
-        nearest = centre(x, y);
-      }
-      return true;
-    });
-    return n;
-  }
-
-  /// Uncut target cells within r of c and their centroid.
-  int target_centroid(const Vec2& c, double r, Vec2& centroid) const {
-    int n = 0;
     Vec2 sum(0, 0);
     blocks(c, r, tuncut_, [&](int x, int y) {
       const std::size_t i = idx(x, y);
       if (st_[i] != 1 || !target_[i]) return true;
       const Vec2 q = centre(x, y);
-      if ((q - c).squaredNorm() > r * r) return true;
+      const double d = (q - c).squaredNorm();
+      if (d > r * r) return true;
       ++n;
       sum += q;
+      if (nearest && d < best) {
+        best = d;
+        *nearest = q;
+      }
       return true;
     });
-    if (n > 0) centroid = sum / n;
+    if (centroid && n > 0) *centroid = sum / n;
     return n;
   }
 
@@ -360,7 +347,6 @@ public:
     const double h = raster_.h();
     const double width = R_ * (1 - std::cos(target_deg * kPi / 180));  // engaged width a_e
     max_cells_ = prm.safety * width * step_ / (h * h);
-    Rr_ = R_;
     prepare();
   }
 
@@ -450,11 +436,7 @@ public:
       }
       RawChain& c = chains_.back();
       for (std::size_t j = 0; j < loop.size(); ++j) {
-        if (!c.pts.empty()) {
-          const Vec2 a = c.pts.back(), b = loop[j];
-          const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / step_)));
-          for (int t = 1; t <= n; ++t) raster_.mark(a + (b - a) * (static_cast<double>(t) / n), Rr_);
-        }
+        if (!c.pts.empty()) mark_move(c.pts.back(), loop[j]);
         c.pts.push_back(loop[j]);
       }
     }
@@ -503,44 +485,44 @@ private:
     const auto& st = raster_.states();
     std::vector<std::uint8_t> empty(st.size());
     for (std::size_t i = 0; i < st.size(); ++i) empty[i] = st[i] == 0;
-    wall_d2_ = edt(empty, nx, ny);  // squared cells to the nearest cell outside the region
+    const std::vector<double> wall_d2 = edt(empty, nx, ny);  // squared cells to the nearest cell outside the region
     const double cl = walls_.clearance();
-    allowed_.assign(st.size(), 0);
+    std::vector<std::uint8_t> allowed(st.size(), 0);
     for (int y = 0; y < ny; ++y)
       for (int x = 0; x < nx; ++x) {
         const std::size_t i = raster_.idx(x, y);
         if (st[i] == 0) continue;
-        const double d = std::sqrt(wall_d2_[i]) * h;  // within ~h of the wall distance
+        const double d = std::sqrt(wall_d2[i]) * h;  // within ~h of the wall distance
         if (d < cl - 2 * h) continue;
-        allowed_[i] = d > cl + 2 * h ? 1 : static_cast<std::uint8_t>(walls_.point_ok(raster_.centre(x, y)));
+        allowed[i] = d > cl + 2 * h ? 1 : static_cast<std::uint8_t>(walls_.point_ok(raster_.centre(x, y)));
       }
-    const std::vector<double> to_allowed = edt(allowed_, nx, ny);
+    const std::vector<double> to_allowed = edt(allowed, nx, ny);
     auto& target = raster_.target();
     const double reach = (R_ - 0.5 * h) / h;
     for (std::size_t i = 0; i < st.size(); ++i) target[i] = st[i] == 1 && to_allowed[i] <= reach * reach;
     raster_.count_blocks();
     // Components of allowed centres (8-connected flood fill), in raster order.
-    comp_.assign(st.size(), -1);
+    std::vector<int> comp(st.size(), -1);  // component of each allowed cell
     for (int y = 0; y < ny; ++y)
       for (int x = 0; x < nx; ++x) {
         const std::size_t s = raster_.idx(x, y);
-        if (!allowed_[s] || comp_[s] >= 0) continue;
+        if (!allowed[s] || comp[s] >= 0) continue;
         const int id = static_cast<int>(entries_.size());
         std::size_t best = s;
         std::vector<std::size_t> stack{s};
-        comp_[s] = id;
+        comp[s] = id;
         while (!stack.empty()) {
           const std::size_t i = stack.back();
           stack.pop_back();
-          if (wall_d2_[i] > wall_d2_[best] || (wall_d2_[i] == wall_d2_[best] && i < best)) best = i;
+          if (wall_d2[i] > wall_d2[best] || (wall_d2[i] == wall_d2[best] && i < best)) best = i;
           const int cx = static_cast<int>(i % static_cast<std::size_t>(nx)), cy = static_cast<int>(i / static_cast<std::size_t>(nx));
           for (int dy = -1; dy <= 1; ++dy)
             for (int dx = -1; dx <= 1; ++dx) {
               const int qx = cx + dx, qy = cy + dy;
               if (qx < 0 || qy < 0 || qx >= nx || qy >= ny) continue;
               const std::size_t q = raster_.idx(qx, qy);
-              if (allowed_[q] && comp_[q] < 0) {
-                comp_[q] = id;
+              if (allowed[q] && comp[q] < 0) {
+                comp[q] = id;
                 stack.push_back(q);
               }
             }
@@ -575,7 +557,7 @@ private:
   }
 
   /// The tool's disk there is cleared (up to raster noise).
-  [[nodiscard]] bool safe(const Vec2& p) const { return raster_.clear_within(p, Rr_); }
+  [[nodiscard]] bool safe(const Vec2& p) const { return raster_.clear_within(p, R_); }
 
   /// The straight move a→b with the tool down: no wall, at most the target's cut per step.
   [[nodiscard]] bool link_ok(const Vec2& a, const Vec2& b) const {
@@ -583,7 +565,7 @@ private:
     const double L = (b - a).norm();
     const int n = std::max(1, static_cast<int>(std::ceil(L / step_)));
     for (int i = 1; i <= n; ++i)
-      if (raster_.fresh(a + (b - a) * (static_cast<double>(i) / n), Rr_) > max_cells_ * (L / n) / step_ + 0.5) return false;
+      if (raster_.fresh(a + (b - a) * (static_cast<double>(i) / n), R_) > max_cells_ * (L / n) / step_ + 0.5) return false;
     return true;
   }
 
@@ -636,7 +618,7 @@ private:
       if (d > dist[k]) continue;
       Vec2 near;
       const bool found = goal ? (lattice_point(k) - *goal).norm() <= 2.5 * kLatticeMm && link_ok(lattice_point(k), *goal)
-                              : !dead_[k] && raster_.target_within(lattice_point(k), reach, near) >= kMinWorkCells;
+                              : !dead_[k] && raster_.target_near(lattice_point(k), reach, &near) >= kMinWorkCells;
       if (found) {
         start = goal ? *goal : lattice_point(k);
         toward = goal ? *goal : near;
@@ -679,16 +661,20 @@ private:
     }
     RawChain& c = chains_.back();
     for (std::size_t i = 1; i < taut.size(); ++i) {
-      const Vec2 a = taut[i - 1], b = taut[i];
-      const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / step_)));
-      for (int j = 1; j <= n; ++j) raster_.mark(a + (b - a) * (static_cast<double>(j) / n), Rr_);
-      c.pts.push_back(b);
+      mark_move(taut[i - 1], taut[i]);
+      c.pts.push_back(taut[i]);
     }
     ++stats_.links;
     return true;
   }
 
   [[nodiscard]] Vec2 current_end() const { return chains_.back().pts.back(); }
+
+  /// Marks the straight move a→b cut, at the planning step.
+  void mark_move(const Vec2& a, const Vec2& b) {
+    const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / step_)));
+    for (int t = 1; t <= n; ++t) raster_.mark(a + (b - a) * (static_cast<double>(t) / n), R_);
+  }
 
   /// The first direction at a pass start: across the line to the nearest uncut material, so that
   /// the material is on the right (climb) or on the left (conventional).
@@ -708,7 +694,7 @@ private:
       room_ = walls_.point_ok(p) ? walls_.wall_distance(p) - walls_.clearance() : -1.0;
     }
     if (!((q - p).norm() < room_) && !walls_.move_ok(p, q)) return kInf;
-    return raster_.fresh(q, Rr_);
+    return raster_.fresh(q, R_);
   }
   mutable Vec2 room_at_{kInf, kInf};
   mutable double room_ = -1;
@@ -751,7 +737,7 @@ private:
     Vec2 hd(0, 0);
     while (len < kRideMaxMm) {
       Vec2 cen;
-      if (raster_.target_centroid(p, R_ + kSenseMm, cen) < kMinWorkCells) break;
+      if (raster_.target_near(p, R_ + kSenseMm, nullptr, &cen) < kMinWorkCells) break;
       Vec2 u = cen - p;
       if (u.norm() < 1e-9) break;
       u.normalize();
@@ -784,7 +770,7 @@ private:
   void append_link(const std::vector<Vec2>& way) {
     RawChain& c = chains_.back();
     for (std::size_t i = 1; i < way.size(); ++i) {
-      raster_.mark(way[i], Rr_);
+      raster_.mark(way[i], R_);
       c.pts.push_back(way[i]);
     }
     ++stats_.links;
@@ -813,7 +799,7 @@ private:
     auto at = [&](const Vec2& dir) { return Vec2(p + step_ * dir); };
     for (std::size_t n = 0; n < max_steps; ++n) {
       Vec2 cen;
-      if (raster_.target_centroid(p, R_ + kSenseMm, cen) < kMinWorkCells) break;  // nothing near: done
+      if (raster_.target_near(p, R_ + kSenseMm, nullptr, &cen) < kMinWorkCells) break;  // nothing near: done
       Vec2 u = cen - p;
       if (u.norm() < 1e-9) u = d;
       u.normalize();
@@ -854,7 +840,7 @@ private:
         }
       }
       const Vec2 q = at(nd);
-      const int got = raster_.mark(q, Rr_);
+      const int got = raster_.mark(q, R_);
       d = nd;
       p = q;
       c.pts.push_back(q);
@@ -891,7 +877,7 @@ private:
       ++stats_.entries;
       Vec2 d(0, 1);
       if (const auto hx = entry_helix(exact_, e.p, cut_.tool_diameter)) {
-        raster_.mark(hx->first, hx->second + Rr_);
+        raster_.mark(hx->first, hx->second + R_);
         // The helix's flat turn at the floor, in the plan too (it cuts nothing the helix has not;
         // it makes the path sweep the hole, for the uncut-area figures).
         const Vec2 out = e.p - hx->first;
@@ -901,7 +887,7 @@ private:
           chains_.back().pts.push_back(hx->first + rot(out, (climb_ ? 1.0 : -1.0) * 2 * kPi * k / nseg));
         d = rot(out.normalized(), climb_ ? kPi / 2 : -kPi / 2);  // round the hole, material outside
       } else {
-        raster_.mark(e.p, Rr_);
+        raster_.mark(e.p, R_);
         ++stats_.entries_without_helix;
       }
       last_cells_ = cut_pass(e.p, d, true);
@@ -914,7 +900,7 @@ private:
       if (dead_[k] || !lattice_allowed(k)) continue;
       const Vec2 p = lattice_point(k);
       Vec2 near;
-      if (raster_.target_within(p, R_ + 1.5 * kLatticeMm, near) < kMinWorkCells || !safe(p)) continue;
+      if (raster_.target_near(p, R_ + 1.5 * kLatticeMm, &near) < kMinWorkCells || !safe(p)) continue;
       chains_.push_back(RawChain{});
       chains_.back().predrill = false;
       ++stats_.reentries;
@@ -944,11 +930,6 @@ private:
   double max_cells_ = 0;  ///< fresh cells allowed per step
   double last_cells_ = 0;  ///< cells the last pass cut
   Vec2 last_heading_{1, 0};
-  /// The tool's radius on the raster (the feed map's rule: a cell is cut when its centre is).
-  double Rr_ = 0;
-  std::vector<double> wall_d2_;
-  std::vector<std::uint8_t> allowed_;
-  std::vector<int> comp_;
   std::vector<Entry_> entries_;
   Vec2 lat_lo_;
   int lnx_ = 0, lny_ = 0;
