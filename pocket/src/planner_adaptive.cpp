@@ -6,6 +6,8 @@
 #include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
 
+#include <opencv2/imgproc.hpp>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -64,66 +66,23 @@ Vec2 rot(const Vec2& v, double a) {
   return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
 }
 
-/// Squared Euclidean distance transform (Felzenszwalb–Huttenlocher) of a grid: for every cell, the
-/// squared distance (in cells) to the nearest seed cell; kInf where there is none. O(cells).
+/// Squared Euclidean distance (in cells) from every cell to the nearest seed cell of an nx × ny
+/// grid, kInf where there is no seed: OpenCV's exact transform (cv::DIST_MASK_PRECISE), as
+/// ingest's Z-level outlines use it. O(cells).
 std::vector<double> edt(const std::vector<std::uint8_t>& seed, int nx, int ny) {
-  const double big = 1e20;
-  std::vector<double> g(seed.size());
-  for (std::size_t i = 0; i < seed.size(); ++i) g[i] = seed[i] ? 0.0 : big;
-  const int n = std::max(nx, ny);
-  std::vector<double> f(static_cast<std::size_t>(n)), d(static_cast<std::size_t>(n)), z(static_cast<std::size_t>(n) + 1);
-  std::vector<int> v(static_cast<std::size_t>(n));
-  auto pass = [&](int len) {
-    int k = 0;
-    v[0] = 0;
-    z[0] = -big;
-    z[1] = big;
-    for (int q = 1; q < len; ++q) {
-      double s;
-      for (;;) {
-        const int p = v[static_cast<std::size_t>(k)];
-        s = ((f[static_cast<std::size_t>(q)] + q * q) - (f[static_cast<std::size_t>(p)] + p * p)) / (2.0 * (q - p));
-        if (s <= z[static_cast<std::size_t>(k)] && k > 0) {
-          --k;
-          continue;
-        }
-        if (s <= z[static_cast<std::size_t>(k)]) {  // k == 0
-          v[0] = q;
-          z[0] = -big;
-          z[1] = big;
-          k = -1;
-        }
-        break;
-      }
-      if (k >= 0) {
-        ++k;
-        v[static_cast<std::size_t>(k)] = q;
-        z[static_cast<std::size_t>(k)] = s;
-        z[static_cast<std::size_t>(k) + 1] = big;
-      } else {
-        k = 0;
-      }
+  std::vector<double> d2(seed.size(), kInf);
+  if (std::find(seed.begin(), seed.end(), std::uint8_t{1}) == seed.end()) return d2;
+  cv::Mat src(ny, nx, CV_8U);
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x) src.at<unsigned char>(y, x) = seed[lin(x, y, nx)] ? 0 : 255;  // zero = seed
+  cv::Mat dist;
+  cv::distanceTransform(src, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x) {
+      const double v = dist.at<float>(y, x);
+      d2[lin(x, y, nx)] = v * v;
     }
-    k = 0;
-    for (int q = 0; q < len; ++q) {
-      while (z[static_cast<std::size_t>(k) + 1] < q) ++k;
-      const int p = v[static_cast<std::size_t>(k)];
-      d[static_cast<std::size_t>(q)] = (q - p) * (q - p) + f[static_cast<std::size_t>(p)];
-    }
-  };
-  for (int x = 0; x < nx; ++x) {  // columns
-    for (int y = 0; y < ny; ++y) f[static_cast<std::size_t>(y)] = g[lin(x, y, nx)];
-    pass(ny);
-    for (int y = 0; y < ny; ++y) g[lin(x, y, nx)] = d[static_cast<std::size_t>(y)];
-  }
-  for (int y = 0; y < ny; ++y) {  // rows
-    for (int x = 0; x < nx; ++x) f[static_cast<std::size_t>(x)] = g[lin(x, y, nx)];
-    pass(nx);
-    for (int x = 0; x < nx; ++x) g[lin(x, y, nx)] = d[static_cast<std::size_t>(x)];
-  }
-  for (double& e : g)
-    if (e >= big / 2) e = kInf;
-  return g;
+  return d2;
 }
 
 /// The cleared-area raster: 0 = no material (centre outside the region), 1 = uncut, 2 = cut; a
