@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "testing/gcode_replay.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -44,11 +46,6 @@ fs::path write_config(const fs::path& dir) {
   return p;
 }
 
-bool rs274_accepts(const fs::path& nc) {
-  const std::string cmd = "/usr/bin/rs274 -g '" + nc.string() + "' </dev/null >/dev/null 2>&1";
-  return std::system(cmd.c_str()) == 0;
-}
-
 TEST(CliFinish, AllStrategiesSimulatedWriteTheContractFilesAndLinuxCncAcceptsThem) {
   const fs::path d = fresh_dir("finish_all");
   const fs::path mesh = write_dome(d), cfg = write_config(d);
@@ -70,7 +67,7 @@ TEST(CliFinish, AllStrategiesSimulatedWriteTheContractFilesAndLinuxCncAcceptsThe
     EXPECT_LE(j["max_gouge_mm"].get<double>(), 0.002) << base << ": the program gouges the part";
     EXPECT_GE(j["time_kinematic_min"].get<double>(), j["time_feed_min"].get<double>() * 0.999);
     if (fs::exists("/usr/bin/rs274")) {
-      EXPECT_TRUE(rs274_accepts(out / (base + ".nc"))) << base;
+      EXPECT_TRUE(millnet::testing::linuxcnc_accepts((out / (base + ".nc")).string())) << base;
     }
     // The roughing frame: the part top (z 6) is at Z −1, the base (z 0) at Z −7.
     const std::string text = slurp(out / (base + ".nc"));

@@ -4,6 +4,7 @@
 // Deliberately shares NO code with millnet::pocket (own parser, own point–line/arc distances), so
 // that a bug in the pocket module's Clearance cannot hide itself. mm throughout.
 #include <array>
+#include <cstdlib>
 #include <map>
 #include <string>
 #include <vector>
@@ -50,5 +51,11 @@ struct ReplayResult {
 /// an island.
 void check_gouge(ReplayResult& r, const ReplayPocket& pocket, double tool_radius, double tol_mm = 0.01,
                  double step_mm = 0.05);
+
+/// LinuxCNC's own interpreter (`rs274 -g`, linuxcnc-uspace) accepts the program file.
+inline bool linuxcnc_accepts(const std::string& nc_path) {
+  const std::string cmd = "/usr/bin/rs274 -g '" + nc_path + "' </dev/null >/dev/null 2>&1";
+  return std::system(cmd.c_str()) == 0;
+}
 
 }  // namespace millnet::testing
