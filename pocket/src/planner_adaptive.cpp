@@ -935,16 +935,14 @@ PlanResult plan_adaptive(const Region& region, const CutParams& cut, const Adapt
   p.stats_.target_deg = target;
   res = p.result(std::move(res));
   if (res.path.chains.empty()) {
-    // Components thinner than a raster cell: their outer loops (machine_pocket's contour pass
-    // retraces them; the path must not be empty).
-    for (const PolyArea& a : comps) {
+    // Components thinner than a raster cell: their wall loops (walls_cut is set, so nothing else
+    // would cut them; the path must not be empty).
+    for (const auto& loop : wall_loops(region, cut.clearance())) {
       Chain c;
-      for (const Vec2& v : a.outer) c.pts.push_back({v.x(), v.y(), 0.0});
-      if (!c.pts.empty()) {
-        c.pts.push_back(c.pts.front());
-        res.predrill.push_back(c.pts.front().p());
-        res.path.chains.push_back(std::move(c));
-      }
+      for (const Vec2& v : loop) c.pts.push_back({v.x(), v.y(), 0.0});
+      c.pts.push_back(c.pts.front());
+      res.predrill.push_back(c.pts.front().p());
+      res.path.chains.push_back(std::move(c));
     }
   }
   res.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

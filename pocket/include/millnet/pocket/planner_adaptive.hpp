@@ -58,7 +58,7 @@ struct AdaptiveParams {
 [[nodiscard]] double adaptive_target_deg(const CutParams& cut, const AdaptiveParams& params);
 
 /// Plans `region` (validated and normalized) at constant engagement. PlanResult::planner =
-/// "adaptive", walls_cut = false (machine_pocket adds the contour pass), helix_entry_holes = true,
+/// "adaptive", walls_cut = true (its own wall pass), helix_entry_holes = true,
 /// stats: AdaptiveStats. Status NoToolPoints when the tool fits nowhere. Throws millnet::Error as
 /// CutParams::check and on bad AdaptiveParams.
 [[nodiscard]] PlanResult plan_adaptive(const Region& region, const CutParams& cut, const AdaptiveParams& params);

@@ -85,7 +85,7 @@ struct AdaptiveStats {
   std::size_t retractions = 0;        ///< of the planned path
   double cut_length_mm = 0;           ///< of the planned path (links included)
   double rapid_length_mm = 0;
-  double uncut_target_mm2 = 0;        ///< raster estimate left for the contour pass
+  double uncut_target_mm2 = 0;        ///< raster estimate of the target left after the wall pass
   [[nodiscard]] std::vector<std::pair<std::string, double>> key_values() const;
 };
 
