@@ -153,11 +153,18 @@ bool Clearance::point_ok(const Vec2& p) const {
 }
 
 bool Clearance::move_ok(const Vec2& p, const Vec2& q) const {
-  if (!point_ok(p) || !point_ok(q)) return false;
+  // p is inside and the move keeps clear of every wall (q included: its distance is the move's at
+  // its end), so it never crosses one: q is inside too, and keeps the clearance. One inside test,
+  // not two (the region's winding test is the costly part of a move check).
+  if (!point_ok(p)) return false;
+  if (impl_->clearance - tol::clear_mm <= 0 && !point_ok(q)) return false;  // no clearance: a move may touch a wall
+  return segment_clear(p, q);
+}
+
+bool Clearance::segment_clear(const Vec2& p, const Vec2& q) const {
   const Impl& m = *impl_;
   const double lim = m.clearance - tol::clear_mm;
   const Vec2 r(m.clearance, m.clearance);
-  // Both ends are inside and the move keeps clear of every wall, so it never crosses one.
   return !m.any_in_box(p.cwiseMin(q) - r, p.cwiseMax(q) + r,
                        [&](int w) { return distance(m.walls[static_cast<std::size_t>(w)], p, q) < lim; });
 }

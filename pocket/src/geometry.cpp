@@ -367,18 +367,27 @@ bool inside(const Region& region, const Vec2& p) {
   return true;
 }
 
-std::vector<Vec2> flatten(const Loop& loop, double chord_tol_mm) {
+std::vector<Vec2> flatten_open(const std::vector<Vertex>& pts, double chord_tol_mm) {
   std::vector<Vec2> out;
-  for (const Segment& s : segments(loop)) {
-    out.push_back(s.a);
-    if (!s.is_arc()) continue;
+  for (std::size_t k = 0; k < pts.size(); ++k) {
+    out.push_back(pts[k].p());
+    if (k + 1 == pts.size() || pts[k].bulge == 0.0) continue;
+    const Segment s{pts[k].p(), pts[k + 1].p(), pts[k].bulge};
     const Arc arc = arc_of(s);
     // Chord of angle φ deviates r(1 − cos(φ/2)) from the arc.
-    const double tol = std::clamp(chord_tol_mm, 1e-9, arc.radius);
-    const double max_step = 2 * std::acos(1 - tol / arc.radius);
+    const double max_step = 2 * std::acos(1 - std::clamp(chord_tol_mm, 1e-9, arc.radius) / arc.radius);
     const int n = std::max(1, static_cast<int>(std::ceil(std::abs(arc.sweep) / std::max(max_step, 1e-6))));
-    for (int k = 1; k < n; ++k) out.push_back(point_at(s, static_cast<double>(k) / n));
+    for (int i = 1; i < n; ++i) out.push_back(point_at(s, static_cast<double>(i) / n));
   }
+  return out;
+}
+
+std::vector<Vec2> flatten(const Loop& loop, double chord_tol_mm) {
+  if (loop.empty()) return {};
+  Loop closed = loop;
+  closed.push_back(loop.front());  // the closing segment, then the repeated first vertex dropped
+  std::vector<Vec2> out = flatten_open(closed, chord_tol_mm);
+  out.pop_back();
   return out;
 }
 

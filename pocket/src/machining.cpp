@@ -2,6 +2,7 @@
 #include "millnet/pocket/machining.hpp"
 
 #include "millnet/core/error.hpp"
+#include "millnet/pocket/cut_links.hpp"
 #include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
 
@@ -12,6 +13,9 @@
 namespace millnet::pocket {
 
 namespace {
+/// A wall loop may start every this many mm along it (straight edges are split to allow it).
+constexpr double kWallStartMm = 2.0;
+
 Chain loop_chain(const std::vector<Vec2>& loop, const Path2D& after, double R) {
   // Start at the loop vertex nearest to any vertex of the area-clearing path.
   std::size_t best_k = 0;
@@ -80,8 +84,78 @@ void collect_predrill(LevelPlan& L) {
 
 void link_wall_chains(const Region& region, const CutParams& cut, Path2D& path, std::vector<Chain>& walls) {
   const Clearance clear(region, cut.clearance());
-  for (Chain& w : walls) {
-    if (path.chains.empty() || path.chains.back().pts.empty() || w.pts.size() < 3) {
+  CutLinker linker(region, cut, kLinkSliverMm2);
+  for (const Chain& c : path.chains) linker.sweep(c);  // O(path length · R / cell²)
+  // Each loop's possible starts: its vertices, straight edges split every kWallStartMm, at least
+  // kWallStartMm apart along the loop (a loop's chorded arcs have a vertex every ≈ 0.3 mm).
+  std::vector<std::vector<Vec2>> loops;
+  std::vector<std::vector<std::size_t>> starts;
+  for (const Chain& w : walls) {
+    std::vector<Vec2> l;
+    for (std::size_t k = 0; k + 1 < w.pts.size(); ++k) {
+      const Vec2 a = w.pts[k].p(), b = w.pts[k + 1].p();
+      const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / kWallStartMm)));
+      for (int t = 0; t < n; ++t) l.push_back(a + (b - a) * (static_cast<double>(t) / n));
+    }
+    std::vector<std::size_t> s;
+    double run = kWallStartMm;
+    for (std::size_t k = 0; k < l.size(); ++k) {
+      if (k > 0) run += (l[k] - l[k - 1]).norm();
+      if (run >= kWallStartMm - 1e-9) {
+        s.push_back(k);
+        run = 0;
+      }
+    }
+    loops.push_back(std::move(l));
+    starts.push_back(std::move(s));
+  }
+  std::vector<char> done(walls.size(), 0);
+  auto rotated = [&](std::size_t i, std::size_t v) {
+    std::vector<Vec2> out;
+    for (std::size_t j = 0; j <= loops[i].size(); ++j) out.push_back(loops[i][(v + j) % loops[i].size()]);
+    return out;
+  };
+  for (std::size_t left = walls.size(); left > 0; --left) {
+    const bool tool_down = !path.chains.empty() && !path.chains.back().pts.empty();
+    std::optional<std::pair<std::size_t, std::vector<Vec2>>> pick;  // (loop, link way)
+    std::size_t pick_v = 0;
+    if (tool_down) {
+      // The nearest loop start a way through cut material reaches (cut_links.hpp).
+      std::vector<LinkTarget> targets;
+      std::vector<std::pair<std::size_t, std::size_t>> owner;
+      for (std::size_t i = 0; i < walls.size(); ++i) {
+        if (done[i] || loops[i].size() < 3) continue;
+        for (std::size_t v : starts[i]) {
+          targets.push_back({loops[i][v], approach_of(rotated(i, v), cut.tool_diameter), 0.0});
+          owner.push_back({i, v});
+        }
+      }
+      if (auto l = linker.best_link(path.chains.back().pts.back().p(), targets)) {
+        pick = std::make_pair(owner[l->target].first, std::move(l->way));
+        pick_v = owner[l->target].second;
+      }
+    }
+    if (pick) {
+      const auto& [i, way] = *pick;
+      Chain& prev = path.chains.back();
+      std::vector<Vec2> loop = rotated(i, pick_v);
+      for (const Vec2& p : way)
+        if ((prev.pts.back().p() - p).norm() > tol::join_mm) prev.pts.push_back({p.x(), p.y(), 0.0});
+      for (const Vec2& p : loop)
+        if ((prev.pts.back().p() - p).norm() > tol::join_mm) prev.pts.push_back({p.x(), p.y(), 0.0});
+      prev.feed.clear();
+      linker.sweep(way);
+      linker.sweep(loop);
+      done[i] = 1;
+      continue;
+    }
+    // No way through cut material: the first loop left, joined by a straight wall-clear move from
+    // its vertex nearest the tool where there is one (as before issue 11's links), else entered anew.
+    const auto i = static_cast<std::size_t>(std::find(done.begin(), done.end(), 0) - done.begin());
+    done[i] = 1;
+    Chain& w = walls[i];
+    if (!tool_down || w.pts.size() < 3) {
+      linker.sweep(w);
       path.chains.push_back(std::move(w));
       continue;
     }
@@ -93,15 +167,20 @@ void link_wall_chains(const Region& region, const CutParams& cut, Path2D& path, 
     for (std::size_t k = 1; k < n; ++k)
       if ((w.pts[k].p() - end).squaredNorm() < (w.pts[best].p() - end).squaredNorm()) best = k;
     if (!clear.move_ok(end, w.pts[best].p())) {
+      linker.sweep(w);
       path.chains.push_back(std::move(w));
       continue;
     }
-    for (std::size_t i = 0; i <= n; ++i) {
-      const Vertex& v = w.pts[(best + i) % n];
+    std::vector<Vec2> joined{end};
+    for (std::size_t k = 0; k <= n; ++k) {
+      const Vertex& v = w.pts[(best + k) % n];
+      joined.push_back(v.p());
       if ((prev.pts.back().p() - v.p()).norm() > tol::join_mm) prev.pts.push_back({v.x, v.y, 0.0});
     }
     prev.feed.clear();
+    linker.sweep(joined);
   }
+  walls.clear();
 }
 
 double max_engagement_deg(const FeedProfile& profile) {

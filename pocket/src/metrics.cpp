@@ -34,21 +34,8 @@ UncutArea uncut_area(const Region& region, const Path2D& path, double clearance_
   const auto reachable = offset_areas(centre_area, tool_radius_mm, tol::uncut_chord_mm);
   u.reachable_mm2 = area(reachable);
   std::vector<std::vector<Vec2>> lines;
-  for (const Chain& ch : path.chains) {  // O(flattened path vertices)
-    if (ch.pts.empty()) continue;
-    std::vector<Vec2> pl{ch.pts.front().p()};
-    for (std::size_t k = 0; k + 1 < ch.pts.size(); ++k) {
-      const Segment s{ch.pts[k].p(), ch.pts[k + 1].p(), ch.pts[k].bulge};
-      if (s.is_arc()) {
-        const Arc a = arc_of(s);
-        const double step = 2 * std::acos(1 - std::min(tol::uncut_chord_mm / a.radius, 1.0));
-        const int n = std::max(1, static_cast<int>(std::ceil(std::abs(a.sweep) / std::max(step, 1e-6))));
-        for (int i = 1; i < n; ++i) pl.push_back(point_at(s, static_cast<double>(i) / n));
-      }
-      pl.push_back(s.b);
-    }
-    lines.push_back(std::move(pl));
-  }
+  for (const Chain& ch : path.chains)  // O(flattened path vertices)
+    if (!ch.pts.empty()) lines.push_back(flatten_open(ch.pts, tol::uncut_chord_mm));
   const auto swept = swept_area(lines, tool_radius_mm, tol::uncut_chord_mm);
   u.uncut = difference(reachable, swept);
   u.uncut_mm2 = area(u.uncut);

@@ -180,15 +180,25 @@ std::vector<std::vector<Vec2>> wall_loops(const Region& region, double clearance
   return loops;
 }
 
-std::vector<PolyArea> difference(const std::vector<PolyArea>& a, const std::vector<PolyArea>& b) {
+namespace {
+std::vector<PolyArea> boolean(const std::vector<PolyArea>& a, const std::vector<PolyArea>& b, ClipperLib::ClipType op) {
   ClipperLib::Clipper c;
   c.AddPaths(to_paths(a), ClipperLib::ptSubject, true);
   c.AddPaths(to_paths(b), ClipperLib::ptClip, true);
   ClipperLib::PolyTree tree;
-  c.Execute(ClipperLib::ctDifference, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  c.Execute(op, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
   std::vector<PolyArea> out;
   collect(tree, out);
   return out;
+}
+}  // namespace
+
+std::vector<PolyArea> unite(const std::vector<PolyArea>& a, const std::vector<PolyArea>& b) {
+  return boolean(a, b, ClipperLib::ctUnion);
+}
+
+std::vector<PolyArea> difference(const std::vector<PolyArea>& a, const std::vector<PolyArea>& b) {
+  return boolean(a, b, ClipperLib::ctDifference);
 }
 
 double area(const PolyArea& a) {

@@ -6,7 +6,7 @@
 #include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
 
-#include <opencv2/imgproc.hpp>
+#include "raster_internal.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -56,34 +56,14 @@ constexpr std::size_t kWallStartTries = 40;
 /// Raster cells of uncut material worth a pass (fewer are raster noise).
 constexpr int kMinWorkCells = 4;
 
-/// Row-major index of (x, y) in a grid nx wide.
-std::size_t lin(int x, int y, int nx) {
-  return static_cast<std::size_t>(y) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(x);
-}
+using raster::lin;
 
 Vec2 rot(const Vec2& v, double a) {
   const double c = std::cos(a), s = std::sin(a);
   return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
 }
 
-/// Squared Euclidean distance (in cells) from every cell to the nearest seed cell of an nx × ny
-/// grid, kInf where there is no seed: OpenCV's exact transform (cv::DIST_MASK_PRECISE), as
-/// ingest's Z-level outlines use it. O(cells).
-std::vector<double> edt(const std::vector<std::uint8_t>& seed, int nx, int ny) {
-  std::vector<double> d2(seed.size(), kInf);
-  if (std::find(seed.begin(), seed.end(), std::uint8_t{1}) == seed.end()) return d2;
-  cv::Mat src(ny, nx, CV_8U);
-  for (int y = 0; y < ny; ++y)
-    for (int x = 0; x < nx; ++x) src.at<unsigned char>(y, x) = seed[lin(x, y, nx)] ? 0 : 255;  // zero = seed
-  cv::Mat dist;
-  cv::distanceTransform(src, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
-  for (int y = 0; y < ny; ++y)
-    for (int x = 0; x < nx; ++x) {
-      const double v = dist.at<float>(y, x);
-      d2[lin(x, y, nx)] = v * v;
-    }
-  return d2;
-}
+using raster::edt;
 
 /// The cleared-area raster: 0 = no material (centre outside the region), 1 = uncut, 2 = cut; a
 /// cell is cut when its centre lies within R of a tool centre (the feed map's rule). Blocks of
@@ -94,40 +74,12 @@ public:
   static constexpr int kB = 4;
 
   Raster(const Region& region, double h, double margin) : h_(h) {
-    const std::vector<Vec2> b = flatten(region.boundary, tol::arc_chord_mm);
-    Vec2 lo = b.front(), hi = b.front();
-    for (const Vec2& p : b) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-    lo_ = lo - Vec2(margin, margin);
-    nx_ = static_cast<int>(std::ceil((hi.x() - lo.x() + 2 * margin) / h)) + 1;
-    ny_ = static_cast<int>(std::ceil((hi.y() - lo.y() + 2 * margin) / h)) + 1;
-    if (static_cast<double>(nx_) * ny_ > 4e7)
-      throw Error("adaptive planner: raster of " + std::to_string(nx_) + " x " + std::to_string(ny_) +
-                  " cells is too fine; raise raster_mm");
-    st_.assign(lin(0, ny_, nx_), 0);
+    const raster::Grid g = raster::grid_of(region, h, margin, "adaptive planner");
+    lo_ = g.lo;
+    nx_ = g.nx;
+    ny_ = g.ny;
+    st_ = raster::material(region, g);  // 1 = uncut material
     target_.assign(st_.size(), 0);
-    // Material: cells whose centre lies inside the region, filled row by row between the crossings
-    // of the row's centre line with the flattened loops (even-odd: islands lie inside the
-    // boundary and apart). O(rows · loop vertices + cells).
-    std::vector<std::vector<Vec2>> loops{b};
-    for (const Loop& isl : region.islands) loops.push_back(flatten(isl, tol::arc_chord_mm));
-    std::vector<double> xs;
-    for (int y = 0; y < ny_; ++y) {
-      const double yc = centre(0, y).y();
-      xs.clear();
-      for (const auto& l : loops)
-        for (std::size_t i = 0; i < l.size(); ++i) {
-          const Vec2& a = l[i];
-          const Vec2& c = l[(i + 1) % l.size()];
-          if ((a.y() <= yc) == (c.y() <= yc)) continue;  // half-open: a vertex on the line counts once
-          xs.push_back(a.x() + (yc - a.y()) * (c.x() - a.x()) / (c.y() - a.y()));
-        }
-      std::sort(xs.begin(), xs.end());
-      for (std::size_t k = 0; k + 1 < xs.size(); k += 2) {
-        const int x0 = std::max(0, static_cast<int>(std::ceil((xs[k] - lo_.x()) / h_ - 0.5)));
-        const int x1 = std::min(nx_ - 1, static_cast<int>(std::floor((xs[k + 1] - lo_.x()) / h_ - 0.5)));
-        for (int x = x0; x <= x1; ++x) st_[idx(x, y)] = 1;
-      }
-    }
     bx_ = (nx_ + kB - 1) / kB;
     by_ = (ny_ + kB - 1) / kB;
   }

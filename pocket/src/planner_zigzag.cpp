@@ -3,6 +3,7 @@
 #include "millnet/pocket/planner_zigzag.hpp"
 
 #include "millnet/core/error.hpp"
+#include "millnet/pocket/cut_links.hpp"
 #include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
 #include "millnet/pocket/zigzag.hpp"
@@ -23,6 +24,9 @@ struct Candidate {
   double angle = 0;
   Partition part;
   std::vector<std::vector<Vec2>> chains;  // scan frame, in order
+  /// Per position in the order: the item's chain from each of its four corners (scan frame), the
+  /// chosen one first; a link may start a region from another corner (link_regions).
+  std::vector<std::vector<std::vector<Vec2>>> corners;
   int regions = 0;
   std::size_t passes = 0;
   int nonmonotone = 0;
@@ -83,12 +87,18 @@ Candidate evaluate(const std::vector<PolyArea>& reach_world, double angle, Parti
   for (std::size_t i = 0; i < ord.order.size(); ++i) {
     const std::size_t it = ord.order[i];
     const int corner = ord.corner[i];
-    if (face_of[it] < faces.size()) {
-      c.chains.push_back(faces[face_of[it]].chain(corner));
-    } else {
+    auto chain_at = [&](int q) {
+      if (face_of[it] < faces.size()) return faces[face_of[it]].chain(q);
       auto e = extras[extra_index[it]];
-      if (corner & 2) std::reverse(e.begin(), e.end());
-      c.chains.push_back(std::move(e));
+      if (q & 2) std::reverse(e.begin(), e.end());
+      return e;
+    };
+    c.chains.push_back(chain_at(corner));
+    c.corners.emplace_back();
+    for (int q = 0; q < 4; ++q) {
+      auto alt = chain_at((corner + q) % 4);
+      auto& seen = c.corners.back();
+      if (std::find(seen.begin(), seen.end(), alt) == seen.end()) seen.push_back(std::move(alt));
     }
     c.cut_len += polyline_length(c.chains.back());
   }
@@ -105,50 +115,54 @@ Chain make_chain(const std::vector<Vec2>& pts, const std::string& role, bool pre
   return ch;
 }
 
-/// ZigzagParams::link_regions. Regions are taken in the planner's order; region i joins the chain
-/// before it (as it is, or reversed: a zigzag cut backwards is the same passes) when the straight
-/// move from that chain's end to its start is clear of the walls and its swept disk cuts at most
-/// kLinkNewMaterialMm2 outside the area swept so far plus the disk at the start (where the region's
-/// first pass engages anyway). The shorter admissible link wins. O(regions · swept-area booleans
-/// over the path so far).
-std::vector<std::vector<Vec2>> link_regions(std::vector<std::vector<Vec2>> chains, const Region& region,
-                                            const CutParams& cut, std::size_t& links) {
-  if (chains.size() < 2) return chains;
-  const Clearance clear(region, cut.clearance());
-  const double R = cut.tool_diameter / 2;
-  std::vector<std::vector<Vec2>> out{std::move(chains.front())};
-  std::vector<std::vector<Vec2>> swept_lines{out.front()};
-  for (std::size_t i = 1; i < chains.size(); ++i) {
-    std::vector<Vec2>& next = chains[i];
-    const Vec2 end = out.back().back();
-    std::optional<bool> pick;  // reversed?
-    double best_len = std::numeric_limits<double>::infinity();
-    std::optional<std::vector<PolyArea>> done;  // computed once, on the first wall-clear candidate
-    for (const bool rev : {false, true}) {
-      const Vec2 start = rev ? next.back() : next.front();
-      const double len = (start - end).norm();
-      if (len >= best_len || !clear.move_ok(end, start)) continue;
-      if (!done) {
-        auto lines = swept_lines;
-        done = swept_area(lines, R, tol::arc_chord_mm);
+/// ZigzagParams::link_regions. After each region the tool goes, with the tool down, to the region
+/// (of those left, from any of its corners: a zigzag started elsewhere is the same passes joined
+/// along the other walls) that a way through cut material reaches with the shortest link plus the
+/// corner's extra length (CutLinker: every position's disk within the area swept so far, up to
+/// kLinkSliverMm2 of slivers, the last move also through what the region's first pass cuts
+/// anyway); where none is reachable, the next region of the planned order from its planned corner
+/// is entered anew. O(regions · (raster + lattice search + regions · corners · goal checks +
+/// swept-area booleans)).
+std::vector<std::vector<Vec2>> link_regions(const std::vector<std::vector<std::vector<Vec2>>>& corners,
+                                            const Region& region, const CutParams& cut, std::size_t& links) {
+  std::vector<std::vector<Vec2>> out;
+  const std::size_t n = corners.size();
+  if (n == 0) return out;
+  CutLinker linker(region, cut, kLinkSliverMm2);
+  std::vector<char> done(n, 0);
+  out.push_back(corners.front().front());
+  done[0] = 1;
+  linker.sweep(out.back());
+  for (std::size_t step = 1; step < n; ++step) {
+    std::vector<LinkTarget> targets;
+    std::vector<std::pair<std::size_t, std::size_t>> owner;  // (region, corner)
+    for (std::size_t i = 0; i < n; ++i) {
+      if (done[i]) continue;
+      double shortest = std::numeric_limits<double>::infinity();
+      for (const auto& ch : corners[i]) shortest = std::min(shortest, polyline_length(ch));
+      for (std::size_t q = 0; q < corners[i].size(); ++q) {
+        const auto& ch = corners[i][q];
+        targets.push_back({ch.front(), approach_of(ch, cut.tool_diameter), polyline_length(ch) - shortest});
+        owner.push_back({i, q});
       }
-      std::vector<PolyArea> allowed = *done;
-      for (PolyArea& a : swept_area({{start}}, R, tol::arc_chord_mm)) allowed.push_back(std::move(a));
-      const double fresh = area(difference(swept_area({{end, start}}, R, tol::arc_chord_mm), allowed));
-      if (fresh > kLinkNewMaterialMm2) continue;
-      pick = rev;
-      best_len = len;
     }
-    if (pick) {
-      if (*pick) std::reverse(next.begin(), next.end());
+    if (const auto l = linker.best_link(out.back().back(), targets)) {
+      const auto [i, q] = owner[l->target];
       std::vector<Vec2>& prev = out.back();
-      for (const Vec2& p : next)
+      for (const Vec2& p : l->way)
         if ((p - prev.back()).norm() > tol::join_mm) prev.push_back(p);
+      for (const Vec2& p : corners[i][q])
+        if ((p - prev.back()).norm() > tol::join_mm) prev.push_back(p);
+      linker.sweep(l->way);
+      linker.sweep(corners[i][q]);
+      done[i] = 1;
       ++links;
     } else {
-      out.push_back(next);
+      const auto i = static_cast<std::size_t>(std::find(done.begin(), done.end(), 0) - done.begin());
+      out.push_back(corners[i].front());
+      linker.sweep(out.back());
+      done[i] = 1;
     }
-    swept_lines.push_back(std::move(next));
   }
   return out;
 }
@@ -217,15 +231,24 @@ PlanResult plan_zigzag(const Region& region, const CutParams& cut, const ZigzagP
     if (better) { best = std::move(c); have = true; }
   }
 
-  std::vector<std::vector<Vec2>> worlds;
-  for (const auto& ch : best.chains) {
+  auto to_world = [&](const std::vector<Vec2>& ch) {
     std::vector<Vec2> world;
     world.reserve(ch.size());
     for (const Vec2& p : ch) world.push_back(from_scan_frame(p, best.angle));
-    worlds.push_back(std::move(world));
-  }
+    return world;
+  };
+  std::vector<std::vector<Vec2>> worlds;
   std::size_t links = 0;
-  if (params.link_regions) worlds = link_regions(std::move(worlds), region, cut, links);
+  if (params.link_regions) {
+    std::vector<std::vector<std::vector<Vec2>>> corners;
+    for (const auto& alts : best.corners) {
+      corners.emplace_back();
+      for (const auto& ch : alts) corners.back().push_back(to_world(ch));
+    }
+    worlds = link_regions(corners, region, cut, links);
+  } else {
+    for (const auto& ch : best.chains) worlds.push_back(to_world(ch));
+  }
   for (const auto& world : worlds) {
     res.path.chains.push_back(make_chain(world, "cut", true));
     res.predrill.push_back(world.front());

@@ -208,22 +208,31 @@ TEST(Zigzag, ContourLeavesNothingOnFourIslands) {
 
 TEST(Zigzag, OneChainPerRegionAndRetractions) {
   // Seed Fig. 5(b) pocket: T gives 3 regions, I gives 2; each region is one connected chain that
-  // stays inside the reachable area; retractions = regions − 1; one predrill per region.
+  // stays inside the reachable area. Unlinked (the seed's plan): retractions = regions − 1, one
+  // predrill per region. Linked (issue 11): every region here meets the area the ones before it
+  // cut, so one chain, no retraction, one predrill.
   Region r{rect(0, 0, 120, 100, true), {rect(20, 15, 40, 35, false), rect(70, 60, 90, 80, false)}};
   const CutParams cut = tool10();
   const Clearance clear(r, cut.clearance());
   for (auto [kind, regions] : {std::pair{PartitionKind::T, 3}, std::pair{PartitionKind::I, 2}}) {
-    ZigzagParams zp;
-    zp.partition = kind;
-    const PlanResult p = plan_zigzag(r, cut, zp);
-    ASSERT_EQ(p.status, PlanStatus::Ok);
-    EXPECT_EQ(std::get<ZigzagStats>(p.stats).regions, regions);
-    EXPECT_EQ(p.path.chains.size(), static_cast<std::size_t>(regions));
-    EXPECT_EQ(p.path.retractions(), static_cast<std::size_t>(regions - 1));
-    EXPECT_EQ(p.predrill.size(), static_cast<std::size_t>(regions));
-    const auto rep = replay(r, p, cut);
-    EXPECT_EQ(rep.violations, 0) << rep.first_violation;
-    EXPECT_LT(uncut_area(r, p, 5, 0.1), 2 * static_cast<double>(std::get<ZigzagStats>(p.stats).passes) * cusp(5, 5) + 0.5);
+    for (const bool link : {false, true}) {
+      SCOPED_TRACE(link ? "linked" : "unlinked");
+      ZigzagParams zp;
+      zp.partition = kind;
+      zp.link_regions = link;
+      const PlanResult p = plan_zigzag(r, cut, zp);
+      ASSERT_EQ(p.status, PlanStatus::Ok);
+      const auto& st = std::get<ZigzagStats>(p.stats);
+      EXPECT_EQ(st.regions, regions);
+      const std::size_t chains = link ? 1 : static_cast<std::size_t>(regions);
+      EXPECT_EQ(st.region_links, static_cast<std::size_t>(regions) - chains);
+      EXPECT_EQ(p.path.chains.size(), chains);
+      EXPECT_EQ(p.path.retractions(), chains - 1);
+      EXPECT_EQ(p.predrill.size(), chains);
+      const auto rep = replay(r, p, cut);
+      EXPECT_EQ(rep.violations, 0) << rep.first_violation;
+      EXPECT_LT(uncut_area(r, p, 5, 0.1), 2 * static_cast<double>(st.passes) * cusp(5, 5) + 0.5);
+    }
   }
 }
 

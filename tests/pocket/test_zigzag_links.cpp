@@ -1,7 +1,8 @@
 // Zigzag regions joined with the tool down (ZigzagParams::link_regions, issue 11): against the same
-// plan without links, every link saves one retraction and one entry, the G-code never gouges
-// (independent replay), and an independent raster oracle finds each link running through material
-// the regions before it already cut.
+// plan without links, every link saves one retraction and one entry (the wall pass's loops are
+// joined too), the G-code never gouges (independent replay), and an independent raster oracle finds
+// the linked plan cutting what the regions cut on their own, plus only the wall band the contour
+// pass sweeps anyway.
 #include "millnet/pocket/machining.hpp"
 #include "millnet/pocket/plan.hpp"
 #include "millnet/pocket/io/pocket_io.hpp"
@@ -11,7 +12,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <set>
 #include <utility>
 #include <vector>
 
@@ -42,7 +42,7 @@ struct Raster {
       for (long dx = -rc; dx <= rc; ++dx) {
         const long gx = cx + dx, gy = cy + dy;
         if (gx < 0 || gy < 0 || gx >= nx || gy >= ny) continue;
-        if (std::hypot(lo.x() + gx * h - c.x(), lo.y() + gy * h - c.y()) <= r) f(gy * nx + gx);
+        if (std::hypot(lo.x() + static_cast<double>(gx) * h - c.x(), lo.y() + static_cast<double>(gy) * h - c.y()) <= r) f(gy * nx + gx);
       }
   }
   template <class F>
@@ -55,20 +55,14 @@ struct Raster {
   }
 };
 
-using Seg = std::pair<std::pair<double, double>, std::pair<double, double>>;
-Seg key(const Vec2& a, const Vec2& b) {
-  auto k = [](const Vec2& p) { return std::pair{std::round(p.x() * 1e6) / 1e6, std::round(p.y() * 1e6) / 1e6}; };
-  return k(a) < k(b) ? Seg{k(a), k(b)} : Seg{k(b), k(a)};
-}
-
-class ZigzagLinks : public ::testing::TestWithParam<PartitionKind> {};
+class ZigzagLinks : public ::testing::TestWithParam<std::pair<const char*, PartitionKind>> {};
 
 TEST_P(ZigzagLinks, RegionsJoinedThroughCutMaterialSaveARetractionAndAnEntryEach) {
-  const PocketFile pf = read_pocket(std::string(MILLNET_SHARED_DIR) + "/bench/pockets/eight_islands.json");
+  const PocketFile pf = read_pocket(std::string(MILLNET_SHARED_DIR) + "/bench/pockets/" + GetParam().first + ".json");
   const CutParams cut = bench_cut();
   ZigzagParams zp;
   zp.angle_deg = std::nullopt;
-  zp.partition = GetParam();
+  zp.partition = GetParam().second;
   zp.link_regions = false;
   const PlanResult alone = plan(pf.region, cut, ZigzagSpec{zp});
   zp.link_regions = true;
@@ -78,45 +72,38 @@ TEST_P(ZigzagLinks, RegionsJoinedThroughCutMaterialSaveARetractionAndAnEntryEach
   const auto& sa = std::get<ZigzagStats>(alone.stats);
   const auto& sl = std::get<ZigzagStats>(linked.stats);
   EXPECT_EQ(sa.region_links, 0u);
-  ASSERT_GE(sl.region_links, 1u) << "eight_islands has regions that a straight move through cut material joins";
+  ASSERT_GE(sl.region_links, 1u) << "the bench pockets' regions meet where the ones before them were cut";
   EXPECT_EQ(linked.path.chains.size() + sl.region_links, alone.path.chains.size());
   EXPECT_EQ(linked.predrill.size(), linked.path.chains.size());
 
-  // The same passes: every segment of the unlinked plan is in the linked one; the linked plan's
-  // other segments are exactly the links.
-  std::set<Seg> passes;
-  for (const Chain& c : alone.path.chains)
-    for (std::size_t k = 0; k + 1 < c.pts.size(); ++k) passes.insert(key(c.pts[k].p(), c.pts[k + 1].p()));
+  // Independent raster oracle, away from the band along the walls that the contour pass sweeps
+  // anyway (where a region started from another corner walks along other walls, and a link may
+  // take a corner next to a region's start): the linked plan cuts what the regions cut on their
+  // own, and its links add at most slivers, ≤ kLinkSliverMm2 per link.
   const double R = cut.tool_diameter / 2;
   const std::vector<Vec2> b = flatten(pf.region.boundary, 0.01);
   Vec2 lo = b.front(), hi = b.front();
   for (const Vec2& p : b) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  Raster ras(lo - Vec2(R, R), hi + Vec2(R, R), 0.25);
-  std::size_t links_seen = 0, seen_passes = 0;
+  Raster ras_alone(lo - Vec2(R, R), hi + Vec2(R, R), 0.25), ras_linked = ras_alone;
+  for (const Chain& c : alone.path.chains)
+    for (std::size_t k = 0; k + 1 < c.pts.size(); ++k) ras_alone.stamp(c.pts[k].p(), c.pts[k + 1].p(), R);
   for (const Chain& c : linked.path.chains)
-    for (std::size_t k = 0; k + 1 < c.pts.size(); ++k) {
-      const Vec2 p = c.pts[k].p(), q = c.pts[k + 1].p();
-      if (passes.count(key(p, q))) {
-        ++seen_passes;
-      } else {
-        // A link: its disk (a hair inside the tool) sweeps nothing uncut except beside its end,
-        // where the next region's first pass engages anyway (the tool's disk there).
-        ++links_seen;
-        std::set<long> fresh;
-        ras.segment_cells(p, q, R - 0.1, [&](long cell) {
-          if (!ras.cut[static_cast<std::size_t>(cell)]) fresh.insert(cell);
-        });
-        ras.disk_cells(q, R + 0.1, [&](long cell) { fresh.erase(cell); });
-        EXPECT_LE(static_cast<double>(fresh.size()) * ras.h * ras.h, kLinkNewMaterialMm2 + 0.5)
-            << "link " << links_seen << " from (" << p.x() << ", " << p.y() << ") to (" << q.x() << ", " << q.y()
-            << ") cuts uncut material";
-      }
-      ras.stamp(p, q, R);
+    for (std::size_t k = 0; k + 1 < c.pts.size(); ++k) ras_linked.stamp(c.pts[k].p(), c.pts[k + 1].p(), R);
+  const Clearance walls(pf.region, 0.0);
+  std::size_t extra = 0, missing = 0;
+  for (long gy = 0; gy < ras_alone.ny; ++gy)
+    for (long gx = 0; gx < ras_alone.nx; ++gx) {
+      const auto i = static_cast<std::size_t>(gy * ras_alone.nx + gx);
+      const Vec2 c(ras_alone.lo.x() + static_cast<double>(gx) * ras_alone.h, ras_alone.lo.y() + static_cast<double>(gy) * ras_alone.h);
+      if (walls.wall_distance(c) <= cut.clearance() + R + 0.25) continue;  // the wall band
+      if (ras_alone.cut[i] && !ras_linked.cut[i]) ++missing;
+      if (ras_linked.cut[i] && !ras_alone.cut[i]) ++extra;
     }
-  EXPECT_EQ(links_seen, sl.region_links);
-  EXPECT_EQ(seen_passes, passes.size());
+  EXPECT_EQ(missing, 0u) << "the linked plan must cut everything the regions cut on their own";
+  EXPECT_LE(static_cast<double>(extra) * ras_alone.h * ras_alone.h, (kLinkSliverMm2 + 0.5) * static_cast<double>(sl.region_links))
+      << "links cut material away from the walls that no region cuts";
 
-  // Machined: no gouge, one retraction and one entry fewer per link.
+  // Machined: no gouge, one retraction and one entry fewer per link, faster.
   MachiningOptions opt;
   opt.entry = Entry::Helix;
   opt.contour = true;
@@ -126,12 +113,14 @@ TEST_P(ZigzagLinks, RegionsJoinedThroughCutMaterialSaveARetractionAndAnEntryEach
   auto rep = millnet::testing::replay_gcode(ml.gcode, cut.safe_z);
   millnet::testing::check_gouge(rep, to_replay(pf.region), R);
   EXPECT_EQ(rep.violations, 0) << rep.first_violation;
-  EXPECT_EQ(ml.metrics.retractions + static_cast<double>(sl.region_links), ma.metrics.retractions);
-  EXPECT_EQ(ml.metrics.plunges + static_cast<double>(sl.region_links), ma.metrics.plunges);
+  EXPECT_LE(ml.metrics.retractions + static_cast<double>(sl.region_links), ma.metrics.retractions);
+  EXPECT_LE(ml.metrics.plunges + static_cast<double>(sl.region_links), ma.metrics.plunges);
   EXPECT_LE(ml.metrics.uncut_area_mm2, 2.0);
   EXPECT_LT(ml.metrics.time_kinematic_min, ma.metrics.time_kinematic_min);
 }
 
-INSTANTIATE_TEST_SUITE_P(Partitions, ZigzagLinks, ::testing::Values(PartitionKind::T, PartitionKind::I));
+INSTANTIATE_TEST_SUITE_P(Pockets, ZigzagLinks,
+                         ::testing::Values(std::pair{"eight_islands", PartitionKind::T}, std::pair{"eight_islands", PartitionKind::I},
+                                           std::pair{"four_islands", PartitionKind::T}, std::pair{"four_islands", PartitionKind::I}));
 
 }  // namespace

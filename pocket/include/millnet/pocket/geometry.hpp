@@ -65,6 +65,9 @@ struct Arc {
 /// Polyline approximation of a loop whose chords stay within `chord_tol_mm` of the arcs
 /// (first vertex not repeated at the end).
 [[nodiscard]] std::vector<Vec2> flatten(const Loop& loop, double chord_tol_mm);
+/// The same for an open path of vertices (segment k from pts[k] to pts[k + 1] with pts[k].bulge):
+/// every vertex, and chords within `chord_tol_mm` of each arc.
+[[nodiscard]] std::vector<Vec2> flatten_open(const std::vector<Vertex>& pts, double chord_tol_mm);
 /// Area of the region (boundary minus islands), mm².
 [[nodiscard]] double area(const Region& region);
 
@@ -97,6 +100,10 @@ public:
   /// The straight move p→q sweeps the tool disk without overcutting: both ends point_ok and the
   /// segment keeps ≥ clearance − tol::clear_mm from every wall.
   [[nodiscard]] bool move_ok(const Vec2& p, const Vec2& q) const;
+  /// The segment p→q keeps ≥ clearance − tol::clear_mm from every wall, whether or not it lies in
+  /// the region: move_ok is point_ok(p) and this. For callers that know p is inside (a raster
+  /// cell): the winding test is the costly part of point_ok.
+  [[nodiscard]] bool segment_clear(const Vec2& p, const Vec2& q) const;
 
 private:
   struct Impl;

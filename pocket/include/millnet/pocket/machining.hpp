@@ -50,9 +50,12 @@ struct MachiningResult {
 /// within R/2 of it). O(loop vertices · path vertices).
 [[nodiscard]] std::vector<Chain> contour_chains(const Region& region, const CutParams& cut, const Path2D& after);
 
-/// Appends the wall loops (contour_chains) to the path, each joined to the chain before it (started
-/// at its vertex nearest that chain's end) where the straight move sweeps no wall; the others stay
-/// chains of their own. O(loops · loop vertices) plus one clearance check per loop.
+/// Appends the wall loops (contour_chains) to the path with the tool down where it can (issue 11):
+/// after each, the loop (of those left) whose start, any of its vertices kWallStartMm apart, a way
+/// through cut material reaches with the shortest link (pocket/cut_links.hpp), started there. Where
+/// none is reachable, the first loop left joins the chain before it by a straight move from its
+/// vertex nearest that chain's end where that move sweeps no wall, or stays a chain of its own.
+/// O(loops · (link query + loop vertices)).
 void link_wall_chains(const Region& region, const CutParams& cut, Path2D& path, std::vector<Chain>& walls);
 
 /// Largest engagement angle of a feed profile (Metrics::max_engagement_deg), degrees.
