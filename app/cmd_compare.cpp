@@ -52,11 +52,7 @@ std::vector<Row> plan_every_planner(const CompareOpts& o, const Json& config, co
     if (!f.angle) f.angle = "auto";
     const PlannerChoice ch = planner_choice(config, cut, f);
     Row r{n, plan_region(file.region, cut, ch), {}};
-    pocket::MachiningOptions mo;
-    mo.entry = ch.entry;
-    mo.contour = ch.contour;
-    mo.link_walls = ch.link_walls;
-    mo.machine = motion_model(config);
+    pocket::MachiningOptions mo = machining_options(ch, config);
     mo.program_name = stem + "-" + n;
     r.m = pocket::machine_pocket(file.region, cut, r.plan, mo);
     write_pocket_outputs(o.out, stem + "." + n, file.region, cut, ch, r.plan, r.m, {}, cutting_data);

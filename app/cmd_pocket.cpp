@@ -27,11 +27,7 @@ int run_pocket(const PocketOpts& o) {
   const pocket::CutParams cut = cut_params(config, explicit_pocket_section(o.common.config), &file, o.flags, &cutting);
   const PlannerChoice choice = planner_choice(config, cut, o.flags);
   const pocket::PlanResult plan = plan_region(file.region, cut, choice);
-  pocket::MachiningOptions mo;
-  mo.entry = choice.entry;
-  mo.contour = choice.contour;
-  mo.link_walls = choice.link_walls;
-  mo.machine = motion_model(config);
+  pocket::MachiningOptions mo = machining_options(choice, config);
   mo.program_name = fs::path(o.pocket).stem().string();
   mo.comments = {"pocket: " + fs::path(o.pocket).filename().string(), "planner: " + plan.planner};
   const pocket::MachiningResult m = pocket::machine_pocket(file.region, cut, plan, mo);

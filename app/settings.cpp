@@ -200,6 +200,16 @@ gcode::MotionModel motion_model(const Json& config) {
   return mm;
 }
 
+pocket::MachiningOptions machining_options(const PlannerChoice& choice, const Json& config) {
+  pocket::MachiningOptions mo;
+  mo.entry = choice.entry;
+  mo.entry_angle_deg = choice.entry_angle_deg;
+  mo.contour = choice.contour;
+  mo.link_walls = choice.link_walls;
+  mo.machine = motion_model(config);
+  return mo;
+}
+
 PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, const PocketFlags& flags) {
   const Json& pc = config["pocket"];
   PlannerChoice ch;
@@ -207,6 +217,7 @@ PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, c
   ch.entry = pocket::parse_entry(flags.entry.value_or(pc["entry"].get<std::string>()));
   ch.contour = !flags.no_contour && (flags.contour || pc["contour"].get<bool>());
   ch.link_walls = pc["link_walls"].get<bool>();
+  ch.entry_angle_deg = pc["entry_angle"].get<double>();
   ch.frame.origin = {pc["grid"]["origin_x"].get<double>(), pc["grid"]["origin_y"].get<double>()};
   ch.frame.angle_deg = pc["grid"]["angle_deg"].get<double>();
   ch.frame.spacing = cut.stepover;
@@ -283,10 +294,7 @@ rough::Params rough_params(const Json& config, const Json& explicit_pocket, cons
   p.cut = cut_params(config, explicit_pocket, nullptr, flags, record);
   const PlannerChoice choice = planner_choice(config, p.cut, flags);
   p.planner = planner_spec(choice);
-  p.machining.entry = choice.entry;
-  p.machining.contour = choice.contour;  // the wall pass per level region (rough adds it, issue 11)
-  p.machining.link_walls = choice.link_walls;
-  p.machining.machine = motion_model(config);
+  p.machining = machining_options(choice, config);  // contour: the wall pass per level region (rough adds it, issue 11)
   p.limits = work_limits();
   return p;
 }

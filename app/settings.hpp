@@ -53,6 +53,7 @@ struct PlannerChoice {
   pocket::OffsetParams offset;
   pocket::AdaptiveParams adaptive;
   pocket::Entry entry = pocket::Entry::Predrill;
+  double entry_angle_deg = 3.0;       ///< /pocket/entry_angle: helix and ramp descent
   bool contour = false;
   bool link_walls = true;
 };
@@ -60,6 +61,10 @@ struct PlannerChoice {
 [[nodiscard]] gcode::MotionModel motion_model(const Json& config);
 
 [[nodiscard]] PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, const PocketFlags& flags);
+
+/// The machining options of a choice (entry, its angle, wall pass, links) and the config's machine
+/// profile; the caller adds the program's name and comments.
+[[nodiscard]] pocket::MachiningOptions machining_options(const PlannerChoice& choice, const Json& config);
 
 /// The typed planner spec of a choice (throws millnet::Error on an unknown planner name). A new
 /// planner: its config key → spec here.

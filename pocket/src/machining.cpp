@@ -65,6 +65,7 @@ GcodeParams gcode_params(const CutParams& cut, const MachiningOptions& opt) {
   GcodeParams gp;
   gp.cut = cut;
   gp.entry = opt.entry;
+  gp.entry_angle_deg = opt.entry_angle_deg;
   gp.program_name = opt.program_name;
   gp.comments = opt.comments;
   gp.decimals = opt.decimals;

@@ -162,6 +162,13 @@ TEST(PocketGcode, HelixDescendsAtTheEntryFeedAndTrimsItsFloorAtTheSlotFeed) {
   // ⌈6 / 0.741⌉ = 9 descending half turns, then 2 flat ones.
   EXPECT_EQ(descending, 9);
   EXPECT_EQ(flat, 2);
+  // /pocket/entry_angle 5°: a pitch of 2π·4.5·tan 5° = 2.474 mm, ⌈6 / 1.237⌉ = 5 half turns.
+  gp.entry_angle_deg = 5;
+  const auto steep = millnet::testing::replay_gcode(write_gcode(one_chain_at_z5(r, {{30, 20, 0}, {45, 20, 0}}), gp),
+                                                    gp.cut.safe_z);
+  descending = 0;
+  for (const auto& m : steep.moves) descending += (m.g == 2 || m.g == 3) && m.to[2] < m.from[2] - 1e-9;
+  EXPECT_EQ(descending, 5);
 }
 
 TEST(PocketGcode, BadParameters) {

@@ -19,10 +19,11 @@ namespace millnet::pocket {
 
 struct MachiningOptions {
   Entry entry = Entry::Predrill;
+  double entry_angle_deg = 3.0;    ///< helix and ramp descent angle (GcodeParams::entry_angle_deg)
   bool contour = false;            ///< final pass along the offset walls of each reachable component
-  /// Each wall loop starts at its vertex nearest the tool and joins the chain before it where the
-  /// straight move there sweeps no wall: no retraction (issue 11). false: every loop is a chain of
-  /// its own, entered after a retraction (the programs of before, configs/presets/shin-suh-1995).
+  /// The wall loops join the path with the tool down where a way through cut material reaches one
+  /// (link_wall_chains): no retraction (issue 11). false: every loop is a chain of its own, entered
+  /// after a retraction (the programs of before, configs/presets/shin-suh-1995).
   bool link_walls = true;
   std::string program_name;
   std::vector<std::string> comments;  ///< extra header comments (e.g. the source file, planner)
