@@ -13,7 +13,10 @@ cd "$(dirname "$0")/.."
 target=${1:?usage: scripts/fuzz.sh TARGET|all [SECONDS]}
 seconds=${2:-60}
 scripts/setup.sh
+# -O1 with line tables: libFuzzer's recommended optimisation, and half the sanitizers' compile time
+# of -O2 -g; findings still name file and line.
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
   -DMILLNET_FUZZ=ON -DMILLNET_TESTS=OFF -DMILLNET_BENCH=OFF -DMILLNET_NATIVE=OFF >/dev/null
 cmake --build build-fuzz -j "${JOBS:-$(nproc)}" --target fuzz_all
 if [ "$target" = all ]; then
