@@ -183,6 +183,15 @@ pocket::CutParams cut_params(const Json& config, const Json& explicit_pocket, co
   c.feed_pool_short_steps = pc["feed_map_pooling"].get<bool>();
   c.rapid_rate = pc["rapid_rate"].get<double>();
   apply_cutting_data(c, config, explicit_pocket, file, flags, record);
+  if (pc["air_feed"].get<bool>()) {
+    // A move that cuts no feed-map cell may graze a sliver up to a cell wide: at that radial
+    // engagement the chip thins by tooling::chip_thinning_factor, so this feed keeps it nominal.
+    const double cell = c.feed_grid > 0 ? c.feed_grid : c.tool_diameter / 10;
+    const double ae = std::min(cell, c.tool_diameter / 2);
+    c.feed_air = std::min(c.feed_half * tooling::chip_thinning_factor(c.tool_diameter, ae),
+                          config["machine"]["max_feed_mm_min"].get<double>());
+    c.feed_air = std::max(c.feed_air, c.feed_half);
+  }
   if (c.stepover > c.tool_diameter)
     throw Error("stepover " + format_double(c.stepover) + " mm exceeds the tool diameter " +
                 format_double(c.tool_diameter) + " mm: ridges of material would be left between passes");

@@ -291,7 +291,9 @@ std::vector<std::string> header(const std::vector<LevelPlan>& levels, const Gcod
               std::to_string(levels.size()) + " safe Z " + fmt(c.safe_z, d));
   h.push_back("feeds: slot f1 " + fmt(c.feed_slot, 1) + " half f2 " + fmt(c.feed_half, 1) + " plunge " +
               fmt(c.feed_plunge, 1) + " limits " + fmt(c.feed_min, 1) + ".." + fmt(c.feed_max, 1) +
-              (c.feed_adjust ? " adjusted by feed map" : " constant") + "; spindle " + fmt(c.spindle_rpm, 0) + " rpm");
+              (c.feed_adjust ? " adjusted by feed map" : " constant") +
+              (c.feed_air > 0 ? "; moves through cut material " + fmt(c.feed_air, 1) : std::string()) + "; spindle " +
+              fmt(c.spindle_rpm, 0) + " rpm");
   for (const std::string& s : c.header) h.push_back(s);
   h.push_back("entry " + std::string(to_string(gp.entry)));
   for (const std::string& s : gp.comments) h.push_back(s);

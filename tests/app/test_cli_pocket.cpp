@@ -228,7 +228,9 @@ TEST_P(CliBenchPocket, EveryPlannerIsGougeFreeAndAgreesWithReplay) {
     if (tag.substr(0, 6) == "offset") {
       // Issue 11: walls included, one reachable region ⇒ no retraction, and nothing reachable uncut.
       EXPECT_EQ(num(pr.metrics, "retractions"), 0);
-      if (!v.predrill) EXPECT_EQ(rep.retractions, 0);  // (the pre-drilling operation lifts once)
+      if (!v.predrill) {
+        EXPECT_EQ(rep.retractions, 0);  // (the pre-drilling operation lifts once)
+      }
       EXPECT_LE(num(pr.metrics, "uncut_area_mm2"), 2.0);
       EXPECT_GT(num(pr.metrics, "time_kinematic_min"), num(pr.metrics, "cut_length_mm") / 1500 / 10);
     }
@@ -238,8 +240,9 @@ TEST_P(CliBenchPocket, EveryPlannerIsGougeFreeAndAgreesWithReplay) {
       EXPECT_EQ(rep.retractions, 0);
       EXPECT_LE(num(pr.metrics, "uncut_area_mm2"), 2.0);
       EXPECT_NE(pr.nc.find("helix entry"), std::string::npos);
-      if (fs::exists("/usr/bin/rs274"))  // LinuxCNC's own interpreter accepts the program
+      if (fs::exists("/usr/bin/rs274")) {  // LinuxCNC's own interpreter accepts the program
         EXPECT_TRUE(millnet::testing::linuxcnc_accepts((pr.out / (name + ".nc")).string()));
+      }
     }
     if (std::string(v.tag) == "som-helix") {
       EXPECT_NE(pr.nc.find("helix entry"), std::string::npos);
@@ -276,6 +279,31 @@ TEST(CliPocket, StepDownsGiveEqualLevelsToTheFloor) {
   // Between levels the tool goes up and comes down again: one tool-down chain per level, no more.
   EXPECT_EQ(num(pr.metrics, "retractions"), 2);
   EXPECT_EQ(num(pr.metrics, "plunges"), 3);
+}
+
+TEST(CliPocket, LinksRunAtTheChipThinnedFeedOfOneCellCappedByTheMachine) {
+  // /pocket/air_feed (issue 11): the bench config cuts at 1500 mm/min with a 0.25 mm feed-map cell
+  // on Ø10, so a move that cuts no cell runs at 1500 × D / (2·√(a_e(D − a_e))) with a_e = 0.25:
+  // 1500 × 10 / (2·√2.4375) = 4803.8 mm/min (under the machine's 5000). The adaptive planner's
+  // rides back along its fronts are such moves.
+  const auto d = fresh_dir("cli_pocket_air_feed");
+  const std::string bench_cfg = std::string(MILLNET_SOURCE_DIR) + "/configs/bench/roughing-issue11.json";
+  const PocketRun pr = run_pocket(bench("comb"), "--config '" + bench_cfg + "' --planner adaptive", d / "a");
+  ASSERT_EQ(pr.r.code, 0) << pr.r.err;
+  EXPECT_NE(pr.nc.find("moves through cut material 4803.8;"), std::string::npos) << pr.nc.substr(0, 600);
+  EXPECT_NE(pr.nc.find("F4803.8"), std::string::npos);
+  // A slower machine caps it; the 1995 preset has none (every move at its cutting feed).
+  json slow = json::parse(slurp(bench_cfg));
+  slow["machine"]["max_feed_mm_min"] = 3000;
+  std::ofstream(d / "slow.json") << slow.dump();
+  const PocketRun capped = run_pocket(bench("comb"), "--config '" + (d / "slow.json").string() + "' --planner adaptive", d / "b");
+  ASSERT_EQ(capped.r.code, 0) << capped.r.err;
+  EXPECT_NE(capped.nc.find("moves through cut material 3000;"), std::string::npos) << capped.nc.substr(0, 600);
+  EXPECT_EQ(capped.nc.find("F4803.8"), std::string::npos);
+  const std::string preset = std::string(MILLNET_SOURCE_DIR) + "/configs/presets/shin-suh-1995.json";
+  const PocketRun old = run_pocket(bench("comb"), "--config '" + preset + "' --planner zigzag --contour", d / "c");
+  ASSERT_EQ(old.r.code, 0) << old.r.err;
+  EXPECT_EQ(old.nc.find("moves through cut material"), std::string::npos);
 }
 
 TEST(CliPocket, SameCommandTwiceGivesSameBytes) {
@@ -463,9 +491,10 @@ TEST(CliCompare, WritesOneRowPerPlannerConsistentWithPocket) {
   for (const auto& a : rows)
     for (const auto& b : rows) {
       const bool ca = std::stod(a[c_uncut]) <= 2, cb = std::stod(b[c_uncut]) <= 2;
-      if (std::stoul(a[c_rank]) < std::stoul(b[c_rank]))
+      if (std::stoul(a[c_rank]) < std::stoul(b[c_rank])) {
         EXPECT_TRUE((ca && !cb) || (ca == cb && std::stod(a[c_kin]) <= std::stod(b[c_kin])))
             << a[c_planner] << " ranked before " << b[c_planner];
+      }
     }
   EXPECT_EQ(rows[3][c_ret], "0");  // one reachable region: the offset planner never retracts
   for (const auto& row : rows) EXPECT_EQ(row[c_status], "ok") << row[c_planner];

@@ -87,6 +87,32 @@ TEST(PocketFeedMap, SlotThenHalfSlotThenAirCut) {
   for (const FeedPiece& q : prof.pieces) EXPECT_NEAR(q.mrr_mm3_min, q.feed * q.width_mm * 1.0, 1e-9);
 }
 
+TEST(PocketFeedMap, MovesThroughCutMaterialRunAtTheAirFeedWhateverFeedAdjustSays) {
+  // CutParams::feed_air (issue 11, /pocket/air_feed): the pieces that cut no cell get it, the
+  // others keep theirs; with feed adjustment on or off.
+  for (const bool adjust : {true, false}) {
+    CutParams c = seed_params();
+    c.feed_adjust = adjust;
+    c.feed_air = 480;
+    const Region r{rect(0, 0, 400, 400), {}};
+    Path2D p;
+    p.chains.push_back(line_chain({100, 100}, {300, 100}));  // a slot
+    p.chains.push_back(line_chain({300, 100}, {100, 100}));  // back along it: nothing left to cut
+    p.chains.push_back(line_chain({100, 104}, {300, 104}));  // beside it: a 4 mm cut
+    (void)assign_feeds(p, r, c, 1.0);
+    for (double f : p.chains[1].feed) EXPECT_DOUBLE_EQ(f, 480) << adjust;
+    for (const std::size_t ci : {std::size_t{0}, std::size_t{2}})
+      for (double f : p.chains[ci].feed) EXPECT_LT(f, 480) << adjust << " chain " << ci;
+    // Off (0): the air pieces keep the cutting feed (eq. 9 at n3 = 0, or f2).
+    c.feed_air = 0;
+    Path2D q;
+    q.chains.push_back(line_chain({100, 100}, {300, 100}));
+    q.chains.push_back(line_chain({300, 100}, {100, 100}));
+    (void)assign_feeds(q, r, c, 1.0);
+    for (double f : q.chains[1].feed) EXPECT_DOUBLE_EQ(f, adjust ? feed_for_engagement(0, 10, 5, c) : c.feed_half);
+  }
+}
+
 TEST(PocketFeedMap, CellsOutsideTheRegionHoldNoMaterial) {
   // The tool runs along the bottom wall line: half of its disk is outside the region ⇒ n3 ≈ R/grid.
   const CutParams c = seed_params();

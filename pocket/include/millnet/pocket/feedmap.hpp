@@ -10,7 +10,8 @@
 // clamped to [f_min, f_max]. A full slot (n₃ = n₁) gets f₁, a half slot f₂. With
 // CutParams::max_chip_thinning > 1 (cutting data from the tool library, docs/CUTTING.md) a piece
 // engaged less than half (n₃ < n₂) gets f₂·RCTF(a_e) instead, a_e = D·n₃/n₁, the radial
-// chip-thinning factor capped at max_chip_thinning, then clamped likewise.
+// chip-thinning factor capped at max_chip_thinning, then clamped likewise. A piece none of whose
+// steps cuts a cell (a link through cut material) gets CutParams::feed_air where that is set.
 #include "millnet/pocket/toolpath.hpp"
 
 #include <vector>
