@@ -52,22 +52,14 @@ void make_stock(const ingest::Mesh& mesh, const ingest::Box3& box, const Params&
     if (!res.field.hit[i]) res.field.z[i] = box.min.z() - p.cut.stock_to_leave - 1.0;
 }
 
-/// The wall pass of one level's region (issue 11: complete clearing): contour chains along the
-/// part's walls and islands. The stock's own outline (`stock`, the first region's boundary, which
-/// lies in the air) gets none.
-void add_wall_pass(const pocket::Region& region, const pocket::Loop* stock, const pocket::CutParams& cut, bool link,
-                   pocket::PlanResult& plan) {
+/// The wall pass of one level's region (issue 11: complete clearing): contour chains along every
+/// loop of the region, the stock's outline included. Until 2026-11-25 the loops starting near the
+/// stock's outline were skipped as "in the air"; but a planner without its own wall pass (zigzag at
+/// a slant, SOM without wall rings) leaves wedges along that outline (zigzag: 120–310 mm² per level
+/// on the default test parts), and a loop that follows the part's walls for most of its length can
+/// start near the outline too (steep_plateaus0 at stock to leave 0.5 lost its wall pass so).
+void add_wall_pass(const pocket::Region& region, const pocket::CutParams& cut, bool link, pocket::PlanResult& plan) {
   std::vector<pocket::Chain> walls = pocket::contour_chains(region, cut, plan.path);
-  if (stock) {
-    pocket::Region outline;
-    outline.boundary = *stock;
-    const pocket::Clearance air(outline, 0.0);
-    walls.erase(std::remove_if(walls.begin(), walls.end(),
-                               [&](const pocket::Chain& c) {
-                                 return air.wall_distance(c.pts.front().p()) < cut.clearance() + 0.01;
-                               }),
-                walls.end());
-  }
   const std::size_t before = plan.path.chains.size();
   if (link) {
     pocket::link_wall_chains(region, cut, plan.path, walls);
@@ -99,7 +91,7 @@ Level plan_level(const Result& res, const Params& p, const pocket::Loop& stock, 
     pocket::PlanResult plan = pocket::plan(region, p.cut, p.planner);
     tool_points += plan.tool_points.pts.size();
     if (plan.status == pocket::PlanStatus::Ok && !plan.path.chains.empty()) {
-      if (p.machining.contour && !plan.walls_cut) add_wall_pass(region, ri == 0 ? &stock : nullptr, p.cut, p.machining.link_walls, plan);
+      if (p.machining.contour && !plan.walls_cut) add_wall_pass(region, p.cut, p.machining.link_walls, plan);
       pocket::LevelPlan lp;
       lp.z = lv.z;
       lp.top_z = top_z;

@@ -386,11 +386,12 @@ TEST_P(RoughGouge, WrittenGcodeNeverCutsBelowTheMeshPlusStockToLeave) {
   Params p = params_for(gc.planner, gc.stl, 5);
   // The SOM case runs the seed's tour + rough's wall pass (SomPathParams::walls off). With the wall
   // rings in the SOM tour (issue 11, the default), steep_plateaus0 at stock to leave 0.5 comes
-  // 0.0077 mm radially into the allowance (42 samples, worst 0.0385 mm deep at Z −8.517): the same
-  // figures the offset planner gives on that part (its rings are the same loops). Rough's wall pass
-  // drops every loop whose start lies near the stock outline, so the seed's program never cut that
-  // wall; the shortfall is the level region's approximation of the mesh, not the tour (left for
-  // the rough module).
+  // 0.0069 mm radially into the allowance (21 samples, worst 0.0351 mm deep at Z −8.517, tool at
+  // (82.965, 85.499)): exactly what the offset planner gives there, on a G2 of its ring round a
+  // vertex of the level's island polygon. Rough's wall pass (a chorded contour of the same loop,
+  // cut since 2026-11-25 also where the loop starts near the stock outline) keeps the allowance:
+  // the shortfall lies between the level region's approximation of the mesh and the arcs fitted
+  // to the rings (left for the rough module; the 0.5 mm allowance keeps 0.493 mm there).
   if (auto* som = std::get_if<pocket::SomSpec>(&p.planner)) som->path.walls = false;
   const Result r = rough_mesh(part, p);
   ASSERT_EQ(r.machining.status, pocket::PlanStatus::Ok) << r.machining.message;
