@@ -296,7 +296,8 @@ struct CutLinker::Impl {
     for (std::size_t k = 0; k < n; ++k)
       if (dist[k] < kInf) prev[k] = -1;
     while (!open.empty()) {
-      const auto [d, k] = open.top();
+      const double d = open.top().first;  // (not a structured binding: clang 14 cannot capture those)
+      const std::size_t k = open.top().second;
       open.pop();
       if (d > dist[k]) continue;
       const Vec2 p = pos(k);

@@ -202,8 +202,11 @@ TEST(ZMap, WithTheCutterAConcaveCornerTighterThanTheBallIsRestMaterial) {
   const double rest = (R + 0.01 - std::sqrt(2 * R * tol - tol * tol) - 0.02) * 101 * 0.02;
   EXPECT_NEAR(m.rest_area_mm2, rest, 0.06 * 101 * 0.02);
   EXPECT_NEAR(m.uncut_area_mm2, 0, 0.06 * 101 * 0.02);
-  EXPECT_EQ(m.scallop_area_mm2, 0);
-  EXPECT_EQ(m.scallop_max_mm, 0);
+  // No scallop but at the rest band's edge, which the same lattice blurs: -O2/-O3 builds classify
+  // every cell there as rest, an -O1 build (no fused multiply-adds) two columns of it as scallop
+  // (0.0808 mm², 0.004 mm high); a stepover's cusps would be scallop all over the 2 × 2 mm floor.
+  EXPECT_LE(m.scallop_area_mm2, 0.06 * 101 * 0.02);
+  EXPECT_LE(m.scallop_max_mm, 2 * tol + 1e-9);
 }
 
 TEST(ZMap, FlatEndMillLeavesNoScallop) {
