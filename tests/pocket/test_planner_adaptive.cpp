@@ -158,10 +158,13 @@ TEST(PlannerAdaptive, ALowerTargetCutsLongerAndEngagesLess) {
 // passes sensed the material beyond one step) on six 5 mm pieces of the wall pass: the first and
 // last 5 mm of the outer wall loop's edges at each of the rectangle's four corners (located
 // 2026-11-25: (55,35)→(50,35), (10,35)→(5,35), (5,35)→(5,30), (5,10)→(5,5), (5,5)→(10,5),
-// (55,5)→(55,10)). A pass riding a wall into a corner is blocked before it and leaves a band
-// ≈ 2 mm wide along both edges; the wall pass takes it at once. Fillet passes (arcs tangent to
-// both edges, radius stepping down at the target) were tried and made it worse (71–78°): the band
-// is along the edges, not a wedge at the apex. 90° stays within its tolerance on every bench pocket.
+// (55,5)→(55,10)). Cutting the loop alone on a copy of the raster reads ≤ the target on its edges
+// and up to 30 cells in one step at each corner vertex; spring loops offset inward by 1.24–6.2 mm
+// (the target's width and its multiples) beside those stretches find no material at all, so what
+// the wall pass meets there lies within 1.24 mm of the walls: the turn at the corner takes the
+// band of both walls at once. Fillet passes (arcs tangent to both edges, radius stepping down at
+// the target) made it worse (71–78°). Neither kept. 90° stays within its tolerance everywhere on
+// every bench pocket.
 TEST(PlannerAdaptive, DISABLED_AFortyFiveDegreeTargetStaysWithinItsTolerance) {
   Region r;
   r.boundary = rect(0, 0, 60, 40);
