@@ -161,7 +161,9 @@ FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cu
       p.engagement = n3;
       p.width_mm = std::min(n3 * g, cut.tool_diameter);
       p.feed = cut.feed_adjust ? feed_for_engagement(n3, prof.n1, prof.n2, cut) : cut.feed_half;
-      if (n3 == 0 && cut.feed_air > 0) p.feed = cut.feed_air;  // cuts no cell: a link
+      // Cuts no cell: a link. Never slower than the map's own feed for no engagement (with
+      // chip thinning on, f₂ × max_chip_thinning within feed_max).
+      if (n3 == 0 && cut.feed_air > 0) p.feed = std::max(p.feed, cut.feed_air);
       p.mrr_mm3_min = p.feed * p.width_mm * axial_depth_mm;
       ch.feed[k] = p.feed;
       prof.pieces.push_back(p);

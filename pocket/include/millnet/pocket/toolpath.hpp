@@ -48,8 +48,9 @@ struct CutParams {
   bool feed_pool_short_steps = true;
   double rapid_rate = 5000;     ///< mm/min, for time estimates of G0 moves
   double feed_entry = 0;        ///< helix and ramp entry feed; 0 ⇒ feed_plunge
-  /// Feed of the pieces the feed map finds cutting no cell (links through cut material), mm/min;
-  /// 0 ⇒ the cutting feed like every other piece. Whatever feed_adjust says: such a move is not a cut.
+  /// Feed of the pieces the feed map finds cutting no cell (links through cut material), mm/min,
+  /// or the map's own feed for them where that is higher; 0 ⇒ the cutting feed like every other
+  /// piece. Whatever feed_adjust says: such a move is not a cut.
   double feed_air = 0;
   /// > 1: below half-width engagement the feed map raises f₂ by the radial chip-thinning factor
   /// (tooling::chip_thinning_factor) capped at this value (and at feed_max); 0 ⇒ eq. 9 extrapolated
