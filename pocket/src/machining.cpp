@@ -184,6 +184,17 @@ void link_wall_chains(const Region& region, const CutParams& cut, Path2D& path, 
   walls.clear();
 }
 
+void add_wall_pass(const Region& region, const CutParams& cut, bool link, Path2D& path) {
+  std::vector<Chain> walls = contour_chains(region, cut, path);
+  if (link) {
+    link_wall_chains(region, cut, path, walls);
+  } else {
+    for (Chain& c : walls) path.chains.push_back(std::move(c));
+  }
+  // Not arc-fitted (2026-11-25): fit_arcs on the zigzag bench programs made them 2–3 % slower on
+  // the machine model (an arc piece that cuts anywhere loses the air feed its air chords had).
+}
+
 double max_engagement_deg(const FeedProfile& profile) {
   double best = 0;
   for (const FeedPiece& p : profile.pieces)  // O(pieces)
@@ -242,14 +253,7 @@ MachiningResult machine_pocket(const Region& region, const CutParams& cut, const
   const std::vector<double> zs = level_zs(cut.depth, cut.step_down);
   Path2D path = plan.path;
   for (Chain& c : path.chains) c.feed.clear();  // the feed map decides
-  if (opt.contour && !plan.walls_cut) {
-    std::vector<Chain> walls = contour_chains(region, cut, plan.path);
-    if (opt.link_walls) {
-      link_wall_chains(region, cut, path, walls);
-    } else {
-      for (Chain& c : walls) path.chains.push_back(std::move(c));
-    }
-  }
+  if (opt.contour && !plan.walls_cut) add_wall_pass(region, cut, opt.link_walls, path);
   // Feeds on the first level; deeper levels repeat the same plan under already-cut material, so
   // each one sees the same engagement: one feed map serves all.
   std::vector<EntryHole> holes;

@@ -59,13 +59,8 @@ void make_stock(const ingest::Mesh& mesh, const ingest::Box3& box, const Params&
 /// on the default test parts), and a loop that follows the part's walls for most of its length can
 /// start near the outline too (steep_plateaus0 at stock to leave 0.5 lost its wall pass so).
 void add_wall_pass(const pocket::Region& region, const pocket::CutParams& cut, bool link, pocket::PlanResult& plan) {
-  std::vector<pocket::Chain> walls = pocket::contour_chains(region, cut, plan.path);
   const std::size_t before = plan.path.chains.size();
-  if (link) {
-    pocket::link_wall_chains(region, cut, plan.path, walls);
-  } else {
-    for (pocket::Chain& c : walls) plan.path.chains.push_back(std::move(c));
-  }
+  pocket::add_wall_pass(region, cut, link, plan.path);
   for (std::size_t k = before; k < plan.path.chains.size(); ++k)
     if (plan.path.chains[k].predrill) plan.predrill.push_back(plan.path.chains[k].pts.front().p());
 }

@@ -59,6 +59,11 @@ struct MachiningResult {
 /// O(loops · (link query + loop vertices)).
 void link_wall_chains(const Region& region, const CutParams& cut, Path2D& path, std::vector<Chain>& walls);
 
+/// The wall pass of a path whose planner has none (PlanResult::walls_cut false): contour_chains
+/// appended, joined by link_wall_chains with `link`, else each a chain of its own. What
+/// machine_pocket does with MachiningOptions::contour, and `millnet rough` per level region.
+void add_wall_pass(const Region& region, const CutParams& cut, bool link, Path2D& path);
+
 /// Largest engagement angle of a feed profile (Metrics::max_engagement_deg), degrees.
 [[nodiscard]] double max_engagement_deg(const FeedProfile& profile);
 
