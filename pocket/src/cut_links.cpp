@@ -90,10 +90,7 @@ struct CutLinker::Impl {
   Clearance walls, lattice_walls;
   int lnx = 0, lny = 0;
   mutable std::vector<signed char> lat_wall;  ///< lattice position keeps the walls' clearance (cached)
-  /// The exact swept area (Clipper) of the polylines marked so far, brought up to date with the
-  /// pending ones (a union) when a check needs it.
-  mutable std::vector<PolyArea> swept_exact;
-  mutable std::vector<std::vector<Vec2>> pending;
+  std::vector<std::vector<Vec2>> swept;  ///< every polyline marked, for the exact check
   std::vector<Vec2> path_pos;             ///< retrace nodes along the swept polylines
   std::vector<std::uint8_t> path_joined;  ///< node i is joined to node i − 1 (the same polyline)
   std::vector<std::vector<std::size_t>> buckets;  ///< retrace nodes per lattice cell
@@ -149,7 +146,7 @@ struct CutLinker::Impl {
 
   void mark(const std::vector<Vec2>& pl) {
     if (pl.empty()) return;
-    pending.push_back(pl);
+    swept.push_back(pl);
     // Retrace nodes: every vertex and a point every kLatticeMm between, so that two consecutive
     // nodes of one polyline lie on one of its segments (moving between them sweeps nothing new).
     auto add_node = [&](const Vec2& p, bool joined) {
@@ -385,11 +382,35 @@ struct CutLinker::Impl {
   /// The exact check: the way's swept area outside what is swept so far, the start's disk and the
   /// target's approach (its first moves, and the wall band near it).
   bool exact_ok(const std::vector<Vec2>& way, const LinkTarget& t) const {
-    if (!pending.empty()) {
-      swept_exact = unite(swept_exact, swept_area(pending, R, tol::arc_chord_mm));
-      pending.clear();
+    // Only what was swept near the way matters: the runs of marked segments that meet the way's
+    // box grown by 2R (anything farther cannot overlap the way's swept area). O(marked segments)
+    // to select, booleans on the local runs only.
+    Vec2 lo = way.front(), hi = way.front();
+    for (const Vec2& p : way) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    lo -= Vec2(2 * R, 2 * R);
+    hi += Vec2(2 * R, 2 * R);
+    auto meets = [&](const Vec2& a, const Vec2& b) {
+      return std::max(a.x(), b.x()) >= lo.x() && std::min(a.x(), b.x()) <= hi.x() && std::max(a.y(), b.y()) >= lo.y() &&
+             std::min(a.y(), b.y()) <= hi.y();
+    };
+    std::vector<std::vector<Vec2>> local;
+    for (const auto& pl : swept) {
+      if (pl.size() == 1) {
+        if (meets(pl[0], pl[0])) local.push_back(pl);
+        continue;
+      }
+      bool open_run = false;
+      for (std::size_t k = 0; k + 1 < pl.size(); ++k) {
+        if (!meets(pl[k], pl[k + 1])) {
+          open_run = false;
+          continue;
+        }
+        if (!open_run) local.push_back({pl[k]});
+        local.back().push_back(pl[k + 1]);
+        open_run = true;
+      }
     }
-    std::vector<PolyArea> allowed = swept_exact;
+    std::vector<PolyArea> allowed = swept_area(local, R, tol::arc_chord_mm);
     std::vector<std::vector<Vec2>> ends{{way.front()}, t.approach.empty() ? std::vector<Vec2>{t.b} : t.approach};
     for (PolyArea& p : swept_area(ends, R, tol::arc_chord_mm)) allowed.push_back(std::move(p));
     for (PolyArea& p : difference(swept_area({{t.b}}, reach_b, tol::arc_chord_mm), inner)) allowed.push_back(std::move(p));

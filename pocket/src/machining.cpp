@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace millnet::pocket {
 
@@ -70,6 +71,15 @@ GcodeParams gcode_params(const CutParams& cut, const MachiningOptions& opt) {
   gp.comments = opt.comments;
   gp.decimals = opt.decimals;
   return gp;
+}
+
+/// Removes from `pts` every point within 1e-6 mm of one of `gone`. O(|pts| · |gone|).
+void drop_points(std::vector<Vec2>& pts, const std::vector<Vec2>& gone) {
+  pts.erase(std::remove_if(pts.begin(), pts.end(),
+                           [&](const Vec2& p) {
+                             return std::any_of(gone.begin(), gone.end(), [&](const Vec2& g) { return (g - p).norm() < 1e-6; });
+                           }),
+            pts.end());
 }
 
 /// Entry points of chains that plunge into uncut material, appended to the level's list.
@@ -195,6 +205,42 @@ void add_wall_pass(const Region& region, const CutParams& cut, bool link, Path2D
   // the machine model (an arc piece that cuts anywhere loses the air feed its air chords had).
 }
 
+std::size_t link_chains(const Region& region, const CutParams& cut, Path2D& path, std::vector<Vec2>& predrill) {
+  std::vector<Vec2> joined;
+  if (path.chains.size() < 2) return 0;
+  CutLinker linker(region, cut, kLinkSliverMm2);
+  std::vector<Chain> out{std::move(path.chains.front())};
+  linker.sweep(out.back());
+  for (std::size_t k = 1; k < path.chains.size(); ++k) {
+    Chain& next = path.chains[k];
+    std::optional<CutLinker::Link> l;
+    if (!next.pts.empty() && !out.back().pts.empty()) {
+      const std::vector<Vec2> pts = flatten_open(next.pts, tol::arc_chord_mm);
+      l = linker.best_link(out.back().pts.back().p(), {{pts.front(), approach_of(pts, cut.tool_diameter), 0.0}});
+    }
+    if (!l) {
+      linker.sweep(next);
+      out.push_back(std::move(next));
+      continue;
+    }
+    Chain& prev = out.back();
+    prev.pts.back().bulge = 0;  // the link leaves in a straight line
+    for (const Vec2& p : l->way)
+      if ((prev.pts.back().p() - p).norm() > tol::join_mm) prev.pts.push_back({p.x(), p.y(), 0.0});
+    for (const Vertex& v : next.pts) {
+      if ((prev.pts.back().p() - v.p()).norm() <= tol::join_mm) prev.pts.back().bulge = v.bulge;
+      else prev.pts.push_back(v);
+    }
+    prev.feed.clear();
+    linker.sweep(l->way);
+    linker.sweep(next);
+    joined.push_back(next.pts.front().p());
+  }
+  path.chains = std::move(out);
+  drop_points(predrill, joined);  // those starts need no pre-drilled hole now
+  return joined.size();
+}
+
 double max_engagement_deg(const FeedProfile& profile) {
   double best = 0;
   for (const FeedPiece& p : profile.pieces)  // O(pieces)
@@ -254,6 +300,8 @@ MachiningResult machine_pocket(const Region& region, const CutParams& cut, const
   Path2D path = plan.path;
   for (Chain& c : path.chains) c.feed.clear();  // the feed map decides
   if (opt.contour && !plan.walls_cut) add_wall_pass(region, cut, opt.link_walls, path);
+  std::vector<Vec2> predrill = plan.predrill;
+  if (opt.link_walls && !plan.helix_entry_holes) (void)link_chains(region, cut, path, predrill);
   // Feeds on the first level; deeper levels repeat the same plan under already-cut material, so
   // each one sees the same engagement: one feed map serves all.
   std::vector<EntryHole> holes;
@@ -277,7 +325,7 @@ MachiningResult machine_pocket(const Region& region, const CutParams& cut, const
     L.top_z = top;
     L.region = region;
     L.path = path;
-    L.predrill = plan.predrill;
+    L.predrill = predrill;
     collect_predrill(L);
     r.levels.push_back(std::move(L));
     top = z;

@@ -193,10 +193,6 @@ std::vector<PolyArea> boolean(const std::vector<PolyArea>& a, const std::vector<
 }
 }  // namespace
 
-std::vector<PolyArea> unite(const std::vector<PolyArea>& a, const std::vector<PolyArea>& b) {
-  return boolean(a, b, ClipperLib::ctUnion);
-}
-
 std::vector<PolyArea> difference(const std::vector<PolyArea>& a, const std::vector<PolyArea>& b) {
   return boolean(a, b, ClipperLib::ctDifference);
 }

@@ -87,6 +87,7 @@ Level plan_level(const Result& res, const Params& p, const pocket::Loop& stock, 
     tool_points += plan.tool_points.pts.size();
     if (plan.status == pocket::PlanStatus::Ok && !plan.path.chains.empty()) {
       if (p.machining.contour && !plan.walls_cut) add_wall_pass(region, p.cut, p.machining.link_walls, plan);
+      if (p.machining.link_walls && !plan.helix_entry_holes) (void)pocket::link_chains(region, p.cut, plan.path, plan.predrill);
       pocket::LevelPlan lp;
       lp.z = lv.z;
       lp.top_z = top_z;

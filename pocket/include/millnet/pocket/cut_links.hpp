@@ -24,8 +24,8 @@
 //           booleans vouch for it.
 //
 // Deterministic (no threads). Cost of a query: O(cells) for the distance transform + O(lattice log
-// lattice) for the search + the candidates tried (at most kMaxCandidates) + the booleans of the
-// swept area so far (cached between sweeps).
+// lattice) for the search + the candidates tried (at most kMaxCandidates) + the booleans of what
+// was swept near the way.
 #include "millnet/pocket/toolpath.hpp"
 
 #include <memory>

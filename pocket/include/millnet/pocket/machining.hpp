@@ -22,8 +22,10 @@ struct MachiningOptions {
   double entry_angle_deg = 3.0;    ///< helix and ramp descent angle (GcodeParams::entry_angle_deg)
   bool contour = false;            ///< final pass along the offset walls of each reachable component
   /// The wall loops join the path with the tool down where a way through cut material reaches one
-  /// (link_wall_chains): no retraction (issue 11). false: every loop is a chain of its own, entered
-  /// after a retraction (the programs of before, configs/presets/shin-suh-1995).
+  /// (link_wall_chains), and so does each of the planner's chains where one reaches its start
+  /// (link_chains; not with helix entry holes, whose chains count on their helix): no retraction
+  /// (issue 11). false: every loop and chain entered after a retraction (the programs of before,
+  /// configs/presets/shin-suh-1995).
   bool link_walls = true;
   std::string program_name;
   std::vector<std::string> comments;  ///< extra header comments (e.g. the source file, planner)
@@ -58,6 +60,13 @@ struct MachiningResult {
 /// vertex nearest that chain's end where that move sweeps no wall, or stays a chain of its own.
 /// O(loops · (link query + loop vertices)).
 void link_wall_chains(const Region& region, const CutParams& cut, Path2D& path, std::vector<Chain>& walls);
+
+/// Joins each chain of `path` to the chain before it with the tool down where a way through cut
+/// material reaches its start (pocket/cut_links.hpp: what it cuts outside the area already swept
+/// is what that chain's first moves cut anyway): one retraction and one entry fewer each. The
+/// joined chains' starts leave `predrill` (no pre-drilled hole needed there now). Returns the number
+/// of joins. O(chains · link query).
+std::size_t link_chains(const Region& region, const CutParams& cut, Path2D& path, std::vector<Vec2>& predrill);
 
 /// The wall pass of a path whose planner has none (PlanResult::walls_cut false): contour_chains
 /// appended, joined by link_wall_chains with `link`, else each a chain of its own. What

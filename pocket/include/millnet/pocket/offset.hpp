@@ -38,9 +38,6 @@ namespace millnet::pocket {
 /// (clockwise). Loops of fewer than 3 vertices are skipped.
 [[nodiscard]] std::vector<std::vector<Vec2>> wall_loops(const Region& region, double clearance_mm);
 
-/// a ∪ b (Clipper union), as areas.
-[[nodiscard]] std::vector<PolyArea> unite(const std::vector<PolyArea>& a, const std::vector<PolyArea>& b);
-
 /// a minus b (Clipper difference), as areas.
 [[nodiscard]] std::vector<PolyArea> difference(const std::vector<PolyArea>& a, const std::vector<PolyArea>& b);
 
