@@ -204,9 +204,12 @@ TEST(ZMap, WithTheCutterAConcaveCornerTighterThanTheBallIsRestMaterial) {
   EXPECT_NEAR(m.uncut_area_mm2, 0, 0.06 * 101 * 0.02);
   // No scallop but at the rest band's edge, which the same lattice blurs: -O2/-O3 builds classify
   // every cell there as rest, an -O1 build (no fused multiply-adds) two columns of it as scallop
-  // (0.0808 mm², 0.004 mm high); a stepover's cusps would be scallop all over the 2 × 2 mm floor.
+  // (0.0808 mm², 0.00406 mm high); a stepover's cusps would be scallop all over the 2 × 2 mm floor.
+  // Its height is at most the ball's rest height one lattice blur (0.05 mm) into the band: the ball
+  // touches the floor a = √(2R·tol − tol²) from its axis, so R − √(R² − (a + 0.05)²) ≈ 0.0064 mm.
   EXPECT_LE(m.scallop_area_mm2, 0.06 * 101 * 0.02);
-  EXPECT_LE(m.scallop_max_mm, 2 * tol + 1e-9);
+  const double a = std::sqrt(2 * R * tol - tol * tol);
+  EXPECT_LE(m.scallop_max_mm, R - std::sqrt(R * R - (a + 0.05) * (a + 0.05)));
 }
 
 TEST(ZMap, FlatEndMillLeavesNoScallop) {
