@@ -111,13 +111,13 @@ TEST(PocketMachining, ContourPassShrinksUncutArea) {
   CutParams cut;
   const PlanResult plan = row_plan(pf.region, cut);
   MachiningOptions opt;
+  opt.link_walls = false;  // each row and loop a chain of its own
   const MachiningResult a = machine_pocket(pf.region, cut, plan, opt);
   opt.contour = true;
-  opt.link_walls = false;
   const MachiningResult b = machine_pocket(pf.region, cut, plan, opt);
   opt.link_walls = true;
   const MachiningResult linked = machine_pocket(pf.region, cut, plan, opt);
-  // Linked, the same loops join the chains before them where the move is clear: fewer chains, and
+  // Linked, the rows and loops join the chains before them through cut material: fewer chains, and
   // no more left uncut (the links sweep a little more).
   EXPECT_LT(linked.path.chains.size(), b.path.chains.size());
   EXPECT_LE(linked.metrics.uncut_area_mm2, b.metrics.uncut_area_mm2 + 1e-6);
