@@ -213,6 +213,7 @@ pocket::MachiningOptions machining_options(const PlannerChoice& choice, const Js
   pocket::MachiningOptions mo;
   mo.entry = choice.entry;
   mo.entry_angle_deg = choice.entry_angle_deg;
+  mo.ramp_clearance_mm = choice.ramp_clearance_mm;
   mo.contour = choice.contour;
   mo.link_walls = choice.link_walls;
   mo.machine = motion_model(config);
@@ -227,6 +228,7 @@ PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, c
   ch.contour = !flags.no_contour && (flags.contour || pc["contour"].get<bool>());
   ch.link_walls = pc["link_walls"].get<bool>();
   ch.entry_angle_deg = pc["entry_angle"].get<double>();
+  ch.ramp_clearance_mm = pc["ramp_clearance"].get<double>();
   ch.frame.origin = {pc["grid"]["origin_x"].get<double>(), pc["grid"]["origin_y"].get<double>()};
   ch.frame.angle_deg = pc["grid"]["angle_deg"].get<double>();
   ch.frame.spacing = cut.stepover;

@@ -54,6 +54,7 @@ struct PlannerChoice {
   pocket::AdaptiveParams adaptive;
   pocket::Entry entry = pocket::Entry::Predrill;
   double entry_angle_deg = 3.0;       ///< /pocket/entry_angle: helix and ramp descent
+  double ramp_clearance_mm = 0.2;     ///< /pocket/ramp_clearance: where a helix or ramp starts
   bool contour = false;
   bool link_walls = true;
 };

@@ -107,25 +107,32 @@ std::optional<std::pair<Vec2, double>> fit_helix(const Clearance& clear, const V
 
 void helix(Builder& b, const Vec2& p, const Vec2& c, double rh, double z_from, double z_to, double feed,
            double angle_deg, double flat_feed) {
-  // Half turns (G3, counter-clockwise) descending evenly at the entry feed, then one flat turn at
-  // the floor at the cutting feed: it only trims the last half-pitch wedge of the ramp (≤ pitch/2
-  // deep), a light cut, not a ramp into material (at 300 mm/min it was 0.09 of the 0.52 min the
-  // bench pockets' helix took).
-  const double pitch = 2 * kPi * rh * std::tan(angle_deg * kPi / 180);
-  const int halves = std::max(2, static_cast<int>(std::ceil((z_from - z_to) / (pitch / 2))));
-  const Vec2 opp = 2 * c - p;
-  double z = z_from;
+  // Counter-clockwise (G3) turns descending at exactly the entry angle at the entry feed: half
+  // turns, then the part of one that is left (the helix ends where its slope has taken it down,
+  // not at the next half turn: until 2026-11-25 the descent was spread over whole half turns, up
+  // to half a pitch of ramp more). Then one flat turn at the floor at the cutting feed: it only
+  // trims the last pitch's wedge of the ramp (≤ one pitch deep), a light cut, not a ramp into
+  // material (at 300 mm/min it was 0.09 of the 0.52 min the bench pockets' helix took).
+  const double slope = std::tan(angle_deg * kPi / 180);
+  const double sweep = (z_from - z_to) / (rh * slope);  // radians of descent
+  const double a0 = std::atan2(p.y() - c.y(), p.x() - c.x());
+  const auto at = [&](double a) { return Vec2(c.x() + rh * std::cos(a), c.y() + rh * std::sin(a)); };
   b.line(p.x(), p.y(), z_from, feed);
-  for (int h = 1; h <= halves + 2; ++h) {
-    z = h <= halves ? z_from - (z_from - z_to) * h / halves : z_to;
-    const Vec2& q = (h % 2 == 1) ? opp : p;
-    b.arc(true, c, q.x(), q.y(), z, h <= halves ? feed : flat_feed);
+  const int halves = std::max(1, static_cast<int>(std::ceil(sweep / kPi - 1e-9)));
+  Vec2 end = p;
+  for (int h = 1; h <= halves; ++h) {
+    const double a = h < halves ? h * kPi : sweep;
+    end = h < halves ? ((h % 2 == 1) ? Vec2(2 * c - p) : p) : at(a0 + a);
+    b.arc(true, c, end.x(), end.y(), h < halves ? z_from - rh * slope * a : z_to, feed);
   }
-  // An odd number of half turns ends opposite p: back to p across the bore (inside the helix's
-  // circle of centres, all cut), where the chain begins. Until 2026-11-25 the chain's first move
-  // started from the far side: a line to its second vertex, never checked against the walls, and
-  // an arc (arc_fit.hpp) would have been written from the wrong start.
-  if (halves % 2 == 1) b.line(p.x(), p.y(), z_to, flat_feed);
+  const Vec2 opp = 2 * c - end;
+  b.arc(true, c, opp.x(), opp.y(), z_to, flat_feed);
+  b.arc(true, c, end.x(), end.y(), z_to, flat_feed);
+  // Back to p across the bore (a chord of the circle of centres: all cut), where the chain begins.
+  // Until 2026-11-25 an odd number of half turns left the chain's first move to start from the far
+  // side: a line to its second vertex, never checked against the walls, and an arc (arc_fit.hpp)
+  // would have been written from the wrong start.
+  if ((end - p).norm() > 1e-9) b.line(p.x(), p.y(), z_to, flat_feed);
 }
 
 std::string fmt(double v, int decimals) { return gcode::format_number(v, decimals); }
@@ -141,6 +148,8 @@ void check_params(const GcodeParams& gp) {
   positive(c.feed_plunge, "feed_plunge");
   positive(c.rapid_rate, "rapid_rate");
   positive(gp.entry_angle_deg, "entry_angle_deg");
+  if (!(gp.ramp_clearance_mm >= 0) || !std::isfinite(gp.ramp_clearance_mm))
+    throw Error("gcode: ramp_clearance_mm must be >= 0, got " + std::to_string(gp.ramp_clearance_mm));
   if (c.spindle_rpm < 0) throw Error("gcode: spindle_rpm must be >= 0");
   if (gp.decimals < 3 || gp.decimals > 8) throw Error("gcode: decimals must be in [3, 8]");
 }
@@ -224,17 +233,27 @@ std::vector<Step> build_steps(const std::vector<LevelPlan>& levels, const GcodeP
       // footprint, so it sweeps nothing the chain does not. Entry "ramp" tries it first and falls
       // back to a helix; entry "helix" falls back to it where no helix fits (at a wall, where
       // every zigzag pass ends): a plain plunge into uncut material only where neither fits.
+      // A helix or ramp starts ramp_clearance_mm above the material top: from approach height the
+      // tool feeds straight down to it (at 3° every 0.1 mm of descent is 1.9 mm of ramp at the
+      // entry feed; until 2026-11-25 the ramp began at approach height, 1 mm up, 0.09 min an entry).
+      const auto ramp_start = [&](double top) {
+        const double z = std::min(b.pos[2], top + gp.ramp_clearance_mm);
+        if (b.pos[2] > z + kZEps) b.line(p0.x(), p0.y(), z, cut.feed_plunge);
+        return z;
+      };
       const auto try_ramp = [&]() {
         if (!(ch.predrill && ch.pts.size() >= 2 && ch.pts[0].bulge == 0.0)) return false;
         const Vec2 p1 = ch.pts[1].p();
         const double seg = (p1 - p0).norm();
         const double Lr = std::min(seg, 2 * cut.tool_diameter);
         if (Lr < 0.05 * cut.tool_diameter) return false;
-        const Vec2 q = p0 + (p1 - p0) * (Lr / seg);
-        const double z0 = b.pos[2];
-        const double drop = Lr * std::tan(gp.entry_angle_deg * kPi / 180);
-        int legs = std::max(2, static_cast<int>(std::ceil((z0 - L.z) / drop)));
+        const double z0 = ramp_start(L.top_z);
+        const double slope = std::tan(gp.entry_angle_deg * kPi / 180);
+        int legs = std::max(2, static_cast<int>(std::ceil((z0 - L.z) / (Lr * slope) - 1e-9)));
         if (legs % 2 == 1) ++legs;  // end back at p0
+        // Legs shortened to descend at exactly the entry angle: the ramp is (z0 − z) / tan(angle)
+        // long, whatever the rounding to an even number of legs.
+        const Vec2 q = p0 + (p1 - p0) * ((z0 - L.z) / (legs * slope) / seg);
         for (int k = 1; k <= legs; ++k) {
           const Vec2& t = (k % 2 == 1) ? q : p0;
           b.line(t.x(), t.y(), z0 - (z0 - L.z) * k / legs, entry_feed);
@@ -247,7 +266,7 @@ std::vector<Step> build_steps(const std::vector<LevelPlan>& levels, const GcodeP
         const auto h = fit_helix(*clear, p0, cut.tool_diameter);
         if (!h) return false;
         const std::size_t at = b.moves.size();
-        helix(b, p0, h->first, h->second, b.pos[2], L.z, entry_feed, gp.entry_angle_deg,
+        helix(b, p0, h->first, h->second, ramp_start(L.top_z), L.z, entry_feed, gp.entry_angle_deg,
               std::max(entry_feed, cut.feed_slot > 0 ? cut.feed_slot : cut.feed_half));
         if (at < b.moves.size()) b.moves[at].comment = "helix entry, radius " + fmt(h->second, gp.decimals);
         return true;

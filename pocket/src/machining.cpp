@@ -67,6 +67,7 @@ GcodeParams gcode_params(const CutParams& cut, const MachiningOptions& opt) {
   gp.cut = cut;
   gp.entry = opt.entry;
   gp.entry_angle_deg = opt.entry_angle_deg;
+  gp.ramp_clearance_mm = opt.ramp_clearance_mm;
   gp.program_name = opt.program_name;
   gp.comments = opt.comments;
   gp.decimals = opt.decimals;

@@ -136,39 +136,62 @@ TEST(PocketGcode, HelixAndRampEntriesStayClear) {
 }
 
 TEST(PocketGcode, HelixDescendsAtTheEntryFeedAndTrimsItsFloorAtTheSlotFeed) {
-  // Issue 11's setting: ramps at 300 mm/min, cutting at 1500. Every descending move of the helix is
-  // at the entry feed; the flat turn at the floor (two half turns, no descent) at the slot feed.
+  // Issue 11's setting: ramps at 300 mm/min, cutting at 1500. The tool feeds straight down from
+  // approach height (1 mm) to ramp_clearance (0.2 mm) above the stock; every descending move of the
+  // helix is at the entry feed and at exactly the entry angle; the flat turn at the floor (two half
+  // turns, no descent) at the slot feed.
   const Region r{rect(0, 0, 60, 40), {}};
   GcodeParams gp;
   gp.entry = Entry::Helix;
   gp.cut.tool_diameter = 10;
   gp.cut.feed_slot = gp.cut.feed_half = 1500;
   gp.cut.feed_plunge = 300;
-  const auto rep = millnet::testing::replay_gcode(write_gcode(one_chain_at_z5(r, {{30, 20, 0}, {45, 20, 0}}), gp),
-                                                  gp.cut.safe_z);
-  int descending = 0, flat = 0;
-  for (const auto& m : rep.moves) {
-    if (m.g != 2 && m.g != 3) continue;
-    if (m.to[2] < m.from[2] - 1e-9) {
-      ++descending;
-      EXPECT_DOUBLE_EQ(m.feed, 300) << "line " << m.line;
-    } else {
-      ++flat;
-      EXPECT_NEAR(m.to[2], -5, 1e-9) << "line " << m.line;
-      EXPECT_DOUBLE_EQ(m.feed, 1500) << "line " << m.line;
-    }
-  }
-  // From 1 mm above the stock to −5 at 3°, radius 4.5: a pitch of 2π·4.5·tan 3° = 1.48 mm, so
-  // ⌈6 / 0.741⌉ = 9 descending half turns, then 2 flat ones.
-  EXPECT_EQ(descending, 9);
-  EXPECT_EQ(flat, 2);
-  // /pocket/entry_angle 5°: a pitch of 2π·4.5·tan 5° = 2.474 mm, ⌈6 / 1.237⌉ = 5 half turns.
-  gp.entry_angle_deg = 5;
-  const auto steep = millnet::testing::replay_gcode(write_gcode(one_chain_at_z5(r, {{30, 20, 0}, {45, 20, 0}}), gp),
+  // Horizontal length of an arc move (counter-clockwise, G3), from its centre.
+  const auto arc_xy = [](const millnet::testing::ReplayMove& m) {
+    const double r0 = std::hypot(m.from[0] - m.center[0], m.from[1] - m.center[1]);
+    double a = std::atan2(m.to[1] - m.center[1], m.to[0] - m.center[0]) -
+               std::atan2(m.from[1] - m.center[1], m.from[0] - m.center[0]);
+    while (a <= 1e-12) a += 2 * std::numbers::pi;
+    return r0 * a;
+  };
+  const auto check = [&](double angle_deg, int want_descending, double want_ramp_xy) {
+    gp.entry_angle_deg = angle_deg;
+    const auto rep = millnet::testing::replay_gcode(write_gcode(one_chain_at_z5(r, {{30, 20, 0}, {45, 20, 0}}), gp),
                                                     gp.cut.safe_z);
-  descending = 0;
-  for (const auto& m : steep.moves) descending += (m.g == 2 || m.g == 3) && m.to[2] < m.from[2] - 1e-9;
-  EXPECT_EQ(descending, 5);
+    int descending = 0, flat = 0, straight_down = 0;
+    double ramp_xy = 0;
+    for (const auto& m : rep.moves) {
+      if (m.g == 1 && m.to[2] < m.from[2] - 1e-9) {
+        ++straight_down;  // approach height to the ramp's start, through air
+        EXPECT_NEAR(m.from[2], 1, 1e-9);
+        EXPECT_NEAR(m.to[2], 0.2, 1e-9);
+        EXPECT_DOUBLE_EQ(m.feed, 300) << "line " << m.line;
+      }
+      if (m.g != 2 && m.g != 3) continue;
+      if (m.to[2] < m.from[2] - 1e-9) {
+        ++descending;
+        ramp_xy += arc_xy(m);
+        EXPECT_DOUBLE_EQ(m.feed, 300) << "line " << m.line;
+        // The slope of every arc is the entry angle's (4-decimal coordinates: within 2e-4).
+        EXPECT_NEAR((m.from[2] - m.to[2]) / arc_xy(m), std::tan(angle_deg * std::numbers::pi / 180), 2e-4)
+            << "line " << m.line;
+      } else {
+        ++flat;
+        EXPECT_NEAR(m.to[2], -5, 1e-9) << "line " << m.line;
+        EXPECT_DOUBLE_EQ(m.feed, 1500) << "line " << m.line;
+      }
+    }
+    EXPECT_EQ(straight_down, 1) << angle_deg;
+    EXPECT_EQ(descending, want_descending) << angle_deg;
+    EXPECT_EQ(flat, 2) << angle_deg;
+    EXPECT_NEAR(ramp_xy, want_ramp_xy, 0.01) << angle_deg;
+  };
+  // From 0.2 mm above the stock to −5 at 3°, radius 4.5: 5.2 / tan 3° = 99.22 mm of ramp, a half
+  // turn π·4.5 = 14.137 mm, so 7.018 half turns: 7 and a short arc (until 2026-11-25: from 1 mm up,
+  // ⌈6 / 0.741⌉ = 9 whole half turns, 127.2 mm).
+  check(3, 8, 99.222);
+  // /pocket/entry_angle 5°: 5.2 / tan 5° = 59.436 mm = 4.204 half turns: 5 arcs.
+  check(5, 5, 59.436);
 }
 
 TEST(PocketGcode, BadParameters) {

@@ -6,7 +6,8 @@
 // Every level is planned on its own (issue 5 passes a different region and plan per Z level):
 //   levels are machined in the given order (top-down); between chains the tool retracts to safe Z,
 //   rapids above the next start, rapids down to approach_mm above the level's material top, then
-//   plunges (predrilled hole / already-cut point) or enters by helix / ramp: entry "helix" falls
+//   plunges (predrilled hole / already-cut point) or enters by helix / ramp (fed straight down to
+//   ramp_clearance_mm above the material, descending from there at entry_angle_deg): entry "helix" falls
 //   back to a ramp along the chain's first segment, "ramp" to a helix; a plain plunge into uncut
 //   material (with a WARNING comment) only where neither fits.
 #include "millnet/gcode/program.hpp"
@@ -45,6 +46,9 @@ struct GcodeParams {
   std::vector<std::string> comments;
   double approach_mm = 1.0;        ///< rapid down to this height above the material, then feed
   double entry_angle_deg = 3.0;    ///< helix / ramp descent angle
+  /// A helix or ramp starts this high above the level's material top (fed straight down to from
+  /// approach height at the plunge feed): the ramp is spent in material, not in air.
+  double ramp_clearance_mm = 0.2;
   int decimals = 4;                ///< coordinate decimals (LinuxCNC and GRBL accept 4–6)
 };
 

@@ -20,6 +20,7 @@ namespace millnet::pocket {
 struct MachiningOptions {
   Entry entry = Entry::Predrill;
   double entry_angle_deg = 3.0;    ///< helix and ramp descent angle (GcodeParams::entry_angle_deg)
+  double ramp_clearance_mm = 0.2;  ///< where a helix or ramp starts above the material (GcodeParams)
   bool contour = false;            ///< final pass along the offset walls of each reachable component
   /// The wall loops join the path with the tool down where a way through cut material reaches one
   /// (link_wall_chains), and so does each of the planner's chains where one reaches its start
