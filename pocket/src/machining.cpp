@@ -195,17 +195,6 @@ void link_wall_chains(const Region& region, const CutParams& cut, Path2D& path, 
   walls.clear();
 }
 
-void add_wall_pass(const Region& region, const CutParams& cut, bool link, Path2D& path) {
-  std::vector<Chain> walls = contour_chains(region, cut, path);
-  if (link) {
-    link_wall_chains(region, cut, path, walls);
-  } else {
-    for (Chain& c : walls) path.chains.push_back(std::move(c));
-  }
-  // Not arc-fitted (2026-11-25): fit_arcs on the zigzag bench programs made them 2–3 % slower on
-  // the machine model (an arc piece that cuts anywhere loses the air feed its air chords had).
-}
-
 std::size_t link_chains(const Region& region, const CutParams& cut, Path2D& path, std::vector<Vec2>& predrill) {
   std::vector<Vec2> joined;
   if (path.chains.size() < 2) return 0;
@@ -240,6 +229,21 @@ std::size_t link_chains(const Region& region, const CutParams& cut, Path2D& path
   path.chains = std::move(out);
   drop_points(predrill, joined);  // those starts need no pre-drilled hole now
   return joined.size();
+}
+
+void complete_path(const Region& region, const CutParams& cut, const PlanResult& plan, const MachiningOptions& opt,
+                   Path2D& path, std::vector<Vec2>& predrill) {
+  if (opt.contour && !plan.walls_cut) {
+    // Not arc-fitted (2026-11-25): fit_arcs on the zigzag bench programs made them 2–3 % slower
+    // on the machine model (an arc piece that cuts anywhere loses the air feed its chords had).
+    std::vector<Chain> walls = contour_chains(region, cut, path);
+    if (opt.link_walls) {
+      link_wall_chains(region, cut, path, walls);
+    } else {
+      for (Chain& c : walls) path.chains.push_back(std::move(c));
+    }
+  }
+  if (opt.link_walls && !plan.helix_entry_holes) (void)link_chains(region, cut, path, predrill);
 }
 
 double max_engagement_deg(const FeedProfile& profile) {
@@ -300,9 +304,8 @@ MachiningResult machine_pocket(const Region& region, const CutParams& cut, const
   const std::vector<double> zs = level_zs(cut.depth, cut.step_down);
   Path2D path = plan.path;
   for (Chain& c : path.chains) c.feed.clear();  // the feed map decides
-  if (opt.contour && !plan.walls_cut) add_wall_pass(region, cut, opt.link_walls, path);
   std::vector<Vec2> predrill = plan.predrill;
-  if (opt.link_walls && !plan.helix_entry_holes) (void)link_chains(region, cut, path, predrill);
+  complete_path(region, cut, plan, opt, path, predrill);
   // Feeds on the first level; deeper levels repeat the same plan under already-cut material, so
   // each one sees the same engagement: one feed map serves all.
   std::vector<EntryHole> holes;

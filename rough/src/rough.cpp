@@ -52,19 +52,6 @@ void make_stock(const ingest::Mesh& mesh, const ingest::Box3& box, const Params&
     if (!res.field.hit[i]) res.field.z[i] = box.min.z() - p.cut.stock_to_leave - 1.0;
 }
 
-/// The wall pass of one level's region (issue 11: complete clearing): contour chains along every
-/// loop of the region, the stock's outline included. Until 2026-11-25 the loops starting near the
-/// stock's outline were skipped as "in the air"; but a planner without its own wall pass (zigzag at
-/// a slant, SOM without wall rings) leaves wedges along that outline (zigzag: 120–310 mm² per level
-/// on the default test parts), and a loop that follows the part's walls for most of its length can
-/// start near the outline too (steep_plateaus0 at stock to leave 0.5 lost its wall pass so).
-void add_wall_pass(const pocket::Region& region, const pocket::CutParams& cut, bool link, pocket::PlanResult& plan) {
-  const std::size_t before = plan.path.chains.size();
-  pocket::add_wall_pass(region, cut, link, plan.path);
-  for (std::size_t k = before; k < plan.path.chains.size(); ++k)
-    if (plan.path.chains[k].predrill) plan.predrill.push_back(plan.path.chains[k].pts.front().p());
-}
-
 /// Slices and plans one level; appends the plans with a path to `plans`.
 Level plan_level(const Result& res, const Params& p, const pocket::Loop& stock, double z_part, double top_z,
                  std::vector<pocket::LevelPlan>& plans, std::size_t& tool_points) {
@@ -86,8 +73,11 @@ Level plan_level(const Result& res, const Params& p, const pocket::Loop& stock, 
     pocket::PlanResult plan = pocket::plan(region, p.cut, p.planner);
     tool_points += plan.tool_points.pts.size();
     if (plan.status == pocket::PlanStatus::Ok && !plan.path.chains.empty()) {
-      if (p.machining.contour && !plan.walls_cut) add_wall_pass(region, p.cut, p.machining.link_walls, plan);
-      if (p.machining.link_walls && !plan.helix_entry_holes) (void)pocket::link_chains(region, p.cut, plan.path, plan.predrill);
+      // The wall pass on every loop, the stock's outline included (until 2026-11-25 loops starting
+      // near the outline were skipped as "in the air", but a planner without its own wall pass
+      // leaves wedges along it: zigzag 120–310 mm² per level on the default test parts), and the
+      // chains joined through cut material.
+      pocket::complete_path(region, p.cut, plan, p.machining, plan.path, plan.predrill);
       pocket::LevelPlan lp;
       lp.z = lv.z;
       lp.top_z = top_z;

@@ -69,10 +69,15 @@ void link_wall_chains(const Region& region, const CutParams& cut, Path2D& path, 
 /// of joins. O(chains · link query).
 std::size_t link_chains(const Region& region, const CutParams& cut, Path2D& path, std::vector<Vec2>& predrill);
 
-/// The wall pass of a path whose planner has none (PlanResult::walls_cut false): contour_chains
-/// appended, joined by link_wall_chains with `link`, else each a chain of its own. What
-/// machine_pocket does with MachiningOptions::contour, and `millnet rough` per level region.
-void add_wall_pass(const Region& region, const CutParams& cut, bool link, Path2D& path);
+/// What the operation adds to a planner's path (`plan`'s path and predrill points, given as `path`
+/// and `predrill`), the one place machine_pocket and `millnet rough` (per level region) decide it:
+/// with opt.contour and a planner without its own wall pass (PlanResult::walls_cut false), the
+/// wall pass (contour_chains, joined by link_wall_chains with opt.link_walls, else each a chain of
+/// its own); then with opt.link_walls every chain joined to the one before (link_chains), except
+/// with helix entry holes, whose chains count on their helix. Chains still entering uncut
+/// material are collected per level by the G-code stage (their `predrill` flag).
+void complete_path(const Region& region, const CutParams& cut, const PlanResult& plan, const MachiningOptions& opt,
+                   Path2D& path, std::vector<Vec2>& predrill);
 
 /// Largest engagement angle of a feed profile (Metrics::max_engagement_deg), degrees.
 [[nodiscard]] double max_engagement_deg(const FeedProfile& profile);
