@@ -124,7 +124,52 @@ void raster_triangle(P a, P b, P c, const BandBuffer& buf, int ncols, int nrows)
   }
 }
 
-HeightField rasterize(const Mesh& mesh, const Frame& fr) {
+// One triangle into the band, cell-max: every raster point whose cell (the square of one step
+// centred on it, closed, widened by kEps) meets the triangle's XY projection takes the triangle's
+// highest z over that square. The triangle is clipped in 3D by the cell's four vertical planes
+// (Sutherland–Hodgman; a vertical triangle clips as well as any other) and the highest vertex of
+// what is left is the maximum of the plane over it. O(cells under the widened bounding box).
+void cell_triangle(const P& a, const P& b, const P& c, const BandBuffer& buf, int ncols, int nrows) {
+  const double h = 0.5 + kEps;
+  const int j0 = std::max(0, static_cast<int>(std::ceil(std::min({a.u, b.u, c.u}) - h)));
+  const int j1 = std::min(ncols - 1, static_cast<int>(std::floor(std::max({a.u, b.u, c.u}) + h)));
+  const int i0 = std::max(buf.row_lo, static_cast<int>(std::ceil(std::min({a.v, b.v, c.v}) - h)));
+  const int i1 = std::min({buf.row_hi, nrows - 1, static_cast<int>(std::floor(std::max({a.v, b.v, c.v}) + h))});
+  // A triangle clipped by 4 half-planes has at most 7 vertices.
+  P poly[8], tmp[8];
+  for (int i = i0; i <= i1; ++i)
+    for (int j = j0; j <= j1; ++j) {
+      int n = 3;
+      poly[0] = a;
+      poly[1] = b;
+      poly[2] = c;
+      // Keep the side where s·(coord − bound) ≤ 0, for u ≤ j+h, u ≥ j−h, v ≤ i+h, v ≥ i−h.
+      for (int k = 0; k < 4 && n > 0; ++k) {
+        const bool on_u = k < 2;
+        const double bound = (on_u ? j : i) + (k % 2 == 0 ? h : -h);
+        const double s = k % 2 == 0 ? 1.0 : -1.0;
+        int m = 0;
+        for (int e = 0; e < n; ++e) {
+          const P& p = poly[e];
+          const P& q = poly[(e + 1) % n];
+          const double dp = s * ((on_u ? p.u : p.v) - bound), dq = s * ((on_u ? q.u : q.v) - bound);
+          if (dp <= 0) tmp[m++] = p;
+          if ((dp < 0 && dq > 0) || (dp > 0 && dq < 0)) {
+            const double t = dp / (dp - dq);
+            tmp[m++] = P{p.u + t * (q.u - p.u), p.v + t * (q.v - p.v), p.z + t * (q.z - p.z)};
+          }
+        }
+        n = m;
+        std::copy(tmp, tmp + m, poly);
+      }
+      if (n == 0) continue;
+      double zv = poly[0].z;
+      for (int e = 1; e < n; ++e) zv = std::max(zv, poly[e].z);
+      buf.put(i, j, std::clamp(zv, std::min({a.z, b.z, c.z}), std::max({a.z, b.z, c.z})));
+    }
+}
+
+HeightField rasterize(const Mesh& mesh, const Frame& fr, bool cells) {
   validate(mesh, "rasterize_top");
   if (!(fr.sx > 0) || !(fr.sy > 0) || !std::isfinite(fr.sx) || !std::isfinite(fr.sy) || !std::isfinite(fr.x0) ||
       !std::isfinite(fr.y0))
@@ -170,8 +215,9 @@ HeightField rasterize(const Mesh& mesh, const Frame& fr) {
     const P& c = pts[static_cast<std::size_t>(F[3 * tu + 2])];
     const double umin = std::min({a.u, b.u, c.u}), umax = std::max({a.u, b.u, c.u});
     const double vmin = std::min({a.v, b.v, c.v}), vmax = std::max({a.v, b.v, c.v});
-    const double j0 = std::max(0.0, std::ceil(umin - kEps)), j1 = std::min(fr.nx - 1.0, std::floor(umax + kEps));
-    const double i0 = std::max(0.0, std::ceil(vmin - kEps)), i1 = std::min(fr.ny - 1.0, std::floor(vmax + kEps));
+    const double w = cells ? 0.5 + kEps : kEps;  // a cell reaches half a step beyond its point
+    const double j0 = std::max(0.0, std::ceil(umin - w)), j1 = std::min(fr.nx - 1.0, std::floor(umax + w));
+    const double i0 = std::max(0.0, std::ceil(vmin - w)), i1 = std::min(fr.ny - 1.0, std::floor(vmax + w));
     if (j0 > j1 || i0 > i1) {
       rlo[tu] = -1;
       rhi[tu] = -1;
@@ -207,8 +253,13 @@ HeightField rasterize(const Mesh& mesh, const Frame& fr) {
     const BandBuffer buf{f.z.data(), f.hit.data(), fr.nx, b * kBandRows, std::min(fr.ny, (b + 1) * kBandRows) - 1};
     for (std::size_t e = offset[static_cast<std::size_t>(b)]; e < offset[static_cast<std::size_t>(b) + 1]; ++e) {
       const auto tu = static_cast<std::size_t>(entries[e]);
-      raster_triangle(pts[static_cast<std::size_t>(F[3 * tu])], pts[static_cast<std::size_t>(F[3 * tu + 1])],
-                      pts[static_cast<std::size_t>(F[3 * tu + 2])], buf, fr.nx, fr.ny);
+      const P& pa = pts[static_cast<std::size_t>(F[3 * tu])];
+      const P& pb = pts[static_cast<std::size_t>(F[3 * tu + 1])];
+      const P& pc = pts[static_cast<std::size_t>(F[3 * tu + 2])];
+      if (cells)
+        cell_triangle(pa, pb, pc, buf, fr.nx, fr.ny);
+      else
+        raster_triangle(pa, pb, pc, buf, fr.nx, fr.ny);
     }
   }
   // Unhit points: the part's lowest z (documented fill value). O(raster points).
@@ -242,7 +293,7 @@ HeightField rasterize_top(const Mesh& mesh, double raster_mm, const WorkLimits& 
     fr.ny = static_cast<int>(cy) + 1;
     fr.sy = h / (fr.ny - 1);
   }
-  return rasterize(mesh, fr);
+  return rasterize(mesh, fr, false);
 }
 
 WorkEstimate raster_work(double width_mm, double height_mm, double raster_mm, const std::string& what) {
@@ -260,7 +311,11 @@ WorkEstimate raster_work(const Mesh& mesh, double raster_mm) {
 }
 
 HeightField rasterize_top(const Mesh& mesh, double x0, double y0, double step, int nx, int ny) {
-  return rasterize(mesh, Frame{x0, y0, step, step, nx, ny});
+  return rasterize(mesh, Frame{x0, y0, step, step, nx, ny}, false);
+}
+
+HeightField rasterize_top_cells(const Mesh& mesh, double x0, double y0, double step, int nx, int ny) {
+  return rasterize(mesh, Frame{x0, y0, step, step, nx, ny}, true);
 }
 
 Grid resample(const HeightField& field, int n) {

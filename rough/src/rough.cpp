@@ -47,7 +47,7 @@ void make_stock(const ingest::Mesh& mesh, const ingest::Box3& box, const Params&
              p.limits);
   const int nx = static_cast<int>(std::ceil((res.stock_x1 - res.stock_x0) / p.raster_mm)) + 1;
   const int ny = static_cast<int>(std::ceil((res.stock_y1 - res.stock_y0) / p.raster_mm)) + 1;
-  res.field = ingest::rasterize_top(mesh, res.stock_x0, res.stock_y0, p.raster_mm, nx, ny);
+  res.field = ingest::rasterize_top_cells(mesh, res.stock_x0, res.stock_y0, p.raster_mm, nx, ny);
   for (std::size_t i = 0; i < res.field.z.size(); ++i)
     if (!res.field.hit[i]) res.field.z[i] = box.min.z() - p.cut.stock_to_leave - 1.0;
 }

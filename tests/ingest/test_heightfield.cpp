@@ -240,3 +240,167 @@ TEST(HeightField, HeightMatrixIsTheRasterRowsByYPlusTheOffset) {
   EXPECT_DOUBLE_EQ(m(1, 1), -5.0);  // the fill value shifts too
   EXPECT_DOUBLE_EQ(height_matrix(hf)(1, 2), 6.0);
 }
+
+// ---------------------------------------------------------------------------------------------
+// The cell-max raster (rasterize_top_cells): each point the mesh's highest z over its cell.
+
+namespace {
+
+// Independent oracle for one triangle and one closed square [u0, u1] × [v0, v1]: the maximum of
+// a linear function over their intersection lies at one of its vertices, which are among the
+// triangle's vertices inside the square, the square's corners inside the triangle, and the
+// crossings of the triangle's edges with the square's sides. Enumerates all of them (no
+// clipping). Returns false when the two do not meet.
+bool cell_max_oracle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, double u0, double u1,
+                     double v0, double v1, double& zmax) {
+  constexpr double e = 1e-12;
+  bool any = false;
+  zmax = -std::numeric_limits<double>::infinity();
+  auto take = [&](double z) {
+    zmax = std::max(zmax, z);
+    any = true;
+  };
+  auto in_sq = [&](double x, double y) { return x >= u0 - e && x <= u1 + e && y >= v0 - e && y <= v1 + e; };
+  const Eigen::Vector3d t[3] = {a, b, c};
+  for (const auto& p : t)
+    if (in_sq(p.x(), p.y())) take(p.z());
+  const double det = (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
+  if (std::abs(det) > 1e-12)
+    for (const double x : {u0, u1})
+      for (const double y : {v0, v1}) {
+        const double l1 = ((x - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (y - a.y())) / det;
+        const double l2 = ((b.x() - a.x()) * (y - a.y()) - (x - a.x()) * (b.y() - a.y())) / det;
+        const double l0 = 1 - l1 - l2;
+        if (l0 >= -e && l1 >= -e && l2 >= -e) take(l0 * a.z() + l1 * b.z() + l2 * c.z());
+      }
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d& p = t[k];
+    const Eigen::Vector3d& q = t[(k + 1) % 3];
+    for (const double x : {u0, u1})
+      if ((p.x() - x) * (q.x() - x) <= 0 && p.x() != q.x()) {
+        const double s = (x - p.x()) / (q.x() - p.x());
+        const double y = p.y() + s * (q.y() - p.y());
+        if (y >= v0 - e && y <= v1 + e) take(p.z() + s * (q.z() - p.z()));
+      }
+    for (const double y : {v0, v1})
+      if ((p.y() - y) * (q.y() - y) <= 0 && p.y() != q.y()) {
+        const double s = (y - p.y()) / (q.y() - p.y());
+        const double x = p.x() + s * (q.x() - p.x());
+        if (x >= u0 - e && x <= u1 + e) take(p.z() + s * (q.z() - p.z()));
+      }
+  }
+  return any;
+}
+
+}  // namespace
+
+TEST(HeightFieldCells, TiltedPlaneTakesItsValueAtEachCellsHighCorner) {
+  // z = 2 + 0.1x + 0.05y over 100 × 60 mm, raster step 1 from the origin: point (i, j)'s cell is
+  // [j − ½, j + ½] × [i − ½, i + ½], cut to the plane's extent, and its highest point is the
+  // corner (min(j + ½, 100), min(i + ½, 60)).
+  const Mesh m = surface([](double x, double y) { return 2 + 0.1 * x + 0.05 * y; }, 0, 100, 0, 60, 1, 1);
+  const HeightField f = rasterize_top_cells(m, 0, 0, 1, 101, 61);
+  for (int i = 0; i < f.ny; ++i)
+    for (int j = 0; j < f.nx; ++j) {
+      ASSERT_TRUE(f.hit[static_cast<std::size_t>(i * f.nx + j)]) << i << "," << j;
+      // (The cell is closed and widened by tol::raster_edge_eps = 1e-7 steps: 1.5e-8 mm here.)
+      ASSERT_NEAR(f.at(i, j), 2 + 0.1 * std::min(j + 0.5, 100.0) + 0.05 * std::min(i + 0.5, 60.0), 2e-8) << i << "," << j;
+    }
+  // The point raster of the same plane lies half a cell lower (0.075 mm) everywhere inside.
+  const HeightField g = rasterize_top(m, 0, 0, 1, 101, 61);
+  EXPECT_NEAR(f.at(30, 40) - g.at(30, 40), 0.1 * 0.5 + 0.05 * 0.5, 2e-8);
+}
+
+TEST(HeightFieldCells, AThinFinBetweenRasterLinesIsSeen) {
+  // A fin 0.2 mm thick and 10 mm high standing between the raster lines x = 3 and x = 4 (step 1):
+  // no raster point lies under it, so the point raster misses it; the cells of x = 3 (to 3.5) and
+  // x = 4 (from 3.5) meet it and take its top.
+  const Mesh fin = box(3.2, 1.0, 0.0, 3.4, 5.0, 10.0);
+  const HeightField p = rasterize_top(fin, 0, 0, 1, 8, 7);
+  const HeightField c = rasterize_top_cells(fin, 0, 0, 1, 8, 7);
+  for (int i = 0; i < 7; ++i)
+    for (int j = 0; j < 8; ++j) {
+      const auto k = static_cast<std::size_t>(i * 8 + j);
+      EXPECT_EQ(p.hit[k], 0) << i << "," << j;
+      const bool meets = j == 3 && i >= 1 && i <= 5;  // cell [2.5, 3.5] meets [3.2, 3.4]; rows 0.5..5.5 meet [1, 5]
+      EXPECT_EQ(c.hit[k], meets ? 1 : 0) << i << "," << j;
+      EXPECT_EQ(c.at(i, j), meets ? 10.0 : 0.0) << i << "," << j;
+    }
+}
+
+TEST(HeightFieldCells, MatchesAVertexEnumerationOracleAndIsConservative) {
+  for (unsigned seed : {4u, 5u}) {
+    std::printf("seed %u\n", seed);
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> xy(0, 20), zz(-5, 5), small(-3, 3), unit(0, 1);
+    Mesh m;
+    const int n = 120;
+    m.V.resize(3 * n + 3, 3);
+    m.F.resize(n + 1, 3);
+    for (int t = 0; t < n; ++t) {
+      const double cx = xy(rng), cy = xy(rng);
+      for (int k = 0; k < 3; ++k) m.V.row(3 * t + k) << cx + small(rng), cy + small(rng), zz(rng);
+      m.F.row(t) << 3 * t, 3 * t + 1, 3 * t + 2;
+    }
+    // And one vertical triangle (a wall in the plane y = 7.3).
+    m.V.row(3 * n) << 2.1, 7.3, -4;
+    m.V.row(3 * n + 1) << 9.6, 7.3, -4;
+    m.V.row(3 * n + 2) << 5.0, 7.3, 6;
+    m.F.row(n) << 3 * n, 3 * n + 1, 3 * n + 2;
+    const double x0 = -3.1, y0 = -2.9, s = 0.37;
+    const int nx = 75, ny = 74;
+    const HeightField f = rasterize_top_cells(m, x0, y0, s, nx, ny);
+    const HeightField pt = rasterize_top(m, x0, y0, s, nx, ny);
+    const double h = s * (0.5 + 1e-7);  // the cell, widened by tol::raster_edge_eps steps
+    int hits = 0;
+    for (int i = 0; i < ny; ++i)
+      for (int j = 0; j < nx; ++j) {
+        const double cx = x0 + j * s, cy = y0 + i * s;
+        bool any = false;
+        double best = -std::numeric_limits<double>::infinity();
+        for (Eigen::Index t = 0; t < m.F.rows(); ++t) {
+          double z;
+          if (cell_max_oracle(m.V.row(m.F(t, 0)), m.V.row(m.F(t, 1)), m.V.row(m.F(t, 2)), cx - h, cx + h, cy - h, cy + h, z)) {
+            any = true;
+            best = std::max(best, z);
+          }
+        }
+        const auto k = static_cast<std::size_t>(i * nx + j);
+        ASSERT_EQ(f.hit[k] != 0, any) << "seed " << seed << " " << i << "," << j;
+        if (any) {
+          ASSERT_NEAR(f.at(i, j), best, 1e-9) << "seed " << seed << " " << i << "," << j;
+          ++hits;
+        }
+        ASSERT_GE(f.at(i, j), pt.at(i, j) - 1e-12) << "a cell holds its own point";
+      }
+    EXPECT_GT(hits, 1500);
+    // The property rough relies on: every point of every triangle lies within half a diagonal of
+    // a raster point at least as high (the one whose cell holds it).
+    for (int r = 0; r < 20000; ++r) {
+      const auto t = static_cast<Eigen::Index>(rng() % static_cast<unsigned>(m.F.rows()));
+      double l1 = unit(rng), l2 = unit(rng);
+      if (l1 + l2 > 1) {
+        l1 = 1 - l1;
+        l2 = 1 - l2;
+      }
+      const Eigen::Vector3d q = (1 - l1 - l2) * Eigen::Vector3d(m.V.row(m.F(t, 0))) + l1 * Eigen::Vector3d(m.V.row(m.F(t, 1))) +
+                                l2 * Eigen::Vector3d(m.V.row(m.F(t, 2)));
+      const int j = static_cast<int>(std::lround((q.x() - x0) / s)), i = static_cast<int>(std::lround((q.y() - y0) / s));
+      ASSERT_GE(f.at(i, j), q.z() - 1e-9) << "seed " << seed << " sample " << r;
+    }
+  }
+}
+
+TEST(HeightFieldCells, ThreadCountInvariantBitwise) {
+  const Mesh m = surface([](double x, double y) { return 3 * std::sin(0.3 * x) * std::cos(0.2 * y) + 0.01 * x * y; }, 0,
+                         97.3, 0, 61.1, 250, 200);
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const HeightField a = rasterize_top_cells(m, -1, -1, 0.13, 770, 490);
+  omp_set_num_threads(2);
+  const HeightField b = rasterize_top_cells(m, -1, -1, 0.13, 770, 490);
+  omp_set_num_threads(saved);
+  ASSERT_EQ(a.z.size(), b.z.size());
+  EXPECT_EQ(std::memcmp(a.z.data(), b.z.data(), a.z.size() * sizeof(double)), 0);
+  EXPECT_EQ(a.hit, b.hit);
+}

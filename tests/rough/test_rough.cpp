@@ -150,9 +150,10 @@ double poly_dist(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d
 }
 
 /// The stated contour tolerance of a level's islands (outward): grow + ½ raster diagonal + the
-/// contour overshoot of material_contours().
+/// contour overshoot of material_contours(), + another ½ diagonal because rough slices the
+/// cell-max raster (a raster point is material when material touches its cell).
 double contour_tolerance(const Result& r, const Params& p) {
-  return p.contour_tolerance_mm + 0.5 * std::hypot(r.field.step_x, r.field.step_y) +
+  return p.contour_tolerance_mm + std::hypot(r.field.step_x, r.field.step_y) +
          ingest::contour_overshoot_mm(r.field, p.contour_tolerance_mm);
 }
 
@@ -384,15 +385,10 @@ TEST_P(RoughGouge, WrittenGcodeNeverCutsBelowTheMeshPlusStockToLeave) {
   const auto gen = datasets::make_part(gc.family, gc.index, 7, 45);
   const ingest::Mesh part = ingest::prepare(gen.mesh, {});
   Params p = params_for(gc.planner, gc.stl, 5);
-  // The SOM case runs the seed's tour + rough's wall pass (SomPathParams::walls off). With the wall
-  // rings in the SOM tour (issue 11, the default), steep_plateaus0 at stock to leave 0.5 comes
-  // 0.0069 mm radially into the allowance (21 samples, worst 0.0351 mm deep at Z −8.517, tool at
-  // (82.965, 85.499)): exactly what the offset planner gives there, on a G2 of its ring round a
-  // vertex of the level's island polygon. Rough's wall pass (a chorded contour of the same loop,
-  // cut since 2026-11-25 also where the loop starts near the stock outline) keeps the allowance:
-  // the shortfall lies between the level region's approximation of the mesh and the arcs fitted
-  // to the rings (left for the rough module; the 0.5 mm allowance keeps 0.493 mm there).
-  if (auto* som = std::get_if<pocket::SomSpec>(&p.planner)) som->path.walls = false;
+  // Every planner as configured (the SOM tour with its wall rings). Until rough sliced the
+  // cell-max raster (2026-11-25), steep_plateaus0 at stock to leave 0.5 came 0.0069 mm radially
+  // into the allowance with the SOM and offset planners (21 samples, worst 0.0351 mm deep at
+  // Z −8.517): point samples on a steep slope lie below material between them.
   const Result r = rough_mesh(part, p);
   ASSERT_EQ(r.machining.status, pocket::PlanStatus::Ok) << r.machining.message;
   const std::string stem = case_name(testing::TestParamInfo<GougeCase>(gc, 0));
@@ -438,6 +434,7 @@ INSTANTIATE_TEST_SUITE_P(GeneratedParts, RoughGouge,
                                          GougeCase{datasets::Family::DeepCavity, 0, "zigzag", 0.5},
                                          GougeCase{datasets::Family::SteepPlateaus, 1, "zigzag", 0.0},
                                          GougeCase{datasets::Family::SteepPlateaus, 0, "som", 0.5},
+                                         GougeCase{datasets::Family::SteepPlateaus, 0, "offset", 0.5},
                                          GougeCase{datasets::Family::DeepCavity, 0, "offset", 0.5},
                                          GougeCase{datasets::Family::SteepPlateaus, 1, "offset", 0.0}),
                          case_name);

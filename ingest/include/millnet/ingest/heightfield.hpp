@@ -48,6 +48,16 @@ struct HeightField {
 /// roughing, where the stock is larger than the part). Points not under the part get z_min.
 [[nodiscard]] HeightField rasterize_top(const Mesh& mesh, double x0, double y0, double step, int nx, int ny);
 
+/// The same raster, but each point takes the highest z of the mesh over its cell (the square of
+/// one step centred on it, closed) instead of at the point itself: a conservative raster, under
+/// which every point of the top surface lies within half a raster diagonal of a raster point at
+/// least as high. This is what slicing for roughing needs: on a slope between raster points the
+/// point samples lie below material that the cell maxima see (rough: up to ≈ 0.1 mm of a 0.5 mm
+/// allowance was missed on steep walls). Cells meeting no triangle get z_min and hit = 0. Same
+/// threads rule as rasterize_top; cost O(#V + #F + Σ cells under each triangle's XY box widened
+/// by half a step), each cell a 3D clip of the triangle by the cell's four sides.
+[[nodiscard]] HeightField rasterize_top_cells(const Mesh& mesh, double x0, double y0, double step, int nx, int ny);
+
 /// The raster as an ny × nx matrix (row i = y index, column j = x index) of z + offset (the fill
 /// value z_min + offset where no triangle hit), e.g. heights in a program frame for a picture.
 [[nodiscard]] Eigen::MatrixXd height_matrix(const HeightField& field, double offset = 0.0);

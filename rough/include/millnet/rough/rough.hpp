@@ -13,7 +13,12 @@
 // floor_allowance_mm):
 //   * islands = outlines of the raster points whose height ≥ z − stock_to_leave (axial allowance),
 //     traced by ingest::material_contours, grown outward (never into the part) by
-//     contour_tolerance_mm + half a raster diagonal, simplified on the material side;
+//     contour_tolerance_mm + half a raster diagonal, simplified on the material side. The raster
+//     is the cell-max one (ingest::rasterize_top_cells: each point the mesh's highest z over its
+//     cell), so every point of the part at or above the level lies within half a diagonal of a
+//     raster point that is material: the islands contain the part's section exactly, also on
+//     slopes between raster points (the point raster missed up to 0.007 mm there), and reach at
+//     most contour_tolerance_mm + one raster diagonal + the contour overshoot beyond it;
 //   * the stock region = the stock rectangle grown by twice the tool clearance (R + stock to leave),
 //     so that tool centres may pass one clearance outside the stock edge: the disk clears the whole
 //     margin down to the part (with only one clearance a margin narrower than the clearance plus
