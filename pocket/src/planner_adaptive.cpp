@@ -253,6 +253,8 @@ public:
         cut_(cut),
         R_(cut.tool_diameter / 2),
         climb_(prm.climb),
+        both_(prm.both_ways),
+        pass_climb_(prm.climb),
         step_(prm.step_mm > 0 ? prm.step_mm : cut.tool_diameter / 40),
         raster_(region, prm.raster_mm > 0 ? prm.raster_mm : cut.tool_diameter / 40, cut.tool_diameter),
         walls_(region, cut.clearance() + tol::contour_margin_mm),
@@ -273,6 +275,17 @@ public:
       if (pos) {
         Vec2 start, toward;
         std::vector<Vec2> way;
+        // Both ways: a pass blocked at a wall turns round and cuts the next stripe of the same
+        // front back the other way (the other milling direction), with no ride.
+        if (both_ && last_blocked_ && last_cells_ >= kMinWorkCells) {
+          pass_climb_ = !pass_climb_;
+          const double got = cut_pass(*pos, -last_dir_, true);
+          last_cells_ = got;
+          pos = current_end();
+          if (got >= kMinWorkCells) continue;
+          last_blocked_ = false;
+        }
+        pass_climb_ = climb_;
         // First the front's upstream end: ride back along the material (kept on the other side,
         // nothing cut) to where the front meets a wall, and climb-cut it again from there.
         if (last_cells_ >= kMinWorkCells && ride_back(*pos, way)) {
@@ -758,9 +771,10 @@ private:
     RawChain& c = chains_.back();
     if (c.pts.empty() || (c.pts.back() - p).norm() > tol::join_mm) c.pts.push_back(p);
     const std::size_t base = c.pts.size();
-    const double side = climb_ ? 1.0 : -1.0;  // rot(t0, -side·θ), θ > 0: toward the material
+    const double side = pass_climb_ ? 1.0 : -1.0;  // rot(t0, -side·θ), θ > 0: toward the material
     const std::size_t idle_steps = static_cast<std::size_t>(std::ceil((R_ + kSenseMm) / step_));
     double total = 0;
+    bool blocked = false;
     std::size_t idle = 0, last_productive = base;
     const std::size_t max_steps = 4000000;
     auto at = [&](const Vec2& dir) { return Vec2(p + step_ * dir); };
@@ -793,7 +807,10 @@ private:
           chosen = lo;
         }
       }
-      if (!chosen || (n > 0 && *chosen < -kBlockedDeg * kPi / 180)) break;  // blocked (it could only back away)
+      if (!chosen || (n > 0 && *chosen < -kBlockedDeg * kPi / 180)) {  // blocked (it could only back away)
+        blocked = true;
+        break;
+      }
       Vec2 nd = dir(*chosen);
       if (n > 0 || !first_wide) {
         // Smoothness: a turn toward the material of at most kMaxTurnDeg per step (a turn away from
@@ -820,7 +837,10 @@ private:
         break;
       }
     }
+    if (c.pts.size() > last_productive) blocked = false;  // it ended idle, not at a wall
     c.pts.resize(std::max(last_productive, base));  // drop the idle tail
+    last_blocked_ = blocked;
+    last_dir_ = d;
     ++stats_.passes;
     return total;
   }
@@ -889,6 +909,10 @@ private:
   CutParams cut_;
   double R_;
   bool climb_;
+  bool both_;         ///< AdaptiveParams::both_ways
+  bool pass_climb_;   ///< the current pass's side (climb_ but for the return stripes of both ways)
+  bool last_blocked_ = false;  ///< the last pass ended at a wall with material ahead
+  Vec2 last_dir_{1, 0};        ///< its last heading
   double step_;
   Raster raster_;
   Clearance walls_;       ///< cutting moves: the contour pass's clearance
