@@ -12,6 +12,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <ostream>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -55,14 +57,22 @@ struct Raster {
   }
 };
 
-class ZigzagLinks : public ::testing::TestWithParam<std::pair<const char*, PartitionKind>> {};
+struct LinkCase {
+  const char* pocket;
+  PartitionKind partition;
+};
+// Stable test names for ctest (gtest_discover_tests keeps the printed parameter in the name; the
+// default printer shows the string's address).
+void PrintTo(const LinkCase& c, std::ostream* os) { *os << c.pocket << (c.partition == PartitionKind::T ? " T" : " I"); }
+
+class ZigzagLinks : public ::testing::TestWithParam<LinkCase> {};
 
 TEST_P(ZigzagLinks, RegionsJoinedThroughCutMaterialSaveARetractionAndAnEntryEach) {
-  const PocketFile pf = read_pocket(std::string(MILLNET_SHARED_DIR) + "/bench/pockets/" + GetParam().first + ".json");
+  const PocketFile pf = read_pocket(std::string(MILLNET_SHARED_DIR) + "/bench/pockets/" + GetParam().pocket + ".json");
   const CutParams cut = bench_cut();
   ZigzagParams zp;
   zp.angle_deg = std::nullopt;
-  zp.partition = GetParam().second;
+  zp.partition = GetParam().partition;
   zp.link_regions = false;
   const PlanResult alone = plan(pf.region, cut, ZigzagSpec{zp});
   zp.link_regions = true;
@@ -123,7 +133,10 @@ TEST_P(ZigzagLinks, RegionsJoinedThroughCutMaterialSaveARetractionAndAnEntryEach
 }
 
 INSTANTIATE_TEST_SUITE_P(Pockets, ZigzagLinks,
-                         ::testing::Values(std::pair{"eight_islands", PartitionKind::T}, std::pair{"eight_islands", PartitionKind::I},
-                                           std::pair{"four_islands", PartitionKind::T}, std::pair{"four_islands", PartitionKind::I}));
+                         ::testing::Values(LinkCase{"eight_islands", PartitionKind::T}, LinkCase{"eight_islands", PartitionKind::I},
+                                           LinkCase{"four_islands", PartitionKind::T}, LinkCase{"four_islands", PartitionKind::I}),
+                         [](const ::testing::TestParamInfo<LinkCase>& i) {
+                           return std::string(i.param.pocket) + (i.param.partition == PartitionKind::T ? "_t" : "_i");
+                         });
 
 }  // namespace

@@ -373,6 +373,12 @@ struct GougeCase {
   double stl;
 };
 
+// Stable test names for ctest (gtest_discover_tests keeps the printed parameter in the name; the
+// default printer dumps the bytes, the string's address among them).
+void PrintTo(const GougeCase& c, std::ostream* os) {
+  *os << datasets::family_name(c.family) << c.index << " " << c.planner << " stl " << c.stl;
+}
+
 std::string case_name(const testing::TestParamInfo<GougeCase>& info) {
   return datasets::family_name(info.param.family) + std::to_string(info.param.index) + "_" + info.param.planner + "_stl" + (info.param.stl > 0 ? "05" : "0");
 }
