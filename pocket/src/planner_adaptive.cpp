@@ -600,6 +600,7 @@ private:
     for (std::size_t i = 1; i < taut.size(); ++i) {
       mark_move(taut[i - 1], taut[i]);
       c.pts.push_back(taut[i]);
+      stats_.link_length_mm += (taut[i] - taut[i - 1]).norm();
     }
     ++stats_.links;
     return true;
@@ -653,8 +654,15 @@ private:
       std::vector<Vec2> way;
       if (!find_start(c.pts[k], start, toward, way, &goal)) continue;
       const std::vector<Vec2> back(c.pts.rbegin() + 1, c.pts.rend() - static_cast<std::ptrdiff_t>(k));
-      for (const Vec2& q : back) c.pts.push_back(q);  // retrace: already cut
-      if (link_along(way)) return true;
+      double len = 0;
+      for (const Vec2& q : back) {  // retrace: already cut
+        len += (q - c.pts.back()).norm();
+        c.pts.push_back(q);
+      }
+      if (link_along(way)) {
+        stats_.backtrack_length_mm += len;
+        return true;
+      }
       c.pts.resize(c.pts.size() - back.size());
       return false;
     }
@@ -752,6 +760,7 @@ private:
     for (std::size_t i = 1; i < way.size(); ++i) {
       mark_move(way[i - 1], way[i]);
       c.pts.push_back(way[i]);
+      stats_.ride_length_mm += (way[i] - way[i - 1]).norm();
     }
     ++stats_.links;
   }

@@ -7,6 +7,8 @@
 #   PEER_MARGIN   block margin around the boundary's bounding box, mm (default 10)
 #   PEER_STOCK_ZPOS  the Job stock's ExtZpos, mm (default 0: stock top = part top = Z 0;
 #                    FreeCAD's own default is 1, which makes every op start at Z +1)
+#   PEER_DEFLECTION  STL linear deflection, mm (default 0.001: at 0.01 the chords of the r 75 outline
+#                    read as a 0.02 mm gouge of an exact arc in simulate)
 #
 # Writes PEER_OUT/<pocket>.stl, <pocket>.freecad_offset.nc, <pocket>.freecad_adaptive.nc,
 # <pocket>.freecad.json (what was set, FreeCAD's resolved op properties) and <pocket>.FCStd.
@@ -20,6 +22,197 @@ import json
 import math
 import os
 import sys
+
+# ---------------------------------------------------------------------------------------------------
+# "check" mode, run by plain python3 (no FreeCAD):  python3 freecad_bench.py check POCKET.json PROG.nc SHIFTX SHIFTY
+# Reads a program (absolute G0/G1/G2/G3, I/J incremental centres, as FreeCAD's linuxcnc post writes)
+# and prints JSON: retractions (millnet's definition: a G0 up to the safe height after cutting, counted
+# when the tool goes back down into the material), plunges, rapids below the stock top (Z < 0), and the
+# largest lateral wall penetration of the Ø10 tool into the design walls (boundary and islands, exact
+# lines and arcs from the pocket JSON, shifted into the program frame), sampled every 0.02 mm along
+# every move below Z 0.
+# ---------------------------------------------------------------------------------------------------
+
+
+def _edges(loop, sx, sy):
+    out = []
+    n = len(loop)
+    for i in range(n):
+        x0, y0, b = loop[i][0] + sx, loop[i][1] + sy, loop[i][2]
+        x1, y1 = loop[(i + 1) % n][0] + sx, loop[(i + 1) % n][1] + sy
+        if abs(b) < 1e-12:
+            out.append(("L", x0, y0, x1, y1))
+        else:
+            th = 4 * math.atan(b)  # signed sweep, + = CCW
+            L = math.hypot(x1 - x0, y1 - y0)
+            r = L / (2 * math.sin(abs(th) / 2))
+            nx, ny = -(y1 - y0) / L, (x1 - x0) / L  # left normal of the chord
+            d = r * math.cos(th / 2) * (1 if b > 0 else -1)
+            cx, cy = (x0 + x1) / 2 + nx * d, (y0 + y1) / 2 + ny * d
+            out.append(("A", cx, cy, r, math.atan2(y0 - cy, x0 - cx), th))
+    return out
+
+
+def _in_sweep(a, a0, th):
+    t = (a - a0) % (2 * math.pi) if th > 0 else (a0 - a) % (2 * math.pi)
+    return t <= abs(th) + 1e-12
+
+
+def _dist(e, px, py):
+    if e[0] == "L":
+        _, x0, y0, x1, y1 = e
+        dx, dy = x1 - x0, y1 - y0
+        t = max(0.0, min(1.0, ((px - x0) * dx + (py - y0) * dy) / (dx * dx + dy * dy)))
+        return math.hypot(px - x0 - t * dx, py - y0 - t * dy)
+    _, cx, cy, r, a0, th = e
+    if _in_sweep(math.atan2(py - cy, px - cx), a0, th):
+        return abs(math.hypot(px - cx, py - cy) - r)
+    ends = [(cx + r * math.cos(a0), cy + r * math.sin(a0)), (cx + r * math.cos(a0 + th), cy + r * math.sin(a0 + th))]
+    return min(math.hypot(px - x, py - y) for x, y in ends)
+
+
+def _crossings(e, px, py):
+    """Crossings of the ray from (px, py) towards +X with edge e (half-open rule at vertices)."""
+    if e[0] == "L":
+        _, x0, y0, x1, y1 = e
+        if (y0 > py) != (y1 > py):
+            x = x0 + (py - y0) * (x1 - x0) / (y1 - y0)
+            return 1 if x > px else 0
+        return 0
+    _, cx, cy, r, a0, th = e
+    # split the arc into y-monotone pieces to keep the half-open rule exact
+    cuts = [a0]
+    for k in range(-8, 9):
+        a = math.pi / 2 + k * math.pi
+        if _in_sweep(a, a0, th) and abs(a - a0) > 0:
+            t = (a - a0) % (2 * math.pi) if th > 0 else (a0 - a) % (2 * math.pi)
+            if 1e-12 < t < abs(th) - 1e-12:
+                cuts.append(a0 + math.copysign(t, th))
+    cuts = sorted(set(cuts), key=lambda a: (a - a0) * (1 if th > 0 else -1)) + [a0 + th]
+    n = 0
+    for a, b in zip(cuts, cuts[1:]):
+        ya, yb = cy + r * math.sin(a), cy + r * math.sin(b)
+        if (ya > py) != (yb > py):
+            s = math.asin(max(-1.0, min(1.0, (py - cy) / r)))
+            for cand in (s, math.pi - s):
+                lo, hi = min(a, b), max(a, b)
+                for kk in range(-3, 4):
+                    c = cand + 2 * math.pi * kk
+                    if lo - 1e-12 <= c <= hi + 1e-12:
+                        if cx + r * math.cos(c) > px:
+                            n += 1
+                        break
+                else:
+                    continue
+                break
+    return n
+
+
+def check(pocket, nc, sx, sy, radius=5.0, safe_z=3.0, step=0.02):
+    spec = json.load(open(pocket))
+    loops = [spec["boundary"]] + list(spec.get("islands", []))
+    edges = [e for lp in loops for e in _edges(lp, sx, sy)]
+
+    state = {"inside": None}
+
+    def signed(px, py, fresh=False):
+        # The side (in / out of the pocket region) can only change across a wall: the ray test runs near
+        # walls and at the first sample of every move.
+        d = min(_dist(e, px, py) for e in edges)
+        if fresh or state["inside"] is None or d < radius + 1.0:
+            state["inside"] = sum(_crossings(e, px, py) for e in edges) % 2 == 1
+        return d if state["inside"] else -d
+
+    pos = [0.0, 0.0, 10.0]
+    motion = None
+    st = {"retractions": 0, "plunges": 0, "rapids_below_top": 0, "rapid_len_below_top_mm": 0.0,
+          "max_wall_penetration_mm": 0.0, "penetration_line": None, "penetration_xy": None,
+          "moves_over_0p01mm": 0, "moves": 0}
+    cut_since = retracted = False
+    after_rapid = True
+    for ln, raw in enumerate(open(nc), 1):
+        line = raw.split("(")[0].split(";")[0].strip().upper()
+        if not line:
+            continue
+        words = {}
+        for tok in line.replace("\t", " ").split():
+            if tok[0].isalpha() and len(tok) > 1:
+                if tok[0] == "G":
+                    g = float(tok[1:])
+                    if g in (0, 1, 2, 3):
+                        motion = int(g)
+                    continue
+                try:
+                    words[tok[0]] = float(tok[1:])
+                except ValueError:
+                    pass
+        if motion is None or not any(k in words for k in "XYZ"):
+            continue
+        to = [words.get("X", pos[0]), words.get("Y", pos[1]), words.get("Z", pos[2])]
+        st["moves"] += 1
+        # the move as a sampler of (x, y, z)
+        if motion in (2, 3):
+            cx, cy = pos[0] + words.get("I", 0.0), pos[1] + words.get("J", 0.0)
+            r = math.hypot(pos[0] - cx, pos[1] - cy)
+            a0 = math.atan2(pos[1] - cy, pos[0] - cx)
+            a1 = math.atan2(to[1] - cy, to[0] - cx)
+            sw = (a1 - a0) if motion == 3 else (a0 - a1)
+            while sw <= 1e-12:
+                sw += 2 * math.pi
+            sw = sw if motion == 3 else -sw
+            length = abs(sw) * r
+
+            def at(t, cx=cx, cy=cy, r=r, a0=a0, sw=sw, z0=pos[2], z1=to[2]):
+                a = a0 + sw * t
+                return cx + r * math.cos(a), cy + r * math.sin(a), z0 + (z1 - z0) * t
+        else:
+            length = math.hypot(to[0] - pos[0], to[1] - pos[1])
+
+            def at(t, p=list(pos), q=to):
+                return p[0] + (q[0] - p[0]) * t, p[1] + (q[1] - p[1]) * t, p[2] + (q[2] - p[2]) * t
+        # retractions / plunges, as millnet's pocket metrics count them
+        if motion == 0:
+            if to[2] >= safe_z - 1e-6 and pos[2] < safe_z - 1e-6 and cut_since:
+                retracted, cut_since = True, False
+            if min(pos[2], to[2]) < -1e-6 and length > 1e-9:
+                st["rapids_below_top"] += 1
+                st["rapid_len_below_top_mm"] += length
+            after_rapid = True
+        else:
+            if to[2] < pos[2] - 1e-6 and after_rapid:
+                st["plunges"] += 1
+                if retracted:
+                    st["retractions"] += 1
+                retracted = False
+            after_rapid = False
+            if min(pos[2], to[2]) < 0:
+                cut_since = True
+        # wall penetration of every move below the stock top
+        if min(pos[2], to[2]) < -1e-6:
+            n = max(1, int(math.ceil(length / step)))
+            worst = 0.0
+            for k in range(n + 1):
+                x, y, z = at(k / n)
+                if z >= -1e-6:
+                    continue
+                pen = radius - signed(x, y, fresh=(k == 0))
+                if pen > worst:
+                    worst = pen
+                    if pen > st["max_wall_penetration_mm"]:
+                        st["max_wall_penetration_mm"] = pen
+                        st["penetration_line"] = ln
+                        st["penetration_xy"] = [round(x, 3), round(y, 3)]
+            if worst > 0.01:
+                st["moves_over_0p01mm"] += 1
+        pos = to
+    st["rapid_len_below_top_mm"] = round(st["rapid_len_below_top_mm"], 3)
+    return st
+
+
+if len(sys.argv) > 1 and sys.argv[1] == "check":
+    print(json.dumps(check(sys.argv[2], sys.argv[3], float(sys.argv[4]), float(sys.argv[5]))))
+    sys.exit(0)
+
 import time
 import importlib
 
@@ -131,7 +324,9 @@ part.Shape = solid
 doc.recompute()
 
 # The part as STL (fine tessellation)
-mesh = MeshPart.meshFromShape(Shape=solid, LinearDeflection=0.01, AngularDeflection=0.0872665, Relative=False)
+DEFLECTION = float(os.environ.get("PEER_DEFLECTION", "0.001"))
+log["stl_linear_deflection_mm"] = DEFLECTION
+mesh = MeshPart.meshFromShape(Shape=solid, LinearDeflection=DEFLECTION, AngularDeflection=0.0872665, Relative=False)
 stl = os.path.join(OUT, stem + ".stl")
 mesh.write(stl)
 log["stl"] = stl

@@ -80,6 +80,9 @@ struct AdaptiveStats {
   std::size_t wall_retractions = 0;   ///< wall loops no link reached
   std::size_t passes = 0;             ///< constant-engagement passes
   std::size_t links = 0;              ///< pass-to-pass moves with the tool down
+  double ride_length_mm = 0;          ///< rides back along fronts (tool down, cutting nothing)
+  double link_length_mm = 0;          ///< links to the next pass's start through cut area
+  double backtrack_length_mm = 0;     ///< retraced path before a link
   std::size_t steps = 0;              ///< planning steps
   std::size_t vertices = 0;           ///< of the simplified path
   std::size_t retractions = 0;        ///< of the planned path
