@@ -6,7 +6,7 @@
 # Environment (all optional):
 #   WORK=/tmp/peer            scratch; programs and parts in $WORK/out
 #   POCKETS="four_islands comb eight_islands"
-#   POCKET_DIR=/work/shared/bench/pockets
+#   POCKET_DIR=../shared/bench/pockets (or $MILLNET_SHARED_DIR/bench/pockets)
 #   MILLNET=<repo>/build/app/millnet
 #   DEFAULT_STOCK=1           also run FreeCAD with its own default stock (model + 1 mm all round, so every
 #                             op starts at Z +1) into $WORK/out/default_stock/ (0 = skip)
@@ -37,7 +37,7 @@ ROOT=$(cd "$HERE/../.." && pwd)
 WORK=${WORK:-/tmp/peer}
 OUT=$WORK/out
 POCKETS=${POCKETS:-"four_islands comb eight_islands"}
-POCKET_DIR=${POCKET_DIR:-/work/shared/bench/pockets}
+POCKET_DIR=${POCKET_DIR:-${MILLNET_SHARED_DIR:-$ROOT/../shared}/bench/pockets}
 MILLNET=${MILLNET:-$ROOT/build/app/millnet}
 CONFIG=$ROOT/configs/bench/roughing-issue11.json
 DEFAULT_STOCK=${DEFAULT_STOCK:-1}
