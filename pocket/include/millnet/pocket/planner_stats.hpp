@@ -79,6 +79,7 @@ struct AdaptiveStats {
   std::size_t reentries = 0;          ///< retractions to a cleared start no link reached
   std::size_t wall_retractions = 0;   ///< wall loops no link reached
   std::size_t passes = 0;             ///< constant-engagement passes
+  std::size_t idle_passes = 0;        ///< of them, passes that cut (almost) nothing: a stop wasted
   std::size_t links = 0;              ///< pass-to-pass moves with the tool down
   double ride_length_mm = 0;          ///< rides back along fronts (tool down, cutting nothing)
   double link_length_mm = 0;          ///< links to the next pass's start through cut area
