@@ -80,6 +80,15 @@ Outcome run(const Region& region, const CutParams& cut, const AdaptiveParams& ap
 
 Loop rect(double x0, double y0, double x1, double y1) { return {{x0, y0, 0}, {x1, y0, 0}, {x1, y1, 0}, {x0, y1, 0}}; }
 
+/// 60 × 40 rectangle with a round island of radius 7.5 at (27.5, 20) (two half-circle bulges).
+Region rect_with_round_island() {
+  Region r;
+  r.boundary = rect(0, 0, 60, 40);
+  r.islands = {{{20, 20, -1}, {35, 20, -1}}};
+  validate_and_normalize(r, "test");
+  return r;
+}
+
 std::size_t components(const Region& r, const CutParams& cut) {
   return offset_inward(r, cut.clearance() + 0.001).size();
 }
@@ -140,10 +149,7 @@ TEST(PlannerAdaptive, ASlotNarrowerThanTwoDiametersIsCutByCurvedMoves) {
 }
 
 TEST(PlannerAdaptive, ALowerTargetCutsLongerAndEngagesLess) {
-  Region r;
-  r.boundary = rect(0, 0, 60, 40);
-  r.islands = {{{20, 20, -1}, {35, 20, -1}}};
-  validate_and_normalize(r, "test");
+  const Region r = rect_with_round_island();
   const CutParams cut = bench_cut();
   AdaptiveParams a90, a45;
   a45.max_engagement_deg = 45;
@@ -167,10 +173,7 @@ TEST(PlannerAdaptive, ALowerTargetCutsLongerAndEngagesLess) {
 // chords). "Superfluous": a vertex between two air moves a→b→c where the straight a→c keeps
 // 0.3 mm more than the clearance from the walls and has no uncut cell within R + 0.3 mm.
 TEST(PlannerAdaptive, RidesCutNothingAndArePulledTaut) {
-  Region r;
-  r.boundary = rect(0, 0, 60, 40);
-  r.islands = {{{20, 20, -1}, {35, 20, -1}}};
-  validate_and_normalize(r, "test");
+  const Region r = rect_with_round_island();
   const CutParams cut = bench_cut();
   const PlanResult p = plan(r, cut, AdaptiveSpec{});
   ASSERT_EQ(p.status, PlanStatus::Ok);
@@ -253,10 +256,7 @@ TEST(PlannerAdaptive, RidesCutNothingAndArePulledTaut) {
 class AdaptiveTarget : public ::testing::TestWithParam<double> {};
 
 TEST_P(AdaptiveTarget, StaysWithinItsToleranceAtTheCornersToo) {
-  Region r;
-  r.boundary = rect(0, 0, 60, 40);
-  r.islands = {{{20, 20, -1}, {35, 20, -1}}};
-  validate_and_normalize(r, "test");
+  const Region r = rect_with_round_island();
   AdaptiveParams a;
   a.max_engagement_deg = GetParam();
   const Outcome o = run(r, bench_cut(), a);
@@ -336,10 +336,7 @@ TEST(PlannerAdaptive, BothWaysTurnsAtTheWallsInsteadOfRidingBack) {
   // (the material on its left) instead of riding back through the air to climb-cut it. Against
   // the climb-only plan of the same pocket: a large share of the cutting with the material on the
   // left (climb-only: almost none), less air, and the same guarantees (target, no gouge, cleared).
-  Region r;
-  r.boundary = rect(0, 0, 60, 40);
-  r.islands = {{{20, 20, -1}, {35, 20, -1}}};
-  validate_and_normalize(r, "test");
+  const Region r = rect_with_round_island();
   const CutParams cut = bench_cut();
   const double R = cut.tool_diameter / 2;
   AdaptiveParams both;
