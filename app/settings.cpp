@@ -259,8 +259,9 @@ PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, c
   ch.offset.climb = pc["offset"]["direction"].get<std::string>() == "climb";
   const Json& ad = pc["adaptive"];
   ch.adaptive.max_engagement_deg = ad["max_engagement_deg"].get<double>();
-  ch.adaptive.climb = ad["direction"].get<std::string>() != "conventional";
-  ch.adaptive.both_ways = ad["direction"].get<std::string>() == "both";
+  const std::string adaptive_direction = ad["direction"].get<std::string>();
+  ch.adaptive.climb = adaptive_direction != "conventional";
+  ch.adaptive.both_ways = adaptive_direction == "both";
   ch.adaptive.step_mm = ad["step_mm"].get<double>();
   ch.adaptive.raster_mm = ad["raster_mm"].get<double>();
   ch.adaptive.safety = ad["safety"].get<double>();

@@ -283,7 +283,6 @@ public:
           last_cells_ = got;
           pos = current_end();
           if (got >= kMinWorkCells) continue;
-          last_blocked_ = false;
         }
         pass_climb_ = climb_;
         // First the front's upstream end: ride back along the material (kept on the other side,
@@ -293,35 +292,25 @@ public:
           // target: 116 of 257 passes on four_islands cut nothing there), the ride and the link to
           // the nearest start from its end become one link, pulled taut: one move through cut area
           // instead of a ride, a stop and a link.
-          Vec2 start2, toward2;
-          std::vector<Vec2> way2;
-          if (!can_start(way.back(), last_heading_) && find_start(way.back(), start2, toward2, way2)) {
-            std::vector<Vec2> all = taut_ride(way);  // a few chords instead of a step every D/40
-            all.insert(all.end(), way2.begin() + 1, way2.end());
+          const std::vector<Vec2> ride = taut_ride(way);  // a few chords instead of a step every D/40
+          std::vector<Vec2> beyond;
+          if (!can_start(way.back(), last_heading_) && find_start(way.back(), start, toward, beyond)) {
+            std::vector<Vec2> all = ride;
+            all.insert(all.end(), beyond.begin() + 1, beyond.end());
             if (link_along(all)) {
-              const double got = cut_pass(start2, first_dir(start2, toward2), true);
-              last_cells_ = got;
-              if (got < kMinWorkCells) dead_[lattice_index(start2)] = 1;
-              pos = current_end();
+              pos = pass_from(start, toward);
               continue;
             }
           }
-          append_link(taut_ride(way));
+          append_link(ride);
           last_cells_ = cut_pass(way.back(), last_heading_, true);
           pos = current_end();
           continue;
         }
         way.clear();
         if (find_start(*pos, start, toward, way)) {
-          const bool ok = link_along(way);
-          if (ok) {
-            const double got = cut_pass(start, first_dir(start, toward), true);
-            last_cells_ = got;
-            if (got < kMinWorkCells) dead_[lattice_index(start)] = 1;
-            pos = current_end();
-            continue;
-          }
-          dead_[lattice_index(start)] = 1;
+          if (link_along(way)) pos = pass_from(start, toward);
+          else dead_[lattice_index(start)] = 1;
           continue;
         }
         pos.reset();  // nothing linkable from here
@@ -330,6 +319,14 @@ public:
       if (!enter_next(pos)) break;
     }
     cut_walls();
+  }
+
+  /// A pass from `start` (the tool there), across the line to the material at `toward`; a start
+  /// whose pass cuts next to nothing is not offered again. Returns where the tool is.
+  Vec2 pass_from(const Vec2& start, const Vec2& toward) {
+    last_cells_ = cut_pass(start, first_dir(start, toward), true);
+    if (last_cells_ < kMinWorkCells) dead_[lattice_index(start)] = 1;
+    return current_end();
   }
 
   /// The wall pass: every loop of A_0 (outer loops counter-clockwise, island loops clockwise for
@@ -782,19 +779,30 @@ private:
     ++stats_.links;
   }
 
-  /// Whether cut_pass(p, …, first_wide = true) takes a first step: target material within sensing
-  /// range and a direction (of those cut_pass tries first) that cuts at most the target.
-  [[nodiscard]] bool can_start(const Vec2& p, const Vec2& d) const {
+  /// The tangent along the material sensed from p (the centroid of the uncut target cells within
+  /// R + kSenseMm, or heading d when it lies at p), with the material on the right for side +1
+  /// (climb), on the left for −1; nullopt when no target material is in range.
+  [[nodiscard]] std::optional<Vec2> material_tangent(const Vec2& p, const Vec2& d, double side) const {
     Vec2 cen;
-    if (raster_.target_near(p, R_ + kSenseMm, nullptr, &cen) < kMinWorkCells) return false;
+    if (raster_.target_near(p, R_ + kSenseMm, nullptr, &cen) < kMinWorkCells) return std::nullopt;
     Vec2 u = cen - p;
     if (u.norm() < 1e-9) u = d;
-    u.normalize();
-    const double side = pass_climb_ ? 1.0 : -1.0;
-    const Vec2 t0 = rot(u, side * kPi / 2);
+    return rot(u.normalized(), side * kPi / 2);
+  }
+
+  /// The first of the probe directions rot(t0, −side·θ), θ = 90° (straight at the material), −90°
+  /// (straight away), −120°, −150°, −180°, whose step cuts at most the target; nullopt when none.
+  [[nodiscard]] std::optional<double> first_feasible(const Vec2& p, const Vec2& t0, double side) const {
     for (const double th : {kPi / 2, -kPi / 2, -2 * kPi / 3, -5 * kPi / 6, -kPi})
-      if (cost(p, p + step_ * rot(t0, -side * th)) <= max_cells_) return true;
-    return false;
+      if (cost(p, p + step_ * rot(t0, -side * th)) <= max_cells_) return th;
+    return std::nullopt;
+  }
+
+  /// Whether cut_pass(p, d, first_wide = true) takes a first step.
+  [[nodiscard]] bool can_start(const Vec2& p, const Vec2& d) const {
+    const double side = pass_climb_ ? 1.0 : -1.0;
+    const std::optional<Vec2> t0 = material_tangent(p, d, side);
+    return t0 && first_feasible(p, *t0, side);
   }
 
   /// One pass from p (already there, its disk cleared) heading about d. Returns the cells cut.
@@ -820,33 +828,22 @@ private:
     const std::size_t max_steps = 4000000;
     auto at = [&](const Vec2& dir) { return Vec2(p + step_ * dir); };
     for (std::size_t n = 0; n < max_steps; ++n) {
-      Vec2 cen;
-      if (raster_.target_near(p, R_ + kSenseMm, nullptr, &cen) < kMinWorkCells) break;  // nothing near: done
-      Vec2 u = cen - p;
-      if (u.norm() < 1e-9) u = d;
-      u.normalize();
-      const Vec2 t0 = rot(u, side * kPi / 2);
+      const std::optional<Vec2> tangent = material_tangent(p, d, side);
+      if (!tangent) break;  // nothing near: done
+      const Vec2 t0 = *tangent;
       auto dir = [&](double th) { return rot(t0, -side * th); };
-      std::optional<double> chosen;
-      if (cost(p, at(dir(kPi / 2))) <= max_cells_) {
-        chosen = kPi / 2;  // light material everywhere (or none within a step): head for it
-      } else {
-        double lo = -kPi / 2;
-        bool ok = cost(p, at(dir(lo))) <= max_cells_;
-        for (const double th : {-2 * kPi / 3, -5 * kPi / 6, -kPi})
-          if (!ok && cost(p, at(dir(th))) <= max_cells_) {
-            lo = th;
-            ok = true;
-          }
-        if (ok) {
-          double hi = kPi / 2;
-          for (int it = 0; it < 7; ++it) {
-            const double mid = 0.5 * (lo + hi);
-            if (cost(p, at(dir(mid))) <= max_cells_) lo = mid;
-            else hi = mid;
-          }
-          chosen = lo;
+      // Straight at the material when that step is light enough (or cuts nothing); otherwise the
+      // direction turned furthest toward it within the target, by bisection from the first
+      // feasible probe.
+      std::optional<double> chosen = first_feasible(p, t0, side);
+      if (chosen && *chosen < kPi / 2) {
+        double lo = *chosen, hi = kPi / 2;
+        for (int it = 0; it < 7; ++it) {
+          const double mid = 0.5 * (lo + hi);
+          if (cost(p, at(dir(mid))) <= max_cells_) lo = mid;
+          else hi = mid;
         }
+        chosen = lo;
       }
       if (!chosen || (n > 0 && *chosen < -kBlockedDeg * kPi / 180)) {  // blocked (it could only back away)
         blocked = true;
