@@ -89,6 +89,29 @@ Region rect_with_round_island() {
   return r;
 }
 
+/// The tests' own raster of w × hgt mm from the origin, cells of h mm (independent of the planner's).
+struct CellGrid {
+  double h;
+  int nx, ny;
+  CellGrid(double w, double hgt, double cell) : h(cell), nx(static_cast<int>(w / cell)), ny(static_cast<int>(hgt / cell)) {}
+  [[nodiscard]] std::size_t size() const { return static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny); }
+  [[nodiscard]] Vec2 centre(std::size_t i) const {
+    return Vec2((static_cast<double>(i % static_cast<std::size_t>(nx)) + 0.5) * h,
+                (static_cast<double>(i / static_cast<std::size_t>(nx)) + 0.5) * h);
+  }
+  /// Calls f(index) for every cell whose centre lies within rr of c.
+  template <class F>
+  void disk(const Vec2& c, double rr, F&& f) const {
+    const int x0 = std::max(0, static_cast<int>((c.x() - rr) / h)), x1 = std::min(nx - 1, static_cast<int>((c.x() + rr) / h));
+    const int y0 = std::max(0, static_cast<int>((c.y() - rr) / h)), y1 = std::min(ny - 1, static_cast<int>((c.y() + rr) / h));
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        const auto i = static_cast<std::size_t>(y * nx + x);
+        if ((centre(i) - c).squaredNorm() <= rr * rr) f(i);
+      }
+  }
+};
+
 std::size_t components(const Region& r, const CutParams& cut) {
   return offset_inward(r, cut.clearance() + 0.001).size();
 }
@@ -178,17 +201,9 @@ TEST(PlannerAdaptive, RidesCutNothingAndArePulledTaut) {
   const PlanResult p = plan(r, cut, AdaptiveSpec{});
   ASSERT_EQ(p.status, PlanStatus::Ok);
   const double R = cut.tool_diameter / 2, h = 0.25;
-  const int nx = static_cast<int>(60 / h), ny = static_cast<int>(40 / h);
-  std::vector<char> cut_cells(static_cast<std::size_t>(nx * ny), 0);
-  const auto cell_centre = [&](int x, int y) { return Vec2((x + 0.5) * h, (y + 0.5) * h); };
-  // Calls f(index) for every cell whose centre lies within rr of c.
-  const auto disk = [&](const Vec2& c, double rr, auto&& f) {
-    const int x0 = std::max(0, static_cast<int>((c.x() - rr) / h)), x1 = std::min(nx - 1, static_cast<int>((c.x() + rr) / h));
-    const int y0 = std::max(0, static_cast<int>((c.y() - rr) / h)), y1 = std::min(ny - 1, static_cast<int>((c.y() + rr) / h));
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x)
-        if ((cell_centre(x, y) - c).squaredNorm() <= rr * rr) f(static_cast<std::size_t>(y * nx + x));
-  };
+  const CellGrid grid(60, 40, h);
+  std::vector<char> cut_cells(grid.size(), 0);
+  const auto disk = [&](const Vec2& c, double rr, auto&& f) { grid.disk(c, rr, f); };
   const auto samples = [&](const Vec2& a, const Vec2& b) {
     const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / h)));
     std::vector<Vec2> out;
@@ -209,7 +224,7 @@ TEST(PlannerAdaptive, RidesCutNothingAndArePulledTaut) {
       int fresh = 0;
       for (const Vec2& q : samples(a, b))
         disk(q, R, [&](std::size_t i) {
-          const Vec2 cc = cell_centre(static_cast<int>(i % static_cast<std::size_t>(nx)), static_cast<int>(i / static_cast<std::size_t>(nx)));
+          const Vec2 cc = grid.centre(i);
           if (!cut_cells[i] && inside(r, cc)) ++fresh;
           cut_cells[i] = 1;
         });
@@ -228,7 +243,7 @@ TEST(PlannerAdaptive, RidesCutNothingAndArePulledTaut) {
         for (const Vec2& q : samples(a0, b)) {
           if (!clear) break;
           disk(q, R + 0.3, [&](std::size_t i) {
-            const Vec2 cc = cell_centre(static_cast<int>(i % static_cast<std::size_t>(nx)), static_cast<int>(i / static_cast<std::size_t>(nx)));
+            const Vec2 cc = grid.centre(i);
             if (!cut_cells[i] && inside(r, cc)) clear = false;
           });
         }
@@ -290,24 +305,19 @@ struct Sides {
 };
 Sides material_sides(const Region& r, const PlanResult& p, double R, double w, double hgt) {
   const double h = 0.25;
-  const int nx = static_cast<int>(w / h), ny = static_cast<int>(hgt / h);
-  std::vector<char> cut_cells(static_cast<std::size_t>(nx * ny), 0);
-  const auto centre = [&](int x, int y) { return Vec2((x + 0.5) * h, (y + 0.5) * h); };
+  const CellGrid grid(w, hgt, h);
+  std::vector<char> cut_cells(grid.size(), 0);
   Sides s;
   // Marks the disk at c; adds the fresh cells' offsets from `from` to acc (count in n).
   const auto mark = [&](const Vec2& c, const Vec2& from, Vec2& acc, int& n) {
-    const int x0 = std::max(0, static_cast<int>((c.x() - R) / h)), x1 = std::min(nx - 1, static_cast<int>((c.x() + R) / h));
-    const int y0 = std::max(0, static_cast<int>((c.y() - R) / h)), y1 = std::min(ny - 1, static_cast<int>((c.y() + R) / h));
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x) {
-        const Vec2 cc = centre(x, y);
-        auto& cell = cut_cells[static_cast<std::size_t>(y * nx + x)];
-        if ((cc - c).squaredNorm() > R * R || cell) continue;
-        cell = 1;
-        if (!inside(r, cc)) continue;
-        acc += cc - from;
-        ++n;
-      }
+    grid.disk(c, R, [&](std::size_t i) {
+      if (cut_cells[i]) return;
+      cut_cells[i] = 1;
+      const Vec2 cc = grid.centre(i);
+      if (!inside(r, cc)) return;
+      acc += cc - from;
+      ++n;
+    });
   };
   for (const Chain& c : p.path.chains) {
     Vec2 acc(0, 0);
