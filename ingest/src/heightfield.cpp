@@ -135,6 +135,7 @@ void cell_triangle(const P& a, const P& b, const P& c, const BandBuffer& buf, in
   const int j1 = std::min(ncols - 1, static_cast<int>(std::floor(std::max({a.u, b.u, c.u}) + h)));
   const int i0 = std::max(buf.row_lo, static_cast<int>(std::ceil(std::min({a.v, b.v, c.v}) - h)));
   const int i1 = std::min({buf.row_hi, nrows - 1, static_cast<int>(std::floor(std::max({a.v, b.v, c.v}) + h))});
+  const double zlo = std::min({a.z, b.z, c.z}), zhi = std::max({a.z, b.z, c.z});
   // A triangle clipped by 4 half-planes has at most 7 vertices.
   P poly[8], tmp[8];
   for (int i = i0; i <= i1; ++i)
@@ -165,7 +166,7 @@ void cell_triangle(const P& a, const P& b, const P& c, const BandBuffer& buf, in
       if (n == 0) continue;
       double zv = poly[0].z;
       for (int e = 1; e < n; ++e) zv = std::max(zv, poly[e].z);
-      buf.put(i, j, std::clamp(zv, std::min({a.z, b.z, c.z}), std::max({a.z, b.z, c.z})));
+      buf.put(i, j, std::clamp(zv, zlo, zhi));  // interpolation stays in range but for rounding
     }
 }
 
