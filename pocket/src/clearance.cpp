@@ -1,5 +1,5 @@
 // Clearance queries: every wall segment (boundary + islands) is registered in the cells of a
-// uniform bucket grid that its exact bounding box overlaps; a query within radius c inspects only
+// uniform bucket grid that it passes through; a query within radius c inspects only
 // the cells overlapping the query box. No mutable state: queries are safe from OpenMP threads.
 #include "geometry_internal.hpp"
 #include "millnet/core/error.hpp"
@@ -71,17 +71,28 @@ Clearance::Clearance(const Region& region, double clearance_mm) : impl_(std::mak
   const Vec2 ext = (all.hi - all.lo).cwiseMax(Vec2(1e-6, 1e-6));
   const double wall_cells = std::max(64.0, 4.0 * static_cast<double>(m.walls.size()));
   m.h = std::sqrt(ext.x() * ext.y() / wall_cells);
+  // Not coarser than 0.7 × the clearance either: a wall registered in a cell (below) is within the
+  // cell's diagonal, 0.99 × the clearance, of every point of it, so a point that keeps the
+  // clearance from every wall lies in a cell no wall is registered in, whose side of the walls is
+  // known: point_ok never needs the O(walls) inside test.
+  if (clearance_mm - tol::clear_mm > 1e-3) m.h = std::min(m.h, 0.7 * (clearance_mm - tol::clear_mm));
   m.h = std::max({m.h, clearance_mm / 10, std::sqrt(ext.x() * ext.y() / 4e6), 1e-6});
   m.lo = all.lo - Vec2(m.h, m.h);
   m.nx = static_cast<int>(std::ceil(ext.x() / m.h)) + 2;
   m.ny = static_cast<int>(std::ceil(ext.y() / m.h)) + 2;
   m.cells.assign(static_cast<std::size_t>(m.nx) * static_cast<std::size_t>(m.ny), {});
-  // O(Σ cells per wall).
+  // A wall is registered in the cells it passes through (within tol::join_mm), not in every cell
+  // of its bounding box: a diagonal line or an arc would otherwise mark cells far from it as wall
+  // cells, whose points then need the region's O(walls) inside test (the costly part of point_ok).
+  // A point of the wall in a cell is within half the cell's diagonal of its centre, so the test
+  // below keeps every such cell. O(Σ bounding-box cells per wall).
+  const double reach = m.h * std::sqrt(0.5) + tol::join_mm;
   for (std::size_t w = 0; w < m.walls.size(); ++w) {
     const detail::BBox& b = boxes[w];
     for (int y = m.cy(b.lo.y() - tol::join_mm); y <= m.cy(b.hi.y() + tol::join_mm); ++y)
       for (int x = m.cx(b.lo.x() - tol::join_mm); x <= m.cx(b.hi.x() + tol::join_mm); ++x)
-        m.cells[static_cast<std::size_t>(y * m.nx + x)].push_back(static_cast<int>(w));
+        if (distance(m.walls[w], m.lo + Vec2((x + 0.5) * m.h, (y + 0.5) * m.h)) <= reach)
+          m.cells[static_cast<std::size_t>(y * m.nx + x)].push_back(static_cast<int>(w));
   }
   // A cell no wall touches lies entirely on one side of every wall, and so does the segment between
   // the centres of two such cells that share a side: a 4-connected component of wall-free cells is

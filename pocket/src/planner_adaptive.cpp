@@ -130,6 +130,34 @@ public:
     return n;
   }
 
+  /// fresh(c, r) for a tool whose disk of radius r about p holds no uncut cell: only the crescent
+  /// of cells within r of c and not within r of p is visited (per row, the disk's run minus p's
+  /// run, by the same rounding as disk): O(r·|c − p|/h² + r/h) instead of O((r/h)²).
+  [[nodiscard]] int fresh_beyond(const Vec2& p, const Vec2& c, double r) const {
+    int n = 0;
+    const int y0 = std::max(0, static_cast<int>(std::ceil((c.y() - r - lo_.y()) / h_ - 0.5)));
+    const int y1 = std::min(ny_ - 1, static_cast<int>(std::floor((c.y() + r - lo_.y()) / h_ - 0.5)));
+    for (int y = y0; y <= y1; ++y) {
+      const double yc = lo_.y() + (y + 0.5) * h_;
+      const double w2 = r * r - (yc - c.y()) * (yc - c.y());
+      if (w2 < 0) continue;
+      const double w = std::sqrt(w2);
+      const int x0 = std::max(0, static_cast<int>(std::ceil((c.x() - w - lo_.x()) / h_ - 0.5)));
+      const int x1 = std::min(nx_ - 1, static_cast<int>(std::floor((c.x() + w - lo_.x()) / h_ - 0.5)));
+      int px0 = x1 + 1, px1 = x1;  // p's run on this row (empty when the row misses p's disk)
+      const double v2 = r * r - (yc - p.y()) * (yc - p.y());
+      if (v2 >= 0) {
+        const double v = std::sqrt(v2);
+        px0 = static_cast<int>(std::ceil((p.x() - v - lo_.x()) / h_ - 0.5));
+        px1 = static_cast<int>(std::floor((p.x() + v - lo_.x()) / h_ - 0.5));
+      }
+      const std::size_t row = idx(0, y);
+      for (int x = x0; x <= std::min(x1, px0 - 1); ++x) n += st_[row + static_cast<std::size_t>(x)] == 1;
+      for (int x = std::max(x0, std::max(px0, px1 + 1)); x <= x1; ++x) n += st_[row + static_cast<std::size_t>(x)] == 1;
+    }
+    return n;
+  }
+
   /// Cuts the cells within r of c; returns how many were uncut.
   int mark(const Vec2& c, double r) {
     int n = 0;
@@ -644,12 +672,16 @@ private:
     if (!(p == room_at_)) {
       room_at_ = p;
       room_ = walls_.point_ok(p) ? walls_.wall_distance(p) - walls_.clearance() : -1.0;
+      p_clear_ = raster_.clear_within(p, R_);
     }
     if (!((q - p).norm() < room_) && !walls_.move_ok(p, q)) return kInf;
-    return raster_.fresh(q, R_);
+    // Every caller stands on cut ground (a pass, a ride, a link's end), so only the crescent the step
+    // adds can hold uncut cells; checked once per position, the full disk where it is not so.
+    return p_clear_ ? raster_.fresh_beyond(p, q, R_) : raster_.fresh(q, R_);
   }
   mutable Vec2 room_at_{kInf, kInf};
   mutable double room_ = -1;
+  mutable bool p_clear_ = false;
 
   /// Where no link leaves the tool's position: back along the chain's own path (cut area, the tool
   /// down) to a point every kBacktrackMm from which a link reaches `goal`, then that link. False
