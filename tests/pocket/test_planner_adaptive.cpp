@@ -25,6 +25,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
+#include <algorithm>
 #include <vector>
 
 using namespace millnet::pocket;
@@ -32,6 +34,10 @@ using millnet::testing::to_replay;
 namespace {
 
 constexpr double kEngTolDeg = 8.0;
+// The independent width check (widest_cut): the planner aims at 0.85 of the target's width, and its
+// D/40 raster reads a step's crescent ±2–3 cells (±0.6 mm of width); the 0.05 mm replay itself reads
+// a 0.25 mm piece within ≈ ±0.05 mm. 0.3 mm over 5 mm is ≈ 3.4° over 90°.
+constexpr double kWidthTolMm = 0.3;
 
 CutParams bench_cut() {
   CutParams cut = millnet::testing::issue11_bench_cut();
@@ -112,6 +118,127 @@ struct CellGrid {
   }
 };
 
+/// The widest cut of the program, measured independently of the planner's raster and the feed
+/// map's: the replayed feed moves below the top sampled every g, the cells of a g-grid (material:
+/// centre inside the region) cut when their centre comes within R of a sample, and the area newly
+/// cut over each `piece` mm of tool path at the floor divided by that length (the new-cut width
+/// a_e: 5 mm is 90° on Ø10). Moves above the floor (the helix) cut without being measured. Each
+/// sample visits only the cells its disk adds to the previous sample's (O(R·g / g²) per sample).
+struct WidthReport {
+  double worst_mm = 0;
+  Vec2 at{0, 0};       ///< where the widest piece ends
+  std::size_t pieces = 0, over = 0;  ///< pieces measured; pieces wider than `limit`
+};
+WidthReport widest_cut(const millnet::testing::ReplayResult& rep, const Region& region, double R, double limit,
+                       double g = 0.05, double piece = 0.25) {
+  WidthReport w;
+  const std::vector<Vec2> b = flatten(region.boundary, 0.005);
+  std::vector<std::vector<Vec2>> loops{b};
+  for (const Loop& l : region.islands) loops.push_back(flatten(l, 0.005));
+  Vec2 lo = b.front(), hi = b.front();
+  for (const Vec2& p : b) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  lo -= Vec2(R + 1, R + 1);
+  hi += Vec2(R + 1, R + 1);
+  const int nx = static_cast<int>((hi.x() - lo.x()) / g) + 1, ny = static_cast<int>((hi.y() - lo.y()) / g) + 1;
+  std::vector<char> st(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), 0);  // 1 material, 2 cut
+  std::vector<double> xs;
+  for (int y = 0; y < ny; ++y) {  // even-odd scan lines
+    const double yc = lo.y() + (y + 0.5) * g;
+    xs.clear();
+    for (const auto& l : loops)
+      for (std::size_t i = 0; i < l.size(); ++i) {
+        const Vec2& a = l[i];
+        const Vec2& c = l[(i + 1) % l.size()];
+        if ((a.y() <= yc) != (c.y() <= yc)) xs.push_back(a.x() + (yc - a.y()) * (c.x() - a.x()) / (c.y() - a.y()));
+      }
+    std::sort(xs.begin(), xs.end());
+    for (std::size_t k = 0; k + 1 < xs.size(); k += 2)
+      for (int x = std::max(0, static_cast<int>(std::ceil((xs[k] - lo.x()) / g - 0.5)));
+           x <= std::min(nx - 1, static_cast<int>(std::floor((xs[k + 1] - lo.x()) / g - 0.5))); ++x)
+        st[static_cast<std::size_t>(y) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(x)] = 1;
+  }
+  // Cuts the cells within R of c (not within R of prev when has_prev); returns how many were material.
+  auto mark = [&](const Vec2& c, const Vec2& prev, bool has_prev) {
+    int n = 0;
+    const int y0 = std::max(0, static_cast<int>(std::ceil((c.y() - R - lo.y()) / g - 0.5)));
+    const int y1 = std::min(ny - 1, static_cast<int>(std::floor((c.y() + R - lo.y()) / g - 0.5)));
+    for (int y = y0; y <= y1; ++y) {
+      const double yc = lo.y() + (y + 0.5) * g;
+      const double w2 = R * R - (yc - c.y()) * (yc - c.y());
+      if (w2 < 0) continue;
+      const double wr = std::sqrt(w2);
+      const int x0 = std::max(0, static_cast<int>(std::ceil((c.x() - wr - lo.x()) / g - 0.5)));
+      const int x1 = std::min(nx - 1, static_cast<int>(std::floor((c.x() + wr - lo.x()) / g - 0.5)));
+      for (int x = x0; x <= x1; ++x) {
+        const double xc = lo.x() + (x + 0.5) * g;
+        if (has_prev && (xc - prev.x()) * (xc - prev.x()) + (yc - prev.y()) * (yc - prev.y()) <= R * R) continue;
+        char& v = st[static_cast<std::size_t>(y) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(x)];
+        if (v == 1) {
+          v = 2;
+          ++n;
+        }
+      }
+    }
+    return n;
+  };
+  double floor_z = 0;
+  for (const auto& mv : rep.moves)
+    if (mv.g != 0) floor_z = std::min(floor_z, mv.to[2]);
+  Vec2 prev(0, 0);
+  bool has_prev = false;
+  double run = 0;
+  int fresh = 0;
+  for (const auto& mv : rep.moves) {
+    if (mv.g == 0 || mv.to[2] > -1e-9) {  // rapid or above the top: the disk chain is broken
+      has_prev = false;
+      run = 0;
+      fresh = 0;
+      continue;
+    }
+    const bool at_floor = std::abs(mv.from[2] - floor_z) < 1e-6 && std::abs(mv.to[2] - floor_z) < 1e-6;
+    const Vec2 a(mv.from[0], mv.from[1]), e(mv.to[0], mv.to[1]);
+    std::function<Vec2(double)> at = [&](double t) { return Vec2(a + t * (e - a)); };
+    double len = (e - a).norm();
+    if (mv.g != 1) {
+      const Vec2 c(mv.center[0], mv.center[1]);
+      const double r = (a - c).norm();
+      const double a0 = std::atan2(a.y() - c.y(), a.x() - c.x()), a1 = std::atan2(e.y() - c.y(), e.x() - c.x());
+      double sweep = a1 - a0;
+      if (mv.g == 3 && sweep <= 1e-12) sweep += 2 * M_PI;
+      if (mv.g == 2 && sweep >= -1e-12) sweep -= 2 * M_PI;
+      len = r * std::abs(sweep);
+      at = [c, r, a0, sweep](double t) { return Vec2(c + r * Vec2(std::cos(a0 + sweep * t), std::sin(a0 + sweep * t))); };
+    }
+    const int n = std::max(1, static_cast<int>(std::ceil(len / g)));
+    for (int k = has_prev ? 1 : 0; k <= n; ++k) {
+      const Vec2 q = at(static_cast<double>(k) / n);
+      const int got = mark(q, prev, has_prev);
+      if (at_floor && has_prev) {
+        fresh += got;
+        run += len / n;
+        if (run >= piece - 1e-9) {
+          const double width = fresh * g * g / run;
+          ++w.pieces;
+          if (width > limit) ++w.over;
+          if (width > w.worst_mm) {
+            w.worst_mm = width;
+            w.at = q;
+          }
+          run = 0;
+          fresh = 0;
+        }
+      }
+      prev = q;
+      has_prev = true;
+    }
+    if (!at_floor) {
+      run = 0;
+      fresh = 0;
+    }
+  }
+  return w;
+}
+
 std::size_t components(const Region& r, const CutParams& cut) {
   return offset_inward(r, cut.clearance() + 0.001).size();
 }
@@ -138,6 +265,15 @@ TEST_P(AdaptiveBench, ClearsAtTheTargetEngagementWithNoGouge) {
   EXPECT_GT(o.probed, 1000u);
   EXPECT_EQ(o.uncovered, 0u);
   EXPECT_LE(o.m.metrics.max_engagement_deg, st.target_deg + kEngTolDeg);
+  // The feed map's grid and the planner's raster share their cell centres on these pockets (both
+  // D/40 from the outline's box), so the figure above reads the planner's own counts. An independent
+  // 0.05 mm replay of the program: at most the target width a_e = 5 mm plus kWidthTolMm.
+  const WidthReport wr = widest_cut(o.rep, pf.region, cut.tool_diameter / 2, 5.0);
+  std::printf("[ adaptive ] %s: widest cut %.3f mm at (%.3f, %.3f), %zu of %zu pieces over 5 mm\n", GetParam(),
+              wr.worst_mm, wr.at.x(), wr.at.y(), wr.over, wr.pieces);
+  EXPECT_GT(wr.pieces, 10000u);
+  EXPECT_LE(wr.worst_mm, 5.0 + kWidthTolMm) << "at " << wr.at.transpose();
+  EXPECT_LE(wr.over * 1000, wr.pieces);  // a few pieces a thousand above 5 mm, none far above
   // Few passes that cut nothing (each costs a stop and a start): where no pass can start at the
   // end of a ride back, the ride and the link beyond it are one move. Before: 96 of 257, 81 of
   // 174, 144 of 334 passes; now 18 / 180, 5 / 98, 11 / 197.
