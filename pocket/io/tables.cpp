@@ -15,11 +15,11 @@ std::string tool_points_csv(const std::vector<Vec2>& points) {
 
 std::string feed_profile_csv(const FeedProfile& profile) {
   std::ostringstream feed;
-  feed << "chain,segment,s_mm,length_mm,engagement,width_mm,feed_mm_min,mrr_mm3_min\n";
+  feed << "chain,segment,s_mm,length_mm,engagement,width_mm,feed_mm_min,mrr_mm3_min,swept_width_mm\n";
   for (const auto& p : profile.pieces)
     feed << p.chain << "," << p.segment << "," << format_double(p.s_mm) << "," << format_double(p.length_mm) << ","
          << format_double(p.engagement) << "," << format_double(p.width_mm) << "," << format_double(p.feed) << ","
-         << format_double(p.mrr_mm3_min) << "\n";
+         << format_double(p.mrr_mm3_min) << "," << format_double(p.swept_width_mm) << "\n";
   return feed.str();
 }
 

@@ -74,8 +74,10 @@ Clearance::Clearance(const Region& region, double clearance_mm) : impl_(std::mak
   // Not coarser than 0.7 × the clearance either: a wall registered in a cell (below) is within the
   // cell's diagonal, 0.99 × the clearance, of every point of it, so a point that keeps the
   // clearance from every wall lies in a cell no wall is registered in, whose side of the walls is
-  // known: point_ok never needs the O(walls) inside test.
-  if (clearance_mm - tol::clear_mm > 1e-3) m.h = std::min(m.h, 0.7 * (clearance_mm - tol::clear_mm));
+  // known: point_ok never needs the O(walls) inside test. (Not below a million cells' worth: a
+  // 1 m pocket and a Ø1 tool keep 24 MB of empty cells, not 200 MB.)
+  if (clearance_mm - tol::clear_mm > 1e-3)
+    m.h = std::min(m.h, std::max(0.7 * (clearance_mm - tol::clear_mm), std::sqrt(ext.x() * ext.y() / 1e6)));
   m.h = std::max({m.h, clearance_mm / 10, std::sqrt(ext.x() * ext.y() / 4e6), 1e-6});
   m.lo = all.lo - Vec2(m.h, m.h);
   m.nx = static_cast<int>(std::ceil(ext.x() / m.h)) + 2;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace millnet::pocket {
 
@@ -24,33 +25,57 @@ double feed_for_engagement(double n3, double n1, double n2, const CutParams& cut
 namespace {
 
 /// Cut state of the fine grid; rows = y, cols = x.
+///
+/// Two readings of what a step cuts. The seed's: the cells whose centre the tool's disk newly
+/// covers (n₃, which sets the feeds). And the swept area: each material cell keeps the signed
+/// distance sd from its centre to the outline of the disks cut so far, a cell counts as covered
+/// by the share ½ − sd/g (clamped to [0, 1]), and a step's cut is the sum of the shares it adds.
+/// A crescent one cell thick holds ±3–6 centres more or fewer than its area in cells, depending
+/// on where the cell centres fall (the largest of thousands of steps reads 15–18° high at 90° on a
+/// D/40 grid); the shares read the area to a few hundredths of a cell per outline cell.
 struct FeedMap {
   Vec2 lo;
   double g = 1;
   int nx = 0, ny = 0;
   std::vector<unsigned char> cut;  ///< 1 = cut or no material
+  std::vector<float> sd;           ///< signed distance to the cut outline (material cells; < 0 inside)
 
-  /// Marks the cells whose centre lies within r of p; returns how many were newly cut.
-  /// O((2r/g + 1)²).
-  int mark(const Vec2& p, double r) {
-    int fresh = 0;
-    const int x0 = std::max(0, static_cast<int>(std::floor((p.x() - r - lo.x()) / g)));
-    const int x1 = std::min(nx - 1, static_cast<int>(std::ceil((p.x() + r - lo.x()) / g)));
-    const int y0 = std::max(0, static_cast<int>(std::floor((p.y() - r - lo.y()) / g)));
-    const int y1 = std::min(ny - 1, static_cast<int>(std::ceil((p.y() + r - lo.y()) / g)));
-    const double r2 = r * r;
+  struct Marked {
+    int fresh = 0;        ///< cells whose centre was newly covered
+    double swept = 0;     ///< cells' worth of area newly covered (the shares)
+  };
+
+  /// Marks the disk of radius r about p. O((2r/g + 3)²).
+  Marked mark(const Vec2& p, double r) {
+    Marked m;
+    const double ro = r + g;  // the shares reach half a cell beyond the outline (a cell more: rounding)
+    const int x0 = std::max(0, static_cast<int>(std::floor((p.x() - ro - lo.x()) / g)));
+    const int x1 = std::min(nx - 1, static_cast<int>(std::ceil((p.x() + ro - lo.x()) / g)));
+    const int y0 = std::max(0, static_cast<int>(std::floor((p.y() - ro - lo.y()) / g)));
+    const int y1 = std::min(ny - 1, static_cast<int>(std::ceil((p.y() + ro - lo.y()) / g)));
+    const double r2 = r * r, ro2 = ro * ro, covered = -0.5 * g;
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(x);
+        const double old = static_cast<double>(sd[i]);
+        if (old <= covered) continue;  // no material, or fully covered (and so cut) already
         const Vec2 c = lo + Vec2((x + 0.5) * g, (y + 0.5) * g);
-        if ((c - p).squaredNorm() > r2) continue;
-        unsigned char& cell = cut[static_cast<std::size_t>(y) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(x)];
-        if (!cell) {
-          cell = 1;
-          ++fresh;
+        const double d2 = (c - p).squaredNorm();
+        if (d2 > ro2) continue;
+        const double d = std::sqrt(d2) - r;
+        if (d < old) {
+          m.swept += share(d) - share(old);
+          sd[i] = static_cast<float>(d);
+        }
+        if (d2 <= r2 && !cut[i]) {
+          cut[i] = 1;
+          ++m.fresh;
         }
       }
-    return fresh;
+    return m;
   }
+
+  [[nodiscard]] double share(double dist) const { return std::clamp(0.5 - dist / g, 0.0, 1.0); }
 };
 
 /// Splits segments longer than max_len into equal parts (lines: points on the line; arcs: equal
@@ -111,6 +136,10 @@ FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cu
     for (int x = 0; x < map.nx; ++x)
       if (inside_q.point_ok(map.lo + Vec2((x + 0.5) * g, (y + 0.5) * g)))
         map.cut[static_cast<std::size_t>(y) * static_cast<std::size_t>(map.nx) + static_cast<std::size_t>(x)] = 0;
+  // No material: "covered" for the shares (−∞); material: nothing cut yet (+∞).
+  map.sd.resize(map.cut.size());
+  for (std::size_t i = 0; i < map.cut.size(); ++i)
+    map.sd[i] = map.cut[i] ? -std::numeric_limits<float>::infinity() : std::numeric_limits<float>::infinity();
 
   double s_total = 0;
   for (std::size_t ci = 0; ci < path.chains.size(); ++ci) {
@@ -126,16 +155,27 @@ FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cu
     // cell (a slot where the crescent is half). A segment that completes no pool reads the last
     // pooled value.
     double pool_fresh = 0, pool_len = 0, last_n = 0;
+    // The swept width: the shares pooled over at least a cell of travel (a window may span pieces).
+    double win_area = 0, win_len = 0, last_w = 0;
     // O(segments · steps per segment · (D/g)²).
     for (std::size_t k = 0; k + 1 < ch.pts.size(); ++k) {
       const Segment s{ch.pts[k].p(), ch.pts[k + 1].p(), ch.pts[k].bulge};
       const double len = length(s);
       const int steps = std::max(1, static_cast<int>(std::ceil(len / g - 1e-9)));
       const double step_len = len / steps;
-      double n3 = 0;
-      bool measured = false;
+      double n3 = 0, sw = 0;
+      bool measured = false, sw_measured = false;
       for (int i = 1; i <= steps; ++i) {
-        const int fresh = map.mark(point_at(s, static_cast<double>(i) / steps), R);
+        const FeedMap::Marked mk = map.mark(point_at(s, static_cast<double>(i) / steps), R);
+        const int fresh = mk.fresh;
+        win_area += mk.swept;
+        win_len += step_len;
+        if (win_len >= g * (1 - 1e-9)) {
+          last_w = std::min(win_area * g * g / win_len, cut.tool_diameter);
+          sw = std::max(sw, last_w);
+          sw_measured = true;
+          win_area = win_len = 0;
+        }
         // Scale to a full cell step (short steps cut fewer cells at the same width); a disk cannot
         // engage more than its diameter, so the scaled count is capped at n₁ (raster noise).
         double n = 0;
@@ -153,6 +193,7 @@ FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cu
         measured = true;
       }
       if (!measured) n3 = last_n;
+      if (!sw_measured) sw = last_w;
       FeedPiece p;
       p.chain = ci;
       p.segment = k;
@@ -160,6 +201,7 @@ FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cu
       p.length_mm = len;
       p.engagement = n3;
       p.width_mm = std::min(n3 * g, cut.tool_diameter);
+      p.swept_width_mm = sw;
       p.feed = cut.feed_adjust ? feed_for_engagement(n3, prof.n1, prof.n2, cut) : cut.feed_half;
       // Cuts no cell: a link. Never slower than the map's own feed for no engagement (with
       // chip thinning on, f₂ × max_chip_thinning within feed_max).

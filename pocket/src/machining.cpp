@@ -247,9 +247,13 @@ void complete_path(const Region& region, const CutParams& cut, const PlanResult&
 }
 
 double max_engagement_deg(const FeedProfile& profile) {
+  // From the swept width (FeedPiece::swept_width_mm), not the centre count n₃: a crescent one cell
+  // thick holds several centres more or fewer than its area, and the largest of thousands of
+  // steps read 15–18° high at 90° on the bench's D/40 grid.
+  const double D = profile.n1 * profile.grid_mm;
   double best = 0;
   for (const FeedPiece& p : profile.pieces)  // O(pieces)
-    best = std::max(best, profile.n1 > 0 ? std::clamp(p.engagement / profile.n1, 0.0, 1.0) : 0.0);
+    best = std::max(best, D > 0 ? std::clamp(p.swept_width_mm / D, 0.0, 1.0) : 0.0);
   return std::acos(1 - 2 * best) * 180 / M_PI;
 }
 

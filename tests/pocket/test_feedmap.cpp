@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include <algorithm>
 
@@ -155,4 +156,47 @@ TEST(PocketFeedMap, ShortStepsArePooledSoARoundingCellDoesNotReadAsASlot) {
   EXPECT_LE(run(true), 7.5);
   EXPECT_GE(run(true), 3.0);
   EXPECT_GE(run(false), 9.9);  // the artifact the pooling removes (kept for the 1995 preset)
+}
+
+// The swept width (what max_engagement_deg reads) against hand-computed cuts, at the bench's D/40
+// grid, for lines at several angles and sub-cell offsets: a slot sweeps D, a parallel pass R to
+// the side of it sweeps R, one 2 mm further sweeps 2 mm (each read away from the passes' ends). The
+// centre count n₃ of the same pieces strays by whole cells depending on where the centres fall;
+// the swept width stays within kTol of the area (0.15 mm measured; the centre count of the R pass
+// reads 5.00–6.75 mm).
+TEST(PocketFeedMap, SweptWidthReadsTheCutAreaWhereverTheCellCentresFall) {
+  constexpr double kTol = 0.2;  // mm of width: ≈ 2.3° at 90° on Ø10
+  CutParams c;
+  c.tool_diameter = 10;
+  c.feed_grid = 0.25;
+  c.stepover = 5;
+  c.feed_slot = c.feed_half = c.feed_min = c.feed_max = 1000;
+  const Region r{rect(-100, -100, 100, 100), {}};
+  double worst = 0, n3_spread_lo = 1e9, n3_spread_hi = 0;
+  for (const double deg : {0.0, 17.0, 45.0, 73.0})
+    for (const double off : {0.0, 0.05, 0.11, 0.17, 0.23}) {
+      const Vec2 u(std::cos(deg * M_PI / 180), std::sin(deg * M_PI / 180)), n(-u.y(), u.x());
+      const Vec2 a = Vec2(-30, -30 + off) + Vec2(off, 0), b = a + 60 * u;
+      Path2D p;
+      p.chains.push_back(line_chain(a, b));                  // slot: D
+      p.chains.push_back(line_chain(a + 5 * n, b + 5 * n));  // beside it at R: R
+      p.chains.push_back(line_chain(a + 7 * n, b + 7 * n));  // 2 mm further: 2
+      const FeedProfile prof = assign_feeds(p, r, c, 1.0);
+      const double expect[3] = {10, 5, 2};
+      double start[3] = {1e18, 1e18, 1e18};  // s_mm runs on over the chains
+      for (const FeedPiece& q : prof.pieces) start[q.chain] = std::min(start[q.chain], q.s_mm);
+      for (const FeedPiece& q : prof.pieces) {
+        const double s0 = q.s_mm - start[q.chain];
+        if (s0 < 6 || s0 + q.length_mm > 54) continue;  // away from the ends
+        const double e = expect[q.chain];
+        worst = std::max(worst, std::abs(q.swept_width_mm - e));
+        EXPECT_NEAR(q.swept_width_mm, e, kTol) << deg << "° offset " << off << " chain " << q.chain << " s " << q.s_mm;
+        if (q.chain == 1) {
+          n3_spread_lo = std::min(n3_spread_lo, q.width_mm);
+          n3_spread_hi = std::max(n3_spread_hi, q.width_mm);
+        }
+      }
+    }
+  std::printf("[ feed map ] swept width within %.3f mm of the area; centre-count width of the R pass %.2f..%.2f mm\n",
+              worst, n3_spread_lo, n3_spread_hi);
 }

@@ -29,6 +29,9 @@ struct FeedPiece {
   double width_mm = 0;      ///< engaged width ≈ n₃ · grid
   double feed = 0;          ///< mm/min (what Chain::feed holds)
   double mrr_mm3_min = 0;   ///< feed × width × axial depth
+  /// The widest cut of the piece from the area newly swept (cells' covered shares, pooled over a
+  /// cell of travel), mm: what max_engagement_deg reads; width_mm is the seed's centre count.
+  double swept_width_mm = 0;
 };
 
 struct FeedProfile {
