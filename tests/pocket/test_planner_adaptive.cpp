@@ -405,6 +405,10 @@ TEST(PlannerAdaptive, RidesCutNothingAndArePulledTaut) {
 // the wall pass turns a corner of the rectangle it takes a quarter arc of it in under a millimetre
 // of travel (located at the four corners; fillet passes and spring loops were tried and made it
 // worse). Below 85° the passes now take that band themselves (planner_adaptive.cpp, prepare()).
+// Those figures were centre counts on a grid that shares the planner's cell centres; the swept
+// width (2026-11-26) reads 56.1° / 60.6° / 68.1°, the independent replay 51.7° / 57.3° / 66.0°: the
+// planner's raster noise (±2–3 cells a step, 0.66–0.85 mm of width over what it aims at) weighs
+// more at a narrow target.
 class AdaptiveTarget : public ::testing::TestWithParam<double> {};
 
 TEST_P(AdaptiveTarget, StaysWithinItsToleranceAtTheCornersToo) {
@@ -413,7 +417,13 @@ TEST_P(AdaptiveTarget, StaysWithinItsToleranceAtTheCornersToo) {
   a.max_engagement_deg = GetParam();
   const Outcome o = run(r, bench_cut(), a);
   ASSERT_EQ(o.m.status, PlanStatus::Ok);
-  EXPECT_LE(o.m.metrics.max_engagement_deg, GetParam() + kEngTolDeg);
+  // The metric reads widths within ≈ 0.15 mm (the feed map's test); at these narrow cuts a width
+  // error weighs more in degrees (dθ = dw / (R sin θ): 0.25 mm is 4.1° at 45°, 2.9° at 90°).
+  const double R = bench_cut().tool_diameter / 2, th = GetParam() * M_PI / 180;
+  EXPECT_LE(o.m.metrics.max_engagement_deg, GetParam() + kEngTolDeg + 0.25 / (R * std::sin(th)) * 180 / M_PI);
+  // The independent replay: within kEngTolDeg of the target (measured: 51.7°, 57.3°, 66.0°).
+  const WidthReport wr = widest_cut(o.rep, r, R, R * (1 - std::cos(th)));
+  EXPECT_LE(wr.worst_mm, R * (1 - std::cos(th + kEngTolDeg * M_PI / 180))) << "at " << wr.at.transpose();
   EXPECT_EQ(o.rep.violations, 0) << o.rep.first_violation;
   EXPECT_EQ(o.uncovered, 0u);
   EXPECT_LE(o.m.metrics.uncut_area_mm2, 2.0);
