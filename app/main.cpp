@@ -31,11 +31,14 @@ std::string one_line(std::string s) {
 /// 0's abort ends it first and the line is said once).
 int fail(const std::string& cmd, const std::string& what) {
   using namespace millnet::app;
-  if (cluster_root()) std::cerr << "millnet " << cmd << ": error: " << what << "\n";
+  // Each line goes out in one write (one string to the unbuffered stream): under mpirun the ranks'
+  // stderr is forwarded in the chunks written, and its MPI_ABORT banner landed between "millnet "
+  // and the rest of a line written piecewise (seen in a -j2 test run).
+  if (cluster_root()) std::cerr << ("millnet " + cmd + ": error: " + what + "\n");
   if (cluster_size() > 1 && !cluster_failure_shared()) {
     if (!cluster_root()) {
       std::this_thread::sleep_for(std::chrono::seconds(1));
-      std::cerr << "millnet " << cmd << ": error on MPI rank " << cluster_rank() << ": " << what << "\n";
+      std::cerr << ("millnet " + cmd + ": error on MPI rank " + std::to_string(cluster_rank()) + ": " + what + "\n");
     }
     cluster_abort(1);
   }
@@ -74,7 +77,7 @@ int main(int argc, char** argv) {
     std::string who = "millnet";
     for (const auto& c : commands)
       if (c.sub->parsed()) who += " " + c.sub->get_name();
-    if (cluster_root()) std::cerr << who << ": error: " << e.what() << "\n";  // every rank parsed the same words
+    if (cluster_root()) std::cerr << (who + ": error: " + e.what() + "\n");  // every rank parsed the same words; one write
     return 1;
   } catch (const CLI::ParseError& e) {
     if (!cluster_root()) return e.get_exit_code() == 0 ? 0 : 2;
