@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <numbers>
 #include <optional>
 #include <queue>
@@ -107,20 +108,32 @@ public:
         }
   }
 
-  /// Calls f(i) for every cell whose centre lies within r of c. O((2r/h)²).
-  template <class F>
-  void disk(const Vec2& c, double r, F&& f) const {
-    const int y0 = std::max(0, static_cast<int>(std::ceil((c.y() - r - lo_.y()) / h_ - 0.5)));
-    const int y1 = std::min(ny_ - 1, static_cast<int>(std::floor((c.y() + r - lo_.y()) / h_ - 0.5)));
-    for (int y = y0; y <= y1; ++y) {
+  /// The columns (or rows, o = lo_.y()) whose centres lie within w of coordinate v, unclamped:
+  /// [first, last], empty when first > last.
+  [[nodiscard]] std::pair<int, int> run(double v, double w, double o) const {
+    return {static_cast<int>(std::ceil((v - w - o) / h_ - 0.5)), static_cast<int>(std::floor((v + w - o) / h_ - 0.5))};
+  }
+
+  /// Calls g(y, x0, x1) for every row of the cells whose centre lies within r of c, with the row's
+  /// run of such cells (clamped to the raster, non-empty or not).
+  template <class G>
+  void rows(const Vec2& c, double r, G&& g) const {
+    const auto [ya, yb] = run(c.y(), r, lo_.y());
+    for (int y = std::max(0, ya); y <= std::min(ny_ - 1, yb); ++y) {
       const double dy = lo_.y() + (y + 0.5) * h_ - c.y();
       const double w2 = r * r - dy * dy;
       if (w2 < 0) continue;
-      const double w = std::sqrt(w2);
-      const int x0 = std::max(0, static_cast<int>(std::ceil((c.x() - w - lo_.x()) / h_ - 0.5)));
-      const int x1 = std::min(nx_ - 1, static_cast<int>(std::floor((c.x() + w - lo_.x()) / h_ - 0.5)));
-      for (int x = x0; x <= x1; ++x) f(idx(x, y));
+      const auto [xa, xb] = run(c.x(), std::sqrt(w2), lo_.x());
+      g(y, std::max(0, xa), std::min(nx_ - 1, xb));
     }
+  }
+
+  /// Calls f(i) for every cell whose centre lies within r of c. O((2r/h)²).
+  template <class F>
+  void disk(const Vec2& c, double r, F&& f) const {
+    rows(c, r, [&](int y, int x0, int x1) {
+      for (int x = x0; x <= x1; ++x) f(idx(x, y));
+    });
   }
 
   /// Uncut cells within r of c (what a tool there would cut).
@@ -135,26 +148,15 @@ public:
   /// run, by the same rounding as disk): O(r·|c − p|/h² + r/h) instead of O((r/h)²).
   [[nodiscard]] int fresh_beyond(const Vec2& p, const Vec2& c, double r) const {
     int n = 0;
-    const int y0 = std::max(0, static_cast<int>(std::ceil((c.y() - r - lo_.y()) / h_ - 0.5)));
-    const int y1 = std::min(ny_ - 1, static_cast<int>(std::floor((c.y() + r - lo_.y()) / h_ - 0.5)));
-    for (int y = y0; y <= y1; ++y) {
-      const double yc = lo_.y() + (y + 0.5) * h_;
-      const double w2 = r * r - (yc - c.y()) * (yc - c.y());
-      if (w2 < 0) continue;
-      const double w = std::sqrt(w2);
-      const int x0 = std::max(0, static_cast<int>(std::ceil((c.x() - w - lo_.x()) / h_ - 0.5)));
-      const int x1 = std::min(nx_ - 1, static_cast<int>(std::floor((c.x() + w - lo_.x()) / h_ - 0.5)));
-      int px0 = x1 + 1, px1 = x1;  // p's run on this row (empty when the row misses p's disk)
-      const double v2 = r * r - (yc - p.y()) * (yc - p.y());
-      if (v2 >= 0) {
-        const double v = std::sqrt(v2);
-        px0 = static_cast<int>(std::ceil((p.x() - v - lo_.x()) / h_ - 0.5));
-        px1 = static_cast<int>(std::floor((p.x() + v - lo_.x()) / h_ - 0.5));
-      }
+    rows(c, r, [&](int y, int x0, int x1) {
+      const double dy = lo_.y() + (y + 0.5) * h_ - p.y();
+      const double v2 = r * r - dy * dy;
+      // p's run on this row (empty when the row misses p's disk).
+      const auto [px0, px1] = v2 >= 0 ? run(p.x(), std::sqrt(v2), lo_.x()) : std::pair<int, int>{x1 + 1, x1};
       const std::size_t row = idx(0, y);
       for (int x = x0; x <= std::min(x1, px0 - 1); ++x) n += st_[row + static_cast<std::size_t>(x)] == 1;
       for (int x = std::max(x0, std::max(px0, px1 + 1)); x <= x1; ++x) n += st_[row + static_cast<std::size_t>(x)] == 1;
-    }
+    });
     return n;
   }
 
