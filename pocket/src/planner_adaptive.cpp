@@ -9,6 +9,7 @@
 #include "raster_internal.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -57,8 +58,9 @@ constexpr double kWallStartMm = 5.0;
 constexpr std::size_t kWallStartTries = 40;
 /// Below this engagement target the passes also take the wall band (see prepare()), degrees.
 constexpr double kPassesTakeTheWallBandBelowDeg = 85;
-/// Raster cells of uncut material worth a pass (fewer are raster noise).
-constexpr int kMinWorkCells = 4;
+/// Uncut material worth a pass, in cells of D/40 (less is raster noise); min_work_ is this area in
+/// the raster's own cells.
+constexpr double kMinWorkCellsD40 = 4;
 
 using raster::lin;
 
@@ -91,6 +93,8 @@ public:
   [[nodiscard]] int nx() const { return nx_; }
   [[nodiscard]] int ny() const { return ny_; }
   [[nodiscard]] double h() const { return h_; }
+  /// Changes whenever mark() is called (a cache key for counts of uncut cells).
+  [[nodiscard]] std::uint64_t version() const { return version_; }
   [[nodiscard]] std::size_t idx(int x, int y) const { return lin(x, y, nx_); }
   [[nodiscard]] Vec2 centre(int x, int y) const { return lo_ + Vec2((x + 0.5) * h_, (y + 0.5) * h_); }
   [[nodiscard]] const std::vector<std::uint8_t>& states() const { return st_; }
@@ -100,11 +104,16 @@ public:
   void count_blocks() {
     uncut_.assign(lin(0, by_, bx_), 0);
     tuncut_.assign(uncut_.size(), 0);
+    tsum_.assign(uncut_.size(), {0, 0});
     for (int y = 0; y < ny_; ++y)
       for (int x = 0; x < nx_; ++x)
         if (st_[idx(x, y)] == 1) {
           ++uncut_[block(x, y)];
-          if (target_[idx(x, y)]) ++tuncut_[block(x, y)];
+          if (target_[idx(x, y)]) {
+            ++tuncut_[block(x, y)];
+            tsum_[block(x, y)][0] += x;
+            tsum_[block(x, y)][1] += y;
+          }
         }
   }
 
@@ -160,17 +169,73 @@ public:
     return n;
   }
 
+  /// A disk's runs per row (first, last; empty when first > last), for fresh_beyond's many
+  /// candidate steps from one position.
+  struct Runs {
+    int y0 = 0;
+    std::vector<std::pair<int, int>> x;
+  };
+  /// The runs of the disk of radius r about p on the rows within r + pad of p.y.
+  [[nodiscard]] Runs runs(const Vec2& p, double r, double pad) const {
+    Runs out;
+    const auto [ya, yb] = run(p.y(), r + pad, lo_.y());
+    out.y0 = ya;
+    for (int y = ya; y <= yb; ++y) {
+      const double dy = lo_.y() + (y + 0.5) * h_ - p.y();
+      const double v2 = r * r - dy * dy;
+      out.x.push_back(v2 >= 0 ? run(p.x(), std::sqrt(v2), lo_.x()) : std::pair<int, int>{1, 0});
+    }
+    return out;
+  }
+
+  /// fresh_beyond(p, c, r) with p's runs from runs(p, r, pad), |c − p| ≤ pad.
+  [[nodiscard]] int fresh_beyond(const Runs& pr, const Vec2& c, double r) const {
+    int n = 0;
+    rows(c, r, [&](int y, int x0, int x1) {
+      const std::size_t k = static_cast<std::size_t>(y - pr.y0);
+      auto [px0, px1] = y >= pr.y0 && k < pr.x.size() ? pr.x[k] : std::pair<int, int>{1, 0};
+      if (px0 > px1) px0 = x1 + 1, px1 = x1;  // the row misses p's disk
+      const std::size_t row = idx(0, y);
+      for (int x = x0; x <= std::min(x1, px0 - 1); ++x) n += st_[row + static_cast<std::size_t>(x)] == 1;
+      for (int x = std::max(x0, std::max(px0, px1 + 1)); x <= x1; ++x) n += st_[row + static_cast<std::size_t>(x)] == 1;
+    });
+    return n;
+  }
+
   /// Cuts the cells within r of c; returns how many were uncut.
+  /// After a mark(p, r), every cell within r of p is no longer uncut, so the next mark within r
+  /// of p visits only the crescent beyond p's disk (by the same rounding): O(r·|c − p|/h² + r/h)
+  /// instead of O((r/h)²), the same cells cut.
   int mark(const Vec2& c, double r) {
     int n = 0;
-    disk(c, r, [&](std::size_t i) {
+    ++version_;
+    const auto cut = [&](int x, int y) {
+      const std::size_t i = idx(x, y);
       if (st_[i] != 1) return;
       st_[i] = 2;
       ++n;
-      const int x = static_cast<int>(i % static_cast<std::size_t>(nx_)), y = static_cast<int>(i / static_cast<std::size_t>(nx_));
       --uncut_[block(x, y)];
-      if (target_[i]) --tuncut_[block(x, y)];
+      if (target_[i]) {
+        --tuncut_[block(x, y)];
+        tsum_[block(x, y)][0] -= x;
+        tsum_[block(x, y)][1] -= y;
+      }
+    };
+    const bool beyond = r == marked_r_ && (c - marked_).squaredNorm() < r * r;
+    const Vec2 p = marked_;
+    rows(c, r, [&](int y, int x0, int x1) {
+      if (!beyond) {
+        for (int x = x0; x <= x1; ++x) cut(x, y);
+        return;
+      }
+      const double dy = lo_.y() + (y + 0.5) * h_ - p.y();
+      const double v2 = r * r - dy * dy;
+      const auto [px0, px1] = v2 >= 0 ? run(p.x(), std::sqrt(v2), lo_.x()) : std::pair<int, int>{x1 + 1, x1};
+      for (int x = x0; x <= std::min(x1, px0 - 1); ++x) cut(x, y);
+      for (int x = std::max(x0, std::max(px0, px1 + 1)); x <= x1; ++x) cut(x, y);
     });
+    marked_ = c;
+    marked_r_ = r;
     return n;
   }
 
@@ -184,28 +249,86 @@ public:
     return ok;
   }
 
+  /// No uncut cell centre within r (+ 1e-9 mm) of the segment a–b (block-pruned): then no disk of
+  /// radius r about a point of it holds one, whatever the rounding of disk().
+  [[nodiscard]] bool capsule_clear(const Vec2& a, const Vec2& b, double r) const {
+    const double bs = kB * h_, rr = r + 1e-9;
+    const Vec2 ab = b - a;
+    const double L2 = ab.squaredNorm();
+    const auto dist2 = [&](const Vec2& q) {
+      const double t = L2 > 0 ? std::clamp((q - a).dot(ab) / L2, 0.0, 1.0) : 0.0;
+      return (q - (a + t * ab)).squaredNorm();
+    };
+    const Vec2 lo = a.cwiseMin(b) - Vec2(rr, rr), hi = a.cwiseMax(b) + Vec2(rr, rr);
+    const int bx0 = std::max(0, static_cast<int>(std::floor((lo.x() - lo_.x()) / bs)));
+    const int bx1 = std::min(bx_ - 1, static_cast<int>(std::floor((hi.x() - lo_.x()) / bs)));
+    const int by0 = std::max(0, static_cast<int>(std::floor((lo.y() - lo_.y()) / bs)));
+    const int by1 = std::min(by_ - 1, static_cast<int>(std::floor((hi.y() - lo_.y()) / bs)));
+    const double half_diag = bs * std::numbers::sqrt2 / 2;
+    for (int by = by0; by <= by1; ++by)
+      for (int bx = bx0; bx <= bx1; ++bx) {
+        if (uncut_[lin(bx, by, bx_)] <= 0) continue;
+        const Vec2 bc = lo_ + Vec2((bx + 0.5) * bs, (by + 0.5) * bs);
+        const double d = std::sqrt(dist2(bc));
+        if (d > rr + half_diag) continue;
+        for (int y = by * kB; y < std::min(ny_, (by + 1) * kB); ++y)
+          for (int x = bx * kB; x < std::min(nx_, (bx + 1) * kB); ++x)
+            if (st_[idx(x, y)] == 1 && dist2(centre(x, y)) <= rr * rr) return false;
+      }
+    return true;
+  }
+
   /// Uncut target cells within r of c: their number, the nearest one and their centroid (each
   /// written only when there is one).
+  /// Without `nearest`, a block whose every cell centre lies within r counts whole (its count and
+  /// index sums): O(r²/(kB h)² + r/h · kB) instead of O((r/h)²).
   int target_near(const Vec2& c, double r, Vec2* nearest, Vec2* centroid = nullptr) const {
-    int n = 0;
+    long long n = 0, sx = 0, sy = 0;  // index sums: exact, independent of the visiting order
     double best = kInf;
-    Vec2 sum(0, 0);
-    blocks(c, r, tuncut_, [&](int x, int y) {
+    const auto cell = [&](int x, int y) {
       const std::size_t i = idx(x, y);
-      if (st_[i] != 1 || !target_[i]) return true;
+      if (st_[i] != 1 || !target_[i]) return;
       const Vec2 q = centre(x, y);
       const double d = (q - c).squaredNorm();
-      if (d > r * r) return true;
+      if (d > r * r) return;
       ++n;
-      sum += q;
+      sx += x;
+      sy += y;
       if (nearest && d < best) {
         best = d;
         *nearest = q;
       }
-      return true;
-    });
-    if (centroid && n > 0) *centroid = sum / n;
-    return n;
+    };
+    const double bs = kB * h_;
+    const int bx0 = std::max(0, static_cast<int>(std::floor((c.x() - r - lo_.x()) / bs)));
+    const int bx1 = std::min(bx_ - 1, static_cast<int>(std::floor((c.x() + r - lo_.x()) / bs)));
+    const int by0 = std::max(0, static_cast<int>(std::floor((c.y() - r - lo_.y()) / bs)));
+    const int by1 = std::min(by_ - 1, static_cast<int>(std::floor((c.y() + r - lo_.y()) / bs)));
+    for (int by = by0; by <= by1; ++by)
+      for (int bx = bx0; bx <= bx1; ++bx) {
+        const std::size_t b = lin(bx, by, bx_);
+        if (tuncut_[b] <= 0) continue;
+        const Vec2 blo = lo_ + Vec2(bx * bs, by * bs);
+        const Vec2 q = c.cwiseMax(blo).cwiseMin(blo + Vec2(bs, bs));
+        if ((q - c).squaredNorm() > r * r) continue;
+        // The block's farthest cell centre (blocks at the raster's edge are partial: their cells
+        // beyond it are never counted, so the full block's corners bound them too).
+        const Vec2 lo_c = blo + Vec2(0.5 * h_, 0.5 * h_), hi_c = blo + Vec2(bs - 0.5 * h_, bs - 0.5 * h_);
+        const Vec2 far(std::max(std::abs(c.x() - lo_c.x()), std::abs(c.x() - hi_c.x())),
+                       std::max(std::abs(c.y() - lo_c.y()), std::abs(c.y() - hi_c.y())));
+        if (!nearest && far.squaredNorm() <= r * r) {
+          n += tuncut_[b];
+          sx += tsum_[b][0];
+          sy += tsum_[b][1];
+          continue;
+        }
+        for (int y = by * kB; y < std::min(ny_, (by + 1) * kB); ++y)
+          for (int x = bx * kB; x < std::min(nx_, (bx + 1) * kB); ++x) cell(x, y);
+      }
+    if (centroid && n > 0)
+      *centroid = lo_ + Vec2((static_cast<double>(sx) / static_cast<double>(n) + 0.5) * h_,
+                             (static_cast<double>(sy) / static_cast<double>(n) + 0.5) * h_);
+    return static_cast<int>(n);
   }
 
   [[nodiscard]] std::size_t uncut_target_cells() const {
@@ -242,6 +365,10 @@ private:
   int nx_ = 0, ny_ = 0, bx_ = 0, by_ = 0;
   std::vector<std::uint8_t> st_, target_;
   std::vector<int> uncut_, tuncut_;
+  std::uint64_t version_ = 1;
+  Vec2 marked_{kInf, kInf};  ///< the last mark's centre and radius: its disk holds no uncut cell
+  double marked_r_ = -1;
+  std::vector<std::array<long long, 2>> tsum_;  ///< per block: sums of the uncut target cells' x and y indices
 };
 
 /// Douglas–Peucker on an open polyline within eps, keeping a chord only where the walls allow it.
@@ -276,6 +403,16 @@ void simplify_into(const std::vector<Vec2>& pts, double eps, const Clearance& wa
     if (keep[i]) out.push_back(pts[i]);
 }
 
+/// The raster cell when AdaptiveParams::raster_mm is 0: D/80, or D/40 where the D/80 raster would
+/// pass kMaxFineCells. A step's crescent at D/40 holds a few cells more or fewer than its area
+/// depending on where the cell centres fall (±2–3 cells, 0.66–0.85 mm of width at 0.25 mm steps
+/// on a Ø10 tool), which is ±6–7° at a 45° target; at D/80 the stray is about half.
+double default_raster_mm(const Region& region, double D) {
+  constexpr double kMaxFineCells = 1e7;
+  const raster::Grid g = raster::grid_of(region, D / 80, D, "adaptive planner", kInf);
+  return static_cast<double>(g.nx) * static_cast<double>(g.ny) <= kMaxFineCells ? D / 80 : D / 40;
+}
+
 class Planner {
 public:
   Planner(const Region& region, const CutParams& cut, const AdaptiveParams& prm, double target_deg)
@@ -286,13 +423,19 @@ public:
         both_(prm.both_ways),
         pass_climb_(prm.climb),
         step_(prm.step_mm > 0 ? prm.step_mm : cut.tool_diameter / 40),
-        raster_(region, prm.raster_mm > 0 ? prm.raster_mm : cut.tool_diameter / 40, cut.tool_diameter),
+        raster_(region, prm.raster_mm > 0 ? prm.raster_mm : default_raster_mm(region, cut.tool_diameter), cut.tool_diameter),
         walls_(region, cut.clearance() + tol::contour_margin_mm),
         exact_(region, cut.clearance()),
         link_walls_(region, cut.clearance() + tol::contour_margin_mm + kLinkMarginMm) {
     const double h = raster_.h();
     const double width = R_ * (1 - std::cos(target_deg * kPi / 180));  // engaged width a_e
     target_deg_ = target_deg;
+    // Below kPassesTakeTheWallBandBelowDeg the passes must take every remnant (the wall pass would
+    // take a corner's at once, over the target): there the raster's own 4 cells.
+    min_work_ = target_deg < kPassesTakeTheWallBandBelowDeg
+                    ? 4
+                    : std::max(4, static_cast<int>(std::lround(kMinWorkCellsD40 * (cut.tool_diameter / 40) *
+                                                               (cut.tool_diameter / 40) / (h * h))));
     max_cells_ = prm.safety * width * step_ / (h * h);
     prepare();
   }
@@ -307,17 +450,17 @@ public:
         std::vector<Vec2> way;
         // Both ways: a pass blocked at a wall turns round and cuts the next stripe of the same
         // front back the other way (the other milling direction), with no ride.
-        if (both_ && last_blocked_ && last_cells_ >= kMinWorkCells) {
+        if (both_ && last_blocked_ && last_cells_ >= min_work_) {
           pass_climb_ = !pass_climb_;
           const double got = cut_pass(*pos, -last_dir_, true);
           last_cells_ = got;
           pos = current_end();
-          if (got >= kMinWorkCells) continue;
+          if (got >= min_work_) continue;
         }
         pass_climb_ = climb_;
         // First the front's upstream end: ride back along the material (kept on the other side,
         // nothing cut) to where the front meets a wall, and climb-cut it again from there.
-        if (last_cells_ >= kMinWorkCells && ride_back(*pos, way)) {
+        if (last_cells_ >= min_work_ && ride_back(*pos, way)) {
           // Where no pass can start at the ride's end (every first step would cut more than the
           // target: 116 of 257 passes on four_islands cut nothing there), the ride and the link to
           // the nearest start from its end become one link, pulled taut: one move through cut area
@@ -355,7 +498,7 @@ public:
   /// whose pass cuts next to nothing is not offered again. Returns where the tool is.
   Vec2 pass_from(const Vec2& start, const Vec2& toward) {
     last_cells_ = cut_pass(start, first_dir(start, toward), true);
-    if (last_cells_ < kMinWorkCells) dead_[lattice_index(start)] = 1;
+    if (last_cells_ < min_work_) dead_[lattice_index(start)] = 1;
     return current_end();
   }
 
@@ -545,10 +688,31 @@ private:
     if (!exact_.move_ok(a, b)) return false;
     const double L = (b - a).norm();
     const int n = std::max(1, static_cast<int>(std::ceil(L / step_)));
-    for (int i = 1; i <= n; ++i)
-      if (raster_.fresh(a + (b - a) * (static_cast<double>(i) / n), R_) > max_cells_ * (L / n) / step_ + 0.5) return false;
+    const double allowed = max_cells_ * (L / n) / step_ + 0.5;
+    if (raster_.capsule_clear(a, b, R_)) return true;  // through cut area: every count below is 0
+    // The uncut cells of each sample's disk, from the last one's by the two crescents between them
+    // (the same rounding as the full disk, so the same counts): O(R·step/h² + R/h) a sample.
+    // The count at a itself is kept while the raster is unchanged: the links tried from one
+    // position (the search's seeds, a taut pull) share it.
+    if (!(a == fresh_at_) || raster_.version() != fresh_version_) {
+      fresh_at_ = a;
+      fresh_version_ = raster_.version();
+      fresh_a_ = raster_.fresh(a, R_);
+    }
+    Vec2 prev = a;
+    int fresh = fresh_a_;
+    for (int i = 1; i <= n; ++i) {
+      const Vec2 q = a + (b - a) * (static_cast<double>(i) / n);
+      fresh += raster_.fresh_beyond(prev, q, R_) - raster_.fresh_beyond(q, prev, R_);
+      if (fresh > allowed) return false;
+      prev = q;
+    }
     return true;
   }
+
+  mutable Vec2 fresh_at_{kInf, kInf};
+  mutable std::uint64_t fresh_version_ = 0;
+  mutable int fresh_a_ = 0;
 
   /// Dijkstra from `from` over safe, allowed lattice positions to the nearest one with uncut target
   /// material within reach; the way there (from first, the start last).
@@ -599,7 +763,7 @@ private:
       if (d > dist[k]) continue;
       Vec2 near;
       const bool found = goal ? (lattice_point(k) - *goal).norm() <= 2.5 * kLatticeMm && link_ok(lattice_point(k), *goal)
-                              : !dead_[k] && raster_.target_near(lattice_point(k), reach, &near) >= kMinWorkCells;
+                              : !dead_[k] && raster_.target_near(lattice_point(k), reach, &near) >= min_work_;
       if (found) {
         start = goal ? *goal : lattice_point(k);
         toward = goal ? *goal : near;
@@ -675,12 +839,15 @@ private:
       room_at_ = p;
       room_ = walls_.point_ok(p) ? walls_.wall_distance(p) - walls_.clearance() : -1.0;
       p_clear_ = raster_.clear_within(p, R_);
+      if (p_clear_) p_runs_ = raster_.runs(p, R_, 2 * step_);
     }
     if (!((q - p).norm() < room_) && !walls_.move_ok(p, q)) return kInf;
     // Every caller stands on cut ground (a pass, a ride, a link's end), so only the crescent the step
     // adds can hold uncut cells; checked once per position, the full disk where it is not so.
-    return p_clear_ ? raster_.fresh_beyond(p, q, R_) : raster_.fresh(q, R_);
+    if (!p_clear_) return raster_.fresh(q, R_);
+    return (q - p).norm() <= 2 * step_ ? raster_.fresh_beyond(p_runs_, q, R_) : raster_.fresh_beyond(p, q, R_);
   }
+  mutable Raster::Runs p_runs_;
   mutable Vec2 room_at_{kInf, kInf};
   mutable double room_ = -1;
   mutable bool p_clear_ = false;
@@ -730,7 +897,7 @@ private:
     Vec2 hd(0, 0);
     while (len < kRideMaxMm) {
       Vec2 cen;
-      if (raster_.target_near(p, R_ + kSenseMm, nullptr, &cen) < kMinWorkCells) break;
+      if (raster_.target_near(p, R_ + kSenseMm, nullptr, &cen) < min_work_) break;
       Vec2 u = cen - p;
       if (u.norm() < 1e-9) break;
       u.normalize();
@@ -761,9 +928,10 @@ private:
   /// The straight move a→b keeps the walls' margin and cuts nothing: no uncut cell within R of a
   /// position every 4 steps along it (the test every step of a ride passes; between two samples
   /// 4·step = D/10 apart a cell within R of the move but of neither sample lies at most
-  /// (D/10)²/(8R) = D/400, a tenth of a D/40 cell, beyond R of both).
+  /// (D/10)²/(8R) = D/400, a tenth of a D/40 cell, a fifth of a D/80 one, beyond R of both).
   [[nodiscard]] bool air_ok(const Vec2& a, const Vec2& b) const {
     if (!walls_.move_ok(a, b)) return false;
+    if (raster_.capsule_clear(a, b, R_)) return true;  // no uncut cell within R of the move at all
     const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / (4 * step_))));
     for (int i = 1; i <= n; ++i)
       if (!raster_.clear_within(a + (b - a) * (static_cast<double>(i) / n), R_)) return false;
@@ -818,7 +986,7 @@ private:
   /// (climb), on the left for −1; nullopt when no target material is in range.
   [[nodiscard]] std::optional<Vec2> material_tangent(const Vec2& p, const Vec2& d, double side) const {
     Vec2 cen;
-    if (raster_.target_near(p, R_ + kSenseMm, nullptr, &cen) < kMinWorkCells) return std::nullopt;
+    if (raster_.target_near(p, R_ + kSenseMm, nullptr, &cen) < min_work_) return std::nullopt;
     Vec2 u = cen - p;
     if (u.norm() < 1e-9) u = d;
     return rot(u.normalized(), side * kPi / 2);
@@ -836,7 +1004,8 @@ private:
   [[nodiscard]] bool can_start(const Vec2& p, const Vec2& d) const {
     const double side = pass_climb_ ? 1.0 : -1.0;
     const std::optional<Vec2> t0 = material_tangent(p, d, side);
-    return t0 && first_feasible(p, *t0, side);
+    if (!t0) return false;
+    return first_feasible(p, *t0, side).has_value();
   }
 
   /// One pass from p (already there, its disk cleared) heading about d. Returns the cells cut.
@@ -914,7 +1083,7 @@ private:
     last_blocked_ = blocked;
     last_dir_ = d;
     ++stats_.passes;
-    if (total < kMinWorkCells) ++stats_.idle_passes;
+    if (total < min_work_) ++stats_.idle_passes;
     return total;
   }
 
@@ -955,18 +1124,18 @@ private:
       return true;
     }
     // Every component entered: uncut target left where no link reaches? Re-enter at a cleared start.
-    if (raster_.uncut_target_cells() < static_cast<std::size_t>(kMinWorkCells)) return false;
+    if (raster_.uncut_target_cells() < static_cast<std::size_t>(min_work_)) return false;
     for (std::size_t k = 0; k < lat_ok_.size(); ++k) {  // O(lattice), only after a failed search
       if (dead_[k] || !lattice_allowed(k)) continue;
       const Vec2 p = lattice_point(k);
       Vec2 near;
-      if (raster_.target_near(p, R_ + 1.5 * kLatticeMm, &near) < kMinWorkCells || !safe(p)) continue;
+      if (raster_.target_near(p, R_ + 1.5 * kLatticeMm, &near) < min_work_ || !safe(p)) continue;
       chains_.push_back(RawChain{});
       chains_.back().predrill = false;
       ++stats_.reentries;
       const double got = cut_pass(p, first_dir(p, near), true);
       last_cells_ = got;
-      if (got < kMinWorkCells) dead_[k] = 1;
+      if (got < min_work_) dead_[k] = 1;
       pos = current_end();
       return true;
     }
@@ -992,6 +1161,7 @@ private:
   Clearance exact_;       ///< links and simplified chords: the tool's clearance
   Clearance link_walls_;  ///< lattice positions
   double max_cells_ = 0;  ///< fresh cells allowed per step
+  int min_work_ = 4;      ///< uncut cells worth a pass (kMinWorkCellsD40)
   double target_deg_ = 90;  ///< the engagement target, degrees
   double last_cells_ = 0;  ///< cells the last pass cut
   Vec2 last_heading_{1, 0};

@@ -7,8 +7,9 @@
 // Engagement tolerance. The metric (max_engagement_deg) reads the feed map's swept width: the area
 // each cell of travel newly covers, from the cells' covered shares (pocket/feedmap.cpp), at the
 // bench's feed_grid g = 0.25 mm (1/40 D). It reads a straight cut within 0.15 mm (≈ 1.7°; the feed
-// map's own test), and the adaptive programs at 92.9–93.9° where the independent 0.05 mm replay
-// below (widest_cut) reads 5.03–5.18 mm (90.3–92.1°): kEngTolDeg = 8° over the target. (Until
+// map's own test), and the adaptive programs at 90.7–92.5° where the independent 0.05 mm replay
+// below (widest_cut) reads 5.02–5.07 mm (90.2–90.8°; 5.03–5.18 mm on the D/40 raster of before
+// 2026-11-26): kEngTolDeg = 8° over the target. (Until
 // 2026-11-26 it read the count of newly covered cell centres, which strays by several cells a step
 // and happened to fall on the planner's own cell centres here: 82.8–84.3°, and 104–108° with the
 // planner's raster shifted by half a cell.)
@@ -35,10 +36,14 @@ using millnet::testing::to_replay;
 namespace {
 
 constexpr double kEngTolDeg = 8.0;
-// The independent width check (widest_cut): the planner aims at 0.85 of the target's width, and its
-// D/40 raster reads a step's crescent ±2–3 cells (±0.6 mm of width); the 0.05 mm replay itself reads
-// a 0.25 mm piece within ≈ ±0.05 mm. 0.3 mm over 5 mm is ≈ 3.4° over 90°.
-constexpr double kWidthTolMm = 0.3;
+// The independent width check (widest_cut): the planner aims at 0.9 of the target's width, and its
+// D/80 raster reads a step's crescent a few cells off (≈ ±0.4 mm of width at 0.25 mm steps); the
+// 0.05 mm replay itself reads a 0.25 mm piece within ≈ ±0.05 mm. 0.2 mm over 5 mm is ≈ 2.3° over
+// 90° (measured: 5.02–5.07 mm; 5.16–5.18 mm with the D/40 raster and 0.85 of before 2026-11-26).
+constexpr double kWidthTolMm = 0.2;
+// Targets below 90°: the replay's widest cut within this of the target (measured 2026-11-26: 4.2°,
+// 1.7°, 1.6° over 45°, 50°, 60°; 6.7°, 7.3°, 6.0° with the D/40 raster).
+constexpr double kNarrowTolDeg = 5.0;
 
 CutParams bench_cut() {
   CutParams cut = millnet::testing::issue11_bench_cut();
@@ -277,8 +282,9 @@ TEST_P(AdaptiveBench, ClearsAtTheTargetEngagementWithNoGouge) {
   EXPECT_LE(wr.over * 1000, wr.pieces);  // a few pieces a thousand above 5 mm, none far above
   // Few passes that cut nothing (each costs a stop and a start): where no pass can start at the
   // end of a ride back, the ride and the link beyond it are one move. Before: 96 of 257, 81 of
-  // 174, 144 of 334 passes; now 18 / 180, 5 / 98, 11 / 197.
-  EXPECT_LE(st.idle_passes * 8, st.passes) << st.idle_passes << " of " << st.passes;
+  // 174, 144 of 334 passes; then 18 / 180, 5 / 98, 11 / 197 on the D/40 raster; 21 / 166,
+  // 0 / 98, 17 / 202 on the D/80 raster (a pass "cuts nothing" below 1 mm², the 4 D/40 cells).
+  EXPECT_LE(st.idle_passes * 6, st.passes) << st.idle_passes << " of " << st.passes;
   // The figures the report quotes (no timing assertion).
   std::printf("[ adaptive ] %s: time_kinematic_min %.3f uncut %.3f mm2 retractions %.0f max_engagement %.1f deg "
               "planning %.3f s cut %.0f mm vertices %zu passes %zu links %zu reentries %zu wall_retractions %zu\n",
@@ -408,7 +414,9 @@ TEST(PlannerAdaptive, RidesCutNothingAndArePulledTaut) {
 // Those figures were centre counts on a grid that shares the planner's cell centres; the swept
 // width (2026-11-26) reads 56.1° / 60.6° / 68.1°, the independent replay 51.7° / 57.3° / 66.0°: the
 // planner's raster noise (±2–3 cells a step, 0.66–0.85 mm of width over what it aims at) weighs
-// more at a narrow target.
+// more at a narrow target. On the D/80 raster (2026-11-26) the replay reads 49.2° / 51.7° / 61.6°
+// and the swept width 49.4° / 53.4° / 62.9°; a pass is worth starting below the 4 D/40 cells there
+// (every corner remnant must be taken by a pass, not the wall pass).
 class AdaptiveTarget : public ::testing::TestWithParam<double> {};
 
 TEST_P(AdaptiveTarget, StaysWithinItsToleranceAtTheCornersToo) {
@@ -420,10 +428,13 @@ TEST_P(AdaptiveTarget, StaysWithinItsToleranceAtTheCornersToo) {
   // The metric reads widths within ≈ 0.15 mm (the feed map's test); at these narrow cuts a width
   // error weighs more in degrees (dθ = dw / (R sin θ): 0.25 mm is 4.1° at 45°, 2.9° at 90°).
   const double R = bench_cut().tool_diameter / 2, th = GetParam() * M_PI / 180;
-  EXPECT_LE(o.m.metrics.max_engagement_deg, GetParam() + kEngTolDeg + 0.25 / (R * std::sin(th)) * 180 / M_PI);
-  // The independent replay: within kEngTolDeg of the target (measured: 51.7°, 57.3°, 66.0°).
+  EXPECT_LE(o.m.metrics.max_engagement_deg, GetParam() + kNarrowTolDeg + 0.25 / (R * std::sin(th)) * 180 / M_PI);
+  // The independent replay: within kNarrowTolDeg of the target (measured: 49.2°, 51.7°, 61.6°).
   const WidthReport wr = widest_cut(o.rep, r, R, R * (1 - std::cos(th)));
-  EXPECT_LE(wr.worst_mm, R * (1 - std::cos(th + kEngTolDeg * M_PI / 180))) << "at " << wr.at.transpose();
+  std::printf("[ adaptive ] target %.0f deg: widest cut %.3f mm (%.1f deg) at (%.2f, %.2f), metric %.1f deg, %.3f min\n", GetParam(),
+              wr.worst_mm, std::acos(1 - wr.worst_mm / R) * 180 / M_PI, wr.at.x(), wr.at.y(), o.m.metrics.max_engagement_deg,
+              o.m.metrics.time_kinematic_min);
+  EXPECT_LE(wr.worst_mm, R * (1 - std::cos(th + kNarrowTolDeg * M_PI / 180))) << "at " << wr.at.transpose();
   EXPECT_EQ(o.rep.violations, 0) << o.rep.first_violation;
   EXPECT_EQ(o.uncovered, 0u);
   EXPECT_LE(o.m.metrics.uncut_area_mm2, 2.0);

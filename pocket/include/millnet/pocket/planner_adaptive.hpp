@@ -50,10 +50,10 @@ struct AdaptiveParams {
   /// other direction instead of riding back to cut it in `climb`'s (helix and walls keep `climb`).
   bool both_ways = false;
   double step_mm = 0;       ///< planning step, 0 ⇒ D/40
-  double raster_mm = 0;     ///< cleared-area raster cell, 0 ⇒ D/40
+  double raster_mm = 0;     ///< cleared-area raster cell, 0 ⇒ D/80 (D/40 past 10⁷ cells)
   /// Each step aims at this fraction of the target's newly cut area (raster noise of the
   /// planner's and the feed map's counts), in (0, 1].
-  double safety = 0.85;
+  double safety = 0.9;
 };
 
 /// The target angle AdaptiveParams ask for (max_engagement_deg, or the stepover's), degrees.
