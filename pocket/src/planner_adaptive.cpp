@@ -299,32 +299,21 @@ public:
         *nearest = q;
       }
     };
-    const double bs = kB * h_;
-    const int bx0 = std::max(0, static_cast<int>(std::floor((c.x() - r - lo_.x()) / bs)));
-    const int bx1 = std::min(bx_ - 1, static_cast<int>(std::floor((c.x() + r - lo_.x()) / bs)));
-    const int by0 = std::max(0, static_cast<int>(std::floor((c.y() - r - lo_.y()) / bs)));
-    const int by1 = std::min(by_ - 1, static_cast<int>(std::floor((c.y() + r - lo_.y()) / bs)));
-    for (int by = by0; by <= by1; ++by)
-      for (int bx = bx0; bx <= bx1; ++bx) {
-        const std::size_t b = lin(bx, by, bx_);
-        if (tuncut_[b] <= 0) continue;
-        const Vec2 blo = lo_ + Vec2(bx * bs, by * bs);
-        const Vec2 q = c.cwiseMax(blo).cwiseMin(blo + Vec2(bs, bs));
-        if ((q - c).squaredNorm() > r * r) continue;
-        // The block's farthest cell centre (blocks at the raster's edge are partial: their cells
-        // beyond it are never counted, so the full block's corners bound them too).
-        const Vec2 lo_c = blo + Vec2(0.5 * h_, 0.5 * h_), hi_c = blo + Vec2(bs - 0.5 * h_, bs - 0.5 * h_);
-        const Vec2 far(std::max(std::abs(c.x() - lo_c.x()), std::abs(c.x() - hi_c.x())),
-                       std::max(std::abs(c.y() - lo_c.y()), std::abs(c.y() - hi_c.y())));
-        if (!nearest && far.squaredNorm() <= r * r) {
-          n += tuncut_[b];
-          sx += tsum_[b][0];
-          sy += tsum_[b][1];
-          continue;
-        }
-        for (int y = by * kB; y < std::min(ny_, (by + 1) * kB); ++y)
-          for (int x = bx * kB; x < std::min(nx_, (bx + 1) * kB); ++x) cell(x, y);
-      }
+    // Without `nearest`, a block wholly within r counts by its kept count and index sums.
+    const auto whole = [&](std::size_t b) {
+      if (nearest) return false;
+      n += tuncut_[b];
+      sx += tsum_[b][0];
+      sy += tsum_[b][1];
+      return true;
+    };
+    blocks(
+        c, r, tuncut_,
+        [&](int x, int y) {
+          cell(x, y);
+          return true;
+        },
+        whole);
     if (centroid && n > 0)
       *centroid = lo_ + Vec2((static_cast<double>(sx) / static_cast<double>(n) + 0.5) * h_,
                              (static_cast<double>(sy) / static_cast<double>(n) + 0.5) * h_);
@@ -341,8 +330,11 @@ private:
   [[nodiscard]] std::size_t block(int x, int y) const { return lin(x / kB, y / kB, bx_); }
 
   /// Visits the cells of the blocks within r of c whose count is > 0; f(x, y) returns false to stop.
-  template <class F>
-  void blocks(const Vec2& c, double r, const std::vector<int>& count, F&& f) const {
+  /// A block whose every cell centre lies within r is first offered to whole(block index), which
+  /// returns true when it took the block without its cells.
+  template <class F, class W = bool (*)(std::size_t)>
+  void blocks(const Vec2& c, double r, const std::vector<int>& count, F&& f,
+              W&& whole = [](std::size_t) { return false; }) const {
     const double bs = kB * h_;
     const int bx0 = std::max(0, static_cast<int>(std::floor((c.x() - r - lo_.x()) / bs)));
     const int bx1 = std::min(bx_ - 1, static_cast<int>(std::floor((c.x() + r - lo_.x()) / bs)));
@@ -350,10 +342,17 @@ private:
     const int by1 = std::min(by_ - 1, static_cast<int>(std::floor((c.y() + r - lo_.y()) / bs)));
     for (int by = by0; by <= by1; ++by)
       for (int bx = bx0; bx <= bx1; ++bx) {
-        if (count[lin(bx, by, bx_)] <= 0) continue;
+        const std::size_t b = lin(bx, by, bx_);
+        if (count[b] <= 0) continue;
         const Vec2 blo = lo_ + Vec2(bx * bs, by * bs);
         const Vec2 q = c.cwiseMax(blo).cwiseMin(blo + Vec2(bs, bs));
         if ((q - c).squaredNorm() > r * r) continue;
+        // The block's farthest cell centre (a block at the raster's edge is partial: its cells
+        // beyond the edge are never counted, so the full block's corners bound them too).
+        const Vec2 lo_c = blo + Vec2(0.5 * h_, 0.5 * h_), hi_c = blo + Vec2(bs - 0.5 * h_, bs - 0.5 * h_);
+        const Vec2 far(std::max(std::abs(c.x() - lo_c.x()), std::abs(c.x() - hi_c.x())),
+                       std::max(std::abs(c.y() - lo_c.y()), std::abs(c.y() - hi_c.y())));
+        if (far.squaredNorm() <= r * r && whole(b)) continue;
         for (int y = by * kB; y < std::min(ny_, (by + 1) * kB); ++y)
           for (int x = bx * kB; x < std::min(nx_, (bx + 1) * kB); ++x)
             if (!f(x, y)) return;
