@@ -79,7 +79,7 @@ class Raster {
 public:
   static constexpr int kB = 4;
 
-  Raster(const Region& region, double h, double margin) : h_(h) {
+  Raster(const Region& region, double h, double margin) : h_(h), inv_h_(1 / h) {
     const raster::Grid g = raster::grid_of(region, h, margin, "adaptive planner");
     lo_ = g.lo;
     nx_ = g.nx;
@@ -120,7 +120,7 @@ public:
   /// The columns (or rows, o = lo_.y()) whose centres lie within w of coordinate v, unclamped:
   /// [first, last], empty when first > last.
   [[nodiscard]] std::pair<int, int> run(double v, double w, double o) const {
-    return {static_cast<int>(std::ceil((v - w - o) / h_ - 0.5)), static_cast<int>(std::floor((v + w - o) / h_ - 0.5))};
+    return {static_cast<int>(std::ceil((v - w - o) * inv_h_ - 0.5)), static_cast<int>(std::floor((v + w - o) * inv_h_ - 0.5))};
   }
 
   /// Calls g(y, x0, x1) for every row of the cells whose centre lies within r of c, with the row's
@@ -359,7 +359,7 @@ private:
       }
   }
 
-  double h_;
+  double h_, inv_h_;
   Vec2 lo_;
   int nx_ = 0, ny_ = 0, bx_ = 0, by_ = 0;
   std::vector<std::uint8_t> st_, target_;
@@ -402,16 +402,6 @@ void simplify_into(const std::vector<Vec2>& pts, double eps, const Clearance& wa
     if (keep[i]) out.push_back(pts[i]);
 }
 
-/// The raster cell when AdaptiveParams::raster_mm is 0: D/80, or D/40 where the D/80 raster would
-/// pass kMaxFineCells. A step's crescent at D/40 holds a few cells more or fewer than its area
-/// depending on where the cell centres fall (±2–3 cells, 0.66–0.85 mm of width at 0.25 mm steps
-/// on a Ø10 tool), which is ±6–7° at a 45° target; at D/80 the stray is about half.
-double default_raster_mm(const Region& region, double D) {
-  constexpr double kMaxFineCells = 1e7;
-  const raster::Grid g = raster::grid_of(region, D / 80, D, "adaptive planner", kInf);
-  return static_cast<double>(g.nx) * static_cast<double>(g.ny) <= kMaxFineCells ? D / 80 : D / 40;
-}
-
 class Planner {
 public:
   Planner(const Region& region, const CutParams& cut, const AdaptiveParams& prm, double target_deg)
@@ -422,7 +412,7 @@ public:
         both_(prm.both_ways),
         pass_climb_(prm.climb),
         step_(prm.step_mm > 0 ? prm.step_mm : cut.tool_diameter / 40),
-        raster_(region, prm.raster_mm > 0 ? prm.raster_mm : default_raster_mm(region, cut.tool_diameter), cut.tool_diameter),
+        raster_(region, adaptive_raster_mm(region, cut, prm), cut.tool_diameter),
         walls_(region, cut.clearance() + tol::contour_margin_mm),
         exact_(region, cut.clearance()),
         link_walls_(region, cut.clearance() + tol::contour_margin_mm + kLinkMarginMm) {
@@ -1174,6 +1164,16 @@ private:
 };
 
 }  // namespace
+
+// The default cell: a step's crescent on D/40 cells holds a few cells more or fewer than its area,
+// depending on where the cell centres fall (±2–3 cells, 0.66–0.85 mm of width at 0.25 mm steps on a
+// Ø10 tool), which is ±6–7° at a 45° target; on D/80 the stray is about half.
+double adaptive_raster_mm(const Region& region, const CutParams& cut, const AdaptiveParams& params) {
+  constexpr double kMaxFineCells = 1e7;
+  if (params.raster_mm > 0) return params.raster_mm;
+  const double D = cut.tool_diameter;
+  return raster::cells_of(region, D / 80, D) <= kMaxFineCells ? D / 80 : D / 40;
+}
 
 double adaptive_target_deg(const CutParams& cut, const AdaptiveParams& params) {
   double deg = params.max_engagement_deg;

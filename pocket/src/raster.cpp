@@ -13,15 +13,33 @@
 
 namespace millnet::pocket::raster {
 
-Grid grid_of(const Region& region, double h, double margin, const char* who, double max_cells) {
+namespace {
+
+/// The boundary's box and the grid's cell counts (as doubles: they may not fit an int).
+struct Extent {
+  Vec2 lo;
+  double nx = 0, ny = 0;
+};
+Extent extent_of(const Region& region, double h, double margin) {
   const std::vector<Vec2> b = flatten(region.boundary, tol::arc_chord_mm);
   Vec2 lo = b.front(), hi = b.front();
   for (const Vec2& p : b) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  return {lo, std::ceil((hi.x() - lo.x() + 2 * margin) / h) + 1, std::ceil((hi.y() - lo.y() + 2 * margin) / h) + 1};
+}
+
+}  // namespace
+
+double cells_of(const Region& region, double h, double margin) {
+  const Extent e = extent_of(region, h, margin);
+  return e.nx * e.ny;
+}
+
+Grid grid_of(const Region& region, double h, double margin, const char* who, double max_cells) {
+  const Extent e = extent_of(region, h, margin);
   Grid g;
   g.h = h;
-  g.lo = lo - Vec2(margin, margin);
-  const double nx = std::ceil((hi.x() - lo.x() + 2 * margin) / h) + 1;
-  const double ny = std::ceil((hi.y() - lo.y() + 2 * margin) / h) + 1;
+  g.lo = e.lo - Vec2(margin, margin);
+  const double nx = e.nx, ny = e.ny;
   if (!(nx * ny <= max_cells))
     throw Error(std::string(who) + ": raster of " + std::to_string(nx) + " x " + std::to_string(ny) +
                 " cells is too fine; raise the cell size");

@@ -25,6 +25,8 @@ struct Grid {
   [[nodiscard]] std::size_t size() const { return lin(0, ny, nx); }
 };
 [[nodiscard]] Grid grid_of(const Region& region, double h, double margin, const char* who, double max_cells = 4e7);
+/// The number of cells grid_of(region, h, margin, …) would make (without making or refusing it).
+[[nodiscard]] double cells_of(const Region& region, double h, double margin);
 
 /// 1 for the cells whose centre lies inside the region (boundary minus islands), else 0: filled row
 /// by row between the crossings of the row's centre line with the flattened loops (even-odd:

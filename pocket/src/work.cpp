@@ -71,7 +71,7 @@ std::vector<WorkEstimate> estimate_work(const Region& region, const CutParams& c
   } else if (const auto* ad = std::get_if<AdaptiveSpec>(&spec)) {
     // The cleared-area raster over the box grown by D (a byte of state and of target, a double of
     // wall distance and an int of component per cell).
-    const double h = ad->adaptive.raster_mm > 0 ? ad->adaptive.raster_mm : cut.tool_diameter / 40;
+    const double h = adaptive_raster_mm(region, cut, ad->adaptive);
     const double n = std::ceil((box.hi.x() - box.lo.x() + 2 * cut.tool_diameter) / h) *
                      std::ceil((box.hi.y() - box.lo.y() + 2 * cut.tool_diameter) / h);
     out.push_back({over("raster_mm", h, box), n, "adaptive raster cells", 24.0 * n});

@@ -109,3 +109,18 @@ TEST(PocketWork, RotatedGridCountsTheRotatedBox) {
   EXPECT_LE(n, 144.0 * 144.0);
   EXPECT_LE(static_cast<double>(make_tool_points(square(100), s.frame, 5).pts.size()), n);
 }
+
+TEST(PocketWork, AdaptiveRasterIsDOver80UnlessThatPassesTenMillionCells) {
+  // A 100 mm square with D 10: the box grown by D is 120 mm, at D/80 = 0.125 mm 961 × 961 cells
+  // (ceil(120 / 0.125) + 1 in the planner's grid) ≤ 10⁷: D/80. A 500 mm square: 4161² ≈ 1.7·10⁷ cells
+  // at D/80, so D/40 (0.25 mm). A raster given in the config is kept.
+  AdaptiveSpec a;
+  EXPECT_DOUBLE_EQ(adaptive_raster_mm(square(100), cut(10, 5), a.adaptive), 0.125);
+  EXPECT_DOUBLE_EQ(adaptive_raster_mm(square(500), cut(10, 5), a.adaptive), 0.25);
+  // The work estimate counts the raster the planner will make: (120 / 0.125)² and (520 / 0.25)².
+  EXPECT_DOUBLE_EQ(estimate_work(square(100), cut(10, 5), a)[0].count, 960.0 * 960.0);
+  EXPECT_DOUBLE_EQ(estimate_work(square(500), cut(10, 5), a)[0].count, 2080.0 * 2080.0);
+  a.adaptive.raster_mm = 0.5;
+  EXPECT_DOUBLE_EQ(adaptive_raster_mm(square(500), cut(10, 5), a.adaptive), 0.5);
+  EXPECT_DOUBLE_EQ(estimate_work(square(500), cut(10, 5), a)[0].count, 1040.0 * 1040.0);
+}

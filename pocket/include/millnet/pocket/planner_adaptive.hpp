@@ -60,6 +60,10 @@ struct AdaptiveParams {
 /// Throws millnet::Error when it is outside (0, 180].
 [[nodiscard]] double adaptive_target_deg(const CutParams& cut, const AdaptiveParams& params);
 
+/// The cleared-area raster's cell, mm: AdaptiveParams::raster_mm, or when it is 0, D/80 — D/40 where
+/// the D/80 raster over the region's box grown by D would pass 10⁷ cells.
+[[nodiscard]] double adaptive_raster_mm(const Region& region, const CutParams& cut, const AdaptiveParams& params);
+
 /// Plans `region` (validated and normalized) at constant engagement. PlanResult::planner =
 /// "adaptive", walls_cut = true (its own wall pass), helix_entry_holes = true,
 /// stats: AdaptiveStats. Status NoToolPoints when the tool fits nowhere. Throws millnet::Error as
