@@ -157,16 +157,35 @@ public:
   /// run, by the same rounding as disk): O(r·|c − p|/h² + r/h) instead of O((r/h)²).
   [[nodiscard]] int fresh_beyond(const Vec2& p, const Vec2& c, double r) const {
     int n = 0;
-    rows(c, r, [&](int y, int x0, int x1) {
-      const double dy = lo_.y() + (y + 0.5) * h_ - p.y();
-      const double v2 = r * r - dy * dy;
-      // p's run on this row (empty when the row misses p's disk).
-      const auto [px0, px1] = v2 >= 0 ? run(p.x(), std::sqrt(v2), lo_.x()) : std::pair<int, int>{x1 + 1, x1};
-      const std::size_t row = idx(0, y);
-      for (int x = x0; x <= std::min(x1, px0 - 1); ++x) n += st_[row + static_cast<std::size_t>(x)] == 1;
-      for (int x = std::max(x0, std::max(px0, px1 + 1)); x <= x1; ++x) n += st_[row + static_cast<std::size_t>(x)] == 1;
-    });
+    crescent(c, r, [&](int y) { return row_run(p, r, y); }, [&](int y, int x0, int x1) { n += uncut_in(y, x0, x1); });
     return n;
+  }
+
+  /// Uncut cells of row y from x0 to x1.
+  [[nodiscard]] int uncut_in(int y, int x0, int x1) const {
+    int n = 0;
+    const std::uint8_t* row = st_.data() + idx(0, y);
+    for (int x = x0; x <= x1; ++x) n += row[x] == 1;
+    return n;
+  }
+
+  /// The run of the disk of radius r about p on row y, unclamped; {1, 0} (empty) when the row misses it.
+  [[nodiscard]] std::pair<int, int> row_run(const Vec2& p, double r, int y) const {
+    const double dy = lo_.y() + (y + 0.5) * h_ - p.y();
+    const double v2 = r * r - dy * dy;
+    return v2 >= 0 ? run(p.x(), std::sqrt(v2), lo_.x()) : std::pair<int, int>{1, 0};
+  }
+
+  /// Calls g(y, first, last) for the runs (possibly empty) of the cells within r of c (disk's
+  /// rounding) outside the other disk, whose run on row y is other(y) (row_run's convention).
+  template <class P, class G>
+  void crescent(const Vec2& c, double r, P&& other, G&& g) const {
+    rows(c, r, [&](int y, int x0, int x1) {
+      auto [px0, px1] = other(y);
+      if (px0 > px1) px0 = x1 + 1, px1 = x1;  // the row misses the other disk
+      g(y, x0, std::min(x1, px0 - 1));
+      g(y, std::max(x0, std::max(px0, px1 + 1)), x1);
+    });
   }
 
   /// A disk's runs per row (first, last; empty when first > last), for fresh_beyond's many
@@ -180,25 +199,20 @@ public:
     Runs out;
     const auto [ya, yb] = run(p.y(), r + pad, lo_.y());
     out.y0 = ya;
-    for (int y = ya; y <= yb; ++y) {
-      const double dy = lo_.y() + (y + 0.5) * h_ - p.y();
-      const double v2 = r * r - dy * dy;
-      out.x.push_back(v2 >= 0 ? run(p.x(), std::sqrt(v2), lo_.x()) : std::pair<int, int>{1, 0});
-    }
+    for (int y = ya; y <= yb; ++y) out.x.push_back(row_run(p, r, y));
     return out;
   }
 
   /// fresh_beyond(p, c, r) with p's runs from runs(p, r, pad), |c − p| ≤ pad.
   [[nodiscard]] int fresh_beyond(const Runs& pr, const Vec2& c, double r) const {
     int n = 0;
-    rows(c, r, [&](int y, int x0, int x1) {
-      const std::size_t k = static_cast<std::size_t>(y - pr.y0);
-      auto [px0, px1] = y >= pr.y0 && k < pr.x.size() ? pr.x[k] : std::pair<int, int>{1, 0};
-      if (px0 > px1) px0 = x1 + 1, px1 = x1;  // the row misses p's disk
-      const std::size_t row = idx(0, y);
-      for (int x = x0; x <= std::min(x1, px0 - 1); ++x) n += st_[row + static_cast<std::size_t>(x)] == 1;
-      for (int x = std::max(x0, std::max(px0, px1 + 1)); x <= x1; ++x) n += st_[row + static_cast<std::size_t>(x)] == 1;
-    });
+    crescent(
+        c, r,
+        [&](int y) {
+          const std::size_t k = static_cast<std::size_t>(y - pr.y0);
+          return y >= pr.y0 && k < pr.x.size() ? pr.x[k] : std::pair<int, int>{1, 0};
+        },
+        [&](int y, int x0, int x1) { n += uncut_in(y, x0, x1); });
     return n;
   }
 
@@ -221,19 +235,13 @@ public:
         tsum_[block(x, y)][1] -= y;
       }
     };
-    const bool beyond = r == marked_r_ && (c - marked_).squaredNorm() < r * r;
-    const Vec2 p = marked_;
-    rows(c, r, [&](int y, int x0, int x1) {
-      if (!beyond) {
-        for (int x = x0; x <= x1; ++x) cut(x, y);
-        return;
-      }
-      const double dy = lo_.y() + (y + 0.5) * h_ - p.y();
-      const double v2 = r * r - dy * dy;
-      const auto [px0, px1] = v2 >= 0 ? run(p.x(), std::sqrt(v2), lo_.x()) : std::pair<int, int>{x1 + 1, x1};
-      for (int x = x0; x <= std::min(x1, px0 - 1); ++x) cut(x, y);
-      for (int x = std::max(x0, std::max(px0, px1 + 1)); x <= x1; ++x) cut(x, y);
-    });
+    const auto cut_run = [&](int y, int x0, int x1) {
+      for (int x = x0; x <= x1; ++x) cut(x, y);
+    };
+    if (r == marked_r_ && (c - marked_).squaredNorm() < r * r)
+      crescent(c, r, [&](int y) { return row_run(marked_, r, y); }, cut_run);
+    else
+      rows(c, r, cut_run);
     marked_ = c;
     marked_r_ = r;
     return n;
@@ -259,23 +267,15 @@ public:
       const double t = L2 > 0 ? std::clamp((q - a).dot(ab) / L2, 0.0, 1.0) : 0.0;
       return (q - (a + t * ab)).squaredNorm();
     };
-    const Vec2 lo = a.cwiseMin(b) - Vec2(rr, rr), hi = a.cwiseMax(b) + Vec2(rr, rr);
-    const int bx0 = std::max(0, static_cast<int>(std::floor((lo.x() - lo_.x()) / bs)));
-    const int bx1 = std::min(bx_ - 1, static_cast<int>(std::floor((hi.x() - lo_.x()) / bs)));
-    const int by0 = std::max(0, static_cast<int>(std::floor((lo.y() - lo_.y()) / bs)));
-    const int by1 = std::min(by_ - 1, static_cast<int>(std::floor((hi.y() - lo_.y()) / bs)));
     const double half_diag = bs * std::numbers::sqrt2 / 2;
-    for (int by = by0; by <= by1; ++by)
-      for (int bx = bx0; bx <= bx1; ++bx) {
-        if (uncut_[lin(bx, by, bx_)] <= 0) continue;
-        const Vec2 bc = lo_ + Vec2((bx + 0.5) * bs, (by + 0.5) * bs);
-        const double d = std::sqrt(dist2(bc));
-        if (d > rr + half_diag) continue;
-        for (int y = by * kB; y < std::min(ny_, (by + 1) * kB); ++y)
-          for (int x = bx * kB; x < std::min(nx_, (bx + 1) * kB); ++x)
-            if (st_[idx(x, y)] == 1 && dist2(centre(x, y)) <= rr * rr) return false;
-      }
-    return true;
+    return in_box(a.cwiseMin(b) - Vec2(rr, rr), a.cwiseMax(b) + Vec2(rr, rr), uncut_, [&](int bx, int by, std::size_t) {
+      const Vec2 bc = lo_ + Vec2((bx + 0.5) * bs, (by + 0.5) * bs);
+      if (std::sqrt(dist2(bc)) > rr + half_diag) return true;
+      for (int y = by * kB; y < std::min(ny_, (by + 1) * kB); ++y)
+        for (int x = bx * kB; x < std::min(nx_, (bx + 1) * kB); ++x)
+          if (st_[idx(x, y)] == 1 && dist2(centre(x, y)) <= rr * rr) return false;
+      return true;
+    });
   }
 
   /// Uncut target cells within r of c: their number, the nearest one and their centroid (each
@@ -336,27 +336,38 @@ private:
   void blocks(const Vec2& c, double r, const std::vector<int>& count, F&& f,
               W&& whole = [](std::size_t) { return false; }) const {
     const double bs = kB * h_;
-    const int bx0 = std::max(0, static_cast<int>(std::floor((c.x() - r - lo_.x()) / bs)));
-    const int bx1 = std::min(bx_ - 1, static_cast<int>(std::floor((c.x() + r - lo_.x()) / bs)));
-    const int by0 = std::max(0, static_cast<int>(std::floor((c.y() - r - lo_.y()) / bs)));
-    const int by1 = std::min(by_ - 1, static_cast<int>(std::floor((c.y() + r - lo_.y()) / bs)));
+    in_box(c - Vec2(r, r), c + Vec2(r, r), count, [&](int bx, int by, std::size_t b) {
+      const Vec2 blo = lo_ + Vec2(bx * bs, by * bs);
+      const Vec2 q = c.cwiseMax(blo).cwiseMin(blo + Vec2(bs, bs));
+      if ((q - c).squaredNorm() > r * r) return true;
+      // The block's farthest cell centre (a block at the raster's edge is partial: its cells
+      // beyond the edge are never counted, so the full block's corners bound them too).
+      const Vec2 lo_c = blo + Vec2(0.5 * h_, 0.5 * h_), hi_c = blo + Vec2(bs - 0.5 * h_, bs - 0.5 * h_);
+      const Vec2 far(std::max(std::abs(c.x() - lo_c.x()), std::abs(c.x() - hi_c.x())),
+                     std::max(std::abs(c.y() - lo_c.y()), std::abs(c.y() - hi_c.y())));
+      if (far.squaredNorm() <= r * r && whole(b)) return true;
+      for (int y = by * kB; y < std::min(ny_, (by + 1) * kB); ++y)
+        for (int x = bx * kB; x < std::min(nx_, (bx + 1) * kB); ++x)
+          if (!f(x, y)) return false;
+      return true;
+    });
+  }
+
+  /// Calls g(bx, by, block index) for the blocks meeting the box [lo, hi] whose count is > 0, while
+  /// g returns true; false when g stopped the walk.
+  template <class G>
+  bool in_box(const Vec2& lo, const Vec2& hi, const std::vector<int>& count, G&& g) const {
+    const double bs = kB * h_;
+    const int bx0 = std::max(0, static_cast<int>(std::floor((lo.x() - lo_.x()) / bs)));
+    const int bx1 = std::min(bx_ - 1, static_cast<int>(std::floor((hi.x() - lo_.x()) / bs)));
+    const int by0 = std::max(0, static_cast<int>(std::floor((lo.y() - lo_.y()) / bs)));
+    const int by1 = std::min(by_ - 1, static_cast<int>(std::floor((hi.y() - lo_.y()) / bs)));
     for (int by = by0; by <= by1; ++by)
       for (int bx = bx0; bx <= bx1; ++bx) {
         const std::size_t b = lin(bx, by, bx_);
-        if (count[b] <= 0) continue;
-        const Vec2 blo = lo_ + Vec2(bx * bs, by * bs);
-        const Vec2 q = c.cwiseMax(blo).cwiseMin(blo + Vec2(bs, bs));
-        if ((q - c).squaredNorm() > r * r) continue;
-        // The block's farthest cell centre (a block at the raster's edge is partial: its cells
-        // beyond the edge are never counted, so the full block's corners bound them too).
-        const Vec2 lo_c = blo + Vec2(0.5 * h_, 0.5 * h_), hi_c = blo + Vec2(bs - 0.5 * h_, bs - 0.5 * h_);
-        const Vec2 far(std::max(std::abs(c.x() - lo_c.x()), std::abs(c.x() - hi_c.x())),
-                       std::max(std::abs(c.y() - lo_c.y()), std::abs(c.y() - hi_c.y())));
-        if (far.squaredNorm() <= r * r && whole(b)) continue;
-        for (int y = by * kB; y < std::min(ny_, (by + 1) * kB); ++y)
-          for (int x = bx * kB; x < std::min(nx_, (bx + 1) * kB); ++x)
-            if (!f(x, y)) return;
+        if (count[b] > 0 && !g(bx, by, b)) return false;
       }
+    return true;
   }
 
   double h_, inv_h_;
