@@ -124,11 +124,13 @@ public:
   }
 
   /// Calls g(y, x0, x1) for every row of the cells whose centre lies within r of c, with the row's
-  /// run of such cells (clamped to the raster, non-empty or not).
-  template <class G>
-  void rows(const Vec2& c, double r, G&& g) const {
+  /// run of such cells (clamped to the raster, non-empty or not); rows where keep(y) is false are
+  /// skipped before their run is computed.
+  template <class G, class K = bool (*)(int)>
+  void rows(const Vec2& c, double r, G&& g, K&& keep = [](int) { return true; }) const {
     const auto [ya, yb] = run(c.y(), r, lo_.y());
     for (int y = std::max(0, ya); y <= std::min(ny_ - 1, yb); ++y) {
+      if (!keep(y)) continue;
       const double dy = lo_.y() + (y + 0.5) * h_ - c.y();
       const double w2 = r * r - dy * dy;
       if (w2 < 0) continue;
@@ -178,41 +180,61 @@ public:
 
   /// Calls g(y, first, last) for the runs (possibly empty) of the cells within r of c (disk's
   /// rounding) outside the other disk, whose run on row y is other(y) (row_run's convention).
-  template <class P, class G>
-  void crescent(const Vec2& c, double r, P&& other, G&& g) const {
-    rows(c, r, [&](int y, int x0, int x1) {
-      auto [px0, px1] = other(y);
-      if (px0 > px1) px0 = x1 + 1, px1 = x1;  // the row misses the other disk
-      g(y, x0, std::min(x1, px0 - 1));
-      g(y, std::max(x0, std::max(px0, px1 + 1)), x1);
-    });
+  template <class P, class G, class K = bool (*)(int)>
+  void crescent(const Vec2& c, double r, P&& other, G&& g, K&& keep = [](int) { return true; }) const {
+    rows(
+        c, r,
+        [&](int y, int x0, int x1) {
+          auto [px0, px1] = other(y);
+          if (px0 > px1) px0 = x1 + 1, px1 = x1;  // the row misses the other disk
+          g(y, x0, std::min(x1, px0 - 1));
+          g(y, std::max(x0, std::max(px0, px1 + 1)), x1);
+        },
+        keep);
   }
 
   /// A disk's runs per row (first, last; empty when first > last), for fresh_beyond's many
-  /// candidate steps from one position.
+  /// candidate steps from one position, and per row whether any uncut cell lies in the band the
+  /// crescent of such a step can reach (within r + pad + h of p, outside p's run).
   struct Runs {
     int y0 = 0;
     std::vector<std::pair<int, int>> x;
+    std::vector<std::uint8_t> live;
   };
-  /// The runs of the disk of radius r about p on the rows within r + pad of p.y.
+  /// The runs of the disk of radius r about p on the rows within r + pad of p.y. O((r + pad)/h ·
+  /// (pad/h + 1)).
   [[nodiscard]] Runs runs(const Vec2& p, double r, double pad) const {
     Runs out;
     const auto [ya, yb] = run(p.y(), r + pad, lo_.y());
     out.y0 = ya;
-    for (int y = ya; y <= yb; ++y) out.x.push_back(row_run(p, r, y));
+    for (int y = ya; y <= yb; ++y) {
+      const auto [px0, px1] = row_run(p, r, y);
+      out.x.push_back({px0, px1});
+      bool live = false;
+      if (y >= 0 && y < ny_) {
+        // A cell of a disk of radius r about c, |c − p| ≤ pad, lies within r + pad of p; the extra
+        // cell covers the rounding of both runs.
+        auto [b0, b1] = row_run(p, r + pad + h_, y);
+        b0 = std::max(0, b0);
+        b1 = std::min(nx_ - 1, b1);
+        live = px0 > px1 ? uncut_in(y, b0, b1) > 0
+                         : uncut_in(y, b0, std::min(b1, px0 - 1)) > 0 || uncut_in(y, std::max(b0, px1 + 1), b1) > 0;
+      }
+      out.live.push_back(live ? 1 : 0);
+    }
     return out;
   }
 
-  /// fresh_beyond(p, c, r) with p's runs from runs(p, r, pad), |c − p| ≤ pad.
+  /// fresh_beyond(p, c, r) with p's runs from runs(p, r, pad), |c − p| ≤ pad: rows without an
+  /// uncut cell in p's band are skipped.
   [[nodiscard]] int fresh_beyond(const Runs& pr, const Vec2& c, double r) const {
     int n = 0;
+    const auto at = [&](int y) { return static_cast<std::size_t>(y - pr.y0); };
+    const auto inside = [&](int y) { return y >= pr.y0 && at(y) < pr.x.size(); };
     crescent(
-        c, r,
-        [&](int y) {
-          const std::size_t k = static_cast<std::size_t>(y - pr.y0);
-          return y >= pr.y0 && k < pr.x.size() ? pr.x[k] : std::pair<int, int>{1, 0};
-        },
-        [&](int y, int x0, int x1) { n += uncut_in(y, x0, x1); });
+        c, r, [&](int y) { return inside(y) ? pr.x[at(y)] : std::pair<int, int>{1, 0}; },
+        [&](int y, int x0, int x1) { n += uncut_in(y, x0, x1); },
+        [&](int y) { return !inside(y) || pr.live[at(y)] != 0; });
     return n;
   }
 
@@ -233,6 +255,14 @@ public:
         --tuncut_[block(x, y)];
         tsum_[block(x, y)][0] -= x;
         tsum_[block(x, y)][1] -= y;
+        if (sense_valid_) {  // the kept sense disk loses it too
+          const auto [s0, s1] = sense_.at(y);
+          if (s0 <= x && x <= s1) {
+            --sense_sums_.n;
+            sense_sums_.sx -= x;
+            sense_sums_.sy -= y;
+          }
+        }
       }
     };
     const auto cut_run = [&](int y, int x0, int x1) {
@@ -278,46 +308,26 @@ public:
     });
   }
 
-  /// Uncut target cells within r of c: their number, the nearest one and their centroid (each
-  /// written only when there is one).
-  /// Without `nearest`, a block whose every cell centre lies within r counts whole (its count and
-  /// index sums): O(r²/(kB h)² + r/h · kB) instead of O((r/h)²).
+  /// Uncut target cells within r of c (by rows()' rounding): their number, the nearest one and
+  /// their centroid (each written only when there is one).
+  /// Without `nearest` (the material sense, called at every step of a pass or a ride), the count
+  /// and index sums are kept for the last disk: mark() takes its cut cells off them, and a disk
+  /// moved by at most kSenseShiftCells cells is counted from the last one by the two crescents
+  /// between them, O(r/h + r·|c − c'|/h²) instead of the full walk. The full walk counts a block
+  /// whose every cell lies in the disk by its kept count and index sums: O(r²/(kB h)² + r/h · kB).
+  /// The index sums are integers: the same disk gives the same figures whichever way it was reached.
   int target_near(const Vec2& c, double r, Vec2* nearest, Vec2* centroid = nullptr) const {
-    long long n = 0, sx = 0, sy = 0;  // index sums: exact, independent of the visiting order
-    double best = kInf;
-    const auto cell = [&](int x, int y) {
-      const std::size_t i = idx(x, y);
-      if (st_[i] != 1 || !target_[i]) return;
-      const Vec2 q = centre(x, y);
-      const double d = (q - c).squaredNorm();
-      if (d > r * r) return;
-      ++n;
-      sx += x;
-      sy += y;
-      if (nearest && d < best) {
-        best = d;
-        *nearest = q;
-      }
-    };
-    // Without `nearest`, a block wholly within r counts by its kept count and index sums.
-    const auto whole = [&](std::size_t b) {
-      if (nearest) return false;
-      n += tuncut_[b];
-      sx += tsum_[b][0];
-      sy += tsum_[b][1];
-      return true;
-    };
-    blocks(
-        c, r, tuncut_,
-        [&](int x, int y) {
-          cell(x, y);
-          return true;
-        },
-        whole);
-    if (centroid && n > 0)
-      *centroid = lo_ + Vec2((static_cast<double>(sx) / static_cast<double>(n) + 0.5) * h_,
-                             (static_cast<double>(sy) / static_cast<double>(n) + 0.5) * h_);
-    return static_cast<int>(n);
+    TargetSums t;
+    if (nearest) {
+      disk_runs(c, r, scratch_);
+      t = walk_target(scratch_, nearest);
+    } else {
+      t = sensed(c, r);
+    }
+    if (centroid && t.n > 0)
+      *centroid = lo_ + Vec2((static_cast<double>(t.sx) / static_cast<double>(t.n) + 0.5) * h_,
+                             (static_cast<double>(t.sy) / static_cast<double>(t.n) + 0.5) * h_);
+    return static_cast<int>(t.n);
   }
 
   [[nodiscard]] std::size_t uncut_target_cells() const {
@@ -329,23 +339,137 @@ public:
 private:
   [[nodiscard]] std::size_t block(int x, int y) const { return lin(x / kB, y / kB, bx_); }
 
+  /// A sensing disk moved by more than this many cells is walked whole, not by crescents.
+  static constexpr double kSenseShiftCells = 4;
+
+  /// A disk's runs on every row of rows(c, r) (unclamped; empty when first > last).
+  struct DiskRuns {
+    Vec2 c{kInf, kInf};
+    double r = -1;
+    int y0 = 0;
+    std::vector<std::pair<int, int>> x;
+    [[nodiscard]] std::pair<int, int> at(int y) const {
+      const auto k = static_cast<std::size_t>(y - y0);
+      return y >= y0 && k < x.size() ? x[k] : std::pair<int, int>{1, 0};
+    }
+  };
+  void disk_runs(const Vec2& c, double r, DiskRuns& out) const {
+    const auto [ya, yb] = run(c.y(), r, lo_.y());
+    out.c = c;
+    out.r = r;
+    out.y0 = ya;
+    out.x.clear();
+    for (int y = ya; y <= yb; ++y) out.x.push_back(row_run(c, r, y));
+  }
+
+  /// Uncut target cells: their number and index sums.
+  struct TargetSums {
+    long long n = 0, sx = 0, sy = 0;
+  };
+  /// Adds (sign +1) or takes off (−1) the uncut target cells of row y from x0 to x1 (clamped).
+  void add_target(int y, int x0, int x1, int sign, TargetSums& t) const {
+    if (y < 0 || y >= ny_) return;
+    x0 = std::max(0, x0);
+    x1 = std::min(nx_ - 1, x1);
+    const std::uint8_t* s = st_.data() + idx(0, y);
+    const std::uint8_t* g = target_.data() + idx(0, y);
+    long long n = 0, sx = 0;
+    for (int x = x0; x <= x1; ++x)
+      if (s[x] == 1 && g[x]) {
+        ++n;
+        sx += x;
+      }
+    t.n += sign * n;
+    t.sx += sign * sx;
+    t.sy += sign * n * y;
+  }
+  /// Calls g(first, last) for the (possibly empty) pieces of run a outside run b.
+  template <class G>
+  static void minus(std::pair<int, int> a, std::pair<int, int> b, G&& g) {
+    if (a.first > a.second) return;
+    if (b.first > b.second) {
+      g(a.first, a.second);
+      return;
+    }
+    g(a.first, std::min(a.second, b.first - 1));
+    g(std::max(a.first, b.second + 1), a.second);
+  }
+
+  /// The uncut target cells of disk d, block by block; with `nearest`, every cell is visited and
+  /// the nearest to d.c written (the first in raster order of blocks, then of cells, on a tie).
+  TargetSums walk_target(const DiskRuns& d, Vec2* nearest) const {
+    TargetSums t;
+    double best = kInf;
+    in_box(d.c - Vec2(d.r, d.r), d.c + Vec2(d.r, d.r), tuncut_, [&](int bx, int by, std::size_t b) {
+      const int xa = bx * kB, xb = std::min(nx_, xa + kB) - 1;
+      const int ya = by * kB, yb = std::min(ny_, ya + kB) - 1;
+      if (!nearest) {
+        bool whole = true;
+        for (int y = ya; y <= yb && whole; ++y) {
+          const auto [r0, r1] = d.at(y);
+          whole = r0 <= xa && xb <= r1;
+        }
+        if (whole) {
+          t.n += tuncut_[b];
+          t.sx += tsum_[b][0];
+          t.sy += tsum_[b][1];
+          return true;
+        }
+      }
+      for (int y = ya; y <= yb; ++y) {
+        const auto [r0, r1] = d.at(y);
+        const int x0 = std::max(xa, r0), x1 = std::min(xb, r1);
+        if (!nearest) {
+          add_target(y, x0, x1, 1, t);
+          continue;
+        }
+        for (int x = x0; x <= x1; ++x) {
+          const std::size_t i = idx(x, y);
+          if (st_[i] != 1 || !target_[i]) continue;
+          ++t.n;
+          t.sx += x;
+          t.sy += y;
+          const double dd = (centre(x, y) - d.c).squaredNorm();
+          if (dd < best) {
+            best = dd;
+            *nearest = centre(x, y);
+          }
+        }
+      }
+      return true;
+    });
+    return t;
+  }
+
+  /// The uncut target cells within r of c, kept for the last disk (target_near).
+  TargetSums sensed(const Vec2& c, double r) const {
+    if (sense_valid_ && r == sense_.r && c == sense_.c) return sense_sums_;
+    if (sense_valid_ && r == sense_.r && (c - sense_.c).squaredNorm() <= sq(kSenseShiftCells * h_)) {
+      disk_runs(c, r, scratch_);
+      TargetSums t = sense_sums_;
+      for (int y = scratch_.y0; y < scratch_.y0 + static_cast<int>(scratch_.x.size()); ++y)
+        minus(scratch_.at(y), sense_.at(y), [&](int x0, int x1) { add_target(y, x0, x1, 1, t); });
+      for (int y = sense_.y0; y < sense_.y0 + static_cast<int>(sense_.x.size()); ++y)
+        minus(sense_.at(y), scratch_.at(y), [&](int x0, int x1) { add_target(y, x0, x1, -1, t); });
+      std::swap(sense_, scratch_);
+      sense_sums_ = t;
+      return t;
+    }
+    disk_runs(c, r, sense_);
+    sense_sums_ = walk_target(sense_, nullptr);
+    sense_valid_ = true;
+    return sense_sums_;
+  }
+  static double sq(double v) { return v * v; }
+
   /// Visits the cells of the blocks within r of c whose count is > 0; f(x, y) returns false to stop.
-  /// A block whose every cell centre lies within r is first offered to whole(block index), which
-  /// returns true when it took the block without its cells.
-  template <class F, class W = bool (*)(std::size_t)>
-  void blocks(const Vec2& c, double r, const std::vector<int>& count, F&& f,
-              W&& whole = [](std::size_t) { return false; }) const {
+  template <class F>
+  void blocks(const Vec2& c, double r, const std::vector<int>& count, F&& f) const {
     const double bs = kB * h_;
-    in_box(c - Vec2(r, r), c + Vec2(r, r), count, [&](int bx, int by, std::size_t b) {
+    in_box(c - Vec2(r, r), c + Vec2(r, r), count, [&](int bx, int by, std::size_t) {
       const Vec2 blo = lo_ + Vec2(bx * bs, by * bs);
       const Vec2 q = c.cwiseMax(blo).cwiseMin(blo + Vec2(bs, bs));
       if ((q - c).squaredNorm() > r * r) return true;
-      // The block's farthest cell centre (a block at the raster's edge is partial: its cells
-      // beyond the edge are never counted, so the full block's corners bound them too).
-      const Vec2 lo_c = blo + Vec2(0.5 * h_, 0.5 * h_), hi_c = blo + Vec2(bs - 0.5 * h_, bs - 0.5 * h_);
-      const Vec2 far(std::max(std::abs(c.x() - lo_c.x()), std::abs(c.x() - hi_c.x())),
-                     std::max(std::abs(c.y() - lo_c.y()), std::abs(c.y() - hi_c.y())));
-      if (far.squaredNorm() <= r * r && whole(b)) return true;
       for (int y = by * kB; y < std::min(ny_, (by + 1) * kB); ++y)
         for (int x = bx * kB; x < std::min(nx_, (bx + 1) * kB); ++x)
           if (!f(x, y)) return false;
@@ -379,6 +503,9 @@ private:
   Vec2 marked_{kInf, kInf};  ///< the last mark's centre and radius: its disk holds no uncut cell
   double marked_r_ = -1;
   std::vector<std::array<long long, 2>> tsum_;  ///< per block: sums of the uncut target cells' x and y indices
+  mutable DiskRuns sense_, scratch_;  ///< the kept sense disk; a scratch disk
+  mutable TargetSums sense_sums_;     ///< the uncut target cells of sense_
+  mutable bool sense_valid_ = false;
 };
 
 /// Douglas–Peucker on an open polyline within eps, keeping a chord only where the walls allow it.
