@@ -48,6 +48,10 @@ constexpr double kRideAwayDeg = 60;
 /// Rides back shorter than kRideMinMm gain nothing; none goes beyond kRideMaxMm.
 constexpr double kRideMinMm = 1.0;
 constexpr double kRideMaxMm = 300.0;
+/// A ride steps this many planning steps at a time (it cuts nothing at any of its positions; between
+/// two of them 4 steps = D/10 apart, a cell within R of the move but of neither lies at most
+/// (D/10)²/(8R) = D/400 beyond R of both, as air_ok allows).
+constexpr int kRideStepSteps = 4;
 /// A tool with no link out backtracks along its own path, trying a link every kBacktrackMm, at
 /// most kBacktrackTries times.
 constexpr double kBacktrackMm = 2.0;
@@ -201,12 +205,13 @@ public:
     std::vector<std::pair<int, int>> x;
     std::vector<std::uint8_t> live;
   };
-  /// The runs of the disk of radius r about p on the rows within r + pad of p.y. O((r + pad)/h ·
-  /// (pad/h + 1)).
-  [[nodiscard]] Runs runs(const Vec2& p, double r, double pad) const {
-    Runs out;
+  /// The runs of the disk of radius r about p on the rows within r + pad of p.y, into `out` (its
+  /// buffers reused). O((r + pad)/h · (pad/h + 1)).
+  void runs(const Vec2& p, double r, double pad, Runs& out) const {
     const auto [ya, yb] = run(p.y(), r + pad, lo_.y());
     out.y0 = ya;
+    out.x.clear();
+    out.live.clear();
     for (int y = ya; y <= yb; ++y) {
       const auto [px0, px1] = row_run(p, r, y);
       out.x.push_back({px0, px1});
@@ -222,7 +227,6 @@ public:
       }
       out.live.push_back(live ? 1 : 0);
     }
-    return out;
   }
 
   /// fresh_beyond(p, c, r) with p's runs from runs(p, r, pad), |c − p| ≤ pad: rows without an
@@ -966,14 +970,20 @@ private:
       room_at_ = p;
       room_ = walls_.point_ok(p) ? walls_.wall_distance(p) - walls_.clearance() : -1.0;
       p_clear_ = raster_.clear_within(p, R_);
-      if (p_clear_) p_runs_ = raster_.runs(p, R_, 2 * step_);
+      p_pad_ = -1;
     }
-    if (!((q - p).norm() < room_) && !walls_.move_ok(p, q)) return kInf;
+    const double d = (q - p).norm();
+    if (!(d < room_) && !walls_.move_ok(p, q)) return kInf;
     // Every caller stands on cut ground (a pass, a ride, a link's end), so only the crescent the step
     // adds can hold uncut cells; checked once per position, the full disk where it is not so.
     if (!p_clear_) return raster_.fresh(q, R_);
-    return (q - p).norm() <= 2 * step_ ? raster_.fresh_beyond(p_runs_, q, R_) : raster_.fresh_beyond(p, q, R_);
+    if (d > p_pad_) {  // p's runs, for every step from p up to this long
+      p_pad_ = std::max(2 * step_, d);
+      raster_.runs(p, R_, p_pad_, p_runs_);
+    }
+    return raster_.fresh_beyond(p_runs_, q, R_);
   }
+  mutable double p_pad_ = -1;
   mutable Raster::Runs p_runs_;
   mutable Vec2 room_at_{kInf, kInf};
   mutable double room_ = -1;
@@ -1022,6 +1032,7 @@ private:
     Vec2 p = p0;
     double len = 0;
     Vec2 hd(0, 0);
+    const double rs = kRideStepSteps * step_;
     while (len < kRideMaxMm) {
       Vec2 cen;
       if (raster_.target_near(p, R_ + kSenseMm, nullptr, &cen) < min_work_) break;
@@ -1030,7 +1041,7 @@ private:
       u.normalize();
       const Vec2 t0 = rot(u, -side * kPi / 2);  // the material on the other side
       auto dir = [&](double th) { return rot(t0, side * th); };
-      auto free = [&](double th) { return cost(p, p + step_ * dir(th)) <= 0; };
+      auto free = [&](double th) { return cost(p, p + rs * dir(th)) <= 0; };
       double lo = -kRideAwayDeg * kPi / 180;
       if (!free(lo)) break;
       double hi = kPi / 2;
@@ -1043,10 +1054,10 @@ private:
         }
       const Vec2 nd = dir(lo);
       if (hd.norm() > 0 && hd.dot(nd) < std::cos(kPi / 2)) break;  // it would turn back on itself
-      p += step_ * nd;
+      p += rs * nd;
       hd = nd;
       way.push_back(p);
-      len += step_;
+      len += rs;
     }
     last_heading_ = hd.norm() > 0 ? Vec2(-hd) : Vec2(1, 0);
     return len >= kRideMinMm;
