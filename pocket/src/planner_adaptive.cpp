@@ -343,8 +343,10 @@ public:
 private:
   [[nodiscard]] std::size_t block(int x, int y) const { return lin(x / kB, y / kB, bx_); }
 
-  /// A sensing disk moved by more than this many cells is walked whole, not by crescents.
-  static constexpr double kSenseShiftCells = 4;
+  /// A sensing disk moved by more than this many cells is walked whole, not by crescents (a pass
+  /// moves 2 D/80 cells a step, a ride 8: the crescents then visit ≈ 2·shift·2r/h² cells, about
+  /// what the block walk visits).
+  static constexpr double kSenseShiftCells = 8;
 
   /// A disk's runs on every row of rows(c, r) (unclamped; empty when first > last).
   struct DiskRuns {
