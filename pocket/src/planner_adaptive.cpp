@@ -758,36 +758,66 @@ private:
     const double reach = (R_ + (target_deg_ < kPassesTakeTheWallBandBelowDeg ? 0.75 : -0.5) * h) / h;
     for (std::size_t i = 0; i < st.size(); ++i) target[i] = st[i] == 1 && to_allowed[i] <= reach * reach;
     raster_.count_blocks();
-    // Components of allowed centres (8-connected flood fill), in raster order.
-    std::vector<int> comp(st.size(), -1);  // component of each allowed cell
-    for (int y = 0; y < ny; ++y)
-      for (int x = 0; x < nx; ++x) {
-        const std::size_t s = raster_.idx(x, y);
-        if (!allowed[s] || comp[s] >= 0) continue;
-        const int id = static_cast<int>(entries_.size());
-        std::size_t best = s;
-        std::vector<std::size_t> stack{s};
-        comp[s] = id;
-        while (!stack.empty()) {
-          const std::size_t i = stack.back();
-          stack.pop_back();
-          if (wall_d2[i] > wall_d2[best] || (wall_d2[i] == wall_d2[best] && i < best)) best = i;
-          const int cx = static_cast<int>(i % static_cast<std::size_t>(nx)), cy = static_cast<int>(i / static_cast<std::size_t>(nx));
-          for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-              const int qx = cx + dx, qy = cy + dy;
-              if (qx < 0 || qy < 0 || qx >= nx || qy >= ny) continue;
-              const std::size_t q = raster_.idx(qx, qy);
-              if (allowed[q] && comp[q] < 0) {
-                comp[q] = id;
-                stack.push_back(q);
-              }
-            }
+    // Components of allowed centres (8-connected), numbered in raster order of their first cell:
+    // the rows' runs of allowed cells, joined where runs of neighbouring rows overlap or touch
+    // diagonally (union–find). O(cells). Each component's entry: its cell farthest from the walls
+    // (the first in raster order on a tie).
+    struct RunOf {
+      int y, x0, x1;
+    };
+    std::vector<RunOf> arun;  // the runs of allowed cells, in raster order
+    std::vector<std::size_t> row_first(static_cast<std::size_t>(ny) + 1, 0);
+    for (int y = 0; y < ny; ++y) {
+      row_first[static_cast<std::size_t>(y)] = arun.size();
+      for (int x = 0; x < nx;) {
+        if (!allowed[raster_.idx(x, y)]) {
+          ++x;
+          continue;
         }
-        entries_.push_back({raster_.centre(static_cast<int>(best % static_cast<std::size_t>(nx)),
-                                           static_cast<int>(best / static_cast<std::size_t>(nx))),
-                            false});
+        const int x0 = x;
+        while (x < nx && allowed[raster_.idx(x, y)]) ++x;
+        arun.push_back({y, x0, x - 1});
       }
+    }
+    row_first[static_cast<std::size_t>(ny)] = arun.size();
+    std::vector<std::size_t> parent(arun.size());
+    for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = i;
+    const auto find = [&](std::size_t i) {
+      while (parent[i] != i) i = parent[i] = parent[parent[i]];
+      return i;
+    };
+    for (int y = 1; y < ny; ++y) {
+      std::size_t j = row_first[static_cast<std::size_t>(y) - 1];
+      const std::size_t j_end = row_first[static_cast<std::size_t>(y)];
+      for (std::size_t i = j_end; i < row_first[static_cast<std::size_t>(y) + 1]; ++i) {
+        // Runs of the row below that touch run i (8-connected: up to one cell beyond its ends).
+        while (j < j_end && arun[j].x1 < arun[i].x0 - 1) ++j;
+        for (std::size_t k = j; k < j_end && arun[k].x0 <= arun[i].x1 + 1; ++k) {
+          const std::size_t ri = find(i), rk = find(k);
+          if (ri != rk) parent[std::max(ri, rk)] = std::min(ri, rk);  // the root is the first run
+        }
+      }
+    }
+    // A root is its component's first run (unions keep the smaller index), so numbering the roots
+    // in run order numbers the components in raster order of their first cell.
+    std::vector<int> comp_of(arun.size(), -1);
+    std::vector<std::size_t> best;
+    for (std::size_t i = 0; i < arun.size(); ++i) {
+      const std::size_t r = find(i);
+      if (comp_of[r] < 0) {
+        comp_of[r] = static_cast<int>(best.size());
+        best.push_back(raster_.idx(arun[i].x0, arun[i].y));
+      }
+      std::size_t& bi = best[static_cast<std::size_t>(comp_of[r])];
+      for (int x = arun[i].x0; x <= arun[i].x1; ++x) {
+        const std::size_t c = raster_.idx(x, arun[i].y);
+        if (wall_d2[c] > wall_d2[bi]) bi = c;  // strictly: the first in raster order on a tie
+      }
+    }
+    for (const std::size_t c : best)
+      entries_.push_back({raster_.centre(static_cast<int>(c % static_cast<std::size_t>(nx)),
+                                         static_cast<int>(c / static_cast<std::size_t>(nx))),
+                          false});
     stats_.components = entries_.size();
     // Lattice over the raster's box.
     lat_lo_ = raster_.centre(0, 0);
