@@ -106,7 +106,7 @@ std::optional<std::pair<Vec2, double>> fit_helix(const Clearance& clear, const V
 }
 
 void helix(Builder& b, const Vec2& p, const Vec2& c, double rh, double z_from, double z_to, double feed,
-           double angle_deg, double flat_feed) {
+           double angle_deg, double flat_feed, double air_feed) {
   // Counter-clockwise (G3) turns descending at exactly the entry angle at the entry feed: half
   // turns, then the part of one that is left (the helix ends where its slope has taken it down,
   // not at the next half turn: until 2026-11-25 the descent was spread over whole half turns, up
@@ -128,11 +128,12 @@ void helix(Builder& b, const Vec2& p, const Vec2& c, double rh, double z_from, d
   const Vec2 opp = 2 * c - end;
   b.arc(true, c, opp.x(), opp.y(), z_to, flat_feed);
   b.arc(true, c, end.x(), end.y(), z_to, flat_feed);
-  // Back to p across the bore (a chord of the circle of centres: all cut), where the chain begins.
+  // Back to p across the bore (a chord of the circle of centres: all cut, so at the feed of moves
+  // through cut material where there is one), where the chain begins.
   // Until 2026-11-25 an odd number of half turns left the chain's first move to start from the far
   // side: a line to its second vertex, never checked against the walls, and an arc (arc_fit.hpp)
   // would have been written from the wrong start.
-  if ((end - p).norm() > 1e-9) b.line(p.x(), p.y(), z_to, flat_feed);
+  if ((end - p).norm() > 1e-9) b.line(p.x(), p.y(), z_to, std::max(flat_feed, air_feed));
 }
 
 std::string fmt(double v, int decimals) { return gcode::format_number(v, decimals); }
@@ -261,13 +262,15 @@ std::vector<Step> build_steps(const std::vector<LevelPlan>& levels, const GcodeP
         b.moves[b.moves.size() - static_cast<std::size_t>(legs)].comment = "ramp entry";
         return true;
       };
+      bool helixed = false;  // entered by the helix, its flat turn included
       const auto try_helix = [&]() {
         if (!ch.predrill) return false;
         const auto h = fit_helix(*clear, p0, cut.tool_diameter);
         if (!h) return false;
+        helixed = true;
         const std::size_t at = b.moves.size();
         helix(b, p0, h->first, h->second, ramp_start(L.top_z), L.z, entry_feed, gp.entry_angle_deg,
-              std::max(entry_feed, cut.feed_slot > 0 ? cut.feed_slot : cut.feed_half));
+              std::max(entry_feed, cut.feed_slot > 0 ? cut.feed_slot : cut.feed_half), cut.feed_air);
         if (at < b.moves.size()) b.moves[at].comment = "helix entry, radius " + fmt(h->second, gp.decimals);
         return true;
       };
@@ -279,8 +282,9 @@ std::vector<Step> build_steps(const std::vector<LevelPlan>& levels, const GcodeP
         if (ch.predrill && gp.entry != Entry::Predrill)
           b.moves.back().comment = "WARNING: no room for a " + std::string(to_string(gp.entry)) + " entry: plain plunge";
       }
-      // Cut.
-      for (std::size_t k = 0; k + 1 < ch.pts.size(); ++k) {
+      // Cut (after a helix, from the end of the chain's own turn round its bore: Chain::entry_turn).
+      const std::size_t k0 = helixed ? std::min(ch.entry_turn, ch.pts.size() - 1) : 0;
+      for (std::size_t k = k0; k + 1 < ch.pts.size(); ++k) {
         const double f = (k < ch.feed.size() && ch.feed[k] > 0) ? ch.feed[k] : cut.feed_half;
         const Vertex& a = ch.pts[k];
         const Vertex& e = ch.pts[k + 1];

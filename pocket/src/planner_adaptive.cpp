@@ -696,10 +696,20 @@ public:
       Chain c;
       c.predrill = raw.predrill;
       std::vector<Vec2> pts;
-      simplify_into(raw.pts, tol::adaptive_simplify_mm, exact_, pts);
-      for (const Vec2& p : pts) {
-        if (!c.pts.empty() && (c.pts.back().p() - p).norm() <= tol::join_mm) continue;
-        c.pts.push_back({p.x(), p.y(), 0.0});
+      // The turn round the entry's bore and the rest apart, so that its end is kept.
+      std::size_t turn_end = 0;  // in pts
+      if (raw.turn_end > 0 && raw.turn_end < raw.pts.size()) {
+        const auto split = raw.pts.begin() + static_cast<std::ptrdiff_t>(raw.turn_end);
+        simplify_into(std::vector<Vec2>(raw.pts.begin(), split + 1), tol::adaptive_simplify_mm, exact_, pts);
+        turn_end = pts.size() - 1;
+        simplify_into(std::vector<Vec2>(split, raw.pts.end()), tol::adaptive_simplify_mm, exact_, pts);
+      } else {
+        simplify_into(raw.pts, tol::adaptive_simplify_mm, exact_, pts);
+      }
+      for (std::size_t i = 0; i < pts.size(); ++i) {
+        const Vec2& p = pts[i];
+        if (c.pts.empty() || (c.pts.back().p() - p).norm() > tol::join_mm) c.pts.push_back({p.x(), p.y(), 0.0});
+        if (turn_end > 0 && i == turn_end) c.entry_turn = c.pts.size() - 1;
       }
       if (c.pts.size() == 1) c.pts.push_back(c.pts.front());  // a lone entry: keep it a move
       res.path.chains.push_back(std::move(c));
@@ -723,6 +733,7 @@ private:
   struct RawChain {
     std::vector<Vec2> pts;
     bool predrill = true;
+    std::size_t turn_end = 0;  ///< pts[0] … pts[turn_end]: the turn round the entry's bore (Chain::entry_turn)
   };
 
   /// Target cells (within R of an allowed raster centre), raster components of allowed centres,
@@ -1277,13 +1288,15 @@ private:
       Vec2 d(0, 1);
       if (const auto hx = entry_helix(exact_, e.p, cut_.tool_diameter)) {
         raster_.mark(hx->first, hx->second + R_);
-        // The helix's flat turn at the floor, in the plan too (it cuts nothing the helix has not;
-        // it makes the path sweep the hole, for the uncut-area figures).
+        // The helix's flat turn at the floor, in the plan too: it makes the path sweep the bore (the
+        // uncut-area figures), and with another entry than the helix it is what cuts it. A program
+        // entering by the helix skips it (Chain::entry_turn): the helix's own flat turn cut it.
         const Vec2 out = e.p - hx->first;
         const int nseg = std::max(8, static_cast<int>(std::ceil(2 * kPi * hx->second / step_)));
         chains_.back().pts.push_back(e.p);
         for (int k = 1; k <= nseg; ++k)
           chains_.back().pts.push_back(hx->first + rot(out, (climb_ ? 1.0 : -1.0) * 2 * kPi * k / nseg));
+        chains_.back().turn_end = chains_.back().pts.size() - 1;
         d = rot(out.normalized(), climb_ ? kPi / 2 : -kPi / 2);  // round the hole, material outside
       } else {
         raster_.mark(e.p, R_);

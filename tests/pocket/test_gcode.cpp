@@ -194,6 +194,51 @@ TEST(PocketGcode, HelixDescendsAtTheEntryFeedAndTrimsItsFloorAtTheSlotFeed) {
   check(5, 5, 59.436);
 }
 
+TEST(PocketGcode, HelixCrossesItsBoreAtTheAirFeedAndSkipsTheChainsOwnTurnRoundIt) {
+  // After the flat turn the tool goes back across the bore (all cut) to the chain's start: at the
+  // feed of moves through cut material where there is one. A chain whose first moves are a turn
+  // round that bore (Chain::entry_turn, the adaptive planner's) skips them after a helix, whose own
+  // flat turn cut the bore; entered any other way, it cuts them.
+  const Region r{rect(0, 0, 60, 40), {}};
+  const Vec2 p0(30, 20);
+  const auto hx = entry_helix(Clearance(r, 5), p0, 10);
+  ASSERT_TRUE(hx.has_value());
+  std::vector<Vertex> pts{{p0.x(), p0.y(), 0}};
+  for (int k = 1; k <= 8; ++k) {
+    const double a = 2 * std::numbers::pi * k / 8;
+    const Vec2 v = p0 - hx->first;
+    const Vec2 q = hx->first + Vec2(std::cos(a) * v.x() - std::sin(a) * v.y(), std::sin(a) * v.x() + std::cos(a) * v.y());
+    pts.push_back({q.x(), q.y(), 0});
+  }
+  pts.push_back({45, 20, 0});
+  auto levels = one_chain_at_z5(r, pts);
+  levels[0].path.chains[0].entry_turn = 8;
+  GcodeParams gp;
+  gp.cut.tool_diameter = 10;
+  gp.cut.feed_slot = gp.cut.feed_half = 1500;
+  gp.cut.feed_plunge = 300;
+  const auto floor_lines = [&](Entry e, double air) {
+    gp.entry = e;
+    gp.cut.feed_air = air;
+    const auto rep = millnet::testing::replay_gcode(write_gcode(levels, gp), gp.cut.safe_z);
+    std::vector<millnet::testing::ReplayMove> out;
+    for (const auto& m : rep.moves)
+      if (m.g == 1 && std::abs(m.from[2] + 5) < 1e-9 && std::abs(m.to[2] + 5) < 1e-9) out.push_back(m);
+    return out;
+  };
+  const auto helix = floor_lines(Entry::Helix, 4800);
+  ASSERT_EQ(helix.size(), 2u);  // across the bore, then the pass: no turn of the chain's own
+  EXPECT_NEAR(helix[0].to[0], 30, 1e-9);
+  EXPECT_NEAR(helix[0].to[1], 20, 1e-9);
+  EXPECT_DOUBLE_EQ(helix[0].feed, 4800);
+  EXPECT_NEAR(helix[1].to[0], 45, 1e-9);
+  EXPECT_DOUBLE_EQ(helix[1].feed, 1500);
+  const auto no_air = floor_lines(Entry::Helix, 0);
+  ASSERT_EQ(no_air.size(), 2u);
+  EXPECT_DOUBLE_EQ(no_air[0].feed, 1500);  // no air feed: the cutting feed, as before
+  EXPECT_EQ(floor_lines(Entry::Predrill, 4800).size(), 9u);  // plunged: the 8 moves of the turn cut the bore
+}
+
 TEST(PocketGcode, BadParameters) {
   EXPECT_THROW((void)parse_entry("drill"), millnet::Error);
   EXPECT_EQ(parse_entry("ramp"), Entry::Ramp);

@@ -18,6 +18,11 @@ struct Chain {
   std::vector<double> feed;     ///< pts.size() − 1 entries once assigned
   bool predrill = true;         ///< entry plunges into uncut material
   std::string role = "cut";     ///< "cut" (area clearing), "contour" (wall pass), "link" …
+  /// > 0: pts[0] … pts[entry_turn] are a flat turn round the bore of the helix a helix entry makes
+  /// at pts[0] (the adaptive planner's chains: it counts on that bore, and with any other entry
+  /// these moves cut it). A program that enters this chain by that helix, whose own flat turn
+  /// cuts the bore, goes on from pts[entry_turn] (= pts[0]) instead of turning round it twice.
+  std::size_t entry_turn = 0;
 };
 
 struct Path2D {
