@@ -105,34 +105,44 @@ std::optional<std::pair<Vec2, double>> fit_helix(const Clearance& clear, const V
   return std::nullopt;
 }
 
-void helix(Builder& b, const Vec2& p, const Vec2& c, double rh, double z_from, double z_to, double feed,
-           double angle_deg, double flat_feed, double air_feed) {
-  // Counter-clockwise (G3) turns descending at exactly the entry angle at the entry feed: half
-  // turns, then the part of one that is left (the helix ends where its slope has taken it down,
+/// Where a helix round c (radius rh) from z_from to z_to at angle_deg must start so that its
+/// descent ends at p (on its circle): sweep = (z_from − z_to) / (rh · tan angle) before it.
+Vec2 helix_start(const Vec2& p, const Vec2& c, double rh, double z_from, double z_to, double angle_deg) {
+  const double sweep = (z_from - z_to) / (rh * std::tan(angle_deg * kPi / 180));
+  const double a = std::atan2(p.y() - c.y(), p.x() - c.x()) - sweep;
+  return {c.x() + rh * std::cos(a), c.y() + rh * std::sin(a)};
+}
+
+void helix(Builder& b, const Vec2& s, const Vec2& p, const Vec2& c, double rh, double z_from, double z_to,
+           double feed, double angle_deg, double flat_feed, double air_feed) {
+  // Counter-clockwise (G3) turns descending at exactly the entry angle at the entry feed, from s:
+  // half turns, then the part of one that is left (the helix ends where its slope has taken it down,
   // not at the next half turn: until 2026-11-25 the descent was spread over whole half turns, up
   // to half a pitch of ramp more). Then one flat turn at the floor at the cutting feed: it only
   // trims the last pitch's wedge of the ramp (≤ one pitch deep), a light cut, not a ramp into
   // material (at 300 mm/min it was 0.09 of the 0.52 min the bench pockets' helix took).
+  // With s = helix_start(p, …) the descent ends at p, where the chain begins, and the flat turn
+  // closes there (until 2026-11-26 every helix started at p and its tool went back across the bore
+  // from where the descent ended, up to 2·rh).
   const double slope = std::tan(angle_deg * kPi / 180);
   const double sweep = (z_from - z_to) / (rh * slope);  // radians of descent
-  const double a0 = std::atan2(p.y() - c.y(), p.x() - c.x());
+  const double a0 = std::atan2(s.y() - c.y(), s.x() - c.x());
   const auto at = [&](double a) { return Vec2(c.x() + rh * std::cos(a), c.y() + rh * std::sin(a)); };
-  b.line(p.x(), p.y(), z_from, feed);
+  b.line(s.x(), s.y(), z_from, feed);
   const int halves = std::max(1, static_cast<int>(std::ceil(sweep / kPi - 1e-9)));
-  Vec2 end = p;
+  Vec2 end = s;
   for (int h = 1; h <= halves; ++h) {
     const double a = h < halves ? h * kPi : sweep;
-    end = h < halves ? ((h % 2 == 1) ? Vec2(2 * c - p) : p) : at(a0 + a);
+    end = h < halves ? ((h % 2 == 1) ? Vec2(2 * c - s) : s) : at(a0 + a);
+    if (h == halves && (end - p).norm() < 1e-6) end = p;  // it ends at p: exactly there
     b.arc(true, c, end.x(), end.y(), h < halves ? z_from - rh * slope * a : z_to, feed);
   }
   const Vec2 opp = 2 * c - end;
   b.arc(true, c, opp.x(), opp.y(), z_to, flat_feed);
   b.arc(true, c, end.x(), end.y(), z_to, flat_feed);
-  // Back to p across the bore (a chord of the circle of centres: all cut, so at the feed of moves
-  // through cut material where there is one), where the chain begins.
-  // Until 2026-11-25 an odd number of half turns left the chain's first move to start from the far
-  // side: a line to its second vertex, never checked against the walls, and an arc (arc_fit.hpp)
-  // would have been written from the wrong start.
+  // Where it did not end at p (the tool started lower than planned): back to p across the bore (a
+  // chord of the circle of centres: all cut, so at the feed of moves through cut material where
+  // there is one).
   if ((end - p).norm() > 1e-9) b.line(p.x(), p.y(), z_to, std::max(flat_feed, air_feed));
 }
 
@@ -223,7 +233,16 @@ std::vector<Step> build_steps(const std::vector<LevelPlan>& levels, const GcodeP
     for (const Chain& ch : L.path.chains) {
       if (ch.pts.empty()) continue;
       const Vec2 p0 = ch.pts.front().p();
-      b.go_above(p0, L.top_z);
+      // Entry (below), chosen before the tool goes above its start: a helix starts on its circle
+      // so that its descent ends at p0 (helix_start), from the height ramp_start gives.
+      std::optional<std::pair<Vec2, double>> hx;
+      if (ch.predrill && clear) hx = fit_helix(*clear, p0, cut.tool_diameter);
+      const bool rampable = ch.predrill && ch.pts.size() >= 2 && ch.pts[0].bulge == 0.0 &&
+                            std::min((ch.pts[1].p() - p0).norm(), 2 * cut.tool_diameter) >= 0.05 * cut.tool_diameter;
+      const bool by_helix = hx && (gp.entry == Entry::Helix || (gp.entry == Entry::Ramp && !rampable));
+      const double z_helix = std::min(std::min(cut.safe_z, L.top_z + gp.approach_mm), L.top_z + gp.ramp_clearance_mm);
+      const Vec2 start = by_helix ? helix_start(p0, hx->first, hx->second, z_helix, L.z, gp.entry_angle_deg) : p0;
+      b.go_above(start, L.top_z);
       if (first) {
         b.moves.back().comment = "level " + std::to_string(li + 1) + " of " + std::to_string(levels.size()) +
                                  ": Z " + fmt(L.z, gp.decimals);
@@ -239,15 +258,14 @@ std::vector<Step> build_steps(const std::vector<LevelPlan>& levels, const GcodeP
       // entry feed; until 2026-11-25 the ramp began at approach height, 1 mm up, 0.09 min an entry).
       const auto ramp_start = [&](double top) {
         const double z = std::min(b.pos[2], top + gp.ramp_clearance_mm);
-        if (b.pos[2] > z + kZEps) b.line(p0.x(), p0.y(), z, cut.feed_plunge);
+        if (b.pos[2] > z + kZEps) b.line(b.pos[0], b.pos[1], z, cut.feed_plunge);
         return z;
       };
       const auto try_ramp = [&]() {
-        if (!(ch.predrill && ch.pts.size() >= 2 && ch.pts[0].bulge == 0.0)) return false;
+        if (!rampable) return false;
         const Vec2 p1 = ch.pts[1].p();
         const double seg = (p1 - p0).norm();
         const double Lr = std::min(seg, 2 * cut.tool_diameter);
-        if (Lr < 0.05 * cut.tool_diameter) return false;
         const double z0 = ramp_start(L.top_z);
         const double slope = std::tan(gp.entry_angle_deg * kPi / 180);
         int legs = std::max(2, static_cast<int>(std::ceil((z0 - L.z) / (Lr * slope) - 1e-9)));
@@ -264,14 +282,12 @@ std::vector<Step> build_steps(const std::vector<LevelPlan>& levels, const GcodeP
       };
       bool helixed = false;  // entered by the helix, its flat turn included
       const auto try_helix = [&]() {
-        if (!ch.predrill) return false;
-        const auto h = fit_helix(*clear, p0, cut.tool_diameter);
-        if (!h) return false;
+        if (!by_helix) return false;
         helixed = true;
         const std::size_t at = b.moves.size();
-        helix(b, p0, h->first, h->second, ramp_start(L.top_z), L.z, entry_feed, gp.entry_angle_deg,
+        helix(b, start, p0, hx->first, hx->second, ramp_start(L.top_z), L.z, entry_feed, gp.entry_angle_deg,
               std::max(entry_feed, cut.feed_slot > 0 ? cut.feed_slot : cut.feed_half), cut.feed_air);
-        if (at < b.moves.size()) b.moves[at].comment = "helix entry, radius " + fmt(h->second, gp.decimals);
+        if (at < b.moves.size()) b.moves[at].comment = "helix entry, radius " + fmt(hx->second, gp.decimals);
         return true;
       };
       bool entered = false;

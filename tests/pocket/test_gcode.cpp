@@ -194,11 +194,11 @@ TEST(PocketGcode, HelixDescendsAtTheEntryFeedAndTrimsItsFloorAtTheSlotFeed) {
   check(5, 5, 59.436);
 }
 
-TEST(PocketGcode, HelixCrossesItsBoreAtTheAirFeedAndSkipsTheChainsOwnTurnRoundIt) {
-  // After the flat turn the tool goes back across the bore (all cut) to the chain's start: at the
-  // feed of moves through cut material where there is one. A chain whose first moves are a turn
-  // round that bore (Chain::entry_turn, the adaptive planner's) skips them after a helix, whose own
-  // flat turn cut the bore; entered any other way, it cuts them.
+TEST(PocketGcode, HelixEndsWhereTheChainBeginsAndSkipsTheChainsOwnTurnRoundIt) {
+  // The helix starts on its circle so that its descent ends at the chain's start, where its flat
+  // turn closes: no move back across the bore (until 2026-11-26 one of up to 2·rh). A chain whose
+  // first moves are a turn round that bore (Chain::entry_turn, the adaptive planner's) skips them
+  // after a helix, whose own flat turn cut the bore; entered any other way, it cuts them.
   const Region r{rect(0, 0, 60, 40), {}};
   const Vec2 p0(30, 20);
   const auto hx = entry_helix(Clearance(r, 5), p0, 10);
@@ -217,26 +217,31 @@ TEST(PocketGcode, HelixCrossesItsBoreAtTheAirFeedAndSkipsTheChainsOwnTurnRoundIt
   gp.cut.tool_diameter = 10;
   gp.cut.feed_slot = gp.cut.feed_half = 1500;
   gp.cut.feed_plunge = 300;
-  const auto floor_lines = [&](Entry e, double air) {
+  gp.cut.feed_air = 4800;
+  const auto replay = [&](Entry e) {
     gp.entry = e;
-    gp.cut.feed_air = air;
-    const auto rep = millnet::testing::replay_gcode(write_gcode(levels, gp), gp.cut.safe_z);
+    return millnet::testing::replay_gcode(write_gcode(levels, gp), gp.cut.safe_z);
+  };
+  const auto floor_lines = [](const millnet::testing::ReplayResult& rep) {
     std::vector<millnet::testing::ReplayMove> out;
     for (const auto& m : rep.moves)
       if (m.g == 1 && std::abs(m.from[2] + 5) < 1e-9 && std::abs(m.to[2] + 5) < 1e-9) out.push_back(m);
     return out;
   };
-  const auto helix = floor_lines(Entry::Helix, 4800);
-  ASSERT_EQ(helix.size(), 2u);  // across the bore, then the pass: no turn of the chain's own
-  EXPECT_NEAR(helix[0].to[0], 30, 1e-9);
-  EXPECT_NEAR(helix[0].to[1], 20, 1e-9);
-  EXPECT_DOUBLE_EQ(helix[0].feed, 4800);
-  EXPECT_NEAR(helix[1].to[0], 45, 1e-9);
-  EXPECT_DOUBLE_EQ(helix[1].feed, 1500);
-  const auto no_air = floor_lines(Entry::Helix, 0);
-  ASSERT_EQ(no_air.size(), 2u);
-  EXPECT_DOUBLE_EQ(no_air[0].feed, 1500);  // no air feed: the cutting feed, as before
-  EXPECT_EQ(floor_lines(Entry::Predrill, 4800).size(), 9u);  // plunged: the 8 moves of the turn cut the bore
+  const auto rep = replay(Entry::Helix);
+  const auto lines = floor_lines(rep);
+  ASSERT_EQ(lines.size(), 1u);  // the pass only: no chord back, no turn of the chain's own
+  EXPECT_NEAR(lines[0].from[0], 30, 1e-9);
+  EXPECT_NEAR(lines[0].from[1], 20, 1e-9);
+  EXPECT_NEAR(lines[0].to[0], 45, 1e-9);
+  EXPECT_DOUBLE_EQ(lines[0].feed, 1500);
+  // The descent starts on the helix's circle (the tool feeds down there from approach height).
+  for (const auto& m : rep.moves)
+    if (m.g == 1 && m.to[2] < m.from[2] - 1e-9 && m.from[2] > 0.5) {
+      EXPECT_NEAR(std::hypot(m.to[0] - hx->first.x(), m.to[1] - hx->first.y()), hx->second, 1e-3);
+      EXPECT_GT(std::hypot(m.to[0] - 30, m.to[1] - 20), 1.0);  // not at p0: 7.02 half turns before it
+    }
+  EXPECT_EQ(floor_lines(replay(Entry::Predrill)).size(), 9u);  // plunged: the 8 moves of the turn cut the bore
 }
 
 TEST(PocketGcode, BadParameters) {
