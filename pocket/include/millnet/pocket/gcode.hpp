@@ -9,7 +9,9 @@
 //   plunges (predrilled hole / already-cut point) or enters by helix / ramp (fed straight down to
 //   ramp_clearance_mm above the material, descending from there at entry_angle_deg): entry "helix" falls
 //   back to a ramp along the chain's first segment, "ramp" to a helix; a plain plunge into uncut
-//   material (with a WARNING comment) only where neither fits.
+//   material (with a WARNING comment) only where neither fits. A helix starts on its circle so that
+//   its descent ends at the chain's first point, where its flat turn at the floor closes and the
+//   chain begins (after the chain's own turn round the bore, Chain::entry_turn, if it has one).
 #include "millnet/gcode/program.hpp"
 #include "millnet/pocket/toolpath.hpp"
 
