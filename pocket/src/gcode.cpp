@@ -88,9 +88,11 @@ struct Builder {
       retract();
       rapid(p.x(), p.y(), std::nullopt);
     }
-    const double za = std::min(gp.cut.safe_z, top + gp.approach_mm);
+    const double za = approach_z(top);
     if (pos[2] > za + kZEps) rapid(std::nullopt, std::nullopt, za);
   }
+  /// The height go_above leaves the tool at over material whose top is `top`.
+  [[nodiscard]] double approach_z(double top) const { return std::min(gp.cut.safe_z, top + gp.approach_mm); }
 };
 
 /// Helix centre and radius that keep the whole helix of tool centres clear of the walls:
@@ -235,12 +237,13 @@ std::vector<Step> build_steps(const std::vector<LevelPlan>& levels, const GcodeP
       const Vec2 p0 = ch.pts.front().p();
       // Entry (below), chosen before the tool goes above its start: a helix starts on its circle
       // so that its descent ends at p0 (helix_start), from the height ramp_start gives.
-      std::optional<std::pair<Vec2, double>> hx;
-      if (ch.predrill && clear) hx = fit_helix(*clear, p0, cut.tool_diameter);
       const bool rampable = ch.predrill && ch.pts.size() >= 2 && ch.pts[0].bulge == 0.0 &&
                             std::min((ch.pts[1].p() - p0).norm(), 2 * cut.tool_diameter) >= 0.05 * cut.tool_diameter;
-      const bool by_helix = hx && (gp.entry == Entry::Helix || (gp.entry == Entry::Ramp && !rampable));
-      const double z_helix = std::min(std::min(cut.safe_z, L.top_z + gp.approach_mm), L.top_z + gp.ramp_clearance_mm);
+      std::optional<std::pair<Vec2, double>> hx;  // fitted only where a helix may be used
+      if (ch.predrill && (gp.entry == Entry::Helix || (gp.entry == Entry::Ramp && !rampable)))
+        hx = fit_helix(*clear, p0, cut.tool_diameter);
+      const bool by_helix = hx.has_value();
+      const double z_helix = std::min(b.approach_z(L.top_z), L.top_z + gp.ramp_clearance_mm);
       const Vec2 start = by_helix ? helix_start(p0, hx->first, hx->second, z_helix, L.z, gp.entry_angle_deg) : p0;
       b.go_above(start, L.top_z);
       if (first) {

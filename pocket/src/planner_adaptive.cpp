@@ -187,45 +187,68 @@ public:
   template <class P, class G, class K = bool (*)(int)>
   void crescent(const Vec2& c, double r, P&& other, G&& g, K&& keep = [](int) { return true; }) const {
     rows(
-        c, r,
-        [&](int y, int x0, int x1) {
-          auto [px0, px1] = other(y);
-          if (px0 > px1) px0 = x1 + 1, px1 = x1;  // the row misses the other disk
-          g(y, x0, std::min(x1, px0 - 1));
-          g(y, std::max(x0, std::max(px0, px1 + 1)), x1);
-        },
-        keep);
+        c, r, [&](int y, int x0, int x1) { minus({x0, x1}, other(y), [&](int a, int b) { g(y, a, b); }); }, keep);
   }
 
-  /// A disk's runs per row (first, last; empty when first > last), for fresh_beyond's many
-  /// candidate steps from one position, and per row whether any uncut cell lies in the band the
-  /// crescent of such a step can reach (within r + pad + h of p, outside p's run).
-  struct Runs {
+  /// Calls g(first, last) for the (possibly empty) pieces of run a outside run b (empty runs:
+  /// first > last).
+  template <class G>
+  static void minus(std::pair<int, int> a, std::pair<int, int> b, G&& g) {
+    if (a.first > a.second) return;
+    if (b.first > b.second) {
+      g(a.first, a.second);
+      return;
+    }
+    g(a.first, std::min(a.second, b.first - 1));
+    g(std::max(a.first, b.second + 1), a.second);
+  }
+
+  /// A disk's runs on a band of rows (unclamped; empty when first > last), for the counts that
+  /// use one disk many times: a position's candidate steps (runs), the material sense (sensed).
+  struct DiskRuns {
+    Vec2 c{kInf, kInf};
+    double r = -1;
     int y0 = 0;
     std::vector<std::pair<int, int>> x;
+    /// The run on row y; empty beyond the band.
+    [[nodiscard]] std::pair<int, int> at(int y) const {
+      const auto k = static_cast<std::size_t>(y - y0);
+      return y >= y0 && k < x.size() ? x[k] : std::pair<int, int>{1, 0};
+    }
+    [[nodiscard]] int rows_end() const { return y0 + static_cast<int>(x.size()); }
+  };
+  /// The runs of the disk of radius r about c on the rows within r + pad of c.y, into `out` (its
+  /// buffer reused); with pad 0, the rows of rows(c, r).
+  void disk_runs(const Vec2& c, double r, DiskRuns& out, double pad = 0) const {
+    const auto [ya, yb] = run(c.y(), r + pad, lo_.y());
+    out.c = c;
+    out.r = r;
+    out.y0 = ya;
+    out.x.clear();
+    for (int y = ya; y <= yb; ++y) out.x.push_back(row_run(c, r, y));
+  }
+
+  /// A position's disk runs for fresh_beyond's many candidate steps from it, and per row whether
+  /// any uncut cell lies in the band the crescent of such a step can reach (within r + pad + h of
+  /// p, outside p's run).
+  struct Runs {
+    DiskRuns disk;
     std::vector<std::uint8_t> live;
   };
   /// The runs of the disk of radius r about p on the rows within r + pad of p.y, into `out` (its
   /// buffers reused). O((r + pad)/h · (pad/h + 1)).
   void runs(const Vec2& p, double r, double pad, Runs& out) const {
-    const auto [ya, yb] = run(p.y(), r + pad, lo_.y());
-    out.y0 = ya;
-    out.x.clear();
+    disk_runs(p, r, out.disk, pad);
     out.live.clear();
-    for (int y = ya; y <= yb; ++y) {
-      const auto [px0, px1] = row_run(p, r, y);
-      out.x.push_back({px0, px1});
-      bool live = false;
+    for (int y = out.disk.y0; y < out.disk.rows_end(); ++y) {
+      int n = 0;
       if (y >= 0 && y < ny_) {
         // A cell of a disk of radius r about c, |c − p| ≤ pad, lies within r + pad of p; the extra
         // cell covers the rounding of both runs.
         auto [b0, b1] = row_run(p, r + pad + h_, y);
-        b0 = std::max(0, b0);
-        b1 = std::min(nx_ - 1, b1);
-        live = px0 > px1 ? uncut_in(y, b0, b1) > 0
-                         : uncut_in(y, b0, std::min(b1, px0 - 1)) > 0 || uncut_in(y, std::max(b0, px1 + 1), b1) > 0;
+        minus({std::max(0, b0), std::min(nx_ - 1, b1)}, out.disk.at(y), [&](int x0, int x1) { n += uncut_in(y, x0, x1); });
       }
-      out.live.push_back(live ? 1 : 0);
+      out.live.push_back(n > 0 ? 1 : 0);
     }
   }
 
@@ -233,12 +256,10 @@ public:
   /// uncut cell in p's band are skipped.
   [[nodiscard]] int fresh_beyond(const Runs& pr, const Vec2& c, double r) const {
     int n = 0;
-    const auto at = [&](int y) { return static_cast<std::size_t>(y - pr.y0); };
-    const auto inside = [&](int y) { return y >= pr.y0 && at(y) < pr.x.size(); };
+    const DiskRuns& d = pr.disk;
     crescent(
-        c, r, [&](int y) { return inside(y) ? pr.x[at(y)] : std::pair<int, int>{1, 0}; },
-        [&](int y, int x0, int x1) { n += uncut_in(y, x0, x1); },
-        [&](int y) { return !inside(y) || pr.live[at(y)] != 0; });
+        c, r, [&](int y) { return d.at(y); }, [&](int y, int x0, int x1) { n += uncut_in(y, x0, x1); },
+        [&](int y) { return y < d.y0 || y >= d.rows_end() || pr.live[static_cast<std::size_t>(y - d.y0)] != 0; });
     return n;
   }
 
@@ -249,9 +270,9 @@ public:
   int mark(const Vec2& c, double r) {
     int n = 0;
     ++version_;
-    const auto cut = [&](int x, int y) {
+    const auto cut = [&](int x, int y) {  // true when it cut a target cell
       const std::size_t i = idx(x, y);
-      if (st_[i] != 1) return;
+      if (st_[i] != 1) return false;
       st_[i] = 2;
       ++n;
       --uncut_[block(x, y)];
@@ -259,18 +280,19 @@ public:
         --tuncut_[block(x, y)];
         tsum_[block(x, y)][0] -= x;
         tsum_[block(x, y)][1] -= y;
-        if (sense_valid_) {  // the kept sense disk loses it too
-          const auto [s0, s1] = sense_.at(y);
-          if (s0 <= x && x <= s1) {
-            --sense_sums_.n;
-            sense_sums_.sx -= x;
-            sense_sums_.sy -= y;
-          }
-        }
+        return true;
       }
+      return false;
     };
     const auto cut_run = [&](int y, int x0, int x1) {
-      for (int x = x0; x <= x1; ++x) cut(x, y);
+      // The kept sense disk (target_near) loses the target cells cut inside it too.
+      const auto [s0, s1] = sense_valid_ ? sense_.at(y) : std::pair<int, int>{1, 0};
+      for (int x = x0; x <= x1; ++x)
+        if (cut(x, y) && s0 <= x && x <= s1) {
+          --sense_sums_.n;
+          sense_sums_.sx -= x;
+          sense_sums_.sy -= y;
+        }
     };
     if (r == marked_r_ && (c - marked_).squaredNorm() < r * r)
       crescent(c, r, [&](int y) { return row_run(marked_, r, y); }, cut_run);
@@ -348,26 +370,6 @@ private:
   /// what the block walk visits).
   static constexpr double kSenseShiftCells = 8;
 
-  /// A disk's runs on every row of rows(c, r) (unclamped; empty when first > last).
-  struct DiskRuns {
-    Vec2 c{kInf, kInf};
-    double r = -1;
-    int y0 = 0;
-    std::vector<std::pair<int, int>> x;
-    [[nodiscard]] std::pair<int, int> at(int y) const {
-      const auto k = static_cast<std::size_t>(y - y0);
-      return y >= y0 && k < x.size() ? x[k] : std::pair<int, int>{1, 0};
-    }
-  };
-  void disk_runs(const Vec2& c, double r, DiskRuns& out) const {
-    const auto [ya, yb] = run(c.y(), r, lo_.y());
-    out.c = c;
-    out.r = r;
-    out.y0 = ya;
-    out.x.clear();
-    for (int y = ya; y <= yb; ++y) out.x.push_back(row_run(c, r, y));
-  }
-
   /// Uncut target cells: their number and index sums.
   struct TargetSums {
     long long n = 0, sx = 0, sy = 0;
@@ -389,18 +391,6 @@ private:
     t.sx += sign * sx;
     t.sy += sign * n * y;
   }
-  /// Calls g(first, last) for the (possibly empty) pieces of run a outside run b.
-  template <class G>
-  static void minus(std::pair<int, int> a, std::pair<int, int> b, G&& g) {
-    if (a.first > a.second) return;
-    if (b.first > b.second) {
-      g(a.first, a.second);
-      return;
-    }
-    g(a.first, std::min(a.second, b.first - 1));
-    g(std::max(a.first, b.second + 1), a.second);
-  }
-
   /// The uncut target cells of disk d, block by block; with `nearest`, every cell is visited and
   /// the nearest to d.c written (the first in raster order of blocks, then of cells, on a tie).
   TargetSums walk_target(const DiskRuns& d, Vec2* nearest) const {
@@ -453,9 +443,9 @@ private:
     if (sense_valid_ && r == sense_.r && (c - sense_.c).squaredNorm() <= sq(kSenseShiftCells * h_)) {
       disk_runs(c, r, scratch_);
       TargetSums t = sense_sums_;
-      for (int y = scratch_.y0; y < scratch_.y0 + static_cast<int>(scratch_.x.size()); ++y)
+      for (int y = scratch_.y0; y < scratch_.rows_end(); ++y)
         minus(scratch_.at(y), sense_.at(y), [&](int x0, int x1) { add_target(y, x0, x1, 1, t); });
-      for (int y = sense_.y0; y < sense_.y0 + static_cast<int>(sense_.x.size()); ++y)
+      for (int y = sense_.y0; y < sense_.rows_end(); ++y)
         minus(sense_.at(y), scratch_.at(y), [&](int x0, int x1) { add_target(y, x0, x1, -1, t); });
       std::swap(sense_, scratch_);
       sense_sums_ = t;
