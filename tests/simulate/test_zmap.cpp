@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <numbers>
@@ -20,6 +21,7 @@ using gcode::Program;
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
 Move mv(Motion m, double x, double y, double z, double cx = 0, double cy = 0) {
   Move v;
@@ -302,8 +304,11 @@ TEST(ZMap, EverySweepMatchesDenseSampling) {
     double worst_up = 0, worst_down = 0;
     for (std::size_t iy = 0; iy < g.ny; iy += 3)
       for (std::size_t ix = 0; ix < g.nx; ix += 3) {
-        double brute = 0;
-        for (int k = 0; k <= n; ++k) {
+        double brute = 0;  // also where no sample is within reach: the map must be untouched there
+        const double ex = g.x(ix) - a[0], ey = g.y(iy) - a[1], dx = b[0] - a[0], dy = b[1] - a[1];
+        const double tc = std::clamp((ex * dx + ey * dy) / (dx * dx + dy * dy), 0.0, 1.0);
+        const bool near = std::hypot(ex - tc * dx, ey - tc * dy) <= 1 + 1e-9;  // Ø2 cutters
+        for (int k = 0; near && k <= n; ++k) {
           const double t = static_cast<double>(k) / n;
           const double r = std::hypot(g.x(ix) - a[0] - t * (b[0] - a[0]), g.y(iy) - a[1] - t * (b[1] - a[1]));
           const double f = profile_height(c, r);
@@ -330,8 +335,10 @@ TEST(ZMap, HelicalArcFollowsItsChords) {
   double worst = 0;
   for (std::size_t iy = 0; iy < g.ny; iy += 3)
     for (std::size_t ix = 0; ix < g.nx; ix += 3) {
-      double brute = 0;
-      for (int k = 0; k <= n; ++k) {
+      double brute = 0;  // also where no sample is within reach: the map must be untouched there
+      const double rho = std::hypot(g.x(ix) - 5, g.y(iy) - 5);
+      const bool near = std::abs(rho - 3) <= 1 + 1e-9 && g.x(ix) >= 4 - 1e-9 && g.y(iy) <= 6 + 1e-9;
+      for (int k = 0; near && k <= n; ++k) {
         const double t = static_cast<double>(k) / n, th = -std::numbers::pi / 2 * t;
         const double r = std::hypot(g.x(ix) - 5 - 3 * std::cos(th), g.y(iy) - 5 - 3 * std::sin(th));
         if (r <= 1) brute = std::min(brute, -0.1 - 0.5 * t + ball_f(1, r));
@@ -455,28 +462,47 @@ TEST(ZMap, PolylinesWithSharedJointsMatchDenseSampling) {
     add(p, mv(Motion::ArcCW, 5.2, 1.3, -0.3, 5.2, 2.3));  // half circle, planar
     add(p, mv(Motion::Line, 4.0, 0.9, -0.45));
     machine(zm, p, c, o);
-    std::vector<gcode::Point3> path;  // dense samples of the whole path
-    for (std::size_t i = 0; i + 1 < pts.size(); ++i)
+    // Dense samples of the whole path, by piece; a piece whose XY box grown by the cutter's
+    // radius misses a cell has no sample within reach of it (profile_height would be +∞).
+    struct Piece {
+      std::vector<gcode::Point3> q;
+      double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
+      void push(const gcode::Point3& v) {
+        q.push_back(v);
+        x0 = std::min(x0, v[0] - 1); x1 = std::max(x1, v[0] + 1);  // Ø2 cutters: R = 1
+        y0 = std::min(y0, v[1] - 1); y1 = std::max(y1, v[1] + 1);
+      }
+    };
+    std::vector<Piece> path;
+    for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
+      path.emplace_back();
       for (int k = 0; k < 4000; ++k) {
         const double t = k / 4000.0;
-        path.push_back({pts[i][0] + t * (pts[i + 1][0] - pts[i][0]), pts[i][1] + t * (pts[i + 1][1] - pts[i][1]),
-                        pts[i][2] + t * (pts[i + 1][2] - pts[i][2])});
+        path.back().push({pts[i][0] + t * (pts[i + 1][0] - pts[i][0]), pts[i][1] + t * (pts[i + 1][1] - pts[i][1]),
+                          pts[i][2] + t * (pts[i + 1][2] - pts[i][2])});
       }
+    }
+    path.emplace_back();
     for (int k = 0; k <= 8000; ++k) {
       const double th = std::numbers::pi / 2 - std::numbers::pi * k / 8000.0;
-      path.push_back({5.2 + std::cos(th), 2.3 + std::sin(th), -0.3});
+      path.back().push({5.2 + std::cos(th), 2.3 + std::sin(th), -0.3});
     }
+    path.emplace_back();
     for (int k = 1; k <= 4000; ++k) {
       const double t = k / 4000.0;
-      path.push_back({5.2 - 1.2 * t, 1.3 - 0.4 * t, -0.3 - 0.15 * t});
+      path.back().push({5.2 - 1.2 * t, 1.3 - 0.4 * t, -0.3 - 0.15 * t});
     }
     double up = 0, down = 0;
     for (std::size_t iy = 0; iy < g.ny; iy += 2)
       for (std::size_t ix = 0; ix < g.nx; ix += 2) {
         double brute = 0;
-        for (const auto& q : path) {
-          const double f = profile_height(c, std::hypot(g.x(ix) - q[0], g.y(iy) - q[1]));
-          if (std::isfinite(f)) brute = std::min(brute, q[2] + f);
+        const double x = g.x(ix), y = g.y(iy);
+        for (const Piece& pc : path) {
+          if (x < pc.x0 || x > pc.x1 || y < pc.y0 || y > pc.y1) continue;
+          for (const auto& q : pc.q) {
+            const double f = profile_height(c, std::hypot(x - q[0], y - q[1]));
+            if (std::isfinite(f)) brute = std::min(brute, q[2] + f);
+          }
         }
         up = std::max(up, zm.at(ix, iy) - brute);
         down = std::max(down, brute - zm.at(ix, iy));
@@ -484,6 +510,93 @@ TEST(ZMap, PolylinesWithSharedJointsMatchDenseSampling) {
     EXPECT_LT(up, 1e-9) << static_cast<int>(c.type);
     EXPECT_LT(down, 2e-3) << static_cast<int>(c.type);
   }
+}
+
+// The exact lowest point of a Ø2R ball's bottoms over (px, py) along the line a → b, or +∞:
+// h(t) = z(t) + R − √(R² − d(t)²) is convex on the interval where d(t) ≤ R, so a golden-section
+// search over that interval finds its minimum (to 1e-13 in t), and the ends are tried as well.
+double exact_ball_line(const gcode::Point3& a, const gcode::Point3& b, double R, double px, double py) {
+  const double dx = b[0] - a[0], dy = b[1] - a[1], wx = px - a[0], wy = py - a[1];
+  const double l2 = dx * dx + dy * dy;
+  double t0 = 0, t1 = 1;
+  if (l2 > 0) {
+    const double wd = wx * dx + wy * dy, disc = wd * wd - l2 * (wx * wx + wy * wy - R * R);
+    if (disc < 0) return kInf;
+    t0 = std::max(0.0, (wd - std::sqrt(disc)) / l2);
+    t1 = std::min(1.0, (wd + std::sqrt(disc)) / l2);
+    if (t0 > t1) return kInf;
+  } else if (wx * wx + wy * wy > R * R) {
+    return kInf;
+  }
+  auto h = [&](double t) {
+    const double ex = wx - t * dx, ey = wy - t * dy;
+    return a[2] + t * (b[2] - a[2]) + R - std::sqrt(std::max(R * R - ex * ex - ey * ey, 0.0));
+  };
+  const double g = (std::sqrt(5.0) - 1) / 2;
+  double lo = t0, hi = t1, x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo), f1 = h(x1), f2 = h(x2);
+  while (hi - lo > 1e-13) {
+    if (f1 < f2) {
+      hi = x2; x2 = x1; f2 = f1; x1 = hi - g * (hi - lo); f1 = h(x1);
+    } else {
+      lo = x1; x1 = x2; f1 = f2; x2 = lo + g * (hi - lo); f2 = h(x2);
+    }
+  }
+  return std::min({f1, f2, h(t0), h(t1)});
+}
+
+TEST(ZMap, BallFinishingChordsOverCutStockMatchTheExactEnvelopeCellByCell) {
+  // What a finishing path gives the kernel: chords of 0.13 mm (much shorter than the ball),
+  // passes 0.2 mm apart in two directions, up and down a wavy surface, over stock that earlier
+  // passes already cut. Each chord's rows are clipped to where it can be lowest and its shared
+  // end spheres are applied once: cell by cell the map must still be the exact lowest sphere
+  // bottom of all chords, against a per-chord golden-section minimum of the convex h(t).
+  const double R = 1;
+  const GridSpec g{0, 0, 0.02, 110, 100};
+  auto surf = [](double x, double y) { return 0.25 * std::sin(1.9 * x + 0.8 * y) + 0.1 * std::cos(2.7 * y); };
+  std::vector<std::pair<gcode::Point3, gcode::Point3>> chords;
+  Program p;
+  SweepOptions o;
+  o.start = {-1.5, -1.0, 3};
+  gcode::Point3 at = o.start;
+  auto line_to = [&](Motion m, gcode::Point3 q) {
+    add(p, mv(m, q[0], q[1], q[2]));
+    if (m != Motion::Rapid) chords.push_back({at, q});
+    at = q;
+  };
+  // Passes along X, then along a diagonal (34°), each zig-zagging through the window's centre
+  // region, on the surface + R/4.
+  for (int dir = 0; dir < 2; ++dir)
+    for (int k = 0; k < 14; ++k) {
+      const double off = -1.3 + 0.2 * k;
+      const double ux = dir == 0 ? 1 : std::cos(0.6), uy = dir == 0 ? 0 : std::sin(0.6);
+      const bool fwd = k % 2 == 0;
+      const int n = 23;
+      for (int i = 0; i <= n; ++i) {
+        const double s = -1.5 + 0.13 * (fwd ? i : n - i);
+        const double x = 1.1 + s * ux - off * uy, y = 1.0 + s * uy + off * ux;
+        const gcode::Point3 q{x, y, surf(x, y) + 0.25};
+        if (i == 0) line_to(Motion::Rapid, {x, y, 3});
+        line_to(Motion::Line, q);  // the first: a plunge onto the pass
+      }
+      line_to(Motion::Rapid, {at[0], at[1], 3});
+    }
+  ZMap zm = ZMap::flat(g, 0.6);
+  machine(zm, p, finish::Cutter::ball(2 * R), o);
+  double worst = 0;
+  std::size_t cut = 0;
+  for (std::size_t iy = 0; iy < g.ny; ++iy)
+    for (std::size_t ix = 0; ix < g.nx; ++ix) {
+      double e = 0.6;
+      for (const auto& [a, b] : chords) {
+        if (std::min(a[0], b[0]) - R > g.x(ix) || std::max(a[0], b[0]) + R < g.x(ix)) continue;
+        if (std::min(a[1], b[1]) - R > g.y(iy) || std::max(a[1], b[1]) + R < g.y(iy)) continue;
+        e = std::min(e, exact_ball_line(a, b, R, g.x(ix), g.y(iy)));
+      }
+      cut += e < 0.6 ? 1 : 0;
+      worst = std::max(worst, std::abs(zm.at(ix, iy) - e));
+    }
+  EXPECT_GT(cut, g.cells() * 9 / 10);  // the passes cover the window
+  EXPECT_LT(worst, 1e-7);
 }
 
 TEST(ZMap, RaOfAScallopedPlaneMatchesTheProfileIntegral) {
