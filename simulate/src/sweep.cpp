@@ -404,7 +404,9 @@ bool clip_to_live_band(const Seg& g, double y, Span& sp) {
 // Widen [i0, i1] to a whole number of kPadCells cells inside the row [0, nx), so that the kernel's
 // vector loop has no scalar remainder (a fifth of the kernel's time for the 50–100 cell rows of a
 // Ø2 ball at 0.02 mm). The kernel is the exact envelope at every cell, +∞ beyond the shadow, so
-// the extra cells are evaluated and left as they are.
+// the extra cells are evaluated and left as they are. (The cells a remainder loop used to take now
+// go through the vector body, whose FMA contraction may round the last bit differently: the same
+// for any thread count, not always the bits of before.)
 constexpr std::size_t kPadCells = 8;  // doubles in an AVX-512 vector (two AVX2 vectors)
 
 void pad_to_vector(std::size_t& i0, std::size_t& i1, std::size_t nx) {
