@@ -307,7 +307,7 @@ TEST(ZMap, EverySweepMatchesDenseSampling) {
         double brute = 0;  // also where no sample is within reach: the map must be untouched there
         const double ex = g.x(ix) - a[0], ey = g.y(iy) - a[1], dx = b[0] - a[0], dy = b[1] - a[1];
         const double tc = std::clamp((ex * dx + ey * dy) / (dx * dx + dy * dy), 0.0, 1.0);
-        const bool near = std::hypot(ex - tc * dx, ey - tc * dy) <= 1 + 1e-9;  // Ø2 cutters
+        const bool near = std::hypot(ex - tc * dx, ey - tc * dy) <= c.radius() + 1e-9;
         for (int k = 0; near && k <= n; ++k) {
           const double t = static_cast<double>(k) / n;
           const double r = std::hypot(g.x(ix) - a[0] - t * (b[0] - a[0]), g.y(iy) - a[1] - t * (b[1] - a[1]));
@@ -469,10 +469,11 @@ TEST(ZMap, PolylinesWithSharedJointsMatchDenseSampling) {
       double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
       void push(const gcode::Point3& v) {
         q.push_back(v);
-        x0 = std::min(x0, v[0] - 1); x1 = std::max(x1, v[0] + 1);  // Ø2 cutters: R = 1
-        y0 = std::min(y0, v[1] - 1); y1 = std::max(y1, v[1] + 1);
+        x0 = std::min(x0, v[0]); x1 = std::max(x1, v[0]);
+        y0 = std::min(y0, v[1]); y1 = std::max(y1, v[1]);
       }
     };
+    const double R = c.radius();
     std::vector<Piece> path;
     for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
       path.emplace_back();
@@ -498,7 +499,7 @@ TEST(ZMap, PolylinesWithSharedJointsMatchDenseSampling) {
         double brute = 0;
         const double x = g.x(ix), y = g.y(iy);
         for (const Piece& pc : path) {
-          if (x < pc.x0 || x > pc.x1 || y < pc.y0 || y > pc.y1) continue;
+          if (x < pc.x0 - R || x > pc.x1 + R || y < pc.y0 - R || y > pc.y1 + R) continue;
           for (const auto& q : pc.q) {
             const double f = profile_height(c, std::hypot(x - q[0], y - q[1]));
             if (std::isfinite(f)) brute = std::min(brute, q[2] + f);
