@@ -21,7 +21,7 @@ namespace fs = std::filesystem;
 namespace {
 bool g_quiet = false;
 WorkLimits g_limits;
-}
+}  // namespace
 
 CLI::Validator schema_range(const std::string& pointer) {
   const Json* rule = &schema();
@@ -47,7 +47,8 @@ CLI::Validator schema_range(const std::string& pointer) {
     range += (range.empty() ? " ≤ " : " and ≤ ") + (*rule)["maximum"].dump();
   }
   const bool integer = rule->value("type", "") == "integer";
-  const std::string expected = std::string("expected ") + (integer ? "an integer" : "a finite number") + range + " (" + pointer + ")";
+  const std::string expected =
+      std::string("expected ") + (integer ? "an integer" : "a finite number") + range + " (" + pointer + ")";
   return CLI::Validator(
       [=](std::string& text) -> std::string {
         double v = 0;
@@ -92,8 +93,9 @@ void add_common(CLI::App* sub, Common& common, bool with_config) {
   sub->add_option("--max-memory-mb", common.max_memory_mb,
                   "MiB one stage may hold before it is refused (default /limits/max_memory_mb)")
       ->check(schema_range("/limits/max_memory_mb"));
-  sub->add_option("--max-pairs", common.max_pairs,
-                  "vector pairs the classifier's leave-one-out may compare before it is refused (default /limits/max_pairs)")
+  sub->add_option(
+         "--max-pairs", common.max_pairs,
+         "vector pairs the classifier's leave-one-out may compare before it is refused (default /limits/max_pairs)")
       ->check(schema_range("/limits/max_pairs"));
   sub->add_flag("--no-preview", common.no_preview,
                 "do not write the <stem>.html 3D preview pages next to programs and height fields (/report/preview)");
@@ -106,8 +108,9 @@ void MeshFlags::add_to(CLI::App* sub, const std::string& what) {
   sub->add_option("--units", units, "units of the " + what)->check(CLI::IsMember({"mm", "inch", "in", "m"}));
   sub->add_option("--up", up, "axis of the " + what + " that points up")
       ->check(CLI::IsMember({"+z", "-z", "+y", "-y", "+x", "-x", "z", "y", "x", "auto"}));
-  sub->add_option("--body", body,
-                  "STEP/IGES: keep one body, by name or 1-based index (default: every solid, shell and face; /mesh/cad_body)");
+  sub->add_option(
+      "--body", body,
+      "STEP/IGES: keep one body, by name or 1-based index (default: every solid, shell and face; /mesh/cad_body)");
 }
 
 ingest::CadOptions cad_options(const Json& config) {
@@ -164,14 +167,17 @@ void PocketFlags::add_to(CLI::App* sub, bool with_planner_flags, bool with_depth
       ->excludes(by_id);
   sub->add_option("--material", material, "workpiece material id (configs/materials.json)");
   sub->add_option("--stepover", stepover, "grid spacing / pass distance, mm")->check(schema_range("/pocket/stepover"));
-  if (with_depth) sub->add_option("--depth", depth, "pocket depth, mm (floor Z = -depth)")->check(schema_range("/pocket/depth"));
-  sub->add_option("--step-down", step_down, "maximum depth of cut per level, mm")->check(schema_range("/pocket/step_down"));
+  if (with_depth)
+    sub->add_option("--depth", depth, "pocket depth, mm (floor Z = -depth)")->check(schema_range("/pocket/depth"));
+  sub->add_option("--step-down", step_down, "maximum depth of cut per level, mm")
+      ->check(schema_range("/pocket/step_down"));
   sub->add_option("--safe-z", safe_z, "retract height, mm")->check(schema_range("/pocket/safe_z"));
   sub->add_option("--stock-to-leave", stock_to_leave, "radial allowance on walls and islands, mm")
       ->check(schema_range("/pocket/stock_to_leave"));
   sub->add_option("--entry", entry, "entry into uncut material")->check(CLI::IsMember({"predrill", "helix", "ramp"}));
   auto* with = sub->add_flag("--contour", contour, "cut the wall pass (the default: /pocket/contour true)");
-  sub->add_flag("--no-contour", no_contour, "leave the wall pass out: parts of the reachable region near the walls stay uncut")
+  sub->add_flag("--no-contour", no_contour,
+                "leave the wall pass out: parts of the reachable region near the walls stay uncut")
       ->excludes(with);
   if (with_planner_flags) {
     sub->add_option("--planner", planner, "planner")->check(CLI::IsMember({"som", "zigzag", "offset", "adaptive"}));
@@ -229,7 +235,8 @@ std::vector<fs::path> expand_inputs(const std::vector<std::string>& items, const
       for (const auto& e : fs::directory_iterator(p)) {
         if (!e.is_regular_file()) continue;
         std::string ext = e.path().extension().string();
-        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+        std::transform(ext.begin(), ext.end(), ext.begin(),
+                       [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
         if (std::find(extensions.begin(), extensions.end(), ext) != extensions.end()) found.push_back(e.path());
       }
       std::sort(found.begin(), found.end());

@@ -18,10 +18,10 @@ namespace millnet::app {
 
 struct Common {
   bool quiet = false;
-  int threads = -1;              ///< -1 = from config (0 = all cores)
-  std::string config;            ///< empty = defaults
+  int threads = -1;                                          ///< -1 = from config (0 = all cores)
+  std::string config;                                        ///< empty = defaults
   std::optional<double> max_work, max_memory_mb, max_pairs;  ///< override /limits (issue 12)
-  bool no_preview = false;       ///< --no-preview: no <stem>.html pages (/report/preview)
+  bool no_preview = false;                                   ///< --no-preview: no <stem>.html pages (/report/preview)
 };
 
 /// --units and --up, shared by every command that reads meshes (sample, predict, rough, finish,

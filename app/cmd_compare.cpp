@@ -112,7 +112,8 @@ std::string compare_md(const std::vector<Row>& rows, const pocket::CutParams& cu
      << fixed(cut.stock_to_leave, 2) << " mm.\n\n"
      << "## Ranked by time to a cleared pocket\n\n"
      << "Time on the machine (motion model: /machine acceleration, junction deviation, rapids), planners that "
-        "leave at most " << fixed(kClearedUncutMm2, 0) << " mm² of the reachable area uncut first.\n\n"
+        "leave at most "
+     << fixed(kClearedUncutMm2, 0) << " mm² of the reachable area uncut first.\n\n"
      << "| rank | planner | time on the machine (min) | uncut (mm²) | retractions | largest engagement (°) |\n"
      << "|---:|---|---:|---:|---:|---:|\n";
   const std::vector<std::size_t> rank = ranks(rows);
@@ -131,10 +132,10 @@ std::string compare_md(const std::vector<Row>& rows, const pocket::CutParams& cu
   for (const auto& r : rows) {
     const auto& mt = r.m.metrics;
     md << "| " << r.planner << " | " << fixed(mt.tool_points, 0) << " | " << fixed(r.passes(), 0) << " | "
-       << fixed(r.regions(), 0) << " | " << fixed(mt.cut_length_mm, 0) << " | " << fixed(mt.rapid_length_mm, 0)
-       << " | " << fixed(mt.retractions, 0) << " | " << fixed(mt.plunges, 0) << " | "
-       << fixed(mt.time_adjusted_min, 1) << " | " << fixed(mt.time_constant_min, 1) << " | "
-       << fixed(mt.uncut_area_mm2, 1) << " | " << fixed(mt.planning_time_s, 3) << " |\n";
+       << fixed(r.regions(), 0) << " | " << fixed(mt.cut_length_mm, 0) << " | " << fixed(mt.rapid_length_mm, 0) << " | "
+       << fixed(mt.retractions, 0) << " | " << fixed(mt.plunges, 0) << " | " << fixed(mt.time_adjusted_min, 1) << " | "
+       << fixed(mt.time_constant_min, 1) << " | " << fixed(mt.uncut_area_mm2, 1) << " | "
+       << fixed(mt.planning_time_s, 3) << " |\n";
   }
   md << "\nPictures: ";
   for (const auto& r : rows) md << "![" << r.planner << "](" << stem << "." << r.planner << ".png) ";
@@ -162,7 +163,9 @@ int run_compare(const CompareOpts& o) {
 
 Registered register_compare(CLI::App& app) {
   auto o = std::make_shared<CompareOpts>();
-  CLI::App* sub = app.add_subcommand("compare", "run every planner (SOM, zigzag T, zigzag I, offset) on one pocket and tool, ranked by time to a cleared pocket");
+  CLI::App* sub = app.add_subcommand(
+      "compare",
+      "run every planner (SOM, zigzag T, zigzag I, offset) on one pocket and tool, ranked by time to a cleared pocket");
   sub->add_option("--pocket", o->pocket, "pocket file (.json or .dxf)")->required();
   sub->add_option("--out", o->out, "output folder")->check(output_path())->required();
   o->flags.add_to(sub, false);

@@ -17,7 +17,8 @@ Json outcome_json(const StrategyOutcome& o) {
   const simulate::StrategyScore& c = o.score;
   return Json{{"strategy", static_cast<int>(o.strategy)},
               {"metrics", o.metrics},
-              {"score", {c.slot, c.ra_median_um, c.ra_p90_um, c.uncut_area_mm2, c.surface_area_mm2, c.max_gouge_mm, c.time_min}},
+              {"score",
+               {c.slot, c.ra_median_um, c.ra_p90_um, c.uncut_area_mm2, c.surface_area_mm2, c.max_gouge_mm, c.time_min}},
               {"ra_share", o.ra_share}};
 }
 
@@ -52,12 +53,14 @@ Registered register_finish(CLI::App& app) {
     }
   };
   CLI::App* sub = app.add_subcommand(
-      "finish", "finishing tool paths (Korosec & Kopac strategies 1..5) → G-code, metrics, PNG; --simulate scores them");
+      "finish",
+      "finishing tool paths (Korosec & Kopac strategies 1..5) → G-code, metrics, PNG; --simulate scores them");
   sub->add_option("--mesh", o->meshes, "mesh file or folder (repeatable; added to /finish/meshes)");
   o->mesh_flags.add_to(sub);
   // Checked by finish::parse_strategy: one line and exit 1, like every other bad value.
   sub->add_option("--strategy", o->strategy, "strategy slot 1..5 or all");
-  sub->add_option("--tool", o->tool, "cutter: a tool library id (configs/tools.json), or ball:D, flat:D or bull:D:r (mm)");
+  sub->add_option("--tool", o->tool,
+                  "cutter: a tool library id (configs/tools.json), or ball:D, flat:D or bull:D:r (mm)");
   sub->add_option("--material", o->material, "workpiece material id (configs/materials.json)");
   sub->add_option("--stepover", o->stepover, "p_f, mm")->check(schema_range("/finish/stepover_mm"));
   sub->add_option("--step-down", o->step_down, "a_a, mm")->check(schema_range("/finish/step_down_mm"));
@@ -71,8 +74,8 @@ Registered register_finish(CLI::App& app) {
             const Json config = setup(o->common);
             FinishSettings s = finish_settings(config, {o->tool, o->material});
             if (o->strategy) {
-              s.strategies = *o->strategy == "all" ? finish::all_strategies()
-                                                   : std::vector{parse_strategy_flag(*o->strategy)};
+              s.strategies =
+                  *o->strategy == "all" ? finish::all_strategies() : std::vector{parse_strategy_flag(*o->strategy)};
             }
             if (o->stepover) s.params.stepover_mm = *o->stepover;
             if (o->step_down) s.params.step_down_mm = *o->step_down;
@@ -134,7 +137,8 @@ Registered register_finish(CLI::App& app) {
               const DistributeStats st = distribute(files.size() * S, work, take, false, "finish: parts × strategies");
               if (!cluster_root()) return 0;
               log_distribution("finish", st);
-              if (failed > 0) throw Error(std::to_string(failed) + " of " + std::to_string(files.size()) + " parts failed");
+              if (failed > 0)
+                throw Error(std::to_string(failed) + " of " + std::to_string(files.size()) + " parts failed");
               return 0;
             }
             for (const auto& f : files) {  // a batch keeps going past one bad part
@@ -149,7 +153,8 @@ Registered register_finish(CLI::App& app) {
                 ++failed;
               }
             }
-            if (failed > 0) throw Error(std::to_string(failed) + " of " + std::to_string(files.size()) + " parts failed");
+            if (failed > 0)
+              throw Error(std::to_string(failed) + " of " + std::to_string(files.size()) + " parts failed");
             return 0;
           }};
 }
@@ -189,8 +194,8 @@ Registered register_simulate(CLI::App& app) {
             const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"], &config);
             const Json j = simulate_files(load_part(o->mesh, prep), fs::path(o->mesh).stem().string(), programs,
                                           o->stock, s, o->out, o->save_stock);
-            info("simulate: Ra median " + j["ra_median_um"].dump() + " um, gouge " + j["max_gouge_mm"].dump() + " mm → " +
-                 o->out);
+            info("simulate: Ra median " + j["ra_median_um"].dump() + " um, gouge " + j["max_gouge_mm"].dump() +
+                 " mm → " + o->out);
             return 0;
           }};
 }

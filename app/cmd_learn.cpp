@@ -65,12 +65,13 @@ int run_predict(const PredictOpts& o) {
   if (items.empty()) throw Error("no parts to predict: name files or folders, or set /predict/parts");
   std::vector<PredictInput> inputs;
   for (const auto& f : expand_inputs(items, ingest::mesh_extensions())) inputs.push_back({f, "", 0, nullptr});
-  const auto res =
-      predict_parts(load_model_folder(o.model, config), inputs, o.mesh_flags.prepare(&config["predict"], &config), o.out);
+  const auto res = predict_parts(load_model_folder(o.model, config), inputs,
+                                 o.mesh_flags.prepare(&config["predict"], &config), o.out);
   report_predictions(res);
-  const auto failed = static_cast<std::size_t>(std::count_if(res.begin(), res.end(), [](const auto& r) { return !r.ok; }));
-  info("predict: " + std::to_string(res.size() - failed) + " of " + std::to_string(res.size()) +
-       " parts predicted → " + (fs::path(o.out) / "predictions.json").string());
+  const auto failed =
+      static_cast<std::size_t>(std::count_if(res.begin(), res.end(), [](const auto& r) { return !r.ok; }));
+  info("predict: " + std::to_string(res.size() - failed) + " of " + std::to_string(res.size()) + " parts predicted → " +
+       (fs::path(o.out) / "predictions.json").string());
   if (failed) {
     std::cerr << "millnet predict: error: " << failed << " of " << res.size()
               << " parts could not be read (see predictions.json)\n";
@@ -97,7 +98,9 @@ Registered register_train(CLI::App& app) {
   auto o = std::make_shared<TrainOpts>();
   CLI::App* sub = app.add_subcommand("train", "store the vectors and choose α by leave-one-out");
   sub->add_option("--dataset", o->dataset, "vectors.csv of `millnet dataset`")->required();
-  sub->add_option("--out", o->out, "output folder (model.json, loo_curve.csv, verification.csv, PNGs)")->check(output_path())->required();
+  sub->add_option("--out", o->out, "output folder (model.json, loo_curve.csv, verification.csv, PNGs)")
+      ->check(output_path())
+      ->required();
   add_common(sub, o->common);
   return {sub, [o]() { return run_train(*o); }};
 }
@@ -105,10 +108,13 @@ Registered register_train(CLI::App& app) {
 Registered register_predict(CLI::App& app) {
   auto o = std::make_shared<PredictOpts>();
   CLI::App* sub = app.add_subcommand("predict", "rank the finishing strategies of parts (files or folders)");
-  sub->add_option("--model", o->model, "folder of `millnet train` (model.json, sampling.json)")->required()
+  sub->add_option("--model", o->model, "folder of `millnet train` (model.json, sampling.json)")
+      ->required()
       ->check(CLI::ExistingDirectory);
   o->mesh_flags.add_to(sub, "part files");
-  sub->add_option("--out", o->out, "output folder (predictions.json, predictions.csv, one PNG per part)")->check(output_path())->required();
+  sub->add_option("--out", o->out, "output folder (predictions.json, predictions.csv, one PNG per part)")
+      ->check(output_path())
+      ->required();
   sub->add_option("parts", o->parts, "part files or folders (added to /predict/parts of the config)");
   add_common(sub, o->common);
   return {sub, [o]() { return run_predict(*o); }};

@@ -49,7 +49,8 @@ int run_pocket(const PocketOpts& o) {
 
 Registered register_pocket(CLI::App& app) {
   auto o = std::make_shared<PocketOpts>();
-  CLI::App* sub = app.add_subcommand("pocket", "rough-cut tool path of a pocket (SOM, zigzag or offset) → G-code, metrics, PNG");
+  CLI::App* sub =
+      app.add_subcommand("pocket", "rough-cut tool path of a pocket (SOM, zigzag or offset) → G-code, metrics, PNG");
   sub->add_option("--pocket", o->pocket, "pocket file (.json or .dxf)")->required();
   sub->add_option("--out", o->out, "output folder")->check(output_path())->required();
   o->flags.add_to(sub);

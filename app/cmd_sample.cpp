@@ -27,7 +27,8 @@ struct SampleOpts {
 /// The 3D page of a sampled part (issue 16): the part shaded and its n×n grid as a surface over it,
 /// coloured by height. The grid's nodes span the footprint corner to corner, so a node is the centre
 /// of a cell of footprint/(n − 1) in x and in y (the page's surface format).
-void write_grid_page(const fs::path& html, const ingest::Mesh& mesh, const ingest::Grid& grid, const std::string& stem) {
+void write_grid_page(const fs::path& html, const ingest::Mesh& mesh, const ingest::Grid& grid,
+                     const std::string& stem) {
   const Eigen::RowVector3d lo = mesh.V.colwise().minCoeff().cast<double>();
   const Eigen::RowVector3d hi = mesh.V.colwise().maxCoeff().cast<double>();
   const auto n = grid.h.rows();
@@ -60,8 +61,9 @@ int run_sample(const SampleOpts& o) {
   // Before anything is written: the heat map's "extent_mm must be finite … with min < max" was the
   // message for a part without a footprint (issue 15; tests/corpus/cli/sample_footprint_zero.args).
   if (!(grid.footprint_x > 0) || !(grid.footprint_y > 0))
-    throw file_error(o.mesh, "the part's footprint seen from " + (o.mesh_flags.up ? *o.mesh_flags.up : std::string("+z")) +
-                                 " is " + format_double(grid.footprint_x) + " × " + format_double(grid.footprint_y) +
+    throw file_error(o.mesh, "the part's footprint seen from " +
+                                 (o.mesh_flags.up ? *o.mesh_flags.up : std::string("+z")) + " is " +
+                                 format_double(grid.footprint_x) + " × " + format_double(grid.footprint_y) +
                                  " mm, expected an extent in X and in Y (a wall or a line seen from above?)");
   const std::string stem = fs::path(o.mesh).stem().string();
   const fs::path out(o.out);

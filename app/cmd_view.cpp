@@ -68,10 +68,14 @@ Registered register_view(CLI::App& app) {
   auto o = std::make_shared<ViewOpts>();
   CLI::App* sub = app.add_subcommand("view", "3D preview page (HTML, opens offline in any browser) of G-code programs");
   sub->add_option("gcode", o->gcode, "G-code files (several: one page, coloured by program)")->required();
-  sub->add_option("--mesh", o->mesh, "the part's mesh, shown shaded in the programs' frame (Z 0 = part top + /rough/top_allowance_mm)");
-  sub->add_option("--tool", o->tool, "cutter drawn at the tool position: a tool library id, or ball:D, flat:D, bull:D:r (default flat:6)");
+  sub->add_option("--mesh", o->mesh,
+                  "the part's mesh, shown shaded in the programs' frame (Z 0 = part top + /rough/top_allowance_mm)");
+  sub->add_option("--tool", o->tool,
+                  "cutter drawn at the tool position: a tool library id, or ball:D, flat:D, bull:D:r (default flat:6)");
   o->mesh_flags.add_to(sub);
-  sub->add_option("--out", o->out, "output folder (the page is DIR/<first file's stem>.html)")->check(output_path())->required();
+  sub->add_option("--out", o->out, "output folder (the page is DIR/<first file's stem>.html)")
+      ->check(output_path())
+      ->required();
   add_common(sub, o->common);
   return {sub, [o]() { return run_view(*o); }};
 }

@@ -49,7 +49,8 @@ public:
       const Json& props = rule.contains("properties") ? rule["properties"] : Json::object();
       for (auto it = value.begin(); it != value.end(); ++it) {
         if (!props.contains(it.key()))
-          throw Error(at + (ptr.empty() ? "" : "/") + it.key() + ": unknown key (allowed here: " + allowed(props) + ")");
+          throw Error(at + (ptr.empty() ? "" : "/") + it.key() + ": unknown key (allowed here: " + allowed(props) +
+                      ")");
       }
       for (auto it = props.begin(); it != props.end(); ++it) {
         const Json& sub = it.value();
@@ -89,7 +90,8 @@ public:
         throw Error(at + ": expected an integer, got " + type_name(value) + " " + shown(value));
       bounds(value.get<double>(), rule, at);
     } else if (type == "boolean") {
-      if (!value.is_boolean()) throw Error(at + ": expected true or false, got " + type_name(value) + " " + shown(value));
+      if (!value.is_boolean())
+        throw Error(at + ": expected true or false, got " + type_name(value) + " " + shown(value));
     } else if (type == "string") {
       if (!value.is_string()) throw Error(at + ": expected a string, got " + type_name(value) + " " + shown(value));
       if (rule.value("format", "") == "path") {
@@ -193,7 +195,12 @@ Json read_json(const fs::path& path) {
     // nlohmann reports a byte offset; turn it into line:column.
     std::size_t line = 1, col = 1;
     for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
-      if (text[i] == '\n') { ++line; col = 1; } else { ++col; }
+      if (text[i] == '\n') {
+        ++line;
+        col = 1;
+      } else {
+        ++col;
+      }
     }
     std::string what = e.what();
     const auto pos = what.find("syntax error");
@@ -213,11 +220,16 @@ void check_against(Json& doc, const Json& rule, const fs::path& base, const std:
 
 void check_pocket_file(const pocket::PocketFile& file, const std::string& source) {
   Json values = Json::object();
-  const std::pair<const char*, const std::optional<double>*> keys[] = {
-      {"tool_diameter", &file.tool_diameter}, {"stepover", &file.stepover},     {"depth", &file.depth},
-      {"safe_z", &file.safe_z},               {"step_down", &file.step_down},   {"stock_to_leave", &file.stock_to_leave},
-      {"feed_slot", &file.feed_slot},         {"feed_half", &file.feed_half},   {"feed_plunge", &file.feed_plunge},
-      {"spindle_rpm", &file.spindle_rpm}};
+  const std::pair<const char*, const std::optional<double>*> keys[] = {{"tool_diameter", &file.tool_diameter},
+                                                                       {"stepover", &file.stepover},
+                                                                       {"depth", &file.depth},
+                                                                       {"safe_z", &file.safe_z},
+                                                                       {"step_down", &file.step_down},
+                                                                       {"stock_to_leave", &file.stock_to_leave},
+                                                                       {"feed_slot", &file.feed_slot},
+                                                                       {"feed_half", &file.feed_half},
+                                                                       {"feed_plunge", &file.feed_plunge},
+                                                                       {"spindle_rpm", &file.spindle_rpm}};
   for (const auto& [k, v] : keys)
     if (v->has_value()) values[k] = **v;
   Checker(fs::path(source).parent_path(), source, false).check(values, schema()["properties"]["pocket"], "");

@@ -88,8 +88,10 @@ void merge(std::vector<T>& base, std::vector<T> more, const char* kind, const st
       if (more[i].id == more[k].id) throw Error(source + ": " + kind + " id '" + more[i].id + "' appears twice");
   for (T& t : more) {
     auto it = std::find_if(base.begin(), base.end(), [&](const T& b) { return b.id == t.id; });
-    if (it != base.end()) *it = std::move(t);
-    else base.push_back(std::move(t));
+    if (it != base.end())
+      *it = std::move(t);
+    else
+      base.push_back(std::move(t));
   }
 }
 
@@ -102,7 +104,8 @@ std::string fmt(double v, int decimals) {
 void check_tool_library(Json& doc, const std::string& source) {
   static const Json rule = Json::parse(kToolsSchemaText);
   check_against(doc, rule, fs::path(source).parent_path(), source);
-  for (std::size_t i = 0; i < doc["tools"].size(); ++i) tool_of(doc["tools"][i]).check(source + ": /tools/" + std::to_string(i));
+  for (std::size_t i = 0; i < doc["tools"].size(); ++i)
+    tool_of(doc["tools"][i]).check(source + ": /tools/" + std::to_string(i));
 }
 
 void check_material_table(Json& doc, const std::string& source) {
@@ -171,8 +174,7 @@ CuttingSettings cutting_settings(const Json& config, const std::optional<std::st
   s.machine.max_rpm = m["max_spindle_rpm"].get<double>();
   s.machine.min_rpm = m["min_spindle_rpm"].get<double>();
   s.machine.max_feed_mm_min = m["max_feed_mm_min"].get<double>();
-  if (s.machine.min_rpm > s.machine.max_rpm)
-    throw Error("/machine/min_spindle_rpm exceeds /machine/max_spindle_rpm");
+  if (s.machine.min_rpm > s.machine.max_rpm) throw Error("/machine/min_spindle_rpm exceeds /machine/max_spindle_rpm");
   s.factors.slot = c["slot_factor"].get<double>();
   s.factors.plunge = c["plunge_factor"].get<double>();
   s.factors.ramp = c["ramp_factor"].get<double>();

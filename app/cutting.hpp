@@ -32,10 +32,10 @@ void check_material_table(Json& doc, const std::string& source);
 
 /// /cutting and /machine as the modules' structs.
 struct CuttingSettings {
-  bool library_feeds = true;          ///< /cutting/feeds == "library"
+  bool library_feeds = true;  ///< /cutting/feeds == "library"
   std::string material_id;
-  std::string material_key;           ///< "--material" | "/cutting/material": where the id was given
-  std::string material_from;          ///< "flag --material" | "config /cutting/material"
+  std::string material_key;   ///< "--material" | "/cutting/material": where the id was given
+  std::string material_from;  ///< "flag --material" | "config /cutting/material"
   tooling::MachineLimits machine;
   tooling::FeedFactors factors;
   tooling::Overrides overrides;
@@ -62,10 +62,10 @@ struct Figure {
 /// (config key, pocket-file key or flag) in its place, every one with its source.
 struct CuttingRecord {
   tooling::Tool tool;
-  std::string tool_from;              ///< "flag --tool" | "config /pocket/tool" | "flag --tool-diameter" | …
+  std::string tool_from;  ///< "flag --tool" | "config /pocket/tool" | "flag --tool-diameter" | …
   std::string material_id, material_from;
   bool library_feeds = true;
-  tooling::CuttingData data;          ///< valid when library_feeds
+  tooling::CuttingData data;                            ///< valid when library_feeds
   std::vector<std::pair<std::string, Figure>> figures;  ///< "spindle_rpm", "feed_half", … in order
   [[nodiscard]] Json to_json() const;
   /// Header comments: the tool, the material and the figures (empty in fixed mode with an inline

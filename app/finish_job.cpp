@@ -41,9 +41,7 @@ struct PartFrame {
 };
 
 /// The z-map's own backstop at the run's memory limit (--max-memory-mb), not its 2 GiB default.
-std::size_t zmap_max_bytes() {
-  return static_cast<std::size_t>(std::min(work_limits().max_memory_bytes, 1e18));
-}
+std::size_t zmap_max_bytes() { return static_cast<std::size_t>(std::min(work_limits().max_memory_bytes, 1e18)); }
 
 PartFrame part_frame(const ingest::Mesh& mesh, const FinishSettings& s, bool with_design) {
   PartFrame f;
@@ -58,9 +56,8 @@ PartFrame part_frame(const ingest::Mesh& mesh, const FinishSettings& s, bool wit
   f.grid.check();
   // + design and raster (17 B per cell), + the metrics' per-cell excess (8 B), before any is allocated
   check_work(simulate::zmap_work(f.grid, 25), work_limits());
-  const ingest::HeightField hf =
-      ingest::rasterize_top(mesh, 0.5 * f.grid.cell, 0.5 * f.grid.cell, f.grid.cell, static_cast<int>(f.grid.nx),
-                            static_cast<int>(f.grid.ny));
+  const ingest::HeightField hf = ingest::rasterize_top(mesh, 0.5 * f.grid.cell, 0.5 * f.grid.cell, f.grid.cell,
+                                                       static_cast<int>(f.grid.nx), static_cast<int>(f.grid.ny));
   f.design = simulate::design_heights(hf, f.z_shift);
   return f;
 }
@@ -147,7 +144,8 @@ struct PartJob {
   Eigen::MatrixXd heights;
 };
 
-PartJob part_job(const ingest::Mesh& mesh, const std::string& stem, const FinishSettings& settings, const fs::path& out) {
+PartJob part_job(const ingest::Mesh& mesh, const std::string& stem, const FinishSettings& settings,
+                 const fs::path& out) {
   PartJob job;
   settings.params.check();
   job.frame = part_frame(mesh, settings, settings.simulate);
@@ -156,9 +154,9 @@ PartJob part_job(const ingest::Mesh& mesh, const std::string& stem, const Finish
     // The tool reaches down from the stock top at most to the part's lowest point.
     const double reach = frame.stock_top - mesh.V.col(2).minCoeff();
     if (reach > tool.stickout_mm)
-      throw Error(tool.label() + ": the part reaches " + fixed(reach, 2) + " mm below the stock top, beyond the tool's stick-out " +
-                  format_double(tool.stickout_mm) + " mm by " + fixed(reach - tool.stickout_mm, 2) +
-                  " mm: the holder would hit the part");
+      throw Error(tool.label() + ": the part reaches " + fixed(reach, 2) +
+                  " mm below the stock top, beyond the tool's stick-out " + format_double(tool.stickout_mm) +
+                  " mm by " + fixed(reach - tool.stickout_mm, 2) + " mm: the holder would hit the part");
   }
   finish::FinishParams& params = job.params;
   params = settings.params;
@@ -173,7 +171,8 @@ PartJob part_job(const ingest::Mesh& mesh, const std::string& stem, const Finish
   std::vector<std::string> tool_lines = settings.cutting.header();
   if (tool_lines.empty()) tool_lines.push_back("tool: " + params.tool.describe());
   params.comments = tool_lines;
-  params.comments.push_back("frame: Z 0 = stock top = part top + " + fixed(settings.stock_top_above_part_mm, 3) + " mm");
+  params.comments.push_back("frame: Z 0 = stock top = part top + " + fixed(settings.stock_top_above_part_mm, 3) +
+                            " mm");
   return job;
 }
 
@@ -218,9 +217,10 @@ StrategyOutcome strategy_outcome(const ingest::Mesh& mesh, const std::string& st
                                          hf.y0 - 0.5 * hf.step_y, hf.y0 + (hf.ny - 0.5) * hf.step_y};
     ho.overlay_cuts = std::move(paths.cuts);
     ho.overlay_rapids = std::move(paths.rapids);
-    if (!(heights.maxCoeff() > heights.minCoeff())) ho.value_range = std::pair{heights.minCoeff(), heights.minCoeff() + 1};
-    (void)report::heat_map_png(out / (base + ".png"), heights, stem + ": " + finish::strategy_name(strategy),
-                               "Z (mm)", ho);
+    if (!(heights.maxCoeff() > heights.minCoeff()))
+      ho.value_range = std::pair{heights.minCoeff(), heights.minCoeff() + 1};
+    (void)report::heat_map_png(out / (base + ".png"), heights, stem + ": " + finish::strategy_name(strategy), "Z (mm)",
+                               ho);
   }
   std::optional<report::PreviewSurface> surface;
   if (settings.simulate) {
@@ -253,7 +253,8 @@ StrategyOutcome strategy_outcome(const ingest::Mesh& mesh, const std::string& st
   {
     report::PreviewInput page;  // the 3D page of the program (issue 16), with its machined surface when simulated
     page.title = base + " — " + finish::strategy_name(strategy);
-    page.programs.push_back({finish::strategy_name(strategy), read_file(out / (base + ".nc")), (out / (base + ".nc")).string()});
+    page.programs.push_back(
+        {finish::strategy_name(strategy), read_file(out / (base + ".nc")), (out / (base + ".nc")).string()});
     page.tool = {params.tool.diameter, params.tool.corner_radius, params.tool.describe()};
     set_preview_part(page, mesh, frame.z_shift);
     page.stock = std::array<double, 6>{0, 0, frame.z_shift + mesh.V.col(2).minCoeff(), frame.width, frame.depth, 0};
@@ -269,7 +270,8 @@ StrategyOutcome strategy_outcome(const ingest::Mesh& mesh, const std::string& st
 std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::string& stem,
                                          const FinishSettings& settings, const fs::path& out, const Json& cad) {
   const PartJob job = part_job(mesh, stem, settings, out);
-  const std::vector<finish::FinishPlan> plans = finish::plan_finish(mesh, *job.dropper, settings.strategies, job.params);
+  const std::vector<finish::FinishPlan> plans =
+      finish::plan_finish(mesh, *job.dropper, settings.strategies, job.params);
   std::vector<StrategyOutcome> outcomes;
   Progress progress("finish " + stem, settings.strategies.size());
   for (const finish::FinishPlan& plan : plans) {
@@ -287,8 +289,8 @@ StrategyOutcome finish_strategy(const ingest::Mesh& mesh, const std::string& ste
   return strategy_outcome(mesh, stem, settings, job, plan, out, cad);
 }
 
-void write_strategy_ranking(const std::string& stem, const FinishSettings& settings, std::vector<StrategyOutcome>& outcomes,
-                            const fs::path& out) {
+void write_strategy_ranking(const std::string& stem, const FinishSettings& settings,
+                            std::vector<StrategyOutcome>& outcomes, const fs::path& out) {
   if (outcomes.size() > 1) {
     std::vector<simulate::StrategyScore> scores;
     for (const auto& o : outcomes) scores.push_back(o.score);
@@ -332,7 +334,8 @@ void write_strategy_ranking(const std::string& stem, const FinishSettings& setti
       const auto& edges = settings.sim.ra_bins_um;
       std::vector<std::string> cats;
       for (std::size_t b = 0; b < edges.size(); ++b)
-        cats.push_back(b + 1 < edges.size() ? fixed(edges[b], 2) + "-" + fixed(edges[b + 1], 2) : ">= " + fixed(edges[b], 2));
+        cats.push_back(b + 1 < edges.size() ? fixed(edges[b], 2) + "-" + fixed(edges[b + 1], 2)
+                                            : ">= " + fixed(edges[b], 2));
       std::vector<report::NamedValues> series;
       for (const auto& o : outcomes) {
         report::NamedValues nv{finish::strategy_name(o.strategy), {}};
@@ -351,12 +354,11 @@ Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
                     const std::vector<std::pair<fs::path, finish::Cutter>>& programs, const std::string& stock,
                     const FinishSettings& settings, const fs::path& out, bool save_stock) {
   const PartFrame frame = part_frame(mesh, settings, true);
-  simulate::ZMap z = stock == "flat"     ? simulate::ZMap::flat(frame.grid, 0.0, zmap_max_bytes())
-                     : stock == "design" ? simulate::ZMap::from_heights(frame.grid, frame.design,
-                                                                        settings.sim.allowance_mm,
-                                                                        frame.z_shift + settings.sim.allowance_mm,
-                                                                        zmap_max_bytes())
-                                         : stock_from_file(stock, frame.grid);
+  simulate::ZMap z = stock == "flat" ? simulate::ZMap::flat(frame.grid, 0.0, zmap_max_bytes())
+                     : stock == "design"
+                         ? simulate::ZMap::from_heights(frame.grid, frame.design, settings.sim.allowance_mm,
+                                                        frame.z_shift + settings.sim.allowance_mm, zmap_max_bytes())
+                         : stock_from_file(stock, frame.grid);
   Json runs = Json::array();
   for (const auto& [file, cutter] : programs) {
     // read_file: a program this command wrote is read from its OutputSet's temporary (core/output_set.hpp).
@@ -399,8 +401,10 @@ Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
   if (preview_settings().enabled && !programs.empty()) {
     report::PreviewInput page;  // the 3D page of the programs on the machined surface (issue 16)
     page.title = stem + " — simulation";
-    for (const auto& [file, cutter] : programs) page.programs.push_back({file.filename().string(), read_file(file), file.string()});
-    page.tool = {programs.back().second.diameter, programs.back().second.corner_radius, programs.back().second.describe()};
+    for (const auto& [file, cutter] : programs)
+      page.programs.push_back({file.filename().string(), read_file(file), file.string()});
+    page.tool = {programs.back().second.diameter, programs.back().second.corner_radius,
+                 programs.back().second.describe()};
     set_preview_part(page, mesh, frame.z_shift);
     page.stock = std::array<double, 6>{0, 0, frame.z_shift + mesh.V.col(2).minCoeff(), frame.width, frame.depth, 0};
     page.surface = preview_surface(z, e);

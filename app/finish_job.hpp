@@ -34,8 +34,9 @@ struct StrategyOutcome {
 /// DIR/<stem>.s<k>.nc, .metrics.json, .png, .ra.png (with simulate); with several strategies also
 /// <stem>.strategies.csv/.md and <stem>.strategies.png (the paper's Figure 9), ranked by the aim.
 /// `cad` (cad_metrics of the part's file, null for meshes) goes into each metrics file as "cad".
-std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::string& stem, const FinishSettings& settings,
-                                         const std::filesystem::path& out, const Json& cad = Json());
+std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::string& stem,
+                                         const FinishSettings& settings, const std::filesystem::path& out,
+                                         const Json& cad = Json());
 
 /// One strategy of finish_part on its own (MPI's work unit is part × strategy): the same files and
 /// figures finish_part writes for that strategy (rank 0), without the ranking files.
@@ -44,8 +45,8 @@ StrategyOutcome finish_strategy(const ingest::Mesh& mesh, const std::string& ste
 
 /// With several outcomes (in settings.strategies order): ranks them by the aim (sets their rank) and
 /// writes <stem>.strategies.csv/.md and, simulated, <stem>.strategies.png. Nothing for one.
-void write_strategy_ranking(const std::string& stem, const FinishSettings& settings, std::vector<StrategyOutcome>& outcomes,
-                            const std::filesystem::path& out);
+void write_strategy_ranking(const std::string& stem, const FinishSettings& settings,
+                            std::vector<StrategyOutcome>& outcomes, const std::filesystem::path& out);
 
 /// millnet simulate: machines `programs` (read from disk, each with its cutter) one after the
 /// other on one z-map over the part, stock flat at Z = 0 ("flat"), the design + allowance

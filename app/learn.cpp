@@ -34,13 +34,14 @@ namespace {
 /// A number as the manifest's writer (format_double) spells it once parsed: integral values as
 /// JSON integers ("1", not "1.0"), so that sampling.json keeps its bytes.
 Json number_json(double v) {
-  if (std::isfinite(v) && std::abs(v) < 9007199254740992.0 && v == std::trunc(v)) return Json(static_cast<std::int64_t>(v));
+  if (std::isfinite(v) && std::abs(v) < 9007199254740992.0 && v == std::trunc(v))
+    return Json(static_cast<std::int64_t>(v));
   return Json(v);
 }
 
 std::string strategy_name(const std::vector<std::string>& names, int slot) {
   return slot >= 1 && static_cast<std::size_t>(slot) <= names.size() ? names[static_cast<std::size_t>(slot - 1)]
-                                                                       : std::string("?");
+                                                                     : std::string("?");
 }
 
 }  // namespace
@@ -103,9 +104,10 @@ std::vector<SimulatedLabel> simulate_labels(const datasets::Recipe& recipe, cons
   }
   const auto work = [&](std::size_t i) {
     SimulatedLabel sl;
-    std::string files = write_and_pack([&](const std::string& scratch) { sl = simulate_label(recipe, which[i], settings, scratch); });
-    const std::vector<std::uint8_t> cbor =
-        Json::to_cbor(Json{{"name", sl.name}, {"recipe_label", sl.recipe_label}, {"best", sl.best}, {"figures", sl.figures}});
+    std::string files =
+        write_and_pack([&](const std::string& scratch) { sl = simulate_label(recipe, which[i], settings, scratch); });
+    const std::vector<std::uint8_t> cbor = Json::to_cbor(
+        Json{{"name", sl.name}, {"recipe_label", sl.recipe_label}, {"best", sl.best}, {"figures", sl.figures}});
     std::string msg;
     put_bytes(msg, std::string(cbor.begin(), cbor.end()));
     put_bytes(msg, files);
@@ -116,8 +118,8 @@ std::vector<SimulatedLabel> simulate_labels(const datasets::Recipe& recipe, cons
     std::size_t pos = 0;
     const Json j = Json::from_cbor(get_bytes(bytes, pos));
     unpack_files(get_bytes(bytes, pos), dir.string());
-    out.push_back(SimulatedLabel{j["name"].get<std::string>(), j["recipe_label"].get<int>(), j["best"].get<int>(),
-                                 j["figures"]});
+    out.push_back(
+        SimulatedLabel{j["name"].get<std::string>(), j["recipe_label"].get<int>(), j["best"].get<int>(), j["figures"]});
   };
   const DistributeStats st = distribute(which.size(), work, take, true, "dataset: labels by simulation");
   log_distribution("dataset: labels by simulation", st);
@@ -191,8 +193,8 @@ void build_rows_distributed(const datasets::Recipe& recipe, const datasets::Tabl
     const datasets::PartSpec& p = recipe.parts[k];
     const augment::Variant& var = plan.variants[k][v];
     const std::size_t need = (m + 1) * sizeof(double) + (v == 0 ? 32 : 0);
-    if (bytes.size() != need) throw Error("mpi: a table row of " + std::to_string(bytes.size()) + " bytes, expected " +
-                                          std::to_string(need));
+    if (bytes.size() != need)
+      throw Error("mpi: a table row of " + std::to_string(bytes.size()) + " bytes, expected " + std::to_string(need));
     datasets::Row r;
     r.source = p.name.empty() ? p.file.stem().string() : p.name;
     r.id = r.source + "#" + std::to_string(v + 1);
@@ -260,11 +262,13 @@ bool build_dataset(datasets::Recipe recipe, const fs::path& out_dir, bool reuse,
         lj["agreement"] = aj;
         write_file_atomic(out_dir / "agreement.md",
                           "# How often the simulated best strategy agrees with the recipe's label\n\nAim: " +
-                              std::string(simulate::to_string(fs_.aim.aim)) + "; five strategies planned and "
+                              std::string(simulate::to_string(fs_.aim.aim)) +
+                              "; five strategies planned and "
                               "simulated per part (millnet finish --strategy all --simulate; figures per part in "
-                              "manifest.json under labelling, files in labelling/).\n\n" + md);
-        info("dataset: agreement of the simulated best with the labels → " + (out_dir / "agreement.md").string() + "\n" +
-             md);
+                              "manifest.json under labelling, files in labelling/).\n\n" +
+                              md);
+        info("dataset: agreement of the simulated best with the labels → " + (out_dir / "agreement.md").string() +
+             "\n" + md);
       }
       labelling = lj.dump();
     }
@@ -280,7 +284,8 @@ bool build_dataset(datasets::Recipe recipe, const fs::path& out_dir, bool reuse,
   std::vector<datasets::SourceFile> sources;
   if (cluster_size() == 1) {
     Progress progress("dataset", 0);
-    datasets::build_rows(recipe, plan, [&](datasets::Row&& r) { writer->add(r); }, sources, progress.callback());
+    datasets::build_rows(
+        recipe, plan, [&](datasets::Row&& r) { writer->add(r); }, sources, progress.callback());
     progress.finish();
   } else {
     build_rows_distributed(recipe, plan, writer ? &*writer : nullptr, sources);
@@ -348,8 +353,8 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
   report::LinePlotOptions lo;
   lo.log_x = true;
   lo.show_points = true;
-  lo.marker = report::Marker{model.alpha, "chosen alpha = " + fixed(model.alpha, 3) + " (" +
-                                              classifier::to_string(loo.mode) + " LOO)"};
+  lo.marker = report::Marker{
+      model.alpha, "chosen alpha = " + fixed(model.alpha, 3) + " (" + classifier::to_string(loo.mode) + " LOO)"};
   (void)report::line_plot_png(out_dir / "loo_curve.png",
                               {{"leave-one-part-out", xs, part_rms}, {"leave-one-vector-out (paper)", xs, vec_rms}},
                               "Leave-one-out RMS error against the penalty coefficient alpha", "alpha (log scale)",
@@ -377,11 +382,12 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
   }
   write_file_atomic(out_dir / "verification.csv", ver.str());
   if (!fil_true.empty())
-    (void)report::multi_line_png(out_dir / "verification.png",
-                                 {{"filtration (self included)", fil_true},
-                                  {std::string("verification (") + (part_mode ? "part" : "vector") + " left out)", ver_true}},
-                                 "Output of the true strategy for every stored vector (paper Fig. 6)",
-                                 "stored vector", "output of the labelled strategy");
+    (void)report::multi_line_png(
+        out_dir / "verification.png",
+        {{"filtration (self included)", fil_true},
+         {std::string("verification (") + (part_mode ? "part" : "vector") + " left out)", ver_true}},
+        "Output of the true strategy for every stored vector (paper Fig. 6)", "stored vector",
+        "output of the labelled strategy");
 
   TrainSummary s;
   s.alpha = model.alpha;
@@ -411,7 +417,8 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
               {"unfamiliar_threshold_d2", model.unfamiliar_threshold}};
   write_file_atomic(out_dir / "train_report.json", rep.dump(2) + "\n");
   if (s.edge != "none")
-    warn("train: the optimum α lies at the " + s.edge + " edge of the scan; widen /train/range_low or /train/range_high");
+    warn("train: the optimum α lies at the " + s.edge +
+         " edge of the scan; widen /train/range_low or /train/range_high");
   info("train: α = " + fixed(s.alpha, 4) + " (" + s.mode + " LOO); verification accuracy " +
        fixed(100 * s.accuracy_part, 1) + " % leaving out parts, " + fixed(100 * s.accuracy_vector, 1) +
        " % leaving out single vectors → " + (out_dir / "model.json").string());
@@ -484,8 +491,11 @@ std::string predict_one(const ModelFolder& folder, const PredictInput& in, const
     }
     Json ranking = Json::array();
     for (std::size_t k : rk.order)
-      ranking.push_back({{"slot", k + 1}, {"strategy", model.strategies[k]}, {"probability", pp.mean[k]},
-                         {"total", pp.totals[k]}, {"share_first", pp.first_share[k]}});
+      ranking.push_back({{"slot", k + 1},
+                         {"strategy", model.strategies[k]},
+                         {"probability", pp.mean[k]},
+                         {"total", pp.totals[k]},
+                         {"share_first", pp.first_share[k]}});
     jp["status"] = "ok";
     jp["top"] = pp.top;
     jp["top_name"] = strategy_name(model.strategies, pp.top);
@@ -505,9 +515,18 @@ std::string predict_one(const ModelFolder& folder, const PredictInput& in, const
   }
   const Json unit = {{"jp", jp},
                      {"pp",
-                      {{"name", pp.name}, {"file", pp.file}, {"ok", pp.ok}, {"error", pp.error}, {"top", pp.top},
-                       {"confidence", pp.confidence}, {"consistency", pp.consistency}, {"unfamiliar", pp.unfamiliar},
-                       {"d2_min", pp.d2_min}, {"expected", pp.expected}, {"mean", pp.mean}, {"totals", pp.totals},
+                      {{"name", pp.name},
+                       {"file", pp.file},
+                       {"ok", pp.ok},
+                       {"error", pp.error},
+                       {"top", pp.top},
+                       {"confidence", pp.confidence},
+                       {"consistency", pp.consistency},
+                       {"unfamiliar", pp.unfamiliar},
+                       {"d2_min", pp.d2_min},
+                       {"expected", pp.expected},
+                       {"mean", pp.mean},
+                       {"totals", pp.totals},
                        {"first_share", pp.first_share}}}};
   const std::vector<std::uint8_t> cbor = Json::to_cbor(unit);
   return std::string(cbor.begin(), cbor.end());
@@ -571,16 +590,16 @@ std::vector<PartPrediction> predict_parts(const ModelFolder& folder, const std::
     if (pp.ok) {
       try {
         pp.png = out_dir / (pp.name + ".png");
-        (void)report::grouped_bar_png(pp.png, model.strategies,
-                                      {{"mean probability over " + std::to_string(jp["variants"].size()) + " variants", pp.mean},
-                                       {"share of variants ranking it first", pp.first_share}},
-                                      pp.name + ": predicted finishing strategy " + std::to_string(pp.top) +
-                                          " (consistency " + fixed(100 * pp.consistency, 0) + " %)" +
-                                          (pp.unfamiliar ? " - UNFAMILIAR part" : ""),
-                                      "probability / share", {.show_values = true, .value_decimals = 2, .y_range = std::pair{0.0, 1.0}});
+        (void)report::grouped_bar_png(
+            pp.png, model.strategies,
+            {{"mean probability over " + std::to_string(jp["variants"].size()) + " variants", pp.mean},
+             {"share of variants ranking it first", pp.first_share}},
+            pp.name + ": predicted finishing strategy " + std::to_string(pp.top) + " (consistency " +
+                fixed(100 * pp.consistency, 0) + " %)" + (pp.unfamiliar ? " - UNFAMILIAR part" : ""),
+            "probability / share", {.show_values = true, .value_decimals = 2, .y_range = std::pair{0.0, 1.0}});
         if (pp.unfamiliar)
-          warn("predict: " + pp.file + ": far from every stored model (d² = " + fixed(pp.d2_min, 1) +
-               " > threshold " + fixed(model.unfamiliar_threshold, 1) + "): the prediction is an extrapolation");
+          warn("predict: " + pp.file + ": far from every stored model (d² = " + fixed(pp.d2_min, 1) + " > threshold " +
+               fixed(model.unfamiliar_threshold, 1) + "): the prediction is an extrapolation");
       } catch (const std::exception& e) {
         pp.ok = false;
         pp.error = e.what();

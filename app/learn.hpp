@@ -44,22 +44,22 @@ struct PartPrediction {
   std::string name, file;
   bool ok = false;
   std::string error;
-  int top = 0;                     ///< 1-based strategy slot
-  double confidence = 0;           ///< mean probability of the top strategy over the variants
-  double consistency = 0;          ///< share of variants whose top strategy is the overall top
+  int top = 0;             ///< 1-based strategy slot
+  double confidence = 0;   ///< mean probability of the top strategy over the variants
+  double consistency = 0;  ///< share of variants whose top strategy is the overall top
   bool unfamiliar = false;
-  double d2_min = 0;               ///< smallest over the variants
-  int expected = 0;                ///< label given for a test part (0 = unknown)
-  std::vector<double> mean;        ///< K mean probabilities
-  std::vector<double> totals;      ///< K sums over the variants (the paper's Fig. 8 totals)
-  std::vector<double> first_share; ///< K share of variants ranking each strategy first
+  double d2_min = 0;                ///< smallest over the variants
+  int expected = 0;                 ///< label given for a test part (0 = unknown)
+  std::vector<double> mean;         ///< K mean probabilities
+  std::vector<double> totals;       ///< K sums over the variants (the paper's Fig. 8 totals)
+  std::vector<double> first_share;  ///< K share of variants ranking each strategy first
   std::vector<std::string> strategies;
   std::filesystem::path png;
 };
 
 struct PredictInput {
   std::filesystem::path file;
-  std::string name;   ///< empty ⇒ file stem
+  std::string name;  ///< empty ⇒ file stem
   int expected = 0;
   std::shared_ptr<const ingest::Mesh> mesh;  ///< the prepared mesh when already loaded; null ⇒ read from file
 };

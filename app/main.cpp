@@ -77,7 +77,8 @@ int main(int argc, char** argv) {
     std::string who = "millnet";
     for (const auto& c : commands)
       if (c.sub->parsed()) who += " " + c.sub->get_name();
-    if (cluster_root()) std::cerr << (who + ": error: " + e.what() + "\n");  // every rank parsed the same words; one write
+    if (cluster_root())
+      std::cerr << (who + ": error: " + e.what() + "\n");  // every rank parsed the same words; one write
     return 1;
   } catch (const CLI::ParseError& e) {
     if (!cluster_root()) return e.get_exit_code() == 0 ? 0 : 2;
@@ -93,9 +94,10 @@ int main(int argc, char** argv) {
       // (issue 15; core/output_set.hpp). `dataset` and `run` write caches that their later stages
       // read back by path; they check their inputs before writing instead.
       if (cluster_size() > 1 && cmd != "dataset" && cmd != "predict" && cmd != "finish")
-        throw millnet::Error("runs on one process: under mpirun only dataset, predict and finish share their work "
-                             "over the ranks (started on " + std::to_string(cluster_size()) +
-                             " ranks, every one would write the same files); run it without mpirun");
+        throw millnet::Error(
+            "runs on one process: under mpirun only dataset, predict and finish share their work "
+            "over the ranks (started on " +
+            std::to_string(cluster_size()) + " ranks, every one would write the same files); run it without mpirun");
       std::optional<millnet::OutputSet> outputs;
       if (all_or_nothing) outputs.emplace();
       const int code = body();

@@ -45,8 +45,10 @@ bool g_started = false;
 bool g_failure_shared = false;  // a distribution ended in a failure every rank was told of
 #ifdef MILLNET_HAVE_MPI
 int g_generation = 0;  // distributions started by this rank
-int tag_result() { return 2 + 2 * (g_generation % 16000); }  // worker → rank 0: [int64 index][uint8 ok][bytes]; −1 = "ready"
-int tag_work() { return 3 + 2 * (g_generation % 16000); }    // rank 0 → worker: int64 next index; −1 = "no more"
+int tag_result() {
+  return 2 + 2 * (g_generation % 16000);
+}  // worker → rank 0: [int64 index][uint8 ok][bytes]; −1 = "ready"
+int tag_work() { return 3 + 2 * (g_generation % 16000); }  // rank 0 → worker: int64 next index; −1 = "no more"
 #endif
 
 /// Results received but not yet delivered, shared by rank 0's worker and communication threads.
@@ -290,13 +292,11 @@ DistributeStats distribute(std::size_t n, const UnitWork& work, const UnitResult
 
 void log_distribution(const std::string& what, const DistributeStats& s) {
   if (g_size <= 1 || g_rank != 0) return;
-  const double per =
-      s.remote_units ? static_cast<double>(s.bytes_to_root) / static_cast<double>(s.remote_units) : 0.0;
+  const double per = s.remote_units ? static_cast<double>(s.bytes_to_root) / static_cast<double>(s.remote_units) : 0.0;
   info(what + ": " + std::to_string(s.units) + " work units over " + std::to_string(g_size) + " MPI ranks (" +
        std::to_string(s.units - s.remote_units) + " on rank 0); " + std::to_string(s.bytes_to_root) +
        " bytes gathered by rank 0 from the other ranks (" + std::to_string(static_cast<long long>(per + 0.5)) +
-       " per unit they computed), " +
-       std::to_string(s.bytes_from_root) + " bytes of unit indices sent");
+       " per unit they computed), " + std::to_string(s.bytes_from_root) + " bytes of unit indices sent");
 }
 
 void put_bytes(std::string& out, const std::string& s) {

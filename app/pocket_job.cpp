@@ -9,7 +9,6 @@
 #include "millnet/pocket/work.hpp"
 #include "millnet/report/plots.hpp"
 
-
 namespace millnet::app {
 namespace fs = std::filesystem;
 
@@ -86,11 +85,10 @@ void write_pocket_outputs(const fs::path& dir, const std::string& stem, const po
                                     fixed(cut.tool_diameter, 1) + ", stepover " + fixed(cut.stepover, 1),
                                 block);
   if (s.size() >= 2) {
-    (void)report::profile_png(dir / (stem + ".feed.png"), s,
-                              {{"engagement n3 (cells)", {{"n3", n3}}},
-                               {"feed (mm/min)", {{"feed", f}}},
-                               {"MRR (mm^3/min)", {{"MRR", mrr}}}},
-                              stem + ": engagement, feed and MRR along the path (first level)", {.steps = true});
+    (void)report::profile_png(
+        dir / (stem + ".feed.png"), s,
+        {{"engagement n3 (cells)", {{"n3", n3}}}, {"feed (mm/min)", {{"feed", f}}}, {"MRR (mm^3/min)", {{"MRR", mrr}}}},
+        stem + ": engagement, feed and MRR along the path (first level)", {.steps = true});
   }
   if (m.status == pocket::PlanStatus::Ok) {
     write_file_atomic(dir / (stem + ".nc"), m.gcode);

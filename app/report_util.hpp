@@ -15,9 +15,9 @@ inline void write_grid_png(const std::filesystem::path& path, const ingest::Grid
   const double dx = n > 1 ? grid.footprint_x / (n - 1) : 1, dy = n > 1 ? grid.footprint_y / (n - 1) : 1;
   o.extent_mm = std::array<double, 4>{-dx / 2, grid.footprint_x + dx / 2, -dy / 2, grid.footprint_y + dy / 2};
   o.annotate = grid.h.rows() <= 20;
-  (void)report::heat_map_png(path, grid.h, name + ": " + std::to_string(grid.h.rows()) + "x" +
-                                               std::to_string(grid.h.cols()) + " height grid",
-                             "height above lowest point (mm)", o);
+  (void)report::heat_map_png(
+      path, grid.h, name + ": " + std::to_string(grid.h.rows()) + "x" + std::to_string(grid.h.cols()) + " height grid",
+      "height above lowest point (mm)", o);
 }
 
 }  // namespace millnet::app

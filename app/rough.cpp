@@ -26,9 +26,10 @@ Json write_rough_outputs(const fs::path& dir, const std::string& stem, const rou
                       {"cut_length_mm", s.cut_length_mm},
                       {"uncut_area_mm2", s.uncut_area_mm2},
                       {"status", lv.status}});
-    (void)report::level_png(dir / (stem + ".level_" + std::to_string(k + 1) + ".png"), lv.regions, s.path, lv.z,
-                            stem, {{"islands", std::to_string(lv.islands)}, {"cut", fixed(s.cut_length_mm, 0) + " mm"},
-                                   {"chains", std::to_string(s.chains)}});
+    (void)report::level_png(dir / (stem + ".level_" + std::to_string(k + 1) + ".png"), lv.regions, s.path, lv.z, stem,
+                            {{"islands", std::to_string(lv.islands)},
+                             {"cut", fixed(s.cut_length_mm, 0) + " mm"},
+                             {"chains", std::to_string(s.chains)}});
   }
   Json j = Json::object();
   j["status"] = pocket::to_string(r.machining.status);
@@ -36,8 +37,8 @@ Json write_rough_outputs(const fs::path& dir, const std::string& stem, const rou
   j["planner"] = std::string(pocket::planner_name(p.planner));
   j["stock_top_above_part_mm"] = p.top_allowance_mm;
   j["stock_to_leave_mm"] = p.cut.stock_to_leave;
-  j["stock"] = {{"x0", r.stock_x0}, {"y0", r.stock_y0}, {"x1", r.stock_x1}, {"y1", r.stock_y1},
-                {"height_mm", r.stock_top_part}};
+  j["stock"] = {
+      {"x0", r.stock_x0}, {"y0", r.stock_y0}, {"x1", r.stock_x1}, {"y1", r.stock_y1}, {"height_mm", r.stock_top_part}};
   j["raster_mm"] = p.raster_mm;
   j["contour_tolerance_mm"] = p.contour_tolerance_mm;
   j["tool_points"] = r.tool_points;

@@ -40,9 +40,9 @@ void check_machine_limit(const CuttingSettings& cs, const std::string& key, cons
   const bool rpm = key == "spindle_rpm";
   const double lim = rpm ? cs.machine.max_rpm : cs.machine.max_feed_mm_min;
   if (f.value > lim * (1 + 1e-12))
-    throw Error(f.source + ": " + key + " " + format_double(f.value) + (rpm ? " rpm" : " mm/min") + " exceeds the machine's " +
-                (rpm ? "/machine/max_spindle_rpm " : "/machine/max_feed_mm_min ") + format_double(lim) + " by " +
-                format_double(f.value - lim));
+    throw Error(f.source + ": " + key + " " + format_double(f.value) + (rpm ? " rpm" : " mm/min") +
+                " exceeds the machine's " + (rpm ? "/machine/max_spindle_rpm " : "/machine/max_feed_mm_min ") +
+                format_double(lim) + " by " + format_double(f.value - lim));
 }
 
 /// `dst` = the figure the user wrote, else `computed`; recorded in rec.figures with its source.
@@ -74,8 +74,8 @@ void apply_cutting_data(pocket::CutParams& c, const Json& config, const Json& ex
   const CuttingSettings cs = cutting_settings(config, flags.material);
   CuttingRecord rec;
   rec.library_feeds = cs.library_feeds;
-  const bool file_d = file && file->tool_diameter && !explicit_pocket.contains("tool_diameter") &&
-                      !explicit_pocket.contains("tool");
+  const bool file_d =
+      file && file->tool_diameter && !explicit_pocket.contains("tool_diameter") && !explicit_pocket.contains("tool");
   const ToolLibrary lib = tool_library(config);
   if (flags.tool_id) {
     rec.tool = lib.tool(*flags.tool_id, "--tool");
@@ -93,8 +93,8 @@ void apply_cutting_data(pocket::CutParams& c, const Json& config, const Json& ex
     rec.tool = lib.tool(id, "/pocket/tool");
     rec.tool_from = "config /pocket/tool";
     if (explicit_pocket.contains("tool_diameter") && std::abs(c.tool_diameter - rec.tool.diameter_mm) > 1e-9)
-      throw Error("/pocket/tool " + id + " is D" + format_double(rec.tool.diameter_mm) + " mm but /pocket/tool_diameter is " +
-                  format_double(c.tool_diameter) + " mm: write one of them");
+      throw Error("/pocket/tool " + id + " is D" + format_double(rec.tool.diameter_mm) +
+                  " mm but /pocket/tool_diameter is " + format_double(c.tool_diameter) + " mm: write one of them");
   } else {
     rec.tool = inline_tool(tooling::ToolType::Flat, c.tool_diameter, 0, cs);
     rec.tool_from = "config /pocket/tool_diameter";
@@ -106,8 +106,8 @@ void apply_cutting_data(pocket::CutParams& c, const Json& config, const Json& ex
   const double ap = std::min(c.step_down, c.depth);
   if (tool.flute_length_mm > 0 && ap > tool.flute_length_mm)
     throw Error(tool.label() + ": its flute length " + format_double(tool.flute_length_mm) +
-                " mm is shorter than the depth of cut per level " + format_double(ap) +
-                " mm by " + format_double(ap - tool.flute_length_mm) + " mm (lower --step-down / /pocket/step_down)");
+                " mm is shorter than the depth of cut per level " + format_double(ap) + " mm by " +
+                format_double(ap - tool.flute_length_mm) + " mm (lower --step-down / /pocket/step_down)");
   if (tool.stickout_mm > 0 && c.depth > tool.stickout_mm)
     throw Error(tool.label() + ": the pocket depth " + format_double(c.depth) + " mm exceeds its stick-out " +
                 format_double(tool.stickout_mm) + " mm by " + format_double(c.depth - tool.stickout_mm) +
@@ -130,12 +130,15 @@ void apply_cutting_data(pocket::CutParams& c, const Json& config, const Json& ex
   if (cs.library_feeds) {
     const std::string src = library_data(rec, cs, lib, ap, w_rpm);
     const tooling::CuttingData& d = rec.data;
-    take(rec, "spindle_rpm", c.spindle_rpm, d.rpm, w_rpm, src + (d.rpm_limited_by.empty() ? "" : ", limited by " + d.rpm_limited_by));
+    take(rec, "spindle_rpm", c.spindle_rpm, d.rpm, w_rpm,
+         src + (d.rpm_limited_by.empty() ? "" : ", limited by " + d.rpm_limited_by));
     take(rec, "feed_half", c.feed_half, d.feed_mm_min, w_half, src + ": fz·z·n");
     take(rec, "feed_slot", c.feed_slot, d.feed_slot_mm_min, w_slot, src + ": feed_half × /cutting/slot_factor");
-    take(rec, "feed_plunge", c.feed_plunge, d.feed_plunge_mm_min, w_plunge, src + ": feed_half × /cutting/plunge_factor");
+    take(rec, "feed_plunge", c.feed_plunge, d.feed_plunge_mm_min, w_plunge,
+         src + ": feed_half × /cutting/plunge_factor");
     take(rec, "feed_entry", c.feed_entry, d.feed_ramp_mm_min, w_plunge, src + ": feed_half × /cutting/ramp_factor");
-    take(rec, "feed_min", c.feed_min, std::min(c.feed_slot, c.feed_half), w_min, "the slot feed (eq. 9 at full engagement)");
+    take(rec, "feed_min", c.feed_min, std::min(c.feed_slot, c.feed_half), w_min,
+         "the slot feed (eq. 9 at full engagement)");
     take(rec, "feed_max", c.feed_max, std::max(d.feed_max_mm_min, c.feed_half), w_max,
          "feed_half × /cutting/max_chip_thinning, at most /machine/max_feed_mm_min");
     c.max_chip_thinning = cs.factors.max_chip_thinning > 1 ? cs.factors.max_chip_thinning : 0.0;
@@ -160,10 +163,11 @@ pocket::CutParams cut_params(const Json& config, const Json& explicit_pocket, co
                              const PocketFlags& flags, CuttingRecord* record) {
   const Json& pc = config["pocket"];
   pocket::CutParams c;
-  auto pick = [&](double& dst, const char* key, const std::optional<double>& from_file, const std::optional<double>& flag) {
-    dst = pc[key].get<double>();                                     // config (explicit or default)
+  auto pick = [&](double& dst, const char* key, const std::optional<double>& from_file,
+                  const std::optional<double>& flag) {
+    dst = pc[key].get<double>();                                        // config (explicit or default)
     if (from_file && !explicit_pocket.contains(key)) dst = *from_file;  // the pocket file's own key
-    if (flag) dst = *flag;                                           // the command line
+    if (flag) dst = *flag;                                              // the command line
   };
   const std::optional<double> none;
   pick(c.tool_diameter, "tool_diameter", file ? file->tool_diameter : none, flags.tool_diameter);
@@ -327,10 +331,14 @@ finish::Cutter parse_tool(const std::string& text) {
     }
   };
   finish::Cutter c;
-  if (parts.size() == 2 && parts[0] == "ball") c = finish::Cutter::ball(num(1));
-  else if (parts.size() == 2 && parts[0] == "flat") c = finish::Cutter::flat(num(1));
-  else if (parts.size() == 3 && parts[0] == "bull") c = finish::Cutter::bull(num(1), num(2));
-  else throw Error("--tool '" + text + "': expected ball:D, flat:D or bull:D:r (mm)");
+  if (parts.size() == 2 && parts[0] == "ball")
+    c = finish::Cutter::ball(num(1));
+  else if (parts.size() == 2 && parts[0] == "flat")
+    c = finish::Cutter::flat(num(1));
+  else if (parts.size() == 3 && parts[0] == "bull")
+    c = finish::Cutter::bull(num(1), num(2));
+  else
+    throw Error("--tool '" + text + "': expected ball:D, flat:D or bull:D:r (mm)");
   c.check();
   return c;
 }
@@ -385,14 +393,17 @@ void finish_cutting_data(FinishSettings& s, const Json& config, const FinishTool
     // The axial depth of a finishing cut is the stock it removes over the design surface.
     const std::string src = library_data(rec, cs, lib, config["simulate"]["allowance_mm"].get<double>(), w_rpm);
     const tooling::CuttingData& d = rec.data;
-    take(rec, "spindle_rpm", p.spindle_rpm, d.rpm, w_rpm, src + (d.rpm_limited_by.empty() ? "" : ", limited by " + d.rpm_limited_by));
+    take(rec, "spindle_rpm", p.spindle_rpm, d.rpm, w_rpm,
+         src + (d.rpm_limited_by.empty() ? "" : ", limited by " + d.rpm_limited_by));
     take(rec, "feed_mm_min", p.feed_mm_min, d.feed_mm_min, w_feed, src + ": fz·z·n at D_eff");
-    take(rec, "plunge_feed_mm_min", p.plunge_feed_mm_min, d.feed_plunge_mm_min, w_plunge, src + ": feed × /cutting/plunge_factor");
+    take(rec, "plunge_feed_mm_min", p.plunge_feed_mm_min, d.feed_plunge_mm_min, w_plunge,
+         src + ": feed × /cutting/plunge_factor");
   } else {  // FinishParams' defaults are the paper's §6.2 figures
     const finish::FinishParams paper;
     take(rec, "spindle_rpm", p.spindle_rpm, paper.spindle_rpm, w_rpm, "fixed: Korosec & Kopac §6.2, 18,000 min^-1");
     take(rec, "feed_mm_min", p.feed_mm_min, paper.feed_mm_min, w_feed, "fixed: Korosec & Kopac §6.2, 1900 mm/min");
-    take(rec, "plunge_feed_mm_min", p.plunge_feed_mm_min, paper.plunge_feed_mm_min, w_plunge, "fixed: millnet's 600 mm/min");
+    take(rec, "plunge_feed_mm_min", p.plunge_feed_mm_min, paper.plunge_feed_mm_min, w_plunge,
+         "fixed: millnet's 600 mm/min");
   }
   for (const auto& [key, fig] : rec.figures) check_machine_limit(cs, key, fig);
 }
@@ -482,8 +493,12 @@ datasets::Recipe recipe_from_config(const Json& config) {
     f.erase("strategy");
     // Everything a simulated label depends on: the strategies' settings, the simulator's, and the
     // cutting data and machine that set the programs' feeds (the "time" aims rank by them).
-    r.simulation_settings_json =
-        Json{{"finish", f}, {"simulate", config["simulate"]}, {"cutting", config["cutting"]}, {"machine", config["machine"]}}.dump();
+    r.simulation_settings_json = Json{
+        {"finish", f},
+        {"simulate", config["simulate"]},
+        {"cutting", config["cutting"]},
+        {"machine",
+         config["machine"]}}.dump();
   }
   return r;
 }

@@ -44,17 +44,17 @@ namespace millnet::app {
 [[nodiscard]] Json explicit_pocket_section(const std::string& config_path);
 
 struct PlannerChoice {
-  std::string name = "som";           ///< "som" | "zigzag" | "offset" | "adaptive"
+  std::string name = "som";  ///< "som" | "zigzag" | "offset" | "adaptive"
   pocket::GridFrame frame;
   pocket::SomParams som;
   pocket::SmoothingParams smooth;
-  pocket::SomPathParams som_path;   ///< /pocket/som/walls, /pocket/smoothing/blend_corners, …
+  pocket::SomPathParams som_path;  ///< /pocket/som/walls, /pocket/smoothing/blend_corners, …
   pocket::ZigzagParams zigzag;
   pocket::OffsetParams offset;
   pocket::AdaptiveParams adaptive;
   pocket::Entry entry = pocket::Entry::Predrill;
-  double entry_angle_deg = 3.0;       ///< /pocket/entry_angle: helix and ramp descent
-  double ramp_clearance_mm = 0.2;     ///< /pocket/ramp_clearance: where a helix or ramp starts
+  double entry_angle_deg = 3.0;    ///< /pocket/entry_angle: helix and ramp descent
+  double ramp_clearance_mm = 0.2;  ///< /pocket/ramp_clearance: where a helix or ramp starts
   bool contour = false;
   bool link_walls = true;
 };
@@ -81,22 +81,22 @@ struct PlannerChoice {
 
 struct SimSettings {
   double cell_mm = 0.02;
-  double allowance_mm = 0.1;     ///< finishing stock over the design surface
+  double allowance_mm = 0.1;  ///< finishing stock over the design surface
   double tolerance_mm = 0.002;
   double sampling_length_mm = 0.8;
-  double ra_spacing_mm = 0.1;    ///< Ra centres this far apart (whole cells)
+  double ra_spacing_mm = 0.1;  ///< Ra centres this far apart (whole cells)
   std::vector<double> ra_bins_um;
 };
 
 struct FinishSettings {
-  finish::FinishParams params;            ///< z_shift and the boundary are set per part
+  finish::FinishParams params;  ///< z_shift and the boundary are set per part
   std::vector<finish::Strategy> strategies;
   bool simulate = false;
   double stock_top_above_part_mm = 1;
   gcode::MotionModel machine;
   SimSettings sim;
   simulate::AimParams aim;
-  CuttingRecord cutting;                  ///< the tool, its cutting data and each figure's source
+  CuttingRecord cutting;  ///< the tool, its cutting data and each figure's source
 };
 
 /// "ball:2", "flat:10", "bull:6:1" (type:diameter[:corner radius]); throws millnet::Error.
@@ -104,7 +104,7 @@ struct FinishSettings {
 
 /// The command line's choice of finishing tool and material (finish --tool, --material).
 struct FinishToolFlags {
-  std::optional<std::string> tool;      ///< a library id, or ball:D / flat:D / bull:D:r
+  std::optional<std::string> tool;  ///< a library id, or ball:D / flat:D / bull:D:r
   std::optional<std::string> material;
 };
 
@@ -140,11 +140,11 @@ struct RunSettings {
   bool finish = true;
   struct TestPart {
     std::filesystem::path file;
-    std::string name;   ///< empty ⇒ file stem
+    std::string name;  ///< empty ⇒ file stem
     int label = 0;
   };
-  std::vector<TestPart> test_parts;  ///< /run/test_parts; empty ⇒ generated
-  datasets::GenerateParams generate; ///< /run/generate_test_parts (seed checked against the training parts')
+  std::vector<TestPart> test_parts;   ///< /run/test_parts; empty ⇒ generated
+  datasets::GenerateParams generate;  ///< /run/generate_test_parts (seed checked against the training parts')
   std::filesystem::path generate_dir;
 };
 [[nodiscard]] RunSettings run_settings(const Json& config);

@@ -122,12 +122,30 @@ BENCHMARK_CAPTURE(BM_Setup, small_part, &small_part)->Arg(1)->Arg(2)->Unit(bench
 BENCHMARK_CAPTURE(BM_Setup, terrain_1M, &big_terrain)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 // Small part: the 0.1 mm grid over the whole footprint + 1 mm (walls, floors, rims, outside).
 BENCHMARK_CAPTURE(BM_Grid, small_part, &small_part, 0.0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Points, small_part, &small_part, 0.0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Points, small_part, &small_part, 0.0)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 // Terrain: a 30 × 30 mm window (90,000 points) of the 200 × 200 mm, 1M-triangle terrain.
-BENCHMARK_CAPTURE(BM_Grid, terrain_1M, &big_terrain, 30.0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Points, terrain_1M, &big_terrain, 30.0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Grid, terrain_1M, &big_terrain, 30.0)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_Points, terrain_1M, &big_terrain, 30.0)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 // Other cutters, for comparison (not goals): flat Ø2 and bull Ø2 r0.5 on the terrain window.
-BENCHMARK_CAPTURE(BM_Grid, terrain_1M_flat, &big_terrain, 30.0, Cutter::flat(2))->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Grid, terrain_1M_bull, &big_terrain, 30.0, Cutter::bull(2, 0.5))->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Grid, terrain_1M_flat, &big_terrain, 30.0, Cutter::flat(2))
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_Grid, terrain_1M_bull, &big_terrain, 30.0, Cutter::bull(2, 0.5))
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 BENCHMARK_MAIN();

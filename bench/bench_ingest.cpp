@@ -64,7 +64,13 @@ void BM_Rasterize(benchmark::State& state) {
   state.counters["raster_points"] = static_cast<double>(hits);
   state.counters["threads"] = static_cast<double>(state.range(1));
 }
-BENCHMARK(BM_Rasterize)->Args({10, 1})->Args({10, 2})->Args({1, 1})->Args({1, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Rasterize)
+    ->Args({10, 1})
+    ->Args({10, 2})
+    ->Args({1, 1})
+    ->Args({1, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 void BM_SampleGrid15(benchmark::State& state) {
   const Mesh& m = wavy();
@@ -76,7 +82,8 @@ BENCHMARK(BM_SampleGrid15)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRe
 
 void BM_LoadBinaryStl(benchmark::State& state) {
   const Mesh& m = wavy();
-  const auto path = std::filesystem::temp_directory_path() / ("millnet_bench_wavy_" + std::to_string(::getpid()) + ".stl");
+  const auto path =
+      std::filesystem::temp_directory_path() / ("millnet_bench_wavy_" + std::to_string(::getpid()) + ".stl");
   save_stl_binary(m, path);
   for (auto _ : state) {
     Mesh back = load_mesh(path);
@@ -98,14 +105,16 @@ const std::filesystem::path& bosses_step(std::size_t* faces) {
     args.Append(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 130, 130, 10).Shape());
     for (int i = 0; i < 12; ++i)
       for (int j = 0; j < 12; ++j)
-        tools.Append(BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(10 + 10 * i, 10 + 10 * j, 10), gp_Dir(0, 0, 1)), 3, 4).Shape());
+        tools.Append(
+            BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(10 + 10 * i, 10 + 10 * j, 10), gp_Dir(0, 0, 1)), 3, 4).Shape());
     BRepAlgoAPI_Fuse fuse;
     fuse.SetArguments(args);
     fuse.SetTools(tools);
     fuse.Build();
     const TopoDS_Shape part = fuse.Shape();
     for (TopExp_Explorer x(part, TopAbs_FACE); x.More(); x.Next()) ++n;
-    const auto p = std::filesystem::temp_directory_path() / ("millnet_bench_bosses_" + std::to_string(::getpid()) + ".step");
+    const auto p =
+        std::filesystem::temp_directory_path() / ("millnet_bench_bosses_" + std::to_string(::getpid()) + ".step");
     STEPControl_Writer w;
     w.Transfer(part, STEPControl_AsIs);
     w.Write(p.string().c_str());

@@ -16,9 +16,9 @@ using namespace millnet;
 
 namespace {
 
-constexpr int kCells = 706;        // top grid cells per side: 2·706² = 996,872 top triangles
-constexpr double kSide = 200;      // mm
-constexpr double kFloor = 6;       // the wavy top stays above z = 6, so every level cuts it
+constexpr int kCells = 706;    // top grid cells per side: 2·706² = 996,872 top triangles
+constexpr double kSide = 200;  // mm
+constexpr double kFloor = 6;   // the wavy top stays above z = 6, so every level cuts it
 constexpr int kLevels = 10;
 
 // Closed height-field solid: wavy top (z 7..33 mm), vertical walls, flat bottom at z = 0;
@@ -52,10 +52,10 @@ const ingest::Mesh& wavy_part() {
       f.push_back({p, B + q, q});
     };
     for (int k = 0; k < kCells; ++k) {
-      wall(k, k + 1);                                  // y = 0, x increasing
-      wall(k * n + kCells, (k + 1) * n + kCells);      // x = side, y increasing
-      wall(kCells * n + k + 1, kCells * n + k);        // y = side, x decreasing
-      wall((k + 1) * n, k * n);                        // x = 0, y decreasing
+      wall(k, k + 1);                              // y = 0, x increasing
+      wall(k * n + kCells, (k + 1) * n + kCells);  // x = side, y increasing
+      wall(kCells * n + k + 1, kCells * n + k);    // y = side, x decreasing
+      wall((k + 1) * n, k * n);                    // x = 0, y decreasing
     }
     const int c00 = B, c10 = B + kCells, c01 = B + kCells * n, c11 = B + kCells * n + kCells;
     f.push_back({c00, c11, c10});  // bottom faces −z
@@ -104,7 +104,8 @@ void BM_RoughSlicing(benchmark::State& state) {
     raster_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     loops = 0;
     const double dz = (top - kFloor) / kLevels;
-    for (int k = 1; k <= kLevels; ++k) loops += ingest::material_contours(f, top - k * dz, p.contour_tolerance_mm).size();
+    for (int k = 1; k <= kLevels; ++k)
+      loops += ingest::material_contours(f, top - k * dz, p.contour_tolerance_mm).size();
     benchmark::DoNotOptimize(loops);
   }
   state.counters["triangles"] = static_cast<double>(m.F.rows());

@@ -16,7 +16,8 @@ namespace {
 
 Loop read_loop(const nlohmann::json& j) {
   Loop l;
-  for (const auto& v : j) l.push_back({v.at(0).get<double>(), v.at(1).get<double>(), v.size() > 2 ? v.at(2).get<double>() : 0.0});
+  for (const auto& v : j)
+    l.push_back({v.at(0).get<double>(), v.at(1).get<double>(), v.size() > 2 ? v.at(2).get<double>() : 0.0});
   return l;
 }
 
@@ -60,11 +61,15 @@ void BM_Zigzag(benchmark::State& st, const std::string& name, PartitionKind kind
 
 }  // namespace
 
-#define ZZ(name)                                                                                           \
+#define ZZ(name)                                                                                              \
   BENCHMARK_CAPTURE(BM_Zigzag, name##_T_0deg, #name, PartitionKind::T, false)->Unit(benchmark::kMillisecond); \
   BENCHMARK_CAPTURE(BM_Zigzag, name##_I_0deg, #name, PartitionKind::I, false)->Unit(benchmark::kMillisecond); \
-  BENCHMARK_CAPTURE(BM_Zigzag, name##_T_auto, #name, PartitionKind::T, true)->Unit(benchmark::kMillisecond)->Iterations(1); \
-  BENCHMARK_CAPTURE(BM_Zigzag, name##_I_auto, #name, PartitionKind::I, true)->Unit(benchmark::kMillisecond)->Iterations(1);
+  BENCHMARK_CAPTURE(BM_Zigzag, name##_T_auto, #name, PartitionKind::T, true)                                  \
+      ->Unit(benchmark::kMillisecond)                                                                         \
+      ->Iterations(1);                                                                                        \
+  BENCHMARK_CAPTURE(BM_Zigzag, name##_I_auto, #name, PartitionKind::I, true)                                  \
+      ->Unit(benchmark::kMillisecond)                                                                         \
+      ->Iterations(1);
 
 ZZ(four_islands)
 ZZ(comb)

@@ -15,7 +15,9 @@ using namespace millnet::simulate;
 
 namespace {
 
-double surface(double x, double y) { return 2.0 * std::sin(x / 30.0) * std::cos(y / 40.0) + 0.002 * (x - 50) * (y - 50) / 10; }
+double surface(double x, double y) {
+  return 2.0 * std::sin(x / 30.0) * std::cos(y / 40.0) + 0.002 * (x - 50) * (y - 50) / 10;
+}
 
 // Tip height of a Ø2 ball resting on the surface (exact on planes, first order in the curvature).
 double tip(double x, double y) {
@@ -99,7 +101,8 @@ void BM_ZMapMetrics(benchmark::State& st) {
   st.counters["ra_p90_um"] = m.ra_p90_um;
   st.counters["scallop_max_um"] = 1000 * m.scallop_max_mm;
   st.counters["max_gouge_um"] = 1000 * m.max_gouge_mm;
-  st.counters["cells_per_s"] = benchmark::Counter(static_cast<double>(g.cells()), benchmark::Counter::kIsIterationInvariantRate);
+  st.counters["cells_per_s"] =
+      benchmark::Counter(static_cast<double>(g.cells()), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 // The rough → finish chain: a Ø10 flat end mill clears the stock in 1 mm levels (zigzag along X at

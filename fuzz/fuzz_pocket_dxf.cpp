@@ -4,5 +4,6 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace millnet;
-  return fuzz::expect_clean([&] { (void)pocket::parse_pocket_dxf(std::string(fuzz::as_text(data, size)), "fuzz.dxf"); });
+  return fuzz::expect_clean(
+      [&] { (void)pocket::parse_pocket_dxf(std::string(fuzz::as_text(data, size)), "fuzz.dxf"); });
 }

@@ -10,7 +10,8 @@ PKGS=(build-essential cmake ninja-build pkg-config
       linuxcnc-uspace   # LinuxCNC's rs274 interpreter: tests check that every program millnet writes is accepted
       libjs-three libjs-chart.js   # three.js r111 + OrbitControls and Chart.js, inlined into the HTML preview pages
       chromium fonts-dejavu-core   # headless Chromium: the preview pages are opened and screenshot by tests/app/test_preview_browser.cpp
-      clang libclang-rt-14-dev libomp-14-dev)  # libFuzzer and clang's OpenMP: scripts/fuzz.sh
+      clang libclang-rt-14-dev libomp-14-dev  # libFuzzer and clang's OpenMP: scripts/fuzz.sh
+      clang-format)  # clang-format 14: scripts/format.sh --check in .ci/run
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

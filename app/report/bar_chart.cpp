@@ -20,7 +20,7 @@ Layout grouped_bar_png(const std::filesystem::path& path, const std::vector<std:
   const std::size_t K = categories.size(), S = series.size();
   if (K == 0) fail(path, "bar chart: no categories given, expected at least one");
   if (S == 0) fail(path, "bar chart: no series given, expected at least one");
-  double vmin = 0, vmax = 0;  // bars start at 0, so 0 is always in range
+  double vmin = 0, vmax = 0;             // bars start at 0, so 0 is always in range
   for (std::size_t s = 0; s < S; ++s) {  // O(S·K)
     const auto& v = series[s].values;
     if (v.size() != K)
@@ -85,9 +85,9 @@ Layout grouped_bar_png(const std::filesystem::path& path, const std::vector<std:
     for (const auto& s : key) kw = std::max(kw, text_size(s, kTickFont).width);
     key_cols = kw + 20 <= (right - left) / 2 ? 2 : 1;
   }
-  const int key_rows = numbered ? static_cast<int>((K + static_cast<std::size_t>(key_cols) - 1) /
-                                                   static_cast<std::size_t>(key_cols))
-                                : 0;
+  const int key_rows =
+      numbered ? static_cast<int>((K + static_cast<std::size_t>(key_cols) - 1) / static_cast<std::size_t>(key_cols))
+               : 0;
   const int key_h = numbered ? key_rows * kLine + 10 : 0;
 
   std::vector<LegendItem> items;
@@ -135,8 +135,8 @@ Layout grouped_bar_png(const std::filesystem::path& path, const std::vector<std:
             put_text(img, buf, {cx, std::max(top + 14, cvRound(py) - 5)}, kSmallFont, kTextGrey, HAlign::Center,
                      VAlign::Bottom);
           else
-            put_text(img, buf, {cx, std::min(bottom - 4, cvRound(py) + 5)}, kSmallFont, kTextGrey,
-                     HAlign::Center, VAlign::Top);
+            put_text(img, buf, {cx, std::min(bottom - 4, cvRound(py) + 5)}, kSmallFont, kTextGrey, HAlign::Center,
+                     VAlign::Top);
         }
       }
     }
@@ -155,8 +155,8 @@ Layout grouped_bar_png(const std::filesystem::path& path, const std::vector<std:
       put_text(img, std::to_string(k + 1), {cx, bottom + 9}, kLabelFont, kBlack, HAlign::Center, VAlign::Top);
     } else {
       for (std::size_t l = 0; l < wrapped[k].size(); ++l)
-        put_text(img, wrapped[k][l], {cx, bottom + 9 + static_cast<int>(l) * kLine}, kTickFont, kBlack,
-                 HAlign::Center, VAlign::Top);
+        put_text(img, wrapped[k][l], {cx, bottom + 9 + static_cast<int>(l) * kLine}, kTickFont, kBlack, HAlign::Center,
+                 VAlign::Top);
     }
   }
   int yy = bottom + cat_h;

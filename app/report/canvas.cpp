@@ -22,8 +22,7 @@ std::array<double, 2> Layout::to_pixel(double x, double y) const {
     }
     return p0 + (v - lo) / (hi - lo) * (p1 - p0);
   };
-  return {map(x, x_min, x_max, log_x, plot_left, plot_right),
-          map(y, y_min, y_max, log_y, plot_bottom, plot_top)};
+  return {map(x, x_min, x_max, log_x, plot_left, plot_right), map(y, y_min, y_max, log_y, plot_bottom, plot_top)};
 }
 
 std::array<unsigned char, 3> viridis_rgb(double t) {
@@ -42,9 +41,7 @@ std::array<unsigned char, 3> viridis_rgb(double t) {
   const int i0 = std::min(254, static_cast<int>(std::floor(f)));
   const double w = f - i0;
   const cv::Vec3b a = lut.at<cv::Vec3b>(0, i0), b = lut.at<cv::Vec3b>(0, i0 + 1);
-  auto mix = [&](int c) {
-    return static_cast<unsigned char>(std::lround((1 - w) * a[c] + w * b[c]));
-  };
+  auto mix = [&](int c) { return static_cast<unsigned char>(std::lround((1 - w) * a[c] + w * b[c])); };
   return {mix(2), mix(1), mix(0)};  // BGR → RGB
 }
 
@@ -53,8 +50,8 @@ namespace detail {
 cv::Scalar series_colour(std::size_t i) {
   // Okabe & Ito (2008), without yellow (too pale on white) first: blue, vermillion, bluish
   // green, reddish purple, orange, sky blue, black, yellow. Stored BGR.
-  static const cv::Scalar p[] = {{178, 114, 0},  {0, 94, 213},   {115, 158, 0},  {167, 121, 204},
-                                 {0, 159, 230},  {233, 180, 86}, {0, 0, 0},      {66, 228, 240}};
+  static const cv::Scalar p[] = {{178, 114, 0}, {0, 94, 213},   {115, 158, 0}, {167, 121, 204},
+                                 {0, 159, 230}, {233, 180, 86}, {0, 0, 0},     {66, 228, 240}};
   return p[i % (sizeof p / sizeof p[0])];
 }
 
@@ -110,8 +107,8 @@ cv::Size text_size(const std::string& text, Font font) {
   return cv::getTextSize(ascii(text), kFace, font.scale, font.thickness, &baseline);
 }
 
-void put_text(cv::Mat& img, const std::string& text, cv::Point at, Font font, const cv::Scalar& colour,
-              HAlign h, VAlign v) {
+void put_text(cv::Mat& img, const std::string& text, cv::Point at, Font font, const cv::Scalar& colour, HAlign h,
+              VAlign v) {
   const std::string t = ascii(text);
   int baseline = 0;
   const cv::Size sz = cv::getTextSize(t, kFace, font.scale, font.thickness, &baseline);
@@ -122,8 +119,7 @@ void put_text(cv::Mat& img, const std::string& text, cv::Point at, Font font, co
   cv::putText(img, t, at, kFace, font.scale, colour, font.thickness, cv::LINE_AA);
 }
 
-void put_text_vertical(cv::Mat& img, const std::string& text, cv::Point centre, Font font,
-                       const cv::Scalar& colour) {
+void put_text_vertical(cv::Mat& img, const std::string& text, cv::Point centre, Font font, const cv::Scalar& colour) {
   const std::string t = ascii(text);
   int baseline = 0;
   const cv::Size sz = cv::getTextSize(t, kFace, font.scale, font.thickness, &baseline);
@@ -176,8 +172,8 @@ void polyline(cv::Mat& img, const std::vector<cv::Point2d>& pts, const cv::Scala
   cv::polylines(img, p, false, colour, thickness, cv::LINE_AA, kShift);
 }
 
-void dashed_polyline(cv::Mat& img, const std::vector<cv::Point2d>& pts, const cv::Scalar& colour,
-                     int thickness, double dash_px, double gap_px) {
+void dashed_polyline(cv::Mat& img, const std::vector<cv::Point2d>& pts, const cv::Scalar& colour, int thickness,
+                     double dash_px, double gap_px) {
   // Walk the polyline once (O(points + dashes)), alternating "on" for dash_px and "off" for gap_px.
   bool on = true;
   double left = dash_px;
@@ -338,8 +334,8 @@ std::vector<Tick> axis_ticks(const Axis& a, int target) {
 
 }  // namespace
 
-void draw_axes(cv::Mat& img, const Axis& x, const Axis& y, const std::string& x_label,
-               const std::string& y_label, const AxesStyle& style) {
+void draw_axes(cv::Mat& img, const Axis& x, const Axis& y, const std::string& x_label, const std::string& y_label,
+               const AxesStyle& style) {
   const double left = x.p0, right = x.p1, bottom = y.p0, top = y.p1;
   // Fewer ticks until neighbouring numbers no longer touch (narrow or short plots).
   auto crowded_x = [&](const std::vector<Tick>& t) {
@@ -378,35 +374,32 @@ void draw_axes(cv::Mat& img, const Axis& x, const Axis& y, const std::string& x_
     for (const auto& t : yt)
       if (t.major) line(img, {left, y.to_px(t.v)}, {right, y.to_px(t.v)}, kGridGrey, 1);
   }
-  cv::rectangle(img, cv::Point(cvRound(left), cvRound(top)), cv::Point(cvRound(right), cvRound(bottom)),
-                kAxisGrey, 1, cv::LINE_8);
+  cv::rectangle(img, cv::Point(cvRound(left), cvRound(top)), cv::Point(cvRound(right), cvRound(bottom)), kAxisGrey, 1,
+                cv::LINE_8);
   for (const auto& t : xt) {
     const double px = x.to_px(t.v);
     line(img, {px, bottom}, {px, bottom + (t.major ? 6 : 3)}, kAxisGrey, 1);
     if (style.x_numbers && !t.label.empty())
-      put_text(img, t.label, {cvRound(px), cvRound(bottom) + 10}, kTickFont, kTextGrey, HAlign::Center,
-               VAlign::Top);
+      put_text(img, t.label, {cvRound(px), cvRound(bottom) + 10}, kTickFont, kTextGrey, HAlign::Center, VAlign::Top);
   }
   int max_w = 0;
   for (const auto& t : yt) {
     const double py = y.to_px(t.v);
     line(img, {left - (t.major ? 6 : 3), py}, {left, py}, kAxisGrey, 1);
     if (!t.label.empty()) {
-      put_text(img, t.label, {cvRound(left) - 9, cvRound(py)}, kTickFont, kTextGrey, HAlign::Right,
-               VAlign::Middle);
+      put_text(img, t.label, {cvRound(left) - 9, cvRound(py)}, kTickFont, kTextGrey, HAlign::Right, VAlign::Middle);
       max_w = std::max(max_w, text_size(t.label, kTickFont).width);
     }
   }
   if (style.x_numbers && !x_label.empty())
-    put_text(img, x_label, {cvRound((left + right) / 2), cvRound(bottom) + 34}, kLabelFont, kBlack,
-             HAlign::Center, VAlign::Top);
+    put_text(img, x_label, {cvRound((left + right) / 2), cvRound(bottom) + 34}, kLabelFont, kBlack, HAlign::Center,
+             VAlign::Top);
   if (!y_label.empty())
-    put_text_vertical(img, y_label, {cvRound(left) - max_w - 24, cvRound((top + bottom) / 2)}, kLabelFont,
-                      kBlack);
+    put_text_vertical(img, y_label, {cvRound(left) - max_w - 24, cvRound((top + bottom) / 2)}, kLabelFont, kBlack);
 }
 
-void colour_bar(cv::Mat& img, int left, int top, int w, int bottom, double lo, double hi,
-                const std::string& label, cv::Scalar (*colour_of)(double)) {
+void colour_bar(cv::Mat& img, int left, int top, int w, int bottom, double lo, double hi, const std::string& label,
+                cv::Scalar (*colour_of)(double)) {
   const int h = bottom - top;
   for (int r = 0; r < h; ++r) {  // O(h) rows
     const double t = h > 1 ? static_cast<double>(h - 1 - r) / (h - 1) : 0.5;
@@ -414,8 +407,8 @@ void colour_bar(cv::Mat& img, int left, int top, int w, int bottom, double lo, d
   }
   cv::rectangle(img, cv::Point(left - 1, top - 1), cv::Point(left + w, bottom), kAxisGrey, 1);
   if (!(hi > lo)) {
-    put_text(img, compact_number(lo, 4), {left + w + 9, (top + bottom) / 2}, kTickFont, kTextGrey,
-             HAlign::Left, VAlign::Middle);
+    put_text(img, compact_number(lo, 4), {left + w + 9, (top + bottom) / 2}, kTickFont, kTextGrey, HAlign::Left,
+             VAlign::Middle);
     put_text_vertical(img, label, {left + w + 80, (top + bottom) / 2}, kLabelFont, kBlack);
     return;
   }
@@ -447,8 +440,7 @@ int legend(cv::Mat* img, const std::vector<LegendItem>& items, int left, int top
         case LegendKind::Line: line(*img, a, b, it.colour, 3); break;
         case LegendKind::Dashed: dashed_polyline(*img, {a, b}, it.colour, 2, 6, 4); break;
         case LegendKind::Box:
-          cv::rectangle(*img, cv::Point(x + 4, y + 5), cv::Point(x + kSample - 4, y + kRow - 5), it.colour,
-                        cv::FILLED);
+          cv::rectangle(*img, cv::Point(x + 4, y + 5), cv::Point(x + kSample - 4, y + kRow - 5), it.colour, cv::FILLED);
           cv::rectangle(*img, cv::Point(x + 4, y + 5), cv::Point(x + kSample - 4, y + kRow - 5), kAxisGrey, 1);
           break;
         case LegendKind::Dot: circle_at(*img, mid, 3.5, it.colour, -1); break;
@@ -504,9 +496,7 @@ void write_png(const std::filesystem::path& path, const cv::Mat& img) {
   }
 }
 
-void fail(const std::filesystem::path& path, const std::string& what) {
-  throw file_error(path.string(), what);
-}
+void fail(const std::filesystem::path& path, const std::string& what) { throw file_error(path.string(), what); }
 
 Layout make_layout(const cv::Mat& img, const Axis& x, const Axis& y) {
   Layout l;

@@ -26,8 +26,8 @@ inline constexpr Font kSmallFont{0.42, 1};
 enum class HAlign { Left, Center, Right };
 enum class VAlign { Top, Middle, Bottom };  ///< Bottom = the text's baseline
 
-inline const cv::Scalar kWhite(255, 255, 255), kBlack(0, 0, 0), kGridGrey(228, 228, 228),
-    kAxisGrey(90, 90, 90), kTextGrey(60, 60, 60);
+inline const cv::Scalar kWhite(255, 255, 255), kBlack(0, 0, 0), kGridGrey(228, 228, 228), kAxisGrey(90, 90, 90),
+    kTextGrey(60, 60, 60);
 
 /// Okabe–Ito colour-blind-safe palette (BGR), cycled for series i.
 [[nodiscard]] cv::Scalar series_colour(std::size_t i);
@@ -43,8 +43,7 @@ inline const cv::Scalar kWhite(255, 255, 255), kBlack(0, 0, 0), kGridGrey(228, 2
 void put_text(cv::Mat& img, const std::string& text, cv::Point at, Font font, const cv::Scalar& colour,
               HAlign h = HAlign::Left, VAlign v = VAlign::Bottom);
 /// Draws text rotated 90° counter-clockwise (reads bottom to top), centred on `centre`.
-void put_text_vertical(cv::Mat& img, const std::string& text, cv::Point centre, Font font,
-                       const cv::Scalar& colour);
+void put_text_vertical(cv::Mat& img, const std::string& text, cv::Point centre, Font font, const cv::Scalar& colour);
 /// Splits `text` at spaces into lines no wider than `max_width` px (a word longer than that gets a
 /// line of its own).
 [[nodiscard]] std::vector<std::string> wrap(const std::string& text, Font font, int max_width);
@@ -52,8 +51,8 @@ void put_text_vertical(cv::Mat& img, const std::string& text, cv::Point centre, 
 /// Anti-aliased primitives at sub-pixel precision (OpenCV's 4-bit fixed point "shift").
 void line(cv::Mat& img, cv::Point2d a, cv::Point2d b, const cv::Scalar& colour, int thickness);
 void polyline(cv::Mat& img, const std::vector<cv::Point2d>& pts, const cv::Scalar& colour, int thickness);
-void dashed_polyline(cv::Mat& img, const std::vector<cv::Point2d>& pts, const cv::Scalar& colour,
-                     int thickness, double dash_px, double gap_px);
+void dashed_polyline(cv::Mat& img, const std::vector<cv::Point2d>& pts, const cv::Scalar& colour, int thickness,
+                     double dash_px, double gap_px);
 void circle_at(cv::Mat& img, cv::Point2d c, double r, const cv::Scalar& colour, int thickness);  ///< -1 = filled
 void fill_polygons(cv::Mat& img, const std::vector<std::vector<cv::Point2d>>& polys, const cv::Scalar& colour);
 
@@ -89,13 +88,13 @@ struct AxesStyle {
   bool grid = true;
   int x_target = 8, y_target = 6;
 };
-void draw_axes(cv::Mat& img, const Axis& x, const Axis& y, const std::string& x_label,
-               const std::string& y_label, const AxesStyle& style = {});
+void draw_axes(cv::Mat& img, const Axis& x, const Axis& y, const std::string& x_label, const std::string& y_label,
+               const AxesStyle& style = {});
 
 /// A vertical colour bar at pixel box [left, left+w) × [top, bottom) for values [lo, hi] coloured
 /// by `colour_of(t)`, ticks and numbers on its right, `label` rotated beside them.
-void colour_bar(cv::Mat& img, int left, int top, int w, int bottom, double lo, double hi,
-                const std::string& label, cv::Scalar (*colour_of)(double));
+void colour_bar(cv::Mat& img, int left, int top, int w, int bottom, double lo, double hi, const std::string& label,
+                cv::Scalar (*colour_of)(double));
 
 /// Legend entry kinds.
 enum class LegendKind { Line, Dashed, Box, Dot, CircledCross };

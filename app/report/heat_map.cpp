@@ -42,11 +42,11 @@ Layout heat_map_png(const std::filesystem::path& path, const Eigen::MatrixXd& gr
     const auto& e = *opt.extent_mm;
     aspect = (e[3] - e[2]) / (e[1] - e[0]);
   }
-  const int cw = std::max(1, static_cast<int>(std::min<double>(
-                                 static_cast<double>(kMaxPlot) / static_cast<double>(nx),
-                                 static_cast<double>(kMaxPlot) / (aspect * static_cast<double>(nx)))));
-  const int ch = std::max(1, static_cast<int>(std::lround(cw * aspect * static_cast<double>(nx) /
-                                                          static_cast<double>(ny))));
+  const int cw = std::max(
+      1, static_cast<int>(std::min<double>(static_cast<double>(kMaxPlot) / static_cast<double>(nx),
+                                           static_cast<double>(kMaxPlot) / (aspect * static_cast<double>(nx)))));
+  const int ch =
+      std::max(1, static_cast<int>(std::lround(cw * aspect * static_cast<double>(nx) / static_cast<double>(ny))));
   const int plot_w = cw * static_cast<int>(nx), plot_h = ch * static_cast<int>(ny);
 
   const int head = title_height(title_text);

@@ -16,8 +16,8 @@ using namespace detail;
 
 namespace {
 
-void check_range(const std::filesystem::path& path, const std::optional<std::pair<double, double>>& r,
-                 const char* what, bool log) {
+void check_range(const std::filesystem::path& path, const std::optional<std::pair<double, double>>& r, const char* what,
+                 bool log) {
   if (!r) return;
   if (!std::isfinite(r->first) || !std::isfinite(r->second) || !(r->second > r->first))
     fail(path, std::string("line plot: ") + what + " must be finite with min < max");
@@ -37,8 +37,8 @@ Layout line_plot_png(const std::filesystem::path& path, const std::vector<Series
     const Series& s = series[k];
     const std::string which = "line plot: series " + std::to_string(k) + " (\"" + s.name + "\")";
     if (s.xs.size() != s.ys.size())
-      fail(path, which + " has " + std::to_string(s.xs.size()) + " x values but " +
-                     std::to_string(s.ys.size()) + " y values, expected equal counts");
+      fail(path, which + " has " + std::to_string(s.xs.size()) + " x values but " + std::to_string(s.ys.size()) +
+                     " y values, expected equal counts");
     if (s.xs.empty()) fail(path, which + " has no points");
     for (std::size_t i = 0; i < s.xs.size(); ++i) {
       const double xv = s.xs[i], yv = s.ys[i];
@@ -70,12 +70,18 @@ Layout line_plot_png(const std::filesystem::path& path, const std::vector<Series
   x.hi = xmax;
   y.lo = ymin;
   y.hi = ymax;
-  if (opt.x_range) std::tie(x.lo, x.hi) = *opt.x_range;
-  else if (x.log) log_range(x.lo, x.hi);
-  else nice_range(x.lo, x.hi, 8);
-  if (opt.y_range) std::tie(y.lo, y.hi) = *opt.y_range;
-  else if (y.log) log_range(y.lo, y.hi);
-  else padded_nice_range(y.lo, y.hi, 6);
+  if (opt.x_range)
+    std::tie(x.lo, x.hi) = *opt.x_range;
+  else if (x.log)
+    log_range(x.lo, x.hi);
+  else
+    nice_range(x.lo, x.hi, 8);
+  if (opt.y_range)
+    std::tie(y.lo, y.hi) = *opt.y_range;
+  else if (y.log)
+    log_range(y.lo, y.hi);
+  else
+    padded_nice_range(y.lo, y.hi, 6);
 
   // Left margin from the widest y number so that the rotated y label never overlaps it.
   int yw = 0;
@@ -113,7 +119,8 @@ Layout line_plot_png(const std::filesystem::path& path, const std::vector<Series
     polyline(roi, pts, series_colour(k), 2);
     if (opt.show_points || pts.size() == 1) {
       // Dots shrink when the points crowd (hundreds of stored vectors) so the curve stays legible.
-      const double spacing = static_cast<double>(right - left) / static_cast<double>(std::max<std::size_t>(1, pts.size()));
+      const double spacing =
+          static_cast<double>(right - left) / static_cast<double>(std::max<std::size_t>(1, pts.size()));
       const double r = std::clamp(spacing / 3.0, 1.6, 3.2);
       for (const auto& p : pts) circle_at(roi, p, r, series_colour(k), -1);
     }
@@ -137,10 +144,10 @@ Layout line_plot_png(const std::filesystem::path& path, const std::vector<Series
       const int w = text_size(opt.marker->label, kLabelFont).width;
       const bool right_side = mx + 8 + w < right - 4;
       const cv::Point at(cvRound(right_side ? mx + 8 : mx - 8), top + 8);
-      const cv::Rect box(right_side ? at.x - 3 : at.x - w - 3, at.y - 3, w + 6, text_size("Ag", kLabelFont).height + 10);
+      const cv::Rect box(right_side ? at.x - 3 : at.x - w - 3, at.y - 3, w + 6,
+                         text_size("Ag", kLabelFont).height + 10);
       cv::rectangle(img, box, kWhite, cv::FILLED);
-      put_text(img, opt.marker->label, at, kLabelFont, kBlack, right_side ? HAlign::Left : HAlign::Right,
-               VAlign::Top);
+      put_text(img, opt.marker->label, at, kLabelFont, kBlack, right_side ? HAlign::Left : HAlign::Right, VAlign::Top);
     }
   }
   if (legend_h > 0) legend(&img, items, left, bottom + 66, right - left);

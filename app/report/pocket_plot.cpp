@@ -60,15 +60,14 @@ bool finite_vertex(const pocket::Vertex& v) {
 // Feeds use viridis up to 0.85: its last yellows are too pale for lines on white.
 cv::Scalar feed_colour(double t) { return viridis(0.85 * std::clamp(t, 0.0, 1.0)); }
 
-const cv::Scalar kIslandGrey(190, 190, 190), kPocketTint(252, 248, 244), kRapid(0, 94, 213),
-    kNoFeed(178, 114, 0), kToolPoint(233, 180, 86);
+const cv::Scalar kIslandGrey(190, 190, 190), kPocketTint(252, 248, 244), kRapid(0, 94, 213), kNoFeed(178, 114, 0),
+    kToolPoint(233, 180, 86);
 
 }  // namespace
 
 Layout pocket_path_png(const std::filesystem::path& path, const std::vector<pocket::Region>& regions,
                        const std::vector<Vec2>& tool_points, const pocket::Path2D& toolpath,
-                       const std::string& title_text,
-                       const std::vector<std::pair<std::string, std::string>>& metrics,
+                       const std::string& title_text, const std::vector<std::pair<std::string, std::string>>& metrics,
                        const PocketPlotOptions& opt) {
   // ---- validate and find the extent: O(vertices + tool points + path vertices)
   double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin, ymin = xmin, ymax = -xmin;
@@ -158,8 +157,8 @@ Layout pocket_path_png(const std::filesystem::path& path, const std::vector<pock
   if (opt.show_tool_points && !tool_points.empty())
     items.push_back({"tool point (" + std::to_string(tool_points.size()) + ")", kToolPoint, LegendKind::Dot});
   if (!toolpath.chains.empty())
-    items.push_back({have_feeds ? "cut (colour = feed)" : "cut", have_feeds ? feed_colour(0.5) : kNoFeed,
-                     LegendKind::Line});
+    items.push_back(
+        {have_feeds ? "cut (colour = feed)" : "cut", have_feeds ? feed_colour(0.5) : kNoFeed, LegendKind::Line});
   if (toolpath.chains.size() > 1) items.push_back({"rapid (retract)", kRapid, LegendKind::Dashed});
   std::size_t n_drill = 0;
   for (const auto& ch : toolpath.chains) n_drill += (ch.predrill && !ch.pts.empty()) ? 1U : 0U;
@@ -175,7 +174,8 @@ Layout pocket_path_png(const std::filesystem::path& path, const std::vector<pock
   }
   constexpr int kLine = 20;
   const int mcols = mtext.empty() ? 1 : std::clamp(lw / (mw + 30), 1, 4);
-  const int mrows = static_cast<int>((mtext.size() + static_cast<std::size_t>(mcols) - 1) / static_cast<std::size_t>(mcols));
+  const int mrows =
+      static_cast<int>((mtext.size() + static_cast<std::size_t>(mcols) - 1) / static_cast<std::size_t>(mcols));
   const int metrics_h = mtext.empty() ? 0 : mrows * kLine + 14;
 
   cv::Mat img(bottom + 64 + legend_h + 8 + metrics_h + 10, kWidth, CV_8UC3, kWhite);
@@ -269,8 +269,7 @@ Layout pocket_path_png(const std::filesystem::path& path, const std::vector<pock
 
 Layout pocket_path_png(const std::filesystem::path& path, const pocket::Region& region,
                        const std::vector<Vec2>& tool_points, const pocket::Path2D& toolpath,
-                       const std::string& title_text,
-                       const std::vector<std::pair<std::string, std::string>>& metrics,
+                       const std::string& title_text, const std::vector<std::pair<std::string, std::string>>& metrics,
                        const PocketPlotOptions& opt) {
   return pocket_path_png(path, std::vector<pocket::Region>{region}, tool_points, toolpath, title_text, metrics, opt);
 }
@@ -287,8 +286,8 @@ Layout level_png(const std::filesystem::path& path, const std::vector<pocket::Re
   if (!std::isfinite(z_mm)) fail(path, "level plot: Z is not finite");
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.3f", z_mm);
-  const std::string t = title_text.empty() ? std::string("level Z = ") + buf + " mm"
-                                           : title_text + " - level Z = " + buf + " mm";
+  const std::string t =
+      title_text.empty() ? std::string("level Z = ") + buf + " mm" : title_text + " - level Z = " + buf + " mm";
   PocketPlotOptions o = opt;
   o.show_tool_points = false;
   return pocket_path_png(path, regions, {}, toolpath, t, metrics, o);

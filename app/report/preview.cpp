@@ -24,8 +24,8 @@ constexpr double kPi = 3.14159265358979323846;
 std::string read_asset(const fs::path& p, const char* package) {
   std::ifstream in(p, std::ios::binary);
   if (!in) {
-    throw Error(p.string() + ": cannot read the script the preview pages inline (install Debian package " +
-                package + ", or point MILLNET_JS_DIR at a folder holding it)");
+    throw Error(p.string() + ": cannot read the script the preview pages inline (install Debian package " + package +
+                ", or point MILLNET_JS_DIR at a folder holding it)");
   }
   std::ostringstream s;
   s << in.rdbuf();
@@ -50,16 +50,22 @@ std::string jstr(std::string_view s) {
   std::string o = "\"";
   for (const char ch : s) {
     const auto c = static_cast<unsigned char>(ch);
-    if (c == '"') o += "\\\"";
-    else if (c == '\\') o += "\\\\";
-    else if (c == '<') o += "\\u003c";
-    else if (c == '>') o += "\\u003e";
-    else if (c == '&') o += "\\u0026";
+    if (c == '"')
+      o += "\\\"";
+    else if (c == '\\')
+      o += "\\\\";
+    else if (c == '<')
+      o += "\\u003c";
+    else if (c == '>')
+      o += "\\u003e";
+    else if (c == '&')
+      o += "\\u0026";
     else if (c < 0x20) {
       char b[8];
       std::snprintf(b, sizeof b, "\\u%04x", c);
       o += b;
-    } else o += ch;
+    } else
+      o += ch;
   }
   return o + "\"";
 }
@@ -77,7 +83,8 @@ std::string jnum(double v) {
   return s;
 }
 
-template <class T, class F> std::string jarr(const std::vector<T>& v, F f) {
+template <class T, class F>
+std::string jarr(const std::vector<T>& v, F f) {
   std::string o = "[";
   for (std::size_t i = 0; i < v.size(); ++i) {
     if (i) o += ',';
@@ -95,11 +102,16 @@ std::string hex(std::uint32_t c) {
 std::string html_escape(std::string_view s) {
   std::string o;
   for (const char c : s) {
-    if (c == '<') o += "&lt;";
-    else if (c == '>') o += "&gt;";
-    else if (c == '&') o += "&amp;";
-    else if (c == '"') o += "&quot;";
-    else o += c;
+    if (c == '<')
+      o += "&lt;";
+    else if (c == '>')
+      o += "&gt;";
+    else if (c == '&')
+      o += "&amp;";
+    else if (c == '"')
+      o += "&quot;";
+    else
+      o += c;
   }
   return o;
 }
@@ -173,14 +185,17 @@ PreviewPath preview_path(const PreviewProgram& program, std::size_t max_points, 
       const double a0 = std::atan2(cur[1] - cy, cur[0] - cx), a1 = std::atan2(mv->to[1] - cy, mv->to[0] - cx);
       double sweep = a1 - a0;
       const bool ccw = mv->motion == gcode::Motion::ArcCCW;
-      if (ccw) { while (sweep <= 1e-12) sweep += 2 * kPi; }
-      else { while (sweep >= -1e-12) sweep -= 2 * kPi; }
+      if (ccw) {
+        while (sweep <= 1e-12) sweep += 2 * kPi;
+      } else {
+        while (sweep >= -1e-12) sweep -= 2 * kPi;
+      }
       const auto n = static_cast<std::size_t>(std::max(1.0, std::ceil(std::abs(sweep) / step)));
       for (std::size_t k = 1; k < n; ++k) {
         const double t = static_cast<double>(k) / static_cast<double>(n);
         const double a = a0 + sweep * t;
-        raw.push_back({{cx + r * std::cos(a), cy + r * std::sin(a), cur[2] + (mv->to[2] - cur[2]) * t}, kind,
-                       mv->feed, line});
+        raw.push_back(
+            {{cx + r * std::cos(a), cy + r * std::sin(a), cur[2] + (mv->to[2] - cur[2]) * t}, kind, mv->feed, line});
       }
     }
     cur = mv->to;
@@ -220,7 +235,8 @@ std::string preview_data_json(const PreviewInput& in) {
   // Surface decimation: a stride s over rows and columns.
   std::size_t stride = 1;
   if (in.surface) {
-    const auto rows = static_cast<std::size_t>(in.surface->z.rows()), cols = static_cast<std::size_t>(in.surface->z.cols());
+    const auto rows = static_cast<std::size_t>(in.surface->z.rows()),
+               cols = static_cast<std::size_t>(in.surface->z.cols());
     while ((rows + stride - 1) / stride * ((cols + stride - 1) / stride) > in.limits.max_surface_cells) ++stride;
     if (stride > 1) {
       notes.push_back("decimated for display: surface " + std::to_string(rows) + "×" + std::to_string(cols) +
@@ -238,9 +254,9 @@ std::string preview_data_json(const PreviewInput& in) {
   for (std::size_t k = 0; k < paths.size(); ++k) {
     const PreviewPath& p = paths[k];
     if (k) o << ',';
-    o << "{\"name\":" << jstr(in.programs[k].name) << ",\"colour\":" << jstr(hex(kProgramColours[k % kProgramColours.size()]))
-      << ",\"moves\":" << p.moves << ",\"points_before\":" << p.points_before
-      << ",\"xyz\":" << jarr(p.xyz, [](float v) { return jnum(v); })
+    o << "{\"name\":" << jstr(in.programs[k].name)
+      << ",\"colour\":" << jstr(hex(kProgramColours[k % kProgramColours.size()])) << ",\"moves\":" << p.moves
+      << ",\"points_before\":" << p.points_before << ",\"xyz\":" << jarr(p.xyz, [](float v) { return jnum(v); })
       << ",\"kind\":" << jarr(p.kind, [](std::uint8_t v) { return std::to_string(v); })
       << ",\"feed\":" << jarr(p.feed, [](float v) { return jnum(v); })
       << ",\"line\":" << jarr(p.line, [](std::uint32_t v) { return std::to_string(v); });
@@ -296,14 +312,19 @@ std::string preview_data_json(const PreviewInput& in) {
     const double cell = s.cell_mm * static_cast<double>(stride);
     const double cy_mm = s.cell_y_mm > 0 ? s.cell_y_mm : s.cell_mm;
     const double celly = cy_mm * static_cast<double>(stride);
-    o << ",\"surface\":{\"rows\":" << rows << ",\"cols\":" << cols << ",\"x0\":" << jnum(s.x0 + s.cell_mm * 0.5 - cell * 0.5)
-      << ",\"y0\":" << jnum(s.y0 + cy_mm * 0.5 - celly * 0.5) << ",\"cell\":" << jnum(cell)
-      << ",\"celly\":" << jnum(celly) << ",\"layer\":" << jstr(s.layer)
-      << ",\"name\":" << jstr(s.value_name) << ",\"units\":" << jstr(s.units) << ",\"z\":" << jarr(z, jnum)
-      << ",\"v\":" << jarr(val, [](double x) { return std::isfinite(x) ? std::to_string(std::round(x * 1e6) / 1e6) : std::string("null"); })
+    o << ",\"surface\":{\"rows\":" << rows << ",\"cols\":" << cols
+      << ",\"x0\":" << jnum(s.x0 + s.cell_mm * 0.5 - cell * 0.5) << ",\"y0\":" << jnum(s.y0 + cy_mm * 0.5 - celly * 0.5)
+      << ",\"cell\":" << jnum(cell) << ",\"celly\":" << jnum(celly) << ",\"layer\":" << jstr(s.layer)
+      << ",\"name\":" << jstr(s.value_name) << ",\"units\":" << jstr(s.units) << ",\"z\":" << jarr(z, jnum) << ",\"v\":"
+      << jarr(val,
+              [](double x) {
+                return std::isfinite(x) ? std::to_string(std::round(x * 1e6) / 1e6) : std::string("null");
+              })
       << '}';
   }
-  o << ",\"colours\":{\"feed\":" << jarr(std::vector<std::uint32_t>(kFeedRamp.begin(), kFeedRamp.end()), [](std::uint32_t c) { return jstr(hex(c)); })
+  o << ",\"colours\":{\"feed\":"
+    << jarr(std::vector<std::uint32_t>(kFeedRamp.begin(), kFeedRamp.end()),
+            [](std::uint32_t c) { return jstr(hex(c)); })
     << ",\"rapid\":" << jstr(hex(kRapidColour)) << ",\"entry\":" << jstr(hex(kEntryColour)) << "}}";
   return o.str();
 }
@@ -328,8 +349,9 @@ std::string preview_html(const PreviewInput& in) {
   o << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" << html_escape(in.title)
     << " — millnet preview</title>\n<style>" << kPageStyle << "</style>\n"
     << "<script>" << kErrorTrap << "</script>\n</head><body>\n"
-    << "<div id=\"panel\" style=\"width:" << kPanelWidthPx - 16 << "px\"></div><div id=\"view\" style=\"left:" << kPanelWidthPx
-    << "px\"></div>\n<script>" << three << "\n</script>\n<script>" << orbit << "\n</script>\n"
+    << "<div id=\"panel\" style=\"width:" << kPanelWidthPx - 16
+    << "px\"></div><div id=\"view\" style=\"left:" << kPanelWidthPx << "px\"></div>\n<script>" << three
+    << "\n</script>\n<script>" << orbit << "\n</script>\n"
     << "<script type=\"application/json\" id=\"millnet-data\">" << data << "</script>\n<script>" << kPageScript
     << "</script>\n</body></html>\n";
   return o.str();
@@ -350,7 +372,8 @@ std::string summary_html(const SummaryPage& page) {
     for (const auto& c : row) {
       if (c.rfind("link:", 0) == 0 && c.find('|') != std::string::npos) {
         const auto bar = c.find('|');
-        o << "<td><a href=\"" << html_escape(c.substr(bar + 1)) << "\">" << html_escape(c.substr(5, bar - 5)) << "</a></td>";
+        o << "<td><a href=\"" << html_escape(c.substr(bar + 1)) << "\">" << html_escape(c.substr(5, bar - 5))
+          << "</a></td>";
       } else {
         o << "<td>" << html_escape(c) << "</td>";
       }
@@ -364,15 +387,17 @@ std::string summary_html(const SummaryPage& page) {
       o << "<li><a href=\"" << html_escape(href) << "\">" << html_escape(part) << "</a></li>";
     o << "</ul>\n";
   }
-  o << "<div id=\"charts\"></div>\n<script>" << chart << "\n</script>\n<script type=\"application/json\" id=\"millnet-charts\">[";
+  o << "<div id=\"charts\"></div>\n<script>" << chart
+    << "\n</script>\n<script type=\"application/json\" id=\"millnet-charts\">[";
   for (std::size_t i = 0; i < page.charts.size(); ++i) {
     const SummaryChart& c = page.charts[i];
     if (i) o << ',';
-    o << "{\"title\":" << jstr(c.title) << ",\"y\":" << jstr(c.y_label) << ",\"labels\":"
-      << jarr(c.labels, [](const std::string& s) { return jstr(s); }) << ",\"series\":[";
+    o << "{\"title\":" << jstr(c.title) << ",\"y\":" << jstr(c.y_label)
+      << ",\"labels\":" << jarr(c.labels, [](const std::string& s) { return jstr(s); }) << ",\"series\":[";
     for (std::size_t k = 0; k < c.series.size(); ++k) {
       if (k) o << ',';
-      o << "{\"name\":" << jstr(c.series[k].first) << ",\"colour\":" << jstr(hex(kProgramColours[k % kProgramColours.size()]))
+      o << "{\"name\":" << jstr(c.series[k].first)
+        << ",\"colour\":" << jstr(hex(kProgramColours[k % kProgramColours.size()]))
         << ",\"values\":" << jarr(c.series[k].second, jnum) << '}';
     }
     o << "]}";

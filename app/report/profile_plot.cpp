@@ -87,9 +87,7 @@ Layout profile_png(const std::filesystem::path& path, const std::vector<double>&
     for (std::size_t k = 0; k < panel.series.size(); ++k) {  // O(samples) per series
       const auto& v = panel.series[k].values;
       std::vector<cv::Point2d> pts;
-      auto at = [&](double sv, double val) {
-        return cv::Point2d(x.to_px(sv) - left - 1, y.to_px(val) - top - 1);
-      };
+      auto at = [&](double sv, double val) { return cv::Point2d(x.to_px(sv) - left - 1, y.to_px(val) - top - 1); };
       for (std::size_t i = 0; i < s.size(); ++i) {
         pts.push_back(at(s[i], v[i]));
         if (opt.steps && i + 1 < s.size()) pts.push_back(at(s[i + 1], v[i]));

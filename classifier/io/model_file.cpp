@@ -79,7 +79,8 @@ struct Reader {
     if (expect >= 0 && static_cast<Index>(j.size()) != expect)
       fail(path, "expected " + std::to_string(expect) + " numbers, got " + std::to_string(j.size()));
     Eigen::RowVectorXd v(static_cast<Index>(j.size()));
-    for (std::size_t i = 0; i < j.size(); ++i) v(static_cast<Index>(i)) = number(j[i], path + "[" + std::to_string(i) + "]");
+    for (std::size_t i = 0; i < j.size(); ++i)
+      v(static_cast<Index>(i)) = number(j[i], path + "[" + std::to_string(i) + "]");
     return v;
   }
   Eigen::MatrixXd mat(const json& j, const std::string& path, Index rows, Index cols) const {
@@ -87,7 +88,8 @@ struct Reader {
     if (static_cast<Index>(j.size()) != rows)
       fail(path, "expected " + std::to_string(rows) + " rows, got " + std::to_string(j.size()));
     Eigen::MatrixXd M(rows, cols);
-    for (Index r = 0; r < rows; ++r) M.row(r) = vec(j[static_cast<std::size_t>(r)], path + "[" + std::to_string(r) + "]", cols);
+    for (Index r = 0; r < rows; ++r)
+      M.row(r) = vec(j[static_cast<std::size_t>(r)], path + "[" + std::to_string(r) + "]", cols);
     return M;
   }
   std::vector<std::string> strings(const json& j, const std::string& path) const {
@@ -123,7 +125,8 @@ struct Reader {
       fail(path + ".inputs", "expected " + std::to_string(s.inputs()) + " (grid²" + (s.aspect_feature ? " + 1" : "") +
                                  "), got " + std::to_string(inputs));
     if (inputs != stored_inputs)
-      fail(path + ".inputs", std::to_string(inputs) + " differs from the stored inputs' width " + std::to_string(stored_inputs));
+      fail(path + ".inputs",
+           std::to_string(inputs) + " differs from the stored inputs' width " + std::to_string(stored_inputs));
     return s;
   }
   ModeOptimum optimum(const json& j, const std::string& path) const {
@@ -141,8 +144,8 @@ struct Reader {
 
 void save_model(const Model& m, const std::filesystem::path& path) {
   const Index n = m.inputs.rows(), d = m.inputs.cols(), k = m.outputs.cols();
-  if (m.outputs.rows() != n || static_cast<Index>(m.groups.size()) != n || static_cast<Index>(m.strategies.size()) != k ||
-      m.normalizer.mean.size() != d || m.normalizer.std.size() != d)
+  if (m.outputs.rows() != n || static_cast<Index>(m.groups.size()) != n ||
+      static_cast<Index>(m.strategies.size()) != k || m.normalizer.mean.size() != d || m.normalizer.std.size() != d)
     throw Error("save_model: inconsistent model shapes (inputs, outputs, groups, strategies, normalizer)");
   json j;
   j["format"] = "millnet-model";
@@ -156,8 +159,9 @@ void save_model(const Model& m, const std::filesystem::path& path) {
                  {"groups", m.groups}};
   if (m.input_spec) {
     const classifier::InputSpec& s = *m.input_spec;
-    if (s.inputs() != d) throw Error("save_model: the input spec's " + std::to_string(s.inputs()) +
-                                     " inputs differ from the stored inputs' " + std::to_string(d));
+    if (s.inputs() != d)
+      throw Error("save_model: the input spec's " + std::to_string(s.inputs()) +
+                  " inputs differ from the stored inputs' " + std::to_string(d));
     j["features"] = {{"raster_mm", finite(s.raster_mm, "features.raster_mm")},
                      {"grid", s.grid},
                      {"inputs", s.inputs()},
@@ -205,8 +209,8 @@ Model load_model(const std::filesystem::path& path) {
     rd.fail("format", "expected \"millnet-model\", got \"" + j["format"].get<std::string>() + "\"");
   const int version = rd.integer(rd.at(j, "version", ""), "version");
   if (version != kModelFormatVersion)
-    rd.fail("version", "this millnet reads model format version " + std::to_string(kModelFormatVersion) + ", the file is version " +
-                           std::to_string(version));
+    rd.fail("version", "this millnet reads model format version " + std::to_string(kModelFormatVersion) +
+                           ", the file is version " + std::to_string(version));
   Model m;
   m.alpha = rd.number(rd.at(j, "alpha", ""), "alpha");
   if (!(m.alpha > 0)) rd.fail("alpha", "expected a number > 0");

@@ -21,17 +21,17 @@ using RowMatrixXd = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen:
 /// for one-hot outputs) are contiguous: Σ_j s_j·y_j then costs one add per stored vector and a
 /// P×K combination, instead of K multiply-adds per stored vector.
 struct Prepared {
-  RowMatrixXd X;                 ///< N×D normalized inputs, internal order
-  Eigen::VectorXd sq;            ///< N squared norms of X's rows
-  Eigen::MatrixXd Y;             ///< N×K outputs, internal order
-  std::vector<Index> to_orig;    ///< internal index → caller's row
-  std::vector<int> group;        ///< internal index → group id (ids by first appearance)
+  RowMatrixXd X;                            ///< N×D normalized inputs, internal order
+  Eigen::VectorXd sq;                       ///< N squared norms of X's rows
+  Eigen::MatrixXd Y;                        ///< N×K outputs, internal order
+  std::vector<Index> to_orig;               ///< internal index → caller's row
+  std::vector<int> group;                   ///< internal index → group id (ids by first appearance)
   std::vector<std::vector<Index>> members;  ///< group id → internal indices (ascending)
-  std::vector<Index> pstart;     ///< P+1 offsets of the pattern runs
-  Eigen::MatrixXd patterns;      ///< P×K distinct output rows
-  std::vector<Index> label;      ///< internal index → argmax of its output row
-  std::vector<Index> pattern;    ///< internal index → its pattern run (row of `patterns`)
-  bool singleton_groups = false; ///< every group has one member (part-out == vector-out)
+  std::vector<Index> pstart;                ///< P+1 offsets of the pattern runs
+  Eigen::MatrixXd patterns;                 ///< P×K distinct output rows
+  std::vector<Index> label;                 ///< internal index → argmax of its output row
+  std::vector<Index> pattern;               ///< internal index → its pattern run (row of `patterns`)
+  bool singleton_groups = false;            ///< every group has one member (part-out == vector-out)
 };
 
 /// Validates shapes/finiteness (throws millnet::Error naming the argument) and builds Prepared.
@@ -63,7 +63,7 @@ void for_each_d2_block(const MS& S, const Eigen::VectorXd& sqS, const MQ& Q, con
                        Index block_rows, Fn&& fn) {
   const Index M = Q.rows();
   const Index nb = (M + block_rows - 1) / block_rows;
-#pragma omp parallel if (nb > 1 && static_cast<double>(S.rows()) * static_cast<double>(M) > kParallelWork)
+#pragma omp parallel if (nb > 1 && static_cast <double>(S.rows()) * static_cast <double>(M) > kParallelWork)
   {
     Eigen::MatrixXd D2, T, Qt;
 #pragma omp for schedule(dynamic, 1)

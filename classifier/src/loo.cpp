@@ -116,11 +116,17 @@ Golden golden_section(F&& f, double lo, double hi, double alpha0, Figures f0, do
   double fc = eval(c), fd = eval(d);
   while (b - a > tol_ln && best.evaluations < 200) {
     if (fc <= fd) {
-      b = d; d = c; fd = fc;
-      c = b - g * (b - a); fc = eval(c);
+      b = d;
+      d = c;
+      fd = fc;
+      c = b - g * (b - a);
+      fc = eval(c);
     } else {
-      a = c; c = d; fc = fd;
-      d = a + g * (b - a); fd = eval(d);
+      a = c;
+      c = d;
+      fc = fd;
+      d = a + g * (b - a);
+      fd = eval(d);
     }
   }
   return best;
@@ -199,7 +205,7 @@ struct GridPoint {
 };
 
 class AlphaSearch {
- public:
+public:
   AlphaSearch(const Prepared& prepared, const AlphaSearchParams& params, std::vector<double> candidates)
       : P(prepared),
         prm(params),
@@ -241,7 +247,7 @@ class AlphaSearch {
     if (prm.progress) prm.progress(2, 2);
   }
 
- private:
+private:
   // ---- pre-scan: every k-th vector as a query against all N (1/k of a pass) predicts each
   // mode's best candidate, so that the scan pass can evaluate the refinement grid too; if the
   // full scan disagrees, the grid takes its own pass as before.
@@ -294,8 +300,7 @@ class AlphaSearch {
       // The refinement will run on the cache if it covers the bracket for every row: skip the
       // grid when the pre-scanned rows say it will, with a factor 2 to spare for the rows not
       // pre-scanned (if it does not, the grid takes its own pass; results are identical).
-      const double est_covered =
-          *std::min_element(pre_gap[mode].begin(), pre_gap[mode].end()) / margin_refine;
+      const double est_covered = *std::min_element(pre_gap[mode].begin(), pre_gap[mode].end()) / margin_refine;
       if (alphas[static_cast<std::size_t>(std::max<Index>(best - 1, 0))] <= 0.5 * est_covered) continue;
       bracket_grid(mode, best, specs);
     }
@@ -306,7 +311,8 @@ class AlphaSearch {
   // nearest d² of every vector; then the range of α where the cache is exact.
   ScanParts scan_pass(Grids& predicted) {
     const auto un = static_cast<std::size_t>(n);
-    ScanParts scan(static_cast<std::size_t>(n_blocks), std::vector<PartialSums>(2 * static_cast<std::size_t>(n_candidates)));
+    ScanParts scan(static_cast<std::size_t>(n_blocks),
+                   std::vector<PartialSums>(2 * static_cast<std::size_t>(n_candidates)));
     std::vector<std::vector<double>> block_d2(static_cast<std::size_t>(n_blocks));
     std::vector<std::vector<std::int32_t>> block_j(static_cast<std::size_t>(n_blocks));
     std::vector<Index> row_length(un);
@@ -329,8 +335,7 @@ class AlphaSearch {
         cache.m[kVector][ui] = s.mv;
         cache.m[kFiltration][ui] = s.mf;  // load_row's minimum over the whole row
         scan_row(s, i, sums.data(), B, out);
-        if (!predicted.specs.empty())
-          grid_row(P, s, i, predicted.specs, predicted.stores, predicted.parts, b, GB, out);
+        if (!predicted.specs.empty()) grid_row(P, s, i, predicted.specs, predicted.stores, predicted.parts, b, GB, out);
         // R nearest (self and siblings included), in ascending j: expected O(N).
         const double dplus = detail::nearest_cut(D2.col(c).data(), n, neighbours, sel);
         cache.dplus[ui] = dplus;
@@ -380,8 +385,8 @@ class AlphaSearch {
     if (same_modes) fig[kVector] = fig[kPart];
     for (Index k = n_candidates - 1; k >= 0; --k) {
       const auto uk = static_cast<std::size_t>(k);
-      rep.curve.push_back({alphas[uk], fig[kPart][uk].rms, fig[kVector][uk].rms, fig[kPart][uk].accuracy,
-                           fig[kVector][uk].accuracy});
+      rep.curve.push_back(
+          {alphas[uk], fig[kPart][uk].rms, fig[kVector][uk].rms, fig[kPart][uk].accuracy, fig[kVector][uk].accuracy});
     }
   }
 
@@ -403,8 +408,7 @@ class AlphaSearch {
       bracket_grid(mode, best, want);
       std::vector<std::size_t> match;
       if (was_predicted(predicted.specs, mode, want, match)) {
-        for (std::size_t g : match)
-          grids.push_back({&predicted.specs[g], &predicted.figures[g], &predicted.stores[g]});
+        for (std::size_t g : match) grids.push_back({&predicted.specs[g], &predicted.figures[g], &predicted.stores[g]});
       } else {
         own_pass.specs.insert(own_pass.specs.end(), want.begin(), want.end());
       }
@@ -490,8 +494,7 @@ class AlphaSearch {
     rep.filtration.resize(n, n_outputs);
     Figures fm[2];
     if (on_grid.spec && !on_grid.store->S.empty()) {  // no further pass
-      outputs_from_store(P, *on_grid.spec, *on_grid.store, on_grid.point, chosen, fm, rep.verification,
-                         rep.filtration);
+      outputs_from_store(P, *on_grid.spec, *on_grid.store, on_grid.point, chosen, fm, rep.verification, rep.filtration);
     } else if (rep.alpha <= std::min({cache.covered[kPart], cache.covered[kVector], cache.covered[kFiltration]})) {
       const Evaluator ev{P, cache, block_rows, &full_passes, false};
       fm[chosen] = ev(rep.alpha, chosen, &rep.verification);
@@ -592,13 +595,13 @@ class AlphaSearch {
   const Index n_outputs;   // K
   const Index n_patterns;  // distinct output rows P
   const Index block_rows, n_blocks;
-  const Index neighbours;  // R: nearest d² kept per vector
+  const Index neighbours;            // R: nearest d² kept per vector
   const std::vector<double> alphas;  // scan candidates, descending
   std::vector<double> inv_alphas;
-  const Index n_candidates;  // C
-  const Index per_octave;    // q: candidates per octave (= squaring chains)
-  const bool same_modes;     // one vector per group: part-out = vector-out
-  const int chosen;          // the mode that chooses α
+  const Index n_candidates;    // C
+  const Index per_octave;      // q: candidates per octave (= squaring chains)
+  const bool same_modes;       // one vector per group: part-out = vector-out
+  const int chosen;            // the mode that chooses α
   const double tol_ln;         // refinement tolerance in ln α
   const double margin_refine;  // truncation margin of the refinement on the cache
   const double store_budget;   // doubles the chosen mode's grid sums may take
@@ -615,8 +618,8 @@ Prepared prepare(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<std::s
   if (n < 2) throw Error("classifier: need at least 2 stored vectors, got " + std::to_string(n));
   if (Xn.cols() < 1) throw Error("classifier: inputs have no columns (expected N×D, D ≥ 1)");
   if (Y.rows() != n || Y.cols() < 1)
-    throw Error("classifier: outputs are " + std::to_string(Y.rows()) + "×" + std::to_string(Y.cols()) +
-                ", expected " + std::to_string(n) + "×K with K ≥ 1 (one row per input vector)");
+    throw Error("classifier: outputs are " + std::to_string(Y.rows()) + "×" + std::to_string(Y.cols()) + ", expected " +
+                std::to_string(n) + "×K with K ≥ 1 (one row per input vector)");
   if (static_cast<Index>(groups.size()) != n)
     throw Error("classifier: " + std::to_string(groups.size()) + " group ids for " + std::to_string(n) +
                 " vectors (expected one source part per vector)");
@@ -667,7 +670,8 @@ Prepared prepare(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<std::s
   for (Index i = 0; i < n; ++i) P.label[static_cast<std::size_t>(i)] = argmax(P.Y.row(i));
   P.pattern.resize(un);
   for (std::size_t p = 0; p + 1 < P.pstart.size(); ++p)
-    for (Index i = P.pstart[p]; i < P.pstart[p + 1]; ++i) P.pattern[static_cast<std::size_t>(i)] = static_cast<Index>(p);
+    for (Index i = P.pstart[p]; i < P.pstart[p + 1]; ++i)
+      P.pattern[static_cast<std::size_t>(i)] = static_cast<Index>(p);
   return P;
 }
 
@@ -714,8 +718,9 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
   check_params(prm);
   const Prepared P = detail::prepare(Xn, Y, groups);
   if (P.members.size() < 2)
-    throw Error("leave-one-out: the stored vectors come from a single group (source part); both figures "
-                "(part-out and vector-out) need at least 2 groups");
+    throw Error(
+        "leave-one-out: the stored vectors come from a single group (source part); both figures "
+        "(part-out and vector-out) need at least 2 groups");
   LooReport rep;
   rep.mode = prm.mode;
   rep.d2_scale = d2_scale(P.X);

@@ -129,7 +129,7 @@ Figures cache_pass(const Prepared& P, const Cache& C, double alpha, int mode, In
   const Index nb = (n + block_rows - 1) / block_rows;
   std::vector<PartialSums> parts(static_cast<std::size_t>(nb));
   const double inv_alpha = 1.0 / alpha;
-#pragma omp parallel for schedule(dynamic, 1) if (static_cast<double>(C.d2.size()) > detail::kParallelWork)
+#pragma omp parallel for schedule(dynamic, 1) if (static_cast <double>(C.d2.size()) > detail::kParallelWork)
   for (Index b = 0; b < nb; ++b) {  // O(block_rows · R) per block
     Eigen::RowVectorXd out(k);
     PartialSums ps;
@@ -239,11 +239,12 @@ void grid_row(const Prepared& P, const RowState& s, Index i, const std::vector<G
   }
 }
 
-std::vector<std::vector<Figures>> grid_results(const GridParts& parts,
-                                               const std::vector<GridSpec>& specs, Index n, Index k) {
+std::vector<std::vector<Figures>> grid_results(const GridParts& parts, const std::vector<GridSpec>& specs, Index n,
+                                               Index k) {
   std::vector<std::vector<Figures>> res(specs.size());
   for (std::size_t g = 0; g < specs.size(); ++g)
-    for (Index t = 0; t < specs[g].points; ++t) res[g].push_back(finish_slot(parts[g], static_cast<std::size_t>(t), n, k));
+    for (Index t = 0; t < specs[g].points; ++t)
+      res[g].push_back(finish_slot(parts[g], static_cast<std::size_t>(t), n, k));
   return res;
 }
 

@@ -44,9 +44,9 @@ struct Cache {
   std::vector<Index> offset;  // N+1
   std::vector<double> d2;
   std::vector<std::int32_t> j;
-  std::vector<double> dplus;  // smallest d² NOT kept (+inf when the row is complete)
-  std::vector<double> m[3];   // per mode: the row minimum the network subtracts
-  double covered[3] = {0, 0, 0};  // α up to which the cache is exact to double precision, per mode
+  std::vector<double> dplus;             // smallest d² NOT kept (+inf when the row is complete)
+  std::vector<double> m[3];              // per mode: the row minimum the network subtracts
+  double covered[3] = {0, 0, 0};         // α up to which the cache is exact to double precision, per mode
   double covered_refine[3] = {0, 0, 0};  // same with tol::kRefineTruncationMargin (refinement only)
 };
 
@@ -76,7 +76,7 @@ struct Evaluator {
 // rescaled by exp(−(m_p − m_shift)/α) (one exp per row and α), and the few siblings (group size
 // |G|) get their own scalar exps. Rounding: a few ulp relative, like a direct exp.
 struct RowState {
-  ArrayXd delta;              // N: d² − m_p over other groups, +inf on i's own group
+  ArrayXd delta;  // N: d² − m_p over other groups, +inf on i's own group
   double mp = 0, mv = 0, mf = 0;
   std::vector<double> gdelta;  // siblings j ≠ i: d² − m_v
   std::vector<Index> gpat;     // their pattern runs
@@ -103,7 +103,10 @@ void power_sums(const double* e, const double* rr, Index a, Index b, Index steps
   const Lane zero{};
   const Lane floor = zero + tol::kSimilarityFloor;
   const auto step = [&](Lane& x, const Lane& y) {
-    if constexpr (Square) x = x * x; else x = x * y;
+    if constexpr (Square)
+      x = x * x;
+    else
+      x = x * y;
     if constexpr (!detail::kFlushesToZero) x = x < floor ? zero : x;
   };
   // 8 independent lane groups per iteration: each step is a dependent multiply chain, so
@@ -138,7 +141,7 @@ void power_sums(const double* e, const double* rr, Index a, Index b, Index steps
     }
   }
   double* acc0 = reinterpret_cast<double*>(acc.data());  // lane 0 of step t at acc0[t·kLanes]
-  for (; j < b; ++j) {  // tail: lane 0
+  for (; j < b; ++j) {                                   // tail: lane 0
     double x = e[j];
     for (Index t = 0; t < steps && x != 0.0; ++t) {
       acc0[t * kLanes] += x;
@@ -174,7 +177,7 @@ struct RowShifts {
 // Row sums kept from a grid pass for one spec, so that the outputs at any of its points need no
 // further pass: N·points·2P doubles.
 struct GridStore {
-  std::vector<double> S, Sg;  // [(i·points + t)·P + p]
+  std::vector<double> S, Sg;     // [(i·points + t)·P + p]
   std::vector<RowShifts> shift;  // N
 };
 
@@ -197,8 +200,8 @@ void grid_row(const Prepared& P, const RowState& s, Index i, const std::vector<G
               std::vector<GridStore>& stores, GridParts& parts, Index b, GridBuffers& B, Eigen::RowVectorXd& out);
 
 // Figures per spec and point from per-block grid sums, blocks combined in order.
-std::vector<std::vector<Figures>> grid_results(const GridParts& parts,
-                                               const std::vector<GridSpec>& specs, Index n, Index k);
+std::vector<std::vector<Figures>> grid_results(const GridParts& parts, const std::vector<GridSpec>& specs, Index n,
+                                               Index k);
 
 // One full pass evaluating, for each requested mode, G inverse widths u_g = u0 + g·h exactly
 // (e_g = e_0·r^g with r = exp(−δ·h): 2 exps per pair and mode, then one multiply per point;

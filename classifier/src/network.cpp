@@ -114,10 +114,10 @@ Model train(const TrainingSet& set, const TrainParams& params) {
   const AlphaSearchParams& search = params.search;
   if (params.fixed_alpha > 0) {  // no search: the LOO figures and outputs are computed at the given α
     LooReport rep;
-    const MatrixXd ver_p = verification_outputs(Xn, set.outputs, set.groups, params.fixed_alpha, LooMode::PartOut,
-                                                search.block_rows);
-    const MatrixXd ver_v = verification_outputs(Xn, set.outputs, set.groups, params.fixed_alpha, LooMode::VectorOut,
-                                                search.block_rows);
+    const MatrixXd ver_p =
+        verification_outputs(Xn, set.outputs, set.groups, params.fixed_alpha, LooMode::PartOut, search.block_rows);
+    const MatrixXd ver_v =
+        verification_outputs(Xn, set.outputs, set.groups, params.fixed_alpha, LooMode::VectorOut, search.block_rows);
     rep.mode = search.mode;
     rep.alpha = params.fixed_alpha;
     rep.rms_part_at_alpha = rms_error(ver_p, set.outputs);
@@ -165,8 +165,8 @@ Prediction predict(const Model& model, const MatrixXd& inputs) {
   if (inputs.cols() != model.normalizer.dims())
     throw Error("predict: input vectors have " + std::to_string(inputs.cols()) + " values, the model expects " +
                 std::to_string(model.normalizer.dims()));
-  const NetworkOutputs net =
-      evaluate_network(model.normalizer.apply(model.inputs), model.outputs, model.normalizer.apply(inputs), model.alpha);
+  const NetworkOutputs net = evaluate_network(model.normalizer.apply(model.inputs), model.outputs,
+                                              model.normalizer.apply(inputs), model.alpha);
   Prediction p;
   p.probabilities = net.outputs;
   p.d2_min = net.d2_min;

@@ -29,13 +29,13 @@ typedef std::int64_t ILane __attribute__((vector_size(kLanes * sizeof(std::int64
 /// clamped to −700 (k ≥ −1010: the scale stays a normal number).
 inline Lane exp_nonpositive(Lane x) {
   const Lane lo = Lane{} - 700.0;
-  x = x < lo ? lo : x;  // also maps −inf (and keeps NaN out of the integer path below)
-  const Lane magic = Lane{} + 0x1.8p52;             // adding it rounds to an integer held in the low mantissa bits
-  const Lane t = x * 1.4426950408889634 + magic;    // x / ln 2
+  x = x < lo ? lo : x;                            // also maps −inf (and keeps NaN out of the integer path below)
+  const Lane magic = Lane{} + 0x1.8p52;           // adding it rounds to an integer held in the low mantissa bits
+  const Lane t = x * 1.4426950408889634 + magic;  // x / ln 2
   const Lane k = t - magic;
-  Lane r = x - k * 0x1.62e42fee00000p-1;            // ln 2, high 32 bits
-  r = r - k * 0x1.a39ef35793c76p-33;                // ln 2 − high part
-  Lane p = Lane{} + 1.0 / 6227020800.0;             // 1/13!
+  Lane r = x - k * 0x1.62e42fee00000p-1;  // ln 2, high 32 bits
+  r = r - k * 0x1.a39ef35793c76p-33;      // ln 2 − high part
+  Lane p = Lane{} + 1.0 / 6227020800.0;   // 1/13!
   p = p * r + 1.0 / 479001600.0;
   p = p * r + 1.0 / 39916800.0;
   p = p * r + 1.0 / 3628800.0;
@@ -93,13 +93,13 @@ inline void exp_neg_scaled(const double* delta, double u, double floor, double* 
 #if defined(__SSE2__)
 inline constexpr bool kFlushesToZero = true;
 class FlushToZero {
- public:
+public:
   FlushToZero() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | 0x8040u); }
   ~FlushToZero() { _mm_setcsr(saved_); }
   FlushToZero(const FlushToZero&) = delete;
   FlushToZero& operator=(const FlushToZero&) = delete;
 
- private:
+private:
   unsigned saved_;
 };
 #else

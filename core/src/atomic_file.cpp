@@ -50,7 +50,7 @@ void AtomicOFStream::commit() {
   const bool ok = static_cast<bool>(out_);
   out_.close();
   if (!ok) throw file_error(path_.string(), "write failed");  // the destructor removes the temporary
-  if (OutputSet::stage(tmp_, path_)) {  // an open set renames it with the command's other outputs
+  if (OutputSet::stage(tmp_, path_)) {                        // an open set renames it with the command's other outputs
     committed_ = true;
     // The temporary stays registered for an interrupt until the set renames or removes it; its
     // slot is reclaimed once the file is gone (interrupt.cpp).

@@ -27,9 +27,12 @@ std::string format_count(double n, int decimals) {
 std::string format_size(double v) {
   char buf[64];
   const double a = std::abs(v);
-  if (a >= 1e6 && a < 1e12) std::snprintf(buf, sizeof buf, "%.0f", v);
-  else if (a >= 1e-7 && a < 1e-3) std::snprintf(buf, sizeof buf, "%.12f", v);
-  else std::snprintf(buf, sizeof buf, "%.6g", v);
+  if (a >= 1e6 && a < 1e12)
+    std::snprintf(buf, sizeof buf, "%.0f", v);
+  else if (a >= 1e-7 && a < 1e-3)
+    std::snprintf(buf, sizeof buf, "%.12f", v);
+  else
+    std::snprintf(buf, sizeof buf, "%.6g", v);
   std::string s(buf);
   if (s.find('.') != std::string::npos && s.find('e') == std::string::npos) {
     while (s.back() == '0') s.pop_back();
@@ -48,8 +51,10 @@ std::string format_bytes(double bytes) {
     ++u;
   }
   char buf[32];
-  if (u == 0 || bytes >= 10) std::snprintf(buf, sizeof buf, "%.0f %s", bytes, units[u]);
-  else std::snprintf(buf, sizeof buf, "%.1f %s", bytes, units[u]);
+  if (u == 0 || bytes >= 10)
+    std::snprintf(buf, sizeof buf, "%.0f %s", bytes, units[u]);
+  else
+    std::snprintf(buf, sizeof buf, "%.1f %s", bytes, units[u]);
   return buf;
 }
 
@@ -59,8 +64,8 @@ void check_work(const WorkEstimate& est, const WorkLimits& limits) {
   // As many digits as it takes for an estimate just over the limit not to print as the limit.
   int dec = 1;
   while (over_count && dec < 15 && format_count(est.count, dec) == format_count(limit, dec)) ++dec;
-  const std::string head = est.cause + " makes " + format_count(est.count, dec) + " " + est.unit + " (≈ " +
-                           format_bytes(est.bytes) + ")";
+  const std::string head =
+      est.cause + " makes " + format_count(est.count, dec) + " " + est.unit + " (≈ " + format_bytes(est.bytes) + ")";
   if (over_count)
     throw Error(head + "; the limit is " + format_count(limit, dec) +
                 (est.pairs ? " (--max-pairs, /limits/max_pairs)" : " (--max-work, /limits/max_work)"));

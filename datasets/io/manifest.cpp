@@ -41,10 +41,13 @@ std::optional<double> config_raster_mm(const Json& config) {
 // Reader with the key path in every message.
 struct Reader {
   std::string file;
-  [[noreturn]] void fail(const std::string& key, const std::string& what) const { throw file_error(file, key + ": " + what); }
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    throw file_error(file, key + ": " + what);
+  }
   const Json& at(const Json& obj, const std::string& key, const std::string& path) const {
     const std::string full = path.empty() ? key : path + "." + key;
-    if (!obj.is_object()) fail(path.empty() ? "(top level)" : path, std::string("expected an object, got ") + obj.type_name());
+    if (!obj.is_object())
+      fail(path.empty() ? "(top level)" : path, std::string("expected an object, got ") + obj.type_name());
     const auto it = obj.find(key);
     if (it == obj.end()) fail(full, "missing key");
     return *it;
@@ -96,15 +99,16 @@ Manifest manifest_of(const datasets::Table& table, std::string_view csv) {
   m.parts = parts.size();
   m.strategies.assign(table.strategies.begin(), table.strategies.end());
   for (const datasets::SourceFile& s : table.sources)
-    m.input_files.push_back({s.name, s.file, s.label, datasets::to_hex(s.fnv1a64), s.bytes, s.triangles,
-                             s.degenerate_triangles});
+    m.input_files.push_back(
+        {s.name, s.file, s.label, datasets::to_hex(s.fnv1a64), s.bytes, s.triangles, s.degenerate_triangles});
   m.labelling_json = table.labelling_json;
   if (!table.config_json.empty()) {
     m.config_json = table.config_json;
     try {
       m.raster_mm = config_raster_mm(Json::parse(table.config_json));
     } catch (const std::exception& e) {
-      throw Error(std::string("manifest: the table's config echo is not valid JSON (") + json_error_text(e.what()) + ")");
+      throw Error(std::string("manifest: the table's config echo is not valid JSON (") + json_error_text(e.what()) +
+                  ")");
     }
   }
   return m;
@@ -135,10 +139,10 @@ std::string manifest_text(const Manifest& m) {
   for (std::size_t k = 0; k < m.input_files.size(); ++k) {
     const ManifestFile& s = m.input_files[k];
     j += (k ? ",\n    " : "\n    ");
-    j += "{\"name\": " + json_string(s.name) + ", \"file\": " + json_string(s.file) + ", \"label\": " +
-         std::to_string(s.label) + ", \"fnv1a64\": \"" + s.fnv1a64 + "\", \"bytes\": " + std::to_string(s.bytes) +
-         ", \"triangles\": " + std::to_string(s.triangles) + ", \"degenerate_triangles\": " +
-         std::to_string(s.degenerate_triangles) + "}";
+    j += "{\"name\": " + json_string(s.name) + ", \"file\": " + json_string(s.file) +
+         ", \"label\": " + std::to_string(s.label) + ", \"fnv1a64\": \"" + s.fnv1a64 +
+         "\", \"bytes\": " + std::to_string(s.bytes) + ", \"triangles\": " + std::to_string(s.triangles) +
+         ", \"degenerate_triangles\": " + std::to_string(s.degenerate_triangles) + "}";
   }
   j += m.input_files.empty() ? "],\n" : "\n  ],\n";
   j += "  \"config\": " + m.config_json;
@@ -160,7 +164,7 @@ struct TableWriter::Impl {
   std::uint64_t hash = 0xCBF29CE484222325ULL;  // fnv1a64's basis, continued chunk by chunk
   std::size_t bytes = 0;
   std::map<int, std::size_t> rows_per_label;
-  std::set<std::string> sources;      // every source seen: O(parts)
+  std::set<std::string> sources;  // every source seen: O(parts)
   std::string current_source;
   std::set<std::string> current_ids;  // the ids of the current source's rows: O(variants)
   std::string line;
@@ -214,15 +218,16 @@ void TableWriter::finish(const std::vector<datasets::SourceFile>& sources, const
   m.rows_per_label = w.rows_per_label;
   m.strategies.assign(strategies_.begin(), strategies_.end());
   for (const datasets::SourceFile& s : sources)
-    m.input_files.push_back({s.name, s.file, s.label, datasets::to_hex(s.fnv1a64), s.bytes, s.triangles,
-                             s.degenerate_triangles});
+    m.input_files.push_back(
+        {s.name, s.file, s.label, datasets::to_hex(s.fnv1a64), s.bytes, s.triangles, s.degenerate_triangles});
   m.labelling_json = labelling_json;
   if (!config_json.empty()) {
     m.config_json = config_json;
     try {
       m.raster_mm = config_raster_mm(Json::parse(config_json));
     } catch (const std::exception& e) {
-      throw Error(std::string("manifest: the table's config echo is not valid JSON (") + json_error_text(e.what()) + ")");
+      throw Error(std::string("manifest: the table's config echo is not valid JSON (") + json_error_text(e.what()) +
+                  ")");
     }
   }
   const std::string manifest = manifest_text(m);
@@ -248,7 +253,8 @@ Manifest read_manifest(const fs::path& path) {
   m.rows = rd.integer_at<std::size_t>(counts, "rows", "counts");
   m.parts = rd.integer_at<std::size_t>(counts, "parts", "counts");
   const Json& per_label = rd.at(counts, "rows_per_label", "counts");
-  if (!per_label.is_object()) rd.fail("counts.rows_per_label", std::string("expected an object, got ") + per_label.type_name());
+  if (!per_label.is_object())
+    rd.fail("counts.rows_per_label", std::string("expected an object, got ") + per_label.type_name());
   for (const auto& [label, rows] : per_label.items()) {
     const std::string key = "counts.rows_per_label." + label;
     int l = 0;
@@ -278,13 +284,15 @@ Manifest read_manifest(const fs::path& path) {
     m.input_files.push_back(std::move(f));
   }
   const Json& config = rd.at(j, "config", "");
-  if (!config.is_null() && !config.is_object()) rd.fail("config", std::string("expected an object or null, got ") + config.type_name());
+  if (!config.is_null() && !config.is_object())
+    rd.fail("config", std::string("expected an object or null, got ") + config.type_name());
   m.config_json = config.dump();
   if (config.is_object() && config.contains("raster_mm") && !config["raster_mm"].is_number())
     rd.fail("config.raster_mm", std::string("expected a number, got ") + config["raster_mm"].type_name());
   m.raster_mm = config_raster_mm(config);
   if (j.contains("labelling")) {
-    if (!j["labelling"].is_object()) rd.fail("labelling", std::string("expected an object, got ") + j["labelling"].type_name());
+    if (!j["labelling"].is_object())
+      rd.fail("labelling", std::string("expected an object, got ") + j["labelling"].type_name());
     m.labelling_json = j["labelling"].dump();
   }
   return m;

@@ -50,7 +50,8 @@ std::string recipe_json(const Recipe& r) {
   std::string j = "{\"parts\": [";
   for (std::size_t k = 0; k < r.parts.size(); ++k)
     j += (k ? ", " : "") + std::string("{\"file\": ") + json_string(r.parts[k].file.generic_string()) +
-         ", \"label\": " + (r.parts[k].label_by_simulation ? std::string("\"simulate\"") : std::to_string(r.parts[k].label)) +
+         ", \"label\": " +
+         (r.parts[k].label_by_simulation ? std::string("\"simulate\"") : std::to_string(r.parts[k].label)) +
          ", \"name\": " + json_string(part_name(r.parts[k])) + "}";
   j += "], \"units\": " + json_string(units_name(r.units)) + ", \"up\": " + json_string(ingest::to_string(r.up)) +
        ", \"raster_mm\": " + json_number(r.raster_mm, "raster_mm") + ", \"grid\": " + std::to_string(r.grid) +
@@ -64,16 +65,19 @@ std::string recipe_json(const Recipe& r) {
   for (std::size_t k = 0; k < kStrategySlots; ++k) j += (k ? ", " : "") + json_string(r.strategies[k]);
   j += std::string("], \"aspect_feature\": ") + (r.aspect_feature ? "true" : "false");
   if (r.generate)
-    j += ", \"generate\": {\"seed\": " + std::to_string(r.generate->seed) + ", \"per_family\": " +
-         std::to_string(r.generate->per_family) + ", \"resolution\": " + std::to_string(r.generate->resolution) + "}";
-  const bool simulated = std::any_of(r.parts.begin(), r.parts.end(), [](const PartSpec& p) { return p.label_by_simulation; });
+    j += ", \"generate\": {\"seed\": " + std::to_string(r.generate->seed) +
+         ", \"per_family\": " + std::to_string(r.generate->per_family) +
+         ", \"resolution\": " + std::to_string(r.generate->resolution) + "}";
+  const bool simulated =
+      std::any_of(r.parts.begin(), r.parts.end(), [](const PartSpec& p) { return p.label_by_simulation; });
   if (simulated && !r.simulation_settings_json.empty()) j += ", \"label_by_simulation\": " + r.simulation_settings_json;
   return j + "}";
 }
 
 TablePlan plan_table(const Recipe& recipe) {
   if (recipe.parts.empty()) throw Error("dataset recipe: no parts");
-  if (!(recipe.raster_mm > 0)) throw Error("dataset recipe: raster_mm must be > 0, got " + format_double(recipe.raster_mm));
+  if (!(recipe.raster_mm > 0))
+    throw Error("dataset recipe: raster_mm must be > 0, got " + format_double(recipe.raster_mm));
   if (recipe.grid < 2) throw Error("dataset recipe: grid must be ≥ 2, got " + std::to_string(recipe.grid));
   std::set<std::string> names;
   for (const auto& p : recipe.parts) {
@@ -200,7 +204,8 @@ Table build_table(const Recipe& recipe, const ProgressFn& progress) {
   const TablePlan plan = plan_table(recipe);
   Table t = plan.header;
   t.rows.reserve(plan.rows);
-  build_rows(recipe, plan, [&](Row&& r) { t.rows.push_back(std::move(r)); }, t.sources, progress);
+  build_rows(
+      recipe, plan, [&](Row&& r) { t.rows.push_back(std::move(r)); }, t.sources, progress);
   return t;
 }
 

@@ -164,8 +164,9 @@ GeneratedMesh gentle_freeform(SplitMix64& rng, int index, int res) {
   const double bh = rng.uniform(2, 4) * rng.sign();
   GeneratedMesh g = solid(a, b, res, plinth, [&](double x, double y) {
     const double u = (x - cx) / (a / 2), v = (y - cy) / (b / 2);
-    const double main = saddle ? amp * (u * u - v * v)
-                               : amp * std::exp(-0.5 * ((x - cx) * (x - cx) / (sx * sx) + (y - cy) * (y - cy) / (sy * sy)));
+    const double main =
+        saddle ? amp * (u * u - v * v)
+               : amp * std::exp(-0.5 * ((x - cx) * (x - cx) / (sx * sx) + (y - cy) * (y - cy) / (sy * sy)));
     return main + bh * gauss(x - bx, y - by, bs);
   });
   g.kind = saddle ? "saddle" : "dome";
@@ -268,7 +269,8 @@ GeneratedMesh make_part(Family family, int index, std::uint64_t seed, int resolu
 }
 
 std::vector<GeneratedPart> generate_default_parts(const fs::path& dir, const GenerateParams& params) {
-  if (params.per_family < 1) throw Error("part generator: per_family must be ≥ 1, got " + std::to_string(params.per_family));
+  if (params.per_family < 1)
+    throw Error("part generator: per_family must be ≥ 1, got " + std::to_string(params.per_family));
   std::vector<GeneratedPart> parts;
   std::string list = "name,file,label\n";
   for (int f = 1; f <= kFamilies; ++f)
@@ -278,8 +280,8 @@ std::vector<GeneratedPart> generate_default_parts(const fs::path& dir, const Gen
       std::snprintf(name, sizeof name, "s%d_%s_%02d", f, family_name(fam).c_str(), k + 1);
       const GeneratedMesh g = make_part(fam, k, params.seed, params.resolution);
       const fs::path file = dir / (std::string(name) + ".stl");
-      ingest::save_stl_binary(g.mesh, file,
-                              "millnet default training part " + std::string(name) + " seed " + std::to_string(params.seed));
+      ingest::save_stl_binary(
+          g.mesh, file, "millnet default training part " + std::string(name) + " seed " + std::to_string(params.seed));
       parts.push_back({name, file, f});
       list += std::string(name) + "," + name + ".stl," + std::to_string(f) + "\n";
     }

@@ -111,7 +111,8 @@ Eigen::MatrixXd Table::inputs_matrix() const {
   Eigen::MatrixXd X(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(m));
   for (std::size_t i = 0; i < rows.size(); ++i) {  // O(N·n²)
     MILLNET_ASSERT(rows[i].inputs.size() == m, "row input count");
-    for (std::size_t k = 0; k < m; ++k) X(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = rows[i].inputs[k];
+    for (std::size_t k = 0; k < m; ++k)
+      X(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = rows[i].inputs[k];
   }
   return X;
 }
@@ -119,7 +120,8 @@ Eigen::MatrixXd Table::inputs_matrix() const {
 Eigen::MatrixXd Table::outputs_matrix() const {
   Eigen::MatrixXd Y(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(kStrategySlots));
   for (std::size_t i = 0; i < rows.size(); ++i)
-    for (std::size_t k = 0; k < kStrategySlots; ++k) Y(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = rows[i].outputs[k];
+    for (std::size_t k = 0; k < kStrategySlots; ++k)
+      Y(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = rows[i].outputs[k];
   return Y;
 }
 
@@ -154,7 +156,8 @@ std::string csv_header(int grid_n, bool with_aspect) {
 void append_csv_row(std::string& out, const Row& r, int grid_n, bool with_aspect) {
   const std::size_t m = static_cast<std::size_t>(grid_n) * static_cast<std::size_t>(grid_n);
   if (r.inputs.size() != m)
-    throw Error("table: row '" + r.id + "' has " + std::to_string(r.inputs.size()) + " inputs, expected " + std::to_string(m));
+    throw Error("table: row '" + r.id + "' has " + std::to_string(r.inputs.size()) + " inputs, expected " +
+                std::to_string(m));
   if (r.label < 0 || r.label > static_cast<int>(kStrategySlots))
     throw Error("table: row '" + r.id + "' has label " + std::to_string(r.label) + " outside 0..8");
   out += csv_text_field(r.id, "id");
@@ -218,10 +221,12 @@ Table read_table(const fs::path& csv_path) {
     if (lineno == 1) {
       header = std::move(fields);
       for (std::size_t k = 0; k < kFixed; ++k) {
-        if (k >= header.size()) throw line_error(file, 1, std::string("header: missing column '") + kFixedColumns[k] + "'");
+        if (k >= header.size())
+          throw line_error(file, 1, std::string("header: missing column '") + kFixedColumns[k] + "'");
         if (header[k] != kFixedColumns[k])
-          throw line_error(file, 1, "header: column " + std::to_string(k + 1) + " is '" + header[k] + "', expected '" +
-                                        kFixedColumns[k] + "'");
+          throw line_error(file, 1,
+                           "header: column " + std::to_string(k + 1) + " is '" + header[k] + "', expected '" +
+                               kFixedColumns[k] + "'");
       }
       std::size_t k = kFixed;
       while (k < header.size() && header[k].rfind("in_", 0) == 0) ++k;
@@ -234,8 +239,9 @@ Table read_table(const fs::path& csv_path) {
         const auto expect = column_names(n, false);
         for (std::size_t c = kFixed; c < k; ++c)
           if (c >= expect.size() - kStrategySlots || header[c] != expect[c])
-            throw line_error(file, 1, missing ? "header: missing column '" + expect[c] + "'"
-                                              : "header: unexpected column '" + header[c] + "'");
+            throw line_error(file, 1,
+                             missing ? "header: missing column '" + expect[c] + "'"
+                                     : "header: unexpected column '" + header[c] + "'");
         throw line_error(file, 1, "header: missing column '" + expect[k] + "'");
       }
       t.grid_n = n;
@@ -245,8 +251,9 @@ Table read_table(const fs::path& csv_path) {
       for (std::size_t c = 0; c < expect.size(); ++c) {
         if (c >= header.size()) throw line_error(file, 1, "header: missing column '" + expect[c] + "'");
         if (header[c] != expect[c])
-          throw line_error(file, 1, "header: column " + std::to_string(c + 1) + " is '" + header[c] + "', expected '" +
-                                        expect[c] + "'");
+          throw line_error(
+              file, 1,
+              "header: column " + std::to_string(c + 1) + " is '" + header[c] + "', expected '" + expect[c] + "'");
       }
       if (header.size() > expect.size())
         throw line_error(file, 1, "header: unexpected column '" + header[expect.size()] + "'");
@@ -254,15 +261,17 @@ Table read_table(const fs::path& csv_path) {
       continue;
     }
     if (fields.size() != n_cols)
-      throw line_error(file, lineno, std::to_string(fields.size()) + " fields, expected " + std::to_string(n_cols) +
-                                         " (one per header column)");
+      throw line_error(
+          file, lineno,
+          std::to_string(fields.size()) + " fields, expected " + std::to_string(n_cols) + " (one per header column)");
     Row r;
     r.id = fields[0];
     r.source = fields[1];
     if (r.id.empty()) throw line_error(file, lineno, "column 'id': empty");
     if (r.source.empty()) throw line_error(file, lineno, "column 'source': empty");
     if (auto [it, fresh] = id_line.emplace(r.id, lineno); !fresh)
-      throw line_error(file, lineno, "column 'id': duplicate id '" + r.id + "' (first on line " + std::to_string(it->second) + ")");
+      throw line_error(file, lineno,
+                       "column 'id': duplicate id '" + r.id + "' (first on line " + std::to_string(it->second) + ")");
     {
       int label = -1;
       const auto& s = fields[2];
@@ -272,16 +281,24 @@ Table read_table(const fs::path& csv_path) {
         throw line_error(file, lineno, "column 'label': '" + s + "' is not an integer in 0..8 (0 = unknown)");
       r.label = label;
     }
-    if (fields[3] == "x" || fields[3] == "X") r.axis = augment::Axis::X;
-    else if (fields[3] == "y" || fields[3] == "Y") r.axis = augment::Axis::Y;
-    else if (fields[3] == "z" || fields[3] == "Z") r.axis = augment::Axis::Z;
-    else throw line_error(file, lineno, "column 'axis': '" + fields[3] + "' is not x, y or z");
+    if (fields[3] == "x" || fields[3] == "X")
+      r.axis = augment::Axis::X;
+    else if (fields[3] == "y" || fields[3] == "Y")
+      r.axis = augment::Axis::Y;
+    else if (fields[3] == "z" || fields[3] == "Z")
+      r.axis = augment::Axis::Z;
+    else
+      throw line_error(file, lineno, "column 'axis': '" + fields[3] + "' is not x, y or z");
     r.angle_deg = parse_number(fields[4], "angle", file, lineno);
-    if (fields[5] == "0") r.flip = false;
-    else if (fields[5] == "1") r.flip = true;
-    else throw line_error(file, lineno, "column 'flip': '" + fields[5] + "' is not 0 or 1");
+    if (fields[5] == "0")
+      r.flip = false;
+    else if (fields[5] == "1")
+      r.flip = true;
+    else
+      throw line_error(file, lineno, "column 'flip': '" + fields[5] + "' is not 0 or 1");
     r.inputs.resize(m);
-    for (std::size_t k = 0; k < m; ++k) r.inputs[k] = parse_number(fields[kFixed + k], header[kFixed + k], file, lineno);
+    for (std::size_t k = 0; k < m; ++k)
+      r.inputs[k] = parse_number(fields[kFixed + k], header[kFixed + k], file, lineno);
     for (std::size_t k = 0; k < kStrategySlots; ++k)
       r.outputs[k] = parse_number(fields[kFixed + m + k], header[kFixed + m + k], file, lineno);
     if (t.has_aspect) r.aspect = parse_number(fields.back(), "aspect", file, lineno);
@@ -291,8 +308,9 @@ Table read_table(const fs::path& csv_path) {
       for (std::size_t k = 1; k < kStrategySlots; ++k)
         if (r.outputs[k] > r.outputs[best]) best = k;
       if (best + 1 != static_cast<std::size_t>(r.label))
-        throw line_error(file, lineno, "column 'label': " + std::to_string(r.label) +
-                                           " disagrees with the outputs (largest is out_" + std::to_string(best + 1) + ")");
+        throw line_error(file, lineno,
+                         "column 'label': " + std::to_string(r.label) + " disagrees with the outputs (largest is out_" +
+                             std::to_string(best + 1) + ")");
     }
     t.rows.push_back(std::move(r));
   }

@@ -16,8 +16,8 @@ GridSpec GridSpec::over(double x0, double y0, double x1, double y1, double step)
   return g;
 }
 
-std::vector<std::vector<ContourPoint>> iso_contours(const GridSpec& g, const std::vector<double>& values,
-                                                    double level, const PlaceCrossing& place) {
+std::vector<std::vector<ContourPoint>> iso_contours(const GridSpec& g, const std::vector<double>& values, double level,
+                                                    const PlaceCrossing& place) {
   const int W = g.nx + 2;  // padded width: node (i, j) ↦ (i + 1, j + 1), the ring is outside
   auto value = [&](int i, int j) {
     if (i < 0 || j < 0 || i >= g.ny || j >= g.nx) return -std::numeric_limits<double>::infinity();
@@ -40,8 +40,10 @@ std::vector<std::vector<ContourPoint>> iso_contours(const GridSpec& g, const std
   auto add_crossing = [&](std::int64_t id, int ai, int aj, int bi, int bj, bool a_in) {
     if (crossing_of.count(id)) return;
     crossing_of.emplace(id, crossings.size());
-    if (a_in) crossings.push_back({id, ai, aj, bi, bj});
-    else crossings.push_back({id, bi, bj, ai, aj});
+    if (a_in)
+      crossings.push_back({id, ai, aj, bi, bj});
+    else
+      crossings.push_back({id, bi, bj, ai, aj});
   };
   for (int i = -1; i < g.ny; ++i) {
     for (int j = -1; j < g.nx; ++j) {

@@ -17,7 +17,7 @@ namespace millnet::finish::detail {
 
 struct GridSpec {
   double x0 = 0, y0 = 0, step = 1;
-  int nx = 0, ny = 0;  ///< nodes; rows = y
+  int nx = 0, ny = 0;     ///< nodes; rows = y
   double x1 = 0, y1 = 0;  ///< the last real node is clamped to x1, y1 (the box edge)
   /// Node position; the padding ring (i or j = −1 or n) lies one step outside.
   [[nodiscard]] Eigen::Vector2d node(int i, int j) const {
@@ -36,16 +36,16 @@ struct GridSpec {
 /// boundary clips the contour there).
 struct ContourPoint {
   Eigen::Vector2d xy;
-  double aux = 0;            ///< what the placement function attached (the waterline: the slope)
+  double aux = 0;  ///< what the placement function attached (the waterline: the slope)
   bool on_boundary = false;
-  double lift = 0;           ///< the waterline: height above the level where a chord is lifted
+  double lift = 0;  ///< the waterline: height above the level where a chord is lifted
 };
 
 /// Places the crossing on the grid edge from an inside node to an outside node. `outside_is_pad`
 /// says the outside node is the padding ring (not a real sample).
-using PlaceCrossing = std::function<std::pair<Eigen::Vector2d, double>(
-    const Eigen::Vector2d& inside, const Eigen::Vector2d& outside, double v_inside, double v_outside,
-    bool outside_is_pad)>;
+using PlaceCrossing =
+    std::function<std::pair<Eigen::Vector2d, double>(const Eigen::Vector2d& inside, const Eigen::Vector2d& outside,
+                                                     double v_inside, double v_outside, bool outside_is_pad)>;
 
 /// Closed contours (last point = first point) of {value ≥ level}, inside on the left (CCW around
 /// the inside). values: nx·ny, row-major.

@@ -319,9 +319,9 @@ struct DropCutter::Impl {
   ingest::Mesh mesh;
   double x0 = 0, y0 = 0, cs = 1, inv_cs = 1;
   int nx = 1, ny = 1;
-  std::vector<std::int32_t> start;    // nx·ny + 1
-  std::vector<Entry> entries;         // per cell, by descending top z
-  std::vector<Box> cells;             // per cell: union of boxes, max top z
+  std::vector<std::int32_t> start;  // nx·ny + 1
+  std::vector<Entry> entries;       // per cell, by descending top z
+  std::vector<Box> cells;           // per cell: union of boxes, max top z
 
   Impl(const ingest::Mesh& m, const Cutter& c) : cutter(c), shape(c), mesh(m) {}
 
@@ -359,7 +359,7 @@ struct DropCutter::Impl {
 
 void DropCutter::Impl::build() {
   const auto nf = static_cast<std::int32_t>(mesh.F.rows());
-  std::vector<Box> boxes(static_cast<std::size_t>(nf));  // per triangle
+  std::vector<Box> boxes(static_cast<std::size_t>(nf));                     // per triangle
   std::vector<std::array<double, 3>> planes(static_cast<std::size_t>(nf));  // zp, gx, gy
 #pragma omp parallel for schedule(static) if (nf > kSerialBelow)
   for (std::int32_t f = 0; f < nf; ++f) {
@@ -386,7 +386,8 @@ void DropCutter::Impl::build() {
     if (len > 0 && n.z() > 1e-12 * len) {
       const double gx = -n.x() / n.z(), gy = -n.y() / n.z();
       const double k = shape.a * std::hypot(gx, gy) + shape.r * (len / n.z() - 1);
-      pl = {A.z() + gx * (static_cast<double>(box.x0) - A.x()) + gy * (static_cast<double>(box.y0) - A.y()) + k, gx, gy};
+      pl = {A.z() + gx * (static_cast<double>(box.x0) - A.x()) + gy * (static_cast<double>(box.y0) - A.y()) + k, gx,
+            gy};
     }
     planes[static_cast<std::size_t>(f)] = pl;
   }
@@ -426,7 +427,8 @@ void DropCutter::Impl::build() {
       const auto& pl = planes[static_cast<std::size_t>(f)];
       for (int iy = cr.iy0; iy <= cr.iy1; ++iy)
         for (int ix = cr.ix0; ix <= cr.ix1; ++ix)
-          entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(iy * nx + ix)]++)] = {b, tag, pl[0], pl[1], pl[2]};
+          entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(iy * nx + ix)]++)] = {b, tag, pl[0], pl[1],
+                                                                                               pl[2]};
     }
   }
   cells.assign(ncell, Box{0, 0, 0, 0, 0});
@@ -499,7 +501,7 @@ void DropCutter::Impl::query(double x, double y, std::int32_t hint, Best& best) 
       const Box& b = en.box;
       if (static_cast<double>(b.zmax) <= best.z - kPruneSlack) break;
       const double bx0 = static_cast<double>(b.x0), by0 = static_cast<double>(b.y0), bx1 = static_cast<double>(b.x1),
-                 by1 = static_cast<double>(b.y1);
+                   by1 = static_cast<double>(b.y1);
       if (bx0 > qx1 || bx1 < qx0 || by0 > qy1 || by1 < qy0) continue;
       std::int32_t f = en.tri;
       if (f < 0) {  // big: handled in the cell of the lower-left corner of (box ∩ query square)
@@ -559,7 +561,7 @@ std::vector<double> DropCutter::drop_grid(double x0, double y0, double step, int
   if (nx < 0 || ny < 0 || !std::isfinite(step) || !std::isfinite(x0) || !std::isfinite(y0))
     throw Error("drop_grid: need nx, ny >= 0 and finite x0, y0, step");
   std::vector<double> out(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny));
-#pragma omp parallel for schedule(dynamic, 1) if (static_cast<std::int64_t>(nx) * ny > 512)
+#pragma omp parallel for schedule(dynamic, 1) if (static_cast <std::int64_t>(nx) * ny > 512)
   for (int i = 0; i < ny; ++i) {
     std::int32_t hint = -1;
     const double y = y0 + i * step;

@@ -82,7 +82,7 @@ std::vector<double> fast_marching(const GridSpec& g, const std::vector<double>& 
 }  // namespace
 
 std::vector<std::vector<std::vector<Sample>>> equidistant_loops(const Sampler& s, const Box& box,
-                                                               const FinishParams& p) {
+                                                                const FinishParams& p) {
   const double g = std::min(tol::equidistant_grid_mm, p.stepover_mm / 2);
   const GridSpec grid = GridSpec::over(box.x0, box.y0, box.x1, box.y1, g);
   const std::vector<double> cl = cl_heights(s, grid.x0, grid.y0, grid.x1, grid.y1, grid.step, grid.nx, grid.ny);

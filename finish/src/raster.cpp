@@ -24,7 +24,7 @@ PassFrame pass_frame(const Box& box, double angle_deg) {
   f.umin = f.vmin = std::numeric_limits<double>::infinity();
   f.umax = f.vmax = -std::numeric_limits<double>::infinity();
   for (const Eigen::Vector2d& c : {Eigen::Vector2d(box.x0, box.y0), Eigen::Vector2d(box.x1, box.y0),
-                                  Eigen::Vector2d(box.x1, box.y1), Eigen::Vector2d(box.x0, box.y1)}) {
+                                   Eigen::Vector2d(box.x1, box.y1), Eigen::Vector2d(box.x0, box.y1)}) {
     f.umin = std::min(f.umin, c.dot(f.u)), f.umax = std::max(f.umax, c.dot(f.u));
     f.vmin = std::min(f.vmin, c.dot(f.v)), f.vmax = std::max(f.vmax, c.dot(f.v));
   }
@@ -44,8 +44,10 @@ bool clip(const PassFrame& f, const Box& box, double v, Eigen::Vector2d* a, Eige
       continue;
     }
     const double r = q[i] / p[i];
-    if (p[i] < 0) t0 = std::max(t0, r);
-    else t1 = std::min(t1, r);
+    if (p[i] < 0)
+      t0 = std::max(t0, r);
+    else
+      t1 = std::min(t1, r);
   }
   if (t1 - t0 < 1e-12) return false;
   *a = p0 + t0 * d;
@@ -105,7 +107,8 @@ std::vector<std::vector<Sample>> raster_lines(const Sampler& s, const Box& box, 
   std::vector<double> vs;
   if (!adaptive_spacing) {
     const auto n = static_cast<std::size_t>(std::ceil((f.vmax - f.vmin) / p.stepover_mm - 1e-9));
-    for (std::size_t k = 0; k <= n; ++k) vs.push_back(std::min(f.vmax, f.vmin + static_cast<double>(k) * p.stepover_mm));
+    for (std::size_t k = 0; k <= n; ++k)
+      vs.push_back(std::min(f.vmax, f.vmin + static_cast<double>(k) * p.stepover_mm));
   } else {
     const double d_max = scallop_spacing(s.cutter(), p.scallop_mm);
     const double p_min = p.stepover_mm * tol::scallop_min_spacing_rel;

@@ -89,7 +89,10 @@ std::vector<Sample> sample_segment(const Sampler& s, const Eigen::Vector2d& a, c
   std::vector<Sample> out;
   out.reserve(base.size() * 2);
   out.push_back(base[0]);
-  struct Item { Sample a, b; double ta, tb; };
+  struct Item {
+    Sample a, b;
+    double ta, tb;
+  };
   std::vector<Item> stack;
   for (std::size_t i = 0; i < n; ++i) {
     stack.push_back({base[i], base[i + 1], t[i], t[i + 1]});
@@ -117,7 +120,7 @@ std::vector<Sample> sample_segment(const Sampler& s, const Eigen::Vector2d& a, c
           }
         }
         if (above > 0.5 * tol::chord_below_mm || -dev > tol) {  // half: the dip between samples can be larger
-          stack.push_back({m, it.b, tm, it.tb});  // second half after the first
+          stack.push_back({m, it.b, tm, it.tb});                // second half after the first
           stack.push_back({it.a, m, it.ta, tm});
           continue;
         }
@@ -198,8 +201,7 @@ std::vector<Pass> to_passes(std::vector<std::vector<Sample>> lines) {
   return out;
 }
 
-std::vector<std::vector<Sample>> order_by_level(std::vector<std::vector<std::vector<Sample>>> levels,
-                                                double near_mm) {
+std::vector<std::vector<Sample>> order_by_level(std::vector<std::vector<std::vector<Sample>>> levels, double near_mm) {
   std::vector<std::vector<Sample>> out;
   std::size_t left = 0;
   for (const auto& l : levels) left += l.size();

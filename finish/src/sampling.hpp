@@ -75,9 +75,9 @@ std::vector<Pass> to_passes(std::vector<std::vector<Sample>> lines);
 [[nodiscard]] std::vector<std::vector<Sample>> raster_lines(const Sampler& s, const Box& box, const FinishParams& p,
                                                             bool adaptive_spacing);
 [[nodiscard]] std::vector<std::vector<std::vector<Sample>>> waterline_loops(const Sampler& s, const Box& box,
-                                                                           const FinishParams& p);
+                                                                            const FinishParams& p);
 [[nodiscard]] std::vector<std::vector<std::vector<Sample>>> equidistant_loops(const Sampler& s, const Box& box,
-                                                                             const FinishParams& p);
+                                                                              const FinishParams& p);
 /// Orders loops grouped by level (outer index: level, top-down / outside-in): after a loop, the
 /// nearest loop of the next level within `near_mm`, else the nearest loop of the highest level
 /// left; closed loops (last point = first point) start at their point nearest to the tool, open

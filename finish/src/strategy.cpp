@@ -33,7 +33,7 @@ struct Shared {
   std::optional<Lines> raster;
   std::optional<Levels> levels;
   std::size_t raster_drops = 0, levels_drops = 0;  ///< what each piece cost when it was computed
-  std::size_t reused_drops = 0;  ///< the current plan's: pieces it used that an earlier plan paid for
+  std::size_t reused_drops = 0;                    ///< the current plan's: pieces it used that an earlier plan paid for
   const Lines& raster_lines() {
     if (!raster) {
       const std::size_t d0 = s.drops();
@@ -152,8 +152,8 @@ void FinishParams::check() const {
   require(positive(step_down_mm), "step_down_mm", "must be > 0 (got " + std::to_string(step_down_mm) + ")");
   require(positive(chord_tolerance_mm), "chord_tolerance_mm", "must be > 0");
   require(positive(scallop_mm), "scallop_mm", "must be > 0");
-  require(std::isfinite(boundary_angle_deg) && boundary_angle_deg > 0 && boundary_angle_deg < 90,
-          "boundary_angle_deg", "must be in (0, 90)");
+  require(std::isfinite(boundary_angle_deg) && boundary_angle_deg > 0 && boundary_angle_deg < 90, "boundary_angle_deg",
+          "must be in (0, 90)");
   require(std::isfinite(raster_angle_deg), "raster_angle_deg", "must be finite");
   require(positive(feed_mm_min), "feed_mm_min", "must be > 0");
   require(positive(plunge_feed_mm_min), "plunge_feed_mm_min", "must be > 0");

@@ -31,7 +31,7 @@ std::pair<Eigen::Vector2d, double> refine_crossing(const Sampler& s, Eigen::Vect
   f_in = s_in.p.z() - z;
   int side = 0;
   for (int it = 0; it < 60 && (out - in).norm() > tol; ++it) {
-    double t = f_in / (f_in - f_out);  // f_in ≥ 0 > f_out
+    double t = f_in / (f_in - f_out);      // f_in ≥ 0 > f_out
     if (!(t > 0.02 && t < 0.98)) t = 0.5;  // discontinuities (walls): bisection
     const Eigen::Vector2d m = in + t * (out - in);
     const Sample sm = s.sample(m.x(), m.y());
@@ -57,7 +57,9 @@ void split_gouging_chords(const Sampler& s, std::vector<ContourPoint>& loop, dou
   const double h = std::min(tol::initial_sample_mm, s.cutter().radius() / 4);
   std::vector<ContourPoint> out;
   out.reserve(loop.size());
-  struct Item { ContourPoint a, b; };
+  struct Item {
+    ContourPoint a, b;
+  };
   constexpr int kMaxSplits = 64;
   for (std::size_t i = 0; i + 1 < loop.size(); ++i) {
     out.push_back(loop[i]);
@@ -161,9 +163,9 @@ std::vector<std::vector<std::vector<Sample>>> waterline_loops(const Sampler& s, 
   std::vector<double> levels;
   const double estimate = std::floor((top - s.floor_z()) / p.step_down_mm);
   if (!(estimate <= tol::max_waterline_levels))
-    throw Error("--step-down / /finish/step_down_mm: step-down " + format_double(p.step_down_mm) + " over a height of " + format_double(top - s.floor_z()) +
-                " mm makes " + format_double(estimate) + " Z levels; at most " +
-                format_double(tol::max_waterline_levels) + " (raise the step-down)");
+    throw Error("--step-down / /finish/step_down_mm: step-down " + format_double(p.step_down_mm) +
+                " over a height of " + format_double(top - s.floor_z()) + " mm makes " + format_double(estimate) +
+                " Z levels; at most " + format_double(tol::max_waterline_levels) + " (raise the step-down)");
   for (std::int64_t k = 1;; ++k) {
     const double z = top - static_cast<double>(k) * p.step_down_mm;
     if (!(z > s.floor_z() + tol::min_sample_mm)) break;

@@ -62,7 +62,10 @@ private:
     std::size_t i = 0;
     while (i < s.size()) {
       const char c = s[i];
-      if (is_space(c)) { ++i; continue; }
+      if (is_space(c)) {
+        ++i;
+        continue;
+      }
       if (c == '(') {
         const std::size_t close = s.find(')', i);
         if (close == std::string_view::npos) fail("comment not closed: " + std::string(s.substr(i)));
@@ -117,8 +120,10 @@ private:
     Line ln = split(s);
     if (ln.words.empty()) {
       for (std::string& c : ln.comments) {
-        if (!seen_words_) prog_.header.push_back(std::move(c));
-        else add(Comment{std::move(c)});
+        if (!seen_words_)
+          prog_.header.push_back(std::move(c));
+        else
+          add(Comment{std::move(c)});
       }
       return true;
     }
@@ -135,22 +140,32 @@ private:
     for (const Word& w : ln.words) {
       switch (w.letter) {
         case 'G':
-          if (is(w.value, 0)) motion = Motion::Rapid;
-          else if (is(w.value, 1)) motion = Motion::Line;
-          else if (is(w.value, 2)) motion = Motion::ArcCW;
-          else if (is(w.value, 3)) motion = Motion::ArcCCW;
-          else if (is(w.value, 17) || is(w.value, 94)) {}
-          else if (is(w.value, 20)) scale_ = kMmPerInch;
-          else if (is(w.value, 21)) scale_ = 1;
-          else if (is(w.value, 90)) incremental_ = false;
-          else if (is(w.value, 91)) incremental_ = true;
-          else fail("unsupported word " + w.text);
+          if (is(w.value, 0))
+            motion = Motion::Rapid;
+          else if (is(w.value, 1))
+            motion = Motion::Line;
+          else if (is(w.value, 2))
+            motion = Motion::ArcCW;
+          else if (is(w.value, 3))
+            motion = Motion::ArcCCW;
+          else if (is(w.value, 17) || is(w.value, 94)) {
+          } else if (is(w.value, 20))
+            scale_ = kMmPerInch;
+          else if (is(w.value, 21))
+            scale_ = 1;
+          else if (is(w.value, 90))
+            incremental_ = false;
+          else if (is(w.value, 91))
+            incremental_ = true;
+          else
+            fail("unsupported word " + w.text);
           break;
         case 'M':
           if (is(w.value, 0) || is(w.value, 1) || is(w.value, 2) || is(w.value, 3) || is(w.value, 4) ||
               is(w.value, 5) || is(w.value, 6) || is(w.value, 30))
             m_codes.push_back(static_cast<int>(std::lround(w.value)));
-          else fail("unsupported word " + w.text);
+          else
+            fail("unsupported word " + w.text);
           break;
         case 'X': once(axis[0], w); break;
         case 'Y': once(axis[1], w); break;
@@ -259,10 +274,10 @@ private:
   std::size_t line_no_ = 0;
   Program prog_;
   bool seen_words_ = false;
-  double scale_ = 1;             ///< mm per program unit
+  double scale_ = 1;  ///< mm per program unit
   bool incremental_ = false;
   std::optional<Motion> motion_;
-  double feed_ = 0;              ///< mm/min
+  double feed_ = 0;  ///< mm/min
   double rpm_ = 0;
   SpindleDir dir_ = SpindleDir::Off;
   std::optional<int> tool_;

@@ -20,9 +20,9 @@ constexpr double kZeroLengthMm = 1e-9;
 constexpr double kStraightCos = 0.999999;
 
 struct Block {
-  double length = 0;  ///< mm
-  Point3 dir{};       ///< unit direction
-  double v_nom = 0;   ///< mm/s
+  double length = 0;         ///< mm
+  Point3 dir{};              ///< unit direction
+  double v_nom = 0;          ///< mm/s
   bool stop_before = false;  ///< the machine stops before this block (first block, after a pause…)
 };
 
@@ -84,10 +84,10 @@ double trapezoid_time_s(double len, double v_in, double v_out, double v_nom, dou
 }
 
 double junction_speed(const Point3& u, const Point3& v, double acceleration_mm_s2, double junction_deviation_mm) {
-  const double cos_theta = -(u[0] * v[0] + u[1] * v[1] + u[2] * v[2]);  // θ between −u and v
-  if (cos_theta > kStraightCos) return 0;                                // reversal
+  const double cos_theta = -(u[0] * v[0] + u[1] * v[1] + u[2] * v[2]);            // θ between −u and v
+  if (cos_theta > kStraightCos) return 0;                                         // reversal
   if (cos_theta < -kStraightCos) return std::numeric_limits<double>::infinity();  // straight on
-  const double s = std::sqrt(std::max(0.0, 0.5 * (1 - cos_theta)));       // sin(θ/2)
+  const double s = std::sqrt(std::max(0.0, 0.5 * (1 - cos_theta)));               // sin(θ/2)
   return std::sqrt(acceleration_mm_s2 * junction_deviation_mm * s / (1 - s));
 }
 
@@ -143,7 +143,8 @@ ProgramStats stats(const Program& program, const MotionModel& model) {
         p = q;
       }
     }
-    if (rapid) s.rapid_length_mm += length;
+    if (rapid)
+      s.rapid_length_mm += length;
     else {
       s.cut_length_mm += length;
       s.plunge_length_mm += std::max(0.0, from[2] - m->to[2]);

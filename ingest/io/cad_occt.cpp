@@ -143,9 +143,7 @@ void check_iges_frame(const std::string& bytes, const std::string& name) {
 // Open CASCADE prints through its default messenger (stdout): silenced once per process.
 void silence_occt() {
   static std::once_flag once;
-  std::call_once(once, [] {
-    Message::DefaultMessenger()->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));
-  });
+  std::call_once(once, [] { Message::DefaultMessenger()->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream)); });
 }
 
 struct Body {
@@ -153,7 +151,7 @@ struct Body {
   std::string name;
 };
 
-std::string entity_name(const Handle(XSControl_WorkSession)& ws, const TopoDS_Shape& shape) {
+std::string entity_name(const Handle(XSControl_WorkSession) & ws, const TopoDS_Shape& shape) {
   if (ws.IsNull()) return {};
   const Handle(XSControl_TransferReader) tr = ws->TransferReader();
   if (tr.IsNull()) return {};
@@ -167,7 +165,7 @@ std::string entity_name(const Handle(XSControl_WorkSession)& ws, const TopoDS_Sh
 }
 
 // Solids, then shells outside solids, then faces outside shells, in the file's order.
-std::vector<Body> bodies_of(const TopoDS_Shape& root, const Handle(XSControl_WorkSession)& ws) {
+std::vector<Body> bodies_of(const TopoDS_Shape& root, const Handle(XSControl_WorkSession) & ws) {
   std::vector<Body> out;
   for (TopExp_Explorer x(root, TopAbs_SOLID); x.More(); x.Next()) out.push_back({x.Current(), {}});
   for (TopExp_Explorer x(root, TopAbs_SHELL, TopAbs_SOLID); x.More(); x.Next()) out.push_back({x.Current(), {}});
@@ -180,14 +178,16 @@ std::vector<Body> bodies_of(const TopoDS_Shape& root, const Handle(XSControl_Wor
 }
 
 std::size_t pick_body(const std::vector<Body>& bodies, const std::string& wanted, const std::string& name) {
-  const bool digits = !wanted.empty() && std::all_of(wanted.begin(), wanted.end(), [](char c) { return c >= '0' && c <= '9'; });
+  const bool digits =
+      !wanted.empty() && std::all_of(wanted.begin(), wanted.end(), [](char c) { return c >= '0' && c <= '9'; });
   std::string list;
-  for (std::size_t i = 0; i < bodies.size(); ++i) list += (i ? ", " : "") + std::to_string(i + 1) + " \"" + bodies[i].name + "\"";
+  for (std::size_t i = 0; i < bodies.size(); ++i)
+    list += (i ? ", " : "") + std::to_string(i + 1) + " \"" + bodies[i].name + "\"";
   if (digits && wanted.size() < 9) {
     const std::size_t k = std::stoul(wanted);
     if (k >= 1 && k <= bodies.size()) return k - 1;
-    throw file_error(name, "no body " + wanted + " (--body / /mesh/cad_body; the file has " + std::to_string(bodies.size()) +
-                               ": " + list + ")");
+    throw file_error(name, "no body " + wanted + " (--body / /mesh/cad_body; the file has " +
+                               std::to_string(bodies.size()) + ": " + list + ")");
   }
   for (std::size_t i = 0; i < bodies.size(); ++i)
     if (bodies[i].name == wanted) return i;
@@ -196,7 +196,8 @@ std::size_t pick_body(const std::vector<Body>& bodies, const std::string& wanted
 
 Mesh tessellate(const TopoDS_Shape& shape, const CadOptions& o, std::size_t* faces) {
   // Sequential (isInParallel = false): the triangles do not depend on the thread count.
-  BRepMesh_IncrementalMesh mesher(shape, o.chord_tolerance_mm, Standard_False, o.angular_deflection_rad, Standard_False);
+  BRepMesh_IncrementalMesh mesher(shape, o.chord_tolerance_mm, Standard_False, o.angular_deflection_rad,
+                                  Standard_False);
   using Key = detail::WeldKey<std::uint64_t>;
   detail::WeldIndex<std::uint64_t> index;
   std::vector<double> V;
@@ -237,9 +238,11 @@ Mesh tessellate(const TopoDS_Shape& shape, const CadOptions& o, std::size_t* fac
   }
   Mesh m;
   m.V.resize(static_cast<Eigen::Index>(V.size() / 3), 3);
-  for (std::size_t i = 0; i < V.size(); ++i) m.V(static_cast<Eigen::Index>(i / 3), static_cast<Eigen::Index>(i % 3)) = V[i];
+  for (std::size_t i = 0; i < V.size(); ++i)
+    m.V(static_cast<Eigen::Index>(i / 3), static_cast<Eigen::Index>(i % 3)) = V[i];
   m.F.resize(static_cast<Eigen::Index>(F.size() / 3), 3);
-  for (std::size_t i = 0; i < F.size(); ++i) m.F(static_cast<Eigen::Index>(i / 3), static_cast<Eigen::Index>(i % 3)) = F[i];
+  for (std::size_t i = 0; i < F.size(); ++i)
+    m.F(static_cast<Eigen::Index>(i / 3), static_cast<Eigen::Index>(i % 3)) = F[i];
   return m;
 }
 
@@ -309,10 +312,12 @@ Mesh load_locked(const fs::path& path, const CadOptions& options, MeshReport* re
   }
   Mesh m = tessellate(chosen, options, &cad.faces);
   if (m.F.rows() == 0)
-    throw file_error(name, "no triangles: Open CASCADE's mesher produced none for the " + std::to_string(cad.faces) + " faces");
+    throw file_error(
+        name, "no triangles: Open CASCADE's mesher produced none for the " + std::to_string(cad.faces) + " faces");
   if (report) {
-    report->notes.push_back(cad.format + ": " + std::to_string(cad.faces) + " faces of " + std::to_string(bodies.size()) +
-                            " bodies tessellated (chord " + std::to_string(options.chord_tolerance_mm) + " mm, angle " +
+    report->notes.push_back(cad.format + ": " + std::to_string(cad.faces) + " faces of " +
+                            std::to_string(bodies.size()) + " bodies tessellated (chord " +
+                            std::to_string(options.chord_tolerance_mm) + " mm, angle " +
                             std::to_string(options.angular_deflection_rad) + " rad)");
     report->is_cad = true;
     report->cad = cad;
@@ -330,8 +335,9 @@ Mesh load_cad(const fs::path& path, const CadOptions& options, MeshReport* repor
   } catch (const Error&) {
     throw;
   } catch (const Standard_Failure& e) {
-    throw file_error(name, std::string("Open CASCADE failed: ") + one_line(e.GetMessageString() ? e.GetMessageString() : "") +
-                               " (" + e.DynamicType()->Name() + ")");
+    throw file_error(name, std::string("Open CASCADE failed: ") +
+                               one_line(e.GetMessageString() ? e.GetMessageString() : "") + " (" +
+                               e.DynamicType()->Name() + ")");
   }
 }
 

@@ -73,7 +73,8 @@ Mesh parse_stl_binary(const std::string& bytes, const std::string& name, MeshRep
     m.V(static_cast<Eigen::Index>(i / 3), static_cast<Eigen::Index>(i % 3)) = static_cast<double>(verts[i]);
   if (report) {
     if (zero_normals)
-      report->notes.push_back(std::to_string(zero_normals) + " stored facet normals are zero (ignored: normals come from the winding)");
+      report->notes.push_back(std::to_string(zero_normals) +
+                              " stored facet normals are zero (ignored: normals come from the winding)");
     report->notes.push_back("binary STL: stored normals ignored");
   }
   (void)name;
@@ -107,7 +108,8 @@ Mesh load_point_cloud(const fs::path& path, MeshReport* report) {
       if (p < e && *p == '+') ++p;
       const auto r = std::from_chars(p, e, v[k]);
       if (r.ec != std::errc())
-        throw line_error(name, line_no, "expected three numbers \"x y z\", got \"" + std::string(line.substr(0, 80)) + "\"");
+        throw line_error(name, line_no,
+                         "expected three numbers \"x y z\", got \"" + std::string(line.substr(0, 80)) + "\"");
       if (!std::isfinite(v[k])) throw line_error(name, line_no, "non-finite coordinate (NaN or inf)");
       p = r.ptr;
     }
@@ -119,7 +121,8 @@ Mesh load_point_cloud(const fs::path& path, MeshReport* report) {
     pts(static_cast<Eigen::Index>(i / 3), static_cast<Eigen::Index>(i % 3)) = xyz[i];
   Mesh m = triangulate_height_field(pts, name);
   if (report)
-    report->notes.push_back("point cloud of " + std::to_string(pts.rows()) + " points triangulated as a height field over XY");
+    report->notes.push_back("point cloud of " + std::to_string(pts.rows()) +
+                            " points triangulated as a height field over XY");
   return m;
 }
 
@@ -155,14 +158,14 @@ Mesh load_with_assimp(const fs::path& path, MeshReport* report) {
   if (!ext.empty() && !importer.IsExtensionSupported(ext)) {
     std::string list;
     importer.GetExtensionList(list);
-    throw file_error(name, "unknown mesh format '" + ext + "' (readable: " + list + ", and point clouds .xyz .pts .txt .asc)");
+    throw file_error(
+        name, "unknown mesh format '" + ext + "' (readable: " + list + ", and point clouds .xyz .pts .txt .asc)");
   }
   // Validation first: assimp's later steps index vertices through the faces unchecked, so a face index
   // out of range corrupted the heap (tests/corpus/mesh/ply_face_index_out_of_range.ply).
-  const aiScene* scene =
-      importer.ReadFile(name, aiProcess_ValidateDataStructure | aiProcess_JoinIdenticalVertices | aiProcess_Triangulate);
-  if (!scene || !scene->mRootNode)
-  {
+  const aiScene* scene = importer.ReadFile(
+      name, aiProcess_ValidateDataStructure | aiProcess_JoinIdenticalVertices | aiProcess_Triangulate);
+  if (!scene || !scene->mRootNode) {
     // assimp's message may quote the rest of the file (a 5 KB line of an ASCII STL, issue 15): one
     // line, at most 160 characters of it (tests/corpus/mesh/obj_long_garbage_line.obj).
     std::string why = importer.GetErrorString();
@@ -177,9 +180,11 @@ Mesh load_with_assimp(const fs::path& path, MeshReport* report) {
   append_node(scene, scene->mRootNode, aiMatrix4x4(), V, F, skipped);
   Mesh m;
   m.V.resize(static_cast<Eigen::Index>(V.size() / 3), 3);
-  for (std::size_t i = 0; i < V.size(); ++i) m.V(static_cast<Eigen::Index>(i / 3), static_cast<Eigen::Index>(i % 3)) = V[i];
+  for (std::size_t i = 0; i < V.size(); ++i)
+    m.V(static_cast<Eigen::Index>(i / 3), static_cast<Eigen::Index>(i % 3)) = V[i];
   m.F.resize(static_cast<Eigen::Index>(F.size() / 3), 3);
-  for (std::size_t i = 0; i < F.size(); ++i) m.F(static_cast<Eigen::Index>(i / 3), static_cast<Eigen::Index>(i % 3)) = F[i];
+  for (std::size_t i = 0; i < F.size(); ++i)
+    m.F(static_cast<Eigen::Index>(i / 3), static_cast<Eigen::Index>(i % 3)) = F[i];
   if (report) {
     if (skipped) report->notes.push_back(std::to_string(skipped) + " point/line primitives skipped");
     report->notes.push_back("stored normals ignored");
@@ -195,8 +200,8 @@ const std::vector<std::string>& point_cloud_extensions() {
 }
 
 const std::vector<std::string>& mesh_extensions() {
-  static const std::vector<std::string> ext = {".stl", ".obj", ".ply", ".off", ".3mf", ".gltf", ".glb",
-                                               ".xyz", ".pts", ".txt", ".asc", ".step", ".stp", ".iges", ".igs"};
+  static const std::vector<std::string> ext = {".stl", ".obj", ".ply", ".off",  ".3mf", ".gltf", ".glb", ".xyz",
+                                               ".pts", ".txt", ".asc", ".step", ".stp", ".iges", ".igs"};
   return ext;
 }
 
@@ -215,8 +220,9 @@ Mesh load_prepared(const fs::path& path, const PrepareOptions& options, MeshRepo
       raw.V *= factor;
       cad.units_overridden = !cad.file_unit.empty();
       const std::string asked = options.units == Units::mm ? "mm" : options.units == Units::inch ? "inch" : "m";
-      cad.units_note = path.string() + ": the file states " + (cad.file_unit.empty() ? "no unit" : "unit " + cad.file_unit) +
-                       ", read as " + asked + " as asked (--units / config units)";
+      cad.units_note = path.string() + ": the file states " +
+                       (cad.file_unit.empty() ? "no unit" : "unit " + cad.file_unit) + ", read as " + asked +
+                       " as asked (--units / config units)";
       rep->notes.push_back(cad.units_note);
     }
   }

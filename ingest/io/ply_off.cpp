@@ -96,9 +96,13 @@ std::optional<Type> ply_type(std::string_view s) {
 
 std::size_t type_size(Type t) {
   switch (t) {
-    case Type::i8: case Type::u8: return 1;
-    case Type::i16: case Type::u16: return 2;
-    case Type::i32: case Type::u32: case Type::f32: return 4;
+    case Type::i8:
+    case Type::u8: return 1;
+    case Type::i16:
+    case Type::u16: return 2;
+    case Type::i32:
+    case Type::u32:
+    case Type::f32: return 4;
     case Type::f64: return 8;
   }
   return 8;
@@ -108,9 +112,9 @@ bool is_integer(Type t) { return t != Type::f32 && t != Type::f64; }
 
 struct Property {
   std::string name;
-  Type type = Type::f32;        ///< the value's (or a list item's) type
+  Type type = Type::f32;  ///< the value's (or a list item's) type
   bool list = false;
-  Type count_type = Type::u8;   ///< lists only
+  Type count_type = Type::u8;  ///< lists only
 };
 
 struct Element {
@@ -136,20 +140,21 @@ Header parse_ply_header(const std::string& bytes, const std::string& name) {
   bool ended = false, have_format = false;
   while (pos < bytes.size()) {
     if (pos > kMaxPlyHeaderBytes)
-      throw file_error(name, "PLY header has no end_header line in its first " + std::to_string(kMaxPlyHeaderBytes) +
-                                 " bytes");
+      throw file_error(
+          name, "PLY header has no end_header line in its first " + std::to_string(kMaxPlyHeaderBytes) + " bytes");
     std::size_t end = bytes.find('\n', pos);
     const bool last = end == std::string::npos;
     if (last) end = bytes.size();
     if (end - pos > kMaxPlyHeaderBytes)
-      throw file_error(name, "PLY header has no end_header line in its first " + std::to_string(kMaxPlyHeaderBytes) +
-                                 " bytes");
+      throw file_error(
+          name, "PLY header has no end_header line in its first " + std::to_string(kMaxPlyHeaderBytes) + " bytes");
     const std::string_view line(bytes.data() + pos, end - pos);
     pos = last ? end : end + 1;
     ++line_no;
     const auto w = words(line);
     if (line_no == 1) {
-      if (w.size() != 1 || w[0] != "ply") throw line_error(name, 1, "not a PLY file (expected \"ply\" on the first line)");
+      if (w.size() != 1 || w[0] != "ply")
+        throw line_error(name, 1, "not a PLY file (expected \"ply\" on the first line)");
       continue;
     }
     if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
@@ -160,15 +165,20 @@ Header parse_ply_header(const std::string& bytes, const std::string& name) {
     if (w[0] == "format") {
       if (w.size() != 3 || w[2] != "1.0")
         throw line_error(name, line_no, "expected \"format ascii|binary_little_endian|binary_big_endian 1.0\"");
-      if (w[1] == "ascii") h.format = Format::ascii;
-      else if (w[1] == "binary_little_endian") h.format = Format::binary_le;
-      else if (w[1] == "binary_big_endian") h.format = Format::binary_be;
-      else throw line_error(name, line_no, "unknown PLY format \"" + shorten(w[1]) + "\"");
+      if (w[1] == "ascii")
+        h.format = Format::ascii;
+      else if (w[1] == "binary_little_endian")
+        h.format = Format::binary_le;
+      else if (w[1] == "binary_big_endian")
+        h.format = Format::binary_be;
+      else
+        throw line_error(name, line_no, "unknown PLY format \"" + shorten(w[1]) + "\"");
       have_format = true;
     } else if (w[0] == "element") {
       if (w.size() != 3) throw line_error(name, line_no, "expected \"element <name> <count>\"");
       const auto n = to_int(w[2]);
-      if (!n || *n < 0) throw line_error(name, line_no, "element count \"" + shorten(w[2]) + "\" is not a non-negative integer");
+      if (!n || *n < 0)
+        throw line_error(name, line_no, "element count \"" + shorten(w[2]) + "\" is not a non-negative integer");
       h.elements.push_back(Element{std::string(w[1]), static_cast<std::uint64_t>(*n), {}, line_no});
     } else if (w[0] == "property") {
       if (h.elements.empty()) throw line_error(name, line_no, "property before any element");
@@ -183,7 +193,8 @@ Header parse_ply_header(const std::string& bytes, const std::string& name) {
         if (!t) throw line_error(name, line_no, "unknown property type \"" + shorten(w[1]) + "\"");
         p = Property{std::string(w[2]), *t, false, Type::u8};
       } else {
-        throw line_error(name, line_no, "expected \"property <type> <name>\" or \"property list <count type> <type> <name>\"");
+        throw line_error(name, line_no,
+                         "expected \"property <type> <name>\" or \"property list <count type> <type> <name>\"");
       }
       h.elements.back().props.push_back(std::move(p));
     } else {
@@ -269,14 +280,46 @@ private:
     if ((format_ == Format::binary_be) == (std::endian::native == std::endian::little))
       for (std::size_t i = 0; i < n / 2; ++i) std::swap(raw[i], raw[n - 1 - i]);
     switch (t) {
-      case Type::i8: { std::int8_t v; std::memcpy(&v, raw, 1); return v; }
-      case Type::u8: { std::uint8_t v; std::memcpy(&v, raw, 1); return v; }
-      case Type::i16: { std::int16_t v; std::memcpy(&v, raw, 2); return v; }
-      case Type::u16: { std::uint16_t v; std::memcpy(&v, raw, 2); return v; }
-      case Type::i32: { std::int32_t v; std::memcpy(&v, raw, 4); return v; }
-      case Type::u32: { std::uint32_t v; std::memcpy(&v, raw, 4); return v; }
-      case Type::f32: { float v; std::memcpy(&v, raw, 4); return static_cast<double>(v); }
-      case Type::f64: { double v; std::memcpy(&v, raw, 8); return v; }
+      case Type::i8: {
+        std::int8_t v;
+        std::memcpy(&v, raw, 1);
+        return v;
+      }
+      case Type::u8: {
+        std::uint8_t v;
+        std::memcpy(&v, raw, 1);
+        return v;
+      }
+      case Type::i16: {
+        std::int16_t v;
+        std::memcpy(&v, raw, 2);
+        return v;
+      }
+      case Type::u16: {
+        std::uint16_t v;
+        std::memcpy(&v, raw, 2);
+        return v;
+      }
+      case Type::i32: {
+        std::int32_t v;
+        std::memcpy(&v, raw, 4);
+        return v;
+      }
+      case Type::u32: {
+        std::uint32_t v;
+        std::memcpy(&v, raw, 4);
+        return v;
+      }
+      case Type::f32: {
+        float v;
+        std::memcpy(&v, raw, 4);
+        return static_cast<double>(v);
+      }
+      case Type::f64: {
+        double v;
+        std::memcpy(&v, raw, 8);
+        return v;
+      }
     }
     return 0;
   }
@@ -307,8 +350,10 @@ Mesh parse_ply(const std::string& bytes, const std::string& name) {
     std::uint64_t each = 0;
     for (const Property& p : e.props) {
       // a lower bound: a value takes ≥ 2 bytes in ASCII ("0 "), its size in binary; a list ≥ its count
-      if (ascii) each += 2;
-      else each += type_size(p.list ? p.count_type : p.type);
+      if (ascii)
+        each += 2;
+      else
+        each += type_size(p.list ? p.count_type : p.type);
     }
     need += static_cast<long double>(e.count) * static_cast<long double>(each);
     if (e.name == "vertex") {
@@ -372,7 +417,9 @@ Mesh parse_ply(const std::string& bytes, const std::string& name) {
         if (!in.can_hold(static_cast<std::uint64_t>(n), p.type))
           throw in.error(context + ": list length " + std::to_string(n) + " is more than the rest of the file holds");
         if (is_face && &p == indices) {
-          if (n < 3) throw in.error("face " + std::to_string(i) + " lists " + std::to_string(n) + " vertices, expected at least 3");
+          if (n < 3)
+            throw in.error("face " + std::to_string(i) + " lists " + std::to_string(n) +
+                           " vertices, expected at least 3");
           poly.resize(static_cast<std::size_t>(n));
           for (std::int64_t j = 0; j < n; ++j) {
             const std::int64_t v = in.integer(p.type);
@@ -483,10 +530,12 @@ Mesh parse_off(const std::string& bytes, const std::string& name) {
   std::vector<std::int32_t> F;  // grows with what the file holds
   std::vector<std::int64_t> poly;
   for (std::int64_t f = 0; f < *nf; ++f) {
-    if (!in.next(w)) throw file_error(name, "the file ends after " + std::to_string(f) + " of " + std::to_string(*nf) + " faces");
+    if (!in.next(w))
+      throw file_error(name, "the file ends after " + std::to_string(f) + " of " + std::to_string(*nf) + " faces");
     const auto n = to_int(w[0]);
     if (!n) throw in.error("face " + std::to_string(f) + ": \"" + shorten(w[0]) + "\" is not a vertex count");
-    if (*n < 3) throw in.error("face " + std::to_string(f) + " lists " + std::to_string(*n) + " vertices, expected at least 3");
+    if (*n < 3)
+      throw in.error("face " + std::to_string(f) + " lists " + std::to_string(*n) + " vertices, expected at least 3");
     if (static_cast<std::uint64_t>(*n) > w.size() - 1)
       throw in.error("face " + std::to_string(f) + " announces " + std::to_string(*n) + " vertices but lists " +
                      std::to_string(w.size() - 1));
@@ -503,7 +552,6 @@ Mesh parse_off(const std::string& bytes, const std::string& name) {
   }
   return to_mesh(V, F);
 }
-
 
 // ---------------------------------------------------------------- ASCII STL
 

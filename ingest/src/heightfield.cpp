@@ -201,7 +201,8 @@ HeightField rasterize(const Mesh& mesh, const Frame& fr, bool cells) {
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t k = 0; k < nv; ++k) {
     const auto ek = static_cast<Eigen::Index>(k);
-    pts[static_cast<std::size_t>(k)] = P{(mesh.V(ek, 0) - fr.x0) / fr.sx, (mesh.V(ek, 1) - fr.y0) / fr.sy, mesh.V(ek, 2)};
+    pts[static_cast<std::size_t>(k)] =
+        P{(mesh.V(ek, 0) - fr.x0) / fr.sx, (mesh.V(ek, 1) - fr.y0) / fr.sy, mesh.V(ek, 2)};
   }
 
   // Row range of each triangle (−1 = covers no raster point): O(#F), each slot written once.
@@ -284,8 +285,9 @@ HeightField rasterize_top(const Mesh& mesh, double raster_mm, const WorkLimits& 
   // spans the footprint corner to corner (the 1e-9 keeps 100.0000000001 steps at 100).
   const double cx = std::ceil(w / raster_mm - 1e-9), cy = std::ceil(h / raster_mm - 1e-9);
   if (cx > 1e6 || cy > 1e6)
-    throw Error("height-field raster: a " + format_double(w) + " × " + format_double(h) + " mm footprint at a step of " +
-                format_double(raster_mm) + " mm makes more than 1e6 points per side; choose a coarser raster step (--raster, raster_mm)");
+    throw Error("height-field raster: a " + format_double(w) + " × " + format_double(h) +
+                " mm footprint at a step of " + format_double(raster_mm) +
+                " mm makes more than 1e6 points per side; choose a coarser raster step (--raster, raster_mm)");
   if (w > 0) {
     fr.nx = static_cast<int>(cx) + 1;
     fr.sx = w / (fr.nx - 1);

@@ -87,7 +87,8 @@ void validate(const Mesh& mesh, const std::string& source, MeshReport* report) {
   // O(#F): degenerate (zero-area) triangles.
   std::size_t degenerate = 0;
   for (Eigen::Index f = 0; f < nf; ++f) {
-    const Eigen::Vector3d a = vertex(mesh, mesh.F(f, 0)), b = vertex(mesh, mesh.F(f, 1)), c = vertex(mesh, mesh.F(f, 2));
+    const Eigen::Vector3d a = vertex(mesh, mesh.F(f, 0)), b = vertex(mesh, mesh.F(f, 1)),
+                          c = vertex(mesh, mesh.F(f, 2));
     if (0.5 * (b - a).cross(c - a).norm() <= tol::degenerate_area_mm2) ++degenerate;
   }
   report->triangles = static_cast<std::size_t>(nf);
@@ -135,11 +136,11 @@ Eigen::Matrix3d up_rotation(Up up) {
   Eigen::Matrix3d r;
   switch (up) {
     case Up::PosZ: r.setIdentity(); break;
-    case Up::NegZ: r << 1, 0, 0, 0, -1, 0, 0, 0, -1; break;   // (x, −y, −z)
-    case Up::PosY: r << 1, 0, 0, 0, 0, -1, 0, 1, 0; break;    // (x, −z, y): +Y → +Z
-    case Up::NegY: r << 1, 0, 0, 0, 0, 1, 0, -1, 0; break;    // (x, z, −y): −Y → +Z
-    case Up::PosX: r << 0, 0, -1, 0, 1, 0, 1, 0, 0; break;    // (−z, y, x): +X → +Z
-    case Up::NegX: r << 0, 0, 1, 0, 1, 0, -1, 0, 0; break;    // (z, y, −x): −X → +Z
+    case Up::NegZ: r << 1, 0, 0, 0, -1, 0, 0, 0, -1; break;  // (x, −y, −z)
+    case Up::PosY: r << 1, 0, 0, 0, 0, -1, 0, 1, 0; break;   // (x, −z, y): +Y → +Z
+    case Up::NegY: r << 1, 0, 0, 0, 0, 1, 0, -1, 0; break;   // (x, z, −y): −Y → +Z
+    case Up::PosX: r << 0, 0, -1, 0, 1, 0, 1, 0, 0; break;   // (−z, y, x): +X → +Z
+    case Up::NegX: r << 0, 0, 1, 0, 1, 0, -1, 0, 0; break;   // (z, y, −x): −X → +Z
     case Up::Auto: throw Error("up_rotation: Up::Auto must be resolved with choose_up() first");
   }
   return r;
@@ -155,20 +156,26 @@ Up choose_up(const Mesh& mesh, Up requested) {
   std::array<double, 3> flat_low{}, flat_high{};
   std::array<double, 3> proj_pos{}, proj_neg{};
   for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
-    const Eigen::Vector3d a = vertex(mesh, mesh.F(f, 0)), b = vertex(mesh, mesh.F(f, 1)), c = vertex(mesh, mesh.F(f, 2));
+    const Eigen::Vector3d a = vertex(mesh, mesh.F(f, 0)), b = vertex(mesh, mesh.F(f, 1)),
+                          c = vertex(mesh, mesh.F(f, 2));
     const Eigen::Vector3d n2 = (b - a).cross(c - a);  // 2·area·unit normal
     const double area2 = n2.norm();
     if (area2 <= 0) continue;
     for (Eigen::Index k = 0; k < 3; ++k) {
       const auto ku = static_cast<std::size_t>(k);
       const double comp = n2(k) / area2;
-      if (n2(k) > 0) proj_pos[ku] += 0.5 * n2(k); else proj_neg[ku] -= 0.5 * n2(k);
+      if (n2(k) > 0)
+        proj_pos[ku] += 0.5 * n2(k);
+      else
+        proj_neg[ku] -= 0.5 * n2(k);
       const double lo = std::min({a(k), b(k), c(k)}), hi = std::max({a(k), b(k), c(k)});
       if (comp <= -cos_flat && hi <= box.min(k) + tol::auto_up_plane_mm) flat_low[ku] += 0.5 * area2;
       if (comp >= cos_flat && lo >= box.max(k) - tol::auto_up_plane_mm) flat_high[ku] += 0.5 * area2;
     }
   }
-  auto axis_of = [](Up u) -> std::size_t { return (u == Up::PosX || u == Up::NegX) ? 0 : (u == Up::PosY || u == Up::NegY) ? 1 : 2; };
+  auto axis_of = [](Up u) -> std::size_t {
+    return (u == Up::PosX || u == Up::NegX) ? 0 : (u == Up::PosY || u == Up::NegY) ? 1 : 2;
+  };
   auto positive = [](Up u) { return u == Up::PosX || u == Up::PosY || u == Up::PosZ; };
   double best = 0;
   Up chosen = Up::PosZ;
@@ -179,14 +186,21 @@ Up choose_up(const Mesh& mesh, Up requested) {
     const double base = positive(u) ? flat_low[k] : flat_high[k];
     const double cap = positive(u) ? flat_high[k] : flat_low[k];
     const double score = base - cap;
-    if (score > best) { best = score; chosen = u; found = true; }
+    if (score > best) {
+      best = score;
+      chosen = u;
+      found = true;
+    }
   }
   if (found) return chosen;
   double best_vis = -1;
   for (Up u : candidates) {
     const std::size_t k = axis_of(u);
     const double vis = positive(u) ? proj_pos[k] : proj_neg[k];
-    if (vis > best_vis * (1 + 1e-12) + 1e-12) { best_vis = vis; chosen = u; }
+    if (vis > best_vis * (1 + 1e-12) + 1e-12) {
+      best_vis = vis;
+      chosen = u;
+    }
   }
   return chosen;
 }

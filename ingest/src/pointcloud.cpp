@@ -110,8 +110,9 @@ Mesh triangulate_height_field(const Vertices& points, const std::string& source)
     subdiv.insert(uniq);
     subdiv.getTriangleList(tris);
   } catch (const cv::Exception&) {  // degenerate or extreme input (fuzz_points): OpenCV's own text is no help
-    throw Error(source + ": the points cannot be triangulated in XY (their spread of " + std::to_string(extent) +
-                " mm leaves too little float precision, or they are degenerate); expected a height field's points in mm");
+    throw Error(
+        source + ": the points cannot be triangulated in XY (their spread of " + std::to_string(extent) +
+        " mm leaves too little float precision, or they are degenerate); expected a height field's points in mm");
   }
   std::vector<std::array<std::int32_t, 3>> faces;
   faces.reserve(tris.size());
@@ -120,8 +121,10 @@ Mesh triangulate_height_field(const Vertices& points, const std::string& source)
     bool real = true;
     for (int k = 0; k < 3 && real; ++k) {
       const auto it = key_to_vertex.find({t[2 * k], t[2 * k + 1]});
-      if (it == key_to_vertex.end()) real = false;  // a corner of Subdiv2D's outer triangle
-      else idx[static_cast<std::size_t>(k)] = static_cast<std::int32_t>(it->second);
+      if (it == key_to_vertex.end())
+        real = false;  // a corner of Subdiv2D's outer triangle
+      else
+        idx[static_cast<std::size_t>(k)] = static_cast<std::int32_t>(it->second);
     }
     if (!real) continue;
     const cv::Point2f& a = uniq[static_cast<std::size_t>(idx[0])];
@@ -136,7 +139,8 @@ Mesh triangulate_height_field(const Vertices& points, const std::string& source)
   }
   if (faces.empty()) throw Error(source + ": the point cloud's XY positions are collinear (no triangles)");
   m.V.resize(static_cast<Eigen::Index>(uniq.size()), 3);
-  for (std::size_t k = 0; k < uniq.size(); ++k) m.V.row(static_cast<Eigen::Index>(k)) = points.row(static_cast<Eigen::Index>(uniq_src[k]));
+  for (std::size_t k = 0; k < uniq.size(); ++k)
+    m.V.row(static_cast<Eigen::Index>(k)) = points.row(static_cast<Eigen::Index>(uniq_src[k]));
   m.F.resize(static_cast<Eigen::Index>(faces.size()), 3);
   for (std::size_t k = 0; k < faces.size(); ++k)
     m.F.row(static_cast<Eigen::Index>(k)) << faces[k][0], faces[k][1], faces[k][2];

@@ -41,7 +41,8 @@ constexpr double kMaxCoordinateMm = 1e6;
 
 double coordinate(double v, const std::string& where) {
   if (!(std::abs(v) <= kMaxCoordinateMm))
-    throw Error(where + ": coordinate " + format_double(v) + " mm is outside the allowed range, expected -1000000…1000000 mm");
+    throw Error(where + ": coordinate " + format_double(v) +
+                " mm is outside the allowed range, expected -1000000…1000000 mm");
   return v;
 }
 
@@ -65,9 +66,10 @@ Loop json_loop(const json& j, const std::string& source, const std::string& key)
 // The keys a pocket JSON file may hold: a misspelt key ("tool_diamter") is an error, never ignored
 // (issue 15: the program was written for the default tool; tests/corpus/pocket/misspelt_key.json).
 const std::vector<std::string>& pocket_keys() {
-  static const std::vector<std::string> k = {"units", "boundary", "islands", "tool_diameter", "stepover", "depth",
-                                             "safe_z", "step_down", "stock_to_leave", "feed_slot", "feed_half",
-                                             "feed_plunge", "spindle_rpm", "note", "name", "comment", "format"};
+  static const std::vector<std::string> k = {"units",     "boundary",    "islands",     "tool_diameter",  "stepover",
+                                             "depth",     "safe_z",      "step_down",   "stock_to_leave", "feed_slot",
+                                             "feed_half", "feed_plunge", "spindle_rpm", "note",           "name",
+                                             "comment",   "format"};
   return k;
 }
 
@@ -139,7 +141,8 @@ double dxf_number(const Pair& p, const std::string& source) {
     v = std::stod(p.value, &used);
     if (used != p.value.size() || !std::isfinite(v)) throw std::invalid_argument(p.value);
   } catch (const std::exception&) {
-    throw line_error(source, p.line + 1, "group " + std::to_string(p.code) + ": expected a number, got '" + p.value + "'");
+    throw line_error(source, p.line + 1,
+                     "group " + std::to_string(p.code) + ": expected a number, got '" + p.value + "'");
   }
   if ((p.code >= 10 && p.code <= 39) || p.code == 40)  // coordinates and radii: before Clipper sees them
     (void)coordinate(v, source + ":" + std::to_string(p.line + 1) + ": group " + std::to_string(p.code));
@@ -150,7 +153,7 @@ double dxf_number(const Pair& p, const std::string& source) {
 struct Piece {
   std::vector<Vertex> pts;  ///< open: last vertex's bulge unused
   bool closed = false;
-  std::string what;         ///< "LINE handle 2A (line 120)"
+  std::string what;  ///< "LINE handle 2A (line 120)"
 };
 
 std::vector<Vertex> reversed_open(const std::vector<Vertex>& v) {
@@ -183,10 +186,12 @@ std::vector<Piece> dxf_pieces(const std::vector<Pair>& pr, const std::string& so
     throw line_error(source, last_line, "the file ends here without \"0 EOF\" (truncated?)");
   constexpr double deg = std::numbers::pi / 180;
   while (i < pr.size()) {
-    if (pr[i].code != 0) { ++i; continue; }
+    if (pr[i].code != 0) {
+      ++i;
+      continue;
+    }
     const std::string type = pr[i].value;
-    if (type == "EOF")
-      throw line_error(source, pr[i].line, "EOF inside the ENTITIES section (no ENDSEC: truncated?)");
+    if (type == "EOF") throw line_error(source, pr[i].line, "EOF inside the ENTITIES section (no ENDSEC: truncated?)");
     if (type == "ENDSEC") break;
     const long at = pr[i].line;
     std::size_t j = i + 1;
@@ -224,7 +229,10 @@ std::vector<Piece> dxf_pieces(const std::vector<Pair>& pr, const std::string& so
         double sweep = std::fmod(a1 - a0, 360.0);
         if (sweep <= 0) sweep += 360;
         // In a mirrored OCS the angles run the other way.
-        if (mx < 0) { a0 = 180 - a0; a1 = 180 - a1; }
+        if (mx < 0) {
+          a0 = 180 - a0;
+          a1 = 180 - a1;
+        }
         const double b = std::tan(sweep * deg / 4) * mx;
         pc.pts = {{cx + r * std::cos(a0 * deg), cy + r * std::sin(a0 * deg), b},
                   {cx + r * std::cos(a1 * deg), cy + r * std::sin(a1 * deg), 0}};
@@ -235,9 +243,12 @@ std::vector<Piece> dxf_pieces(const std::vector<Pair>& pr, const std::string& so
       pc.what = what;
       pc.closed = (static_cast<long>(num(70, false, 0)) & 1) != 0;
       for (const Pair* p : g) {
-        if (p->code == 10) pc.pts.push_back({mx * dxf_number(*p, source), 0, 0});
-        else if (p->code == 20 && !pc.pts.empty()) pc.pts.back().y = dxf_number(*p, source);
-        else if (p->code == 42 && !pc.pts.empty()) pc.pts.back().bulge = mx * dxf_number(*p, source);
+        if (p->code == 10)
+          pc.pts.push_back({mx * dxf_number(*p, source), 0, 0});
+        else if (p->code == 20 && !pc.pts.empty())
+          pc.pts.back().y = dxf_number(*p, source);
+        else if (p->code == 42 && !pc.pts.empty())
+          pc.pts.back().bulge = mx * dxf_number(*p, source);
       }
       if (pc.pts.size() < 2) throw line_error(source, at, what + ": fewer than 2 vertices");
       pieces.push_back(std::move(pc));
@@ -294,7 +305,8 @@ public:
     out.clear();
     for (int dx = -1; dx <= 1; ++dx)
       for (int dy = -1; dy <= 1; ++dy)
-        if (const auto it = cells_.find(key(p, dx, dy)); it != cells_.end()) out.insert(out.end(), it->second.begin(), it->second.end());
+        if (const auto it = cells_.find(key(p, dx, dy)); it != cells_.end())
+          out.insert(out.end(), it->second.begin(), it->second.end());
   }
 
 private:
@@ -320,8 +332,10 @@ std::vector<Loop> chain_loops(std::vector<Piece> pieces, const std::string& sour
   std::vector<Loop> loops;
   std::vector<Piece> open;
   for (Piece& p : pieces) {
-    if (p.closed) loops.push_back(std::move(p.pts));
-    else open.push_back(std::move(p));
+    if (p.closed)
+      loops.push_back(std::move(p.pts));
+    else
+      open.push_back(std::move(p));
   }
   const EndGrid ends(open);
   std::vector<std::size_t> cand;
@@ -340,9 +354,12 @@ std::vector<Loop> chain_loops(std::vector<Piece> pieces, const std::string& sour
         if (extended) break;
         if (used[k]) continue;
         std::vector<Vertex> next;
-        if ((open[k].pts.front().p() - chain.back().p()).norm() <= tol::chain_join_mm) next = open[k].pts;
-        else if ((open[k].pts.back().p() - chain.back().p()).norm() <= tol::chain_join_mm) next = reversed_open(open[k].pts);
-        else continue;
+        if ((open[k].pts.front().p() - chain.back().p()).norm() <= tol::chain_join_mm)
+          next = open[k].pts;
+        else if ((open[k].pts.back().p() - chain.back().p()).norm() <= tol::chain_join_mm)
+          next = reversed_open(open[k].pts);
+        else
+          continue;
         used[k] = true;
         chain.back().bulge = next.front().bulge;  // the joint vertex starts the next piece's segment
         chain.insert(chain.end(), next.begin() + 1, next.end());
@@ -392,11 +409,16 @@ PocketFile parse_pocket_json(const std::string& text, const std::string& source)
     for (std::size_t k = 0; k < j["islands"].size(); ++k)
       f.region.islands.push_back(json_loop(j["islands"][k], source, "islands[" + std::to_string(k) + "]"));
   }
-  const std::pair<const char*, std::optional<double>*> keys[] = {
-      {"tool_diameter", &f.tool_diameter}, {"stepover", &f.stepover},       {"depth", &f.depth},
-      {"safe_z", &f.safe_z},               {"step_down", &f.step_down},     {"stock_to_leave", &f.stock_to_leave},
-      {"feed_slot", &f.feed_slot},         {"feed_half", &f.feed_half},     {"feed_plunge", &f.feed_plunge},
-      {"spindle_rpm", &f.spindle_rpm}};
+  const std::pair<const char*, std::optional<double>*> keys[] = {{"tool_diameter", &f.tool_diameter},
+                                                                 {"stepover", &f.stepover},
+                                                                 {"depth", &f.depth},
+                                                                 {"safe_z", &f.safe_z},
+                                                                 {"step_down", &f.step_down},
+                                                                 {"stock_to_leave", &f.stock_to_leave},
+                                                                 {"feed_slot", &f.feed_slot},
+                                                                 {"feed_half", &f.feed_half},
+                                                                 {"feed_plunge", &f.feed_plunge},
+                                                                 {"spindle_rpm", &f.spindle_rpm}};
   for (const auto& [k, dst] : keys)
     if (j.contains(k)) *dst = json_number(j[k], source, k);
   finish(f, source);
@@ -407,11 +429,11 @@ PocketFile parse_pocket_dxf(const std::string& text, const std::string& source) 
   PocketFile f;
   const auto pairs = dxf_pairs(text, source);
   std::vector<Loop> loops = chain_loops(dxf_pieces(pairs, source), source, f.notes);
-  if (loops.empty()) throw file_error(source, "no closed outline (LWPOLYLINE, POLYLINE, LINE, ARC, CIRCLE) in ENTITIES");
+  if (loops.empty())
+    throw file_error(source, "no closed outline (LWPOLYLINE, POLYLINE, LINE, ARC, CIRCLE) in ENTITIES");
   // Nesting by containment: the loop with the largest area encloses the rest. O(loops²).
-  std::sort(loops.begin(), loops.end(), [](const Loop& a, const Loop& b) {
-    return std::abs(signed_area(a)) > std::abs(signed_area(b));
-  });
+  std::sort(loops.begin(), loops.end(),
+            [](const Loop& a, const Loop& b) { return std::abs(signed_area(a)) > std::abs(signed_area(b)); });
   f.region.boundary = loops.front();
   for (std::size_t k = 1; k < loops.size(); ++k) {
     // Outside only when no vertex is inside: a loop partly inside crosses the boundary, which the

@@ -34,7 +34,8 @@ std::optional<Fit> fit(const std::vector<Vertex>& pts, std::size_t i, std::size_
   const double scale = ab.squaredNorm() + ac.squaredNorm();
   if (!(std::abs(d) > 1e-12 * scale)) return std::nullopt;  // collinear (or degenerate)
   const Vec2 c = a + Vec2(ac.y() * ab.squaredNorm() - ab.y() * ac.squaredNorm(),
-                          ab.x() * ac.squaredNorm() - ac.x() * ab.squaredNorm()) / d;
+                          ab.x() * ac.squaredNorm() - ac.x() * ab.squaredNorm()) /
+                         d;
   const double r = (a - c).norm();
   if (!(r <= kMaxArcRadiusMm)) return std::nullopt;
   const double dir = d > 0 ? 1.0 : -1.0;  // CCW when > 0

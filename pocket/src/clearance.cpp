@@ -16,9 +16,9 @@ struct Clearance::Impl {
   double clearance = 0;
   std::vector<Segment> walls;
   Vec2 lo{0, 0};
-  double h = 1;        ///< cell size, mm
-  int nx = 1, ny = 1;  ///< cells
-  std::vector<std::vector<int>> cells;  ///< wall indices per cell (row-major, rows = y)
+  double h = 1;                          ///< cell size, mm
+  int nx = 1, ny = 1;                    ///< cells
+  std::vector<std::vector<int>> cells;   ///< wall indices per cell (row-major, rows = y)
   std::vector<signed char> cell_inside;  ///< for cells no wall touches: 1 inside region, 0 outside; −1 mixed
 
   [[nodiscard]] int cx(double x) const { return std::clamp(static_cast<int>(std::floor((x - lo.x()) / h)), 0, nx - 1); }

@@ -13,7 +13,7 @@
 namespace millnet::pocket {
 
 namespace {
-constexpr double kStraightRad = 1e-9;   ///< a turn this small is straight on
+constexpr double kStraightRad = 1e-9;  ///< a turn this small is straight on
 constexpr double kReversalRad = std::numbers::pi - 1e-6;
 constexpr int kHalvings = 4;
 

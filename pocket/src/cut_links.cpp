@@ -61,7 +61,8 @@ struct CutLinker::Impl {
   Impl(const Region& region, const CutParams& cut, double max_new, double cell)
       : R(cut.tool_diameter / 2),
         max_new_mm2(max_new),
-        g(raster::grid_of(region, cell > 0 ? cell : cut.tool_diameter / 40, cut.tool_diameter, "links through cut material")),
+        g(raster::grid_of(region, cell > 0 ? cell : cut.tool_diameter / 40, cut.tool_diameter,
+                          "links through cut material")),
         st(raster::material(region, g)),
         walls(region, cut.clearance() - kEndSlackMm),
         lattice_walls(region, cut.clearance() + kLatticeMarginMm) {
@@ -83,16 +84,16 @@ struct CutLinker::Impl {
   double R;
   double max_new_mm2;
   raster::Grid g;
-  std::vector<std::uint8_t> st;  ///< 0 no material, 1 uncut, 2 cut
+  std::vector<std::uint8_t> st;    ///< 0 no material, 1 uncut, 2 cut
   std::vector<std::uint8_t> band;  ///< within clearance + R (+ a cell) of a wall: the contour pass's sweep
   std::vector<PolyArea> inner;     ///< the material the contour pass leaves (region offset by clearance + R)
   double reach_b = 0;              ///< a target's approach includes the wall band this near it
   Clearance walls, lattice_walls;
   int lnx = 0, lny = 0;
-  mutable std::vector<signed char> lat_wall;  ///< lattice position keeps the walls' clearance (cached)
-  std::vector<std::vector<Vec2>> swept;  ///< every polyline marked, for the exact check
-  std::vector<Vec2> path_pos;             ///< retrace nodes along the swept polylines
-  std::vector<std::uint8_t> path_joined;  ///< node i is joined to node i − 1 (the same polyline)
+  mutable std::vector<signed char> lat_wall;      ///< lattice position keeps the walls' clearance (cached)
+  std::vector<std::vector<Vec2>> swept;           ///< every polyline marked, for the exact check
+  std::vector<Vec2> path_pos;                     ///< retrace nodes along the swept polylines
+  std::vector<std::uint8_t> path_joined;          ///< node i is joined to node i − 1 (the same polyline)
   std::vector<std::vector<std::size_t>> buckets;  ///< retrace nodes per lattice cell
 
   /// Calls f(index) for the cells whose centre lies within r of segment [a, b]: per row, the
@@ -319,7 +320,9 @@ struct CutLinker::Impl {
     struct Cand {
       double cost;
       std::size_t t, goal;
-      bool operator>(const Cand& o) const { return cost != o.cost ? cost > o.cost : (t != o.t ? t > o.t : goal > o.goal); }
+      bool operator>(const Cand& o) const {
+        return cost != o.cost ? cost > o.cost : (t != o.t ? t > o.t : goal > o.goal);
+      }
     };
     std::priority_queue<Cand, std::vector<Cand>, std::greater<>> cands;
     for (std::size_t i = 0; i < targets.size(); ++i) {
@@ -362,8 +365,8 @@ struct CutLinker::Impl {
 
   /// Each straight move as long as allowed (the allowance near the target b), looking from the far
   /// end first. O(way² · samples) at worst; ways are a few dozen lattice steps.
-  std::vector<Vec2> taut(const std::vector<Vec2>& way, const Query& q, const Vec2& b, const std::vector<std::uint32_t>& stamp,
-                         std::uint32_t gen) const {
+  std::vector<Vec2> taut(const std::vector<Vec2>& way, const Query& q, const Vec2& b,
+                         const std::vector<std::uint32_t>& stamp, std::uint32_t gen) const {
     std::vector<Vec2> out{way.front()};
     std::size_t k = 0;
     while (k + 1 < way.size()) {
@@ -413,7 +416,8 @@ struct CutLinker::Impl {
     std::vector<PolyArea> allowed = swept_area(local, R, tol::arc_chord_mm);
     std::vector<std::vector<Vec2>> ends{{way.front()}, t.approach.empty() ? std::vector<Vec2>{t.b} : t.approach};
     for (PolyArea& p : swept_area(ends, R, tol::arc_chord_mm)) allowed.push_back(std::move(p));
-    for (PolyArea& p : difference(swept_area({{t.b}}, reach_b, tol::arc_chord_mm), inner)) allowed.push_back(std::move(p));
+    for (PolyArea& p : difference(swept_area({{t.b}}, reach_b, tol::arc_chord_mm), inner))
+      allowed.push_back(std::move(p));
     double len = 0;
     for (std::size_t k = 0; k + 1 < way.size(); ++k) len += (way[k + 1] - way[k]).norm();
     return area(difference(swept_area({way}, R, tol::arc_chord_mm), allowed)) <= max_new_mm2 + kSliverDepthMm * len;

@@ -41,8 +41,8 @@ struct FeedMap {
   std::vector<float> sd;           ///< signed distance to the cut outline (material cells; < 0 inside)
 
   struct Marked {
-    int fresh = 0;        ///< cells whose centre was newly covered
-    double swept = 0;     ///< cells' worth of area newly covered (the shares)
+    int fresh = 0;     ///< cells whose centre was newly covered
+    double swept = 0;  ///< cells' worth of area newly covered (the shares)
   };
 
   /// Marks the disk of radius r about p. O((2r/g + 3)²).

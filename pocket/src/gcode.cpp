@@ -115,8 +115,8 @@ Vec2 helix_start(const Vec2& p, const Vec2& c, double rh, double z_from, double 
   return {c.x() + rh * std::cos(a), c.y() + rh * std::sin(a)};
 }
 
-void helix(Builder& b, const Vec2& s, const Vec2& p, const Vec2& c, double rh, double z_from, double z_to,
-           double feed, double angle_deg, double flat_feed, double air_feed) {
+void helix(Builder& b, const Vec2& s, const Vec2& p, const Vec2& c, double rh, double z_from, double z_to, double feed,
+           double angle_deg, double flat_feed, double air_feed) {
   // Counter-clockwise (G3) turns descending at exactly the entry angle at the entry feed, from s:
   // half turns, then the part of one that is left (the helix ends where its slope has taken it down,
   // not at the next half turn: until 2026-11-25 the descent was spread over whole half turns, up
@@ -153,7 +153,8 @@ std::string fmt(double v, int decimals) { return gcode::format_number(v, decimal
 void check_params(const GcodeParams& gp) {
   const CutParams& c = gp.cut;
   auto positive = [](double v, const char* name) {
-    if (!(v > 0) || !std::isfinite(v)) throw Error(std::string("gcode: ") + name + " must be > 0, got " + std::to_string(v));
+    if (!(v > 0) || !std::isfinite(v))
+      throw Error(std::string("gcode: ") + name + " must be > 0, got " + std::to_string(v));
   };
   positive(c.tool_diameter, "tool_diameter");
   positive(c.safe_z, "safe_z");
@@ -174,12 +175,14 @@ std::optional<std::pair<Vec2, double>> entry_helix(const Clearance& clear, const
 
 std::int64_t level_count(double depth, double step_down) {
   if (!(depth > 0) || !std::isfinite(depth)) throw Error("depth must be > 0, got " + format_double(depth));
-  if (!(step_down > 0) || !std::isfinite(step_down)) throw Error("step_down must be > 0, got " + format_double(step_down));
+  if (!(step_down > 0) || !std::isfinite(step_down))
+    throw Error("step_down must be > 0, got " + format_double(step_down));
   const double n = std::ceil(depth / step_down - 1e-9);  // a double first: it may be far beyond any integer
   if (!(n <= static_cast<double>(kMaxLevels)))
     // Names the flag and the key that set it (issue 15; tests/corpus/cli/flag_step_down_1e-9.args).
-    throw Error("--step-down / /pocket/step_down: depth " + format_double(depth) + " mm at step-down " + format_double(step_down) + " mm makes " +
-                format_double(n) + " Z levels; at most " + std::to_string(kMaxLevels) + " (raise the step-down)");
+    throw Error("--step-down / /pocket/step_down: depth " + format_double(depth) + " mm at step-down " +
+                format_double(step_down) + " mm makes " + format_double(n) + " Z levels; at most " +
+                std::to_string(kMaxLevels) + " (raise the step-down)");
   return std::max<std::int64_t>(1, static_cast<std::int64_t>(n));
 }
 
@@ -208,8 +211,10 @@ std::vector<Step> build_steps(const std::vector<LevelPlan>& levels, const GcodeP
     for (const LevelPlan& L : levels)
       for (const Vec2& p : L.predrill) {
         auto it = std::find_if(holes.begin(), holes.end(), [&](const auto& h) { return (h.first - p).norm() < 1e-6; });
-        if (it == holes.end()) holes.emplace_back(p, L.z);
-        else it->second = std::min(it->second, L.z);
+        if (it == holes.end())
+          holes.emplace_back(p, L.z);
+        else
+          it->second = std::min(it->second, L.z);
       }
     for (std::size_t k = 0; k < holes.size(); ++k) {
       const auto& [p, z] = holes[k];
@@ -247,8 +252,8 @@ std::vector<Step> build_steps(const std::vector<LevelPlan>& levels, const GcodeP
       const Vec2 start = by_helix ? helix_start(p0, hx->first, hx->second, z_helix, L.z, gp.entry_angle_deg) : p0;
       b.go_above(start, L.top_z);
       if (first) {
-        b.moves.back().comment = "level " + std::to_string(li + 1) + " of " + std::to_string(levels.size()) +
-                                 ": Z " + fmt(L.z, gp.decimals);
+        b.moves.back().comment =
+            "level " + std::to_string(li + 1) + " of " + std::to_string(levels.size()) + ": Z " + fmt(L.z, gp.decimals);
         first = false;
       }
       // Entry.
@@ -299,7 +304,8 @@ std::vector<Step> build_steps(const std::vector<LevelPlan>& levels, const GcodeP
       if (!entered) {
         b.line(p0.x(), p0.y(), L.z, cut.feed_plunge);
         if (ch.predrill && gp.entry != Entry::Predrill)
-          b.moves.back().comment = "WARNING: no room for a " + std::string(to_string(gp.entry)) + " entry: plain plunge";
+          b.moves.back().comment =
+              "WARNING: no room for a " + std::string(to_string(gp.entry)) + " entry: plain plunge";
       }
       // Cut (after a helix, from the end of the chain's own turn round its bore: Chain::entry_turn).
       const std::size_t k0 = helixed ? std::min(ch.entry_turn, ch.pts.size() - 1) : 0;

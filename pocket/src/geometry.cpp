@@ -71,9 +71,10 @@ std::size_t BoxTree::build(std::size_t begin, std::size_t end) {
   const int axis = (b.hi.x() - b.lo.x()) >= (b.hi.y() - b.lo.y()) ? 0 : 1;
   const std::size_t mid = begin + (end - begin) / 2;
   const auto first = idx_.begin() + static_cast<std::ptrdiff_t>(begin);
-  std::nth_element(first, idx_.begin() + static_cast<std::ptrdiff_t>(mid), idx_.begin() + static_cast<std::ptrdiff_t>(end),
-                   [&](std::size_t u, std::size_t v) {
-                     const double cu = boxes_[u].lo(axis) + boxes_[u].hi(axis), cv = boxes_[v].lo(axis) + boxes_[v].hi(axis);
+  std::nth_element(first, idx_.begin() + static_cast<std::ptrdiff_t>(mid),
+                   idx_.begin() + static_cast<std::ptrdiff_t>(end), [&](std::size_t u, std::size_t v) {
+                     const double cu = boxes_[u].lo(axis) + boxes_[u].hi(axis),
+                                  cv = boxes_[v].lo(axis) + boxes_[v].hi(axis);
                      return cu < cv || (cu == cv && u < v);
                    });
   const std::size_t l = build(begin, mid);
@@ -224,7 +225,6 @@ double segment_distance(const Segment& s, const Segment& t) {
   return best;
 }
 
-
 bool strictly_inside_loop(const Loop& loop, const Vec2& p) {
   // Even-odd parity, exact for arcs and free of trigonometry: the loop's interior is the polygon
   // of its chords, toggled inside every circular segment (the region between an arc and its chord).
@@ -239,11 +239,11 @@ bool strictly_inside_loop(const Loop& loop, const Vec2& p) {
     const Vertex& va = loop[k];
     const Vertex& vb = loop[(k + 1) % n];
     const Vec2 a = va.p(), e = vb.p() - a;
-    double side = cross(e, p - a);           // > 0: p left of a→b
+    double side = cross(e, p - a);                          // > 0: p left of a→b
     if (side == 0.0) side = e.y() != 0.0 ? -e.y() : e.x();  // cross(e, (δ, ε))
-    if ((va.y > p.y()) != (vb.y > p.y())) {  // half-open in y = the ε shift
+    if ((va.y > p.y()) != (vb.y > p.y())) {                 // half-open in y = the ε shift
       const bool left = vb.y > va.y ? side > 0 : side < 0;
-      if (left) in = !in;                     // the ray to +x crosses the chord
+      if (left) in = !in;  // the ray to +x crosses the chord
     }
     if (va.bulge != 0.0) {
       const Segment s{a, vb.p(), va.bulge};
@@ -399,9 +399,7 @@ double area(const Region& region) {
 
 namespace {
 
-std::string where(const std::string& source, const std::string& loop_name) {
-  return source + ": " + loop_name;
-}
+std::string where(const std::string& source, const std::string& loop_name) { return source + ": " + loop_name; }
 
 std::string loop_name(std::size_t idx) {
   return idx == 0 ? std::string("boundary") : "island " + std::to_string(idx - 1);
@@ -429,8 +427,7 @@ void check_and_split(Loop& loop, const std::string& source, const std::string& n
       throw Error(where(source, name) + ": vertex " + std::to_string(k) + ": bulge is not finite");
     const Vertex& w = loop[(k + 1) % loop.size()];
     if ((w.p() - v.p()).norm() <= tol::join_mm)
-      throw Error(where(source, name) + ": zero-length segment at vertex " + std::to_string(k) + " " +
-                  fmt_pt(v.p()));
+      throw Error(where(source, name) + ": zero-length segment at vertex " + std::to_string(k) + " " + fmt_pt(v.p()));
     if (std::abs(v.bulge) > 1.0) {
       // Split at the arc's midpoint: each half sweeps θ/2, bulge tan(θ/8).
       const Segment s{v.p(), w.p(), v.bulge};
@@ -479,8 +476,8 @@ void check_simple(const Loop& loop, const std::string& source, const std::string
         // Neighbours share a vertex; touching there is not a crossing.
         if (next && (q - segs[i].b).norm() <= tol::join_mm * 10) continue;
         if (wrap && (q - segs[i].a).norm() <= tol::join_mm * 10) continue;
-        throw Error(where(source, name) + ": self-intersection between segment " + std::to_string(i) +
-                    " and segment " + std::to_string(j) + " at " + fmt_pt(q));
+        throw Error(where(source, name) + ": self-intersection between segment " + std::to_string(i) + " and segment " +
+                    std::to_string(j) + " at " + fmt_pt(q));
       }
     }
   }

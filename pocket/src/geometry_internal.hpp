@@ -32,8 +32,8 @@ public:
 private:
   struct Node {
     BBox box;
-    std::size_t begin = 0, end = 0;  ///< range of idx_ (leaves)
-    std::size_t left = 0, right = 0; ///< children (0 = leaf: the root is never a child)
+    std::size_t begin = 0, end = 0;   ///< range of idx_ (leaves)
+    std::size_t left = 0, right = 0;  ///< children (0 = leaf: the root is never a child)
   };
   std::size_t build(std::size_t begin, std::size_t end);
   std::vector<BBox> boxes_;

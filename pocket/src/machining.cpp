@@ -78,7 +78,8 @@ GcodeParams gcode_params(const CutParams& cut, const MachiningOptions& opt) {
 void drop_points(std::vector<Vec2>& pts, const std::vector<Vec2>& gone) {
   pts.erase(std::remove_if(pts.begin(), pts.end(),
                            [&](const Vec2& p) {
-                             return std::any_of(gone.begin(), gone.end(), [&](const Vec2& g) { return (g - p).norm() < 1e-6; });
+                             return std::any_of(gone.begin(), gone.end(),
+                                                [&](const Vec2& g) { return (g - p).norm() < 1e-6; });
                            }),
             pts.end());
 }
@@ -218,8 +219,10 @@ std::size_t link_chains(const Region& region, const CutParams& cut, Path2D& path
     for (const Vec2& p : l->way)
       if ((prev.pts.back().p() - p).norm() > tol::join_mm) prev.pts.push_back({p.x(), p.y(), 0.0});
     for (const Vertex& v : next.pts) {
-      if ((prev.pts.back().p() - v.p()).norm() <= tol::join_mm) prev.pts.back().bulge = v.bulge;
-      else prev.pts.push_back(v);
+      if ((prev.pts.back().p() - v.p()).norm() <= tol::join_mm)
+        prev.pts.back().bulge = v.bulge;
+      else
+        prev.pts.push_back(v);
     }
     prev.feed.clear();
     linker.sweep(l->way);

@@ -10,15 +10,22 @@
 namespace millnet::pocket {
 
 std::vector<std::pair<std::string, double>> Metrics::to_key_values() const {
-  std::vector<std::pair<std::string, double>> kv = {
-      {"tool_points", tool_points},           {"tour_length_mm", tour_length_mm},
-      {"cut_length_mm", cut_length_mm},       {"rapid_length_mm", rapid_length_mm},
-      {"retractions", retractions},           {"plunges", plunges},
-      {"predrill_points", predrill_points},   {"planning_time_s", planning_time_s},
-      {"time_adjusted_min", time_adjusted_min}, {"time_constant_min", time_constant_min},
-      {"uncut_area_mm2", uncut_area_mm2},     {"reachable_area_mm2", reachable_area_mm2},
-      {"pocket_area_mm2", pocket_area_mm2},   {"levels", levels},
-      {"time_kinematic_min", time_kinematic_min}, {"max_engagement_deg", max_engagement_deg}};
+  std::vector<std::pair<std::string, double>> kv = {{"tool_points", tool_points},
+                                                    {"tour_length_mm", tour_length_mm},
+                                                    {"cut_length_mm", cut_length_mm},
+                                                    {"rapid_length_mm", rapid_length_mm},
+                                                    {"retractions", retractions},
+                                                    {"plunges", plunges},
+                                                    {"predrill_points", predrill_points},
+                                                    {"planning_time_s", planning_time_s},
+                                                    {"time_adjusted_min", time_adjusted_min},
+                                                    {"time_constant_min", time_constant_min},
+                                                    {"uncut_area_mm2", uncut_area_mm2},
+                                                    {"reachable_area_mm2", reachable_area_mm2},
+                                                    {"pocket_area_mm2", pocket_area_mm2},
+                                                    {"levels", levels},
+                                                    {"time_kinematic_min", time_kinematic_min},
+                                                    {"max_engagement_deg", max_engagement_deg}};
   const std::size_t fixed = kv.size();
   for (const auto& stat : key_values(planner_stats)) {  // O(stats · fields)
     const bool taken = std::any_of(kv.begin(), kv.begin() + static_cast<std::ptrdiff_t>(fixed),

@@ -18,7 +18,9 @@ using ClipperLib::cInt;
 constexpr double kScale = 1.0 / tol::clipper_resolution_mm;
 
 ClipperLib::Path to_path(const std::vector<Vec2>& pts) { return clipper_bridge::to_path(pts, kScale); }
-void collect(const ClipperLib::PolyNode& node, std::vector<PolyArea>& out) { clipper_bridge::collect(node, out, kScale); }
+void collect(const ClipperLib::PolyNode& node, std::vector<PolyArea>& out) {
+  clipper_bridge::collect(node, out, kScale);
+}
 
 ClipperLib::Paths to_paths(const std::vector<PolyArea>& areas) {
   ClipperLib::Paths ps;
@@ -142,7 +144,8 @@ std::vector<PolyArea> swept_area(const std::vector<std::vector<Vec2>>& polylines
     if (pl.empty()) continue;
     for (std::size_t a = 0;; a += kPiece) {
       const std::size_t b = std::min(a + kPiece, pl.size() - 1);
-      offset_piece(std::vector<Vec2>(pl.begin() + static_cast<std::ptrdiff_t>(a), pl.begin() + static_cast<std::ptrdiff_t>(b) + 1));
+      offset_piece(std::vector<Vec2>(pl.begin() + static_cast<std::ptrdiff_t>(a),
+                                     pl.begin() + static_cast<std::ptrdiff_t>(b) + 1));
       if (b + 1 >= pl.size()) break;
     }
   }

@@ -44,11 +44,21 @@ void loop_extrema(const std::vector<Vec2>& ring, int component, int loop, bool r
   for (std::size_t k = 1; k <= n; ++k) {  // k == n revisits i0 and closes the ring
     const double y = at(k).y();
     if (up) {
-      if (y > at(cand).y()) cand = k;
-      else if (at(cand).y() - y > tol) { ext.emplace_back(cand, true); up = false; cand = k; }
+      if (y > at(cand).y())
+        cand = k;
+      else if (at(cand).y() - y > tol) {
+        ext.emplace_back(cand, true);
+        up = false;
+        cand = k;
+      }
     } else {
-      if (y < at(cand).y()) cand = k;
-      else if (y - at(cand).y() > tol) { ext.emplace_back(cand, false); up = true; cand = k; }
+      if (y < at(cand).y())
+        cand = k;
+      else if (y - at(cand).y() > tol) {
+        ext.emplace_back(cand, false);
+        up = true;
+        cand = k;
+      }
     }
   }
   // Classify each extreme by the orientation of (before, span…, after): negative ⇒ reflex.
@@ -57,8 +67,14 @@ void loop_extrema(const std::vector<Vec2>& ring, int component, int loop, bool r
     auto near = [&](std::size_t k) { return std::abs(at(k).y() - yc) <= tol; };
     std::size_t lo = off + n, hi = off + n;  // work with offsets shifted by n to step back freely
     std::size_t steps = 0;
-    while (near(lo - 1) && steps < n) { --lo; ++steps; }
-    while (near(hi + 1) && steps < n) { ++hi; ++steps; }
+    while (near(lo - 1) && steps < n) {
+      --lo;
+      ++steps;
+    }
+    while (near(hi + 1) && steps < n) {
+      ++hi;
+      ++steps;
+    }
     if (steps >= n - 1) return;  // degenerate flat ring
     std::vector<Vec2> poly;
     poly.push_back(at(lo - 1));
@@ -108,8 +124,10 @@ double first_contact_left(const std::vector<Seg>& segs, double x0, double y) {
     const double y0 = std::min(s.a.y(), s.b.y()), y1 = std::max(s.a.y(), s.b.y());
     if (y < y0 || y > y1) continue;
     double x;
-    if (s.a.y() == s.b.y()) x = std::max(s.a.x(), s.b.x());
-    else x = s.a.x() + (y - s.a.y()) * (s.b.x() - s.a.x()) / (s.b.y() - s.a.y());
+    if (s.a.y() == s.b.y())
+      x = std::max(s.a.x(), s.b.x());
+    else
+      x = s.a.x() + (y - s.a.y()) * (s.b.x() - s.a.x()) / (s.b.y() - s.a.y());
     if (s.a.y() == s.b.y() && std::min(s.a.x(), s.b.x()) < x0 - kTiny) x = std::min(x, x0 - 2 * kTiny);
     if (x < x0 - kTiny) best = std::max(best, x);
   }
@@ -140,7 +158,9 @@ ClipperLib::Path to_path(const std::vector<Vec2>& pts, bool want_ccw) {
   return p;
 }
 
-void collect(const ClipperLib::PolyNode& node, std::vector<PolyArea>& out) { clipper_bridge::collect(node, out, kScale); }
+void collect(const ClipperLib::PolyNode& node, std::vector<PolyArea>& out) {
+  clipper_bridge::collect(node, out, kScale);
+}
 
 /// A rectangle of half-width tol::slit_half_mm around segment a→b, extended by `ext_a`/`ext_b`
 /// beyond its ends.
@@ -261,7 +281,10 @@ std::vector<std::vector<int>> island_groups(const std::vector<PolyArea>& areas) 
     std::vector<std::pair<double, double>> span(holes.size());
     for (std::size_t h = 0; h < holes.size(); ++h) {
       double lo = kInf, hi = -kInf;
-      for (const Vec2& v : holes[h]) { lo = std::min(lo, v.y()); hi = std::max(hi, v.y()); }
+      for (const Vec2& v : holes[h]) {
+        lo = std::min(lo, v.y());
+        hi = std::max(hi, v.y());
+      }
       span[h] = {lo, hi};
     }
     std::vector<std::size_t> order(holes.size());
@@ -333,7 +356,9 @@ Partition partition(const std::vector<PolyArea>& areas, PartitionKind kind) {
 
   if (kind == PartitionKind::I) {
     const auto groups = island_groups(areas);
-    auto group_of = [&](const Srp& s) { return s.loop == 0 ? -1 : groups[static_cast<std::size_t>(s.component)][static_cast<std::size_t>(s.loop - 1)]; };
+    auto group_of = [&](const Srp& s) {
+      return s.loop == 0 ? -1 : groups[static_cast<std::size_t>(s.component)][static_cast<std::size_t>(s.loop - 1)];
+    };
     // Seed §4.3: R-SRPs are taken from the low side of the pocket first ("left" in the seed's
     // frame), highest level first; level = position along the scan direction (+x is higher, the
     // side away from where T-cuts run).
@@ -351,10 +376,14 @@ Partition partition(const std::vector<PolyArea>& areas, PartitionKind kind) {
     std::size_t next_start = ns;       // an R-SRP on the island just joined, if any
     while (attempts < kMaxAttempts) {
       std::size_t start = ns;
-      if (next_start < ns && !paired[next_start]) start = next_start;
+      if (next_start < ns && !paired[next_start])
+        start = next_start;
       else
         for (std::size_t r : rs)
-          if (!paired[r]) { start = r; break; }
+          if (!paired[r]) {
+            start = r;
+            break;
+          }
       if (start == ns) break;
       const Srp& p = part.srps[start];
       bool joined = false;
@@ -363,7 +392,8 @@ Partition partition(const std::vector<PolyArea>& areas, PartitionKind kind) {
         const Srp& q = part.srps[l];
         if (q.component != p.component || q.p.y() <= p.p.y() + tol::srp_flat_mm) continue;
         if (p.loop != 0 && q.loop != 0 && group_of(p) == group_of(q)) continue;  // seed: same group never pairs
-        const auto segs = obstacles(areas[static_cast<std::size_t>(p.component)], icuts[static_cast<std::size_t>(p.component)]);
+        const auto segs =
+            obstacles(areas[static_cast<std::size_t>(p.component)], icuts[static_cast<std::size_t>(p.component)]);
         Cut cut;
         if (!i_cut(segs, p, q, cut)) continue;
         ++attempts;

@@ -124,14 +124,16 @@ public:
   /// The columns (or rows, o = lo_.y()) whose centres lie within w of coordinate v, unclamped:
   /// [first, last], empty when first > last.
   [[nodiscard]] std::pair<int, int> run(double v, double w, double o) const {
-    return {static_cast<int>(std::ceil((v - w - o) * inv_h_ - 0.5)), static_cast<int>(std::floor((v + w - o) * inv_h_ - 0.5))};
+    return {static_cast<int>(std::ceil((v - w - o) * inv_h_ - 0.5)),
+            static_cast<int>(std::floor((v + w - o) * inv_h_ - 0.5))};
   }
 
   /// Calls g(y, x0, x1) for every row of the cells whose centre lies within r of c, with the row's
   /// run of such cells (clamped to the raster, non-empty or not); rows where keep(y) is false are
   /// skipped before their run is computed.
   template <class G, class K = bool (*)(int)>
-  void rows(const Vec2& c, double r, G&& g, K&& keep = [](int) { return true; }) const {
+  void rows(
+      const Vec2& c, double r, G&& g, K&& keep = [](int) { return true; }) const {
     const auto [ya, yb] = run(c.y(), r, lo_.y());
     for (int y = std::max(0, ya); y <= std::min(ny_ - 1, yb); ++y) {
       if (!keep(y)) continue;
@@ -163,7 +165,8 @@ public:
   /// run, by the same rounding as disk): O(r·|c − p|/h² + r/h) instead of O((r/h)²).
   [[nodiscard]] int fresh_beyond(const Vec2& p, const Vec2& c, double r) const {
     int n = 0;
-    crescent(c, r, [&](int y) { return row_run(p, r, y); }, [&](int y, int x0, int x1) { n += uncut_in(y, x0, x1); });
+    crescent(
+        c, r, [&](int y) { return row_run(p, r, y); }, [&](int y, int x0, int x1) { n += uncut_in(y, x0, x1); });
     return n;
   }
 
@@ -185,9 +188,14 @@ public:
   /// Calls g(y, first, last) for the runs (possibly empty) of the cells within r of c (disk's
   /// rounding) outside the other disk, whose run on row y is other(y) (row_run's convention).
   template <class P, class G, class K = bool (*)(int)>
-  void crescent(const Vec2& c, double r, P&& other, G&& g, K&& keep = [](int) { return true; }) const {
+  void crescent(
+      const Vec2& c, double r, P&& other, G&& g, K&& keep = [](int) { return true; }) const {
     rows(
-        c, r, [&](int y, int x0, int x1) { minus({x0, x1}, other(y), [&](int a, int b) { g(y, a, b); }); }, keep);
+        c, r,
+        [&](int y, int x0, int x1) {
+          minus({x0, x1}, other(y), [&](int a, int b) { g(y, a, b); });
+        },
+        keep);
   }
 
   /// Calls g(first, last) for the (possibly empty) pieces of run a outside run b (empty runs:
@@ -246,7 +254,8 @@ public:
         // A cell of a disk of radius r about c, |c − p| ≤ pad, lies within r + pad of p; the extra
         // cell covers the rounding of both runs.
         auto [b0, b1] = row_run(p, r + pad + h_, y);
-        minus({std::max(0, b0), std::min(nx_ - 1, b1)}, out.disk.at(y), [&](int x0, int x1) { n += uncut_in(y, x0, x1); });
+        minus({std::max(0, b0), std::min(nx_ - 1, b1)}, out.disk.at(y),
+              [&](int x0, int x1) { n += uncut_in(y, x0, x1); });
       }
       out.live.push_back(n > 0 ? 1 : 0);
     }
@@ -295,7 +304,8 @@ public:
         }
     };
     if (r == marked_r_ && (c - marked_).squaredNorm() < r * r)
-      crescent(c, r, [&](int y) { return row_run(marked_, r, y); }, cut_run);
+      crescent(
+          c, r, [&](int y) { return row_run(marked_, r, y); }, cut_run);
     else
       rows(c, r, cut_run);
     marked_ = c;
@@ -499,8 +509,8 @@ private:
   Vec2 marked_{kInf, kInf};  ///< the last mark's centre and radius: its disk holds no uncut cell
   double marked_r_ = -1;
   std::vector<std::array<long long, 2>> tsum_;  ///< per block: sums of the uncut target cells' x and y indices
-  mutable DiskRuns sense_, scratch_;  ///< the kept sense disk; a scratch disk
-  mutable TargetSums sense_sums_;     ///< the uncut target cells of sense_
+  mutable DiskRuns sense_, scratch_;            ///< the kept sense disk; a scratch disk
+  mutable TargetSums sense_sums_;               ///< the uncut target cells of sense_
   mutable bool sense_valid_ = false;
 };
 
@@ -605,8 +615,10 @@ public:
         }
         way.clear();
         if (find_start(*pos, start, toward, way)) {
-          if (link_along(way)) pos = pass_from(start, toward);
-          else dead_[lattice_index(start)] = 1;
+          if (link_along(way))
+            pos = pass_from(start, toward);
+          else
+            dead_[lattice_index(start)] = 1;
           continue;
         }
         pos.reset();  // nothing linkable from here
@@ -903,7 +915,8 @@ private:
     using Item = std::pair<double, std::size_t>;
     std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
     const std::size_t c0 = lattice_index(from);
-    const int cx0 = static_cast<int>(c0 % static_cast<std::size_t>(lnx_)), cy0 = static_cast<int>(c0 / static_cast<std::size_t>(lnx_));
+    const int cx0 = static_cast<int>(c0 % static_cast<std::size_t>(lnx_)),
+              cy0 = static_cast<int>(c0 / static_cast<std::size_t>(lnx_));
     // Seeds: the lattice positions round the tool a straight link reaches, in growing rings.
     const int max_ring = static_cast<int>(std::ceil((R_ + 3) / kLatticeMm));
     for (int r = 1; r <= max_ring && open.empty(); ++r)
@@ -926,19 +939,22 @@ private:
       open.pop();
       if (d > dist[k]) continue;
       Vec2 near;
-      const bool found = goal ? (lattice_point(k) - *goal).norm() <= 2.5 * kLatticeMm && link_ok(lattice_point(k), *goal)
-                              : !dead_[k] && raster_.target_near(lattice_point(k), reach, &near) >= min_work_;
+      const bool found = goal
+                             ? (lattice_point(k) - *goal).norm() <= 2.5 * kLatticeMm && link_ok(lattice_point(k), *goal)
+                             : !dead_[k] && raster_.target_near(lattice_point(k), reach, &near) >= min_work_;
       if (found) {
         start = goal ? *goal : lattice_point(k);
         toward = goal ? *goal : near;
         std::vector<Vec2> rev;
         if (goal) rev.push_back(*goal);
-        for (long c = static_cast<long>(k); c >= 0; c = prev[static_cast<std::size_t>(c)]) rev.push_back(lattice_point(static_cast<std::size_t>(c)));
+        for (long c = static_cast<long>(k); c >= 0; c = prev[static_cast<std::size_t>(c)])
+          rev.push_back(lattice_point(static_cast<std::size_t>(c)));
         rev.push_back(from);
         way.assign(rev.rbegin(), rev.rend());
         return true;
       }
-      const int x0 = static_cast<int>(k % static_cast<std::size_t>(lnx_)), y0 = static_cast<int>(k / static_cast<std::size_t>(lnx_));
+      const int x0 = static_cast<int>(k % static_cast<std::size_t>(lnx_)),
+                y0 = static_cast<int>(k / static_cast<std::size_t>(lnx_));
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
           const int x = x0 + dx, y = y0 + dy;
@@ -1078,12 +1094,15 @@ private:
       double lo = -kRideAwayDeg * kPi / 180;
       if (!free(lo)) break;
       double hi = kPi / 2;
-      if (free(hi)) lo = hi;
+      if (free(hi))
+        lo = hi;
       else
         for (int it = 0; it < 7; ++it) {
           const double mid = 0.5 * (lo + hi);
-          if (free(mid)) lo = mid;
-          else hi = mid;
+          if (free(mid))
+            lo = mid;
+          else
+            hi = mid;
         }
       const Vec2 nd = dir(lo);
       if (hd.norm() > 0 && hd.dot(nd) < std::cos(kPi / 2)) break;  // it would turn back on itself
@@ -1214,8 +1233,10 @@ private:
         double lo = *chosen, hi = kPi / 2;
         for (int it = 0; it < 7; ++it) {
           const double mid = 0.5 * (lo + hi);
-          if (cost(p, at(dir(mid))) <= max_cells_) lo = mid;
-          else hi = mid;
+          if (cost(p, at(dir(mid))) <= max_cells_)
+            lo = mid;
+          else
+            hi = mid;
         }
         chosen = lo;
       }
@@ -1228,7 +1249,7 @@ private:
         // Smoothness: a turn toward the material of at most kMaxTurnDeg per step (a turn away from
         // it is what keeps the cut at the target and is kept).
         double turn = std::atan2(d.x() * nd.y() - d.y() * nd.x(), d.dot(nd));  // signed, in [−π, π]
-        if (std::abs(turn) > kPi - 1e-6) turn = -side * kPi;  // a reversal: round toward the material
+        if (std::abs(turn) > kPi - 1e-6) turn = -side * kPi;                   // a reversal: round toward the material
         const double lim = kMaxTurnDeg * kPi / 180;
         if (-side * turn > lim) {
           const Vec2 lim_dir = rot(d, -side * lim);
@@ -1250,7 +1271,7 @@ private:
       }
     }
     if (c.pts.size() > last_productive) blocked = false;  // it ended idle, not at a wall
-    c.pts.resize(std::max(last_productive, base));  // drop the idle tail
+    c.pts.resize(std::max(last_productive, base));        // drop the idle tail
     last_blocked_ = blocked;
     last_dir_ = d;
     ++stats_.passes;
@@ -1265,7 +1286,8 @@ private:
     std::optional<std::size_t> pick;
     for (std::size_t k = 0; k < entries_.size(); ++k) {
       if (entries_[k].entered) continue;
-      if (!pick) pick = k;
+      if (!pick)
+        pick = k;
       else if (!chains_.empty() && (entries_[k].p - current_end()).norm() < (entries_[*pick].p - current_end()).norm())
         pick = k;
     }
@@ -1324,19 +1346,19 @@ private:
   CutParams cut_;
   double R_;
   bool climb_;
-  bool both_;         ///< AdaptiveParams::both_ways
-  bool pass_climb_;   ///< the current pass's side (climb_ but for the return stripes of both ways)
+  bool both_;                  ///< AdaptiveParams::both_ways
+  bool pass_climb_;            ///< the current pass's side (climb_ but for the return stripes of both ways)
   bool last_blocked_ = false;  ///< the last pass ended at a wall with material ahead
   Vec2 last_dir_{1, 0};        ///< its last heading
   double step_;
   Raster raster_;
-  Clearance walls_;       ///< cutting moves: the contour pass's clearance
-  Clearance exact_;       ///< links and simplified chords: the tool's clearance
-  Clearance link_walls_;  ///< lattice positions
-  double max_cells_ = 0;  ///< fresh cells allowed per step
-  int min_work_ = 4;      ///< uncut cells worth a pass (kMinWorkCellsD40)
+  Clearance walls_;         ///< cutting moves: the contour pass's clearance
+  Clearance exact_;         ///< links and simplified chords: the tool's clearance
+  Clearance link_walls_;    ///< lattice positions
+  double max_cells_ = 0;    ///< fresh cells allowed per step
+  int min_work_ = 4;        ///< uncut cells worth a pass (kMinWorkCellsD40)
   double target_deg_ = 90;  ///< the engagement target, degrees
-  double last_cells_ = 0;  ///< cells the last pass cut
+  double last_cells_ = 0;   ///< cells the last pass cut
   Vec2 last_heading_{1, 0};
   std::vector<Entry_> entries_;
   Vec2 lat_lo_;

@@ -52,7 +52,8 @@ std::vector<Node> offset_tree(const Region& region, const CutParams& cut, std::s
   for (std::size_t k = 0;; ++k) {
     std::vector<std::pair<std::optional<std::size_t>, PolyArea>> comps;  // (parent, area)
     if (k == 0) {
-      for (PolyArea& a : offset_inward(region, d0, tol::contour_chord_mm)) comps.emplace_back(std::nullopt, std::move(a));
+      for (PolyArea& a : offset_inward(region, d0, tol::contour_chord_mm))
+        comps.emplace_back(std::nullopt, std::move(a));
     } else {
       for (std::size_t q : previous)  // O(the parent's vertices) each
         for (const PolyArea& a : offset_areas({nodes[q].area}, -cut.stepover, tol::arc_chord_mm))
@@ -189,9 +190,8 @@ private:
       const std::size_t j = nearest(ring, last_[i]);
       cands.push_back({walk[i] + (ring[j] - last_[i]).norm(), i, j});
     }
-    std::sort(cands.begin(), cands.end(), [](const Cand& a, const Cand& b) {
-      return a.cost < b.cost || (a.cost == b.cost && a.i < b.i);
-    });
+    std::sort(cands.begin(), cands.end(),
+              [](const Cand& a, const Cand& b) { return a.cost < b.cost || (a.cost == b.cost && a.i < b.i); });
     for (const Cand& k : cands) {  // usually the first few
       if (!clear_.move_ok(last_[k.i], ring[k.j])) continue;
       Chain& c = path_.chains.back();
@@ -236,7 +236,9 @@ private:
       if (cx < 0 || cy < 0 || cx >= nx_ || cy >= ny_) return -1;
       return cy * nx_ + cx;
     };
-    auto centre = [&](long c) { return Vec2(lo_.x() + static_cast<double>(c % nx_) * h_, lo_.y() + static_cast<double>(c / nx_) * h_); };
+    auto centre = [&](long c) {
+      return Vec2(lo_.x() + static_cast<double>(c % nx_) * h_, lo_.y() + static_cast<double>(c / nx_) * h_);
+    };
     // Enter and leave the grid at the nearest free cell the straight move reaches.
     auto attach = [&](const Vec2& p) -> long {
       const long c0 = cell_of(p);
@@ -304,8 +306,8 @@ private:
     ny_ = static_cast<long>(std::ceil(ext.y() / h_)) + 1;
     free_.assign(static_cast<std::size_t>(nx_ * ny_), 0);
     for (long c = 0; c < nx_ * ny_; ++c)
-      free_[static_cast<std::size_t>(c)] =
-          clear_.point_ok(Vec2(lo_.x() + static_cast<double>(c % nx_) * h_, lo_.y() + static_cast<double>(c / nx_) * h_));
+      free_[static_cast<std::size_t>(c)] = clear_.point_ok(
+          Vec2(lo_.x() + static_cast<double>(c % nx_) * h_, lo_.y() + static_cast<double>(c / nx_) * h_));
   }
 
   /// Within R/2 of a vertex already cut (the contour pass's rule: no pre-drill needed there).
@@ -320,7 +322,7 @@ private:
   double R_;
   bool climb_;
   Path2D path_;
-  std::vector<Vec2> last_;    ///< the ring just cut, from its start vertex
+  std::vector<Vec2> last_;  ///< the ring just cut, from its start vertex
   std::size_t rings_ = 0, links_ = 0, retractions_ = 0, grid_links_ = 0;
   Vec2 box_lo_, box_hi_, lo_;
   double h_ = 0;
@@ -350,9 +352,8 @@ void add_rings(PathBuilder& b, const Node& n) {
 /// The outer ring of the first deepest leaf below node i (where its subtree is entered).
 const std::vector<Vec2>& deepest_leaf_ring(const std::vector<Node>& nodes, std::size_t i) {
   while (!nodes[i].children.empty())
-    i = *std::max_element(nodes[i].children.begin(), nodes[i].children.end(), [&](std::size_t x, std::size_t y) {
-      return nodes[x].depth_below < nodes[y].depth_below;
-    });
+    i = *std::max_element(nodes[i].children.begin(), nodes[i].children.end(),
+                          [&](std::size_t x, std::size_t y) { return nodes[x].depth_below < nodes[y].depth_below; });
   return nodes[i].area.outer;
 }
 

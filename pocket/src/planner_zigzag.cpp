@@ -170,7 +170,8 @@ std::vector<std::vector<Vec2>> link_regions(const std::vector<std::vector<std::v
 }  // namespace
 
 std::vector<double> candidate_angles(const Region& region, double step_deg) {
-  if (!(step_deg > 0) || !std::isfinite(step_deg)) throw Error("zigzag: angle_step_deg must be > 0, got " + std::to_string(step_deg));
+  if (!(step_deg > 0) || !std::isfinite(step_deg))
+    throw Error("zigzag: angle_step_deg must be > 0, got " + std::to_string(step_deg));
   std::vector<double> a;
   for (double t = 0; t < 180.0 - 1e-9; t += step_deg) a.push_back(t);
   auto add_loop = [&](const Loop& loop) {
@@ -228,7 +229,10 @@ PlanResult plan_zigzag(const Region& region, const CutParams& cut, const ZigzagP
     const double lc = c.cut_len + c.rapid_len + pen * static_cast<double>(c.passes);
     const double lb = best.cut_len + best.rapid_len + pen * static_cast<double>(best.passes);
     const bool better = !have || c.regions < best.regions || (c.regions == best.regions && lc < lb - 1e-9);
-    if (better) { best = std::move(c); have = true; }
+    if (better) {
+      best = std::move(c);
+      have = true;
+    }
   }
 
   auto to_world = [&](const std::vector<Vec2>& ch) {

@@ -43,7 +43,8 @@ std::vector<std::vector<int>> nearest_lists(const std::vector<Vec2>& pts, int k)
         for (int x = x0 - r; x <= x0 + r; x += step) {
           if (x < 0 || x >= nx) continue;
           for (int j : cells[static_cast<std::size_t>(y * nx + x)])
-            if (static_cast<std::size_t>(j) != i) cand.emplace_back((pts[static_cast<std::size_t>(j)] - pts[i]).squaredNorm(), j);
+            if (static_cast<std::size_t>(j) != i)
+              cand.emplace_back((pts[static_cast<std::size_t>(j)] - pts[i]).squaredNorm(), j);
         }
       }
       // points beyond ring r are at least r·s away
@@ -65,8 +66,12 @@ std::vector<std::vector<int>> nearest_lists(const std::vector<Vec2>& pts, int k)
 class RingOpt {
 public:
   RingOpt(std::vector<int> ring, MoveCosts& costs, std::vector<std::vector<int>> cand)
-      : n_(static_cast<int>(ring.size()) - 1), m_(static_cast<int>(ring.size())), tour_(std::move(ring)),
-        pos_(tour_.size()), costs_(costs), cand_(std::move(cand)) {
+      : n_(static_cast<int>(ring.size()) - 1),
+        m_(static_cast<int>(ring.size())),
+        tour_(std::move(ring)),
+        pos_(tour_.size()),
+        costs_(costs),
+        cand_(std::move(cand)) {
     for (int k = 0; k < m_; ++k) pos_[static_cast<std::size_t>(tour_[static_cast<std::size_t>(k)])] = k;
     cand_.resize(static_cast<std::size_t>(m_));  // the dummy node has no candidates of its own
   }
@@ -159,7 +164,10 @@ private:
       for (int side = 0; side < 2; ++side) {
         int s1 = a, sk = a;
         for (int t = 1; t < k; ++t) {
-          if (side == 0) sk = succ(sk); else s1 = pred(s1);
+          if (side == 0)
+            sk = succ(sk);
+          else
+            s1 = pred(s1);
         }
         const int A = pred(s1), B = succ(sk);
         auto in_seg = [&](int x) {
@@ -181,8 +189,8 @@ private:
               const double drev = base + cost(c, sk) + cost(s1, d);
               const double dfwd = base + cost(c, s1) + cost(sk, d);
               if (std::min(drev, dfwd) < -eps) {
-                move2(A, s1, c, d);   // A c … B sk … s1 d
-                move2(A, c, B, sk);   // A B … c sk … s1 d
+                move2(A, s1, c, d);                    // A c … B sk … s1 d
+                move2(A, c, B, sk);                    // A B … c sk … s1 d
                 if (dfwd < drev) move2(c, sk, s1, d);  // c s1 … sk d
                 touched.insert(touched.end(), {A, B, c, d, s1, sk});
                 return true;

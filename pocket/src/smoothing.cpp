@@ -41,8 +41,10 @@ int rewrite_parallel(const ToolPoints& tp, std::vector<int>& path, std::size_t i
     return (u[0] == v[0] && u[1] == v[1]) || (u[0] == -v[0] && u[1] == -v[1]);
   };
   int type = 0;
-  if (is_diag(d0) && is_unit(d1) && is_diag(d2) && is_unit(d3) && parallel(d0, d2)) type = 1;
-  else if (is_unit(d0) && is_diag(d1) && is_unit(d2) && is_diag(d3) && parallel(d1, d3)) type = 2;
+  if (is_diag(d0) && is_unit(d1) && is_diag(d2) && is_unit(d3) && parallel(d0, d2))
+    type = 1;
+  else if (is_unit(d0) && is_diag(d1) && is_unit(d2) && is_diag(d3) && parallel(d1, d3))
+    type = 2;
   if (type == 0) return 0;
   // The interior three points in the (unique, when it exists) order that makes four unit steps.
   static constexpr int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
@@ -67,8 +69,8 @@ Key diag_key(const ToolPoints& tp, int a, int b, bool other) {
   const int i0 = std::min(pa[0], pb[0]), j0 = std::min(pa[1], pb[1]);
   const bool slash = (pb[0] - pa[0]) == (pb[1] - pa[1]);  // "/" joins (i0,j0)-(i0+1,j0+1)
   const bool o = other ? !slash : slash;
-  return (static_cast<Key>(static_cast<std::uint32_t>(i0)) << 33) ^ (static_cast<Key>(static_cast<std::uint32_t>(j0)) << 1) ^
-         (o ? 1U : 0U);
+  return (static_cast<Key>(static_cast<std::uint32_t>(i0)) << 33) ^
+         (static_cast<Key>(static_cast<std::uint32_t>(j0)) << 1) ^ (o ? 1U : 0U);
 }
 
 // --- smooth_tour, step by step ---------------------------------------------------------------------
@@ -81,8 +83,10 @@ void check_tour(const ToolPoints& tp, const std::vector<int>& ring, const Smooth
     bool perm = ring.size() == n;
     for (int i : ring) {
       if (!perm) break;
-      if (i < 0 || static_cast<std::size_t>(i) >= n || seen[static_cast<std::size_t>(i)]) perm = false;
-      else seen[static_cast<std::size_t>(i)] = 1;
+      if (i < 0 || static_cast<std::size_t>(i) >= n || seen[static_cast<std::size_t>(i)])
+        perm = false;
+      else
+        seen[static_cast<std::size_t>(i)] = 1;
     }
     if (!perm) throw Error("smooth_tour: the tour is not a permutation of the " + std::to_string(n) + " tool points");
   }
@@ -141,7 +145,6 @@ ExtraPasses extra_passes(const ToolPoints& tp, std::vector<int>& path, const Mov
   ex.saved_mm = before - polyline_length(tp, path);
   return ex;
 }
-
 
 /// Strong smoothing: overcutting moves become links or retractions (a new chain). O(N + link lengths).
 std::vector<std::vector<int>> strong_smoothing(const std::vector<int>& path, MoveCosts& costs, SmoothingStats& st) {
@@ -247,7 +250,8 @@ WeakStats weak_smoothing(const ToolPoints& tp, std::vector<int>& path, const Mov
       if (!move_ok(tp.pts[static_cast<std::size_t>(a)], tp.pts[static_cast<std::size_t>(c)]) ||
           !move_ok(tp.pts[static_cast<std::size_t>(b)], tp.pts[static_cast<std::size_t>(d)]))
         continue;
-      std::reverse(path.begin() + static_cast<std::ptrdiff_t>(i + 1), path.begin() + static_cast<std::ptrdiff_t>(best + 1));
+      std::reverse(path.begin() + static_cast<std::ptrdiff_t>(i + 1),
+                   path.begin() + static_cast<std::ptrdiff_t>(best + 1));
       for (std::size_t k = i + 1; k < best; ++k) add(k);  // diagonals inside the reversed part moved
       ++st.type3;
       st.saved_mm += save;

@@ -216,8 +216,8 @@ SomResult som_tour(const std::vector<Vec2>& cities, const SomParams& params) {
   if (!std::isfinite((hi - lo).squaredNorm()))
     throw Error("som parameters: 'w' = " + std::to_string(params.w) +
                 " scales the tool points beyond the range of squared distances (lower w)");
-  const std::size_t m = std::max<std::size_t>(
-      3, static_cast<std::size_t>(std::llround(params.node_factor * static_cast<double>(n))));
+  const std::size_t m =
+      std::max<std::size_t>(3, static_cast<std::size_t>(std::llround(params.node_factor * static_cast<double>(n))));
   res.nodes = m;
   const double md = static_cast<double>(m);
   double tol = params.tolerance_mm;
@@ -268,8 +268,7 @@ SomResult som_tour(const std::vector<Vec2>& cities, const SomParams& params) {
   constexpr int kSettlePasses = 20;
   int settled = 0;
   for (int pass = 0; pass < params.max_passes; ++pass) {
-    const auto width = static_cast<std::ptrdiff_t>(
-        std::min(std::floor(G * reach), std::floor((md - 1) / 2)));
+    const auto width = static_cast<std::ptrdiff_t>(std::min(std::floor(G * reach), std::floor((md - 1) / 2)));
     f.assign(static_cast<std::size_t>(width) + 1, 0.0);
     for (std::ptrdiff_t k = 0; k <= width; ++k) {  // O(width)
       const double kd = static_cast<double>(k);

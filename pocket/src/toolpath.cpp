@@ -11,7 +11,8 @@ namespace millnet::pocket {
 namespace {
 double chain_length(const Chain& c) {
   double l = 0;
-  for (std::size_t k = 0; k + 1 < c.pts.size(); ++k) l += length(Segment{c.pts[k].p(), c.pts[k + 1].p(), c.pts[k].bulge});
+  for (std::size_t k = 0; k + 1 < c.pts.size(); ++k)
+    l += length(Segment{c.pts[k].p(), c.pts[k + 1].p(), c.pts[k].bulge});
   return l;
 }
 }  // namespace

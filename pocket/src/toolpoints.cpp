@@ -20,7 +20,8 @@ Vec2 GridFrame::at(int i, int j) const {
 
 GridRange grid_range(const Region& region, const GridFrame& frame) {
   if (!(frame.spacing > 0) || !std::isfinite(frame.spacing))
-    throw Error("--stepover / /pocket/stepover: the tool-point grid spacing must be > 0, got " + format_double(frame.spacing));
+    throw Error("--stepover / /pocket/stepover: the tool-point grid spacing must be > 0, got " +
+                format_double(frame.spacing));
   GridRange r;
   if (region.boundary.empty()) return r;
   // Index range: the boundary's box expressed in grid coordinates (inverse rotation).
@@ -32,8 +33,10 @@ GridRange grid_range(const Region& region, const GridFrame& frame) {
     for (const Vec2& q : {b.lo, b.hi, Vec2(b.lo.x(), b.hi.y()), Vec2(b.hi.x(), b.lo.y())}) {
       const Vec2 d = q - frame.origin;
       const double u = c * d.x() + s * d.y(), v = -s * d.x() + c * d.y();
-      umin = std::min(umin, u); umax = std::max(umax, u);
-      vmin = std::min(vmin, v); vmax = std::max(vmax, v);
+      umin = std::min(umin, u);
+      umax = std::max(umax, u);
+      vmin = std::min(vmin, v);
+      vmax = std::max(vmax, v);
     }
   }
   r.j0 = std::floor(umin / frame.spacing);

@@ -65,8 +65,8 @@ public:
 
   struct Entry {
     double cost;
-    bool ok;            ///< straight move is move_ok
-    bool linked;        ///< a link replaces it
+    bool ok;      ///< straight move is move_ok
+    bool linked;  ///< a link replaces it
   };
 
   const Entry& get(int a, int b);

@@ -64,7 +64,10 @@ std::vector<double> pass_heights(const std::vector<PolyArea>& areas, const std::
 FaceZigzag::FaceZigzag(const PolyArea& face, const std::vector<double>& ys) : ring_(face.outer) {
   const std::size_t n = ring_.size();
   double lo = kInf, hi = -kInf;
-  for (const Vec2& v : ring_) { lo = std::min(lo, v.y()); hi = std::max(hi, v.y()); }
+  for (const Vec2& v : ring_) {
+    lo = std::min(lo, v.y());
+    hi = std::max(hi, v.y());
+  }
   auto scan = [&](double y) {
     // Crossings of the outer ring by the closed-open rule, O(n). Holes (none in a monotone face)
     // only make the face non-monotone; their passes are split off below.
@@ -150,7 +153,8 @@ std::vector<std::vector<Vec2>> FaceZigzag::extra_chains() const {
 
 namespace {
 /// Optimal corners for a fixed order by DP: O(n · 16). Returns rapid + item length.
-double best_corners(const std::vector<OrderItem>& items, const std::vector<std::size_t>& order, std::vector<int>* corner) {
+double best_corners(const std::vector<OrderItem>& items, const std::vector<std::size_t>& order,
+                    std::vector<int>* corner) {
   const std::size_t n = order.size();
   if (n == 0) return 0;
   std::vector<std::array<double, 4>> cost(n);
@@ -160,9 +164,11 @@ double best_corners(const std::vector<OrderItem>& items, const std::vector<std::
     for (int c = 0; c < 4; ++c) {
       cost[i][static_cast<std::size_t>(c)] = kInf;
       for (int d = 0; d < 4; ++d) {
-        const double v = cost[i - 1][static_cast<std::size_t>(d)] +
-                         (items[order[i - 1]].exit[static_cast<std::size_t>(d)] - items[order[i]].entry[static_cast<std::size_t>(c)]).norm() +
-                         items[order[i]].length[static_cast<std::size_t>(c)];
+        const double v =
+            cost[i - 1][static_cast<std::size_t>(d)] +
+            (items[order[i - 1]].exit[static_cast<std::size_t>(d)] - items[order[i]].entry[static_cast<std::size_t>(c)])
+                .norm() +
+            items[order[i]].length[static_cast<std::size_t>(c)];
         if (v < cost[i][static_cast<std::size_t>(c)]) {
           cost[i][static_cast<std::size_t>(c)] = v;
           from[i][static_cast<std::size_t>(c)] = d;
@@ -201,7 +207,10 @@ Ordering order_items(const std::vector<OrderItem>& items) {
       for (std::size_t a = 0; a < 4; ++a)
         for (std::size_t b = 0; b < 4; ++b) {
           const double d = (last.exit[a] - items[j].entry[b]).norm();
-          if (d < bd) { bd = d; pick = j; }
+          if (d < bd) {
+            bd = d;
+            pick = j;
+          }
         }
     }
     used[pick] = 1;
@@ -219,9 +228,14 @@ Ordering order_items(const std::vector<OrderItem>& items) {
     for (std::size_t i = 0; i + 1 < n && !improved && trials_left > 0; ++i)
       for (std::size_t j = i + 1; j < n && !improved && --trials_left > 0; ++j) {
         auto trial = order;
-        std::reverse(trial.begin() + static_cast<std::ptrdiff_t>(i), trial.begin() + static_cast<std::ptrdiff_t>(j) + 1);
+        std::reverse(trial.begin() + static_cast<std::ptrdiff_t>(i),
+                     trial.begin() + static_cast<std::ptrdiff_t>(j) + 1);
         const double c = best_corners(items, trial, nullptr);
-        if (c < best - 1e-9) { best = c; order = std::move(trial); improved = true; }
+        if (c < best - 1e-9) {
+          best = c;
+          order = std::move(trial);
+          improved = true;
+        }
       }
     for (std::size_t i = 0; i < n && !improved && trials_left > 0; ++i)
       for (std::size_t j = 0; j < n && !improved && --trials_left > 0; ++j) {
@@ -231,7 +245,11 @@ Ordering order_items(const std::vector<OrderItem>& items) {
         trial.erase(trial.begin() + static_cast<std::ptrdiff_t>(i));
         trial.insert(trial.begin() + static_cast<std::ptrdiff_t>(j), v);
         const double c = best_corners(items, trial, nullptr);
-        if (c < best - 1e-9) { best = c; order = std::move(trial); improved = true; }
+        if (c < best - 1e-9) {
+          best = c;
+          order = std::move(trial);
+          improved = true;
+        }
       }
     if (!improved) break;
   }
@@ -241,7 +259,9 @@ Ordering order_items(const std::vector<OrderItem>& items) {
     const OrderItem& it = items[res.order[i]];
     const auto c = static_cast<std::size_t>(res.corner[i]);
     res.item_length += it.length[c];
-    if (i > 0) res.rapid_length += (items[res.order[i - 1]].exit[static_cast<std::size_t>(res.corner[i - 1])] - it.entry[c]).norm();
+    if (i > 0)
+      res.rapid_length +=
+          (items[res.order[i - 1]].exit[static_cast<std::size_t>(res.corner[i - 1])] - it.entry[c]).norm();
   }
   return res;
 }

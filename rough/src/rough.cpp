@@ -164,8 +164,8 @@ Result rough_mesh(const ingest::Mesh& mesh, const Params& p) {
   std::vector<pocket::LevelPlan> plans;
   double top_z = 0;
   for (std::int64_t k = 1; k <= n_levels; ++k) {
-    res.levels.push_back(plan_level(res, p, stock, res.stock_top_part - static_cast<double>(k) * dz, top_z, plans,
-                                    res.tool_points));
+    res.levels.push_back(
+        plan_level(res, p, stock, res.stock_top_part - static_cast<double>(k) * dz, top_z, plans, res.tool_points));
     top_z = res.levels.back().z;
   }
   if (plans.empty()) {

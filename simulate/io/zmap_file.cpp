@@ -63,7 +63,8 @@ ZMap read_zmap(const fs::path& path, std::size_t max_bytes) {
   if (!in) throw file_error(where, "cannot open");
   std::string magic, header;
   std::getline(in, magic);
-  if (magic != kMagic) throw file_error(where, "line 1: expected \"" + std::string(kMagic) + "\" (not a millnet z-map)");
+  if (magic != kMagic)
+    throw file_error(where, "line 1: expected \"" + std::string(kMagic) + "\" (not a millnet z-map)");
   // The header line, bounded (a file without a newline must not be read whole into memory).
   for (char c = 0; in.get(c) && c != '\n';) {
     header.push_back(c);

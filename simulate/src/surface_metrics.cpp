@@ -84,8 +84,8 @@ double cos_slope(const GridSpec& spec, const std::vector<double>& design, std::s
 // design's normal at c (ball R·sinθ, bull (R − rc) + rc·sinθ, flat R on a slope), then 0, R/2, R.
 // Each placement is checked against the design sampled every `stride` cells under the cutter.
 // O(t's × (R / (stride·cell))²) per call.
-bool reachable(const GridSpec& spec, const std::vector<double>& design, const finish::Cutter& cutter,
-               std::size_t c, std::size_t stride, double tol) {
+bool reachable(const GridSpec& spec, const std::vector<double>& design, const finish::Cutter& cutter, std::size_t c,
+               std::size_t stride, double tol) {
   const double dc = design[c];
   if (std::isnan(dc)) return true;
   const auto [gx, gy] = gradient(spec, design, c);
@@ -178,7 +178,8 @@ void split_remaining(const ZMap& machined, const std::vector<double>& design, co
       bool met = false;
       for (std::ptrdiff_t s = 1; s <= steps && !met; ++s) {
         const double d = side * static_cast<double>(s) * spec.cell;
-        const double qx = std::floor((x + d * ax - spec.x0) / spec.cell), qy = std::floor((y + d * ay - spec.y0) / spec.cell);
+        const double qx = std::floor((x + d * ax - spec.x0) / spec.cell),
+                     qy = std::floor((y + d * ay - spec.y0) / spec.cell);
         if (qx < 0 || qy < 0 || qx >= static_cast<double>(nx) || qy >= static_cast<double>(ny)) break;
         const std::size_t j = static_cast<std::size_t>(qy) * nx + static_cast<std::size_t>(qx);
         if (std::isnan(design[j])) break;

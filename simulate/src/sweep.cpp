@@ -38,10 +38,10 @@ constexpr std::size_t kChunkRows = 8;  // rows per parallel work unit
 
 struct Profile {
   finish::CutterType type = finish::CutterType::Ball;
-  double R = 1;    // radius
+  double R = 1;  // radius
   double R2 = 1;
-  double rc = 1;   // corner radius (ball: R, flat: 0)
-  double a = 0;    // flat part of the bottom: R − rc
+  double rc = 1;  // corner radius (ball: R, flat: 0)
+  double a = 0;   // flat part of the bottom: R − rc
 
   // f(r) for 0 ≤ r ≤ R (callers ensure r ≤ R).
   [[nodiscard]] double f(double r) const {
@@ -89,8 +89,8 @@ struct Seg {
   bool skip_start = false, skip_end = false;
   // planar arc
   double cx = 0, cy = 0, rho0 = 0, th0 = 0, sweep = 0, dir = 1;
-  double zmin = 0;           // lowest tip height (no cell under it is lowered below it)
-  double xlo = 0, xhi = 0;   // XY shadow bounding box
+  double zmin = 0;          // lowest tip height (no cell under it is lowered below it)
+  double xlo = 0, xhi = 0;  // XY shadow bounding box
   double ylo = 0, yhi = 0;
   std::size_t item = 0;
   std::uint32_t serial = 0;
@@ -100,9 +100,15 @@ struct Seg {
 Seg make_line(const gcode::Point3& s, const gcode::Point3& e, double R) {
   Seg g;
   g.type = SegType::Line;
-  g.ax = s[0]; g.ay = s[1]; g.az = s[2];
-  g.bx = e[0]; g.by = e[1]; g.bz = e[2];
-  g.dx = e[0] - s[0]; g.dy = e[1] - s[1]; g.dz = e[2] - s[2];
+  g.ax = s[0];
+  g.ay = s[1];
+  g.az = s[2];
+  g.bx = e[0];
+  g.by = e[1];
+  g.bz = e[2];
+  g.dx = e[0] - s[0];
+  g.dy = e[1] - s[1];
+  g.dz = e[2] - s[2];
   g.L2 = g.dx * g.dx + g.dy * g.dy;
   g.L = std::sqrt(g.L2);
   if (g.L > 1e-9) {
@@ -113,8 +119,10 @@ Seg make_line(const gcode::Point3& s, const gcode::Point3& e, double R) {
     g.inv1m2 = 1 / (1 + g.m * g.m);
   }
   g.zmin = std::min(g.az, g.bz);
-  g.xlo = std::min(g.ax, g.bx) - R; g.xhi = std::max(g.ax, g.bx) + R;
-  g.ylo = std::min(g.ay, g.by) - R; g.yhi = std::max(g.ay, g.by) + R;
+  g.xlo = std::min(g.ax, g.bx) - R;
+  g.xhi = std::max(g.ax, g.bx) + R;
+  g.ylo = std::min(g.ay, g.by) - R;
+  g.yhi = std::max(g.ay, g.by) + R;
   return g;
 }
 
@@ -138,7 +146,7 @@ double env_line_ball(const Seg& g, const Profile& P, double px, double py) {
     if (q2 > P.R2) return kInf;
     const double s = wx * g.ux + wy * g.uy;
     const double zeta = g.m * s - g.sq1m * std::sqrt(P.R2 - q2);  // sphere-centre line frame
-    const double sstar = (s + g.m * zeta) * g.inv1m2;              // contact along the axis
+    const double sstar = (s + g.m * zeta) * g.inv1m2;             // contact along the axis
     if (sstar >= 0 && sstar <= g.L) return g.az + P.R + zeta;
     if (sstar < 0) {
       if (g.skip_start) return kInf;  // the previous primitive applied this sphere
@@ -196,11 +204,15 @@ double env_line_generic(const Seg& g, const Profile& P, double px, double py) {
   double f1 = h(x1), f2 = h(x2);
   for (int k = 0; k < 64; ++k) {
     if (f1 <= f2) {
-      hi = x2; x2 = x1; f2 = f1;
+      hi = x2;
+      x2 = x1;
+      f2 = f1;
       x1 = hi - kG * (hi - lo);
       f1 = h(x1);
     } else {
-      lo = x1; x1 = x2; f1 = f2;
+      lo = x1;
+      x1 = x2;
+      f1 = f2;
       x2 = lo + kG * (hi - lo);
       f2 = h(x2);
     }
@@ -327,8 +339,8 @@ std::string where(const gcode::Program& p, std::size_t item) {
 }
 
 template <class Env>
-void sweep_row(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t iy, double* z,
-               std::uint32_t* stamp, double& item_cut, std::uint64_t& visited, Env env) {
+void sweep_row(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t iy, double* z, std::uint32_t* stamp,
+               double& item_cut, std::uint64_t& visited, Env env) {
   const double y = spec.y(iy);
   Span spans[2];
   const int n = row_spans(g, P.R, y, spans);
@@ -371,7 +383,6 @@ void link_caps(std::vector<Seg>& segs) {
     }
   }
 }
-
 
 // Clip a row span of a ball line to the part of its shadow where env_line_ball can be finite.
 // With skip_start the line does not descend (m ≥ 0); at a point behind a (axial coordinate
@@ -476,7 +487,6 @@ void ball_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::si
   }
 }
 
-
 // The flat/line kernel, branch-free like ball_line_row (same closed form as env_line_flat).
 void flat_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t iy, double* z,
                    std::uint32_t* stamp, double& item_cut, std::uint64_t& visited) {
@@ -529,7 +539,7 @@ double profile_height(const finish::Cutter& cutter, double r) {
 }
 
 class Sweeper {
- public:
+public:
   static SweepResult run(ZMap& zm, const gcode::Program& program, const finish::Cutter& cutter,
                          const SweepOptions& opt);
 };
@@ -609,9 +619,18 @@ SweepResult Sweeper::run(ZMap& zm, const gcode::Program& program, const finish::
       if (std::abs(dz) <= 1e-12) {
         Seg g;
         g.type = SegType::Arc;
-        g.ax = start[0]; g.ay = start[1]; g.az = start[2];
-        g.bx = end[0]; g.by = end[1]; g.bz = start[2];
-        g.cx = cx; g.cy = cy; g.rho0 = rho0; g.th0 = th0; g.sweep = sweep; g.dir = dir;
+        g.ax = start[0];
+        g.ay = start[1];
+        g.az = start[2];
+        g.bx = end[0];
+        g.by = end[1];
+        g.bz = start[2];
+        g.cx = cx;
+        g.cy = cy;
+        g.rho0 = rho0;
+        g.th0 = th0;
+        g.sweep = sweep;
+        g.dir = dir;
         g.zmin = start[2];
         // Bounding box: the end points and the axis extremes inside the sweep.
         double xlo = std::min(start[0], end[0]), xhi = std::max(start[0], end[0]);
@@ -620,10 +639,15 @@ SweepResult Sweeper::run(ZMap& zm, const gcode::Program& program, const finish::
           const double phi = q * std::numbers::pi / 2;
           if (!in_sweep(g, phi)) continue;
           const double x = cx + rho0 * std::cos(phi), y = cy + rho0 * std::sin(phi);
-          xlo = std::min(xlo, x); xhi = std::max(xhi, x);
-          ylo = std::min(ylo, y); yhi = std::max(yhi, y);
+          xlo = std::min(xlo, x);
+          xhi = std::max(xhi, x);
+          ylo = std::min(ylo, y);
+          yhi = std::max(yhi, y);
         }
-        g.xlo = xlo - P.R; g.xhi = xhi + P.R; g.ylo = ylo - P.R; g.yhi = yhi + P.R;
+        g.xlo = xlo - P.R;
+        g.xhi = xhi + P.R;
+        g.ylo = ylo - P.R;
+        g.yhi = yhi + P.R;
         add(g);
       } else {  // helix: chords of sagitta ≤ tol
         const double tol = std::min(opt.helix_chord_tol_mm, rho0);
@@ -661,7 +685,8 @@ SweepResult Sweeper::run(ZMap& zm, const gcode::Program& program, const finish::
     if (!cell_range(g.ylo, g.yhi, spec.y0, spec.cell, spec.ny, r0, r1)) continue;
     g.iy0 = r0;
     g.iy1 = r1;
-    for (std::size_t c = r0 / kChunkRows; c <= r1 / kChunkRows; ++c) chunk_segs[c].push_back(static_cast<std::uint32_t>(s));
+    for (std::size_t c = r0 / kChunkRows; c <= r1 / kChunkRows; ++c)
+      chunk_segs[c].push_back(static_cast<std::uint32_t>(s));
   }
 
   // 3. Sweep, parallel over row chunks; each cell sees its primitives in program order.

@@ -10,9 +10,7 @@
 namespace millnet::simulate {
 
 namespace {
-std::string mib(std::size_t bytes) {
-  return std::to_string((bytes + (std::size_t{1} << 20) - 1) >> 20) + " MiB";
-}
+std::string mib(std::size_t bytes) { return std::to_string((bytes + (std::size_t{1} << 20) - 1) >> 20) + " MiB"; }
 }  // namespace
 
 void GridSpec::check() const {
@@ -33,7 +31,8 @@ WorkEstimate zmap_work(const GridSpec& spec, double extra_bytes_per_cell) {
   const double cells = static_cast<double>(spec.nx) * static_cast<double>(spec.ny);
   WorkEstimate e{"cell_mm " + format_size(spec.cell) + " mm over a " +
                      format_size(spec.cell * static_cast<double>(spec.nx)) + " × " +
-                     format_size(spec.cell * static_cast<double>(spec.ny)) + " mm z-map", cells, "z-map cells",
+                     format_size(spec.cell * static_cast<double>(spec.ny)) + " mm z-map",
+                 cells, "z-map cells",
                  cells * (static_cast<double>(sizeof(double) + sizeof(std::uint32_t)) + extra_bytes_per_cell)};
   e.memory_only = true;
   return e;

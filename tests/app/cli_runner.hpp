@@ -30,8 +30,8 @@ inline CliResult run_millnet(const std::string& args, const std::filesystem::pat
   const auto out = workdir / "cli.stdout", err = workdir / "cli.stderr";
   const std::string limit = timeout_s > 0 ? "timeout -k 5 " + std::to_string(timeout_s) + " " : "";
   const std::string ulimit = memory_kib > 0 ? "ulimit -v " + std::to_string(memory_kib) + " && " : "";
-  const std::string cmd = "cd '" + workdir.string() + "' && " + ulimit + limit + "'" + std::string(MILLNET_EXE) + "' " + args + " >'" +
-                          out.string() + "' 2>'" + err.string() + "' </dev/null";
+  const std::string cmd = "cd '" + workdir.string() + "' && " + ulimit + limit + "'" + std::string(MILLNET_EXE) + "' " +
+                          args + " >'" + out.string() + "' 2>'" + err.string() + "' </dev/null";
   const int status = std::system(cmd.c_str());
   CliResult r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

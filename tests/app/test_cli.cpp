@@ -28,7 +28,7 @@ TEST(Cli, UsageErrorsExitTwo) {
   const auto d = fresh_dir("cli_usage");
   EXPECT_EQ(run_millnet("", d).code, 2);
   EXPECT_EQ(run_millnet("frobnicate", d).code, 2);
-  EXPECT_EQ(run_millnet("sample --out x", d).code, 2);               // --mesh missing
+  EXPECT_EQ(run_millnet("sample --out x", d).code, 2);  // --mesh missing
   // A flag's value out of its range is bad input like a bad config value: exit 1, one line naming it.
   const auto bad = run_millnet("sample --mesh a.stl --out x --grid abc", d);
   EXPECT_EQ(bad.code, 1);

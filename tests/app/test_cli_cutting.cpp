@@ -25,7 +25,9 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string bench(const std::string& name) { return std::string(MILLNET_SHARED_DIR) + "/bench/pockets/" + name + ".json"; }
+std::string bench(const std::string& name) {
+  return std::string(MILLNET_SHARED_DIR) + "/bench/pockets/" + name + ".json";
+}
 
 fs::path write_rect(const fs::path& d) {
   std::ofstream(d / "rect.json") << R"({"boundary": [[0,0,0],[80,0,0],[80,50,0],[0,50,0]], "islands": []})";
@@ -45,10 +47,12 @@ double max_feed(const std::string& nc) {
 
 /// A 30 mm tall bump on a 20 × 20 mm block, as binary STL.
 fs::path write_tall(const fs::path& dir) {
-  const auto m = testing_ingest::solid([](double x, double y) {
-    const double r2 = ((x - 10) * (x - 10) + (y - 10) * (y - 10)) / 49;
-    return 1 + 29 * std::max(0.0, 1 - r2);
-  }, 0, 20, 0, 20, 20, 20);
+  const auto m = testing_ingest::solid(
+      [](double x, double y) {
+        const double r2 = ((x - 10) * (x - 10) + (y - 10) * (y - 10)) / 49;
+        return 1 + 29 * std::max(0.0, 1 - r2);
+      },
+      0, 20, 0, 20, 20, 20);
   const fs::path p = dir / "tall.stl";
   ingest::save_stl_binary(m, p);
   return p;
@@ -100,8 +104,10 @@ TEST(CliCutting, The1995PresetReproducesTheProgramsOfBefore) {
       for (std::size_t k = 0; k < ta.size(); ++k) {
         ASSERT_EQ(ta[k][0], tb[k][0]) << "line " << line << ": " << a << " | " << b;
         const bool coordinate = std::string("XYZIJ").find(ta[k][0]) != std::string::npos;
-        if (coordinate) EXPECT_NEAR(std::stod(ta[k].substr(1)), std::stod(tb[k].substr(1)), 2e-4) << "line " << line;
-        else EXPECT_EQ(ta[k], tb[k]) << "line " << line;
+        if (coordinate)
+          EXPECT_NEAR(std::stod(ta[k].substr(1)), std::stod(tb[k].substr(1)), 2e-4) << "line " << line;
+        else
+          EXPECT_EQ(ta[k], tb[k]) << "line " << line;
       }
       EXPECT_NEAR(feed_a, feed_b, 0.2) << "line " << line << ": " << a << " | " << b;
     }
@@ -145,7 +151,8 @@ TEST(CliCutting, AWrittenFigureReplacesTheComputedOneAndSaysWhereItCameFrom) {
   const fs::path p = write_rect(d);
   std::ofstream(d / "c.json") << R"({"pocket": {"tool": "em10-3f-carbide", "feed_half": 1000},
                                     "cutting": {"material": "steel-p20"}})";
-  const auto r = run_millnet("pocket -q --config c.json --pocket '" + p.string() + "' --stepover 5 --depth 5 --out o", d);
+  const auto r =
+      run_millnet("pocket -q --config c.json --pocket '" + p.string() + "' --stepover 5 --depth 5 --out o", d);
   ASSERT_EQ(r.code, 0) << r.err;
   const json c = json::parse(slurp(d / "o" / "rect.metrics.json")).at("cutting_data");
   EXPECT_EQ(c["figures"]["feed_half"]["from"], "config /pocket/feed_half");
@@ -189,8 +196,8 @@ TEST(CliCutting, BadToolMaterialOrLimitsGetOneLineAndNoFiles) {
     EXPECT_EQ(list_files(w / "o"), "");
   }
   // --tool and --tool-diameter name the tool twice.
-  const auto both = run_millnet("pocket -q --pocket '" + p.string() + "' --tool em10-3f-carbide --tool-diameter 6 --out o",
-                                d / "both");
+  const auto both = run_millnet(
+      "pocket -q --pocket '" + p.string() + "' --tool em10-3f-carbide --tool-diameter 6 --out o", d / "both");
   EXPECT_EQ(both.code, 2) << both.err;
 }
 
@@ -213,11 +220,14 @@ TEST(CliCutting, APartDeeperThanTheToolsStickOutIsRefusedByRoughAndFinish) {
   EXPECT_NE(r.err.find("beyond the tool's stick-out 25 mm by 6.00 mm"), std::string::npos) << r.err;
   EXPECT_EQ(list_files(d / "f"), "");
   // The library's Ø6 ball (stick-out 35 mm) finishes it, at its cutting data, and names itself.
-  r = run_millnet("finish -q --mesh '" + mesh.string() + "' --tool bn6-2f-carbide --material steel-p20 --strategy 2 "
-                  "--stepover 1 --out g", d);
+  r = run_millnet("finish -q --mesh '" + mesh.string() +
+                      "' --tool bn6-2f-carbide --material steel-p20 --strategy 2 "
+                      "--stepover 1 --out g",
+                  d);
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string nc = slurp(d / "g" / "tall.s2.nc");
-  EXPECT_NE(nc.find("(tool: bn6-2f-carbide: D6 mm 2-flute carbide ball-nose end mill)"), std::string::npos) << nc.substr(0, 600);
+  EXPECT_NE(nc.find("(tool: bn6-2f-carbide: D6 mm 2-flute carbide ball-nose end mill)"), std::string::npos)
+      << nc.substr(0, 600);
   const json c = json::parse(slurp(d / "g" / "tall.s2.metrics.json")).at("cutting_data");
   // P20, carbide Ø6–12.5: Vc 110, fz 0.035; a_p = the finishing stock 0.1 mm ⇒ D_eff = 2·√(0.1·5.9) = 1.5362 mm,
   // n = 110000/(π·1.5362) = 22792 rpm (under the machine's 24,000), f = 0.035·2·22792 = 1595 mm/min.
@@ -233,7 +243,8 @@ TEST(CliCutting, AShopLibraryAddsToolsAndIsCheckedLikeAConfig) {
   std::ofstream(d / "tools.json") << R"({"tools": [{"id": "shop-em8", "type": "flat", "diameter": 8, "flutes": 4,
                                         "tool_material": "carbide", "flute_length": 20, "stickout": 30}]})";
   std::ofstream(d / "c.json") << R"({"cutting": {"tools_file": "tools.json"}})";
-  auto r = run_millnet("pocket -q --config c.json --pocket '" + p.string() + "' --tool shop-em8 --stepover 4 --depth 5 --out o", d);
+  auto r = run_millnet(
+      "pocket -q --config c.json --pocket '" + p.string() + "' --tool shop-em8 --stepover 4 --depth 5 --out o", d);
   ASSERT_EQ(r.code, 0) << r.err;
   const json c = json::parse(slurp(d / "o" / "rect.metrics.json")).at("cutting_data");
   EXPECT_EQ(c["tool"]["flutes"], 4);

@@ -21,10 +21,12 @@ namespace fs = std::filesystem;
 
 /// A dome (max 6 mm) on a 16 × 12 mm block 1 mm thick, as ASCII STL.
 fs::path write_dome(const fs::path& dir) {
-  const auto m = testing_ingest::solid([](double x, double y) {
-    const double r2 = (x - 8) * (x - 8) / 36 + (y - 6) * (y - 6) / 16;
-    return 1 + 5 * std::max(0.0, 1 - r2);
-  }, 0, 16, 0, 12, 32, 24);
+  const auto m = testing_ingest::solid(
+      [](double x, double y) {
+        const double r2 = (x - 8) * (x - 8) / 36 + (y - 6) * (y - 6) / 16;
+        return 1 + 5 * std::max(0.0, 1 - r2);
+      },
+      0, 16, 0, 12, 32, 24);
   const fs::path p = dir / "dome.stl";
   std::ofstream out(p);
   out << "solid dome\n";
@@ -59,9 +61,9 @@ TEST(CliFinish, AllStrategiesSimulatedWriteTheContractFilesAndLinuxCncAcceptsThe
     for (const char* ext : {".nc", ".metrics.json", ".png", ".ra.png"})
       ASSERT_TRUE(fs::exists(out / (base + ext))) << base << ext;
     const auto j = nlohmann::json::parse(slurp(out / (base + ".metrics.json")));
-    for (const char* key : {"strategy", "path_length_mm", "time_feed_min", "time_kinematic_min", "lifts",
-                            "max_gouge_mm", "scallop_max_mm", "ra_median_um", "ra_p90_um", "ra_histogram",
-                            "uncut_area_mm2"})
+    for (const char* key :
+         {"strategy", "path_length_mm", "time_feed_min", "time_kinematic_min", "lifts", "max_gouge_mm",
+          "scallop_max_mm", "ra_median_um", "ra_p90_um", "ra_histogram", "uncut_area_mm2"})
       EXPECT_TRUE(j.contains(key)) << base << " lacks " << key;
     EXPECT_EQ(j["strategy"].get<int>(), k);
     EXPECT_LE(j["max_gouge_mm"].get<double>(), 0.002) << base << ": the program gouges the part";
@@ -105,7 +107,8 @@ TEST(CliFinish, BadInputGetsOneLineAndNoFiles) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   };
   one_line(run_millnet("finish --mesh '" + mesh.string() + "' --strategy 7 --out out", d), "--strategy");
-  one_line(run_millnet("finish --mesh '" + mesh.string() + "' --strategy 4 --step-down 0 --out out", d), "step_down_mm");
+  one_line(run_millnet("finish --mesh '" + mesh.string() + "' --strategy 4 --step-down 0 --out out", d),
+           "step_down_mm");
   {  // a mesh with no face looking up (one vertical triangle)
     std::ofstream wall(d / "wall.stl");
     wall << "solid w\nfacet normal 1 0 0\nouter loop\nvertex 0 0 0\nvertex 0 10 0\nvertex 0 5 10\nendloop\n"
@@ -153,8 +156,7 @@ TEST(CliSimulate, AStockSavedByOneRunContinuesInTheNextAsIfItWereOneRun) {
   const auto first = run_millnet(base + "--gcode a.nc --tool flat:6 --save-stock --out s1", d);
   ASSERT_EQ(first.code, 0) << first.err;
   ASSERT_TRUE(fs::exists(d / "s1" / "dome.zmap"));
-  const auto second =
-      run_millnet(base + "--gcode b.nc --tool ball:2 --stock s1/dome.zmap --save-stock --out s2", d);
+  const auto second = run_millnet(base + "--gcode b.nc --tool ball:2 --stock s1/dome.zmap --save-stock --out s2", d);
   ASSERT_EQ(second.code, 0) << second.err;
   // The machined heights are the same bytes; so are the figures that depend on heights only (Ra
   // may differ: a stock read back has no move history, so cells that only the first program cut
@@ -169,7 +171,8 @@ TEST(CliSimulate, AStockSavedByOneRunContinuesInTheNextAsIfItWereOneRun) {
   // A stock of another grid, a truncated file, a text file: one line naming the file; nothing written.
   std::ofstream(d / "coarse.json") << R"({"simulate": {"cell_mm": 0.1}})";
   const auto grid = run_millnet("simulate --config coarse.json --mesh '" + mesh.string() +
-                                    "' --gcode b.nc --tool ball:2 --stock s1/dome.zmap --out bad1", d);
+                                    "' --gcode b.nc --tool ball:2 --stock s1/dome.zmap --out bad1",
+                                d);
   EXPECT_EQ(grid.code, 1);
   EXPECT_NE(grid.err.find("dome.zmap"), std::string::npos) << grid.err;
   EXPECT_NE(grid.err.find("is not this part's"), std::string::npos) << grid.err;
@@ -210,7 +213,8 @@ TEST(CliDataset, APartLabelledBySimulationGetsTheStrategyItsSimulationRanksFirst
     for (const auto& st : p["strategies"])
       if (st["rank"] == 1) best = st["strategy"].get<int>();
     EXPECT_EQ(p["simulated_best"].get<int>(), best);
-    EXPECT_TRUE(fs::exists(d / "ds" / "labelling" / p["name"].get<std::string>() / (p["name"].get<std::string>() + ".strategies.md")));
+    EXPECT_TRUE(fs::exists(d / "ds" / "labelling" / p["name"].get<std::string>() /
+                           (p["name"].get<std::string>() + ".strategies.md")));
   }
   // The simulated part's rows carry its simulated best (the same mesh: the same best as dome2's
   // simulation), the other part keeps its label 2.

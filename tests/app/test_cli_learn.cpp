@@ -157,7 +157,8 @@ TEST(CliLearn, DatasetTrainPredictEndToEnd) {
     ++per_source[row[c_source]];
     const int label = std::stoi(row[c_label]);
     label_of[row[c_source]] = label;
-    for (std::size_t k = 0; k < 8; ++k) EXPECT_EQ(std::stod(row[c_out1 + k]), k + 1 == static_cast<std::size_t>(label) ? 1.0 : 0.0);
+    for (std::size_t k = 0; k < 8; ++k)
+      EXPECT_EQ(std::stod(row[c_out1 + k]), k + 1 == static_cast<std::size_t>(label) ? 1.0 : 0.0);
     double lo = 1e300;
     for (std::size_t k = c_in; k <= c_last_in; ++k) lo = std::min(lo, std::stod(row[k]));
     EXPECT_GE(lo, -1e-9) << "heights are above the part's lowest point";
@@ -182,7 +183,8 @@ TEST(CliLearn, DatasetTrainPredictEndToEnd) {
   EXPECT_GT(model["alpha"].get<double>(), 0);
   ASSERT_TRUE(model.contains("strategies"));
   EXPECT_EQ(model["strategies"].size(), 8u);
-  ASSERT_TRUE(model.contains("normalizer") && model["normalizer"].contains("mean") && model["normalizer"].contains("std"));
+  ASSERT_TRUE(model.contains("normalizer") && model["normalizer"].contains("mean") &&
+              model["normalizer"].contains("std"));
   const auto& mean = model["normalizer"]["mean"];
   const auto& sd = model["normalizer"]["std"];
   ASSERT_EQ(mean.size(), 225u);
@@ -229,7 +231,8 @@ TEST(CliLearn, DatasetTrainPredictEndToEnd) {
   // ---- predict: two files, a folder, one broken file; the batch goes on.
   fs::create_directories(d / "folder");
   fs::copy_file(d / "parts" / (per_source.begin()->first + ".stl"), d / "part1.stl");
-  const std::string in_folder_a = std::next(per_source.begin(), 3)->first, in_folder_b = std::next(per_source.begin(), 7)->first;
+  const std::string in_folder_a = std::next(per_source.begin(), 3)->first,
+                    in_folder_b = std::next(per_source.begin(), 7)->first;
   fs::copy_file(d / "parts" / (in_folder_a + ".stl"), d / "folder" / (in_folder_a + ".stl"));
   fs::copy_file(d / "parts" / (in_folder_b + ".stl"), d / "folder" / (in_folder_b + ".stl"));
   {
@@ -246,9 +249,8 @@ TEST(CliLearn, DatasetTrainPredictEndToEnd) {
   ASSERT_TRUE(by_name.count("junk"));
   EXPECT_EQ(by_name["junk"]["status"], "error");
   EXPECT_FALSE(fs::exists(d / "P" / "junk.png"));
-  const std::map<std::string, std::string> good = {{"part1", per_source.begin()->first},
-                                                   {in_folder_a, in_folder_a},
-                                                   {in_folder_b, in_folder_b}};
+  const std::map<std::string, std::string> good = {
+      {"part1", per_source.begin()->first}, {in_folder_a, in_folder_a}, {in_folder_b, in_folder_b}};
   for (const auto& [name, source] : good) {
     SCOPED_TRACE(name);
     ASSERT_TRUE(by_name.count(name)) << pred.dump().substr(0, 500);

@@ -49,13 +49,15 @@ TEST(CliLimits, MaxWorkBelowTheEstimateRefusesAndAtTheEstimateRuns) {
 TEST(CliLimits, TheConfigSectionSetsTheLimitAndTheFlagWins) {
   const fs::path d = fresh_dir("cli_limits/config");
   std::ofstream(d / "c.json") << R"({"limits": {"max_work": 12000, "max_memory_mb": 4096}})";
-  const std::string base = "pocket --pocket '" + kSquare + "' --stepover 1 --tool-diameter 10 --quiet --config c.json --out out";
+  const std::string base =
+      "pocket --pocket '" + kSquare + "' --stepover 1 --tool-diameter 10 --quiet --config c.json --out out";
   const auto refused = run_millnet(base, d, 60);
   EXPECT_EQ(refused.code, 1) << refused.err;
   EXPECT_NE(refused.err.find("the limit is 1.2e4 (--max-work, /limits/max_work)"), std::string::npos) << refused.err;
   // Stepover 0.25: 401² grid points × 24 B = 3.9 MB, over 1 MiB; the count 160,801 is within 1e6.
-  const auto mem = run_millnet("pocket --pocket '" + kSquare + "' --stepover 0.25 --tool-diameter 10 --quiet --config "
-                               "c.json --max-work 1e6 --max-memory-mb 1 --out out",
+  const auto mem = run_millnet("pocket --pocket '" + kSquare +
+                                   "' --stepover 0.25 --tool-diameter 10 --quiet --config "
+                                   "c.json --max-work 1e6 --max-memory-mb 1 --out out",
                                d, 60);
   EXPECT_EQ(mem.code, 1) << mem.err;
   EXPECT_NE(mem.err.find("makes 1.6e5 tool points (≈ 3.9 MB); the memory limit is 1 MiB (--max-memory-mb, "

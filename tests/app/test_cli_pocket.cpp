@@ -42,11 +42,14 @@ double length_tol(double len) { return 1e-3 + 2e-6 * len; }
 constexpr double kRapidTolMm = 1e-2;
 constexpr double kPi = 3.14159265358979323846;
 
-std::string bench(const std::string& name) { return std::string(MILLNET_SHARED_DIR) + "/bench/pockets/" + name + ".json"; }
+std::string bench(const std::string& name) {
+  return std::string(MILLNET_SHARED_DIR) + "/bench/pockets/" + name + ".json";
+}
 
 ReplayLoop loop_of(const json& a) {
   ReplayLoop l;
-  for (const auto& v : a) l.push_back({v.at(0).get<double>(), v.at(1).get<double>(), v.size() > 2 ? v.at(2).get<double>() : 0.0});
+  for (const auto& v : a)
+    l.push_back({v.at(0).get<double>(), v.at(1).get<double>(), v.size() > 2 ? v.at(2).get<double>() : 0.0});
   return l;
 }
 
@@ -154,7 +157,8 @@ ReplayResult check_run(const PocketRun& pr, const std::string& stem, const Repla
     EXPECT_EQ(static_cast<double>(rep.retractions), num(pr.metrics, "retractions") + holes);
     EXPECT_EQ(static_cast<double>(rep.plunges), num(pr.metrics, "plunges") + holes);
   }
-  EXPECT_GE(num(pr.metrics, "time_constant_min"), 0.9 * rep.cut_length / pr.metrics["parameters"]["feed_max"].get<double>());
+  EXPECT_GE(num(pr.metrics, "time_constant_min"),
+            0.9 * rep.cut_length / pr.metrics["parameters"]["feed_max"].get<double>());
   EXPECT_GT(num(pr.metrics, "time_adjusted_min"), 0);
   return rep;
 }
@@ -199,9 +203,9 @@ TEST_P(CliBenchPocket, EveryPlannerIsGougeFreeAndAgreesWithReplay) {
     ASSERT_EQ(pr.r.code, 0) << pr.r.err;
     const std::string tag = v.tag;
     EXPECT_EQ(pr.metrics.value("planner", "").substr(0, 3), tag.substr(0, 2) == "zz"    ? "zig"
-                                                             : tag.substr(0, 3) == "off" ? "off"
-                                                             : tag.substr(0, 3) == "ada" ? "ada"
-                                                                                         : "som");
+                                                            : tag.substr(0, 3) == "off" ? "off"
+                                                            : tag.substr(0, 3) == "ada" ? "ada"
+                                                                                        : "som");
     // The bench files say Ø10, stepover 5, depth 5; the default step-down 5 ⇒ one level.
     EXPECT_EQ(pr.metrics["parameters"]["tool_diameter"].get<double>(), 10);
     const ReplayResult rep = check_run(pr, name, pocket, 10, 5, v.predrill);
@@ -222,8 +226,10 @@ TEST_P(CliBenchPocket, EveryPlannerIsGougeFreeAndAgreesWithReplay) {
       EXPECT_EQ(num(pr.metrics, "retractions"), 0);
       EXPECT_LE(num(pr.metrics, "uncut_area_mm2"), 2.0);
       EXPECT_GT(num(pr.metrics, "corner_arcs"), 0);
-      if (tag == "som") som_walls_cut = rep.cut_length;
-      else EXPECT_NEAR(rep.cut_length, som_walls_cut, 1e-6);
+      if (tag == "som")
+        som_walls_cut = rep.cut_length;
+      else
+        EXPECT_NEAR(rep.cut_length, som_walls_cut, 1e-6);
     }
     if (tag.substr(0, 6) == "offset") {
       // Issue 11: walls included, one reachable region ⇒ no retraction, and nothing reachable uncut.
@@ -296,7 +302,8 @@ TEST(CliPocket, LinksRunAtTheChipThinnedFeedOfOneCellCappedByTheMachine) {
   json slow = json::parse(slurp(bench_cfg));
   slow["machine"]["max_feed_mm_min"] = 3000;
   std::ofstream(d / "slow.json") << slow.dump();
-  const PocketRun capped = run_pocket(bench("comb"), "--config '" + (d / "slow.json").string() + "' --planner adaptive", d / "b");
+  const PocketRun capped =
+      run_pocket(bench("comb"), "--config '" + (d / "slow.json").string() + "' --planner adaptive", d / "b");
   ASSERT_EQ(capped.r.code, 0) << capped.r.err;
   EXPECT_NE(capped.nc.find("moves through cut material 3000;"), std::string::npos) << capped.nc.substr(0, 600);
   EXPECT_EQ(capped.nc.find("F4803.8"), std::string::npos);
@@ -329,7 +336,8 @@ TEST(CliPocket, FlagsOverrideConfigWhichOverridesThePocketFile) {
   auto params = [](const PocketRun& pr) { return pr.metrics["parameters"]; };
   {  // The file's own keys win over the defaults, and over a config that does not state them.
     for (const char* cfg : {"", "--config ../c0.json"}) {
-      const PocketRun pr = run_pocket((d / "p.json").string(), std::string(cfg) + " --contour", d / (std::string("a") + (*cfg ? "c" : "")));
+      const PocketRun pr = run_pocket((d / "p.json").string(), std::string(cfg) + " --contour",
+                                      d / (std::string("a") + (*cfg ? "c" : "")));
       ASSERT_EQ(pr.r.code, 0) << pr.r.err;
       EXPECT_EQ(params(pr)["tool_diameter"].get<double>(), 6) << cfg;
       EXPECT_EQ(params(pr)["stepover"].get<double>(), 3) << cfg;
@@ -351,8 +359,8 @@ TEST(CliPocket, FlagsOverrideConfigWhichOverridesThePocketFile) {
     EXPECT_NEAR(rep.worst_mm, 0.5, 0.02);
   }
   {  // Flags win over both.
-    const PocketRun pr = run_pocket((d / "p.json").string(),
-                                    "--config ../c8.json --tool-diameter 7 --stepover 2.5 --depth 3 --contour", d / "c");
+    const PocketRun pr = run_pocket(
+        (d / "p.json").string(), "--config ../c8.json --tool-diameter 7 --stepover 2.5 --depth 3 --contour", d / "c");
     ASSERT_EQ(pr.r.code, 0) << pr.r.err;
     EXPECT_EQ(params(pr)["tool_diameter"].get<double>(), 7);
     EXPECT_EQ(params(pr)["stepover"].get<double>(), 2.5);
@@ -390,8 +398,8 @@ TEST(CliPocket, BadPocketFilesExitOneWithOneLineNamingTheFile) {
   // A Ø10 tool fits nowhere in an 8 × 8 pocket: a clear status for both planners, no G-code file.
   for (const char* planner : {"som", "zigzag"}) {
     const fs::path out = d / (std::string("o_tiny_") + planner);
-    const auto r = run_millnet(std::string("pocket --pocket tiny.json --planner ") + planner + " --quiet --out " +
-                                   out.filename().string(), d);
+    const auto r = run_millnet(
+        std::string("pocket --pocket tiny.json --planner ") + planner + " --quiet --out " + out.filename().string(), d);
     EXPECT_EQ(r.code, 1) << planner << "\n" << r.err;
     EXPECT_EQ(lines_of(r.err), 1u) << r.err;
     EXPECT_NE(r.err.find("tiny.json"), std::string::npos) << r.err;
@@ -500,7 +508,8 @@ TEST(CliCompare, WritesOneRowPerPlannerConsistentWithPocket) {
   for (const auto& row : rows) EXPECT_EQ(row[c_status], "ok") << row[c_planner];
   const std::string md = slurp(d / "D" / "compare.md");
   EXPECT_NE(md.find("Ranked by time to a cleared pocket"), std::string::npos);
-  for (const char* p : {"| som |", "| zigzag-t |", "| zigzag-i |", "| offset |", "| adaptive |"}) EXPECT_NE(md.find(p), std::string::npos) << p;
+  for (const char* p : {"| som |", "| zigzag-t |", "| zigzag-i |", "| offset |", "| adaptive |"})
+    EXPECT_NE(md.find(p), std::string::npos) << p;
   for (const char* p : {"som", "zigzag-t", "zigzag-i"})
     EXPECT_TRUE(fs::exists(d / "D" / (std::string("four_islands.") + p + ".png"))) << list_files(d / "D");
   // Same pocket and tool through `millnet pocket`: the same figures.
@@ -527,7 +536,8 @@ TEST(CliPocket, HundredThousandVertexBoundaryIsPlannedQuickly) {
   b << R"({"units": "mm", "boundary": [)";
   const int n = 100000;
   for (int k = 0; k < n; ++k)
-    b << (k ? ", " : "") << "[" << 50 + 50 * std::cos(2 * std::numbers::pi * k / n) << ", " << 50 + 50 * std::sin(2 * std::numbers::pi * k / n) << "]";
+    b << (k ? ", " : "") << "[" << 50 + 50 * std::cos(2 * std::numbers::pi * k / n) << ", "
+      << 50 + 50 * std::sin(2 * std::numbers::pi * k / n) << "]";
   b << "]}";
   std::ofstream(d / "circle.json") << b.str();
   rusage before{}, after{};

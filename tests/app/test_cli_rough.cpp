@@ -39,7 +39,8 @@ TEST(RoughCli, BatchReportsTheBrokenMeshAndWritesTheGoodOnesOutputsInTheGcodeFra
     std::ofstream f(d / "junk.stl", std::ios::binary);
     for (int i = 0; i < 1000; ++i) f.put(static_cast<char>((i * 7919) % 251));
   }
-  const auto res = run_millnet("rough --mesh good.stl --mesh junk.stl --planner zigzag --stock-to-leave 0.5 --out o", d);
+  const auto res =
+      run_millnet("rough --mesh good.stl --mesh junk.stl --planner zigzag --stock-to-leave 0.5 --out o", d);
   EXPECT_EQ(res.code, 1) << res.err;
   EXPECT_NE(res.err.find("junk.stl"), std::string::npos) << res.err;
   EXPECT_EQ(res.err.find("good.stl"), std::string::npos) << res.err;

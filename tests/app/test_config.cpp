@@ -103,9 +103,7 @@ TEST(Config, TheShippedToolLibraryAndMaterialTableValidateAndAreComplete) {
 
 TEST(Config, InvalidJsonNamesLine) {
   const fs::path p = fs::temp_directory_path() / "millnet_test_bad_config.json";
-  {
-    std::ofstream(p) << "{\n  \"seed\": 7,\n  \"train\": {\n    \"loo\": \"part\",,\n  }\n}\n";
-  }
+  { std::ofstream(p) << "{\n  \"seed\": 7,\n  \"train\": {\n    \"loo\": \"part\",,\n  }\n}\n"; }
   try {
     (void)millnet::app::load_config(p);
     FAIL() << "no error";
@@ -120,10 +118,12 @@ namespace {
 void unbounded(const Json& rule, const std::string& ptr, std::vector<std::string>& out) {
   const std::string type = rule.value("type", "");
   if (type == "object" && rule.contains("properties"))
-    for (auto it = rule["properties"].begin(); it != rule["properties"].end(); ++it) unbounded(it.value(), ptr + "/" + it.key(), out);
+    for (auto it = rule["properties"].begin(); it != rule["properties"].end(); ++it)
+      unbounded(it.value(), ptr + "/" + it.key(), out);
   if (type == "array" && rule.contains("items")) unbounded(rule["items"], ptr + "/*", out);
   if (type == "number" || type == "integer" || type == "integer_or_string")
-    if (!(rule.contains("minimum") || rule.contains("exclusiveMinimum")) || !rule.contains("maximum")) out.push_back(ptr);
+    if (!(rule.contains("minimum") || rule.contains("exclusiveMinimum")) || !rule.contains("maximum"))
+      out.push_back(ptr);
 }
 }  // namespace
 

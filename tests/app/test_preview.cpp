@@ -24,7 +24,8 @@ TEST(PreviewDecimate, KeepsAllUnderTheBudgetAndFirstLastEvenlyOver) {
   const auto all = decimate_indices(7, 7);
   ASSERT_EQ(all.size(), 7u);
   for (std::size_t i = 0; i < 7; ++i) EXPECT_EQ(all[i], i);
-  for (const auto& [n, budget] : std::vector<std::pair<std::size_t, std::size_t>>{{8, 7}, {1000, 2}, {1000001, 1000}, {5, 3}, {10, 1}}) {
+  for (const auto& [n, budget] :
+       std::vector<std::pair<std::size_t, std::size_t>>{{8, 7}, {1000, 2}, {1000001, 1000}, {5, 3}, {10, 1}}) {
     const auto k = decimate_indices(n, budget);
     const std::size_t b = std::max<std::size_t>(budget, 2);
     ASSERT_EQ(k.size(), b) << n << " " << budget;
@@ -38,15 +39,15 @@ TEST(PreviewDecimate, KeepsAllUnderTheBudgetAndFirstLastEvenlyOver) {
 }
 
 constexpr const char* kProgram =
-    "G21 G90 G17\n"           // 1
-    "G0 Z5\n"                 // 2
-    "G0 X10 Y0\n"             // 3
-    "G1 Z-1 F100\n"           // 4  plunge
-    "G1 X20 Y0 F600\n"        // 5  cut
-    "G1 X30 Y0 Z-2 F300\n"    // 6  down while cutting: a cut, not an entry ramp
+    "G21 G90 G17\n"               // 1
+    "G0 Z5\n"                     // 2
+    "G0 X10 Y0\n"                 // 3
+    "G1 Z-1 F100\n"               // 4  plunge
+    "G1 X20 Y0 F600\n"            // 5  cut
+    "G1 X30 Y0 Z-2 F300\n"        // 6  down while cutting: a cut, not an entry ramp
     "G3 X30 Y0 Z-3 I0 J5 F400\n"  // 7  helix: a full circle round (30, 5), 1 mm down
     "G2 X40 Y10 I10 J0 F800\n"    // 8  arc cut, quarter circle round (40, 0)
-    "G0 Z5\n"                 // 9
+    "G0 Z5\n"                     // 9
     "M30\n";
 
 TEST(PreviewPath, RoundTripsTheMovesWithTheirKindFeedAndLine) {
@@ -55,9 +56,14 @@ TEST(PreviewPath, RoundTripsTheMovesWithTheirKindFeedAndLine) {
   EXPECT_EQ(path.moves, 8u);
   EXPECT_EQ(path.points_before, path.kind.size());
   // Every move's end point is on the path at its line, in order, with its kind and feed.
-  struct End { std::uint32_t line; double x, y, z; StepKind kind; double feed; };
-  const std::vector<End> ends = {{3, 10, 0, 5, StepKind::Rapid, 0}, {4, 10, 0, -1, StepKind::Plunge, 100},
-                                 {5, 20, 0, -1, StepKind::Cut, 600},  {6, 30, 0, -2, StepKind::Cut, 300},
+  struct End {
+    std::uint32_t line;
+    double x, y, z;
+    StepKind kind;
+    double feed;
+  };
+  const std::vector<End> ends = {{3, 10, 0, 5, StepKind::Rapid, 0},    {4, 10, 0, -1, StepKind::Plunge, 100},
+                                 {5, 20, 0, -1, StepKind::Cut, 600},   {6, 30, 0, -2, StepKind::Cut, 300},
                                  {7, 30, 0, -3, StepKind::Helix, 400}, {8, 40, 10, -3, StepKind::Cut, 800},
                                  {9, 40, 10, 5, StepKind::Rapid, 0}};
   std::size_t at = 0;
@@ -79,15 +85,22 @@ TEST(PreviewPath, RoundTripsTheMovesWithTheirKindFeedAndLine) {
   std::size_t helix = 0, quarter = 0;
   for (std::size_t i = 0; i < path.line.size(); ++i) {
     const double x = path.xyz[3 * i], y = path.xyz[3 * i + 1];
-    if (path.line[i] == 7) { ++helix; EXPECT_NEAR(std::hypot(x - 30, y - 5), 5, 1e-4); }
-    if (path.line[i] == 8) { ++quarter; EXPECT_NEAR(std::hypot(x - 40, y), 10, 1e-4); }
+    if (path.line[i] == 7) {
+      ++helix;
+      EXPECT_NEAR(std::hypot(x - 30, y - 5), 5, 1e-4);
+    }
+    if (path.line[i] == 8) {
+      ++quarter;
+      EXPECT_NEAR(std::hypot(x - 40, y), 10, 1e-4);
+    }
   }
   EXPECT_EQ(helix, 60u);
   EXPECT_EQ(quarter, 15u);
 }
 
 TEST(PreviewPath, ARampIsALineDownEnteringFromARapid) {
-  const PreviewPath path = preview_path({"r", "G21\nG0 X0 Y0 Z1\nG1 X5 Y0 Z-0.5 F300\nG1 X0 Y0 Z-1\nG1 X5 Y0\nM30\n", "r.nc"}, 100, 6);
+  const PreviewPath path =
+      preview_path({"r", "G21\nG0 X0 Y0 Z1\nG1 X5 Y0 Z-0.5 F300\nG1 X0 Y0 Z-1\nG1 X5 Y0\nM30\n", "r.nc"}, 100, 6);
   ASSERT_EQ(path.kind.size(), 4u);
   EXPECT_EQ(path.kind[1], static_cast<std::uint8_t>(StepKind::Ramp));
   EXPECT_EQ(path.kind[2], static_cast<std::uint8_t>(StepKind::Ramp));  // the zigzag ramp goes on
@@ -101,16 +114,17 @@ TEST(PreviewData, EmbedsThePathTheLinesTextAndSaysWhatWasDecimated) {
   const json full = json::parse(preview_data_json(in));
   const PreviewPath path = preview_path(in.programs[0], 1000000, 6);
   ASSERT_EQ(full["programs"][0]["xyz"].size(), path.xyz.size());
-  for (std::size_t i = 0; i < path.xyz.size(); ++i) EXPECT_NEAR(full["programs"][0]["xyz"][i].get<double>(), path.xyz[i], 6e-4);
+  for (std::size_t i = 0; i < path.xyz.size(); ++i)
+    EXPECT_NEAR(full["programs"][0]["xyz"][i].get<double>(), path.xyz[i], 6e-4);
   EXPECT_EQ(full["programs"][0]["text"]["6"], "G1 X30 Y0 Z-2 F300");
   EXPECT_TRUE(full["notes"].empty());
   in.limits.max_path_points = 10;
   const json small = json::parse(preview_data_json(in));
   const auto& xyz = small["programs"][0]["xyz"];
   ASSERT_EQ(xyz.size(), 30u);
-  EXPECT_NEAR(xyz[0].get<double>(), 0, 1e-9);                  // first point kept: G0 Z5 from X0 Y0
+  EXPECT_NEAR(xyz[0].get<double>(), 0, 1e-9);  // first point kept: G0 Z5 from X0 Y0
   EXPECT_NEAR(xyz[2].get<double>(), 5, 1e-9);
-  EXPECT_NEAR(xyz[29].get<double>(), 5, 1e-9);                 // last point kept (Z of the final rapid)
+  EXPECT_NEAR(xyz[29].get<double>(), 5, 1e-9);  // last point kept (Z of the final rapid)
   ASSERT_EQ(small["notes"].size(), 1u);
   EXPECT_NE(small["notes"][0].get<std::string>().find("decimated"), std::string::npos);
 }

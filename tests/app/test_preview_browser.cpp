@@ -32,13 +32,19 @@ struct Browsed {
 Browsed browse(const fs::path& page, const fs::path& work) {
   const std::string common = std::string("DBUS_SESSION_BUS_ADDRESS=disabled: timeout -k 5 120 ") + kChromium +
                              " --headless=new --no-sandbox --use-angle=swiftshader --enable-unsafe-swiftshader"
-                             " --disable-gpu-sandbox --no-first-run --user-data-dir='" + (work / "chrome-profile").string() +
+                             " --disable-gpu-sandbox --no-first-run --user-data-dir='" +
+                             (work / "chrome-profile").string() +
                              "' --window-size=1100,700 --virtual-time-budget=8000 ";
   Browsed b;
   const fs::path dom = work / "dom.html", png = work / "shot.png";
   fs::remove(png);
-  EXPECT_EQ(std::system((common + "--dump-dom 'file://" + page.string() + "' >'" + dom.string() + "' 2>/dev/null").c_str()), 0);
-  EXPECT_EQ(std::system((common + "--screenshot='" + png.string() + "' 'file://" + page.string() + "' >/dev/null 2>&1").c_str()), 0);
+  EXPECT_EQ(
+      std::system((common + "--dump-dom 'file://" + page.string() + "' >'" + dom.string() + "' 2>/dev/null").c_str()),
+      0);
+  EXPECT_EQ(
+      std::system(
+          (common + "--screenshot='" + png.string() + "' 'file://" + page.string() + "' >/dev/null 2>&1").c_str()),
+      0);
   b.dom = slurp(dom);
   b.shot = cv::imread(png.string(), cv::IMREAD_COLOR);
   return b;
@@ -51,7 +57,8 @@ int pixels_near(const cv::Mat& bgr, const std::vector<std::uint32_t>& colours, i
     for (int x = x0; x < bgr.cols; ++x) {
       const cv::Vec3b p = bgr.at<cv::Vec3b>(y, x);
       for (const std::uint32_t c : colours) {
-        const int r = static_cast<int>(c >> 16 & 255), g = static_cast<int>(c >> 8 & 255), bl = static_cast<int>(c & 255);
+        const int r = static_cast<int>(c >> 16 & 255), g = static_cast<int>(c >> 8 & 255),
+                  bl = static_cast<int>(c & 255);
         if (std::abs(p[2] - r) <= tol && std::abs(p[1] - g) <= tol && std::abs(p[0] - bl) <= tol) {
           ++n;
           break;
@@ -66,7 +73,8 @@ int pixels_near(const cv::Mat& bgr, const std::vector<std::uint32_t>& colours, i
 void expect_good_page(const fs::path& page, const fs::path& work, const std::vector<std::uint32_t>& path_colours) {
   ASSERT_TRUE(fs::exists(page)) << page;
   const Browsed b = browse(page, work);
-  EXPECT_EQ(b.dom.find("MILLNET_PAGE_ERROR"), std::string::npos) << b.dom.substr(b.dom.find("MILLNET_PAGE_ERROR") == std::string::npos ? 0 : b.dom.find("MILLNET_PAGE_ERROR"), 400);
+  EXPECT_EQ(b.dom.find("MILLNET_PAGE_ERROR"), std::string::npos) << b.dom.substr(
+      b.dom.find("MILLNET_PAGE_ERROR") == std::string::npos ? 0 : b.dom.find("MILLNET_PAGE_ERROR"), 400);
   EXPECT_NE(b.dom.find("data-rendered=\"1\""), std::string::npos) << page << ": the page never rendered a frame";
   ASSERT_FALSE(b.shot.empty()) << "no screenshot of " << page;
   const int x0 = report::kPanelWidthPx + 2;
@@ -74,7 +82,8 @@ void expect_good_page(const fs::path& page, const fs::path& work, const std::vec
   cv::Scalar mean, sd;
   cv::meanStdDev(view, mean, sd);
   EXPECT_GT(sd[0] + sd[1] + sd[2], 6.0) << page << ": blank 3D view";
-  if (!path_colours.empty()) EXPECT_GE(pixels_near(b.shot, path_colours, 24, x0), 30) << page << ": no path colour in the view";
+  if (!path_colours.empty())
+    EXPECT_GE(pixels_near(b.shot, path_colours, 24, x0), 30) << page << ": no path colour in the view";
 }
 
 std::vector<std::uint32_t> feed_colours() { return {report::kFeedRamp.begin(), report::kFeedRamp.end()}; }
@@ -82,10 +91,12 @@ std::vector<std::uint32_t> feed_colours() { return {report::kFeedRamp.begin(), r
 bool have_chromium() { return fs::exists(kChromium); }
 
 fs::path write_part_stl(const fs::path& dir) {
-  const auto m = testing_ingest::solid([](double x, double y) {
-    const double r2 = (x - 10) * (x - 10) / 49 + (y - 8) * (y - 8) / 25;
-    return 1 + 5 * std::max(0.0, 1 - r2);
-  }, 0, 20, 0, 16, 40, 32);
+  const auto m = testing_ingest::solid(
+      [](double x, double y) {
+        const double r2 = (x - 10) * (x - 10) / 49 + (y - 8) * (y - 8) / 25;
+        return 1 + 5 * std::max(0.0, 1 - r2);
+      },
+      0, 20, 0, 16, 40, 32);
   const fs::path p = dir / "dome.stl";
   millnet::ingest::save_stl_binary(m, p);
   return p;
@@ -94,11 +105,15 @@ fs::path write_part_stl(const fs::path& dir) {
 TEST(PreviewBrowser, PocketPageRendersItsPathsWithoutErrors) {
   if (!have_chromium()) GTEST_SKIP() << kChromium << " is not installed (scripts/setup.sh installs chromium)";
   const fs::path d = fresh_dir("preview_pocket");
-  std::ofstream(d / "p.json") << R"({"units":"mm","boundary":[[0,0,0],[40,0,0],[40,30,0],[0,30,0]],"islands":[[[15,10,0],[15,20,0],[25,20,0],[25,10,0]]]})";
-  const auto r = run_millnet("pocket --pocket p.json --planner zigzag --tool-diameter 6 --stepover 3 --depth 2 --quiet --out o", d);
+  std::ofstream(d / "p.json")
+      << R"({"units":"mm","boundary":[[0,0,0],[40,0,0],[40,30,0],[0,30,0]],"islands":[[[15,10,0],[15,20,0],[25,20,0],[25,10,0]]]})";
+  const auto r = run_millnet(
+      "pocket --pocket p.json --planner zigzag --tool-diameter 6 --stepover 3 --depth 2 --quiet --out o", d);
   ASSERT_EQ(r.code, 0) << r.err;
   expect_good_page(d / "o" / "p.html", d, feed_colours());
-  const auto off = run_millnet("pocket --pocket p.json --planner zigzag --tool-diameter 6 --stepover 3 --depth 2 --quiet --no-preview --out o2", d);
+  const auto off = run_millnet(
+      "pocket --pocket p.json --planner zigzag --tool-diameter 6 --stepover 3 --depth 2 --quiet --no-preview --out o2",
+      d);
   ASSERT_EQ(off.code, 0) << off.err;
   EXPECT_TRUE(fs::exists(d / "o2" / "p.nc"));
   EXPECT_FALSE(fs::exists(d / "o2" / "p.html"));
@@ -108,7 +123,9 @@ TEST(PreviewBrowser, RoughPageRendersPartStockAndPaths) {
   if (!have_chromium()) GTEST_SKIP() << kChromium << " is not installed (scripts/setup.sh installs chromium)";
   const fs::path d = fresh_dir("preview_rough");
   const fs::path stl = write_part_stl(d);
-  const auto r = run_millnet("rough --mesh '" + stl.string() + "' --planner zigzag --tool-diameter 4 --stepover 2 --step-down 2 --quiet --out o", d);
+  const auto r = run_millnet("rough --mesh '" + stl.string() +
+                                 "' --planner zigzag --tool-diameter 4 --stepover 2 --step-down 2 --quiet --out o",
+                             d);
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string html = slurp(d / "o" / "dome.html");
   EXPECT_NE(html.find("\"part\":{\"V\":"), std::string::npos);
@@ -122,7 +139,8 @@ TEST(PreviewBrowser, FinishPageWithSimulationShowsTheSurfaceAndPaths) {
   const fs::path stl = write_part_stl(d);
   std::ofstream(d / "fast.json") << R"({"simulate": {"cell_mm": 0.1}})";
   const auto r = run_millnet("finish --quiet --config fast.json --mesh '" + stl.string() +
-                                 "' --strategy 1 --simulate --stepover 1 --step-down 1 --out o", d);
+                                 "' --strategy 1 --simulate --stepover 1 --step-down 1 --out o",
+                             d);
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string html = slurp(d / "o" / "dome.s1.html");
   EXPECT_NE(html.find("\"surface\":{"), std::string::npos);

@@ -86,10 +86,10 @@ TEST(ReportHeatMap, OrientationRowZeroAtBottomColumnZeroAtLeft) {
   const cv::Mat img = decode(p);
   const double vmax = n * n - 1;
   // Cell (row r, col c) is centred at data (c + 1, r + 1).
-  EXPECT_EQ(rgb_at(img, l, 1, 1), viridis_int(g(0, 0) / vmax));                  // bottom-left = min y, min x
-  EXPECT_EQ(rgb_at(img, l, n, n), viridis_int(g(n - 1, n - 1) / vmax));          // top-right
-  EXPECT_EQ(rgb_at(img, l, n, 1), viridis_int(g(0, n - 1) / vmax));              // bottom-right: row 0, last col
-  EXPECT_EQ(rgb_at(img, l, 1, n), viridis_int(g(n - 1, 0) / vmax));              // top-left: last row, col 0
+  EXPECT_EQ(rgb_at(img, l, 1, 1), viridis_int(g(0, 0) / vmax));          // bottom-left = min y, min x
+  EXPECT_EQ(rgb_at(img, l, n, n), viridis_int(g(n - 1, n - 1) / vmax));  // top-right
+  EXPECT_EQ(rgb_at(img, l, n, 1), viridis_int(g(0, n - 1) / vmax));      // bottom-right: row 0, last col
+  EXPECT_EQ(rgb_at(img, l, 1, n), viridis_int(g(n - 1, 0) / vmax));      // top-left: last row, col 0
   EXPECT_EQ(rgb_at(img, l, 8, 4), viridis_int(g(3, 7) / vmax));
   // Pixel rows: the bottom-left cell is below the top-right one in the image.
   EXPECT_GT(l.to_pixel(1, 1)[1], l.to_pixel(n, n)[1]);
@@ -186,8 +186,8 @@ TEST(ReportLinePlot, MultiLineProbabilitiesPerVector) {
     verif.values.push_back(0.3 + 0.5 * std::cos(i * 0.2) * std::cos(i * 0.2));
   }
   const fs::path p = out_dir() / "strip.png";
-  const Layout l = multi_line_png(p, {filt, verif}, "Output of the true class per stored vector",
-                                  "stored vector", "probability of the true class");
+  const Layout l = multi_line_png(p, {filt, verif}, "Output of the true class per stored vector", "stored vector",
+                                  "probability of the true class");
   expect_size(p, l);
   EXPECT_DOUBLE_EQ(l.x_min, 0.5);
   EXPECT_DOUBLE_EQ(l.x_max, 120.5);
@@ -200,7 +200,7 @@ TEST(ReportLinePlot, MultiLineProbabilitiesPerVector) {
 
 TEST(ReportBars, BarHeightsFollowTheValues) {
   const std::vector<std::string> cats = {"1 profile + Z finishing", "2 3D/profile", "3 scallop", "4 Z-level",
-                                         "5 equidistant", "spare 6", "spare 7", "spare 8"};
+                                         "5 equidistant",           "spare 6",      "spare 7",   "spare 8"};
   NamedValues a{"part A", {0.05, 0.6, 0.1, 0.05, 0.2, 0, 0, 0}}, b{"part B", {0.3, 0.1, 0.4, 0.1, 0.1, 0, 0, 0}};
   BarOptions o;
   o.y_range = std::pair{0.0, 1.0};
@@ -257,8 +257,10 @@ TEST(ReportPocket, IslandsGreyOutsideWhiteArcsAsArcsFeedColours) {
   path.chains = {slow, ring, fast};
   const fs::path p = out_dir() / "pocket.png";
   const Layout l = pocket_path_png(p, region, tps, path, "SOM tool path - test pocket",
-                                   {{"tool points", std::to_string(tps.size())}, {"retractions", "2"},
-                                    {"cut length", "512.3 mm"}, {"time (adjusted feed)", "4.2 min"}});
+                                   {{"tool points", std::to_string(tps.size())},
+                                    {"retractions", "2"},
+                                    {"cut length", "512.3 mm"},
+                                    {"time (adjusted feed)", "4.2 min"}});
   expect_size(p, l);
   const cv::Mat img = decode(p);
   const std::array<int, 3> grey{190, 190, 190}, white{255, 255, 255};
@@ -285,7 +287,9 @@ TEST(ReportPocket, IslandsGreyOutsideWhiteArcsAsArcsFeedColours) {
               1e-9);
   const fs::path p2 = out_dir() / "pocket2.png";
   pocket_path_png(p2, region, tps, path, "SOM tool path - test pocket",
-                  {{"tool points", std::to_string(tps.size())}, {"retractions", "2"}, {"cut length", "512.3 mm"},
+                  {{"tool points", std::to_string(tps.size())},
+                   {"retractions", "2"},
+                   {"cut length", "512.3 mm"},
                    {"time (adjusted feed)", "4.2 min"}});
   EXPECT_EQ(bytes(p), bytes(p2));
 }
@@ -345,12 +349,11 @@ TEST(ReportProfile, StackedPanelsOfEngagementFeedAndMrr) {
     mrr_const.push_back(n * 4 * 50.0 * 1.0 / 1000.0);
   }
   const fs::path p = out_dir() / "profile.png";
-  const Layout l = profile_png(p, s,
-                               {Panel{"engagement n3 (cells)", {NamedValues{"", n3}}},
-                                Panel{"feed (mm/min)", {NamedValues{"", feed}}},
-                                Panel{"MRR (cm³/min)", {NamedValues{"adjusted feed", mrr},
-                                                        NamedValues{"slot feed f1", mrr_const}}}},
-                               "Engagement, feed and MRR along the path", ProfileOptions{true, "s (mm)"});
+  const Layout l = profile_png(
+      p, s,
+      {Panel{"engagement n3 (cells)", {NamedValues{"", n3}}}, Panel{"feed (mm/min)", {NamedValues{"", feed}}},
+       Panel{"MRR (cm³/min)", {NamedValues{"adjusted feed", mrr}, NamedValues{"slot feed f1", mrr_const}}}},
+      "Engagement, feed and MRR along the path", ProfileOptions{true, "s (mm)"});
   expect_size(p, l);
   EXPECT_LE(l.x_min, 0);
   EXPECT_GE(l.x_max, 580);

@@ -75,8 +75,8 @@ TEST(Scenario, DefaultPipelineRunsEndToEndAndMeetsItsFigures) {
     const int expected = p["expected"].get<int>();
     EXPECT_EQ(name.substr(prefix.size(), 1), std::to_string(expected)) << "the family digit is the expected strategy";
     correct += p["top"].get<int>() == expected ? 1U : 0U;
-    std::printf("[scenario] %-28s expected %d predicted %d (confidence %.2f)\n", name.c_str(), expected, p["top"].get<int>(),
-                p["confidence"].get<double>());
+    std::printf("[scenario] %-28s expected %d predicted %d (confidence %.2f)\n", name.c_str(), expected,
+                p["top"].get<int>(), p["confidence"].get<double>());
     EXPECT_TRUE(fs::exists(dir / (name + ".png")));
     EXPECT_TRUE(fs::exists(dir / "predictions.csv"));
     ASSERT_TRUE(fs::exists(dir / (name + ".nc")));
@@ -129,17 +129,20 @@ TEST(Scenario, DefaultPipelineRunsEndToEndAndMeetsItsFigures) {
     }
     for (const int gk : gouging)
       for (const int ck : clean)
-        EXPECT_GT(std::find(sim.begin(), sim.end(), gk) - sim.begin(), std::find(sim.begin(), sim.end(), ck) - sim.begin())
+        EXPECT_GT(std::find(sim.begin(), sim.end(), gk) - sim.begin(),
+                  std::find(sim.begin(), sim.end(), ck) - sim.begin())
             << "gouging strategy " << gk << " ranked before clean strategy " << ck;
     EXPECT_TRUE(fs::exists(fin / (name + ".strategies.png")));
     ASSERT_TRUE(f.contains("rough_then_top"));
     EXPECT_EQ(f["rough_then_top"]["strategy"].get<int>(), net.front());
     EXPECT_GT(f["rough_then_top"]["finisher_max_depth_of_cut_mm"].get<double>(), 0.0);
     EXPECT_TRUE(fs::exists(out / "parts" / name / (name + ".rough_finish.sim.json")));
-    std::printf("[scenario] %-28s network %s simulated %s rho %.2f\n", name.c_str(), f["network_ranking"].dump().c_str(),
-                f["simulated_ranking"].dump().c_str(), f["spearman"].get<double>());
+    std::printf("[scenario] %-28s network %s simulated %s rho %.2f\n", name.c_str(),
+                f["network_ranking"].dump().c_str(), f["simulated_ranking"].dump().c_str(),
+                f["spearman"].get<double>());
   }
-  EXPECT_NE(summary.find("predicted as their family's strategy: " + std::to_string(correct) + " of " + std::to_string(n_parts)),
+  EXPECT_NE(summary.find("predicted as their family's strategy: " + std::to_string(correct) + " of " +
+                         std::to_string(n_parts)),
             std::string::npos);
 }
 

@@ -18,8 +18,9 @@ using millnet::testing_ingest::solid;
 namespace {
 // A square part whose grid has no symmetry: ramp along x plus an off-centre bump.
 ingest::Mesh asymmetric_part() {
-  return solid([](double x, double y) { return 10 + 0.2 * x + 6 * std::exp(-((x - 12) * (x - 12) + (y - 30) * (y - 30)) / 40); }, 0,
-               42, 0, 42, 84, 84);
+  return solid(
+      [](double x, double y) { return 10 + 0.2 * x + 6 * std::exp(-((x - 12) * (x - 12) + (y - 30) * (y - 30)) / 40); },
+      0, 42, 0, 42, 84, 84);
 }
 }  // namespace
 
@@ -107,7 +108,8 @@ TEST(Augment, RotationsAreRigidAboutTheBoxCentre) {
   const ingest::Mesh turned = apply(probe, Variant{"p", Axis::X, 30.0, false});
   const ingest::Box3 pb = ingest::bounds(probe);
   const Eigen::Vector3d pc = 0.5 * (pb.min + pb.max);
-  const Eigen::Vector3d expect = pc + Eigen::AngleAxisd(std::numbers::pi / 6, Eigen::Vector3d::UnitX()) * (c + Eigen::Vector3d(0, 10, 0) - pc);
+  const Eigen::Vector3d expect =
+      pc + Eigen::AngleAxisd(std::numbers::pi / 6, Eigen::Vector3d::UnitX()) * (c + Eigen::Vector3d(0, 10, 0) - pc);
   EXPECT_LT((turned.V.row(0).transpose() - expect).norm(), 1e-12);
   EXPECT_NEAR((turned.V.row(0).transpose() - pc).norm(), (c + Eigen::Vector3d(0, 10, 0) - pc).norm(), 1e-12);
 }

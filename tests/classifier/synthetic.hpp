@@ -19,7 +19,7 @@ using Eigen::MatrixXd;
 // Brute-force reference: full N×N (or M×N) distances by explicit loops, std::exp, no blocks.
 // mode: 0 = part-out, 1 = vector-out, 2 = filtration.
 inline MatrixXd reference_outputs(const MatrixXd& X, const MatrixXd& Y, const std::vector<std::string>& g, double alpha,
-                           int mode) {
+                                  int mode) {
   const Index n = X.rows();
   MatrixXd out = MatrixXd::Zero(n, Y.cols());
   for (Index i = 0; i < n; ++i) {
@@ -53,7 +53,7 @@ struct Synthetic {
   std::vector<std::string> groups;
 };
 inline Synthetic make_clusters(unsigned seed, int classes, int parts_per_class, int per_part, Index D, double sep,
-                        double part_noise, double vec_noise, bool random_labels = false) {
+                               double part_noise, double vec_noise, bool random_labels = false) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> N01(0.0, 1.0);
   std::uniform_int_distribution<int> cls(0, classes - 1);

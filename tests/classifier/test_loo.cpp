@@ -57,7 +57,7 @@ TEST(Loo, BlockedEqualsBruteForceReference) {
     }
   }
   AlphaSearchParams prm;
-  prm.block_rows = 16;      // 144 = 9 blocks: exercises the block combination
+  prm.block_rows = 16;  // 144 = 9 blocks: exercises the block combination
   prm.cache_neighbours = 40;
   const LooReport rep = select_alpha(Xn, s.Y, s.groups, prm);
   ASSERT_GE(rep.curve.size(), 20u);

@@ -159,7 +159,9 @@ TEST(ModelFile, FeaturesAreOneAddedKeyThatRoundTrips) {
   std::string expect = read_file(dir / "bare.json");
   const auto at = expect.find("\n \"format\"");
   ASSERT_NE(at, std::string::npos);
-  expect.insert(at, "\n \"features\": {\n  \"aspect_feature\": true,\n  \"grid\": 2,\n  \"inputs\": 5,\n  \"raster_mm\": 0.5\n },");
+  expect.insert(
+      at,
+      "\n \"features\": {\n  \"aspect_feature\": true,\n  \"grid\": 2,\n  \"inputs\": 5,\n  \"raster_mm\": 0.5\n },");
   EXPECT_EQ(read_file(dir / "features.json"), expect);
   // A spec that does not describe the stored inputs is refused on save and on load.
   Model wrong = m;

@@ -78,7 +78,12 @@ TEST(Network, TinyAlphaGivesNearestNeighbour) {
     double b1 = INFINITY, b2 = INFINITY;
     for (Index j = 0; j < X.rows(); ++j) {
       const double d = (Q.row(q) - X.row(j)).squaredNorm();
-      if (d < b1) { b2 = b1; b1 = d; best = j; } else if (d < b2) b2 = d;
+      if (d < b1) {
+        b2 = b1;
+        b1 = d;
+        best = j;
+      } else if (d < b2)
+        b2 = d;
     }
     ASSERT_GT(b2 - b1, 1e-6) << "seed 20240521: nearest neighbour ambiguous at query " << q;
     EXPECT_EQ(r.nearest(q), best);
@@ -120,7 +125,13 @@ TEST(Model, TrainPredictAndUnfamiliarFlag) {
   const Prediction p = predict(m, q);
   EXPECT_FALSE(p.unfamiliar[0]);
   EXPECT_TRUE(p.unfamiliar[1]);
-  EXPECT_EQ(Index{0}, [&] { Index k; p.probabilities.row(0).maxCoeff(&k); Index l; s.Y.row(7).maxCoeff(&l); return k - l; }());
+  EXPECT_EQ(Index{0}, [&] {
+    Index k;
+    p.probabilities.row(0).maxCoeff(&k);
+    Index l;
+    s.Y.row(7).maxCoeff(&l);
+    return k - l;
+  }());
   for (Index i = 0; i < 2; ++i) EXPECT_NEAR(p.probabilities.row(i).sum(), 1.0, 1e-12);
   EXPECT_TRUE(p.probabilities.allFinite());
   EXPECT_THROW((void)predict(m, MatrixXd::Zero(1, 8)), millnet::Error);

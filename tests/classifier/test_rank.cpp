@@ -12,9 +12,9 @@ using millnet::classifier::rank;
 Prediction three_variants() {
   Prediction p;
   p.probabilities.resize(3, 3);
-  p.probabilities << 0.6, 0.3, 0.1,   // top 1
-                     0.2, 0.5, 0.3,   // top 2
-                     0.5, 0.4, 0.1;   // top 1
+  p.probabilities << 0.6, 0.3, 0.1,  // top 1
+      0.2, 0.5, 0.3,                 // top 2
+      0.5, 0.4, 0.1;                 // top 1
   p.d2_min.resize(3);
   p.d2_min << 4.0, 1.5, 9.0;
   p.unfamiliar = {true, false, true};

@@ -68,8 +68,8 @@ TEST(Simd, ExpIsWithinTwoUlpOfStdExpOnMinus700ToZero) {
 TEST(Simd, ScaledExpFloorsTailsAndInfinityAndIgnoresTheThreadMode) {
   // n = 19: two full lanes and a tail of 3; +inf (an excluded vector) and far values become 0
   const double inf = std::numeric_limits<double>::infinity();
-  std::vector<double> delta = {0.0, 0.5, 1.0, 2.0, 10.0, 100.0, 344.0, 346.0, inf, 3.0,
-                               1e-9, 7.0, 0.25, 699.0, 701.0, 1e6, 0.125, 50.0, inf};
+  std::vector<double> delta = {0.0,  0.5, 1.0,  2.0,   10.0,  100.0, 344.0, 346.0, inf, 3.0,
+                               1e-9, 7.0, 0.25, 699.0, 701.0, 1e6,   0.125, 50.0,  inf};
   const double u = 1.0, floor = 1e-150;
   std::vector<double> out(delta.size(), -1.0);
   exp_neg_scaled(delta.data(), u, floor, out.data(), static_cast<Eigen::Index>(delta.size()));
@@ -106,9 +106,9 @@ TEST(NearestCut, EqualsNthElementOnRandomTiedAndAdversarialRows) {
     const int kind = trial % 4;
     for (Eigen::Index j = 0; j < n; ++j) {
       const auto uj = static_cast<std::size_t>(j);
-      if (kind == 0) d[uj] = std::uniform_real_distribution<double>(0, 100)(rng);        // random
+      if (kind == 0) d[uj] = std::uniform_real_distribution<double>(0, 100)(rng);                  // random
       if (kind == 1) d[uj] = static_cast<double>(std::uniform_int_distribution<int>(0, 20)(rng));  // many ties
-      if (kind == 2) d[uj] = static_cast<double>(n - j);   // descending: every sample is large
+      if (kind == 2) d[uj] = static_cast<double>(n - j);                           // descending: every sample is large
       if (kind == 3) d[uj] = j % 97 == 0 ? 0.5 : 1000.0 + static_cast<double>(j);  // the near few off the sample grid
     }
     const double cut = nearest_cut(d.data(), n, R, B);

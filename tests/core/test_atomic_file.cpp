@@ -66,8 +66,16 @@ TEST(AtomicFile, ErrorsNameThePath) {
 }
 
 TEST(FormatDouble, RoundTripsBitForBit) {
-  const double values[] = {0.1, 1.0 / 3.0, -0.0, 5e-324, 1e-300, 2.2250738585072014e-308, 123456789.123456789,
-                           std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(), 42.0};
+  const double values[] = {0.1,
+                           1.0 / 3.0,
+                           -0.0,
+                           5e-324,
+                           1e-300,
+                           2.2250738585072014e-308,
+                           123456789.123456789,
+                           std::numeric_limits<double>::max(),
+                           -std::numeric_limits<double>::max(),
+                           42.0};
   for (double v : values) {
     const std::string s = millnet::format_double(v);
     double back = 0;

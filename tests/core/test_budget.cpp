@@ -51,8 +51,9 @@ TEST(Budget, TheIssueExampleIsRefusedInOneLineNamingParameterEstimateAndLimit) {
 TEST(Budget, AtTheLimitPassesJustAboveIsRefused) {
   const WorkLimits l{1000, 1048576};
   EXPECT_EQ(refusal({"x", 1000, "points", 1e6}, l), "");
-  EXPECT_NE(refusal({"x", 1001, "points", 10}, l).find("makes 1.001e3 points (≈ 10 B); the limit is 1.000e3 (--max-work"),
-            std::string::npos);
+  EXPECT_NE(
+      refusal({"x", 1001, "points", 10}, l).find("makes 1.001e3 points (≈ 10 B); the limit is 1.000e3 (--max-work"),
+      std::string::npos);
   const std::string mem = refusal({"cell 0.1 mm", 10, "cells", 2e6}, l);
   EXPECT_NE(mem.find("(≈ 2.0 MB); the memory limit is 1 MiB (--max-memory-mb, /limits/max_memory_mb)"),
             std::string::npos)
@@ -101,7 +102,8 @@ TEST_P(Interrupt, RemovesThePendingTemporaryFileAndEndsByTheSignal) {
   ASSERT_EQ(::read(ready[0], &c, 1), 1);
   ::close(ready[0]);
   std::size_t before = 0;
-  for (const auto& e : fs::directory_iterator(d)) before += e.path().filename().string().find(".tmp-") != std::string::npos;
+  for (const auto& e : fs::directory_iterator(d))
+    before += e.path().filename().string().find(".tmp-") != std::string::npos;
   EXPECT_EQ(before, 1U) << "the child should be writing a temporary file";
   ASSERT_EQ(::kill(pid, sig), 0);
   int status = 0;

@@ -28,7 +28,7 @@ TEST(OutputSet, FilesAppearOnlyOnCommitAndCanBeReadBackBefore) {
     EXPECT_FALSE(fs::exists(d / "a.txt"));
     EXPECT_FALSE(fs::exists(d / "sub" / "b.txt"));
     EXPECT_EQ(millnet::read_file(d / "a.txt"), "A");  // read back before the commit
-    millnet::write_file_atomic(d / "a.txt", "A2");   // written twice: the later content wins
+    millnet::write_file_atomic(d / "a.txt", "A2");    // written twice: the later content wins
     set.commit();
   }
   EXPECT_EQ(millnet::read_file(d / "a.txt"), "A2");

@@ -88,10 +88,11 @@ TEST(Corpus, EveryCaseThrowsItsExpectedError) {
       ADD_FAILURE() << name << ": read without an error";
     } catch (const millnet::Error& e) {
       const std::string msg = e.what();
-      EXPECT_NE(msg.find(c.filename().string()), std::string::npos) << name << ": the message does not name the file:\n  " << msg;
+      EXPECT_NE(msg.find(c.filename().string()), std::string::npos)
+          << name << ": the message does not name the file:\n  " << msg;
       for (const std::string& p : parts)
-        EXPECT_NE(msg.find(p), std::string::npos) << name << ": expected the message to contain\n  " << p
-                                                  << "\ngot\n  " << msg;
+        EXPECT_NE(msg.find(p), std::string::npos)
+            << name << ": expected the message to contain\n  " << p << "\ngot\n  " << msg;
     } catch (const std::exception& e) {
       ADD_FAILURE() << name << ": threw a std::exception that is not millnet::Error: " << e.what();
     }
@@ -106,7 +107,8 @@ using Generator = std::function<void(const fs::path& tmp)>;
 
 /// A closed 20 × 20 × 10 mm box as ASCII STL: a good part for the cases whose other input is bad.
 void write_box_stl(const fs::path& p) {
-  const double v[8][3] = {{0, 0, 0}, {20, 0, 0}, {20, 20, 0}, {0, 20, 0}, {0, 0, 10}, {20, 0, 10}, {20, 20, 10}, {0, 20, 10}};
+  const double v[8][3] = {{0, 0, 0},  {20, 0, 0},  {20, 20, 0},  {0, 20, 0},
+                          {0, 0, 10}, {20, 0, 10}, {20, 20, 10}, {0, 20, 10}};
   const int f[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
                         {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
   std::ostringstream s;
@@ -122,7 +124,8 @@ void write_box_stl(const fs::path& p) {
 
 /// A small vectors.csv (2×2 grid, 3 parts × 2 rows, labels 1…3) that `train` accepts.
 void write_small_vectors(const fs::path& p) {
-  std::string csv = "id,source,label,axis,angle,flip,in_1_1,in_1_2,in_2_1,in_2_2,out_1,out_2,out_3,out_4,out_5,out_6,out_7,out_8\n";
+  std::string csv =
+      "id,source,label,axis,angle,flip,in_1_1,in_1_2,in_2_1,in_2_2,out_1,out_2,out_3,out_4,out_5,out_6,out_7,out_8\n";
   for (int part = 1; part <= 3; ++part)
     for (int r = 0; r < 2; ++r) {
       csv += "p" + std::to_string(part) + "#" + std::to_string(r + 1) + ",p" + std::to_string(part) + "," +
@@ -152,8 +155,9 @@ const std::map<std::string, Generator>& generators() {
       {"limits_train_loo_pairs", [](const fs::path& t) { write_small_vectors(t / "vectors.csv"); }},
       {"sample_footprint_zero",
        [](const fs::path& t) {
-         millnet::write_file_atomic(t / "wall.stl", "solid wall\n facet normal 0 1 0\n  outer loop\n   vertex 0 0 0\n"
-                                                    "   vertex 10 0 0\n   vertex 0 0 10\n  endloop\n endfacet\nendsolid wall\n");
+         millnet::write_file_atomic(t / "wall.stl",
+                                    "solid wall\n facet normal 0 1 0\n  outer loop\n   vertex 0 0 0\n"
+                                    "   vertex 10 0 0\n   vertex 0 0 10\n  endloop\n endfacet\nendsolid wall\n");
        }},
       {"rough_second_mesh_missing", [](const fs::path& t) { write_box_stl(t / "part.stl"); }},
       {"out_of_memory", [](const fs::path& t) { write_box_stl(t / "part.stl"); }},
@@ -171,7 +175,8 @@ const std::map<std::string, Generator>& generators() {
 }
 
 std::string replace_all(std::string s, const std::string& from, const std::string& to) {
-  for (std::size_t p = s.find(from); p != std::string::npos; p = s.find(from, p + to.size())) s.replace(p, from.size(), to);
+  for (std::size_t p = s.find(from); p != std::string::npos; p = s.find(from, p + to.size()))
+    s.replace(p, from.size(), to);
   return s;
 }
 
@@ -199,25 +204,31 @@ TEST(Corpus, EveryCliCaseFailsWithOneLine) {
     std::string args;
     std::istringstream in(millnet::read_file(c));
     for (std::string line; std::getline(in, line);) {
-      if (line.rfind("# exit ", 0) == 0) expected_code = std::stoi(line.substr(7));
-      else if (line.rfind("# ulimit -v ", 0) == 0) memory_kib = std::stol(line.substr(12));
-      else if (!line.empty() && line[0] != '#') args += (args.empty() ? "" : " ") + line;
+      if (line.rfind("# exit ", 0) == 0)
+        expected_code = std::stoi(line.substr(7));
+      else if (line.rfind("# ulimit -v ", 0) == 0)
+        memory_kib = std::stol(line.substr(12));
+      else if (!line.empty() && line[0] != '#')
+        args += (args.empty() ? "" : " ") + line;
     }
 #if defined(__SANITIZE_ADDRESS__)
     // AddressSanitizer reserves terabytes of shadow address space at start: under `ulimit -v` it
     // aborts before main, so an out-of-memory case can only be checked in the plain build.
     if (memory_kib > 0) continue;
 #endif
-    args = replace_all(replace_all(replace_all(args, "{corpus}", root.string()), "{tmp}", tmp.string()), "{out}", out.string());
+    args = replace_all(replace_all(replace_all(args, "{corpus}", root.string()), "{tmp}", tmp.string()), "{out}",
+                       out.string());
     const fs::path expect = fs::path(c).replace_extension(".expect");
     ASSERT_TRUE(fs::exists(expect)) << name << ": no " << expect.filename() << " beside it";
     // Nothing may be written outside the output folder either (`--out ""` wrote into the current folder).
     const std::string before = millnet::testing::list_files(tmp);
     const auto r = millnet::testing::run_millnet(args + " --quiet", tmp, 60, memory_kib);
     EXPECT_EQ(r.code, expected_code) << name << ": " << args << "\n" << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << name << ": expected one line on stderr, got\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << name << ": expected one line on stderr, got\n"
+                                                               << r.err;
     for (const std::string& p : expected_parts(expect))
-      EXPECT_NE(r.err.find(p), std::string::npos) << name << ": expected stderr to contain\n  " << p << "\ngot\n  " << r.err;
+      EXPECT_NE(r.err.find(p), std::string::npos)
+          << name << ": expected stderr to contain\n  " << p << "\ngot\n  " << r.err;
     EXPECT_EQ(millnet::testing::list_files(out), "") << name << ": files left in the output folder";
     std::set<std::string> added;
     {

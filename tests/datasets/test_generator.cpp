@@ -92,7 +92,8 @@ TEST(Generator, SameSeedSameBytesDifferentSeedDifferentBytes) {
   for (std::size_t k = 0; k < p1.size(); ++k) {
     EXPECT_EQ(p1[k].name, p2[k].name);
     EXPECT_EQ(p1[k].label, static_cast<int>(k / 2) + 1);
-    const std::string a = millnet::read_file(p1[k].file), b = millnet::read_file(p2[k].file), c = millnet::read_file(p3[k].file);
+    const std::string a = millnet::read_file(p1[k].file), b = millnet::read_file(p2[k].file),
+                      c = millnet::read_file(p3[k].file);
     EXPECT_EQ(a, b) << p1[k].name;
     EXPECT_NE(a, c) << p1[k].name;
     EXPECT_EQ(a.size(), 84u + 50u * 2u * 39u * 39u + 50u * 3u * 4u * 39u) << "binary STL of the documented size";
@@ -117,9 +118,12 @@ TEST(Generator, PartsAreClosedOrientedSolidsOfTheDocumentedSize) {
       double volume = 0;
       for (Eigen::Index t = 0; t < nf; ++t) {
         for (int e = 0; e < 3; ++e) ++edges[{g.mesh.F(t, e), g.mesh.F(t, (e + 1) % 3)}];
-        const Eigen::Vector3d a = g.mesh.V.row(g.mesh.F(t, 0)).transpose(), b = g.mesh.V.row(g.mesh.F(t, 1)).transpose(),
+        const Eigen::Vector3d a = g.mesh.V.row(g.mesh.F(t, 0)).transpose(),
+                              b = g.mesh.V.row(g.mesh.F(t, 1)).transpose(),
                               c = g.mesh.V.row(g.mesh.F(t, 2)).transpose();
-        volume += a.dot(Eigen::Vector3d(b.y() * c.z() - b.z() * c.y(), b.z() * c.x() - b.x() * c.z(), b.x() * c.y() - b.y() * c.x())) / 6;
+        volume += a.dot(Eigen::Vector3d(b.y() * c.z() - b.z() * c.y(), b.z() * c.x() - b.x() * c.z(),
+                                        b.x() * c.y() - b.y() * c.x())) /
+                  6;
       }
       for (const auto& [e, count] : edges) {
         ASSERT_EQ(count, 1);

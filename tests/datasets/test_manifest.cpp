@@ -66,10 +66,16 @@ TEST(Manifest, ExactBytes) {
       "  \"format\": \"millnet-vectors\",\n"
       "  \"format_version\": 1,\n"
       "  \"program\": \"millnet\",\n"
-      "  \"program_version\": \"" + manifest_of(t, csv).program_version + "\",\n"
+      "  \"program_version\": \"" +
+      manifest_of(t, csv).program_version +
+      "\",\n"
       "  \"csv\": \"vectors.csv\",\n"
-      "  \"csv_fnv1a64\": \"" + to_hex(fnv1a64(csv)) + "\",\n"
-      "  \"csv_bytes\": " + std::to_string(csv.size()) + ",\n"
+      "  \"csv_fnv1a64\": \"" +
+      to_hex(fnv1a64(csv)) +
+      "\",\n"
+      "  \"csv_bytes\": " +
+      std::to_string(csv.size()) +
+      ",\n"
       "  \"grid\": 2,\n"
       "  \"inputs\": 4,\n"
       "  \"outputs\": 8,\n"
@@ -78,7 +84,8 @@ TEST(Manifest, ExactBytes) {
       "  \"strategies\": [\"a \\\"b\\\" \\\\ c\", \"s2\", \"s3\", \"s4\", \"s5\", \"s6\", \"s7\", \"s8\"],\n"
       "  \"hash\": \"fnv1a64\",\n"
       "  \"input_files\": [\n"
-      "    {\"name\": \"a\", \"file\": \"parts/a.stl\", \"label\": 1, \"fnv1a64\": \"00000000000000ff\", \"bytes\": 84, "
+      "    {\"name\": \"a\", \"file\": \"parts/a.stl\", \"label\": 1, \"fnv1a64\": \"00000000000000ff\", \"bytes\": "
+      "84, "
       "\"triangles\": 2, \"degenerate_triangles\": 1}\n"
       "  ],\n"
       "  \"config\": {\"grid\": 2, \"raster_mm\": 0.5}\n"

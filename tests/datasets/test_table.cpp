@@ -31,7 +31,8 @@ Table small_table(int n, bool aspect) {
   Table t;
   t.grid_n = n;
   t.has_aspect = aspect;
-  const double awkward[] = {0.1, 1e-300, -0.0, 1.0 / 3.0, 5e-324, std::numeric_limits<double>::max(), -2.5e17, 123.456789012345678};
+  const double awkward[] = {
+      0.1, 1e-300, -0.0, 1.0 / 3.0, 5e-324, std::numeric_limits<double>::max(), -2.5e17, 123.456789012345678};
   int k = 0;
   for (int r = 0; r < 3; ++r) {
     Row row;

@@ -26,8 +26,8 @@ namespace {
 constexpr double kExact = 1e-9;  // mm, where the geometry is exact
 
 std::vector<Cutter> all_cutters() {
-  return {Cutter::flat(2), Cutter::ball(2), Cutter::bull(2, 0.5), Cutter::flat(6), Cutter::ball(6.35),
-          Cutter::bull(10, 2)};
+  return {Cutter::flat(2), Cutter::ball(2),    Cutter::bull(2, 0.5),
+          Cutter::flat(6), Cutter::ball(6.35), Cutter::bull(10, 2)};
 }
 
 Mesh from_triangles(const std::vector<std::array<Eigen::Vector3d, 3>>& tris) {
@@ -72,7 +72,9 @@ long double edge_oracle(const Cutter& c, long double m, long double dp, long dou
     const long double u = d - a;
     return r - std::sqrt(std::max(0.0L, r * r - u * u));
   };
-  const auto f = [&](long double s) { return m * s - h(std::min<long double>(c.radius(), std::sqrt(dp * dp + s * s))); };
+  const auto f = [&](long double s) {
+    return m * s - h(std::min<long double>(c.radius(), std::sqrt(dp * dp + s * s)));
+  };
   for (int i = 0; i < 400 && hi - lo > 1e-18L; ++i) {
     const long double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
     if (f(m1) < f(m2))
@@ -191,7 +193,8 @@ TEST(DropCutter, SphereCentreDistanceIsRadiusSum) {
   const double sag = rho * (1 - std::cos(std::numbers::pi / nv));  // ≥ chordal error of every facet
   for (const Cutter& c : all_cutters()) {
     const DropCutter dc(m, c);
-    for (const auto& [x, y] : std::vector<std::pair<double, double>>{{0, 0}, {0.4, 0.1}, {3, -2}, {-5, 4.5}, {6.5, 0}}) {
+    for (const auto& [x, y] :
+         std::vector<std::pair<double, double>>{{0, 0}, {0.4, 0.1}, {3, -2}, {-5, 4.5}, {6.5, 0}}) {
       const double expect = round_body_cl(c, rho, std::hypot(x, y));
       const CLPoint p = dc.drop(x, y);
       EXPECT_LE(p.z, expect + kExact) << c.describe() << " at " << x << "," << y;
@@ -266,8 +269,8 @@ TEST(DropCutter, SingleTriangleVertexContact) {
 TEST(DropCutter, SingleTriangleFacetContact) {
   const double p = 0.3, q = -0.2, c0 = 2;
   const auto z = [&](double x, double y) { return p * x + q * y + c0; };
-  const Mesh m = from_triangles(
-      {{Eigen::Vector3d(-30, -30, z(-30, -30)), Eigen::Vector3d(30, -30, z(30, -30)), Eigen::Vector3d(0, 30, z(0, 30))}});
+  const Mesh m = from_triangles({{Eigen::Vector3d(-30, -30, z(-30, -30)), Eigen::Vector3d(30, -30, z(30, -30)),
+                                  Eigen::Vector3d(0, 30, z(0, 30))}});
   const double t = std::hypot(p, q);
   for (const Cutter& c : all_cutters()) {
     const DropCutter dc(m, c);
@@ -319,7 +322,8 @@ TEST(DropCutter, BullEdgeRandomAgainstOneDimensionalOracle) {
   // bull noses of several proportions; ball and flat as the limits.
   Sampler s(20261123);
   const std::vector<Cutter> cutters{Cutter::bull(2, 0.5), Cutter::bull(2, 0.05), Cutter::bull(2, 0.95),
-                                    Cutter::bull(10, 2), Cutter::bull(2, 1), Cutter::ball(2), Cutter::flat(2)};
+                                    Cutter::bull(10, 2),  Cutter::bull(2, 1),    Cutter::ball(2),
+                                    Cutter::flat(2)};
   int n = 0;
   for (const Cutter& c : cutters) {
     const double R = c.radius();
@@ -373,7 +377,7 @@ TEST(DropCutter, RandomMeshesMatchBruteForce) {
       const double cx = s.u(0, 30), cy = s.u(0, 30), sz = k % 40 == 0 ? 15 : s.u(0.05, 3);
       std::array<Eigen::Vector3d, 3> t;
       for (auto& v : t) v = Eigen::Vector3d(cx + s.u(-sz, sz), cy + s.u(-sz, sz), s.u(0, 5));
-      if (k % 17 == 0) t[1].head<2>() = t[0].head<2>();  // vertical edge
+      if (k % 17 == 0) t[1].head<2>() = t[0].head<2>();                                            // vertical edge
       if (k % 23 == 0) t[2].head<2>() = t[0].head<2>() + 0.5 * (t[1].head<2>() - t[0].head<2>());  // vertical facet
       tris.push_back(t);
     }
@@ -383,8 +387,8 @@ TEST(DropCutter, RandomMeshesMatchBruteForce) {
         [&](double x, double y) { return 2 * std::sin(0.7 * x) * std::cos(0.4 * y) + 0.3 * std::sin(5 * x + 3 * y); },
         0, 25, 0, 20, 40, 31);
     // A closed part with vertical walls and a base below the top.
-    const Mesh part = solid([&](double x, double y) { return 6 + 2 * std::cos(0.5 * x) * std::sin(0.3 * y); }, 2, 28, 3,
-                            27, 26, 24);
+    const Mesh part =
+        solid([&](double x, double y) { return 6 + 2 * std::cos(0.5 * x) * std::sin(0.3 * y); }, 2, 28, 3, 27, 26, 24);
     for (const Mesh* m : {&soup, &terrain, &part})
       for (const Cutter& c : all_cutters()) {
         const DropCutter dc(*m, c);
@@ -432,8 +436,8 @@ TEST(DropCutter, GridMatchesSingleDrops) {
 }
 
 TEST(DropCutter, ThreadCountInvariant) {
-  const Mesh terrain = surface([](double x, double y) { return std::sin(x) * std::cos(1.3 * y) + 0.01 * x * y; }, 0, 20,
-                               0, 15, 120, 90);
+  const Mesh terrain =
+      surface([](double x, double y) { return std::sin(x) * std::cos(1.3 * y) + 0.01 * x * y; }, 0, 20, 0, 15, 120, 90);
   const int saved = omp_get_max_threads();
   for (const Cutter& c : all_cutters()) {
     const DropCutter dc(terrain, c);
@@ -486,9 +490,9 @@ TEST(DropCutter, BullEdgeDegenerateCases) {
           const Eigen::Vector2d u(0.6, 0.8), nrm(-0.8, 0.6);
           const Eigen::Vector2d a2 = dp * nrm + t0 * u, b2 = dp * nrm + (t0 + len) * u;
           const Eigen::Vector2d w = dp * nrm + (t0 + 0.5 * len) * u + 50 * nrm;
-          const Mesh m = from_triangles({{Eigen::Vector3d(a2.x(), a2.y(), 1 + slope * t0),
-                                          Eigen::Vector3d(b2.x(), b2.y(), 1 + slope * (t0 + len)),
-                                          Eigen::Vector3d(w.x(), w.y(), -1e5)}});
+          const Mesh m = from_triangles(
+              {{Eigen::Vector3d(a2.x(), a2.y(), 1 + slope * t0),
+                Eigen::Vector3d(b2.x(), b2.y(), 1 + slope * (t0 + len)), Eigen::Vector3d(w.x(), w.y(), -1e5)}});
           const double S = std::sqrt(std::max(0.0, R * R - dp * dp));
           const double lo = std::max(t0, -S), hi = std::min(t0 + len, S);
           const CLPoint p = drop_brute_force(m, c, 0, 0);

@@ -30,10 +30,12 @@ using testing_ingest::solid;
 
 /// Plateau at z = 8 (|d|∞ ≤ 2 around (10, 10)), 45° flanks down to a 0.5 mm shelf, base at 0.
 ingest::Mesh pyramid() {
-  return solid([](double x, double y) {
-    const double r = std::max(std::abs(x - 10), std::abs(y - 10));
-    return std::clamp(8 - (r - 2), 0.5, 8.0);
-  }, 0, 20, 0, 20, 40, 40);
+  return solid(
+      [](double x, double y) {
+        const double r = std::max(std::abs(x - 10), std::abs(y - 10));
+        return std::clamp(8 - (r - 2), 0.5, 8.0);
+      },
+      0, 20, 0, 20, 40, 40);
 }
 
 FinishParams small_params() {
@@ -314,8 +316,8 @@ TEST(FinishStrategy, PlanningSeveralTogetherEqualsPlanningEachAlone) {
   const auto mesh = pyramid();
   const DropCutter dc(mesh, Cutter::ball(2));
   const auto p = small_params();
-  const std::vector<Strategy> order{Strategy::Waterline, Strategy::SlopeMode, Strategy::Raster,
-                                    Strategy::Equidistant, Strategy::ScallopMode};
+  const std::vector<Strategy> order{Strategy::Waterline, Strategy::SlopeMode, Strategy::Raster, Strategy::Equidistant,
+                                    Strategy::ScallopMode};
   const std::vector<FinishPlan> together = plan_finish(mesh, dc, order, p);
   ASSERT_EQ(together.size(), order.size());
   std::size_t drops_together = 0, drops_alone = 0;
@@ -324,7 +326,8 @@ TEST(FinishStrategy, PlanningSeveralTogetherEqualsPlanningEachAlone) {
     EXPECT_EQ(together[k].strategy, order[k]);
     const auto ma = moves(together[k].program), mb = moves(alone.program);
     ASSERT_EQ(ma.size(), mb.size()) << strategy_name(order[k]);
-    for (std::size_t i = 0; i < ma.size(); ++i) ASSERT_EQ(ma[i].to, mb[i].to) << strategy_name(order[k]) << " move " << i;
+    for (std::size_t i = 0; i < ma.size(); ++i)
+      ASSERT_EQ(ma[i].to, mb[i].to) << strategy_name(order[k]) << " move " << i;
     EXPECT_EQ(together[k].lifts, alone.lifts);
     // What the strategy needs does not depend on what was planned with it (MPI plans alone).
     EXPECT_EQ(together[k].drops_needed, alone.drops) << strategy_name(order[k]);
@@ -343,19 +346,20 @@ TEST(FinishStrategy, NarrowRidgesAndSteepWallsNeverGouge) {
   // cutter, a steep round boss and a slanted crest. A waterline chord's split point once came from
   // a far probe on another branch of the level (0.19 mm into s3), and a raster interval that
   // climbs a wall's edge could hide the CL above its chord off the midpoint (0.012 mm into s4).
-  const auto mesh = solid([](double x, double y) {
-    double z = 1 + 2.5 * std::exp(-(x - 6) * (x - 6) / 0.4) * (1 + 0.4 * std::sin(1.3 * y));
-    z += 2 * std::exp(-(y - 13 + 0.35 * x) * (y - 13 + 0.35 * x) / 0.3);
-    const double r = std::hypot(x - 14, y - 6);
-    z += 3 / (1 + std::exp((r - 3) * 12));  // a boss with a steep, rounded wall
-    return z;
-  }, 0, 20, 0, 20, 40, 40);
+  const auto mesh = solid(
+      [](double x, double y) {
+        double z = 1 + 2.5 * std::exp(-(x - 6) * (x - 6) / 0.4) * (1 + 0.4 * std::sin(1.3 * y));
+        z += 2 * std::exp(-(y - 13 + 0.35 * x) * (y - 13 + 0.35 * x) / 0.3);
+        const double r = std::hypot(x - 14, y - 6);
+        z += 3 / (1 + std::exp((r - 3) * 12));  // a boss with a steep, rounded wall
+        return z;
+      },
+      0, 20, 0, 20, 40, 40);
   const DropCutter dc(mesh, Cutter::ball(2));
   auto p = small_params();
   p.stepover_mm = 0.4;
   p.step_down_mm = 0.25;
-  for (const FinishPlan& plan :
-       plan_finish(mesh, dc, std::vector{Strategy::Waterline, Strategy::Raster}, p)) {
+  for (const FinishPlan& plan : plan_finish(mesh, dc, std::vector{Strategy::Waterline, Strategy::Raster}, p)) {
     SCOPED_TRACE(strategy_name(plan.strategy));
     expect_no_gouge(mesh, Cutter::ball(2), plan, 0, plan.strategy == Strategy::Waterline);
   }

@@ -19,13 +19,13 @@ using P = std::array<double, 2>;
 
 TEST(Polylines, CutsAndRapidsSplitIntoRuns) {
   Program p;
-  p.items.emplace_back(mv(Motion::Rapid, {0, 0, 5}));      // start known: nothing drawn
-  p.items.emplace_back(Comment{"x"});                      // not a move
-  p.items.emplace_back(mv(Motion::Rapid, {10, 0, 5}));     // rapid run 1
-  p.items.emplace_back(mv(Motion::Line, {10, 0, -1}));     // plunge: a cut run starts, same XY twice
+  p.items.emplace_back(mv(Motion::Rapid, {0, 0, 5}));   // start known: nothing drawn
+  p.items.emplace_back(Comment{"x"});                   // not a move
+  p.items.emplace_back(mv(Motion::Rapid, {10, 0, 5}));  // rapid run 1
+  p.items.emplace_back(mv(Motion::Line, {10, 0, -1}));  // plunge: a cut run starts, same XY twice
   p.items.emplace_back(mv(Motion::Line, {20, 0, -1}));
-  p.items.emplace_back(mv(Motion::Rapid, {20, 0, 5}));     // a lift: no XY motion, not drawn
-  p.items.emplace_back(mv(Motion::Rapid, {0, 0, 5}));      // rapid run 2
+  p.items.emplace_back(mv(Motion::Rapid, {20, 0, 5}));  // a lift: no XY motion, not drawn
+  p.items.emplace_back(mv(Motion::Rapid, {0, 0, 5}));   // rapid run 2
   const XyPaths xy = xy_paths(p);
   ASSERT_EQ(xy.rapids.size(), 2u);
   EXPECT_EQ(xy.rapids[0], (XyPolyline{P{0, 0}, P{10, 0}}));
@@ -36,10 +36,10 @@ TEST(Polylines, CutsAndRapidsSplitIntoRuns) {
 
 TEST(Polylines, NothingIsDrawnBeforeXAndYAreKnown) {
   Program p;
-  p.items.emplace_back(mv(Motion::Rapid, {0, 0, 5}, kZ));   // Z only: XY unknown
-  p.items.emplace_back(mv(Motion::Line, {3, 0, 5}, kX));    // X only: still unknown
-  p.items.emplace_back(mv(Motion::Line, {3, 4, 5}, kY));    // Y only: a move must state both
-  p.items.emplace_back(mv(Motion::Line, {6, 4, 5}));        // X and Y stated: known from here
+  p.items.emplace_back(mv(Motion::Rapid, {0, 0, 5}, kZ));  // Z only: XY unknown
+  p.items.emplace_back(mv(Motion::Line, {3, 0, 5}, kX));   // X only: still unknown
+  p.items.emplace_back(mv(Motion::Line, {3, 4, 5}, kY));   // Y only: a move must state both
+  p.items.emplace_back(mv(Motion::Line, {6, 4, 5}));       // X and Y stated: known from here
   p.items.emplace_back(mv(Motion::Line, {6, 8, 5}));
   const XyPaths xy = xy_paths(p);
   EXPECT_TRUE(xy.rapids.empty());

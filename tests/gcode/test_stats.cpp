@@ -10,9 +10,9 @@
 using namespace millnet::gcode;
 
 namespace {
-constexpr double kA = 100;      // mm/s²
-constexpr double kF = 600;      // mm/min
-constexpr double kDelta = 0.01; // mm
+constexpr double kA = 100;       // mm/s²
+constexpr double kF = 600;       // mm/min
+constexpr double kDelta = 0.01;  // mm
 MotionModel model() { return {6000, 3000, kA, kDelta}; }
 Move to(Motion m, Point3 p, double feed = kF) {
   Move x;
@@ -74,9 +74,9 @@ TEST(GcodeStats, ReversalStops) {
 
 TEST(GcodeStats, FeedTimeIsLengthOverFeedAndRapidsAtTheRapidRate) {
   Program p = lines({{10, 0, 0}});
-  p.items.emplace_back(to(Motion::Line, {10, 0, -2}, 100));     // 2 mm plunge at 100 mm/min
-  p.items.emplace_back(to(Motion::Rapid, {10, 0, 10}));         // 12 mm at 6000 mm/min
-  p.items.emplace_back(to(Motion::Line, {20, 0, 10}, 9000));    // capped at max_feed 3000
+  p.items.emplace_back(to(Motion::Line, {10, 0, -2}, 100));   // 2 mm plunge at 100 mm/min
+  p.items.emplace_back(to(Motion::Rapid, {10, 0, 10}));       // 12 mm at 6000 mm/min
+  p.items.emplace_back(to(Motion::Line, {20, 0, 10}, 9000));  // capped at max_feed 3000
   const ProgramStats s = stats(p, model());
   EXPECT_NEAR(s.cut_length_mm, 22, 1e-12);
   EXPECT_NEAR(s.rapid_length_mm, 12, 1e-12);

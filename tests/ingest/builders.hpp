@@ -51,7 +51,8 @@ inline Mesh solid(const std::function<double(double, double)>& f, double x0, dou
   std::vector<std::array<int, 3>> F;
   for (Eigen::Index k = 0; k < top.F.rows(); ++k) {
     F.push_back({top.F(k, 0), top.F(k, 1), top.F(k, 2)});
-    F.push_back({top.F(k, 0) + static_cast<int>(nv), top.F(k, 2) + static_cast<int>(nv), top.F(k, 1) + static_cast<int>(nv)});
+    F.push_back(
+        {top.F(k, 0) + static_cast<int>(nv), top.F(k, 2) + static_cast<int>(nv), top.F(k, 1) + static_cast<int>(nv)});
   }
   // Boundary loop, CCW seen from +Z.
   std::vector<int> loop;

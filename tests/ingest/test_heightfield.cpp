@@ -112,9 +112,9 @@ TEST(HeightField, BoxWithStepWallTopsIncluded) {
     }
   const Grid g = resample(f, 11);  // grid lines every 5 mm, every 4 mm
   EXPECT_DOUBLE_EQ(g.h(0, 0), 5);
-  EXPECT_DOUBLE_EQ(g.h(5, 5), 15);   // (25, 20)
-  EXPECT_DOUBLE_EQ(g.h(5, 4), 15);   // (20, 20): on the wall
-  EXPECT_DOUBLE_EQ(g.h(5, 3), 5);    // (15, 20)
+  EXPECT_DOUBLE_EQ(g.h(5, 5), 15);  // (25, 20)
+  EXPECT_DOUBLE_EQ(g.h(5, 4), 15);  // (20, 20): on the wall
+  EXPECT_DOUBLE_EQ(g.h(5, 3), 5);   // (15, 20)
 }
 
 TEST(HeightField, VerticalWallAloneGivesItsTopEdge) {
@@ -229,7 +229,7 @@ TEST(HeightField, HeightMatrixIsTheRasterRowsByYPlusTheOffset) {
   HeightField hf;
   hf.nx = 3;
   hf.ny = 2;
-  hf.z = {1, 2, 3,   // row 0 (min y)
+  hf.z = {1, 2, 3,  // row 0 (min y)
           4, 5, 6};
   hf.hit = {1, 1, 1, 1, 0, 1};
   const Eigen::MatrixXd m = height_matrix(hf, -10.0);
@@ -304,7 +304,8 @@ TEST(HeightFieldCells, TiltedPlaneTakesItsValueAtEachCellsHighCorner) {
     for (int j = 0; j < f.nx; ++j) {
       ASSERT_TRUE(f.hit[static_cast<std::size_t>(i * f.nx + j)]) << i << "," << j;
       // (The cell is closed and widened by tol::raster_edge_eps = 1e-7 steps: 1.5e-8 mm here.)
-      ASSERT_NEAR(f.at(i, j), 2 + 0.1 * std::min(j + 0.5, 100.0) + 0.05 * std::min(i + 0.5, 60.0), 2e-8) << i << "," << j;
+      ASSERT_NEAR(f.at(i, j), 2 + 0.1 * std::min(j + 0.5, 100.0) + 0.05 * std::min(i + 0.5, 60.0), 2e-8)
+          << i << "," << j;
     }
   // The point raster of the same plane lies half a cell lower (0.075 mm) everywhere inside.
   const HeightField g = rasterize_top(m, 0, 0, 1, 101, 61);
@@ -360,7 +361,8 @@ TEST(HeightFieldCells, MatchesAVertexEnumerationOracleAndIsConservative) {
         double best = -std::numeric_limits<double>::infinity();
         for (Eigen::Index t = 0; t < m.F.rows(); ++t) {
           double z;
-          if (cell_max_oracle(m.V.row(m.F(t, 0)), m.V.row(m.F(t, 1)), m.V.row(m.F(t, 2)), cx - h, cx + h, cy - h, cy + h, z)) {
+          if (cell_max_oracle(m.V.row(m.F(t, 0)), m.V.row(m.F(t, 1)), m.V.row(m.F(t, 2)), cx - h, cx + h, cy - h,
+                              cy + h, z)) {
             any = true;
             best = std::max(best, z);
           }
@@ -383,9 +385,10 @@ TEST(HeightFieldCells, MatchesAVertexEnumerationOracleAndIsConservative) {
         l1 = 1 - l1;
         l2 = 1 - l2;
       }
-      const Eigen::Vector3d q = (1 - l1 - l2) * Eigen::Vector3d(m.V.row(m.F(t, 0))) + l1 * Eigen::Vector3d(m.V.row(m.F(t, 1))) +
-                                l2 * Eigen::Vector3d(m.V.row(m.F(t, 2)));
-      const int j = static_cast<int>(std::lround((q.x() - x0) / s)), i = static_cast<int>(std::lround((q.y() - y0) / s));
+      const Eigen::Vector3d q = (1 - l1 - l2) * Eigen::Vector3d(m.V.row(m.F(t, 0))) +
+                                l1 * Eigen::Vector3d(m.V.row(m.F(t, 1))) + l2 * Eigen::Vector3d(m.V.row(m.F(t, 2)));
+      const int j = static_cast<int>(std::lround((q.x() - x0) / s)),
+                i = static_cast<int>(std::lround((q.y() - y0) / s));
       ASSERT_GE(f.at(i, j), q.z() - 1e-9) << "seed " << seed << " sample " << r;
     }
   }

@@ -18,8 +18,11 @@ namespace {
 
 // A mould-like part: 80×60 block with a flat base at z = 0 and a free-form top (bump + slope).
 Mesh mould_part() {
-  return solid([](double x, double y) { return 20 + 8 * std::exp(-((x - 30) * (x - 30) + (y - 35) * (y - 35)) / 150) + 0.05 * x; },
-               0, 80, 0, 60, 40, 30);
+  return solid(
+      [](double x, double y) {
+        return 20 + 8 * std::exp(-((x - 30) * (x - 30) + (y - 35) * (y - 35)) / 150) + 0.05 * x;
+      },
+      0, 80, 0, 60, 40, 30);
 }
 
 // Rotate so that the part's +Z ends up along the file axis `up` (the inverse of prepare's turn).
@@ -44,14 +47,16 @@ TEST(Mesh, ParseUnitsAndUp) {
   } catch (const millnet::Error& e) {
     EXPECT_NE(std::string(e.what()).find("cm"), std::string::npos);
   }
-  for (Up u : {Up::PosZ, Up::NegZ, Up::PosY, Up::NegY, Up::PosX, Up::NegX, Up::Auto}) EXPECT_EQ(parse_up(to_string(u)), u);
+  for (Up u : {Up::PosZ, Up::NegZ, Up::PosY, Up::NegY, Up::PosX, Up::NegX, Up::Auto})
+    EXPECT_EQ(parse_up(to_string(u)), u);
   EXPECT_EQ(parse_up("Z"), Up::PosZ);
   EXPECT_THROW((void)parse_up("up"), millnet::Error);
 }
 
 TEST(Mesh, UpRotationsAreProperAndMapTheAxisToZ) {
-  const std::pair<Up, Eigen::Vector3d> cases[] = {{Up::PosZ, {0, 0, 1}}, {Up::NegZ, {0, 0, -1}}, {Up::PosY, {0, 1, 0}},
-                                                  {Up::NegY, {0, -1, 0}}, {Up::PosX, {1, 0, 0}}, {Up::NegX, {-1, 0, 0}}};
+  const std::pair<Up, Eigen::Vector3d> cases[] = {{Up::PosZ, {0, 0, 1}}, {Up::NegZ, {0, 0, -1}},
+                                                  {Up::PosY, {0, 1, 0}}, {Up::NegY, {0, -1, 0}},
+                                                  {Up::PosX, {1, 0, 0}}, {Up::NegX, {-1, 0, 0}}};
   for (const auto& [up, axis] : cases) {
     const Eigen::Matrix3d r = up_rotation(up);
     EXPECT_NEAR(r.determinant(), 1.0, 1e-15) << to_string(up);
@@ -92,7 +97,8 @@ TEST(Mesh, AutoUpFindsTheWorkingFaceTurnedAlongPlusY) {
 TEST(Mesh, AutoUpTallCoreAndOpenSurface) {
   // A tall core (30×30, 100 high, domed top) stands on its small base: side walls are flat at
   // both ends and must not win.
-  const Mesh core = solid([](double x, double y) { return 100 + 3 * std::sin(x / 5) * std::cos(y / 7); }, 0, 30, 0, 30, 15, 15);
+  const Mesh core =
+      solid([](double x, double y) { return 100 + 3 * std::sin(x / 5) * std::cos(y / 7); }, 0, 30, 0, 30, 15, 15);
   EXPECT_EQ(choose_up(turned_to(core, Up::NegX)), Up::NegX);
   EXPECT_EQ(choose_up(core), Up::PosZ);
   // An open surface (no base) facing +X: the side with the most area facing it.

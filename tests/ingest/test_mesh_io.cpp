@@ -81,7 +81,8 @@ TEST(MeshIO, BinaryStlRoundTrip) {
 
 TEST(MeshIO, BinaryStlWithSolidHeaderZeroNormalsAndDuplicates) {
   TempDir dir;
-  const std::array<float, 9> t0{0, 0, 0, 1, 0, 0, 0, 2, 0}, t1{0, 0, 0, 0, 0, 3, 1, 0, 0}, t2{0, 0, 0, 0, 2, 0, 0, 0, 3};
+  const std::array<float, 9> t0{0, 0, 0, 1, 0, 0, 0, 2, 0}, t1{0, 0, 0, 0, 0, 3, 1, 0, 0},
+      t2{0, 0, 0, 0, 2, 0, 0, 0, 3};
   // 4 triangles (200 bytes) — the header claims "solid", which fools header-sniffing readers.
   write_text(dir / "solid.stl", binary_stl("solid part exported by some CAD", {t0, t1, t2, t0}));
   MeshReport rep;
@@ -99,12 +100,13 @@ TEST(MeshIO, BinaryStlWithSolidHeaderZeroNormalsAndDuplicates) {
 
 TEST(MeshIO, HandWrittenAsciiStlObjPlyOff) {
   TempDir dir;
-  write_text(dir / "a.stl",
-             "solid corner\n"
-             " facet normal 0 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 2 0\n  endloop\n endfacet\n"
-             " facet normal 0 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 0 0 3\n   vertex 1 0 0\n  endloop\n endfacet\n"
-             " facet normal 0 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 0 2 0\n   vertex 0 0 3\n  endloop\n endfacet\n"
-             "endsolid corner\n");
+  write_text(
+      dir / "a.stl",
+      "solid corner\n"
+      " facet normal 0 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 2 0\n  endloop\n endfacet\n"
+      " facet normal 0 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 0 0 3\n   vertex 1 0 0\n  endloop\n endfacet\n"
+      " facet normal 0 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 0 2 0\n   vertex 0 0 3\n  endloop\n endfacet\n"
+      "endsolid corner\n");
   expect_tetra(load_mesh(dir / "a.stl"), 3);
   // OBJ with a quad (triangulated) and a triangle.
   write_text(dir / "b.obj", "# corner\nv 0 0 0\nv 1 0 0\nv 1 2 0\nv 0 2 0\nv 0 0 3\nf 1 2 3 4\nf 1 5 2\n");
@@ -205,8 +207,8 @@ TEST(MeshIO, ErrorsNameTheFile) {
 namespace {
 
 // The cube of box() with its six sides as quads (fan (a,b,c),(a,c,d) = box()'s two triangles per side).
-const std::array<std::array<int, 4>, 6> kCubeQuads = {{{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
-                                                       {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}};
+const std::array<std::array<int, 4>, 6> kCubeQuads = {
+    {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}};
 
 Mesh cube_fans() {
   Mesh m = box(0, 0, 0, 10, 20, 5);
@@ -226,7 +228,8 @@ void expect_same_triangles(const Mesh& a, const Mesh& b) {
     for (int k = 0; k < 3; ++k) EXPECT_EQ(a.V.row(a.F(t, k)), b.V.row(b.F(t, k))) << "triangle " << t;
 }
 
-template <class T> void put(std::string& s, T v, bool big) {
+template <class T>
+void put(std::string& s, T v, bool big) {
   char b[sizeof(T)];
   std::memcpy(b, &v, sizeof(T));
   if (big) std::reverse(b, b + sizeof(T));
@@ -278,9 +281,10 @@ TEST(MeshIO, CubeInPlyAndOffReadsAsTheStlCube) {
   const Mesh stl = load_mesh(dir / "cube.stl");
   expect_same_triangles(stl, cube);
 
-  std::string ascii = "ply\r\nformat ascii 1.0\r\nelement vertex 8\r\nproperty float x\r\nproperty float y\r\n"
-                      "property float z\r\nproperty uchar red\r\nelement face 6\r\n"
-                      "property list uchar int vertex_indices\r\nend_header\r\n";
+  std::string ascii =
+      "ply\r\nformat ascii 1.0\r\nelement vertex 8\r\nproperty float x\r\nproperty float y\r\n"
+      "property float z\r\nproperty uchar red\r\nelement face 6\r\n"
+      "property list uchar int vertex_indices\r\nend_header\r\n";
   std::string off = "# a cube\nOFF 8 6 12\n";
   for (Eigen::Index i = 0; i < 8; ++i) {
     char line[100];

@@ -16,7 +16,8 @@ bool inside(const std::vector<Eigen::Vector2d>& loop, const Eigen::Vector2d& p) 
   bool in = false;
   for (std::size_t i = 0, j = loop.size() - 1; i < loop.size(); j = i++) {
     const Eigen::Vector2d &a = loop[i], &b = loop[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) in = !in;
+    if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
+      in = !in;
   }
   return in;
 }
@@ -80,8 +81,8 @@ TEST(ZLevels, BoxOnPlateGivesOneSquarePerLevel) {
 
 TEST(ZLevels, HemisphereGivesCirclesOfTheAnalyticRadius) {
   const double Rs = 25;
-  const Mesh m = surface([Rs](double x, double y) { return std::sqrt(std::max(0.0, Rs * Rs - x * x - y * y)); }, -30, 30,
-                         -30, 30, 240, 240);
+  const Mesh m = surface([Rs](double x, double y) { return std::sqrt(std::max(0.0, Rs * Rs - x * x - y * y)); }, -30,
+                         30, -30, 30, 240, 240);
   const HeightField f = rasterize_top(m, 0.5);
   const double R = 0.5 * std::hypot(f.step_x, f.step_y), over = contour_overshoot_mm(f, 0);
   for (double level : {5.0, 15.0, 22.0}) {

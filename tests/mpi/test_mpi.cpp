@@ -28,12 +28,15 @@ void write_stl(const fs::path& p, const std::function<double(double, double)>& f
 /// Three small parts of different shapes (and so different costs) in dir/parts.
 void write_parts(const fs::path& dir) {
   fs::create_directories(dir / "parts");
-  write_stl(dir / "parts" / "a_dome.stl", [](double x, double y) {
-    return 1 + 5 * std::max(0.0, 1 - ((x - 8) * (x - 8) / 36 + (y - 6) * (y - 6) / 16));
-  }, 16, 12);
-  write_stl(dir / "parts" / "b_ridge.stl", [](double x, double) { return 1 + 3 * std::max(0.0, 1 - std::abs(x - 6) / 4); },
-            12, 10);
-  write_stl(dir / "parts" / "c_step.stl", [](double x, double y) { return x + y > 14 ? 4.0 : 1.5; }, 14, 10);
+  write_stl(
+      dir / "parts" / "a_dome.stl",
+      [](double x, double y) { return 1 + 5 * std::max(0.0, 1 - ((x - 8) * (x - 8) / 36 + (y - 6) * (y - 6) / 16)); },
+      16, 12);
+  write_stl(
+      dir / "parts" / "b_ridge.stl", [](double x, double) { return 1 + 3 * std::max(0.0, 1 - std::abs(x - 6) / 4); },
+      12, 10);
+  write_stl(
+      dir / "parts" / "c_step.stl", [](double x, double y) { return x + y > 14 ? 4.0 : 1.5; }, 14, 10);
 }
 
 /// Runs millnet on `np` ranks (np 0: without mpirun, as a user does today).
@@ -42,8 +45,9 @@ CliResult run_ranks(int np, const std::string& args, const fs::path& workdir) {
   // Under ASan (CI's second pass) LeakSanitizer is off for the ranks only: Open MPI keeps
   // allocations of its dlopen'ed components past MPI_Finalize, reported from "<unknown module>"
   // frames that no suppression can name. Every other test, and the one-rank runs here, keep it on.
-  const std::string env = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1 "
-                          "ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" ";
+  const std::string env =
+      "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1 "
+      "ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" ";
   const std::string mpirun = "mpirun -np " + std::to_string(np) +
                              " --oversubscribe --bind-to none --mca btl self,vader"
                              " --mca btl_vader_single_copy_mechanism none ";
@@ -97,7 +101,8 @@ TEST(Mpi, DatasetLabelledBySimulationIsTheOneProcessBytesOnTwoAndOnMoreRanksThan
                                                              {"file": "parts/b_ridge.stl", "label": "simulate"}],
                                                    "raster_mm": 0.5,
                                                    "augment": {"angles_deg": [0, 10], "axes": ["x"], "flip": false}},
-                                       )" << kCoarse << "}";
+                                       )"
+                                << kCoarse << "}";
   const auto one = run_ranks(0, "dataset --quiet --threads 2 --config cfg.json --out one", d);
   ASSERT_EQ(one.code, 0) << one.err;
   const auto two = run_ranks(2, "dataset --threads 1 --config cfg.json --out two", d);
@@ -146,7 +151,8 @@ TEST(Mpi, DatasetStopsAtABrokenPartNamingItAndWritesNoTable) {
                                                              {"file": "parts/b_ridge.stl", "label": "simulate"}],
                                                    "raster_mm": 0.5,
                                                    "augment": {"angles_deg": [0], "axes": ["x"], "flip": false}},
-                                       )" << kCoarse << "}";
+                                       )"
+                                << kCoarse << "}";
   const auto r = run_ranks(2, "dataset --quiet --threads 1 --config cfg.json --out ds", d);
   EXPECT_NE(r.code, 0);
   // Rank 0 tells the others that the labelling failed: rank 1 must not go on to the table's
@@ -242,29 +248,33 @@ TEST(Mpi, ARankThatDiesFailsTheRunWithAClearLineAndLeavesNoOutputNorScratch) {
   write_parts(d);
   const fs::path tmp = d / "tmp";
   fs::create_directories(tmp);
-  const std::string env = "TMPDIR='" + tmp.string() + "' OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
-                          "OMPI_MCA_rmaps_base_oversubscribe=1 ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" ";
-  const std::string mpirun = "mpirun -np 2 --oversubscribe --bind-to none --mca btl self,vader"
-                             " --mca btl_vader_single_copy_mechanism none '" + std::string(MILLNET_EXE) + "' ";
+  const std::string env =
+      "TMPDIR='" + tmp.string() +
+      "' OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+      "OMPI_MCA_rmaps_base_oversubscribe=1 ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" ";
+  const std::string mpirun =
+      "mpirun -np 2 --oversubscribe --bind-to none --mca btl self,vader"
+      " --mca btl_vader_single_copy_mechanism none '" +
+      std::string(MILLNET_EXE) + "' ";
   // Full finishing settings: each part takes seconds, so rank 1 is found while it computes.
   const std::string finish = "finish --quiet --mesh parts --strategy all --simulate --threads 1 ";
   // The launcher in the background; the test's own rank 1 (its working folder is d) found in /proc
   // and killed; then mpirun's exit status. Written to a file: no shell quoting of the script itself.
-  std::ofstream(d / "kill.sh") << "cd '" << d.string() << "' || exit 1\n"
-                               << env << "timeout -k 5 240 " << mpirun << finish
-                               << "--out out >run.stdout 2>run.stderr </dev/null &\n"
-                               << "MP=$!; K=0\n"
-                               << "for i in $(seq 1 1200); do\n"
-                               << "  for p in $(pgrep -f -- '" << MILLNET_EXE << " finish'); do\n"
-                               << "    if [ \"$(readlink /proc/$p/cwd)\" = '" << d.string() << "' ] &&\n"
-                               << "       tr '\\0' '\\n' </proc/$p/environ 2>/dev/null | grep -qx OMPI_COMM_WORLD_RANK=1 &&\n"
-                               << "       ls -d tmp/millnet-unit-$p-* >/dev/null 2>&1; then\n"
-                               << "      kill -9 $p && K=1; break 2\n"
-                               << "    fi\n"
-                               << "  done\n"
-                               << "  sleep 0.05\n"
-                               << "done\n"
-                               << "wait $MP; echo \"$? $K\" >status\n";
+  std::ofstream(d / "kill.sh")
+      << "cd '" << d.string() << "' || exit 1\n"
+      << env << "timeout -k 5 240 " << mpirun << finish << "--out out >run.stdout 2>run.stderr </dev/null &\n"
+      << "MP=$!; K=0\n"
+      << "for i in $(seq 1 1200); do\n"
+      << "  for p in $(pgrep -f -- '" << MILLNET_EXE << " finish'); do\n"
+      << "    if [ \"$(readlink /proc/$p/cwd)\" = '" << d.string() << "' ] &&\n"
+      << "       tr '\\0' '\\n' </proc/$p/environ 2>/dev/null | grep -qx OMPI_COMM_WORLD_RANK=1 &&\n"
+      << "       ls -d tmp/millnet-unit-$p-* >/dev/null 2>&1; then\n"
+      << "      kill -9 $p && K=1; break 2\n"
+      << "    fi\n"
+      << "  done\n"
+      << "  sleep 0.05\n"
+      << "done\n"
+      << "wait $MP; echo \"$? $K\" >status\n";
   ASSERT_EQ(std::system(("bash '" + (d / "kill.sh").string() + "'").c_str()), 0);
   std::istringstream st(slurp(d / "status"));
   int rc = -1, killed = 0;

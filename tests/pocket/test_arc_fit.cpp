@@ -101,7 +101,7 @@ TEST(ArcFit, StraightRunsCornersAndCoarsePolygonsStayAsTheyAre) {
 TEST(ArcFit, ExistingArcsAndTheLinesAroundARunAreKept) {
   std::vector<Vertex> in{{-5, 0, 0}, {-1, 0, 0}};
   for (const Vertex& v : chorded(Vec2(0, 1), 1, -M_PI / 2, 0.5, 30)) in.push_back(v);  // from (0, 0)
-  in.back().bulge = 0.4;     // then an existing arc to the last vertex
+  in.back().bulge = 0.4;  // then an existing arc to the last vertex
   in.push_back({-3, 6, 0});
   const auto out = fit_arcs(in, tol::arc_fit_mm, nullptr);
   ASSERT_EQ(out.size(), 5u);

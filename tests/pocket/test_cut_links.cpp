@@ -134,7 +134,8 @@ TEST(CutLinks, LastMoveMayCutTheTargetsApproachAndTheWallCornerBesideIt) {
   // ...but a start in the middle, a stepover beyond the pass, would cut a new band between the two:
   // no way, even with the chain's own first pass as its approach.
   const std::vector<Vec2> inner{{50, 25}, {90, 25}};
-  EXPECT_FALSE(linker.best_link(Vec2(5, 15), {{inner.front(), approach_of(inner, cut.tool_diameter), 0.0}}).has_value());
+  EXPECT_FALSE(
+      linker.best_link(Vec2(5, 15), {{inner.front(), approach_of(inner, cut.tool_diameter), 0.0}}).has_value());
 }
 
 TEST(CutLinks, IslandInTheWayIsWalkedRound) {

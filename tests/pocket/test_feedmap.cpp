@@ -29,7 +29,8 @@ Chain line_chain(Vec2 a, Vec2 b) {
 }
 double median_engagement(const FeedProfile& p, std::size_t chain) {
   std::vector<double> e;
-  for (const FeedPiece& q : p.pieces) if (q.chain == chain) e.push_back(q.engagement);
+  for (const FeedPiece& q : p.pieces)
+    if (q.chain == chain) e.push_back(q.engagement);
   std::sort(e.begin(), e.end());
   return e.at(e.size() / 2);
 }
@@ -44,8 +45,8 @@ TEST(PocketFeedMap, SeedExampleEquation9) {
   CutParams lim = c;
   lim.feed_max = 120;
   lim.feed_min = 60;
-  EXPECT_DOUBLE_EQ(feed_for_engagement(0, 10, 5, lim), 120);   // 150 clamped
-  EXPECT_DOUBLE_EQ(feed_for_engagement(10, 10, 5, lim), 60);   // 50 clamped
+  EXPECT_DOUBLE_EQ(feed_for_engagement(0, 10, 5, lim), 120);  // 150 clamped
+  EXPECT_DOUBLE_EQ(feed_for_engagement(10, 10, 5, lim), 60);  // 50 clamped
 }
 
 TEST(PocketFeedMap, ChipThinningRaisesTheFeedBelowHalfEngagement) {

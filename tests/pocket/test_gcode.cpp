@@ -16,8 +16,8 @@
 #include <unistd.h>
 
 using namespace millnet::pocket;
-using millnet::testing::to_replay;
 using millnet::testing::ReplayPocket;
+using millnet::testing::to_replay;
 namespace {
 Loop rect(double x0, double y0, double x1, double y1) { return {{x0, y0, 0}, {x1, y0, 0}, {x1, y1, 0}, {x0, y1, 0}}; }
 /// Two chains in a 60×60 pocket: a line/arc chain and a square, feeds varying.
@@ -35,9 +35,15 @@ Path2D sample_path() {
 }
 std::vector<LevelPlan> two_levels(const Region& r) {
   std::vector<LevelPlan> L(2);
-  L[0].z = -2.5; L[0].top_z = 0;
-  L[1].z = -5; L[1].top_z = -2.5;
-  for (LevelPlan& l : L) { l.region = r; l.path = sample_path(); l.predrill = {Vec2(10, 10)}; }
+  L[0].z = -2.5;
+  L[0].top_z = 0;
+  L[1].z = -5;
+  L[1].top_z = -2.5;
+  for (LevelPlan& l : L) {
+    l.region = r;
+    l.path = sample_path();
+    l.predrill = {Vec2(10, 10)};
+  }
   return L;
 }
 }  // namespace
@@ -156,8 +162,8 @@ TEST(PocketGcode, HelixDescendsAtTheEntryFeedAndTrimsItsFloorAtTheSlotFeed) {
   };
   const auto check = [&](double angle_deg, int want_descending, double want_ramp_xy) {
     gp.entry_angle_deg = angle_deg;
-    const auto rep = millnet::testing::replay_gcode(write_gcode(one_chain_at_z5(r, {{30, 20, 0}, {45, 20, 0}}), gp),
-                                                    gp.cut.safe_z);
+    const auto rep =
+        millnet::testing::replay_gcode(write_gcode(one_chain_at_z5(r, {{30, 20, 0}, {45, 20, 0}}), gp), gp.cut.safe_z);
     int descending = 0, flat = 0, straight_down = 0;
     double ramp_xy = 0;
     for (const auto& m : rep.moves) {
@@ -207,7 +213,8 @@ TEST(PocketGcode, HelixEndsWhereTheChainBeginsAndSkipsTheChainsOwnTurnRoundIt) {
   for (int k = 1; k <= 8; ++k) {
     const double a = 2 * std::numbers::pi * k / 8;
     const Vec2 v = p0 - hx->first;
-    const Vec2 q = hx->first + Vec2(std::cos(a) * v.x() - std::sin(a) * v.y(), std::sin(a) * v.x() + std::cos(a) * v.y());
+    const Vec2 q =
+        hx->first + Vec2(std::cos(a) * v.x() - std::sin(a) * v.y(), std::sin(a) * v.x() + std::cos(a) * v.y());
     pts.push_back({q.x(), q.y(), 0});
   }
   pts.push_back({45, 20, 0});

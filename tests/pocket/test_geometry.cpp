@@ -14,9 +14,7 @@ using namespace millnet::pocket;
 namespace {
 constexpr double kPi = std::numbers::pi;
 
-Loop rect(double x0, double y0, double x1, double y1) {
-  return {{x0, y0, 0}, {x1, y0, 0}, {x1, y1, 0}, {x0, y1, 0}};
-}
+Loop rect(double x0, double y0, double x1, double y1) { return {{x0, y0, 0}, {x1, y0, 0}, {x1, y1, 0}, {x0, y1, 0}}; }
 Loop circle(double cx, double cy, double r, bool ccw = true) {
   const double b = ccw ? 1 : -1;
   return {{cx + r, cy, b}, {cx - r, cy, b}};
@@ -43,7 +41,7 @@ TEST(PocketGeometry, ArcOfBulge) {
 }
 
 TEST(PocketGeometry, DistancesExactForArcs) {
-  const Segment s{{1, 0}, {0, 1}, std::tan(kPi / 8)};  // quarter circle r=1 about origin
+  const Segment s{{1, 0}, {0, 1}, std::tan(kPi / 8)};                // quarter circle r=1 about origin
   EXPECT_NEAR(distance(s, Vec2(3, 3)), std::sqrt(18.0) - 1, 1e-12);  // radial direction inside span
   EXPECT_NEAR(distance(s, Vec2(0, 0)), 1, 1e-12);
   EXPECT_NEAR(distance(s, Vec2(-1, -1)), std::sqrt(1.0 + 4.0), 1e-12);  // outside span: nearer end (1,0)/(0,1)
@@ -216,7 +214,8 @@ TEST(PocketGeometry, SelfIntersectionReportsTheFirstPairLikeAllPairs) {
       EXPECT_EQ(i, -1) << "trial " << t << ": crossing " << i << "/" << j << " missed";
     } catch (const millnet::Error& e) {
       ++crossing;
-      const std::string want = "self-intersection between segment " + std::to_string(i) + " and segment " + std::to_string(j) + " ";
+      const std::string want =
+          "self-intersection between segment " + std::to_string(i) + " and segment " + std::to_string(j) + " ";
       EXPECT_NE(std::string(e.what()).find(want), std::string::npos) << "trial " << t << ": " << e.what();
     }
   }

@@ -75,7 +75,8 @@ TEST_P(BenchPocket, GougeFreeAndFiguresAgreeWithReplay) {
       ASSERT_EQ(m.status, PlanStatus::Ok);
       auto rep = millnet::testing::replay_gcode(m.gcode, cut.safe_z);
       millnet::testing::check_gouge(rep, to_replay(pf.region), cut.tool_diameter / 2);
-      EXPECT_EQ(rep.violations, 0) << GetParam() << " " << entry << " contour " << contour << ": " << rep.first_violation;
+      EXPECT_EQ(rep.violations, 0) << GetParam() << " " << entry << " contour " << contour << ": "
+                                   << rep.first_violation;
       EXPECT_LT(rep.worst_mm, 0.01);
       // 4-decimal coordinates: ≤ ~1e-6 relative drift over thousands of segments.
       EXPECT_NEAR(m.metrics.cut_length_mm, rep.cut_length, 1e-3 + 2e-6 * rep.cut_length);

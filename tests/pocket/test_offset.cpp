@@ -35,8 +35,18 @@ TEST(PocketOffset, IslandsGrowWithRoundCorners) {
 
 TEST(PocketOffset, NarrowCorridorSplitsComponents) {
   // Two 20×20 rooms joined by a corridor 4 wide: offset by 3 leaves two separate components.
-  const Region r{{{0, 0, 0}, {20, 0, 0}, {20, 8, 0}, {30, 8, 0}, {30, 0, 0}, {50, 0, 0}, {50, 20, 0}, {30, 20, 0},
-                  {30, 12, 0}, {20, 12, 0}, {20, 20, 0}, {0, 20, 0}},
+  const Region r{{{0, 0, 0},
+                  {20, 0, 0},
+                  {20, 8, 0},
+                  {30, 8, 0},
+                  {30, 0, 0},
+                  {50, 0, 0},
+                  {50, 20, 0},
+                  {30, 20, 0},
+                  {30, 12, 0},
+                  {20, 12, 0},
+                  {20, 20, 0},
+                  {0, 20, 0}},
                  {}};
   const auto in = offset_inward(r, 3);
   EXPECT_EQ(in.size(), 2u);

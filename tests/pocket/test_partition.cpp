@@ -55,7 +55,10 @@ void check_partition(const std::vector<PolyArea>& areas, const Partition& p) {
     const auto& face = p.faces[f];
     EXPECT_TRUE(face.holes.empty()) << "face " << f;
     double lo = 1e18, hi = -1e18;
-    for (const Vec2& v : face.outer) { lo = std::min(lo, v.y()); hi = std::max(hi, v.y()); }
+    for (const Vec2& v : face.outer) {
+      lo = std::min(lo, v.y());
+      hi = std::max(hi, v.y());
+    }
     std::uniform_real_distribution<double> U(lo, hi);
     for (int k = 0; k < 400; ++k) {
       const double y = U(rng);
@@ -101,8 +104,18 @@ TEST(Partition, DiamondIslandTwoSrpsTwoRegions) {
 
 TEST(Partition, CombWithThreeProngs) {
   // The bench comb: two notches between three upward prongs ⇒ 2 L-SRPs (notch floors) ⇒ 3 regions.
-  Region r{{{0, 0, 0}, {140, 0, 0}, {140, 90, 0}, {110, 90, 0}, {110, 30, 0}, {85, 30, 0}, {85, 90, 0},
-            {55, 90, 0}, {55, 30, 0}, {30, 30, 0}, {30, 90, 0}, {0, 90, 0}},
+  Region r{{{0, 0, 0},
+            {140, 0, 0},
+            {140, 90, 0},
+            {110, 90, 0},
+            {110, 30, 0},
+            {85, 30, 0},
+            {85, 90, 0},
+            {55, 90, 0},
+            {55, 30, 0},
+            {30, 30, 0},
+            {30, 90, 0},
+            {0, 90, 0}},
            {}};
   const auto a = reach(r);
   const auto s = find_srps(a);

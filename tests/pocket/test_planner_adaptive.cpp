@@ -57,7 +57,7 @@ struct Outcome {
   millnet::testing::ReplayResult rep;
   std::size_t uncovered = 0;  ///< grid points a centred tool could reach that no cutting move swept
   std::size_t probed = 0;
-  double turning_rad = 0;     ///< Σ |turn| between consecutive segments of the plan
+  double turning_rad = 0;  ///< Σ |turn| between consecutive segments of the plan
 };
 
 /// As the offset planner's test: plans, machines (helix entry, contour pass), replays the G-code,
@@ -105,7 +105,8 @@ Region rect_with_round_island() {
 struct CellGrid {
   double h;
   int nx, ny;
-  CellGrid(double w, double hgt, double cell) : h(cell), nx(static_cast<int>(w / cell)), ny(static_cast<int>(hgt / cell)) {}
+  CellGrid(double w, double hgt, double cell)
+      : h(cell), nx(static_cast<int>(w / cell)), ny(static_cast<int>(hgt / cell)) {}
   [[nodiscard]] std::size_t size() const { return static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny); }
   [[nodiscard]] Vec2 centre(std::size_t i) const {
     return Vec2((static_cast<double>(i % static_cast<std::size_t>(nx)) + 0.5) * h,
@@ -114,8 +115,10 @@ struct CellGrid {
   /// Calls f(index) for every cell whose centre lies within rr of c.
   template <class F>
   void disk(const Vec2& c, double rr, F&& f) const {
-    const int x0 = std::max(0, static_cast<int>((c.x() - rr) / h)), x1 = std::min(nx - 1, static_cast<int>((c.x() + rr) / h));
-    const int y0 = std::max(0, static_cast<int>((c.y() - rr) / h)), y1 = std::min(ny - 1, static_cast<int>((c.y() + rr) / h));
+    const int x0 = std::max(0, static_cast<int>((c.x() - rr) / h)),
+              x1 = std::min(nx - 1, static_cast<int>((c.x() + rr) / h));
+    const int y0 = std::max(0, static_cast<int>((c.y() - rr) / h)),
+              y1 = std::min(ny - 1, static_cast<int>((c.y() + rr) / h));
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) {
         const auto i = static_cast<std::size_t>(y * nx + x);
@@ -132,7 +135,7 @@ struct CellGrid {
 /// sample visits only the cells its disk adds to the previous sample's (O(R·g / g²) per sample).
 struct WidthReport {
   double worst_mm = 0;
-  Vec2 at{0, 0};       ///< where the widest piece ends
+  Vec2 at{0, 0};                     ///< where the widest piece ends
   std::size_t pieces = 0, over = 0;  ///< pieces measured; pieces wider than `limit`
 };
 WidthReport widest_cut(const millnet::testing::ReplayResult& rep, const Region& region, double R, double limit,
@@ -213,7 +216,9 @@ WidthReport widest_cut(const millnet::testing::ReplayResult& rep, const Region& 
       if (mv.g == 3 && sweep <= 1e-12) sweep += 2 * M_PI;
       if (mv.g == 2 && sweep >= -1e-12) sweep -= 2 * M_PI;
       len = r * std::abs(sweep);
-      at = [c, r, a0, sweep](double t) { return Vec2(c + r * Vec2(std::cos(a0 + sweep * t), std::sin(a0 + sweep * t))); };
+      at = [c, r, a0, sweep](double t) {
+        return Vec2(c + r * Vec2(std::cos(a0 + sweep * t), std::sin(a0 + sweep * t)));
+      };
     }
     const int n = std::max(1, static_cast<int>(std::ceil(len / g)));
     for (int k = has_prev ? 1 : 0; k <= n; ++k) {
@@ -286,11 +291,12 @@ TEST_P(AdaptiveBench, ClearsAtTheTargetEngagementWithNoGouge) {
   // 0 / 98, 17 / 202 on the D/80 raster (a pass "cuts nothing" below 1 mm², the 4 D/40 cells).
   EXPECT_LE(st.idle_passes * 6, st.passes) << st.idle_passes << " of " << st.passes;
   // The figures the report quotes (no timing assertion).
-  std::printf("[ adaptive ] %s: time_kinematic_min %.3f uncut %.3f mm2 retractions %.0f max_engagement %.1f deg "
-              "planning %.3f s cut %.0f mm vertices %zu passes %zu links %zu reentries %zu wall_retractions %zu\n",
-              GetParam(), o.m.metrics.time_kinematic_min, o.m.metrics.uncut_area_mm2, o.m.metrics.retractions,
-              o.m.metrics.max_engagement_deg, o.plan.planning_time_s, o.m.metrics.cut_length_mm, st.vertices, st.passes,
-              st.links, st.reentries, st.wall_retractions);
+  std::printf(
+      "[ adaptive ] %s: time_kinematic_min %.3f uncut %.3f mm2 retractions %.0f max_engagement %.1f deg "
+      "planning %.3f s cut %.0f mm vertices %zu passes %zu links %zu reentries %zu wall_retractions %zu\n",
+      GetParam(), o.m.metrics.time_kinematic_min, o.m.metrics.uncut_area_mm2, o.m.metrics.retractions,
+      o.m.metrics.max_engagement_deg, o.plan.planning_time_s, o.m.metrics.cut_length_mm, st.vertices, st.passes,
+      st.links, st.reentries, st.wall_retractions);
 }
 
 INSTANTIATE_TEST_SUITE_P(Pockets, AdaptiveBench, ::testing::Values("four_islands", "comb", "eight_islands"));
@@ -431,9 +437,10 @@ TEST_P(AdaptiveTarget, StaysWithinItsToleranceAtTheCornersToo) {
   EXPECT_LE(o.m.metrics.max_engagement_deg, GetParam() + kNarrowTolDeg + 0.25 / (R * std::sin(th)) * 180 / M_PI);
   // The independent replay: within kNarrowTolDeg of the target (measured: 49.2°, 51.7°, 61.6°).
   const WidthReport wr = widest_cut(o.rep, r, R, R * (1 - std::cos(th)));
-  std::printf("[ adaptive ] target %.0f deg: widest cut %.3f mm (%.1f deg) at (%.2f, %.2f), metric %.1f deg, %.3f min\n", GetParam(),
-              wr.worst_mm, std::acos(1 - wr.worst_mm / R) * 180 / M_PI, wr.at.x(), wr.at.y(), o.m.metrics.max_engagement_deg,
-              o.m.metrics.time_kinematic_min);
+  std::printf(
+      "[ adaptive ] target %.0f deg: widest cut %.3f mm (%.1f deg) at (%.2f, %.2f), metric %.1f deg, %.3f min\n",
+      GetParam(), wr.worst_mm, std::acos(1 - wr.worst_mm / R) * 180 / M_PI, wr.at.x(), wr.at.y(),
+      o.m.metrics.max_engagement_deg, o.m.metrics.time_kinematic_min);
   EXPECT_LE(wr.worst_mm, R * (1 - std::cos(th + kNarrowTolDeg * M_PI / 180))) << "at " << wr.at.transpose();
   EXPECT_EQ(o.rep.violations, 0) << o.rep.first_violation;
   EXPECT_EQ(o.uncovered, 0u);
@@ -576,6 +583,6 @@ TEST(PocketFeedMap, AnEntryHoleIsClearedBeforeTheChainStarts) {
     p.chains.push_back(c);
     return assign_feeds(p, r, cut, 5, holes).pieces.front().engagement;
   };
-  EXPECT_GT(first_engagement({}), 30);                      // ≈ n1 = 40 cells: a slot
+  EXPECT_GT(first_engagement({}), 30);  // ≈ n1 = 40 cells: a slot
   EXPECT_EQ(first_engagement({EntryHole{0, {30, 30}, 9.0}}), 0.0);
 }

@@ -76,7 +76,7 @@ INSTANTIATE_TEST_SUITE_P(Pockets, OffsetBench, ::testing::Values("four_islands",
 TEST(PlannerOffset, OffsetsThatSplitAreLinkedWithTheToolDown) {
   // Two 40 mm rooms joined by a 14 mm corridor: the tool (Ø10) passes, the offsets split in two.
   Region r;
-  r.boundary = {{0, 0, 0}, {40, 0, 0}, {40, 13, 0}, {70, 13, 0}, {70, 0, 0}, {110, 0, 0},
+  r.boundary = {{0, 0, 0},    {40, 0, 0},  {40, 13, 0}, {70, 13, 0}, {70, 0, 0},  {110, 0, 0},
                 {110, 40, 0}, {70, 40, 0}, {70, 27, 0}, {40, 27, 0}, {40, 40, 0}, {0, 40, 0}};
   validate_and_normalize(r, "test");
   const Outcome o = run(r, bench_cut());
@@ -93,7 +93,7 @@ TEST(PlannerOffset, OffsetsThatSplitAreLinkedWithTheToolDown) {
 TEST(PlannerOffset, ANeckTheToolCannotPassMakesTwoComponentsAndOneRetraction) {
   // The same rooms joined by an 8 mm neck: a Ø10 tool cannot pass, so two components.
   Region r;
-  r.boundary = {{0, 0, 0}, {40, 0, 0}, {40, 16, 0}, {70, 16, 0}, {70, 0, 0}, {110, 0, 0},
+  r.boundary = {{0, 0, 0},    {40, 0, 0},  {40, 16, 0}, {70, 16, 0}, {70, 0, 0},  {110, 0, 0},
                 {110, 40, 0}, {70, 40, 0}, {70, 24, 0}, {40, 24, 0}, {40, 40, 0}, {0, 40, 0}};
   validate_and_normalize(r, "test");
   const Outcome o = run(r, bench_cut());

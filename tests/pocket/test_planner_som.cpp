@@ -63,7 +63,9 @@ TEST_P(PlanSomBench, MeetsTheIssueGoals) {
     for (const auto& v : ch.pts) visited.insert({v.x, v.y});
   EXPECT_EQ(visited.size(), r.tool_points.pts.size());
   // goals: retractions = separate reachable regions − 1, no gouge, cut ≤ 1.05·(N − 1)·g
-  EXPECT_EQ(r.path.retractions(), static_cast<std::size_t>(std::get<mp::SomStats>(r.stats).smoothing.reachable_regions - 1)) << GetParam();
+  EXPECT_EQ(r.path.retractions(),
+            static_cast<std::size_t>(std::get<mp::SomStats>(r.stats).smoothing.reachable_regions - 1))
+      << GetParam();
   EXPECT_EQ(r.predrill.size(), r.path.chains.size());
   EXPECT_GE(min_wall_distance(region, r.path), cut.clearance() - 0.01) << GetParam();
   EXPECT_LE(r.path.cut_length(), 1.05 * (n - 1) * cut.stepover) << GetParam();
@@ -90,7 +92,8 @@ TEST(PlanSom, SeedLikeStrongSmoothingRetractsAndStaysGougeFree) {
   ASSERT_EQ(r.status, mp::PlanStatus::Ok);
   // the plain SOM tour crosses islands: without links every crossing is a retraction
   EXPECT_GT(r.path.retractions(), 0U);
-  EXPECT_EQ(r.path.retractions(), static_cast<std::size_t>(std::get<mp::SomStats>(r.stats).smoothing.retractions_before_linking));
+  EXPECT_EQ(r.path.retractions(),
+            static_cast<std::size_t>(std::get<mp::SomStats>(r.stats).smoothing.retractions_before_linking));
   EXPECT_GE(min_wall_distance(region, r.path), cut.clearance() - 0.01);
 }
 

@@ -45,9 +45,9 @@ TEST(PlannerStats, SmoothingKeysSortedAndValuesFromTheirFields) {
 
 TEST(PlannerStats, SomOwnFiguresWinOverTheSmoothingsAndStaySorted) {
   SomStats s;
-  s.smoothing.retractions = 5;          // before the path was built
+  s.smoothing.retractions = 5;  // before the path was built
   s.smoothing.rapid_length_mm = 40;
-  s.retractions = 2;                    // of the path: this one is the planner's figure
+  s.retractions = 2;  // of the path: this one is the planner's figure
   s.rapid_length_mm = 25;
   s.som_converged = true;
   s.smoothing.links = 4;
@@ -87,14 +87,44 @@ TEST(PlannerStats, MetricsListTheFieldsThenThePlannersOtherKeys) {
   s.grid_bound_mm = 12.5;
   m.planner_stats = s;
   const auto kv = m.to_key_values();
-  const std::vector<std::string> expect = {
-      "tool_points", "tour_length_mm", "cut_length_mm", "rapid_length_mm", "retractions", "plunges",
-      "predrill_points", "planning_time_s", "time_adjusted_min", "time_constant_min", "uncut_area_mm2",
-      "reachable_area_mm2", "pocket_area_mm2", "levels", "time_kinematic_min", "max_engagement_deg",
-      "corner_arcs", "cut_over_bound", "grid_bound_mm", "link_length_mm", "links", "min_retractions", "opt_moves",
-      "reachable_regions", "retractions_before_linking", "som_converged", "som_nodes", "som_overcut_moves",
-      "som_passes", "som_tour_length_mm", "two_opt_saved_mm", "wall_ring_links", "wall_rings", "weak_patterns",
-      "weak_smoothing_saved_mm", "weak_type1", "weak_type2", "weak_type3"};
+  const std::vector<std::string> expect = {"tool_points",
+                                           "tour_length_mm",
+                                           "cut_length_mm",
+                                           "rapid_length_mm",
+                                           "retractions",
+                                           "plunges",
+                                           "predrill_points",
+                                           "planning_time_s",
+                                           "time_adjusted_min",
+                                           "time_constant_min",
+                                           "uncut_area_mm2",
+                                           "reachable_area_mm2",
+                                           "pocket_area_mm2",
+                                           "levels",
+                                           "time_kinematic_min",
+                                           "max_engagement_deg",
+                                           "corner_arcs",
+                                           "cut_over_bound",
+                                           "grid_bound_mm",
+                                           "link_length_mm",
+                                           "links",
+                                           "min_retractions",
+                                           "opt_moves",
+                                           "reachable_regions",
+                                           "retractions_before_linking",
+                                           "som_converged",
+                                           "som_nodes",
+                                           "som_overcut_moves",
+                                           "som_passes",
+                                           "som_tour_length_mm",
+                                           "two_opt_saved_mm",
+                                           "wall_ring_links",
+                                           "wall_rings",
+                                           "weak_patterns",
+                                           "weak_smoothing_saved_mm",
+                                           "weak_type1",
+                                           "weak_type2",
+                                           "weak_type3"};
   EXPECT_EQ(keys(kv), expect);
   EXPECT_EQ(value(kv, "tool_points"), 7.0);  // the field wins
   EXPECT_EQ(value(kv, "grid_bound_mm"), 12.5);

@@ -77,8 +77,14 @@ TEST(DirectionSearch, LShapedPocketFewestRegionsThenLongestEdge) {
   int one = 0, two = 0;
   for (const auto& s : scores) {
     const double rel = std::fmod(s.angle_deg - 20 + 360, 180.0);  // direction in the L's own frame
-    if (rel > 1e-6 && rel < 90 - 1e-6) { EXPECT_EQ(s.regions, 1) << s.angle_deg; ++one; }
-    if (rel > 90 + 1e-6 && rel < 180 - 1e-6) { EXPECT_EQ(s.regions, 2) << s.angle_deg; ++two; }
+    if (rel > 1e-6 && rel < 90 - 1e-6) {
+      EXPECT_EQ(s.regions, 1) << s.angle_deg;
+      ++one;
+    }
+    if (rel > 90 + 1e-6 && rel < 180 - 1e-6) {
+      EXPECT_EQ(s.regions, 2) << s.angle_deg;
+      ++two;
+    }
   }
   EXPECT_GT(one, 10);
   EXPECT_GT(two, 10);

@@ -31,7 +31,12 @@ std::string dxf(const std::string& entities) {
 }
 std::string line(const char* h, double x0, double y0, double x1, double y1) {
   std::ostringstream os;
-  os << "0\nLINE\n5\n" << h << "\n8\n0\n10\n" << x0 << "\n20\n" << y0 << "\n30\n0\n11\n" << x1 << "\n21\n" << y1 << "\n31\n0\n";
+  os << "0\nLINE\n5\n"
+     << h << "\n8\n0\n10\n"
+     << x0 << "\n20\n"
+     << y0 << "\n30\n0\n11\n"
+     << x1 << "\n21\n"
+     << y1 << "\n31\n0\n";
   return os.str();
 }
 }  // namespace
@@ -55,14 +60,16 @@ TEST(PocketIO, BenchPocketsLoad) {
 
 TEST(PocketIO, JsonErrorsNameTheKey) {
   const std::string bad_type = R"({"boundary":[[0,0,0],[10,0,0],[10,10,0],[0,10,"x"]]})";
-  EXPECT_NE(error_of([&] { (void)parse_pocket_json(bad_type, "p.json"); }).find("p.json: boundary[3][2]: expected a number"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of([&] { (void)parse_pocket_json(bad_type, "p.json"); }).find("p.json: boundary[3][2]: expected a number"),
+      std::string::npos);
   const std::string bad_isl = R"({"boundary":[[0,0],[10,0],[10,10],[0,10]],"islands":[[[2,2],[3,2],[3,"y"]]]})";
   EXPECT_NE(error_of([&] { (void)parse_pocket_json(bad_isl, "p.json"); }).find("islands[0][2][1]"), std::string::npos);
   const std::string bad_key = R"({"boundary":[[0,0],[10,0],[10,10],[0,10]],"tool_diameter":"ten"})";
   EXPECT_NE(error_of([&] { (void)parse_pocket_json(bad_key, "p.json"); }).find("tool_diameter: expected a number"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { (void)parse_pocket_json(R"({"islands":[]})", "p.json"); }).find("boundary"), std::string::npos);
+  EXPECT_NE(error_of([&] { (void)parse_pocket_json(R"({"islands":[]})", "p.json"); }).find("boundary"),
+            std::string::npos);
   EXPECT_NE(error_of([&] { (void)parse_pocket_json("{", "p.json"); }).find("invalid JSON"), std::string::npos);
   const std::string outside = R"({"boundary":[[0,0],[10,0],[10,10],[0,10]],"islands":[[[20,20],[30,20],[30,30]]]})";
   EXPECT_NE(error_of([&] { (void)parse_pocket_json(outside, "p.json"); }).find("outside"), std::string::npos);
@@ -88,7 +95,8 @@ TEST(PocketIO, DxfLooseEntitiesChainInAnyDirection) {
   // edge: centre (5,10), r 5, from 0° to 180° (CCW: bulges up); loose pieces in shuffled order.
   std::ostringstream e;
   e << line("A", 0, 0, 10, 0) << line("B", 0, 10.0005, 0, 0)  // the left edge, reversed direction
-    << "0\nARC\n5\nC\n8\n0\n10\n5\n20\n10\n30\n0\n40\n5\n50\n0\n51\n180\n" << line("D", 10, 10, 10, 0);
+    << "0\nARC\n5\nC\n8\n0\n10\n5\n20\n10\n30\n0\n40\n5\n50\n0\n51\n180\n"
+    << line("D", 10, 10, 10, 0);
   const PocketFile f = parse_pocket_dxf(dxf(e.str()), "loose.dxf");
   EXPECT_NEAR(area(f.region), 100 + kPi * 25 / 2, 1e-2);
   EXPECT_TRUE(f.region.islands.empty());
@@ -114,23 +122,27 @@ TEST(PocketIO, DxfErrors) {
   EXPECT_NE(m.find("open.dxf: open loop"), std::string::npos) << m;
   EXPECT_NE(m.find("LINE handle A1"), std::string::npos) << m;
   // Self-intersection (bow tie).
-  const std::string bow = dxf("0\nLWPOLYLINE\n5\n9\n90\n4\n70\n1\n10\n0\n20\n0\n10\n10\n20\n10\n10\n10\n20\n0\n10\n0\n20\n10\n");
+  const std::string bow =
+      dxf("0\nLWPOLYLINE\n5\n9\n90\n4\n70\n1\n10\n0\n20\n0\n10\n10\n20\n10\n10\n10\n20\n0\n10\n0\n20\n10\n");
   EXPECT_NE(error_of([&] { (void)parse_pocket_dxf(bow, "bow.dxf"); }).find("self-intersection"), std::string::npos);
   // Island crossing the boundary.
-  const std::string cross = dxf(
-      "0\nLWPOLYLINE\n5\n9\n90\n4\n70\n1\n10\n0\n20\n0\n10\n10\n20\n0\n10\n10\n20\n10\n10\n0\n20\n10\n"
-      "0\nCIRCLE\n5\nA\n10\n9\n20\n5\n40\n2\n");
+  const std::string cross =
+      dxf("0\nLWPOLYLINE\n5\n9\n90\n4\n70\n1\n10\n0\n20\n0\n10\n10\n20\n0\n10\n10\n20\n10\n10\n0\n20\n10\n"
+          "0\nCIRCLE\n5\nA\n10\n9\n20\n5\n40\n2\n");
   EXPECT_NE(error_of([&] { (void)parse_pocket_dxf(cross, "x.dxf"); }).find("crosses boundary"), std::string::npos);
   // Two separate outlines.
   const std::string two = dxf("0\nCIRCLE\n5\nA\n10\n0\n20\n0\n40\n2\n0\nCIRCLE\n5\nB\n10\n10\n20\n0\n40\n3\n");
-  EXPECT_NE(error_of([&] { (void)parse_pocket_dxf(two, "two.dxf"); }).find("outside the outermost loop"), std::string::npos);
+  EXPECT_NE(error_of([&] { (void)parse_pocket_dxf(two, "two.dxf"); }).find("outside the outermost loop"),
+            std::string::npos);
   // Island in an island.
-  const std::string nest = dxf(
-      "0\nCIRCLE\n5\nA\n10\n0\n20\n0\n40\n10\n0\nCIRCLE\n5\nB\n10\n0\n20\n0\n40\n5\n0\nCIRCLE\n5\nC\n10\n0\n20\n0\n40\n1\n");
+  const std::string nest =
+      dxf("0\nCIRCLE\n5\nA\n10\n0\n20\n0\n40\n10\n0\nCIRCLE\n5\nB\n10\n0\n20\n0\n40\n5\n0\nCIRCLE\n5\nC\n10\n0\n20\n0\n"
+          "40\n1\n");
   EXPECT_NE(error_of([&] { (void)parse_pocket_dxf(nest, "n.dxf"); }).find("islands inside islands"), std::string::npos);
   // Bad number names the line.
   const std::string badnum = dxf("0\nCIRCLE\n5\nA\n10\nabc\n20\n0\n40\n10\n");
-  EXPECT_NE(error_of([&] { (void)parse_pocket_dxf(badnum, "b.dxf"); }).find("b.dxf:20: group 10: expected a number"), std::string::npos)
+  EXPECT_NE(error_of([&] { (void)parse_pocket_dxf(badnum, "b.dxf"); }).find("b.dxf:20: group 10: expected a number"),
+            std::string::npos)
       << error_of([&] { (void)parse_pocket_dxf(badnum, "b.dxf"); });
   EXPECT_NE(error_of([&] { (void)parse_pocket_dxf(dxf(""), "e.dxf"); }).find("no closed outline"), std::string::npos);
 }
@@ -151,11 +163,11 @@ TEST(PocketIO, TruncatedDxfIsAnErrorNamingWhereItEnds) {
 // Issue 15: misspelt keys in a pocket file were ignored (the program was written for the default
 // tool); now an error naming the key and the likely meant one.
 TEST(PocketIO, UnknownPocketKeyIsAnError) {
-  const std::string m = error_of([] {
-    (void)parse_pocket_json(R"({"tool_diamter": 3, "boundary": [[0,0],[10,0],[10,10],[0,10]]})", "p.json");
-  });
+  const std::string m = error_of(
+      [] { (void)parse_pocket_json(R"({"tool_diamter": 3, "boundary": [[0,0],[10,0],[10,10],[0,10]]})", "p.json"); });
   EXPECT_NE(m.find("p.json: \"tool_diamter\": unknown key (did you mean \"tool_diameter\"?)"), std::string::npos) << m;
-  EXPECT_NO_THROW((void)parse_pocket_json(R"({"note": "x", "name": "y", "boundary": [[0,0],[10,0],[10,10],[0,10]]})", "q.json"));
+  EXPECT_NO_THROW(
+      (void)parse_pocket_json(R"({"note": "x", "name": "y", "boundary": [[0,0],[10,0],[10,10],[0,10]]})", "q.json"));
 }
 
 // Issue 15: 100,000 LINE entities chained into one loop took 44 s (a scan of all pieces per join);

@@ -204,7 +204,8 @@ TEST(StrongSmoothing, RowOrderAcrossTheIslandSplitsOrLinks) {
   for (std::size_t k = 0; k < full.chains[0].size(); ++k) {
     seen.insert(full.chains[0][k]);
     if (k > 0) {
-      EXPECT_TRUE(ok(tp.pts[static_cast<std::size_t>(full.chains[0][k - 1])], tp.pts[static_cast<std::size_t>(full.chains[0][k])]));
+      EXPECT_TRUE(ok(tp.pts[static_cast<std::size_t>(full.chains[0][k - 1])],
+                     tp.pts[static_cast<std::size_t>(full.chains[0][k])]));
     }
   }
   EXPECT_EQ(seen.size(), tp.pts.size());
@@ -220,9 +221,7 @@ TEST(StrongSmoothing, SeparateRegionsNeedOneRetractionEach) {
     for (int j = 0; j < 12; ++j)
       if (j < 5 || j > 6) ij.push_back({i, j});
   const auto tp = points_from_ij(ij);
-  const mp::MoveOk wall = [](const mp::Vec2& p, const mp::Vec2& q) {
-    return (p.x() < 32.5) == (q.x() < 32.5);
-  };
+  const mp::MoveOk wall = [](const mp::Vec2& p, const mp::Vec2& q) { return (p.x() < 32.5) == (q.x() < 32.5); };
   const auto som = mp::som_tour(tp.pts, {.seed = 9});
   const auto r = mp::smooth_tour(tp, som.order, wall, {});
   EXPECT_EQ(r.stats.reachable_regions, 2);

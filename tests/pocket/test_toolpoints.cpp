@@ -9,8 +9,15 @@
 using namespace millnet::pocket;
 namespace {
 Loop rect(double x0, double y0, double x1, double y1) { return {{x0, y0, 0}, {x1, y0, 0}, {x1, y1, 0}, {x0, y1, 0}}; }
-Loop circle(double cx, double cy, double r, bool ccw) { const double b = ccw ? 1 : -1; return {{cx + r, cy, b}, {cx - r, cy, b}}; }
-GridFrame frame(double s) { GridFrame f; f.spacing = s; return f; }
+Loop circle(double cx, double cy, double r, bool ccw) {
+  const double b = ccw ? 1 : -1;
+  return {{cx + r, cy, b}, {cx - r, cy, b}};
+}
+GridFrame frame(double s) {
+  GridFrame f;
+  f.spacing = s;
+  return f;
+}
 }  // namespace
 
 TEST(PocketToolPoints, TangentPointsAreKept) {
@@ -59,7 +66,8 @@ TEST(PocketClearance, MatchesBruteForce) {
   const Region r{{{0, 0, 0}, {100, 0, 0.4}, {100, 60, 0}, {40, 75, 0}, {0, 60, -0.2}},
                  {circle(30, 30, 8, false), rect(60, 20, 75, 40)}};
   std::vector<Segment> walls = segments(r.boundary);
-  for (const Loop& l : r.islands) for (const Segment& s : segments(l)) walls.push_back(s);
+  for (const Loop& l : r.islands)
+    for (const Segment& s : segments(l)) walls.push_back(s);
   for (const double cl : {0.0, 0.4, 5.0, 12.0}) {
     SCOPED_TRACE("clearance " + std::to_string(cl));
     const Clearance c(r, cl);

@@ -62,10 +62,16 @@ struct Raster {
   int nx, ny;
   std::vector<char> cell;
   Raster(double ax, double ay, double bx, double by, double hh)
-      : x0(ax), y0(ay), h(hh), nx(static_cast<int>(std::ceil((bx - ax) / hh))), ny(static_cast<int>(std::ceil((by - ay) / hh))),
+      : x0(ax),
+        y0(ay),
+        h(hh),
+        nx(static_cast<int>(std::ceil((bx - ax) / hh))),
+        ny(static_cast<int>(std::ceil((by - ay) / hh))),
         cell(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), 0) {}
   Vec2 center(int i, int j) const { return {x0 + (i + 0.5) * h, y0 + (j + 0.5) * h}; }
-  char& at(int i, int j) { return cell[static_cast<std::size_t>(j) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(i)]; }
+  char& at(int i, int j) {
+    return cell[static_cast<std::size_t>(j) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(i)];
+  }
   void capsule(const Vec2& a, const Vec2& b, double r) {  // O(bbox cells)
     const int i0 = std::max(0, static_cast<int>(std::floor((std::min(a.x(), b.x()) - r - x0) / h)));
     const int i1 = std::min(nx - 1, static_cast<int>(std::ceil((std::max(a.x(), b.x()) + r - x0) / h)));
@@ -111,7 +117,10 @@ double uncut_area(const Region& region, const PlanResult& plan, double R, double
   const auto reach = offset_inward(region, R);
   double lo_x = 1e18, lo_y = 1e18, hi_x = -1e18, hi_y = -1e18;
   for (const Vertex& v : region.boundary) {
-    lo_x = std::min(lo_x, v.x); lo_y = std::min(lo_y, v.y); hi_x = std::max(hi_x, v.x); hi_y = std::max(hi_y, v.y);
+    lo_x = std::min(lo_x, v.x);
+    lo_y = std::min(lo_y, v.y);
+    hi_x = std::max(hi_x, v.x);
+    hi_y = std::max(hi_y, v.y);
   }
   Raster target(lo_x - 1, lo_y - 1, hi_x + 1, hi_y + 1, h), cut(lo_x - 1, lo_y - 1, hi_x + 1, hi_y + 1, h);
   target.fill(reach);
@@ -127,14 +136,17 @@ double uncut_area(const Region& region, const PlanResult& plan, double R, double
   for (const Chain& c : plan.path.chains)
     for (std::size_t k = 0; k + 1 < c.pts.size(); ++k) cut.capsule(c.pts[k].p(), c.pts[k + 1].p(), R);
   std::size_t n = 0;
-  for (std::size_t k = 0; k < target.cell.size(); ++k) if (target.cell[k] && !cut.cell[k]) ++n;
+  for (std::size_t k = 0; k < target.cell.size(); ++k)
+    if (target.cell[k] && !cut.cell[k]) ++n;
   return static_cast<double>(n) * h * h;
 }
 
 /// Uncut cusp between two pass ends a distance s apart on a wall perpendicular to the passes,
 /// tool radius R (s ≤ 2R): the strip s × R minus the two disk pieces,
 ///   c(s, R) = R·s − (s/2)·sqrt(R² − s²/4) − R²·asin(s / 2R).
-double cusp(double s, double R) { return R * s - 0.5 * s * std::sqrt(R * R - s * s / 4) - R * R * std::asin(s / (2 * R)); }
+double cusp(double s, double R) {
+  return R * s - 0.5 * s * std::sqrt(R * R - s * s / 4) - R * R * std::asin(s / (2 * R));
+}
 
 }  // namespace
 

@@ -44,7 +44,8 @@ struct Raster {
       for (long dx = -rc; dx <= rc; ++dx) {
         const long gx = cx + dx, gy = cy + dy;
         if (gx < 0 || gy < 0 || gx >= nx || gy >= ny) continue;
-        if (std::hypot(lo.x() + static_cast<double>(gx) * h - c.x(), lo.y() + static_cast<double>(gy) * h - c.y()) <= r) f(gy * nx + gx);
+        if (std::hypot(lo.x() + static_cast<double>(gx) * h - c.x(), lo.y() + static_cast<double>(gy) * h - c.y()) <= r)
+          f(gy * nx + gx);
       }
   }
   template <class F>
@@ -63,7 +64,9 @@ struct LinkCase {
 };
 // Stable test names for ctest (gtest_discover_tests keeps the printed parameter in the name; the
 // default printer shows the string's address).
-void PrintTo(const LinkCase& c, std::ostream* os) { *os << c.pocket << (c.partition == PartitionKind::T ? " T" : " I"); }
+void PrintTo(const LinkCase& c, std::ostream* os) {
+  *os << c.pocket << (c.partition == PartitionKind::T ? " T" : " I");
+}
 
 class ZigzagLinks : public ::testing::TestWithParam<LinkCase> {};
 
@@ -104,13 +107,15 @@ TEST_P(ZigzagLinks, RegionsJoinedThroughCutMaterialSaveARetractionAndAnEntryEach
   for (long gy = 0; gy < ras_alone.ny; ++gy)
     for (long gx = 0; gx < ras_alone.nx; ++gx) {
       const auto i = static_cast<std::size_t>(gy * ras_alone.nx + gx);
-      const Vec2 c(ras_alone.lo.x() + static_cast<double>(gx) * ras_alone.h, ras_alone.lo.y() + static_cast<double>(gy) * ras_alone.h);
+      const Vec2 c(ras_alone.lo.x() + static_cast<double>(gx) * ras_alone.h,
+                   ras_alone.lo.y() + static_cast<double>(gy) * ras_alone.h);
       if (walls.wall_distance(c) <= cut.clearance() + R + 0.25) continue;  // the wall band
       if (ras_alone.cut[i] && !ras_linked.cut[i]) ++missing;
       if (ras_linked.cut[i] && !ras_alone.cut[i]) ++extra;
     }
   EXPECT_EQ(missing, 0u) << "the linked plan must cut everything the regions cut on their own";
-  EXPECT_LE(static_cast<double>(extra) * ras_alone.h * ras_alone.h, (kLinkSliverMm2 + 0.5) * static_cast<double>(sl.region_links))
+  EXPECT_LE(static_cast<double>(extra) * ras_alone.h * ras_alone.h,
+            (kLinkSliverMm2 + 0.5) * static_cast<double>(sl.region_links))
       << "links cut material away from the walls that no region cuts";
 
   // Machined: no gouge, one retraction and one entry fewer per link than the regions and the wall
@@ -133,8 +138,10 @@ TEST_P(ZigzagLinks, RegionsJoinedThroughCutMaterialSaveARetractionAndAnEntryEach
 }
 
 INSTANTIATE_TEST_SUITE_P(Pockets, ZigzagLinks,
-                         ::testing::Values(LinkCase{"eight_islands", PartitionKind::T}, LinkCase{"eight_islands", PartitionKind::I},
-                                           LinkCase{"four_islands", PartitionKind::T}, LinkCase{"four_islands", PartitionKind::I}),
+                         ::testing::Values(LinkCase{"eight_islands", PartitionKind::T},
+                                           LinkCase{"eight_islands", PartitionKind::I},
+                                           LinkCase{"four_islands", PartitionKind::T},
+                                           LinkCase{"four_islands", PartitionKind::I}),
                          [](const ::testing::TestParamInfo<LinkCase>& i) {
                            return std::string(i.param.pocket) + (i.param.partition == PartitionKind::T ? "_t" : "_i");
                          });

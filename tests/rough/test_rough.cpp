@@ -51,12 +51,18 @@ void add_box(ingest::Mesh& m, double x0, double y0, double z0, double x1, double
   std::vector<Eigen::Vector3d> v;
   for (int k = 0; k < 8; ++k) v.emplace_back((k & 1) ? x1 : x0, (k & 2) ? y1 : y0, (k & 4) ? z1 : z0);
   append(m, v,
-         {{0, 2, 1}, {1, 2, 3},    // bottom (−z)
-          {4, 5, 6}, {5, 7, 6},    // top (+z)
-          {0, 1, 4}, {1, 5, 4},    // −y
-          {2, 6, 3}, {3, 6, 7},    // +y
-          {0, 4, 2}, {2, 4, 6},    // −x
-          {1, 3, 5}, {3, 7, 5}});  // +x
+         {{0, 2, 1},
+          {1, 2, 3},  // bottom (−z)
+          {4, 5, 6},
+          {5, 7, 6},  // top (+z)
+          {0, 1, 4},
+          {1, 5, 4},  // −y
+          {2, 6, 3},
+          {3, 6, 7},  // +y
+          {0, 4, 2},
+          {2, 4, 6},  // −x
+          {1, 3, 5},
+          {3, 7, 5}});  // +x
 }
 
 /// A closed hemisphere of radius r on the plane z = zc centred at (cx, cy): `az` segments around,
@@ -69,7 +75,8 @@ void add_hemisphere(ingest::Mesh& m, double cx, double cy, double zc, double r, 
     const double phi = 0.5 * kPi * k / el;
     for (int j = 0; j < az; ++j) {
       const double th = 2 * kPi * j / az;
-      v.emplace_back(cx + r * std::cos(phi) * std::cos(th), cy + r * std::cos(phi) * std::sin(th), zc + r * std::sin(phi));
+      v.emplace_back(cx + r * std::cos(phi) * std::cos(th), cy + r * std::cos(phi) * std::sin(th),
+                     zc + r * std::sin(phi));
     }
   }
   const int pole = static_cast<int>(v.size());
@@ -102,8 +109,8 @@ Params params_for(const std::string& planner, double stock_to_leave, double step
     p.planner = pocket::OffsetSpec{};  // climb, the schema's default
   } else {
     pocket::ZigzagSpec z;
-    z.zigzag.angle_deg = std::nullopt;                  // "auto"
-    z.zigzag.partition = pocket::PartitionKind::I;      // the schema's default
+    z.zigzag.angle_deg = std::nullopt;              // "auto"
+    z.zigzag.partition = pocket::PartitionKind::I;  // the schema's default
     p.planner = z;
   }
   return p;
@@ -137,7 +144,8 @@ bool inside(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p) 
   bool in = false;
   for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
     const auto &a = poly[i], &b = poly[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) in = !in;
+    if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
+      in = !in;
   }
   return in;
 }
@@ -178,11 +186,13 @@ TEST(RoughLevels, BoxOnPlateGivesOneSquareIslandPerLevelAndNoneAboveTheBox) {
     EXPECT_NEAR(r.stock_x0, -5, 1e-12);
     EXPECT_NEAR(r.stock_y1, 85, 1e-12);
     const double tol = contour_tolerance(r, p);
-    std::printf("[box stl=%.1f] contour tolerance %.4f mm (raster %.4f × %.4f)\n", stl, tol, r.field.step_x, r.field.step_y);
+    std::printf("[box stl=%.1f] contour tolerance %.4f mm (raster %.4f × %.4f)\n", stl, tol, r.field.step_x,
+                r.field.step_y);
     int box_levels = 0, empty_levels = 0;
     for (std::size_t k = 0; k < r.levels.size(); ++k) {
       const auto& lv = r.levels[k];
-      SCOPED_TRACE("level " + std::to_string(k + 1) + " z_part " + std::to_string(lv.z_part) + " stl " + std::to_string(stl));
+      SCOPED_TRACE("level " + std::to_string(k + 1) + " z_part " + std::to_string(lv.z_part) + " stl " +
+                   std::to_string(stl));
       EXPECT_NEAR(lv.z, lv.z_part - 30.3, 1e-12);
       EXPECT_NEAR(lv.z_part, 30.3 - 5.05 * static_cast<double>(k + 1), 1e-9);
       const double thr = lv.z_part - stl;  // material = surface at or above this
@@ -213,8 +223,9 @@ TEST(RoughLevels, BoxOnPlateGivesOneSquareIslandPerLevelAndNoneAboveTheBox) {
       double min_edge_clear = 1e9;
       for (int s = 0; s <= 400; ++s) {
         const double t = s / 400.0;
-        for (const Eigen::Vector2d& q : {Eigen::Vector2d(bx0 + t * (bx1 - bx0), by0), Eigen::Vector2d(bx0 + t * (bx1 - bx0), by1),
-                                        Eigen::Vector2d(bx0, by0 + t * (by1 - by0)), Eigen::Vector2d(bx1, by0 + t * (by1 - by0))}) {
+        for (const Eigen::Vector2d& q :
+             {Eigen::Vector2d(bx0 + t * (bx1 - bx0), by0), Eigen::Vector2d(bx0 + t * (bx1 - bx0), by1),
+              Eigen::Vector2d(bx0, by0 + t * (by1 - by0)), Eigen::Vector2d(bx1, by0 + t * (by1 - by0))}) {
           EXPECT_TRUE(inside(isl, q)) << q.transpose();
           min_edge_clear = std::min(min_edge_clear, poly_dist(isl, q));
         }
@@ -229,9 +240,10 @@ TEST(RoughLevels, BoxOnPlateGivesOneSquareIslandPerLevelAndNoneAboveTheBox) {
       const double w = bx1 - bx0, h = by1 - by0;
       EXPECT_GE(area, w * h);
       EXPECT_LE(area, (w + 2 * tol) * (h + 2 * tol));
-      std::printf("[box stl=%.1f] level %zu z_part %.3f: island area %.2f mm² (square %.2f), vertices %+.4f..%+.4f mm from the "
-                  "square, edges ≥ %.4f mm outside\n",
-                  stl, k + 1, lv.z_part, area, w * h, worst_in, worst_out, min_edge_clear);
+      std::printf(
+          "[box stl=%.1f] level %zu z_part %.3f: island area %.2f mm² (square %.2f), vertices %+.4f..%+.4f mm from the "
+          "square, edges ≥ %.4f mm outside\n",
+          stl, k + 1, lv.z_part, area, w * h, worst_in, worst_out, min_edge_clear);
       // The regions sent to the planner: the stock grown by twice the tool clearance (centres may
       // pass a clearance outside the stock edge), with that island.
       const auto b = pts_of(lv.regions[0].boundary);
@@ -293,12 +305,14 @@ TEST(RoughLevels, HemisphereGivesCircularIslandsOfTheRightRadius) {
       // Closest approach of the island's edges to the centre: the island contains the circle.
       const double edge_min = [&] {
         double e = 1e9;
-        for (std::size_t i = 0; i < isl.size(); ++i) e = std::min(e, seg_dist({cx, cy}, isl[i], isl[(i + 1) % isl.size()]));
+        for (std::size_t i = 0; i < isl.size(); ++i)
+          e = std::min(e, seg_dist({cx, cy}, isl[i], isl[(i + 1) % isl.size()]));
         return e;
       }();
-      std::printf("[hemisphere stl=%.1f] level %zu z_part %.3f: r %.3f, island radius mean %.4f (min vertex %.4f, max %.4f, "
-                  "edges ≥ %.4f), area %.1f vs πr² %.1f, tolerance %.4f\n",
-                  stl, k + 1, lv.z_part, rr, mean, lo, hi, edge_min, area, kPi * rr * rr, tol);
+      std::printf(
+          "[hemisphere stl=%.1f] level %zu z_part %.3f: r %.3f, island radius mean %.4f (min vertex %.4f, max %.4f, "
+          "edges ≥ %.4f), area %.1f vs πr² %.1f, tolerance %.4f\n",
+          stl, k + 1, lv.z_part, rr, mean, lo, hi, edge_min, area, kPi * rr * rr, tol);
       EXPECT_LE(hi, rr + tol);
       EXPECT_GE(edge_min, rr - mesh_tol) << "the island cuts into the sphere";
       EXPECT_GT(mean, rr);
@@ -349,8 +363,8 @@ TEST(RoughOracle, MatchesAnalyticMaximaOfABoxAndAHemisphere) {
   add_box(m, 30, 20, 5, 60, 50, 25);
   TopOracle o(m);
   EXPECT_DOUBLE_EQ(o.max_over_disk({10, 10}, 5), 5.0);
-  EXPECT_DOUBLE_EQ(o.max_over_disk({25.01, 35}, 5), 25.0);  // reaches 0.01 mm over the box wall
-  EXPECT_DOUBLE_EQ(o.max_over_disk({24.99, 35}, 5), 5.0);   // stops 0.01 mm short of it
+  EXPECT_DOUBLE_EQ(o.max_over_disk({25.01, 35}, 5), 25.0);   // reaches 0.01 mm over the box wall
+  EXPECT_DOUBLE_EQ(o.max_over_disk({24.99, 35}, 5), 5.0);    // stops 0.01 mm short of it
   EXPECT_DOUBLE_EQ(o.max_over_disk({26.5, 16.5}, 5), 25.0);  // the corner (30,20) at √24.5 < 5
   EXPECT_DOUBLE_EQ(o.max_over_disk({26.4, 16.4}, 5), 5.0);   // √25.92 > 5
   EXPECT_EQ(o.max_over_disk({-20, -20}, 5), -std::numeric_limits<double>::infinity());
@@ -380,7 +394,8 @@ void PrintTo(const GougeCase& c, std::ostream* os) {
 }
 
 std::string case_name(const testing::TestParamInfo<GougeCase>& info) {
-  return datasets::family_name(info.param.family) + std::to_string(info.param.index) + "_" + info.param.planner + "_stl" + (info.param.stl > 0 ? "05" : "0");
+  return datasets::family_name(info.param.family) + std::to_string(info.param.index) + "_" + info.param.planner +
+         "_stl" + (info.param.stl > 0 ? "05" : "0");
 }
 
 class RoughGouge : public testing::TestWithParam<GougeCase> {};
@@ -404,10 +419,11 @@ TEST_P(RoughGouge, WrittenGcodeNeverCutsBelowTheMeshPlusStockToLeave) {
   const double stock_top = part.V.col(2).maxCoeff() + p.top_allowance_mm;
   const double R = p.cut.tool_diameter / 2;
   const GougeReport g = replay_against_mesh(gcode, part, stock_top, R, gc.stl, p.cut.safe_z);
-  std::printf("[gouge %s] %s kind=%s, %zu levels, %ld samples (%ld near the part, %ld within 1 mm radially), min Z %.3f, "
-              "violations %ld, worst depth %.4f mm, worst radial %.4f mm\n",
-              stem.c_str(), datasets::family_name(gc.family).c_str(), gen.kind.c_str(), r.levels.size(), g.samples, g.checked,
-              g.near, g.min_z, g.violations, g.worst_depth, g.worst_radial);
+  std::printf(
+      "[gouge %s] %s kind=%s, %zu levels, %ld samples (%ld near the part, %ld within 1 mm radially), min Z %.3f, "
+      "violations %ld, worst depth %.4f mm, worst radial %.4f mm\n",
+      stem.c_str(), datasets::family_name(gc.family).c_str(), gen.kind.c_str(), r.levels.size(), g.samples, g.checked,
+      g.near, g.min_z, g.violations, g.worst_depth, g.worst_radial);
   if (g.violations) std::printf("  first: %s\n  worst: %s\n", g.first.c_str(), g.worst.c_str());
   EXPECT_EQ(g.violations, 0) << "first: " << g.first << "\nworst: " << g.worst;
   // Not vacuous: the program reaches the floor, and often comes within 1 mm of the material.
@@ -417,8 +433,8 @@ TEST_P(RoughGouge, WrittenGcodeNeverCutsBelowTheMeshPlusStockToLeave) {
   // The radial allowance as well (the planner keeps centres R + stock_to_leave off the islands).
   if (gc.stl > 0) {
     const GougeReport g2 = replay_against_mesh(gcode, part, stock_top, R + gc.stl, gc.stl, p.cut.safe_z);
-    std::printf("[gouge %s] with radius R + stock_to_leave: violations %ld, worst depth %.4f, worst radial %.4f\n", stem.c_str(),
-                g2.violations, g2.worst_depth, g2.worst_radial);
+    std::printf("[gouge %s] with radius R + stock_to_leave: violations %ld, worst depth %.4f, worst radial %.4f\n",
+                stem.c_str(), g2.violations, g2.worst_depth, g2.worst_radial);
     EXPECT_EQ(g2.violations, 0) << "radial stock to leave not kept; first: " << g2.first << "\nworst: " << g2.worst;
   }
   // Rapids too: a G0 into material would be a crash.

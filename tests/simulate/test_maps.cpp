@@ -28,8 +28,7 @@ TEST(Maps, BlockMeansOfA3x3GridInto2x2Blocks) {
 
 TEST(Maps, BlockMeansSkipNonFiniteCellsAndFillEmptyBlocks) {
   // 4 × 2 (nx = 4, ny = 2), max 2 ⇒ k = 2: two blocks side by side.
-  const std::vector<double> v{1, kNaN, kNaN, kNaN,
-                              3, kNaN, kNaN, std::numeric_limits<double>::infinity()};
+  const std::vector<double> v{1, kNaN, kNaN, kNaN, 3, kNaN, kNaN, std::numeric_limits<double>::infinity()};
   const Eigen::MatrixXd m = block_means(v, 4, 2, 2, -7.0);
   ASSERT_EQ(m.rows(), 1);
   ASSERT_EQ(m.cols(), 2);

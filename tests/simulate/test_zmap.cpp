@@ -123,8 +123,8 @@ double tilted_tip(double y) { return y * std::tan(kAlpha) + 1.0 / std::cos(kAlph
 
 TEST(ZMap, BallRasterOnTiltedPlaneUsesTheThreeDStepover) {
   const double py = 0.2, R = 1;
-  const double s = py / std::cos(kAlpha);                   // 3D stepover along the plane
-  const double hn = R - std::sqrt(R * R - s * s / 4);       // scallop normal to the plane
+  const double s = py / std::cos(kAlpha);              // 3D stepover along the plane
+  const double hn = R - std::sqrt(R * R - s * s / 4);  // scallop normal to the plane
   // Put cell centres on the cusps: y = midpoint + √(R² − s²/4)·sin α (+ k·py, py = 20 cells).
   const double cusp = 0.1 + std::sqrt(R * R - s * s / 4) * std::sin(kAlpha);
   const double cell = 0.01;
@@ -135,7 +135,7 @@ TEST(ZMap, BallRasterOnTiltedPlaneUsesTheThreeDStepover) {
   const double ya = y0 + 1, yb = y0 + 3;
   const auto m = surface_metrics(zm, design_window(g, 1, 3, ya, yb, tilted));
   EXPECT_NEAR(m.scallop_max_mm, hn, 0.02 * hn);  // measured along the plane's normal
-  EXPECT_NEAR(m.min_e_mm, 0, 2e-5);  // the contact lines fall between cell centres
+  EXPECT_NEAR(m.min_e_mm, 0, 2e-5);              // the contact lines fall between cell centres
   EXPECT_GE(m.min_e_mm, -1e-12);
   EXPECT_FALSE(m.gouged);
 }
@@ -317,7 +317,7 @@ TEST(ZMap, EverySweepMatchesDenseSampling) {
         worst_up = std::max(worst_up, zm.at(ix, iy) - brute);
         worst_down = std::max(worst_down, brute - zm.at(ix, iy));
       }
-    EXPECT_LT(worst_up, 1e-9) << static_cast<int>(c.type);   // never above a sampled position
+    EXPECT_LT(worst_up, 1e-9) << static_cast<int>(c.type);    // never above a sampled position
     EXPECT_LT(worst_down, 2e-3) << static_cast<int>(c.type);  // sampling gap only
   }
 }
@@ -397,8 +397,8 @@ TEST(ZMap, BitIdenticalWithOneAndTwoThreads) {
   const GridSpec g{0.003, -0.007, 0.013, 377, 311};
   Program p = raster(-1, 6, -1.3, 0.17, 35, tilted_tip);
   add(p, mv(Motion::Line, 3, 2, 0.2));
-  add(p, mv(Motion::ArcCCW, 2, 3, 0.2, 2, 2));   // planar
-  add(p, mv(Motion::ArcCW, 2, 1, -0.1, 2, 2));   // helical
+  add(p, mv(Motion::ArcCCW, 2, 3, 0.2, 2, 2));  // planar
+  add(p, mv(Motion::ArcCW, 2, 1, -0.1, 2, 2));  // helical
   std::vector<double> design(g.cells());
   for (std::size_t iy = 0; iy < g.ny; ++iy)
     for (std::size_t ix = 0; ix < g.nx; ++ix) design[iy * g.nx + ix] = tilted(g.y(iy)) - 0.01;
@@ -469,8 +469,10 @@ TEST(ZMap, PolylinesWithSharedJointsMatchDenseSampling) {
       double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
       void push(const gcode::Point3& v) {
         q.push_back(v);
-        x0 = std::min(x0, v[0]); x1 = std::max(x1, v[0]);
-        y0 = std::min(y0, v[1]); y1 = std::max(y1, v[1]);
+        x0 = std::min(x0, v[0]);
+        x1 = std::max(x1, v[0]);
+        y0 = std::min(y0, v[1]);
+        y1 = std::max(y1, v[1]);
       }
     };
     const double R = c.radius();
@@ -537,9 +539,17 @@ double exact_ball_line(const gcode::Point3& a, const gcode::Point3& b, double R,
   double lo = t0, hi = t1, x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo), f1 = h(x1), f2 = h(x2);
   while (hi - lo > 1e-13) {
     if (f1 < f2) {
-      hi = x2; x2 = x1; f2 = f1; x1 = hi - g * (hi - lo); f1 = h(x1);
+      hi = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = hi - g * (hi - lo);
+      f1 = h(x1);
     } else {
-      lo = x1; x1 = x2; f1 = f2; x2 = lo + g * (hi - lo); f2 = h(x2);
+      lo = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = lo + g * (hi - lo);
+      f2 = h(x2);
     }
   }
   return std::min({f1, f2, h(t0), h(t1)});
@@ -644,7 +654,8 @@ TEST(ZMap, RaStrideKeepsTheLatticeCellsBitForBitAndLeavesTheRestNaN) {
       }
     }
   EXPECT_EQ(thin.ra_cells, lattice);
-  EXPECT_NEAR(static_cast<double>(thin.ra_cells) * 25, static_cast<double>(full.ra_cells), 0.05 * static_cast<double>(full.ra_cells));
+  EXPECT_NEAR(static_cast<double>(thin.ra_cells) * 25, static_cast<double>(full.ra_cells),
+              0.05 * static_cast<double>(full.ra_cells));
   EXPECT_NEAR(thin.ra_median_um, full.ra_median_um, 0.02 * full.ra_median_um);
   // Everything but the Ra map is the same.
   EXPECT_EQ(thin.max_gouge_mm, full.max_gouge_mm);

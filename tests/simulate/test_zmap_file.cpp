@@ -50,9 +50,10 @@ TEST(ZMapFile, HeightsAndGridRoundTripBitForBit) {
   ASSERT_EQ(back.heights().size(), h.size());
   EXPECT_EQ(std::memcmp(back.heights().data(), z.heights().data(), h.size() * sizeof(double)), 0);
   for (const auto s : back.stamps()) EXPECT_EQ(s, 0u);  // no move history
-  EXPECT_EQ(fs::file_size(p), std::string("millnet-zmap 1\n").size() +
-                                  std::string(R"({"cell":0.02,"heights":"float64le","nx":7,"ny":5,"x0":-3.25,"y0":0.1})")
-                                      .size() + 1 + h.size() * 8);
+  EXPECT_EQ(fs::file_size(p),
+            std::string("millnet-zmap 1\n").size() +
+                std::string(R"({"cell":0.02,"heights":"float64le","nx":7,"ny":5,"x0":-3.25,"y0":0.1})").size() + 1 +
+                h.size() * 8);
 }
 
 TEST(ZMapFile, BadFilesAreRefusedWithTheirReason) {

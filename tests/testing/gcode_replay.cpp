@@ -114,10 +114,17 @@ ReplayResult replay_gcode(const std::string& text, double safe_z) {
     std::string s;
     int paren = 0;
     for (char ch : raw) {
-      if (ch == '(') { ++paren; continue; }
-      if (ch == ')') { --paren; continue; }
+      if (ch == '(') {
+        ++paren;
+        continue;
+      }
+      if (ch == ')') {
+        --paren;
+        continue;
+      }
       if (ch == ';') break;
-      if (paren == 0 && !std::isspace(static_cast<unsigned char>(ch))) s.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(ch))));
+      if (paren == 0 && !std::isspace(static_cast<unsigned char>(ch)))
+        s.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(ch))));
     }
     if (s.empty() || s == "%") continue;
     std::map<char, std::string> words;
@@ -125,18 +132,25 @@ ReplayResult replay_gcode(const std::string& text, double safe_z) {
     for (std::size_t i = 0; i < s.size();) {
       const char letter = s[i++];
       std::size_t j = i;
-      while (j < s.size() && (std::isdigit(static_cast<unsigned char>(s[j])) || s[j] == '.' || s[j] == '-' || s[j] == '+')) ++j;
+      while (j < s.size() &&
+             (std::isdigit(static_cast<unsigned char>(s[j])) || s[j] == '.' || s[j] == '-' || s[j] == '+'))
+        ++j;
       if (!std::isalpha(static_cast<unsigned char>(letter)) || j == i)
         throw std::runtime_error("gcode line " + std::to_string(line) + ": cannot parse '" + raw + "'");
       const std::string val = s.substr(i, j - i);
-      if (letter == 'G') gcodes.push_back(num(val, line));
-      else words[letter] = val;
+      if (letter == 'G')
+        gcodes.push_back(num(val, line));
+      else
+        words[letter] = val;
       i = j;
     }
     for (double g : gcodes) {
-      if (g == 0 || g == 1 || g == 2 || g == 3) motion = static_cast<int>(g);
-      else if (g == 17 || g == 21 || g == 90 || g == 94 || g == 40 || g == 49 || g == 80) continue;
-      else throw std::runtime_error("gcode line " + std::to_string(line) + ": unsupported G" + std::to_string(g));
+      if (g == 0 || g == 1 || g == 2 || g == 3)
+        motion = static_cast<int>(g);
+      else if (g == 17 || g == 21 || g == 90 || g == 94 || g == 40 || g == 49 || g == 80)
+        continue;
+      else
+        throw std::runtime_error("gcode line " + std::to_string(line) + ": unsupported G" + std::to_string(g));
     }
     if (words.count('F')) feed = num(words['F'], line);
     const bool has_xyz = words.count('X') || words.count('Y') || words.count('Z');
@@ -238,8 +252,10 @@ void check_gouge(ReplayResult& r, const ReplayPocket& pocket, double tool_radius
     for (int i = 0; i <= n; ++i) {
       const double t = static_cast<double>(i) / n;
       P2 p;
-      if (m.g == 2 || m.g == 3) p = {m.center[0] + rad * std::cos(a0 + t * sweep), m.center[1] + rad * std::sin(a0 + t * sweep)};
-      else p = {m.from[0] + t * (m.to[0] - m.from[0]), m.from[1] + t * (m.to[1] - m.from[1])};
+      if (m.g == 2 || m.g == 3)
+        p = {m.center[0] + rad * std::cos(a0 + t * sweep), m.center[1] + rad * std::sin(a0 + t * sweep)};
+      else
+        p = {m.from[0] + t * (m.to[0] - m.from[0]), m.from[1] + t * (m.to[1] - m.from[1])};
       const double z = m.from[2] + t * (m.to[2] - m.from[2]);
       if (z >= 0) continue;
       ++r.samples;

@@ -20,25 +20,25 @@ struct ReplayPocket {
 };
 
 struct ReplayMove {
-  int g = 0;                   ///< 0, 1, 2, 3
+  int g = 0;  ///< 0, 1, 2, 3
   std::array<double, 3> from{}, to{};
   std::array<double, 2> center{};  ///< arcs only (absolute)
-  double feed = 0;             ///< mm/min in effect (G1/G2/G3)
-  int line = 0;                ///< 1-based source line
+  double feed = 0;                 ///< mm/min in effect (G1/G2/G3)
+  int line = 0;                    ///< 1-based source line
 };
 
 struct ReplayResult {
   std::vector<ReplayMove> moves;
-  double cut_length = 0;       ///< XY length of G1/G2/G3 moves below Z = 0 (pure Z moves add 0)
-  double rapid_length = 0;     ///< XY length of G0 moves
-  int retractions = 0;         ///< G0 moves up to ≥ safe Z after cutting that are followed by another entry
-  int plunges = 0;             ///< descending feed moves right after a rapid (one per entry, drilling included)
+  double cut_length = 0;    ///< XY length of G1/G2/G3 moves below Z = 0 (pure Z moves add 0)
+  double rapid_length = 0;  ///< XY length of G0 moves
+  int retractions = 0;      ///< G0 moves up to ≥ safe Z after cutting that are followed by another entry
+  int plunges = 0;          ///< descending feed moves right after a rapid (one per entry, drilling included)
   std::map<double, double> cut_length_by_z;  ///< XY cut length of moves at constant Z < 0
   // Gouge check (filled by check_gouge):
   int samples = 0;
   int violations = 0;
-  double worst_mm = 0;         ///< largest intrusion of the disk into a wall (> tol ⇒ violation)
-  std::string first_violation; ///< "line N: (x, y, z) ..." of the first violation
+  double worst_mm = 0;          ///< largest intrusion of the disk into a wall (> tol ⇒ violation)
+  std::string first_violation;  ///< "line N: (x, y, z) ..." of the first violation
   double min_z = 0;
   bool uses_feed_everywhere = true;  ///< every feed move had an F in effect
 };

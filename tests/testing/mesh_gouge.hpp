@@ -30,7 +30,7 @@ inline constexpr double kPi = 3.14159265358979323846;
 /// the direction of the plane's gradient when it lies inside the triangle (the centre when flat).
 /// Vertical triangles: vertices and edge–circle intersections (exact as well).
 class TopOracle {
- public:
+public:
   explicit TopOracle(const ingest::Mesh& m, double cell = 2.0) : cell_(cell) {
     x0_ = m.V.col(0).minCoeff() - 1;
     y0_ = m.V.col(1).minCoeff() - 1;
@@ -81,7 +81,7 @@ class TopOracle {
     return best;
   }
 
- private:
+private:
   struct Tri {
     std::array<Eigen::Vector3d, 3> v;
     Eigen::Vector2d lo, hi, g = Eigen::Vector2d::Zero();
@@ -108,7 +108,8 @@ class TopOracle {
     if (!t.flat_xy) {
       const double gn = t.g.norm();
       const Eigen::Vector2d q = gn > 0 ? Eigen::Vector2d(c + r * t.g / gn) : c;
-      const Eigen::Vector2d e1 = (t.v[1] - t.v[0]).head<2>(), e2 = (t.v[2] - t.v[0]).head<2>(), w = q - t.v[0].head<2>();
+      const Eigen::Vector2d e1 = (t.v[1] - t.v[0]).head<2>(), e2 = (t.v[2] - t.v[0]).head<2>(),
+                            w = q - t.v[0].head<2>();
       const double u = (w.x() * e2.y() - w.y() * e2.x()) / t.det, v = (e1.x() * w.y() - e1.y() * w.x()) / t.det;
       if (u >= 0 && v >= 0 && u + v <= 1) best = std::max(best, t.v[0].z() + t.g.dot(w));
     }
@@ -116,7 +117,9 @@ class TopOracle {
   }
   int cx(double x) const { return std::clamp(static_cast<int>(std::floor((x - x0_) / cell_)), 0, nx_ - 1); }
   int cy(double y) const { return std::clamp(static_cast<int>(std::floor((y - y0_) / cell_)), 0, ny_ - 1); }
-  std::size_t idx(int i, int j) const { return static_cast<std::size_t>(i) * static_cast<std::size_t>(nx_) + static_cast<std::size_t>(j); }
+  std::size_t idx(int i, int j) const {
+    return static_cast<std::size_t>(i) * static_cast<std::size_t>(nx_) + static_cast<std::size_t>(j);
+  }
 
   double cell_, x0_ = 0, y0_ = 0, zmax_ = 0;
   int nx_ = 0, ny_ = 0;
@@ -125,7 +128,6 @@ class TopOracle {
   std::vector<unsigned> stamp_;
   unsigned cur_ = 0;
 };
-
 
 // ---------------------------------------------------------------------------------------------
 // The gouge replay of the written G-code.
@@ -142,8 +144,9 @@ struct GougeReport {
 /// the 4-decimal rounding of the program) stays at or below tool Z − stock_to_leave + tol.
 /// `stock_top` converts G-code Z (0 = stock top) to the part frame. Also counts "near" samples:
 /// where a disk 1 mm larger would reach material above the tool tip (the check is not vacuous).
-inline GougeReport replay_against_mesh(const std::string& gcode, const ingest::Mesh& part, double stock_top, double R, double stl,
-                                double safe_z, double step = 0.1, double tol = 0.005, bool include_rapids = false) {
+inline GougeReport replay_against_mesh(const std::string& gcode, const ingest::Mesh& part, double stock_top, double R,
+                                       double stl, double safe_z, double step = 0.1, double tol = 0.005,
+                                       bool include_rapids = false) {
   const auto rep = millnet::testing::replay_gcode(gcode, safe_z);
   TopOracle oracle(part);
   GougeReport g;
@@ -152,7 +155,7 @@ inline GougeReport replay_against_mesh(const std::string& gcode, const ingest::M
   auto check = [&](const Eigen::Vector2d& c, double z_gcode, int line) {
     ++g.samples;
     const double z_part = z_gcode + stock_top;
-    const double allowed = z_part - stl + tol;  // the surface may reach up to here under the disk
+    const double allowed = z_part - stl + tol;   // the surface may reach up to here under the disk
     if (allowed - 1.0 >= oracle.zmax()) return;  // far above the whole part
     ++g.checked;
     if (oracle.max_over_disk(c, r + 1.0, allowed) > allowed) ++g.near;
@@ -169,7 +172,8 @@ inline GougeReport replay_against_mesh(const std::string& gcode, const ingest::M
     }
     const double radial = r - lo;
     char buf[256];
-    std::snprintf(buf, sizeof buf, "line %d: tool at (%.4f, %.4f) Z %.4f (part z %.4f, level Z %.3f): surface %.4f under the disk, "
+    std::snprintf(buf, sizeof buf,
+                  "line %d: tool at (%.4f, %.4f) Z %.4f (part z %.4f, level Z %.3f): surface %.4f under the disk, "
                   "%.4f mm too deep, %.4f mm radially into the part",
                   line, c.x(), c.y(), z_gcode, z_part, z_gcode, top, depth, radial);
     if (g.first.empty()) g.first = buf;
@@ -208,6 +212,5 @@ inline GougeReport replay_against_mesh(const std::string& gcode, const ingest::M
   }
   return g;
 }
-
 
 }  // namespace millnet::testing

@@ -145,8 +145,7 @@ CuttingData cutting_data(const Tool& tool, const Material& material, double ap, 
   c.feed_ramp_mm_min = whole(c.feed_mm_min * ff.ramp);
   c.max_chip_thinning = std::max(1.0, ff.max_chip_thinning);
   c.feed_max_mm_min = std::min(m.max_feed_mm_min, whole(c.feed_mm_min * c.max_chip_thinning));
-  if (!(c.feed_mm_min > 0))
-    throw Error(who + ": feed " + format_double(c.feed_mm_min) + " mm/min is not > 0");
+  if (!(c.feed_mm_min > 0)) throw Error(who + ": feed " + format_double(c.feed_mm_min) + " mm/min is not > 0");
   return c;
 }
 

@@ -21,16 +21,16 @@ enum class Axis { X, Y, Z };
 [[nodiscard]] char to_char(Axis a);
 
 struct Variant {
-  std::string source;     ///< the part this variant came from (file stem or path)
-  Axis axis = Axis::X;    ///< rotation axis
-  double angle_deg = 0;   ///< rotation angle about `axis`, degrees, right-hand rule
-  bool flip = false;      ///< turned by 180° about Z (the up axis) before rotating
+  std::string source;    ///< the part this variant came from (file stem or path)
+  Axis axis = Axis::X;   ///< rotation axis
+  double angle_deg = 0;  ///< rotation angle about `axis`, degrees, right-hand rule
+  bool flip = false;     ///< turned by 180° about Z (the up axis) before rotating
 };
 
 struct AugmentParams {
-  std::vector<double> angles_deg;      ///< default −50…+50 step 10 (see defaults())
-  std::vector<Axis> axes{Axis::X};     ///< each angle is applied about each axis in turn
-  bool flip = true;                    ///< add the flipped copy of every rotation
+  std::vector<double> angles_deg;   ///< default −50…+50 step 10 (see defaults())
+  std::vector<Axis> axes{Axis::X};  ///< each angle is applied about each axis in turn
+  bool flip = true;                 ///< add the flipped copy of every rotation
   [[nodiscard]] static AugmentParams defaults();
 };
 

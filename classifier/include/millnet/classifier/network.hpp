@@ -58,14 +58,14 @@ struct AlphaSearchParams {
   /// the cache is not exact over the bracket) uses one step in 1/α over the whole bracket: this
   /// wide, but at most 1/16 of the narrower half bracket
   double refine_tolerance_octaves = 1e-3;
-  Eigen::Index block_rows = 256;           ///< query rows per GEMM block (memory 8·N·block_rows B/thread)
-  Eigen::Index cache_neighbours = 256;     ///< R nearest d² kept per stored vector for the refinement
+  Eigen::Index block_rows = 256;        ///< query rows per GEMM block (memory 8·N·block_rows B/thread)
+  Eigen::Index cache_neighbours = 256;  ///< R nearest d² kept per stored vector for the refinement
   /// Pre-scan every k-th stored vector (against all N; 1/k of a pass) to predict each mode's best
   /// candidate, so that the scan pass also evaluates its refinement grid (saves the grid's own
   /// pass when the prediction holds; results are identical either way). < 2 = off; skipped when
   /// fewer than 16 vectors would be pre-scanned.
   Eigen::Index prescan_stride = 10;
-  ProgressFn progress;                     ///< (passes done, passes planned), called from serial code
+  ProgressFn progress;  ///< (passes done, passes planned), called from serial code
 };
 
 /// One point of the coarse scan; the RMS of both modes are computed from the same d² blocks.
@@ -83,8 +83,8 @@ struct ModeOptimum {
   double alpha = 0;
   double rms = 0;
   double accuracy = 0;
-  Edge edge = Edge::None;       ///< optimum of the scan at the scan's edge (the range may be too narrow)
-  int refine_evaluations = 0;   ///< golden-section evaluations, or grid points evaluated
+  Edge edge = Edge::None;      ///< optimum of the scan at the scan's edge (the range may be too narrow)
+  int refine_evaluations = 0;  ///< golden-section evaluations, or grid points evaluated
 };
 
 struct LooReport {
@@ -93,11 +93,11 @@ struct LooReport {
   double d2_scale = 0;              ///< median nonzero d² used to place the scan
   std::vector<CurvePoint> curve;    ///< scan, ascending α (values from squaring chains, ≤ ~1e-10 rel. error)
   ModeOptimum part, vector;         ///< each mode's own refined optimum
-  double rms_part_at_alpha = 0, rms_vector_at_alpha = 0;            ///< both figures at the chosen α
+  double rms_part_at_alpha = 0, rms_vector_at_alpha = 0;  ///< both figures at the chosen α
   double accuracy_part_at_alpha = 0, accuracy_vector_at_alpha = 0;
-  Eigen::MatrixXd filtration;    ///< N×K outputs at α with every vector included (paper Fig. 6)
-  Eigen::MatrixXd verification;  ///< N×K outputs at α with the chosen mode's exclusion
-  Eigen::VectorXd nearest_d2;    ///< N: d² to the nearest vector of another group (another vector if one group)
+  Eigen::MatrixXd filtration;         ///< N×K outputs at α with every vector included (paper Fig. 6)
+  Eigen::MatrixXd verification;       ///< N×K outputs at α with the chosen mode's exclusion
+  Eigen::VectorXd nearest_d2;         ///< N: d² to the nearest vector of another group (another vector if one group)
   bool neighbour_cache_used = false;  ///< refinement and outputs ran on the R-nearest cache (no pass after the scan)
   int full_passes = 0;                ///< passes over all N² pairs (each = one N×N×D GEMM in blocks)
 };
@@ -114,14 +114,13 @@ struct LooReport {
 /// Deterministic: bitwise identical results for any OpenMP thread count.
 /// Throws millnet::Error on shape mismatch, non-finite values, N < 2, or PartOut with one group.
 [[nodiscard]] LooReport select_alpha(const Eigen::MatrixXd& Xn, const Eigen::MatrixXd& Y,
-                                     const std::vector<std::string>& groups,
-                                     const AlphaSearchParams& params);
+                                     const std::vector<std::string>& groups, const AlphaSearchParams& params);
 
 /// Verification (mode PartOut/VectorOut) outputs at one α by a full blocked pass (no cache):
 /// N×K. Used for figures at a given α and as the reference in tests.
 [[nodiscard]] Eigen::MatrixXd verification_outputs(const Eigen::MatrixXd& Xn, const Eigen::MatrixXd& Y,
-                                                   const std::vector<std::string>& groups, double alpha,
-                                                   LooMode mode, Eigen::Index block_rows = 256);
+                                                   const std::vector<std::string>& groups, double alpha, LooMode mode,
+                                                   Eigen::Index block_rows = 256);
 
 /// RMS over all N·K outputs of (outputs − Y); accuracy = share of rows whose argmax matches Y's.
 [[nodiscard]] double rms_error(const Eigen::MatrixXd& outputs, const Eigen::MatrixXd& Y);
@@ -134,8 +133,7 @@ struct NetworkOutputs {
   Eigen::VectorXi nearest;  ///< M: index of that stored vector (first one on ties)
 };
 [[nodiscard]] NetworkOutputs evaluate_network(const Eigen::MatrixXd& Xn, const Eigen::MatrixXd& Y,
-                                              const Eigen::MatrixXd& Qn, double alpha,
-                                              Eigen::Index block_rows = 256);
+                                              const Eigen::MatrixXd& Qn, double alpha, Eigen::Index block_rows = 256);
 
 struct TrainParams {
   AlphaSearchParams search;
@@ -158,9 +156,9 @@ struct TrainParams {
 /// to, row-major. Recorded by whoever built the training table, so that a model file describes its
 /// own inputs; the classifier itself never reads it.
 struct InputSpec {
-  double raster_mm = 0;          ///< > 0
-  int grid = 0;                  ///< n ≥ 2
-  bool aspect_feature = false;   ///< the footprint aspect follows the n² heights as one more input
+  double raster_mm = 0;         ///< > 0
+  int grid = 0;                 ///< n ≥ 2
+  bool aspect_feature = false;  ///< the footprint aspect follows the n² heights as one more input
   [[nodiscard]] Eigen::Index inputs() const {
     return static_cast<Eigen::Index>(grid) * grid + (aspect_feature ? 1 : 0);
   }

@@ -10,17 +10,17 @@
 namespace millnet::classifier {
 
 struct Ranking {
-  int top = 0;                     ///< 1-based strategy slot with the highest mean probability (first on ties)
-  double confidence = 0;           ///< mean probability of the top strategy over the variants
-  double consistency = 0;          ///< share of variants whose own top strategy is `top`
-  bool unfamiliar = false;         ///< most variants are far from every stored model vector
+  int top = 0;              ///< 1-based strategy slot with the highest mean probability (first on ties)
+  double confidence = 0;    ///< mean probability of the top strategy over the variants
+  double consistency = 0;   ///< share of variants whose own top strategy is `top`
+  bool unfamiliar = false;  ///< most variants are far from every stored model vector
   std::size_t unfamiliar_variants = 0;
-  double d2_min = 0;               ///< smallest over the variants
-  std::vector<double> mean;        ///< K mean probabilities
-  std::vector<double> totals;      ///< K sums over the variants
-  std::vector<double> first_share; ///< K share of variants ranking each strategy first
-  std::vector<int> variant_top;    ///< per variant: its 1-based top slot (first on ties)
-  std::vector<std::size_t> order;  ///< 0-based slots by mean probability, descending (stable)
+  double d2_min = 0;                ///< smallest over the variants
+  std::vector<double> mean;         ///< K mean probabilities
+  std::vector<double> totals;       ///< K sums over the variants
+  std::vector<double> first_share;  ///< K share of variants ranking each strategy first
+  std::vector<int> variant_top;     ///< per variant: its 1-based top slot (first on ties)
+  std::vector<std::size_t> order;   ///< 0-based slots by mean probability, descending (stable)
 };
 
 /// Aggregates the M variant rows of `pr` (M ≥ 1, K columns). Throws millnet::Error when M = 0. O(M·K + K log K).

@@ -26,7 +26,11 @@ public:
   AtomicOFStream& operator=(const AtomicOFStream&) = delete;
   ~AtomicOFStream();
   std::ofstream& stream() { return out_; }
-  template <class T> AtomicOFStream& operator<<(const T& v) { out_ << v; return *this; }
+  template <class T>
+  AtomicOFStream& operator<<(const T& v) {
+    out_ << v;
+    return *this;
+  }
   void commit();  ///< flush, close, rename; throws millnet::Error on I/O failure
 
 private:

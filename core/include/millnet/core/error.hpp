@@ -28,11 +28,11 @@ public:
 }  // namespace millnet
 
 #if !defined(NDEBUG) || defined(MILLNET_ASSERTS)
-#define MILLNET_ASSERT(cond, msg)                                                                  \
-  do {                                                                                             \
-    if (!(cond))                                                                                   \
-      throw ::millnet::Error(std::string("internal invariant violated: ") + (msg) + " (" +        \
-                             __FILE__ + ":" + std::to_string(__LINE__) + ")");                     \
+#define MILLNET_ASSERT(cond, msg)                                                                           \
+  do {                                                                                                      \
+    if (!(cond))                                                                                            \
+      throw ::millnet::Error(std::string("internal invariant violated: ") + (msg) + " (" + __FILE__ + ":" + \
+                             std::to_string(__LINE__) + ")");                                               \
   } while (0)
 #else
 #define MILLNET_ASSERT(cond, msg) ((void)0)

@@ -30,17 +30,21 @@ inline void check_json_nesting(std::string_view text, const std::string& source,
       line_start = i + 1;
     }
     if (in_string) {
-      if (escaped) escaped = false;
-      else if (c == '\\') escaped = true;
-      else if (c == '"') in_string = false;
+      if (escaped)
+        escaped = false;
+      else if (c == '\\')
+        escaped = true;
+      else if (c == '"')
+        in_string = false;
       continue;
     }
     if (c == '"') {
       in_string = true;
     } else if (c == '[' || c == '{') {
       if (++depth > max_depth)
-        throw line_error(source, line, "JSON nested deeper than " + std::to_string(max_depth) + " levels (column " +
-                                           std::to_string(i - line_start + 1) + ")");
+        throw line_error(source, line,
+                         "JSON nested deeper than " + std::to_string(max_depth) + " levels (column " +
+                             std::to_string(i - line_start + 1) + ")");
     } else if (c == ']' || c == '}') {
       --depth;
     }

@@ -16,8 +16,8 @@ struct LabelledBest {
 struct LabelAgreement {
   int label = 0;
   int parts = 0;
-  int agree = 0;                       ///< parts whose simulated best is the label
-  std::map<int, int> simulated_best;   ///< simulated best slot → parts, ascending slot
+  int agree = 0;                      ///< parts whose simulated best is the label
+  std::map<int, int> simulated_best;  ///< simulated best slot → parts, ascending slot
 };
 
 /// Per recipe label ≥ 1, ascending; parts without a recipe label are left out. O(n log n).

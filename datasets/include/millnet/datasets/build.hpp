@@ -19,9 +19,9 @@
 namespace millnet::datasets {
 
 struct PartSpec {
-  std::filesystem::path file;   ///< mesh file (any format ingest::load_mesh reads)
-  int label = 0;                ///< 1..8, 0 = unknown
-  std::string name;             ///< source name in the table; empty ⇒ the file's stem
+  std::filesystem::path file;  ///< mesh file (any format ingest::load_mesh reads)
+  int label = 0;               ///< 1..8, 0 = unknown
+  std::string name;            ///< source name in the table; empty ⇒ the file's stem
   /// The recipe says "label": "simulate": the caller sets `label` to the strategy its virtual
   /// machining ranks first before build_table; recipe_json echoes "simulate" (so an up-to-date
   /// check needs no simulation).
@@ -35,12 +35,12 @@ struct Recipe {
   bool units_explicit = false;  ///< units override a STEP/IGES part's own unit (see ingest::PrepareOptions)
   ingest::CadOptions cad;       ///< tessellation of STEP/IGES parts
   ingest::Up up = ingest::Up::PosZ;
-  double raster_mm = 1.0;                     ///< > 0
-  int grid = 15;                              ///< n of the n×n grid, ≥ 2
+  double raster_mm = 1.0;  ///< > 0
+  int grid = 15;           ///< n of the n×n grid, ≥ 2
   augment::AugmentParams augment = augment::AugmentParams::defaults();
   StrategyNames strategies = default_strategy_names();
-  bool aspect_feature = false;                ///< add the `aspect` column
-  std::optional<GenerateParams> generate;     ///< echoed in the manifest when the parts were generated
+  bool aspect_feature = false;             ///< add the `aspect` column
+  std::optional<GenerateParams> generate;  ///< echoed in the manifest when the parts were generated
   /// JSON text of the settings that simulated labels depend on (tool, stepover, aim, …), echoed as
   /// "label_by_simulation" when some part is labelled by simulation; empty otherwise.
   std::string simulation_settings_json;
@@ -62,7 +62,7 @@ struct TablePlan {
   std::vector<std::vector<augment::Variant>> variants;  ///< per part, augment::make_variants order
   std::vector<std::size_t> first_row;                   ///< per part: its first row's index
   std::size_t rows = 0;
-  Table header;                                         ///< grid_n, has_aspect, strategies, config_json
+  Table header;  ///< grid_n, has_aspect, strategies, config_json
 };
 [[nodiscard]] TablePlan plan_table(const Recipe& recipe);
 

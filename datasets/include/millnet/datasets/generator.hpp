@@ -35,15 +35,15 @@ inline constexpr int kFamilies = 5;
 
 struct GeneratedMesh {
   ingest::Mesh mesh;
-  int res_x = 0, res_y = 0;   ///< top-grid vertices along x and y
-  double a = 0, b = 0;        ///< footprint, mm
-  std::string kind;           ///< sub-type within the family (e.g. "pocket", "boss", "roof")
+  int res_x = 0, res_y = 0;  ///< top-grid vertices along x and y
+  double a = 0, b = 0;       ///< footprint, mm
+  std::string kind;          ///< sub-type within the family (e.g. "pocket", "boss", "roof")
 };
 
 struct GenerateParams {
   std::uint64_t seed = 7;
-  int per_family = 6;         ///< parts per family (≥ 1)
-  int resolution = 110;       ///< top-grid vertices per side (≥ 8): 110 ⇒ ~25k triangles per part
+  int per_family = 6;    ///< parts per family (≥ 1)
+  int resolution = 110;  ///< top-grid vertices per side (≥ 8): 110 ⇒ ~25k triangles per part
 };
 
 /// One part of a family, deterministic in (family, index, seed). index ≥ 0 selects the sub-type
@@ -52,9 +52,9 @@ struct GenerateParams {
 
 /// A generated part as listed in <dir>/parts.csv.
 struct GeneratedPart {
-  std::string name;           ///< e.g. "s4_deep_cavity_03"
-  std::filesystem::path file; ///< absolute or as <dir>/<name>.stl
-  int label = 0;              ///< strategy slot 1..5
+  std::string name;            ///< e.g. "s4_deep_cavity_03"
+  std::filesystem::path file;  ///< absolute or as <dir>/<name>.stl
+  int label = 0;               ///< strategy slot 1..5
 };
 
 /// Writes per_family parts of every family as binary STL (<dir>/<name>.stl, atomically) and

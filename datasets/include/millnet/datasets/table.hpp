@@ -33,41 +33,43 @@ using StrategyNames = std::array<std::string, kStrategySlots>;
 
 /// One model vector.
 struct Row {
-  std::string id;                       ///< unique within the table, e.g. "s1_steep_plateaus_01#7"
-  std::string source;                   ///< part name the vector came from (leave-one-part-out groups by it)
-  int label = 0;                        ///< 1..8, 0 = unknown
+  std::string id;      ///< unique within the table, e.g. "s1_steep_plateaus_01#7"
+  std::string source;  ///< part name the vector came from (leave-one-part-out groups by it)
+  int label = 0;       ///< 1..8, 0 = unknown
   augment::Axis axis = augment::Axis::X;
   double angle_deg = 0;
   bool flip = false;
-  std::vector<double> inputs;           ///< n·n heights, mm, row-major (row = y): inputs[(r−1)·n + (c−1)]
+  std::vector<double> inputs;  ///< n·n heights, mm, row-major (row = y): inputs[(r−1)·n + (c−1)]
   std::array<double, kStrategySlots> outputs{};  ///< one-hot over the 8 slots
-  double aspect = 0;                    ///< footprint a/b (only meaningful when Table::has_aspect)
+  double aspect = 0;                             ///< footprint a/b (only meaningful when Table::has_aspect)
 };
 
 /// A part file that went into a table (echoed in the manifest with its hash).
 struct SourceFile {
   std::string name;
-  std::string file;                     ///< as given in the recipe
+  std::string file;  ///< as given in the recipe
   int label = 0;
-  std::uint64_t fnv1a64 = 0;            ///< of the file's bytes
+  std::uint64_t fnv1a64 = 0;  ///< of the file's bytes
   std::uintmax_t bytes = 0;
   std::size_t triangles = 0;
   std::size_t degenerate_triangles = 0;
 };
 
 struct Table {
-  int grid_n = 15;                      ///< inputs per row = grid_n²
-  bool has_aspect = false;              ///< write/read the optional `aspect` column
+  int grid_n = 15;          ///< inputs per row = grid_n²
+  bool has_aspect = false;  ///< write/read the optional `aspect` column
   StrategyNames strategies = default_strategy_names();
   std::vector<Row> rows;
   // Provenance for the manifest (not in the CSV; empty after read_table).
   std::vector<SourceFile> sources;
-  std::string config_json;              ///< JSON text echoed as manifest "config" (must be valid JSON; empty ⇒ null)
+  std::string config_json;  ///< JSON text echoed as manifest "config" (must be valid JSON; empty ⇒ null)
   /// JSON text written as manifest "labelling" (every strategy's simulated figures per part, the
   /// agreement with the recipe's labels); empty ⇒ the key is left out.
   std::string labelling_json;
 
-  [[nodiscard]] std::size_t inputs_per_row() const { return static_cast<std::size_t>(grid_n) * static_cast<std::size_t>(grid_n); }
+  [[nodiscard]] std::size_t inputs_per_row() const {
+    return static_cast<std::size_t>(grid_n) * static_cast<std::size_t>(grid_n);
+  }
   /// N×n² inputs (row i = rows[i]).
   [[nodiscard]] Eigen::MatrixXd inputs_matrix() const;
   /// N×8 outputs.

@@ -15,8 +15,8 @@ enum class CutterType { Flat, Ball, Bull };
 
 struct Cutter {
   CutterType type = CutterType::Ball;
-  double diameter = 2;        ///< mm, > 0
-  double corner_radius = 1;   ///< mm; flat 0, ball diameter/2, bull in (0, diameter/2)
+  double diameter = 2;       ///< mm, > 0
+  double corner_radius = 1;  ///< mm; flat 0, ball diameter/2, bull in (0, diameter/2)
 
   [[nodiscard]] static Cutter flat(double diameter) { return {CutterType::Flat, diameter, 0}; }
   [[nodiscard]] static Cutter ball(double diameter) { return {CutterType::Ball, diameter, diameter / 2}; }

@@ -37,8 +37,8 @@ struct CLPoint {
   double x = 0, y = 0;
   double z = -std::numeric_limits<double>::infinity();  ///< tip height, mm
   Contact contact = Contact::None;
-  Eigen::Vector3d cc = Eigen::Vector3d::Zero();           ///< cutter-contact point on the mesh
-  std::int32_t triangle = -1;                             ///< index of the touched triangle
+  Eigen::Vector3d cc = Eigen::Vector3d::Zero();  ///< cutter-contact point on the mesh
+  std::int32_t triangle = -1;                    ///< index of the touched triangle
 };
 
 class DropCutter {

@@ -48,22 +48,22 @@ enum class Strategy : int { SlopeMode = 1, Raster = 2, ScallopMode = 3, Waterlin
 
 struct FinishParams {
   Cutter tool = Cutter::ball(2);
-  double stepover_mm = 0.2;          ///< p_f: XY pass distance (2, 1), 3D distance (5), start value (3)
-  double step_down_mm = 0.04;        ///< a_a: Z-level step (4, 1)
-  double chord_tolerance_mm = 0.005; ///< CL path vs straight chord, above the surface
-  double boundary_angle_deg = 30;    ///< slope mode split
-  double scallop_mm = 0.005;         ///< scallop-height mode target
-  double raster_angle_deg = 0;       ///< pass direction, degrees from +X
+  double stepover_mm = 0.2;           ///< p_f: XY pass distance (2, 1), 3D distance (5), start value (3)
+  double step_down_mm = 0.04;         ///< a_a: Z-level step (4, 1)
+  double chord_tolerance_mm = 0.005;  ///< CL path vs straight chord, above the surface
+  double boundary_angle_deg = 30;     ///< slope mode split
+  double scallop_mm = 0.005;          ///< scallop-height mode target
+  double raster_angle_deg = 0;        ///< pass direction, degrees from +X
   double feed_mm_min = 1900;
   double plunge_feed_mm_min = 600;
   double spindle_rpm = 18000;
-  double safe_z_mm = 5;              ///< program Z of rapids at start and end (above the stock top)
-  double clearance_mm = 1;           ///< lifts clear the highest CL point under a link by this
-  double z_shift = 0;                ///< program Z = mesh z + z_shift
+  double safe_z_mm = 5;     ///< program Z of rapids at start and end (above the stock top)
+  double clearance_mm = 1;  ///< lifts clear the highest CL point under a link by this
+  double z_shift = 0;       ///< program Z = mesh z + z_shift
   /// Machining boundary (XY box of tool-axis positions, mesh frame); empty ⇒ the part's footprint.
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-  std::string program_name;          ///< first header comment
-  std::vector<std::string> comments; ///< further header comments (after "strategy: <name>")
+  std::string program_name;           ///< first header comment
+  std::vector<std::string> comments;  ///< further header comments (after "strategy: <name>")
   /// Budgets of the CL grids (finish/work.hpp), checked by plan_finish before any point is dropped.
   WorkLimits limits;
   /// Throws millnet::Error naming the parameter (zero stepover, step-down 0, non-finite …).
@@ -73,21 +73,21 @@ struct FinishParams {
 /// One cutting pass: CL points in the mesh frame, cut in order.
 struct Pass {
   std::vector<Eigen::Vector3d> points;
-  bool closed = false;               ///< waterline / equidistant loop (last point = first point)
+  bool closed = false;  ///< waterline / equidistant loop (last point = first point)
 };
 
 struct FinishPlan {
   Strategy strategy = Strategy::Raster;
-  std::vector<Pass> passes;          ///< in machining order
-  gcode::Program program;            ///< passes linked, in the program frame
-  double path_length_mm = 0;         ///< 3D length of feed moves (cuts and stay-down links)
-  std::size_t lifts = 0;             ///< links that retract (rapid over, plunge back)
-  std::size_t cl_points = 0;         ///< CL points in the program
-  std::size_t drops = 0;             ///< drop-cutter queries spent
+  std::vector<Pass> passes;   ///< in machining order
+  gcode::Program program;     ///< passes linked, in the program frame
+  double path_length_mm = 0;  ///< 3D length of feed moves (cuts and stay-down links)
+  std::size_t lifts = 0;      ///< links that retract (rapid over, plunge back)
+  std::size_t cl_points = 0;  ///< CL points in the program
+  std::size_t drops = 0;      ///< drop-cutter queries spent
   /// Drop-cutter queries the strategy's path needs, shared pieces included: the same whether it
   /// is planned alone or with others (drops counts only the work this call did for it).
   std::size_t drops_needed = 0;
-  double planning_s = 0;             ///< wall time spent planning (timing only, not deterministic)
+  double planning_s = 0;  ///< wall time spent planning (timing only, not deterministic)
 };
 
 /// The strategy's passes on the part (mesh prepared, the drop-cutter built on it with the tool),
@@ -103,7 +103,6 @@ struct FinishPlan {
 /// `planning_s` count the work done for it (a shared piece is charged to the first plan that
 /// needs it).
 [[nodiscard]] std::vector<FinishPlan> plan_finish(const ingest::Mesh& mesh, const DropCutter& dropper,
-                                                  const std::vector<Strategy>& strategies,
-                                                  const FinishParams& params);
+                                                  const std::vector<Strategy>& strategies, const FinishParams& params);
 
 }  // namespace millnet::finish

@@ -26,26 +26,26 @@ enum AxisMask : std::uint8_t { kX = 1, kY = 2, kZ = 4, kXYZ = 7 };
 
 struct Move {
   Motion motion = Motion::Rapid;
-  Point3 to{};                        ///< absolute end point, mm (unstated axes: the previous value)
-  std::array<double, 2> center{};     ///< arcs: absolute XY centre, mm
-  double feed = 0;                    ///< mm/min for Line and arcs; 0 for Rapid
-  std::uint8_t axes = kXYZ;           ///< AxisMask of the axes the block states
-  std::uint8_t op = 0;                ///< operation index (0 = main; e.g. 1 = the pocket's pre-drilling)
+  Point3 to{};                     ///< absolute end point, mm (unstated axes: the previous value)
+  std::array<double, 2> center{};  ///< arcs: absolute XY centre, mm
+  double feed = 0;                 ///< mm/min for Line and arcs; 0 for Rapid
+  std::uint8_t axes = kXYZ;        ///< AxisMask of the axes the block states
+  std::uint8_t op = 0;             ///< operation index (0 = main; e.g. 1 = the pocket's pre-drilling)
 };
 
 enum class SpindleDir : std::uint8_t { Off, CW, CCW };  ///< M5, M3, M4
 struct Spindle {
   SpindleDir dir = SpindleDir::CW;
-  double rpm = 0;                     ///< S word (ignored for Off)
+  double rpm = 0;  ///< S word (ignored for Off)
 };
-struct ToolChange {                   ///< T<n> M6
+struct ToolChange {  ///< T<n> M6
   int number = 1;
-  std::string description;            ///< written as a comment beside it
+  std::string description;  ///< written as a comment beside it
 };
-struct Pause {                        ///< M0 (M1 when optional)
+struct Pause {  ///< M0 (M1 when optional)
   bool optional = false;
 };
-struct Comment {                      ///< "(text)" on its own line; parentheses are replaced by [ ]
+struct Comment {  ///< "(text)" on its own line; parentheses are replaced by [ ]
   std::string text;
 };
 
@@ -53,7 +53,7 @@ using Item = std::variant<Move, Spindle, ToolChange, Pause, Comment>;
 
 /// A program: header comments, then the preamble (G21 G90 G17 G94), then the items, then M30.
 struct Program {
-  std::vector<std::string> header;    ///< comment lines written before the preamble
+  std::vector<std::string> header;  ///< comment lines written before the preamble
   std::vector<Item> items;
   /// Reader only: the 1-based source line of each item (same size as items); empty when built.
   std::vector<std::size_t> source_line;

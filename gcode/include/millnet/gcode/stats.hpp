@@ -30,12 +30,12 @@ struct MotionModel {
 };
 
 struct ProgramStats {
-  double cut_length_mm = 0;     ///< 3D path length of feed moves (G1 G2 G3)
-  double rapid_length_mm = 0;   ///< 3D path length of rapids (G0)
-  double plunge_length_mm = 0;  ///< downward Z travel of feed moves
-  double feed_time_min = 0;     ///< Σ length / feed (rapids at rapid_mm_min, feeds capped at max_feed_mm_min)
+  double cut_length_mm = 0;       ///< 3D path length of feed moves (G1 G2 G3)
+  double rapid_length_mm = 0;     ///< 3D path length of rapids (G0)
+  double plunge_length_mm = 0;    ///< downward Z travel of feed moves
+  double feed_time_min = 0;       ///< Σ length / feed (rapids at rapid_mm_min, feeds capped at max_feed_mm_min)
   double kinematic_time_min = 0;  ///< with acceleration and junction speeds (the planner above)
-  std::size_t blocks = 0;       ///< planner blocks (lines + arc chords, zero-length moves skipped)
+  std::size_t blocks = 0;         ///< planner blocks (lines + arc chords, zero-length moves skipped)
 };
 
 /// Throws millnet::Error when a model value is not > 0 (junction deviation ≥ 0) or a feed move has

@@ -25,13 +25,13 @@ namespace millnet::gcode {
 
 struct Dialect {
   std::string name = "linuxcnc";
-  int decimals = 4;                         ///< coordinate decimals (both controllers accept 3–8)
-  int feed_decimals = 1;                    ///< F decimals
+  int decimals = 4;       ///< coordinate decimals (both controllers accept 3–8)
+  int feed_decimals = 1;  ///< F decimals
   std::string preamble = "G21 G90 G17 G94";
   std::string end = "M30";
-  bool tool_change_m6 = true;               ///< false: "(tool change: T<n> …)" + M0
-  bool optional_stop_m1 = true;             ///< false: an optional stop is written as M0
-  std::size_t max_comment_chars = 0;        ///< longer comment text is cut (0: no limit)
+  bool tool_change_m6 = true;         ///< false: "(tool change: T<n> …)" + M0
+  bool optional_stop_m1 = true;       ///< false: an optional stop is written as M0
+  std::size_t max_comment_chars = 0;  ///< longer comment text is cut (0: no limit)
 };
 
 [[nodiscard]] Dialect linuxcnc(int decimals = 4);

@@ -19,12 +19,14 @@ namespace millnet::ingest {
 /// rectangle's edges (nx = ceil(width/step) + 1, step shrunk so that it spans it corner to corner).
 struct HeightField {
   double x0 = 0, y0 = 0;
-  double step_x = 1, step_y = 1;       ///< mm between raster points
+  double step_x = 1, step_y = 1;  ///< mm between raster points
   int nx = 0, ny = 0;
-  std::vector<double> z;               ///< ny·nx, row-major; no hit ⇒ z_min (documented fill value)
-  std::vector<std::uint8_t> hit;       ///< 1 where a triangle covers the point
-  double z_min = 0, z_max = 0;         ///< lowest/highest vertex z of the mesh, mm
-  [[nodiscard]] double at(int i, int j) const { return z[static_cast<std::size_t>(i) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(j)]; }
+  std::vector<double> z;          ///< ny·nx, row-major; no hit ⇒ z_min (documented fill value)
+  std::vector<std::uint8_t> hit;  ///< 1 where a triangle covers the point
+  double z_min = 0, z_max = 0;    ///< lowest/highest vertex z of the mesh, mm
+  [[nodiscard]] double at(int i, int j) const {
+    return z[static_cast<std::size_t>(i) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(j)];
+  }
   [[nodiscard]] double width() const { return step_x * (nx - 1); }
   [[nodiscard]] double height() const { return step_y * (ny - 1); }
 };
@@ -68,9 +70,9 @@ struct HeightField {
 /// x = x0 + c·width/(n−1), row r at y = y0 + r·height/(n−1)), as the paper clips each model to its
 /// rectangle; the side lengths stay in footprint_x/footprint_y so that a/b can be an extra feature.
 struct Grid {
-  Eigen::MatrixXd h;              ///< n×n
-  double footprint_x = 0;         ///< mm, width of the footprint rectangle (a)
-  double footprint_y = 0;         ///< mm, height (b); a/b is kept as an extra feature
+  Eigen::MatrixXd h;       ///< n×n
+  double footprint_x = 0;  ///< mm, width of the footprint rectangle (a)
+  double footprint_y = 0;  ///< mm, height (b); a/b is kept as an extra feature
 };
 
 /// n ≥ 2; O(n²). Grid point (r, c) interpolates the raster at fractional index

@@ -64,14 +64,14 @@ struct CadReport {
 /// What was found and done while loading and preparing a mesh (reported, never fatal).
 struct MeshReport {
   std::size_t triangles = 0;
-  std::size_t degenerate_triangles = 0;   ///< zero area (within ingest::tol::degenerate_area_mm2)
-  std::size_t duplicate_triangles = 0;    ///< same three vertices as an earlier triangle
-  std::size_t non_manifold_edges = 0;     ///< edges shared by more than two triangles
-  std::size_t boundary_edges = 0;         ///< edges used once (cracks, open shells)
-  Up up_used = Up::PosZ;                  ///< resolved axis when Auto was asked
+  std::size_t degenerate_triangles = 0;                    ///< zero area (within ingest::tol::degenerate_area_mm2)
+  std::size_t duplicate_triangles = 0;                     ///< same three vertices as an earlier triangle
+  std::size_t non_manifold_edges = 0;                      ///< edges shared by more than two triangles
+  std::size_t boundary_edges = 0;                          ///< edges used once (cracks, open shells)
+  Up up_used = Up::PosZ;                                   ///< resolved axis when Auto was asked
   Eigen::Vector3d recentred_by = Eigen::Vector3d::Zero();  ///< mm subtracted (after units/up)
-  std::vector<std::string> notes;         ///< human-readable remarks (e.g. "stored normals ignored")
-  bool is_cad = false;                    ///< read from STEP/IGES: `cad` is filled
+  std::vector<std::string> notes;                          ///< human-readable remarks (e.g. "stored normals ignored")
+  bool is_cad = false;                                     ///< read from STEP/IGES: `cad` is filled
   CadReport cad;
 };
 

@@ -23,12 +23,12 @@ namespace millnet::pocket {
 
 struct FeedPiece {
   std::size_t chain = 0, segment = 0;  ///< the piece is this segment of this chain
-  double s_mm = 0;          ///< cut length along the path at the piece's start
+  double s_mm = 0;                     ///< cut length along the path at the piece's start
   double length_mm = 0;
-  double engagement = 0;    ///< n₃, cells per cell step
-  double width_mm = 0;      ///< engaged width ≈ n₃ · grid
-  double feed = 0;          ///< mm/min (what Chain::feed holds)
-  double mrr_mm3_min = 0;   ///< feed × width × axial depth
+  double engagement = 0;   ///< n₃, cells per cell step
+  double width_mm = 0;     ///< engaged width ≈ n₃ · grid
+  double feed = 0;         ///< mm/min (what Chain::feed holds)
+  double mrr_mm3_min = 0;  ///< feed × width × axial depth
   /// The widest cut of the piece from the area newly swept (cells' covered shares, pooled over a
   /// cell of travel), mm: what max_engagement_deg reads; width_mm is the seed's centre count.
   double swept_width_mm = 0;

@@ -26,10 +26,10 @@
 namespace millnet::pocket {
 
 struct LevelPlan {
-  double z = 0;              ///< cutting Z of this level (< 0)
-  double top_z = 0;          ///< material top above this level (the previous level's z, 0 for the first)
-  Region region;             ///< the level's region (for helix clipping); may differ per level
-  Path2D path;               ///< chains with feeds assigned (0 ⇒ cut.feed_half)
+  double z = 0;                ///< cutting Z of this level (< 0)
+  double top_z = 0;            ///< material top above this level (the previous level's z, 0 for the first)
+  Region region;               ///< the level's region (for helix clipping); may differ per level
+  Path2D path;                 ///< chains with feeds assigned (0 ⇒ cut.feed_half)
   std::vector<Vec2> predrill;  ///< entry points needing a pre-drilled hole at this level
 };
 
@@ -46,12 +46,12 @@ struct GcodeParams {
   Entry entry = Entry::Predrill;
   std::string program_name;
   std::vector<std::string> comments;
-  double approach_mm = 1.0;        ///< rapid down to this height above the material, then feed
-  double entry_angle_deg = 3.0;    ///< helix / ramp descent angle
+  double approach_mm = 1.0;      ///< rapid down to this height above the material, then feed
+  double entry_angle_deg = 3.0;  ///< helix / ramp descent angle
   /// A helix or ramp starts this high above the level's material top (fed straight down to from
   /// approach height at the plunge feed): the ramp is spent in material, not in air.
   double ramp_clearance_mm = 0.2;
-  int decimals = 4;                ///< coordinate decimals (LinuxCNC and GRBL accept 4–6)
+  int decimals = 4;  ///< coordinate decimals (LinuxCNC and GRBL accept 4–6)
 };
 
 /// The helix build_program makes to enter a chain at p (Entry::Helix): its centre and radius rh,
@@ -76,11 +76,11 @@ void write_gcode_file(const std::filesystem::path& path, const std::vector<Level
 /// Figures of a program (the same the G-code contains); pre-drilling moves are those with op = 1. Times in minutes: G0 at rapid_rate,
 /// feed moves at their feed; "constant" replaces every XY cutting feed by feed_half.
 struct MoveStats {
-  double cut_length_mm = 0;    ///< XY length of feed moves below Z = 0 (milling and drilling)
-  double rapid_length_mm = 0;  ///< XY length of rapids
-  double plunge_length_mm = 0; ///< Z length of feed moves
-  std::size_t retractions = 0; ///< milling retractions to safe Z followed by another entry
-  std::size_t plunges = 0;     ///< milling entries (descending feed moves right after a rapid)
+  double cut_length_mm = 0;     ///< XY length of feed moves below Z = 0 (milling and drilling)
+  double rapid_length_mm = 0;   ///< XY length of rapids
+  double plunge_length_mm = 0;  ///< Z length of feed moves
+  std::size_t retractions = 0;  ///< milling retractions to safe Z followed by another entry
+  std::size_t plunges = 0;      ///< milling entries (descending feed moves right after a rapid)
   double time_adjusted_min = 0;
   double time_constant_min = 0;
 };

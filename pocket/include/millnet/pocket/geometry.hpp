@@ -48,14 +48,14 @@ struct Arc {
 };
 
 [[nodiscard]] std::vector<Segment> segments(const Loop& loop);
-[[nodiscard]] Arc arc_of(const Segment& s);                    ///< requires s.is_arc()
+[[nodiscard]] Arc arc_of(const Segment& s);  ///< requires s.is_arc()
 [[nodiscard]] double length(const Segment& s);
-[[nodiscard]] Vec2 point_at(const Segment& s, double t);       ///< t ∈ [0, 1] by arc length
+[[nodiscard]] Vec2 point_at(const Segment& s, double t);  ///< t ∈ [0, 1] by arc length
 [[nodiscard]] Vec2 closest_point(const Segment& s, const Vec2& p);
 [[nodiscard]] double distance(const Segment& s, const Vec2& p);  ///< exact for arcs
 /// Smallest distance between the straight move [p, q] and segment s (exact for arcs).
 [[nodiscard]] double distance(const Segment& s, const Vec2& p, const Vec2& q);
-[[nodiscard]] double signed_area(const Loop& loop);            ///< > 0 for CCW; arcs exact
+[[nodiscard]] double signed_area(const Loop& loop);  ///< > 0 for CCW; arcs exact
 [[nodiscard]] double perimeter(const Loop& loop);
 /// Point in loop by winding number (arcs exact); points on the loop (within tol::on_curve_mm)
 /// count as inside.

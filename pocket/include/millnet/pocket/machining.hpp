@@ -31,20 +31,20 @@ struct MachiningOptions {
   std::string program_name;
   std::vector<std::string> comments;  ///< extra header comments (e.g. the source file, planner)
   int decimals = 4;
-  gcode::MotionModel machine;      ///< for Metrics::time_kinematic_min
+  gcode::MotionModel machine;  ///< for Metrics::time_kinematic_min
 };
 
 struct MachiningResult {
   PlanStatus status = PlanStatus::Ok;
   std::string message;
-  Path2D path;                 ///< one level's path with feeds (area clearing + contour chains)
-  FeedProfile feed_profile;    ///< per piece: s, engagement, feed, MRR (first level)
+  Path2D path;               ///< one level's path with feeds (area clearing + contour chains)
+  FeedProfile feed_profile;  ///< per piece: s, engagement, feed, MRR (first level)
   std::vector<LevelPlan> levels;
   /// machine_levels: per entry of `levels`, the reachable area of its region the level's path
   /// leaves uncut, mm² (uncut_area); the metrics hold their sums.
   std::vector<double> level_uncut_mm2;
-  gcode::Program program;      ///< what gcode says (empty when status != Ok)
-  std::string gcode;           ///< empty when status != Ok
+  gcode::Program program;  ///< what gcode says (empty when status != Ok)
+  std::string gcode;       ///< empty when status != Ok
   Metrics metrics;
 };
 

@@ -10,10 +10,9 @@ namespace millnet::pocket {
 
 /// Region offset inward by delta_mm (> 0 shrinks the boundary and grows islands, round joins).
 /// Each connected component of the result is one PolyArea; empty when nothing is left.
-[[nodiscard]] std::vector<PolyArea> offset_inward(const Region& region, double delta_mm,
-                                                  double chord_tol_mm = 0.001);
+[[nodiscard]] std::vector<PolyArea> offset_inward(const Region& region, double delta_mm, double chord_tol_mm = 0.001);
 
-[[nodiscard]] double area(const PolyArea& a);  ///< outer minus holes, mm²
+[[nodiscard]] double area(const PolyArea& a);                   ///< outer minus holes, mm²
 [[nodiscard]] double area(const std::vector<PolyArea>& areas);  ///< Σ area, mm²
 
 /// Offset of polygon areas by delta_mm (> 0 grows outers and shrinks holes, < 0 the reverse),

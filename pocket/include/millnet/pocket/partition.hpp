@@ -36,13 +36,13 @@ enum class SrpKind { L, R };  ///< L: local minimum in y (bulges to −y); R: lo
 enum class PartitionKind { T, I };
 
 struct Srp {
-  Vec2 p;                ///< extreme vertex (scan frame); its cut starts here
-  double span_x_min = 0; ///< x-extent of the flat top/bottom at height p.y()
+  Vec2 p;                 ///< extreme vertex (scan frame); its cut starts here
+  double span_x_min = 0;  ///< x-extent of the flat top/bottom at height p.y()
   double span_x_max = 0;
   SrpKind kind = SrpKind::L;
-  int component = 0;     ///< index of the PolyArea
-  int loop = 0;          ///< 0 = outer loop, k ≥ 1 = hole k − 1
-  bool reflex = true;    ///< false only for the convex extrema find_extrema() also returns
+  int component = 0;   ///< index of the PolyArea
+  int loop = 0;        ///< 0 = outer loop, k ≥ 1 = hole k − 1
+  bool reflex = true;  ///< false only for the convex extrema find_extrema() also returns
 };
 
 /// A cut as a polyline (scan frame). T-cuts have 2 points (SRP → hit); I-cuts 3 (p → corner → q).
@@ -56,13 +56,11 @@ struct Partition {
   std::vector<PolyArea> faces;  ///< y-monotone pieces (scan frame), outer CCW, normally no holes
   std::vector<Srp> srps;
   std::vector<Cut> cuts;
-  int n_islands = 0;            ///< holes of the reachable area (islands after offsetting)
+  int n_islands = 0;  ///< holes of the reachable area (islands after offsetting)
   int n_components = 0;
-  int nls = 0;                  ///< NLS cuts kept (I-partition)
+  int nls = 0;  ///< NLS cuts kept (I-partition)
   /// The seeds' count: n_s − n_i + n_c − nls.
-  [[nodiscard]] int formula_regions() const {
-    return static_cast<int>(srps.size()) - n_islands + n_components - nls;
-  }
+  [[nodiscard]] int formula_regions() const { return static_cast<int>(srps.size()) - n_islands + n_components - nls; }
 };
 
 /// SRPs of every loop of the areas (scan frame). O(total vertices).

@@ -13,12 +13,12 @@ namespace millnet::pocket {
 
 struct PlanResult {
   PlanStatus status = PlanStatus::Ok;
-  std::string message;                   ///< why the path is empty when status != Ok
-  std::string planner;                   ///< "som", "zigzag-t", "zigzag-i", …
-  ToolPoints tool_points;                ///< the grid points the path visits (SOM); may be empty
-  Path2D path;                           ///< chains in machining order, feeds 0 (unassigned)
-  std::vector<Vec2> predrill;            ///< entry points that need a pre-drilled hole
-  PlannerStats stats;                    ///< the planner's figures (SomStats, ZigzagStats, …)
+  std::string message;         ///< why the path is empty when status != Ok
+  std::string planner;         ///< "som", "zigzag-t", "zigzag-i", …
+  ToolPoints tool_points;      ///< the grid points the path visits (SOM); may be empty
+  Path2D path;                 ///< chains in machining order, feeds 0 (unassigned)
+  std::vector<Vec2> predrill;  ///< entry points that need a pre-drilled hole
+  PlannerStats stats;          ///< the planner's figures (SomStats, ZigzagStats, …)
   /// The path already runs along every wall (the offset planner's first rings): machine_pocket
   /// adds no contour pass.
   bool walls_cut = false;

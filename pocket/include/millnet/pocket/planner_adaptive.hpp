@@ -45,12 +45,12 @@ struct AdaptiveParams {
   /// Largest radial engagement, degrees in (0, 180]; 0 ⇒ acos(1 − stepover/R) (stepover 5 on a
   /// Ø10 tool ⇒ 90°).
   double max_engagement_deg = 0;
-  bool climb = true;        ///< climb milling with M3 (material on the right); false: conventional
+  bool climb = true;  ///< climb milling with M3 (material on the right); false: conventional
   /// Both ways: a pass that a wall stops turns round and cuts the front's next stripe back in the
   /// other direction instead of riding back to cut it in `climb`'s (helix and walls keep `climb`).
   bool both_ways = false;
-  double step_mm = 0;       ///< planning step, 0 ⇒ D/40
-  double raster_mm = 0;     ///< cleared-area raster cell, 0 ⇒ D/80 (D/40 past 10⁷ cells)
+  double step_mm = 0;    ///< planning step, 0 ⇒ D/40
+  double raster_mm = 0;  ///< cleared-area raster cell, 0 ⇒ D/80 (D/40 past 10⁷ cells)
   /// Each step aims at this fraction of the target's newly cut area (raster noise of the
   /// planner's and the feed map's counts), in (0, 1].
   double safety = 0.9;

@@ -40,7 +40,6 @@ struct SomPathParams {
 /// No tool point ⇒ status NoToolPoints with a message, an empty path and no stats (std::monostate). Deterministic for som.seed.
 /// Example: `auto r = plan_som(region, cut, GridFrame{{0, 0}, 0, cut.stepover}, {}, {});`
 [[nodiscard]] PlanResult plan_som(const Region& region, const CutParams& cut, const GridFrame& frame,
-                                  const SomParams& som, const SmoothingParams& smooth,
-                                  const SomPathParams& path = {});
+                                  const SomParams& som, const SmoothingParams& smooth, const SomPathParams& path = {});
 
 }  // namespace millnet::pocket

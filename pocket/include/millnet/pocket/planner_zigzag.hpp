@@ -19,7 +19,7 @@ struct ZigzagParams {
   /// Reference (pass) direction in degrees from +x, counter-clockwise; nullopt = search.
   std::optional<double> angle_deg = 0.0;
   PartitionKind partition = PartitionKind::T;
-  double angle_step_deg = 5;     ///< search grid; the pocket's straight-edge directions are added
+  double angle_step_deg = 5;  ///< search grid; the pocket's straight-edge directions are added
   /// Search cost per pass (a turn: the machine stops and starts), mm of path; < 0 ⇒ one stepover.
   /// Direction cost = cut + rapid length + turn_penalty_mm · passes, after the fewest regions.
   double turn_penalty_mm = -1;

@@ -28,14 +28,14 @@ namespace millnet::pocket {
 using MoveOk = std::function<bool(const Vec2&, const Vec2&)>;
 
 struct SmoothingParams {
-  bool linking = true;            ///< keep the tool down along grid links instead of retracting
-  double link_max_ratio = 3.0;    ///< a link may be at most this × the straight distance (≥ 1)
-  double link_max_mm = 0;         ///< and at most this long; 0 ⇒ no absolute cap
-  bool weak = true;               ///< the seed's weak smoothing (types 1, 2, 3)
-  bool extra_passes = true;       ///< 2-opt / Or-opt with obstacle-aware costs
-  int opt_neighbours = 10;        ///< candidate list size of the extra passes
+  bool linking = true;               ///< keep the tool down along grid links instead of retracting
+  double link_max_ratio = 3.0;       ///< a link may be at most this × the straight distance (≥ 1)
+  double link_max_mm = 0;            ///< and at most this long; 0 ⇒ no absolute cap
+  bool weak = true;                  ///< the seed's weak smoothing (types 1, 2, 3)
+  bool extra_passes = true;          ///< 2-opt / Or-opt with obstacle-aware costs
+  int opt_neighbours = 10;           ///< candidate list size of the extra passes
   double retract_penalty_mm = 1000;  ///< cost of one retraction when reordering (≥ 0)
-  long max_opt_moves = 0;         ///< budget of improving moves; 0 ⇒ 50·N
+  long max_opt_moves = 0;            ///< budget of improving moves; 0 ⇒ 50·N
 };
 
 /// Pattern counts and savings of weak smoothing.
@@ -57,9 +57,9 @@ struct SmoothingStats {
   int retractions_before_linking = 0;  ///< moves that are not move_ok on the final order
   int links = 0;                       ///< of those, the ones that became links
   double link_length_mm = 0;
-  std::size_t retractions = 0;         ///< chains − 1
-  double tour_length_mm = 0;           ///< cut length of the chains (links included)
-  double rapid_length_mm = 0;          ///< chain end → next chain start
+  std::size_t retractions = 0;  ///< chains − 1
+  double tour_length_mm = 0;    ///< cut length of the chains (links included)
+  double rapid_length_mm = 0;   ///< chain end → next chain start
 
   /// (key, value) pairs sorted by key: "link_length_mm", "links", "min_retractions", "opt_moves",
   /// "rapid_length_mm", "reachable_regions", "retractions", "retractions_before_linking",
@@ -76,9 +76,9 @@ WeakStats weak_smoothing(const ToolPoints& tp, std::vector<int>& path, const Mov
 /// What smooth_tour() produced: chains of tool-point indices (links included, so a point may appear
 /// again inside a link), the visiting order (a permutation) and figures.
 struct SmoothedTour {
-  std::vector<int> order;                 ///< open path through every tool point once
-  std::vector<std::vector<int>> chains;   ///< cut with the tool down; a retraction between chains
-  SmoothingStats stats;                   ///< all zero when there is no tool point
+  std::vector<int> order;                ///< open path through every tool point once
+  std::vector<std::vector<int>> chains;  ///< cut with the tool down; a retraction between chains
+  SmoothingStats stats;                  ///< all zero when there is no tool point
 };
 
 /// Strong smoothing, weak smoothing and the extra passes on a closed tour (e.g. the SOM ring order)
@@ -87,15 +87,14 @@ struct SmoothedTour {
 /// candidate check (K = opt_neighbours) and O(min(L, N − L)) per applied move (array reversal), at
 /// most max_opt_moves moves; each distinct non-move_ok pair runs one bounded A* (cached).
 /// Throws millnet::Error when `ring` is not a permutation of the tool points or params are invalid.
-[[nodiscard]] SmoothedTour smooth_tour(const ToolPoints& tp, const std::vector<int>& ring,
-                                       const MoveOk& move_ok, const SmoothingParams& params);
+[[nodiscard]] SmoothedTour smooth_tour(const ToolPoints& tp, const std::vector<int>& ring, const MoveOk& move_ok,
+                                       const SmoothingParams& params);
 
 /// Shortest collision-free link a → b over the tool-point grid graph (8-neighbour moves that are
 /// move_ok), string-pulled (an intermediate point is dropped while the straight move stays move_ok),
 /// no longer than max_len_mm. Returns the points a … b, or empty if there is none. A*, O(V log V)
 /// over the visited part of the graph.
-[[nodiscard]] std::vector<int> find_link(const ToolPoints& tp, int a, int b, const MoveOk& move_ok,
-                                         double max_len_mm);
+[[nodiscard]] std::vector<int> find_link(const ToolPoints& tp, int a, int b, const MoveOk& move_ok, double max_len_mm);
 
 /// Corner blending (issue 11): a corner P of a polyline A→P→B that turns by φ becomes a tangent arc
 /// of radius r from A' = P − t·u to B' = P + t·w (u, w the unit directions in and out, t = r·tan(φ/2),
@@ -116,13 +115,13 @@ struct CornerBlendParams {
   double max_radius_mm = 2.5;
   double max_deviation_mm = 1.0;
   double min_radius_mm = 0.05;
-  double clearance_mm = 5;       ///< the tool centre's clearance (Clearance::clearance())
+  double clearance_mm = 5;  ///< the tool centre's clearance (Clearance::clearance())
 };
 
 struct CornerBlendStats {
-  int corners = 0;     ///< vertices where the path turns
-  int blended = 0;     ///< of those, replaced by an arc
-  int merged = 0;      ///< straight-on vertices dropped
+  int corners = 0;  ///< vertices where the path turns
+  int blended = 0;  ///< of those, replaced by an arc
+  int merged = 0;   ///< straight-on vertices dropped
 };
 
 /// The polyline `pts` (open, ≥ 1 point) as vertices with bulges: corners at vertices with

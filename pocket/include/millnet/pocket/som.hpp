@@ -21,33 +21,33 @@
 namespace millnet::pocket {
 
 struct SomParams {
-  double node_factor = 2.0;   ///< ring nodes M = max(3, round(node_factor·N)); ≥ 1
-  double g0 = 0;              ///< initial gain G₀ in ring nodes; 0 ⇒ auto = clamp(0.1·M, 3, 30)
-  double alpha = 0.1;         ///< G ← (1 − α)·G per pass (0 < α < 1), used unless adaptive_alpha
+  double node_factor = 2.0;     ///< ring nodes M = max(3, round(node_factor·N)); ≥ 1
+  double g0 = 0;                ///< initial gain G₀ in ring nodes; 0 ⇒ auto = clamp(0.1·M, 3, 30)
+  double alpha = 0.1;           ///< G ← (1 − α)·G per pass (0 < α < 1), used unless adaptive_alpha
   bool adaptive_alpha = false;  ///< seed eq. 5: α = C·log(1 + exp(−K)), K = mapping degree / k_scale_mm
-  double c = 0.4;             ///< the constant C of eq. 5
+  double c = 0.4;               ///< the constant C of eq. 5
   /// Length unit that makes K dimensionless (eq. 3 is in the drawing's units; the seed used mm with a
   /// few hundred cities). K = sqrt(Σ_i |X_i − C*(X_i)|²) / k_scale_mm, summed over one pass, with
   /// C*(X_i) the winner right after its update.
   double k_scale_mm = 1.0;
-  double alpha_min = 0.02;    ///< floor of the adaptive α so that G always decreases (a pass budget)
-  double w = 1.0;             ///< weight of (X₂ − C₂)² in the competition (eq. 6); > 0
-  int max_passes = 400;       ///< hard stop (the tour is still a valid permutation); the run also stops
-                              ///< 20 passes after G has shrunk to the winner alone (nothing moves the
-                              ///< order any more; cities sharing a node are ordered along the ring)
-  double tolerance_mm = 0;    ///< a city is mapped when its node is this close; 0 ⇒ auto =
-                              ///< 0.01·sqrt(bbox area / N)
-  std::uint64_t seed = 1;     ///< initial ring phase and the city order of every pass
+  double alpha_min = 0.02;  ///< floor of the adaptive α so that G always decreases (a pass budget)
+  double w = 1.0;           ///< weight of (X₂ − C₂)² in the competition (eq. 6); > 0
+  int max_passes = 400;     ///< hard stop (the tour is still a valid permutation); the run also stops
+                            ///< 20 passes after G has shrunk to the winner alone (nothing moves the
+                            ///< order any more; cities sharing a node are ordered along the ring)
+  double tolerance_mm = 0;  ///< a city is mapped when its node is this close; 0 ⇒ auto =
+                            ///< 0.01·sqrt(bbox area / N)
+  std::uint64_t seed = 1;   ///< initial ring phase and the city order of every pass
 };
 
 struct SomResult {
-  std::vector<int> order;     ///< closed tour: a permutation of 0..N−1 (the ring order of the cities)
+  std::vector<int> order;  ///< closed tour: a permutation of 0..N−1 (the ring order of the cities)
   int passes = 0;
-  bool converged = false;     ///< every city has its own node within the tolerance
-  std::size_t nodes = 0;      ///< M
+  bool converged = false;        ///< every city has its own node within the tolerance
+  std::size_t nodes = 0;         ///< M
   std::size_t shared_nodes = 0;  ///< cities that found their winner node already taken by another city
                                  ///< (such cities are ordered along the ring direction at that node)
-  double final_gain = 0;      ///< G after the last pass
+  double final_gain = 0;         ///< G after the last pass
 };
 
 /// SOM tour through `cities` (mm). Throws millnet::Error for invalid parameters or non-finite points.
@@ -65,8 +65,8 @@ class Rng {
 public:
   explicit Rng(std::uint64_t seed);
   std::uint64_t next();
-  double uniform();                          ///< [0, 1)
-  std::size_t below(std::size_t n);          ///< [0, n), n > 0
+  double uniform();                  ///< [0, 1)
+  std::size_t below(std::size_t n);  ///< [0, n), n > 0
 private:
   std::uint64_t s_[4];
 };

@@ -1,12 +1,12 @@
 #pragma once
 // Named tolerances of the pocket module (all in mm unless the name says otherwise).
 namespace millnet::pocket::tol {
-inline constexpr double on_curve_mm = 1e-9;      ///< a point this close to a wall is on it
-inline constexpr double clear_mm = 1e-6;         ///< allowed clearance deficit in gouge checks (numeric noise)
-inline constexpr double gouge_check_mm = 0.01;   ///< the tests' independent G-code replay tolerance
-inline constexpr double join_mm = 1e-6;          ///< vertices closer than this are the same point
-inline constexpr double chain_join_mm = 1e-3;    ///< DXF loose entities whose ends are this close are chained
-inline constexpr double arc_chord_mm = 0.001;    ///< chord error when arcs are flattened (Clipper, plots)
+inline constexpr double on_curve_mm = 1e-9;            ///< a point this close to a wall is on it
+inline constexpr double clear_mm = 1e-6;               ///< allowed clearance deficit in gouge checks (numeric noise)
+inline constexpr double gouge_check_mm = 0.01;         ///< the tests' independent G-code replay tolerance
+inline constexpr double join_mm = 1e-6;                ///< vertices closer than this are the same point
+inline constexpr double chain_join_mm = 1e-3;          ///< DXF loose entities whose ends are this close are chained
+inline constexpr double arc_chord_mm = 0.001;          ///< chord error when arcs are flattened (Clipper, plots)
 inline constexpr double clipper_resolution_mm = 1e-4;  ///< integer grid of Clipper coordinates
 /// The contour pass flattens arcs (the region's and Clipper's round joins) within this chord error.
 inline constexpr double contour_chord_mm = 0.0002;
@@ -15,8 +15,8 @@ inline constexpr double contour_chord_mm = 0.0002;
 /// rounding of Clipper's integer grid at both ends. Keeps the contour gouge-free while the uncut
 /// sliver it leaves is ≈ 0.0006 mm × wall length.
 inline constexpr double contour_margin_mm = 2 * contour_chord_mm + 2 * clipper_resolution_mm;
-                                                       ///< (covers Clipper's chord and rounding errors)
-inline constexpr double uncut_chord_mm = 0.0002;       ///< chord error of the uncut-area booleans
+///< (covers Clipper's chord and rounding errors)
+inline constexpr double uncut_chord_mm = 0.0002;  ///< chord error of the uncut-area booleans
 /// Arc fitting (arc_fit.hpp): how far a fitted arc may move from the chorded path it replaces. The
 /// offsets' round joins are chorded at arc_chord_mm and their rings simplified within it, twice
 /// over for the inner rings (offset of an offset): their vertices lie within 2·arc_chord_mm of

@@ -15,9 +15,9 @@ namespace millnet::pocket {
 
 struct Chain {
   std::vector<Vertex> pts;
-  std::vector<double> feed;     ///< pts.size() − 1 entries once assigned
-  bool predrill = true;         ///< entry plunges into uncut material
-  std::string role = "cut";     ///< "cut" (area clearing), "contour" (wall pass), "link" …
+  std::vector<double> feed;  ///< pts.size() − 1 entries once assigned
+  bool predrill = true;      ///< entry plunges into uncut material
+  std::string role = "cut";  ///< "cut" (area clearing), "contour" (wall pass), "link" …
   /// > 0: pts[0] … pts[entry_turn] are a flat turn round the bore of the helix a helix entry makes
   /// at pts[0] (the adaptive planner's chains: it counts on that bore, and with any other entry
   /// these moves cut it). A program that enters this chain by that helix, whose own flat turn
@@ -35,24 +35,24 @@ struct Path2D {
 /// Tool, cut and machine parameters (all mm, mm/min, rpm). Flags > config > pocket file keys.
 struct CutParams {
   double tool_diameter = 10;
-  double stepover = 5;          ///< tool-point grid spacing g (SOM) / pass distance (zigzag)
-  double stock_to_leave = 0;    ///< radial allowance left on walls and islands
-  double depth = 5;             ///< pocket floor at Z = −depth (top is Z = 0)
-  double step_down = 5;         ///< ≥ depth ⇒ one level
+  double stepover = 5;        ///< tool-point grid spacing g (SOM) / pass distance (zigzag)
+  double stock_to_leave = 0;  ///< radial allowance left on walls and islands
+  double depth = 5;           ///< pocket floor at Z = −depth (top is Z = 0)
+  double step_down = 5;       ///< ≥ depth ⇒ one level
   double safe_z = 5;
-  double feed_slot = 50;        ///< f1: full-width (slot) cut
-  double feed_half = 100;       ///< f2: half-width cut (also the constant feed of comparisons)
+  double feed_slot = 50;   ///< f1: full-width (slot) cut
+  double feed_half = 100;  ///< f2: half-width cut (also the constant feed of comparisons)
   double feed_plunge = 30;
   double feed_min = 20, feed_max = 200;
   double spindle_rpm = 3000;
-  double feed_grid = 0;         ///< feed-map cell, 0 ⇒ tool_diameter / 10
+  double feed_grid = 0;  ///< feed-map cell, 0 ⇒ tool_diameter / 10
   bool feed_adjust = true;
   /// The feed map pools steps shorter than a cell until they make a cell before reading an
   /// engagement (feedmap.hpp); false: every step scaled to a cell on its own, as the 1995 preset's
   /// programs were written (a 0.05 mm step with one fresh cell then reads as a slot).
   bool feed_pool_short_steps = true;
-  double rapid_rate = 5000;     ///< mm/min, for time estimates of G0 moves
-  double feed_entry = 0;        ///< helix and ramp entry feed; 0 ⇒ feed_plunge
+  double rapid_rate = 5000;  ///< mm/min, for time estimates of G0 moves
+  double feed_entry = 0;     ///< helix and ramp entry feed; 0 ⇒ feed_plunge
   /// Feed of the pieces the feed map finds cutting no cell (links through cut material), mm/min,
   /// or the map's own feed for them where that is higher; 0 ⇒ the cutting feed like every other
   /// piece. Whatever feed_adjust says: such a move is not a cut.

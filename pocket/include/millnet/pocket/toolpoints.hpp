@@ -18,8 +18,8 @@ struct GridFrame {
 
 struct ToolPoints {
   GridFrame frame;
-  std::vector<Vec2> pts;                ///< in a fixed order: by i (row), then j
-  std::vector<std::array<int, 2>> ij;   ///< grid indices (i = row, j = column) of each point
+  std::vector<Vec2> pts;               ///< in a fixed order: by i (row), then j
+  std::vector<std::array<int, 2>> ij;  ///< grid indices (i = row, j = column) of each point
 };
 
 /// The grid indices make_tool_points visits: rows i0..i1, columns j0..j1 (whole numbers held as

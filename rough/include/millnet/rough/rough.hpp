@@ -43,13 +43,13 @@
 namespace millnet::rough {
 
 struct Params {
-  double margin_mm = 5;             ///< stock = footprint rectangle grown by this
-  double top_allowance_mm = 1;      ///< stock top above the part's highest point
-  double raster_mm = 0.25;          ///< height-field raster of the slicing
+  double margin_mm = 5;         ///< stock = footprint rectangle grown by this
+  double top_allowance_mm = 1;  ///< stock top above the part's highest point
+  double raster_mm = 0.25;      ///< height-field raster of the slicing
   double contour_tolerance_mm = 0.05;
-  double floor_allowance_mm = 0;    ///< last level this far above the part's lowest point
-  pocket::CutParams cut;            ///< depth is derived (stock top − last level)
-  pocket::PlannerSpec planner;      ///< the planner of every region
+  double floor_allowance_mm = 0;  ///< last level this far above the part's lowest point
+  pocket::CutParams cut;          ///< depth is derived (stock top − last level)
+  pocket::PlannerSpec planner;    ///< the planner of every region
   /// Entry and program options; rough_mesh sets contour = false and the header comment.
   pocket::MachiningOptions machining;
   /// Budgets of the slicing raster (ingest::raster_work over the stock) and of every region's plan
@@ -58,20 +58,20 @@ struct Params {
 };
 
 struct Level {
-  double z_part = 0;   ///< level height in the part frame (mm above the part's lowest point)
-  double z = 0;        ///< G-code Z (≤ 0)
+  double z_part = 0;  ///< level height in the part frame (mm above the part's lowest point)
+  double z = 0;       ///< G-code Z (≤ 0)
   std::vector<pocket::Region> regions;
   std::vector<pocket::PlanResult> plans;
   std::size_t islands = 0;
-  std::string status = "ok";   ///< "ok", or why nothing is cut at this level
+  std::string status = "ok";  ///< "ok", or why nothing is cut at this level
 };
 
 struct Result {
-  double stock_top_part = 0;            ///< stock top in the part frame
+  double stock_top_part = 0;                                      ///< stock top in the part frame
   double stock_x0 = 0, stock_y0 = 0, stock_x1 = 0, stock_y1 = 0;  ///< stock rectangle, mm
-  ingest::HeightField field;            ///< the slicing height field (part frame)
+  ingest::HeightField field;                                      ///< the slicing height field (part frame)
   std::vector<Level> levels;
-  pocket::MachiningResult machining;    ///< program over all levels
+  pocket::MachiningResult machining;  ///< program over all levels
   double planning_time_s = 0;
   std::size_t tool_points = 0;
 };
@@ -87,11 +87,11 @@ struct Result {
 
 /// What a report shows of one level: its machined paths (with feeds, program order) and counts.
 struct LevelSummary {
-  pocket::Path2D path;                 ///< the level's machined chains
-  std::size_t tool_points = 0;         ///< over the level's regions
-  std::size_t chains = 0;              ///< planned chains over the level's regions
+  pocket::Path2D path;          ///< the level's machined chains
+  std::size_t tool_points = 0;  ///< over the level's regions
+  std::size_t chains = 0;       ///< planned chains over the level's regions
   double cut_length_mm = 0;
-  double uncut_area_mm2 = 0;           ///< reachable area of the level's regions left uncut
+  double uncut_area_mm2 = 0;  ///< reachable area of the level's regions left uncut
 };
 
 /// One summary per level of `r`, in level order.

@@ -26,18 +26,18 @@ enum class Aim { Quality, Time, QualityWithinTime };
 
 /// What the simulation measured for one strategy (the figures of its metrics file).
 struct StrategyScore {
-  int slot = 0;                  ///< strategy slot 1..8
-  double ra_median_um = 0;       ///< median areal roughness over the surface, µm
-  double ra_p90_um = 0;          ///< 90th percentile, µm
-  double uncut_area_mm2 = 0;     ///< surface left with more than allowance + tolerance
-  double surface_area_mm2 = 0;   ///< the scored surface (for the completeness margin)
-  double max_gouge_mm = 0;       ///< deepest cut below the design surface (≥ 0)
-  double time_min = 0;           ///< machining time (kinematic), min
+  int slot = 0;                 ///< strategy slot 1..8
+  double ra_median_um = 0;      ///< median areal roughness over the surface, µm
+  double ra_p90_um = 0;         ///< 90th percentile, µm
+  double uncut_area_mm2 = 0;    ///< surface left with more than allowance + tolerance
+  double surface_area_mm2 = 0;  ///< the scored surface (for the completeness margin)
+  double max_gouge_mm = 0;      ///< deepest cut below the design surface (≥ 0)
+  double time_min = 0;          ///< machining time (kinematic), min
 };
 
 struct AimParams {
   Aim aim = Aim::Quality;
-  double time_budget_min = 60;   ///< QualityWithinTime only
+  double time_budget_min = 60;  ///< QualityWithinTime only
   double gouge_tolerance_mm = 0.002;
   double complete_share = 0.01;  ///< completeness margin, share of the surface area
 };

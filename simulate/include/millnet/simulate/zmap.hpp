@@ -28,11 +28,11 @@ namespace millnet::simulate {
 
 /// The regular grid shared by a z-map and the design surface it is compared with.
 struct GridSpec {
-  double x0 = 0;        ///< lower-left corner, mm
+  double x0 = 0;  ///< lower-left corner, mm
   double y0 = 0;
-  double cell = 0.02;   ///< cell edge, mm (> 0)
-  std::size_t nx = 0;   ///< columns (X)
-  std::size_t ny = 0;   ///< rows (Y)
+  double cell = 0.02;  ///< cell edge, mm (> 0)
+  std::size_t nx = 0;  ///< columns (X)
+  std::size_t ny = 0;  ///< rows (Y)
 
   [[nodiscard]] std::size_t cells() const { return nx * ny; }
   [[nodiscard]] double x(std::size_t ix) const { return x0 + (static_cast<double>(ix) + 0.5) * cell; }
@@ -52,23 +52,22 @@ inline constexpr std::size_t kZMapMaxBytes = std::size_t{2} << 30;
 
 /// Where a cell's height comes from: the pass (one machine() call) and the program item.
 struct MoveRef {
-  std::size_t pass = 0;     ///< 0-based index of the machine() call on this z-map
-  std::size_t item = 0;     ///< index into that program's items
-  std::size_t line = 0;     ///< 1-based G-code source line when the reader filled it, else 0
+  std::size_t pass = 0;  ///< 0-based index of the machine() call on this z-map
+  std::size_t item = 0;  ///< index into that program's items
+  std::size_t line = 0;  ///< 1-based G-code source line when the reader filled it, else 0
 };
 
 /// Heights over a GridSpec plus, per cell, a stamp of the move that last lowered it.
 class ZMap {
- public:
+public:
   /// Bytes a z-map of `spec` needs (8 per height + 4 per stamp).
   [[nodiscard]] static std::size_t bytes_needed(const GridSpec& spec);
   /// Flat stock at height `top`. Throws millnet::Error when bytes_needed(spec) > max_bytes.
   [[nodiscard]] static ZMap flat(const GridSpec& spec, double top, std::size_t max_bytes = kZMapMaxBytes);
   /// Stock from a height field (row-major, spec.cells() values) raised by `offset` (an allowance);
   /// NaN heights (no surface) become `nan_fill`. Throws on a size mismatch or above the limit.
-  [[nodiscard]] static ZMap from_heights(const GridSpec& spec, const std::vector<double>& heights,
-                                         double offset = 0, double nan_fill = 0,
-                                         std::size_t max_bytes = kZMapMaxBytes);
+  [[nodiscard]] static ZMap from_heights(const GridSpec& spec, const std::vector<double>& heights, double offset = 0,
+                                         double nan_fill = 0, std::size_t max_bytes = kZMapMaxBytes);
   // A previous simulation is simply a ZMap: copy it (or keep machining the same object).
 
   [[nodiscard]] const GridSpec& spec() const { return spec_; }
@@ -84,12 +83,12 @@ class ZMap {
   /// no move did or the move has no XY direction (a plunge).
   [[nodiscard]] bool across_feed(std::size_t index, double x, double y, double& nx, double& ny) const;
 
- private:
+private:
   friend class Sweeper;
   struct Pass {
-    std::uint32_t first_serial = 1;             ///< stamp of item 0
+    std::uint32_t first_serial = 1;  ///< stamp of item 0
     std::size_t items = 0;
-    std::vector<std::size_t> source_line;       ///< copy of Program::source_line (may be empty)
+    std::vector<std::size_t> source_line;  ///< copy of Program::source_line (may be empty)
     /// Per item, the across-feed direction for roughness profiles: lines (nx, ny, 0) unit;
     /// arcs (cx, cy, 1): radial from the centre; other items (0, 0, -1).
     std::vector<std::array<double, 3>> across;
@@ -118,11 +117,11 @@ struct SweepOptions {
 enum MoveKind : std::uint8_t { kRapidKind = 0, kLineKind = 1, kArcKind = 2 };
 
 struct SweepResult {
-  std::size_t pass = 0;                   ///< index of this machine() call on the z-map
-  std::size_t feed_moves = 0;             ///< G1/G2/G3 items
-  std::size_t rapid_moves = 0;            ///< G0 items
-  std::size_t segments = 0;               ///< swept primitives (helices count their chords)
-  double feed_length_mm = 0;              ///< 3D path length of G1/G2/G3
+  std::size_t pass = 0;         ///< index of this machine() call on the z-map
+  std::size_t feed_moves = 0;   ///< G1/G2/G3 items
+  std::size_t rapid_moves = 0;  ///< G0 items
+  std::size_t segments = 0;     ///< swept primitives (helices count their chords)
+  double feed_length_mm = 0;    ///< 3D path length of G1/G2/G3
   double rapid_length_mm = 0;
   /// Rapids that lowered some cell by more than cut_eps_mm (item indices, ascending).
   std::vector<std::size_t> cutting_rapids;
@@ -130,8 +129,8 @@ struct SweepResult {
   std::array<double, 3> max_cut_mm{};
   /// Item of that largest cut per MoveKind (SIZE_MAX when the kind never cut).
   std::array<std::size_t, 3> max_cut_item{SIZE_MAX, SIZE_MAX, SIZE_MAX};
-  std::vector<double> item_max_cut_mm;    ///< per program item (0 for non-moves)
-  std::uint64_t cells_visited = 0;        ///< cell evaluations (for the benchmark's cells × moves)
+  std::vector<double> item_max_cut_mm;  ///< per program item (0 for non-moves)
+  std::uint64_t cells_visited = 0;      ///< cell evaluations (for the benchmark's cells × moves)
 };
 
 /// Lowers every cell of `zmap` to the lower envelope of `cutter` swept along every move of
@@ -164,19 +163,19 @@ SweepResult machine(ZMap& zmap, const gcode::Program& program, const finish::Cut
 // are skipped, and a cell with fewer than 3 samples has no Ra.
 
 struct MetricsOptions {
-  double allowance_mm = 0;                ///< stock the operation should leave on the design
-  double tolerance_mm = 0.002;            ///< gouge / remaining-material tolerance
-  double sampling_length_mm = 0.8;        ///< ISO 4288 sampling length for Ra
+  double allowance_mm = 0;          ///< stock the operation should leave on the design
+  double tolerance_mm = 0.002;      ///< gouge / remaining-material tolerance
+  double sampling_length_mm = 0.8;  ///< ISO 4288 sampling length for Ra
   /// Ra bin edges, µm, ascending; bin k = [edge k, edge k+1) (values below edge 0 count in bin 0),
   /// the last bin is open (≥ the last edge). Median and p90 are nearest-rank percentiles.
   std::vector<double> ra_bins_um{0, 0.4, 0.8, 1.6, 3.2, 6.3, 12.5, 25};
-  bool ra_map = true;                     ///< compute the per-cell Ra map (and its statistics)
+  bool ra_map = true;  ///< compute the per-cell Ra map (and its statistics)
   /// Ra is evaluated at every ra_every-th cell in X and in Y (cells with ix % k = iy % k = k / 2;
   /// the others stay NaN in ra_um and do not count in the statistics). 1 = every cell. The
   /// profiles still use every cell; a stride only thins where they are centred (Ra changes over
   /// a sampling length, 0.8 mm, so a 0.1 mm lattice of centres loses nothing a histogram shows).
   std::size_t ra_every = 1;
-  int threads = 0;                        ///< OpenMP threads for the Ra map; 0 = the default
+  int threads = 0;  ///< OpenMP threads for the Ra map; 0 = the default
   /// The cutter of the last program: with it, the material left above the design is split into
   /// scallop, rest material and uncut (see SurfaceMetrics). Without it, all of it counts as uncut
   /// and scallop_max_mm is max(e − allowance) over the cells some move lowered.
@@ -188,17 +187,17 @@ struct MetricsOptions {
 };
 
 struct SurfaceMetrics {
-  std::size_t surface_cells = 0;          ///< cells with a design height
-  double min_e_mm = 0;                    ///< min(machined − design)
+  std::size_t surface_cells = 0;  ///< cells with a design height
+  double min_e_mm = 0;            ///< min(machined − design)
   double max_e_mm = 0;
   /// Deepest cut below the design measured along the surface normal: max(0, −min e·cos(slope)),
   /// the slope from the design's central differences (on flat ground, −min e).
   double max_gouge_mm = 0;
-  bool gouged = false;                    ///< max_gouge_mm > tolerance
-  std::size_t gouge_cell = SIZE_MAX;      ///< the deepest gouge's cell
+  bool gouged = false;                ///< max_gouge_mm > tolerance
+  std::size_t gouge_cell = SIZE_MAX;  ///< the deepest gouge's cell
   bool gouge_has_move = false;
-  MoveRef gouge_move;                     ///< the move that cut the deepest gouge
-  MoveRef first_gouge_move;               ///< the earliest move (pass, item) that left a gouged cell
+  MoveRef gouge_move;        ///< the move that cut the deepest gouge
+  MoveRef first_gouge_move;  ///< the earliest move (pass, item) that left a gouged cell
   /// Remaining material: the area with (e − allowance)·cos(slope) > tolerance (measured along the
   /// surface normal, like the gouge: on an 87° wall a vertical e overstates it 19×). With options.cutter it is split
   /// into three parts, each cell in exactly one:
@@ -218,10 +217,10 @@ struct SurfaceMetrics {
   /// none): the height of the cusps between passes along the normal, not of material the passes
   /// never met. Without it: the same max over the surface cells that some move lowered.
   double scallop_max_mm = 0;
-  std::vector<float> ra_um;               ///< per cell, µm; NaN off the surface (empty if !ra_map)
-  std::vector<double> ra_bin_edges_um;    ///< copy of the edges
-  std::vector<double> ra_share;           ///< share of the Ra cells per bin (edges.size() bins)
-  std::size_t ra_cells = 0;               ///< cells with an Ra
+  std::vector<float> ra_um;             ///< per cell, µm; NaN off the surface (empty if !ra_map)
+  std::vector<double> ra_bin_edges_um;  ///< copy of the edges
+  std::vector<double> ra_share;         ///< share of the Ra cells per bin (edges.size() bins)
+  std::size_t ra_cells = 0;             ///< cells with an Ra
   double ra_mean_um = 0;
   double ra_median_um = 0;
   double ra_p90_um = 0;

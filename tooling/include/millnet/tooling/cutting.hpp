@@ -34,16 +34,16 @@ enum class ToolMaterial { Carbide, HSS };
 [[nodiscard]] ToolMaterial parse_tool_material(const std::string& s);
 
 struct Tool {
-  std::string id;                   ///< library id; empty for a tool given inline (by its geometry)
+  std::string id;  ///< library id; empty for a tool given inline (by its geometry)
   std::string description;
   ToolType type = ToolType::Flat;
   double diameter_mm = 10;
-  double corner_radius_mm = 0;      ///< bull only; ball = D/2, flat = 0
+  double corner_radius_mm = 0;  ///< bull only; ball = D/2, flat = 0
   int flutes = 2;
-  double flute_length_mm = 0;       ///< 0 = not stated (no depth check)
-  double stickout_mm = 0;           ///< length out of the holder; 0 = not stated
+  double flute_length_mm = 0;  ///< 0 = not stated (no depth check)
+  double stickout_mm = 0;      ///< length out of the holder; 0 = not stated
   ToolMaterial material = ToolMaterial::Carbide;
-  double max_rpm = 0;               ///< the tool's own limit; 0 = none
+  double max_rpm = 0;  ///< the tool's own limit; 0 = none
   /// Throws millnet::Error "<who>: <field> …" on a non-finite or out-of-range field.
   void check(const std::string& who) const;
   /// "em10-3f: D10 mm 3-flute carbide flat end mill" (or "D10 mm 2-flute carbide flat end mill
@@ -57,7 +57,7 @@ struct CuttingRange {
   double d_min_mm = 0, d_max_mm = 0;  ///< applies to D_nominal in [d_min, d_max)
   double vc_m_min = 0;
   double fz_mm = 0;
-  std::string source;                 ///< where the figure comes from (handbook, paper, shop)
+  std::string source;  ///< where the figure comes from (handbook, paper, shop)
 };
 
 struct Material {
@@ -70,15 +70,15 @@ struct Material {
 
 struct MachineLimits {
   double max_rpm = 24000;
-  double min_rpm = 0;                 ///< a computed speed below this is an error
+  double min_rpm = 0;  ///< a computed speed below this is an error
   double max_feed_mm_min = 5000;
 };
 
 struct FeedFactors {
-  double slot = 0.8;                  ///< full-width slot feed / half-width feed
-  double plunge = 0.3;                ///< straight plunge (a drill: 1, its own f_z·n)
-  double ramp = 0.5;                  ///< ramp and helix entries
-  double max_chip_thinning = 3;       ///< cap of RCTF (≈ a_e 2.9 % of D)
+  double slot = 0.8;             ///< full-width slot feed / half-width feed
+  double plunge = 0.3;           ///< straight plunge (a drill: 1, its own f_z·n)
+  double ramp = 0.5;             ///< ramp and helix entries
+  double max_chip_thinning = 3;  ///< cap of RCTF (≈ a_e 2.9 % of D)
 };
 
 /// Optional overrides of the library's figures (0 = from the table).
@@ -91,20 +91,20 @@ struct Overrides {
 [[nodiscard]] double chip_thinning_factor(double diameter_mm, double radial_mm);
 
 struct CuttingData {
-  double vc_m_min = 0;                ///< from the table (or override)
+  double vc_m_min = 0;  ///< from the table (or override)
   double fz_mm = 0;
   int flutes = 0;
   double axial_depth_mm = 0, d_eff_mm = 0;
-  double rpm_computed = 0;            ///< 1000·V_c/(π·D_eff)
-  double rpm = 0;                     ///< what the program runs at
-  std::string rpm_limited_by;         ///< "" | "tool max rpm" | "machine max rpm" | "override"
-  double feed_mm_min = 0;             ///< half-width or more: f_z·z·n (capped by the machine)
-  bool feed_limited = false;          ///< capped at the machine's max feed
+  double rpm_computed = 0;     ///< 1000·V_c/(π·D_eff)
+  double rpm = 0;              ///< what the program runs at
+  std::string rpm_limited_by;  ///< "" | "tool max rpm" | "machine max rpm" | "override"
+  double feed_mm_min = 0;      ///< half-width or more: f_z·z·n (capped by the machine)
+  bool feed_limited = false;   ///< capped at the machine's max feed
   double feed_slot_mm_min = 0;
   double feed_plunge_mm_min = 0, feed_ramp_mm_min = 0;  ///< ramp: ramp and helix entries
-  double feed_max_mm_min = 0;         ///< highest thinned feed: min(machine max, feed·max RCTF)
+  double feed_max_mm_min = 0;                           ///< highest thinned feed: min(machine max, feed·max RCTF)
   double max_chip_thinning = 1;
-  std::string source;                 ///< the material row's source
+  std::string source;  ///< the material row's source
   /// Feed at radial engagement a_e (mm): feed·RCTF(a_e) capped at feed_max_mm_min;
   /// a_e ≥ D/2 ⇒ feed (the caller interpolates towards the slot feed).
   [[nodiscard]] double feed_at(double diameter_mm, double radial_mm) const;

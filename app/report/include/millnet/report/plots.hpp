@@ -70,9 +70,8 @@ struct HeatMapOptions {
 /// Heat map of `grid` (rows = y, cols = x; row 0 = smallest y, drawn at the BOTTOM; col 0 = smallest
 /// x, at the left), viridis colours with a colour bar labelled `units` (e.g. "height (mm)").
 /// Layout: x in columns 0.5…cols+0.5 (cell c centred at c+1) or mm with extent_mm; y likewise.
-Layout heat_map_png(const std::filesystem::path& path, const Eigen::MatrixXd& grid,
-                    const std::string& title, const std::string& units,
-                    const HeatMapOptions& options = {});
+Layout heat_map_png(const std::filesystem::path& path, const Eigen::MatrixXd& grid, const std::string& title,
+                    const std::string& units, const HeatMapOptions& options = {});
 
 // ---------------------------------------------------------------------------------------------
 // 2. Line plots (leave-one-out RMS against α; per-vector class probabilities).
@@ -85,24 +84,22 @@ struct Marker {
 struct LinePlotOptions {
   bool log_x = false;
   bool log_y = false;
-  bool show_points = false;            ///< a dot at every data point
-  std::optional<Marker> marker;        ///< a dashed vertical line at marker.x with its label
+  bool show_points = false;                          ///< a dot at every data point
+  std::optional<Marker> marker;                      ///< a dashed vertical line at marker.x with its label
   std::optional<std::pair<double, double>> y_range;  ///< fixed y range (e.g. {0, 1})
   std::optional<std::pair<double, double>> x_range;  ///< fixed x range
 };
 
 /// One or more curves on common axes, a legend below the plot when there is more than one series
 /// (or any series has a name). Series with xs.size() != ys.size() or no points are errors.
-Layout line_plot_png(const std::filesystem::path& path, const std::vector<Series>& series,
-                     const std::string& title, const std::string& x_label,
-                     const std::string& y_label, const LinePlotOptions& options = {});
+Layout line_plot_png(const std::filesystem::path& path, const std::vector<Series>& series, const std::string& title,
+                     const std::string& x_label, const std::string& y_label, const LinePlotOptions& options = {});
 
 /// Several per-index curves (the paper's Fig. 6: x = stored vector 1…N, y = output of the true
 /// class in filtration and verification), y in [0, 1] unless y_range says otherwise, points shown.
 /// Each NamedValues is one curve; x = 1…values.size().
 Layout multi_line_png(const std::filesystem::path& path, const std::vector<NamedValues>& curves,
-                      const std::string& title, const std::string& x_label,
-                      const std::string& y_label,
+                      const std::string& title, const std::string& x_label, const std::string& y_label,
                       std::optional<std::pair<double, double>> y_range = std::pair{0.0, 1.0});
 
 // ---------------------------------------------------------------------------------------------
@@ -118,8 +115,8 @@ struct BarOptions {
 /// every series needs categories.size() values. Long category names are wrapped under their
 /// group; when they would take more than four lines, groups are numbered and a key lists names.
 Layout grouped_bar_png(const std::filesystem::path& path, const std::vector<std::string>& categories,
-                       const std::vector<NamedValues>& series, const std::string& title,
-                       const std::string& y_label, const BarOptions& options = {});
+                       const std::vector<NamedValues>& series, const std::string& title, const std::string& y_label,
+                       const BarOptions& options = {});
 
 // ---------------------------------------------------------------------------------------------
 // 4. Pocket and tool path (the seed's Figs. 17–20), 6. roughing levels.
@@ -137,21 +134,19 @@ struct PocketPlotOptions {
 /// Arcs (bulges) are drawn as arcs. Any of region/tool points/path may be empty.
 Layout pocket_path_png(const std::filesystem::path& path, const pocket::Region& region,
                        const std::vector<pocket::Vec2>& tool_points, const pocket::Path2D& toolpath,
-                       const std::string& title,
-                       const std::vector<std::pair<std::string, std::string>>& metrics = {},
+                       const std::string& title, const std::vector<std::pair<std::string, std::string>>& metrics = {},
                        const PocketPlotOptions& options = {});
 
 /// Several disjoint regions on one picture (a roughing level whose material splits in pockets).
 Layout pocket_path_png(const std::filesystem::path& path, const std::vector<pocket::Region>& regions,
                        const std::vector<pocket::Vec2>& tool_points, const pocket::Path2D& toolpath,
-                       const std::string& title,
-                       const std::vector<std::pair<std::string, std::string>>& metrics = {},
+                       const std::string& title, const std::vector<std::pair<std::string, std::string>>& metrics = {},
                        const PocketPlotOptions& options = {});
 
 /// A roughing level: the level's region(s) and path (tool points not drawn), titled
 /// "<title> - level Z = <z> mm".
-Layout level_png(const std::filesystem::path& path, const pocket::Region& region,
-                 const pocket::Path2D& toolpath, double z_mm, const std::string& title,
+Layout level_png(const std::filesystem::path& path, const pocket::Region& region, const pocket::Path2D& toolpath,
+                 double z_mm, const std::string& title,
                  const std::vector<std::pair<std::string, std::string>>& metrics = {},
                  const PocketPlotOptions& options = {});
 Layout level_png(const std::filesystem::path& path, const std::vector<pocket::Region>& regions,
@@ -169,15 +164,14 @@ struct Panel {
 };
 
 struct ProfileOptions {
-  bool steps = false;                ///< draw each value as constant until the next s
+  bool steps = false;  ///< draw each value as constant until the next s
   std::string x_label = "s along the path (mm)";
 };
 
 /// Stacked panels sharing the x axis `s` (mm along the path, non-decreasing); every series of
 /// every panel needs s.size() values. Returns the Layout of the bottom panel.
-Layout profile_png(const std::filesystem::path& path, const std::vector<double>& s,
-                   const std::vector<Panel>& panels, const std::string& title,
-                   const ProfileOptions& options = {});
+Layout profile_png(const std::filesystem::path& path, const std::vector<double>& s, const std::vector<Panel>& panels,
+                   const std::string& title, const ProfileOptions& options = {});
 
 // ---------------------------------------------------------------------------------------------
 /// The colours the pictures use, exposed for callers and tests: viridis at t ∈ [0, 1] (clamped)

@@ -33,7 +33,7 @@ inline constexpr std::uint32_t kRapidColour = 0x777777;
 inline constexpr std::uint32_t kEntryColour = 0xCC00CC;  ///< plunges, ramps, helices (magenta)
 /// One colour per program where a page shows several (Okabe–Ito without black and yellow).
 inline constexpr std::array<std::uint32_t, 6> kProgramColours = {0xD55E00, 0x0072B2, 0x009E73,
-                                                                  0xCC79A7, 0xE69F00, 0x56B4E9};
+                                                                 0xCC79A7, 0xE69F00, 0x56B4E9};
 /// Width of the page's side panel in CSS px; the 3D view fills the rest of the window to its right.
 inline constexpr int kPanelWidthPx = 280;
 
@@ -41,9 +41,9 @@ inline constexpr int kPanelWidthPx = 280;
 enum class StepKind : std::uint8_t { Rapid = 0, Cut = 1, Plunge = 2, Ramp = 3, Helix = 4 };
 
 struct PreviewProgram {
-  std::string name;        ///< shown in the legend (e.g. "zigzag", "s3 finish")
-  std::string gcode;       ///< the program's text
-  std::string source;      ///< file name for messages
+  std::string name;    ///< shown in the legend (e.g. "zigzag", "s3 finish")
+  std::string gcode;   ///< the program's text
+  std::string source;  ///< file name for messages
 };
 
 struct PreviewTool {
@@ -57,17 +57,17 @@ struct PreviewTool {
 struct PreviewSurface {
   Eigen::MatrixXd z, value;
   double x0 = 0, y0 = 0, cell_mm = 1;
-  double cell_y_mm = 0;                  ///< cell size along y; 0 ⇒ cell_mm (square cells)
+  double cell_y_mm = 0;                    ///< cell size along y; 0 ⇒ cell_mm (square cells)
   std::string layer = "machined surface";  ///< the layer's name (a height grid is not machined)
-  std::string value_name = "deviation";  ///< legend title
+  std::string value_name = "deviation";    ///< legend title
   std::string units = "mm";
 };
 
 struct PreviewLimits {
-  std::size_t max_path_points = 200000;   ///< tessellated path points over all programs
-  std::size_t max_surface_cells = 250000; ///< surface cells shown
-  std::size_t max_mesh_faces = 400000;    ///< part triangles shown
-  double arc_step_deg = 6;                ///< arc tessellation angle
+  std::size_t max_path_points = 200000;    ///< tessellated path points over all programs
+  std::size_t max_surface_cells = 250000;  ///< surface cells shown
+  std::size_t max_mesh_faces = 400000;     ///< part triangles shown
+  double arc_step_deg = 6;                 ///< arc tessellation angle
 };
 
 struct PreviewInput {
@@ -86,12 +86,12 @@ struct PreviewInput {
 
 /// The path of one program as the page draws it (after tessellation of arcs and decimation).
 struct PreviewPath {
-  std::vector<float> xyz;              ///< 3 per point
-  std::vector<std::uint8_t> kind;      ///< StepKind of the move ending at each point
-  std::vector<float> feed;             ///< mm/min (0 for rapids)
-  std::vector<std::uint32_t> line;     ///< 1-based source line of the move ending at each point
-  std::size_t moves = 0;               ///< moves in the program
-  std::size_t points_before = 0;       ///< points before decimation
+  std::vector<float> xyz;           ///< 3 per point
+  std::vector<std::uint8_t> kind;   ///< StepKind of the move ending at each point
+  std::vector<float> feed;          ///< mm/min (0 for rapids)
+  std::vector<std::uint32_t> line;  ///< 1-based source line of the move ending at each point
+  std::size_t moves = 0;            ///< moves in the program
+  std::size_t points_before = 0;    ///< points before decimation
 };
 
 /// The indices 0 … n-1 kept when at most `budget` (≥ 2) are kept: all of them when n ≤ budget, else

@@ -41,9 +41,9 @@ struct ManifestFile {
 /// What a manifest says.
 struct Manifest {
   std::string program_version;
-  std::string csv_fnv1a64;              ///< hex hash of vectors.csv
+  std::string csv_fnv1a64;  ///< hex hash of vectors.csv
   std::size_t csv_bytes = 0;
-  int grid = 0;                         ///< n; inputs = n²
+  int grid = 0;  ///< n; inputs = n²
   bool aspect_column = false;
   std::size_t rows = 0, parts = 0;
   std::map<int, std::size_t> rows_per_label;
@@ -52,7 +52,7 @@ struct Manifest {
   /// "config" as JSON text: the recipe echo as written ("null" when the table has none); after
   /// read_manifest the same value, compactly re-serialized (compare it as JSON, not as text).
   std::string config_json = "null";
-  std::optional<double> raster_mm;      ///< config.raster_mm, the recipe's sampling raster
+  std::optional<double> raster_mm;  ///< config.raster_mm, the recipe's sampling raster
   /// "labelling" as JSON text (parts labelled by virtual machining, every strategy's figures, the
   /// agreement with the recipe's labels); empty ⇒ the key is absent. Re-serialized on read.
   std::string labelling_json;
