@@ -188,7 +188,7 @@ Registered register_simulate(CLI::App& app) {
             if (o->tools.size() != 1 && o->tools.size() != o->gcode.size())
               throw Error("give one --tool for all programs or one per --gcode (" + std::to_string(o->gcode.size()) +
                           " programs, " + std::to_string(o->tools.size()) + " tools)");
-            std::vector<std::pair<fs::path, finish::Cutter>> programs;
+            std::vector<std::pair<fs::path, tooling::Cutter>> programs;
             for (std::size_t i = 0; i < o->gcode.size(); ++i)
               programs.emplace_back(o->gcode[i], tool_arg(o->tools[o->tools.size() == 1 ? 0 : i], config));
             const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"], &config);

@@ -50,7 +50,8 @@ RoughOutcome rough_prepared(const ingest::Mesh* mesh, const std::string& load_er
     }
     OutputSet part;  // this part's files complete, or none of them (core/output_set.hpp)
     const rough::Result r = rough::rough_mesh(*mesh, params);
-    o.metrics = write_rough_outputs(out, name, r, params, cutting.to_json(), mesh, cad_metrics(file));
+    o.metrics =
+        write_rough_outputs(out, name, r, params, cutting.tool.cutter(), cutting.to_json(), mesh, cad_metrics(file));
     part.commit();
     o.ok = r.machining.status == pocket::PlanStatus::Ok;
     if (!o.ok) o.error = file.string() + ": " + r.machining.message;
@@ -188,8 +189,8 @@ struct PartOutcomes {
 /// the roughing program dir/<name>.nc and the top strategy's program one after the other on one
 /// z-map from flat stock (dir/<name>.rough_finish.sim.json and its pictures).
 FinishOutcome finish_test_part(const ingest::Mesh& mesh, const std::string& name, const PartPrediction& pr,
-                               const RoughOutcome* rough, const FinishSettings& settings, double rough_tool_mm,
-                               const fs::path& dir) {
+                               const RoughOutcome* rough, const FinishSettings& settings,
+                               const tooling::Cutter& rough_cutter, const fs::path& dir) {
   FinishOutcome fo;
   try {
     const std::vector<StrategyOutcome> outs = finish_part(mesh, name, settings, dir / "finish");
@@ -205,10 +206,9 @@ FinishOutcome finish_test_part(const ingest::Mesh& mesh, const std::string& name
     const auto top = std::find(fo.slots.begin(), fo.slots.end(), pr.top);
     if (pr.ok && rough != nullptr && rough->ok && top != fo.slots.end()) {
       const fs::path finish_nc = dir / "finish" / (name + ".s" + std::to_string(pr.top) + ".nc");
-      fo.chain = simulate_files(
-          mesh, name + ".rough_finish",
-          {{dir / (name + ".nc"), finish::Cutter::flat(rough_tool_mm)}, {finish_nc, settings.params.tool}}, "flat",
-          settings, dir);
+      fo.chain = simulate_files(mesh, name + ".rough_finish",
+                                {{dir / (name + ".nc"), rough_cutter}, {finish_nc, settings.params.tool}}, "flat",
+                                settings, dir);
       fo.chained = true;
     }
     fo.ok = true;
@@ -262,8 +262,8 @@ PartOutcomes predict_and_rough(const Json& config, const std::string& config_fil
       t0 = clock::now();
       if (named.mesh)
         po.finishes.push_back(finish_test_part(*named.mesh, name, preds.back(),
-                                               roughs.empty() ? nullptr : &roughs.back(), fset, rp.cut.tool_diameter,
-                                               dir));
+                                               roughs.empty() ? nullptr : &roughs.back(), fset,
+                                               rough_cutting.tool.cutter(), dir));
       else
         po.finishes.push_back(FinishOutcome{false, load_error, {}, {}, {}, {}, 0, false, Json()});
       po.finish_s += std::chrono::duration<double>(clock::now() - t0).count();

@@ -33,7 +33,7 @@ std::string read_program_text(const std::string& file) {
 
 int run_view(const ViewOpts& o) {
   const Json config = setup(o.common);
-  const finish::Cutter cutter = tool_arg(o.tool, config);
+  const tooling::Cutter cutter = tool_arg(o.tool, config);
   report::PreviewInput in;
   const std::string stem = fs::path(o.gcode.front()).stem().string();
   in.title = stem;

@@ -196,14 +196,9 @@ tooling::Tool inline_tool(tooling::ToolType type, double d, double r, const Cutt
   return t;
 }
 
-finish::Cutter cutter_of(const tooling::Tool& t) {
-  switch (t.type) {
-    case tooling::ToolType::Flat: return finish::Cutter::flat(t.diameter_mm);
-    case tooling::ToolType::Ball: return finish::Cutter::ball(t.diameter_mm);
-    case tooling::ToolType::Bull: return finish::Cutter::bull(t.diameter_mm, t.corner_radius_mm);
-    case tooling::ToolType::Drill: break;
-  }
-  throw Error("tool " + t.id + " is a drill: it cannot mill");
+tooling::Cutter cutter_of(const tooling::Tool& t) {
+  if (t.type == tooling::ToolType::Drill) throw Error("tool " + t.id + " is a drill: it cannot mill");
+  return t.cutter();
 }
 
 Json CuttingRecord::to_json() const {

@@ -5,7 +5,7 @@
 // JSON stops here: the modules get tooling::Tool / Material and the feeds in their parameter structs.
 #include "config.hpp"
 
-#include "millnet/finish/cutter.hpp"
+#include "millnet/tooling/cutter.hpp"
 #include "millnet/tooling/cutting.hpp"
 
 #include <optional>
@@ -50,7 +50,7 @@ struct CuttingSettings {
                                         const CuttingSettings& cs);
 
 /// The finishing cutter's shape of a library tool (flat, ball or bull; a drill is refused).
-[[nodiscard]] finish::Cutter cutter_of(const tooling::Tool& tool);
+[[nodiscard]] tooling::Cutter cutter_of(const tooling::Tool& tool);
 
 /// A figure and where it came from, for the metrics' "cutting_data" object.
 struct Figure {

@@ -351,7 +351,7 @@ void write_strategy_ranking(const std::string& stem, const FinishSettings& setti
 }
 
 Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
-                    const std::vector<std::pair<fs::path, finish::Cutter>>& programs, const std::string& stock,
+                    const std::vector<std::pair<fs::path, tooling::Cutter>>& programs, const std::string& stock,
                     const FinishSettings& settings, const fs::path& out, bool save_stock) {
   const PartFrame frame = part_frame(mesh, settings, true);
   simulate::ZMap z = stock == "flat" ? simulate::ZMap::flat(frame.grid, 0.0, zmap_max_bytes())

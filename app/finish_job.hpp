@@ -54,7 +54,7 @@ void write_strategy_ranking(const std::string& stem, const FinishSettings& setti
 /// path; the grid must match); writes DIR/<stem>.sim.json, <stem>.ra.png and <stem>.deviation.png,
 /// and with save_stock the machined z-map as DIR/<stem>.zmap.
 Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
-                    const std::vector<std::pair<std::filesystem::path, finish::Cutter>>& programs,
+                    const std::vector<std::pair<std::filesystem::path, tooling::Cutter>>& programs,
                     const std::string& stock, const FinishSettings& settings, const std::filesystem::path& out,
                     bool save_stock = false);
 

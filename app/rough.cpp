@@ -9,7 +9,8 @@ namespace millnet::app {
 namespace fs = std::filesystem;
 
 Json write_rough_outputs(const fs::path& dir, const std::string& stem, const rough::Result& r, const rough::Params& p,
-                         const Json& cutting_data, const ingest::Mesh* part, const Json& cad) {
+                         const tooling::Cutter& cutter, const Json& cutting_data, const ingest::Mesh* part,
+                         const Json& cad) {
   const std::vector<rough::LevelSummary> summaries = rough::level_summaries(r);
   Json levels = Json::array();
   for (std::size_t k = 0; k < r.levels.size(); ++k) {
@@ -55,7 +56,7 @@ Json write_rough_outputs(const fs::path& dir, const std::string& stem, const rou
     report::PreviewInput page;  // the 3D page of the program just written (issue 16)
     page.title = stem + " — roughing, " + std::string(pocket::planner_name(p.planner));
     page.programs.push_back({"roughing", r.machining.gcode, (dir / (stem + ".nc")).string()});
-    page.tool = {p.cut.tool_diameter, 0, "flat D" + fixed(p.cut.tool_diameter, 2)};
+    page.tool = {cutter.diameter, cutter.profile_corner_radius(), cutter.describe()};
     // Program Z = part z − stock top (rough.hpp); the part's base is its lowest point.
     const double base = part != nullptr ? part->V.col(2).minCoeff() : 0.0;
     page.stock = std::array<double, 6>{r.stock_x0, r.stock_y0, base - r.stock_top_part, r.stock_x1, r.stock_y1, 0};

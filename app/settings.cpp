@@ -316,7 +316,7 @@ rough::Params rough_params(const Json& config, const Json& explicit_pocket, cons
   return p;
 }
 
-finish::Cutter parse_tool(const std::string& text) {
+tooling::Cutter parse_tool(const std::string& text) {
   std::vector<std::string> parts;
   std::stringstream ss(text);
   for (std::string p; std::getline(ss, p, ':');) parts.push_back(p);
@@ -330,34 +330,25 @@ finish::Cutter parse_tool(const std::string& text) {
       throw Error("--tool '" + text + "': expected ball:D, flat:D or bull:D:r (mm)");
     }
   };
-  finish::Cutter c;
+  tooling::Cutter c;
   if (parts.size() == 2 && parts[0] == "ball")
-    c = finish::Cutter::ball(num(1));
+    c = tooling::Cutter::ball(num(1));
   else if (parts.size() == 2 && parts[0] == "flat")
-    c = finish::Cutter::flat(num(1));
+    c = tooling::Cutter::flat(num(1));
   else if (parts.size() == 3 && parts[0] == "bull")
-    c = finish::Cutter::bull(num(1), num(2));
+    c = tooling::Cutter::bull(num(1), num(2));
   else
     throw Error("--tool '" + text + "': expected ball:D, flat:D or bull:D:r (mm)");
   c.check();
   return c;
 }
 
-finish::Cutter tool_arg(const std::string& text, const Json& config) {
+tooling::Cutter tool_arg(const std::string& text, const Json& config) {
   if (text.find(':') != std::string::npos) return parse_tool(text);
   return cutter_of(tool_library(config).tool(text, "--tool"));
 }
 
 namespace {
-
-tooling::ToolType tool_type_of(const finish::Cutter& c) {
-  switch (c.type) {
-    case finish::CutterType::Flat: return tooling::ToolType::Flat;
-    case finish::CutterType::Ball: return tooling::ToolType::Ball;
-    case finish::CutterType::Bull: return tooling::ToolType::Bull;
-  }
-  return tooling::ToolType::Flat;
-}
 
 /// The finishing tool and its cutting data (issue 17), into s.params and s.cutting.
 void finish_cutting_data(FinishSettings& s, const Json& config, const FinishToolFlags& flags) {
@@ -373,14 +364,14 @@ void finish_cutting_data(FinishSettings& s, const Json& config, const FinishTool
     p.tool = cutter_of(rec.tool);
   } else if (flags.tool) {
     p.tool = parse_tool(*flags.tool);
-    rec.tool = inline_tool(tool_type_of(p.tool), p.tool.diameter, p.tool.corner_radius, cs);
+    rec.tool = inline_tool(p.tool.type, p.tool.diameter, p.tool.corner_radius, cs);
     rec.tool_from = "flag --tool";
   } else if (const std::string id = f["tool"]["id"].get<std::string>(); !id.empty()) {
     rec.tool = lib.tool(id, "/finish/tool/id");
     rec.tool_from = "config /finish/tool/id";
     p.tool = cutter_of(rec.tool);
   } else {
-    rec.tool = inline_tool(tool_type_of(p.tool), p.tool.diameter, p.tool.corner_radius, cs);
+    rec.tool = inline_tool(p.tool.type, p.tool.diameter, p.tool.corner_radius, cs);
     rec.tool_from = "config /finish/tool";
   }
   auto written = [&](const char* key) -> std::optional<Figure> {
@@ -417,9 +408,9 @@ FinishSettings finish_settings(const Json& config, const FinishToolFlags& flags)
   const Json& t = f["tool"];
   const std::string type = t["type"].get<std::string>();
   const double d = t["diameter"].get<double>();
-  p.tool = type == "ball"   ? finish::Cutter::ball(d)
-           : type == "flat" ? finish::Cutter::flat(d)
-                            : finish::Cutter::bull(d, t["corner_radius"].get<double>());
+  p.tool = type == "ball"   ? tooling::Cutter::ball(d)
+           : type == "flat" ? tooling::Cutter::flat(d)
+                            : tooling::Cutter::bull(d, t["corner_radius"].get<double>());
   p.stepover_mm = f["stepover_mm"].get<double>();
   p.step_down_mm = f["step_down_mm"].get<double>();
   p.chord_tolerance_mm = f["chord_tolerance_mm"].get<double>();

@@ -100,7 +100,7 @@ struct FinishSettings {
 };
 
 /// "ball:2", "flat:10", "bull:6:1" (type:diameter[:corner radius]); throws millnet::Error.
-[[nodiscard]] finish::Cutter parse_tool(const std::string& text);
+[[nodiscard]] tooling::Cutter parse_tool(const std::string& text);
 
 /// The command line's choice of finishing tool and material (finish --tool, --material).
 struct FinishToolFlags {
@@ -113,7 +113,7 @@ struct FinishToolFlags {
 [[nodiscard]] FinishSettings finish_settings(const Json& config, const FinishToolFlags& flags = {});
 
 /// A --tool value of finish or simulate: ball:D, flat:D, bull:D:r, or a tool library id.
-[[nodiscard]] finish::Cutter tool_arg(const std::string& text, const Json& config);
+[[nodiscard]] tooling::Cutter tool_arg(const std::string& text, const Json& config);
 
 /// finish_settings with every strategy, simulated: how a part is labelled by simulation (dataset)
 /// and how run finishes its test parts.

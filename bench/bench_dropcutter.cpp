@@ -14,6 +14,8 @@
 
 using namespace millnet;
 using namespace millnet::finish;
+using millnet::tooling::Cutter;
+using millnet::tooling::CutterType;
 
 namespace {
 

@@ -67,7 +67,7 @@ void BM_ZMapBallRaster(benchmark::State& st) {
     st.PauseTiming();
     zm = ZMap::flat(g, 5);
     st.ResumeTiming();
-    const auto r = machine(zm, prog, finish::Cutter::ball(2));
+    const auto r = machine(zm, prog, tooling::Cutter::ball(2));
     cells += r.cells_visited;
     feed_len = r.feed_length_mm;
     benchmark::DoNotOptimize(zm.heights().data());
@@ -85,7 +85,7 @@ void BM_ZMapBallRaster(benchmark::State& st) {
 void BM_ZMapMetrics(benchmark::State& st) {
   const GridSpec g{0, 0, 0.02, 5000, 5000};
   ZMap zm = ZMap::flat(g, 5);
-  (void)machine(zm, raster(1.0), finish::Cutter::ball(2));
+  (void)machine(zm, raster(1.0), tooling::Cutter::ball(2));
   std::vector<double> design(g.cells());
   for (std::size_t iy = 0; iy < g.ny; ++iy)
     for (std::size_t ix = 0; ix < g.nx; ++ix) {
@@ -144,9 +144,9 @@ void BM_ZMapRoughThenFinish(benchmark::State& st) {
     ZMap zm = ZMap::flat(g, 5);
     st.ResumeTiming();
     const auto t0 = std::chrono::steady_clock::now();
-    (void)machine(zm, rough, finish::Cutter::flat(10));
+    (void)machine(zm, rough, tooling::Cutter::flat(10));
     rough_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const auto r = machine(zm, fin, finish::Cutter::ball(2));
+    const auto r = machine(zm, fin, tooling::Cutter::ball(2));
     meet = r.max_cut_mm[kLineKind];
   }
   st.counters["rough_s"] = rough_s;

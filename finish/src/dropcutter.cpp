@@ -21,6 +21,8 @@
 #include <utility>
 
 namespace millnet::finish {
+using tooling::Cutter;
+using tooling::CutterType;
 
 namespace {
 
@@ -36,9 +38,9 @@ struct Shape {
   CutterType type = CutterType::Ball;
   double R = 1, R2 = 1, r = 1, a = 0;
 
-  explicit Shape(const Cutter& c) : type(c.type), R(c.radius()), R2(R * R) {
-    r = c.type == CutterType::Flat ? 0.0 : c.corner_radius;
-    a = c.type == CutterType::Ball ? 0.0 : R - r;
+  explicit Shape(const Cutter& c) : type(c.shape()), R(c.radius()), R2(R * R) {
+    r = c.profile_corner_radius();
+    a = type == CutterType::Ball ? 0.0 : R - r;
   }
   /// Profile height for 0 ≤ d ≤ R (callers check d ≤ R).
   [[nodiscard]] double h(double d) const {
@@ -518,8 +520,15 @@ void DropCutter::Impl::query(double x, double y, std::int32_t hint, Best& best) 
   }
 }
 
-DropCutter::DropCutter(const ingest::Mesh& mesh, const Cutter& cutter) {
+void check_finishing_cutter(const Cutter& cutter) {
   cutter.check();
+  if (cutter.type == CutterType::Drill)
+    throw Error("cutter: " + cutter.describe() +
+                " is a drill: a surface is finished with a ball, bull-nose or flat end mill");
+}
+
+DropCutter::DropCutter(const ingest::Mesh& mesh, const Cutter& cutter) {
+  check_finishing_cutter(cutter);
   ingest::validate(mesh, "drop-cutter mesh");
   impl_ = std::make_unique<Impl>(mesh, cutter);
   impl_->build();
@@ -576,7 +585,7 @@ std::vector<double> DropCutter::drop_grid(double x0, double y0, double step, int
 }
 
 CLPoint drop_brute_force(const ingest::Mesh& mesh, const Cutter& cutter, double x, double y) {
-  cutter.check();
+  check_finishing_cutter(cutter);
   const Shape sh(cutter);
   Best b;
   for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) eval_face(sh, mesh, static_cast<std::int32_t>(f), x, y, b);

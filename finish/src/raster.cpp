@@ -8,6 +8,8 @@
 #include <numbers>
 
 namespace millnet::finish::detail {
+using tooling::Cutter;
+using tooling::CutterType;
 namespace {
 
 /// The pass frame: u along the passes, v across them.

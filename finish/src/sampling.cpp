@@ -9,6 +9,8 @@
 #include <numbers>
 
 namespace millnet::finish::detail {
+using tooling::Cutter;
+using tooling::CutterType;
 namespace {
 
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;

@@ -33,7 +33,7 @@ public:
   Sampler(const ingest::Mesh& mesh, const DropCutter& dropper);
   [[nodiscard]] Sample sample(double x, double y) const;
   [[nodiscard]] double z(double x, double y) const { return sample(x, y).p.z(); }
-  [[nodiscard]] const Cutter& cutter() const { return dropper_.cutter(); }
+  [[nodiscard]] const tooling::Cutter& cutter() const { return dropper_.cutter(); }
   [[nodiscard]] double floor_z() const { return floor_z_; }
   [[nodiscard]] double top_z() const { return top_z_; }
   [[nodiscard]] std::size_t drops() const { return drops_.load(); }

@@ -146,7 +146,7 @@ std::vector<Strategy> all_strategies() {
 }
 
 void FinishParams::check() const {
-  tool.check();
+  check_finishing_cutter(tool);
   auto positive = [](double v) { return std::isfinite(v) && v > 0; };
   require(positive(stepover_mm), "stepover_mm", "must be > 0 (got " + std::to_string(stepover_mm) + ")");
   require(positive(step_down_mm), "step_down_mm", "must be > 0 (got " + std::to_string(step_down_mm) + ")");

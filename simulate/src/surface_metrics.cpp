@@ -84,19 +84,21 @@ double cos_slope(const GridSpec& spec, const std::vector<double>& design, std::s
 // design's normal at c (ball R·sinθ, bull (R − rc) + rc·sinθ, flat R on a slope), then 0, R/2, R.
 // Each placement is checked against the design sampled every `stride` cells under the cutter.
 // O(t's × (R / (stride·cell))²) per call.
-bool reachable(const GridSpec& spec, const std::vector<double>& design, const finish::Cutter& cutter, std::size_t c,
+bool reachable(const GridSpec& spec, const std::vector<double>& design, const tooling::Cutter& cutter, std::size_t c,
                std::size_t stride, double tol) {
   const double dc = design[c];
   if (std::isnan(dc)) return true;
   const auto [gx, gy] = gradient(spec, design, c);
   const double g = std::hypot(gx, gy), sin_t = g / std::sqrt(1 + g * g);
   const double ux = g > 0 ? -gx / g : 0.0, uy = g > 0 ? -gy / g : 0.0;  // down the slope
-  const double R = cutter.radius(), rc = cutter.corner_radius;
+  const double R = cutter.radius(), rc = cutter.profile_corner_radius();
   double contact = 0;
-  switch (cutter.type) {
-    case finish::CutterType::Ball: contact = R * sin_t; break;
-    case finish::CutterType::Bull: contact = (R - rc) + rc * sin_t; break;
-    case finish::CutterType::Flat: contact = g > 0 ? R : 0.0; break;
+  switch (cutter.shape()) {
+    case tooling::CutterType::Ball: contact = R * sin_t; break;
+    case tooling::CutterType::Bull: contact = (R - rc) + rc * sin_t; break;
+    case tooling::CutterType::Flat: contact = g > 0 ? R : 0.0; break;
+    // A cone touches a plane with its tip while the plane is flatter than its side, else its rim.
+    case tooling::CutterType::Drill: contact = g * R > cutter.point_height() ? R : 0.0; break;
   }
   const double cx = spec.x(c % spec.nx), cy = spec.y(c / spec.nx);
   const auto nx = static_cast<std::ptrdiff_t>(spec.nx), ny = static_cast<std::ptrdiff_t>(spec.ny);
@@ -138,7 +140,7 @@ bool reachable(const GridSpec& spec, const std::vector<double>& design, const fi
 void split_remaining(const ZMap& machined, const std::vector<double>& design, const std::vector<double>& above,
                      const MetricsOptions& opt, SurfaceMetrics& out) {
   const GridSpec& spec = machined.spec();
-  const finish::Cutter& cutter = *opt.cutter;
+  const tooling::Cutter& cutter = *opt.cutter;
   cutter.check();
   const std::size_t nx = spec.nx, ny = spec.ny, k = opt.reach_every;
   auto left = [&](std::size_t i) { return above[i] > opt.tolerance_mm; };  // false on NaN

@@ -37,43 +37,39 @@ constexpr double kTwoPi = 2 * std::numbers::pi;
 constexpr std::size_t kChunkRows = 8;  // rows per parallel work unit
 
 struct Profile {
-  finish::CutterType type = finish::CutterType::Ball;
-  double R = 1;  // radius
+  tooling::CutterType type = tooling::CutterType::Ball;  // the cutter's shape()
+  double R = 1;                                          // radius
   double R2 = 1;
-  double rc = 1;  // corner radius (ball: R, flat: 0)
-  double a = 0;   // flat part of the bottom: R − rc
+  double rc = 1;    // corner radius (ball: R, flat and drill: 0)
+  double a = 0;     // flat part of the bottom: R − rc
+  double cone = 0;  // drill: 1 / tan(point angle / 2)
 
   // f(r) for 0 ≤ r ≤ R (callers ensure r ≤ R).
   [[nodiscard]] double f(double r) const {
     switch (type) {
-      case finish::CutterType::Flat: return 0;
-      case finish::CutterType::Ball: return R - std::sqrt(std::max(0.0, R2 - r * r));
-      case finish::CutterType::Bull: {
+      case tooling::CutterType::Flat: return 0;
+      case tooling::CutterType::Ball: return R - std::sqrt(std::max(0.0, R2 - r * r));
+      case tooling::CutterType::Bull: {
         if (r <= a) return 0;
         const double u = r - a;
         return rc - std::sqrt(std::max(0.0, rc * rc - u * u));
       }
+      case tooling::CutterType::Drill: return r * cone;
     }
     return 0;
   }
 };
 
-Profile make_profile(const finish::Cutter& c) {
-  if (!std::isfinite(c.diameter) || c.diameter <= 0) throw Error("simulate: cutter diameter must be finite and > 0");
+// The kernels' form of a cutter that passed tooling::Cutter::check (the one owner of the checks).
+Profile make_profile(const tooling::Cutter& c) {
+  c.check();
   Profile p;
-  p.type = c.type;
+  p.type = c.shape();
   p.R = c.diameter / 2;
   p.R2 = p.R * p.R;
-  switch (c.type) {
-    case finish::CutterType::Flat: p.rc = 0; break;
-    case finish::CutterType::Ball: p.rc = p.R; break;
-    case finish::CutterType::Bull:
-      if (!std::isfinite(c.corner_radius) || c.corner_radius <= 0 || c.corner_radius >= p.R)
-        throw Error("simulate: bull cutter corner radius must lie in (0, diameter/2)");
-      p.rc = c.corner_radius;
-      break;
-  }
+  p.rc = c.profile_corner_radius();
   p.a = p.R - p.rc;
+  if (p.type == tooling::CutterType::Drill) p.cone = c.point_height() / p.R;
   return p;
 }
 
@@ -531,7 +527,7 @@ void flat_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::si
 
 }  // namespace
 
-double profile_height(const finish::Cutter& cutter, double r) {
+double profile_height(const tooling::Cutter& cutter, double r) {
   const Profile p = make_profile(cutter);
   if (!(r >= 0)) r = std::abs(r);
   if (r > p.R) return kInf;
@@ -540,11 +536,11 @@ double profile_height(const finish::Cutter& cutter, double r) {
 
 class Sweeper {
 public:
-  static SweepResult run(ZMap& zm, const gcode::Program& program, const finish::Cutter& cutter,
+  static SweepResult run(ZMap& zm, const gcode::Program& program, const tooling::Cutter& cutter,
                          const SweepOptions& opt);
 };
 
-SweepResult Sweeper::run(ZMap& zm, const gcode::Program& program, const finish::Cutter& cutter,
+SweepResult Sweeper::run(ZMap& zm, const gcode::Program& program, const tooling::Cutter& cutter,
                          const SweepOptions& opt) {
   const Profile P = make_profile(cutter);
   if (!(opt.helix_chord_tol_mm > 0)) throw Error("simulate: helix chord tolerance must be > 0 mm");
@@ -711,13 +707,13 @@ SweepResult Sweeper::run(ZMap& zm, const gcode::Program& program, const finish::
         for (std::size_t iy = a; iy <= b; ++iy) {
           if (g.type == SegType::Arc) {
             sweep_row(g, P, spec, iy, z, stamp, item_cut, visited, env_arc);
-          } else if (P.type == finish::CutterType::Ball && g.L > 1e-9) {
+          } else if (P.type == tooling::CutterType::Ball && g.L > 1e-9) {
             ball_line_row(g, P, spec, iy, z, stamp, item_cut, visited);
-          } else if (P.type == finish::CutterType::Ball) {
+          } else if (P.type == tooling::CutterType::Ball) {
             sweep_row(g, P, spec, iy, z, stamp, item_cut, visited, env_line_ball);
-          } else if (P.type == finish::CutterType::Flat && g.L > 1e-9) {
+          } else if (P.type == tooling::CutterType::Flat && g.L > 1e-9) {
             flat_line_row(g, P, spec, iy, z, stamp, item_cut, visited);
-          } else if (P.type == finish::CutterType::Flat) {
+          } else if (P.type == tooling::CutterType::Flat) {
             sweep_row(g, P, spec, iy, z, stamp, item_cut, visited, env_line_flat);
           } else {
             sweep_row(g, P, spec, iy, z, stamp, item_cut, visited, env_line_generic);
@@ -745,7 +741,7 @@ SweepResult Sweeper::run(ZMap& zm, const gcode::Program& program, const finish::
   return res;
 }
 
-SweepResult machine(ZMap& zmap, const gcode::Program& program, const finish::Cutter& cutter,
+SweepResult machine(ZMap& zmap, const gcode::Program& program, const tooling::Cutter& cutter,
                     const SweepOptions& options) {
   return Sweeper::run(zmap, program, cutter, options);
 }

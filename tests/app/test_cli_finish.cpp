@@ -141,6 +141,26 @@ TEST(CliSimulate, ReportsAGougeAtItsLineAndRejectsUnknownWords) {
   EXPECT_EQ(list_files(d / "sim2"), "");
 }
 
+// issue 36: the cutter had two owners; `finish --tool bull:4:2` exited 0 and `simulate --tool
+// bull:4:2` on its program exited 1. One check now: both accept it (it is the Ø4 ball).
+TEST(CliSimulate, ABullWithItsRadiusAsCornerIsAcceptedByFinishAndBySimulate) {
+  const fs::path d = fresh_dir("simulate_bull_r_eq_R");
+  const fs::path mesh = write_dome(d), cfg = write_config(d);
+  const auto f = run_millnet("finish --quiet --no-preview --config '" + cfg.string() + "' --mesh '" + mesh.string() +
+                                 "' --strategy 2 --stepover 1 --tool bull:4:2 --out fin",
+                             d);
+  ASSERT_EQ(f.code, 0) << f.err;
+  const auto s = run_millnet("simulate --quiet --no-preview --config '" + cfg.string() + "' --mesh '" + mesh.string() +
+                                 "' --gcode fin/dome.s2.nc --tool bull:4:2 --stock design --out sim",
+                             d);
+  ASSERT_EQ(s.code, 0) << s.err;
+  const auto bad = run_millnet("simulate --quiet --config '" + cfg.string() + "' --mesh '" + mesh.string() +
+                                   "' --gcode fin/dome.s2.nc --tool bull:4:2.5 --stock design --out sim2",
+                               d);
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_NE(bad.err.find("corner radius <= diameter/2 = 2, got 2.5"), std::string::npos) << bad.err;
+}
+
 TEST(CliSimulate, AStockSavedByOneRunContinuesInTheNextAsIfItWereOneRun) {
   const fs::path d = fresh_dir("simulate_stock");
   const fs::path mesh = write_dome(d), cfg = write_config(d);

@@ -3,7 +3,7 @@
 // brute-force oracle, no-penetration/touching properties, thread-count invariance.
 #include "ingest/builders.hpp"
 #include "millnet/core/error.hpp"
-#include "millnet/finish/cutter.hpp"
+#include "millnet/tooling/cutter.hpp"
 #include "millnet/finish/dropcutter.hpp"
 
 #include <gtest/gtest.h>
@@ -20,6 +20,8 @@ using namespace millnet::finish;
 using millnet::ingest::Mesh;
 using millnet::testing_ingest::solid;
 using millnet::testing_ingest::surface;
+using millnet::tooling::Cutter;
+using millnet::tooling::CutterType;
 
 namespace {
 
@@ -118,26 +120,11 @@ void expect_touching_not_penetrating(const Mesh& m, const Cutter& c, const CLPoi
 
 }  // namespace
 
-TEST(Cutter, ProfileAndChecks) {
-  EXPECT_EQ(Cutter::ball(2).profile_height(0), 0);
-  EXPECT_NEAR(Cutter::ball(2).profile_height(1), 1, 1e-15);
-  EXPECT_NEAR(Cutter::ball(2).profile_height(0.6), 1 - 0.8, 1e-15);
-  EXPECT_EQ(Cutter::flat(2).profile_height(1), 0);
-  EXPECT_TRUE(std::isinf(Cutter::flat(2).profile_height(1.01)));
-  EXPECT_EQ(Cutter::bull(4, 1).profile_height(1), 0);
-  EXPECT_NEAR(Cutter::bull(4, 1).profile_height(2), 1, 1e-15);
-  EXPECT_NEAR(Cutter::bull(4, 1).profile_height(1.6), 0.2, 1e-15);
-  EXPECT_NO_THROW(Cutter::bull(4, 2).check());
-  EXPECT_THROW(Cutter::flat(0).check(), millnet::Error);
-  EXPECT_THROW(Cutter::flat(-1).check(), millnet::Error);
-  EXPECT_THROW(Cutter::bull(4, 0).check(), millnet::Error);
-  EXPECT_THROW(Cutter::bull(4, 2.1).check(), millnet::Error);
-  EXPECT_THROW((Cutter{CutterType::Ball, 2, 0.5}).check(), millnet::Error);
-  EXPECT_THROW((Cutter{CutterType::Flat, 2, 0.5}).check(), millnet::Error);
-  EXPECT_THROW(Cutter::ball(std::numeric_limits<double>::quiet_NaN()).check(), millnet::Error);
-  EXPECT_EQ(Cutter::ball(2).describe(), "ball D2");
-  EXPECT_EQ(Cutter::flat(10).describe(), "flat D10");
-  EXPECT_EQ(Cutter::bull(6, 1).describe(), "bull D6 r1");
+TEST(DropCutter, ADrillIsRefusedAndABullWithItsRadiusAsCornerIsTheBall) {
+  const Mesh m = plane(0.1, -0.2, 1.5);
+  EXPECT_THROW(DropCutter(m, Cutter::drill(5)), millnet::Error);
+  const DropCutter bull(m, Cutter::bull(4, 2)), ball(m, Cutter::ball(4));
+  for (double x : {-3.0, 0.0, 2.5}) EXPECT_EQ(bull.drop(x, 0.7).z, ball.drop(x, 0.7).z);
 }
 
 TEST(DropCutter, HorizontalPlaneIsItsHeight) {

@@ -23,6 +23,8 @@
 #include <variant>
 
 namespace millnet::finish {
+using tooling::Cutter;
+using tooling::CutterType;
 namespace {
 
 using testing_ingest::box;

@@ -12,6 +12,8 @@
 #include <string>
 
 namespace millnet::finish {
+using tooling::Cutter;
+using tooling::CutterType;
 namespace {
 
 FinishParams params(double stepover) {

@@ -72,7 +72,7 @@ TEST(ZMap, BallLineLeavesExactCircularGroove) {
   add(p, mv(Motion::Line, -2, 2.025, -0.3));
   add(p, mv(Motion::Line, 12, 2.025, -0.3));
   add(p, mv(Motion::Rapid, 12, 2.025, 5));
-  const auto res = machine(zm, p, finish::Cutter::ball(2));
+  const auto res = machine(zm, p, tooling::Cutter::ball(2));
   EXPECT_TRUE(res.cutting_rapids.empty());
   EXPECT_EQ(res.feed_moves, 2u);
   EXPECT_EQ(res.rapid_moves, 2u);
@@ -98,7 +98,7 @@ TEST(ZMap, BallRasterOnPlaneLeavesTheoreticalScallop) {
   const double p = 0.2, R = 1;
   const GridSpec g{-0.005, -0.005, 0.01, 400, 400};  // cell centres at multiples of 0.01: on the cusps
   ZMap zm = ZMap::flat(g, 0.5);
-  machine(zm, raster(-2, 6, -1.0, p, 31, zero), finish::Cutter::ball(2 * R));
+  machine(zm, raster(-2, 6, -1.0, p, 31, zero), tooling::Cutter::ball(2 * R));
   const auto m = surface_metrics(zm, design_window(g, 1, 3, 1, 3, zero));
   const double h = R - std::sqrt(R * R - p * p / 4);
   EXPECT_NEAR(m.scallop_max_mm, h, 0.02 * h);
@@ -131,7 +131,7 @@ TEST(ZMap, BallRasterOnTiltedPlaneUsesTheThreeDStepover) {
   const double y0 = cusp - 0.5 * cell - 100 * cell;
   const GridSpec g{-0.005, y0, cell, 400, 400};
   ZMap zm = ZMap::flat(g, 10);
-  machine(zm, raster(-2, 6, 0.2 * std::round((y0 - 1.5) / 0.2), py, 40, tilted_tip), finish::Cutter::ball(2 * R));
+  machine(zm, raster(-2, 6, 0.2 * std::round((y0 - 1.5) / 0.2), py, 40, tilted_tip), tooling::Cutter::ball(2 * R));
   const double ya = y0 + 1, yb = y0 + 3;
   const auto m = surface_metrics(zm, design_window(g, 1, 3, ya, yb, tilted));
   EXPECT_NEAR(m.scallop_max_mm, hn, 0.02 * hn);  // measured along the plane's normal
@@ -150,11 +150,11 @@ TEST(ZMap, WithTheCutterScallopsBetweenPassesAreToldFromUncutBands) {
   Program p = raster(-2, 10, 0.0, 0.2, 6, zero);
   for (const Program& q : {raster(-2, 10, 1.6, 0.2, 6, zero), raster(-2, 10, 5.6, 0.2, 8, zero)})
     p.items.insert(p.items.end(), q.items.begin(), q.items.end());
-  machine(zm, p, finish::Cutter::ball(2 * R));
+  machine(zm, p, tooling::Cutter::ball(2 * R));
   const auto design = design_window(g, 1, 7, 0.0, 7.0, zero);  // 6 mm along X
   MetricsOptions o;
   o.tolerance_mm = tol;
-  o.cutter = finish::Cutter::ball(2 * R);
+  o.cutter = tooling::Cutter::ball(2 * R);
   const auto m = surface_metrics(zm, design, o);
   EXPECT_NEAR(m.scallop_max_mm, R - std::sqrt(R * R - 0.09), 1e-9);  // the cusp at y = 1.3
   EXPECT_EQ(m.rest_area_mm2, 0);
@@ -187,7 +187,7 @@ TEST(ZMap, WithTheCutterAConcaveCornerTighterThanTheBallIsRestMaterial) {
   for (int k = 0; k < 20; ++k) pass(0.1 * k, 0);
   pass(1.99, 0);  // (a ball at x = 2 would reach the wall's cells at x = 3 at its equator)
   for (int k = 0; k <= 15; ++k) pass(3 + 0.1 * k, 5);
-  machine(zm, p, finish::Cutter::ball(2 * R));
+  machine(zm, p, tooling::Cutter::ball(2 * R));
   std::vector<double> design(g.cells(), kNaN);
   for (std::size_t iy = 0; iy < g.ny; ++iy)
     for (std::size_t ix = 0; ix < g.nx; ++ix) {
@@ -196,7 +196,7 @@ TEST(ZMap, WithTheCutterAConcaveCornerTighterThanTheBallIsRestMaterial) {
     }
   MetricsOptions o;
   o.tolerance_mm = tol;
-  o.cutter = finish::Cutter::ball(2 * R);
+  o.cutter = tooling::Cutter::ball(2 * R);
   const auto m = surface_metrics(zm, design, o);
   EXPECT_FALSE(m.gouged);
   // The floor's last column (x = 2.98) straddles the wall: along the normal it is ~0. Length 2 mm
@@ -217,7 +217,7 @@ TEST(ZMap, WithTheCutterAConcaveCornerTighterThanTheBallIsRestMaterial) {
 TEST(ZMap, FlatEndMillLeavesNoScallop) {
   const GridSpec g{0, 0, 0.02, 200, 200};
   ZMap zm = ZMap::flat(g, 0.5);
-  machine(zm, raster(-4, 8, -2, 1.0, 9, zero), finish::Cutter::flat(4));
+  machine(zm, raster(-4, 8, -2, 1.0, 9, zero), tooling::Cutter::flat(4));
   const auto m = surface_metrics(zm, design_window(g, 1, 3, 1, 3, zero));
   const auto e = deviation(zm, design_window(g, 1, 3, 1, 3, zero));
   EXPECT_EQ(e[100 * g.nx + 100], 0);
@@ -240,7 +240,7 @@ TEST(ZMap, DipBelowDesignIsAGougeAtItsMove) {
   add(p, mv(Motion::Line, 6, 2, 0));
   add(p, mv(Motion::Rapid, 6, 2, 5));
   for (std::size_t i = 0; i < p.items.size(); ++i) p.source_line.push_back(100 + i);
-  const auto res = machine(zm, p, finish::Cutter::ball(2));
+  const auto res = machine(zm, p, tooling::Cutter::ball(2));
   EXPECT_TRUE(res.cutting_rapids.empty());
   const auto m = surface_metrics(zm, design_window(g, 0.5, 3.5, 0.5, 3.5, zero));
   EXPECT_TRUE(m.gouged);
@@ -261,7 +261,7 @@ TEST(ZMap, PlanarArcEqualsItsAnalyticGroove) {
   add(p, mv(Motion::Line, cx + r0, cy, z));
   add(p, mv(Motion::ArcCCW, cx, cy + r0, z, cx, cy));  // quarter circle, 0 → 90°
   add(p, mv(Motion::Rapid, cx, cy + r0, 5));
-  machine(zm, p, finish::Cutter::ball(2 * R));
+  machine(zm, p, tooling::Cutter::ball(2 * R));
   std::size_t checked = 0;
   for (std::size_t iy = 0; iy < g.ny; ++iy)
     for (std::size_t ix = 0; ix < g.nx; ++ix) {
@@ -291,7 +291,8 @@ TEST(ZMap, PlanarArcEqualsItsAnalyticGroove) {
 
 TEST(ZMap, EverySweepMatchesDenseSampling) {
   const GridSpec g{0, 0, 0.05, 120, 100};
-  const finish::Cutter cutters[] = {finish::Cutter::ball(2), finish::Cutter::flat(2), finish::Cutter::bull(2, 0.3)};
+  const tooling::Cutter cutters[] = {tooling::Cutter::ball(2), tooling::Cutter::flat(2), tooling::Cutter::bull(2, 0.3),
+                                     tooling::Cutter::drill(2)};
   const gcode::Point3 a{1.2, 1.1, -0.1}, b{4.7, 3.4, -0.9};
   for (const auto& c : cutters) {
     ZMap zm = ZMap::flat(g, 0);
@@ -322,6 +323,40 @@ TEST(ZMap, EverySweepMatchesDenseSampling) {
   }
 }
 
+// issue 36: `finish --tool bull:4:2` was accepted and `simulate --tool bull:4:2` refused it. The
+// cutter's own check decides; a bull whose corner is its radius machines as the ball, bit for bit.
+TEST(ZMap, ABullWithItsRadiusAsCornerMachinesAsTheBall) {
+  const GridSpec g{0, 0, 0.05, 120, 100};
+  Program p;
+  add(p, mv(Motion::Line, 4.7, 3.4, -0.9));
+  add(p, mv(Motion::ArcCCW, 2.7, 1.4, -0.9, 2.7, 3.4));
+  SweepOptions o;
+  o.start = {1.2, 1.1, -0.1};
+  ZMap bull = ZMap::flat(g, 0), ball = ZMap::flat(g, 0);
+  machine(bull, p, tooling::Cutter::bull(4, 2), o);
+  machine(ball, p, tooling::Cutter::ball(4), o);
+  for (std::size_t c = 0; c < g.cells(); ++c) ASSERT_EQ(bull.at(c % g.nx, c / g.nx), ball.at(c % g.nx, c / g.nx)) << c;
+  EXPECT_THROW(machine(ball, p, tooling::Cutter::bull(4, 2.5), o), millnet::Error);
+}
+
+// A 118° drill plunged 3 mm leaves its cone: depth 3 at the axis, 3 − d / tan 59° at d.
+TEST(ZMap, ADrillPlungeLeavesItsCone) {
+  const GridSpec g{0, 0, 0.05, 200, 200};
+  ZMap zm = ZMap::flat(g, 0);
+  SweepOptions o;
+  o.start = {5.025, 5.025, 1};
+  Program p;
+  add(p, mv(Motion::Line, 5.025, 5.025, -3));
+  const tooling::Cutter d = tooling::Cutter::drill(6);
+  machine(zm, p, d, o);
+  const double k = 1 / std::tan(59 * std::numbers::pi / 180);
+  for (const std::size_t off : {0, 10, 30, 55}) {
+    const double r = static_cast<double>(off) * g.cell;
+    EXPECT_NEAR(zm.at(100 + off, 100), -3 + r * k, 1e-12) << r;
+  }
+  EXPECT_EQ(zm.at(100 + 61, 100), 0);  // beyond R = 3 mm: untouched
+}
+
 TEST(ZMap, HelicalArcFollowsItsChords) {
   const GridSpec g{0, 0, 0.05, 200, 200};
   ZMap zm = ZMap::flat(g, 0);
@@ -329,7 +364,7 @@ TEST(ZMap, HelicalArcFollowsItsChords) {
   o.start = {8, 5, -0.1};
   Program p;
   add(p, mv(Motion::ArcCW, 5, 2, -0.6, 5, 5));  // quarter turn CW from (8,5) to (5,2), helical
-  const auto res = machine(zm, p, finish::Cutter::ball(2), o);
+  const auto res = machine(zm, p, tooling::Cutter::ball(2), o);
   EXPECT_GT(res.segments, 10u);
   const int n = 20000;
   double worst = 0;
@@ -358,14 +393,14 @@ TEST(ZMap, RoughThenFinishReportsTheDepthOfCutTheFinisherMeets) {
     add(rough, mv(Motion::Line, x, 9, -5));
     add(rough, mv(Motion::Rapid, x, 9, 5));
   }
-  const auto r1 = machine(zm, rough, finish::Cutter::flat(6));
+  const auto r1 = machine(zm, rough, tooling::Cutter::flat(6));
   EXPECT_NEAR(r1.max_cut_mm[kLineKind], 5, 1e-12);
   Program fin;
   add(fin, mv(Motion::Rapid, 1.025, 2.525, 5));  // on cell centres
   add(fin, mv(Motion::Line, 1.025, 2.525, -5.1));
   add(fin, mv(Motion::Line, 9.025, 2.525, -5.1));
   add(fin, mv(Motion::Rapid, 9.025, 2.525, 5));
-  const auto r2 = machine(zm, fin, finish::Cutter::ball(2));
+  const auto r2 = machine(zm, fin, tooling::Cutter::ball(2));
   EXPECT_NEAR(r2.max_cut_mm[kLineKind], 5.1, 1e-9);
   EXPECT_EQ(r2.max_cut_item[kLineKind], 2u);
   EXPECT_NEAR(r2.item_max_cut_mm[1], 0.1, 1e-9);  // the plunge lands in the roughed area
@@ -386,7 +421,7 @@ TEST(ZMap, RapidsThatCutAreReported) {
   add(p, mv(Motion::Line, 4, 1, -1));
   add(p, mv(Motion::Rapid, 4, 4, -1));  // traverses stock at rapid
   add(p, mv(Motion::Rapid, 4, 4, 5));
-  const auto res = machine(zm, p, finish::Cutter::flat(2));
+  const auto res = machine(zm, p, tooling::Cutter::flat(2));
   ASSERT_EQ(res.cutting_rapids.size(), 2u);
   EXPECT_EQ(res.cutting_rapids[0], 1u);
   EXPECT_EQ(res.cutting_rapids[1], 3u);
@@ -402,7 +437,7 @@ TEST(ZMap, BitIdenticalWithOneAndTwoThreads) {
   std::vector<double> design(g.cells());
   for (std::size_t iy = 0; iy < g.ny; ++iy)
     for (std::size_t ix = 0; ix < g.nx; ++ix) design[iy * g.nx + ix] = tilted(g.y(iy)) - 0.01;
-  for (const auto& c : {finish::Cutter::ball(2), finish::Cutter::bull(2, 0.4), finish::Cutter::flat(1.5)}) {
+  for (const auto& c : {tooling::Cutter::ball(2), tooling::Cutter::bull(2, 0.4), tooling::Cutter::flat(1.5)}) {
     ZMap a = ZMap::flat(g, 3), b = ZMap::flat(g, 3);
     SweepOptions o1, o2;
     o1.threads = 1;
@@ -453,7 +488,7 @@ TEST(ZMap, PolylinesWithSharedJointsMatchDenseSampling) {
   const GridSpec g{0, 0, 0.04, 150, 120};
   const std::vector<gcode::Point3> pts{{0.5, 1.0, -0.2}, {1.5, 1.6, -0.5}, {2.1, 2.2, -0.1}, {2.8, 2.0, -0.4},
                                        {2.8, 2.0, -0.6}, {3.9, 2.9, -0.6}, {4.5, 2.6, -0.3}, {5.2, 3.3, -0.3}};
-  for (const auto& c : {finish::Cutter::ball(2), finish::Cutter::flat(2), finish::Cutter::bull(2, 0.35)}) {
+  for (const auto& c : {tooling::Cutter::ball(2), tooling::Cutter::flat(2), tooling::Cutter::bull(2, 0.35)}) {
     ZMap zm = ZMap::flat(g, 0);
     SweepOptions o;
     o.start = pts[0];
@@ -592,7 +627,7 @@ TEST(ZMap, BallFinishingChordsOverCutStockMatchTheExactEnvelopeCellByCell) {
       line_to(Motion::Rapid, {at[0], at[1], 3});
     }
   ZMap zm = ZMap::flat(g, 0.6);
-  machine(zm, p, finish::Cutter::ball(2 * R), o);
+  machine(zm, p, tooling::Cutter::ball(2 * R), o);
   double worst = 0;
   std::size_t cut = 0;
   for (std::size_t iy = 0; iy < g.ny; ++iy)
@@ -614,7 +649,7 @@ TEST(ZMap, RaOfAScallopedPlaneMatchesTheProfileIntegral) {
   const double p = 0.2, R = 1;
   const GridSpec g{-0.005, -0.005, 0.01, 400, 400};
   ZMap zm = ZMap::flat(g, 0.5);
-  machine(zm, raster(-2, 6, -1.0, p, 31, zero), finish::Cutter::ball(2 * R));
+  machine(zm, raster(-2, 6, -1.0, p, 31, zero), tooling::Cutter::ball(2 * R));
   const auto m = surface_metrics(zm, design_window(g, 1, 3, 1, 3, zero));
   // Ra of the periodic scallop profile e(y) = R − √(R² − d²), d = distance to the nearest pass.
   const int n = 200000;
@@ -636,7 +671,7 @@ TEST(ZMap, RaStrideKeepsTheLatticeCellsBitForBitAndLeavesTheRestNaN) {
   const double p = 0.2, R = 1;
   const GridSpec g{-0.005, -0.005, 0.01, 400, 400};
   ZMap zm = ZMap::flat(g, 0.5);
-  machine(zm, raster(-2, 6, -1.0, p, 31, zero), finish::Cutter::ball(2 * R));
+  machine(zm, raster(-2, 6, -1.0, p, 31, zero), tooling::Cutter::ball(2 * R));
   const auto design = design_window(g, 1, 3, 1, 3, zero);
   const auto full = surface_metrics(zm, design);
   MetricsOptions o;

@@ -55,6 +55,26 @@ void Tool::check(const std::string& who) const {
     throw Error(at + ": flute length " + format_double(flute_length_mm) + " mm exceeds the stick-out " +
                 format_double(stickout_mm) + " mm");
   in(max_rpm, 0, 500000, "max rpm");
+  try {
+    cutter().check();
+  } catch (const Error& e) {
+    throw Error(at + ": " + e.what());
+  }
+}
+
+Cutter Tool::cutter() const {
+  Cutter c;
+  switch (type) {
+    case ToolType::Flat: c = Cutter::flat(diameter_mm); break;
+    case ToolType::Ball: c = Cutter::ball(diameter_mm); break;
+    case ToolType::Bull: c = Cutter::bull(diameter_mm, corner_radius_mm); break;
+    case ToolType::Drill: c = Cutter::drill(diameter_mm); break;
+  }
+  // A library's flat tool with a corner radius is not silently made sharp: check() refuses it.
+  if (type == ToolType::Flat || type == ToolType::Drill) c.corner_radius = corner_radius_mm;
+  c.flute_length_mm = flute_length_mm;
+  c.reach_mm = stickout_mm;
+  return c;
 }
 
 std::string Tool::label() const {

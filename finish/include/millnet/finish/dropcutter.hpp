@@ -18,7 +18,7 @@
 // only skips triangles that fall short of the best contact by more than 1e-9 mm. Where several
 // triangles give the same z (shared edges and vertices), which one is reported is fixed for a
 // given call but not specified.
-#include "millnet/finish/cutter.hpp"
+#include "millnet/tooling/cutter.hpp"
 #include "millnet/ingest/mesh.hpp"
 
 #include <Eigen/Core>
@@ -41,15 +41,18 @@ struct CLPoint {
   std::int32_t triangle = -1;                    ///< index of the touched triangle
 };
 
+/// tooling::Cutter::check, and a drill refused (it has no finishing shape). Throws millnet::Error.
+void check_finishing_cutter(const tooling::Cutter& cutter);
+
 class DropCutter {
 public:
   /// Builds the index: O(#F). Throws millnet::Error for an invalid mesh or cutter.
-  DropCutter(const ingest::Mesh& mesh, const Cutter& cutter);
+  DropCutter(const ingest::Mesh& mesh, const tooling::Cutter& cutter);
   ~DropCutter();
   DropCutter(DropCutter&&) noexcept;
   DropCutter& operator=(DropCutter&&) noexcept;
 
-  [[nodiscard]] const Cutter& cutter() const;
+  [[nodiscard]] const tooling::Cutter& cutter() const;
   /// One query: O(triangles whose grown XY box contains (x, y)).
   [[nodiscard]] CLPoint drop(double x, double y) const;
   /// Many queries, OpenMP over fixed blocks of 256 points (each block starts its next query from
@@ -67,6 +70,6 @@ private:
 
 /// The reference: every triangle tested, no index. O(#F) per query; for tests and benchmarks. The
 /// mesh is not validated (indices must be in range).
-[[nodiscard]] CLPoint drop_brute_force(const ingest::Mesh& mesh, const Cutter& cutter, double x, double y);
+[[nodiscard]] CLPoint drop_brute_force(const ingest::Mesh& mesh, const tooling::Cutter& cutter, double x, double y);
 
 }  // namespace millnet::finish

@@ -25,7 +25,7 @@
 // Spare slots 6–8 are unnamed: adding a strategy is one function and one registry line
 // (finish/src/strategy.cpp).
 #include "millnet/core/budget.hpp"
-#include "millnet/finish/cutter.hpp"
+#include "millnet/tooling/cutter.hpp"
 #include "millnet/finish/dropcutter.hpp"
 #include "millnet/gcode/program.hpp"
 
@@ -47,7 +47,7 @@ enum class Strategy : int { SlopeMode = 1, Raster = 2, ScallopMode = 3, Waterlin
 [[nodiscard]] std::vector<Strategy> all_strategies();
 
 struct FinishParams {
-  Cutter tool = Cutter::ball(2);
+  tooling::Cutter tool = tooling::Cutter::ball(2);
   double stepover_mm = 0.2;           ///< p_f: XY pass distance (2, 1), 3D distance (5), start value (3)
   double step_down_mm = 0.04;         ///< a_a: Z-level step (4, 1)
   double chord_tolerance_mm = 0.005;  ///< CL path vs straight chord, above the surface

@@ -9,12 +9,13 @@
 // its centre (x0 + (ix + ½)·cell, y0 + (iy + ½)·cell). Heights in mm, same frame as the program
 // (Z = tool tip, see gcode/program.hpp).
 //
-// Cutters: finish::Cutter (flat, ball, bull; vertical axis, CL = tip). The simulator evaluates the
-// profile itself from the cutter's public fields (type, diameter, corner_radius): the cutter is a
-// solid of revolution, infinitely long above its profile f(r), r ≤ R:
-//   flat f = 0;  ball f = R − √(R² − r²);  bull f = 0 for r ≤ R − rc, rc − √(rc² − (r − R + rc)²) beyond.
+// Cutters: tooling::Cutter (flat, ball, bull, drill; vertical axis, CL = tip), checked by its own
+// check(); the simulator evaluates the profile in its kernels by the cutter's shape(): the cutter
+// is a solid of revolution, infinitely long above its profile f(r), r ≤ R:
+//   flat f = 0;  ball f = R − √(R² − r²);  bull f = 0 for r ≤ R − rc, rc − √(rc² − (r − R + rc)²) beyond;
+//   drill f = r / tan(point angle / 2).
 #include "millnet/core/budget.hpp"
-#include "millnet/finish/cutter.hpp"
+#include "millnet/tooling/cutter.hpp"
 #include "millnet/gcode/program.hpp"
 
 #include <array>
@@ -143,11 +144,11 @@ struct SweepResult {
 /// kind (feed/feed or rapid/rapid) is swept by one of them only, so a cell cut there is charged
 /// (stamp, depth of cut) to either. Throws millnet::Error on a bad cutter, on a non-finite
 /// coordinate or when the z-map's move stamps would overflow.
-SweepResult machine(ZMap& zmap, const gcode::Program& program, const finish::Cutter& cutter,
+SweepResult machine(ZMap& zmap, const gcode::Program& program, const tooling::Cutter& cutter,
                     const SweepOptions& options = {});
 
 /// The cutter profile f(r) used by the sweep (+inf beyond the radius), for tests and callers.
-[[nodiscard]] double profile_height(const finish::Cutter& cutter, double r);
+[[nodiscard]] double profile_height(const tooling::Cutter& cutter, double r);
 
 // ---------------------------------------------------------------------------------------------
 // Metrics against the design surface.
@@ -179,7 +180,7 @@ struct MetricsOptions {
   /// The cutter of the last program: with it, the material left above the design is split into
   /// scallop, rest material and uncut (see SurfaceMetrics). Without it, all of it counts as uncut
   /// and scallop_max_mm is max(e − allowance) over the cells some move lowered.
-  std::optional<finish::Cutter> cutter;
+  std::optional<tooling::Cutter> cutter;
   /// The rest-material test runs once per block of reach_every × reach_every cells (≥ 1) that
   /// holds material left, at the block's such cell nearest its centre; every cell left in the
   /// block takes that answer. The test samples the design under the cutter at the same stride.

@@ -18,12 +18,15 @@
 //          capped at FeedFactors::max_chip_thinning (1.667 at a_e = 10 % D).
 //   Slot (a_e = D): f·slot (full engagement, chips evacuate worse); plunge f·plunge, ramp and
 //   helix entries f·ramp: the documented fractions of FeedFactors.
+#include "millnet/tooling/cutter.hpp"
+
 #include <string>
 #include <vector>
 
 namespace millnet::tooling {
 
-enum class ToolType { Flat, Ball, Bull, Drill };
+/// A tool's type is its cutter's (cutter.hpp): one enumeration for both.
+using ToolType = CutterType;
 enum class ToolMaterial { Carbide, HSS };
 
 [[nodiscard]] const char* to_string(ToolType t);
@@ -44,8 +47,11 @@ struct Tool {
   double stickout_mm = 0;      ///< length out of the holder; 0 = not stated
   ToolMaterial material = ToolMaterial::Carbide;
   double max_rpm = 0;  ///< the tool's own limit; 0 = none
-  /// Throws millnet::Error "<who>: <field> …" on a non-finite or out-of-range field.
+  /// Throws millnet::Error "<who>: <field> …" on a non-finite or out-of-range field, and
+  /// "<who>: cutter: …" when its shape fails Cutter::check (a flat tool with a corner radius).
   void check(const std::string& who) const;
+  /// Its cutting shape with its flute length and stick-out (the one every module takes).
+  [[nodiscard]] Cutter cutter() const;
   /// "em10-3f: D10 mm 3-flute carbide flat end mill" (or "D10 mm 2-flute carbide flat end mill
   /// (inline)"); ASCII, fit for a G-code comment.
   [[nodiscard]] std::string label() const;
