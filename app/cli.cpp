@@ -4,6 +4,7 @@
 
 #include "millnet/core/error.hpp"
 #include "millnet/core/progress.hpp"
+#include "millnet/gcode/writer.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
 
 #include <algorithm>
@@ -104,6 +105,11 @@ void add_common(CLI::App* sub, Common& common, bool with_config) {
         ->check(CLI::ExistingFile);
 }
 
+void add_post_flag(CLI::App* sub, std::optional<std::string>& post) {
+  sub->add_option("--post", post, "the controller's G-code dialect of every program written (default /machine/post)")
+      ->check(CLI::IsMember(gcode::dialect_names()));
+}
+
 void MeshFlags::add_to(CLI::App* sub, const std::string& what) {
   sub->add_option("--units", units, "units of the " + what)->check(CLI::IsMember({"mm", "inch", "in", "m"}));
   sub->add_option("--up", up, "axis of the " + what + " that points up")
@@ -175,6 +181,7 @@ void PocketFlags::add_to(CLI::App* sub, bool with_planner_flags, bool with_depth
   sub->add_option("--stock-to-leave", stock_to_leave, "radial allowance on walls and islands, mm")
       ->check(schema_range("/pocket/stock_to_leave"));
   sub->add_option("--entry", entry, "entry into uncut material")->check(CLI::IsMember({"predrill", "helix", "ramp"}));
+  add_post_flag(sub, post);
   auto* with = sub->add_flag("--contour", contour, "cut the wall pass (the default: /pocket/contour true)");
   sub->add_flag("--no-contour", no_contour,
                 "leave the wall pass out: parts of the reachable region near the walls stay uncut")

@@ -57,6 +57,7 @@ struct PocketFlags {
   bool no_contour = false;  ///< --no-contour: leave the wall pass out (/pocket/contour false)
   std::optional<std::string> planner, partition, angle, entry;
   std::optional<std::string> tool_id, material;  ///< --tool ID (library), --material ID
+  std::optional<std::string> post;               ///< --post DIALECT (/machine/post)
   void add_to(CLI::App* sub, bool with_planner_flags = true, bool with_depth = true);
 };
 
@@ -69,6 +70,10 @@ struct PocketFlags {
 /// --out (and every other output path flag): refuses an empty or blank path, which would write
 /// into the current folder. The error reads "--out: expected a folder to write into, got an empty path".
 [[nodiscard]] CLI::Validator output_path();
+
+/// --post NAME: the controller dialect of every program a command writes (/machine/post; the
+/// names of gcode::dialects()).
+void add_post_flag(CLI::App* sub, std::optional<std::string>& post);
 
 /// Adds --quiet, --threads, --max-work, --max-memory-mb and (when with_config) --config to a subcommand.
 void add_common(CLI::App* sub, Common& common, bool with_config = true);

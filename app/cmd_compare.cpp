@@ -55,7 +55,8 @@ std::vector<Row> plan_every_planner(const CompareOpts& o, const Json& config, co
     pocket::MachiningOptions mo = machining_options(ch, config);
     mo.program_name = stem + "-" + n;
     r.m = pocket::machine_pocket(file.region, cut, r.plan, mo);
-    write_pocket_outputs(o.out, stem + "." + n, file.region, cut, ch, r.plan, r.m, {}, cutting_data);
+    write_pocket_outputs(o.out, stem + "." + n, file.region, cut, ch, r.plan, r.m, {},
+                         post_dialect(config, o.flags.post), cutting_data);
     info("compare: " + n + " done");
     rows.push_back(std::move(r));
   }

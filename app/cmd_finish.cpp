@@ -39,7 +39,7 @@ Registered register_finish(CLI::App& app) {
     Common common;
     MeshFlags mesh_flags;
     std::vector<std::string> meshes;
-    std::optional<std::string> strategy, tool, material;
+    std::optional<std::string> strategy, tool, material, post;
     std::optional<double> stepover, step_down, boundary_angle, scallop;
     bool simulate = false;
     std::string out;
@@ -68,11 +68,13 @@ Registered register_finish(CLI::App& app) {
       ->check(schema_range("/finish/boundary_angle_deg"));
   sub->add_option("--scallop", o->scallop, "scallop-height target, mm")->check(schema_range("/finish/scallop_mm"));
   sub->add_flag("--simulate", o->simulate, "machine each program on a z-map and score the surface");
+  add_post_flag(sub, o->post);
   sub->add_option("--out", o->out, "output folder")->check(output_path())->required();
   add_common(sub, o->common);
   return {sub, [o, parse_strategy_flag]() {
             const Json config = setup(o->common);
             FinishSettings s = finish_settings(config, {o->tool, o->material});
+            if (o->post) s.post = post_dialect(config, o->post);
             if (o->strategy) {
               s.strategies =
                   *o->strategy == "all" ? finish::all_strategies() : std::vector{parse_strategy_flag(*o->strategy)};

@@ -32,7 +32,8 @@ int run_pocket(const PocketOpts& o) {
   mo.comments = {"pocket: " + fs::path(o.pocket).filename().string(), "planner: " + plan.planner};
   const pocket::MachiningResult m = pocket::machine_pocket(file.region, cut, plan, mo);
   const std::string stem = fs::path(o.pocket).stem().string();
-  write_pocket_outputs(o.out, stem, file.region, cut, choice, plan, m, file.notes, cutting.to_json());
+  write_pocket_outputs(o.out, stem, file.region, cut, choice, plan, m, file.notes, post_dialect(config, o.flags.post),
+                       cutting.to_json());
   if (m.status != pocket::PlanStatus::Ok) {
     throw Error(o.pocket + ": " + pocket::to_string(m.status) + ": " + m.message + " (no G-code written; see " +
                 (fs::path(o.out) / (stem + ".metrics.json")).string() + ")");

@@ -36,7 +36,7 @@ struct RoughOutcome {
 /// Roughs one prepared mesh (or reports `load_error` when it could not be read) into `out`.
 RoughOutcome rough_prepared(const ingest::Mesh* mesh, const std::string& load_error, const fs::path& file,
                             const std::string& name, const rough::Params& params, const fs::path& out,
-                            const CuttingRecord& cutting) {
+                            const CuttingRecord& cutting, const gcode::Dialect& post) {
   RoughOutcome o{name, file.string(), load_error, false, Json::object()};
   if (!mesh) return o;
   try {
@@ -50,8 +50,8 @@ RoughOutcome rough_prepared(const ingest::Mesh* mesh, const std::string& load_er
     }
     OutputSet part;  // this part's files complete, or none of them (core/output_set.hpp)
     const rough::Result r = rough::rough_mesh(*mesh, params);
-    o.metrics =
-        write_rough_outputs(out, name, r, params, cutting.tool.cutter(), cutting.to_json(), mesh, cad_metrics(file));
+    o.metrics = write_rough_outputs(out, name, r, params, cutting.tool.cutter(), post, cutting.to_json(), mesh,
+                                    cad_metrics(file));
     part.commit();
     o.ok = r.machining.status == pocket::PlanStatus::Ok;
     if (!o.ok) o.error = file.string() + ": " + r.machining.message;
@@ -78,10 +78,11 @@ std::shared_ptr<const ingest::Mesh> load_prepared(const fs::path& file, const in
 }
 
 RoughOutcome rough_one(const fs::path& file, const std::string& name, const ingest::PrepareOptions& prep,
-                       const rough::Params& params, const fs::path& out, const CuttingRecord& cutting) {
+                       const rough::Params& params, const fs::path& out, const CuttingRecord& cutting,
+                       const gcode::Dialect& post) {
   std::string error;
   const auto mesh = load_prepared(file, prep, &error);
-  return rough_prepared(mesh.get(), error, file, name, params, out, cutting);
+  return rough_prepared(mesh.get(), error, file, name, params, out, cutting, post);
 }
 }  // namespace
 
@@ -111,10 +112,11 @@ Registered register_rough(CLI::App& app) {
             const rough::Params params =
                 rough_params(config, explicit_pocket_section(o->common.config), o->flags, &cutting);
             const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"], &config);
+            const gcode::Dialect post = post_dialect(config, o->flags.post);
             std::vector<RoughOutcome> done;
             Progress progress("rough", files.size());
             for (const auto& f : files) {
-              done.push_back(rough_one(f, f.stem().string(), prep, params, o->out, cutting));
+              done.push_back(rough_one(f, f.stem().string(), prep, params, o->out, cutting, post));
               progress.tick();
             }
             progress.finish();
@@ -149,6 +151,7 @@ namespace {
 
 struct RunOpts {
   Common common;
+  std::optional<std::string> post;  ///< --post (/machine/post)
   std::string config_file = "configs/default.json";
   std::string out;
 };
@@ -255,7 +258,7 @@ PartOutcomes predict_and_rough(const Json& config, const std::string& config_fil
     predict_s += std::chrono::duration<double>(clock::now() - t0).count();
     if (run.rough) {
       t0 = clock::now();
-      roughs.push_back(rough_prepared(named.mesh.get(), load_error, p.file, name, rp, dir, rough_cutting));
+      roughs.push_back(rough_prepared(named.mesh.get(), load_error, p.file, name, rp, dir, rough_cutting, fset.post));
       rough_s += std::chrono::duration<double>(clock::now() - t0).count();
     }
     if (run.finish) {
@@ -511,7 +514,8 @@ int write_run_summary(const std::string& config_file, const TrainSummary& ts, co
 int run_run(const RunOpts& o) {
   Common c = o.common;
   c.config = o.config_file;
-  const Json config = setup(c);
+  Json config = setup(c);
+  if (o.post) config["machine"]["post"] = *o.post;  // --post wins over /machine/post for every program
   const fs::path out = o.out.empty() ? fs::path(config["output"].get<std::string>()) : fs::path(o.out);
   // Every setting of every stage is checked before the first stage writes anything (issue 15: a
   // seed clash was found after nine files were written; tests/corpus/cli/run_seed_clash.args).
@@ -558,6 +562,7 @@ Registered register_run(CLI::App& app) {
   sub->add_option("config", o->config_file, "config file (default configs/default.json)")->check(CLI::ExistingFile);
   sub->add_option("--out", o->out, "output folder (default: /output of the config)")->check(output_path());
   add_common(sub, o->common, false);
+  add_post_flag(sub, o->post);
   return {sub, [o]() { return run_run(*o); }};
 }
 

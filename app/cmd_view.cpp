@@ -38,9 +38,8 @@ int run_view(const ViewOpts& o) {
   const std::string stem = fs::path(o.gcode.front()).stem().string();
   in.title = stem;
   for (const std::string& f : o.gcode) {
-    report::PreviewProgram p{fs::path(f).stem().string(), read_program_text(f), f};
-    (void)report::preview_path(p, 2, 6);  // reads the program: an unreadable one fails here, before any output
-    in.programs.push_back(std::move(p));
+    // An unreadable program fails here, before any output.
+    in.programs.push_back(report::read_preview_program(fs::path(f).stem().string(), read_program_text(f), f));
   }
   in.tool = {cutter.diameter, cutter.corner_radius, cutter.describe()};
   if (!o.mesh.empty()) {

@@ -189,7 +189,7 @@ StrategyOutcome strategy_outcome(const ingest::Mesh& mesh, const std::string& st
   const int k = static_cast<int>(strategy);
   const std::string base = stem + ".s" + std::to_string(k);
   const double plan_s = plan.planning_s;
-  gcode::write_file(out / (base + ".nc"), plan.program, gcode::linuxcnc());
+  const gcode::Written written = gcode::write_program(out / (base + ".nc"), plan.program, settings.post);
   const gcode::ProgramStats st = gcode::stats(plan.program, settings.machine);
   StrategyOutcome o;
   o.strategy = strategy;
@@ -226,11 +226,9 @@ StrategyOutcome strategy_outcome(const ingest::Mesh& mesh, const std::string& st
   if (settings.simulate) {
     simulate::ZMap z = simulate::ZMap::from_heights(frame.grid, frame.design, settings.sim.allowance_mm,
                                                     frame.z_shift + settings.sim.allowance_mm, zmap_max_bytes());
-    // The program as the machine gets it: read back from the file just written (gouges are
-    // reported at their line).
-    const fs::path nc = out / (base + ".nc");
-    const gcode::Program back = gcode::read(read_file(nc), nc.string());
-    const simulate::SweepResult sw = simulate::machine(z, back, params.tool);
+    // The program as the machine gets it: the text written, read back (its coordinates rounded as
+    // written, gouges reported at their line).
+    const simulate::SweepResult sw = simulate::machine(z, written.program, params.tool);
     // Uncut = reachable material the program left; the scallops between passes are scored by
     // scallop and Ra, and the rest material no program with this cutter can clear is apart.
     simulate::MetricsOptions mo = metrics_options(settings.sim);
@@ -253,8 +251,7 @@ StrategyOutcome strategy_outcome(const ingest::Mesh& mesh, const std::string& st
   {
     report::PreviewInput page;  // the 3D page of the program (issue 16), with its machined surface when simulated
     page.title = base + " — " + finish::strategy_name(strategy);
-    page.programs.push_back(
-        {finish::strategy_name(strategy), read_file(out / (base + ".nc")), (out / (base + ".nc")).string()});
+    page.programs.push_back({finish::strategy_name(strategy), std::move(written)});
     page.tool = {params.tool.diameter, params.tool.corner_radius, params.tool.describe()};
     set_preview_part(page, mesh, frame.z_shift);
     page.stock = std::array<double, 6>{0, 0, frame.z_shift + mesh.V.col(2).minCoeff(), frame.width, frame.depth, 0};
@@ -360,9 +357,13 @@ Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
                                                         frame.z_shift + settings.sim.allowance_mm, zmap_max_bytes())
                          : stock_from_file(stock, frame.grid);
   Json runs = Json::array();
+  std::vector<report::PreviewProgram> shown;
   for (const auto& [file, cutter] : programs) {
     // read_file: a program this command wrote is read from its OutputSet's temporary (core/output_set.hpp).
-    const gcode::Program prog = gcode::read(read_file(file), file.string());
+    gcode::Written w;
+    w.text = read_file(file);
+    w.program = gcode::read(w.text, file.string());
+    const gcode::Program& prog = w.program;
     const simulate::SweepResult sw = simulate::machine(z, prog, cutter);
     const gcode::ProgramStats st = gcode::stats(prog, settings.machine);
     runs.push_back(Json{{"gcode", file.string()},
@@ -372,6 +373,7 @@ Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
                         {"time_kinematic_min", st.kinematic_time_min},
                         {"max_depth_of_cut_mm", *std::max_element(sw.max_cut_mm.begin(), sw.max_cut_mm.end())},
                         {"cutting_rapids", sw.cutting_rapids.size()}});
+    shown.push_back({file.filename().string(), std::move(w)});
   }
   simulate::MetricsOptions mo = metrics_options(settings.sim);
   if (!programs.empty()) mo.cutter = programs.back().second;  // scallop and rest of the last tool
@@ -401,8 +403,7 @@ Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
   if (preview_settings().enabled && !programs.empty()) {
     report::PreviewInput page;  // the 3D page of the programs on the machined surface (issue 16)
     page.title = stem + " — simulation";
-    for (const auto& [file, cutter] : programs)
-      page.programs.push_back({file.filename().string(), read_file(file), file.string()});
+    page.programs = std::move(shown);
     page.tool = {programs.back().second.diameter, programs.back().second.corner_radius,
                  programs.back().second.describe()};
     set_preview_part(page, mesh, frame.z_shift);

@@ -57,7 +57,7 @@ Json metrics_json(const pocket::PlanResult& plan, const pocket::MachiningResult&
 void write_pocket_outputs(const fs::path& dir, const std::string& stem, const pocket::Region& region,
                           const pocket::CutParams& cut, const PlannerChoice& ch, const pocket::PlanResult& plan,
                           const pocket::MachiningResult& m, const std::vector<std::string>& notes,
-                          const Json& cutting_data) {
+                          const gcode::Dialect& post, const Json& cutting_data) {
   Json metrics = metrics_json(plan, m, cut, ch);
   if (!cutting_data.is_null()) metrics["cutting_data"] = cutting_data;
   if (!notes.empty()) metrics["notes"] = notes;
@@ -91,10 +91,10 @@ void write_pocket_outputs(const fs::path& dir, const std::string& stem, const po
         stem + ": engagement, feed and MRR along the path (first level)", {.steps = true});
   }
   if (m.status == pocket::PlanStatus::Ok) {
-    write_file_atomic(dir / (stem + ".nc"), m.gcode);
     report::PreviewInput page;  // the 3D page of the program just written (issue 16)
     page.title = stem + " — " + metrics["planner"].get<std::string>();
-    page.programs.push_back({metrics["planner"].get<std::string>(), m.gcode, (dir / (stem + ".nc")).string()});
+    page.programs.push_back(
+        {metrics["planner"].get<std::string>(), gcode::write_program(dir / (stem + ".nc"), m.program, post)});
     page.tool = {cut.tool_diameter, 0, "flat D" + fixed(cut.tool_diameter, 2)};
     (void)write_program_preview(dir / (stem + ".html"), std::move(page));
   }

@@ -20,7 +20,7 @@ namespace millnet::app {
 void write_pocket_outputs(const std::filesystem::path& dir, const std::string& stem, const pocket::Region& region,
                           const pocket::CutParams& cut, const PlannerChoice& choice, const pocket::PlanResult& plan,
                           const pocket::MachiningResult& m, const std::vector<std::string>& notes,
-                          const Json& cutting_data = Json());
+                          const gcode::Dialect& post, const Json& cutting_data = Json());
 
 /// The metrics JSON object (ordered keys as Metrics::to_key_values, then status, planner, parameters).
 [[nodiscard]] Json metrics_json(const pocket::PlanResult& plan, const pocket::MachiningResult& m,

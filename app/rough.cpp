@@ -9,8 +9,8 @@ namespace millnet::app {
 namespace fs = std::filesystem;
 
 Json write_rough_outputs(const fs::path& dir, const std::string& stem, const rough::Result& r, const rough::Params& p,
-                         const tooling::Cutter& cutter, const Json& cutting_data, const ingest::Mesh* part,
-                         const Json& cad) {
+                         const tooling::Cutter& cutter, const gcode::Dialect& post, const Json& cutting_data,
+                         const ingest::Mesh* part, const Json& cad) {
   const std::vector<rough::LevelSummary> summaries = rough::level_summaries(r);
   Json levels = Json::array();
   for (std::size_t k = 0; k < r.levels.size(); ++k) {
@@ -52,10 +52,9 @@ Json write_rough_outputs(const fs::path& dir, const std::string& stem, const rou
   if (!cutting_data.is_null()) j["cutting_data"] = cutting_data;
   if (!cad.is_null()) j["cad"] = cad;  // the part came from STEP/IGES: its unit and tessellation
   if (r.machining.status == pocket::PlanStatus::Ok) {
-    write_file_atomic(dir / (stem + ".nc"), r.machining.gcode);
     report::PreviewInput page;  // the 3D page of the program just written (issue 16)
     page.title = stem + " — roughing, " + std::string(pocket::planner_name(p.planner));
-    page.programs.push_back({"roughing", r.machining.gcode, (dir / (stem + ".nc")).string()});
+    page.programs.push_back({"roughing", gcode::write_program(dir / (stem + ".nc"), r.machining.program, post)});
     page.tool = {cutter.diameter, cutter.profile_corner_radius(), cutter.describe()};
     // Program Z = part z − stock top (rough.hpp); the part's base is its lowest point.
     const double base = part != nullptr ? part->V.col(2).minCoeff() : 0.0;

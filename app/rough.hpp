@@ -14,7 +14,8 @@ namespace millnet::app {
 /// the 3D preview <stem>.html (with the prepared part when given; `cutter` is the roughing tool drawn).
 /// Returns the metrics JSON.
 Json write_rough_outputs(const std::filesystem::path& dir, const std::string& stem, const rough::Result& r,
-                         const rough::Params& params, const tooling::Cutter& cutter, const Json& cutting_data = Json(),
-                         const ingest::Mesh* part = nullptr, const Json& cad = Json());
+                         const rough::Params& params, const tooling::Cutter& cutter, const gcode::Dialect& post,
+                         const Json& cutting_data = Json(), const ingest::Mesh* part = nullptr,
+                         const Json& cad = Json());
 
 }  // namespace millnet::app

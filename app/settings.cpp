@@ -299,6 +299,10 @@ pocket::PlannerSpec planner_spec(const PlannerChoice& ch) {
   throw Error("unknown planner '" + ch.name + "' (expected som, zigzag, offset or adaptive)");
 }
 
+gcode::Dialect post_dialect(const Json& config, const std::optional<std::string>& flag) {
+  return gcode::dialect_named(flag.value_or(config["machine"]["post"].get<std::string>()));
+}
+
 rough::Params rough_params(const Json& config, const Json& explicit_pocket, const PocketFlags& flags,
                            CuttingRecord* record) {
   const Json& r = config["rough"];
@@ -433,6 +437,7 @@ FinishSettings finish_settings(const Json& config, const FinishToolFlags& flags)
   s.sim.ra_spacing_mm = sim["ra_spacing_mm"].get<double>();
   s.aim.gouge_tolerance_mm = s.sim.tolerance_mm;
   s.machine = motion_model(config);
+  s.post = post_dialect(config, std::nullopt);
   s.stock_top_above_part_mm = config["rough"]["top_allowance_mm"].get<double>();
   finish_cutting_data(s, config, flags);
   return s;

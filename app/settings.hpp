@@ -15,6 +15,7 @@
 #include "millnet/datasets/generator.hpp"
 #include "millnet/finish/strategy.hpp"
 #include "millnet/gcode/stats.hpp"
+#include "millnet/gcode/writer.hpp"
 #include "millnet/ingest/mesh.hpp"
 #include "millnet/pocket/machining.hpp"
 #include "millnet/pocket/plan.hpp"
@@ -61,6 +62,9 @@ struct PlannerChoice {
 /// The machine profile of the motion-time model (/machine/…).
 [[nodiscard]] gcode::MotionModel motion_model(const Json& config);
 
+/// The controller's dialect every program is written in: --post, else /machine/post.
+[[nodiscard]] gcode::Dialect post_dialect(const Json& config, const std::optional<std::string>& flag);
+
 [[nodiscard]] PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, const PocketFlags& flags);
 
 /// The machining options of a choice (entry, its angle, wall pass, links) and the config's machine
@@ -94,6 +98,7 @@ struct FinishSettings {
   bool simulate = false;
   double stock_top_above_part_mm = 1;
   gcode::MotionModel machine;
+  gcode::Dialect post;  ///< the dialect the programs are written in (/machine/post)
   SimSettings sim;
   simulate::AimParams aim;
   CuttingRecord cutting;  ///< the tool, its cutting data and each figure's source

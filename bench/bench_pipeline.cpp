@@ -3,6 +3,7 @@
 // planning + machining (regions → planner → feed maps → G-code), with SOM and with zigzag.
 //   bench_pipeline --benchmark_filter=Rough
 // The time per stage of `millnet run` comes from run_report.json ("timing"), see test_scenario.
+#include "millnet/gcode/writer.hpp"
 #include "millnet/ingest/heightfield.hpp"
 #include "millnet/ingest/zlevels.hpp"
 #include "millnet/rough/rough.hpp"
@@ -121,7 +122,7 @@ void BM_RoughMesh(benchmark::State& state) {
   rough::Result r;
   for (auto _ : state) {
     r = rough::rough_mesh(m, p);
-    benchmark::DoNotOptimize(r.machining.gcode.data());
+    benchmark::DoNotOptimize(gcode::write(r.machining.program, gcode::linuxcnc()).data());
   }
   if (r.machining.status != pocket::PlanStatus::Ok || static_cast<int>(r.levels.size()) != kLevels) {
     state.SkipWithError("roughing failed or wrong level count");
@@ -135,7 +136,7 @@ void BM_RoughMesh(benchmark::State& state) {
   state.counters["islands"] = static_cast<double>(islands);
   state.counters["tool_points"] = static_cast<double>(r.tool_points);
   state.counters["cut_m"] = r.machining.metrics.cut_length_mm / 1000;
-  state.counters["gcode_MB"] = static_cast<double>(r.machining.gcode.size()) / 1e6;
+  state.counters["gcode_MB"] = static_cast<double>(gcode::write(r.machining.program, gcode::linuxcnc()).size()) / 1e6;
 }
 BENCHMARK(BM_RoughMesh)->Arg(0)->Arg(1)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
 

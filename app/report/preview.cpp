@@ -157,8 +157,16 @@ StepKind step_kind(int motion, const std::array<double, 3>& from, const std::arr
   return std::abs(dz) > eps ? StepKind::Helix : StepKind::Cut;
 }
 
+PreviewProgram read_preview_program(std::string name, std::string text, std::string_view source) {
+  PreviewProgram p;
+  p.name = std::move(name);
+  p.written.program = gcode::read(text, source);
+  p.written.text = std::move(text);
+  return p;
+}
+
 PreviewPath preview_path(const PreviewProgram& program, std::size_t max_points, double arc_step_deg) {
-  const gcode::Program prog = gcode::read(program.gcode, program.source.empty() ? program.name : program.source);
+  const gcode::Program& prog = program.written.program;
   std::vector<RawPoint> raw;
   PreviewPath path;
   bool have = false;
@@ -262,7 +270,7 @@ std::string preview_data_json(const PreviewInput& in) {
       << ",\"line\":" << jarr(p.line, [](std::uint32_t v) { return std::to_string(v); });
     // The text of the lines the kept points come from (each once), for the "current line" display.
     std::vector<std::string_view> text;
-    const std::string& g = in.programs[k].gcode;
+    const std::string& g = in.programs[k].written.text;
     for (std::size_t a = 0; a <= g.size();) {
       std::size_t b = g.find('\n', a);
       if (b == std::string::npos) b = g.size();

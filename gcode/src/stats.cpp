@@ -91,7 +91,63 @@ double junction_speed(const Point3& u, const Point3& v, double acceleration_mm_s
   return std::sqrt(acceleration_mm_s2 * junction_deviation_mm * s / (1 - s));
 }
 
-ProgramStats stats(const Program& program, const MotionModel& model) {
+namespace {
+
+/// The in-stock figures of ProgramStats (StockFrame): one pass over the moves in program order.
+void add_stock_figures(const Program& program, const StockFrame& frame, ProgramStats& s) {
+  constexpr double kZEps = 1e-9;  // mm: a Z equal to another within this is the same height
+  Point3 pos{0, 0, frame.clearance_z_mm};
+  bool cut_since = false, retracted_after_cut = false, after_rapid = true;
+  for (const Item& item : program.items) {  // O(items)
+    const auto* mp = std::get_if<Move>(&item);
+    if (mp == nullptr) continue;
+    const Move& m = *mp;
+    const bool drill = m.op == 1;
+    double xy = std::hypot(m.to[0] - pos[0], m.to[1] - pos[1]);
+    if (m.motion == Motion::ArcCW || m.motion == Motion::ArcCCW) {
+      const double r = std::hypot(pos[0] - m.center[0], pos[1] - m.center[1]);
+      const double a0 = std::atan2(pos[1] - m.center[1], pos[0] - m.center[0]);
+      const double a1 = std::atan2(m.to[1] - m.center[1], m.to[0] - m.center[0]);
+      double sw = m.motion == Motion::ArcCCW ? a1 - a0 : a0 - a1;
+      while (sw <= 1e-12) sw += 2 * kPi;
+      xy = r * sw;
+    }
+    const double dz = std::abs(m.to[2] - pos[2]);
+    const double len3 = std::hypot(xy, dz);
+    if (m.motion == Motion::Rapid) {
+      s.xy_rapid_length_mm += xy;
+      s.time_at_feeds_min += len3 / frame.rapid_mm_min;
+      s.time_constant_feed_min += len3 / frame.rapid_mm_min;
+      if (!drill && m.to[2] >= frame.clearance_z_mm - kZEps && pos[2] < frame.clearance_z_mm - kZEps && cut_since) {
+        retracted_after_cut = true;
+        cut_since = false;
+      }
+      after_rapid = true;
+    } else {
+      if (!drill && m.to[2] < pos[2] - kZEps && after_rapid) {
+        ++s.entries;
+        if (retracted_after_cut) ++s.retractions;  // a retraction counts when the tool goes back in
+        retracted_after_cut = false;
+      }
+      after_rapid = false;
+      if (std::min(m.to[2], pos[2]) < 0) {
+        s.xy_cut_length_mm += xy;
+        if (!drill) cut_since = true;
+      }
+      const double f = m.feed > 0 ? m.feed : frame.nominal_feed_mm_min;
+      s.time_at_feeds_min += len3 / f;
+      const bool lateral = dz < kZEps && !drill && frame.nominal_feed_mm_min > 0;
+      s.time_constant_feed_min += len3 / (lateral ? frame.nominal_feed_mm_min : f);
+    }
+    pos = m.to;
+  }
+}
+
+}  // namespace
+
+ProgramStats stats(const Program& program, const MotionModel& model, const StockFrame& frame) {
+  positive(model.rapid_mm_min, "rapid_mm_min");
+  positive(frame.rapid_mm_min, "stock frame rapid_mm_min");
   positive(model.rapid_mm_min, "rapid_mm_min");
   positive(model.max_feed_mm_min, "max_feed_mm_min");
   positive(model.acceleration_mm_s2, "acceleration_mm_s2");
@@ -113,8 +169,9 @@ ProgramStats stats(const Program& program, const MotionModel& model) {
       if ((known & (1U << a)) == 0) from[a] = m->to[a];  // unknown start: no travel on that axis
     known |= m->axes;
     const bool rapid = m->motion == Motion::Rapid;
-    if (!rapid && !(m->feed > 0)) throw Error("gcode: feed move with no feed");
-    const double v_min = rapid ? model.rapid_mm_min : std::min(m->feed, model.max_feed_mm_min);
+    if (!rapid && !(m->feed > 0) && !(frame.nominal_feed_mm_min > 0)) throw Error("gcode: feed move with no feed");
+    const double feed = m->feed > 0 ? m->feed : frame.nominal_feed_mm_min;
+    const double v_min = rapid ? model.rapid_mm_min : std::min(feed, model.max_feed_mm_min);
     const double v = v_min / 60;
     double length = 0;
     if (m->motion == Motion::Rapid || m->motion == Motion::Line) {
@@ -155,6 +212,7 @@ ProgramStats stats(const Program& program, const MotionModel& model) {
   s.feed_time_min = feed_time_s / 60;
   s.kinematic_time_min = plan.time_s(model.acceleration_mm_s2, model.junction_deviation_mm) / 60;
   s.blocks = plan.size();
+  add_stock_figures(program, frame, s);
   return s;
 }
 

@@ -1,6 +1,8 @@
 // Program → text (see writer.hpp for the layout and the dialect differences).
 #include "millnet/gcode/writer.hpp"
 
+#include "millnet/gcode/reader.hpp"
+
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 
@@ -40,10 +42,26 @@ Dialect grbl(int decimals) {
   return d;
 }
 
+const std::vector<DialectEntry>& dialects() {
+  static const std::vector<DialectEntry> kDialects = {
+      {"linuxcnc", "LinuxCNC (rs274ngc): T<n> M6 tool changes, M1 optional stops", &linuxcnc},
+      {"grbl", "GRBL 1.1 (hobby routers): no M6 (a comment and M0 pause), lines within its 80-character buffer", &grbl},
+  };
+  return kDialects;
+}
+
+std::vector<std::string> dialect_names() {
+  std::vector<std::string> names;
+  for (const DialectEntry& d : dialects()) names.emplace_back(d.name);
+  return names;
+}
+
 Dialect dialect_named(std::string_view name, int decimals) {
-  if (name == "linuxcnc") return linuxcnc(decimals);
-  if (name == "grbl") return grbl(decimals);
-  throw Error("gcode: dialect must be \"linuxcnc\" or \"grbl\", got \"" + std::string(name) + "\"");
+  for (const DialectEntry& d : dialects())
+    if (d.name == name) return d.make(decimals);
+  std::string accepted;
+  for (const DialectEntry& d : dialects()) accepted += (accepted.empty() ? "\"" : ", \"") + std::string(d.name) + "\"";
+  throw Error("gcode: dialect must be one of " + accepted + ", got \"" + std::string(name.substr(0, 40)) + "\"");
 }
 
 namespace {
@@ -140,8 +158,17 @@ std::string write(const Program& program, const Dialect& dialect) {
   return w.text();
 }
 
-void write_file(const std::filesystem::path& path, const Program& program, const Dialect& dialect) {
-  write_file_atomic(path, write(program, dialect));
+Written written(const Program& program, const Dialect& dialect, std::string_view source_name) {
+  Written w;
+  w.text = write(program, dialect);
+  w.program = read(w.text, source_name);
+  return w;
+}
+
+Written write_program(const std::filesystem::path& path, const Program& program, const Dialect& dialect) {
+  Written w = written(program, dialect, path.string());
+  write_file_atomic(path, w.text);
+  return w;
 }
 
 }  // namespace millnet::gcode

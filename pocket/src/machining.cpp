@@ -42,15 +42,15 @@ Chain loop_chain(const std::vector<Vec2>& loop, const Path2D& after, double R) {
 
 void fill_program_metrics(MachiningResult& r, const CutParams& cut, const GcodeParams& gp,
                           const gcode::MotionModel& machine) {
-  const MoveStats ms = move_stats(r.program, cut);
-  r.metrics.time_kinematic_min = gcode::stats(r.program, machine).kinematic_time_min;
+  const gcode::ProgramStats st = gcode::stats(r.program, machine, stock_frame(cut));
+  r.metrics.time_kinematic_min = st.kinematic_time_min;
   r.metrics.max_engagement_deg = max_engagement_deg(r.feed_profile);
-  r.metrics.cut_length_mm = ms.cut_length_mm;
-  r.metrics.rapid_length_mm = ms.rapid_length_mm;
-  r.metrics.retractions = static_cast<double>(ms.retractions);
-  r.metrics.plunges = static_cast<double>(ms.plunges);
-  r.metrics.time_adjusted_min = ms.time_adjusted_min;
-  r.metrics.time_constant_min = ms.time_constant_min;
+  r.metrics.cut_length_mm = st.xy_cut_length_mm;
+  r.metrics.rapid_length_mm = st.xy_rapid_length_mm;
+  r.metrics.retractions = static_cast<double>(st.retractions);
+  r.metrics.plunges = static_cast<double>(st.entries);
+  r.metrics.time_adjusted_min = st.time_at_feeds_min;
+  r.metrics.time_constant_min = st.time_constant_feed_min;
   r.metrics.levels = static_cast<double>(r.levels.size());
   // Pre-drill points: distinct holes the program drills (predrill entry) or would need.
   std::vector<Vec2> holes;
@@ -59,7 +59,6 @@ void fill_program_metrics(MachiningResult& r, const CutParams& cut, const GcodeP
       if (std::none_of(holes.begin(), holes.end(), [&](const Vec2& h) { return (h - p).norm() < 1e-6; }))
         holes.push_back(p);
   r.metrics.predrill_points = gp.entry == Entry::Predrill ? static_cast<double>(holes.size()) : 0.0;
-  r.gcode = gcode_text(r.program, gp);
 }
 
 GcodeParams gcode_params(const CutParams& cut, const MachiningOptions& opt) {
@@ -70,7 +69,6 @@ GcodeParams gcode_params(const CutParams& cut, const MachiningOptions& opt) {
   gp.ramp_clearance_mm = opt.ramp_clearance_mm;
   gp.program_name = opt.program_name;
   gp.comments = opt.comments;
-  gp.decimals = opt.decimals;
   return gp;
 }
 

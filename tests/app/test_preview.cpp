@@ -51,7 +51,7 @@ constexpr const char* kProgram =
     "M30\n";
 
 TEST(PreviewPath, RoundTripsTheMovesWithTheirKindFeedAndLine) {
-  const PreviewProgram p{"t", kProgram, "t.nc"};
+  const PreviewProgram p = read_preview_program("t", kProgram, "t.nc");
   const PreviewPath path = preview_path(p, 1000000, 6);
   EXPECT_EQ(path.moves, 8u);
   EXPECT_EQ(path.points_before, path.kind.size());
@@ -99,8 +99,9 @@ TEST(PreviewPath, RoundTripsTheMovesWithTheirKindFeedAndLine) {
 }
 
 TEST(PreviewPath, ARampIsALineDownEnteringFromARapid) {
-  const PreviewPath path =
-      preview_path({"r", "G21\nG0 X0 Y0 Z1\nG1 X5 Y0 Z-0.5 F300\nG1 X0 Y0 Z-1\nG1 X5 Y0\nM30\n", "r.nc"}, 100, 6);
+  const PreviewPath path = preview_path(
+      read_preview_program("r", "G21\nG0 X0 Y0 Z1\nG1 X5 Y0 Z-0.5 F300\nG1 X0 Y0 Z-1\nG1 X5 Y0\nM30\n", "r.nc"), 100,
+      6);
   ASSERT_EQ(path.kind.size(), 4u);
   EXPECT_EQ(path.kind[1], static_cast<std::uint8_t>(StepKind::Ramp));
   EXPECT_EQ(path.kind[2], static_cast<std::uint8_t>(StepKind::Ramp));  // the zigzag ramp goes on
@@ -110,7 +111,7 @@ TEST(PreviewPath, ARampIsALineDownEnteringFromARapid) {
 TEST(PreviewData, EmbedsThePathTheLinesTextAndSaysWhatWasDecimated) {
   PreviewInput in;
   in.title = "t";
-  in.programs.push_back({"t", kProgram, "t.nc"});
+  in.programs.push_back(read_preview_program("t", kProgram, "t.nc"));
   const json full = json::parse(preview_data_json(in));
   const PreviewPath path = preview_path(in.programs[0], 1000000, 6);
   ASSERT_EQ(full["programs"][0]["xyz"].size(), path.xyz.size());
@@ -131,7 +132,7 @@ TEST(PreviewData, EmbedsThePathTheLinesTextAndSaysWhatWasDecimated) {
 
 TEST(PreviewData, SurfaceOverTheBudgetIsStridedAndKeepsItsValues) {
   PreviewInput in;
-  in.programs.push_back({"t", kProgram, "t.nc"});
+  in.programs.push_back(read_preview_program("t", kProgram, "t.nc"));
   PreviewSurface s;
   s.z = Eigen::MatrixXd::Zero(100, 80);
   s.value.resize(100, 80);
@@ -155,7 +156,7 @@ TEST(PreviewPage, BigJobStaysUnder50MbInlinesThreeJsAndNeverClosesItsScriptEarly
   g << "G0 Z5\nM30\n";
   PreviewInput in;
   in.title = "big </script> <b>";
-  in.programs.push_back({"big", g.str(), "big.nc"});
+  in.programs.push_back(read_preview_program("big", g.str(), "big.nc"));
   const std::string html = preview_html(in);
   EXPECT_LT(html.size(), 50u * 1024 * 1024);
   EXPECT_NE(html.find("OrbitControls"), std::string::npos);
@@ -171,7 +172,7 @@ TEST(PreviewPage, BigJobStaysUnder50MbInlinesThreeJsAndNeverClosesItsScriptEarly
 TEST(PreviewPage, MissingDebianScriptIsOneClearError) {
   ::setenv("MILLNET_JS_DIR", "/nonexistent/js", 1);
   PreviewInput in;
-  in.programs.push_back({"t", kProgram, "t.nc"});
+  in.programs.push_back(read_preview_program("t", kProgram, "t.nc"));
   try {
     (void)preview_html(in);
     ADD_FAILURE() << "no error";
@@ -184,10 +185,8 @@ TEST(PreviewPage, MissingDebianScriptIsOneClearError) {
 }
 
 TEST(PreviewPage, UnreadableProgramNamesTheFile) {
-  PreviewInput in;
-  in.programs.push_back({"bad", "G21\nG1 X1 Q7\nM30\n", "bad.nc"});
   try {
-    (void)preview_data_json(in);
+    (void)read_preview_program("bad", "G21\nG1 X1 Q7\nM30\n", "bad.nc");
     ADD_FAILURE() << "no error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("bad.nc"), std::string::npos) << e.what();

@@ -109,7 +109,7 @@ TEST(GcodeWriter, Errors) {
 TEST(GcodeWriter, FileIsWrittenWhole) {
   const auto dir = std::filesystem::temp_directory_path() / ("millnet_gcode_w_" + std::to_string(::getpid()));
   const auto f = dir / "a.nc";
-  write_file(f, sample(), linuxcnc());
+  write_program(f, sample(), linuxcnc());
   std::ifstream in(f);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_EQ(text, kSampleLinuxcnc);
@@ -149,7 +149,7 @@ TEST(GcodeWriter, LinuxcncInterpreterAcceptsWrittenPrograms) {
       name += std::to_string(k++);
       name += ".nc";
       const auto f = dir / name;
-      write_file(f, prog, d);
+      write_program(f, prog, d);
       const std::string cmd = "/usr/bin/rs274 -g '" + f.string() + "' </dev/null >/dev/null 2>&1";
       EXPECT_EQ(std::system(cmd.c_str()), 0) << d.name << "\n" << write(prog, d);
     }

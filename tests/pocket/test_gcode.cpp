@@ -1,4 +1,5 @@
 // G-code writer checked by the independent replay (tests/testing/gcode_replay).
+#include "testing/program_text.hpp"
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/gcode/reader.hpp"
@@ -64,7 +65,7 @@ TEST(PocketGcode, RoundTripThroughIndependentReplay) {
   gp.cut.tool_diameter = 6;
   gp.cut.safe_z = 5;
   const auto levels = two_levels(r);
-  const std::string text = write_gcode(levels, gp);
+  const std::string text = millnet::testing::linuxcnc_text(build_program(levels, gp));
   auto rep = millnet::testing::replay_gcode(text, gp.cut.safe_z);
   const double per_level = sample_path().cut_length();
   ASSERT_EQ(rep.cut_length_by_z.size(), 2u);
@@ -78,11 +79,11 @@ TEST(PocketGcode, RoundTripThroughIndependentReplay) {
   millnet::testing::check_gouge(rep, to_replay(r), 3.0);
   EXPECT_EQ(rep.violations, 0) << rep.first_violation;
   // The module's own figures agree with the replay.
-  const MoveStats ms = move_stats(build_program(levels, gp), gp.cut);
-  EXPECT_NEAR(ms.cut_length_mm, rep.cut_length, 1e-3);
-  EXPECT_NEAR(ms.rapid_length_mm, rep.rapid_length, 1e-3);
+  const millnet::gcode::ProgramStats ms = millnet::gcode::stats(build_program(levels, gp), {}, stock_frame(gp.cut));
+  EXPECT_NEAR(ms.xy_cut_length_mm, rep.cut_length, 1e-3);
+  EXPECT_NEAR(ms.xy_rapid_length_mm, rep.rapid_length, 1e-3);
   EXPECT_EQ(ms.retractions, 3u);
-  EXPECT_EQ(ms.plunges, 4u);  // milling entries only
+  EXPECT_EQ(ms.entries, 4u);  // milling entries only
   // F only where it changes; header words; no canned cycles; ends with M30.
   std::istringstream in(text);
   std::string line, last_f;
@@ -102,7 +103,7 @@ TEST(PocketGcode, RoundTripThroughIndependentReplay) {
   EXPECT_NE(text.find("PRE-DRILL"), std::string::npos);
   EXPECT_EQ(text.substr(text.size() - 4), "M30\n");
   // Deterministic bytes.
-  EXPECT_EQ(text, write_gcode(levels, gp));
+  EXPECT_EQ(text, millnet::testing::linuxcnc_text(build_program(levels, gp)));
 }
 
 namespace {
@@ -125,7 +126,8 @@ TEST(PocketGcode, HelixAndRampEntriesStayClear) {
     GcodeParams gp;
     gp.entry = parse_entry(entry);
     gp.cut.tool_diameter = 10;
-    const std::string text = write_gcode(one_chain_at_z5(r, {{10, 7, 0}, {50, 7, 0}}), gp);
+    const std::string text =
+        millnet::testing::linuxcnc_text(build_program(one_chain_at_z5(r, {{10, 7, 0}, {50, 7, 0}}), gp));
     auto rep = millnet::testing::replay_gcode(text, gp.cut.safe_z);
     millnet::testing::check_gouge(rep, to_replay(r), 5.0);
     EXPECT_EQ(rep.violations, 0) << entry << ": " << rep.first_violation;
@@ -162,8 +164,9 @@ TEST(PocketGcode, HelixDescendsAtTheEntryFeedAndTrimsItsFloorAtTheSlotFeed) {
   };
   const auto check = [&](double angle_deg, int want_descending, double want_ramp_xy) {
     gp.entry_angle_deg = angle_deg;
-    const auto rep =
-        millnet::testing::replay_gcode(write_gcode(one_chain_at_z5(r, {{30, 20, 0}, {45, 20, 0}}), gp), gp.cut.safe_z);
+    const auto rep = millnet::testing::replay_gcode(
+        millnet::testing::linuxcnc_text(build_program(one_chain_at_z5(r, {{30, 20, 0}, {45, 20, 0}}), gp)),
+        gp.cut.safe_z);
     int descending = 0, flat = 0, straight_down = 0;
     double ramp_xy = 0;
     for (const auto& m : rep.moves) {
@@ -227,7 +230,7 @@ TEST(PocketGcode, HelixEndsWhereTheChainBeginsAndSkipsTheChainsOwnTurnRoundIt) {
   gp.cut.feed_air = 4800;
   const auto replay = [&](Entry e) {
     gp.entry = e;
-    return millnet::testing::replay_gcode(write_gcode(levels, gp), gp.cut.safe_z);
+    return millnet::testing::replay_gcode(millnet::testing::linuxcnc_text(build_program(levels, gp)), gp.cut.safe_z);
   };
   const auto floor_lines = [](const millnet::testing::ReplayResult& rep) {
     std::vector<millnet::testing::ReplayMove> out;
@@ -257,11 +260,11 @@ TEST(PocketGcode, BadParameters) {
   EXPECT_EQ(to_string(Entry::Helix), "helix");
   GcodeParams gp;
   gp.cut.feed_plunge = 0;
-  EXPECT_THROW((void)write_gcode({}, gp), millnet::Error);
+  EXPECT_THROW((void)build_program({}, gp), millnet::Error);
   GcodeParams ok;
   std::vector<LevelPlan> L(1);
   L[0].z = 1;  // above the top
-  EXPECT_THROW((void)write_gcode(L, ok), millnet::Error);
+  EXPECT_THROW((void)build_program(L, ok), millnet::Error);
 }
 
 TEST(PocketGcode, ProgramsReadBackAndLinuxcncAcceptsThem) {
@@ -272,16 +275,16 @@ TEST(PocketGcode, ProgramsReadBackAndLinuxcncAcceptsThem) {
     gp.cut.tool_diameter = 6;
     gp.cut.safe_z = 5;
     const millnet::gcode::Program prog = build_program(two_levels(r), gp);
-    const std::string text = gcode_text(prog, gp);
+    const std::string text = millnet::testing::linuxcnc_text(prog);
     // The one reader gives back the program the writer wrote: same text, same figures.
     const millnet::gcode::Program back = millnet::gcode::read(text, "pocket.nc");
-    EXPECT_EQ(gcode_text(back, gp), text) << to_string(e);
-    const MoveStats a = move_stats(prog, gp.cut);
-    const MoveStats b = move_stats(back, gp.cut);
-    EXPECT_NEAR(a.cut_length_mm, b.cut_length_mm, 1e-3);
+    EXPECT_EQ(millnet::testing::linuxcnc_text(back), text) << to_string(e);
+    const millnet::gcode::ProgramStats a = millnet::gcode::stats(prog, {}, stock_frame(gp.cut));
+    const millnet::gcode::ProgramStats b = millnet::gcode::stats(back, {}, stock_frame(gp.cut));
+    EXPECT_NEAR(a.xy_cut_length_mm, b.xy_cut_length_mm, 1e-3);
     // The text does not mark the pre-drilling operation (op 1), so read back its one hole counts
     // as one more milling plunge.
-    EXPECT_EQ(b.plunges, a.plunges + (e == Entry::Predrill ? 1u : 0u));
+    EXPECT_EQ(b.entries, a.entries + (e == Entry::Predrill ? 1u : 0u));
     if (!std::filesystem::exists("/usr/bin/rs274")) continue;
     const auto f = std::filesystem::temp_directory_path() /
                    ("millnet_pocket_rs274_" + std::to_string(::getpid()) + std::string(to_string(e)) + ".nc");

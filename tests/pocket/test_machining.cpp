@@ -1,5 +1,6 @@
 // The machining facade on the three bench pockets with a simple reference plan (row-by-row over
 // the tool points, broken where a move would gouge), checked by the independent G-code replay.
+#include "testing/program_text.hpp"
 #include "millnet/pocket/machining.hpp"
 #include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
@@ -73,7 +74,7 @@ TEST_P(BenchPocket, GougeFreeAndFiguresAgreeWithReplay) {
       opt.contour = contour;
       const MachiningResult m = machine_pocket(pf.region, cut, plan, opt);
       ASSERT_EQ(m.status, PlanStatus::Ok);
-      auto rep = millnet::testing::replay_gcode(m.gcode, cut.safe_z);
+      auto rep = millnet::testing::replay_gcode(millnet::testing::linuxcnc_text(m.program), cut.safe_z);
       millnet::testing::check_gouge(rep, to_replay(pf.region), cut.tool_diameter / 2);
       EXPECT_EQ(rep.violations, 0) << GetParam() << " " << entry << " contour " << contour << ": "
                                    << rep.first_violation;
@@ -148,6 +149,6 @@ TEST(PocketMachining, EmptyPlanGivesStatusNotGcode) {
   EXPECT_EQ(plan.status, PlanStatus::NoToolPoints);
   const MachiningResult m = machine_pocket(r, cut, plan);
   EXPECT_EQ(m.status, PlanStatus::NoToolPoints);
-  EXPECT_TRUE(m.gcode.empty());
+  EXPECT_TRUE(m.program.items.empty());
   EXPECT_FALSE(m.message.empty());
 }

@@ -13,6 +13,7 @@
 // 2026-11-26 it read the count of newly covered cell centres, which strays by several cells a step
 // and happened to fall on the planner's own cell centres here: 82.8–84.3°, and 104–108° with the
 // planner's raster shifted by half a cell.)
+#include "testing/program_text.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/pocket/machining.hpp"
 #include "millnet/pocket/offset.hpp"
@@ -84,7 +85,7 @@ Outcome run(const Region& region, const CutParams& cut, const AdaptiveParams& ap
     }
   }
   if (o.m.status != PlanStatus::Ok) return o;
-  o.rep = millnet::testing::replay_gcode(o.m.gcode, cut.safe_z);
+  o.rep = millnet::testing::replay_gcode(millnet::testing::linuxcnc_text(o.m.program), cut.safe_z);
   millnet::testing::check_gouge(o.rep, to_replay(region), cut.tool_diameter / 2);
   o.uncovered = millnet::testing::unswept_points(o.rep, region, cut.tool_diameter / 2, o.probed);
   return o;
@@ -539,8 +540,10 @@ TEST(PlannerAdaptive, SameInputSameProgram) {
   MachiningOptions opt;
   opt.entry = Entry::Helix;
   opt.contour = true;
-  const std::string a = machine_pocket(pf.region, cut, plan(pf.region, cut, AdaptiveSpec{}), opt).gcode;
-  const std::string b = machine_pocket(pf.region, cut, plan(pf.region, cut, AdaptiveSpec{}), opt).gcode;
+  const std::string a = millnet::testing::linuxcnc_text(
+      machine_pocket(pf.region, cut, plan(pf.region, cut, AdaptiveSpec{}), opt).program);
+  const std::string b = millnet::testing::linuxcnc_text(
+      machine_pocket(pf.region, cut, plan(pf.region, cut, AdaptiveSpec{}), opt).program);
   EXPECT_FALSE(a.empty());
   EXPECT_EQ(a, b);
 }

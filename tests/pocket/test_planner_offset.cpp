@@ -1,6 +1,7 @@
 // The offset (contour-parallel) planner: every bench pocket cleared with the tool down, no gouge
 // (independent G-code replay), nothing reachable left uncut; offsets that split, a region too
 // narrow for a helix, an island that touches the first ring, two components, direction.
+#include "testing/program_text.hpp"
 #include "millnet/pocket/machining.hpp"
 #include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/plan.hpp"
@@ -39,7 +40,7 @@ Outcome run(const Region& region, const CutParams& cut, bool climb = true) {
   opt.contour = true;
   o.m = machine_pocket(region, cut, o.plan, opt);
   if (o.m.status != PlanStatus::Ok) return o;
-  o.rep = millnet::testing::replay_gcode(o.m.gcode, cut.safe_z);
+  o.rep = millnet::testing::replay_gcode(millnet::testing::linuxcnc_text(o.m.program), cut.safe_z);
   millnet::testing::check_gouge(o.rep, to_replay(region), cut.tool_diameter / 2);
   o.uncovered = millnet::testing::unswept_points(o.rep, region, cut.tool_diameter / 2, o.probed);
   return o;

@@ -5,6 +5,7 @@
 // SOM alone (no contour pass): no gouge in an independent G-code replay at 0.01 mm, nothing
 // reachable left uncut (Clipper metric and an independent probe grid), no retraction beyond the
 // reachable components − 1, planned within 1 s, deterministic, and faster than before.
+#include "testing/program_text.hpp"
 #include "millnet/pocket/machining.hpp"
 #include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/plan.hpp"
@@ -205,7 +206,7 @@ Outcome run(const Region& region, const CutParams& cut, Entry entry) {
   o.m = machine_pocket(region, cut, o.plan, opt);
   o.components = offset_inward(region, cut.clearance() + tol::contour_margin_mm, tol::contour_chord_mm).size();
   if (o.m.status != PlanStatus::Ok) return o;
-  o.rep = millnet::testing::replay_gcode(o.m.gcode, cut.safe_z);
+  o.rep = millnet::testing::replay_gcode(millnet::testing::linuxcnc_text(o.m.program), cut.safe_z);
   millnet::testing::check_gouge(o.rep, to_replay(region), cut.tool_diameter / 2);
   o.uncovered = millnet::testing::unswept_points(o.rep, region, cut.tool_diameter / 2, o.probed);
   return o;
@@ -239,7 +240,7 @@ TEST_P(SomAloneBench, ClearsThePocketByItselfWithoutGouge) {
   EXPECT_GT(o.m.metrics.time_kinematic_min, o.m.path.cut_length() / 1500);  // never faster than the feed
   // Deterministic.
   const Outcome again = run(region, cut, Entry::Helix);
-  EXPECT_EQ(again.m.gcode, o.m.gcode);
+  EXPECT_EQ(millnet::testing::linuxcnc_text(again.m.program), millnet::testing::linuxcnc_text(o.m.program));
 }
 
 // The SOM alone against FreeCAD 0.20's offset pocket with its default entry, a plunge into a

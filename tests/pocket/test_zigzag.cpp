@@ -1,5 +1,6 @@
 // Zigzag paths: gouge-free by the independent G-code replay, coverage against the analytic cusp
 // bound, one connected chain per region, retractions = regions − 1.
+#include "testing/program_text.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/pocket/gcode.hpp"
 #include "millnet/pocket/machining.hpp"
@@ -48,7 +49,7 @@ millnet::testing::ReplayResult replay(const Region& region, const PlanResult& pl
   L.predrill = plan.predrill;
   GcodeParams gp;
   gp.cut = cut;
-  const std::string text = write_gcode({L}, gp);
+  const std::string text = millnet::testing::linuxcnc_text(build_program({L}, gp));
   auto r = millnet::testing::replay_gcode(text, cut.safe_z);
   millnet::testing::ReplayPocket pocket{replay_loop(region.boundary), {}};
   for (const Loop& i : region.islands) pocket.islands.push_back(replay_loop(i));

@@ -3,6 +3,7 @@
 // joined too), the G-code never gouges (independent replay), and an independent raster oracle finds
 // the linked plan cutting what the regions cut on their own, plus only the wall band the contour
 // pass sweeps anyway.
+#include "testing/program_text.hpp"
 #include "millnet/pocket/machining.hpp"
 #include "millnet/pocket/plan.hpp"
 #include "millnet/pocket/io/pocket_io.hpp"
@@ -128,7 +129,7 @@ TEST_P(ZigzagLinks, RegionsJoinedThroughCutMaterialSaveARetractionAndAnEntryEach
   opt.link_walls = true;
   const MachiningResult ml = machine_pocket(pf.region, cut, linked, opt);
   ASSERT_EQ(ml.status, PlanStatus::Ok) << ml.message;
-  auto rep = millnet::testing::replay_gcode(ml.gcode, cut.safe_z);
+  auto rep = millnet::testing::replay_gcode(millnet::testing::linuxcnc_text(ml.program), cut.safe_z);
   millnet::testing::check_gouge(rep, to_replay(pf.region), R);
   EXPECT_EQ(rep.violations, 0) << rep.first_violation;
   EXPECT_LE(ml.metrics.retractions + static_cast<double>(sl.region_links), ma.metrics.retractions);

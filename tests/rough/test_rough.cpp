@@ -3,6 +3,7 @@
 // TRIANGLES (exact maximum of the piecewise-linear surface under the tool disk), independent of the
 // planner, the pocket module and the ingest z-buffer. The CLI batch contract is test_app's
 // (tests/app/test_cli_rough.cpp).
+#include "testing/program_text.hpp"
 #include "testing/gcode_replay.hpp"
 #include "testing/mesh_gouge.hpp"
 
@@ -343,7 +344,7 @@ TEST(RoughLevels, PlainBoxIsRoughedAroundDownToTheFloor) {
   // The floor level's cutting moves run in the ring around the box, at ≥ R from it and never
   // farther out than a clearance beyond the stock edge. (How much of the ring next to the wall
   // is swept depends on the planner's grid: rough_mesh runs no contour pass.)
-  const auto rep = millnet::testing::replay_gcode(r.machining.gcode, p.cut.safe_z);
+  const auto rep = millnet::testing::replay_gcode(millnet::testing::linuxcnc_text(r.machining.program), p.cut.safe_z);
   int floor_moves = 0;
   for (const auto& mv : rep.moves) {
     if (mv.g == 0 || std::abs(mv.to[2] + 21.0) > 1e-3 || std::abs(mv.from[2] + 21.0) > 1e-3) continue;
@@ -413,7 +414,7 @@ TEST_P(RoughGouge, WrittenGcodeNeverCutsBelowTheMeshPlusStockToLeave) {
   const Result r = rough_mesh(part, p);
   ASSERT_EQ(r.machining.status, pocket::PlanStatus::Ok) << r.machining.message;
   const std::string stem = case_name(testing::TestParamInfo<GougeCase>(gc, 0));
-  const std::string& gcode = r.machining.gcode;
+  const std::string& gcode = millnet::testing::linuxcnc_text(r.machining.program);
   ASSERT_FALSE(gcode.empty());
   // The frame, computed independently of Result: Z = 0 at the part's top + top allowance.
   const double stock_top = part.V.col(2).maxCoeff() + p.top_allowance_mm;

@@ -58,7 +58,8 @@ TEST(Cutter, ChecksRefuseWhatNoModuleCanMachine) {
   try {
     Cutter::bull(4, 2.1).check();
   } catch (const millnet::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("0 < corner radius <= diameter/2 = 2, got 2.1"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("0 < corner radius <= diameter/2 = 2, got 2.1"), std::string::npos)
+        << e.what();
   }
 }
 

@@ -75,7 +75,8 @@ void Cutter::check() const {
     case CutterType::Drill:
       if (corner_radius != 0.0) throw Error("cutter: a drill has corner radius 0, got " + format_double(corner_radius));
       if (!(point_angle_deg > 0 && point_angle_deg < 180))
-        throw Error("cutter: a drill's point angle must lie in (0, 180) degrees, got " + format_double(point_angle_deg));
+        throw Error("cutter: a drill's point angle must lie in (0, 180) degrees, got " +
+                    format_double(point_angle_deg));
       break;
   }
   if (!(std::isfinite(flute_length_mm) && flute_length_mm >= 0 && flute_length_mm <= 10000))

@@ -29,6 +29,17 @@ struct MotionModel {
   double junction_deviation_mm = 0.01;
 };
 
+/// The frame of the in-stock figures (Shin & Suh's comparison of roughing programs): Z 0 is the
+/// stock top; the tool starts at clearance height above X 0 Y 0; a milling move (Move::op 0) that
+/// rapids up to clearance_z_mm after cutting and enters again is a retraction.
+struct StockFrame {
+  double clearance_z_mm = 5;       ///< the program's retract height (safe Z), mm
+  double rapid_mm_min = 5000;      ///< rapid rate of the time_at_feeds figures
+  double nominal_feed_mm_min = 0;  ///< f₂: the feed of a feed move without one, and of every lateral
+                                   ///< milling cut in time_constant_feed_min (0: those take their own)
+};
+
+/// A program's figures. Lengths are 3D path lengths unless named xy_ (projected on the XY plane).
 struct ProgramStats {
   double cut_length_mm = 0;       ///< 3D path length of feed moves (G1 G2 G3)
   double rapid_length_mm = 0;     ///< 3D path length of rapids (G0)
@@ -36,11 +47,19 @@ struct ProgramStats {
   double feed_time_min = 0;       ///< Σ length / feed (rapids at rapid_mm_min, feeds capped at max_feed_mm_min)
   double kinematic_time_min = 0;  ///< with acceleration and junction speeds (the planner above)
   std::size_t blocks = 0;         ///< planner blocks (lines + arc chords, zero-length moves skipped)
+
+  // In the stock frame (StockFrame), from the tool's start above X 0 Y 0:
+  double xy_cut_length_mm = 0;        ///< XY length of feed moves reaching below Z 0 (milling and drilling)
+  double xy_rapid_length_mm = 0;      ///< XY length of rapids
+  std::size_t retractions = 0;        ///< milling retractions to clearance followed by another entry
+  std::size_t entries = 0;            ///< milling entries: descending feed moves right after a rapid
+  double time_at_feeds_min = 0;       ///< Σ 3D length / feed, rapids at StockFrame::rapid_mm_min, no acceleration
+  double time_constant_feed_min = 0;  ///< the same with every lateral milling cut at the nominal feed
 };
 
 /// Throws millnet::Error when a model value is not > 0 (junction deviation ≥ 0) or a feed move has
-/// no feed.
-[[nodiscard]] ProgramStats stats(const Program& program, const MotionModel& model);
+/// no feed (and the frame has no nominal feed for it).
+[[nodiscard]] ProgramStats stats(const Program& program, const MotionModel& model, const StockFrame& frame = {});
 
 /// Time (s) of one block of length `len` (mm) entered at v_in, left at v_out, cruising at most at
 /// v_nom (mm/s), accelerating at `a` (mm/s²); v_in, v_out ≤ v_nom and reachable from each other.

@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace millnet::gcode {
 
@@ -36,15 +37,37 @@ struct Dialect {
 
 [[nodiscard]] Dialect linuxcnc(int decimals = 4);
 [[nodiscard]] Dialect grbl(int decimals = 4);
-/// "linuxcnc" | "grbl"; throws millnet::Error naming the accepted values.
+
+/// The registry of dialects (the posts a machine profile may name, /machine/post and --post): one
+/// entry per controller, in the order the CLI lists them. A new dialect is one entry here (and its
+/// factory beside linuxcnc() and grbl()); the config schema's enum is checked against it by a test.
+struct DialectEntry {
+  std::string_view name;     ///< "linuxcnc"
+  std::string_view summary;  ///< one line for --help and docs
+  Dialect (*make)(int decimals);
+};
+[[nodiscard]] const std::vector<DialectEntry>& dialects();
+/// The registry's names, in its order.
+[[nodiscard]] std::vector<std::string> dialect_names();
+/// The dialect of a registry name; throws millnet::Error naming the accepted values.
 [[nodiscard]] Dialect dialect_named(std::string_view name, int decimals = 4);
 
 /// The program's text. Throws millnet::Error on a non-finite coordinate or feed, or decimals
 /// outside [3, 8].
 [[nodiscard]] std::string write(const Program& program, const Dialect& dialect);
 
-/// write() to a file, atomically (core's write_file_atomic: nothing half-written).
-void write_file(const std::filesystem::path& path, const Program& program, const Dialect& dialect);
+/// A program as the controller gets it: its text in a dialect, and that text read back (gcode::read),
+/// so that coordinates carry the dialect's rounding and every item its source line. What the
+/// simulator machines and the previews draw, without a round trip through the file system.
+struct Written {
+  std::string text;
+  Program program;
+};
+[[nodiscard]] Written written(const Program& program, const Dialect& dialect, std::string_view source_name);
+
+/// written() to a file, atomically (core's write_file_atomic: nothing half-written): the one place
+/// a program becomes a file. Returns what was written (source name: the path).
+Written write_program(const std::filesystem::path& path, const Program& program, const Dialect& dialect);
 
 /// Number text as the writer prints it: `decimals` decimals, trailing zeros dropped, "-0" → "0".
 [[nodiscard]] std::string format_number(double v, int decimals);

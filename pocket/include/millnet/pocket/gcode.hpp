@@ -1,6 +1,6 @@
 #pragma once
-// G-code output (RS-274, runs unchanged on LinuxCNC and GRBL): G21 G90 G17 G94, G0/G1/G2/G3 with
-// I J (incremental arc centres), F only where it changes, M3 S… / M5 / M30, parameters as comments.
+// The pocket's program (a gcode::Program: the text of a dialect is written at the edge, by
+// gcode::write_program): G0/G1/G2/G3 with feeds, spindle on and off, parameters as header comments.
 // No canned cycles, no tool-length or work offsets. Pocket top Z = 0, floor Z = −depth.
 //
 // Every level is planned on its own (issue 5 passes a different region and plan per Z level):
@@ -13,6 +13,7 @@
 //   its descent ends at the chain's first point, where its flat turn at the floor closes and the
 //   chain begins (after the chain's own turn round the bore, Chain::entry_turn, if it has one).
 #include "millnet/gcode/program.hpp"
+#include "millnet/gcode/stats.hpp"
 #include "millnet/pocket/toolpath.hpp"
 
 #include <cstdint>
@@ -65,26 +66,9 @@ struct GcodeParams {
 /// Throws millnet::Error on bad parameters (level z ≥ top_z, non-positive feeds…).
 [[nodiscard]] gcode::Program build_program(const std::vector<LevelPlan>& levels, const GcodeParams& params);
 
-/// The program text (gcode::write, LinuxCNC dialect with params.decimals).
-[[nodiscard]] std::string gcode_text(const gcode::Program& program, const GcodeParams& params);
-[[nodiscard]] std::string write_gcode(const std::vector<LevelPlan>& levels, const GcodeParams& params);
-
-/// write_gcode to a file, atomically.
-void write_gcode_file(const std::filesystem::path& path, const std::vector<LevelPlan>& levels,
-                      const GcodeParams& params);
-
-/// Figures of a program (the same the G-code contains); pre-drilling moves are those with op = 1. Times in minutes: G0 at rapid_rate,
-/// feed moves at their feed; "constant" replaces every XY cutting feed by feed_half.
-struct MoveStats {
-  double cut_length_mm = 0;     ///< XY length of feed moves below Z = 0 (milling and drilling)
-  double rapid_length_mm = 0;   ///< XY length of rapids
-  double plunge_length_mm = 0;  ///< Z length of feed moves
-  std::size_t retractions = 0;  ///< milling retractions to safe Z followed by another entry
-  std::size_t plunges = 0;      ///< milling entries (descending feed moves right after a rapid)
-  double time_adjusted_min = 0;
-  double time_constant_min = 0;
-};
-[[nodiscard]] MoveStats move_stats(const gcode::Program& program, const CutParams& cut);
+/// The frame of a pocket program's in-stock figures (gcode::ProgramStats' xy_ lengths, retractions,
+/// entries and the feed-map / constant-feed times): safe Z, rapid rate and f₂ of `cut`.
+[[nodiscard]] gcode::StockFrame stock_frame(const CutParams& cut);
 
 /// Most Z levels of one program (a pocket or a roughing run).
 inline constexpr std::int64_t kMaxLevels = 10000;

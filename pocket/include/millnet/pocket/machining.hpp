@@ -5,7 +5,7 @@
 //   PlanResult plan = my_planner(region, cut);              // SOM, zigzag, …
 //   MachiningResult m = machine_pocket(region, cut, plan, {.entry = Entry::Predrill, .contour = true});
 //   if (m.status != PlanStatus::Ok) { report m.message; write no G-code; }
-//   else write_file_atomic(out / (stem + ".nc"), m.gcode);
+//   else gcode::write_program(out / (stem + ".nc"), m.program, dialect);
 #include "millnet/gcode/stats.hpp"
 #include "millnet/pocket/feedmap.hpp"
 #include "millnet/pocket/gcode.hpp"
@@ -30,8 +30,7 @@ struct MachiningOptions {
   bool link_walls = true;
   std::string program_name;
   std::vector<std::string> comments;  ///< extra header comments (e.g. the source file, planner)
-  int decimals = 4;
-  gcode::MotionModel machine;  ///< for Metrics::time_kinematic_min
+  gcode::MotionModel machine;         ///< for Metrics::time_kinematic_min
 };
 
 struct MachiningResult {
@@ -43,8 +42,7 @@ struct MachiningResult {
   /// machine_levels: per entry of `levels`, the reachable area of its region the level's path
   /// leaves uncut, mm² (uncut_area); the metrics hold their sums.
   std::vector<double> level_uncut_mm2;
-  gcode::Program program;  ///< what gcode says (empty when status != Ok)
-  std::string gcode;       ///< empty when status != Ok
+  gcode::Program program;  ///< the program (empty when status != Ok); written by gcode::write_program
   Metrics metrics;
 };
 
@@ -88,7 +86,7 @@ void complete_path(const Region& region, const CutParams& cut, const PlanResult&
                                              const MachiningOptions& opt = {});
 
 /// Machines a stack of already planned levels (issue 5: a different region and plan per Z level,
-/// top-down; each level's path gets its own feed map). Fills levels, program, gcode and the program
+/// top-down; each level's path gets its own feed map). Fills levels, program and the program
 /// figures of metrics (not tool_points / tour / planning time / uncut area).
 [[nodiscard]] MachiningResult machine_levels(std::vector<LevelPlan> levels, const CutParams& cut,
                                              const MachiningOptions& opt = {});

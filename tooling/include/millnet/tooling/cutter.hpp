@@ -29,8 +29,8 @@ inline constexpr double kDefaultPointAngleDeg = 118;
 
 struct Cutter {
   CutterType type = CutterType::Ball;
-  double diameter = 2;       ///< mm, in (0, kMaxCutterDiameterMm]
-  double corner_radius = 1;  ///< mm; flat and drill 0, ball diameter/2, bull in (0, diameter/2]
+  double diameter = 2;                             ///< mm, in (0, kMaxCutterDiameterMm]
+  double corner_radius = 1;                        ///< mm; flat and drill 0, ball diameter/2, bull in (0, diameter/2]
   double point_angle_deg = kDefaultPointAngleDeg;  ///< drill only: included angle of the tip, (0, 180)
   double flute_length_mm = 0;                      ///< cutting length above the tip; 0 = not stated
   double reach_mm = 0;                             ///< stick-out: tip to holder; 0 = not stated

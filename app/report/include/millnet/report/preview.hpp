@@ -8,13 +8,15 @@
 //
 // three.js and its OrbitControls (Debian libjs-three, r111) and Chart.js (libjs-chart.js) are read
 // from the Debian paths at run time (preview_assets()) and inlined; nothing is fetched by the page.
-// Programs are taken as G-code text and read back with gcode::read, so a page shows exactly what the
-// file says and works for any file the reader accepts. Large jobs are decimated for display (path
+// Programs are taken as written (gcode::Written: the text and the program read back from it), so a
+// page shows exactly what the file says and works for any file the reader accepts. Large jobs are decimated for display (path
 // points and surface cells, see PreviewLimits) and the page says what was dropped.
 //
 // Frame: mm, Z up, the program's frame (Z = 0 at the stock top). Same input ⇒ same bytes.
 // Errors: an unreadable program, a missing script file or an unwritable path throw millnet::Error
 // naming the file.
+#include "millnet/gcode/writer.hpp"
+
 #include <Eigen/Core>
 
 #include <array>
@@ -41,10 +43,15 @@ inline constexpr int kPanelWidthPx = 280;
 enum class StepKind : std::uint8_t { Rapid = 0, Cut = 1, Plunge = 2, Ramp = 3, Helix = 4 };
 
 struct PreviewProgram {
-  std::string name;    ///< shown in the legend (e.g. "zigzag", "s3 finish")
-  std::string gcode;   ///< the program's text
-  std::string source;  ///< file name for messages
+  std::string name;  ///< shown in the legend (e.g. "zigzag", "s3 finish")
+  /// The program as written: its text (the page shows its lines) and that text read back (the
+  /// page draws its moves; Program::source_line ties each to its line). gcode::written() gives both.
+  gcode::Written written;
 };
+
+/// A program from its text (a file's content): read with gcode::read, which throws millnet::Error
+/// "<source>:<line>: …" on text it cannot read.
+[[nodiscard]] PreviewProgram read_preview_program(std::string name, std::string text, std::string_view source);
 
 struct PreviewTool {
   double diameter_mm = 6;
@@ -102,7 +109,7 @@ struct PreviewPath {
 /// moves; helix: an arc that changes Z).
 [[nodiscard]] StepKind step_kind(int motion, const std::array<double, 3>& from, const std::array<double, 3>& to);
 
-/// Reads a program's text and tessellates it into display points, keeping at most `max_points`.
+/// Tessellates a program into display points, keeping at most `max_points`.
 [[nodiscard]] PreviewPath preview_path(const PreviewProgram& program, std::size_t max_points, double arc_step_deg);
 
 /// The JSON the page embeds (numbers rounded to µm): exposed for tests.
