@@ -12,7 +12,7 @@
 #include <cmath>
 #include <optional>
 #include <iostream>
-#include <map>
+#include <set>
 #include <mutex>
 #include <omp.h>
 
@@ -129,41 +129,41 @@ ingest::CadOptions cad_options(const Json& config) {
   return c;
 }
 
-namespace {
-std::mutex g_cad_mutex;
-std::map<std::string, Json> g_cad;  // file → its "cad" metrics (load_part)
-}  // namespace
-
-ingest::Mesh load_part(const fs::path& file, const ingest::PrepareOptions& prep) {
+job::Part load_part(const fs::path& file, const ingest::PrepareOptions& prep) {
   ingest::MeshReport rep;
-  ingest::Mesh m = ingest::load_prepared(file, prep, &rep);
+  job::Part part;
+  part.mesh = ingest::load_prepared(file, prep, &rep);
+  part.name = file.stem().string();
+  part.file = file;
+  part.triangles = rep.triangles;
   if (rep.is_cad) {
-    const ingest::CadReport& c = rep.cad;
-    Json j = {{"format", c.format},
-              {"file_unit", c.file_unit},
-              {"file_unit_mm", c.file_unit_mm},
-              {"units_overridden", c.units_overridden},
-              {"chord_tolerance_mm", c.chord_tolerance_mm},
-              {"angular_deflection_rad", c.angular_deflection_rad},
-              {"body", c.body.empty() ? Json("all") : Json(c.body)},
-              {"bodies", c.bodies},
-              {"faces", c.faces},
-              {"triangles", rep.triangles}};
+    part.cad = rep.cad;
+    // The note once per file and process: a batch under MPI loads a part once per unit.
+    static std::mutex noted_mutex;
+    static std::set<std::string> noted;
     bool first = false;
     {
-      std::lock_guard<std::mutex> lock(g_cad_mutex);
-      first = g_cad.find(file.string()) == g_cad.end();
-      g_cad[file.string()] = j;
+      std::lock_guard<std::mutex> lock(noted_mutex);
+      first = noted.insert(file.string()).second;
     }
-    if (first && !c.units_note.empty()) std::cerr << "note: " << c.units_note << "\n";
+    if (first && !rep.cad.units_note.empty()) std::cerr << "note: " << rep.cad.units_note << "\n";
   }
-  return m;
+  return part;
 }
 
-Json cad_metrics(const fs::path& file) {
-  std::lock_guard<std::mutex> lock(g_cad_mutex);
-  const auto it = g_cad.find(file.string());
-  return it == g_cad.end() ? Json() : it->second;
+Json cad_metrics(const job::Part& part) {
+  if (!part.cad) return Json();
+  const ingest::CadReport& c = *part.cad;
+  return {{"format", c.format},
+          {"file_unit", c.file_unit},
+          {"file_unit_mm", c.file_unit_mm},
+          {"units_overridden", c.units_overridden},
+          {"chord_tolerance_mm", c.chord_tolerance_mm},
+          {"angular_deflection_rad", c.angular_deflection_rad},
+          {"body", c.body.empty() ? Json("all") : Json(c.body)},
+          {"bodies", c.bodies},
+          {"faces", c.faces},
+          {"triangles", part.triangles}};
 }
 
 void PocketFlags::add_to(CLI::App* sub, bool with_planner_flags, bool with_depth) {

@@ -5,6 +5,7 @@
 
 #include "millnet/core/budget.hpp"
 #include "millnet/ingest/mesh.hpp"
+#include "millnet/job/part.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -40,14 +41,15 @@ struct MeshFlags {
 /// /mesh of a checked config: chord_tolerance_mm, angular_deflection_rad, cad_body.
 [[nodiscard]] ingest::CadOptions cad_options(const Json& config);
 
-/// ingest::load_prepared, plus: the CAD units note (a --units that contradicts a STEP/IGES file's own
-/// unit) printed once on stderr, and what reading a CAD file found kept for cad_metrics(file).
-[[nodiscard]] ingest::Mesh load_part(const std::filesystem::path& file, const ingest::PrepareOptions& prep);
+/// ingest::load_prepared into a job::Part (named after the file's stem) with what reading a CAD
+/// file found; the CAD units note (a --units that contradicts a STEP/IGES file's own unit) is
+/// printed once per file on stderr.
+[[nodiscard]] job::Part load_part(const std::filesystem::path& file, const ingest::PrepareOptions& prep);
 
 /// The "cad" object of a part's metrics — {format, file_unit, file_unit_mm, units_overridden,
-/// chord_tolerance_mm, angular_deflection_rad, body, bodies, faces} — for a CAD file load_part read;
-/// null for mesh files.
-[[nodiscard]] Json cad_metrics(const std::filesystem::path& file);
+/// chord_tolerance_mm, angular_deflection_rad, body, bodies, faces, triangles} — for a part read
+/// from a CAD file; null for mesh files.
+[[nodiscard]] Json cad_metrics(const job::Part& part);
 
 /// Command-line overrides of the pocket section (flags win over the config, which wins over the
 /// pocket file's own keys).

@@ -6,32 +6,90 @@
 
 #include "millnet/core/error.hpp"
 #include "millnet/core/output_set.hpp"
+#include "millnet/job/part.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
+
+#include <iostream>
 
 namespace millnet::app {
 namespace fs = std::filesystem;
 
 namespace {
-/// A strategy's outcome as it travels from a rank to rank 0 (CBOR: doubles bit for bit).
-Json outcome_json(const StrategyOutcome& o) {
-  const simulate::StrategyScore& c = o.score;
-  return Json{{"strategy", static_cast<int>(o.strategy)},
-              {"metrics", o.metrics},
-              {"score",
-               {c.slot, c.ra_median_um, c.ra_p90_um, c.uncut_area_mm2, c.surface_area_mm2, c.max_gouge_mm, c.time_min}},
-              {"ra_share", o.ra_share}};
+
+/// A unit's outcomes as they travel between ranks: their metrics files' JSON, as CBOR (doubles bit
+/// for bit); the ranking is rebuilt from them on rank 0 (outcome_from_metrics).
+struct UnitOutcomes {
+  std::vector<job::StrategyOutcome> outcomes;
+  Json metrics = Json::array();
+  double cell_mm = 0;
+};
+
+std::string encode_unit(const UnitOutcomes& u) {
+  const std::vector<std::uint8_t> cbor = Json::to_cbor(Json{{"cell_mm", u.cell_mm}, {"metrics", u.metrics}});
+  return {cbor.begin(), cbor.end()};
 }
 
-StrategyOutcome outcome_from_json(const Json& j) {
-  StrategyOutcome o;
-  o.strategy = static_cast<finish::Strategy>(j.at("strategy").get<int>());
-  o.metrics = j.at("metrics");
-  const Json& c = j.at("score");
-  o.score = {c.at(0).get<int>(),    c.at(1).get<double>(), c.at(2).get<double>(), c.at(3).get<double>(),
-             c.at(4).get<double>(), c.at(5).get<double>(), c.at(6).get<double>()};
-  o.ra_share = j.at("ra_share").get<std::vector<double>>();
-  return o;
+UnitOutcomes decode_unit(const std::string& bytes) {
+  const Json j = Json::from_cbor(bytes);
+  UnitOutcomes u;
+  u.cell_mm = j.at("cell_mm").get<double>();
+  u.metrics = j.at("metrics");
+  for (const Json& m : u.metrics) u.outcomes.push_back(outcome_from_metrics(m, u.cell_mm));
+  return u;
 }
+
+/// finish over a batch of parts, one code path for one process and for MPI (distribute_typed):
+/// a unit is a part (its strategies share the drop-cutter), or under MPI a part × strategy, so
+/// that fewer parts than ranks still keep every rank busy. Rank 0 writes each part's files and its
+/// ranking when its last unit is in, in a part OutputSet: a batch writes every good part and
+/// nothing of a bad one. Returns the number of parts that failed.
+std::size_t finish_batch(const std::vector<fs::path>& files, const ingest::PrepareOptions& prep,
+                         const FinishSettings& s, const std::string& out) {
+  const std::size_t S = s.strategies.size();
+  const std::size_t per_part = cluster_size() > 1 ? S : 1, chunk = S / per_part;
+  const std::function<UnitOutcomes(std::size_t, const std::string&)> work = [&](std::size_t u, const std::string& dir) {
+    const job::Part part = load_part(files[u / per_part], prep);
+    const std::vector<finish::Strategy> mine(
+        s.strategies.begin() + static_cast<std::ptrdiff_t>(u % per_part * chunk),
+        s.strategies.begin() + static_cast<std::ptrdiff_t>((u % per_part + 1) * chunk));
+    UnitOutcomes r;
+    r.outcomes = finish_strategies(part, s, mine, dir);
+    r.cell_mm = s.sim.cell_mm;
+    for (const job::StrategyOutcome& o : r.outcomes) r.metrics.push_back(strategy_metrics(o, s, part));
+    return r;
+  };
+  std::vector<job::StrategyOutcome> outcomes;
+  std::vector<std::string> packed;
+  std::optional<std::string> error;
+  std::size_t failed = 0;
+  const std::function<void(std::size_t, UnitOutcome<UnitOutcomes> &&)> take = [&](std::size_t u,
+                                                                                  UnitOutcome<UnitOutcomes>&& r) {
+    const fs::path& f = files[u / per_part];
+    if (u % per_part == 0) outcomes.clear(), packed.clear(), error.reset();
+    if (!r.value && !error) error = r.error;
+    if (r.value && !error) {
+      outcomes.insert(outcomes.end(), r.value->outcomes.begin(), r.value->outcomes.end());
+      packed.push_back(std::move(r.files));
+    }
+    if (u % per_part != per_part - 1) return;
+    if (error) {  // the part's first failure, once; nothing of it is written
+      if (files.size() == 1) throw Error(*error);
+      warn(f.string() + ": " + *error);
+      ++failed;
+      return;
+    }
+    OutputSet part;  // this part's files complete, or none of them (core/output_set.hpp)
+    for (const std::string& p : packed) unpack_files(p, out);
+    write_strategy_ranking(f.stem().string(), s, outcomes, out);
+    part.commit();
+    info("finish: " + f.string() + ": " + std::to_string(outcomes.size()) + " strategies → " + out);
+  };
+  const DistributeStats st = distribute_typed<UnitOutcomes>(files.size() * per_part, work, take, false, "finish: parts",
+                                                            {&encode_unit, &decode_unit});
+  if (cluster_root()) log_distribution("finish", st);
+  return failed;
+}
+
 }  // namespace
 
 Registered register_finish(CLI::App& app) {
@@ -90,74 +148,12 @@ Registered register_finish(CLI::App& app) {
             if (items.empty()) throw Error("no mesh to finish: give --mesh FILE or set /finish/meshes in the config");
             const auto files = expand_inputs(items, ingest::mesh_extensions());
             const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"], &config);
-            std::size_t failed = 0;
-            if (cluster_size() > 1) {
-              // MPI: work unit = part × strategy (unit u: part u / S, strategy u % S), so a library
-              // of fewer parts than ranks still keeps every rank busy. Rank 0 writes each unit's
-              // files as it is delivered (in unit order) and a part's ranking files after its last
-              // strategy: the bytes of the one-process run.
-              const std::size_t S = s.strategies.size();
-              const auto work = [&](std::size_t u) {
-                const fs::path& f = files[u / S];
-                StrategyOutcome outcome;
-                std::string files_of_unit = write_and_pack([&](const std::string& scratch) {
-                  outcome = finish_strategy(load_part(f, prep), f.stem().string(), s, s.strategies[u % S], scratch,
-                                            cad_metrics(f));
-                });
-                const std::vector<std::uint8_t> cbor = Json::to_cbor(outcome_json(outcome));
-                std::string msg;
-                put_bytes(msg, std::string(cbor.begin(), cbor.end()));
-                put_bytes(msg, files_of_unit);
-                return msg;
-              };
-              std::vector<StrategyOutcome> part_outcomes;
-              std::optional<std::string> part_error;
-              const auto take = [&](std::size_t u, bool ok, std::string&& bytes) {
-                const fs::path& f = files[u / S];
-                if (u % S == 0) {
-                  part_outcomes.clear();
-                  part_error.reset();
-                }
-                if (!ok) {
-                  if (!part_error) part_error = bytes;
-                } else if (!part_error) {
-                  std::size_t pos = 0;
-                  const std::string cbor = get_bytes(bytes, pos);
-                  part_outcomes.push_back(outcome_from_json(Json::from_cbor(cbor)));
-                  unpack_files(get_bytes(bytes, pos), o->out);
-                }
-                if (u % S != S - 1) return;
-                if (part_error) {  // the part's first failure, once, as the one-process run reports it
-                  if (files.size() == 1) throw Error(*part_error);
-                  warn(f.string() + ": " + *part_error);
-                  ++failed;
-                  return;
-                }
-                write_strategy_ranking(f.stem().string(), s, part_outcomes, o->out);
-                info("finish: " + f.string() + ": " + std::to_string(part_outcomes.size()) + " strategies → " + o->out);
-              };
-              const DistributeStats st = distribute(files.size() * S, work, take, false, "finish: parts × strategies");
-              if (!cluster_root()) return 0;
-              log_distribution("finish", st);
-              if (failed > 0)
-                throw Error(std::to_string(failed) + " of " + std::to_string(files.size()) + " parts failed");
-              return 0;
-            }
-            for (const auto& f : files) {  // a batch keeps going past one bad part
-              try {
-                OutputSet part;  // this part's files complete, or none of them (core/output_set.hpp)
-                const auto outcomes = finish_part(load_part(f, prep), f.stem().string(), s, o->out, cad_metrics(f));
-                part.commit();
-                info("finish: " + f.string() + ": " + std::to_string(outcomes.size()) + " strategies → " + o->out);
-              } catch (const Error& e) {
-                if (files.size() == 1) throw;
-                warn(f.string() + ": " + e.what());
-                ++failed;
-              }
-            }
-            if (failed > 0)
-              throw Error(std::to_string(failed) + " of " + std::to_string(files.size()) + " parts failed");
-            return 0;
+            const std::size_t failed = finish_batch(files, prep, s, o->out);
+            if (!cluster_root() || failed == 0) return 0;
+            // The good parts are written (the command's outputs commit when it returns).
+            std::cerr << ("millnet finish: error: " + std::to_string(failed) + " of " + std::to_string(files.size()) +
+                          " parts failed (named above); the other parts are written\n");
+            return 1;
           }};
 }
 
@@ -184,22 +180,23 @@ Registered register_simulate(CLI::App& app) {
   o->mesh_flags.add_to(sub);
   sub->add_option("--out", o->out, "output folder")->check(output_path())->required();
   add_common(sub, o->common);
-  return {sub, [o]() {
-            const Json config = setup(o->common);
-            const FinishSettings s = finish_settings(config);
-            if (o->tools.size() != 1 && o->tools.size() != o->gcode.size())
-              throw Error("give one --tool for all programs or one per --gcode (" + std::to_string(o->gcode.size()) +
-                          " programs, " + std::to_string(o->tools.size()) + " tools)");
-            std::vector<std::pair<fs::path, tooling::Cutter>> programs;
-            for (std::size_t i = 0; i < o->gcode.size(); ++i)
-              programs.emplace_back(o->gcode[i], tool_arg(o->tools[o->tools.size() == 1 ? 0 : i], config));
-            const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"], &config);
-            const Json j = simulate_files(load_part(o->mesh, prep), fs::path(o->mesh).stem().string(), programs,
-                                          o->stock, s, o->out, o->save_stock);
-            info("simulate: Ra median " + j["ra_median_um"].dump() + " um, gouge " + j["max_gouge_mm"].dump() +
-                 " mm → " + o->out);
-            return 0;
-          }};
+  return {
+      sub, [o]() {
+        const Json config = setup(o->common);
+        const FinishSettings s = finish_settings(config);
+        if (o->tools.size() != 1 && o->tools.size() != o->gcode.size())
+          throw Error("give one --tool for all programs or one per --gcode (" + std::to_string(o->gcode.size()) +
+                      " programs, " + std::to_string(o->tools.size()) + " tools)");
+        std::vector<ChainProgram> programs;
+        for (std::size_t i = 0; i < o->gcode.size(); ++i)  // each file read once, before any output
+          programs.push_back(read_chain_program(o->gcode[i], tool_arg(o->tools[o->tools.size() == 1 ? 0 : i], config)));
+        const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"], &config);
+        const job::Part part = load_part(o->mesh, prep);
+        const Json j = simulate_programs(part, part.name, std::move(programs), o->stock, s, o->out, o->save_stock);
+        info("simulate: Ra median " + j["ra_median_um"].dump() + " um, gouge " + j["max_gouge_mm"].dump() + " mm → " +
+             o->out);
+        return 0;
+      }};
 }
 
 }  // namespace millnet::app

@@ -33,26 +33,26 @@ struct RoughOutcome {
   Json metrics;
 };
 
-/// Roughs one prepared mesh (or reports `load_error` when it could not be read) into `out`.
-RoughOutcome rough_prepared(const ingest::Mesh* mesh, const std::string& load_error, const fs::path& file,
+/// Roughs one loaded part (or reports `load_error` when it could not be read) into `out`.
+RoughOutcome rough_prepared(const job::Part* part, const std::string& load_error, const fs::path& file,
                             const std::string& name, const rough::Params& params, const fs::path& out,
                             const CuttingRecord& cutting, const gcode::Dialect& post) {
   RoughOutcome o{name, file.string(), load_error, false, Json::object()};
-  if (!mesh) return o;
+  if (!part) return o;
   try {
     // The holder must stay above the stock: the levels reach from the stock top to the part's base.
-    if (const double stick = cutting.tool.stickout_mm; stick > 0) {
-      const double reach = mesh->V.col(2).maxCoeff() - mesh->V.col(2).minCoeff() + params.top_allowance_mm;
-      if (reach > stick)
-        throw Error(file.string() + ": the part reaches " + fixed(reach, 2) +
-                    " mm below the stock top, beyond the stick-out " + format_double(stick) + " mm of " +
-                    cutting.tool.label() + " by " + fixed(reach - stick, 2) + " mm: the holder would hit the stock");
+    const job::Frame frame = job::frame_of(part->mesh, params.top_allowance_mm);
+    try {
+      job::check_reach(cutting.tool.cutter(), cutting.tool.label(), frame.depth_below_top(frame.part_bottom),
+                       "the part");
+    } catch (const Error& e) {
+      throw Error(file.string() + ": " + e.what());
     }
-    OutputSet part;  // this part's files complete, or none of them (core/output_set.hpp)
-    const rough::Result r = rough::rough_mesh(*mesh, params);
-    o.metrics = write_rough_outputs(out, name, r, params, cutting.tool.cutter(), post, cutting.to_json(), mesh,
-                                    cad_metrics(file));
-    part.commit();
+    OutputSet files;  // this part's files complete, or none of them (core/output_set.hpp)
+    const rough::Result r = rough::rough_mesh(part->mesh, params);
+    o.metrics = write_rough_outputs(out, name, r, params, cutting.tool.cutter(), post, cutting.to_json(), &part->mesh,
+                                    cad_metrics(*part));
+    files.commit();
     o.ok = r.machining.status == pocket::PlanStatus::Ok;
     if (!o.ok) o.error = file.string() + ": " + r.machining.message;
   } catch (const std::bad_alloc&) {
@@ -63,11 +63,11 @@ RoughOutcome rough_prepared(const ingest::Mesh* mesh, const std::string& load_er
   return o;
 }
 
-/// Reads and prepares a mesh; null and the reason when it cannot be read.
-std::shared_ptr<const ingest::Mesh> load_prepared(const fs::path& file, const ingest::PrepareOptions& prep,
-                                                  std::string* error) {
+/// Reads and prepares a part; null and the reason when it cannot be read.
+std::shared_ptr<const job::Part> load_prepared(const fs::path& file, const ingest::PrepareOptions& prep,
+                                               std::string* error) {
   try {
-    return std::make_shared<const ingest::Mesh>(load_part(file, prep));
+    return std::make_shared<const job::Part>(load_part(file, prep));
   } catch (const std::bad_alloc&) {
     *error = file.string() + ": out of memory while reading this mesh";
     return nullptr;
@@ -81,8 +81,8 @@ RoughOutcome rough_one(const fs::path& file, const std::string& name, const inge
                        const rough::Params& params, const fs::path& out, const CuttingRecord& cutting,
                        const gcode::Dialect& post) {
   std::string error;
-  const auto mesh = load_prepared(file, prep, &error);
-  return rough_prepared(mesh.get(), error, file, name, params, out, cutting, post);
+  const auto part = load_prepared(file, prep, &error);
+  return rough_prepared(part.get(), error, file, name, params, out, cutting, post);
 }
 }  // namespace
 
@@ -191,13 +191,15 @@ struct PartOutcomes {
 /// Finishes the prepared part with every strategy (simulated, files in dir/finish/), then machines
 /// the roughing program dir/<name>.nc and the top strategy's program one after the other on one
 /// z-map from flat stock (dir/<name>.rough_finish.sim.json and its pictures).
-FinishOutcome finish_test_part(const ingest::Mesh& mesh, const std::string& name, const PartPrediction& pr,
+FinishOutcome finish_test_part(const job::Part& part, const std::string& name, const PartPrediction& pr,
                                const RoughOutcome* rough, const FinishSettings& settings,
                                const tooling::Cutter& rough_cutter, const fs::path& dir) {
   FinishOutcome fo;
   try {
-    const std::vector<StrategyOutcome> outs = finish_part(mesh, name, settings, dir / "finish");
-    for (const auto& o : outs) {
+    job::Part named = part;
+    named.name = name;
+    const PartFinish pf = finish_part(named, settings, dir / "finish");
+    for (const auto& o : pf.outcomes) {
       fo.slots.push_back(static_cast<int>(o.strategy));
       fo.simulated_rank.push_back(o.rank);
       fo.ra_median_um.push_back(o.score.ra_median_um);
@@ -209,9 +211,10 @@ FinishOutcome finish_test_part(const ingest::Mesh& mesh, const std::string& name
     const auto top = std::find(fo.slots.begin(), fo.slots.end(), pr.top);
     if (pr.ok && rough != nullptr && rough->ok && top != fo.slots.end()) {
       const fs::path finish_nc = dir / "finish" / (name + ".s" + std::to_string(pr.top) + ".nc");
-      fo.chain = simulate_files(mesh, name + ".rough_finish",
-                                {{dir / (name + ".nc"), rough_cutter}, {finish_nc, settings.params.tool}}, "flat",
-                                settings, dir);
+      fo.chain = simulate_programs(
+          named, name + ".rough_finish",
+          {read_chain_program(dir / (name + ".nc"), rough_cutter), read_chain_program(finish_nc, settings.params.tool)},
+          "flat", settings, dir, false, pf.design ? &*pf.design : nullptr);
       fo.chained = true;
     }
     fo.ok = true;
@@ -252,19 +255,19 @@ PartOutcomes predict_and_rough(const Json& config, const std::string& config_fil
     std::string load_error;
     PredictInput named = p;
     named.name = name;
-    named.mesh = load_prepared(p.file, prep, &load_error);  // each mesh read once, for both steps
+    named.part = load_prepared(p.file, prep, &load_error);  // each part read once, for both steps
     auto pr = predict_parts(model, {named}, prep, dir);
     preds.push_back(pr.front());
     predict_s += std::chrono::duration<double>(clock::now() - t0).count();
     if (run.rough) {
       t0 = clock::now();
-      roughs.push_back(rough_prepared(named.mesh.get(), load_error, p.file, name, rp, dir, rough_cutting, fset.post));
+      roughs.push_back(rough_prepared(named.part.get(), load_error, p.file, name, rp, dir, rough_cutting, fset.post));
       rough_s += std::chrono::duration<double>(clock::now() - t0).count();
     }
     if (run.finish) {
       t0 = clock::now();
-      if (named.mesh)
-        po.finishes.push_back(finish_test_part(*named.mesh, name, preds.back(),
+      if (named.part)
+        po.finishes.push_back(finish_test_part(*named.part, name, preds.back(),
                                                roughs.empty() ? nullptr : &roughs.back(), fset,
                                                rough_cutting.tool.cutter(), dir));
       else

@@ -1,3 +1,4 @@
+// millnet finish / simulate: job/'s values written to files (finish_job.hpp).
 #include "finish_job.hpp"
 
 #include "cli.hpp"
@@ -13,15 +14,12 @@
 #include "millnet/gcode/writer.hpp"
 #include "millnet/ingest/heightfield.hpp"
 #include "millnet/report/plots.hpp"
-#include "millnet/simulate/maps.hpp"
+#include "millnet/report/tables.hpp"
 #include "millnet/simulate/io/zmap_file.hpp"
+#include "millnet/simulate/maps.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <fstream>
-#include <sstream>
-#include <variant>
 
 namespace millnet::app {
 namespace fs = std::filesystem;
@@ -30,37 +28,6 @@ namespace {
 
 /// A picture never needs more than this many cells per side (heat_map_png draws ≥ 1 px per cell).
 constexpr int kMaxPictureCells = 500;
-
-/// The part in the program frame and (for simulation) its design surface on the z-map grid.
-struct PartFrame {
-  double stock_top = 0;  ///< part frame
-  double z_shift = 0;    ///< program Z = part z + z_shift
-  double width = 0, depth = 0;
-  simulate::GridSpec grid;
-  std::vector<double> design;  ///< program frame, NaN off the part
-};
-
-/// The z-map's own backstop at the run's memory limit (--max-memory-mb), not its 2 GiB default.
-std::size_t zmap_max_bytes() { return static_cast<std::size_t>(std::min(work_limits().max_memory_bytes, 1e18)); }
-
-PartFrame part_frame(const ingest::Mesh& mesh, const FinishSettings& s, bool with_design) {
-  PartFrame f;
-  f.stock_top = mesh.V.col(2).maxCoeff() + s.stock_top_above_part_mm;
-  f.z_shift = -f.stock_top;
-  f.width = mesh.V.col(0).maxCoeff();
-  f.depth = mesh.V.col(1).maxCoeff();
-  if (!with_design) return f;
-  f.grid.cell = s.sim.cell_mm;
-  f.grid.nx = static_cast<std::size_t>(std::max(1.0, std::ceil(f.width / s.sim.cell_mm)));
-  f.grid.ny = static_cast<std::size_t>(std::max(1.0, std::ceil(f.depth / s.sim.cell_mm)));
-  f.grid.check();
-  // + design and raster (17 B per cell), + the metrics' per-cell excess (8 B), before any is allocated
-  check_work(simulate::zmap_work(f.grid, 25), work_limits());
-  const ingest::HeightField hf = ingest::rasterize_top(mesh, 0.5 * f.grid.cell, 0.5 * f.grid.cell, f.grid.cell,
-                                                       static_cast<int>(f.grid.nx), static_cast<int>(f.grid.ny));
-  f.design = simulate::design_heights(hf, f.z_shift);
-  return f;
-}
 
 /// A map of the part's z-map grid shrunk for a picture (block means, `empty` where a block has no cell).
 Eigen::MatrixXd picture_map(const std::vector<double>& v, const simulate::GridSpec& g, double empty) {
@@ -81,23 +48,7 @@ simulate::ZMap stock_from_file(const std::string& file, const simulate::GridSpec
   return z;
 }
 
-/// Scoring a finished surface: nothing should be left above the design (allowance 0).
-simulate::MetricsOptions metrics_options(const SimSettings& sim) {
-  simulate::MetricsOptions mo;
-  mo.allowance_mm = 0;
-  mo.tolerance_mm = sim.tolerance_mm;
-  mo.sampling_length_mm = sim.sampling_length_mm;
-  mo.ra_bins_um = sim.ra_bins_um;
-  mo.ra_every = static_cast<std::size_t>(std::max(1.0, std::round(sim.ra_spacing_mm / sim.cell_mm)));
-  return mo;
-}
-
-Json histogram_json(const simulate::SurfaceMetrics& m) {
-  return Json{{"bin_edges_um", m.ra_bin_edges_um}, {"shares", m.ra_share}};
-}
-
-Json sim_metrics_json(const simulate::SurfaceMetrics& m, const simulate::SweepResult& sweep,
-                      const simulate::GridSpec& grid) {
+Json sim_metrics_json(const simulate::SurfaceMetrics& m, const simulate::GridSpec& grid) {
   Json j;
   j["max_gouge_mm"] = m.max_gouge_mm;
   j["gouge_line"] = m.gouged ? Json(m.first_gouge_move.line) : Json(nullptr);
@@ -109,293 +60,300 @@ Json sim_metrics_json(const simulate::SurfaceMetrics& m, const simulate::SweepRe
   j["ra_mean_um"] = m.ra_mean_um;
   j["ra_median_um"] = m.ra_median_um;
   j["ra_p90_um"] = m.ra_p90_um;
-  j["ra_histogram"] = histogram_json(m);
+  j["ra_histogram"] = Json{{"bin_edges_um", m.ra_bin_edges_um}, {"shares", m.ra_share}};
   j["uncut_area_mm2"] = m.uncut_area_mm2;
   j["remaining_area_mm2"] = m.remaining_area_mm2;
   j["scallop_area_mm2"] = m.scallop_area_mm2;
   j["rest_area_mm2"] = m.rest_area_mm2;
   j["surface_cells"] = m.surface_cells;
-  j["cutting_rapids"] = sweep.cutting_rapids.size();
-  j["max_depth_of_cut_mm"] = *std::max_element(sweep.max_cut_mm.begin(), sweep.max_cut_mm.end());
   return j;
 }
 
-void ra_png(const fs::path& path, const PartFrame& f, const simulate::SurfaceMetrics& m, const std::string& title) {
-  const std::vector<double> ra(m.ra_um.begin(), m.ra_um.end());
-  const Eigen::MatrixXd g = picture_map(ra, f.grid, 0.0);
+/// A map over the z-map grid as a heat-map PNG with the footprint's extent.
+void grid_png(const fs::path& path, const std::vector<double>& values, const simulate::GridSpec& g,
+              const std::string& title, const std::string& units) {
+  const Eigen::MatrixXd m = picture_map(values, g, 0.0);
   report::HeatMapOptions o;
-  o.extent_mm = std::array<double, 4>{0, static_cast<double>(f.grid.nx) * f.grid.cell, 0,
-                                      static_cast<double>(f.grid.ny) * f.grid.cell};
-  if (!(g.maxCoeff() > g.minCoeff())) o.value_range = std::pair{g.minCoeff(), g.minCoeff() + 1};
-  (void)report::heat_map_png(path, g, title, "Ra (um)", o);
+  o.extent_mm = std::array<double, 4>{0, static_cast<double>(g.nx) * g.cell, 0, static_cast<double>(g.ny) * g.cell};
+  if (!(m.maxCoeff() > m.minCoeff())) o.value_range = std::pair{m.minCoeff(), m.minCoeff() + 1};
+  (void)report::heat_map_png(path, m, title, units, o);
 }
 
-}  // namespace
+void ra_png(const fs::path& path, const simulate::GridSpec& g, const simulate::SurfaceMetrics& m,
+            const std::string& title) {
+  grid_png(path, std::vector<double>(m.ra_um.begin(), m.ra_um.end()), g, title, "Ra (um)");
+}
 
-namespace {
+/// The 3D page's part and stock in the frame.
+void frame_page(report::PreviewInput& page, const job::Part& part, const job::Frame& frame) {
+  set_preview_part(page, part.mesh, frame.z_shift());
+  page.stock = std::array<double, 6>{0, 0, frame.program_bottom(), frame.width, frame.depth, 0};
+}
 
-/// What every strategy of a part shares: its frame, the finishing parameters with the part's Z
-/// shift and the program header, the drop cutter and the height picture under the paths.
+/// What every strategy of a part shares: its frame, the finishing parameters in it, the drop
+/// cutter, the height picture under the paths and (simulated) the design surface.
 struct PartJob {
-  PartFrame frame;
+  job::Frame frame;
   finish::FinishParams params;
   std::optional<finish::DropCutter> dropper;
   ingest::HeightField hf;
   Eigen::MatrixXd heights;
+  std::optional<job::Design> design;
 };
 
-PartJob part_job(const ingest::Mesh& mesh, const std::string& stem, const FinishSettings& settings,
-                 const fs::path& out) {
+/// The frame, the holder check, the parameters in the frame and the drop-cutter (and, simulated,
+/// the design surface): what planning and scoring a part's strategies needs.
+PartJob finishing_job(const job::Part& part, const FinishSettings& settings) {
   PartJob job;
   settings.params.check();
-  job.frame = part_frame(mesh, settings, settings.simulate);
-  const PartFrame& frame = job.frame;
-  if (const tooling::Tool& tool = settings.cutting.tool; tool.stickout_mm > 0) {
-    // The tool reaches down from the stock top at most to the part's lowest point.
-    const double reach = frame.stock_top - mesh.V.col(2).minCoeff();
-    if (reach > tool.stickout_mm)
-      throw Error(tool.label() + ": the part reaches " + fixed(reach, 2) +
-                  " mm below the stock top, beyond the tool's stick-out " + format_double(tool.stickout_mm) +
-                  " mm by " + fixed(reach - tool.stickout_mm, 2) + " mm: the holder would hit the part");
-  }
-  finish::FinishParams& params = job.params;
-  params = settings.params;
-  params.z_shift = frame.z_shift;
-  params.program_name = stem;
-  job.dropper.emplace(mesh, params.tool);
-  // The picture under the paths: the part's heights (program frame), downsampled.
-  const double pic_step = std::max(frame.width, frame.depth) / kMaxPictureCells;
-  job.hf = ingest::rasterize_top(mesh, std::max(pic_step, 1e-3));
-  job.heights = ingest::height_matrix(job.hf, frame.z_shift);
-  fs::create_directories(out);
+  job.frame = job::frame_of(part.mesh, settings.stock_top_above_part_mm);
+  if (settings.simulate) job.design = job::design_surface(part.mesh, job.frame, sim_params(settings));
+  // The tool reaches down from the stock top at most to the part's lowest point.
+  job::check_reach(settings.cutting.tool.cutter(), settings.cutting.tool.label(),
+                   job.frame.depth_below_top(job.frame.part_bottom), "the part");
   std::vector<std::string> tool_lines = settings.cutting.header();
-  if (tool_lines.empty()) tool_lines.push_back("tool: " + params.tool.describe());
-  params.comments = tool_lines;
-  params.comments.push_back("frame: Z 0 = stock top = part top + " + fixed(settings.stock_top_above_part_mm, 3) +
-                            " mm");
+  if (tool_lines.empty()) tool_lines.push_back("tool: " + settings.params.tool.describe());
+  job.params = job::part_params(settings.params, job.frame, part.name, std::move(tool_lines));
+  job.dropper.emplace(part.mesh, job.params.tool);
   return job;
 }
 
-/// One planned strategy written (program, metrics, pictures, page) and, with settings.simulate,
-/// machined on the z-map and scored.
-StrategyOutcome strategy_outcome(const ingest::Mesh& mesh, const std::string& stem, const FinishSettings& settings,
-                                 const PartJob& job, const finish::FinishPlan& plan, const fs::path& out,
-                                 const Json& cad) {
-  const PartFrame& frame = job.frame;
-  const finish::FinishParams& params = job.params;
+PartJob part_job(const job::Part& part, const FinishSettings& settings, const fs::path& out) {
+  PartJob job = finishing_job(part, settings);
+  // The picture under the paths: the part's heights (program frame), downsampled.
+  const double pic_step = std::max(job.frame.width, job.frame.depth) / kMaxPictureCells;
+  job.hf = ingest::rasterize_top(part.mesh, std::max(pic_step, 1e-3));
+  job.heights = ingest::height_matrix(job.hf, job.frame.z_shift());
+  fs::create_directories(out);
+  return job;
+}
+
+/// The path over the part's heights.
+void path_png(const fs::path& path, const PartJob& job, const gcode::Program& program, const std::string& title) {
+  gcode::XyPaths paths = gcode::xy_paths(program);
   const ingest::HeightField& hf = job.hf;
-  const Eigen::MatrixXd& heights = job.heights;
-  const finish::Strategy strategy = plan.strategy;
-  const int k = static_cast<int>(strategy);
-  const std::string base = stem + ".s" + std::to_string(k);
-  const double plan_s = plan.planning_s;
-  const gcode::Written written = gcode::write_program(out / (base + ".nc"), plan.program, settings.post);
-  const gcode::ProgramStats st = gcode::stats(plan.program, settings.machine);
-  StrategyOutcome o;
-  o.strategy = strategy;
-  Json& j = o.metrics;
-  j["strategy"] = k;
-  j["strategy_name"] = finish::strategy_name(strategy);
-  j["tool"] = params.tool.describe();
-  j["cutting_data"] = settings.cutting.to_json();
-  if (!cad.is_null()) j["cad"] = cad;
-  j["stock_top_above_part_mm"] = settings.stock_top_above_part_mm;
-  j["path_length_mm"] = plan.path_length_mm;
-  j["time_feed_min"] = st.feed_time_min;
-  j["time_kinematic_min"] = st.kinematic_time_min;
-  j["lifts"] = plan.lifts;
-  j["passes"] = plan.passes.size();
-  j["cl_points"] = plan.cl_points;
-  j["drops"] = plan.drops_needed;  // a property of the strategy: the same planned alone (MPI) or with others
-  j["planning_s"] = plan_s;
-  o.score.slot = k;
-  o.score.time_min = st.kinematic_time_min;
-  {  // path over the height map
-    gcode::XyPaths paths = gcode::xy_paths(plan.program);
-    report::HeatMapOptions ho;
-    ho.extent_mm = std::array<double, 4>{hf.x0 - 0.5 * hf.step_x, hf.x0 + (hf.nx - 0.5) * hf.step_x,
-                                         hf.y0 - 0.5 * hf.step_y, hf.y0 + (hf.ny - 0.5) * hf.step_y};
-    ho.overlay_cuts = std::move(paths.cuts);
-    ho.overlay_rapids = std::move(paths.rapids);
-    if (!(heights.maxCoeff() > heights.minCoeff()))
-      ho.value_range = std::pair{heights.minCoeff(), heights.minCoeff() + 1};
-    (void)report::heat_map_png(out / (base + ".png"), heights, stem + ": " + finish::strategy_name(strategy), "Z (mm)",
-                               ho);
-  }
+  report::HeatMapOptions ho;
+  ho.extent_mm = std::array<double, 4>{hf.x0 - 0.5 * hf.step_x, hf.x0 + (hf.nx - 0.5) * hf.step_x,
+                                       hf.y0 - 0.5 * hf.step_y, hf.y0 + (hf.ny - 0.5) * hf.step_y};
+  ho.overlay_cuts = std::move(paths.cuts);
+  ho.overlay_rapids = std::move(paths.rapids);
+  const Eigen::MatrixXd& h = job.heights;
+  if (!(h.maxCoeff() > h.minCoeff())) ho.value_range = std::pair{h.minCoeff(), h.minCoeff() + 1};
+  (void)report::heat_map_png(path, h, title, "Z (mm)", ho);
+}
+
+/// One planned strategy written (program, metrics, pictures, page) and, with settings.simulate,
+/// machined on the z-map and scored (job::score_program).
+job::StrategyOutcome strategy_outcome(const job::Part& part, const FinishSettings& settings, const PartJob& job,
+                                      const finish::FinishPlan& plan, const fs::path& out) {
+  const std::string& stem = part.name;
+  const std::string title = stem + ": " + finish::strategy_name(plan.strategy);
+  const std::string base = stem + ".s" + std::to_string(static_cast<int>(plan.strategy));
+  gcode::Written written = gcode::write_program(out / (base + ".nc"), plan.program, settings.post);
+  job::StrategyOutcome o = job::planned_outcome(plan, gcode::stats(plan.program, settings.machine));
+  path_png(out / (base + ".png"), job, plan.program, title);
   std::optional<report::PreviewSurface> surface;
-  if (settings.simulate) {
-    simulate::ZMap z = simulate::ZMap::from_heights(frame.grid, frame.design, settings.sim.allowance_mm,
-                                                    frame.z_shift + settings.sim.allowance_mm, zmap_max_bytes());
-    // The program as the machine gets it: the text written, read back (its coordinates rounded as
-    // written, gouges reported at their line).
-    const simulate::SweepResult sw = simulate::machine(z, written.program, params.tool);
-    // Uncut = reachable material the program left; the scallops between passes are scored by
-    // scallop and Ra, and the rest material no program with this cutter can clear is apart.
-    simulate::MetricsOptions mo = metrics_options(settings.sim);
-    mo.cutter = params.tool;
-    const simulate::SurfaceMetrics m = simulate::surface_metrics(z, frame.design, mo);
-    j.update(sim_metrics_json(m, sw, frame.grid));
-    if (preview_settings().enabled) surface = preview_surface(z, simulate::deviation(z, frame.design));
-    if (m.gouged) {  // a gouge from the program itself is a planner bug: say where
-      warn(base + ".nc: gouge " + fixed(m.max_gouge_mm, 4) + " mm first at line " +
-           std::to_string(m.first_gouge_move.line));
-    }
-    o.score.ra_median_um = m.ra_median_um;
-    o.score.ra_p90_um = m.ra_p90_um;
-    o.score.uncut_area_mm2 = m.uncut_area_mm2;
-    o.score.max_gouge_mm = m.max_gouge_mm;
-    o.score.surface_area_mm2 = static_cast<double>(m.surface_cells) * frame.grid.cell * frame.grid.cell;
-    o.ra_share = m.ra_share;
-    ra_png(out / (base + ".ra.png"), frame, m, stem + ": " + finish::strategy_name(strategy) + ", roughness Ra");
+  if (job.design) {  // the program as the machine gets it: the text written, read back
+    const job::Scored s =
+        job::score_program(*job.design, job.frame, written.program, job.params.tool, sim_params(settings));
+    if (preview_settings().enabled)
+      surface = preview_surface(s.machined, simulate::deviation(s.machined, job.design->heights));
+    if (s.metrics.gouged)  // a gouge from the program itself is a planner bug: say where
+      warn(base + ".nc: gouge " + fixed(s.metrics.max_gouge_mm, 4) + " mm first at line " +
+           std::to_string(s.metrics.first_gouge_move.line));
+    ra_png(out / (base + ".ra.png"), job.design->grid, s.metrics, title + ", roughness Ra");
+    job::add_simulation(o, s, job.design->grid);
   }
-  {
-    report::PreviewInput page;  // the 3D page of the program (issue 16), with its machined surface when simulated
-    page.title = base + " — " + finish::strategy_name(strategy);
-    page.programs.push_back({finish::strategy_name(strategy), std::move(written)});
-    page.tool = {params.tool.diameter, params.tool.corner_radius, params.tool.describe()};
-    set_preview_part(page, mesh, frame.z_shift);
-    page.stock = std::array<double, 6>{0, 0, frame.z_shift + mesh.V.col(2).minCoeff(), frame.width, frame.depth, 0};
-    page.surface = std::move(surface);
-    (void)write_program_preview(out / (base + ".html"), std::move(page));
-  }
-  write_file_atomic(out / (base + ".metrics.json"), j.dump(2) + "\n");
+  report::PreviewInput page;  // the 3D page of the program (issue 16), with its machined surface when simulated
+  page.title = base + " — " + finish::strategy_name(plan.strategy);
+  page.programs.push_back({finish::strategy_name(plan.strategy), std::move(written)});
+  const tooling::Cutter& tool = job.params.tool;
+  page.tool = {tool.diameter, tool.corner_radius, tool.describe()};
+  frame_page(page, part, job.frame);
+  page.surface = std::move(surface);
+  (void)write_program_preview(out / (base + ".html"), std::move(page));
+  write_file_atomic(out / (base + ".metrics.json"), strategy_metrics(o, settings, part).dump(2) + "\n");
   return o;
 }
 
 }  // namespace
 
-std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::string& stem,
-                                         const FinishSettings& settings, const fs::path& out, const Json& cad) {
-  const PartJob job = part_job(mesh, stem, settings, out);
-  const std::vector<finish::FinishPlan> plans =
-      finish::plan_finish(mesh, *job.dropper, settings.strategies, job.params);
-  std::vector<StrategyOutcome> outcomes;
-  Progress progress("finish " + stem, settings.strategies.size());
-  for (const finish::FinishPlan& plan : plans) {
-    outcomes.push_back(strategy_outcome(mesh, stem, settings, job, plan, out, cad));
-    progress.tick();
+Json strategy_metrics(const job::StrategyOutcome& o, const FinishSettings& settings, const job::Part& part) {
+  Json j;
+  j["strategy"] = static_cast<int>(o.strategy);
+  j["strategy_name"] = finish::strategy_name(o.strategy);
+  j["tool"] = settings.params.tool.describe();
+  j["cutting_data"] = settings.cutting.to_json();
+  if (const Json cad = cad_metrics(part); !cad.is_null()) j["cad"] = cad;
+  j["stock_top_above_part_mm"] = settings.stock_top_above_part_mm;
+  j["path_length_mm"] = o.path_length_mm;
+  j["time_feed_min"] = o.time_feed_min;
+  j["time_kinematic_min"] = o.time_kinematic_min;
+  j["lifts"] = o.lifts;
+  j["passes"] = o.passes;
+  j["cl_points"] = o.cl_points;
+  j["drops"] = o.drops;  // a property of the strategy: the same planned alone (MPI) or with others
+  j["planning_s"] = o.planning_s;
+  if (o.simulated) {
+    j.update(sim_metrics_json(o.surface, o.grid));
+    j["cutting_rapids"] = o.cutting_rapids;
+    j["max_depth_of_cut_mm"] = o.max_depth_of_cut_mm;
   }
-  write_strategy_ranking(stem, settings, outcomes, out);
-  return outcomes;
+  return j;
 }
 
-StrategyOutcome finish_strategy(const ingest::Mesh& mesh, const std::string& stem, const FinishSettings& settings,
-                                finish::Strategy strategy, const fs::path& out, const Json& cad) {
-  const PartJob job = part_job(mesh, stem, settings, out);
-  const finish::FinishPlan plan = finish::plan_finish(mesh, *job.dropper, strategy, job.params);
-  return strategy_outcome(mesh, stem, settings, job, plan, out, cad);
+job::StrategyOutcome outcome_from_metrics(const Json& j, double cell_mm) {
+  job::StrategyOutcome o;
+  o.strategy = static_cast<finish::Strategy>(j.at("strategy").get<int>());
+  o.path_length_mm = j.at("path_length_mm").get<double>();
+  o.lifts = j.at("lifts").get<std::size_t>();
+  o.passes = j.at("passes").get<std::size_t>();
+  o.cl_points = j.at("cl_points").get<std::size_t>();
+  o.drops = j.at("drops").get<std::size_t>();
+  o.planning_s = j.at("planning_s").get<double>();
+  o.time_feed_min = j.at("time_feed_min").get<double>();
+  o.time_kinematic_min = j.at("time_kinematic_min").get<double>();
+  o.score.slot = static_cast<int>(o.strategy);
+  o.score.time_min = o.time_kinematic_min;
+  o.simulated = j.contains("max_gouge_mm");
+  if (!o.simulated) return o;
+  simulate::SurfaceMetrics& m = o.surface;
+  m.max_gouge_mm = j.at("max_gouge_mm").get<double>();
+  m.gouged = !j.at("gouge_line").is_null();
+  m.scallop_max_mm = j.at("scallop_max_mm").get<double>();
+  m.ra_mean_um = j.at("ra_mean_um").get<double>();
+  m.ra_median_um = j.at("ra_median_um").get<double>();
+  m.ra_p90_um = j.at("ra_p90_um").get<double>();
+  m.ra_bin_edges_um = j.at("ra_histogram").at("bin_edges_um").get<std::vector<double>>();
+  m.ra_share = j.at("ra_histogram").at("shares").get<std::vector<double>>();
+  m.uncut_area_mm2 = j.at("uncut_area_mm2").get<double>();
+  m.remaining_area_mm2 = j.at("remaining_area_mm2").get<double>();
+  m.scallop_area_mm2 = j.at("scallop_area_mm2").get<double>();
+  m.rest_area_mm2 = j.at("rest_area_mm2").get<double>();
+  m.surface_cells = j.at("surface_cells").get<std::size_t>();
+  o.cutting_rapids = j.at("cutting_rapids").get<std::size_t>();
+  o.max_depth_of_cut_mm = j.at("max_depth_of_cut_mm").get<double>();
+  o.score.ra_median_um = m.ra_median_um;
+  o.score.ra_p90_um = m.ra_p90_um;
+  o.score.uncut_area_mm2 = m.uncut_area_mm2;
+  o.score.max_gouge_mm = m.max_gouge_mm;
+  o.score.surface_area_mm2 = static_cast<double>(m.surface_cells) * cell_mm * cell_mm;
+  return o;
+}
+
+job::SimParams sim_params(const FinishSettings& settings) {
+  job::SimParams p;
+  p.cell_mm = settings.sim.cell_mm;
+  p.allowance_mm = settings.sim.allowance_mm;
+  p.tolerance_mm = settings.sim.tolerance_mm;
+  p.sampling_length_mm = settings.sim.sampling_length_mm;
+  p.ra_spacing_mm = settings.sim.ra_spacing_mm;
+  p.ra_bins_um = settings.sim.ra_bins_um;
+  p.limits = work_limits();
+  return p;
+}
+
+namespace {
+/// The part's strategies planned, written and (simulated) scored; the job kept for the caller.
+std::vector<job::StrategyOutcome> plan_and_write(const job::Part& part, const FinishSettings& settings,
+                                                 const std::vector<finish::Strategy>& strategies, PartJob& job,
+                                                 const fs::path& out) {
+  const std::vector<finish::FinishPlan> plans = finish::plan_finish(part.mesh, *job.dropper, strategies, job.params);
+  std::vector<job::StrategyOutcome> outcomes;
+  Progress progress("finish " + part.name, strategies.size());
+  for (const finish::FinishPlan& plan : plans) {  // O(strategies)
+    outcomes.push_back(strategy_outcome(part, settings, job, plan, out));
+    progress.tick();
+  }
+  return outcomes;
+}
+}  // namespace
+
+PartFinish finish_part(const job::Part& part, const FinishSettings& settings, const fs::path& out) {
+  PartJob job = part_job(part, settings, out);
+  PartFinish pf;
+  pf.outcomes = plan_and_write(part, settings, settings.strategies, job, out);
+  write_strategy_ranking(part.name, settings, pf.outcomes, out);
+  pf.frame = job.frame;
+  pf.design = std::move(job.design);
+  return pf;
+}
+
+std::vector<job::StrategyOutcome> finish_strategies(const job::Part& part, const FinishSettings& settings,
+                                                    const std::vector<finish::Strategy>& strategies,
+                                                    const fs::path& out) {
+  PartJob job = part_job(part, settings, out);
+  return plan_and_write(part, settings, strategies, job, out);
 }
 
 void write_strategy_ranking(const std::string& stem, const FinishSettings& settings,
-                            std::vector<StrategyOutcome>& outcomes, const fs::path& out) {
-  if (outcomes.size() > 1) {
-    std::vector<simulate::StrategyScore> scores;
-    for (const auto& o : outcomes) scores.push_back(o.score);
-    simulate::AimParams aim = settings.aim;
-    if (!settings.simulate) aim.aim = simulate::Aim::Time;  // without a surface only time can rank
-    const std::vector<std::size_t> order = simulate::rank_strategies(scores, aim);
-    const std::vector<int> rank = simulate::ranks_from_order(order);
-    for (std::size_t i = 0; i < outcomes.size(); ++i) outcomes[i].rank = rank[i];
-    std::ostringstream csv, md;
-    csv << "rank,strategy,name,path_length_mm,time_feed_min,time_kinematic_min,lifts";
-    md << "# " << stem << ": finishing strategies ranked by " << simulate::to_string(aim.aim) << "\n\n"
-       << "| rank | strategy | path (m) | time feed (min) | time kinematic (min) | lifts |";
-    if (settings.simulate) {
-      csv << ",ra_median_um,ra_p90_um,scallop_max_mm,max_gouge_mm,uncut_area_mm2";
-      md << " Ra median (µm) | Ra p90 (µm) | scallop (mm) | gouge (mm) | uncut (mm²) |";
-    }
-    csv << "\n";
-    md << "\n|---|---|---|---|---|---|" << (settings.simulate ? "---|---|---|---|---|" : "") << "\n";
-    for (std::size_t r = 0; r < order.size(); ++r) {
-      const Json& j = outcomes[order[r]].metrics;
-      csv << r + 1 << "," << j["strategy"].get<int>() << ",\"" << j["strategy_name"].get<std::string>() << "\","
-          << fixed(j["path_length_mm"].get<double>(), 3) << "," << fixed(j["time_feed_min"].get<double>(), 4) << ","
-          << fixed(j["time_kinematic_min"].get<double>(), 4) << "," << j["lifts"].get<std::size_t>();
-      md << "| " << r + 1 << " | " << j["strategy_name"].get<std::string>() << " | "
-         << fixed(j["path_length_mm"].get<double>() / 1000, 2) << " | " << fixed(j["time_feed_min"].get<double>(), 1)
-         << " | " << fixed(j["time_kinematic_min"].get<double>(), 1) << " | " << j["lifts"].get<std::size_t>() << " |";
-      if (settings.simulate) {
-        csv << "," << fixed(j["ra_median_um"].get<double>(), 3) << "," << fixed(j["ra_p90_um"].get<double>(), 3) << ","
-            << fixed(j["scallop_max_mm"].get<double>(), 4) << "," << fixed(j["max_gouge_mm"].get<double>(), 4) << ","
-            << fixed(j["uncut_area_mm2"].get<double>(), 2);
-        md << " " << fixed(j["ra_median_um"].get<double>(), 2) << " | " << fixed(j["ra_p90_um"].get<double>(), 2)
-           << " | " << fixed(j["scallop_max_mm"].get<double>(), 4) << " | " << fixed(j["max_gouge_mm"].get<double>(), 4)
-           << " | " << fixed(j["uncut_area_mm2"].get<double>(), 1) << " |";
-      }
-      csv << "\n";
-      md << "\n";
-    }
-    write_file_atomic(out / (stem + ".strategies.csv"), csv.str());
-    write_file_atomic(out / (stem + ".strategies.md"), md.str());
-    if (settings.simulate) {  // the paper's Figure 9: share of the surface per Ra bin, per strategy
-      const auto& edges = settings.sim.ra_bins_um;
-      std::vector<std::string> cats;
-      for (std::size_t b = 0; b < edges.size(); ++b)
-        cats.push_back(b + 1 < edges.size() ? fixed(edges[b], 2) + "-" + fixed(edges[b + 1], 2)
-                                            : ">= " + fixed(edges[b], 2));
-      std::vector<report::NamedValues> series;
-      for (const auto& o : outcomes) {
-        report::NamedValues nv{finish::strategy_name(o.strategy), {}};
-        for (const double s : o.ra_share) nv.values.push_back(100 * s);
-        series.push_back(std::move(nv));
-      }
-      report::BarOptions bo;
-      bo.show_values = false;
-      (void)report::grouped_bar_png(out / (stem + ".strategies.png"), cats, series,
-                                    stem + ": share of the surface per Ra bin (um)", "surface (%)", bo);
-    }
-  }
+                            std::vector<job::StrategyOutcome>& outcomes, const fs::path& out) {
+  if (outcomes.size() < 2) return;
+  const std::vector<std::size_t> order = job::rank_outcomes(outcomes, settings.aim);
+  const simulate::Aim used = settings.simulate ? settings.aim.aim : simulate::Aim::Time;
+  const report::StrategyTable t =
+      report::strategy_table(stem, simulate::to_string(used), outcomes, order, settings.simulate);
+  write_file_atomic(out / (stem + ".strategies.csv"), t.csv);
+  write_file_atomic(out / (stem + ".strategies.md"), t.md);
+  if (settings.simulate)  // the paper's Figure 9: share of the surface per Ra bin, per strategy
+    report::ra_bins_png(out / (stem + ".strategies.png"), stem, settings.sim.ra_bins_um, outcomes);
 }
 
-Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
-                    const std::vector<std::pair<fs::path, tooling::Cutter>>& programs, const std::string& stock,
-                    const FinishSettings& settings, const fs::path& out, bool save_stock) {
-  const PartFrame frame = part_frame(mesh, settings, true);
-  simulate::ZMap z = stock == "flat" ? simulate::ZMap::flat(frame.grid, 0.0, zmap_max_bytes())
-                     : stock == "design"
-                         ? simulate::ZMap::from_heights(frame.grid, frame.design, settings.sim.allowance_mm,
-                                                        frame.z_shift + settings.sim.allowance_mm, zmap_max_bytes())
-                         : stock_from_file(stock, frame.grid);
+std::vector<job::StrategyFigures> label_part(const job::Part& part, const FinishSettings& settings) {
+  FinishSettings s = settings;
+  s.simulate = false;  // score_strategies rasterizes the design itself
+  const PartJob job = finishing_job(part, s);
+  const std::vector<finish::FinishPlan> plans =
+      finish::plan_finish(part.mesh, *job.dropper, settings.strategies, job.params);
+  return job::score_strategies(part.mesh, job.frame, plans, job.params.tool, settings.post, settings.machine,
+                               settings.aim, sim_params(settings));
+}
+
+ChainProgram read_chain_program(const fs::path& file, const tooling::Cutter& cutter) {
+  ChainProgram p;
+  p.file = file.string();
+  // read_file: a program this command wrote is read from its OutputSet's temporary (core/output_set.hpp).
+  p.written.text = read_file(file);
+  p.written.program = gcode::read(p.written.text, file.string());
+  p.cutter = cutter;
+  return p;
+}
+
+Json simulate_programs(const job::Part& part, const std::string& stem, std::vector<ChainProgram> programs,
+                       const std::string& stock, const FinishSettings& settings, const fs::path& out, bool save_stock,
+                       const job::Design* design) {
+  const job::SimParams sim = sim_params(settings);
+  const job::Frame frame = job::frame_of(part.mesh, settings.stock_top_above_part_mm);
+  std::optional<job::Design> own;
+  if (design == nullptr) design = &own.emplace(job::design_surface(part.mesh, frame, sim));
+  simulate::ZMap z = stock == "flat"     ? job::block_stock(*design, sim)
+                     : stock == "design" ? job::finishing_stock(*design, frame, sim)
+                                         : stock_from_file(stock, design->grid);
+  std::vector<job::ChainStep> steps;
+  for (const ChainProgram& p : programs) steps.push_back({&p.written.program, p.cutter});
+  const job::ChainResult r = job::machine_chain(z, *design, steps, settings.machine, sim);
   Json runs = Json::array();
-  std::vector<report::PreviewProgram> shown;
-  for (const auto& [file, cutter] : programs) {
-    // read_file: a program this command wrote is read from its OutputSet's temporary (core/output_set.hpp).
-    gcode::Written w;
-    w.text = read_file(file);
-    w.program = gcode::read(w.text, file.string());
-    const gcode::Program& prog = w.program;
-    const simulate::SweepResult sw = simulate::machine(z, prog, cutter);
-    const gcode::ProgramStats st = gcode::stats(prog, settings.machine);
-    runs.push_back(Json{{"gcode", file.string()},
-                        {"tool", cutter.describe()},
-                        {"path_length_mm", st.cut_length_mm},
-                        {"time_feed_min", st.feed_time_min},
-                        {"time_kinematic_min", st.kinematic_time_min},
-                        {"max_depth_of_cut_mm", *std::max_element(sw.max_cut_mm.begin(), sw.max_cut_mm.end())},
-                        {"cutting_rapids", sw.cutting_rapids.size()}});
-    shown.push_back({file.filename().string(), std::move(w)});
+  for (std::size_t i = 0; i < programs.size(); ++i) {
+    const job::StepResult& s = r.steps[i];
+    runs.push_back(Json{{"gcode", programs[i].file},
+                        {"tool", programs[i].cutter.describe()},
+                        {"path_length_mm", s.stats.cut_length_mm},
+                        {"time_feed_min", s.stats.feed_time_min},
+                        {"time_kinematic_min", s.stats.kinematic_time_min},
+                        {"max_depth_of_cut_mm", s.max_depth_of_cut_mm},
+                        {"cutting_rapids", s.cutting_rapids}});
   }
-  simulate::MetricsOptions mo = metrics_options(settings.sim);
-  if (!programs.empty()) mo.cutter = programs.back().second;  // scallop and rest of the last tool
-  const simulate::SurfaceMetrics m = simulate::surface_metrics(z, frame.design, mo);
-  simulate::SweepResult none;
-  Json j = sim_metrics_json(m, none, frame.grid);
-  j.erase("cutting_rapids");
-  j.erase("max_depth_of_cut_mm");
+  const simulate::SurfaceMetrics& m = r.metrics;
+  Json j = sim_metrics_json(m, design->grid);
   if (m.gouged) j["gouge_gcode"] = runs.at(m.first_gouge_move.pass)["gcode"];
   j["programs"] = runs;
   j["stock"] = stock;
   j["stock_top_above_part_mm"] = settings.stock_top_above_part_mm;
-  j["cell_mm"] = frame.grid.cell;
+  j["cell_mm"] = design->grid.cell;
   fs::create_directories(out);
-  ra_png(out / (stem + ".ra.png"), frame, m, stem + ": roughness Ra");
-  const std::vector<double> e = simulate::deviation(z, frame.design);
-  const Eigen::MatrixXd g = picture_map(e, frame.grid, 0.0);
-  report::HeatMapOptions o;
-  o.extent_mm = std::array<double, 4>{0, static_cast<double>(frame.grid.nx) * frame.grid.cell, 0,
-                                      static_cast<double>(frame.grid.ny) * frame.grid.cell};
-  if (!(g.maxCoeff() > g.minCoeff())) o.value_range = std::pair{g.minCoeff(), g.minCoeff() + 1};
-  (void)report::heat_map_png(out / (stem + ".deviation.png"), g, stem + ": machined - design", "mm", o);
+  ra_png(out / (stem + ".ra.png"), design->grid, m, stem + ": roughness Ra");
+  const std::vector<double> e = simulate::deviation(z, design->heights);
+  grid_png(out / (stem + ".deviation.png"), e, design->grid, stem + ": machined - design", "mm");
   if (save_stock) {
     simulate::io::write_zmap(out / (stem + ".zmap"), z);
     j["saved_stock"] = (out / (stem + ".zmap")).string();
@@ -403,11 +361,11 @@ Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
   if (preview_settings().enabled && !programs.empty()) {
     report::PreviewInput page;  // the 3D page of the programs on the machined surface (issue 16)
     page.title = stem + " — simulation";
-    page.programs = std::move(shown);
-    page.tool = {programs.back().second.diameter, programs.back().second.corner_radius,
-                 programs.back().second.describe()};
-    set_preview_part(page, mesh, frame.z_shift);
-    page.stock = std::array<double, 6>{0, 0, frame.z_shift + mesh.V.col(2).minCoeff(), frame.width, frame.depth, 0};
+    const tooling::Cutter last = programs.back().cutter;
+    for (ChainProgram& p : programs)
+      page.programs.push_back({fs::path(p.file).filename().string(), std::move(p.written)});
+    page.tool = {last.diameter, last.corner_radius, last.describe()};
+    frame_page(page, part, frame);
     page.surface = preview_surface(z, e);
     (void)write_program_preview(out / (stem + ".html"), std::move(page));
   }

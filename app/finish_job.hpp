@@ -1,18 +1,19 @@
 #pragma once
-// millnet finish / millnet simulate: wiring of finish:: (tool paths), gcode:: (text, times) and
-// simulate:: (virtual machining) for one part, and the files they write. No algorithm lives here.
+// millnet finish / millnet simulate: the files a finished (and simulated) part is written to. The
+// work is job/'s (the frame, the design surface, programs machined and scored) and finish/'s (the
+// tool paths); this file wires them to the settings and writes programs, metrics and pictures.
 //
-// Frame (the roughing contract): the mesh is prepared (units, up → +Z, footprint lower-left at
-// x = y = 0, lowest point z = 0); program Z = part z − stock_top with stock_top = part top +
-// stock_top_above_part_mm (/rough/top_allowance_mm), so a rough and a finish program of the same
-// part run in the same work offset. Z in the programs is the tool tip.
+// Frame (job/frame.hpp): program Z = part z − stock_top, stock_top = part top +
+// /rough/top_allowance_mm, so a rough and a finish program of the same part run in the same work
+// offset. Z in the programs is the tool tip.
 #include "settings.hpp"
 
 #include "millnet/finish/strategy.hpp"
-#include "millnet/gcode/stats.hpp"
-#include "millnet/ingest/mesh.hpp"
+#include "millnet/job/chain.hpp"
+#include "millnet/job/finishing.hpp"
+#include "millnet/job/frame.hpp"
+#include "millnet/job/part.hpp"
 #include "millnet/simulate/aim.hpp"
-#include "millnet/simulate/zmap.hpp"
 
 #include <filesystem>
 #include <optional>
@@ -21,41 +22,62 @@
 
 namespace millnet::app {
 
-/// One strategy's figures (the keys of <stem>.s<k>.metrics.json).
-struct StrategyOutcome {
-  finish::Strategy strategy = finish::Strategy::Raster;
-  Json metrics;
-  simulate::StrategyScore score;
-  std::vector<double> ra_share;  ///< per Ra bin (with --simulate)
-  int rank = 0;                  ///< 1-based rank by the aim when several strategies ran, else 0
+/// A part's finishing: its frame, its design surface (when simulated) and every strategy's outcome.
+struct PartFinish {
+  job::Frame frame;
+  std::optional<job::Design> design;
+  std::vector<job::StrategyOutcome> outcomes;
 };
 
-/// Plans, writes and (optionally) simulates every strategy of `settings` on the prepared mesh:
+/// Plans, writes and (optionally) simulates every strategy of `settings` on the part:
 /// DIR/<stem>.s<k>.nc, .metrics.json, .png, .ra.png (with simulate); with several strategies also
 /// <stem>.strategies.csv/.md and <stem>.strategies.png (the paper's Figure 9), ranked by the aim.
-/// `cad` (cad_metrics of the part's file, null for meshes) goes into each metrics file as "cad".
-std::vector<StrategyOutcome> finish_part(const ingest::Mesh& mesh, const std::string& stem,
-                                         const FinishSettings& settings, const std::filesystem::path& out,
-                                         const Json& cad = Json());
+/// The part's CAD report goes into each metrics file as "cad".
+PartFinish finish_part(const job::Part& part, const FinishSettings& settings, const std::filesystem::path& out);
 
-/// One strategy of finish_part on its own (MPI's work unit is part × strategy): the same files and
-/// figures finish_part writes for that strategy (rank 0), without the ranking files.
-StrategyOutcome finish_strategy(const ingest::Mesh& mesh, const std::string& stem, const FinishSettings& settings,
-                                finish::Strategy strategy, const std::filesystem::path& out, const Json& cad = Json());
+/// Some strategies of finish_part (a unit of a batch: a part, or under MPI a part × strategy): the
+/// same files and figures finish_part writes for them, without the ranking files.
+std::vector<job::StrategyOutcome> finish_strategies(const job::Part& part, const FinishSettings& settings,
+                                                    const std::vector<finish::Strategy>& strategies,
+                                                    const std::filesystem::path& out);
 
 /// With several outcomes (in settings.strategies order): ranks them by the aim (sets their rank) and
 /// writes <stem>.strategies.csv/.md and, simulated, <stem>.strategies.png. Nothing for one.
 void write_strategy_ranking(const std::string& stem, const FinishSettings& settings,
-                            std::vector<StrategyOutcome>& outcomes, const std::filesystem::path& out);
+                            std::vector<job::StrategyOutcome>& outcomes, const std::filesystem::path& out);
 
-/// millnet simulate: machines `programs` (read from disk, each with its cutter) one after the
-/// other on one z-map over the part, stock flat at Z = 0 ("flat"), the design + allowance
-/// ("design") or a z-map file saved by an earlier simulation of the same part (any other value: its
-/// path; the grid must match); writes DIR/<stem>.sim.json, <stem>.ra.png and <stem>.deviation.png,
-/// and with save_stock the machined z-map as DIR/<stem>.zmap.
-Json simulate_files(const ingest::Mesh& mesh, const std::string& stem,
-                    const std::vector<std::pair<std::filesystem::path, tooling::Cutter>>& programs,
-                    const std::string& stock, const FinishSettings& settings, const std::filesystem::path& out,
-                    bool save_stock = false);
+/// The keys of <stem>.s<k>.metrics.json for an outcome of the part (its CAD report under "cad").
+[[nodiscard]] Json strategy_metrics(const job::StrategyOutcome& o, const FinishSettings& settings,
+                                    const job::Part& part);
+/// An outcome back from its metrics (how a rank's result travels to rank 0 under MPI); `cell_mm`
+/// gives the scored surface's area.
+[[nodiscard]] job::StrategyOutcome outcome_from_metrics(const Json& metrics, double cell_mm);
+
+/// A part labelled by simulation: every strategy of `settings` planned, written in memory, machined
+/// and scored, ranked by the aim (job::score_strategies). Writes nothing.
+[[nodiscard]] std::vector<job::StrategyFigures> label_part(const job::Part& part, const FinishSettings& settings);
+
+/// The job::SimParams of the settings (with the run's work limits).
+[[nodiscard]] job::SimParams sim_params(const FinishSettings& settings);
+
+/// A program of `millnet simulate` or of a chain: read from its file or written in memory.
+struct ChainProgram {
+  std::string file;  ///< its path as given ("gcode" in the metrics; its file name in the preview)
+  gcode::Written written;
+  tooling::Cutter cutter;
+};
+
+/// millnet simulate: machines `programs` one after the other on one z-map over the part, stock flat
+/// at Z = 0 ("flat"), the design + allowance ("design") or a z-map file saved by an earlier
+/// simulation of the same part (any other value: its path; the grid must match); writes
+/// DIR/<stem>.sim.json, <stem>.ra.png and <stem>.deviation.png, and with save_stock the machined
+/// z-map as DIR/<stem>.zmap. `design` (the part's, when its finishing already made it) saves a
+/// second rasterization.
+Json simulate_programs(const job::Part& part, const std::string& stem, std::vector<ChainProgram> programs,
+                       const std::string& stock, const FinishSettings& settings, const std::filesystem::path& out,
+                       bool save_stock = false, const job::Design* design = nullptr);
+
+/// A program file read for simulate_programs (the file's text and that text read back).
+[[nodiscard]] ChainProgram read_chain_program(const std::filesystem::path& file, const tooling::Cutter& cutter);
 
 }  // namespace millnet::app

@@ -56,10 +56,9 @@ struct SimulatedLabel {
   Json figures;          ///< per strategy
 };
 
-/// Plans and simulates the five strategies on recipe part k (files in dir/<name>/). Throws
-/// millnet::Error naming the part.
-SimulatedLabel simulate_label(const datasets::Recipe& recipe, std::size_t k, const FinishSettings& settings,
-                              const fs::path& dir) {
+/// Plans and simulates the five strategies on recipe part k (app::label_part: nothing written).
+/// Throws millnet::Error naming the part.
+SimulatedLabel simulate_label(const datasets::Recipe& recipe, std::size_t k, const FinishSettings& settings) {
   ingest::PrepareOptions prep;
   prep.units = recipe.units;
   prep.units_explicit = recipe.units_explicit;
@@ -69,16 +68,17 @@ SimulatedLabel simulate_label(const datasets::Recipe& recipe, std::size_t k, con
   const std::string name = p.name.empty() ? p.file.stem().string() : p.name;
   SimulatedLabel sl{name, p.label_by_simulation ? 0 : p.label, 0, Json::array()};
   try {
-    const ingest::Mesh mesh = load_part(p.file, prep);
-    for (const StrategyOutcome& o : finish_part(mesh, name, settings, dir / name, cad_metrics(p.file))) {
-      if (o.rank == 1) sl.best = static_cast<int>(o.strategy);
-      sl.figures.push_back(Json{{"strategy", static_cast<int>(o.strategy)},
-                                {"rank", o.rank},
-                                {"ra_median_um", o.score.ra_median_um},
-                                {"ra_p90_um", o.score.ra_p90_um},
-                                {"uncut_area_mm2", o.score.uncut_area_mm2},
-                                {"max_gouge_mm", o.score.max_gouge_mm},
-                                {"time_kinematic_min", o.score.time_min}});
+    job::Part part = load_part(p.file, prep);
+    part.name = name;
+    for (const job::StrategyFigures& f : label_part(part, settings)) {
+      if (f.rank == 1) sl.best = f.slot;
+      sl.figures.push_back(Json{{"strategy", f.slot},
+                                {"rank", f.rank},
+                                {"ra_median_um", f.score.ra_median_um},
+                                {"ra_p90_um", f.score.ra_p90_um},
+                                {"uncut_area_mm2", f.score.uncut_area_mm2},
+                                {"max_gouge_mm", f.score.max_gouge_mm},
+                                {"time_kinematic_min", f.score.time_min}});
     }
   } catch (const std::exception& e) {
     throw Error("dataset: part '" + name + "' (" + p.file.string() + "): labelling by simulation: " + e.what());
@@ -86,42 +86,33 @@ SimulatedLabel simulate_label(const datasets::Recipe& recipe, std::size_t k, con
   return sl;
 }
 
-/// Plans and simulates the five strategies on each part (files in dir/<name>/) and returns the
-/// slot the aim ranks first. A part that fails stops the build (all-or-nothing, as the table).
-/// Under MPI the work unit is a part: its programs, metrics and pictures come back to rank 0 as
-/// bytes and are written there, in part order, as soon as the parts before them are in.
+std::string encode_label(const SimulatedLabel& sl) {
+  const std::vector<std::uint8_t> cbor = Json::to_cbor(
+      Json{{"name", sl.name}, {"recipe_label", sl.recipe_label}, {"best", sl.best}, {"figures", sl.figures}});
+  return {cbor.begin(), cbor.end()};
+}
+
+SimulatedLabel decode_label(const std::string& bytes) {
+  const Json j = Json::from_cbor(bytes);
+  return {j["name"].get<std::string>(), j["recipe_label"].get<int>(), j["best"].get<int>(), j["figures"]};
+}
+
+/// Plans and simulates the five strategies on each part and returns the slot the aim ranks first.
+/// A part that fails stops the build (all-or-nothing, as the table). One code path for one
+/// process and for MPI (a unit is a part), results in part order.
 std::vector<SimulatedLabel> simulate_labels(const datasets::Recipe& recipe, const std::vector<std::size_t>& which,
-                                            const FinishSettings& settings, const fs::path& dir) {
+                                            const FinishSettings& settings) {
   std::vector<SimulatedLabel> out;
-  if (cluster_size() == 1) {
-    Progress progress("dataset: labels by simulation", which.size());
-    for (const std::size_t k : which) {
-      out.push_back(simulate_label(recipe, k, settings, dir));
-      progress.tick();
-    }
-    progress.finish();
-    return out;
-  }
-  const auto work = [&](std::size_t i) {
-    SimulatedLabel sl;
-    std::string files =
-        write_and_pack([&](const std::string& scratch) { sl = simulate_label(recipe, which[i], settings, scratch); });
-    const std::vector<std::uint8_t> cbor = Json::to_cbor(
-        Json{{"name", sl.name}, {"recipe_label", sl.recipe_label}, {"best", sl.best}, {"figures", sl.figures}});
-    std::string msg;
-    put_bytes(msg, std::string(cbor.begin(), cbor.end()));
-    put_bytes(msg, files);
-    return msg;
+  const std::function<SimulatedLabel(std::size_t, const std::string&)> work = [&](std::size_t i, const std::string&) {
+    return simulate_label(recipe, which[i], settings);
   };
-  const auto take = [&](std::size_t, bool ok, std::string&& bytes) {
-    if (!ok) throw Error(bytes);  // the part's own message (simulate_label names it)
-    std::size_t pos = 0;
-    const Json j = Json::from_cbor(get_bytes(bytes, pos));
-    unpack_files(get_bytes(bytes, pos), dir.string());
-    out.push_back(
-        SimulatedLabel{j["name"].get<std::string>(), j["recipe_label"].get<int>(), j["best"].get<int>(), j["figures"]});
+  const std::function<void(std::size_t, UnitOutcome<SimulatedLabel> &&)> take = [&](std::size_t,
+                                                                                    UnitOutcome<SimulatedLabel>&& r) {
+    if (!r.value) throw Error(r.error);  // the part's own message (simulate_label names it)
+    out.push_back(std::move(*r.value));
   };
-  const DistributeStats st = distribute(which.size(), work, take, true, "dataset: labels by simulation");
+  const DistributeStats st = distribute_typed<SimulatedLabel>(
+      which.size(), work, take, true, "dataset: labels by simulation", {&encode_label, &decode_label});
   log_distribution("dataset: labels by simulation", st);
   return out;
 }
@@ -239,7 +230,7 @@ bool build_dataset(datasets::Recipe recipe, const fs::path& out_dir, bool reuse,
   std::string labelling;
   if (!which.empty()) {
     const FinishSettings fs_ = simulated_finish_settings(config);
-    const std::vector<SimulatedLabel> labels = simulate_labels(recipe, which, fs_, out_dir / "labelling");
+    const std::vector<SimulatedLabel> labels = simulate_labels(recipe, which, fs_);
     if (!cluster_root()) {
       // Rank 0 holds the simulated labels and writes the labelling; the other ranks go on to sample
       // the table's heights, which do not depend on a label (rank 0 puts each row's label in).
@@ -265,7 +256,7 @@ bool build_dataset(datasets::Recipe recipe, const fs::path& out_dir, bool reuse,
                               std::string(simulate::to_string(fs_.aim.aim)) +
                               "; five strategies planned and "
                               "simulated per part (millnet finish --strategy all --simulate; figures per part in "
-                              "manifest.json under labelling, files in labelling/).\n\n" +
+                              "manifest.json under labelling).\n\n" +
                               md);
         info("dataset: agreement of the simulated best with the labels → " + (out_dir / "agreement.md").string() +
              "\n" + md);
@@ -461,10 +452,10 @@ std::string predict_one(const ModelFolder& folder, const PredictInput& in, const
   pp.expected = in.expected;
   Json jp = {{"part", pp.name}, {"file", pp.file}};
   try {
-    std::shared_ptr<const ingest::Mesh> mesh = in.mesh;
-    if (!mesh) mesh = std::make_shared<const ingest::Mesh>(load_part(in.file, prep));
-    if (const Json cad = cad_metrics(in.file); !cad.is_null()) jp["cad"] = cad;
-    const datasets::ModelVectors mv = datasets::model_vectors(*mesh, pp.name, folder.spec, work_limits());
+    std::shared_ptr<const job::Part> part = in.part;
+    if (!part) part = std::make_shared<const job::Part>(load_part(in.file, prep));
+    if (const Json cad = cad_metrics(*part); !cad.is_null()) jp["cad"] = cad;
+    const datasets::ModelVectors mv = datasets::model_vectors(part->mesh, pp.name, folder.spec, work_limits());
     const classifier::Prediction pr = classifier::predict(model, mv.inputs);
     const classifier::Ranking rk = classifier::rank(pr);
     pp.mean = rk.mean;

@@ -6,6 +6,7 @@
 #include "millnet/datasets/build.hpp"
 #include "millnet/datasets/features.hpp"
 #include "millnet/ingest/mesh.hpp"
+#include "millnet/job/part.hpp"
 
 #include <filesystem>
 #include <memory>
@@ -18,8 +19,8 @@ namespace millnet::app {
 /// Builds the table of `recipe` into out_dir (vectors.csv + manifest.json). When `reuse` and
 /// out_dir already holds a table built from the same recipe and the same part-file bytes, nothing is
 /// rebuilt. Parts labelled "simulate" get the strategy their virtual machining ranks first
-/// (settings from the config's /finish and /simulate; each part's five programs and figures in
-/// out_dir/labelling/<name>/, every strategy's figures in the manifest under "labelling"). With
+/// (settings from the config's /finish and /simulate; every strategy's figures in the manifest under
+/// "labelling"; no program or picture is written for a label). With
 /// `with_agreement`, every part is simulated and out_dir/agreement.md tells how often the
 /// simulated best agrees with the recipe's label. Returns true when the table was (re)built.
 bool build_dataset(datasets::Recipe recipe, const std::filesystem::path& out_dir, bool reuse, const Json& config,
@@ -61,7 +62,7 @@ struct PredictInput {
   std::filesystem::path file;
   std::string name;  ///< empty ⇒ file stem
   int expected = 0;
-  std::shared_ptr<const ingest::Mesh> mesh;  ///< the prepared mesh when already loaded; null ⇒ read from file
+  std::shared_ptr<const job::Part> part;  ///< the part when already loaded; null ⇒ read from file
 };
 
 /// A trained model folder, read once: model.json (the classifier and, under "features", its inputs'

@@ -14,7 +14,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace millnet::app {
 
@@ -70,5 +73,62 @@ void unpack_files(const std::string& packed, const std::string& dir);
 /// Appends/reads length-prefixed strings (the payloads' framing).
 void put_bytes(std::string& out, const std::string& s);
 [[nodiscard]] std::string get_bytes(const std::string& in, std::size_t& pos);
+
+/// How a unit's value travels between ranks (e.g. CBOR of its figures: doubles bit for bit).
+template <class T>
+struct UnitCodec {
+  std::string (*encode)(const T&);
+  T (*decode)(const std::string&);
+};
+
+/// A unit's outcome on rank 0: its value, or the error it failed with; `files` are what it wrote,
+/// packed (pack_files), for the caller to unpack below its output folder — or to drop, when the
+/// part the unit belongs to failed (a batch writes each good part completely and nothing of a bad
+/// one).
+template <class T>
+struct UnitOutcome {
+  std::optional<T> value;
+  std::string error;
+  std::string files;
+};
+
+/// distribute() with typed results: one code path for one process and for many (issue 36). Unit
+/// i's work(i, dir) writes its files below `dir` (a scratch folder of its own) and returns a value;
+/// take(i, outcome) runs on rank 0 in unit order with the value (encoded and decoded only between
+/// ranks), the error, and the packed files. Collective like distribute().
+template <class T>
+DistributeStats distribute_typed(std::size_t n, const std::function<T(std::size_t, const std::string& dir)>& work,
+                                 const std::function<void(std::size_t, UnitOutcome<T>&&)>& take, bool stop_on_error,
+                                 const std::string& label, UnitCodec<T> codec) {
+  std::vector<std::optional<T>> local(cluster_size() == 1 ? n : 0);  // one rank: values stay in memory
+  const UnitWork bytes_work = [&](std::size_t i) {
+    std::optional<T> value;
+    std::string msg;
+    put_bytes(msg, write_and_pack([&](const std::string& dir) { value.emplace(work(i, dir)); }));
+    if (local.empty()) {
+      put_bytes(msg, codec.encode(*value));
+    } else {
+      local[i] = std::move(value);
+    }
+    return msg;
+  };
+  const UnitResult bytes_take = [&](std::size_t i, bool ok, std::string&& bytes) {
+    UnitOutcome<T> o;
+    if (!ok) {
+      o.error = std::move(bytes);
+    } else {
+      std::size_t pos = 0;
+      o.files = get_bytes(bytes, pos);
+      if (local.empty()) {
+        o.value.emplace(codec.decode(get_bytes(bytes, pos)));
+      } else {
+        o.value = std::move(local[i]);
+        local[i].reset();
+      }
+    }
+    take(i, std::move(o));
+  };
+  return distribute(n, bytes_work, bytes_take, stop_on_error, label);
+}
 
 }  // namespace millnet::app

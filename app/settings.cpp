@@ -5,6 +5,7 @@
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
+#include "millnet/job/frame.hpp"
 
 #include <algorithm>
 #include <sstream>
@@ -108,10 +109,7 @@ void apply_cutting_data(pocket::CutParams& c, const Json& config, const Json& ex
     throw Error(tool.label() + ": its flute length " + format_double(tool.flute_length_mm) +
                 " mm is shorter than the depth of cut per level " + format_double(ap) + " mm by " +
                 format_double(ap - tool.flute_length_mm) + " mm (lower --step-down / /pocket/step_down)");
-  if (tool.stickout_mm > 0 && c.depth > tool.stickout_mm)
-    throw Error(tool.label() + ": the pocket depth " + format_double(c.depth) + " mm exceeds its stick-out " +
-                format_double(tool.stickout_mm) + " mm by " + format_double(c.depth - tool.stickout_mm) +
-                " mm: the holder would hit the stock");
+  job::check_reach(tool.cutter(), tool.label(), c.depth, "the pocket");
 
   // A figure the user wrote: config key, or the pocket file's own key (as cut_params picks them).
   auto written = [&](const char* key, const std::optional<double>& from_file) -> std::optional<Figure> {

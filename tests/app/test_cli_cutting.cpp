@@ -179,7 +179,7 @@ TEST(CliCutting, BadToolMaterialOrLimitsGetOneLineAndNoFiles) {
       {"short_flutes", "--tool em3-2f-carbide --stepover 1.5 --depth 10 --step-down 10",
        "flute length 8 mm is shorter than the depth of cut per level 10 mm by 2 mm"},
       {"too_deep_for_stickout", "--tool em3-2f-carbide --stepover 1.5 --depth 25 --step-down 5",
-       "the pocket depth 25 mm exceeds its stick-out 20 mm by 5 mm"},
+       "the pocket reaches 25.00 mm below the stock top, beyond the tool's stick-out 20 mm by 5.00 mm"},
       {"rpm_over_machine", "--config ../fast.json --tool em10-3f-carbide",
        "spindle_rpm 30000 rpm exceeds the machine's /machine/max_spindle_rpm 24000 by 6000"},
       {"rpm_below_machine", "--config ../slowspindle.json --tool em10-3f-carbide",
@@ -208,7 +208,9 @@ TEST(CliCutting, APartDeeperThanTheToolsStickOutIsRefusedByRoughAndFinish) {
   auto r = run_millnet("rough -q --mesh '" + mesh.string() + "' --tool em3-2f-carbide --stepover 1.5 --out o", d);
   EXPECT_EQ(r.code, 1) << r.err;
   EXPECT_EQ(lines(r.err), 1u) << r.err;
-  EXPECT_NE(r.err.find("reaches 31.00 mm below the stock top, beyond the stick-out 20 mm"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("the part reaches 31.00 mm below the stock top, beyond the tool's stick-out 20 mm"),
+            std::string::npos)
+      << r.err;
   EXPECT_EQ(list_files(d / "o"), "");
   // A Ø6 ball that sticks out 35 mm reaches it.
   std::ofstream(d / "tools.json") << R"({"tools": [{"id": "short-ball", "type": "ball", "diameter": 6, "flutes": 2,

@@ -57,9 +57,8 @@ TEST(CliPost, FinishRoughAndPocketWriteGrblThatGrblAccepts) {
   for (int k = 1; k <= 5; ++k) expect_grbl_accepts(d / "fin" / ("dome.s" + std::to_string(k) + ".nc"));
   // The dialect from the config instead of the flag.
   std::ofstream(d / "grbl.json") << R"({"machine": {"post": "grbl"}})";
-  const auto r = run_millnet("rough --quiet --no-preview --config grbl.json --mesh '" + mesh.string() +
-                                 "' --step-down 2 --out rough",
-                             d);
+  const auto r = run_millnet(
+      "rough --quiet --no-preview --config grbl.json --mesh '" + mesh.string() + "' --step-down 2 --out rough", d);
   ASSERT_EQ(r.code, 0) << r.err;
   expect_grbl_accepts(d / "rough" / "dome.nc");
   // A 60 × 40 mm pocket with a round island (bulge 1: two half circles), 5 mm deep, a Ø10 tool.
@@ -70,10 +69,10 @@ TEST(CliPost, FinishRoughAndPocketWriteGrblThatGrblAccepts) {
     SCOPED_TRACE(planner);
     const std::string out = std::string("pocket_") + planner;
     // som and zigzag enter by pre-drilling: the drill and the pause for the end mill are in the program
-    const auto p = run_millnet("pocket --quiet --no-preview --pocket '" + pocket + "' --planner " + planner +
-                                   (std::string(planner) == "adaptive" ? " --entry helix" : "") +
-                                   " --post grbl --out " + out,
-                               d);
+    const auto p =
+        run_millnet("pocket --quiet --no-preview --pocket '" + pocket + "' --planner " + planner +
+                        (std::string(planner) == "adaptive" ? " --entry helix" : "") + " --post grbl --out " + out,
+                    d);
     ASSERT_EQ(p.code, 0) << p.err;
     expect_grbl_accepts(d / out / "small.nc");
   }

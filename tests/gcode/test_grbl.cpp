@@ -34,18 +34,18 @@ Move line_to(Motion m, Point3 to, double feed = 0) {
 
 TEST(GrblCheck, RefusesWhatGrblRefusesWithItsErrorNumber) {
   EXPECT_EQ(first_code("G21 G90\nG0 X1 Y2\nM30\n"), -1);
-  EXPECT_EQ(first_code("T2 M6\n"), 20);                         // no tool changer
-  EXPECT_EQ(first_code("G64 P0.01\n"), 20);                     // no path blending mode
-  EXPECT_EQ(first_code("O100\n"), 20);                          // no O-words (subroutines)
-  EXPECT_EQ(first_code("G0 G1 X1\n"), 24);                      // two motion codes on one line
-  EXPECT_EQ(first_code("G90 G91 X1\n"), 21);                    // two distance modes
-  EXPECT_EQ(first_code("G0 X1 X2\n"), 25);                      // repeated word
-  EXPECT_EQ(first_code("G1 X1\n"), 22);                         // feed never set
+  EXPECT_EQ(first_code("T2 M6\n"), 20);                             // no tool changer
+  EXPECT_EQ(first_code("G64 P0.01\n"), 20);                         // no path blending mode
+  EXPECT_EQ(first_code("O100\n"), 20);                              // no O-words (subroutines)
+  EXPECT_EQ(first_code("G0 G1 X1\n"), 24);                          // two motion codes on one line
+  EXPECT_EQ(first_code("G90 G91 X1\n"), 21);                        // two distance modes
+  EXPECT_EQ(first_code("G0 X1 X2\n"), 25);                          // repeated word
+  EXPECT_EQ(first_code("G1 X1\n"), 22);                             // feed never set
   EXPECT_EQ(first_code("G0 X" + std::string(80, '1') + "\n"), 11);  // beyond the 80-byte line buffer
   EXPECT_EQ(first_code("(" + std::string(140, 'c') + ")\n"), 0);    // beyond the serial buffer
-  EXPECT_EQ(first_code("G1 X10 Y0 F100\nG2 X0 Y0 I-5 J0\n"), -1);  // a half circle
-  EXPECT_EQ(first_code("G1 X10 Y0 F100\nG2 X0 Y0 I-4 J0\n"), 33);  // end 2 mm off its circle
-  EXPECT_EQ(first_code("G1 X10 F100 I3\n"), 36);                   // I unused by a line
+  EXPECT_EQ(first_code("G1 X10 Y0 F100\nG2 X0 Y0 I-5 J0\n"), -1);   // a half circle
+  EXPECT_EQ(first_code("G1 X10 Y0 F100\nG2 X0 Y0 I-4 J0\n"), 33);   // end 2 mm off its circle
+  EXPECT_EQ(first_code("G1 X10 F100 I3\n"), 36);                    // I unused by a line
   EXPECT_EQ(first_code("%\n"), 1);
   EXPECT_EQ(first_code("G0 X1.2.3\n"), 1);  // read_float stops at the second point
 }
@@ -57,11 +57,19 @@ TEST(GrblDialect, EveryItemKindIsWrittenAsGrblAcceptsIt) {
   arc.center = {20, 5};
   Move helix = line_to(Motion::ArcCW, {10.12345, 10, -1.5}, 250.25);
   helix.center = {15.061725, 10};
-  p.items = {line_to(Motion::Rapid, {0, 0, 5}), ToolChange{2, "6 mm end mill (carbide)"},
-             line_to(Motion::Rapid, {10, 0, 5}), Spindle{SpindleDir::CW, 12000},
-             line_to(Motion::Line, {10, 0, -1}, 100), line_to(Motion::Line, {20, 0, -1}, 300),
-             arc, helix, Comment{"finish " + std::string(150, 'x')}, line_to(Motion::Rapid, {10.12345, 10, 5}),
-             Pause{true}, Spindle{SpindleDir::Off, 0}, Pause{false}};
+  p.items = {line_to(Motion::Rapid, {0, 0, 5}),
+             ToolChange{2, "6 mm end mill (carbide)"},
+             line_to(Motion::Rapid, {10, 0, 5}),
+             Spindle{SpindleDir::CW, 12000},
+             line_to(Motion::Line, {10, 0, -1}, 100),
+             line_to(Motion::Line, {20, 0, -1}, 300),
+             arc,
+             helix,
+             Comment{"finish " + std::string(150, 'x')},
+             line_to(Motion::Rapid, {10.12345, 10, 5}),
+             Pause{true},
+             Spindle{SpindleDir::Off, 0},
+             Pause{false}};
   const std::string text = write(p, grbl());
   const auto errors = grbl_errors(text);
   EXPECT_TRUE(errors.empty()) << grbl_report(errors) << text;

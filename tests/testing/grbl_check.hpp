@@ -19,16 +19,16 @@
 namespace millnet::testing {
 
 struct GrblError {
-  int line = 0;   ///< 1-based
-  int code = 0;   ///< GRBL's error number (report.h), 0 for the sender's serial-buffer limit
+  int line = 0;  ///< 1-based
+  int code = 0;  ///< GRBL's error number (report.h), 0 for the sender's serial-buffer limit
   std::string what;
 };
 
 /// Every error GRBL 1.1 would report for `program`, in line order (empty: GRBL accepts it all).
 inline std::vector<GrblError> grbl_errors(const std::string& program) {
-  constexpr std::size_t kLineBuffer = 80;    // LINE_BUFFER_SIZE: at most 79 characters kept per line
-  constexpr std::size_t kSerialBuffer = 128; // RX_BUFFER_SIZE: a streamed line must fit, comments too
-  constexpr int kMaxTool = 255;              // MAX_TOOL_NUMBER
+  constexpr std::size_t kLineBuffer = 80;     // LINE_BUFFER_SIZE: at most 79 characters kept per line
+  constexpr std::size_t kSerialBuffer = 128;  // RX_BUFFER_SIZE: a streamed line must fit, comments too
+  constexpr int kMaxTool = 255;               // MAX_TOOL_NUMBER
   std::vector<GrblError> errors;
   bool feed_defined = false;
   int motion = -1;  // modal motion: 0 1 2 3, -1 none yet (GRBL starts in G0)
@@ -120,24 +120,45 @@ inline std::vector<GrblError> grbl_errors(const std::string& program) {
           continue;
         }
         switch (whole) {
-          case 0: case 1: case 2: case 3:
+          case 0:
+          case 1:
+          case 2:
+          case 3:
             if (axis_command) fail(24, "axis command conflict");
             axis_command = true;
             new_motion = whole;
             group(1);
             break;
-          case 80: group(1); new_motion = -1; break;
-          case 4: case 53: group(0); break;
-          case 17: case 18: case 19: group(2); break;
-          case 90: case 91:
+          case 80:
+            group(1);
+            new_motion = -1;
+            break;
+          case 4:
+          case 53: group(0); break;
+          case 17:
+          case 18:
+          case 19: group(2); break;
+          case 90:
+          case 91:
             group(mantissa == 0 ? 3 : 4);  // G91.1 is the arc-distance group of its own
             if (mantissa == 0) absolute = whole == 90;
             break;
-          case 93: case 94: group(5); break;
-          case 20: case 21: group(6); inch = whole == 20; break;
+          case 93:
+          case 94: group(5); break;
+          case 20:
+          case 21:
+            group(6);
+            inch = whole == 20;
+            break;
           case 40: group(7); break;
-          case 43: case 49: group(8); break;
-          case 54: case 55: case 56: case 57: case 58: case 59: group(9); break;
+          case 43:
+          case 49: group(8); break;
+          case 54:
+          case 55:
+          case 56:
+          case 57:
+          case 58:
+          case 59: group(9); break;
           case 61: group(10); break;
           default: fail(20, "unsupported G code (e.g. G64, G41, canned cycles)");
         }
@@ -147,9 +168,15 @@ inline std::vector<GrblError> grbl_errors(const std::string& program) {
           continue;
         }
         switch (whole) {
-          case 0: case 1: case 2: case 30: group(16); break;  // program flow
-          case 3: case 4: case 5: group(17); break;           // spindle
-          case 8: case 9: group(18); break;                   // coolant
+          case 0:
+          case 1:
+          case 2:
+          case 30: group(16); break;  // program flow
+          case 3:
+          case 4:
+          case 5: group(17); break;  // spindle
+          case 8:
+          case 9: group(18); break;  // coolant
           default: fail(20, "unsupported M code (e.g. M6 tool change)");
         }
       } else {
@@ -186,8 +213,10 @@ inline std::vector<GrblError> grbl_errors(const std::string& program) {
     double target[3];
     for (int a = 0; a < 3; ++a) target[a] = xyz[a] ? (absolute ? *xyz[a] : pos[a] + *xyz[a]) : pos[a];
     if ((motion == 2 || motion == 3) && (axis_words || (new_motion && (*new_motion == 2 || *new_motion == 3)))) {
-      if (!axis_words) fail(26, "arc without axis words");
-      else if (!xyz[0] && !xyz[1]) fail(32, "arc without an axis word in its plane");
+      if (!axis_words)
+        fail(26, "arc without axis words");
+      else if (!xyz[0] && !xyz[1])
+        fail(32, "arc without an axis word in its plane");
       if (r) {
         used_r = true;
       } else if (!ij[0] && !ij[1]) {

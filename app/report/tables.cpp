@@ -1,0 +1,69 @@
+// The strategies' ranking table and Figure 9 (tables.hpp).
+#include "millnet/report/tables.hpp"
+
+#include "millnet/report/plots.hpp"
+
+#include <iomanip>
+#include <sstream>
+
+namespace millnet::report {
+
+namespace {
+std::string fixed(double v, int decimals) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(decimals) << v;
+  return os.str();
+}
+}  // namespace
+
+StrategyTable strategy_table(const std::string& stem, const std::string& aim,
+                             const std::vector<job::StrategyOutcome>& outcomes, const std::vector<std::size_t>& order,
+                             bool simulated) {
+  std::ostringstream csv, md;
+  csv << "rank,strategy,name,path_length_mm,time_feed_min,time_kinematic_min,lifts";
+  md << "# " << stem << ": finishing strategies ranked by " << aim << "\n\n"
+     << "| rank | strategy | path (m) | time feed (min) | time kinematic (min) | lifts |";
+  if (simulated) {
+    csv << ",ra_median_um,ra_p90_um,scallop_max_mm,max_gouge_mm,uncut_area_mm2";
+    md << " Ra median (µm) | Ra p90 (µm) | scallop (mm) | gouge (mm) | uncut (mm²) |";
+  }
+  csv << "\n";
+  md << "\n|---|---|---|---|---|---|" << (simulated ? "---|---|---|---|---|" : "") << "\n";
+  for (std::size_t r = 0; r < order.size(); ++r) {  // O(strategies)
+    const job::StrategyOutcome& o = outcomes[order[r]];
+    const std::string name = finish::strategy_name(o.strategy);
+    csv << r + 1 << "," << static_cast<int>(o.strategy) << ",\"" << name << "\"," << fixed(o.path_length_mm, 3) << ","
+        << fixed(o.time_feed_min, 4) << "," << fixed(o.time_kinematic_min, 4) << "," << o.lifts;
+    md << "| " << r + 1 << " | " << name << " | " << fixed(o.path_length_mm / 1000, 2) << " | "
+       << fixed(o.time_feed_min, 1) << " | " << fixed(o.time_kinematic_min, 1) << " | " << o.lifts << " |";
+    if (simulated) {
+      const simulate::SurfaceMetrics& m = o.surface;
+      csv << "," << fixed(m.ra_median_um, 3) << "," << fixed(m.ra_p90_um, 3) << "," << fixed(m.scallop_max_mm, 4) << ","
+          << fixed(m.max_gouge_mm, 4) << "," << fixed(m.uncut_area_mm2, 2);
+      md << " " << fixed(m.ra_median_um, 2) << " | " << fixed(m.ra_p90_um, 2) << " | " << fixed(m.scallop_max_mm, 4)
+         << " | " << fixed(m.max_gouge_mm, 4) << " | " << fixed(m.uncut_area_mm2, 1) << " |";
+    }
+    csv << "\n";
+    md << "\n";
+  }
+  return {csv.str(), md.str()};
+}
+
+void ra_bins_png(const std::filesystem::path& path, const std::string& stem, const std::vector<double>& edges,
+                 const std::vector<job::StrategyOutcome>& outcomes) {
+  std::vector<std::string> cats;
+  for (std::size_t b = 0; b < edges.size(); ++b)
+    cats.push_back(b + 1 < edges.size() ? fixed(edges[b], 2) + "-" + fixed(edges[b + 1], 2)
+                                        : ">= " + fixed(edges[b], 2));
+  std::vector<NamedValues> series;
+  for (const job::StrategyOutcome& o : outcomes) {
+    NamedValues nv{finish::strategy_name(o.strategy), {}};
+    for (const double s : o.surface.ra_share) nv.values.push_back(100 * s);
+    series.push_back(std::move(nv));
+  }
+  BarOptions bo;
+  bo.show_values = false;
+  (void)grouped_bar_png(path, cats, series, stem + ": share of the surface per Ra bin (um)", "surface (%)", bo);
+}
+
+}  // namespace millnet::report

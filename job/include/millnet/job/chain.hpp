@@ -1,0 +1,44 @@
+#pragma once
+// A part's programs machined one after the other on one stock (roughing, then finishing, then rest
+// machining: each meets what the ones before it left), and the surface measured with the last
+// tool. What `millnet simulate` and the rough + finish chain of `millnet run` report.
+#include "millnet/gcode/program.hpp"
+#include "millnet/gcode/stats.hpp"
+#include "millnet/job/finishing.hpp"
+#include "millnet/simulate/zmap.hpp"
+#include "millnet/tooling/cutter.hpp"
+
+#include <cstddef>
+#include <vector>
+
+namespace millnet::job {
+
+/// One program of a chain, as the controller gets it (read from its file, or gcode::written), and
+/// the tool that runs it.
+struct ChainStep {
+  const gcode::Program* program = nullptr;
+  tooling::Cutter cutter;
+};
+
+/// What one program of the chain did.
+struct StepResult {
+  gcode::ProgramStats stats;        ///< lengths and times (the /machine motion model)
+  double max_depth_of_cut_mm = 0;   ///< deepest cut of any of its moves
+  std::size_t cutting_rapids = 0;   ///< its rapids that removed material
+};
+
+struct ChainResult {
+  std::vector<StepResult> steps;     ///< per program, in order
+  simulate::SurfaceMetrics metrics;  ///< the surface after the last, scored with its tool
+};
+
+/// A block up to Z 0 over the design's grid (the raw stock of a part roughed from a block).
+[[nodiscard]] simulate::ZMap block_stock(const Design& design, const SimParams& sim);
+
+/// Machines the steps in order on `stock` (left machined) and scores the surface against the
+/// design (allowance 0: the finished part) with the last step's cutter (none: all material left
+/// counts as uncut). O(steps × (moves + cells swept) + cells).
+[[nodiscard]] ChainResult machine_chain(simulate::ZMap& stock, const Design& design, const std::vector<ChainStep>& steps,
+                                        const gcode::MotionModel& machine, const SimParams& sim);
+
+}  // namespace millnet::job

@@ -1,0 +1,142 @@
+// The design surface, a program machined and scored, and a part's strategies labelled (finishing.hpp).
+#include "millnet/job/finishing.hpp"
+
+#include "millnet/ingest/heightfield.hpp"
+#include "millnet/simulate/maps.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace millnet::job {
+
+simulate::MetricsOptions SimParams::metrics_options(const tooling::Cutter& cutter) const {
+  simulate::MetricsOptions mo;
+  mo.allowance_mm = 0;
+  mo.tolerance_mm = tolerance_mm;
+  mo.sampling_length_mm = sampling_length_mm;
+  mo.ra_bins_um = ra_bins_um;
+  mo.ra_every = static_cast<std::size_t>(std::max(1.0, std::round(ra_spacing_mm / cell_mm)));
+  mo.cutter = cutter;
+  return mo;
+}
+
+std::size_t SimParams::max_bytes() const { return static_cast<std::size_t>(std::min(limits.max_memory_bytes, 1e18)); }
+
+Design design_surface(const ingest::Mesh& mesh, const Frame& frame, const SimParams& sim) {
+  Design d;
+  d.grid.cell = sim.cell_mm;
+  d.grid.nx = static_cast<std::size_t>(std::max(1.0, std::ceil(frame.width / sim.cell_mm)));
+  d.grid.ny = static_cast<std::size_t>(std::max(1.0, std::ceil(frame.depth / sim.cell_mm)));
+  d.grid.check();
+  // + design and raster (17 B per cell), + the metrics' per-cell excess (8 B), before any is allocated
+  check_work(simulate::zmap_work(d.grid, 25), sim.limits);
+  const ingest::HeightField hf =
+      ingest::rasterize_top(mesh, 0.5 * d.grid.cell, 0.5 * d.grid.cell, d.grid.cell, static_cast<int>(d.grid.nx),
+                            static_cast<int>(d.grid.ny));
+  d.heights = simulate::design_heights(hf, frame.z_shift());
+  return d;
+}
+
+simulate::ZMap finishing_stock(const Design& design, const Frame& frame, const SimParams& sim) {
+  return simulate::ZMap::from_heights(design.grid, design.heights, sim.allowance_mm,
+                                      frame.z_shift() + sim.allowance_mm, sim.max_bytes());
+}
+
+Scored score_program(const Design& design, const Frame& frame, const gcode::Program& program,
+                     const tooling::Cutter& cutter, const SimParams& sim) {
+  Scored s;
+  s.machined = finishing_stock(design, frame, sim);
+  const simulate::SweepResult sw = simulate::machine(s.machined, program, cutter);
+  s.cutting_rapids = sw.cutting_rapids.size();
+  s.max_depth_of_cut_mm = *std::max_element(sw.max_cut_mm.begin(), sw.max_cut_mm.end());
+  // Uncut = reachable material the program left; the scallops between passes are scored by
+  // scallop and Ra, and the rest material no program with this cutter can clear is apart.
+  s.metrics = simulate::surface_metrics(s.machined, design.heights, sim.metrics_options(cutter));
+  return s;
+}
+
+simulate::StrategyScore strategy_score(int slot, double time_min, const Scored& scored, double cell_mm) {
+  simulate::StrategyScore c;
+  c.slot = slot;
+  c.time_min = time_min;
+  c.ra_median_um = scored.metrics.ra_median_um;
+  c.ra_p90_um = scored.metrics.ra_p90_um;
+  c.uncut_area_mm2 = scored.metrics.uncut_area_mm2;
+  c.max_gouge_mm = scored.metrics.max_gouge_mm;
+  c.surface_area_mm2 = static_cast<double>(scored.metrics.surface_cells) * cell_mm * cell_mm;
+  return c;
+}
+
+StrategyOutcome planned_outcome(const finish::FinishPlan& plan, const gcode::ProgramStats& stats) {
+  StrategyOutcome o;
+  o.strategy = plan.strategy;
+  o.path_length_mm = plan.path_length_mm;
+  o.lifts = plan.lifts;
+  o.passes = plan.passes.size();
+  o.cl_points = plan.cl_points;
+  o.drops = plan.drops_needed;
+  o.planning_s = plan.planning_s;
+  o.time_feed_min = stats.feed_time_min;
+  o.time_kinematic_min = stats.kinematic_time_min;
+  o.score.slot = static_cast<int>(plan.strategy);
+  o.score.time_min = stats.kinematic_time_min;
+  return o;
+}
+
+void add_simulation(StrategyOutcome& o, const Scored& scored, const simulate::GridSpec& grid) {
+  o.simulated = true;
+  o.surface = scored.metrics;
+  o.surface.ra_um.clear();
+  o.surface.ra_um.shrink_to_fit();
+  o.grid = grid;
+  o.cutting_rapids = scored.cutting_rapids;
+  o.max_depth_of_cut_mm = scored.max_depth_of_cut_mm;
+  o.score = strategy_score(o.score.slot, o.time_kinematic_min, scored, grid.cell);
+}
+
+std::vector<std::size_t> rank_outcomes(std::vector<StrategyOutcome>& outcomes, simulate::AimParams aim) {
+  std::vector<simulate::StrategyScore> scores;
+  bool simulated = !outcomes.empty();
+  for (const StrategyOutcome& o : outcomes) {  // O(n)
+    scores.push_back(o.score);
+    simulated = simulated && o.simulated;
+  }
+  if (!simulated) aim.aim = simulate::Aim::Time;
+  const std::vector<std::size_t> order = simulate::rank_strategies(scores, aim);
+  const std::vector<int> rank = simulate::ranks_from_order(order);
+  for (std::size_t i = 0; i < outcomes.size(); ++i) outcomes[i].rank = rank[i];
+  return order;
+}
+
+finish::FinishParams part_params(finish::FinishParams base, const Frame& frame, const std::string& name,
+                                 std::vector<std::string> tool_lines) {
+  base.check();
+  base.z_shift = frame.z_shift();
+  base.program_name = name;
+  base.comments = std::move(tool_lines);
+  base.comments.push_back(frame.header());
+  return base;
+}
+
+std::vector<StrategyFigures> score_strategies(const ingest::Mesh& mesh, const Frame& frame,
+                                              const std::vector<finish::FinishPlan>& plans,
+                                              const tooling::Cutter& cutter, const gcode::Dialect& post,
+                                              const gcode::MotionModel& machine, const simulate::AimParams& aim,
+                                              const SimParams& sim) {
+  const Design design = design_surface(mesh, frame, sim);
+  std::vector<StrategyFigures> out;
+  std::vector<simulate::StrategyScore> scores;
+  for (const finish::FinishPlan& plan : plans) {  // O(strategies × (program + z-map))
+    const int slot = static_cast<int>(plan.strategy);
+    const gcode::Written w = gcode::written(plan.program, post, plan.program.header.empty() ? "" : plan.program.header[0]);
+    const double time = gcode::stats(plan.program, machine).kinematic_time_min;
+    const Scored s = score_program(design, frame, w.program, cutter, sim);
+    scores.push_back(strategy_score(slot, time, s, design.grid.cell));
+    out.push_back({slot, scores.back(), 0});
+  }
+  const std::vector<int> rank = simulate::ranks_from_order(simulate::rank_strategies(scores, aim));
+  for (std::size_t i = 0; i < out.size(); ++i) out[i].rank = rank[i];
+  return out;
+}
+
+}  // namespace millnet::job
