@@ -107,7 +107,10 @@ Registered register_finish(CLI::App& app) {
     try {
       return finish::parse_strategy(v);
     } catch (const Error&) {
-      throw Error("--strategy: unknown finishing strategy '" + v + "' (expected 1, 2, 3, 4, 5 or all)");
+      const std::vector<std::string> c = finish::strategy_choices();  // the registry's slots and "all"
+      std::string expected;
+      for (std::size_t i = 0; i < c.size(); ++i) expected += (i == 0 ? "" : i + 1 == c.size() ? " or " : ", ") + c[i];
+      throw Error("--strategy: unknown finishing strategy '" + v.substr(0, 40) + "' (expected " + expected + ")");
     }
   };
   CLI::App* sub = app.add_subcommand(

@@ -105,15 +105,17 @@ struct Entry {
   const char* name;
   Lines (*passes)(Shared&);
   bool straight_passes;  ///< every pass lies on a straight XY line (simplify in Z only)
+  unsigned sampling;     ///< the CL grids it samples (Sampling bits): its work estimate
 };
 
 /// The registry: a new strategy is one function above and one line here (slots 6–8 are free).
 constexpr std::array<Entry, 5> kRegistry{{
-    {Strategy::SlopeMode, "profile + Z finishing, slope mode", slope_mode, false},
-    {Strategy::Raster, "3D finishing (parallel)", raster, true},
-    {Strategy::ScallopMode, "profile finishing, scallop-height mode", scallop_mode, true},
-    {Strategy::Waterline, "Z-level finishing", waterline, false},
-    {Strategy::Equidistant, "profile finishing, equidistant, constant in-feed", equidistant, false},
+    {Strategy::SlopeMode, "profile + Z finishing, slope mode", slope_mode, false, kRasterSampling | kWaterlineSampling},
+    {Strategy::Raster, "3D finishing (parallel)", raster, true, kRasterSampling},
+    {Strategy::ScallopMode, "profile finishing, scallop-height mode", scallop_mode, true, kRasterSampling},
+    {Strategy::Waterline, "Z-level finishing", waterline, false, kWaterlineSampling},
+    {Strategy::Equidistant, "profile finishing, equidistant, constant in-feed", equidistant, false,
+     kEquidistantSampling},
 }};
 
 const Entry& entry(Strategy s) {
@@ -128,10 +130,32 @@ void require(bool ok, const std::string& key, const std::string& what) {
 
 }  // namespace
 
+const std::vector<StrategyInfo>& strategy_registry() {
+  static const std::vector<StrategyInfo> kInfo = [] {
+    std::vector<StrategyInfo> v;
+    for (const Entry& e : kRegistry) v.push_back({e.id, e.name, e.sampling});
+    return v;
+  }();
+  return kInfo;
+}
+
+std::vector<std::string> strategy_choices() {
+  std::vector<std::string> c;
+  for (const Entry& e : kRegistry) c.push_back(std::to_string(static_cast<int>(e.id)));
+  c.emplace_back("all");
+  return c;
+}
+
 Strategy parse_strategy(std::string_view s) {
   for (const Entry& e : kRegistry)
     if (s == std::to_string(static_cast<int>(e.id))) return e.id;
-  throw Error("unknown finishing strategy '" + std::string(s) + "' (expected 1, 2, 3, 4 or 5)");
+  std::string slots;
+  for (const Entry& e : kRegistry)
+    slots += (slots.empty()                 ? ""
+              : e.id == kRegistry.back().id ? " or "
+                                            : ", ") +
+             std::to_string(static_cast<int>(e.id));
+  throw Error("unknown finishing strategy '" + std::string(s.substr(0, 40)) + "' (expected " + slots + ")");
 }
 
 std::string strategy_name(Strategy s) {

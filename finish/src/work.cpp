@@ -24,12 +24,12 @@ std::vector<WorkEstimate> estimate_work(double x0, double y0, double x1, double 
                                         const std::vector<Strategy>& strategies, const FinishParams& p) {
   p.check();
   const double w = x1 - x0, h = y1 - y0, R = p.tool.radius();
-  bool raster = false, waterline = false, equidistant = false;
-  for (const Strategy s : strategies) {
-    raster |= s == Strategy::SlopeMode || s == Strategy::Raster || s == Strategy::ScallopMode;
-    waterline |= s == Strategy::SlopeMode || s == Strategy::Waterline;
-    equidistant |= s == Strategy::Equidistant;
-  }
+  unsigned sampling = 0;  // the grids of every strategy asked, each counted once (the registry says which)
+  for (const Strategy s : strategies)
+    for (const StrategyInfo& e : strategy_registry())
+      if (e.id == s) sampling |= e.sampling;
+  const bool raster = sampling & kRasterSampling, waterline = sampling & kWaterlineSampling,
+             equidistant = sampling & kEquidistantSampling;
   std::vector<WorkEstimate> out;
   if (raster) {
     const double a = p.raster_angle_deg * std::numbers::pi / 180.0;

@@ -30,16 +30,15 @@ Design design_surface(const ingest::Mesh& mesh, const Frame& frame, const SimPar
   d.grid.check();
   // + design and raster (17 B per cell), + the metrics' per-cell excess (8 B), before any is allocated
   check_work(simulate::zmap_work(d.grid, 25), sim.limits);
-  const ingest::HeightField hf =
-      ingest::rasterize_top(mesh, 0.5 * d.grid.cell, 0.5 * d.grid.cell, d.grid.cell, static_cast<int>(d.grid.nx),
-                            static_cast<int>(d.grid.ny));
+  const ingest::HeightField hf = ingest::rasterize_top(mesh, 0.5 * d.grid.cell, 0.5 * d.grid.cell, d.grid.cell,
+                                                       static_cast<int>(d.grid.nx), static_cast<int>(d.grid.ny));
   d.heights = simulate::design_heights(hf, frame.z_shift());
   return d;
 }
 
 simulate::ZMap finishing_stock(const Design& design, const Frame& frame, const SimParams& sim) {
-  return simulate::ZMap::from_heights(design.grid, design.heights, sim.allowance_mm,
-                                      frame.z_shift() + sim.allowance_mm, sim.max_bytes());
+  return simulate::ZMap::from_heights(design.grid, design.heights, sim.allowance_mm, frame.z_shift() + sim.allowance_mm,
+                                      sim.max_bytes());
 }
 
 Scored score_program(const Design& design, const Frame& frame, const gcode::Program& program,
@@ -128,7 +127,8 @@ std::vector<StrategyFigures> score_strategies(const ingest::Mesh& mesh, const Fr
   std::vector<simulate::StrategyScore> scores;
   for (const finish::FinishPlan& plan : plans) {  // O(strategies × (program + z-map))
     const int slot = static_cast<int>(plan.strategy);
-    const gcode::Written w = gcode::written(plan.program, post, plan.program.header.empty() ? "" : plan.program.header[0]);
+    const gcode::Written w =
+        gcode::written(plan.program, post, plan.program.header.empty() ? "" : plan.program.header[0]);
     const double time = gcode::stats(plan.program, machine).kinematic_time_min;
     const Scored s = score_program(design, frame, w.program, cutter, sim);
     scores.push_back(strategy_score(slot, time, s, design.grid.cell));

@@ -39,6 +39,22 @@ namespace millnet::finish {
 
 enum class Strategy : int { SlopeMode = 1, Raster = 2, ScallopMode = 3, Waterline = 4, Equidistant = 5 };
 
+/// The CL grids a strategy samples the part on (its work estimate: finish/work.hpp).
+enum Sampling : unsigned { kRasterSampling = 1, kWaterlineSampling = 2, kEquidistantSampling = 4 };
+
+/// One strategy of the registry (finish/src/strategy.cpp): a new strategy is its passes function
+/// and one entry there; the CLI's choices, the config schema's enum (checked by a test) and the
+/// work estimate follow from it.
+struct StrategyInfo {
+  Strategy id;
+  std::string_view name;  ///< the paper's name, without the slot number
+  unsigned sampling;      ///< Sampling bits
+};
+/// The registry, in slot order.
+[[nodiscard]] const std::vector<StrategyInfo>& strategy_registry();
+/// The accepted values of a strategy choice: the slots ("1".."5") and "all".
+[[nodiscard]] std::vector<std::string> strategy_choices();
+
 /// "1".."5"; throws millnet::Error naming the accepted values.
 [[nodiscard]] Strategy parse_strategy(std::string_view s);
 /// The paper's name of the slot, e.g. "2 3D finishing (parallel)".

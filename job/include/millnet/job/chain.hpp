@@ -22,9 +22,9 @@ struct ChainStep {
 
 /// What one program of the chain did.
 struct StepResult {
-  gcode::ProgramStats stats;        ///< lengths and times (the /machine motion model)
-  double max_depth_of_cut_mm = 0;   ///< deepest cut of any of its moves
-  std::size_t cutting_rapids = 0;   ///< its rapids that removed material
+  gcode::ProgramStats stats;       ///< lengths and times (the /machine motion model)
+  double max_depth_of_cut_mm = 0;  ///< deepest cut of any of its moves
+  std::size_t cutting_rapids = 0;  ///< its rapids that removed material
 };
 
 struct ChainResult {
@@ -38,7 +38,8 @@ struct ChainResult {
 /// Machines the steps in order on `stock` (left machined) and scores the surface against the
 /// design (allowance 0: the finished part) with the last step's cutter (none: all material left
 /// counts as uncut). O(steps × (moves + cells swept) + cells).
-[[nodiscard]] ChainResult machine_chain(simulate::ZMap& stock, const Design& design, const std::vector<ChainStep>& steps,
-                                        const gcode::MotionModel& machine, const SimParams& sim);
+[[nodiscard]] ChainResult machine_chain(simulate::ZMap& stock, const Design& design,
+                                        const std::vector<ChainStep>& steps, const gcode::MotionModel& machine,
+                                        const SimParams& sim);
 
 }  // namespace millnet::job

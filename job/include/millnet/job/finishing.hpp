@@ -28,13 +28,13 @@ namespace millnet::job {
 
 /// How a finished surface is simulated and measured (/simulate).
 struct SimParams {
-  double cell_mm = 0.02;           ///< z-map cell edge
-  double allowance_mm = 0.1;       ///< finishing stock over the design surface
-  double tolerance_mm = 0.002;     ///< gouge / remaining-material tolerance
-  double sampling_length_mm = 0.8; ///< Ra sampling length (ISO 4288)
-  double ra_spacing_mm = 0.1;      ///< Ra centres this far apart (whole cells)
+  double cell_mm = 0.02;            ///< z-map cell edge
+  double allowance_mm = 0.1;        ///< finishing stock over the design surface
+  double tolerance_mm = 0.002;      ///< gouge / remaining-material tolerance
+  double sampling_length_mm = 0.8;  ///< Ra sampling length (ISO 4288)
+  double ra_spacing_mm = 0.1;       ///< Ra centres this far apart (whole cells)
   std::vector<double> ra_bins_um{0, 0.4, 0.8, 1.6, 3.2, 6.3, 12.5, 25};
-  WorkLimits limits;               ///< the z-map, design and metrics are checked against them first
+  WorkLimits limits;  ///< the z-map, design and metrics are checked against them first
 
   /// The surface metrics' options for a finished surface (nothing should be left: allowance 0),
   /// with `cutter` the last tool (scallop, rest material and uncut told apart).
@@ -61,9 +61,9 @@ struct Design {
 /// One program machined and its surface measured.
 struct Scored {
   simulate::SurfaceMetrics metrics;
-  std::size_t cutting_rapids = 0;   ///< rapids that removed material
-  double max_depth_of_cut_mm = 0;   ///< deepest cut of any move
-  simulate::ZMap machined;          ///< the machined stock (pictures and previews)
+  std::size_t cutting_rapids = 0;  ///< rapids that removed material
+  double max_depth_of_cut_mm = 0;  ///< deepest cut of any move
+  simulate::ZMap machined;         ///< the machined stock (pictures and previews)
 };
 
 /// Machines `program` (as written: gcode::Written::program, so that gouges name their lines) with
