@@ -14,6 +14,7 @@
 #include "millnet/classifier/rank.hpp"
 #include "millnet/datasets/generator.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
+#include "millnet/report/run_summary.hpp"
 #include "millnet/simulate/aim.hpp"
 
 #include <chrono>
@@ -199,11 +200,10 @@ FinishOutcome finish_test_part(const job::Part& part, const std::string& name, c
     job::Part named = part;
     named.name = name;
     const PartFinish pf = finish_part(named, settings, dir / "finish");
-    for (const auto& o : pf.outcomes) {
-      fo.slots.push_back(static_cast<int>(o.strategy));
-      fo.simulated_rank.push_back(o.rank);
-      fo.ra_median_um.push_back(o.score.ra_median_um);
-    }
+    const job::OutcomeColumns cols = job::outcome_columns(pf.outcomes);
+    fo.slots = cols.slots;
+    fo.simulated_rank = cols.ranks;
+    fo.ra_median_um = cols.ra_median_um;
     if (pr.ok) {
       fo.network_rank = classifier::slot_ranks(pr.totals, fo.slots);  // the paper's Figure 8 totals
       fo.spearman = simulate::spearman(fo.network_rank, fo.simulated_rank);
@@ -280,237 +280,122 @@ PartOutcomes predict_and_rough(const Json& config, const std::string& config_fil
   return po;
 }
 
+/// The summary's values of the run: the training's, then per part what each stage gave.
+report::RunSummary run_summary(const std::string& config_file, const TrainSummary& ts, const PartOutcomes& po,
+                               const Json& timing) {
+  report::RunSummary s;
+  s.config_name = fs::path(config_file).filename().string();
+  s.vectors = ts.vectors;
+  s.training_parts = ts.parts;
+  s.alpha = ts.alpha;
+  s.loo_mode = ts.mode;
+  s.alpha_edge = ts.edge;
+  s.accuracy_part = ts.accuracy_part;
+  s.accuracy_vector = ts.accuracy_vector;
+  s.finish_settings_note = po.finish_settings_note;
+  s.aim = po.aim;
+  for (auto it = timing.begin(); it != timing.end(); ++it) s.timing_s.emplace_back(it.key(), it.value().get<double>());
+  for (std::size_t i = 0; i < po.preds.size(); ++i) {  // O(parts)
+    const PartPrediction& pr = po.preds[i];
+    report::RunPart p;
+    p.name = pr.name;
+    p.expected = pr.expected;
+    p.predicted = pr.ok;
+    p.predict_error = pr.error;
+    p.top = pr.top;
+    if (pr.ok) p.top_name = pr.strategies[static_cast<std::size_t>(pr.top - 1)];
+    p.confidence = pr.confidence;
+    p.consistency = pr.consistency;
+    p.unfamiliar = pr.unfamiliar;
+    if (i < po.roughs.size()) {
+      const RoughOutcome& r = po.roughs[i];
+      p.roughed = true;
+      p.rough_ok = r.ok;
+      p.rough_error = r.error;
+      if (r.ok) {
+        p.rough_time_min = r.metrics["time_adjusted_min"].get<double>();
+        p.retractions = r.metrics["retractions"].get<double>();
+        p.cut_length_mm = r.metrics["cut_length_mm"].get<double>();
+        p.levels = r.metrics["levels"].get<std::size_t>();
+      }
+    }
+    if (i < po.finishes.size()) {
+      const FinishOutcome& f = po.finishes[i];
+      p.finished = true;
+      p.finish_ok = f.ok;
+      p.finish_error = f.error;
+      p.slots = f.slots;
+      p.network_rank = f.network_rank;
+      p.simulated_rank = f.simulated_rank;
+      p.ra_median_um = f.ra_median_um;
+      p.spearman = f.spearman;
+      p.chained = f.chained;
+      if (f.chained) {
+        const Json& c = f.chain;
+        p.chain_finisher_depth_of_cut_mm = c["programs"][1]["max_depth_of_cut_mm"].get<double>();
+        p.chain_ra_median_um = c["ra_median_um"].get<double>();
+        p.chain_uncut_mm2 = c["uncut_area_mm2"].get<double>();
+        p.chain_rest_mm2 = c["rest_area_mm2"].get<double>();
+        p.chain_gouge_mm = c["max_gouge_mm"].get<double>();
+        p.chain_scallop_max_mm = c["scallop_max_mm"].get<double>();
+      }
+    }
+    s.parts.push_back(std::move(p));
+  }
+  return s;
+}
+
 /// Per part: both rankings (slot order, best first), ρ, and the rough + top chain's figures.
-Json finishing_json(const PartOutcomes& po) {
+Json finishing_json(const report::RunSummary& s) {
   Json out = Json::array();
-  for (std::size_t i = 0; i < po.finishes.size() && i < po.preds.size(); ++i) {
-    const auto& f = po.finishes[i];
-    Json j{{"part", po.preds[i].name}, {"status", f.ok ? "ok" : "error"}};
-    if (!f.ok) {
-      j["error"] = f.error;
+  for (const report::RunPart& p : s.parts) {  // O(parts)
+    if (!p.finished) continue;
+    Json j{{"part", p.name}, {"status", p.finish_ok ? "ok" : "error"}};
+    if (!p.finish_ok) {
+      j["error"] = p.finish_error;
       out.push_back(j);
       continue;
     }
-    j["simulated_ranking"] = simulate::slots_by_rank(f.slots, f.simulated_rank);
-    j["ra_median_um"] = f.ra_median_um;
-    if (!f.network_rank.empty()) {
-      j["network_ranking"] = simulate::slots_by_rank(f.slots, f.network_rank);
-      j["spearman"] = f.spearman;
+    j["simulated_ranking"] = simulate::slots_by_rank(p.slots, p.simulated_rank);
+    j["ra_median_um"] = p.ra_median_um;
+    if (!p.network_rank.empty()) {
+      j["network_ranking"] = simulate::slots_by_rank(p.slots, p.network_rank);
+      j["spearman"] = p.spearman;
     }
-    if (f.chained) {
-      const Json& c = f.chain;
-      j["rough_then_top"] = {{"strategy", po.preds[i].top},
-                             {"finisher_max_depth_of_cut_mm", c["programs"][1]["max_depth_of_cut_mm"]},
-                             {"ra_median_um", c["ra_median_um"]},
-                             {"uncut_area_mm2", c["uncut_area_mm2"]},
-                             {"rest_area_mm2", c["rest_area_mm2"]},
-                             {"scallop_max_mm", c["scallop_max_mm"]},
-                             {"max_gouge_mm", c["max_gouge_mm"]}};
-    }
+    if (p.chained)
+      j["rough_then_top"] = {{"strategy", p.top},
+                             {"finisher_max_depth_of_cut_mm", p.chain_finisher_depth_of_cut_mm},
+                             {"ra_median_um", p.chain_ra_median_um},
+                             {"uncut_area_mm2", p.chain_uncut_mm2},
+                             {"rest_area_mm2", p.chain_rest_mm2},
+                             {"scallop_max_mm", p.chain_scallop_max_mm},
+                             {"max_gouge_mm", p.chain_gouge_mm}};
     out.push_back(j);
   }
   return out;
 }
 
-/// summary.md and run_report.json; 1 when a part failed.
+/// summary.md, summary.html and run_report.json; 1 when a part failed.
 int write_run_summary(const std::string& config_file, const TrainSummary& ts, const PartOutcomes& po,
                       const Json& timing, const fs::path& out) {
-  const auto& preds = po.preds;
-  const auto& roughs = po.roughs;
-  std::ostringstream md;
-  md << "# millnet run: " << fs::path(config_file).filename().string() << "\n\n"
-     << "Training set: " << ts.vectors << " vectors from " << ts.parts
-     << " parts. Penalty coefficient α = " << fixed(ts.alpha, 4) << " chosen by leave-one-" << ts.mode << "-out"
-     << (ts.edge != "none" ? " (at the " + ts.edge + " edge of the scan)" : std::string()) << ".\n"
-     << "Verification accuracy: " << fixed(100 * ts.accuracy_part, 1) << " % leaving out whole parts, "
-     << fixed(100 * ts.accuracy_vector, 1) << " % leaving out single vectors (the paper's LOO; optimistic, "
-     << "since a vector's rotated siblings stay in).\n\n"
-     << "![leave-one-out curve](model/loo_curve.png)\n\n"
-     << "| part | expected | predicted strategy | confidence | consistency | unfamiliar | roughing time (min) | "
-        "retractions | cut length (mm) | levels |\n|---|---:|---|---:|---:|---|---:|---:|---:|---:|\n";
-  std::size_t correct = 0, labelled = 0, failures = 0;
-  for (std::size_t i = 0; i < preds.size(); ++i) {
-    const auto& pr = preds[i];
-    md << "| [" << pr.name << "](parts/" << pr.name << "/) | " << (pr.expected ? std::to_string(pr.expected) : "-")
-       << " | ";
-    if (pr.ok) {
-      md << pr.top << " " << pr.strategies[static_cast<std::size_t>(pr.top - 1)] << " | "
-         << fixed(100 * pr.confidence, 0) << " % | " << fixed(100 * pr.consistency, 0) << " % | "
-         << (pr.unfamiliar ? "yes" : "no") << " | ";
-      if (pr.expected) {
-        ++labelled;
-        correct += pr.top == pr.expected ? 1 : 0;
-      }
-    } else {
-      ++failures;
-      md << "error: " << pr.error << " | | | | ";
-    }
-    if (i < roughs.size() && roughs[i].ok) {
-      const Json& m = roughs[i].metrics;
-      md << fixed(m["time_adjusted_min"].get<double>(), 1) << " | " << fixed(m["retractions"].get<double>(), 0) << " | "
-         << fixed(m["cut_length_mm"].get<double>(), 0) << " | " << m["levels"].dump() << " |\n";
-    } else if (i < roughs.size()) {
-      ++failures;
-      md << "error: " << roughs[i].error << " | | | |\n";
-    } else {
-      md << "- | - | - | - |\n";
-    }
-  }
-  if (labelled)
-    md << "\nHeld-out test parts predicted as their family's strategy: " << correct << " of " << labelled << ".\n";
-  if (!po.finishes.empty()) {
-    md << "\n## Finishing: the network's ranking beside the simulated one\n\n"
-       << "Every part finished with the five strategies (" << po.finish_settings_note << "), each program read back "
-       << "and machined on a z-map from the design + finishing stock, ranked by the aim (" << po.aim << "); the "
-       << "network ranks them by its totals over the variants (the paper's Figure 8 beside its Figure 9). ρ is "
-       << "Spearman's rank correlation of the two rankings (1 = same order, −1 = reversed). Then the roughing "
-       << "program and the network's top strategy machined one after the other on one z-map from flat stock. "
-       << "Material left above the design by more than the tolerance (along the surface normal) is a scallop "
-       << "when it lies between passes that reached the design within the tool's radius on both sides, rest "
-       << "material when the finishing tool cannot reach the design there (a concave corner tighter than it: "
-       << "the same for every strategy), and uncut otherwise.\n\n"
-       << "| part | network ranking | simulated ranking | ρ | top strategy's simulated rank | Ra median of the "
-          "top (µm) | best Ra median (µm) | rough + top: deepest cut of the finisher (mm) | rough + top: Ra median "
-          "(µm) | rough + top: uncut (mm²) | rough + top: rest material (mm²) | rough + top: gouge (mm) |\n"
-       << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-    auto order_text = [](const std::vector<int>& slots, const std::vector<int>& rank) {
-      const std::vector<int> by = simulate::slots_by_rank(slots, rank);
-      std::string t;
-      for (std::size_t r = 0; r < by.size(); ++r) t += (r ? " > " : "") + std::to_string(by[r]);
-      return t;
-    };
-    double rho_sum = 0;
-    std::size_t rho_n = 0;
-    for (std::size_t i = 0; i < po.finishes.size() && i < preds.size(); ++i) {
-      const auto& f = po.finishes[i];
-      const auto& pr = preds[i];
-      md << "| " << pr.name << " | ";
-      if (!f.ok) {
-        ++failures;
-        md << "error: " << f.error << " | | | | | | | | | |\n";
-        continue;
-      }
-      const double best = *std::min_element(f.ra_median_um.begin(), f.ra_median_um.end());
-      const auto top = std::find(f.slots.begin(), f.slots.end(), pr.top);
-      const std::size_t ti = static_cast<std::size_t>(top - f.slots.begin());
-      md << (f.network_rank.empty() ? "-" : order_text(f.slots, f.network_rank)) << " | "
-         << order_text(f.slots, f.simulated_rank) << " | " << (f.network_rank.empty() ? "-" : fixed(f.spearman, 2))
-         << " | " << (top != f.slots.end() ? std::to_string(f.simulated_rank[ti]) : "-") << " | "
-         << (top != f.slots.end() ? fixed(f.ra_median_um[ti], 2) : "-") << " | " << fixed(best, 2) << " | ";
-      if (!f.network_rank.empty()) rho_sum += f.spearman, ++rho_n;
-      if (f.chained) {
-        const Json& c = f.chain;
-        md << fixed(c["programs"][1]["max_depth_of_cut_mm"].get<double>(), 2) << " | "
-           << fixed(c["ra_median_um"].get<double>(), 2) << " | " << fixed(c["uncut_area_mm2"].get<double>(), 1) << " | "
-           << fixed(c["rest_area_mm2"].get<double>(), 1) << " | " << fixed(c["max_gouge_mm"].get<double>(), 4)
-           << " |\n";
-      } else {
-        md << "- | - | - | - | - |\n";
-      }
-    }
-    if (rho_n) md << "\nMean ρ over " << rho_n << " parts: " << fixed(rho_sum / static_cast<double>(rho_n), 2) << ".\n";
-  }
-  md << "\n## Parts\n";
-  for (std::size_t i = 0; i < preds.size(); ++i) {
-    const auto& pr = preds[i];
-    md << "\n### " << pr.name << "\n\n";
-    if (pr.ok) md << "![prediction](parts/" << pr.name << "/" << pr.name << ".png)\n";
-    if (i < roughs.size() && roughs[i].ok) {
-      const std::size_t levels = roughs[i].metrics["levels"].get<std::size_t>();
-      md << "\nRoughing: [G-code](parts/" << pr.name << "/" << pr.name << ".nc), [metrics](parts/" << pr.name << "/"
-         << pr.name << ".metrics.json). Top and bottom levels:\n\n"
-         << "![level 1](parts/" << pr.name << "/" << pr.name << ".level_1.png)\n";
-      if (levels > 1)
-        md << "![level " << levels << "](parts/" << pr.name << "/" << pr.name << ".level_" << levels << ".png)\n";
-    }
-    if (i < po.finishes.size() && po.finishes[i].ok) {
-      const std::string d = "parts/" + pr.name + "/";
-      md << "\nFinishing: [the five strategies ranked](" << d << "finish/" << pr.name << ".strategies.md); share of "
-         << "the surface per Ra bin, per strategy:\n\n![Ra per strategy](" << d << "finish/" << pr.name
-         << ".strategies.png)\n";
-      if (po.finishes[i].chained)
-        md << "\nRoughing, then strategy " << pr.top << ", on one z-map ([figures](" << d << pr.name
-           << ".rough_finish.sim.json)):\n\n![Ra](" << d << pr.name << ".rough_finish.ra.png) ![machined − design]("
-           << d << pr.name << ".rough_finish.deviation.png)\n";
-    }
-  }
-  md << "\n## Time per stage\n\n| stage | seconds |\n|---|---:|\n";
-  for (auto it = timing.begin(); it != timing.end(); ++it)
-    md << "| " << it.key() << " | " << fixed(it.value().get<double>(), 2) << " |\n";
-  write_file_atomic(out / "summary.md", md.str());
-  if (preview_settings().enabled) {  // summary.html: the table, each part's 3D pages, charts (issue 16)
-    report::SummaryPage page;
-    page.title = "millnet run: " + fs::path(config_file).filename().string();
-    page.header = {"part",
-                   "expected",
-                   "predicted strategy",
-                   "confidence",
-                   "roughing time (min)",
-                   "retractions",
-                   "cut length (mm)",
-                   "levels",
-                   "3D preview"};
-    report::SummaryChart time_chart{"roughing time per part", "min", {}, {{"roughing time (min)", {}}}};
-    report::SummaryChart ra_chart{"finishing: simulated Ra median per strategy", "Ra median (µm)", {}, {}};
-    for (std::size_t i = 0; i < preds.size(); ++i) {
-      const auto& pr = preds[i];
-      std::vector<std::string> row{pr.name, pr.expected ? std::to_string(pr.expected) : "-"};
-      if (pr.ok)
-        row.insert(row.end(), {std::to_string(pr.top) + " " + pr.strategies[static_cast<std::size_t>(pr.top - 1)],
-                               fixed(100 * pr.confidence, 0) + " %"});
-      else
-        row.insert(row.end(), {"error: " + pr.error, ""});
-      if (i < roughs.size() && roughs[i].ok) {
-        const Json& m = roughs[i].metrics;
-        row.insert(row.end(), {fixed(m["time_adjusted_min"].get<double>(), 1), fixed(m["retractions"].get<double>(), 0),
-                               fixed(m["cut_length_mm"].get<double>(), 0), m["levels"].dump(),
-                               "link:roughing|parts/" + pr.name + "/" + pr.name + ".html"});
-        time_chart.labels.push_back(pr.name);
-        time_chart.series[0].second.push_back(m["time_adjusted_min"].get<double>());
-        page.previews.emplace_back(pr.name + ": roughing", "parts/" + pr.name + "/" + pr.name + ".html");
-      } else {
-        row.insert(row.end(), {"", "", "", "", ""});
-      }
-      page.rows.push_back(row);
-      if (i < po.finishes.size() && po.finishes[i].ok) {
-        const auto& f = po.finishes[i];
-        ra_chart.labels.push_back(pr.name);
-        for (std::size_t k = 0; k < f.slots.size(); ++k) {
-          const std::string sname = "strategy " + std::to_string(f.slots[k]);
-          auto it = std::find_if(ra_chart.series.begin(), ra_chart.series.end(),
-                                 [&](const auto& x) { return x.first == sname; });
-          if (it == ra_chart.series.end()) {
-            ra_chart.series.emplace_back(sname, std::vector<double>(ra_chart.labels.size() - 1, std::nan("")));
-            it = ra_chart.series.end() - 1;
-          }
-          it->second.push_back(f.ra_median_um[k]);
-          page.previews.emplace_back(
-              pr.name + ": finishing, " + sname,
-              "parts/" + pr.name + "/finish/" + pr.name + ".s" + std::to_string(f.slots[k]) + ".html");
-        }
-        for (auto& sr : ra_chart.series) sr.second.resize(ra_chart.labels.size(), std::nan(""));
-        if (f.chained)
-          page.previews.emplace_back(pr.name + ": roughing + top strategy, simulated",
-                                     "parts/" + pr.name + "/" + pr.name + ".rough_finish.html");
-      }
-    }
-    if (!time_chart.labels.empty()) page.charts.push_back(time_chart);
-    if (!ra_chart.labels.empty()) page.charts.push_back(ra_chart);
-    report::write_summary_html(out / "summary.html", page);
-  }
+  const report::RunSummary s = run_summary(config_file, ts, po, timing);
+  const report::RunCounts c = report::run_counts(s);
+  write_file_atomic(out / "summary.md", report::run_summary_md(s));
+  if (preview_settings().enabled)  // summary.html: the table, each part's 3D pages, charts (issue 16)
+    report::write_summary_html(out / "summary.html", report::run_summary_page(s));
   write_file_atomic(out / "run_report.json", Json{{"timing", timing},
-                                                  {"parts", preds.size()},
-                                                  {"correct", correct},
-                                                  {"labelled", labelled},
-                                                  {"failures", failures},
+                                                  {"parts", s.parts.size()},
+                                                  {"correct", c.correct},
+                                                  {"labelled", c.labelled},
+                                                  {"failures", c.failures},
                                                   {"alpha", ts.alpha},
                                                   {"accuracy_part", ts.accuracy_part},
                                                   {"accuracy_vector", ts.accuracy_vector},
-                                                  {"finishing", finishing_json(po)}}
+                                                  {"finishing", finishing_json(s)}}
                                                      .dump(2) +
                                                  "\n");
-  info("run: " + std::to_string(preds.size()) + " parts; summary → " + (out / "summary.md").string());
-  return failures ? 1 : 0;
+  info("run: " + std::to_string(s.parts.size()) + " parts; summary → " + (out / "summary.md").string());
+  return c.failures ? 1 : 0;
 }
 
 /// millnet run: dataset → train → test parts → predict and rough → summary.

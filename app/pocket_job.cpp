@@ -47,9 +47,7 @@ Json metrics_json(const pocket::PlanResult& plan, const pocket::MachiningResult&
   j["entry"] = std::string(pocket::to_string(ch.entry));
   j["contour"] = ch.contour;
   // The entry points that need a pre-drilled hole (drilled first in the program with entry "predrill").
-  Json holes = Json::array();
-  for (const auto& p : plan.predrill) holes.push_back({p.x(), p.y()});
-  j["predrill"] = holes;
+  j["predrill"] = pocket::xy_pairs(plan.predrill);
   j["parameters"] = cut_json(cut);
   return j;
 }
@@ -65,13 +63,6 @@ void write_pocket_outputs(const fs::path& dir, const std::string& stem, const po
   write_file_atomic(dir / (stem + ".points.csv"), pocket::tool_points_csv(plan.tool_points.pts));
   // Feed profile along the path (seed Fig. 14).
   write_file_atomic(dir / (stem + ".feed.csv"), pocket::feed_profile_csv(m.feed_profile));
-  std::vector<double> s, n3, f, mrr;
-  for (const auto& p : m.feed_profile.pieces) {  // the plot's series
-    s.push_back(p.s_mm);
-    n3.push_back(p.engagement);
-    f.push_back(p.feed);
-    mrr.push_back(p.mrr_mm3_min);
-  }
   std::vector<std::pair<std::string, std::string>> block;
   block.emplace_back("planner", metrics["planner"].get<std::string>());
   block.emplace_back("tool points", fixed(m.metrics.tool_points, 0));
@@ -84,12 +75,8 @@ void write_pocket_outputs(const fs::path& dir, const std::string& stem, const po
                                 stem + " - " + metrics["planner"].get<std::string>() + ", tool D" +
                                     fixed(cut.tool_diameter, 1) + ", stepover " + fixed(cut.stepover, 1),
                                 block);
-  if (s.size() >= 2) {
-    (void)report::profile_png(
-        dir / (stem + ".feed.png"), s,
-        {{"engagement n3 (cells)", {{"n3", n3}}}, {"feed (mm/min)", {{"feed", f}}}, {"MRR (mm^3/min)", {{"MRR", mrr}}}},
-        stem + ": engagement, feed and MRR along the path (first level)", {.steps = true});
-  }
+  (void)report::feed_profile_png(dir / (stem + ".feed.png"), m.feed_profile,
+                                 stem + ": engagement, feed and MRR along the path (first level)");
   if (m.status == pocket::PlanStatus::Ok) {
     report::PreviewInput page;  // the 3D page of the program just written (issue 16)
     page.title = stem + " — " + metrics["planner"].get<std::string>();

@@ -19,23 +19,7 @@ void set_preview_part(report::PreviewInput& in, const ingest::Mesh& mesh, double
 
 report::PreviewSurface preview_surface(const simulate::ZMap& z, const std::vector<double>& value,
                                        const std::string& name, const std::string& units) {
-  const simulate::GridSpec& g = z.spec();
-  report::PreviewSurface s;
-  const auto ny = static_cast<Eigen::Index>(g.ny), nx = static_cast<Eigen::Index>(g.nx);
-  s.z.resize(ny, nx);
-  s.value.resize(ny, nx);
-  for (Eigen::Index r = 0; r < ny; ++r)
-    for (Eigen::Index c = 0; c < nx; ++c) {
-      const auto i = static_cast<std::size_t>(r * nx + c);
-      s.z(r, c) = z.heights()[i];
-      s.value(r, c) = i < value.size() ? value[i] : std::nan("");
-    }
-  s.x0 = g.x0;
-  s.y0 = g.y0;
-  s.cell_mm = g.cell;
-  s.value_name = name;
-  s.units = units;
-  return s;
+  return report::zmap_surface(z, value, name, units);
 }
 
 bool write_program_preview(const std::filesystem::path& html, report::PreviewInput in) {

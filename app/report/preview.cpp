@@ -157,6 +157,27 @@ StepKind step_kind(int motion, const std::array<double, 3>& from, const std::arr
   return std::abs(dz) > eps ? StepKind::Helix : StepKind::Cut;
 }
 
+PreviewSurface zmap_surface(const simulate::ZMap& z, const std::vector<double>& value, const std::string& name,
+                            const std::string& units) {
+  const simulate::GridSpec& g = z.spec();
+  PreviewSurface s;
+  const auto ny = static_cast<Eigen::Index>(g.ny), nx = static_cast<Eigen::Index>(g.nx);
+  s.z.resize(ny, nx);
+  s.value.resize(ny, nx);
+  for (Eigen::Index r = 0; r < ny; ++r)  // O(cells)
+    for (Eigen::Index c = 0; c < nx; ++c) {
+      const auto i = static_cast<std::size_t>(r * nx + c);
+      s.z(r, c) = z.heights()[i];
+      s.value(r, c) = i < value.size() ? value[i] : std::nan("");
+    }
+  s.x0 = g.x0;
+  s.y0 = g.y0;
+  s.cell_mm = g.cell;
+  s.value_name = name;
+  s.units = units;
+  return s;
+}
+
 PreviewProgram read_preview_program(std::string name, std::string text, std::string_view source) {
   PreviewProgram p;
   p.name = std::move(name);

@@ -106,4 +106,20 @@ Layout profile_png(const std::filesystem::path& path, const std::vector<double>&
   return make_layout(img, x, y);
 }
 
+bool feed_profile_png(const std::filesystem::path& path, const pocket::FeedProfile& profile, const std::string& title) {
+  std::vector<double> s, n3, f, mrr;
+  for (const auto& p : profile.pieces) {  // O(pieces)
+    s.push_back(p.s_mm);
+    n3.push_back(p.engagement);
+    f.push_back(p.feed);
+    mrr.push_back(p.mrr_mm3_min);
+  }
+  if (s.size() < 2) return false;
+  (void)profile_png(
+      path, s,
+      {{"engagement n3 (cells)", {{"n3", n3}}}, {"feed (mm/min)", {{"feed", f}}}, {"MRR (mm^3/min)", {{"MRR", mrr}}}},
+      title, {.steps = true});
+  return true;
+}
+
 }  // namespace millnet::report

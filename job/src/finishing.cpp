@@ -107,6 +107,16 @@ std::vector<std::size_t> rank_outcomes(std::vector<StrategyOutcome>& outcomes, s
   return order;
 }
 
+OutcomeColumns outcome_columns(const std::vector<StrategyOutcome>& outcomes) {
+  OutcomeColumns c;
+  for (const StrategyOutcome& o : outcomes) {  // O(n)
+    c.slots.push_back(static_cast<int>(o.strategy));
+    c.ranks.push_back(o.rank);
+    c.ra_median_um.push_back(o.score.ra_median_um);
+  }
+  return c;
+}
+
 finish::FinishParams part_params(finish::FinishParams base, const Frame& frame, const std::string& name,
                                  std::vector<std::string> tool_lines) {
   base.check();

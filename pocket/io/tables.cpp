@@ -6,6 +6,13 @@
 
 namespace millnet::pocket {
 
+std::vector<std::array<double, 2>> xy_pairs(const std::vector<Vec2>& points) {
+  std::vector<std::array<double, 2>> out;
+  out.reserve(points.size());
+  for (const Vec2& p : points) out.push_back({p.x(), p.y()});  // O(points)
+  return out;
+}
+
 std::string tool_points_csv(const std::vector<Vec2>& points) {
   std::ostringstream pts;
   pts << "x,y\n";

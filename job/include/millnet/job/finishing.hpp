@@ -105,6 +105,14 @@ void add_simulation(StrategyOutcome& outcome, const Scored& scored, const simula
 /// can rank): sets each one's rank and returns their indices best first. O(n log n).
 std::vector<std::size_t> rank_outcomes(std::vector<StrategyOutcome>& outcomes, simulate::AimParams aim);
 
+/// The outcomes' slots, ranks and Ra medians as columns, in the outcomes' order (a run's summary
+/// sets the network's ranking beside them).
+struct OutcomeColumns {
+  std::vector<int> slots, ranks;
+  std::vector<double> ra_median_um;
+};
+[[nodiscard]] OutcomeColumns outcome_columns(const std::vector<StrategyOutcome>& outcomes);
+
 /// What labelling a part needs of one strategy (datasets' labels, the agreement table).
 struct StrategyFigures {
   int slot = 0;

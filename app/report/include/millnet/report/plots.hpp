@@ -15,6 +15,8 @@
 #include "millnet/pocket/geometry.hpp"
 #include "millnet/pocket/toolpath.hpp"
 
+#include "millnet/pocket/feedmap.hpp"
+
 #include <Eigen/Core>
 
 #include <array>
@@ -172,6 +174,11 @@ struct ProfileOptions {
 /// every panel needs s.size() values. Returns the Layout of the bottom panel.
 Layout profile_png(const std::filesystem::path& path, const std::vector<double>& s, const std::vector<Panel>& panels,
                    const std::string& title, const ProfileOptions& options = {});
+
+/// A pocket's feed profile along its path (the seed's Fig. 14): engagement, feed and material
+/// removal rate over the path length, one panel each. Nothing is drawn for fewer than two pieces
+/// (returns false).
+bool feed_profile_png(const std::filesystem::path& path, const pocket::FeedProfile& profile, const std::string& title);
 
 // ---------------------------------------------------------------------------------------------
 /// The colours the pictures use, exposed for callers and tests: viridis at t ∈ [0, 1] (clamped)

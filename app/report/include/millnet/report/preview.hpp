@@ -16,6 +16,7 @@
 // Errors: an unreadable program, a missing script file or an unwritable path throw millnet::Error
 // naming the file.
 #include "millnet/gcode/writer.hpp"
+#include "millnet/simulate/zmap.hpp"
 
 #include <Eigen/Core>
 
@@ -108,6 +109,10 @@ struct PreviewPath {
 /// The kind of a move from `from` (plunge: Z goes down with XY fixed; ramp: a line down while XY
 /// moves; helix: an arc that changes Z).
 [[nodiscard]] StepKind step_kind(int motion, const std::array<double, 3>& from, const std::array<double, 3>& to);
+
+/// The page's surface of a z-map with a value per cell (e.g. simulate::deviation; NaN past its end).
+[[nodiscard]] PreviewSurface zmap_surface(const simulate::ZMap& z, const std::vector<double>& value,
+                                          const std::string& name, const std::string& units);
 
 /// Tessellates a program into display points, keeping at most `max_points`.
 [[nodiscard]] PreviewPath preview_path(const PreviewProgram& program, std::size_t max_points, double arc_step_deg);

@@ -4,10 +4,14 @@
 #include "millnet/pocket/feedmap.hpp"
 #include "millnet/pocket/geometry.hpp"
 
+#include <array>
 #include <string>
 #include <vector>
 
 namespace millnet::pocket {
+
+/// The points as [x, y] pairs (for the metrics' lists of points).
+[[nodiscard]] std::vector<std::array<double, 2>> xy_pairs(const std::vector<Vec2>& points);
 
 /// "x,y" then one line per tool point, in the given order.
 [[nodiscard]] std::string tool_points_csv(const std::vector<Vec2>& points);

@@ -1,0 +1,214 @@
+// `millnet run`'s summary.md and summary page (run_summary.hpp).
+#include "millnet/report/run_summary.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace millnet::report {
+
+namespace {
+
+std::string fixed(double v, int decimals) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(decimals) << v;
+  return os.str();
+}
+
+bool any_finished(const RunSummary& s) {
+  return std::any_of(s.parts.begin(), s.parts.end(), [](const RunPart& p) { return p.finished; });
+}
+
+/// The index of the network's top slot among the simulated ones, or slots.size().
+std::size_t top_index(const RunPart& p) {
+  return static_cast<std::size_t>(std::find(p.slots.begin(), p.slots.end(), p.top) - p.slots.begin());
+}
+
+void training(std::ostringstream& md, const RunSummary& s) {
+  md << "# millnet run: " << s.config_name << "\n\n"
+     << "Training set: " << s.vectors << " vectors from " << s.training_parts << " parts. Penalty coefficient α = "
+     << fixed(s.alpha, 4) << " chosen by leave-one-" << s.loo_mode << "-out"
+     << (s.alpha_edge != "none" ? " (at the " + s.alpha_edge + " edge of the scan)" : std::string()) << ".\n"
+     << "Verification accuracy: " << fixed(100 * s.accuracy_part, 1) << " % leaving out whole parts, "
+     << fixed(100 * s.accuracy_vector, 1) << " % leaving out single vectors (the paper's LOO; optimistic, "
+     << "since a vector's rotated siblings stay in).\n\n"
+     << "![leave-one-out curve](model/loo_curve.png)\n\n";
+}
+
+void prediction_table(std::ostringstream& md, const RunSummary& s, const RunCounts& c) {
+  md << "| part | expected | predicted strategy | confidence | consistency | unfamiliar | roughing time (min) | "
+        "retractions | cut length (mm) | levels |\n|---|---:|---|---:|---:|---|---:|---:|---:|---:|\n";
+  for (const RunPart& p : s.parts) {  // O(parts)
+    md << "| [" << p.name << "](parts/" << p.name << "/) | " << (p.expected ? std::to_string(p.expected) : "-")
+       << " | ";
+    if (p.predicted)
+      md << p.top << " " << p.top_name << " | " << fixed(100 * p.confidence, 0) << " % | "
+         << fixed(100 * p.consistency, 0) << " % | " << (p.unfamiliar ? "yes" : "no") << " | ";
+    else
+      md << "error: " << p.predict_error << " | | | | ";
+    if (p.roughed && p.rough_ok)
+      md << fixed(p.rough_time_min, 1) << " | " << fixed(p.retractions, 0) << " | " << fixed(p.cut_length_mm, 0)
+         << " | " << p.levels << " |\n";
+    else if (p.roughed)
+      md << "error: " << p.rough_error << " | | | |\n";
+    else
+      md << "- | - | - | - |\n";
+  }
+  if (c.labelled)
+    md << "\nHeld-out test parts predicted as their family's strategy: " << c.correct << " of " << c.labelled << ".\n";
+}
+
+void finishing_table(std::ostringstream& md, const RunSummary& s, const RunCounts& c) {
+  md << "\n## Finishing: the network's ranking beside the simulated one\n\n"
+     << "Every part finished with the five strategies (" << s.finish_settings_note << "), each program read back "
+     << "and machined on a z-map from the design + finishing stock, ranked by the aim (" << s.aim << "); the "
+     << "network ranks them by its totals over the variants (the paper's Figure 8 beside its Figure 9). ρ is "
+     << "Spearman's rank correlation of the two rankings (1 = same order, −1 = reversed). Then the roughing "
+     << "program and the network's top strategy machined one after the other on one z-map from flat stock. "
+     << "Material left above the design by more than the tolerance (along the surface normal) is a scallop "
+     << "when it lies between passes that reached the design within the tool's radius on both sides, rest "
+     << "material when the finishing tool cannot reach the design there (a concave corner tighter than it: "
+     << "the same for every strategy), and uncut otherwise.\n\n"
+     << "| part | network ranking | simulated ranking | ρ | top strategy's simulated rank | Ra median of the "
+        "top (µm) | best Ra median (µm) | rough + top: deepest cut of the finisher (mm) | rough + top: Ra median "
+        "(µm) | rough + top: uncut (mm²) | rough + top: rest material (mm²) | rough + top: gouge (mm) |\n"
+     << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const RunPart& p : s.parts) {  // O(parts × strategies)
+    if (!p.finished) continue;
+    md << "| " << p.name << " | ";
+    if (!p.finish_ok) {
+      md << "error: " << p.finish_error << " | | | | | | | | | |\n";
+      continue;
+    }
+    const double best = *std::min_element(p.ra_median_um.begin(), p.ra_median_um.end());
+    const std::size_t ti = top_index(p);
+    const bool top = ti < p.slots.size();
+    md << (p.network_rank.empty() ? "-" : ranking_text(p.slots, p.network_rank)) << " | "
+       << ranking_text(p.slots, p.simulated_rank) << " | " << (p.network_rank.empty() ? "-" : fixed(p.spearman, 2))
+       << " | " << (top ? std::to_string(p.simulated_rank[ti]) : "-") << " | "
+       << (top ? fixed(p.ra_median_um[ti], 2) : "-") << " | " << fixed(best, 2) << " | ";
+    if (p.chained)
+      md << fixed(p.chain_finisher_depth_of_cut_mm, 2) << " | " << fixed(p.chain_ra_median_um, 2) << " | "
+         << fixed(p.chain_uncut_mm2, 1) << " | " << fixed(p.chain_rest_mm2, 1) << " | " << fixed(p.chain_gouge_mm, 4)
+         << " |\n";
+    else
+      md << "- | - | - | - | - |\n";
+  }
+  if (c.spearman_parts)
+    md << "\nMean ρ over " << c.spearman_parts << " parts: " << fixed(c.mean_spearman, 2) << ".\n";
+}
+
+void part_sections(std::ostringstream& md, const RunSummary& s) {
+  md << "\n## Parts\n";
+  for (const RunPart& p : s.parts) {
+    const std::string d = "parts/" + p.name + "/";
+    md << "\n### " << p.name << "\n\n";
+    if (p.predicted) md << "![prediction](" << d << p.name << ".png)\n";
+    if (p.roughed && p.rough_ok) {
+      md << "\nRoughing: [G-code](" << d << p.name << ".nc), [metrics](" << d << p.name
+         << ".metrics.json). Top and bottom levels:\n\n"
+         << "![level 1](" << d << p.name << ".level_1.png)\n";
+      if (p.levels > 1) md << "![level " << p.levels << "](" << d << p.name << ".level_" << p.levels << ".png)\n";
+    }
+    if (p.finished && p.finish_ok) {
+      md << "\nFinishing: [the five strategies ranked](" << d << "finish/" << p.name << ".strategies.md); share of "
+         << "the surface per Ra bin, per strategy:\n\n![Ra per strategy](" << d << "finish/" << p.name
+         << ".strategies.png)\n";
+      if (p.chained)
+        md << "\nRoughing, then strategy " << p.top << ", on one z-map ([figures](" << d << p.name
+           << ".rough_finish.sim.json)):\n\n![Ra](" << d << p.name << ".rough_finish.ra.png) ![machined − design]("
+           << d << p.name << ".rough_finish.deviation.png)\n";
+    }
+  }
+}
+
+}  // namespace
+
+std::string ranking_text(const std::vector<int>& slots, const std::vector<int>& rank) {
+  std::vector<std::pair<int, int>> by;  // (rank, slot)
+  for (std::size_t i = 0; i < slots.size() && i < rank.size(); ++i) by.emplace_back(rank[i], slots[i]);
+  std::sort(by.begin(), by.end());
+  std::string t;
+  for (std::size_t r = 0; r < by.size(); ++r) t += (r ? " > " : "") + std::to_string(by[r].second);
+  return t;
+}
+
+RunCounts run_counts(const RunSummary& s) {
+  RunCounts c;
+  double rho_sum = 0;
+  for (const RunPart& p : s.parts) {  // O(parts)
+    if (p.predicted && p.expected) {
+      ++c.labelled;
+      c.correct += p.top == p.expected ? 1 : 0;
+    }
+    c.failures += (p.predicted ? 0 : 1) + (p.roughed && !p.rough_ok ? 1 : 0) + (p.finished && !p.finish_ok ? 1 : 0);
+    if (p.finished && p.finish_ok && !p.network_rank.empty()) {
+      rho_sum += p.spearman;
+      ++c.spearman_parts;
+    }
+  }
+  if (c.spearman_parts) c.mean_spearman = rho_sum / static_cast<double>(c.spearman_parts);
+  return c;
+}
+
+std::string run_summary_md(const RunSummary& s) {
+  const RunCounts c = run_counts(s);
+  std::ostringstream md;
+  training(md, s);
+  prediction_table(md, s, c);
+  if (any_finished(s)) finishing_table(md, s, c);
+  part_sections(md, s);
+  md << "\n## Time per stage\n\n| stage | seconds |\n|---|---:|\n";
+  for (const auto& [stage, seconds] : s.timing_s) md << "| " << stage << " | " << fixed(seconds, 2) << " |\n";
+  return md.str();
+}
+
+SummaryPage run_summary_page(const RunSummary& s) {
+  SummaryPage page;
+  page.title = "millnet run: " + s.config_name;
+  page.header = {"part", "expected", "predicted strategy", "confidence", "roughing time (min)", "retractions",
+                 "cut length (mm)", "levels", "3D preview"};
+  SummaryChart time_chart{"roughing time per part", "min", {}, {{"roughing time (min)", {}}}};
+  SummaryChart ra_chart{"finishing: simulated Ra median per strategy", "Ra median (µm)", {}, {}};
+  for (const RunPart& p : s.parts) {  // O(parts × strategies)
+    const std::string d = "parts/" + p.name + "/";
+    std::vector<std::string> row{p.name, p.expected ? std::to_string(p.expected) : "-"};
+    if (p.predicted)
+      row.insert(row.end(), {std::to_string(p.top) + " " + p.top_name, fixed(100 * p.confidence, 0) + " %"});
+    else
+      row.insert(row.end(), {"error: " + p.predict_error, ""});
+    if (p.roughed && p.rough_ok) {
+      row.insert(row.end(), {fixed(p.rough_time_min, 1), fixed(p.retractions, 0), fixed(p.cut_length_mm, 0),
+                             std::to_string(p.levels), "link:roughing|" + d + p.name + ".html"});
+      time_chart.labels.push_back(p.name);
+      time_chart.series[0].second.push_back(p.rough_time_min);
+      page.previews.emplace_back(p.name + ": roughing", d + p.name + ".html");
+    } else {
+      row.insert(row.end(), {"", "", "", "", ""});
+    }
+    page.rows.push_back(row);
+    if (!(p.finished && p.finish_ok)) continue;
+    ra_chart.labels.push_back(p.name);
+    for (std::size_t k = 0; k < p.slots.size(); ++k) {
+      const std::string sname = "strategy " + std::to_string(p.slots[k]);
+      auto it = std::find_if(ra_chart.series.begin(), ra_chart.series.end(),
+                             [&](const auto& x) { return x.first == sname; });
+      if (it == ra_chart.series.end()) {
+        ra_chart.series.emplace_back(sname, std::vector<double>(ra_chart.labels.size() - 1, std::nan("")));
+        it = ra_chart.series.end() - 1;
+      }
+      it->second.push_back(p.ra_median_um[k]);
+      page.previews.emplace_back(p.name + ": finishing, " + sname,
+                                 d + "finish/" + p.name + ".s" + std::to_string(p.slots[k]) + ".html");
+    }
+    for (auto& sr : ra_chart.series) sr.second.resize(ra_chart.labels.size(), std::nan(""));
+    if (p.chained)
+      page.previews.emplace_back(p.name + ": roughing + top strategy, simulated", d + p.name + ".rough_finish.html");
+  }
+  if (!time_chart.labels.empty()) page.charts.push_back(time_chart);
+  if (!ra_chart.labels.empty()) page.charts.push_back(ra_chart);
+  return page;
+}
+
+}  // namespace millnet::report
