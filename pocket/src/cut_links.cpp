@@ -1,9 +1,9 @@
 // Tool-down links through material already cut (cut_links.hpp).
 #include "millnet/pocket/cut_links.hpp"
 
-#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
 
+#include "offset.hpp"
 #include "raster_internal.hpp"
 
 #include <algorithm>

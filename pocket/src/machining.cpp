@@ -3,8 +3,9 @@
 
 #include "millnet/core/error.hpp"
 #include "millnet/pocket/cut_links.hpp"
-#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
+
+#include "offset.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -3,9 +3,9 @@
 
 #include "millnet/core/error.hpp"
 #include "millnet/pocket/gcode.hpp"
-#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
 
+#include "offset.hpp"
 #include "raster_internal.hpp"
 
 #include <algorithm>

@@ -1,9 +1,10 @@
 #include "millnet/pocket/planner_som.hpp"
 
 #include "millnet/core/error.hpp"
-#include "millnet/pocket/arc_fit.hpp"
-#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
+
+#include "arc_fit.hpp"
+#include "offset.hpp"
 
 #include <algorithm>
 #include <array>

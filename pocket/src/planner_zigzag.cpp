@@ -4,9 +4,10 @@
 
 #include "millnet/core/error.hpp"
 #include "millnet/pocket/cut_links.hpp"
-#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
-#include "millnet/pocket/zigzag.hpp"
+
+#include "offset.hpp"
+#include "zigzag.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -1,5 +1,5 @@
 // Zigzag chains inside monotone faces and the order of the faces (scan frame).
-#include "millnet/pocket/zigzag.hpp"
+#include "zigzag.hpp"
 
 #include "millnet/pocket/tolerances.hpp"
 

@@ -1,11 +1,12 @@
 // The machining facade on the three bench pockets with a simple reference plan (row-by-row over
 // the tool points, broken where a move would gouge), checked by the independent G-code replay.
 #include "millnet/pocket/machining.hpp"
-#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
 #include "millnet/pocket/io/pocket_io.hpp"
 #include "testing/gcode_replay.hpp"
 #include "testing/pocket_replay.hpp"
+
+#include "offset.hpp"
 
 #include <gtest/gtest.h>
 
