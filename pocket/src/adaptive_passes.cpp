@@ -19,7 +19,7 @@ Vec2 Planner::pass_from(const Vec2& start, const Vec2& toward) {
 
 Vec2 Planner::first_dir(const Vec2& start, const Vec2& toward) const {
   Vec2 v = toward - start;
-  if (v.norm() < 1e-9) v = Vec2(1, 0);
+  if (v.norm() < tol::coincident_mm) v = Vec2(1, 0);
   return rot(v.normalized(), climb_ ? kPi / 2 : -kPi / 2);
 }
 
@@ -49,7 +49,7 @@ std::optional<Vec2> Planner::material_tangent(const Vec2& p, const Vec2& d, doub
   Vec2 cen;
   if (raster_.target_near(p, R_ + kSenseMm, nullptr, &cen) < min_work_) return std::nullopt;
   Vec2 u = cen - p;
-  if (u.norm() < 1e-9) u = d;
+  if (u.norm() < tol::coincident_mm) u = d;
   return rot(u.normalized(), side * kPi / 2);
 }
 

@@ -2,6 +2,8 @@
 // uncut cells.
 #include "adaptive_raster.hpp"
 
+#include "millnet/pocket/tolerances.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -119,7 +121,7 @@ bool Raster::clear_within(const Vec2& c, double r) const {
 }
 
 bool Raster::capsule_clear(const Vec2& a, const Vec2& b, double r) const {
-  const double bs = kB * h_, rr = r + 1e-9;
+  const double bs = kB * h_, rr = r + tol::on_curve_mm;
   const Vec2 ab = b - a;
   const double L2 = ab.squaredNorm();
   const auto dist2 = [&](const Vec2& q) {

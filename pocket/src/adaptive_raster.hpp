@@ -177,7 +177,7 @@ public:
   /// No uncut cell within r of c (block-pruned).
   [[nodiscard]] bool clear_within(const Vec2& c, double r) const;
 
-  /// No uncut cell centre within r (+ 1e-9 mm) of the segment a–b (block-pruned): then no disk of
+  /// No uncut cell centre within r (+ tol::on_curve_mm) of the segment a–b (block-pruned): then no disk of
   /// radius r about a point of it holds one, whatever the rounding of disk().
   [[nodiscard]] bool capsule_clear(const Vec2& a, const Vec2& b, double r) const;
 

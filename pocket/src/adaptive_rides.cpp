@@ -1,5 +1,7 @@
 // The adaptive planner's rides (adaptive_internal.hpp): from the end of a blocked pass back along
 // the front it was cutting, the tool down and cutting nothing, pulled taut into a few chords.
+#include "millnet/pocket/tolerances.hpp"
+
 #include "adaptive_internal.hpp"
 
 #include <algorithm>
@@ -24,7 +26,7 @@ bool Planner::ride_back(const Vec2& p0, std::vector<Vec2>& way) {
     Vec2 cen;
     if (raster_.target_near(p, R_ + kSenseMm, nullptr, &cen) < min_work_) break;
     Vec2 u = cen - p;
-    if (u.norm() < 1e-9) break;
+    if (u.norm() < tol::coincident_mm) break;
     u.normalize();
     const Vec2 t0 = rot(u, -side * kPi / 2);  // the material on the other side
     auto dir = [&](double th) { return rot(t0, side * th); };

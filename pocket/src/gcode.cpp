@@ -4,6 +4,7 @@
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/gcode/writer.hpp"
+#include "millnet/pocket/tolerances.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -83,7 +84,7 @@ struct Builder {
   }
   /// Retract, rapid above p, rapid down to approach height above `top` (never above safe Z).
   void go_above(const Vec2& p, double top) {
-    const bool here = pos_known && std::hypot(pos[0] - p.x(), pos[1] - p.y()) < 1e-9;
+    const bool here = pos_known && std::hypot(pos[0] - p.x(), pos[1] - p.y()) < tol::coincident_mm;
     if (!here) {
       retract();
       rapid(p.x(), p.y(), std::nullopt);
@@ -136,7 +137,7 @@ void helix(Builder& b, const Vec2& s, const Vec2& p, const Vec2& c, double rh, d
   for (int h = 1; h <= halves; ++h) {
     const double a = h < halves ? h * kPi : sweep;
     end = h < halves ? ((h % 2 == 1) ? Vec2(2 * c - s) : s) : at(a0 + a);
-    if (h == halves && (end - p).norm() < 1e-6) end = p;  // it ends at p: exactly there
+    if (h == halves && (end - p).norm() < tol::join_mm) end = p;  // it ends at p: exactly there
     b.arc(true, c, end.x(), end.y(), h < halves ? z_from - rh * slope * a : z_to, feed);
   }
   const Vec2 opp = 2 * c - end;
@@ -145,7 +146,7 @@ void helix(Builder& b, const Vec2& s, const Vec2& p, const Vec2& c, double rh, d
   // Where it did not end at p (the tool started lower than planned): back to p across the bore (a
   // chord of the circle of centres: all cut, so at the feed of moves through cut material where
   // there is one).
-  if ((end - p).norm() > 1e-9) b.line(p.x(), p.y(), z_to, std::max(flat_feed, air_feed));
+  if ((end - p).norm() > tol::coincident_mm) b.line(p.x(), p.y(), z_to, std::max(flat_feed, air_feed));
 }
 
 std::string fmt(double v, int decimals) { return gcode::format_number(v, decimals); }
@@ -208,7 +209,8 @@ void predrill_holes(Builder& b, const std::vector<LevelPlan>& levels) {
   std::vector<std::pair<Vec2, double>> holes;  // O(holes²) de-duplication: holes are few
   for (const LevelPlan& L : levels)
     for (const Vec2& p : L.predrill) {
-      auto it = std::find_if(holes.begin(), holes.end(), [&](const auto& h) { return (h.first - p).norm() < 1e-6; });
+      auto it =
+          std::find_if(holes.begin(), holes.end(), [&](const auto& h) { return (h.first - p).norm() < tol::join_mm; });
       if (it == holes.end())
         holes.emplace_back(p, L.z);
       else

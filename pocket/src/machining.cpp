@@ -57,7 +57,7 @@ void fill_program_metrics(MachiningResult& r, const CutParams& cut, const GcodeP
   std::vector<Vec2> holes;
   for (const LevelPlan& L : r.levels)
     for (const Vec2& p : L.predrill)
-      if (std::none_of(holes.begin(), holes.end(), [&](const Vec2& h) { return (h - p).norm() < 1e-6; }))
+      if (std::none_of(holes.begin(), holes.end(), [&](const Vec2& h) { return (h - p).norm() < tol::join_mm; }))
         holes.push_back(p);
   r.metrics.predrill_points = gp.entry == Entry::Predrill ? static_cast<double>(holes.size()) : 0.0;
   r.gcode = gcode_text(r.program, gp);
@@ -80,7 +80,7 @@ void drop_points(std::vector<Vec2>& pts, const std::vector<Vec2>& gone) {
   pts.erase(std::remove_if(pts.begin(), pts.end(),
                            [&](const Vec2& p) {
                              return std::any_of(gone.begin(), gone.end(),
-                                                [&](const Vec2& g) { return (g - p).norm() < 1e-6; });
+                                                [&](const Vec2& g) { return (g - p).norm() < tol::join_mm; });
                            }),
             pts.end());
 }
@@ -90,7 +90,8 @@ void collect_predrill(LevelPlan& L) {
   for (const Chain& c : L.path.chains)
     if (c.predrill && !c.pts.empty()) {
       const Vec2 p = c.pts.front().p();
-      if (std::none_of(L.predrill.begin(), L.predrill.end(), [&](const Vec2& h) { return (h - p).norm() < 1e-6; }))
+      if (std::none_of(L.predrill.begin(), L.predrill.end(),
+                       [&](const Vec2& h) { return (h - p).norm() < tol::join_mm; }))
         L.predrill.push_back(p);
     }
 }

@@ -191,7 +191,7 @@ std::vector<double> candidate_angles(const Region& region, double step_deg) {
   std::sort(a.begin(), a.end());
   std::vector<double> out;
   for (double t : a)
-    if (out.empty() || t - out.back() > 1e-6) out.push_back(t);
+    if (out.empty() || t - out.back() > tol::same_angle_deg) out.push_back(t);
   return out;
 }
 
@@ -211,7 +211,8 @@ Candidate best_direction(const std::vector<PolyArea>& reach, const std::vector<d
     const double pen = params.turn_penalty_mm >= 0 ? params.turn_penalty_mm : cut.stepover;
     const double lc = c.cut_len + c.rapid_len + pen * static_cast<double>(c.passes);
     const double lb = best.cut_len + best.rapid_len + pen * static_cast<double>(best.passes);
-    const bool better = !have || c.regions < best.regions || (c.regions == best.regions && lc < lb - 1e-9);
+    const bool better =
+        !have || c.regions < best.regions || (c.regions == best.regions && lc < lb - tol::improvement_mm);
     if (better) {
       best = std::move(c);
       have = true;
