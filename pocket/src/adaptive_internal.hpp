@@ -54,7 +54,7 @@ inline constexpr int kBacktrackTries = 60;
 /// starts are tried in turn.
 inline constexpr double kWallStartMm = 5.0;
 inline constexpr std::size_t kWallStartTries = 40;
-/// Below this engagement target the passes also take the wall band (see prepare()), degrees.
+/// Below this engagement target the passes also take the wall band (see mark_target()), degrees.
 inline constexpr double kPassesTakeTheWallBandBelowDeg = 85;
 /// Uncut material worth a pass, in cells of D/40 (less is raster noise); min_work_ is this area in
 /// the raster's own cells.
