@@ -271,6 +271,13 @@ std::string tick_label(double v, double step) {
   return buf;
 }
 
+int widest_tick_label(double lo, double hi, int target) {
+  int w = 0;
+  const double step = nice_step(lo, hi, target);
+  for (double v : nice_ticks(lo, hi, target)) w = std::max(w, text_size(tick_label(v, step), kTickFont).width);
+  return w;
+}
+
 std::string compact_number(double v, int sig) {
   if (!std::isfinite(v)) return std::isnan(v) ? "nan" : (v > 0 ? "inf" : "-inf");
   if (v == 0) return "0";

@@ -77,6 +77,9 @@ void padded_nice_range(double& lo, double& hi, int target);
 void log_range(double& lo, double& hi);
 /// Tick label with as many decimals as the step needs (no "-0").
 [[nodiscard]] std::string tick_label(double v, double step);
+/// Width of the widest of the tick labels of nice_ticks(lo, hi, target), px: the room a y axis
+/// needs left of the frame for its numbers.
+[[nodiscard]] int widest_tick_label(double lo, double hi, int target);
 /// Compact number: up to `sig` significant digits, scientific outside [1e-3, 1e6).
 [[nodiscard]] std::string compact_number(double v, int sig = 3);
 

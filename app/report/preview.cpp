@@ -241,11 +241,11 @@ PreviewPath preview_path(const PreviewProgram& program, std::size_t max_points, 
   return path;
 }
 
-std::string preview_data_json(const PreviewInput& in) {
-  std::ostringstream o;
-  o << "{\"title\":" << jstr(in.title) << ",\"notes\":";
-  std::vector<std::string> notes = in.notes;
-  // Share the point budget over the programs in proportion to their tessellated size.
+namespace {
+
+/// The programs' paths within the point budget, shared in proportion to their tessellated size; a
+/// note when that decimated them.
+std::vector<PreviewPath> budgeted_paths(const PreviewInput& in, std::vector<std::string>& notes) {
   std::vector<PreviewPath> paths;
   std::size_t total = 0;
   for (const PreviewProgram& p : in.programs) {
@@ -261,17 +261,25 @@ std::string preview_data_json(const PreviewInput& in) {
     notes.push_back("decimated for display: path points " + std::to_string(total) + " → " +
                     std::to_string(in.limits.max_path_points) + " (evenly spaced; first and last kept)");
   }
-  // Surface decimation: a stride s over rows and columns.
+  return paths;
+}
+
+/// Surface decimation: a stride s over rows and columns within the cell budget (a note when > 1).
+std::size_t surface_stride(const PreviewInput& in, std::vector<std::string>& notes) {
   std::size_t stride = 1;
-  if (in.surface) {
-    const auto rows = static_cast<std::size_t>(in.surface->z.rows()),
-               cols = static_cast<std::size_t>(in.surface->z.cols());
-    while ((rows + stride - 1) / stride * ((cols + stride - 1) / stride) > in.limits.max_surface_cells) ++stride;
-    if (stride > 1) {
-      notes.push_back("decimated for display: surface " + std::to_string(rows) + "×" + std::to_string(cols) +
-                      " cells shown every " + std::to_string(stride) + " cells");
-    }
+  if (!in.surface) return stride;
+  const auto rows = static_cast<std::size_t>(in.surface->z.rows()),
+             cols = static_cast<std::size_t>(in.surface->z.cols());
+  while ((rows + stride - 1) / stride * ((cols + stride - 1) / stride) > in.limits.max_surface_cells) ++stride;
+  if (stride > 1) {
+    notes.push_back("decimated for display: surface " + std::to_string(rows) + "×" + std::to_string(cols) +
+                    " cells shown every " + std::to_string(stride) + " cells");
   }
+  return stride;
+}
+
+/// Part decimation: every face_stride-th triangle within the face budget (a note when > 1).
+std::size_t part_face_stride(const PreviewInput& in, std::vector<std::string>& notes) {
   std::size_t face_stride = 1;
   const auto nf = static_cast<std::size_t>(in.part_F.rows());
   while (nf / face_stride > in.limits.max_mesh_faces) ++face_stride;
@@ -279,78 +287,98 @@ std::string preview_data_json(const PreviewInput& in) {
     notes.push_back("decimated for display: part " + std::to_string(nf) + " triangles, every " +
                     std::to_string(face_stride) + "th shown");
   }
+  return face_stride;
+}
+
+/// Program k's object: its path's points, and the text of the lines the kept points come from
+/// (each once), for the "current line" display.
+void write_program(std::ostringstream& o, const PreviewProgram& prog, const PreviewPath& p, std::size_t k) {
+  o << "{\"name\":" << jstr(prog.name) << ",\"colour\":" << jstr(hex(kProgramColours[k % kProgramColours.size()]))
+    << ",\"moves\":" << p.moves << ",\"points_before\":" << p.points_before
+    << ",\"xyz\":" << jarr(p.xyz, [](float v) { return jnum(v); })
+    << ",\"kind\":" << jarr(p.kind, [](std::uint8_t v) { return std::to_string(v); })
+    << ",\"feed\":" << jarr(p.feed, [](float v) { return jnum(v); })
+    << ",\"line\":" << jarr(p.line, [](std::uint32_t v) { return std::to_string(v); });
+  std::vector<std::string_view> text;
+  const std::string& g = prog.written.text;
+  for (std::size_t a = 0; a <= g.size();) {
+    std::size_t b = g.find('\n', a);
+    if (b == std::string::npos) b = g.size();
+    std::string_view l(g.data() + a, b - a);
+    if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
+    text.push_back(l);
+    a = b + 1;
+  }
+  std::vector<std::uint32_t> used = p.line;
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  o << ",\"text\":{";
+  bool first = true;
+  for (const std::uint32_t ln : used) {
+    if (ln == 0 || ln > text.size()) continue;
+    if (!first) o << ',';
+    first = false;
+    o << '"' << ln << "\":" << jstr(text[ln - 1]);
+  }
+  o << "}}";
+}
+
+/// The part's vertices and every face_stride-th triangle.
+void write_part(std::ostringstream& o, const PreviewInput& in, std::size_t face_stride) {
+  const auto nf = static_cast<std::size_t>(in.part_F.rows());
+  std::vector<double> v(static_cast<std::size_t>(in.part_V.rows()) * 3);
+  for (Eigen::Index i = 0; i < in.part_V.rows(); ++i)
+    for (Eigen::Index a = 0; a < 3; ++a) v[static_cast<std::size_t>(i * 3 + a)] = in.part_V(i, a);
+  std::vector<int> f;
+  for (std::size_t i = 0; i < nf; i += face_stride)
+    for (Eigen::Index a = 0; a < 3; ++a) f.push_back(in.part_F(static_cast<Eigen::Index>(i), a));
+  o << ",\"part\":{\"V\":" << jarr(v, jnum) << ",\"F\":" << jarr(f, [](int x) { return std::to_string(x); }) << '}';
+}
+
+/// The surface every stride-th row and column, its cells grown to match.
+void write_surface(std::ostringstream& o, const PreviewSurface& s, std::size_t stride) {
+  std::vector<double> z, val;
+  std::size_t rows = 0, cols = 0;
+  for (Eigen::Index r = 0; r < s.z.rows(); r += static_cast<Eigen::Index>(stride)) {
+    ++rows;
+    cols = 0;
+    for (Eigen::Index c = 0; c < s.z.cols(); c += static_cast<Eigen::Index>(stride)) {
+      ++cols;
+      z.push_back(s.z(r, c));
+      val.push_back(r < s.value.rows() && c < s.value.cols() ? s.value(r, c) : std::nan(""));
+    }
+  }
+  const double cell = s.cell_mm * static_cast<double>(stride);
+  const double cy_mm = s.cell_y_mm > 0 ? s.cell_y_mm : s.cell_mm;
+  const double celly = cy_mm * static_cast<double>(stride);
+  o << ",\"surface\":{\"rows\":" << rows << ",\"cols\":" << cols
+    << ",\"x0\":" << jnum(s.x0 + s.cell_mm * 0.5 - cell * 0.5) << ",\"y0\":" << jnum(s.y0 + cy_mm * 0.5 - celly * 0.5)
+    << ",\"cell\":" << jnum(cell) << ",\"celly\":" << jnum(celly) << ",\"layer\":" << jstr(s.layer)
+    << ",\"name\":" << jstr(s.value_name) << ",\"units\":" << jstr(s.units) << ",\"z\":" << jarr(z, jnum) << ",\"v\":"
+    << jarr(val,
+            [](double x) { return std::isfinite(x) ? std::to_string(std::round(x * 1e6) / 1e6) : std::string("null"); })
+    << '}';
+}
+
+}  // namespace
+
+std::string preview_data_json(const PreviewInput& in) {
+  std::ostringstream o;
+  o << "{\"title\":" << jstr(in.title) << ",\"notes\":";
+  std::vector<std::string> notes = in.notes;
+  const std::vector<PreviewPath> paths = budgeted_paths(in, notes);
+  const std::size_t stride = surface_stride(in, notes);
+  const std::size_t face_stride = part_face_stride(in, notes);
   o << jarr(notes, [](const std::string& s) { return jstr(s); }) << ",\"programs\":[";
   for (std::size_t k = 0; k < paths.size(); ++k) {
-    const PreviewPath& p = paths[k];
     if (k) o << ',';
-    o << "{\"name\":" << jstr(in.programs[k].name)
-      << ",\"colour\":" << jstr(hex(kProgramColours[k % kProgramColours.size()])) << ",\"moves\":" << p.moves
-      << ",\"points_before\":" << p.points_before << ",\"xyz\":" << jarr(p.xyz, [](float v) { return jnum(v); })
-      << ",\"kind\":" << jarr(p.kind, [](std::uint8_t v) { return std::to_string(v); })
-      << ",\"feed\":" << jarr(p.feed, [](float v) { return jnum(v); })
-      << ",\"line\":" << jarr(p.line, [](std::uint32_t v) { return std::to_string(v); });
-    // The text of the lines the kept points come from (each once), for the "current line" display.
-    std::vector<std::string_view> text;
-    const std::string& g = in.programs[k].written.text;
-    for (std::size_t a = 0; a <= g.size();) {
-      std::size_t b = g.find('\n', a);
-      if (b == std::string::npos) b = g.size();
-      std::string_view l(g.data() + a, b - a);
-      if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
-      text.push_back(l);
-      a = b + 1;
-    }
-    std::vector<std::uint32_t> used = p.line;
-    std::sort(used.begin(), used.end());
-    used.erase(std::unique(used.begin(), used.end()), used.end());
-    o << ",\"text\":{";
-    bool first = true;
-    for (const std::uint32_t ln : used) {
-      if (ln == 0 || ln > text.size()) continue;
-      if (!first) o << ',';
-      first = false;
-      o << '"' << ln << "\":" << jstr(text[ln - 1]);
-    }
-    o << "}}";
+    write_program(o, in.programs[k], paths[k], k);
   }
   o << "],\"tool\":{\"d\":" << jnum(in.tool.diameter_mm) << ",\"r\":" << jnum(in.tool.corner_radius_mm)
     << ",\"name\":" << jstr(in.tool.name) << '}';
   if (in.stock) o << ",\"stock\":" << jarr(std::vector<double>(in.stock->begin(), in.stock->end()), jnum);
-  if (in.part_V.rows() > 0 && nf > 0) {
-    std::vector<double> v(static_cast<std::size_t>(in.part_V.rows()) * 3);
-    for (Eigen::Index i = 0; i < in.part_V.rows(); ++i)
-      for (Eigen::Index a = 0; a < 3; ++a) v[static_cast<std::size_t>(i * 3 + a)] = in.part_V(i, a);
-    std::vector<int> f;
-    for (std::size_t i = 0; i < nf; i += face_stride)
-      for (Eigen::Index a = 0; a < 3; ++a) f.push_back(in.part_F(static_cast<Eigen::Index>(i), a));
-    o << ",\"part\":{\"V\":" << jarr(v, jnum) << ",\"F\":" << jarr(f, [](int x) { return std::to_string(x); }) << '}';
-  }
-  if (in.surface) {
-    const PreviewSurface& s = *in.surface;
-    std::vector<double> z, val;
-    std::size_t rows = 0, cols = 0;
-    for (Eigen::Index r = 0; r < s.z.rows(); r += static_cast<Eigen::Index>(stride)) {
-      ++rows;
-      cols = 0;
-      for (Eigen::Index c = 0; c < s.z.cols(); c += static_cast<Eigen::Index>(stride)) {
-        ++cols;
-        z.push_back(s.z(r, c));
-        val.push_back(r < s.value.rows() && c < s.value.cols() ? s.value(r, c) : std::nan(""));
-      }
-    }
-    const double cell = s.cell_mm * static_cast<double>(stride);
-    const double cy_mm = s.cell_y_mm > 0 ? s.cell_y_mm : s.cell_mm;
-    const double celly = cy_mm * static_cast<double>(stride);
-    o << ",\"surface\":{\"rows\":" << rows << ",\"cols\":" << cols
-      << ",\"x0\":" << jnum(s.x0 + s.cell_mm * 0.5 - cell * 0.5) << ",\"y0\":" << jnum(s.y0 + cy_mm * 0.5 - celly * 0.5)
-      << ",\"cell\":" << jnum(cell) << ",\"celly\":" << jnum(celly) << ",\"layer\":" << jstr(s.layer)
-      << ",\"name\":" << jstr(s.value_name) << ",\"units\":" << jstr(s.units) << ",\"z\":" << jarr(z, jnum) << ",\"v\":"
-      << jarr(val,
-              [](double x) {
-                return std::isfinite(x) ? std::to_string(std::round(x * 1e6) / 1e6) : std::string("null");
-              })
-      << '}';
-  }
+  if (in.part_V.rows() > 0 && in.part_F.rows() > 0) write_part(o, in, face_stride);
+  if (in.surface) write_surface(o, *in.surface, stride);
   o << ",\"colours\":{\"feed\":"
     << jarr(std::vector<std::uint32_t>(kFeedRamp.begin(), kFeedRamp.end()),
             [](std::uint32_t c) { return jstr(hex(c)); })

@@ -8,13 +8,20 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace millnet::report {
 
 using namespace detail;
 
-Layout profile_png(const std::filesystem::path& path, const std::vector<double>& s, const std::vector<Panel>& panels,
-                   const std::string& title_text, const ProfileOptions& opt) {
+namespace {
+
+/// Checks s (finite, non-decreasing) and every panel's series (one finite value per s); returns
+/// each panel's y range, widened to nice ticks.
+std::vector<std::pair<double, double>> panel_ranges(const std::filesystem::path& path, const std::vector<double>& s,
+                                                    const std::vector<Panel>& panels) {
   if (s.empty()) fail(path, "profile plot: no samples (s is empty)");
   if (panels.empty()) fail(path, "profile plot: no panels given, expected at least one");
   for (std::size_t i = 0; i < s.size(); ++i) {  // O(samples)
@@ -43,20 +50,46 @@ Layout profile_png(const std::filesystem::path& path, const std::vector<double>&
     padded_nice_range(lo, hi, 4);
     yr[p] = {lo, hi};
   }
+  return yr;
+}
+
+bool has_legend(const Panel& p) { return p.series.size() > 1 || !p.series[0].name.empty(); }
+
+/// One panel's curves (dots while there are few samples; steps when asked) inside its frame
+/// [left, right] × [top, top + panel_h]. O(samples) per series.
+void draw_panel_curves(cv::Mat& img, const std::vector<double>& s, const Panel& panel, const Axis& x, const Axis& y,
+                       int left, int right, int top, int panel_h, bool steps) {
+  cv::Mat roi = img(cv::Rect(left + 1, top + 1, right - left - 1, panel_h - 1));
+  const bool dots = s.size() <= 150;
+  for (std::size_t k = 0; k < panel.series.size(); ++k) {
+    const auto& v = panel.series[k].values;
+    std::vector<cv::Point2d> pts;
+    auto at = [&](double sv, double val) { return cv::Point2d(x.to_px(sv) - left - 1, y.to_px(val) - top - 1); };
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      pts.push_back(at(s[i], v[i]));
+      if (steps && i + 1 < s.size()) pts.push_back(at(s[i + 1], v[i]));
+    }
+    polyline(roi, pts, series_colour(k), 2);
+    if (dots || s.size() == 1)
+      for (std::size_t i = 0; i < s.size(); ++i) circle_at(roi, at(s[i], v[i]), 2.6, series_colour(k), -1);
+  }
+}
+
+}  // namespace
+
+Layout profile_png(const std::filesystem::path& path, const std::vector<double>& s, const std::vector<Panel>& panels,
+                   const std::string& title_text, const ProfileOptions& opt) {
+  const std::vector<std::pair<double, double>> yr = panel_ranges(path, s, panels);
   Axis x;
   x.lo = s.front();
   x.hi = s.back();
   nice_range(x.lo, x.hi, 10);
 
   int yw = 0;
-  for (const auto& [lo, hi] : yr) {
-    const double step = nice_step(lo, hi, 4);
-    for (double v : nice_ticks(lo, hi, 4)) yw = std::max(yw, text_size(tick_label(v, step), kTickFont).width);
-  }
+  for (const auto& [lo, hi] : yr) yw = std::max(yw, widest_tick_label(lo, hi, 4));
   const int left = 60 + yw, right = kWidth - 40;
   const int panel_h = panels.size() <= 3 ? 190 : 150;
   // Per panel: room above the frame for its legend when it has one.
-  auto has_legend = [](const Panel& p) { return p.series.size() > 1 || !p.series[0].name.empty(); };
   constexpr int kHeader = 30, kGap = 14;
   const int top0 = title_height(title_text);
   const int n = static_cast<int>(panels.size());
@@ -82,20 +115,7 @@ Layout profile_png(const std::filesystem::path& path, const std::vector<double>&
     style.x_target = 10;
     style.y_target = 4;
     draw_axes(img, x, y, opt.x_label, panel.y_label, style);
-    cv::Mat roi = img(cv::Rect(left + 1, top + 1, right - left - 1, panel_h - 1));
-    const bool dots = s.size() <= 150;
-    for (std::size_t k = 0; k < panel.series.size(); ++k) {  // O(samples) per series
-      const auto& v = panel.series[k].values;
-      std::vector<cv::Point2d> pts;
-      auto at = [&](double sv, double val) { return cv::Point2d(x.to_px(sv) - left - 1, y.to_px(val) - top - 1); };
-      for (std::size_t i = 0; i < s.size(); ++i) {
-        pts.push_back(at(s[i], v[i]));
-        if (opt.steps && i + 1 < s.size()) pts.push_back(at(s[i + 1], v[i]));
-      }
-      polyline(roi, pts, series_colour(k), 2);
-      if (dots || s.size() == 1)
-        for (std::size_t i = 0; i < s.size(); ++i) circle_at(roi, at(s[i], v[i]), 2.6, series_colour(k), -1);
-    }
+    draw_panel_curves(img, s, panel, x, y, left, right, top, panel_h, opt.steps);
     std::vector<LegendItem> items;
     if (has_legend(panel))
       for (std::size_t k = 0; k < panel.series.size(); ++k)

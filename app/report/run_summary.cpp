@@ -27,8 +27,8 @@ std::size_t top_index(const RunPart& p) {
 
 void training(std::ostringstream& md, const RunSummary& s) {
   md << "# millnet run: " << s.config_name << "\n\n"
-     << "Training set: " << s.vectors << " vectors from " << s.training_parts << " parts. Penalty coefficient α = "
-     << fixed(s.alpha, 4) << " chosen by leave-one-" << s.loo_mode << "-out"
+     << "Training set: " << s.vectors << " vectors from " << s.training_parts
+     << " parts. Penalty coefficient α = " << fixed(s.alpha, 4) << " chosen by leave-one-" << s.loo_mode << "-out"
      << (s.alpha_edge != "none" ? " (at the " + s.alpha_edge + " edge of the scan)" : std::string()) << ".\n"
      << "Verification accuracy: " << fixed(100 * s.accuracy_part, 1) << " % leaving out whole parts, "
      << fixed(100 * s.accuracy_vector, 1) << " % leaving out single vectors (the paper's LOO; optimistic, "
@@ -95,8 +95,7 @@ void finishing_table(std::ostringstream& md, const RunSummary& s, const RunCount
     else
       md << "- | - | - | - | - |\n";
   }
-  if (c.spearman_parts)
-    md << "\nMean ρ over " << c.spearman_parts << " parts: " << fixed(c.mean_spearman, 2) << ".\n";
+  if (c.spearman_parts) md << "\nMean ρ over " << c.spearman_parts << " parts: " << fixed(c.mean_spearman, 2) << ".\n";
 }
 
 void part_sections(std::ostringstream& md, const RunSummary& s) {
@@ -117,8 +116,8 @@ void part_sections(std::ostringstream& md, const RunSummary& s) {
          << ".strategies.png)\n";
       if (p.chained)
         md << "\nRoughing, then strategy " << p.top << ", on one z-map ([figures](" << d << p.name
-           << ".rough_finish.sim.json)):\n\n![Ra](" << d << p.name << ".rough_finish.ra.png) ![machined − design]("
-           << d << p.name << ".rough_finish.deviation.png)\n";
+           << ".rough_finish.sim.json)):\n\n![Ra](" << d << p.name << ".rough_finish.ra.png) ![machined − design](" << d
+           << p.name << ".rough_finish.deviation.png)\n";
     }
   }
 }
@@ -167,8 +166,15 @@ std::string run_summary_md(const RunSummary& s) {
 SummaryPage run_summary_page(const RunSummary& s) {
   SummaryPage page;
   page.title = "millnet run: " + s.config_name;
-  page.header = {"part", "expected", "predicted strategy", "confidence", "roughing time (min)", "retractions",
-                 "cut length (mm)", "levels", "3D preview"};
+  page.header = {"part",
+                 "expected",
+                 "predicted strategy",
+                 "confidence",
+                 "roughing time (min)",
+                 "retractions",
+                 "cut length (mm)",
+                 "levels",
+                 "3D preview"};
   SummaryChart time_chart{"roughing time per part", "min", {}, {{"roughing time (min)", {}}}};
   SummaryChart ra_chart{"finishing: simulated Ra median per strategy", "Ra median (µm)", {}, {}};
   for (const RunPart& p : s.parts) {  // O(parts × strategies)
@@ -192,8 +198,8 @@ SummaryPage run_summary_page(const RunSummary& s) {
     ra_chart.labels.push_back(p.name);
     for (std::size_t k = 0; k < p.slots.size(); ++k) {
       const std::string sname = "strategy " + std::to_string(p.slots[k]);
-      auto it = std::find_if(ra_chart.series.begin(), ra_chart.series.end(),
-                             [&](const auto& x) { return x.first == sname; });
+      auto it =
+          std::find_if(ra_chart.series.begin(), ra_chart.series.end(), [&](const auto& x) { return x.first == sname; });
       if (it == ra_chart.series.end()) {
         ra_chart.series.emplace_back(sname, std::vector<double>(ra_chart.labels.size() - 1, std::nan("")));
         it = ra_chart.series.end() - 1;

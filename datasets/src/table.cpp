@@ -196,14 +196,131 @@ std::string table_csv(const Table& table) {
   return out;
 }
 
+namespace {
+
+/// What the header line says about the columns: their names, count and the grid's cell count m.
+struct Header {
+  std::vector<std::string> names;
+  std::size_t n_cols = 0, m = 0;
+};
+
+/// Checks the header line (line 1: the fixed columns, an n×n grid of in_* columns, the outputs,
+/// maybe aspect) and sets t.grid_n and t.has_aspect. Throws naming the first wrong column.
+Header read_header(std::vector<std::string> fields, const std::string& file, Table& t) {
+  Header h;
+  std::vector<std::string>& header = h.names;
+  header = std::move(fields);
+  for (std::size_t k = 0; k < kFixed; ++k) {
+    if (k >= header.size()) throw line_error(file, 1, std::string("header: missing column '") + kFixedColumns[k] + "'");
+    if (header[k] != kFixedColumns[k])
+      throw line_error(
+          file, 1,
+          "header: column " + std::to_string(k + 1) + " is '" + header[k] + "', expected '" + kFixedColumns[k] + "'");
+  }
+  std::size_t k = kFixed;
+  while (k < header.size() && header[k].rfind("in_", 0) == 0) ++k;
+  h.m = k - kFixed;
+  const auto n = static_cast<int>(std::lround(std::sqrt(static_cast<double>(h.m))));
+  if (h.m == 0) throw line_error(file, 1, "header: missing column 'in_1_1'");
+  if (static_cast<std::size_t>(n) * static_cast<std::size_t>(n) != h.m) {
+    // Not a square grid: name the first in_* column that breaks the n×n pattern.
+    const bool missing = static_cast<std::size_t>(n) * static_cast<std::size_t>(n) > h.m;
+    const auto expect = column_names(n, false);
+    for (std::size_t c = kFixed; c < k; ++c)
+      if (c >= expect.size() - kStrategySlots || header[c] != expect[c])
+        throw line_error(
+            file, 1,
+            missing ? "header: missing column '" + expect[c] + "'" : "header: unexpected column '" + header[c] + "'");
+    throw line_error(file, 1, "header: missing column '" + expect[k] + "'");
+  }
+  t.grid_n = n;
+  const bool aspect = header.back() == "aspect";
+  t.has_aspect = aspect;
+  const auto expect = column_names(n, aspect);
+  for (std::size_t c = 0; c < expect.size(); ++c) {
+    if (c >= header.size()) throw line_error(file, 1, "header: missing column '" + expect[c] + "'");
+    if (header[c] != expect[c])
+      throw line_error(
+          file, 1, "header: column " + std::to_string(c + 1) + " is '" + header[c] + "', expected '" + expect[c] + "'");
+  }
+  if (header.size() > expect.size())
+    throw line_error(file, 1, "header: unexpected column '" + header[expect.size()] + "'");
+  h.n_cols = header.size();
+  return h;
+}
+
+int parse_label(const std::string& s, const std::string& file, long lineno) {
+  int label = -1;
+  const auto res = std::from_chars(s.data(), s.data() + s.size(), label);
+  if (s.empty() || res.ec != std::errc() || res.ptr != s.data() + s.size() || label < 0 ||
+      label > static_cast<int>(kStrategySlots))
+    throw line_error(file, lineno, "column 'label': '" + s + "' is not an integer in 0..8 (0 = unknown)");
+  return label;
+}
+
+augment::Axis parse_axis(const std::string& s, const std::string& file, long lineno) {
+  if (s == "x" || s == "X") return augment::Axis::X;
+  if (s == "y" || s == "Y") return augment::Axis::Y;
+  if (s == "z" || s == "Z") return augment::Axis::Z;
+  throw line_error(file, lineno, "column 'axis': '" + s + "' is not x, y or z");
+}
+
+bool parse_flip(const std::string& s, const std::string& file, long lineno) {
+  if (s == "0") return false;
+  if (s == "1") return true;
+  throw line_error(file, lineno, "column 'flip': '" + s + "' is not 0 or 1");
+}
+
+/// A labelled row whose outputs point elsewhere is a corrupted table, not a soft target.
+void check_label_agrees(const Row& r, const std::string& file, long lineno) {
+  if (r.label <= 0) return;
+  std::size_t best = 0;
+  for (std::size_t k = 1; k < kStrategySlots; ++k)
+    if (r.outputs[k] > r.outputs[best]) best = k;
+  if (best + 1 != static_cast<std::size_t>(r.label))
+    throw line_error(file, lineno,
+                     "column 'label': " + std::to_string(r.label) + " disagrees with the outputs (largest is out_" +
+                         std::to_string(best + 1) + ")");
+}
+
+/// One data line's row. id_line holds the line of every id read so far (duplicates are errors).
+Row read_row(const std::vector<std::string>& fields, const Header& h, bool has_aspect, const std::string& file,
+             long lineno, std::map<std::string, long>& id_line) {
+  if (fields.size() != h.n_cols)
+    throw line_error(
+        file, lineno,
+        std::to_string(fields.size()) + " fields, expected " + std::to_string(h.n_cols) + " (one per header column)");
+  Row r;
+  r.id = fields[0];
+  r.source = fields[1];
+  if (r.id.empty()) throw line_error(file, lineno, "column 'id': empty");
+  if (r.source.empty()) throw line_error(file, lineno, "column 'source': empty");
+  if (auto [it, fresh] = id_line.emplace(r.id, lineno); !fresh)
+    throw line_error(file, lineno,
+                     "column 'id': duplicate id '" + r.id + "' (first on line " + std::to_string(it->second) + ")");
+  r.label = parse_label(fields[2], file, lineno);
+  r.axis = parse_axis(fields[3], file, lineno);
+  r.angle_deg = parse_number(fields[4], "angle", file, lineno);
+  r.flip = parse_flip(fields[5], file, lineno);
+  r.inputs.resize(h.m);
+  for (std::size_t k = 0; k < h.m; ++k)
+    r.inputs[k] = parse_number(fields[kFixed + k], h.names[kFixed + k], file, lineno);
+  for (std::size_t k = 0; k < kStrategySlots; ++k)
+    r.outputs[k] = parse_number(fields[kFixed + h.m + k], h.names[kFixed + h.m + k], file, lineno);
+  if (has_aspect) r.aspect = parse_number(fields.back(), "aspect", file, lineno);
+  check_label_agrees(r, file, lineno);
+  return r;
+}
+
+}  // namespace
+
 Table read_table(const fs::path& csv_path) {
   const std::string file = csv_path.string();
   const std::string text = read_file(csv_path);  // throws naming the file
   Table t;
   std::size_t pos = 0;
   long lineno = 0;
-  std::vector<std::string> header;
-  std::size_t n_cols = 0, m = 0;
+  Header header;
   std::map<std::string, long> id_line;
   while (pos < text.size()) {  // O(file size)
     std::size_t eol = text.find('\n', pos);
@@ -218,103 +335,12 @@ Table read_table(const fs::path& csv_path) {
       throw line_error(file, lineno, "empty line");
     }
     auto fields = split_csv(line, file, lineno);
-    if (lineno == 1) {
-      header = std::move(fields);
-      for (std::size_t k = 0; k < kFixed; ++k) {
-        if (k >= header.size())
-          throw line_error(file, 1, std::string("header: missing column '") + kFixedColumns[k] + "'");
-        if (header[k] != kFixedColumns[k])
-          throw line_error(file, 1,
-                           "header: column " + std::to_string(k + 1) + " is '" + header[k] + "', expected '" +
-                               kFixedColumns[k] + "'");
-      }
-      std::size_t k = kFixed;
-      while (k < header.size() && header[k].rfind("in_", 0) == 0) ++k;
-      m = k - kFixed;
-      const auto n = static_cast<int>(std::lround(std::sqrt(static_cast<double>(m))));
-      if (m == 0) throw line_error(file, 1, "header: missing column 'in_1_1'");
-      if (static_cast<std::size_t>(n) * static_cast<std::size_t>(n) != m) {
-        // Not a square grid: name the first in_* column that breaks the n×n pattern.
-        const bool missing = static_cast<std::size_t>(n) * static_cast<std::size_t>(n) > m;
-        const auto expect = column_names(n, false);
-        for (std::size_t c = kFixed; c < k; ++c)
-          if (c >= expect.size() - kStrategySlots || header[c] != expect[c])
-            throw line_error(file, 1,
-                             missing ? "header: missing column '" + expect[c] + "'"
-                                     : "header: unexpected column '" + header[c] + "'");
-        throw line_error(file, 1, "header: missing column '" + expect[k] + "'");
-      }
-      t.grid_n = n;
-      const bool aspect = header.back() == "aspect";
-      t.has_aspect = aspect;
-      const auto expect = column_names(n, aspect);
-      for (std::size_t c = 0; c < expect.size(); ++c) {
-        if (c >= header.size()) throw line_error(file, 1, "header: missing column '" + expect[c] + "'");
-        if (header[c] != expect[c])
-          throw line_error(
-              file, 1,
-              "header: column " + std::to_string(c + 1) + " is '" + header[c] + "', expected '" + expect[c] + "'");
-      }
-      if (header.size() > expect.size())
-        throw line_error(file, 1, "header: unexpected column '" + header[expect.size()] + "'");
-      n_cols = header.size();
-      continue;
-    }
-    if (fields.size() != n_cols)
-      throw line_error(
-          file, lineno,
-          std::to_string(fields.size()) + " fields, expected " + std::to_string(n_cols) + " (one per header column)");
-    Row r;
-    r.id = fields[0];
-    r.source = fields[1];
-    if (r.id.empty()) throw line_error(file, lineno, "column 'id': empty");
-    if (r.source.empty()) throw line_error(file, lineno, "column 'source': empty");
-    if (auto [it, fresh] = id_line.emplace(r.id, lineno); !fresh)
-      throw line_error(file, lineno,
-                       "column 'id': duplicate id '" + r.id + "' (first on line " + std::to_string(it->second) + ")");
-    {
-      int label = -1;
-      const auto& s = fields[2];
-      const auto res = std::from_chars(s.data(), s.data() + s.size(), label);
-      if (s.empty() || res.ec != std::errc() || res.ptr != s.data() + s.size() || label < 0 ||
-          label > static_cast<int>(kStrategySlots))
-        throw line_error(file, lineno, "column 'label': '" + s + "' is not an integer in 0..8 (0 = unknown)");
-      r.label = label;
-    }
-    if (fields[3] == "x" || fields[3] == "X")
-      r.axis = augment::Axis::X;
-    else if (fields[3] == "y" || fields[3] == "Y")
-      r.axis = augment::Axis::Y;
-    else if (fields[3] == "z" || fields[3] == "Z")
-      r.axis = augment::Axis::Z;
+    if (lineno == 1)
+      header = read_header(std::move(fields), file, t);
     else
-      throw line_error(file, lineno, "column 'axis': '" + fields[3] + "' is not x, y or z");
-    r.angle_deg = parse_number(fields[4], "angle", file, lineno);
-    if (fields[5] == "0")
-      r.flip = false;
-    else if (fields[5] == "1")
-      r.flip = true;
-    else
-      throw line_error(file, lineno, "column 'flip': '" + fields[5] + "' is not 0 or 1");
-    r.inputs.resize(m);
-    for (std::size_t k = 0; k < m; ++k)
-      r.inputs[k] = parse_number(fields[kFixed + k], header[kFixed + k], file, lineno);
-    for (std::size_t k = 0; k < kStrategySlots; ++k)
-      r.outputs[k] = parse_number(fields[kFixed + m + k], header[kFixed + m + k], file, lineno);
-    if (t.has_aspect) r.aspect = parse_number(fields.back(), "aspect", file, lineno);
-    if (r.label > 0) {
-      // A labelled row whose outputs point elsewhere is a corrupted table, not a soft target.
-      std::size_t best = 0;
-      for (std::size_t k = 1; k < kStrategySlots; ++k)
-        if (r.outputs[k] > r.outputs[best]) best = k;
-      if (best + 1 != static_cast<std::size_t>(r.label))
-        throw line_error(file, lineno,
-                         "column 'label': " + std::to_string(r.label) + " disagrees with the outputs (largest is out_" +
-                             std::to_string(best + 1) + ")");
-    }
-    t.rows.push_back(std::move(r));
+      t.rows.push_back(read_row(fields, header, t.has_aspect, file, lineno, id_line));
   }
-  if (header.empty()) throw file_error(file, "empty file, expected a header line");
+  if (header.names.empty()) throw file_error(file, "empty file, expected a header line");
   if (t.rows.empty()) throw file_error(file, "no rows after the header");
   return t;
 }

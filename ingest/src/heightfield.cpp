@@ -170,6 +170,72 @@ void cell_triangle(const P& a, const P& b, const P& c, const BandBuffer& buf, in
     }
 }
 
+/// The mesh's vertices in raster units (column u, row v, z in mm). O(#V).
+std::vector<P> raster_points(const Mesh& mesh, const Frame& fr) {
+  const auto nv = static_cast<std::ptrdiff_t>(mesh.V.rows());
+  std::vector<P> pts(static_cast<std::size_t>(nv));
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t k = 0; k < nv; ++k) {
+    const auto ek = static_cast<Eigen::Index>(k);
+    pts[static_cast<std::size_t>(k)] =
+        P{(mesh.V(ek, 0) - fr.x0) / fr.sx, (mesh.V(ek, 1) - fr.y0) / fr.sy, mesh.V(ek, 2)};
+  }
+  return pts;
+}
+
+/// The triangles binned into bands of kBandRows raster rows (a triangle in every band its rows
+/// meet, in index order): band b holds entries[offset[b] … offset[b + 1]).
+struct Bands {
+  std::vector<std::size_t> offset;
+  std::vector<std::int32_t> entries;
+};
+
+Bands bin_triangles(const Mesh& mesh, const std::vector<P>& pts, const Frame& fr, bool cells) {
+  // Row range of each triangle (−1 = covers no raster point): O(#F), each slot written once.
+  const auto nf = static_cast<std::ptrdiff_t>(mesh.F.rows());
+  std::vector<std::int32_t> rlo(static_cast<std::size_t>(nf)), rhi(static_cast<std::size_t>(nf));
+  const std::int32_t* F = mesh.F.data();
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t t = 0; t < nf; ++t) {
+    const auto tu = static_cast<std::size_t>(t);
+    const P& a = pts[static_cast<std::size_t>(F[3 * tu])];
+    const P& b = pts[static_cast<std::size_t>(F[3 * tu + 1])];
+    const P& c = pts[static_cast<std::size_t>(F[3 * tu + 2])];
+    const double umin = std::min({a.u, b.u, c.u}), umax = std::max({a.u, b.u, c.u});
+    const double vmin = std::min({a.v, b.v, c.v}), vmax = std::max({a.v, b.v, c.v});
+    const double w = cells ? 0.5 + kEps : kEps;  // a cell reaches half a step beyond its point
+    const double j0 = std::max(0.0, std::ceil(umin - w)), j1 = std::min(fr.nx - 1.0, std::floor(umax + w));
+    const double i0 = std::max(0.0, std::ceil(vmin - w)), i1 = std::min(fr.ny - 1.0, std::floor(vmax + w));
+    if (j0 > j1 || i0 > i1) {
+      rlo[tu] = -1;
+      rhi[tu] = -1;
+    } else {
+      rlo[tu] = static_cast<std::int32_t>(i0);
+      rhi[tu] = static_cast<std::int32_t>(i1);
+    }
+  }
+  // Counting sort, serial: O(#F + entries).
+  const int nbands = (fr.ny + kBandRows - 1) / kBandRows;
+  Bands bands;
+  std::vector<std::size_t>& offset = bands.offset;
+  offset.assign(static_cast<std::size_t>(nbands) + 1, 0);
+  for (std::ptrdiff_t t = 0; t < nf; ++t) {
+    const auto tu = static_cast<std::size_t>(t);
+    if (rlo[tu] < 0) continue;
+    for (int b = rlo[tu] / kBandRows; b <= rhi[tu] / kBandRows; ++b) ++offset[static_cast<std::size_t>(b) + 1];
+  }
+  for (std::size_t b = 0; b < static_cast<std::size_t>(nbands); ++b) offset[b + 1] += offset[b];
+  bands.entries.resize(offset.back());
+  std::vector<std::size_t> fill(offset.begin(), offset.end() - 1);
+  for (std::ptrdiff_t t = 0; t < nf; ++t) {
+    const auto tu = static_cast<std::size_t>(t);
+    if (rlo[tu] < 0) continue;
+    for (int b = rlo[tu] / kBandRows; b <= rhi[tu] / kBandRows; ++b)
+      bands.entries[fill[static_cast<std::size_t>(b)]++] = static_cast<std::int32_t>(t);
+  }
+  return bands;
+}
+
 HeightField rasterize(const Mesh& mesh, const Frame& fr, bool cells) {
   validate(mesh, "rasterize_top");
   if (!(fr.sx > 0) || !(fr.sy > 0) || !std::isfinite(fr.sx) || !std::isfinite(fr.sy) || !std::isfinite(fr.x0) ||
@@ -195,66 +261,17 @@ HeightField rasterize(const Mesh& mesh, const Frame& fr, bool cells) {
   f.z.assign(n, -std::numeric_limits<double>::infinity());
   f.hit.assign(n, 0);
 
-  // Vertices in raster units (column u, row v): O(#V).
-  const auto nv = static_cast<std::ptrdiff_t>(mesh.V.rows());
-  std::vector<P> pts(static_cast<std::size_t>(nv));
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t k = 0; k < nv; ++k) {
-    const auto ek = static_cast<Eigen::Index>(k);
-    pts[static_cast<std::size_t>(k)] =
-        P{(mesh.V(ek, 0) - fr.x0) / fr.sx, (mesh.V(ek, 1) - fr.y0) / fr.sy, mesh.V(ek, 2)};
-  }
-
-  // Row range of each triangle (−1 = covers no raster point): O(#F), each slot written once.
-  const auto nf = static_cast<std::ptrdiff_t>(mesh.F.rows());
-  std::vector<std::int32_t> rlo(static_cast<std::size_t>(nf)), rhi(static_cast<std::size_t>(nf));
+  const std::vector<P> pts = raster_points(mesh, fr);
+  const Bands bands = bin_triangles(mesh, pts, fr, cells);
   const std::int32_t* F = mesh.F.data();
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t t = 0; t < nf; ++t) {
-    const auto tu = static_cast<std::size_t>(t);
-    const P& a = pts[static_cast<std::size_t>(F[3 * tu])];
-    const P& b = pts[static_cast<std::size_t>(F[3 * tu + 1])];
-    const P& c = pts[static_cast<std::size_t>(F[3 * tu + 2])];
-    const double umin = std::min({a.u, b.u, c.u}), umax = std::max({a.u, b.u, c.u});
-    const double vmin = std::min({a.v, b.v, c.v}), vmax = std::max({a.v, b.v, c.v});
-    const double w = cells ? 0.5 + kEps : kEps;  // a cell reaches half a step beyond its point
-    const double j0 = std::max(0.0, std::ceil(umin - w)), j1 = std::min(fr.nx - 1.0, std::floor(umax + w));
-    const double i0 = std::max(0.0, std::ceil(vmin - w)), i1 = std::min(fr.ny - 1.0, std::floor(vmax + w));
-    if (j0 > j1 || i0 > i1) {
-      rlo[tu] = -1;
-      rhi[tu] = -1;
-    } else {
-      rlo[tu] = static_cast<std::int32_t>(i0);
-      rhi[tu] = static_cast<std::int32_t>(i1);
-    }
-  }
-
-  // Bin the triangles into bands of kBandRows rows (counting sort, serial): O(#F + entries).
-  const int nbands = (fr.ny + kBandRows - 1) / kBandRows;
-  std::vector<std::size_t> offset(static_cast<std::size_t>(nbands) + 1, 0);
-  for (std::ptrdiff_t t = 0; t < nf; ++t) {
-    const auto tu = static_cast<std::size_t>(t);
-    if (rlo[tu] < 0) continue;
-    for (int b = rlo[tu] / kBandRows; b <= rhi[tu] / kBandRows; ++b) ++offset[static_cast<std::size_t>(b) + 1];
-  }
-  for (std::size_t b = 0; b < static_cast<std::size_t>(nbands); ++b) offset[b + 1] += offset[b];
-  std::vector<std::int32_t> entries(offset.back());
-  {
-    std::vector<std::size_t> fill(offset.begin(), offset.end() - 1);
-    for (std::ptrdiff_t t = 0; t < nf; ++t) {
-      const auto tu = static_cast<std::size_t>(t);
-      if (rlo[tu] < 0) continue;
-      for (int b = rlo[tu] / kBandRows; b <= rhi[tu] / kBandRows; ++b)
-        entries[fill[static_cast<std::size_t>(b)]++] = static_cast<std::int32_t>(t);
-    }
-  }
-
+  const int nbands = static_cast<int>(bands.offset.size()) - 1;
   // Each band is rasterized by one thread, its triangles in index order: O(Σ bbox points).
 #pragma omp parallel for schedule(dynamic, 1)
   for (int b = 0; b < nbands; ++b) {
     const BandBuffer buf{f.z.data(), f.hit.data(), fr.nx, b * kBandRows, std::min(fr.ny, (b + 1) * kBandRows) - 1};
-    for (std::size_t e = offset[static_cast<std::size_t>(b)]; e < offset[static_cast<std::size_t>(b) + 1]; ++e) {
-      const auto tu = static_cast<std::size_t>(entries[e]);
+    for (std::size_t e = bands.offset[static_cast<std::size_t>(b)]; e < bands.offset[static_cast<std::size_t>(b) + 1];
+         ++e) {
+      const auto tu = static_cast<std::size_t>(bands.entries[e]);
       const P& pa = pts[static_cast<std::size_t>(F[3 * tu])];
       const P& pb = pts[static_cast<std::size_t>(F[3 * tu + 1])];
       const P& pc = pts[static_cast<std::size_t>(F[3 * tu + 2])];

@@ -166,9 +166,9 @@ std::vector<Vertex> reversed_open(const std::vector<Vertex>& v) {
   return w;
 }
 
-std::vector<Piece> dxf_pieces(const std::vector<Pair>& pr, const std::string& source) {
-  std::vector<Piece> pieces;
-  // Locate ENTITIES.
+/// Where the ENTITIES section's first entity starts. Throws when there is none, or when the file
+/// does not end with "0 EOF".
+std::size_t entities_start(const std::vector<Pair>& pr, const std::string& source) {
   std::size_t i = 0;
   bool found = false;
   for (; i + 1 < pr.size(); ++i)
@@ -184,100 +184,132 @@ std::vector<Piece> dxf_pieces(const std::vector<Pair>& pr, const std::string& so
   const long last_line = pr.empty() ? 0 : pr.back().line + 1;
   if (pr.empty() || pr.back().code != 0 || pr.back().value != "EOF")
     throw line_error(source, last_line, "the file ends here without \"0 EOF\" (truncated?)");
+  return i;
+}
+
+/// One entity: its group pairs up to the next group 0, and what error messages call it.
+struct Entity {
+  const std::string& source;
+  std::string type;
+  long at = 0;                 ///< line of its group 0
+  std::vector<const Pair*> g;  ///< its groups
+  std::string what;            ///< "LINE handle 2A (line 120)"
+  double mx = 1;               ///< −1: OCS with extrusion (0,0,−1), which mirrors X
+
+  /// The number of group `code`; def when it is missing and not required.
+  double num(int code, bool required, double def = 0) const {
+    for (const Pair* p : g)
+      if (p->code == code) return dxf_number(*p, source);
+    if (required) throw line_error(source, at, what + ": missing group " + std::to_string(code));
+    return def;
+  }
+};
+
+/// An ARC (one open piece with its bulge) or a CIRCLE (a closed loop of two half circles).
+Piece arc_piece(const Entity& e) {
   constexpr double deg = std::numbers::pi / 180;
+  const double cx = e.mx * e.num(10, true), cy = e.num(20, true), r = e.num(40, true);
+  if (!(r > 0)) throw line_error(e.source, e.at, e.what + ": radius must be > 0");
+  Piece pc;
+  pc.what = e.what;
+  if (e.type == "CIRCLE") {
+    pc.closed = true;
+    pc.pts = {{cx + r, cy, 1}, {cx - r, cy, 1}};
+    return pc;
+  }
+  double a0 = e.num(50, true), a1 = e.num(51, true);
+  double sweep = std::fmod(a1 - a0, 360.0);
+  if (sweep <= 0) sweep += 360;
+  // In a mirrored OCS the angles run the other way.
+  if (e.mx < 0) {
+    a0 = 180 - a0;
+    a1 = 180 - a1;
+  }
+  const double b = std::tan(sweep * deg / 4) * e.mx;
+  pc.pts = {{cx + r * std::cos(a0 * deg), cy + r * std::sin(a0 * deg), b},
+            {cx + r * std::cos(a1 * deg), cy + r * std::sin(a1 * deg), 0}};
+  return pc;
+}
+
+Piece lwpolyline_piece(const Entity& e) {
+  Piece pc;
+  pc.what = e.what;
+  pc.closed = (static_cast<long>(e.num(70, false, 0)) & 1) != 0;
+  for (const Pair* p : e.g) {
+    if (p->code == 10)
+      pc.pts.push_back({e.mx * dxf_number(*p, e.source), 0, 0});
+    else if (p->code == 20 && !pc.pts.empty())
+      pc.pts.back().y = dxf_number(*p, e.source);
+    else if (p->code == 42 && !pc.pts.empty())
+      pc.pts.back().bulge = e.mx * dxf_number(*p, e.source);
+  }
+  if (pc.pts.size() < 2) throw line_error(e.source, e.at, e.what + ": fewer than 2 vertices");
+  return pc;
+}
+
+/// A POLYLINE and the VERTEX entities that follow it until SEQEND, from pr[j] on; j is left after
+/// the SEQEND.
+Piece polyline_piece(const Entity& e, const std::vector<Pair>& pr, std::size_t& j) {
+  const std::string& source = e.source;
+  Piece pc;
+  pc.what = e.what;
+  pc.closed = (static_cast<long>(e.num(70, false, 0)) & 1) != 0;
+  if ((static_cast<long>(e.num(70, false, 0)) & (16 | 64)) != 0)
+    throw line_error(source, e.at, e.what + ": polygon meshes / polyface meshes are not pocket outlines");
+  while (j < pr.size() && pr[j].code == 0 && pr[j].value == "VERTEX") {
+    std::size_t k = j + 1;
+    Vertex v;
+    for (; k < pr.size() && pr[k].code != 0; ++k) {
+      if (pr[k].code == 10) v.x = e.mx * dxf_number(pr[k], source);
+      if (pr[k].code == 20) v.y = dxf_number(pr[k], source);
+      if (pr[k].code == 42) v.bulge = e.mx * dxf_number(pr[k], source);
+    }
+    pc.pts.push_back(v);
+    j = k;
+  }
+  if (j < pr.size() && pr[j].code == 0 && pr[j].value == "SEQEND") {
+    ++j;
+    while (j < pr.size() && pr[j].code != 0) ++j;
+  } else {
+    throw line_error(source, e.at, e.what + ": VERTEX list not ended by SEQEND");
+  }
+  if (pc.pts.size() < 2) throw line_error(source, e.at, e.what + ": fewer than 2 vertices");
+  return pc;
+}
+
+std::vector<Piece> dxf_pieces(const std::vector<Pair>& pr, const std::string& source) {
+  std::vector<Piece> pieces;
+  std::size_t i = entities_start(pr, source);
   while (i < pr.size()) {
     if (pr[i].code != 0) {
       ++i;
       continue;
     }
-    const std::string type = pr[i].value;
-    if (type == "EOF") throw line_error(source, pr[i].line, "EOF inside the ENTITIES section (no ENDSEC: truncated?)");
-    if (type == "ENDSEC") break;
-    const long at = pr[i].line;
+    Entity e{source, pr[i].value, pr[i].line, {}, {}, 1};
+    if (e.type == "EOF")
+      throw line_error(source, pr[i].line, "EOF inside the ENTITIES section (no ENDSEC: truncated?)");
+    if (e.type == "ENDSEC") break;
     std::size_t j = i + 1;
-    std::vector<const Pair*> g;
-    while (j < pr.size() && pr[j].code != 0) g.push_back(&pr[j++]);
+    while (j < pr.size() && pr[j].code != 0) e.g.push_back(&pr[j++]);
     std::string handle = "?";
     double ext_z = 1;
-    for (const Pair* p : g) {
+    for (const Pair* p : e.g) {
       if (p->code == 5) handle = p->value;
       if (p->code == 230) ext_z = dxf_number(*p, source);
     }
-    const std::string what = type + " handle " + handle + " (line " + std::to_string(at) + ")";
-    const double mx = ext_z < 0 ? -1.0 : 1.0;  // OCS with extrusion (0,0,−1) mirrors X
-    auto num = [&](int code, bool required, double def = 0) {
-      for (const Pair* p : g)
-        if (p->code == code) return dxf_number(*p, source);
-      if (required) throw line_error(source, at, what + ": missing group " + std::to_string(code));
-      return def;
-    };
-    if (type == "LINE") {
+    e.what = e.type + " handle " + handle + " (line " + std::to_string(e.at) + ")";
+    e.mx = ext_z < 0 ? -1.0 : 1.0;
+    if (e.type == "LINE") {
       Piece pc;
-      pc.what = what;
-      pc.pts = {{num(10, true), num(20, true), 0}, {num(11, true), num(21, true), 0}};
+      pc.what = e.what;
+      pc.pts = {{e.num(10, true), e.num(20, true), 0}, {e.num(11, true), e.num(21, true), 0}};
       pieces.push_back(std::move(pc));
-    } else if (type == "ARC" || type == "CIRCLE") {
-      const double cx = mx * num(10, true), cy = num(20, true), r = num(40, true);
-      if (!(r > 0)) throw line_error(source, at, what + ": radius must be > 0");
-      Piece pc;
-      pc.what = what;
-      if (type == "CIRCLE") {
-        pc.closed = true;
-        pc.pts = {{cx + r, cy, 1}, {cx - r, cy, 1}};
-      } else {
-        double a0 = num(50, true), a1 = num(51, true);
-        double sweep = std::fmod(a1 - a0, 360.0);
-        if (sweep <= 0) sweep += 360;
-        // In a mirrored OCS the angles run the other way.
-        if (mx < 0) {
-          a0 = 180 - a0;
-          a1 = 180 - a1;
-        }
-        const double b = std::tan(sweep * deg / 4) * mx;
-        pc.pts = {{cx + r * std::cos(a0 * deg), cy + r * std::sin(a0 * deg), b},
-                  {cx + r * std::cos(a1 * deg), cy + r * std::sin(a1 * deg), 0}};
-      }
-      pieces.push_back(std::move(pc));
-    } else if (type == "LWPOLYLINE") {
-      Piece pc;
-      pc.what = what;
-      pc.closed = (static_cast<long>(num(70, false, 0)) & 1) != 0;
-      for (const Pair* p : g) {
-        if (p->code == 10)
-          pc.pts.push_back({mx * dxf_number(*p, source), 0, 0});
-        else if (p->code == 20 && !pc.pts.empty())
-          pc.pts.back().y = dxf_number(*p, source);
-        else if (p->code == 42 && !pc.pts.empty())
-          pc.pts.back().bulge = mx * dxf_number(*p, source);
-      }
-      if (pc.pts.size() < 2) throw line_error(source, at, what + ": fewer than 2 vertices");
-      pieces.push_back(std::move(pc));
-    } else if (type == "POLYLINE") {
-      Piece pc;
-      pc.what = what;
-      pc.closed = (static_cast<long>(num(70, false, 0)) & 1) != 0;
-      if ((static_cast<long>(num(70, false, 0)) & (16 | 64)) != 0)
-        throw line_error(source, at, what + ": polygon meshes / polyface meshes are not pocket outlines");
-      // VERTEX entities follow until SEQEND.
-      while (j < pr.size() && pr[j].code == 0 && pr[j].value == "VERTEX") {
-        std::size_t k = j + 1;
-        Vertex v;
-        for (; k < pr.size() && pr[k].code != 0; ++k) {
-          if (pr[k].code == 10) v.x = mx * dxf_number(pr[k], source);
-          if (pr[k].code == 20) v.y = dxf_number(pr[k], source);
-          if (pr[k].code == 42) v.bulge = mx * dxf_number(pr[k], source);
-        }
-        pc.pts.push_back(v);
-        j = k;
-      }
-      if (j < pr.size() && pr[j].code == 0 && pr[j].value == "SEQEND") {
-        ++j;
-        while (j < pr.size() && pr[j].code != 0) ++j;
-      } else {
-        throw line_error(source, at, what + ": VERTEX list not ended by SEQEND");
-      }
-      if (pc.pts.size() < 2) throw line_error(source, at, what + ": fewer than 2 vertices");
-      pieces.push_back(std::move(pc));
+    } else if (e.type == "ARC" || e.type == "CIRCLE") {
+      pieces.push_back(arc_piece(e));
+    } else if (e.type == "LWPOLYLINE") {
+      pieces.push_back(lwpolyline_piece(e));
+    } else if (e.type == "POLYLINE") {
+      pieces.push_back(polyline_piece(e, pr, j));
     }
     // Other entities (TEXT, DIMENSION, POINT, …) carry no pocket geometry.
     i = j;

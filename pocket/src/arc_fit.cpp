@@ -1,5 +1,5 @@
 // Arc fitting of tool paths (arc_fit.hpp).
-#include "millnet/pocket/arc_fit.hpp"
+#include "arc_fit.hpp"
 
 #include "millnet/pocket/tolerances.hpp"
 

@@ -2,7 +2,8 @@
 // Conversions between millnet's mm polylines and Clipper 6's integer paths (private to pocket/).
 // Coordinates are scaled by `scale` (integer units per mm) and rounded to the nearest unit.
 #include "millnet/core/shoelace.hpp"
-#include "millnet/pocket/offset.hpp"
+
+#include "offset.hpp"
 
 #include <polyclipping/clipper.hpp>
 

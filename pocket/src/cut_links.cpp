@@ -1,9 +1,9 @@
 // Tool-down links through material already cut (cut_links.hpp).
 #include "millnet/pocket/cut_links.hpp"
 
-#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
 
+#include "offset.hpp"
 #include "raster_internal.hpp"
 
 #include <algorithm>
@@ -245,16 +245,43 @@ struct CutLinker::Impl {
     });
   }
 
-  std::optional<CutLinker::Link> best_link(const Vec2& a, const std::vector<LinkTarget>& targets) const {
-    if (targets.empty()) return std::nullopt;
-    const Query q(*this, a);
-    // Dijkstra over the clear lattice positions and the retrace nodes the start reaches. Nodes
-    // [0, NL) are lattice positions, [NL, NL + NP) retrace nodes. O(nodes · log nodes).
+  /// Graph nodes: [0, NL) lattice positions, [NL, NL + NP) retrace nodes (NL = lattice size).
+  [[nodiscard]] Vec2 node_pos(std::size_t k) const {
+    const std::size_t NL = lat_wall.size();
+    return k < NL ? lattice_point(k) : path_pos[k - NL];
+  }
+
+  /// Calls f(node) for the lattice positions and retrace nodes within r of p.
+  template <class F>
+  void nodes_near(const Vec2& p, double r, F&& f) const {
+    const std::size_t NL = lat_wall.size();
+    int cx = 0, cy = 0;
+    lattice_cell(p, cx, cy);
+    const int rr = static_cast<int>(std::ceil(r / kLatticeMm)) + 1;
+    for (int y = std::max(0, cy - rr); y <= std::min(lny - 1, cy + rr); ++y)
+      for (int x = std::max(0, cx - rr); x <= std::min(lnx - 1, cx + rr); ++x) {
+        const std::size_t k = raster::lin(x, y, lnx);
+        if ((lattice_point(k) - p).norm() <= r) f(k);
+        for (std::size_t j : buckets[k])
+          if ((path_pos[j] - p).norm() <= r) f(NL + j);
+      }
+  }
+
+  /// Shortest ways from a over the graph's nodes: their lengths (+inf: not reached) and the node
+  /// before each on its way (−1: a seed, reached straight from a).
+  struct Reached {
+    std::vector<double> dist;
+    std::vector<long> prev;
+  };
+
+  /// Dijkstra over the clear lattice positions and the retrace nodes the start reaches, seeded with
+  /// the nodes round a that a straight move reaches. O(nodes · log nodes).
+  Reached reach_from(const Vec2& a, const Query& q) const {
     const std::size_t NL = lat_wall.size(), NP = path_pos.size(), n = NL + NP;
-    std::vector<double> dist(n, kInf);
-    std::vector<long> prev(n, -1);
+    Reached r{std::vector<double>(n, kInf), std::vector<long>(n, -1)};
+    std::vector<double>& dist = r.dist;
+    std::vector<long>& prev = r.prev;
     std::vector<signed char> ok(NL, -1);
-    auto pos = [&](std::size_t k) { return k < NL ? lattice_point(k) : path_pos[k - NL]; };
     auto usable = [&](std::size_t k) {
       if (k >= NL) return true;
       if (ok[k] < 0) {
@@ -273,21 +300,8 @@ struct CutLinker::Impl {
         open.push({nd, to});
       }
     };
-    // Calls f(node) for the lattice positions and retrace nodes within r of p.
-    auto near = [&](const Vec2& p, double r, auto&& f) {
-      int cx = 0, cy = 0;
-      lattice_cell(p, cx, cy);
-      const int rr = static_cast<int>(std::ceil(r / kLatticeMm)) + 1;
-      for (int y = std::max(0, cy - rr); y <= std::min(lny - 1, cy + rr); ++y)
-        for (int x = std::max(0, cx - rr); x <= std::min(lnx - 1, cx + rr); ++x) {
-          const std::size_t k = raster::lin(x, y, lnx);
-          if ((lattice_point(k) - p).norm() <= r) f(k);
-          for (std::size_t j : buckets[k])
-            if ((path_pos[j] - p).norm() <= r) f(NL + j);
-        }
-    };
-    near(a, R + kSeedMm, [&](std::size_t k) {
-      const Vec2 p = pos(k);
+    nodes_near(a, R + kSeedMm, [&](std::size_t k) {
+      const Vec2 p = node_pos(k);
       const double d = (p - a).norm();
       if (usable(k) && (d < tol::join_mm || q.straight(a, p))) relax(k, k, d);
     });
@@ -298,43 +312,60 @@ struct CutLinker::Impl {
       const std::size_t k = open.top().second;
       open.pop();
       if (d > dist[k]) continue;
-      const Vec2 p = pos(k);
+      const Vec2 p = node_pos(k);
       if (k >= NL) {
         // Along the polyline it lies on, both ways: nothing new is swept.
         const std::size_t j = k - NL;
         if (j > 0 && path_joined[j]) relax(k, k - 1, d + (path_pos[j - 1] - p).norm());
         if (j + 1 < NP && path_joined[j + 1]) relax(k, k + 1, d + (path_pos[j + 1] - p).norm());
       }
-      near(p, kJoinMm, [&](std::size_t m) {
+      nodes_near(p, kJoinMm, [&](std::size_t m) {
         if (m == k || !usable(m)) return;
-        const double step = (pos(m) - p).norm();
+        const double step = (node_pos(m) - p).norm();
         if (d + step >= dist[m]) return;
         // Lattice neighbours keep the lattice margin from the walls and are clear: no check. A
         // retrace node where another polyline begins or ends is the same point.
-        if ((k < NL && m < NL) || step < tol::join_mm || q.straight(p, pos(m))) relax(k, m, d + step);
+        if ((k < NL && m < NL) || step < tol::join_mm || q.straight(p, node_pos(m))) relax(k, m, d + step);
       });
     }
-    // Candidates, cheapest first: the straight move into each target, and every reached lattice
-    // position round a target followed by the straight move into it.
-    constexpr std::size_t kDirect = std::numeric_limits<std::size_t>::max();
-    struct Cand {
-      double cost;
-      std::size_t t, goal;
-      bool operator>(const Cand& o) const {
-        return cost != o.cost ? cost > o.cost : (t != o.t ? t > o.t : goal > o.goal);
-      }
-    };
-    std::priority_queue<Cand, std::vector<Cand>, std::greater<>> cands;
+    return r;
+  }
+
+  /// A candidate way: into target t from node `goal` (kDirect: straight from the start), its cost
+  /// the way's length plus the target's extra.
+  static constexpr std::size_t kDirect = std::numeric_limits<std::size_t>::max();
+  struct Cand {
+    double cost;
+    std::size_t t, goal;
+    bool operator>(const Cand& o) const {
+      return cost != o.cost ? cost > o.cost : (t != o.t ? t > o.t : goal > o.goal);
+    }
+  };
+  using Cands = std::priority_queue<Cand, std::vector<Cand>, std::greater<>>;
+
+  /// Candidates, cheapest first: the straight move into each target, and every reached lattice
+  /// position round a target followed by the straight move into it.
+  Cands candidates(const Vec2& a, const std::vector<LinkTarget>& targets, const Reached& r) const {
+    const std::size_t NL = lat_wall.size();
+    Cands cands;
     for (std::size_t i = 0; i < targets.size(); ++i) {
       const LinkTarget& t = targets[i];
       cands.push({(t.b - a).norm() + t.extra, i, kDirect});
       // Lattice positions round the target; retrace nodes as far as its wall band reaches (a pass
       // beside a wall whose corridor has no lattice position: the last move leaves the pass).
-      near(t.b, reach_b, [&](std::size_t k) {
-        const double e = (pos(k) - t.b).norm();
-        if (dist[k] < kInf && (k >= NL || e <= R + kSeedMm)) cands.push({dist[k] + e + t.extra, i, k});
+      nodes_near(t.b, reach_b, [&](std::size_t k) {
+        const double e = (node_pos(k) - t.b).norm();
+        if (r.dist[k] < kInf && (k >= NL || e <= R + kSeedMm)) cands.push({r.dist[k] + e + t.extra, i, k});
       });
     }
+    return cands;
+  }
+
+  std::optional<CutLinker::Link> best_link(const Vec2& a, const std::vector<LinkTarget>& targets) const {
+    if (targets.empty()) return std::nullopt;
+    const Query q(*this, a);
+    const Reached r = reach_from(a, q);
+    Cands cands = candidates(a, targets, r);
     std::vector<std::uint32_t> stamp(st.size(), 0);
     std::uint32_t gen = 0;
     std::size_t stamped_for = kDirect;
@@ -351,10 +382,10 @@ struct CutLinker::Impl {
         if (!q.straight(a, t.b, &stamp, gen)) continue;
         way = {a, t.b};
       } else {
-        if ((pos(c.goal) - t.b).norm() > tol::join_mm && !q.straight(pos(c.goal), t.b, &stamp, gen)) continue;
+        if ((node_pos(c.goal) - t.b).norm() > tol::join_mm && !q.straight(node_pos(c.goal), t.b, &stamp, gen)) continue;
         std::vector<Vec2> rev{t.b};
-        for (long k = static_cast<long>(c.goal); k >= 0; k = prev[static_cast<std::size_t>(k)])
-          rev.push_back(pos(static_cast<std::size_t>(k)));
+        for (long k = static_cast<long>(c.goal); k >= 0; k = r.prev[static_cast<std::size_t>(k)])
+          rev.push_back(node_pos(static_cast<std::size_t>(k)));
         rev.push_back(a);
         way = taut(std::vector<Vec2>(rev.rbegin(), rev.rend()), q, t.b, stamp, gen);
       }

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace millnet::pocket {
 
@@ -100,20 +101,9 @@ void split_long(Chain& ch, double max_len) {
   ch.pts = std::move(out);
   ch.feed = std::move(feeds);
 }
-}  // namespace
-
-FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cut, double axial_depth_mm,
-                         const std::vector<EntryHole>& holes) {
-  cut.check("feed map");
-  const double g = cut.feed_grid > 0 ? cut.feed_grid : cut.tool_diameter / 10;
-  const double R = cut.tool_diameter / 2;
-  FeedProfile prof;
-  prof.grid_mm = g;
-  prof.n1 = cut.tool_diameter / g;
-  prof.n2 = R / g;
-  prof.axial_depth_mm = axial_depth_mm;
-
-  // The map covers the boundary's box grown by the tool radius.
+/// The map over the boundary's box grown by the tool radius R (cells of g): material = cells whose
+/// centre is inside the region (+inf: nothing cut yet), the rest "covered" for the shares (−inf).
+FeedMap material_map(const Region& region, double g, double R) {
   detail::BBox box;
   for (const Segment& s : segments(region.boundary)) {
     const detail::BBox b = detail::bbox(s);
@@ -129,18 +119,101 @@ FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cu
     throw Error("feed map: grid of " + std::to_string(map.nx) + " x " + std::to_string(map.ny) +
                 " cells is too fine; raise feed_grid");
   map.cut.assign(static_cast<std::size_t>(map.nx) * static_cast<std::size_t>(map.ny), 1);
-  // Material = cells whose centre is inside the region; a clearance-0 query object makes the
-  // inside test cheap for cells far from walls. O(cells).
+  // A clearance-0 query object makes the inside test cheap for cells far from walls. O(cells).
   const Clearance inside_q(region, 0.0);
   for (int y = 0; y < map.ny; ++y)
     for (int x = 0; x < map.nx; ++x)
       if (inside_q.point_ok(map.lo + Vec2((x + 0.5) * g, (y + 0.5) * g)))
         map.cut[static_cast<std::size_t>(y) * static_cast<std::size_t>(map.nx) + static_cast<std::size_t>(x)] = 0;
-  // No material: "covered" for the shares (−∞); material: nothing cut yet (+∞).
   map.sd.resize(map.cut.size());
   for (std::size_t i = 0; i < map.cut.size(); ++i)
     map.sd[i] = map.cut[i] ? -std::numeric_limits<float>::infinity() : std::numeric_limits<float>::infinity();
+  return map;
+}
 
+/// What a chain engages, measured segment by segment in steps of at most a cell. Steps shorter
+/// than a cell are pooled until they make a cell: a column of cells is cut once per cell of
+/// travel, so a step of a tenth of a cell reads 0 or ten columns, scaled to a full cell (a slot
+/// where the crescent is half). A segment that completes no pool reads the last pooled value.
+/// The swept width: the shares pooled over at least a cell of travel (a window may span pieces).
+struct ChainGauge {
+  double pool_fresh = 0, pool_len = 0, last_n = 0;
+  double win_area = 0, win_len = 0, last_w = 0;
+
+  /// Segment s (length len) cut by a disk of radius R: its engagement n₃ (the largest step's
+  /// count scaled to a cell, at most n₁) and swept width. O(steps · (D/g)²).
+  std::pair<double, double> segment(FeedMap& map, const Segment& s, double len, double R, const CutParams& cut,
+                                    double n1) {
+    const double g = map.g;
+    const int steps = std::max(1, static_cast<int>(std::ceil(len / g - 1e-9)));
+    const double step_len = len / steps;
+    double n3 = 0, sw = 0;
+    bool measured = false, sw_measured = false;
+    for (int i = 1; i <= steps; ++i) {
+      const FeedMap::Marked mk = map.mark(point_at(s, static_cast<double>(i) / steps), R);
+      const int fresh = mk.fresh;
+      win_area += mk.swept;
+      win_len += step_len;
+      if (win_len >= g * (1 - 1e-9)) {
+        last_w = std::min(win_area * g * g / win_len, cut.tool_diameter);
+        sw = std::max(sw, last_w);
+        sw_measured = true;
+        win_area = win_len = 0;
+      }
+      // Scale to a full cell step (short steps cut fewer cells at the same width); a disk cannot
+      // engage more than its diameter, so the scaled count is capped at n₁ (raster noise).
+      double n = 0;
+      if (step_len >= g * (1 - 1e-9) || !cut.feed_pool_short_steps) {
+        n = fresh * (g / step_len);
+      } else {
+        pool_fresh += fresh;
+        pool_len += step_len;
+        if (pool_len < g * (1 - 1e-9)) continue;
+        n = pool_fresh * (g / pool_len);
+        pool_fresh = pool_len = 0;
+      }
+      last_n = std::min(n, n1);
+      n3 = std::max(n3, last_n);
+      measured = true;
+    }
+    if (!measured) n3 = last_n;
+    if (!sw_measured) sw = last_w;
+    return {n3, sw};
+  }
+};
+
+/// The feed piece of segment k of chain ci (length len, from s_mm along the path) at engagement n3.
+FeedPiece feed_piece(std::size_t ci, std::size_t k, double s_mm, double len, double n3, double sw,
+                     const FeedProfile& prof, const CutParams& cut) {
+  FeedPiece p;
+  p.chain = ci;
+  p.segment = k;
+  p.s_mm = s_mm;
+  p.length_mm = len;
+  p.engagement = n3;
+  p.width_mm = std::min(n3 * prof.grid_mm, cut.tool_diameter);
+  p.swept_width_mm = sw;
+  p.feed = cut.feed_adjust ? feed_for_engagement(n3, prof.n1, prof.n2, cut) : cut.feed_half;
+  // Cuts no cell: a link. Never slower than the map's own feed for no engagement (with
+  // chip thinning on, f₂ × max_chip_thinning within feed_max).
+  if (n3 == 0 && cut.feed_air > 0) p.feed = std::max(p.feed, cut.feed_air);
+  p.mrr_mm3_min = p.feed * p.width_mm * prof.axial_depth_mm;
+  return p;
+}
+
+}  // namespace
+
+FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cut, double axial_depth_mm,
+                         const std::vector<EntryHole>& holes) {
+  cut.check("feed map");
+  const double g = cut.feed_grid > 0 ? cut.feed_grid : cut.tool_diameter / 10;
+  const double R = cut.tool_diameter / 2;
+  FeedProfile prof;
+  prof.grid_mm = g;
+  prof.n1 = cut.tool_diameter / g;
+  prof.n2 = R / g;
+  prof.axial_depth_mm = axial_depth_mm;
+  FeedMap map = material_map(region, g, R);
   double s_total = 0;
   for (std::size_t ci = 0; ci < path.chains.size(); ++ci) {
     Chain& ch = path.chains[ci];
@@ -150,63 +223,12 @@ FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cu
     map.mark(ch.pts.front().p(), R);  // the plunge: not a lateral engagement
     for (const EntryHole& h : holes)  // what the entry cleared (a helix): not the chain's engagement
       if (h.chain == ci) map.mark(h.centre, h.radius_mm);
-    // Steps shorter than a cell are pooled until they make a cell: a column of cells is cut once
-    // per cell of travel, so a step of a tenth of a cell reads 0 or ten columns, scaled to a full
-    // cell (a slot where the crescent is half). A segment that completes no pool reads the last
-    // pooled value.
-    double pool_fresh = 0, pool_len = 0, last_n = 0;
-    // The swept width: the shares pooled over at least a cell of travel (a window may span pieces).
-    double win_area = 0, win_len = 0, last_w = 0;
-    // O(segments · steps per segment · (D/g)²).
-    for (std::size_t k = 0; k + 1 < ch.pts.size(); ++k) {
+    ChainGauge gauge;
+    for (std::size_t k = 0; k + 1 < ch.pts.size(); ++k) {  // O(segments · steps per segment · (D/g)²)
       const Segment s{ch.pts[k].p(), ch.pts[k + 1].p(), ch.pts[k].bulge};
       const double len = length(s);
-      const int steps = std::max(1, static_cast<int>(std::ceil(len / g - 1e-9)));
-      const double step_len = len / steps;
-      double n3 = 0, sw = 0;
-      bool measured = false, sw_measured = false;
-      for (int i = 1; i <= steps; ++i) {
-        const FeedMap::Marked mk = map.mark(point_at(s, static_cast<double>(i) / steps), R);
-        const int fresh = mk.fresh;
-        win_area += mk.swept;
-        win_len += step_len;
-        if (win_len >= g * (1 - 1e-9)) {
-          last_w = std::min(win_area * g * g / win_len, cut.tool_diameter);
-          sw = std::max(sw, last_w);
-          sw_measured = true;
-          win_area = win_len = 0;
-        }
-        // Scale to a full cell step (short steps cut fewer cells at the same width); a disk cannot
-        // engage more than its diameter, so the scaled count is capped at n₁ (raster noise).
-        double n = 0;
-        if (step_len >= g * (1 - 1e-9) || !cut.feed_pool_short_steps) {
-          n = fresh * (g / step_len);
-        } else {
-          pool_fresh += fresh;
-          pool_len += step_len;
-          if (pool_len < g * (1 - 1e-9)) continue;
-          n = pool_fresh * (g / pool_len);
-          pool_fresh = pool_len = 0;
-        }
-        last_n = std::min(n, prof.n1);
-        n3 = std::max(n3, last_n);
-        measured = true;
-      }
-      if (!measured) n3 = last_n;
-      if (!sw_measured) sw = last_w;
-      FeedPiece p;
-      p.chain = ci;
-      p.segment = k;
-      p.s_mm = s_total;
-      p.length_mm = len;
-      p.engagement = n3;
-      p.width_mm = std::min(n3 * g, cut.tool_diameter);
-      p.swept_width_mm = sw;
-      p.feed = cut.feed_adjust ? feed_for_engagement(n3, prof.n1, prof.n2, cut) : cut.feed_half;
-      // Cuts no cell: a link. Never slower than the map's own feed for no engagement (with
-      // chip thinning on, f₂ × max_chip_thinning within feed_max).
-      if (n3 == 0 && cut.feed_air > 0) p.feed = std::max(p.feed, cut.feed_air);
-      p.mrr_mm3_min = p.feed * p.width_mm * axial_depth_mm;
+      const auto [n3, sw] = gauge.segment(map, s, len, R, cut, prof.n1);
+      const FeedPiece p = feed_piece(ci, k, s_total, len, n3, sw, prof, cut);
       ch.feed[k] = p.feed;
       prof.pieces.push_back(p);
       s_total += len;

@@ -4,6 +4,7 @@
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/gcode/writer.hpp"
+#include "millnet/pocket/tolerances.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -85,7 +86,7 @@ struct Builder {
   }
   /// Retract, rapid above p, rapid down to approach height above `top` (never above safe Z).
   void go_above(const Vec2& p, double top) {
-    const bool here = pos_known && std::hypot(pos[0] - p.x(), pos[1] - p.y()) < 1e-9;
+    const bool here = pos_known && std::hypot(pos[0] - p.x(), pos[1] - p.y()) < tol::coincident_mm;
     if (!here) {
       retract();
       rapid(p.x(), p.y(), std::nullopt);
@@ -138,7 +139,7 @@ void helix(Builder& b, const Vec2& s, const Vec2& p, const Vec2& c, double rh, d
   for (int h = 1; h <= halves; ++h) {
     const double a = h < halves ? h * kPi : sweep;
     end = h < halves ? ((h % 2 == 1) ? Vec2(2 * c - s) : s) : at(a0 + a);
-    if (h == halves && (end - p).norm() < 1e-6) end = p;  // it ends at p: exactly there
+    if (h == halves && (end - p).norm() < tol::join_mm) end = p;  // it ends at p: exactly there
     b.arc(true, c, end.x(), end.y(), h < halves ? z_from - rh * slope * a : z_to, feed);
   }
   const Vec2 opp = 2 * c - end;
@@ -147,7 +148,7 @@ void helix(Builder& b, const Vec2& s, const Vec2& p, const Vec2& c, double rh, d
   // Where it did not end at p (the tool started lower than planned): back to p across the bore (a
   // chord of the circle of centres: all cut, so at the feed of moves through cut material where
   // there is one).
-  if ((end - p).norm() > 1e-9) b.line(p.x(), p.y(), z_to, std::max(flat_feed, air_feed));
+  if ((end - p).norm() > tol::coincident_mm) b.line(p.x(), p.y(), z_to, std::max(flat_feed, air_feed));
 }
 
 std::string fmt(double v, int decimals) { return gcode::format_number(v, decimals); }
@@ -196,133 +197,176 @@ std::vector<double> level_zs(double depth, double step_down) {
 }
 
 namespace {
-std::vector<Step> build_steps(const std::vector<LevelPlan>& levels, const GcodeParams& gp) {
-  check_params(gp);
-  const CutParams& cut = gp.cut;
-  Builder b{gp, {}, {}, false};
-  b.rapid(std::nullopt, std::nullopt, cut.safe_z);
+void check_levels(const std::vector<LevelPlan>& levels) {
   for (const LevelPlan& L : levels)
     if (!(L.z < L.top_z) || L.top_z > kZEps)
       throw Error("gcode: level z " + std::to_string(L.z) + " must lie below its top " + std::to_string(L.top_z) +
                   " and the top at or below Z = 0");
+}
 
-  // 1. Pre-drilling: every distinct predrill point, plain plunges to the deepest level needing it.
-  if (gp.entry == Entry::Predrill) {
-    std::vector<std::pair<Vec2, double>> holes;  // O(holes²) de-duplication: holes are few
-    for (const LevelPlan& L : levels)
-      for (const Vec2& p : L.predrill) {
-        auto it = std::find_if(holes.begin(), holes.end(), [&](const auto& h) { return (h.first - p).norm() < 1e-6; });
-        if (it == holes.end())
-          holes.emplace_back(p, L.z);
-        else
-          it->second = std::min(it->second, L.z);
-      }
-    for (std::size_t k = 0; k < holes.size(); ++k) {
-      const auto& [p, z] = holes[k];
-      b.rapid(std::nullopt, std::nullopt, cut.safe_z);
-      b.rapid(p.x(), p.y(), std::nullopt, k == 0 ? "pre-drill" : "");
-      b.moves.back().drill = true;
-      b.rapid(std::nullopt, std::nullopt, std::min(cut.safe_z, gp.approach_mm));
-      b.moves.back().drill = true;
-      b.line(p.x(), p.y(), z, cut.feed_plunge);
-      b.moves.back().drill = true;
-      b.rapid(std::nullopt, std::nullopt, cut.safe_z);
-      b.moves.back().drill = true;
+/// Pre-drilling: every distinct predrill point, plain plunges to the deepest level needing it.
+void predrill_holes(Builder& b, const std::vector<LevelPlan>& levels) {
+  const CutParams& cut = b.gp.cut;
+  std::vector<std::pair<Vec2, double>> holes;  // O(holes²) de-duplication: holes are few
+  for (const LevelPlan& L : levels)
+    for (const Vec2& p : L.predrill) {
+      auto it =
+          std::find_if(holes.begin(), holes.end(), [&](const auto& h) { return (h.first - p).norm() < tol::join_mm; });
+      if (it == holes.end())
+        holes.emplace_back(p, L.z);
+      else
+        it->second = std::min(it->second, L.z);
+    }
+  for (std::size_t k = 0; k < holes.size(); ++k) {
+    const auto& [p, z] = holes[k];
+    b.rapid(std::nullopt, std::nullopt, cut.safe_z);
+    b.rapid(p.x(), p.y(), std::nullopt, k == 0 ? "pre-drill" : "");
+    b.moves.back().drill = true;
+    b.rapid(std::nullopt, std::nullopt, std::min(cut.safe_z, b.gp.approach_mm));
+    b.moves.back().drill = true;
+    b.line(p.x(), p.y(), z, cut.feed_plunge);
+    b.moves.back().drill = true;
+    b.rapid(std::nullopt, std::nullopt, cut.safe_z);
+    b.moves.back().drill = true;
+  }
+}
+
+/// How a chain will be entered, chosen before the tool goes above its start: a helix starts on its
+/// circle so that its descent ends at p0 (helix_start), from the height ramp_start gives.
+struct EntryPlan {
+  Vec2 p0;                                    ///< the chain's first point
+  bool rampable = false;                      ///< a ramp along its first (straight) segment fits
+  std::optional<std::pair<Vec2, double>> hx;  ///< the helix, fitted only where one may be used
+  Vec2 start;                                 ///< where the tool goes above the material first
+};
+
+EntryPlan plan_entry(const Builder& b, const LevelPlan& L, const Chain& ch, const std::optional<Clearance>& clear) {
+  const GcodeParams& gp = b.gp;
+  const CutParams& cut = gp.cut;
+  EntryPlan e;
+  e.p0 = ch.pts.front().p();
+  e.rampable = ch.predrill && ch.pts.size() >= 2 && ch.pts[0].bulge == 0.0 &&
+               std::min((ch.pts[1].p() - e.p0).norm(), 2 * cut.tool_diameter) >= 0.05 * cut.tool_diameter;
+  if (ch.predrill && (gp.entry == Entry::Helix || (gp.entry == Entry::Ramp && !e.rampable)))
+    e.hx = fit_helix(*clear, e.p0, cut.tool_diameter);
+  const double z_helix = std::min(b.approach_z(L.top_z), L.top_z + gp.ramp_clearance_mm);
+  e.start = e.hx ? helix_start(e.p0, e.hx->first, e.hx->second, z_helix, L.z, gp.entry_angle_deg) : e.p0;
+  return e;
+}
+
+double entry_feed(const CutParams& cut) { return cut.feed_entry > 0 ? cut.feed_entry : cut.feed_plunge; }
+
+/// A helix or ramp starts ramp_clearance_mm above the material top: from approach height the tool
+/// feeds straight down to it (at 3° every 0.1 mm of descent is 1.9 mm of ramp at the entry feed;
+/// until 2026-11-25 the ramp began at approach height, 1 mm up, 0.09 min an entry).
+double ramp_start(Builder& b, double top) {
+  const double z = std::min(b.pos[2], top + b.gp.ramp_clearance_mm);
+  if (b.pos[2] > z + kZEps) b.line(b.pos[0], b.pos[1], z, b.gp.cut.feed_plunge);
+  return z;
+}
+
+/// A ramp along the chain's first (straight) segment: the tool stays on the chain's own footprint,
+/// so it sweeps nothing the chain does not. False (nothing added) where it does not fit.
+bool ramp_entry(Builder& b, const LevelPlan& L, const Chain& ch, const EntryPlan& e) {
+  if (!e.rampable) return false;
+  const GcodeParams& gp = b.gp;
+  const Vec2& p0 = e.p0;
+  const Vec2 p1 = ch.pts[1].p();
+  const double seg = (p1 - p0).norm();
+  const double Lr = std::min(seg, 2 * gp.cut.tool_diameter);
+  const double z0 = ramp_start(b, L.top_z);
+  const double slope = std::tan(gp.entry_angle_deg * kPi / 180);
+  int legs = std::max(2, static_cast<int>(std::ceil((z0 - L.z) / (Lr * slope) - 1e-9)));
+  if (legs % 2 == 1) ++legs;  // end back at p0
+  // Legs shortened to descend at exactly the entry angle: the ramp is (z0 − z) / tan(angle)
+  // long, whatever the rounding to an even number of legs.
+  const Vec2 q = p0 + (p1 - p0) * ((z0 - L.z) / (legs * slope) / seg);
+  for (int k = 1; k <= legs; ++k) {
+    const Vec2& t = (k % 2 == 1) ? q : p0;
+    b.line(t.x(), t.y(), z0 - (z0 - L.z) * k / legs, entry_feed(gp.cut));
+  }
+  b.moves[b.moves.size() - static_cast<std::size_t>(legs)].comment = "ramp entry";
+  return true;
+}
+
+/// The helix, its flat turn included. False (nothing added) where none fits.
+bool helix_entry(Builder& b, const LevelPlan& L, const EntryPlan& e) {
+  if (!e.hx) return false;
+  const CutParams& cut = b.gp.cut;
+  const double feed = entry_feed(cut);
+  const std::size_t at = b.moves.size();
+  helix(b, e.start, e.p0, e.hx->first, e.hx->second, ramp_start(b, L.top_z), L.z, feed, b.gp.entry_angle_deg,
+        std::max(feed, cut.feed_slot > 0 ? cut.feed_slot : cut.feed_half), cut.feed_air);
+  if (at < b.moves.size()) b.moves[at].comment = "helix entry, radius " + fmt(e.hx->second, kCommentDecimals);
+  return true;
+}
+
+/// The descent into the chain from above its start. Entry "ramp" tries a ramp first and falls back
+/// to a helix; entry "helix" falls back to a ramp where no helix fits (at a wall, where every
+/// zigzag pass ends): a plain plunge into uncut material only where neither fits. Returns whether
+/// the helix entered it (its flat turn cut the chain's own turn round the bore).
+bool enter_chain(Builder& b, const LevelPlan& L, const Chain& ch, const EntryPlan& e) {
+  const GcodeParams& gp = b.gp;
+  bool entered = false, helixed = false;
+  if (gp.entry == Entry::Ramp) {
+    entered = ramp_entry(b, L, ch, e);
+    if (!entered) entered = helixed = helix_entry(b, L, e);
+  } else if (gp.entry == Entry::Helix) {
+    entered = helixed = helix_entry(b, L, e);
+    if (!entered) entered = ramp_entry(b, L, ch, e);
+  }
+  if (!entered) {
+    b.line(e.p0.x(), e.p0.y(), L.z, gp.cut.feed_plunge);
+    if (ch.predrill && gp.entry != Entry::Predrill)
+      b.moves.back().comment = "WARNING: no room for a " + std::string(to_string(gp.entry)) + " entry: plain plunge";
+  }
+  return helixed;
+}
+
+/// The chain's moves at depth z from vertex k0 on, at its own feeds (feed_half where it has none).
+void cut_chain(Builder& b, const Chain& ch, double z, std::size_t k0) {
+  for (std::size_t k = k0; k + 1 < ch.pts.size(); ++k) {
+    const double f = (k < ch.feed.size() && ch.feed[k] > 0) ? ch.feed[k] : b.gp.cut.feed_half;
+    const Vertex& a = ch.pts[k];
+    const Vertex& e = ch.pts[k + 1];
+    if (a.bulge == 0.0) {
+      b.line(e.x, e.y, z, f);
+    } else {
+      const Arc arc = arc_of(Segment{a.p(), e.p(), a.bulge});
+      b.arc(arc.sweep > 0, arc.center, e.x, e.y, z, f);
     }
   }
+}
 
-  // 2. Levels top-down, chains in order.
-  for (std::size_t li = 0; li < levels.size(); ++li) {
-    const LevelPlan& L = levels[li];
-    const double entry_feed = cut.feed_entry > 0 ? cut.feed_entry : cut.feed_plunge;
-    std::optional<Clearance> clear;
-    if (gp.entry == Entry::Helix || gp.entry == Entry::Ramp) clear.emplace(L.region, cut.clearance());
-    bool first = true;
-    for (const Chain& ch : L.path.chains) {
-      if (ch.pts.empty()) continue;
-      const Vec2 p0 = ch.pts.front().p();
-      // Entry (below), chosen before the tool goes above its start: a helix starts on its circle
-      // so that its descent ends at p0 (helix_start), from the height ramp_start gives.
-      const bool rampable = ch.predrill && ch.pts.size() >= 2 && ch.pts[0].bulge == 0.0 &&
-                            std::min((ch.pts[1].p() - p0).norm(), 2 * cut.tool_diameter) >= 0.05 * cut.tool_diameter;
-      std::optional<std::pair<Vec2, double>> hx;  // fitted only where a helix may be used
-      if (ch.predrill && (gp.entry == Entry::Helix || (gp.entry == Entry::Ramp && !rampable)))
-        hx = fit_helix(*clear, p0, cut.tool_diameter);
-      const bool by_helix = hx.has_value();
-      const double z_helix = std::min(b.approach_z(L.top_z), L.top_z + gp.ramp_clearance_mm);
-      const Vec2 start = by_helix ? helix_start(p0, hx->first, hx->second, z_helix, L.z, gp.entry_angle_deg) : p0;
-      b.go_above(start, L.top_z);
-      if (first) {
-        b.moves.back().comment = "level " + std::to_string(li + 1) + " of " + std::to_string(levels.size()) + ": Z " +
-                                 fmt(L.z, kCommentDecimals);
-        first = false;
-      }
-      // Entry.
-      // A ramp along the chain's first (straight) segment: the tool stays on the chain's own
-      // footprint, so it sweeps nothing the chain does not. Entry "ramp" tries it first and falls
-      // back to a helix; entry "helix" falls back to it where no helix fits (at a wall, where
-      // every zigzag pass ends): a plain plunge into uncut material only where neither fits.
-      // A helix or ramp starts ramp_clearance_mm above the material top: from approach height the
-      // tool feeds straight down to it (at 3° every 0.1 mm of descent is 1.9 mm of ramp at the
-      // entry feed; until 2026-11-25 the ramp began at approach height, 1 mm up, 0.09 min an entry).
-      const auto ramp_start = [&](double top) {
-        const double z = std::min(b.pos[2], top + gp.ramp_clearance_mm);
-        if (b.pos[2] > z + kZEps) b.line(b.pos[0], b.pos[1], z, cut.feed_plunge);
-        return z;
-      };
-      const auto try_ramp = [&]() {
-        if (!rampable) return false;
-        const Vec2 p1 = ch.pts[1].p();
-        const double seg = (p1 - p0).norm();
-        const double Lr = std::min(seg, 2 * cut.tool_diameter);
-        const double z0 = ramp_start(L.top_z);
-        const double slope = std::tan(gp.entry_angle_deg * kPi / 180);
-        int legs = std::max(2, static_cast<int>(std::ceil((z0 - L.z) / (Lr * slope) - 1e-9)));
-        if (legs % 2 == 1) ++legs;  // end back at p0
-        // Legs shortened to descend at exactly the entry angle: the ramp is (z0 − z) / tan(angle)
-        // long, whatever the rounding to an even number of legs.
-        const Vec2 q = p0 + (p1 - p0) * ((z0 - L.z) / (legs * slope) / seg);
-        for (int k = 1; k <= legs; ++k) {
-          const Vec2& t = (k % 2 == 1) ? q : p0;
-          b.line(t.x(), t.y(), z0 - (z0 - L.z) * k / legs, entry_feed);
-        }
-        b.moves[b.moves.size() - static_cast<std::size_t>(legs)].comment = "ramp entry";
-        return true;
-      };
-      bool helixed = false;  // entered by the helix, its flat turn included
-      const auto try_helix = [&]() {
-        if (!by_helix) return false;
-        helixed = true;
-        const std::size_t at = b.moves.size();
-        helix(b, start, p0, hx->first, hx->second, ramp_start(L.top_z), L.z, entry_feed, gp.entry_angle_deg,
-              std::max(entry_feed, cut.feed_slot > 0 ? cut.feed_slot : cut.feed_half), cut.feed_air);
-        if (at < b.moves.size()) b.moves[at].comment = "helix entry, radius " + fmt(hx->second, kCommentDecimals);
-        return true;
-      };
-      bool entered = false;
-      if (gp.entry == Entry::Ramp) entered = try_ramp() || try_helix();
-      if (gp.entry == Entry::Helix) entered = try_helix() || try_ramp();
-      if (!entered) {
-        b.line(p0.x(), p0.y(), L.z, cut.feed_plunge);
-        if (ch.predrill && gp.entry != Entry::Predrill)
-          b.moves.back().comment =
-              "WARNING: no room for a " + std::string(to_string(gp.entry)) + " entry: plain plunge";
-      }
-      // Cut (after a helix, from the end of the chain's own turn round its bore: Chain::entry_turn).
-      const std::size_t k0 = helixed ? std::min(ch.entry_turn, ch.pts.size() - 1) : 0;
-      for (std::size_t k = k0; k + 1 < ch.pts.size(); ++k) {
-        const double f = (k < ch.feed.size() && ch.feed[k] > 0) ? ch.feed[k] : cut.feed_half;
-        const Vertex& a = ch.pts[k];
-        const Vertex& e = ch.pts[k + 1];
-        if (a.bulge == 0.0) {
-          b.line(e.x, e.y, L.z, f);
-        } else {
-          const Arc arc = arc_of(Segment{a.p(), e.p(), a.bulge});
-          b.arc(arc.sweep > 0, arc.center, e.x, e.y, L.z, f);
-        }
-      }
+/// Level li of n: its chains in order, each entered from above its start and cut.
+void cut_level(Builder& b, const LevelPlan& L, std::size_t li, std::size_t n) {
+  const GcodeParams& gp = b.gp;
+  std::optional<Clearance> clear;
+  if (gp.entry == Entry::Helix || gp.entry == Entry::Ramp) clear.emplace(L.region, gp.cut.clearance());
+  bool first = true;
+  for (const Chain& ch : L.path.chains) {
+    if (ch.pts.empty()) continue;
+    const EntryPlan e = plan_entry(b, L, ch, clear);
+    b.go_above(e.start, L.top_z);
+    if (first) {
+      b.moves.back().comment =
+          "level " + std::to_string(li + 1) + " of " + std::to_string(n) + ": Z " + fmt(L.z, kCommentDecimals);
+      first = false;
     }
+    const bool helixed = enter_chain(b, L, ch, e);
+    // After a helix, from the end of the chain's own turn round its bore (Chain::entry_turn).
+    cut_chain(b, ch, L.z, helixed ? std::min(ch.entry_turn, ch.pts.size() - 1) : 0);
   }
+}
+
+std::vector<Step> build_steps(const std::vector<LevelPlan>& levels, const GcodeParams& gp) {
+  check_params(gp);
+  Builder b{gp, {}, {}, false};
+  b.rapid(std::nullopt, std::nullopt, gp.cut.safe_z);
+  check_levels(levels);
+  if (gp.entry == Entry::Predrill) predrill_holes(b, levels);  // 1. pre-drilling
+  for (std::size_t li = 0; li < levels.size(); ++li)           // 2. levels top-down, chains in order
+    cut_level(b, levels[li], li, levels.size());
   b.retract();
   return std::move(b.moves);
 }

@@ -3,8 +3,9 @@
 
 #include "millnet/core/error.hpp"
 #include "millnet/pocket/cut_links.hpp"
-#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
+
+#include "offset.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -56,7 +57,7 @@ void fill_program_metrics(MachiningResult& r, const CutParams& cut, const GcodeP
   std::vector<Vec2> holes;
   for (const LevelPlan& L : r.levels)
     for (const Vec2& p : L.predrill)
-      if (std::none_of(holes.begin(), holes.end(), [&](const Vec2& h) { return (h - p).norm() < 1e-6; }))
+      if (std::none_of(holes.begin(), holes.end(), [&](const Vec2& h) { return (h - p).norm() < tol::join_mm; }))
         holes.push_back(p);
   r.metrics.predrill_points = gp.entry == Entry::Predrill ? static_cast<double>(holes.size()) : 0.0;
 }
@@ -77,7 +78,7 @@ void drop_points(std::vector<Vec2>& pts, const std::vector<Vec2>& gone) {
   pts.erase(std::remove_if(pts.begin(), pts.end(),
                            [&](const Vec2& p) {
                              return std::any_of(gone.begin(), gone.end(),
-                                                [&](const Vec2& g) { return (g - p).norm() < 1e-6; });
+                                                [&](const Vec2& g) { return (g - p).norm() < tol::join_mm; });
                            }),
             pts.end());
 }
@@ -87,109 +88,132 @@ void collect_predrill(LevelPlan& L) {
   for (const Chain& c : L.path.chains)
     if (c.predrill && !c.pts.empty()) {
       const Vec2 p = c.pts.front().p();
-      if (std::none_of(L.predrill.begin(), L.predrill.end(), [&](const Vec2& h) { return (h - p).norm() < 1e-6; }))
+      if (std::none_of(L.predrill.begin(), L.predrill.end(),
+                       [&](const Vec2& h) { return (h - p).norm() < tol::join_mm; }))
         L.predrill.push_back(p);
     }
 }
+
+/// Each wall loop's possible starts: its vertices, straight edges split every kWallStartMm, at
+/// least kWallStartMm apart along the loop (a loop's chorded arcs have a vertex every ≈ 0.3 mm).
+struct WallStarts {
+  std::vector<std::vector<Vec2>> loops;
+  std::vector<std::vector<std::size_t>> starts;  ///< per loop, the indices of its starts
+
+  explicit WallStarts(const std::vector<Chain>& walls) {
+    for (const Chain& w : walls) {
+      std::vector<Vec2> l;
+      for (std::size_t k = 0; k + 1 < w.pts.size(); ++k) {
+        const Vec2 a = w.pts[k].p(), b = w.pts[k + 1].p();
+        const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / kWallStartMm)));
+        for (int t = 0; t < n; ++t) l.push_back(a + (b - a) * (static_cast<double>(t) / n));
+      }
+      std::vector<std::size_t> s;
+      double run = kWallStartMm;
+      for (std::size_t k = 0; k < l.size(); ++k) {
+        if (k > 0) run += (l[k] - l[k - 1]).norm();
+        if (run >= kWallStartMm - 1e-9) {
+          s.push_back(k);
+          run = 0;
+        }
+      }
+      loops.push_back(std::move(l));
+      starts.push_back(std::move(s));
+    }
+  }
+
+  /// Loop i from its vertex v round to v again.
+  [[nodiscard]] std::vector<Vec2> rotated(std::size_t i, std::size_t v) const {
+    std::vector<Vec2> out;
+    for (std::size_t j = 0; j <= loops[i].size(); ++j) out.push_back(loops[i][(v + j) % loops[i].size()]);
+    return out;
+  }
+};
+
+/// A way through cut material from the tool to start v of wall loop `loop`.
+struct WallLink {
+  std::size_t loop = 0, v = 0;
+  std::vector<Vec2> way;
+};
+
+/// The nearest start of a loop not done yet that a way through cut material from `from` reaches
+/// (cut_links.hpp); nullopt when none does.
+std::optional<WallLink> link_to_wall(const CutLinker& linker, const Vec2& from, const WallStarts& ws,
+                                     const std::vector<char>& done, double tool_diameter) {
+  std::vector<LinkTarget> targets;
+  std::vector<std::pair<std::size_t, std::size_t>> owner;
+  for (std::size_t i = 0; i < done.size(); ++i) {
+    if (done[i] || ws.loops[i].size() < 3) continue;
+    for (std::size_t v : ws.starts[i]) {
+      targets.push_back({ws.loops[i][v], approach_of(ws.rotated(i, v), tool_diameter), 0.0});
+      owner.push_back({i, v});
+    }
+  }
+  auto l = linker.best_link(from, targets);
+  if (!l) return std::nullopt;
+  return WallLink{owner[l->target].first, owner[l->target].second, std::move(l->way)};
+}
+
+/// No way through cut material: wall chain w joined to the path's last chain by a straight
+/// wall-clear move from its vertex nearest the tool where there is one (as before issue 11's
+/// links), else entered anew as a chain of its own.
+void join_or_enter(Chain& w, bool tool_down, const Clearance& clear, CutLinker& linker, Path2D& path) {
+  if (!tool_down || w.pts.size() < 3) {
+    linker.sweep(w);
+    path.chains.push_back(std::move(w));
+    return;
+  }
+  Chain& prev = path.chains.back();
+  const Vec2 end = prev.pts.back().p();
+  // w is closed (last = first): rotate its distinct vertices to start nearest `end`.
+  const std::size_t n = w.pts.size() - 1;
+  std::size_t best = 0;
+  for (std::size_t k = 1; k < n; ++k)
+    if ((w.pts[k].p() - end).squaredNorm() < (w.pts[best].p() - end).squaredNorm()) best = k;
+  if (!clear.move_ok(end, w.pts[best].p())) {
+    linker.sweep(w);
+    path.chains.push_back(std::move(w));
+    return;
+  }
+  std::vector<Vec2> joined{end};
+  for (std::size_t k = 0; k <= n; ++k) {
+    const Vertex& v = w.pts[(best + k) % n];
+    joined.push_back(v.p());
+    if ((prev.pts.back().p() - v.p()).norm() > tol::join_mm) prev.pts.push_back({v.x, v.y, 0.0});
+  }
+  prev.feed.clear();
+  linker.sweep(joined);
+}
+
 }  // namespace
 
 void link_wall_chains(const Region& region, const CutParams& cut, Path2D& path, std::vector<Chain>& walls) {
   const Clearance clear(region, cut.clearance());
   CutLinker linker(region, cut, kLinkSliverMm2);
   for (const Chain& c : path.chains) linker.sweep(c);  // O(path length · R / cell²)
-  // Each loop's possible starts: its vertices, straight edges split every kWallStartMm, at least
-  // kWallStartMm apart along the loop (a loop's chorded arcs have a vertex every ≈ 0.3 mm).
-  std::vector<std::vector<Vec2>> loops;
-  std::vector<std::vector<std::size_t>> starts;
-  for (const Chain& w : walls) {
-    std::vector<Vec2> l;
-    for (std::size_t k = 0; k + 1 < w.pts.size(); ++k) {
-      const Vec2 a = w.pts[k].p(), b = w.pts[k + 1].p();
-      const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / kWallStartMm)));
-      for (int t = 0; t < n; ++t) l.push_back(a + (b - a) * (static_cast<double>(t) / n));
-    }
-    std::vector<std::size_t> s;
-    double run = kWallStartMm;
-    for (std::size_t k = 0; k < l.size(); ++k) {
-      if (k > 0) run += (l[k] - l[k - 1]).norm();
-      if (run >= kWallStartMm - 1e-9) {
-        s.push_back(k);
-        run = 0;
-      }
-    }
-    loops.push_back(std::move(l));
-    starts.push_back(std::move(s));
-  }
+  const WallStarts ws(walls);
   std::vector<char> done(walls.size(), 0);
-  auto rotated = [&](std::size_t i, std::size_t v) {
-    std::vector<Vec2> out;
-    for (std::size_t j = 0; j <= loops[i].size(); ++j) out.push_back(loops[i][(v + j) % loops[i].size()]);
-    return out;
-  };
   for (std::size_t left = walls.size(); left > 0; --left) {
     const bool tool_down = !path.chains.empty() && !path.chains.back().pts.empty();
-    std::optional<std::pair<std::size_t, std::vector<Vec2>>> pick;  // (loop, link way)
-    std::size_t pick_v = 0;
-    if (tool_down) {
-      // The nearest loop start a way through cut material reaches (cut_links.hpp).
-      std::vector<LinkTarget> targets;
-      std::vector<std::pair<std::size_t, std::size_t>> owner;
-      for (std::size_t i = 0; i < walls.size(); ++i) {
-        if (done[i] || loops[i].size() < 3) continue;
-        for (std::size_t v : starts[i]) {
-          targets.push_back({loops[i][v], approach_of(rotated(i, v), cut.tool_diameter), 0.0});
-          owner.push_back({i, v});
-        }
-      }
-      if (auto l = linker.best_link(path.chains.back().pts.back().p(), targets)) {
-        pick = std::make_pair(owner[l->target].first, std::move(l->way));
-        pick_v = owner[l->target].second;
-      }
-    }
+    std::optional<WallLink> pick;
+    if (tool_down) pick = link_to_wall(linker, path.chains.back().pts.back().p(), ws, done, cut.tool_diameter);
     if (pick) {
-      const auto& [i, way] = *pick;
       Chain& prev = path.chains.back();
-      std::vector<Vec2> loop = rotated(i, pick_v);
-      for (const Vec2& p : way)
+      const std::vector<Vec2> loop = ws.rotated(pick->loop, pick->v);
+      for (const Vec2& p : pick->way)
         if ((prev.pts.back().p() - p).norm() > tol::join_mm) prev.pts.push_back({p.x(), p.y(), 0.0});
       for (const Vec2& p : loop)
         if ((prev.pts.back().p() - p).norm() > tol::join_mm) prev.pts.push_back({p.x(), p.y(), 0.0});
       prev.feed.clear();
-      linker.sweep(way);
+      linker.sweep(pick->way);
       linker.sweep(loop);
-      done[i] = 1;
+      done[pick->loop] = 1;
       continue;
     }
-    // No way through cut material: the first loop left, joined by a straight wall-clear move from
-    // its vertex nearest the tool where there is one (as before issue 11's links), else entered anew.
+    // No way through cut material: the first loop left.
     const auto i = static_cast<std::size_t>(std::find(done.begin(), done.end(), 0) - done.begin());
     done[i] = 1;
-    Chain& w = walls[i];
-    if (!tool_down || w.pts.size() < 3) {
-      linker.sweep(w);
-      path.chains.push_back(std::move(w));
-      continue;
-    }
-    Chain& prev = path.chains.back();
-    const Vec2 end = prev.pts.back().p();
-    // w is closed (last = first): rotate its distinct vertices to start nearest `end`.
-    const std::size_t n = w.pts.size() - 1;
-    std::size_t best = 0;
-    for (std::size_t k = 1; k < n; ++k)
-      if ((w.pts[k].p() - end).squaredNorm() < (w.pts[best].p() - end).squaredNorm()) best = k;
-    if (!clear.move_ok(end, w.pts[best].p())) {
-      linker.sweep(w);
-      path.chains.push_back(std::move(w));
-      continue;
-    }
-    std::vector<Vec2> joined{end};
-    for (std::size_t k = 0; k <= n; ++k) {
-      const Vertex& v = w.pts[(best + k) % n];
-      joined.push_back(v.p());
-      if ((prev.pts.back().p() - v.p()).norm() > tol::join_mm) prev.pts.push_back({v.x, v.y, 0.0});
-    }
-    prev.feed.clear();
-    linker.sweep(joined);
+    join_or_enter(walls[i], tool_down, clear, linker, path);
   }
   walls.clear();
 }

@@ -1,8 +1,9 @@
 // Metrics: key/value order and the uncut area.
 #include "millnet/pocket/metrics.hpp"
 
-#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
+
+#include "offset.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // Offsets and booleans through Clipper 6 (integer coordinates at tol::clipper_resolution_mm).
-#include "millnet/pocket/offset.hpp"
+#include "offset.hpp"
 
 #include "millnet/core/error.hpp"
 #include "millnet/pocket/tolerances.hpp"

@@ -343,6 +343,86 @@ std::vector<std::pair<double, double>> scan_intervals(const PolyArea& area, doub
   return out;
 }
 
+namespace {
+
+/// The I-partition's pairs (seed §4.3): an R-SRP and an L-SRP of another island group joined by an
+/// I-cut where that merges two faces into one monotone face, each pair validated by a real build.
+/// Updates icuts, paired (1 = in a pair, 2 = tried, no partner), best and part.nls.
+void pair_srps(const std::vector<PolyArea>& areas, Partition& part, std::vector<std::vector<Cut>>& icuts,
+               std::vector<char>& paired, Built& best) {
+  const std::size_t ns = part.srps.size();
+  const auto groups = island_groups(areas);
+  auto group_of = [&](const Srp& s) {
+    return s.loop == 0 ? -1 : groups[static_cast<std::size_t>(s.component)][static_cast<std::size_t>(s.loop - 1)];
+  };
+  // Seed §4.3: R-SRPs are taken from the low side of the pocket first ("left" in the seed's
+  // frame), highest level first; level = position along the scan direction (+x is higher, the
+  // side away from where T-cuts run).
+  std::vector<std::size_t> rs, ls;
+  for (std::size_t k = 0; k < ns; ++k) (part.srps[k].kind == SrpKind::R ? rs : ls).push_back(k);
+  auto by_level = [&](std::size_t u, std::size_t v) {
+    const Srp &a = part.srps[u], &b = part.srps[v];
+    if (a.p.y() != b.p.y()) return a.p.y() < b.p.y();
+    return a.p.x() > b.p.x();
+  };
+  std::sort(rs.begin(), rs.end(), by_level);
+  std::sort(ls.begin(), ls.end(), by_level);  // nearest above first, then highest level
+  int attempts = 0;
+  constexpr int kMaxAttempts = 400;  // each attempt is one Clipper difference
+  std::size_t next_start = ns;       // an R-SRP on the island just joined, if any
+  while (attempts < kMaxAttempts) {
+    std::size_t start = ns;
+    if (next_start < ns && !paired[next_start])
+      start = next_start;
+    else
+      for (std::size_t r : rs)
+        if (!paired[r]) {
+          start = r;
+          break;
+        }
+    if (start == ns) break;
+    const Srp& p = part.srps[start];
+    bool joined = false;
+    for (std::size_t l : ls) {  // O(n_L) candidates, each validated by a real build
+      if (paired[l]) continue;
+      const Srp& q = part.srps[l];
+      if (q.component != p.component || q.p.y() <= p.p.y() + tol::srp_flat_mm) continue;
+      if (p.loop != 0 && q.loop != 0 && group_of(p) == group_of(q)) continue;  // seed: same group never pairs
+      const auto segs =
+          obstacles(areas[static_cast<std::size_t>(p.component)], icuts[static_cast<std::size_t>(p.component)]);
+      Cut cut;
+      if (!i_cut(segs, p, q, cut)) continue;
+      ++attempts;
+      auto trial_cuts = icuts;
+      trial_cuts[static_cast<std::size_t>(p.component)].push_back(cut);
+      auto trial_paired = paired;
+      trial_paired[start] = trial_paired[l] = 1;
+      Built trial = build(areas, part.srps, trial_cuts, trial_paired);
+      if (trial.faces.size() + 1 == best.faces.size() && all_monotone(trial.faces)) {
+        icuts = std::move(trial_cuts);
+        paired = std::move(trial_paired);
+        best = std::move(trial);
+        ++part.nls;
+        joined = true;
+        // Next start: the highest-level R-SRP on q's loop (seed §4.3).
+        next_start = ns;
+        for (std::size_t r : rs)
+          if (!paired[r] && part.srps[r].component == q.component && part.srps[r].loop == q.loop &&
+              (next_start == ns || part.srps[r].p.x() > part.srps[next_start].p.x()))
+            next_start = r;
+        break;
+      }
+      if (attempts >= kMaxAttempts) break;
+    }
+    if (!joined) {
+      paired[start] = 2;  // no partner: keeps its T-cut (2 = tried; treated as "not in a pair")
+      next_start = ns;
+    }
+  }
+}
+
+}  // namespace
+
 Partition partition(const std::vector<PolyArea>& areas, PartitionKind kind) {
   Partition part;
   part.kind = kind;
@@ -352,77 +432,9 @@ Partition partition(const std::vector<PolyArea>& areas, PartitionKind kind) {
   const std::size_t ns = part.srps.size();
   std::vector<char> paired(ns, 0);
   std::vector<std::vector<Cut>> icuts(areas.size());
-  Built best = build(areas, part.srps, icuts, paired);
-
+  Built best = build(areas, part.srps, icuts, paired);  // the T-partition
   if (kind == PartitionKind::I) {
-    const auto groups = island_groups(areas);
-    auto group_of = [&](const Srp& s) {
-      return s.loop == 0 ? -1 : groups[static_cast<std::size_t>(s.component)][static_cast<std::size_t>(s.loop - 1)];
-    };
-    // Seed §4.3: R-SRPs are taken from the low side of the pocket first ("left" in the seed's
-    // frame), highest level first; level = position along the scan direction (+x is higher, the
-    // side away from where T-cuts run).
-    std::vector<std::size_t> rs, ls;
-    for (std::size_t k = 0; k < ns; ++k) (part.srps[k].kind == SrpKind::R ? rs : ls).push_back(k);
-    auto by_level = [&](std::size_t u, std::size_t v) {
-      const Srp &a = part.srps[u], &b = part.srps[v];
-      if (a.p.y() != b.p.y()) return a.p.y() < b.p.y();
-      return a.p.x() > b.p.x();
-    };
-    std::sort(rs.begin(), rs.end(), by_level);
-    std::sort(ls.begin(), ls.end(), by_level);  // nearest above first, then highest level
-    int attempts = 0;
-    constexpr int kMaxAttempts = 400;  // each attempt is one Clipper difference
-    std::size_t next_start = ns;       // an R-SRP on the island just joined, if any
-    while (attempts < kMaxAttempts) {
-      std::size_t start = ns;
-      if (next_start < ns && !paired[next_start])
-        start = next_start;
-      else
-        for (std::size_t r : rs)
-          if (!paired[r]) {
-            start = r;
-            break;
-          }
-      if (start == ns) break;
-      const Srp& p = part.srps[start];
-      bool joined = false;
-      for (std::size_t l : ls) {  // O(n_L) candidates, each validated by a real build
-        if (paired[l]) continue;
-        const Srp& q = part.srps[l];
-        if (q.component != p.component || q.p.y() <= p.p.y() + tol::srp_flat_mm) continue;
-        if (p.loop != 0 && q.loop != 0 && group_of(p) == group_of(q)) continue;  // seed: same group never pairs
-        const auto segs =
-            obstacles(areas[static_cast<std::size_t>(p.component)], icuts[static_cast<std::size_t>(p.component)]);
-        Cut cut;
-        if (!i_cut(segs, p, q, cut)) continue;
-        ++attempts;
-        auto trial_cuts = icuts;
-        trial_cuts[static_cast<std::size_t>(p.component)].push_back(cut);
-        auto trial_paired = paired;
-        trial_paired[start] = trial_paired[l] = 1;
-        Built trial = build(areas, part.srps, trial_cuts, trial_paired);
-        if (trial.faces.size() + 1 == best.faces.size() && all_monotone(trial.faces)) {
-          icuts = std::move(trial_cuts);
-          paired = std::move(trial_paired);
-          best = std::move(trial);
-          ++part.nls;
-          joined = true;
-          // Next start: the highest-level R-SRP on q's loop (seed §4.3).
-          next_start = ns;
-          for (std::size_t r : rs)
-            if (!paired[r] && part.srps[r].component == q.component && part.srps[r].loop == q.loop &&
-                (next_start == ns || part.srps[r].p.x() > part.srps[next_start].p.x()))
-              next_start = r;
-          break;
-        }
-        if (attempts >= kMaxAttempts) break;
-      }
-      if (!joined) {
-        paired[start] = 2;  // no partner: keeps its T-cut (2 = tried; treated as "not in a pair")
-        next_start = ns;
-      }
-    }
+    pair_srps(areas, part, icuts, paired, best);
     for (auto& v : paired) v = (v == 1);
   }
   part.cuts.clear();

@@ -1,9 +1,10 @@
 // The offset (contour-parallel) planner (planner_offset.hpp).
 #include "millnet/pocket/planner_offset.hpp"
 
-#include "millnet/pocket/arc_fit.hpp"
-#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
+
+#include "arc_fit.hpp"
+#include "offset.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -1,9 +1,10 @@
 #include "millnet/pocket/planner_som.hpp"
 
 #include "millnet/core/error.hpp"
-#include "millnet/pocket/arc_fit.hpp"
-#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
+
+#include "arc_fit.hpp"
+#include "offset.hpp"
 
 #include <algorithm>
 #include <array>
@@ -75,6 +76,56 @@ bool splice_ring(std::vector<Poly>& chains, const std::vector<Vec2>& ring, const
   return false;
 }
 
+/// The chains of the smoothed tour (blendable grid points), then each wall ring spliced into one of
+/// them with the tool down, or a chain of its own (not blendable) where no splice is free. Returns
+/// the chains; ring_links counts the spliced rings. O(rings · path vertices · ring vertices).
+std::vector<Poly> tour_and_rings(const ToolPoints& tp, const SmoothedTour& sm,
+                                 const std::vector<std::vector<Vec2>>& rings, const Clearance& clear,
+                                 std::size_t& ring_links) {
+  std::vector<Poly> polys;
+  for (const auto& ch : sm.chains) {  // O(path vertices)
+    Poly p;
+    for (int k : ch) p.pts.push_back(tp.pts[static_cast<std::size_t>(k)]);
+    p.blendable.assign(p.pts.size(), 1);
+    polys.push_back(std::move(p));
+  }
+  ring_links = 0;
+  for (const auto& r : rings) {
+    if (splice_ring(polys, r, clear)) {
+      ++ring_links;
+      continue;
+    }
+    Poly p;
+    p.pts = r;
+    p.pts.push_back(r.front());
+    p.blendable.assign(p.pts.size(), 0);
+    polys.push_back(std::move(p));
+  }
+  return polys;
+}
+
+/// The chains into res's path, their blendable corners blended (within the grid's coverage slack)
+/// when `blend`, each a pre-drilled cut. Returns the corner arcs made.
+std::size_t add_chains(const std::vector<Poly>& polys, bool blend, const CornerBlendParams& bp, const MoveOk& move_ok,
+                       PlanResult& res) {
+  std::size_t arcs = 0;
+  for (const Poly& p : polys) {
+    Chain c;
+    if (blend) {
+      CornerBlendStats bs;
+      c.pts = blend_corners(p.pts, p.blendable, bp, move_ok, &bs);
+      arcs += static_cast<std::size_t>(bs.blended);
+    } else {
+      for (const Vec2& q : p.pts) c.pts.push_back(Vertex{q.x(), q.y(), 0.0});
+    }
+    c.predrill = true;
+    c.role = "cut";
+    res.predrill.push_back(c.pts.front().p());
+    res.path.chains.push_back(std::move(c));
+  }
+  return arcs;
+}
+
 }  // namespace
 
 PlanResult plan_som(const Region& region, const CutParams& cut, const GridFrame& frame, const SomParams& som,
@@ -114,25 +165,8 @@ PlanResult plan_som(const Region& region, const CutParams& cut, const GridFrame&
     ring = som_tour(tp.pts, som);
     sm = smooth_tour(tp, ring.order, move_ok, smooth);
   }
-  std::vector<Poly> polys;
-  for (const auto& ch : sm.chains) {  // O(path vertices)
-    Poly p;
-    for (int k : ch) p.pts.push_back(tp.pts[static_cast<std::size_t>(k)]);
-    p.blendable.assign(p.pts.size(), 1);
-    polys.push_back(std::move(p));
-  }
   std::size_t ring_links = 0;
-  for (const auto& r : rings) {  // each: O(path vertices · ring vertices)
-    if (splice_ring(polys, r, clear)) {
-      ++ring_links;
-      continue;
-    }
-    Poly p;
-    p.pts = r;
-    p.pts.push_back(r.front());
-    p.blendable.assign(p.pts.size(), 0);
-    polys.push_back(std::move(p));
-  }
+  const std::vector<Poly> polys = tour_and_rings(tp, sm, rings, clear, ring_links);
   CornerBlendParams bp;
   bp.max_radius_mm = path.blend_radius_mm > 0 ? path.blend_radius_mm : 0.5 * frame.spacing;
   bp.max_deviation_mm = 0.9 * slack;
@@ -142,22 +176,7 @@ PlanResult plan_som(const Region& region, const CutParams& cut, const GridFrame&
   // 25 mm/s), and a fine tour (stepover 1 over a 100 mm square: 20,000 corners) made the uncut-area
   // booleans of its flattened arcs run for 8 minutes instead of 3 s (CliLimits.MaxWork…).
   bp.min_radius_mm = 0.1 * cut.tool_diameter;
-  const bool blend = path.blend_corners && slack > 0;
-  std::size_t arcs = 0;
-  for (const Poly& p : polys) {
-    Chain c;
-    if (blend) {
-      CornerBlendStats bs;
-      c.pts = blend_corners(p.pts, p.blendable, bp, move_ok, &bs);
-      arcs += static_cast<std::size_t>(bs.blended);
-    } else {
-      for (const Vec2& q : p.pts) c.pts.push_back(Vertex{q.x(), q.y(), 0.0});
-    }
-    c.predrill = true;
-    c.role = "cut";
-    res.predrill.push_back(c.pts.front().p());
-    res.path.chains.push_back(std::move(c));
-  }
+  const std::size_t arcs = add_chains(polys, path.blend_corners && slack > 0, bp, move_ok, res);
   res.walls_cut = path.walls;
   // The wall rings' chorded round joins and wall arcs as G2/G3 (arc_fit.hpp), as the offset
   // planner's; the tour's own moves are 5 mm lines and blends, which no circle fits within 2 µm.

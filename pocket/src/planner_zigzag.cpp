@@ -4,9 +4,10 @@
 
 #include "millnet/core/error.hpp"
 #include "millnet/pocket/cut_links.hpp"
-#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
-#include "millnet/pocket/zigzag.hpp"
+
+#include "offset.hpp"
+#include "zigzag.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -190,9 +191,81 @@ std::vector<double> candidate_angles(const Region& region, double step_deg) {
   std::sort(a.begin(), a.end());
   std::vector<double> out;
   for (double t : a)
-    if (out.empty() || t - out.back() > 1e-6) out.push_back(t);
+    if (out.empty() || t - out.back() > tol::same_angle_deg) out.push_back(t);
   return out;
 }
+
+namespace {
+
+/// The direction to cut in, of `angles`: fewest regions, then lowest path cost; ties keep the
+/// smaller angle. Each evaluated direction goes to *scores when given. O(angles · plan).
+Candidate best_direction(const std::vector<PolyArea>& reach, const std::vector<double>& angles,
+                         const ZigzagParams& params, const CutParams& cut, std::vector<AngleScore>* scores) {
+  Candidate best;
+  bool have = false;
+  for (double a : angles) {
+    Candidate c = evaluate(reach, a, params.partition, cut.stepover);
+    if (scores) scores->push_back({a, c.regions, c.cut_len + c.rapid_len, c.passes});
+    // Path cost = cut + rapid length + a turn penalty per pass: the slanted directions of a
+    // thin pocket are a little shorter (their end passes are short) but turn ten times as often.
+    const double pen = params.turn_penalty_mm >= 0 ? params.turn_penalty_mm : cut.stepover;
+    const double lc = c.cut_len + c.rapid_len + pen * static_cast<double>(c.passes);
+    const double lb = best.cut_len + best.rapid_len + pen * static_cast<double>(best.passes);
+    const bool better =
+        !have || c.regions < best.regions || (c.regions == best.regions && lc < lb - tol::improvement_mm);
+    if (better) {
+      best = std::move(c);
+      have = true;
+    }
+  }
+  return best;
+}
+
+/// The chosen direction's chains in world coordinates: the regions linked with the tool down
+/// where params.link_regions (links counts the links), else in the planned order.
+std::vector<std::vector<Vec2>> world_chains(const Candidate& best, const Region& region, const CutParams& cut,
+                                            const ZigzagParams& params, std::size_t& links) {
+  auto to_world = [&](const std::vector<Vec2>& ch) {
+    std::vector<Vec2> world;
+    world.reserve(ch.size());
+    for (const Vec2& p : ch) world.push_back(from_scan_frame(p, best.angle));
+    return world;
+  };
+  std::vector<std::vector<Vec2>> worlds;
+  links = 0;
+  if (params.link_regions) {
+    std::vector<std::vector<std::vector<Vec2>>> corners;
+    for (const auto& alts : best.corners) {
+      corners.emplace_back();
+      for (const auto& ch : alts) corners.back().push_back(to_world(ch));
+    }
+    worlds = link_regions(corners, region, cut, links);
+  } else {
+    for (const auto& ch : best.chains) worlds.push_back(to_world(ch));
+  }
+  return worlds;
+}
+
+ZigzagStats zigzag_stats(const Candidate& best, std::size_t angles_tried, std::size_t links) {
+  ZigzagStats st;
+  st.regions = best.regions;
+  st.faces = best.part.faces.size();
+  st.srps = best.part.srps.size();
+  st.nls = best.part.nls;
+  st.islands = best.part.n_islands;
+  st.components = best.part.n_components;
+  st.formula_regions = best.part.formula_regions();
+  st.passes = best.passes;
+  st.angle_deg = best.angle;
+  st.angles_tried = angles_tried;
+  st.nonmonotone_faces = best.nonmonotone;
+  st.zigzag_cut_length_mm = best.cut_len;
+  st.zigzag_rapid_length_mm = best.rapid_len;
+  st.region_links = links;
+  return st;
+}
+
+}  // namespace
 
 PlanResult plan_zigzag(const Region& region, const CutParams& cut, const ZigzagParams& params,
                        std::vector<AngleScore>* scores) {
@@ -217,62 +290,13 @@ PlanResult plan_zigzag(const Region& region, const CutParams& cut, const ZigzagP
   } else {
     angles = candidate_angles(region, params.angle_step_deg);
   }
-  // Fewest regions, then lowest path cost; ties keep the smaller angle. O(angles · plan).
-  Candidate best;
-  bool have = false;
-  for (double a : angles) {
-    Candidate c = evaluate(reach, a, params.partition, cut.stepover);
-    if (scores) scores->push_back({a, c.regions, c.cut_len + c.rapid_len, c.passes});
-    // Path cost = cut + rapid length + a turn penalty per pass: the slanted directions of a
-    // thin pocket are a little shorter (their end passes are short) but turn ten times as often.
-    const double pen = params.turn_penalty_mm >= 0 ? params.turn_penalty_mm : cut.stepover;
-    const double lc = c.cut_len + c.rapid_len + pen * static_cast<double>(c.passes);
-    const double lb = best.cut_len + best.rapid_len + pen * static_cast<double>(best.passes);
-    const bool better = !have || c.regions < best.regions || (c.regions == best.regions && lc < lb - 1e-9);
-    if (better) {
-      best = std::move(c);
-      have = true;
-    }
-  }
-
-  auto to_world = [&](const std::vector<Vec2>& ch) {
-    std::vector<Vec2> world;
-    world.reserve(ch.size());
-    for (const Vec2& p : ch) world.push_back(from_scan_frame(p, best.angle));
-    return world;
-  };
-  std::vector<std::vector<Vec2>> worlds;
+  const Candidate best = best_direction(reach, angles, params, cut, scores);
   std::size_t links = 0;
-  if (params.link_regions) {
-    std::vector<std::vector<std::vector<Vec2>>> corners;
-    for (const auto& alts : best.corners) {
-      corners.emplace_back();
-      for (const auto& ch : alts) corners.back().push_back(to_world(ch));
-    }
-    worlds = link_regions(corners, region, cut, links);
-  } else {
-    for (const auto& ch : best.chains) worlds.push_back(to_world(ch));
-  }
-  for (const auto& world : worlds) {
+  for (const auto& world : world_chains(best, region, cut, params, links)) {
     res.path.chains.push_back(make_chain(world, "cut", true));
     res.predrill.push_back(world.front());
   }
-  ZigzagStats st;
-  st.regions = best.regions;
-  st.faces = best.part.faces.size();
-  st.srps = best.part.srps.size();
-  st.nls = best.part.nls;
-  st.islands = best.part.n_islands;
-  st.components = best.part.n_components;
-  st.formula_regions = best.part.formula_regions();
-  st.passes = best.passes;
-  st.angle_deg = best.angle;
-  st.angles_tried = angles.size();
-  st.nonmonotone_faces = best.nonmonotone;
-  st.zigzag_cut_length_mm = best.cut_len;
-  st.zigzag_rapid_length_mm = best.rapid_len;
-  st.region_links = links;
-  res.stats = st;
+  res.stats = zigzag_stats(best, angles.size(), links);
   MILLNET_ASSERT(static_cast<int>(best.part.faces.size()) == best.part.formula_regions(),
                  "partition face count differs from n_s - n_i + n_c - n_n");
   if (res.path.chains.empty()) {

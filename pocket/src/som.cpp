@@ -189,6 +189,118 @@ bool is_permutation_of(const std::vector<int>& order, std::size_t n) {
   return true;
 }
 
+namespace {
+
+/// The cities in the w-scaled plane (x, sqrt(w)·y), where the weighted metric of eq. 6 is
+/// Euclidean, and their bounding box there.
+struct ScaledCities {
+  std::vector<Vec2> X;
+  Vec2 lo, hi;
+};
+
+ScaledCities scale_cities(const std::vector<Vec2>& cities, double sw, double w) {
+  ScaledCities s;
+  s.X.resize(cities.size());
+  s.lo = Vec2(std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity());
+  s.hi = -s.lo;
+  for (std::size_t i = 0; i < cities.size(); ++i) {  // O(N)
+    s.X[i] = Vec2(cities[i].x(), sw * cities[i].y());
+    s.lo = s.lo.cwiseMin(s.X[i]);
+    s.hi = s.hi.cwiseMax(s.X[i]);
+  }
+  // Every squared distance in the scaled plane is at most the box diagonal's square: it must be finite.
+  if (!std::isfinite((s.hi - s.lo).squaredNorm()))
+    throw Error("som parameters: 'w' = " + std::to_string(w) +
+                " scales the tool points beyond the range of squared distances (lower w)");
+  return s;
+}
+
+/// The distance within which every city must have its own node (the mapping's tolerance), in the
+/// scaled plane: tolerance_mm, or a hundredth of the mean spacing of N cities over the box.
+double mapping_tolerance(const SomParams& params, const ScaledCities& s, std::size_t n, double sw) {
+  double tol = params.tolerance_mm;
+  if (tol == 0) {
+    const Vec2 ext = s.hi - s.lo;
+    const double a = std::max(ext.x() * ext.y(), std::pow(std::max(ext.x(), ext.y()) / static_cast<double>(n), 2));
+    tol = 0.01 * std::sqrt(a / static_cast<double>(n));
+  }
+  return tol * std::min(1.0, sw);  // a tolerance in mm is at least as strict in the scaled plane
+}
+
+/// Initial ring: an ellipse at half the cities' bounding box around its centre, random phase. It
+/// already has the global order of a good tour (no knots), and spreads nodes where cities are.
+std::vector<Vec2> initial_ring(const ScaledCities& s, std::size_t m, Rng& rng) {
+  const double md = static_cast<double>(m);
+  const Vec2 ctr = 0.5 * (s.lo + s.hi);
+  const Vec2 half = 0.5 * (s.hi - s.lo);
+  const double phase = 2 * std::numbers::pi * rng.uniform();
+  std::vector<Vec2> C(m);
+  for (std::size_t j = 0; j < m; ++j) {  // O(M)
+    const double t = phase + 2 * std::numbers::pi * static_cast<double>(j) / md;
+    C[j] = ctr + Vec2(0.5 * half.x() * std::cos(t), 0.5 * half.y() * std::sin(t));
+  }
+  return C;
+}
+
+/// One adaptation pass: the cities in a fresh random order (Fisher–Yates), each pulling its winner
+/// node and the `width` ring neighbours on either side toward it by the gain kernel f. Returns
+/// Σ |city − winner|² before the pulls. O(N·(query + width)).
+double adapt_pass(const ScaledCities& s, std::vector<Vec2>& C, NodeGrid& grid, const std::vector<double>& f,
+                  std::ptrdiff_t width, std::vector<std::size_t>& perm, Rng& rng, double w) {
+  const std::size_t n = s.X.size();
+  for (std::size_t k = n - 1; k > 0; --k) std::swap(perm[k], perm[rng.below(k + 1)]);  // Fisher–Yates
+  double k2 = 0;
+  const auto mi = static_cast<std::ptrdiff_t>(C.size());
+  for (std::size_t idx = 0; idx < n; ++idx) {
+    const Vec2& x = s.X[perm[idx]];
+    const auto jc = static_cast<std::ptrdiff_t>(nearest_node(grid, s.X, perm[idx], C, w).first);
+    std::ptrdiff_t j = jc - width;
+    if (j < 0) j += mi;
+    for (std::ptrdiff_t k = -width; k <= width; ++k, ++j) {
+      if (j == mi) j = 0;
+      const auto ju = static_cast<std::size_t>(j);
+      C[ju] += f[static_cast<std::size_t>(k < 0 ? -k : k)] * (x - C[ju]);
+      grid.moved(static_cast<int>(j), C[ju]);
+    }
+    k2 += (x - C[static_cast<std::size_t>(jc)]).squaredNorm();
+  }
+  return k2;
+}
+
+/// Every city has its own node within tol (owner: the city of each node, or -1). O(N·query).
+bool every_city_mapped(const NodeGrid& grid, const ScaledCities& s, const std::vector<Vec2>& C, double w, double tol2,
+                       std::vector<int>& owner) {
+  std::fill(owner.begin(), owner.end(), -1);
+  for (std::size_t i = 0; i < s.X.size(); ++i) {
+    const auto [j, d2] = nearest_node(grid, s.X, i, C, w);
+    if (d2 > tol2 || owner[j] >= 0) return false;
+    owner[j] = static_cast<int>(i);
+  }
+  return true;
+}
+
+/// The tour: cities by (winner node, position along the ring direction at that node, index), into
+/// res.order; res.shared_nodes counts the cities whose winner another city had. O(N log N).
+void tour_from_ring(const NodeGrid& grid, const ScaledCities& s, const std::vector<Vec2>& C, double w,
+                    std::vector<int>& owner, SomResult& res) {
+  const std::size_t n = s.X.size(), m = C.size();
+  std::vector<std::tuple<int, double, int>> key(n);
+  std::fill(owner.begin(), owner.end(), -1);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t ju = nearest_node(grid, s.X, i, C, w).first;
+    const int j = static_cast<int>(ju);
+    const Vec2 dir = C[(ju + 1) % m] - C[(ju + m - 1) % m];
+    key[i] = {j, (s.X[i] - C[ju]).dot(dir), static_cast<int>(i)};
+    if (owner[ju] >= 0) ++res.shared_nodes;
+    owner[ju] = static_cast<int>(i);
+  }
+  std::sort(key.begin(), key.end());
+  res.order.resize(n);
+  for (std::size_t i = 0; i < n; ++i) res.order[i] = std::get<2>(key[i]);
+}
+
+}  // namespace
+
 SomResult som_tour(const std::vector<Vec2>& cities, const SomParams& params) {
   check_params(params);
   const std::size_t n = cities.size();
@@ -201,46 +313,19 @@ SomResult som_tour(const std::vector<Vec2>& cities, const SomParams& params) {
     res.converged = true;
     return res;
   }
-  // Work in the w-scaled plane (x, sqrt(w)·y): the weighted metric of eq. 6 becomes Euclidean there,
-  // and the update C += f·(X − C) is linear, so nothing needs to be scaled back.
+  // Work in the w-scaled plane: the update C += f·(X − C) is linear, so nothing needs to be scaled back.
   const double sw = std::sqrt(params.w);
-  std::vector<Vec2> X(n);
-  Vec2 lo(std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity());
-  Vec2 hi = -lo;
-  for (std::size_t i = 0; i < n; ++i) {  // O(N)
-    X[i] = Vec2(cities[i].x(), sw * cities[i].y());
-    lo = lo.cwiseMin(X[i]);
-    hi = hi.cwiseMax(X[i]);
-  }
-  // Every squared distance in the scaled plane is at most the box diagonal's square: it must be finite.
-  if (!std::isfinite((hi - lo).squaredNorm()))
-    throw Error("som parameters: 'w' = " + std::to_string(params.w) +
-                " scales the tool points beyond the range of squared distances (lower w)");
+  const ScaledCities s = scale_cities(cities, sw, params.w);
   const std::size_t m =
       std::max<std::size_t>(3, static_cast<std::size_t>(std::llround(params.node_factor * static_cast<double>(n))));
   res.nodes = m;
   const double md = static_cast<double>(m);
-  double tol = params.tolerance_mm;
-  if (tol == 0) {
-    const Vec2 ext = hi - lo;
-    const double a = std::max(ext.x() * ext.y(), std::pow(std::max(ext.x(), ext.y()) / static_cast<double>(n), 2));
-    tol = 0.01 * std::sqrt(a / static_cast<double>(n));
-  }
-  tol *= std::min(1.0, sw);  // a tolerance in mm is at least as strict in the scaled plane
+  const double tol = mapping_tolerance(params, s, n, sw);
   const double tol2 = tol * tol;
 
   Rng rng(params.seed);
-  // Initial ring: an ellipse at half the cities' bounding box around its centre, random phase. It
-  // already has the global order of a good tour (no knots), and spreads nodes where cities are.
-  const Vec2 ctr = 0.5 * (lo + hi);
-  const Vec2 half = 0.5 * (hi - lo);
-  const double phase = 2 * std::numbers::pi * rng.uniform();
-  std::vector<Vec2> C(m);
-  for (std::size_t j = 0; j < m; ++j) {  // O(M)
-    const double t = phase + 2 * std::numbers::pi * static_cast<double>(j) / md;
-    C[j] = ctr + Vec2(0.5 * half.x() * std::cos(t), 0.5 * half.y() * std::sin(t));
-  }
-  NodeGrid grid(lo, hi, m / 2);
+  std::vector<Vec2> C = initial_ring(s, m, rng);
+  NodeGrid grid(s.lo, s.hi, m / 2);
   for (std::size_t j = 0; j < m; ++j) grid.insert(static_cast<int>(j), C[j]);
 
   // Auto G0: quality barely depends on G0 here (the elliptic initial ring already carries the global
@@ -252,18 +337,7 @@ SomResult som_tour(const std::vector<Vec2>& cities, const SomParams& params) {
   std::vector<std::size_t> perm(n);
   for (std::size_t i = 0; i < n; ++i) perm[i] = i;
   std::vector<double> f;
-  std::vector<int> winner(n);
   std::vector<int> owner(m, -1);
-
-  auto mapped = [&]() {  // O(N·query): every city has its own node within tol
-    std::fill(owner.begin(), owner.end(), -1);
-    for (std::size_t i = 0; i < n; ++i) {
-      const auto [j, d2] = nearest_node(grid, X, i, C, params.w);
-      if (d2 > tol2 || owner[j] >= 0) return false;
-      owner[j] = static_cast<int>(i);
-    }
-    return true;
-  };
 
   constexpr int kSettlePasses = 20;
   int settled = 0;
@@ -274,22 +348,7 @@ SomResult som_tour(const std::vector<Vec2>& cities, const SomParams& params) {
       const double kd = static_cast<double>(k);
       f[static_cast<std::size_t>(k)] = f0 * std::exp(-kd * kd / (G * G));
     }
-    for (std::size_t k = n - 1; k > 0; --k) std::swap(perm[k], perm[rng.below(k + 1)]);  // Fisher–Yates
-    double k2 = 0;
-    const auto mi = static_cast<std::ptrdiff_t>(m);
-    for (std::size_t idx = 0; idx < n; ++idx) {  // O(N·(query + width))
-      const Vec2& x = X[perm[idx]];
-      const auto jc = static_cast<std::ptrdiff_t>(nearest_node(grid, X, perm[idx], C, params.w).first);
-      std::ptrdiff_t j = jc - width;
-      if (j < 0) j += mi;
-      for (std::ptrdiff_t k = -width; k <= width; ++k, ++j) {
-        if (j == mi) j = 0;
-        const auto ju = static_cast<std::size_t>(j);
-        C[ju] += f[static_cast<std::size_t>(k < 0 ? -k : k)] * (x - C[ju]);
-        grid.moved(static_cast<int>(j), C[ju]);
-      }
-      k2 += (x - C[static_cast<std::size_t>(jc)]).squaredNorm();
-    }
+    const double k2 = adapt_pass(s, C, grid, f, width, perm, rng, params.w);
     res.passes = pass + 1;
     double alpha = params.alpha;
     if (params.adaptive_alpha) {
@@ -298,7 +357,7 @@ SomResult som_tour(const std::vector<Vec2>& cities, const SomParams& params) {
     }
     G *= (1 - alpha);
     if (width == 0) {
-      if (mapped()) {
+      if (every_city_mapped(grid, s, C, params.w, tol2, owner)) {
         res.converged = true;
         break;
       }
@@ -308,21 +367,7 @@ SomResult som_tour(const std::vector<Vec2>& cities, const SomParams& params) {
     }
   }
   res.final_gain = G;
-
-  // Tour: cities by (winner node, position along the ring direction at that node, index). O(N log N).
-  std::vector<std::tuple<int, double, int>> key(n);
-  std::fill(owner.begin(), owner.end(), -1);
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t ju = nearest_node(grid, X, i, C, params.w).first;
-    const int j = static_cast<int>(ju);
-    const Vec2 dir = C[(ju + 1) % m] - C[(ju + m - 1) % m];
-    key[i] = {j, (X[i] - C[ju]).dot(dir), static_cast<int>(i)};
-    if (owner[ju] >= 0) ++res.shared_nodes;
-    owner[ju] = static_cast<int>(i);
-  }
-  std::sort(key.begin(), key.end());
-  res.order.resize(n);
-  for (std::size_t i = 0; i < n; ++i) res.order[i] = std::get<2>(key[i]);
+  tour_from_ring(grid, s, C, params.w, owner, res);
   MILLNET_ASSERT(is_permutation_of(res.order, n), "SOM tour is not a permutation of the cities");
   if (!is_permutation_of(res.order, n)) throw Error("som_tour: internal error, tour is not a permutation");
   return res;

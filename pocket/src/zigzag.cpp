@@ -1,5 +1,5 @@
 // Zigzag chains inside monotone faces and the order of the faces (scan frame).
-#include "millnet/pocket/zigzag.hpp"
+#include "zigzag.hpp"
 
 #include "millnet/pocket/tolerances.hpp"
 
@@ -231,7 +231,7 @@ Ordering order_items(const std::vector<OrderItem>& items) {
         std::reverse(trial.begin() + static_cast<std::ptrdiff_t>(i),
                      trial.begin() + static_cast<std::ptrdiff_t>(j) + 1);
         const double c = best_corners(items, trial, nullptr);
-        if (c < best - 1e-9) {
+        if (c < best - tol::improvement_mm) {
           best = c;
           order = std::move(trial);
           improved = true;
@@ -245,7 +245,7 @@ Ordering order_items(const std::vector<OrderItem>& items) {
         trial.erase(trial.begin() + static_cast<std::ptrdiff_t>(i));
         trial.insert(trial.begin() + static_cast<std::ptrdiff_t>(j), v);
         const double c = best_corners(items, trial, nullptr);
-        if (c < best - 1e-9) {
+        if (c < best - tol::improvement_mm) {
           best = c;
           order = std::move(trial);
           improved = true;

@@ -1,6 +1,7 @@
-// Arc fitting (pocket/arc_fit.hpp): chorded circles become exact arcs, everything else stays as it
+// Arc fitting (pocket/src/arc_fit.hpp): chorded circles become exact arcs, everything else stays as it
 // was, nothing moves by more than the tolerance, and the walls' clearance is never given up.
-#include "millnet/pocket/arc_fit.hpp"
+#include "arc_fit.hpp"
+
 #include "millnet/pocket/tolerances.hpp"
 
 #include <gtest/gtest.h>

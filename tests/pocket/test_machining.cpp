@@ -2,11 +2,12 @@
 // the tool points, broken where a move would gouge), checked by the independent G-code replay.
 #include "testing/program_text.hpp"
 #include "millnet/pocket/machining.hpp"
-#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/tolerances.hpp"
 #include "millnet/pocket/io/pocket_io.hpp"
 #include "testing/gcode_replay.hpp"
 #include "testing/pocket_replay.hpp"
+
+#include "offset.hpp"
 
 #include <gtest/gtest.h>
 

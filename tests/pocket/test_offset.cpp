@@ -1,5 +1,5 @@
 // Clipper offsets against analytic areas.
-#include "millnet/pocket/offset.hpp"
+#include "offset.hpp"
 
 #include <gtest/gtest.h>
 

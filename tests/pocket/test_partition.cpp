@@ -1,6 +1,7 @@
 // SRPs, T-partition and I-partition on hand-made pockets (scan lines horizontal, tool R = 5 mm).
-#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/partition.hpp"
+
+#include "offset.hpp"
 
 #include <gtest/gtest.h>
 

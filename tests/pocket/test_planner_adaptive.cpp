@@ -16,11 +16,12 @@
 #include "testing/program_text.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/pocket/machining.hpp"
-#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/plan.hpp"
 #include "millnet/pocket/io/pocket_io.hpp"
 #include "testing/gcode_replay.hpp"
 #include "testing/pocket_replay.hpp"
+
+#include "offset.hpp"
 
 #include <gtest/gtest.h>
 
@@ -417,7 +418,7 @@ TEST(PlannerAdaptive, RidesCutNothingAndArePulledTaut) {
 // the passes left the wall pass a sliver about one raster cell thick along every wall, and where
 // the wall pass turns a corner of the rectangle it takes a quarter arc of it in under a millimetre
 // of travel (located at the four corners; fillet passes and spring loops were tried and made it
-// worse). Below 85° the passes now take that band themselves (planner_adaptive.cpp, prepare()).
+// worse). Below 85° the passes now take that band themselves (adaptive_prepare.cpp, mark_target()).
 // Those figures were centre counts on a grid that shares the planner's cell centres; the swept
 // width (2026-11-26) reads 56.1° / 60.6° / 68.1°, the independent replay 51.7° / 57.3° / 66.0°: the
 // planner's raster noise (±2–3 cells a step, 0.66–0.85 mm of width over what it aims at) weighs

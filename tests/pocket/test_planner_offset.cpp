@@ -3,11 +3,12 @@
 // narrow for a helix, an island that touches the first ring, two components, direction.
 #include "testing/program_text.hpp"
 #include "millnet/pocket/machining.hpp"
-#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/plan.hpp"
 #include "millnet/pocket/io/pocket_io.hpp"
 #include "testing/gcode_replay.hpp"
 #include "testing/pocket_replay.hpp"
+
+#include "offset.hpp"
 
 #include <gtest/gtest.h>
 

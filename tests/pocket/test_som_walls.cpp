@@ -7,12 +7,13 @@
 // reachable components − 1, planned within 1 s, deterministic, and faster than before.
 #include "testing/program_text.hpp"
 #include "millnet/pocket/machining.hpp"
-#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/plan.hpp"
 #include "millnet/pocket/tolerances.hpp"
 #include "millnet/pocket/io/pocket_io.hpp"
 #include "testing/gcode_replay.hpp"
 #include "testing/pocket_replay.hpp"
+
+#include "offset.hpp"
 
 #include <gtest/gtest.h>
 

@@ -4,9 +4,10 @@
 #include "millnet/core/error.hpp"
 #include "millnet/pocket/gcode.hpp"
 #include "millnet/pocket/machining.hpp"
-#include "millnet/pocket/offset.hpp"
 #include "millnet/pocket/planner_zigzag.hpp"
 #include "testing/gcode_replay.hpp"
+
+#include "offset.hpp"
 
 #include <gtest/gtest.h>
 

@@ -30,4 +30,12 @@ inline constexpr double arc_fit_sample_mm = 0.05;
 /// moves ≤ 0.005 mm, a sliver of engagement far below the feed map's cell, while a 5 mm trochoid
 /// needs a vertex every ≈ 0.45 mm instead of every planning step (0.25 mm).
 inline constexpr double adaptive_simplify_mm = 0.005;
+/// Computed positions closer than this are one (floating-point noise, far below join_mm): no
+/// direction between them, no move from one to the other.
+inline constexpr double coincident_mm = 1e-9;
+/// A path (or a cost in mm of path) shorter than another by less than this is no shorter: searches
+/// do not swap candidates on rounding noise.
+inline constexpr double improvement_mm = 1e-9;
+/// Directions closer than this, degrees, are one (the zigzag's candidate directions).
+inline constexpr double same_angle_deg = 1e-6;
 }  // namespace millnet::pocket::tol

@@ -19,8 +19,8 @@ struct RunPart {
 
   bool predicted = false;  ///< the network ranked it
   std::string predict_error;
-  int top = 0;               ///< the network's top slot
-  std::string top_name;      ///< its strategy's name
+  int top = 0;           ///< the network's top slot
+  std::string top_name;  ///< its strategy's name
   double confidence = 0, consistency = 0;
   bool unfamiliar = false;
 
