@@ -2,6 +2,7 @@
 #include "millnet/gcode/stats.hpp"
 
 #include "millnet/core/error.hpp"
+#include "millnet/gcode/tolerances.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -15,9 +16,6 @@ namespace millnet::gcode {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kZeroLengthMm = 1e-9;
-/// GRBL's thresholds on cos θ: beyond them a joint counts as straight on / as a reversal.
-constexpr double kStraightCos = 0.999999;
 
 struct Block {
   double length = 0;         ///< mm
@@ -35,7 +33,7 @@ public:
   void add(const Point3& from, const Point3& to, double v_nom) {
     const Point3 d{to[0] - from[0], to[1] - from[1], to[2] - from[2]};
     const double len = norm(d);
-    if (len < kZeroLengthMm) return;
+    if (len < tol::zero_length_mm) return;
     blocks_.push_back({len, {d[0] / len, d[1] / len, d[2] / len}, v_nom, stop_ || blocks_.empty()});
     stop_ = false;
   }
@@ -84,10 +82,10 @@ double trapezoid_time_s(double len, double v_in, double v_out, double v_nom, dou
 }
 
 double junction_speed(const Point3& u, const Point3& v, double acceleration_mm_s2, double junction_deviation_mm) {
-  const double cos_theta = -(u[0] * v[0] + u[1] * v[1] + u[2] * v[2]);            // θ between −u and v
-  if (cos_theta > kStraightCos) return 0;                                         // reversal
-  if (cos_theta < -kStraightCos) return std::numeric_limits<double>::infinity();  // straight on
-  const double s = std::sqrt(std::max(0.0, 0.5 * (1 - cos_theta)));               // sin(θ/2)
+  const double cos_theta = -(u[0] * v[0] + u[1] * v[1] + u[2] * v[2]);                 // θ between −u and v
+  if (cos_theta > tol::straight_cos) return 0;                                         // reversal
+  if (cos_theta < -tol::straight_cos) return std::numeric_limits<double>::infinity();  // straight on
+  const double s = std::sqrt(std::max(0.0, 0.5 * (1 - cos_theta)));                    // sin(θ/2)
   return std::sqrt(acceleration_mm_s2 * junction_deviation_mm * s / (1 - s));
 }
 
@@ -95,7 +93,6 @@ namespace {
 
 /// The in-stock figures of ProgramStats (StockFrame): one pass over the moves in program order.
 void add_stock_figures(const Program& program, const StockFrame& frame, ProgramStats& s) {
-  constexpr double kZEps = 1e-9;  // mm: a Z equal to another within this is the same height
   Point3 pos{0, 0, frame.clearance_z_mm};
   bool cut_since = false, retracted_after_cut = false, after_rapid = true;
   for (const Item& item : program.items) {  // O(items)
@@ -109,7 +106,7 @@ void add_stock_figures(const Program& program, const StockFrame& frame, ProgramS
       const double a0 = std::atan2(pos[1] - m.center[1], pos[0] - m.center[0]);
       const double a1 = std::atan2(m.to[1] - m.center[1], m.to[0] - m.center[0]);
       double sw = m.motion == Motion::ArcCCW ? a1 - a0 : a0 - a1;
-      while (sw <= 1e-12) sw += 2 * kPi;
+      while (sw <= tol::full_circle_rad) sw += 2 * kPi;  // equal ends: a full circle
       xy = r * sw;
     }
     const double dz = std::abs(m.to[2] - pos[2]);
@@ -118,13 +115,14 @@ void add_stock_figures(const Program& program, const StockFrame& frame, ProgramS
       s.xy_rapid_length_mm += xy;
       s.time_at_feeds_min += len3 / frame.rapid_mm_min;
       s.time_constant_feed_min += len3 / frame.rapid_mm_min;
-      if (!drill && m.to[2] >= frame.clearance_z_mm - kZEps && pos[2] < frame.clearance_z_mm - kZEps && cut_since) {
+      if (!drill && m.to[2] >= frame.clearance_z_mm - tol::same_z_mm &&
+          pos[2] < frame.clearance_z_mm - tol::same_z_mm && cut_since) {
         retracted_after_cut = true;
         cut_since = false;
       }
       after_rapid = true;
     } else {
-      if (!drill && m.to[2] < pos[2] - kZEps && after_rapid) {
+      if (!drill && m.to[2] < pos[2] - tol::same_z_mm && after_rapid) {
         ++s.entries;
         if (retracted_after_cut) ++s.retractions;  // a retraction counts when the tool goes back in
         retracted_after_cut = false;
@@ -136,7 +134,7 @@ void add_stock_figures(const Program& program, const StockFrame& frame, ProgramS
       }
       const double f = m.feed > 0 ? m.feed : frame.nominal_feed_mm_min;
       s.time_at_feeds_min += len3 / f;
-      const bool lateral = dz < kZEps && !drill && frame.nominal_feed_mm_min > 0;
+      const bool lateral = dz < tol::same_z_mm && !drill && frame.nominal_feed_mm_min > 0;
       s.time_constant_feed_min += len3 / (lateral ? frame.nominal_feed_mm_min : f);
     }
     pos = m.to;
@@ -183,7 +181,7 @@ ProgramStats stats(const Program& program, const MotionModel& model, const Stock
       const double a0 = std::atan2(from[1] - cy, from[0] - cx);
       const double a1 = std::atan2(m->to[1] - cy, m->to[0] - cx);
       double sweep = m->motion == Motion::ArcCCW ? a1 - a0 : a0 - a1;
-      while (sweep <= 1e-12) sweep += 2 * kPi;  // equal ends: a full circle
+      while (sweep <= tol::full_circle_rad) sweep += 2 * kPi;  // equal ends: a full circle
       const double dz = m->to[2] - from[2];
       length = std::hypot(r * sweep, dz);
       // Chords of angle φ deviate r(1 − cos(φ/2)) from the arc.

@@ -2,6 +2,7 @@
 #include "millnet/simulate/zmap.hpp"
 
 #include "millnet/core/error.hpp"
+#include "millnet/simulate/tolerances.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -90,7 +91,7 @@ bool ZMap::across_feed(std::size_t index, double x, double y, double& nx, double
   if (d[2] > 0) {  // arc: radial from the centre
     const double rx = x - d[0], ry = y - d[1];
     const double r = std::hypot(rx, ry);
-    if (r < 1e-12) return false;
+    if (r < tol::at_centre_mm) return false;
     nx = rx / r;
     ny = ry / r;
     return true;

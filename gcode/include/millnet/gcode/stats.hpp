@@ -14,13 +14,14 @@
 // (GRBL synchronises its buffer on them). Travel along an axis before the program first states
 // it is not counted (the start position is unknown).
 #include "millnet/gcode/program.hpp"
+#include "millnet/gcode/tolerances.hpp"
 
 #include <cstddef>
 
 namespace millnet::gcode {
 
 /// Arcs are timed as chords deviating at most this much from the arc (GRBL's default arc_tolerance).
-inline constexpr double kArcChordToleranceMm = 0.002;
+inline constexpr double kArcChordToleranceMm = tol::arc_chord_mm;
 
 struct MotionModel {
   double rapid_mm_min = 5000;

@@ -1,0 +1,29 @@
+#pragma once
+// Private to the surface metrics (surface_metrics() in zmap.hpp), one file per pass:
+//   surface_metrics.cpp  surface_metrics, the table of contents; deviation, gouge and remaining
+//                        material in one pass over the cells
+//   rest_material.cpp    the remaining material split into rest, scallop and uncut
+//   roughness.cpp        the Ra map and its statistics
+#include "millnet/simulate/zmap.hpp"
+
+#include <vector>
+
+namespace millnet::simulate::metrics {
+
+/// Splits the remaining material (cells with (e − allowance)·cos(slope) > tolerance) into rest,
+/// scallop and uncut (definitions in zmap.hpp): fills out's rest, scallop and uncut areas and
+/// scallop_max_mm. `above` is (e − allowance)·cos(slope) per cell (NaN off the surface);
+/// opt.cutter must be set. The same for any thread count.
+void split_remaining(const ZMap& machined, const std::vector<double>& design, const std::vector<double>& above,
+                     const MetricsOptions& opt, SurfaceMetrics& out);
+
+/// The Ra map, µm per cell (NaN off the surface, where a profile has fewer than 3 samples, and
+/// between the cells of the ra_every lattice); rows in parallel, bit-identical for any thread count.
+[[nodiscard]] std::vector<float> ra_map(const ZMap& machined, const std::vector<double>& design,
+                                        const MetricsOptions& opt);
+
+/// The statistics of out.ra_um: cells with an Ra, share per bin (out.ra_share sized to the
+/// bins), mean, nearest-rank median and p90.
+void ra_statistics(const MetricsOptions& opt, SurfaceMetrics& out);
+
+}  // namespace millnet::simulate::metrics

@@ -1,0 +1,187 @@
+// The remaining material split into rest, scallop and uncut (SurfaceMetrics in zmap.hpp): a rest
+// test per block of cells (can the cutter touch the design there at all?), then a walk across the
+// feed from each cell left (is it a cusp between passes?).
+#include "metrics_internal.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <utility>
+
+namespace millnet::simulate::metrics {
+
+namespace {
+
+// The design's gradient (dz/dx, dz/dy) at cell i by central differences (one-sided at the grid's
+// and the surface's edges; 0 across a NaN neighbour).
+std::pair<double, double> gradient(const GridSpec& spec, const std::vector<double>& design, std::size_t i) {
+  const std::size_t nx = spec.nx, ny = spec.ny, ix = i % nx, iy = i / nx;
+  auto slope = [&](std::size_t lo, std::size_t hi, double span) {
+    return std::isnan(design[lo]) || std::isnan(design[hi]) ? 0.0 : (design[hi] - design[lo]) / span;
+  };
+  const std::size_t xl = ix > 0 ? i - 1 : i, xh = ix + 1 < nx ? i + 1 : i;
+  const std::size_t yl = iy > 0 ? i - nx : i, yh = iy + 1 < ny ? i + nx : i;
+  const double gx = xh > xl ? slope(xl, xh, static_cast<double>(xh - xl) * spec.cell) : 0.0;
+  const double gy = yh > yl ? slope(yl, yh, static_cast<double>((yh - yl) / nx) * spec.cell) : 0.0;
+  return {gx, gy};
+}
+
+// Can `cutter` touch the design at cell c without cutting into it anywhere else by more than
+// `tol`? The cutter is placed so that its profile passes through (c, design(c)) with its axis
+// offset from c down the slope by t: first the contact offset of a smooth surface with the
+// design's normal at c (ball R·sinθ, bull (R − rc) + rc·sinθ, flat R on a slope), then 0, R/2, R.
+// Each placement is checked against the design sampled every `stride` cells under the cutter.
+// O(t's × (R / (stride·cell))²) per call.
+bool reachable(const GridSpec& spec, const std::vector<double>& design, const tooling::Cutter& cutter, std::size_t c,
+               std::size_t stride, double tol) {
+  const double dc = design[c];
+  if (std::isnan(dc)) return true;
+  const auto [gx, gy] = gradient(spec, design, c);
+  const double g = std::hypot(gx, gy), sin_t = g / std::sqrt(1 + g * g);
+  const double ux = g > 0 ? -gx / g : 0.0, uy = g > 0 ? -gy / g : 0.0;  // down the slope
+  const double R = cutter.radius(), rc = cutter.profile_corner_radius();
+  double contact = 0;
+  switch (cutter.shape()) {
+    case tooling::CutterType::Ball: contact = R * sin_t; break;
+    case tooling::CutterType::Bull: contact = (R - rc) + rc * sin_t; break;
+    case tooling::CutterType::Flat: contact = g > 0 ? R : 0.0; break;
+    // A cone touches a plane with its tip while the plane is flatter than its side, else its rim.
+    case tooling::CutterType::Drill: contact = g * R > cutter.point_height() ? R : 0.0; break;
+  }
+  const double cx = spec.x(c % spec.nx), cy = spec.y(c / spec.nx);
+  const auto nx = static_cast<std::ptrdiff_t>(spec.nx), ny = static_cast<std::ptrdiff_t>(spec.ny);
+  const auto st = static_cast<std::ptrdiff_t>(stride);
+  const auto span = static_cast<std::ptrdiff_t>(std::ceil(R / spec.cell));
+  for (const double t : {contact, 0.0, 0.5 * R, R}) {
+    const double px = cx + t * ux, py = cy + t * uy;
+    const double tip = dc - cutter.profile_height(std::min(t, R));
+    const auto pix = static_cast<std::ptrdiff_t>(std::floor((px - spec.x0) / spec.cell));
+    const auto piy = static_cast<std::ptrdiff_t>(std::floor((py - spec.y0) / spec.cell));
+    bool ok = true;
+    for (std::ptrdiff_t a = -span - (-span % st); ok && a <= span; a += st) {
+      const std::ptrdiff_t qy = piy + a;
+      if (qy < 0 || qy >= ny) continue;
+      const double dy = spec.y(static_cast<std::size_t>(qy)) - py;
+      for (std::ptrdiff_t b = -span - (-span % st); b <= span; b += st) {
+        const std::ptrdiff_t qx = pix + b;
+        if (qx < 0 || qx >= nx) continue;
+        const double dx = spec.x(static_cast<std::size_t>(qx)) - px;
+        const double r = std::hypot(dx, dy);
+        if (r > R) continue;
+        const double dq = design[static_cast<std::size_t>(qy * nx + qx)];
+        if (dq > tip + cutter.profile_height(r) + tol) {
+          ok = false;
+          break;
+        }
+      }
+    }
+    if (ok) return true;
+  }
+  return false;
+}
+
+// Per k × k block of cells, the cell with material left (above > tol) nearest the block's centre
+// (first in row order on a tie); SIZE_MAX where the block has none. Blocks are numbered row by
+// row, ⌈nx / k⌉ per row.
+std::vector<std::size_t> block_probes(const GridSpec& spec, const std::vector<double>& above, double tol,
+                                      std::size_t k) {
+  const std::size_t nx = spec.nx, ny = spec.ny;
+  const std::size_t lx = (nx + k - 1) / k, ly = (ny + k - 1) / k;
+  std::vector<std::size_t> probe(lx * ly, SIZE_MAX);
+  std::vector<std::size_t> probe_d2(lx * ly, SIZE_MAX);
+  for (std::size_t iy = 0; iy < ny; ++iy)
+    for (std::size_t ix = 0; ix < nx; ++ix) {
+      if (!(above[iy * nx + ix] > tol)) continue;
+      const std::size_t b = iy / k * lx + ix / k;
+      const auto dx = static_cast<std::ptrdiff_t>(2 * (ix % k)) - static_cast<std::ptrdiff_t>(k - 1);
+      const auto dy = static_cast<std::ptrdiff_t>(2 * (iy % k)) - static_cast<std::ptrdiff_t>(k - 1);
+      const auto d2 = static_cast<std::size_t>(dx * dx + dy * dy);
+      if (d2 < probe_d2[b]) {
+        probe_d2[b] = d2;
+        probe[b] = iy * nx + ix;
+      }
+    }
+  return probe;
+}
+
+// Whether the cell i with material left lies between passes: walking from it across the feed of
+// the move that last cut it, a cell cut to the design (above ≤ tol) comes within `steps` cells on
+// both sides, before the grid or the surface ends.
+bool between_passes(const ZMap& machined, const std::vector<double>& design, const std::vector<double>& above,
+                    double tol, std::ptrdiff_t steps, std::size_t i) {
+  const GridSpec& spec = machined.spec();
+  const std::size_t nx = spec.nx, ny = spec.ny;
+  const double x = spec.x(i % nx), y = spec.y(i / nx);
+  double ax = 0, ay = 0;
+  if (!machined.across_feed(i, x, y, ax, ay)) return false;
+  for (const double side : {-1.0, 1.0}) {
+    bool met = false;
+    for (std::ptrdiff_t s = 1; s <= steps && !met; ++s) {
+      const double d = side * static_cast<double>(s) * spec.cell;
+      const double qx = std::floor((x + d * ax - spec.x0) / spec.cell),
+                   qy = std::floor((y + d * ay - spec.y0) / spec.cell);
+      if (qx < 0 || qy < 0 || qx >= static_cast<double>(nx) || qy >= static_cast<double>(ny)) break;
+      const std::size_t j = static_cast<std::size_t>(qy) * nx + static_cast<std::size_t>(qx);
+      if (std::isnan(design[j])) break;
+      met = above[j] <= tol;
+    }
+    if (!met) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+// Splits the remaining material (cells with e > allowance + tolerance) into rest, scallop and
+// uncut (definitions in zmap.hpp). Cells: the rest test once per k × k block that holds material
+// left (O((R / (k·cell))²) each), each such cell's walk ≤ 2·R / cell cells. Counts and
+// the max are reductions: the same for any thread count.
+// `above` is (e − allowance)·cos(slope) per cell (NaN off the surface), computed once by the caller.
+void split_remaining(const ZMap& machined, const std::vector<double>& design, const std::vector<double>& above,
+                     const MetricsOptions& opt, SurfaceMetrics& out) {
+  const GridSpec& spec = machined.spec();
+  const tooling::Cutter& cutter = *opt.cutter;
+  cutter.check();
+  const std::size_t nx = spec.nx, ny = spec.ny, k = opt.reach_every, lx = (nx + k - 1) / k;
+  auto left = [&](std::size_t i) { return above[i] > opt.tolerance_mm; };  // false on NaN
+  // The rest test runs once per block, at its probe; every cell left in the block takes its answer.
+  const std::vector<std::size_t> probe = block_probes(spec, above, opt.tolerance_mm, k);
+  std::vector<std::uint8_t> reach(probe.size(), 1);  // 1 = reachable, 0 = rest
+  const int nthreads = opt.threads > 0 ? opt.threads : std::max(1, omp_get_max_threads());
+  const auto nl = static_cast<std::ptrdiff_t>(reach.size());
+#pragma omp parallel for schedule(dynamic, 64) num_threads(nthreads)
+  for (std::ptrdiff_t l = 0; l < nl; ++l) {
+    const auto ul = static_cast<std::size_t>(l);
+    if (probe[ul] != SIZE_MAX) reach[ul] = reachable(spec, design, cutter, probe[ul], k, opt.tolerance_mm) ? 1 : 0;
+  }
+  const auto steps = static_cast<std::ptrdiff_t>(std::ceil(cutter.radius() / spec.cell));
+  std::size_t rest = 0, scallop = 0, uncut = 0;
+  double scallop_max = 0;
+  const auto rows = static_cast<std::ptrdiff_t>(ny);
+#pragma omp parallel for schedule(dynamic, 8) num_threads(nthreads) reduction(+ : rest, scallop, uncut) \
+    reduction(max : scallop_max)
+  for (std::ptrdiff_t r = 0; r < rows; ++r) {
+    const auto iy = static_cast<std::size_t>(r);
+    for (std::size_t ix = 0; ix < nx; ++ix) {
+      const std::size_t i = iy * nx + ix;
+      if (!left(i)) continue;
+      if (reach[iy / k * lx + ix / k] == 0) {
+        ++rest;
+      } else if (between_passes(machined, design, above, opt.tolerance_mm, steps, i)) {
+        ++scallop;
+        scallop_max = std::max(scallop_max, above[i]);
+      } else {
+        ++uncut;
+      }
+    }
+  }
+  const double cell_area = spec.cell * spec.cell;
+  out.rest_area_mm2 = static_cast<double>(rest) * cell_area;
+  out.scallop_area_mm2 = static_cast<double>(scallop) * cell_area;
+  out.uncut_area_mm2 = static_cast<double>(uncut) * cell_area;
+  out.scallop_max_mm = scallop_max;
+}
+
+}  // namespace millnet::simulate::metrics
