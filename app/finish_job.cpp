@@ -168,7 +168,7 @@ job::StrategyOutcome strategy_outcome(const job::Part& part, const FinishSetting
   page.title = base + " — " + finish::strategy_name(plan.strategy);
   page.programs.push_back({finish::strategy_name(plan.strategy), std::move(written)});
   const tooling::Cutter& tool = job.params.tool;
-  page.tool = {tool.diameter, tool.corner_radius, tool.describe()};
+  page.tool = {tool.diameter, tool.profile_corner_radius(), tool.describe()};
   frame_page(page, part, job.frame);
   page.surface = std::move(surface);
   (void)write_program_preview(out / (base + ".html"), std::move(page));
@@ -364,7 +364,7 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
     const tooling::Cutter last = programs.back().cutter;
     for (ChainProgram& p : programs)
       page.programs.push_back({fs::path(p.file).filename().string(), std::move(p.written)});
-    page.tool = {last.diameter, last.corner_radius, last.describe()};
+    page.tool = {last.diameter, last.profile_corner_radius(), last.describe()};
     frame_page(page, part, frame);
     page.surface = preview_surface(z, e);
     (void)write_program_preview(out / (stem + ".html"), std::move(page));
