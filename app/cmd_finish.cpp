@@ -4,8 +4,10 @@
 #include "finish_job.hpp"
 #include "mpi_cluster.hpp"
 
+#include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/core/output_set.hpp"
+#include "millnet/gcode/bounds.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
 
 namespace millnet::app {
@@ -189,8 +191,11 @@ Registered register_simulate(CLI::App& app) {
               throw Error("give one --tool for all programs or one per --gcode (" + std::to_string(o->gcode.size()) +
                           " programs, " + std::to_string(o->tools.size()) + " tools)");
             std::vector<std::pair<fs::path, finish::Cutter>> programs;
-            for (std::size_t i = 0; i < o->gcode.size(); ++i)
+            for (std::size_t i = 0; i < o->gcode.size(); ++i) {
+              // Bounds, a move, and the chords its arcs become, before the part is read (issue 42).
+              (void)gcode::read_checked(read_file(o->gcode[i]), o->gcode[i], work_limits());
               programs.emplace_back(o->gcode[i], tool_arg(o->tools[o->tools.size() == 1 ? 0 : i], config));
+            }
             const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"], &config);
             const Json j = simulate_files(load_part(o->mesh, prep), fs::path(o->mesh).stem().string(), programs,
                                           o->stock, s, o->out, o->save_stock);

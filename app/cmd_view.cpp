@@ -5,11 +5,10 @@
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
+#include "millnet/gcode/bounds.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
 
 #include <algorithm>
-#include <fstream>
-#include <sstream>
 
 namespace millnet::app {
 namespace fs = std::filesystem;
@@ -23,14 +22,6 @@ struct ViewOpts {
   std::string mesh, tool = "flat:6", out;
 };
 
-std::string read_program_text(const std::string& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw Error(file + ": cannot read the G-code file (expected a readable .nc/.ngc text file)");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 int run_view(const ViewOpts& o) {
   const Json config = setup(o.common);
   const finish::Cutter cutter = tool_arg(o.tool, config);
@@ -38,8 +29,13 @@ int run_view(const ViewOpts& o) {
   const std::string stem = fs::path(o.gcode.front()).stem().string();
   in.title = stem;
   for (const std::string& f : o.gcode) {
-    report::PreviewProgram p{fs::path(f).stem().string(), read_program_text(f), f};
-    (void)report::preview_path(p, 2, 6);  // reads the program: an unreadable one fails here, before any output
+    // read_file refuses a folder (`view .` wrote "..html") and a device (`view /dev/zero` grew to
+    // 3 GB); read_checked what `simulate` checks: the bounds, a move, the preview's points (issue 42).
+    report::PreviewProgram p{fs::path(f).stem().string(), read_file(f), f};
+    gcode::ProgramUse use;
+    use.simulate = false;
+    use.preview_step_deg = preview_settings().limits.arc_step_deg;
+    (void)gcode::read_checked(p.gcode, f, work_limits(), use);  // before any output
     in.programs.push_back(std::move(p));
   }
   in.tool = {cutter.diameter, cutter.corner_radius, cutter.describe()};
