@@ -284,7 +284,7 @@ private:
     }
     if (t_word) {
       if (!(*t_word >= 0 && *t_word <= kMaxToolNumber))
-        fail("tool number T" + fmt(*t_word) + " out of range (0 to " + fmt(kMaxToolNumber) + ")");
+        fail("tool number T" + fmt(*t_word, 10) + " out of range (0 to " + fmt(kMaxToolNumber) + ")");
       tool_ = static_cast<int>(std::lround(*t_word));
     }
 
