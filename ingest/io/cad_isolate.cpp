@@ -57,7 +57,11 @@ void write_all(int fd, const char* p, std::size_t n) {
 
 /// The child's side of cad_isolate.hpp's contract, before the work.
 void child_setup(const ChildLimits& limits, double size_at_fork) {
-  for (const int sig : {SIGINT, SIGTERM, SIGPIPE, SIGXCPU, SIGXFSZ, SIGHUP}) ::signal(sig, SIG_DFL);
+  // The parent's handlers are not the child's: its temporary files (interrupt.hpp) are not the
+  // child's to remove, and a sanitizer's report of a crash would go to /dev/null — the parent names
+  // the signal instead.
+  for (const int sig : {SIGINT, SIGTERM, SIGPIPE, SIGXCPU, SIGXFSZ, SIGHUP, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT})
+    ::signal(sig, SIG_DFL);
   const int null = ::open("/dev/null", O_RDWR);
   if (null >= 0) {
     ::dup2(null, 0);

@@ -3,8 +3,9 @@
 // to millnet::ingest_io). fork() + _exit(): no executable to find, so it works inside the test
 // executables and the fuzz targets as well as in `millnet`. The child:
 //  * has its standard input, output and error on /dev/null (no library text reaches the user),
-//    SIGINT/SIGTERM/SIGPIPE back to their default action (the parent's handlers remove the
-//    parent's temporary files; the child has none), no core dumps;
+//    SIGINT/SIGTERM/SIGPIPE and the crash signals back to their default action (the parent's
+//    handlers remove the parent's temporary files, a sanitizer's report would go to /dev/null:
+//    the parent names the signal instead), no core dumps;
 //  * RLIMIT_CPU = the time limit (SIGXCPU), RLIMIT_FSIZE = 0 (it writes no file: SIGXFSZ),
 //    RLIMIT_AS = its size at the fork + the memory limit + 256 MiB of slack — except under
 //    AddressSanitizer, whose shadow reservation (terabytes of address space) no such limit admits;

@@ -374,6 +374,8 @@ constexpr double kTrianglesPerAnalyticArea = 6.5;  ///< sphere, torus, cone: × 
 constexpr double kTrianglesPerFreeformArea = 17;   ///< B-spline, Bézier, offset, swept surfaces
 constexpr double kTrianglesPerBoundarySegment = 1.4;
 constexpr double kMesherBytesPerTriangle = 4000;
+/// The mesh returned, per triangle placed: its indices, about half a vertex, the weld's index.
+constexpr double kMeshBytesPerTriangle = 100;
 
 /// The chord of a curve of curvature κ (1/mm) whose sagitta is `chord` mm and whose angle is at
 /// most `angle` rad; +inf on a straight curve.
@@ -443,20 +445,24 @@ double face_interior(const TopoDS_Face& face, double chord, double angle) {
 }
 
 struct TessellationEstimate {
-  double triangles = 0;
+  double triangles = 0;  ///< the mesher's (each distinct face once)
   double steps = 0;
+  double placed = 0;  ///< the mesh's: a face placed k times (an assembly's instances) counts k times
   std::size_t faces = 0;
 };
 
-/// The mesher's triangles and steps for `shape` (each distinct face and edge once). O(faces · 64 +
-/// edges · 16) evaluations.
+/// The mesher's triangles and steps for `shape` (each distinct face and edge once), and the
+/// triangles of the mesh returned. O(faces · 64 + edges · 16) evaluations.
 TessellationEstimate estimate_tessellation(const TopoDS_Shape& shape, double chord, double angle) {
   TessellationEstimate e;
-  std::unordered_map<const void*, double> edge_cache;
-  std::unordered_set<const void*> faces_seen;
+  std::unordered_map<const void*, double> edge_cache, face_cache;
   for (TopExp_Explorer x(shape, TopAbs_FACE); x.More(); x.Next()) {
     const TopoDS_Face& face = TopoDS::Face(x.Current());
-    if (!faces_seen.insert(face.TShape().get()).second) continue;  // meshed once, whatever its placements
+    const auto [known, fresh_face] = face_cache.try_emplace(face.TShape().get(), 0.0);
+    if (!fresh_face) {  // meshed once, whatever its placements
+      e.placed += known->second;
+      continue;
+    }
     ++e.faces;
     double n = face_interior(face, chord, angle);
     TopTools_IndexedMapOfShape edges;
@@ -467,7 +473,9 @@ TessellationEstimate estimate_tessellation(const TopoDS_Shape& shape, double cho
       if (fresh) it->second = edge_segments(edge, chord, angle);
       n += kTrianglesPerBoundarySegment * it->second;
     }
+    known->second = n;
     e.triangles += n;
+    e.placed += n;
     e.steps += n * (20 + std::sqrt(n) / 5);
   }
   return e;
@@ -579,11 +587,12 @@ CadResult read_here(const fs::path& path, bool step, const CadScan& scan, const 
       estimate_tessellation(chosen, options.chord_tolerance_mm, options.angular_deflection_rad);
   cad.estimated_triangles = est.triangles;
   try {
-    check_work({"tessellating " + plural(est.faces, "face", "faces") + " at chord " +
-                    format_size(options.chord_tolerance_mm) + " mm and " + format_size(options.angular_deflection_rad) +
-                    " rad (≈ " + format_count(est.triangles) + " triangles)",
-                est.steps, "mesher steps", est.triangles * kMesherBytesPerTriangle},
-               options.limits);
+    check_work(
+        {"tessellating " + plural(est.faces, "face", "faces") + " at chord " + format_size(options.chord_tolerance_mm) +
+             " mm and " + format_size(options.angular_deflection_rad) + " rad (≈ " + format_count(est.triangles) +
+             " triangles)",
+         est.steps, "mesher steps", est.triangles * kMesherBytesPerTriangle + est.placed * kMeshBytesPerTriangle},
+        options.limits);
   } catch (const Error& e) {
     throw file_error(name, e.what());
   }

@@ -397,7 +397,7 @@ TEST(CadHostile, ASphereOf500mmAndAFileInMetresAreRefusedBeforeMeshing) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::string big = load_error(d / "sphere500.step");
   EXPECT_NE(big.find(": tessellating 1 face at chord 0.005 mm and 0.2 rad (≈ 1.0e6 triangles) makes 2.3e8 mesher "
-                     "steps (≈ 4.1 GB); the limit is 2.0e7 (--max-work, /limits/max_work)"),
+                     "steps (≈ 4.2 GB); the limit is 2.0e7 (--max-work, /limits/max_work)"),
             std::string::npos)
       << big;
   const std::string metres = load_error(d / "metres.step");
