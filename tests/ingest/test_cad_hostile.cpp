@@ -500,8 +500,9 @@ TEST(CadHostile, ABatchWritesEveryGoodPartAndExits1) {
   const fs::path d = fresh_dir("cad_hostile_batch");
   write(d / "crash.step", replaced(kSphere, "AXIS2_PLACEMENT_3D('',#24,", "AXIS2_PLACEMENT_3D('',#23,"));
   std::string top;
-  write(d / "partial.step", replaced(box_step(&top), top, ""));
-  write(d / "good.step", kSphere);
+  const std::string box = box_step(&top);
+  write(d / "partial.step", replaced(box, top, ""));
+  write(d / "good.step", box);
   const auto r =
       run_millnet("rough --mesh crash.step --mesh good.step --mesh partial.step --tool-diameter 6 --out o", d);
   EXPECT_EQ(r.code, 1) << r.err;
