@@ -40,7 +40,7 @@ int run_view(const ViewOpts& o) {
   }
   in.tool = {cutter.diameter, cutter.corner_radius, cutter.describe()};
   if (!o.mesh.empty()) {
-    const ingest::Mesh mesh = ingest::load_prepared(o.mesh, o.mesh_flags.prepare(&config["rough"]));
+    const ingest::Mesh mesh = ingest::load_prepared(o.mesh, o.mesh_flags.prepare(&config["rough"], &config));
     // The roughing / finishing frame (finish_job.hpp): Z 0 = stock top = part top + /rough/top_allowance_mm.
     const double top = mesh.V.col(2).maxCoeff(), allowance = finish_settings(config).stock_top_above_part_mm;
     set_preview_part(in, mesh, -(top + allowance));
