@@ -9,6 +9,7 @@
 #include "millnet/core/error.hpp"
 #include "millnet/core/progress.hpp"
 #include "millnet/finish/dropcutter.hpp"
+#include "millnet/gcode/bounds.hpp"
 #include "millnet/gcode/polylines.hpp"
 #include "millnet/gcode/reader.hpp"
 #include "millnet/gcode/writer.hpp"
@@ -314,7 +315,8 @@ ChainProgram read_chain_program(const fs::path& file, const tooling::Cutter& cut
   p.file = file.string();
   // read_file: a program this command wrote is read from its OutputSet's temporary (core/output_set.hpp).
   p.written.text = read_file(file);
-  p.written.program = gcode::read(p.written.text, file.string());
+  // Bounds, a move, and the chords its arcs become, before the part is read (issue 42).
+  p.written.program = gcode::read_checked(p.written.text, file.string(), work_limits());
   p.cutter = cutter;
   return p;
 }
