@@ -126,6 +126,8 @@ ingest::CadOptions cad_options(const Json& config) {
   c.chord_tolerance_mm = m.value("chord_tolerance_mm", c.chord_tolerance_mm);
   c.angular_deflection_rad = m.value("angular_deflection_rad", c.angular_deflection_rad);
   c.body = m.value("cad_body", std::string());
+  c.allow_partial = m.value("allow_partial_cad", false);
+  c.limits = work_limits();  // the tessellation's estimate and the reader's memory (issue 42)
   return c;
 }
 

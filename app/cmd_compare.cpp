@@ -108,7 +108,7 @@ std::string compare_md(const std::vector<Row>& rows, const pocket::CutParams& cu
   const std::string stem = pocket_file.stem().string();
   std::ostringstream md;
   md << "# Planner comparison: " << pocket_file.filename().string() << "\n\n"
-     << "Tool Ø" << fixed(cut.tool_diameter, 2) << " mm, stepover " << fixed(cut.stepover, 2) << " mm, depth "
+     << "Tool Ø" << fixed(cut.tool.diameter, 2) << " mm, stepover " << fixed(cut.stepover, 2) << " mm, depth "
      << fixed(cut.depth, 2) << " mm (step-down " << fixed(cut.step_down, 2) << " mm), stock to leave "
      << fixed(cut.stock_to_leave, 2) << " mm.\n\n"
      << "## Ranked by time to a cleared pocket\n\n"

@@ -4,9 +4,11 @@
 #include "finish_job.hpp"
 #include "mpi_cluster.hpp"
 
+#include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/core/output_set.hpp"
 #include "millnet/job/part.hpp"
+#include "millnet/gcode/bounds.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
 
 #include <iostream>

@@ -51,8 +51,7 @@ RoughOutcome rough_prepared(const job::Part* part, const std::string& load_error
     }
     OutputSet files;  // this part's files complete, or none of them (core/output_set.hpp)
     const rough::Result r = rough::rough_mesh(part->mesh, params);
-    o.metrics = write_rough_outputs(out, name, r, params, cutting.tool.cutter(), post, cutting.to_json(), &part->mesh,
-                                    cad_metrics(*part));
+    o.metrics = write_rough_outputs(out, name, r, params, post, cutting.to_json(), &part->mesh, cad_metrics(*part));
     files.commit();
     o.ok = r.machining.status == pocket::PlanStatus::Ok;
     if (!o.ok) o.error = file.string() + ": " + r.machining.message;
@@ -268,8 +267,7 @@ PartOutcomes predict_and_rough(const Json& config, const std::string& config_fil
       t0 = clock::now();
       if (named.part)
         po.finishes.push_back(finish_test_part(*named.part, name, preds.back(),
-                                               roughs.empty() ? nullptr : &roughs.back(), fset,
-                                               rough_cutting.tool.cutter(), dir));
+                                               roughs.empty() ? nullptr : &roughs.back(), fset, rp.cut.tool, dir));
       else
         po.finishes.push_back(FinishOutcome{false, load_error, {}, {}, {}, {}, 0, false, Json()});
       po.finish_s += std::chrono::duration<double>(clock::now() - t0).count();

@@ -5,11 +5,10 @@
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
+#include "millnet/gcode/bounds.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
 
 #include <algorithm>
-#include <fstream>
-#include <sstream>
 
 namespace millnet::app {
 namespace fs = std::filesystem;
@@ -23,14 +22,6 @@ struct ViewOpts {
   std::string mesh, tool = "flat:6", out;
 };
 
-std::string read_program_text(const std::string& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw Error(file + ": cannot read the G-code file (expected a readable .nc/.ngc text file)");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 int run_view(const ViewOpts& o) {
   const Json config = setup(o.common);
   const tooling::Cutter cutter = tool_arg(o.tool, config);
@@ -38,12 +29,20 @@ int run_view(const ViewOpts& o) {
   const std::string stem = fs::path(o.gcode.front()).stem().string();
   in.title = stem;
   for (const std::string& f : o.gcode) {
-    // An unreadable program fails here, before any output.
-    in.programs.push_back(report::read_preview_program(fs::path(f).stem().string(), read_program_text(f), f));
+    // read_file refuses a folder (`view .` wrote "..html") and a device (`view /dev/zero` grew to
+    // 3 GB); read_checked what `simulate` checks: the bounds, a move, the preview's points (issue 42).
+    report::PreviewProgram p;
+    p.name = fs::path(f).stem().string();
+    p.written.text = read_file(f);
+    gcode::ProgramUse use;
+    use.simulate = false;
+    use.preview_step_deg = preview_settings().limits.arc_step_deg;
+    p.written.program = gcode::read_checked(p.written.text, f, work_limits(), use);  // before any output
+    in.programs.push_back(std::move(p));
   }
-  in.tool = {cutter.diameter, cutter.corner_radius, cutter.describe()};
+  in.tool = {cutter.diameter, cutter.profile_corner_radius(), cutter.describe()};
   if (!o.mesh.empty()) {
-    const ingest::Mesh mesh = ingest::load_prepared(o.mesh, o.mesh_flags.prepare(&config["rough"]));
+    const ingest::Mesh mesh = ingest::load_prepared(o.mesh, o.mesh_flags.prepare(&config["rough"], &config));
     // The roughing / finishing frame (finish_job.hpp): Z 0 = stock top = part top + /rough/top_allowance_mm.
     const double top = mesh.V.col(2).maxCoeff(), allowance = finish_settings(config).stock_top_above_part_mm;
     set_preview_part(in, mesh, -(top + allowance));

@@ -9,6 +9,7 @@
 #include "millnet/core/error.hpp"
 #include "millnet/core/progress.hpp"
 #include "millnet/finish/dropcutter.hpp"
+#include "millnet/gcode/bounds.hpp"
 #include "millnet/gcode/polylines.hpp"
 #include "millnet/gcode/reader.hpp"
 #include "millnet/gcode/writer.hpp"
@@ -168,7 +169,7 @@ job::StrategyOutcome strategy_outcome(const job::Part& part, const FinishSetting
   page.title = base + " — " + finish::strategy_name(plan.strategy);
   page.programs.push_back({finish::strategy_name(plan.strategy), std::move(written)});
   const tooling::Cutter& tool = job.params.tool;
-  page.tool = {tool.diameter, tool.corner_radius, tool.describe()};
+  page.tool = {tool.diameter, tool.profile_corner_radius(), tool.describe()};
   frame_page(page, part, job.frame);
   page.surface = std::move(surface);
   (void)write_program_preview(out / (base + ".html"), std::move(page));
@@ -314,7 +315,8 @@ ChainProgram read_chain_program(const fs::path& file, const tooling::Cutter& cut
   p.file = file.string();
   // read_file: a program this command wrote is read from its OutputSet's temporary (core/output_set.hpp).
   p.written.text = read_file(file);
-  p.written.program = gcode::read(p.written.text, file.string());
+  // Bounds, a move, and the chords its arcs become, before the part is read (issue 42).
+  p.written.program = gcode::read_checked(p.written.text, file.string(), work_limits());
   p.cutter = cutter;
   return p;
 }
@@ -364,7 +366,7 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
     const tooling::Cutter last = programs.back().cutter;
     for (ChainProgram& p : programs)
       page.programs.push_back({fs::path(p.file).filename().string(), std::move(p.written)});
-    page.tool = {last.diameter, last.corner_radius, last.describe()};
+    page.tool = {last.diameter, last.profile_corner_radius(), last.describe()};
     frame_page(page, part, frame);
     page.surface = preview_surface(z, e);
     (void)write_program_preview(out / (stem + ".html"), std::move(page));

@@ -20,7 +20,7 @@ pocket::PlanResult plan_region(const pocket::Region& region, const pocket::CutPa
 
 Json cut_json(const pocket::CutParams& c) {
   Json j = Json::object();
-  j["tool_diameter"] = c.tool_diameter;
+  j["tool_diameter"] = c.tool.diameter;
   j["stepover"] = c.stepover;
   j["stock_to_leave"] = c.stock_to_leave;
   j["depth"] = c.depth;
@@ -73,7 +73,7 @@ void write_pocket_outputs(const fs::path& dir, const std::string& stem, const po
   block.emplace_back("time (constant feed)", fixed(m.metrics.time_constant_min, 1) + " min");
   (void)report::pocket_path_png(dir / (stem + ".png"), region, plan.tool_points.pts, m.path,
                                 stem + " - " + metrics["planner"].get<std::string>() + ", tool D" +
-                                    fixed(cut.tool_diameter, 1) + ", stepover " + fixed(cut.stepover, 1),
+                                    fixed(cut.tool.diameter, 1) + ", stepover " + fixed(cut.stepover, 1),
                                 block);
   (void)report::feed_profile_png(dir / (stem + ".feed.png"), m.feed_profile,
                                  stem + ": engagement, feed and MRR along the path (first level)");
@@ -82,7 +82,7 @@ void write_pocket_outputs(const fs::path& dir, const std::string& stem, const po
     page.title = stem + " — " + metrics["planner"].get<std::string>();
     page.programs.push_back(
         {metrics["planner"].get<std::string>(), gcode::write_program(dir / (stem + ".nc"), m.program, post)});
-    page.tool = {cut.tool_diameter, 0, "flat D" + fixed(cut.tool_diameter, 2)};
+    page.tool = {cut.tool.diameter, cut.tool.profile_corner_radius(), cut.tool.describe()};
     (void)write_program_preview(dir / (stem + ".html"), std::move(page));
   }
   write_file_atomic(dir / (stem + ".metrics.json"), metrics.dump(2) + "\n");

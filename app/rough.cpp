@@ -9,8 +9,8 @@ namespace millnet::app {
 namespace fs = std::filesystem;
 
 Json write_rough_outputs(const fs::path& dir, const std::string& stem, const rough::Result& r, const rough::Params& p,
-                         const tooling::Cutter& cutter, const gcode::Dialect& post, const Json& cutting_data,
-                         const ingest::Mesh* part, const Json& cad) {
+                         const gcode::Dialect& post, const Json& cutting_data, const ingest::Mesh* part,
+                         const Json& cad) {
   const std::vector<rough::LevelSummary> summaries = rough::level_summaries(r);
   Json levels = Json::array();
   for (std::size_t k = 0; k < r.levels.size(); ++k) {
@@ -55,6 +55,7 @@ Json write_rough_outputs(const fs::path& dir, const std::string& stem, const rou
     report::PreviewInput page;  // the 3D page of the program just written (issue 16)
     page.title = stem + " — roughing, " + std::string(pocket::planner_name(p.planner));
     page.programs.push_back({"roughing", gcode::write_program(dir / (stem + ".nc"), r.machining.program, post)});
+    const tooling::Cutter& cutter = p.cut.tool;
     page.tool = {cutter.diameter, cutter.profile_corner_radius(), cutter.describe()};
     // Program Z = part z − stock top (rough.hpp); the part's base is its lowest point.
     const double base = part != nullptr ? part->V.col(2).minCoeff() : 0.0;

@@ -82,28 +82,28 @@ void apply_cutting_data(pocket::CutParams& c, const Json& config, const Json& ex
     rec.tool = lib.tool(*flags.tool_id, "--tool");
     rec.tool_from = "flag --tool";
   } else if (flags.tool_diameter) {
-    rec.tool = inline_tool(tooling::ToolType::Flat, c.tool_diameter, 0, cs);
+    rec.tool = inline_tool(tooling::ToolType::Flat, c.tool.diameter, 0, cs);
     rec.tool_from = "flag --tool-diameter";
   } else if (file_d) {
-    rec.tool = inline_tool(tooling::ToolType::Flat, c.tool_diameter, 0, cs);
+    rec.tool = inline_tool(tooling::ToolType::Flat, c.tool.diameter, 0, cs);
     rec.tool_from = "pocket file tool_diameter";
   } else if (explicit_pocket.contains("tool_diameter") && !explicit_pocket.contains("tool")) {
-    rec.tool = inline_tool(tooling::ToolType::Flat, c.tool_diameter, 0, cs);
+    rec.tool = inline_tool(tooling::ToolType::Flat, c.tool.diameter, 0, cs);
     rec.tool_from = "config /pocket/tool_diameter";
   } else if (const std::string id = pc["tool"].get<std::string>(); !id.empty()) {
     rec.tool = lib.tool(id, "/pocket/tool");
     rec.tool_from = "config /pocket/tool";
-    if (explicit_pocket.contains("tool_diameter") && std::abs(c.tool_diameter - rec.tool.diameter_mm) > 1e-9)
+    if (explicit_pocket.contains("tool_diameter") && std::abs(c.tool.diameter - rec.tool.diameter_mm) > 1e-9)
       throw Error("/pocket/tool " + id + " is D" + format_double(rec.tool.diameter_mm) +
-                  " mm but /pocket/tool_diameter is " + format_double(c.tool_diameter) + " mm: write one of them");
+                  " mm but /pocket/tool_diameter is " + format_double(c.tool.diameter) + " mm: write one of them");
   } else {
-    rec.tool = inline_tool(tooling::ToolType::Flat, c.tool_diameter, 0, cs);
+    rec.tool = inline_tool(tooling::ToolType::Flat, c.tool.diameter, 0, cs);
     rec.tool_from = "config /pocket/tool_diameter";
   }
   const tooling::Tool& tool = rec.tool;
   if (tool.type == tooling::ToolType::Ball || tool.type == tooling::ToolType::Drill)
     throw Error(rec.tool_from + ": " + tool.label() + " cannot rough a pocket: give a flat or bull-nose end mill");
-  c.tool_diameter = tool.diameter_mm;
+  c.tool = tool.cutter();
   const double ap = std::min(c.step_down, c.depth);
   if (tool.flute_length_mm > 0 && ap > tool.flute_length_mm)
     throw Error(tool.label() + ": its flute length " + format_double(tool.flute_length_mm) +
@@ -168,7 +168,7 @@ pocket::CutParams cut_params(const Json& config, const Json& explicit_pocket, co
     if (flag) dst = *flag;                                              // the command line
   };
   const std::optional<double> none;
-  pick(c.tool_diameter, "tool_diameter", file ? file->tool_diameter : none, flags.tool_diameter);
+  pick(c.tool.diameter, "tool_diameter", file ? file->tool_diameter : none, flags.tool_diameter);
   pick(c.stepover, "stepover", file ? file->stepover : none, flags.stepover);
   pick(c.stock_to_leave, "stock_to_leave", file ? file->stock_to_leave : none, flags.stock_to_leave);
   pick(c.depth, "depth", file ? file->depth : none, flags.depth);
@@ -188,15 +188,15 @@ pocket::CutParams cut_params(const Json& config, const Json& explicit_pocket, co
   if (pc["air_feed"].get<bool>()) {
     // A move that cuts no feed-map cell may graze a sliver up to a cell wide: at that radial
     // engagement the chip thins by tooling::chip_thinning_factor, so this feed keeps it nominal.
-    const double cell = c.feed_grid > 0 ? c.feed_grid : c.tool_diameter / 10;
-    const double ae = std::min(cell, c.tool_diameter / 2);
-    c.feed_air = std::min(c.feed_half * tooling::chip_thinning_factor(c.tool_diameter, ae),
+    const double cell = c.feed_grid > 0 ? c.feed_grid : c.tool.diameter / 10;
+    const double ae = std::min(cell, c.tool.diameter / 2);
+    c.feed_air = std::min(c.feed_half * tooling::chip_thinning_factor(c.tool.diameter, ae),
                           config["machine"]["max_feed_mm_min"].get<double>());
     c.feed_air = std::max(c.feed_air, c.feed_half);
   }
-  if (c.stepover > c.tool_diameter)
+  if (c.stepover > c.tool.diameter)
     throw Error("stepover " + format_double(c.stepover) + " mm exceeds the tool diameter " +
-                format_double(c.tool_diameter) + " mm: ridges of material would be left between passes");
+                format_double(c.tool.diameter) + " mm: ridges of material would be left between passes");
   if (c.feed_min > c.feed_max) throw Error("/pocket/feed_min exceeds /pocket/feed_max");
   return c;
 }

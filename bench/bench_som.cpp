@@ -62,7 +62,7 @@ mp::Region load_pocket(const std::string& name) {
 void BM_PlanSom(benchmark::State& state, const char* name, bool linking) {
   const mp::Region region = load_pocket(name);
   mp::CutParams cut;
-  cut.tool_diameter = 10;
+  cut.tool.diameter = 10;
   cut.stepover = 5;
   const mp::GridFrame frame{{0, 0}, 0, cut.stepover};
   mp::SmoothingParams sp;

@@ -37,7 +37,7 @@ Region load(const std::string& name) {
 void BM_Zigzag(benchmark::State& st, const std::string& name, PartitionKind kind, bool autoangle) {
   const Region r = load(name);
   CutParams cut;
-  cut.tool_diameter = 10;
+  cut.tool.diameter = 10;
   cut.stepover = 5;
   ZigzagParams zp;
   zp.partition = kind;

@@ -29,7 +29,7 @@ seed_dirs() {
   case $1 in
     pocket_json) echo tests/corpus/pocket ../shared/bench/pockets ;;
     pocket_dxf) echo tests/corpus/pocket ;;
-    mesh_stl|mesh_ply|mesh_off|points) echo tests/corpus/mesh ;;
+    mesh_stl|mesh_ply|mesh_off|points|cad) echo tests/corpus/mesh ;;
     config) echo tests/corpus/config configs ;;
     tool_library) echo configs ;;
     model) echo tests/corpus/model ;;

@@ -8,6 +8,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,6 +20,73 @@ namespace {
 constexpr double kMmPerInch = 25.4;
 /// An arc's radius may fall short of half its chord by this much (mm) before the R form is refused.
 constexpr double kArcRadiusSlackMm = 1e-4;
+// LinuxCNC's rule for an arc by centre (src/emc/rs274ngc/interp_arc.cc, arc_data_ijk, with its
+// default tolerances of interp_internal.hh), in the program's unit: a radius below
+// kArcZeroRadius is a zero-radius arc; the radius to the end may differ from the radius to the
+// start by at most kArcSpiralAbs, or by up to 100 × kArcSpiralAbs when that is at most
+// kArcSpiralRel of the larger radius.
+constexpr double kArcZeroRadiusInch = 0.00005;                            // RADIUS_TOLERANCE_INCH
+constexpr double kArcSpiralAbsMm = 2 * 0.01 * 1.41421356237309504880;     // CENTER_ARC_RADIUS_TOLERANCE_MM
+constexpr double kArcSpiralAbsInch = 2 * 0.001 * 1.41421356237309504880;  // CENTER_ARC_RADIUS_TOLERANCE_INCH
+constexpr double kArcSpiralRel = 0.001;                                   // SPIRAL_RELATIVE_TOLERANCE
+/// Largest tool number a T word may give (LinuxCNC's tool table holds up to 99999 pockets).
+constexpr double kMaxToolNumber = 99999;
+/// Characters of a bad word or comment quoted in a message.
+constexpr std::size_t kQuoteChars = 40;
+
+/// Bytes of the input made safe for a one-line message: control bytes and bytes ≥ 0x7F as \xNN,
+/// at most kQuoteChars characters, then "…" and the length (a 2,000-digit word, a NUL byte).
+std::string quote(std::string_view s) {
+  std::string out;
+  std::size_t shown = 0;
+  for (const char ch : s) {
+    if (shown == kQuoteChars) return out + "… (" + std::to_string(s.size()) + " characters)";
+    const auto u = static_cast<unsigned char>(ch);
+    if (u < 0x20 || u >= 0x7F) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02X", u);
+      out += buf;
+    } else {
+      out += ch;
+    }
+    ++shown;
+  }
+  return out;
+}
+
+/// A number for a message: 6 significant digits, or `digits` (positions: 10, "100000.001").
+std::string fmt(double v, int digits = 6) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+/// The modal groups of RS-274 (LinuxCNC's numbering) a code belongs to; −1 for none tracked.
+int g_group(double code) {
+  if (!(std::abs(code - std::round(code)) < 1e-9 && std::abs(code) < 1e6)) return -1;  // not a code of ours
+  const long c = std::lround(code);
+  if (c >= 0 && c <= 3) return 1;    // motion
+  if (c == 17) return 2;             // plane
+  if (c == 90 || c == 91) return 3;  // distance mode
+  if (c == 94) return 5;             // feed rate mode
+  if (c == 20 || c == 21) return 6;  // units
+  return -1;
+}
+int m_group(int code) {
+  if (code == 0 || code == 1 || code == 2 || code == 30) return 4;  // stopping
+  if (code == 6) return 6;                                          // tool change
+  if (code == 3 || code == 4 || code == 5) return 7;                // spindle
+  return -1;
+}
+const char* group_name(char letter, int group) {
+  if (letter == 'G')
+    return group == 1   ? "motion"
+           : group == 2 ? "plane"
+           : group == 3 ? "distance mode"
+           : group == 5 ? "feed rate mode"
+                        : "units";
+  return group == 4 ? "stopping" : group == 6 ? "tool change" : "spindle";
+}
 
 struct Word {
   char letter = 0;
@@ -67,8 +135,12 @@ private:
         continue;
       }
       if (c == '(') {
-        const std::size_t close = s.find(')', i);
-        if (close == std::string_view::npos) fail("comment not closed: " + std::string(s.substr(i)));
+        std::size_t close = i + 1;
+        for (; close < s.size() && s[close] != ')'; ++close)
+          if (s[close] == '(')  // LinuxCNC: "Nested comment found"
+            fail("nested comment: a '(' at column " + std::to_string(close + 1) +
+                 " inside the comment opened at column " + std::to_string(i + 1) + " (RS-274 comments do not nest)");
+        if (close == s.size()) fail("comment not closed: " + quote(s.substr(i)));
         out.comments.emplace_back(s.substr(i + 1, close - i - 1));
         i = close + 1;
         continue;
@@ -82,7 +154,7 @@ private:
         break;
       }
       const char L = upper(c);
-      if (L < 'A' || L > 'Z') fail("unsupported character '" + std::string(1, c) + "'");
+      if (L < 'A' || L > 'Z') fail("unsupported character '" + quote(std::string_view(&c, 1)) + "'");
       std::size_t j = i + 1;
       while (j < s.size() && is_space(s[j])) ++j;
       std::size_t k = j;
@@ -97,8 +169,11 @@ private:
       const char* first = digits.data();
       const char* last = digits.data() + digits.size();
       const auto [ptr, ec] = std::from_chars(first, last, w.value);
+      if (!digits.empty() && (ec == std::errc::result_out_of_range || (ec == std::errc() && !std::isfinite(w.value))))
+        fail("word " + quote(w.text) + ": the number does not fit a double");
       if (digits.empty() || ec != std::errc() || ptr != last || !std::isfinite(w.value))
-        fail("word " + w.text + " has no valid number");
+        fail("word " + quote(w.text) + " has no valid number" +
+             (k == j && k < s.size() ? " (followed by '" + quote(s.substr(k, 1)) + "')" : ""));
       out.words.push_back(std::move(w));
       i = k;
     }
@@ -137,7 +212,20 @@ private:
       if (slot) fail("word " + std::string(1, w.letter) + " repeated on the line");
       slot = w.value;
     };
+    // One code per modal group and line (LinuxCNC: "Two G-codes used from same modal group").
+    std::array<const Word*, 8> g_seen{}, m_seen{};
+    auto one_per_group = [&](const Word& w, int group, std::array<const Word*, 8>& seen) {
+      if (group < 0) return;
+      const auto g = static_cast<std::size_t>(group);
+      if (seen[g])
+        fail("two " + std::string(1, w.letter) + "-codes of one modal group on the line: " + quote(seen[g]->text) +
+             " and " + quote(w.text) + " (" + group_name(w.letter, group) + ")");
+      seen[g] = &w;
+    };
     for (const Word& w : ln.words) {
+      if (w.letter == 'G') one_per_group(w, g_group(w.value), g_seen);
+      if (w.letter == 'M' && std::abs(w.value - std::round(w.value)) < 1e-9 && std::abs(w.value) < 1e6)
+        one_per_group(w, m_group(static_cast<int>(std::lround(w.value))), m_seen);
       switch (w.letter) {
         case 'G':
           if (is(w.value, 0))
@@ -158,14 +246,14 @@ private:
           else if (is(w.value, 91))
             incremental_ = true;
           else
-            fail("unsupported word " + w.text);
+            fail("unsupported word " + quote(w.text));
           break;
         case 'M':
           if (is(w.value, 0) || is(w.value, 1) || is(w.value, 2) || is(w.value, 3) || is(w.value, 4) ||
               is(w.value, 5) || is(w.value, 6) || is(w.value, 30))
             m_codes.push_back(static_cast<int>(std::lround(w.value)));
           else
-            fail("unsupported word " + w.text);
+            fail("unsupported word " + quote(w.text));
           break;
         case 'X': once(axis[0], w); break;
         case 'Y': once(axis[1], w); break;
@@ -177,7 +265,7 @@ private:
         case 'S': once(s_word, w); break;
         case 'T': once(t_word, w); break;
         case 'N': break;
-        default: fail("unsupported word " + w.text);
+        default: fail("unsupported word " + quote(w.text));
       }
     }
     auto has_m = [&](int code) {
@@ -194,7 +282,11 @@ private:
       if (*s_word < 0) fail("negative spindle speed");
       rpm_ = *s_word;
     }
-    if (t_word) tool_ = static_cast<int>(std::lround(*t_word));
+    if (t_word) {
+      if (!(*t_word >= 0 && *t_word <= kMaxToolNumber))
+        fail("tool number T" + fmt(*t_word, 10) + " out of range (0 to " + fmt(kMaxToolNumber) + ")");
+      tool_ = static_cast<int>(std::lround(*t_word));
+    }
 
     std::size_t comment_used = 0;
     if (has_m(6)) {
@@ -233,7 +325,11 @@ private:
     for (std::size_t a = 0; a < 3; ++a) {
       if (axis[a]) {
         const double v = *axis[a] * scale_;
-        pos_[a] = incremental_ ? pos_[a] + v : v;
+        const double to = incremental_ ? pos_[a] + v : v;
+        if (!(std::abs(to) <= kMaxCoordinateMm))
+          fail(std::string(1, "XYZ"[a]) + " " + fmt(to, 10) + " mm is beyond the travel bound ±" +
+               fmt(kMaxCoordinateMm) + " mm" + (incremental_ ? " (G91: the sum of the incremental moves)" : ""));
+        pos_[a] = to;
         known_ |= static_cast<std::uint8_t>(1U << a);
       }
     }
@@ -254,8 +350,31 @@ private:
         if (!i_word && !j_word) fail("arc with neither I J nor R");
         m.center = {from[0] + i_word.value_or(0) * scale_, from[1] + j_word.value_or(0) * scale_};
       }
+      for (std::size_t a = 0; a < 2; ++a)
+        if (!(std::abs(m.center[a]) <= kMaxCoordinateMm))
+          fail(std::string("arc centre ") + "XY"[a] + " " + fmt(m.center[a], 10) + " mm is beyond the travel bound ±" +
+               fmt(kMaxCoordinateMm) + " mm");
+      if (!r_word) check_centre(from, m.to, m.center);
     }
     add(m);
+  }
+
+  /// LinuxCNC's check of an arc given by its centre (interp_arc.cc, arc_data_ijk), in the
+  /// program's unit: neither radius zero, and the end on the circle within its tolerances.
+  void check_centre(const Point3& a, const Point3& b, const std::array<double, 2>& c) const {
+    const double r1 = std::hypot(a[0] - c[0], a[1] - c[1]) / scale_, r2 = std::hypot(b[0] - c[0], b[1] - c[1]) / scale_;
+    const bool inch = scale_ != 1;
+    const char* unit = inch ? " in" : " mm";
+    const double zero = inch ? kArcZeroRadiusInch : kArcZeroRadiusInch * kMmPerInch;
+    if (r1 < zero || r2 < zero)
+      fail("zero-radius arc: radius " + fmt(r1) + unit + " at the start, " + fmt(r2) + unit + " at the end (at least " +
+           fmt(zero) + unit + ")");
+    const double spiral = inch ? kArcSpiralAbsInch : kArcSpiralAbsMm;
+    const double err = std::abs(r1 - r2), rel = err / std::max(r1, r2);
+    if (err > 100 * spiral || (rel > kArcSpiralRel && err > spiral))
+      fail("the arc's end is not on its circle: radius " + fmt(r1) + unit + " at the start, " + fmt(r2) + unit +
+           " at the end (LinuxCNC allows a difference of " + fmt(spiral) + unit + ", or of " +
+           fmt(100 * kArcSpiralRel) + " % up to " + fmt(100 * spiral) + unit + ")");
   }
 
   std::array<double, 2> radius_centre(const Point3& a, const Point3& b, double r, bool ccw) const {

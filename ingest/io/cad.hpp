@@ -23,6 +23,14 @@ namespace millnet::ingest::detail {
 /// Throws millnet::Error naming the file: not STEP/IGES, truncated, unreadable, no solid/shell/face,
 /// an unknown body (listing the available ones), an Open CASCADE failure; "built without CAD support"
 /// when MILLNET_CAD=OFF. Nothing is printed: Open CASCADE's messenger is silenced.
+/// Issue 42: the file is pre-scanned first (cad_scan.hpp: nesting, reference cycles, assemblies
+/// that contain themselves, numbers and units out of range are refused before Open CASCADE reads
+/// it); the read, the transfer check (a partial read is refused unless options.allow_partial,
+/// counting what was lost), the size check (no coordinate beyond 1e5 mm), the tessellation's
+/// estimate (check_work against options.limits) and the tessellation run in a child process
+/// (cad_isolate.hpp, unless !options.isolate) under options.timeout_s and the memory limit: a
+/// crash, a timeout or runaway memory there is one line, "<file>: the STEP reader crashed (signal
+/// 11, SIGSEGV, segmentation fault): …".
 [[nodiscard]] Mesh load_cad(const std::filesystem::path& path, const CadOptions& options, MeshReport* report);
 
 }  // namespace millnet::ingest::detail

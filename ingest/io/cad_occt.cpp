@@ -1,45 +1,88 @@
 // The only file that sees Open CASCADE (ARCHITECTURE.md: heavy dependencies stay private at the edge),
 // compiled with it only when CMake found it (MILLNET_CAD); otherwise CAD files are a clear error.
+//
+// A STEP or IGES file is hostile input to Open CASCADE 7.6, which crashes, recurses without bound,
+// hangs or reads in part on damaged files (issue 42). So, in order:
+//  1. frame check (start and end markers) and the structural pre-scan (cad_scan.hpp: nesting,
+//     reference cycles, self-containing assemblies, numbers and units out of range) in this process;
+//  2. the read, the transfer check, the size check, the tessellation's estimate and the
+//     tessellation itself in a child process (cad_isolate.hpp) with Open CASCADE's signal handling
+//     on, under time and memory limits: a crash there is one line naming the file, never the end of
+//     the caller (a batch goes on with its next part);
+//  3. the mesh comes back over a pipe (the vertices and triangles as raw doubles and int32).
+#if MILLNET_HAVE_CAD
+// OCC_CATCH_SIGNALS (in the reader's child process) turns a signal into a C++ exception. Debian's
+// Open CASCADE 7.6 is built with the same definition (libTKernel exports
+// Standard_ErrorHandler::Callback::RegisterCallback), so the headers agree with the library.
+#define OCC_CONVERT_SIGNALS 1
+#endif
 #include "cad.hpp"
+#include "cad_isolate.hpp"
+#include "cad_scan.hpp"
 #include "weld_key.hpp"
 
 #include "millnet/core/atomic_file.hpp"
+#include "millnet/core/budget.hpp"
 #include "millnet/core/error.hpp"
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstring>
 #include <unordered_map>
 
 #if MILLNET_HAVE_CAD
+#include <BRepAdaptor_Curve.hxx>
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepBndLib.hxx>
+#include <BRepLProp_CLProps.hxx>
+#include <BRepLProp_SLProps.hxx>
 #include <BRepMesh_IncrementalMesh.hxx>
+#include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
 #include <IGESData_GlobalSection.hxx>
 #include <IGESData_IGESEntity.hxx>
 #include <IGESData_IGESModel.hxx>
+#include <Interface_Check.hxx>
+#include <Interface_CheckIterator.hxx>
 #include <Interface_Static.hxx>
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
 #include <Message_PrinterOStream.hxx>
+#include <OSD.hxx>
+#include <OSD_Exception.hxx>
+#include <OSD_Signal.hxx>
 #include <Poly_Triangulation.hxx>
 #include <STEPControl_Reader.hxx>
-#include <StepRepr_RepresentationItem.hxx>
+#include <Standard_ErrorHandler.hxx>
 #include <Standard_Failure.hxx>
+#include <Standard_OutOfMemory.hxx>
+#include <StepRepr_RepresentationItem.hxx>
 #include <TColStd_SequenceOfAsciiString.hxx>
 #include <TCollection_HAsciiString.hxx>
+#include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopLoc_Location.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
+#include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <Transfer_TransientProcess.hxx>
 #include <XSControl_TransferReader.hxx>
 #include <XSControl_WorkSession.hxx>
 
+#include <functional>
+#include <limits>
+#include <memory>
 #include <mutex>
+#include <new>
+#include <numbers>
+#include <unordered_set>
 #endif
 
 namespace millnet::ingest::detail {
@@ -72,10 +115,21 @@ std::string lower(std::string s) {
   return s;
 }
 
-std::string one_line(std::string s) {
-  for (char& c : s)
-    if (c == '\n' || c == '\r' || c == '\t') c = ' ';
+// Library text for a one-line message: line breaks become spaces, other control bytes \xNN, at most
+// 160 characters (bytes of UTF-8 names pass).
+std::string one_line(const std::string& in) {
+  std::string s;
+  for (const char c : in) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '\n' || c == '\r' || c == '\t')
+      s += ' ';
+    else if (u < 0x20 || u == 0x7F)
+      s += quote_bytes(std::string_view(&c, 1));
+    else
+      s += c;
+  }
   while (!s.empty() && s.back() == ' ') s.pop_back();
+  s.erase(0, std::min(s.size(), s.find_first_not_of(' ')));
   if (s.size() > 160) s = s.substr(0, 157) + "...";
   return s;
 }
@@ -246,56 +300,274 @@ Mesh tessellate(const TopoDS_Shape& shape, const CadOptions& o, std::size_t* fac
   return m;
 }
 
+/// What a read gives back, in this process or from the child.
+struct CadResult {
+  Mesh mesh;
+  CadReport cad;
+  std::vector<std::string> notes;
+};
+
+// ---- The transfer check: what a damaged file lost (issue 42 §2) ----
+
+struct Fails {
+  std::size_t count = 0;
+  std::string first;
+};
+
+Fails count_fails(Interface_CheckIterator checks) {
+  Fails f;
+  for (checks.Start(); checks.More(); checks.Next()) {  // O(checks)
+    const Handle(Interface_Check)& c = checks.Value();
+    if (c.IsNull() || !c->HasFailed()) continue;
+    if (f.count++ == 0 && c->NbFails() > 0) f.first = one_line(c->CFail(1));
+  }
+  return f;
+}
+
+std::string plural(std::size_t n, const std::string& one, const std::string& many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+/// One line of what was lost ("" = nothing): faces and roots read against the file's, failed
+/// transfers, and the pre-scan's damage (references to missing entities, syntax errors).
+std::string losses(const CadScan& scan, std::size_t faces_read, int roots, int roots_read, const Fails& transfer) {
+  std::vector<std::string> parts;
+  if (scan.faces > faces_read)
+    parts.push_back(std::to_string(faces_read) + " of its " + plural(scan.faces, "face", "faces") + " (" +
+                    std::to_string(scan.faces - faces_read) + " lost)");
+  if (roots_read < roots)
+    parts.push_back(std::to_string(roots_read) + " of its " + plural(static_cast<std::size_t>(roots), "root", "roots") +
+                    " transferred");
+  if (transfer.count > 0)
+    parts.push_back(plural(transfer.count, "failed transfer", "failed transfers") +
+                    (transfer.first.empty() ? "" : " (first: " + transfer.first + ")"));
+  if (scan.unresolved_references > 0)
+    parts.push_back(plural(scan.unresolved_references, "reference", "references") + " to missing entities (" +
+                    scan.first_unresolved_reference + ")");
+  if (scan.syntax_errors > 0)
+    parts.push_back(plural(scan.syntax_errors, "syntax error", "syntax errors") + " (" + scan.first_syntax_error + ")");
+  std::string s;
+  for (std::size_t k = 0; k < parts.size(); ++k) s += (k ? "; " : "") + parts[k];
+  return s;
+}
+
+std::size_t distinct_faces(const TopoDS_Shape& root) {
+  std::unordered_set<const void*> seen;
+  for (TopExp_Explorer x(root, TopAbs_FACE); x.More(); x.Next()) seen.insert(x.Current().TShape().get());
+  return seen.size();
+}
+
+// ---- The tessellation's estimate, before it runs (issue 42 §3) ----
+//
+// Open CASCADE's mesher (BRepMesh_IncrementalMesh) was measured on this project's reference machine
+// (2 cores) at chord 0.005 mm, 0.2 rad and coarser: a sphere of radius R makes 6.3 · A / ℓ²
+// triangles (A its area, ℓ the chord whose sagitta is the chord tolerance, capped by the angle:
+// 19,952 for R 10, 201,198 for R 100), a torus 5.7 · A / ℓ₁ℓ₂, the same surfaces as B-splines
+// 17 · A / ℓ₁ℓ₂ (Open CASCADE's NURBS splitter refines more); planes and cylinders only their
+// boundary's segments (1.4 triangles per segment: the 294-face plate of bench_ingest, 44,364).
+// Time per face grows faster than its triangles (0.45 s for 20 k, 6.2 s for 100 k, 17.7 s for
+// 200 k in one face; 3.5 s for the plate's 44 k over 294 faces): counted as n · (20 + √n / 5)
+// "mesher steps" of ≈ 1 µs for a face of n triangles. Peak memory ≈ 1.3–3.7 kB per triangle:
+// 4 kB is charged. The curvatures come from 8 × 8 samples per face and 16 per edge.
+
+constexpr double kTrianglesPerAnalyticArea = 6.5;  ///< sphere, torus, cone: × A / (ℓ₁ ℓ₂)
+constexpr double kTrianglesPerFreeformArea = 17;   ///< B-spline, Bézier, offset, swept surfaces
+constexpr double kTrianglesPerBoundarySegment = 1.4;
+constexpr double kMesherBytesPerTriangle = 4000;
+/// The mesh returned, per triangle placed: its indices, about half a vertex, the weld's index.
+constexpr double kMeshBytesPerTriangle = 100;
+
+/// The chord of a curve of curvature κ (1/mm) whose sagitta is `chord` mm and whose angle is at
+/// most `angle` rad; +inf on a straight curve.
+double chord_step(double kappa, double chord, double angle) {
+  if (!(kappa > 1e-12)) return std::numeric_limits<double>::infinity();
+  const double r = 1 / kappa;
+  const double by_sagitta = chord < r ? 2 * std::sqrt(2 * r * chord - chord * chord) : 2 * r;
+  return std::min(by_sagitta, 2 * r * std::sin(std::min(angle, std::numbers::pi) / 2));
+}
+
+/// Segments Open CASCADE's mesher cuts an edge into. O(16 curve evaluations).
+double edge_segments(const TopoDS_Edge& edge, double chord, double angle) {
+  if (BRep_Tool::Degenerated(edge)) return 0;
+  double segments = 0;
+  try {
+    BRepAdaptor_Curve c(edge);
+    const double t0 = c.FirstParameter(), t1 = c.LastParameter();
+    if (!std::isfinite(t0) || !std::isfinite(t1)) return std::numeric_limits<double>::infinity();
+    constexpr int kSamples = 16;
+    const double dt = (t1 - t0) / kSamples;
+    for (int i = 0; i < kSamples; ++i) {
+      BRepLProp_CLProps p(c, t0 + (i + 0.5) * dt, 2, 1e-9);
+      const double length = p.D1().Magnitude() * std::abs(dt);
+      const double kappa = p.IsTangentDefined() ? std::abs(p.Curvature()) : 0;
+      const double step = chord_step(kappa, chord, angle);
+      if (std::isfinite(step)) segments += length / step;
+    }
+  } catch (const Standard_Failure&) {
+    return 1;
+  }
+  return std::max(1.0, std::ceil(segments));
+}
+
+/// Triangles inside a face, from its curvatures. O(64 surface evaluations).
+double face_interior(const TopoDS_Face& face, double chord, double angle) {
+  double sum = 0;
+  try {
+    BRepAdaptor_Surface s(face, Standard_True);
+    const GeomAbs_SurfaceType type = s.GetType();
+    if (type == GeomAbs_Plane || type == GeomAbs_Cylinder) return 0;  // boundary segments only
+    const bool analytic = type == GeomAbs_Sphere || type == GeomAbs_Torus || type == GeomAbs_Cone;
+    const bool straight_one_way_is_gridded = type == GeomAbs_Cone || !analytic;
+    double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+    BRepTools::UVBounds(face, u0, u1, v0, v1);
+    if (!std::isfinite(u0) || !std::isfinite(u1) || !std::isfinite(v0) || !std::isfinite(v1))
+      return std::numeric_limits<double>::infinity();
+    constexpr int kSamples = 8;
+    const double du = (u1 - u0) / kSamples, dv = (v1 - v0) / kSamples;
+    for (int i = 0; i < kSamples; ++i)
+      for (int j = 0; j < kSamples; ++j) {
+        BRepLProp_SLProps p(s, u0 + (i + 0.5) * du, v0 + (j + 0.5) * dv, 2, 1e-9);
+        if (!p.IsCurvatureDefined()) continue;
+        const double area = p.D1U().Crossed(p.D1V()).Magnitude() * std::abs(du * dv);
+        const double l1 = chord_step(std::abs(p.MaxCurvature()), chord, angle);
+        double l2 = chord_step(std::abs(p.MinCurvature()), chord, angle);
+        if (!std::isfinite(l1) && !std::isfinite(l2)) continue;
+        if (!std::isfinite(l2)) {
+          if (!straight_one_way_is_gridded) continue;
+          l2 = 3 * l1;  // a cone's (and a swept surface's) rows along its straight direction
+        }
+        sum += area / (std::min(l1, l2) * std::max(l1, l2));
+      }
+    return sum * (analytic ? kTrianglesPerAnalyticArea : kTrianglesPerFreeformArea);
+  } catch (const Standard_Failure&) {
+    return sum;
+  }
+}
+
+struct TessellationEstimate {
+  double triangles = 0;  ///< the mesher's (each distinct face once)
+  double steps = 0;
+  double placed = 0;  ///< the mesh's: a face placed k times (an assembly's instances) counts k times
+  std::size_t faces = 0;
+};
+
+/// The mesher's triangles and steps for `shape` (each distinct face and edge once), and the
+/// triangles of the mesh returned. O(faces · 64 + edges · 16) evaluations.
+TessellationEstimate estimate_tessellation(const TopoDS_Shape& shape, double chord, double angle) {
+  TessellationEstimate e;
+  std::unordered_map<const void*, double> edge_cache, face_cache;
+  for (TopExp_Explorer x(shape, TopAbs_FACE); x.More(); x.Next()) {
+    const TopoDS_Face& face = TopoDS::Face(x.Current());
+    const auto [known, fresh_face] = face_cache.try_emplace(face.TShape().get(), 0.0);
+    if (!fresh_face) {  // meshed once, whatever its placements
+      e.placed += known->second;
+      continue;
+    }
+    ++e.faces;
+    double n = face_interior(face, chord, angle);
+    TopTools_IndexedMapOfShape edges;
+    TopExp::MapShapes(face, TopAbs_EDGE, edges);
+    for (int i = 1; i <= edges.Extent(); ++i) {
+      const TopoDS_Edge& edge = TopoDS::Edge(edges(i));
+      const auto [it, fresh] = edge_cache.try_emplace(edge.TShape().get(), 0.0);
+      if (fresh) it->second = edge_segments(edge, chord, angle);
+      n += kTrianglesPerBoundarySegment * it->second;
+    }
+    known->second = n;
+    e.triangles += n;
+    e.placed += n;
+    e.steps += n * (20 + std::sqrt(n) / 5);
+  }
+  return e;
+}
+
+/// No coordinate of a part may lie beyond this, mm (the G-code reader's travel bound too): a part
+/// larger than any machine's travel is a unit or a number gone wrong, refused before meshing.
+constexpr double kMaxPartExtentMm = 1e5;
+
+void check_size(const TopoDS_Shape& shape, const std::string& name, const CadReport& cad) {
+  Bnd_Box box;
+  BRepBndLib::Add(shape, box, Standard_False);
+  if (box.IsVoid()) return;  // no geometry: the mesher makes nothing, said below
+  double x0 = 0, y0 = 0, z0 = 0, x1 = 0, y1 = 0, z1 = 0;
+  box.Get(x0, y0, z0, x1, y1, z1);
+  const double extent = std::max({x1 - x0, y1 - y0, z1 - z0});
+  const double far = std::max({std::abs(x0), std::abs(y0), std::abs(z0), std::abs(x1), std::abs(y1), std::abs(z1)});
+  if (box.IsOpen() || !(far < 1e99))  // Open CASCADE's "infinite" is 2e100
+    throw file_error(name,
+                     "the part is unbounded or reaches beyond 1e99 mm (a face without a boundary, a number gone "
+                     "wrong: a damaged file?): refused before meshing");
+  if (!(extent <= kMaxPartExtentMm) || !(far <= kMaxPartExtentMm))
+    throw file_error(name, "the part reaches " + format_count(std::max(extent, far)) + " mm (in the file's unit " +
+                               (cad.file_unit.empty() ? "mm" : cad.file_unit) + "), beyond " +
+                               format_size(kMaxPartExtentMm) +
+                               " mm, more than any machine travels: refused before meshing (is the unit right?)");
+}
+
 // Open CASCADE's static parameters (Interface_Static) are process-wide: one read at a time.
 std::mutex g_occt;
 
-Mesh load_locked(const fs::path& path, const CadOptions& options, MeshReport* report) {
+/// Read, check, tessellate: everything that touches Open CASCADE. Throws millnet::Error (or an
+/// Open CASCADE exception, which the callers turn into one).
+CadResult read_here(const fs::path& path, bool step, const CadScan& scan, const CadOptions& options) {
   const std::string name = path.string();
-  const std::string ext = lower(path.extension().string());
-  const bool step = ext == ".step" || ext == ".stp";
-  const std::string bytes = read_file(path);
-  if (step)
-    check_step_frame(bytes, name);
-  else
-    check_iges_frame(bytes, name);
   silence_occt();
-  CadReport cad;
+  CadResult out;
+  CadReport& cad = out.cad;
   cad.format = step ? "STEP" : "IGES";
   cad.chord_tolerance_mm = options.chord_tolerance_mm;
   cad.angular_deflection_rad = options.angular_deflection_rad;
   cad.body = options.body;
   TopoDS_Shape root;
   Handle(XSControl_WorkSession) ws;
+  int roots = 0, roots_read = 0;
+  std::unique_ptr<XSControl_Reader> reader;
   if (step) {
-    STEPControl_Reader reader;
+    auto r = std::make_unique<STEPControl_Reader>();
     Interface_Static::SetCVal("xstep.cascade.unit", "MM");
-    if (reader.ReadFile(name.c_str()) != IFSelect_RetDone)
+    if (r->ReadFile(name.c_str()) != IFSelect_RetDone)
       throw file_error(name, "cannot read STEP file (Open CASCADE's parser refused it)");
     TColStd_SequenceOfAsciiString len, ang, solid;
-    reader.FileUnits(len, ang, solid);
+    r->FileUnits(len, ang, solid);
     if (len.Length() >= 1) {
       const Unit u = step_unit(len.Value(1).ToCString());
       cad.file_unit = u.name;
       cad.file_unit_mm = u.mm;
     }
-    reader.TransferRoots();
-    if (reader.NbShapes() > 0) root = reader.OneShape();
-    ws = reader.WS();
+    reader = std::move(r);
   } else {
-    IGESControl_Reader reader;
+    auto r = std::make_unique<IGESControl_Reader>();
     Interface_Static::SetCVal("xstep.cascade.unit", "MM");
-    if (reader.ReadFile(name.c_str()) != IFSelect_RetDone)
+    if (r->ReadFile(name.c_str()) != IFSelect_RetDone)
       throw file_error(name, "cannot read IGES file (Open CASCADE's parser refused it)");
-    const Handle(IGESData_IGESModel) model = reader.IGESModel();
+    const Handle(IGESData_IGESModel) model = r->IGESModel();
     if (!model.IsNull()) {
       const Unit u = iges_unit(model->GlobalSection().UnitFlag());
       cad.file_unit = u.name;
       cad.file_unit_mm = u.mm;
     }
-    reader.TransferRoots();
-    if (reader.NbShapes() > 0) root = reader.OneShape();
-    ws = reader.WS();
+    reader = std::move(r);
   }
+  ws = reader->WS();
+  const Fails model = count_fails(ws->ModelCheckList());
+  roots = reader->NbRootsForTransfer();
+  roots_read = reader->TransferRoots();
+  if (reader->NbShapes() > 0) root = reader->OneShape();
+  Fails transfer;
+  if (!ws->TransferReader().IsNull() && !ws->TransferReader()->TransientProcess().IsNull())
+    transfer = count_fails(ws->TransferReader()->TransientProcess()->CheckList(Standard_False));
+  const std::size_t faces_read = root.IsNull() ? 0 : distinct_faces(root);
+  const std::string lost = losses(scan, faces_read, roots, roots_read, transfer);
+  if (!lost.empty()) {
+    if (!options.allow_partial)
+      throw file_error(name, "damaged " + cad.format + " file, read only in part: " + lost +
+                                 "; refused (set /mesh/allow_partial_cad to true to use what was read)");
+    cad.partial = "read in part (allowed by /mesh/allow_partial_cad): " + lost;
+    out.notes.push_back(cad.partial);
+  }
+  if (model.count > 0)
+    out.notes.push_back(plural(model.count, "entity", "entities") + " with errors in the file (first: " + model.first +
+                        ")");
   if (root.IsNull()) throw file_error(name, "no solid, shell or face in this " + cad.format + " file");
   const std::vector<Body> bodies = bodies_of(root, ws);
   if (bodies.empty()) throw file_error(name, "no solid, shell or face in this " + cad.format + " file");
@@ -310,35 +582,223 @@ Mesh load_locked(const fs::path& path, const CadOptions& options, MeshReport* re
   } else {
     chosen = bodies[pick_body(bodies, options.body, name)].shape;
   }
-  Mesh m = tessellate(chosen, options, &cad.faces);
-  if (m.F.rows() == 0)
+  check_size(chosen, name, cad);
+  const TessellationEstimate est =
+      estimate_tessellation(chosen, options.chord_tolerance_mm, options.angular_deflection_rad);
+  cad.estimated_triangles = est.triangles;
+  try {
+    check_work(
+        {"tessellating " + plural(est.faces, "face", "faces") + " at chord " + format_size(options.chord_tolerance_mm) +
+             " mm and " + format_size(options.angular_deflection_rad) + " rad (≈ " + format_count(est.triangles) +
+             " triangles)",
+         est.steps, "mesher steps", est.triangles * kMesherBytesPerTriangle + est.placed * kMeshBytesPerTriangle},
+        options.limits);
+  } catch (const Error& e) {
+    throw file_error(name, e.what());
+  }
+  out.mesh = tessellate(chosen, options, &cad.faces);
+  if (out.mesh.F.rows() == 0)
     throw file_error(
         name, "no triangles: Open CASCADE's mesher produced none for the " + std::to_string(cad.faces) + " faces");
-  if (report) {
-    report->notes.push_back(cad.format + ": " + std::to_string(cad.faces) + " faces of " +
-                            std::to_string(bodies.size()) + " bodies tessellated (chord " +
-                            std::to_string(options.chord_tolerance_mm) + " mm, angle " +
-                            std::to_string(options.angular_deflection_rad) + " rad)");
-    report->is_cad = true;
-    report->cad = cad;
+  out.notes.push_back(cad.format + ": " + std::to_string(cad.faces) + " faces of " + std::to_string(bodies.size()) +
+                      " bodies tessellated (chord " + std::to_string(options.chord_tolerance_mm) + " mm, angle " +
+                      std::to_string(options.angular_deflection_rad) + " rad)");
+  return out;
+}
+
+// ---- The answer over the pipe ----
+
+void put(std::string& o, const void* p, std::size_t n) { o.append(static_cast<const char*>(p), n); }
+void put_u64(std::string& o, std::uint64_t v) { put(o, &v, 8); }
+void put_f64(std::string& o, double v) { put(o, &v, 8); }
+void put_str(std::string& o, const std::string& s) {
+  put_u64(o, s.size());
+  o += s;
+}
+
+std::string encode(const CadResult& r) {
+  std::string o = "M";
+  const CadReport& c = r.cad;
+  put_str(o, c.format);
+  put_str(o, c.file_unit);
+  put_f64(o, c.file_unit_mm);
+  put_f64(o, c.chord_tolerance_mm);
+  put_f64(o, c.angular_deflection_rad);
+  put_u64(o, c.bodies.size());
+  for (const auto& b : c.bodies) put_str(o, b);
+  put_str(o, c.body);
+  put_u64(o, c.faces);
+  put_str(o, c.partial);
+  put_f64(o, c.estimated_triangles);
+  put_u64(o, r.notes.size());
+  for (const auto& n : r.notes) put_str(o, n);
+  put_u64(o, static_cast<std::uint64_t>(r.mesh.V.rows()));
+  put(o, r.mesh.V.data(), static_cast<std::size_t>(r.mesh.V.size()) * sizeof(double));
+  put_u64(o, static_cast<std::uint64_t>(r.mesh.F.rows()));
+  put(o, r.mesh.F.data(), static_cast<std::size_t>(r.mesh.F.size()) * sizeof(std::int32_t));
+  return o;
+}
+
+class Decoder {
+public:
+  Decoder(const std::string& s, const std::string& name) : s_(s), name_(name) {}
+  void get(void* p, std::size_t n) {
+    if (n > s_.size() - at_) throw file_error(name_, "the reader's process answered with a truncated mesh");
+    std::memcpy(p, s_.data() + at_, n);
+    at_ += n;
   }
-  return m;
+  std::uint64_t u64() {
+    std::uint64_t v = 0;
+    get(&v, 8);
+    return v;
+  }
+  double f64() {
+    double v = 0;
+    get(&v, 8);
+    return v;
+  }
+  std::string str() {
+    const std::uint64_t n = u64();
+    if (n > s_.size() - at_) throw file_error(name_, "the reader's process answered with a truncated mesh");
+    std::string v = s_.substr(at_, n);
+    at_ += n;
+    return v;
+  }
+  std::size_t left() const { return s_.size() - at_; }
+
+private:
+  const std::string& s_;
+  const std::string& name_;
+  std::size_t at_ = 1;  // after the tag
+};
+
+CadResult decode(const std::string& answer, const std::string& name) {
+  Decoder d(answer, name);
+  CadResult r;
+  CadReport& c = r.cad;
+  c.format = d.str();
+  c.file_unit = d.str();
+  c.file_unit_mm = d.f64();
+  c.chord_tolerance_mm = d.f64();
+  c.angular_deflection_rad = d.f64();
+  for (std::uint64_t k = d.u64(); k > 0; --k) c.bodies.push_back(d.str());
+  c.body = d.str();
+  c.faces = d.u64();
+  c.partial = d.str();
+  c.estimated_triangles = d.f64();
+  for (std::uint64_t k = d.u64(); k > 0; --k) r.notes.push_back(d.str());
+  const std::uint64_t nv = d.u64();
+  if (nv > d.left() / 24) throw file_error(name, "the reader's process answered with a truncated mesh");
+  r.mesh.V.resize(static_cast<Eigen::Index>(nv), 3);
+  d.get(r.mesh.V.data(), nv * 24);
+  const std::uint64_t nf = d.u64();
+  if (nf > d.left() / 12 || nf * 12 != d.left())
+    throw file_error(name, "the reader's process answered with a truncated mesh");
+  r.mesh.F.resize(static_cast<Eigen::Index>(nf), 3);
+  d.get(r.mesh.F.data(), nf * 12);
+  return r;
+}
+
+std::string mib(double bytes) { return format_size(std::round(bytes / (1024.0 * 1024.0))); }
+
+/// An Open CASCADE exception as one line: a signal it caught (a crash), memory, or its message.
+std::string occt_failure(const std::string& name, const std::string& format, const Standard_Failure& e,
+                         const CadOptions& options) {
+  const std::string what = one_line(e.GetMessageString() ? e.GetMessageString() : "");
+  if (e.IsKind(STANDARD_TYPE(OSD_Signal)) || e.IsKind(STANDARD_TYPE(OSD_Exception)))
+    return name + ": the " + format + " reader crashed (" + e.DynamicType()->Name() + ": " + what +
+           ", caught by Open CASCADE's signal handling): the file is damaged; nothing was read from it";
+  if (e.IsKind(STANDARD_TYPE(Standard_OutOfMemory)))
+    return name + ": the " + format + " reader ran out of memory (limit " + mib(options.limits.max_memory_bytes) +
+           " MiB: --max-memory-mb, /limits/max_memory_mb)";
+  return name + ": Open CASCADE failed: " + what + " (" + e.DynamicType()->Name() + ")";
+}
+
+/// The read in a child process (cad_isolate.hpp); every way it can end becomes a result or one
+/// millnet::Error naming the file.
+CadResult read_isolated(const fs::path& path, bool step, const CadScan& scan, const CadOptions& options) {
+  const std::string name = path.string(), format = step ? "STEP" : "IGES";
+  ChildLimits limits;
+  limits.wall_seconds = options.timeout_s;
+  limits.memory_bytes = options.limits.max_memory_bytes;
+  const ChildOutcome o = run_in_child(
+      [&](const std::function<void(const std::string&)>& send) {
+        OSD::SetSignal(OSD_SignalMode_Set, Standard_False);  // signals → exceptions; floating point untouched
+        std::string answer;
+        try {
+          OCC_CATCH_SIGNALS
+          answer = encode(read_here(path, step, scan, options));
+        } catch (const Error& e) {
+          answer = std::string("E") + e.what();
+        } catch (const Standard_Failure& e) {
+          answer = "E" + occt_failure(name, format, e, options);
+        } catch (const std::bad_alloc&) {
+          answer = "E" + name + ": the " + format + " reader ran out of memory (limit " +
+                   mib(options.limits.max_memory_bytes) + " MiB: --max-memory-mb, /limits/max_memory_mb)";
+        } catch (const std::exception& e) {
+          answer = "E" + name + ": the " + format + " reader failed: " + one_line(e.what());
+        }
+        send(answer);
+      },
+      limits);
+  using End = ChildOutcome::End;
+  switch (o.end) {
+    case End::Answered:
+      if (o.answer[0] == 'E') throw Error(o.answer.substr(1));
+      return decode(o.answer, name);
+    case End::Signal:
+      throw file_error(name, "the " + format + " reader crashed (signal " + std::to_string(o.signal) + ", " +
+                                 signal_name(o.signal) + "): the file is damaged; nothing was read from it");
+    case End::TimedOut:
+      throw file_error(name, "the " + format + " reader took more than " + format_size(options.timeout_s) +
+                                 " s and was stopped: a damaged file, or a part too large to read");
+    case End::OutOfMemory:
+      throw file_error(name, "the " + format + " reader needed more than " + mib(options.limits.max_memory_bytes) +
+                                 " MiB and was stopped (--max-memory-mb, /limits/max_memory_mb)");
+    case End::NoFork:
+      throw file_error(name, "cannot start the " + format + " reader's process (" + std::strerror(o.status) + ")");
+    case End::Exited: break;
+  }
+  throw file_error(name,
+                   "the " + format + " reader ended without an answer (exit status " + std::to_string(o.status) + ")");
 }
 
 }  // namespace
 
 Mesh load_cad(const fs::path& path, const CadOptions& options, MeshReport* report) {
   const std::string name = path.string();
-  std::lock_guard<std::mutex> lock(g_occt);
-  try {
-    return load_locked(path, options, report);
-  } catch (const Error&) {
-    throw;
-  } catch (const Standard_Failure& e) {
-    throw file_error(name, std::string("Open CASCADE failed: ") +
-                               one_line(e.GetMessageString() ? e.GetMessageString() : "") + " (" +
-                               e.DynamicType()->Name() + ")");
+  if (!(options.chord_tolerance_mm > 0) || !std::isfinite(options.chord_tolerance_mm))
+    throw file_error(name, "the chord tolerance must be a finite number > 0 mm (/mesh/chord_tolerance_mm)");
+  if (!(options.angular_deflection_rad > 0) || !std::isfinite(options.angular_deflection_rad))
+    throw file_error(name, "the angular deflection must be a finite number > 0 rad (/mesh/angular_deflection_rad)");
+  const std::string ext = lower(path.extension().string());
+  const bool step = ext == ".step" || ext == ".stp";
+  const std::string bytes = read_file(path);
+  if (step)
+    check_step_frame(bytes, name);
+  else
+    check_iges_frame(bytes, name);
+  const CadScan scan = step ? scan_step(bytes) : scan_iges(bytes);
+  if (!scan.refusal.empty()) throw file_error(name, scan.refusal + "; refused before reading");
+  CadResult r;
+  {
+    std::lock_guard<std::mutex> lock(g_occt);
+    if (options.isolate) {
+      r = read_isolated(path, step, scan, options);
+    } else {
+      try {
+        r = read_here(path, step, scan, options);
+      } catch (const Standard_Failure& e) {
+        throw Error(occt_failure(name, step ? "STEP" : "IGES", e, options));
+      }
+    }
   }
+  if (report) {
+    for (auto& n : r.notes) report->notes.push_back(std::move(n));
+    report->is_cad = true;
+    report->cad = std::move(r.cad);
+  }
+  return std::move(r.mesh);
 }
 
 #endif

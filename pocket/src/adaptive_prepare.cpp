@@ -73,12 +73,12 @@ std::vector<std::size_t> join_runs(const std::vector<RunOf>& arun, const std::ve
 Planner::Planner(const Region& region, const CutParams& cut, const AdaptiveParams& prm, double target_deg)
     : region_(region),
       cut_(cut),
-      R_(cut.tool_diameter / 2),
+      R_(cut.tool.diameter / 2),
       climb_(prm.climb),
       both_(prm.both_ways),
       pass_climb_(prm.climb),
-      step_(prm.step_mm > 0 ? prm.step_mm : cut.tool_diameter / 40),
-      raster_(region, adaptive_raster_mm(region, cut, prm), cut.tool_diameter),
+      step_(prm.step_mm > 0 ? prm.step_mm : cut.tool.diameter / 40),
+      raster_(region, adaptive_raster_mm(region, cut, prm), cut.tool.diameter),
       walls_(region, cut.clearance() + tol::contour_margin_mm),
       exact_(region, cut.clearance()),
       link_walls_(region, cut.clearance() + tol::contour_margin_mm + kLinkMarginMm) {
@@ -89,8 +89,8 @@ Planner::Planner(const Region& region, const CutParams& cut, const AdaptiveParam
   // take a corner's at once, over the target): there the raster's own 4 cells.
   min_work_ = target_deg < kPassesTakeTheWallBandBelowDeg
                   ? 4
-                  : std::max(4, static_cast<int>(std::lround(kMinWorkCellsD40 * (cut.tool_diameter / 40) *
-                                                             (cut.tool_diameter / 40) / (h * h))));
+                  : std::max(4, static_cast<int>(std::lround(kMinWorkCellsD40 * (cut.tool.diameter / 40) *
+                                                             (cut.tool.diameter / 40) / (h * h))));
   max_cells_ = prm.safety * width * step_ / (h * h);
   prepare();
 }

@@ -59,9 +59,9 @@ std::vector<Vec2> approach_of(const std::vector<Vec2>& chain, double tool_diamet
 
 struct CutLinker::Impl {
   Impl(const Region& region, const CutParams& cut, double max_new, double cell)
-      : R(cut.tool_diameter / 2),
+      : R(cut.tool.diameter / 2),
         max_new_mm2(max_new),
-        g(raster::grid_of(region, cell > 0 ? cell : cut.tool_diameter / 40, cut.tool_diameter,
+        g(raster::grid_of(region, cell > 0 ? cell : cut.tool.diameter / 40, cut.tool.diameter,
                           "links through cut material")),
         st(raster::material(region, g)),
         walls(region, cut.clearance() - kEndSlackMm),
@@ -78,7 +78,7 @@ struct CutLinker::Impl {
     band.assign(st.size(), 0);
     for (std::size_t i = 0; i < st.size(); ++i) band[i] = st[i] != 0 && wd2[i] <= band_cells * band_cells;
     inner = offset_inward(region, cut.clearance() + R, tol::arc_chord_mm);
-    reach_b = cut.tool_diameter + R;
+    reach_b = cut.tool.diameter + R;
   }
 
   double R;

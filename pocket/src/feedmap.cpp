@@ -15,8 +15,8 @@ namespace millnet::pocket {
 double feed_for_engagement(double n3, double n1, double n2, const CutParams& cut) {
   if (n1 == n2) throw Error("feed map: n1 == n2 (tool diameter and radius give the same cell count)");
   if (cut.max_chip_thinning > 1 && n3 < n2) {  // radial chip thinning, a_e = D·n₃/n₁
-    const double ae = std::max(cut.tool_diameter * n3 / n1, 1e-9 * cut.tool_diameter);
-    const double k = std::min(tooling::chip_thinning_factor(cut.tool_diameter, ae), cut.max_chip_thinning);
+    const double ae = std::max(cut.tool.diameter * n3 / n1, 1e-9 * cut.tool.diameter);
+    const double k = std::min(tooling::chip_thinning_factor(cut.tool.diameter, ae), cut.max_chip_thinning);
     return std::clamp(cut.feed_half * k, cut.feed_min, cut.feed_max);
   }
   const double f = cut.feed_half + (cut.feed_half - cut.feed_slot) / (n2 - n1) * (n3 - n2);
@@ -155,7 +155,7 @@ struct ChainGauge {
       win_area += mk.swept;
       win_len += step_len;
       if (win_len >= g * (1 - 1e-9)) {
-        last_w = std::min(win_area * g * g / win_len, cut.tool_diameter);
+        last_w = std::min(win_area * g * g / win_len, cut.tool.diameter);
         sw = std::max(sw, last_w);
         sw_measured = true;
         win_area = win_len = 0;
@@ -191,7 +191,7 @@ FeedPiece feed_piece(std::size_t ci, std::size_t k, double s_mm, double len, dou
   p.s_mm = s_mm;
   p.length_mm = len;
   p.engagement = n3;
-  p.width_mm = std::min(n3 * prof.grid_mm, cut.tool_diameter);
+  p.width_mm = std::min(n3 * prof.grid_mm, cut.tool.diameter);
   p.swept_width_mm = sw;
   p.feed = cut.feed_adjust ? feed_for_engagement(n3, prof.n1, prof.n2, cut) : cut.feed_half;
   // Cuts no cell: a link. Never slower than the map's own feed for no engagement (with
@@ -206,11 +206,11 @@ FeedPiece feed_piece(std::size_t ci, std::size_t k, double s_mm, double len, dou
 FeedProfile assign_feeds(Path2D& path, const Region& region, const CutParams& cut, double axial_depth_mm,
                          const std::vector<EntryHole>& holes) {
   cut.check("feed map");
-  const double g = cut.feed_grid > 0 ? cut.feed_grid : cut.tool_diameter / 10;
-  const double R = cut.tool_diameter / 2;
+  const double g = cut.feed_grid > 0 ? cut.feed_grid : cut.tool.diameter / 10;
+  const double R = cut.tool.diameter / 2;
   FeedProfile prof;
   prof.grid_mm = g;
-  prof.n1 = cut.tool_diameter / g;
+  prof.n1 = cut.tool.diameter / g;
   prof.n2 = R / g;
   prof.axial_depth_mm = axial_depth_mm;
   FeedMap map = material_map(region, g, R);

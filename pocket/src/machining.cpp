@@ -196,7 +196,7 @@ void link_wall_chains(const Region& region, const CutParams& cut, Path2D& path, 
   for (std::size_t left = walls.size(); left > 0; --left) {
     const bool tool_down = !path.chains.empty() && !path.chains.back().pts.empty();
     std::optional<WallLink> pick;
-    if (tool_down) pick = link_to_wall(linker, path.chains.back().pts.back().p(), ws, done, cut.tool_diameter);
+    if (tool_down) pick = link_to_wall(linker, path.chains.back().pts.back().p(), ws, done, cut.tool.diameter);
     if (pick) {
       Chain& prev = path.chains.back();
       const std::vector<Vec2> loop = ws.rotated(pick->loop, pick->v);
@@ -229,7 +229,7 @@ std::size_t link_chains(const Region& region, const CutParams& cut, Path2D& path
     std::optional<CutLinker::Link> l;
     if (!next.pts.empty() && !out.back().pts.empty()) {
       const std::vector<Vec2> pts = flatten_open(next.pts, tol::arc_chord_mm);
-      l = linker.best_link(out.back().pts.back().p(), {{pts.front(), approach_of(pts, cut.tool_diameter), 0.0}});
+      l = linker.best_link(out.back().pts.back().p(), {{pts.front(), approach_of(pts, cut.tool.diameter), 0.0}});
     }
     if (!l) {
       linker.sweep(next);
@@ -285,7 +285,7 @@ double max_engagement_deg(const FeedProfile& profile) {
 std::vector<Chain> contour_chains(const Region& region, const CutParams& cut, const Path2D& after) {
   std::vector<Chain> out;
   for (const auto& loop : wall_loops(region, cut.clearance()))  // O(loops)
-    out.push_back(loop_chain(loop, after, cut.tool_diameter / 2));
+    out.push_back(loop_chain(loop, after, cut.tool.diameter / 2));
   return out;
 }
 
@@ -305,7 +305,7 @@ MachiningResult machine_levels(std::vector<LevelPlan> levels, const CutParams& c
   // Complete clearing, level by level (issue 11): what each level region's path leaves of the
   // area the tool can reach there. O(levels · booleans over the level's path).
   for (const LevelPlan& L : r.levels) {
-    const UncutArea u = uncut_area(L.region, L.path, cut.clearance(), cut.tool_diameter / 2);
+    const UncutArea u = uncut_area(L.region, L.path, cut.clearance(), cut.tool.diameter / 2);
     r.level_uncut_mm2.push_back(u.uncut_mm2);
     r.metrics.uncut_area_mm2 += u.uncut_mm2;
     r.metrics.reachable_area_mm2 += u.reachable_mm2;
@@ -344,8 +344,8 @@ MachiningResult machine_pocket(const Region& region, const CutParams& cut, const
     for (std::size_t ci = 0; ci < path.chains.size(); ++ci) {
       const Chain& c = path.chains[ci];
       if (!c.predrill || c.pts.empty()) continue;
-      if (const auto hx = entry_helix(clear, c.pts.front().p(), cut.tool_diameter))
-        holes.push_back({ci, hx->first, hx->second + cut.tool_diameter / 2});
+      if (const auto hx = entry_helix(clear, c.pts.front().p(), cut.tool.diameter))
+        holes.push_back({ci, hx->first, hx->second + cut.tool.diameter / 2});
     }
   }
   const FeedProfile prof = assign_feeds(path, region, cut, cut.depth / static_cast<double>(zs.size()), holes);
@@ -368,7 +368,7 @@ MachiningResult machine_pocket(const Region& region, const CutParams& cut, const
   fill_program_metrics(r, cut, gp, opt.machine);
   const auto* som = std::get_if<SomStats>(&plan.stats);
   r.metrics.tour_length_mm = som ? som->smoothing.tour_length_mm : plan.path.cut_length();
-  const UncutArea u = uncut_area(region, path, cut.clearance(), cut.tool_diameter / 2);
+  const UncutArea u = uncut_area(region, path, cut.clearance(), cut.tool.diameter / 2);
   r.metrics.uncut_area_mm2 = u.uncut_mm2;
   r.metrics.reachable_area_mm2 = u.reachable_mm2;
   return r;

@@ -115,7 +115,7 @@ void Planner::enter(Entry_& e, std::optional<Vec2>& pos) {
   chains_.back().predrill = true;
   ++stats_.entries;
   Vec2 d(0, 1);
-  if (const auto hx = entry_helix(exact_, e.p, cut_.tool_diameter)) {
+  if (const auto hx = entry_helix(exact_, e.p, cut_.tool.diameter)) {
     raster_.mark(hx->first, hx->second + R_);
     // The helix's flat turn at the floor, in the plan too: it makes the path sweep the bore (the
     // uncut-area figures), and with another entry than the helix it is what cuts it. A program
@@ -186,14 +186,14 @@ void wall_loop_chains(const Region& region, const CutParams& cut, PlanResult& re
 double adaptive_raster_mm(const Region& region, const CutParams& cut, const AdaptiveParams& params) {
   constexpr double kMaxFineCells = 1e7;
   if (params.raster_mm > 0) return params.raster_mm;
-  const double D = cut.tool_diameter;
+  const double D = cut.tool.diameter;
   return raster::cells_of(region, D / 80, D) <= kMaxFineCells ? D / 80 : D / 40;
 }
 
 double adaptive_target_deg(const CutParams& cut, const AdaptiveParams& params) {
   double deg = params.max_engagement_deg;
   if (deg == 0) {
-    const double R = cut.tool_diameter / 2;
+    const double R = cut.tool.diameter / 2;
     deg = std::acos(std::clamp(1 - cut.stepover / R, -1.0, 1.0)) * 180 / kPi;
   }
   if (!(deg > 0 && deg <= 180) || !std::isfinite(deg))

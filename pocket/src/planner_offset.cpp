@@ -80,7 +80,7 @@ std::vector<Node> offset_tree(const Region& region, const CutParams& cut, std::s
   // most a cusp the tool's edge touches); above R one more ring at half a stepover cuts it.
   // (Beside a split, a middle wider than R stays: the metrics' uncut area reports it.)
   const std::size_t before = nodes.size();
-  for (std::size_t i = 0; i < before && cut.stepover > cut.tool_diameter / 2; ++i) {
+  for (std::size_t i = 0; i < before && cut.stepover > cut.tool.diameter / 2; ++i) {
     if (!nodes[i].children.empty()) continue;
     for (PolyArea& a : offset_areas({nodes[i].area}, -0.5 * cut.stepover, tol::contour_chord_mm)) {
       if (a.outer.size() < 3 || area(a) < kMinMiddleMm2) continue;
@@ -105,7 +105,7 @@ std::vector<Node> offset_tree(const Region& region, const CutParams& cut, std::s
 class PathBuilder {
 public:
   PathBuilder(const Region& region, const CutParams& cut, const OffsetParams& params)
-      : clear_(region, cut.clearance()), R_(cut.tool_diameter / 2), climb_(params.climb) {
+      : clear_(region, cut.clearance()), R_(cut.tool.diameter / 2), climb_(params.climb) {
     const std::vector<Vec2> b = flatten(region.boundary, tol::arc_chord_mm);
     box_lo_ = box_hi_ = b.front();
     for (const Vec2& p : b) {

@@ -138,7 +138,7 @@ PlanResult plan_som(const Region& region, const CutParams& cut, const GridFrame&
   // Coverage slack of the grid: a point more than R inside the rings lies ≤ g/√2 from a grid point
   // that keeps ≥ s from the rings, so grid points nearer to them than s can go (the rings sweep
   // what they would), and a corner blend may leave a grid point by less than s.
-  const double R = cut.tool_diameter / 2;
+  const double R = cut.tool.diameter / 2;
   const double slack = std::max(0.0, R - frame.spacing / std::sqrt(2.0));
   if (!(path.blend_radius_mm >= 0) || !std::isfinite(path.blend_radius_mm))
     throw Error("/pocket/smoothing/blend_radius_mm: must be a number ≥ 0");
@@ -175,7 +175,7 @@ PlanResult plan_som(const Region& region, const CutParams& cut, const GridFrame&
   // which holds v²/r within its acceleration (1 mm at 500 mm/s² allows 22 mm/s, below the bench's
   // 25 mm/s), and a fine tour (stepover 1 over a 100 mm square: 20,000 corners) made the uncut-area
   // booleans of its flattened arcs run for 8 minutes instead of 3 s (CliLimits.MaxWork…).
-  bp.min_radius_mm = 0.1 * cut.tool_diameter;
+  bp.min_radius_mm = 0.1 * cut.tool.diameter;
   const std::size_t arcs = add_chains(polys, path.blend_corners && slack > 0, bp, move_ok, res);
   res.walls_cut = path.walls;
   // The wall rings' chorded round joins and wall arcs as G2/G3 (arc_fit.hpp), as the offset

@@ -143,7 +143,7 @@ std::vector<std::vector<Vec2>> link_regions(const std::vector<std::vector<std::v
       for (const auto& ch : corners[i]) shortest = std::min(shortest, polyline_length(ch));
       for (std::size_t q = 0; q < corners[i].size(); ++q) {
         const auto& ch = corners[i][q];
-        targets.push_back({ch.front(), approach_of(ch, cut.tool_diameter), polyline_length(ch) - shortest});
+        targets.push_back({ch.front(), approach_of(ch, cut.tool.diameter), polyline_length(ch) - shortest});
         owner.push_back({i, q});
       }
     }
@@ -277,7 +277,7 @@ PlanResult plan_zigzag(const Region& region, const CutParams& cut, const ZigzagP
   if (reach.empty()) {
     res.status = PlanStatus::NoToolPoints;
     std::ostringstream m;
-    m << "the tool (diameter " << cut.tool_diameter << " mm, stock " << cut.stock_to_leave
+    m << "the tool (diameter " << cut.tool.diameter << " mm, stock " << cut.stock_to_leave
       << " mm) fits nowhere in the pocket";
     res.message = m.str();
     res.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -42,6 +42,7 @@ const char* to_string(PlanStatus s) {
 }
 
 void CutParams::check(const std::string& who) const {
+  const double tool_diameter = tool.diameter;
   if (!(tool_diameter > 0) || !std::isfinite(tool_diameter))
     throw Error(who + ": tool_diameter must be > 0 mm, got " + std::to_string(tool_diameter));
   if (!(stepover > 0) || stepover > tool_diameter)

@@ -72,12 +72,12 @@ std::vector<WorkEstimate> estimate_work(const Region& region, const CutParams& c
     // The cleared-area raster over the box grown by D (a byte of state and of target, a double of
     // wall distance and an int of component per cell).
     const double h = adaptive_raster_mm(region, cut, ad->adaptive);
-    const double n = std::ceil((box.hi.x() - box.lo.x() + 2 * cut.tool_diameter) / h) *
-                     std::ceil((box.hi.y() - box.lo.y() + 2 * cut.tool_diameter) / h);
+    const double n = std::ceil((box.hi.x() - box.lo.x() + 2 * cut.tool.diameter) / h) *
+                     std::ceil((box.hi.y() - box.lo.y() + 2 * cut.tool.diameter) / h);
     out.push_back({over("raster_mm", h, box), n, "adaptive raster cells", 24.0 * n});
   }
-  const double g = cut.feed_grid > 0 ? cut.feed_grid : cut.tool_diameter / 10;
-  const double R = cut.tool_diameter / 2;
+  const double g = cut.feed_grid > 0 ? cut.feed_grid : cut.tool.diameter / 10;
+  const double R = cut.tool.diameter / 2;
   const double nx = std::ceil((box.hi.x() - box.lo.x() + 2 * (R + g)) / g);
   const double ny = std::ceil((box.hi.y() - box.lo.y() + 2 * (R + g)) / g);
   out.push_back({over("feed_grid", g, box), nx * ny, "feed-map cells", nx * ny});

@@ -165,6 +165,18 @@ const std::map<std::string, Generator>& generators() {
       {"not_a_regular_file_fifo", [](const fs::path& t) { ASSERT_EQ(::mkfifo((t / "x.stl").c_str(), 0600), 0); }},
       {"not_a_regular_file_folder", [](const fs::path& t) { fs::create_directories(t / "x.stl"); }},
       {"config_fifo", [](const fs::path& t) { ASSERT_EQ(::mkfifo((t / "c.json").c_str(), 0600), 0); }},
+      {"view_dev_zero", [](const fs::path& t) { fs::create_symlink("/dev/zero", t / "x.nc"); }},
+      // The 65 levels of tests/corpus/mesh/step_nested_65_levels.step made 70,000 (140 KB, issue 42).
+      {"sample_step_nested_70000_levels",
+       [](const fs::path& t) {
+         std::string s =
+             millnet::read_file(fs::path(MILLNET_SOURCE_DIR) / "tests/corpus/mesh/step_nested_65_levels.step");
+         const std::size_t at = s.find(std::string(65, '('));
+         ASSERT_NE(at, std::string::npos);
+         s.replace(s.find(std::string(65, ')'), at), 65, std::string(70000, ')'));
+         s.replace(at, 65, std::string(70000, '('));
+         millnet::write_file_atomic(t / "deep.step", s);
+       }},
       {"config_nested_70000_levels",
        [](const fs::path& t) {
          millnet::write_file_atomic(t / "deep.json", "{\"pocket\": {\"som\": {\"w\": " + std::string(70000, '[') +

@@ -18,7 +18,7 @@ Loop rect(double x0, double y0, double x1, double y1) { return {{x0, y0, 0}, {x1
 
 CutParams tool10() {
   CutParams cut;
-  cut.tool_diameter = 10;
+  cut.tool.diameter = 10;
   cut.stepover = 5;
   return cut;
 }
@@ -81,7 +81,7 @@ TEST(CutLinks, WayGoesRoundUncutMaterialThroughTheCutU) {
   EXPECT_LT(lowest, 16.0) << "it must pass through the bottom of the U";
   EXPECT_GT(len, 80 + 2 * 30.0);  // round the U, at least (80 across, 2 × ≥ 30 down and up: the arms are 10 wide)
   EXPECT_LT(len, 160.0);          // and pulled taut: shorter than the U itself
-  EXPECT_EQ(fresh_points(l->way, {u}, t, region, cut.tool_diameter / 2, cut.tool_diameter * 1.5), 0u);
+  EXPECT_EQ(fresh_points(l->way, {u}, t, region, cut.tool.diameter / 2, cut.tool.diameter * 1.5), 0u);
   // Every move keeps the tool's clearance from the walls.
   const Clearance clear(region, cut.clearance() - 0.01);
   for (std::size_t k = 0; k + 1 < l->way.size(); ++k) EXPECT_TRUE(clear.move_ok(l->way[k], l->way[k + 1])) << k;
@@ -119,23 +119,23 @@ TEST(CutLinks, LastMoveMayCutTheTargetsApproachAndTheWallCornerBesideIt) {
   const std::vector<Vec2> pass{{95, 15}, {5, 15}};
   linker.sweep(pass);
   const std::vector<Vec2> next{{5, 5}, {95, 5}};
-  const LinkTarget t{next.front(), approach_of(next, cut.tool_diameter), 0.0};
+  const LinkTarget t{next.front(), approach_of(next, cut.tool.diameter), 0.0};
   ASSERT_EQ(t.approach.size(), 2u);
-  EXPECT_NEAR((t.approach[1] - t.approach[0]).norm(), kApproachDiameters * cut.tool_diameter, 1e-12);
+  EXPECT_NEAR((t.approach[1] - t.approach[0]).norm(), kApproachDiameters * cut.tool.diameter, 1e-12);
   const auto l = linker.best_link(Vec2(5, 15), {t});
   ASSERT_TRUE(l.has_value());
   EXPECT_EQ(l->way.size(), 2u);
-  EXPECT_EQ(fresh_points(l->way, {pass}, t, region, cut.tool_diameter / 2, cut.tool_diameter * 1.5), 0u);
+  EXPECT_EQ(fresh_points(l->way, {pass}, t, region, cut.tool.diameter / 2, cut.tool.diameter * 1.5), 0u);
   // Along the bottom wall the band beside a target is allowed too (the contour pass cuts it)...
   const LinkTarget wall{Vec2(60, 5), {Vec2(60, 5)}, 0.0};
   const auto w = linker.best_link(Vec2(5, 15), {wall});
   ASSERT_TRUE(w.has_value());
-  EXPECT_EQ(fresh_points(w->way, {pass}, wall, region, cut.tool_diameter / 2, cut.tool_diameter * 1.5), 0u);
+  EXPECT_EQ(fresh_points(w->way, {pass}, wall, region, cut.tool.diameter / 2, cut.tool.diameter * 1.5), 0u);
   // ...but a start in the middle, a stepover beyond the pass, would cut a new band between the two:
   // no way, even with the chain's own first pass as its approach.
   const std::vector<Vec2> inner{{50, 25}, {90, 25}};
   EXPECT_FALSE(
-      linker.best_link(Vec2(5, 15), {{inner.front(), approach_of(inner, cut.tool_diameter), 0.0}}).has_value());
+      linker.best_link(Vec2(5, 15), {{inner.front(), approach_of(inner, cut.tool.diameter), 0.0}}).has_value());
 }
 
 TEST(CutLinks, IslandInTheWayIsWalkedRound) {
@@ -151,7 +151,7 @@ TEST(CutLinks, IslandInTheWayIsWalkedRound) {
   ASSERT_TRUE(l.has_value());
   const Clearance clear(region, cut.clearance() - 0.01);
   for (std::size_t k = 0; k + 1 < l->way.size(); ++k) EXPECT_TRUE(clear.move_ok(l->way[k], l->way[k + 1])) << k;
-  EXPECT_EQ(fresh_points(l->way, {ring}, t, region, cut.tool_diameter / 2, cut.tool_diameter * 1.5), 0u);
+  EXPECT_EQ(fresh_points(l->way, {ring}, t, region, cut.tool.diameter / 2, cut.tool.diameter * 1.5), 0u);
 }
 
 }  // namespace

@@ -13,7 +13,7 @@ namespace {
 Loop rect(double x0, double y0, double x1, double y1) { return {{x0, y0, 0}, {x1, y0, 0}, {x1, y1, 0}, {x0, y1, 0}}; }
 CutParams seed_params() {
   CutParams c;
-  c.tool_diameter = 40;
+  c.tool.diameter = 40;
   c.feed_grid = 4;
   c.stepover = 20;
   c.feed_slot = 50;
@@ -168,7 +168,7 @@ TEST(PocketFeedMap, ShortStepsArePooledSoARoundingCellDoesNotReadAsASlot) {
 TEST(PocketFeedMap, SweptWidthReadsTheCutAreaWhereverTheCellCentresFall) {
   constexpr double kTol = 0.2;  // mm of width: ≈ 2.3° at 90° on Ø10
   CutParams c;
-  c.tool_diameter = 10;
+  c.tool.diameter = 10;
   c.feed_grid = 0.25;
   c.stepover = 5;
   c.feed_slot = c.feed_half = c.feed_min = c.feed_max = 1000;

@@ -62,7 +62,7 @@ TEST(PocketGcode, LevelZs) {
 TEST(PocketGcode, RoundTripThroughIndependentReplay) {
   const Region r{rect(0, 0, 60, 60), {}};
   GcodeParams gp;
-  gp.cut.tool_diameter = 6;
+  gp.cut.tool.diameter = 6;
   gp.cut.safe_z = 5;
   const auto levels = two_levels(r);
   const std::string text = millnet::testing::linuxcnc_text(build_program(levels, gp));
@@ -125,7 +125,7 @@ TEST(PocketGcode, HelixAndRampEntriesStayClear) {
   for (const char* entry : {"helix", "ramp"}) {
     GcodeParams gp;
     gp.entry = parse_entry(entry);
-    gp.cut.tool_diameter = 10;
+    gp.cut.tool.diameter = 10;
     const std::string text =
         millnet::testing::linuxcnc_text(build_program(one_chain_at_z5(r, {{10, 7, 0}, {50, 7, 0}}), gp));
     auto rep = millnet::testing::replay_gcode(text, gp.cut.safe_z);
@@ -151,7 +151,7 @@ TEST(PocketGcode, HelixDescendsAtTheEntryFeedAndTrimsItsFloorAtTheSlotFeed) {
   const Region r{rect(0, 0, 60, 40), {}};
   GcodeParams gp;
   gp.entry = Entry::Helix;
-  gp.cut.tool_diameter = 10;
+  gp.cut.tool.diameter = 10;
   gp.cut.feed_slot = gp.cut.feed_half = 1500;
   gp.cut.feed_plunge = 300;
   // Horizontal length of an arc move (counter-clockwise, G3), from its centre.
@@ -224,7 +224,7 @@ TEST(PocketGcode, HelixEndsWhereTheChainBeginsAndSkipsTheChainsOwnTurnRoundIt) {
   auto levels = one_chain_at_z5(r, pts);
   levels[0].path.chains[0].entry_turn = 8;
   GcodeParams gp;
-  gp.cut.tool_diameter = 10;
+  gp.cut.tool.diameter = 10;
   gp.cut.feed_slot = gp.cut.feed_half = 1500;
   gp.cut.feed_plunge = 300;
   gp.cut.feed_air = 4800;
@@ -272,7 +272,7 @@ TEST(PocketGcode, ProgramsReadBackAndLinuxcncAcceptsThem) {
   for (Entry e : {Entry::Predrill, Entry::Helix, Entry::Ramp}) {
     GcodeParams gp;
     gp.entry = e;
-    gp.cut.tool_diameter = 6;
+    gp.cut.tool.diameter = 6;
     gp.cut.safe_z = 5;
     const millnet::gcode::Program prog = build_program(two_levels(r), gp);
     const std::string text = millnet::testing::linuxcnc_text(prog);

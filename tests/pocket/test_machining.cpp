@@ -60,7 +60,7 @@ class BenchPocket : public ::testing::TestWithParam<const char*> {};
 TEST_P(BenchPocket, GougeFreeAndFiguresAgreeWithReplay) {
   const PocketFile pf = read_pocket(std::string(MILLNET_SHARED_DIR) + "/bench/pockets/" + GetParam() + ".json");
   CutParams cut;
-  cut.tool_diameter = 10;
+  cut.tool.diameter = 10;
   cut.stepover = 5;
   cut.depth = 5;
   cut.step_down = 2.5;
@@ -76,7 +76,7 @@ TEST_P(BenchPocket, GougeFreeAndFiguresAgreeWithReplay) {
       const MachiningResult m = machine_pocket(pf.region, cut, plan, opt);
       ASSERT_EQ(m.status, PlanStatus::Ok);
       auto rep = millnet::testing::replay_gcode(millnet::testing::linuxcnc_text(m.program), cut.safe_z);
-      millnet::testing::check_gouge(rep, to_replay(pf.region), cut.tool_diameter / 2);
+      millnet::testing::check_gouge(rep, to_replay(pf.region), cut.tool.diameter / 2);
       EXPECT_EQ(rep.violations, 0) << GetParam() << " " << entry << " contour " << contour << ": "
                                    << rep.first_violation;
       EXPECT_LT(rep.worst_mm, 0.01);

@@ -87,8 +87,8 @@ Outcome run(const Region& region, const CutParams& cut, const AdaptiveParams& ap
   }
   if (o.m.status != PlanStatus::Ok) return o;
   o.rep = millnet::testing::replay_gcode(millnet::testing::linuxcnc_text(o.m.program), cut.safe_z);
-  millnet::testing::check_gouge(o.rep, to_replay(region), cut.tool_diameter / 2);
-  o.uncovered = millnet::testing::unswept_points(o.rep, region, cut.tool_diameter / 2, o.probed);
+  millnet::testing::check_gouge(o.rep, to_replay(region), cut.tool.diameter / 2);
+  o.uncovered = millnet::testing::unswept_points(o.rep, region, cut.tool.diameter / 2, o.probed);
   return o;
 }
 
@@ -281,7 +281,7 @@ TEST_P(AdaptiveBench, ClearsAtTheTargetEngagementWithNoGouge) {
   // The feed map's grid and the planner's raster share their cell centres on these pockets (both
   // D/40 from the outline's box). A replay on a grid of its own, 0.05 mm, of the program: at most
   // the target width a_e = 5 mm plus kWidthTolMm.
-  const WidthReport wr = widest_cut(o.rep, pf.region, cut.tool_diameter / 2, 5.0);
+  const WidthReport wr = widest_cut(o.rep, pf.region, cut.tool.diameter / 2, 5.0);
   std::printf("[ adaptive ] %s: widest cut %.3f mm at (%.3f, %.3f), %zu of %zu pieces over 5 mm\n", GetParam(),
               wr.worst_mm, wr.at.x(), wr.at.y(), wr.over, wr.pieces);
   EXPECT_GT(wr.pieces, 10000u);
@@ -351,7 +351,7 @@ TEST(PlannerAdaptive, RidesCutNothingAndArePulledTaut) {
   const CutParams cut = bench_cut();
   const PlanResult p = plan(r, cut, AdaptiveSpec{});
   ASSERT_EQ(p.status, PlanStatus::Ok);
-  const double R = cut.tool_diameter / 2, h = 0.25;
+  const double R = cut.tool.diameter / 2, h = 0.25;
   const CellGrid grid(60, 40, h);
   std::vector<char> cut_cells(grid.size(), 0);
   const auto disk = [&](const Vec2& c, double rr, auto&& f) { grid.disk(c, rr, f); };
@@ -435,7 +435,7 @@ TEST_P(AdaptiveTarget, StaysWithinItsToleranceAtTheCornersToo) {
   ASSERT_EQ(o.m.status, PlanStatus::Ok);
   // The metric reads widths within ≈ 0.15 mm (the feed map's test); at these narrow cuts a width
   // error weighs more in degrees (dθ = dw / (R sin θ): 0.25 mm is 4.1° at 45°, 2.9° at 90°).
-  const double R = bench_cut().tool_diameter / 2, th = GetParam() * M_PI / 180;
+  const double R = bench_cut().tool.diameter / 2, th = GetParam() * M_PI / 180;
   EXPECT_LE(o.m.metrics.max_engagement_deg, GetParam() + kNarrowTolDeg + 0.25 / (R * std::sin(th)) * 180 / M_PI);
   // The independent replay: within kNarrowTolDeg of the target (measured: 49.2°, 51.7°, 61.6°).
   const WidthReport wr = widest_cut(o.rep, r, R, R * (1 - std::cos(th)));
@@ -515,7 +515,7 @@ TEST(PlannerAdaptive, BothWaysTurnsAtTheWallsInsteadOfRidingBack) {
   // left (climb-only: almost none), less air, and the same guarantees (target, no gouge, cleared).
   const Region r = rect_with_round_island();
   const CutParams cut = bench_cut();
-  const double R = cut.tool_diameter / 2;
+  const double R = cut.tool.diameter / 2;
   AdaptiveParams both;
   both.both_ways = true;
   const Outcome ob = run(r, cut, both), oc = run(r, cut);

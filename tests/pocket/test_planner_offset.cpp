@@ -42,8 +42,8 @@ Outcome run(const Region& region, const CutParams& cut, bool climb = true) {
   o.m = machine_pocket(region, cut, o.plan, opt);
   if (o.m.status != PlanStatus::Ok) return o;
   o.rep = millnet::testing::replay_gcode(millnet::testing::linuxcnc_text(o.m.program), cut.safe_z);
-  millnet::testing::check_gouge(o.rep, to_replay(region), cut.tool_diameter / 2);
-  o.uncovered = millnet::testing::unswept_points(o.rep, region, cut.tool_diameter / 2, o.probed);
+  millnet::testing::check_gouge(o.rep, to_replay(region), cut.tool.diameter / 2);
+  o.uncovered = millnet::testing::unswept_points(o.rep, region, cut.tool.diameter / 2, o.probed);
   return o;
 }
 

@@ -10,7 +10,7 @@ using namespace millnet::pocket;
 namespace {
 CutParams tool10() {
   CutParams c;
-  c.tool_diameter = 10;
+  c.tool.diameter = 10;
   c.stepover = 5;
   return c;
 }

@@ -21,7 +21,7 @@ SomSpec som(double spacing) {
 }
 CutParams cut(double d, double stepover) {
   CutParams c;
-  c.tool_diameter = d;
+  c.tool.diameter = d;
   c.stepover = stepover;
   return c;
 }

@@ -27,7 +27,7 @@ Loop circle_cw(double cx, double cy, double r) { return {{cx - r, cy, -1}, {cx +
 
 CutParams tool10() {
   CutParams c;
-  c.tool_diameter = 10;
+  c.tool.diameter = 10;
   c.stepover = 5;
   c.depth = 5;
   c.step_down = 5;
@@ -54,7 +54,7 @@ millnet::testing::ReplayResult replay(const Region& region, const PlanResult& pl
   auto r = millnet::testing::replay_gcode(text, cut.safe_z);
   millnet::testing::ReplayPocket pocket{replay_loop(region.boundary), {}};
   for (const Loop& i : region.islands) pocket.islands.push_back(replay_loop(i));
-  millnet::testing::check_gouge(r, pocket, cut.tool_diameter / 2, 0.01, 0.05);
+  millnet::testing::check_gouge(r, pocket, cut.tool.diameter / 2, 0.01, 0.05);
   return r;
 }
 

@@ -94,7 +94,7 @@ TEST_P(ZigzagLinks, RegionsJoinedThroughCutMaterialSaveARetractionAndAnEntryEach
   // anyway (where a region started from another corner walks along other walls, and a link may
   // take a corner next to a region's start): the linked plan cuts what the regions cut on their
   // own, and its links add at most slivers, ≤ kLinkSliverMm2 per link.
-  const double R = cut.tool_diameter / 2;
+  const double R = cut.tool.diameter / 2;
   const std::vector<Vec2> b = flatten(pf.region.boundary, 0.01);
   Vec2 lo = b.front(), hi = b.front();
   for (const Vec2& p : b) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);

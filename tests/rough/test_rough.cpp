@@ -418,7 +418,7 @@ TEST_P(RoughGouge, WrittenGcodeNeverCutsBelowTheMeshPlusStockToLeave) {
   ASSERT_FALSE(gcode.empty());
   // The frame, computed independently of Result: Z = 0 at the part's top + top allowance.
   const double stock_top = part.V.col(2).maxCoeff() + p.top_allowance_mm;
-  const double R = p.cut.tool_diameter / 2;
+  const double R = p.cut.tool.diameter / 2;
   const GougeReport g = replay_against_mesh(gcode, part, stock_top, R, gc.stl, p.cut.safe_z);
   std::printf(
       "[gouge %s] %s kind=%s, %zu levels, %ld samples (%ld near the part, %ld within 1 mm radially), min Z %.3f, "

@@ -82,7 +82,7 @@ inline std::size_t unswept_points(const ReplayResult& rep, const pocket::Region&
 /// level, every cutting move at 1500 mm/min, plunges and entries at 300 mm/min, no feed map.
 inline pocket::CutParams issue11_bench_cut() {
   pocket::CutParams cut;
-  cut.tool_diameter = 10;
+  cut.tool.diameter = 10;
   cut.stepover = 5;
   cut.depth = 5;
   cut.step_down = 5;

@@ -12,6 +12,20 @@
 // feed, an arc whose radius cannot reach its end) throws millnet::Error "<source>:<line>: …"
 // naming the word.
 //
+// What LinuxCNC's interpreter refuses is refused too (issue 42; src/emc/rs274ngc of LinuxCNC):
+//  * two codes of one modal group on a line (G0 G1, G90 G91, M3 M5, M0 M30: "Two G-codes used
+//    from same modal group"), a comment inside a comment ("Nested comment found");
+//  * an arc by centre (I J) whose radius at the start or the end is below 0.00005 in ("Zero-radius
+//    arc"), or whose end is not on its circle: the radii at start and end may differ by at most
+//    0.02828 mm (0.002828 in under G20), or by up to 100 times that when it is at most 0.1 % of
+//    the radius ("Radius to end of arc differs from radius to start");
+// and, beyond LinuxCNC, what no machine can do: an X Y Z position (after G20 and G91 are applied)
+// or an arc's centre farther than kMaxCoordinateMm from the origin, a tool number outside
+// 0…99999, a number that does not fit a double. Since every position and centre lies within the
+// bound, an arc's radius is below 2√2 · kMaxCoordinateMm and the chords its users cut it into
+// are bounded per arc (gcode/bounds.hpp counts them for a whole program before they are made).
+// Messages quote at most 40 characters of a bad word or comment, control bytes as \xNN.
+//
 // Within a line the words act in the RS-274 order: modes and F S T, tool change, spindle, motion,
 // pause, end. The programme's preamble and end code make no items, so write → read → write
 // gives the same text.
@@ -20,6 +34,10 @@
 #include <string_view>
 
 namespace millnet::gcode {
+
+/// The travel bound, mm: no position or arc centre of a program read lies farther from the origin
+/// along any axis (100 m; a machine's travel is a few metres at most).
+inline constexpr double kMaxCoordinateMm = 1e5;
 
 [[nodiscard]] Program read(std::string_view text, std::string_view source_name);
 

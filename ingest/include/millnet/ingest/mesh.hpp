@@ -1,6 +1,8 @@
 #pragma once
 // Triangle meshes in millnet: V is #V×3 vertex positions in mm (double), F is #F×3 vertex indices.
 // Orientation of the part after prepare(): +Z is "up" (the side the tool comes from).
+#include "millnet/core/budget.hpp"
+
 #include <Eigen/Core>
 
 #include <cstdint>
@@ -45,6 +47,19 @@ struct CadOptions {
   double angular_deflection_rad = 0.2;  ///< largest angle between neighbouring facets' normals, rad
   /// "" = every solid, shell and free face together; else one body by name or 1-based index ("2").
   std::string body;
+  /// Use what Open CASCADE could read of a damaged file (faces or roots lost, failed transfers,
+  /// references to entities the file lacks); false (the default, config /mesh/allow_partial_cad)
+  /// refuses such a read, counting what was lost (issue 42).
+  bool allow_partial = false;
+  /// The tessellation's estimated work and memory are checked against these before it runs
+  /// (mesher steps against max_work, its memory against max_memory_bytes); max_memory_bytes also
+  /// bounds the reader's process.
+  WorkLimits limits{};
+  /// The reader runs in a child process (cad_isolate.hpp) that a crash, a hang or runaway memory
+  /// cannot take the caller down with; false reads in this process (for debugging).
+  bool isolate = true;
+  /// Wall-clock and CPU seconds the reader's process may take before it is stopped.
+  double timeout_s = 600;
 };
 
 /// What reading a CAD part found (MeshReport::cad; empty for mesh formats).
@@ -59,6 +74,9 @@ struct CadReport {
   std::string body;                 ///< the body kept ("" = all)
   std::size_t faces = 0;            ///< B-rep faces tessellated
   std::string units_note;           ///< one line for the user when the units were overridden ("" = none)
+  /// What a read allowed to be partial (CadOptions::allow_partial) lost, one line ("" = complete).
+  std::string partial;
+  double estimated_triangles = 0;  ///< the tessellation's estimate, checked before it ran
 };
 
 /// What was found and done while loading and preparing a mesh (reported, never fatal).

@@ -7,6 +7,7 @@
 //     Entering a chain needs a pre-drilled hole (or a helix/ramp entry) unless the entry point has
 //     already been cut at this depth.
 #include "millnet/pocket/geometry.hpp"
+#include "millnet/tooling/cutter.hpp"
 
 #include <string>
 #include <vector>
@@ -34,7 +35,9 @@ struct Path2D {
 
 /// Tool, cut and machine parameters (all mm, mm/min, rpm). Flags > config > pocket file keys.
 struct CutParams {
-  double tool_diameter = 10;
+  /// The roughing tool (flat or bull nose): its diameter sets every clearance; its shape goes with
+  /// the program to the simulation and the previews (issue 36: a bull nose was simulated as flat).
+  tooling::Cutter tool = tooling::Cutter::flat(10);
   double stepover = 5;        ///< tool-point grid spacing g (SOM) / pass distance (zigzag)
   double stock_to_leave = 0;  ///< radial allowance left on walls and islands
   double depth = 5;           ///< pocket floor at Z = −depth (top is Z = 0)
@@ -45,7 +48,7 @@ struct CutParams {
   double feed_plunge = 30;
   double feed_min = 20, feed_max = 200;
   double spindle_rpm = 3000;
-  double feed_grid = 0;  ///< feed-map cell, 0 ⇒ tool_diameter / 10
+  double feed_grid = 0;  ///< feed-map cell, 0 ⇒ tool diameter / 10
   bool feed_adjust = true;
   /// The feed map pools steps shorter than a cell until they make a cell before reading an
   /// engagement (feedmap.hpp); false: every step scaled to a cell on its own, as the 1995 preset's
@@ -62,9 +65,9 @@ struct CutParams {
   /// below n₂ as the paper does.
   double max_chip_thinning = 0;
   std::vector<std::string> header;  ///< extra header comments (the tool and its cutting data)
-  [[nodiscard]] double clearance() const { return tool_diameter / 2 + stock_to_leave; }
+  [[nodiscard]] double clearance() const { return tool.diameter / 2 + stock_to_leave; }
   /// The one check of the cutting parameters every planner and the feed map rely on: a finite
-  /// tool_diameter > 0, stepover in (0, tool_diameter], stock_to_leave ≥ 0. Throws millnet::Error
+  /// tool diameter > 0, stepover in (0, tool diameter], stock_to_leave ≥ 0. Throws millnet::Error
   /// "<who>: <key> …" naming the value.
   void check(const std::string& who) const;
 };

@@ -21,7 +21,9 @@ namespace millnet::ingest {
 
 /// The same, with the tessellation and body choice for CAD files (report->cad tells what was read:
 /// the file's unit, its bodies, the deflections used). A CAD file in a build without Open CASCADE
-/// (MILLNET_CAD=OFF) throws "<file>: built without CAD support (…)".
+/// (MILLNET_CAD=OFF) throws "<file>: built without CAD support (…)". A CAD file is read in a child
+/// process that cannot take the caller down, and a damaged or hostile one is one millnet::Error
+/// naming it (what was lost, a crash, a size or a tessellation beyond cad.limits: issue 42).
 [[nodiscard]] Mesh load_mesh(const std::filesystem::path& path, const CadOptions& cad, MeshReport* report = nullptr);
 
 /// True when this build reads STEP/IGES (CMake option MILLNET_CAD).
