@@ -56,6 +56,11 @@ tooling::Tool tool_of(const Json& j) {
   t.stickout_mm = j["stickout"].get<double>();
   t.material = tooling::parse_tool_material(j["tool_material"].get<std::string>());
   t.max_rpm = j["max_rpm"].get<double>();
+  t.point_angle_deg = j["point_angle"].get<double>();
+  t.number = j["number"].get<int>();
+  t.length_offset = j["length_offset"].get<int>();
+  t.holder_diameter_mm = j["holder_diameter"].get<double>();
+  t.holder_length_mm = j["holder_length"].get<double>();
   return t;
 }
 
@@ -104,8 +109,17 @@ std::string fmt(double v, int decimals) {
 void check_tool_library(Json& doc, const std::string& source) {
   static const Json rule = Json::parse(kToolsSchemaText);
   check_against(doc, rule, fs::path(source).parent_path(), source);
-  for (std::size_t i = 0; i < doc["tools"].size(); ++i)
-    tool_of(doc["tools"][i]).check(source + ": /tools/" + std::to_string(i));
+  const Json& tools = doc["tools"];
+  for (std::size_t i = 0; i < tools.size(); ++i) {
+    const std::string at = source + ": /tools/" + std::to_string(i);
+    tool_of(tools[i]).check(at);
+    // One tool per tool-changer number within a file (0 = not assigned).
+    if (const int n = tools[i]["number"].get<int>(); n > 0)
+      for (std::size_t k = 0; k < i; ++k)
+        if (tools[k]["number"].get<int>() == n)
+          throw Error(at + "/number: T" + std::to_string(n) + " is also /tools/" + std::to_string(k) + " (" +
+                      tools[k]["id"].get<std::string>().substr(0, 60) + "); a tool number appears once");
+  }
 }
 
 void check_material_table(Json& doc, const std::string& source) {
