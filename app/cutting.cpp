@@ -56,6 +56,11 @@ tooling::Tool tool_of(const Json& j) {
   t.stickout_mm = j["stickout"].get<double>();
   t.material = tooling::parse_tool_material(j["tool_material"].get<std::string>());
   t.max_rpm = j["max_rpm"].get<double>();
+  t.point_angle_deg = j["point_angle"].get<double>();
+  t.number = j["number"].get<int>();
+  t.length_offset = j["length_offset"].get<int>();
+  t.holder_diameter_mm = j["holder_diameter"].get<double>();
+  t.holder_length_mm = j["holder_length"].get<double>();
   return t;
 }
 
@@ -104,8 +109,17 @@ std::string fmt(double v, int decimals) {
 void check_tool_library(Json& doc, const std::string& source) {
   static const Json rule = Json::parse(kToolsSchemaText);
   check_against(doc, rule, fs::path(source).parent_path(), source);
-  for (std::size_t i = 0; i < doc["tools"].size(); ++i)
-    tool_of(doc["tools"][i]).check(source + ": /tools/" + std::to_string(i));
+  const Json& tools = doc["tools"];
+  for (std::size_t i = 0; i < tools.size(); ++i) {
+    const std::string at = source + ": /tools/" + std::to_string(i);
+    tool_of(tools[i]).check(at);
+    // One tool per tool-changer number within a file (0 = not assigned).
+    if (const int n = tools[i]["number"].get<int>(); n > 0)
+      for (std::size_t k = 0; k < i; ++k)
+        if (tools[k]["number"].get<int>() == n)
+          throw Error(at + "/number: T" + std::to_string(n) + " is also /tools/" + std::to_string(k) + " (" +
+                      tools[k]["id"].get<std::string>().substr(0, 60) + "); a tool number appears once");
+  }
 }
 
 void check_material_table(Json& doc, const std::string& source) {
@@ -135,6 +149,7 @@ ToolLibrary tool_library(const Json& config) {
     Json t = Json::parse(kToolsText);
     check_tool_library(t, "built-in configs/tools.json");
     merge(b.tools, tools_of(t), "tool", "built-in configs/tools.json");
+    b.tool_sources.assign(b.tools.size(), b.tools_source);
     Json m = Json::parse(kMaterialsText);
     check_material_table(m, "built-in configs/materials.json");
     merge(b.materials, materials_of(m), "material", "built-in configs/materials.json");
@@ -145,7 +160,13 @@ ToolLibrary tool_library(const Json& config) {
   if (const std::string f = c["tools_file"].get<std::string>(); !f.empty()) {
     Json t = read_json(f);
     check_tool_library(t, f);
-    merge(lib.tools, tools_of(t), "tool", f);
+    std::vector<tooling::Tool> shop = tools_of(t);
+    std::vector<std::string> shop_ids;
+    for (const tooling::Tool& s : shop) shop_ids.push_back(s.id);
+    merge(lib.tools, std::move(shop), "tool", f);
+    lib.tool_sources.resize(lib.tools.size());
+    for (std::size_t i = 0; i < lib.tools.size(); ++i)
+      if (std::find(shop_ids.begin(), shop_ids.end(), lib.tools[i].id) != shop_ids.end()) lib.tool_sources[i] = f;
     lib.tools_source += " + " + f;
   }
   if (const std::string f = c["materials_file"].get<std::string>(); !f.empty()) {
@@ -155,6 +176,30 @@ ToolLibrary tool_library(const Json& config) {
     lib.materials_source += " + " + f;
   }
   return lib;
+}
+
+std::vector<tooling::Tool> machine_tools(const ToolLibrary& lib, std::vector<std::string>& notes) {
+  const std::string built_in = ToolLibrary{}.tools_source;
+  auto from_shop = [&](std::size_t i) { return i < lib.tool_sources.size() && lib.tool_sources[i] != built_in; };
+  // The shop's tool on a built-in tool's number, if any (lib.tools.size() when none).
+  auto shop_twin = [&](std::size_t i) {
+    for (std::size_t k = 0; k < lib.tools.size(); ++k)
+      if (from_shop(k) && lib.tools[k].number == lib.tools[i].number) return k;
+    return lib.tools.size();
+  };
+  std::vector<tooling::Tool> out;
+  for (std::size_t i = 0; i < lib.tools.size(); ++i) {
+    const tooling::Tool& t = lib.tools[i];
+    if (!from_shop(i) && t.number > 0) {
+      if (const std::size_t k = shop_twin(i); k < lib.tools.size()) {
+        notes.push_back("built-in tool " + t.id + " (T" + std::to_string(t.number) + ") left out: T" +
+                        std::to_string(t.number) + " is " + lib.tools[k].id + " of " + lib.tool_sources[k]);
+        continue;
+      }
+    }
+    out.push_back(t);
+  }
+  return out;
 }
 
 CuttingSettings cutting_settings(const Json& config, const std::optional<std::string>& material_flag) {

@@ -18,6 +18,8 @@ struct ToolLibrary {
   std::vector<tooling::Tool> tools;
   std::vector<tooling::Material> materials;
   std::string tools_source = "built-in configs/tools.json", materials_source = "built-in configs/materials.json";
+  /// Per tool (same order as `tools`): "built-in configs/tools.json" or the /cutting/tools_file it came from.
+  std::vector<std::string> tool_sources;
   /// Throws millnet::Error "<what>: unknown tool id 'x' (did you mean 'y'?; <n> tools in <source>)".
   [[nodiscard]] const tooling::Tool& tool(const std::string& id, const std::string& what) const;
   [[nodiscard]] const tooling::Material& material(const std::string& id, const std::string& what) const;
@@ -25,6 +27,11 @@ struct ToolLibrary {
 
 /// The built-in library plus the config's /cutting/tools_file and /cutting/materials_file.
 [[nodiscard]] ToolLibrary tool_library(const Json& config);
+
+/// The tools of the machine's tool table (`millnet tools export`): every tool of the library, except a
+/// built-in tool whose number a tool of /cutting/tools_file has (the shop's file describes its
+/// machine; the built-in tools are examples): each one left out is named in `notes`.
+[[nodiscard]] std::vector<tooling::Tool> machine_tools(const ToolLibrary& lib, std::vector<std::string>& notes);
 
 /// Checks a tools.json / materials.json document against its schema (errors name `source` and the key).
 void check_tool_library(Json& doc, const std::string& source);

@@ -69,6 +69,7 @@ int main(int argc, char** argv) {
   add(register_simulate);
   add(register_run);
   add(register_view);
+  add(register_tools);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ValidationError& e) {

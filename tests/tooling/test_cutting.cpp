@@ -148,3 +148,45 @@ TEST(CuttingData, OverridesReplaceTheTableFigures) {
   EXPECT_EQ(c.rpm, std::round(150000 / (std::numbers::pi * 10)));
   EXPECT_DOUBLE_EQ(c.feed_mm_min, std::round(0.1 * 3 * c.rpm));
 }
+
+// Issue 40: where a tool sits on the machine — its number, length offset and holder — is checked
+// like its geometry, and changes neither its label nor its cutter.
+TEST(ToolCheck, NumberLengthOffsetHolderAndPointAngle) {
+  t::Tool tool = em10();
+  const std::string label = tool.label();
+  tool.number = 7;
+  tool.holder_diameter_mm = 24;
+  tool.holder_length_mm = 60;
+  EXPECT_NO_THROW(tool.check("tools.json"));
+  EXPECT_EQ(tool.label(), label);
+  EXPECT_EQ(tool.length_offset_register(), 7);  // H = T unless stated
+  tool.length_offset = 17;
+  EXPECT_EQ(tool.length_offset_register(), 17);
+  auto message = [](const t::Tool& x) {
+    try {
+      x.check("tools.json");
+    } catch (const millnet::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  t::Tool narrow = tool;
+  narrow.holder_diameter_mm = 8;
+  EXPECT_EQ(message(narrow), "tools.json em10: holder diameter 8 mm is narrower than the tool (10 mm)");
+  t::Tool bad = tool;
+  bad.number = -1;
+  EXPECT_EQ(message(bad), "tools.json em10: tool number (T) -1 is outside [0, 99999]");
+  bad = tool;
+  bad.length_offset = 100000;
+  EXPECT_EQ(message(bad), "tools.json em10: length offset (H) 100000 is outside [0, 99999]");
+  bad = tool;
+  bad.holder_length_mm = std::nan("");
+  EXPECT_EQ(message(bad), "tools.json em10: holder length (mm) nan is outside [0, 10000]");
+  t::Tool drill = tool;
+  drill.type = t::ToolType::Drill;
+  drill.point_angle_deg = 140;
+  EXPECT_DOUBLE_EQ(drill.cutter().point_angle_deg, 140);
+  EXPECT_NEAR(drill.cutter().point_height(), 5 / std::tan(70 * std::numbers::pi / 180), 1e-12);
+  drill.point_angle_deg = 180;
+  EXPECT_EQ(message(drill), "tools.json em10: point angle 180 deg must be in (0, 180)");
+}

@@ -55,6 +55,21 @@ void Tool::check(const std::string& who) const {
     throw Error(at + ": flute length " + format_double(flute_length_mm) + " mm exceeds the stick-out " +
                 format_double(stickout_mm) + " mm");
   in(max_rpm, 0, 500000, "max rpm");
+  if (type == ToolType::Drill && !(point_angle_deg > 0 && point_angle_deg < 180))
+    throw Error(at + ": point angle " + format_double(point_angle_deg) + " deg must be in (0, 180)");
+  auto whole = [&](int v, const char* what) {
+    if (v < 0 || v > kMaxToolNumber)
+      throw Error(at + ": " + what + " " + std::to_string(v) + " is outside [0, " + std::to_string(kMaxToolNumber) +
+                  "]");
+  };
+  whole(number, "tool number (T)");
+  whole(length_offset, "length offset (H)");
+  in(holder_diameter_mm, 0, kMaxHolderMm, "holder diameter (mm)");
+  in(holder_length_mm, 0, kMaxHolderMm, "holder length (mm)");
+  // The shank sits inside the holder: a stated holder narrower than the tool is a typing error.
+  if (holder_diameter_mm > 0 && holder_diameter_mm < diameter_mm)
+    throw Error(at + ": holder diameter " + format_double(holder_diameter_mm) + " mm is narrower than the tool (" +
+                format_double(diameter_mm) + " mm)");
   try {
     cutter().check();
   } catch (const Error& e) {
@@ -68,7 +83,7 @@ Cutter Tool::cutter() const {
     case ToolType::Flat: c = Cutter::flat(diameter_mm); break;
     case ToolType::Ball: c = Cutter::ball(diameter_mm); break;
     case ToolType::Bull: c = Cutter::bull(diameter_mm, corner_radius_mm); break;
-    case ToolType::Drill: c = Cutter::drill(diameter_mm); break;
+    case ToolType::Drill: c = Cutter::drill(diameter_mm, point_angle_deg); break;
   }
   // A library's flat tool with a corner radius is not silently made sharp: check() refuses it.
   if (type == ToolType::Flat || type == ToolType::Drill) c.corner_radius = corner_radius_mm;

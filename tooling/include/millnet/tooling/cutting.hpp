@@ -25,6 +25,11 @@
 
 namespace millnet::tooling {
 
+/// Largest tool number (T) and length-offset register (H) a tool library holds.
+inline constexpr int kMaxToolNumber = 99999;
+/// Largest holder diameter and length a tool library holds, mm.
+inline constexpr double kMaxHolderMm = 10000;
+
 /// A tool's type is its cutter's (cutter.hpp): one enumeration for both.
 using ToolType = CutterType;
 enum class ToolMaterial { Carbide, HSS };
@@ -47,9 +52,22 @@ struct Tool {
   double stickout_mm = 0;      ///< length out of the holder; 0 = not stated
   ToolMaterial material = ToolMaterial::Carbide;
   double max_rpm = 0;  ///< the tool's own limit; 0 = none
+  /// Drill only: the included angle of the tip, degrees, in (0, 180) (Cutter::point_angle_deg).
+  double point_angle_deg = kDefaultPointAngleDeg;
+  // Where the tool sits on the machine (issue 40). None of these is part of label(): programs'
+  // headers and metrics name a tool as before.
+  int number = 0;         ///< T: the tool changer's tool number, in [0, kMaxToolNumber]; 0 = not assigned
+  int length_offset = 0;  ///< H: the length-offset register G43 reads, in [0, kMaxToolNumber]; 0 = the tool's number
+  /// The holder, as a cylinder around the tool from its face (where the stick-out ends) up to the
+  /// spindle: its largest diameter and its length, mm; 0 = not stated. A stated holder is at least as
+  /// wide as the tool (the tool's shank sits inside it).
+  double holder_diameter_mm = 0;
+  double holder_length_mm = 0;
   /// Throws millnet::Error "<who>: <field> …" on a non-finite or out-of-range field, and
   /// "<who>: cutter: …" when its shape fails Cutter::check (a flat tool with a corner radius).
   void check(const std::string& who) const;
+  /// The H register G43 reads: length_offset, or the tool's number when length_offset is 0.
+  [[nodiscard]] int length_offset_register() const { return length_offset > 0 ? length_offset : number; }
   /// Its cutting shape with its flute length and stick-out (the one every module takes).
   [[nodiscard]] Cutter cutter() const;
   /// "em10-3f: D10 mm 3-flute carbide flat end mill" (or "D10 mm 2-flute carbide flat end mill
