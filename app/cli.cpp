@@ -6,6 +6,7 @@
 #include "millnet/core/progress.hpp"
 #include "millnet/gcode/writer.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
+#include "millnet/pocket/planner_registry.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -189,7 +190,7 @@ void PocketFlags::add_to(CLI::App* sub, bool with_planner_flags, bool with_depth
                 "leave the wall pass out: parts of the reachable region near the walls stay uncut")
       ->excludes(with);
   if (with_planner_flags) {
-    sub->add_option("--planner", planner, "planner")->check(CLI::IsMember({"som", "zigzag", "offset", "adaptive"}));
+    sub->add_option("--planner", planner, "planner")->check(CLI::IsMember(pocket::planner_names()));
     sub->add_option("--partition", partition, "zigzag partition (T: Tang, I: Suh & Kim)")
         ->check(CLI::IsMember({"t", "i", "T", "I"}));
     sub->add_option("--angle", angle, "zigzag reference angle in degrees, or auto");

@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <sstream>
-#include <tuple>
 
 namespace millnet::app {
 namespace fs = std::filesystem;
@@ -38,49 +37,35 @@ struct Row {
   }
 };
 
-/// Plans and machines the pocket with every planner (SOM, zigzag T, zigzag I, offset, adaptive), writing each one's
-/// pocket outputs (<stem>.<planner>.*) as it goes.
+/// Plans and machines the pocket with every run of every planner of the registry (SOM, zigzag T,
+/// zigzag I, offset, adaptive), writing each one's pocket outputs (<stem>.<run>.*) as it goes.
 std::vector<Row> plan_every_planner(const CompareOpts& o, const Json& config, const pocket::PocketFile& file,
                                     const pocket::CutParams& cut, const Json& cutting_data) {
   const std::string stem = fs::path(o.pocket).stem().string();
   std::vector<Row> rows;
-  for (const char* name : {"som", "zigzag-t", "zigzag-i", "offset", "adaptive"}) {
-    PocketFlags f = o.flags;
-    const std::string n = name;
-    f.planner = n == "som" || n == "offset" || n == "adaptive" ? n : "zigzag";
-    if (n.rfind("zigzag", 0) == 0) f.partition = n == "zigzag-t" ? "t" : "i";
-    if (!f.angle) f.angle = "auto";
-    const PlannerChoice ch = planner_choice(config, cut, f);
-    Row r{n, plan_region(file.region, cut, ch), {}};
-    pocket::MachiningOptions mo = machining_options(ch, config);
-    mo.program_name = stem + "-" + n;
-    r.m = pocket::machine_pocket(file.region, cut, r.plan, mo);
-    write_pocket_outputs(o.out, stem + "." + n, file.region, cut, ch, r.plan, r.m, {},
-                         post_dialect(config, o.flags.post), cutting_data);
-    info("compare: " + n + " done");
-    rows.push_back(std::move(r));
-  }
+  for (const pocket::PlannerEntry& planner : pocket::planners())
+    for (const pocket::CompareRun& run : planner.compare) {
+      PocketFlags f = o.flags;
+      f.planner = std::string(planner.name);
+      const PlannerChoice ch = planner_choice(config, cut, f, &run);
+      const std::string n(run.label);
+      Row r{n, plan_region(file.region, cut, ch), {}};
+      pocket::MachiningOptions mo = machining_options(ch, config);
+      mo.program_name = stem + "-" + n;
+      r.m = pocket::machine_pocket(file.region, cut, r.plan, mo);
+      write_pocket_outputs(o.out, stem + "." + n, file.region, cut, ch, r.plan, r.m, {},
+                           post_dialect(config, o.flags.post), cutting_data);
+      info("compare: " + n + " done");
+      rows.push_back(std::move(r));
+    }
   return rows;
 }
 
-/// A pocket counts as cleared when at most this much of its reachable area stays uncut (issue 11's
-/// goal), mm².
-constexpr double kClearedUncutMm2 = 2.0;
-
-/// Rank of each row (1 = best) by time to a cleared pocket: planners that clear it first, each
-/// group by the motion model's time (ties: the order of the rows).
+/// Rank of each row (1 = best): pocket::rank_by_time_to_clear.
 std::vector<std::size_t> ranks(const std::vector<Row>& rows) {
-  std::vector<std::size_t> order(rows.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  auto key = [&](std::size_t i) {
-    const auto& m = rows[i].m;
-    const bool ok = m.status == pocket::PlanStatus::Ok;
-    return std::tuple(!ok, !(m.metrics.uncut_area_mm2 <= kClearedUncutMm2), m.metrics.time_kinematic_min);
-  };
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
-  std::vector<std::size_t> rank(rows.size());
-  for (std::size_t k = 0; k < order.size(); ++k) rank[order[k]] = k + 1;
-  return rank;
+  std::vector<const pocket::MachiningResult*> results;
+  for (const Row& r : rows) results.push_back(&r.m);
+  return pocket::rank_by_time_to_clear(results);
 }
 
 std::string compare_csv(const std::vector<Row>& rows) {
@@ -114,7 +99,7 @@ std::string compare_md(const std::vector<Row>& rows, const pocket::CutParams& cu
      << "## Ranked by time to a cleared pocket\n\n"
      << "Time on the machine (motion model: /machine acceleration, junction deviation, rapids), planners that "
         "leave at most "
-     << fixed(kClearedUncutMm2, 0) << " mm² of the reachable area uncut first.\n\n"
+     << fixed(pocket::kClearedUncutMm2, 0) << " mm² of the reachable area uncut first.\n\n"
      << "| rank | planner | time on the machine (min) | uncut (mm²) | retractions | largest engagement (°) |\n"
      << "|---:|---|---:|---:|---:|---:|\n";
   const std::vector<std::size_t> rank = ranks(rows);

@@ -13,7 +13,7 @@ namespace millnet::app {
 namespace fs = std::filesystem;
 
 pocket::PlanResult plan_region(const pocket::Region& region, const pocket::CutParams& cut, const PlannerChoice& ch) {
-  const pocket::PlannerSpec spec = planner_spec(ch);
+  const pocket::PlannerSpec& spec = ch.spec;
   pocket::check_work(region, cut, spec, work_limits());  // before anything is allocated (issue 12)
   return pocket::plan(region, cut, spec);
 }

@@ -1,4 +1,6 @@
 #include "settings.hpp"
+
+#include "json_settings.hpp"
 #include "cli.hpp"
 
 #include <cmath>
@@ -222,79 +224,55 @@ pocket::MachiningOptions machining_options(const PlannerChoice& choice, const Js
   return mo;
 }
 
-PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, const PocketFlags& flags) {
-  const Json& pc = config["pocket"];
+namespace {
+
+/// Sets "section/key" of the pocket section to a string.
+void set_setting(Json& pocket, std::string_view path, std::string_view value) {
+  Json* at = &pocket;
+  for (std::size_t b = 0; b <= path.size();) {
+    std::size_t e = path.find('/', b);
+    if (e == std::string_view::npos) e = path.size();
+    at = &(*at)[std::string(path.substr(b, e - b))];
+    b = e + 1;
+  }
+  *at = std::string(value);
+}
+
+/// --angle: degrees in [-360, 360] or "auto", as /pocket/zigzag/angle takes it.
+Json angle_flag(const std::string& angle) {
+  if (angle == "auto") return angle;
+  try {
+    std::size_t used = 0;
+    const double deg = std::stod(angle, &used);
+    if (used != angle.size() || !(std::abs(deg) <= 360)) throw std::invalid_argument(angle);
+    return deg;
+  } catch (const std::exception&) {
+    throw Error("--angle: expected a number of degrees in [-360, 360] or \"auto\", got \"" + angle.substr(0, 40) +
+                "\"");
+  }
+}
+
+}  // namespace
+
+PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, const PocketFlags& flags,
+                             const pocket::CompareRun* run) {
+  Json pc = config["pocket"];
+  if (run)
+    for (const auto& [path, value] : run->defaults) set_setting(pc, path, value);
+  if (flags.partition) pc["zigzag"]["partition"] = *flags.partition;
+  if (flags.angle) pc["zigzag"]["angle"] = angle_flag(*flags.angle);
+  if (run)
+    for (const auto& [path, value] : run->overrides) set_setting(pc, path, value);
   PlannerChoice ch;
   ch.name = flags.planner.value_or(pc["planner"].get<std::string>());
+  ch.spec =
+      pocket::planner_named(ch.name).parse(JsonSettings(pc, "/pocket"), {&cut, config["seed"].get<std::uint64_t>()});
   ch.entry = pocket::parse_entry(flags.entry.value_or(pc["entry"].get<std::string>()));
   ch.contour = !flags.no_contour && (flags.contour || pc["contour"].get<bool>());
   ch.link_walls = pc["link_walls"].get<bool>();
   ch.entry_angle_deg = pc["entry_angle"].get<double>();
   ch.ramp_clearance_mm = pc["ramp_clearance"].get<double>();
-  ch.frame.origin = {pc["grid"]["origin_x"].get<double>(), pc["grid"]["origin_y"].get<double>()};
-  ch.frame.angle_deg = pc["grid"]["angle_deg"].get<double>();
-  ch.frame.spacing = cut.stepover;
-  const Json& s = pc["som"];
-  ch.som.node_factor = s["node_factor"].get<double>();
-  ch.som.g0 = s["g0"].get<double>();
-  ch.som.alpha = s["alpha"].get<double>();
-  ch.som.adaptive_alpha = s["adaptive_alpha"].get<bool>();
-  ch.som.c = s["c"].get<double>();
-  ch.som.k_scale_mm = s["k_scale_mm"].get<double>();
-  ch.som.alpha_min = s["alpha_min"].get<double>();
-  ch.som.w = s["w"].get<double>();
-  ch.som.max_passes = s["max_passes"].get<int>();
-  ch.som.tolerance_mm = s["tolerance_mm"].get<double>();
-  ch.som.seed = config["seed"].get<std::uint64_t>();
-  const Json& m = pc["smoothing"];
-  ch.smooth.linking = m["linking"].get<bool>();
-  ch.smooth.link_max_ratio = m["link_max_ratio"].get<double>();
-  ch.smooth.link_max_mm = m["link_max_mm"].get<double>();
-  ch.smooth.weak = m["weak"].get<bool>();
-  ch.smooth.extra_passes = m["extra_passes"].get<bool>();
-  ch.smooth.opt_neighbours = m["opt_neighbours"].get<int>();
-  ch.smooth.retract_penalty_mm = m["retract_penalty_mm"].get<double>();
-  ch.smooth.max_opt_moves = m["max_opt_moves"].get<long>();
-  ch.som_path.walls = s["walls"].get<bool>();
-  ch.som_path.blend_corners = m["blend_corners"].get<bool>();
-  ch.som_path.blend_radius_mm = m["blend_radius_mm"].get<double>();
-  ch.offset.climb = pc["offset"]["direction"].get<std::string>() == "climb";
-  const Json& ad = pc["adaptive"];
-  ch.adaptive.max_engagement_deg = ad["max_engagement_deg"].get<double>();
-  const std::string adaptive_direction = ad["direction"].get<std::string>();
-  ch.adaptive.climb = adaptive_direction != "conventional";
-  ch.adaptive.both_ways = adaptive_direction == "both";
-  ch.adaptive.step_mm = ad["step_mm"].get<double>();
-  ch.adaptive.raster_mm = ad["raster_mm"].get<double>();
-  ch.adaptive.safety = ad["safety"].get<double>();
-  const Json& z = pc["zigzag"];
-  std::string part = flags.partition.value_or(z["partition"].get<std::string>());
-  ch.zigzag.partition = (part == "t" || part == "T") ? pocket::PartitionKind::T : pocket::PartitionKind::I;
-  ch.zigzag.link_regions = z["link_regions"].get<bool>();
-  std::string angle = flags.angle ? *flags.angle : (z["angle"].is_string() ? z["angle"].get<std::string>() : "");
-  if (!flags.angle && z["angle"].is_number()) {
-    ch.zigzag.angle_deg = z["angle"].get<double>();
-  } else if (angle == "auto") {
-    ch.zigzag.angle_deg = std::nullopt;
-  } else {
-    try {
-      std::size_t used = 0;
-      ch.zigzag.angle_deg = std::stod(angle, &used);
-      if (used != angle.size() || !(std::abs(*ch.zigzag.angle_deg) <= 360)) throw std::invalid_argument(angle);
-    } catch (const std::exception&) {
-      throw Error((flags.angle ? std::string("--angle") : std::string("/pocket/zigzag/angle")) +
-                  ": expected a number of degrees in [-360, 360] or \"auto\", got \"" + angle.substr(0, 40) + "\"");
-    }
-  }
   return ch;
-}
-
-pocket::PlannerSpec planner_spec(const PlannerChoice& ch) {
-  if (ch.name == "som") return pocket::SomSpec{ch.frame, ch.som, ch.smooth, ch.som_path};
-  if (ch.name == "zigzag") return pocket::ZigzagSpec{ch.zigzag};
-  if (ch.name == "offset") return pocket::OffsetSpec{ch.offset};
-  if (ch.name == "adaptive") return pocket::AdaptiveSpec{ch.adaptive};
-  throw Error("unknown planner '" + ch.name + "' (expected som, zigzag, offset or adaptive)");
 }
 
 gcode::Dialect post_dialect(const Json& config, const std::optional<std::string>& flag) {
@@ -312,7 +290,7 @@ rough::Params rough_params(const Json& config, const Json& explicit_pocket, cons
   p.floor_allowance_mm = r["floor_allowance_mm"].get<double>();
   p.cut = cut_params(config, explicit_pocket, nullptr, flags, record);
   const PlannerChoice choice = planner_choice(config, p.cut, flags);
-  p.planner = planner_spec(choice);
+  p.planner = choice.spec;
   p.machining = machining_options(choice, config);  // contour: the wall pass per level region (rough adds it, issue 11)
   p.limits = work_limits();
   return p;

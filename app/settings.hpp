@@ -2,7 +2,7 @@
 // The one place where a checked config (and the command-line flags that override it) becomes the
 // modules' parameter structs. Every command reads its settings from here; JSON goes no further.
 //
-//   pocket, compare, rough, run:  cut_params, planner_choice → planner_spec, rough_params
+//   pocket, compare, rough, run:  cut_params, planner_choice, rough_params
 //   finish, simulate, dataset (labels by simulation), run:  finish_settings, simulated_finish_settings
 //   dataset, train, predict, run:  recipe_from_config, train_params, predict_augment, run_settings
 #include "cli.hpp"
@@ -45,14 +45,8 @@ namespace millnet::app {
 [[nodiscard]] Json explicit_pocket_section(const std::string& config_path);
 
 struct PlannerChoice {
-  std::string name = "som";  ///< "som" | "zigzag" | "offset" | "adaptive"
-  pocket::GridFrame frame;
-  pocket::SomParams som;
-  pocket::SmoothingParams smooth;
-  pocket::SomPathParams som_path;  ///< /pocket/som/walls, /pocket/smoothing/blend_corners, …
-  pocket::ZigzagParams zigzag;
-  pocket::OffsetParams offset;
-  pocket::AdaptiveParams adaptive;
+  std::string name = "som";  ///< the planner's registry name (pocket/planner_registry.hpp)
+  pocket::PlannerSpec spec;  ///< it and its parameters
   pocket::Entry entry = pocket::Entry::Predrill;
   double entry_angle_deg = 3.0;    ///< /pocket/entry_angle: helix and ramp descent
   double ramp_clearance_mm = 0.2;  ///< /pocket/ramp_clearance: where a helix or ramp starts
@@ -65,15 +59,15 @@ struct PlannerChoice {
 /// The controller's dialect every program is written in: --post, else /machine/post.
 [[nodiscard]] gcode::Dialect post_dialect(const Json& config, const std::optional<std::string>& flag);
 
-[[nodiscard]] PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, const PocketFlags& flags);
+/// The planner of --planner, else /pocket/planner, with its settings from the "pocket" section and
+/// the flags (--partition, --angle). A compare run's defaults are set before the flags, its overrides
+/// after them.
+[[nodiscard]] PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, const PocketFlags& flags,
+                                           const pocket::CompareRun* run = nullptr);
 
 /// The machining options of a choice (entry, its angle, wall pass, links) and the config's machine
 /// profile; the caller adds the program's name and comments.
 [[nodiscard]] pocket::MachiningOptions machining_options(const PlannerChoice& choice, const Json& config);
-
-/// The typed planner spec of a choice (throws millnet::Error on an unknown planner name). A new
-/// planner: its config key → spec here.
-[[nodiscard]] pocket::PlannerSpec planner_spec(const PlannerChoice& choice);
 
 // ---- rough (rough, run) ----
 

@@ -108,15 +108,16 @@ struct Entry {
   unsigned sampling;     ///< the CL grids it samples (Sampling bits): its work estimate
 };
 
-/// The registry: a new strategy is one function above and one line here (slots 6–8 are free).
-constexpr std::array<Entry, 5> kRegistry{{
+/// The registry: a new strategy is one function above and one line here (slots 6–8 are free; its
+/// id may be Strategy{6} until it earns an enumerator), and its slot in the schema's /finish/strategy.
+constexpr auto kRegistry = std::to_array<Entry>({
     {Strategy::SlopeMode, "profile + Z finishing, slope mode", slope_mode, false, kRasterSampling | kWaterlineSampling},
     {Strategy::Raster, "3D finishing (parallel)", raster, true, kRasterSampling},
     {Strategy::ScallopMode, "profile finishing, scallop-height mode", scallop_mode, true, kRasterSampling},
     {Strategy::Waterline, "Z-level finishing", waterline, false, kWaterlineSampling},
     {Strategy::Equidistant, "profile finishing, equidistant, constant in-feed", equidistant, false,
      kEquidistantSampling},
-}};
+});
 
 const Entry& entry(Strategy s) {
   for (const Entry& e : kRegistry)

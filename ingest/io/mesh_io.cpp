@@ -194,14 +194,88 @@ Mesh load_with_assimp(const fs::path& path, MeshReport* report) {
 
 }  // namespace
 
+namespace {
+
+Mesh read_stl(const fs::path& path, const CadOptions&, MeshReport* report) {
+  const std::string name = path.string();
+  const std::string bytes = read_file(path);
+  std::uint32_t n = 0;
+  if (bytes.size() >= 84) std::memcpy(&n, bytes.data() + 80, 4);
+  const bool binary = bytes.size() >= 84 && bytes.size() == 84 + 50 * static_cast<std::uint64_t>(n);
+  std::size_t b = 0;
+  while (b < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[b]))) ++b;
+  std::string head = bytes.substr(b, 5);
+  for (char& c : head) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (binary) {
+    if (head == "solid" && report)
+      report->notes.push_back("binary STL whose header starts with 'solid' (read as binary: size = 84 + 50·n)");
+    return parse_stl_binary(bytes, name, report);
+  }
+  if (head == "solid") {
+    Mesh m = detail::parse_stl_ascii(bytes, name);
+    if (report) report->notes.push_back("ASCII STL: stored normals ignored");
+    return m;
+  }
+  throw file_error(name, "not an STL file: neither binary (" + std::to_string(bytes.size()) +
+                             " bytes, expected 84 + 50·n) nor ASCII (does not start with 'solid')");
+}
+
+// Our own PLY and OFF readers: assimp's aborted, crashed, hung or clamped indices on malformed
+// files (tests/corpus/mesh/ply_*, off_*).
+Mesh read_ply(const fs::path& path, const CadOptions&, MeshReport* report) {
+  Mesh m = detail::parse_ply(read_file(path), path.string());
+  if (report) report->notes.push_back("polygons triangulated as fans; stored normals and colours ignored");
+  return m;
+}
+
+Mesh read_off(const fs::path& path, const CadOptions&, MeshReport* report) {
+  Mesh m = detail::parse_off(read_file(path), path.string());
+  if (report) report->notes.push_back("polygons triangulated as fans; stored normals and colours ignored");
+  return m;
+}
+
+Mesh read_cloud(const fs::path& path, const CadOptions&, MeshReport* report) { return load_point_cloud(path, report); }
+
+Mesh read_with_assimp(const fs::path& path, const CadOptions&, MeshReport* report) {
+  return load_with_assimp(path, report);
+}
+
+Mesh read_cad(const fs::path& path, const CadOptions& cad, MeshReport* report) {
+  return detail::load_cad(path, cad, report);
+}
+
+std::vector<std::string> extensions_of(MeshFormatKind kind) {
+  std::vector<std::string> ext;
+  for (const MeshFormat& f : mesh_formats())
+    if (f.kind == kind) ext.insert(ext.end(), f.extensions.begin(), f.extensions.end());
+  return ext;
+}
+
+}  // namespace
+
+const std::vector<MeshFormat>& mesh_formats() {
+  static const std::vector<MeshFormat> formats{
+      {"STL", MeshFormatKind::Mesh, {".stl"}, read_stl},
+      {"OBJ, 3MF, glTF (assimp)", MeshFormatKind::Mesh, {".obj", ".3mf", ".gltf", ".glb"}, read_with_assimp},
+      {"PLY", MeshFormatKind::Mesh, {".ply"}, read_ply},
+      {"OFF", MeshFormatKind::Mesh, {".off"}, read_off},
+      {"point cloud (x y z text)", MeshFormatKind::PointCloud, {".xyz", ".pts", ".txt", ".asc"}, read_cloud},
+      {"STEP, IGES (Open CASCADE)", MeshFormatKind::Cad, detail::cad_extensions(), read_cad},
+  };
+  return formats;
+}
+
 const std::vector<std::string>& point_cloud_extensions() {
-  static const std::vector<std::string> ext = {".xyz", ".pts", ".txt", ".asc"};
+  static const std::vector<std::string> ext = extensions_of(MeshFormatKind::PointCloud);
   return ext;
 }
 
 const std::vector<std::string>& mesh_extensions() {
-  static const std::vector<std::string> ext = {".stl", ".obj", ".ply", ".off",  ".3mf", ".gltf", ".glb", ".xyz",
-                                               ".pts", ".txt", ".asc", ".step", ".stp", ".iges", ".igs"};
+  static const std::vector<std::string> ext = [] {
+    std::vector<std::string> all;
+    for (const MeshFormat& f : mesh_formats()) all.insert(all.end(), f.extensions.begin(), f.extensions.end());
+    return all;
+  }();
   return ext;
 }
 
@@ -245,43 +319,12 @@ Mesh load_mesh(const fs::path& path, const CadOptions& cad, MeshReport* report) 
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw file_error(name, "cannot open for reading");
   }
+  // A file whose extension no format lists goes to assimp, which knows more formats than it is listed for.
   const std::string ext = lower_ext(path);
-  Mesh m;
-  const auto& clouds = point_cloud_extensions();
-  const auto& cads = detail::cad_extensions();
-  if (std::find(cads.begin(), cads.end(), ext) != cads.end()) {
-    m = detail::load_cad(path, cad, report);
-  } else if (std::find(clouds.begin(), clouds.end(), ext) != clouds.end()) {
-    m = load_point_cloud(path, report);
-  } else if (ext == ".stl") {
-    const std::string bytes = read_file(path);
-    std::uint32_t n = 0;
-    if (bytes.size() >= 84) std::memcpy(&n, bytes.data() + 80, 4);
-    const bool binary = bytes.size() >= 84 && bytes.size() == 84 + 50 * static_cast<std::uint64_t>(n);
-    std::size_t b = 0;
-    while (b < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[b]))) ++b;
-    std::string head = bytes.substr(b, 5);
-    for (char& c : head) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (binary) {
-      if (head == "solid" && report)
-        report->notes.push_back("binary STL whose header starts with 'solid' (read as binary: size = 84 + 50·n)");
-      m = parse_stl_binary(bytes, name, report);
-    } else if (head == "solid") {
-      m = detail::parse_stl_ascii(bytes, name);
-      if (report) report->notes.push_back("ASCII STL: stored normals ignored");
-    } else {
-      throw file_error(name, "not an STL file: neither binary (" + std::to_string(bytes.size()) +
-                                 " bytes, expected 84 + 50·n) nor ASCII (does not start with 'solid')");
-    }
-  } else if (ext == ".ply" || ext == ".off") {
-    // Our own readers: assimp's aborted, crashed, hung or clamped indices on malformed PLY/OFF
-    // (tests/corpus/mesh/ply_*, off_*).
-    const std::string bytes = read_file(path);
-    m = ext == ".ply" ? detail::parse_ply(bytes, name) : detail::parse_off(bytes, name);
-    if (report) report->notes.push_back("polygons triangulated as fans; stored normals and colours ignored");
-  } else {
-    m = load_with_assimp(path, report);
-  }
+  Mesh (*read)(const fs::path&, const CadOptions&, MeshReport*) = read_with_assimp;
+  for (const MeshFormat& f : mesh_formats())
+    if (std::find(f.extensions.begin(), f.extensions.end(), ext) != f.extensions.end()) read = f.read;
+  Mesh m = read(path, cad, report);
   validate(m, name, report);
   return m;
 }

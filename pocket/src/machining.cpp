@@ -8,6 +8,7 @@
 #include "offset.hpp"
 
 #include <algorithm>
+#include <tuple>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -372,6 +373,20 @@ MachiningResult machine_pocket(const Region& region, const CutParams& cut, const
   r.metrics.uncut_area_mm2 = u.uncut_mm2;
   r.metrics.reachable_area_mm2 = u.reachable_mm2;
   return r;
+}
+
+std::vector<std::size_t> rank_by_time_to_clear(const std::vector<const MachiningResult*>& results) {
+  std::vector<std::size_t> order(results.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  auto key = [&](std::size_t i) {
+    const MachiningResult& m = *results[i];
+    return std::tuple(m.status != PlanStatus::Ok, !(m.metrics.uncut_area_mm2 <= kClearedUncutMm2),
+                      m.metrics.time_kinematic_min);
+  };
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
+  std::vector<std::size_t> rank(results.size());
+  for (std::size_t k = 0; k < order.size(); ++k) rank[order[k]] = k + 1;
+  return rank;
 }
 
 }  // namespace millnet::pocket

@@ -9,6 +9,8 @@
 
 #include "adaptive_internal.hpp"
 #include "offset.hpp"
+#include "millnet/core/settings_view.hpp"
+#include "work_internal.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -225,6 +227,46 @@ PlanResult plan_adaptive(const Region& region, const CutParams& cut, const Adapt
   if (res.path.chains.empty()) wall_loop_chains(region, cut, res);
   res.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
+}
+
+// ---- the registry's entry ----
+
+namespace {
+
+PlannerSpec parse_adaptive(const SettingsView& pc, const PlannerContext&) {
+  const auto ad = pc.section("adaptive");
+  AdaptiveSpec spec;
+  AdaptiveParams& a = spec.adaptive;
+  a.max_engagement_deg = ad->number("max_engagement_deg");
+  const std::string direction = ad->text("direction");
+  a.climb = direction != "conventional";
+  a.both_ways = direction == "both";
+  a.step_mm = ad->number("step_mm");
+  a.raster_mm = ad->number("raster_mm");
+  a.safety = ad->number("safety");
+  return spec;
+}
+
+PlanResult plan_adaptive_spec(const Region& region, const CutParams& cut, const PlannerSpec& spec) {
+  return plan_adaptive(region, cut, spec.get<AdaptiveSpec>()->adaptive);
+}
+
+/// The cleared-area raster over the box grown by D (a byte of state and of target, a double of wall
+/// distance and an int of component per cell).
+std::vector<WorkEstimate> adaptive_work(const Region& region, const CutParams& cut, const PlannerSpec& spec) {
+  const detail::BBox box = detail::boundary_box(region);
+  const double h = adaptive_raster_mm(region, cut, spec.get<AdaptiveSpec>()->adaptive);
+  const double n = std::ceil((box.hi.x() - box.lo.x() + 2 * cut.tool.diameter) / h) *
+                   std::ceil((box.hi.y() - box.lo.y() + 2 * cut.tool.diameter) / h);
+  return {{detail::over("raster_mm", h, box), n, "adaptive raster cells", 24.0 * n}};
+}
+
+}  // namespace
+
+PlannerEntry adaptive_planner() {
+  return {"adaptive",     "passes at a constant radial engagement (trochoidal where the pocket is tight)",
+          parse_adaptive, plan_adaptive_spec,
+          adaptive_work,  {{"adaptive", {}, {}}}};
 }
 
 }  // namespace millnet::pocket

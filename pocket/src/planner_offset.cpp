@@ -5,6 +5,8 @@
 
 #include "arc_fit.hpp"
 #include "offset.hpp"
+#include "millnet/core/settings_view.hpp"
+#include "work_internal.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -419,6 +421,40 @@ PlanResult plan_offset(const Region& region, const CutParams& cut, const OffsetP
   res.walls_cut = true;
   res.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
+}
+
+// ---- the registry's entry ----
+
+namespace {
+
+PlannerSpec parse_offset(const SettingsView& pc, const PlannerContext&) {
+  OffsetSpec spec;
+  spec.offset.climb = pc.section("offset")->text("direction") == "climb";
+  return spec;
+}
+
+PlanResult plan_offset_spec(const Region& region, const CutParams& cut, const PlannerSpec& spec) {
+  return plan_offset(region, cut, spec.get<OffsetSpec>()->offset);
+}
+
+/// Offsets: at most half the box's smaller side / stepover + 1 of them, each as many vertices as the
+/// walls flattened at the contour chord (round joins add about as many again): an upper bound of
+/// the ring vertices, 16 bytes each.
+std::vector<WorkEstimate> offset_work(const Region& region, const CutParams& cut, const PlannerSpec&) {
+  const detail::BBox box = detail::boundary_box(region);
+  double verts = static_cast<double>(flatten(region.boundary, tol::contour_chord_mm).size());
+  for (const Loop& isl : region.islands) verts += static_cast<double>(flatten(isl, tol::contour_chord_mm).size());
+  const double k = std::floor(0.5 * std::min(box.hi.x() - box.lo.x(), box.hi.y() - box.lo.y()) / cut.stepover) + 1;
+  const double n = 2 * verts * k;
+  return {{detail::over("stepover", cut.stepover, box), n, "offset ring vertices", 16.0 * n}};
+}
+
+}  // namespace
+
+PlannerEntry offset_planner() {
+  return {"offset",     "contour-parallel rings at the stepover, inside out",
+          parse_offset, plan_offset_spec,
+          offset_work,  {{"offset", {}, {}}}};
 }
 
 }  // namespace millnet::pocket

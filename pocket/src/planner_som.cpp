@@ -5,6 +5,7 @@
 
 #include "arc_fit.hpp"
 #include "offset.hpp"
+#include "work_internal.hpp"
 
 #include <algorithm>
 #include <array>
@@ -200,6 +201,71 @@ PlanResult plan_som(const Region& region, const CutParams& cut, const GridFrame&
   res.stats = st;
   res.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
+}
+
+// ---- the registry's entry ----
+
+namespace {
+
+PlannerSpec parse_som(const SettingsView& pc, const PlannerContext& ctx) {
+  SomSpec spec;
+  const auto grid = pc.section("grid");
+  spec.frame.origin = {grid->number("origin_x"), grid->number("origin_y")};
+  spec.frame.angle_deg = grid->number("angle_deg");
+  spec.frame.spacing = ctx.cut->stepover;
+  const auto s = pc.section("som");
+  SomParams& som = spec.som;
+  som.node_factor = s->number("node_factor");
+  som.g0 = s->number("g0");
+  som.alpha = s->number("alpha");
+  som.adaptive_alpha = s->flag("adaptive_alpha");
+  som.c = s->number("c");
+  som.k_scale_mm = s->number("k_scale_mm");
+  som.alpha_min = s->number("alpha_min");
+  som.w = s->number("w");
+  som.max_passes = static_cast<int>(s->integer("max_passes"));
+  som.tolerance_mm = s->number("tolerance_mm");
+  som.seed = ctx.seed;
+  const auto m = pc.section("smoothing");
+  SmoothingParams& smooth = spec.smooth;
+  smooth.linking = m->flag("linking");
+  smooth.link_max_ratio = m->number("link_max_ratio");
+  smooth.link_max_mm = m->number("link_max_mm");
+  smooth.weak = m->flag("weak");
+  smooth.extra_passes = m->flag("extra_passes");
+  smooth.opt_neighbours = static_cast<int>(m->integer("opt_neighbours"));
+  smooth.retract_penalty_mm = m->number("retract_penalty_mm");
+  smooth.max_opt_moves = static_cast<long>(m->integer("max_opt_moves"));
+  spec.path.walls = s->flag("walls");
+  spec.path.blend_corners = m->flag("blend_corners");
+  spec.path.blend_radius_mm = m->number("blend_radius_mm");
+  return spec;
+}
+
+PlanResult plan_som_spec(const Region& region, const CutParams& cut, const PlannerSpec& spec) {
+  const SomSpec& s = *spec.get<SomSpec>();
+  return plan_som(region, cut, s.frame, s.som, s.smooth, s.path);
+}
+
+/// The tool-point grid make_tool_points visits (exact), then the ring: M = max(3, round(node_factor
+/// · N)) nodes, N ≤ the grid points (som.hpp).
+std::vector<WorkEstimate> som_work(const Region& region, const CutParams&, const PlannerSpec& spec) {
+  const SomSpec& som = *spec.get<SomSpec>();
+  const detail::BBox box = detail::boundary_box(region);
+  const double n = grid_range(region, som.frame).points();
+  const double m = std::max(3.0, std::round(som.som.node_factor * n));
+  const std::string grid = detail::over("stepover", som.frame.spacing, box);
+  return {{grid, n, "tool points", 24.0 * n},
+          {"node_factor " + detail::mm(som.som.node_factor) + " × the tool points of " + grid, m, "SOM ring nodes",
+           32.0 * m}};
+}
+
+}  // namespace
+
+PlannerEntry som_planner() {
+  return {"som",     "Shin & Suh's self-organising map over the stepover grid, smoothed",
+          parse_som, plan_som_spec,
+          som_work,  {{"som", {}, {}}}};
 }
 
 }  // namespace millnet::pocket

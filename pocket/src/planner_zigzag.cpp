@@ -8,6 +8,7 @@
 
 #include "offset.hpp"
 #include "zigzag.hpp"
+#include "work_internal.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -305,6 +306,68 @@ PlanResult plan_zigzag(const Region& region, const CutParams& cut, const ZigzagP
   }
   res.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
+}
+
+// ---- the registry's entry ----
+
+namespace {
+
+/// /pocket/zigzag/angle: degrees in [-360, 360], or "auto" (searched).
+std::optional<double> zigzag_angle(const SettingsView& z) {
+  if (!z.is_text("angle")) return z.number("angle");
+  const std::string angle = z.text("angle");
+  if (angle == "auto") return std::nullopt;
+  try {
+    std::size_t used = 0;
+    const double deg = std::stod(angle, &used);
+    if (used != angle.size() || !(std::abs(deg) <= 360)) throw std::invalid_argument(angle);
+    return deg;
+  } catch (const std::exception&) {
+    throw Error(z.pointer() + "/angle: expected a number of degrees in [-360, 360] or \"auto\", got \"" +
+                angle.substr(0, 40) + "\"");
+  }
+}
+
+PlannerSpec parse_zigzag(const SettingsView& pc, const PlannerContext&) {
+  const auto z = pc.section("zigzag");
+  ZigzagSpec spec;
+  const std::string part = z->text("partition");
+  spec.zigzag.partition = (part == "t" || part == "T") ? PartitionKind::T : PartitionKind::I;
+  spec.zigzag.link_regions = z->flag("link_regions");
+  spec.zigzag.angle_deg = zigzag_angle(*z);
+  return spec;
+}
+
+PlanResult plan_zigzag_spec(const Region& region, const CutParams& cut, const PlannerSpec& spec) {
+  return plan_zigzag(region, cut, spec.get<ZigzagSpec>()->zigzag);
+}
+
+/// Scan lines: (box diagonal / stepover + 1) per direction tried (one with a fixed angle, else
+/// ⌈180 / angle_step⌉ + one per boundary segment), 64 bytes per line — an upper bound.
+std::vector<WorkEstimate> zigzag_work(const Region& region, const CutParams& cut, const PlannerSpec& spec) {
+  const ZigzagParams& zz = spec.get<ZigzagSpec>()->zigzag;
+  const detail::BBox box = detail::boundary_box(region);
+  const double diag = (box.hi - box.lo).norm();
+  const double lines = std::floor(diag / cut.stepover) + 1;
+  double directions = 1;
+  if (!zz.angle_deg) {
+    const double step = zz.angle_step_deg > 0 ? zz.angle_step_deg : 1.0;
+    directions = std::ceil(180.0 / step) + static_cast<double>(region.boundary.size());
+  }
+  const double n = lines * directions;
+  return {{detail::over("stepover", cut.stepover, box), n, "zigzag scan lines", 64.0 * n}};
+}
+
+}  // namespace
+
+PlannerEntry zigzag_planner() {
+  return {"zigzag",
+          "Suh & Kim's zigzag over a T- or I-partition of the pocket",
+          parse_zigzag,
+          plan_zigzag_spec,
+          zigzag_work,
+          {{"zigzag-t", {{"zigzag/angle", "auto"}}, {{"zigzag/partition", "t"}}},
+           {"zigzag-i", {{"zigzag/angle", "auto"}}, {{"zigzag/partition", "i"}}}}};
 }
 
 }  // namespace millnet::pocket

@@ -325,3 +325,27 @@ TEST(MeshIO, NotARegularFileIsRefusedAtOnce) {
   expect_load_error(dir / "pipe.ply", "not a regular file");
   EXPECT_THROW((void)millnet::read_file(dir / "pipe.ply"), millnet::Error);
 }
+
+// The format registry is the one list: every extension once, lower case with its dot; the folder
+// list and the point-cloud list are derived from it.
+TEST(MeshIO, TheFormatRegistryIsTheOneExtensionList) {
+  std::vector<std::string> all, clouds;
+  for (const MeshFormat& f : mesh_formats()) {
+    EXPECT_FALSE(f.extensions.empty()) << f.name;
+    EXPECT_NE(f.read, nullptr) << f.name;
+    for (const std::string& e : f.extensions) {
+      EXPECT_EQ(e.front(), '.') << e;
+      EXPECT_TRUE(std::none_of(e.begin(), e.end(), [](char c) { return std::isupper(static_cast<unsigned char>(c)); }))
+          << e;
+      all.push_back(e);
+      if (f.kind == MeshFormatKind::PointCloud) clouds.push_back(e);
+    }
+  }
+  EXPECT_EQ(all, mesh_extensions());
+  EXPECT_EQ(clouds, point_cloud_extensions());
+  std::vector<std::string> sorted = all;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(std::adjacent_find(sorted.begin(), sorted.end()), sorted.end()) << "an extension listed twice";
+  for (const char* e : {".stl", ".obj", ".ply", ".off", ".3mf", ".xyz", ".step", ".igs"})
+    EXPECT_NE(std::find(all.begin(), all.end(), e), all.end()) << e;
+}

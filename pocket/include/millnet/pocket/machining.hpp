@@ -91,4 +91,13 @@ void complete_path(const Region& region, const CutParams& cut, const PlanResult&
 [[nodiscard]] MachiningResult machine_levels(std::vector<LevelPlan> levels, const CutParams& cut,
                                              const MachiningOptions& opt = {});
 
+/// A pocket counts as cleared when at most this much of its reachable area stays uncut (issue 11's
+/// goal), mm².
+inline constexpr double kClearedUncutMm2 = 2.0;
+
+/// Rank of each result (1 = best) by time to a cleared pocket: results that planned (status Ok)
+/// and clear the pocket first, each group by the motion model's time (time_kinematic_min; ties: the
+/// order given). O(n log n).
+[[nodiscard]] std::vector<std::size_t> rank_by_time_to_clear(const std::vector<const MachiningResult*>& results);
+
 }  // namespace millnet::pocket

@@ -38,6 +38,9 @@
 // sets it): with another entry the first step out of a plunge is a full slot (180°).
 // Deterministic: no threads, no clocks in the decisions.
 #include "millnet/pocket/planner.hpp"
+#include "millnet/pocket/planner_registry.hpp"
+
+#include <string_view>
 
 namespace millnet::pocket {
 
@@ -55,6 +58,15 @@ struct AdaptiveParams {
   /// planner's and the feed map's counts), in (0, 1].
   double safety = 0.9;
 };
+
+/// The adaptive (constant-engagement) planner: passes that keep the engagement at a target angle.
+struct AdaptiveSpec {
+  static constexpr std::string_view kPlanner = "adaptive";
+  AdaptiveParams adaptive;
+};
+
+/// The registry's entry (planner_registry.hpp): settings /pocket/adaptive.
+[[nodiscard]] PlannerEntry adaptive_planner();
 
 /// The target angle AdaptiveParams ask for (max_engagement_deg, or the stepover's), degrees.
 /// Throws millnet::Error when it is outside (0, 180].

@@ -23,12 +23,24 @@
 // Cost: K offsets of the whole region (K = inscribed radius / stepover), O(n log n) each, plus
 // O(rings · ring vertices) for the nearest starts and O(links · walls nearby) for the link checks.
 #include "millnet/pocket/planner.hpp"
+#include "millnet/pocket/planner_registry.hpp"
+
+#include <string_view>
 
 namespace millnet::pocket {
 
 struct OffsetParams {
   bool climb = true;  ///< climb milling with a clockwise spindle (M3); false: conventional
 };
+
+/// The offset (contour-parallel) planner: rings at the stepover, inside out, walls included.
+struct OffsetSpec {
+  static constexpr std::string_view kPlanner = "offset";
+  OffsetParams offset;
+};
+
+/// The registry's entry (planner_registry.hpp): settings /pocket/offset.
+[[nodiscard]] PlannerEntry offset_planner();
 
 /// Plans `region` (validated and normalized) contour-parallel. PlanResult::planner = "offset",
 /// walls_cut = true, stats: OffsetStats. Status NoToolPoints when the tool fits nowhere.

@@ -3,8 +3,11 @@
 // 2-opt/Or-opt with obstacle-aware costs → strong smoothing (links through the pocket, else
 // retract–rapid–plunge) → chains of straight moves at the cutting level.
 #include "millnet/pocket/planner.hpp"
+#include "millnet/pocket/planner_registry.hpp"
 #include "millnet/pocket/smoothing.hpp"
 #include "millnet/pocket/som.hpp"
+
+#include <string_view>
 
 namespace millnet::pocket {
 
@@ -41,5 +44,17 @@ struct SomPathParams {
 /// Example: `auto r = plan_som(region, cut, GridFrame{{0, 0}, 0, cut.stepover}, {}, {});`
 [[nodiscard]] PlanResult plan_som(const Region& region, const CutParams& cut, const GridFrame& frame,
                                   const SomParams& som, const SmoothingParams& smooth, const SomPathParams& path = {});
+
+/// The SOM planner (grid tool points → self-organising tour → smoothing) and its parameters.
+struct SomSpec {
+  static constexpr std::string_view kPlanner = "som";
+  GridFrame frame;
+  SomParams som;
+  SmoothingParams smooth;
+  SomPathParams path;  ///< wall rings and corner arcs (issue 11)
+};
+
+/// The registry's entry (planner_registry.hpp): settings /pocket/grid, /pocket/som, /pocket/smoothing.
+[[nodiscard]] PlannerEntry som_planner();
 
 }  // namespace millnet::pocket

@@ -9,8 +9,10 @@
 #include "millnet/pocket/cut_links.hpp"
 #include "millnet/pocket/partition.hpp"
 #include "millnet/pocket/planner.hpp"
+#include "millnet/pocket/planner_registry.hpp"
 
 #include <optional>
+#include <string_view>
 #include <vector>
 
 namespace millnet::pocket {
@@ -54,5 +56,15 @@ struct AngleScore {
 /// Candidate directions of the search: every `step_deg` in [0, 180) plus the direction (mod 180) of
 /// every straight edge of the region, sorted and de-duplicated (1e-6°).
 [[nodiscard]] std::vector<double> candidate_angles(const Region& region, double step_deg);
+
+/// The zigzag planner with T- or I-partition.
+struct ZigzagSpec {
+  static constexpr std::string_view kPlanner = "zigzag";
+  ZigzagParams zigzag;
+};
+
+/// The registry's entry (planner_registry.hpp): settings /pocket/zigzag; `millnet compare` runs it
+/// twice, T- and I-partition, the angle searched unless --angle says.
+[[nodiscard]] PlannerEntry zigzag_planner();
 
 }  // namespace millnet::pocket

@@ -35,9 +35,24 @@ namespace millnet::ingest {
 [[nodiscard]] Mesh load_prepared(const std::filesystem::path& path, const PrepareOptions& options,
                                  MeshReport* report = nullptr);
 
-/// The extensions load_mesh reads (lower case, with the dot): the one list the commands use to
-/// pick mesh files out of folders. Adding a mesh format: its reader in mesh_io.cpp (a branch of
-/// load_mesh, or assimp's own list) and its extension here.
+enum class MeshFormatKind { Mesh, PointCloud, Cad };
+
+/// A file format load_mesh reads: the registry of mesh formats (issue 36 §4). Adding one: its reader
+/// (a function in its own source, or a line naming assimp's) and its entry in mesh_formats()
+/// (ingest/io/mesh_io.cpp); the folders of `learn`, `finish` and `run` pick it up from there.
+struct MeshFormat {
+  std::string_view name;  ///< for messages and the README's table
+  MeshFormatKind kind = MeshFormatKind::Mesh;
+  std::vector<std::string> extensions;  ///< lower case, with the dot
+  /// Reads the file (it exists and opens); the mesh is validated after it.
+  Mesh (*read)(const std::filesystem::path& path, const CadOptions& cad, MeshReport* report) = nullptr;
+};
+
+/// The registry, in the order of the README's table.
+[[nodiscard]] const std::vector<MeshFormat>& mesh_formats();
+
+/// The extensions load_mesh reads (lower case, with the dot), from mesh_formats(): the one list the
+/// commands use to pick mesh files out of folders.
 [[nodiscard]] const std::vector<std::string>& mesh_extensions();
 
 /// Point-cloud extensions ("x y z" text), a subset of mesh_extensions().
