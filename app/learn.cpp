@@ -289,45 +289,28 @@ bool build_dataset(datasets::Recipe recipe, const fs::path& out_dir, bool reuse,
   return true;
 }
 
-TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const fs::path& out_dir) {
-  const datasets::Table table = datasets::read_table(dataset_csv);
+namespace {
+
+/// The training set of a table; strategy names from the manifest beside the CSV, else the config's.
+classifier::TrainingSet training_set(const datasets::Table& table, const datasets_io::Manifest& manifest,
+                                     const Json& config) {
   classifier::TrainingSet set;
   set.inputs = table.inputs_matrix();
   set.outputs = table.outputs_matrix();
   set.groups = table.row_sources();
-  // Strategy names live in the manifest beside the CSV; the config's names otherwise.
-  std::vector<std::string> names = config["dataset"]["strategies"].get<std::vector<std::string>>();
-  const fs::path manifest_path = dataset_csv.parent_path() / "manifest.json";
-  const datasets_io::Manifest manifest =
-      fs::exists(manifest_path) ? datasets_io::read_manifest(manifest_path) : datasets_io::Manifest{};
-  if (!manifest.strategies.empty()) names = manifest.strategies;
-  set.strategies = names;
+  set.strategies = manifest.strategies.empty() ? config["dataset"]["strategies"].get<std::vector<std::string>>()
+                                               : manifest.strategies;
+  return set;
+}
 
-  classifier::TrainParams tp = train_params(config);
-  Progress progress("train (leave-one-out)", 0);
-  tp.search.progress = progress.callback();
-  classifier::Model model = classifier::train(set, tp);
-  progress.finish();
+/// loo_curve.csv (alpha, the chosen mode's rms, both modes' figures) and loo_curve.png.
+void write_loo_curve(const classifier::Model& model, const fs::path& out_dir) {
   const classifier::LooReport& loo = model.loo;
-
-  // The model describes its own inputs (model.json "features"): the table's raster and grid; the
-  // classifier learns from the n² heights only (Table::inputs_matrix), never from an aspect column.
-  const double raster_mm = manifest.raster_mm ? *manifest.raster_mm : config["dataset"]["raster_mm"].get<double>();
-  model.input_spec = classifier::InputSpec{raster_mm, table.grid_n, false};
-  classifier_io::save_model(model, out_dir / "model.json");
-  // sampling.json: the same spec for readers of model folders from before "features".
-  const Json sampling = {{"grid", table.grid_n},
-                         {"raster_mm", manifest.raster_mm ? number_json(raster_mm) : Json(raster_mm)},
-                         {"inputs", table.inputs_per_row()},
-                         {"dataset", fs::absolute(dataset_csv).string()}};
-  write_file_atomic(out_dir / "sampling.json", sampling.dump(2) + "\n");
-
-  // LOO curve: alpha,rms (the chosen mode's) + both modes' figures.
   std::ostringstream curve;
   curve << "alpha,rms,rms_part,rms_vector,accuracy_part,accuracy_vector\n";
   std::vector<double> xs, part_rms, vec_rms;
   const bool part_mode = loo.mode == classifier::LooMode::PartOut;
-  for (const auto& c : loo.curve) {
+  for (const auto& c : loo.curve) {  // O(scan points)
     curve << format_double(c.alpha) << "," << format_double(part_mode ? c.rms_part : c.rms_vector) << ","
           << format_double(c.rms_part) << "," << format_double(c.rms_vector) << "," << format_double(c.accuracy_part)
           << "," << format_double(c.accuracy_vector) << "\n";
@@ -350,8 +333,12 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
                               {{"leave-one-part-out", xs, part_rms}, {"leave-one-vector-out (paper)", xs, vec_rms}},
                               "Leave-one-out RMS error against the penalty coefficient alpha", "alpha (log scale)",
                               "RMS error of the outputs", lo);
+}
 
-  // Filtration (self included) and verification (chosen mode's exclusion), the paper's Fig. 6.
+/// verification.csv and .png: filtration (self included) and verification (the chosen mode's
+/// exclusion) of every stored vector, the paper's Fig. 6. O(vectors · strategies).
+void write_verification(const datasets::Table& table, const classifier::LooReport& loo, const fs::path& out_dir) {
+  const bool part_mode = loo.mode == classifier::LooMode::PartOut;
   std::ostringstream ver;
   ver << "id,source";
   const auto K = loo.filtration.cols();
@@ -379,11 +366,16 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
          {std::string("verification (") + (part_mode ? "part" : "vector") + " left out)", ver_true}},
         "Output of the true strategy for every stored vector (paper Fig. 6)", "stored vector",
         "output of the labelled strategy");
+}
 
+/// The figures of a trained model (train_report.json's, and the summary's).
+TrainSummary train_summary(const classifier::Model& model, const datasets::Table& table,
+                           const classifier::TrainingSet& set) {
+  const classifier::LooReport& loo = model.loo;
   TrainSummary s;
   s.alpha = model.alpha;
   s.mode = classifier::to_string(loo.mode);
-  s.edge = classifier::to_string(part_mode ? loo.part.edge : loo.vector.edge);
+  s.edge = classifier::to_string(loo.mode == classifier::LooMode::PartOut ? loo.part.edge : loo.vector.edge);
   s.rms_part = loo.rms_part_at_alpha;
   s.rms_vector = loo.rms_vector_at_alpha;
   s.accuracy_part = loo.accuracy_part_at_alpha;
@@ -392,6 +384,11 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
   std::vector<std::string> g = set.groups;
   std::sort(g.begin(), g.end());
   s.parts = static_cast<std::size_t>(std::unique(g.begin(), g.end()) - g.begin());
+  return s;
+}
+
+void write_train_report(const TrainSummary& s, const classifier::Model& model, const fs::path& out_dir) {
+  const classifier::LooReport& loo = model.loo;
   Json rep = {{"alpha", s.alpha},
               {"loo_mode", s.mode},
               {"alpha_at_scan_edge", s.edge},
@@ -407,6 +404,39 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
               {"parts", s.parts},
               {"unfamiliar_threshold_d2", model.unfamiliar_threshold}};
   write_file_atomic(out_dir / "train_report.json", rep.dump(2) + "\n");
+}
+
+}  // namespace
+
+TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const fs::path& out_dir) {
+  const datasets::Table table = datasets::read_table(dataset_csv);
+  const fs::path manifest_path = dataset_csv.parent_path() / "manifest.json";
+  const datasets_io::Manifest manifest =
+      fs::exists(manifest_path) ? datasets_io::read_manifest(manifest_path) : datasets_io::Manifest{};
+  const classifier::TrainingSet set = training_set(table, manifest, config);
+
+  classifier::TrainParams tp = train_params(config);
+  Progress progress("train (leave-one-out)", 0);
+  tp.search.progress = progress.callback();
+  classifier::Model model = classifier::train(set, tp);
+  progress.finish();
+
+  // The model describes its own inputs (model.json "features"): the table's raster and grid; the
+  // classifier learns from the n² heights only (Table::inputs_matrix), never from an aspect column.
+  const double raster_mm = manifest.raster_mm ? *manifest.raster_mm : config["dataset"]["raster_mm"].get<double>();
+  model.input_spec = classifier::InputSpec{raster_mm, table.grid_n, false};
+  classifier_io::save_model(model, out_dir / "model.json");
+  // sampling.json: the same spec for readers of model folders from before "features".
+  const Json sampling = {{"grid", table.grid_n},
+                         {"raster_mm", manifest.raster_mm ? number_json(raster_mm) : Json(raster_mm)},
+                         {"inputs", table.inputs_per_row()},
+                         {"dataset", fs::absolute(dataset_csv).string()}};
+  write_file_atomic(out_dir / "sampling.json", sampling.dump(2) + "\n");
+
+  write_loo_curve(model, out_dir);
+  write_verification(table, model.loo, out_dir);
+  const TrainSummary s = train_summary(model, table, set);
+  write_train_report(s, model, out_dir);
   if (s.edge != "none")
     warn("train: the optimum α lies at the " + s.edge +
          " edge of the scan; widen /train/range_low or /train/range_high");

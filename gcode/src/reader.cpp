@@ -187,6 +187,19 @@ private:
     prog_.source_line.push_back(line_no_);
   }
 
+  /// The words of one line, sorted by what they do (one per kind; M-codes in order).
+  struct Words {
+    std::optional<Motion> motion;
+    std::array<std::optional<double>, 3> axis{};
+    std::optional<double> i_word, j_word, r_word, f_word, s_word, t_word;
+    std::vector<int> m_codes;
+    [[nodiscard]] bool has_m(int code) const {
+      for (int m : m_codes)
+        if (m == code) return true;
+      return false;
+    }
+  };
+
   /// Handles one line; false once the program has ended (M2 / M30).
   bool line(std::string_view s) {
     const std::size_t b = s.find_first_not_of(" \t\r");
@@ -203,11 +216,26 @@ private:
       return true;
     }
     seen_words_ = true;
+    const Words w = sort_words(ln);
+    apply_modal(w);
+    add_comments_and_tool_change(w, ln);
+    const int spindle_m = w.has_m(3) ? 3 : w.has_m(4) ? 4 : w.has_m(5) ? 5 : 0;
+    if (spindle_m != 0) {
+      dir_ = spindle_m == 3 ? SpindleDir::CW : spindle_m == 4 ? SpindleDir::CCW : SpindleDir::Off;
+      add(Spindle{dir_, rpm_});
+    } else if (w.s_word && dir_ != SpindleDir::Off) {
+      add(Spindle{dir_, rpm_});
+    }
+    const bool any_axis = w.axis[0] || w.axis[1] || w.axis[2];
+    if (any_axis || w.i_word || w.j_word || w.r_word) move(w.axis, w.i_word, w.j_word, w.r_word);
+    if (w.has_m(0) || w.has_m(1)) add(Pause{!w.has_m(0)});
+    return !(w.has_m(2) || w.has_m(30));
+  }
 
-    std::optional<Motion> motion;
-    std::array<std::optional<double>, 3> axis{};
-    std::optional<double> i_word, j_word, r_word, f_word, s_word, t_word;
-    std::vector<int> m_codes;
+  /// The line's words by kind, checked as LinuxCNC checks them: one word per letter, one code per
+  /// modal group, only the codes millnet reads. G20/G21 and G90/G91 take effect here.
+  Words sort_words(const Line& ln) {
+    Words out;
     auto once = [&](std::optional<double>& slot, const Word& w) {
       if (slot) fail("word " + std::string(1, w.letter) + " repeated on the line");
       slot = w.value;
@@ -229,13 +257,13 @@ private:
       switch (w.letter) {
         case 'G':
           if (is(w.value, 0))
-            motion = Motion::Rapid;
+            out.motion = Motion::Rapid;
           else if (is(w.value, 1))
-            motion = Motion::Line;
+            out.motion = Motion::Line;
           else if (is(w.value, 2))
-            motion = Motion::ArcCW;
+            out.motion = Motion::ArcCW;
           else if (is(w.value, 3))
-            motion = Motion::ArcCCW;
+            out.motion = Motion::ArcCCW;
           else if (is(w.value, 17) || is(w.value, 94)) {
           } else if (is(w.value, 20))
             scale_ = kMmPerInch;
@@ -251,45 +279,48 @@ private:
         case 'M':
           if (is(w.value, 0) || is(w.value, 1) || is(w.value, 2) || is(w.value, 3) || is(w.value, 4) ||
               is(w.value, 5) || is(w.value, 6) || is(w.value, 30))
-            m_codes.push_back(static_cast<int>(std::lround(w.value)));
+            out.m_codes.push_back(static_cast<int>(std::lround(w.value)));
           else
             fail("unsupported word " + quote(w.text));
           break;
-        case 'X': once(axis[0], w); break;
-        case 'Y': once(axis[1], w); break;
-        case 'Z': once(axis[2], w); break;
-        case 'I': once(i_word, w); break;
-        case 'J': once(j_word, w); break;
-        case 'R': once(r_word, w); break;
-        case 'F': once(f_word, w); break;
-        case 'S': once(s_word, w); break;
-        case 'T': once(t_word, w); break;
+        case 'X': once(out.axis[0], w); break;
+        case 'Y': once(out.axis[1], w); break;
+        case 'Z': once(out.axis[2], w); break;
+        case 'I': once(out.i_word, w); break;
+        case 'J': once(out.j_word, w); break;
+        case 'R': once(out.r_word, w); break;
+        case 'F': once(out.f_word, w); break;
+        case 'S': once(out.s_word, w); break;
+        case 'T': once(out.t_word, w); break;
         case 'N': break;
         default: fail("unsupported word " + quote(w.text));
       }
     }
-    auto has_m = [&](int code) {
-      for (int m : m_codes)
-        if (m == code) return true;
-      return false;
-    };
-    if (motion) motion_ = motion;
-    if (f_word) {
-      if (*f_word < 0) fail("negative feed F" + std::to_string(*f_word));
-      feed_ = *f_word * scale_;
-    }
-    if (s_word) {
-      if (*s_word < 0) fail("negative spindle speed");
-      rpm_ = *s_word;
-    }
-    if (t_word) {
-      if (!(*t_word >= 0 && *t_word <= kMaxToolNumber))
-        fail("tool number T" + fmt(*t_word, 10) + " out of range (0 to " + fmt(kMaxToolNumber) + ")");
-      tool_ = static_cast<int>(std::lround(*t_word));
-    }
+    return out;
+  }
 
+  /// Motion mode, feed, spindle speed and tool number of the line, checked.
+  void apply_modal(const Words& w) {
+    if (w.motion) motion_ = w.motion;
+    if (w.f_word) {
+      if (*w.f_word < 0) fail("negative feed F" + std::to_string(*w.f_word));
+      feed_ = *w.f_word * scale_;
+    }
+    if (w.s_word) {
+      if (*w.s_word < 0) fail("negative spindle speed");
+      rpm_ = *w.s_word;
+    }
+    if (w.t_word) {
+      if (!(*w.t_word >= 0 && *w.t_word <= kMaxToolNumber))
+        fail("tool number T" + fmt(*w.t_word, 10) + " out of range (0 to " + fmt(kMaxToolNumber) + ")");
+      tool_ = static_cast<int>(std::lround(*w.t_word));
+    }
+  }
+
+  /// The line's comments; with M6, the tool change (its first comment is the tool's description).
+  void add_comments_and_tool_change(const Words& w, const Line& ln) {
     std::size_t comment_used = 0;
-    if (has_m(6)) {
+    if (w.has_m(6)) {
       if (!tool_) fail("M6 without a tool number (T word)");
       ToolChange tc;
       tc.number = *tool_;
@@ -299,20 +330,6 @@ private:
     } else {
       for (const std::string& c : ln.comments) add(Comment{c});
     }
-
-    const int spindle_m = has_m(3) ? 3 : has_m(4) ? 4 : has_m(5) ? 5 : 0;
-    if (spindle_m != 0) {
-      dir_ = spindle_m == 3 ? SpindleDir::CW : spindle_m == 4 ? SpindleDir::CCW : SpindleDir::Off;
-      add(Spindle{dir_, rpm_});
-    } else if (s_word && dir_ != SpindleDir::Off) {
-      add(Spindle{dir_, rpm_});
-    }
-
-    const bool any_axis = axis[0] || axis[1] || axis[2];
-    if (any_axis || i_word || j_word || r_word) move(axis, i_word, j_word, r_word);
-
-    if (has_m(0) || has_m(1)) add(Pause{!has_m(0)});
-    return !(has_m(2) || has_m(30));
   }
 
   void move(const std::array<std::optional<double>, 3>& axis, std::optional<double> i_word,

@@ -155,183 +155,206 @@ private:
 
   /// Tokens, nesting and references of every statement. O(bytes).
   void lex() {
-    const std::size_t n = b_.size();
-    std::size_t i = 0;
-    int depth = 0;
-    bool in_entity = false, after_equals = false, complex = false, seen_token = false;
-    std::uint64_t pending_id = 0;  // "#12" at a statement's start, before its '='
-    int partial_depth = -1;        // depth at which the current partial's parameters open
-    auto new_statement = [&](std::size_t at) {
-      cur_ = Statement{};
-      cur_.begin = at;
-      in_entity = after_equals = complex = seen_token = false;
-      pending_id = 0;
-      partial_depth = -1;
-    };
     new_statement(0);
-    while (i < n) {
-      const char c = b_[i];
-      if (c == '\n') {
-        ++line_;
-        ++i;
-        continue;
+    while (lx_.i < b_.size())
+      if (!token()) return;
+    if (lx_.depth > 0) syntax("the file ends inside " + std::to_string(lx_.depth) + " open '('");
+  }
+
+  void new_statement(std::size_t at) {
+    cur_ = Statement{};
+    cur_.begin = at;
+    lx_.in_entity = lx_.after_equals = lx_.complex = lx_.seen_token = false;
+    lx_.pending_id = 0;
+    lx_.partial_depth = -1;
+  }
+
+  /// The token at lx_.i; false when the scan stops (a refusal, or a string that never closes).
+  bool token() {
+    const std::size_t n = b_.size();
+    std::size_t& i = lx_.i;
+    const char c = b_[i];
+    if (c == '\n') {
+      ++line_;
+      ++i;
+    } else if (c == ' ' || c == '\t' || c == '\r') {
+      ++i;
+    } else if (c == '/' && i + 1 < n && b_[i + 1] == '*') {
+      comment();
+    } else if (c == '\'') {
+      return quoted_string();
+    } else if (c == '"') {  // binary literal
+      const std::size_t close = b_.find('"', i + 1);
+      if (close == std::string_view::npos) {
+        syntax("a binary literal \" is not closed" + entity_here());
+        return false;
       }
-      if (c == ' ' || c == '\t' || c == '\r') {
-        ++i;
-        continue;
+      i = close + 1;
+      lx_.seen_token = true;
+    } else if (c == '(') {
+      return open_parenthesis();
+    } else if (c == ')') {
+      if (lx_.depth == 0)
+        syntax("a ')' closes nothing" + entity_here());
+      else
+        --lx_.depth;
+      if (lx_.depth < lx_.partial_depth) lx_.partial_depth = -1;
+      ++i;
+    } else if (c == ';') {
+      end_statement();
+    } else if (c == '#') {
+      reference();
+    } else if (c == '=') {
+      if (lx_.pending_id != 0 && !lx_.in_entity && lx_.depth == 0) {
+        lx_.in_entity = true;
+        lx_.after_equals = true;
+        lx_.seen_token = false;
+        cur_.id = lx_.pending_id;
+        cur_.line = line_;
       }
-      if (c == '/' && i + 1 < n && b_[i + 1] == '*') {  // comment
-        const std::size_t close = b_.find("*/", i + 2);
-        const std::size_t stop = close == std::string_view::npos ? n : close + 2;
-        line_ += static_cast<std::size_t>(std::count(b_.begin() + static_cast<std::ptrdiff_t>(i),
-                                                     b_.begin() + static_cast<std::ptrdiff_t>(stop), '\n'));
-        if (close == std::string_view::npos) syntax("a comment /* is not closed");
-        i = stop;
-        continue;
-      }
-      if (c == '\'') {  // string: '' is a quote inside it
-        std::size_t k = i + 1;
-        const std::size_t start_line = line_;
-        while (k < n) {
-          if (b_[k] == '\n') ++line_;
-          if (b_[k] == '\'') {
-            if (k + 1 < n && b_[k + 1] == '\'') {
-              k += 2;
-              continue;
-            }
-            break;
-          }
-          ++k;
-        }
-        if (k >= n) {
-          line_ = start_line;
-          syntax("a string ' is not closed" + entity_here());
-          return;
-        }
-        i = k + 1;
-        seen_token = true;
-        continue;
-      }
-      if (c == '"') {  // binary literal
-        const std::size_t close = b_.find('"', i + 1);
-        if (close == std::string_view::npos) {
-          syntax("a binary literal \" is not closed" + entity_here());
-          return;
-        }
-        i = close + 1;
-        seen_token = true;
-        continue;
-      }
-      if (c == '(') {
-        ++depth;
-        if (depth > out_.max_depth) out_.max_depth = depth;
-        if (depth > kMaxStepNesting) {
-          refuse("line " + std::to_string(line_) + ": parentheses nested more than " + std::to_string(kMaxStepNesting) +
-                 " deep" + entity_here() + " (Open CASCADE's reader recurses per level)");
-          return;
-        }
-        if (in_entity && after_equals && !seen_token) complex = true;  // "#1 = ( A() B() )"
-        seen_token = true;
-        ++i;
-        continue;
-      }
-      if (c == ')') {
-        if (depth == 0)
-          syntax("a ')' closes nothing" + entity_here());
-        else
-          --depth;
-        if (depth < partial_depth) partial_depth = -1;
-        ++i;
-        continue;
-      }
-      if (c == ';') {
-        if (depth > 0) {
-          syntax(std::string("the statement ends with ") + std::to_string(depth) + " '(' not closed" + entity_here());
-          depth = 0;
-        }
-        cur_.end = i + 1;
-        if (in_entity) commit();
-        ++i;
-        new_statement(i);
-        continue;
-      }
-      if (c == '#') {
-        std::size_t k = i + 1;
-        while (k < n && is_digit(b_[k])) ++k;
-        const std::size_t digits = k - i - 1;
-        if (digits == 0 || digits > 18) {
-          syntax("'#' not followed by an entity number of 1 to 18 digits" + entity_here());
-          i = std::max(k, i + 1);
-          continue;
-        }
-        const std::uint64_t id = std::strtoull(std::string(b_.substr(i + 1, digits)).c_str(), nullptr, 10);
-        if (!seen_token && !in_entity && depth == 0) {
-          pending_id = id;
-        } else if (in_entity) {
-          const auto partial = static_cast<std::uint32_t>(cur_.partials.empty() ? 0 : cur_.partials.size() - 1);
-          cur_.refs.push_back({id, partial});
-        }
-        seen_token = true;
-        i = k;
-        continue;
-      }
-      if (c == '=') {
-        if (pending_id != 0 && !in_entity && depth == 0) {
-          in_entity = true;
-          after_equals = true;
-          seen_token = false;
-          cur_.id = pending_id;
-          cur_.line = line_;
-        }
-        ++i;
-        continue;
-      }
-      if (is_alpha(c)) {
-        std::size_t k = i;
-        std::string kw;
-        while (k < n && (is_alpha(b_[k]) || is_digit(b_[k]) || b_[k] == '-')) kw += upper(b_[k++]);
-        if (in_entity && partial_depth < 0 && ((!complex && depth == 0) || (complex && depth == 1))) {
-          cur_.partials.push_back(kw);
-          partial_depth = depth + 1;
-        }
-        seen_token = true;
-        i = k;
-        continue;
-      }
-      if (c == '.' && i + 1 < n && is_alpha(b_[i + 1])) {  // enumeration .T. / .MILLI.
-        const std::size_t close = b_.find('.', i + 1);
-        i = close == std::string_view::npos ? n : close + 1;
-        seen_token = true;
-        continue;
-      }
-      if (is_digit(c) ||
-          ((c == '-' || c == '+' || c == '.') && i + 1 < n && (is_digit(b_[i + 1]) || b_[i + 1] == '.'))) {
-        std::size_t k = i + 1;
-        std::size_t mantissa = is_digit(c) ? 1U : 0U, exponent = 0;
-        while (k < n && (is_digit(b_[k]) || b_[k] == '.')) mantissa += is_digit(b_[k++]) ? 1U : 0U;
-        if (k < n && (b_[k] == 'E' || b_[k] == 'e')) {
-          ++k;
-          if (k < n && (b_[k] == '+' || b_[k] == '-')) ++k;
-          while (k < n && is_digit(b_[k])) ++k, ++exponent;
-        }
-        // Only a long mantissa or a 3-digit exponent can overflow a double: parse those.
-        if (mantissa > 300 || exponent >= 3) {
-          const std::string num(b_.substr(i, k - i));
-          const double v = std::strtod(num.c_str(), nullptr);
-          if (!std::isfinite(v)) {
-            refuse("line " + std::to_string(line_) + ": the number " + quote_bytes(num) + " does not fit a double" +
-                   entity_here());
-            return;
-          }
-        }
-        seen_token = true;
-        i = k;
-        continue;
-      }
-      seen_token = true;  // ',', '$', '*' and anything else
+      ++i;
+    } else if (is_alpha(c)) {
+      keyword();
+    } else if (c == '.' && i + 1 < n && is_alpha(b_[i + 1])) {  // enumeration .T. / .MILLI.
+      const std::size_t close = b_.find('.', i + 1);
+      i = close == std::string_view::npos ? n : close + 1;
+      lx_.seen_token = true;
+    } else if (is_digit(c) ||
+               ((c == '-' || c == '+' || c == '.') && i + 1 < n && (is_digit(b_[i + 1]) || b_[i + 1] == '.'))) {
+      return number();
+    } else {
+      lx_.seen_token = true;  // ',', '$', '*' and anything else
       ++i;
     }
-    if (depth > 0) syntax("the file ends inside " + std::to_string(depth) + " open '('");
+    return true;
+  }
+
+  void comment() {
+    std::size_t& i = lx_.i;
+    const std::size_t n = b_.size();
+    const std::size_t close = b_.find("*/", i + 2);
+    const std::size_t stop = close == std::string_view::npos ? n : close + 2;
+    line_ += static_cast<std::size_t>(
+        std::count(b_.begin() + static_cast<std::ptrdiff_t>(i), b_.begin() + static_cast<std::ptrdiff_t>(stop), '\n'));
+    if (close == std::string_view::npos) syntax("a comment /* is not closed");
+    i = stop;
+  }
+
+  /// A string: '' is a quote inside it.
+  bool quoted_string() {
+    std::size_t& i = lx_.i;
+    const std::size_t n = b_.size();
+    std::size_t k = i + 1;
+    const std::size_t start_line = line_;
+    while (k < n) {
+      if (b_[k] == '\n') ++line_;
+      if (b_[k] == '\'') {
+        if (k + 1 < n && b_[k + 1] == '\'') {
+          k += 2;
+          continue;
+        }
+        break;
+      }
+      ++k;
+    }
+    if (k >= n) {
+      line_ = start_line;
+      syntax("a string ' is not closed" + entity_here());
+      return false;
+    }
+    i = k + 1;
+    lx_.seen_token = true;
+    return true;
+  }
+
+  bool open_parenthesis() {
+    ++lx_.depth;
+    if (lx_.depth > out_.max_depth) out_.max_depth = lx_.depth;
+    if (lx_.depth > kMaxStepNesting) {
+      refuse("line " + std::to_string(line_) + ": parentheses nested more than " + std::to_string(kMaxStepNesting) +
+             " deep" + entity_here() + " (Open CASCADE's reader recurses per level)");
+      return false;
+    }
+    if (lx_.in_entity && lx_.after_equals && !lx_.seen_token) lx_.complex = true;  // "#1 = ( A() B() )"
+    lx_.seen_token = true;
+    ++lx_.i;
+    return true;
+  }
+
+  void end_statement() {
+    if (lx_.depth > 0) {
+      syntax(std::string("the statement ends with ") + std::to_string(lx_.depth) + " '(' not closed" + entity_here());
+      lx_.depth = 0;
+    }
+    cur_.end = lx_.i + 1;
+    if (lx_.in_entity) commit();
+    ++lx_.i;
+    new_statement(lx_.i);
+  }
+
+  /// "#12": an instance's name before its '=', else a reference of the current partial.
+  void reference() {
+    std::size_t& i = lx_.i;
+    const std::size_t n = b_.size();
+    std::size_t k = i + 1;
+    while (k < n && is_digit(b_[k])) ++k;
+    const std::size_t digits = k - i - 1;
+    if (digits == 0 || digits > 18) {
+      syntax("'#' not followed by an entity number of 1 to 18 digits" + entity_here());
+      i = std::max(k, i + 1);
+      return;
+    }
+    const std::uint64_t id = std::strtoull(std::string(b_.substr(i + 1, digits)).c_str(), nullptr, 10);
+    if (!lx_.seen_token && !lx_.in_entity && lx_.depth == 0) {
+      lx_.pending_id = id;
+    } else if (lx_.in_entity) {
+      const auto partial = static_cast<std::uint32_t>(cur_.partials.empty() ? 0 : cur_.partials.size() - 1);
+      cur_.refs.push_back({id, partial});
+    }
+    lx_.seen_token = true;
+    i = k;
+  }
+
+  void keyword() {
+    std::size_t& i = lx_.i;
+    const std::size_t n = b_.size();
+    std::size_t k = i;
+    std::string kw;
+    while (k < n && (is_alpha(b_[k]) || is_digit(b_[k]) || b_[k] == '-')) kw += upper(b_[k++]);
+    if (lx_.in_entity && lx_.partial_depth < 0 &&
+        ((!lx_.complex && lx_.depth == 0) || (lx_.complex && lx_.depth == 1))) {
+      cur_.partials.push_back(kw);
+      lx_.partial_depth = lx_.depth + 1;
+    }
+    lx_.seen_token = true;
+    i = k;
+  }
+
+  /// A number; only a long mantissa or a 3-digit exponent can overflow a double: those are parsed.
+  bool number() {
+    std::size_t& i = lx_.i;
+    const std::size_t n = b_.size();
+    const char c = b_[i];
+    std::size_t k = i + 1;
+    std::size_t mantissa = is_digit(c) ? 1U : 0U, exponent = 0;
+    while (k < n && (is_digit(b_[k]) || b_[k] == '.')) mantissa += is_digit(b_[k++]) ? 1U : 0U;
+    if (k < n && (b_[k] == 'E' || b_[k] == 'e')) {
+      ++k;
+      if (k < n && (b_[k] == '+' || b_[k] == '-')) ++k;
+      while (k < n && is_digit(b_[k])) ++k, ++exponent;
+    }
+    if (mantissa > 300 || exponent >= 3) {
+      const std::string num(b_.substr(i, k - i));
+      const double v = std::strtod(num.c_str(), nullptr);
+      if (!std::isfinite(v)) {
+        refuse("line " + std::to_string(line_) + ": the number " + quote_bytes(num) + " does not fit a double" +
+               entity_here());
+        return false;
+      }
+    }
+    lx_.seen_token = true;
+    i = k;
+    return true;
   }
 
   void commit() {
@@ -482,6 +505,15 @@ private:
   std::string_view b_;
   std::size_t line_ = 1;
   CadScan out_;
+  /// The lexer's place: byte, nesting, and where the current statement stands.
+  struct LexState {
+    std::size_t i = 0;
+    int depth = 0;
+    bool in_entity = false, after_equals = false, complex = false, seen_token = false;
+    std::uint64_t pending_id = 0;  ///< "#12" at a statement's start, before its '='
+    int partial_depth = -1;        ///< depth at which the current partial's parameters open
+  };
+  LexState lx_;
   Statement cur_;
   std::vector<std::uint64_t> ids_;
   std::vector<std::size_t> lines_;
