@@ -65,27 +65,36 @@ std::string fmt(double v, int digits = 6) {
 int g_group(double code) {
   if (!(std::abs(code - std::round(code)) < 1e-9 && std::abs(code) < 1e6)) return -1;  // not a code of ours
   const long c = std::lround(code);
-  if (c >= 0 && c <= 3) return 1;    // motion
-  if (c == 17) return 2;             // plane
-  if (c == 90 || c == 91) return 3;  // distance mode
-  if (c == 94) return 5;             // feed rate mode
-  if (c == 20 || c == 21) return 6;  // units
+  if (c == 28) return 0;                        // non-modal (return home)
+  if ((c >= 0 && c <= 3) || c == 80) return 1;  // motion
+  if (c == 17) return 2;                        // plane
+  if (c == 90 || c == 91) return 3;             // distance mode
+  if (c == 94) return 5;                        // feed rate mode
+  if (c == 20 || c == 21) return 6;             // units
+  if (c == 40) return 7;                        // cutter radius compensation
+  if (c == 43 || c == 49) return 8;             // tool length offset
+  if (c == 54) return 12;                       // coordinate system
   return -1;
 }
 int m_group(int code) {
   if (code == 0 || code == 1 || code == 2 || code == 30) return 4;  // stopping
   if (code == 6) return 6;                                          // tool change
   if (code == 3 || code == 4 || code == 5) return 7;                // spindle
+  if (code == 8 || code == 9) return 8;                             // coolant
   return -1;
 }
 const char* group_name(char letter, int group) {
   if (letter == 'G')
-    return group == 1   ? "motion"
+    return group == 0   ? "non-modal"
+           : group == 1 ? "motion"
            : group == 2 ? "plane"
            : group == 3 ? "distance mode"
            : group == 5 ? "feed rate mode"
-                        : "units";
-  return group == 4 ? "stopping" : group == 6 ? "tool change" : "spindle";
+           : group == 6 ? "units"
+           : group == 7 ? "cutter compensation"
+           : group == 8 ? "tool length offset"
+                        : "coordinate system";
+  return group == 4 ? "stopping" : group == 6 ? "tool change" : group == 7 ? "spindle" : "coolant";
 }
 
 struct Word {
@@ -191,7 +200,10 @@ private:
   struct Words {
     std::optional<Motion> motion;
     std::array<std::optional<double>, 3> axis{};
-    std::optional<double> i_word, j_word, r_word, f_word, s_word, t_word;
+    std::optional<double> i_word, j_word, r_word, f_word, s_word, t_word, h_word;
+    bool cancel_motion = false;  ///< G80
+    bool home = false;           ///< G28
+    bool length_offset = false;  ///< G43 (with H)
     std::vector<int> m_codes;
     [[nodiscard]] bool has_m(int code) const {
       for (int m : m_codes)
@@ -206,6 +218,7 @@ private:
     if (b != std::string_view::npos && s[b] == '%' && s.find_first_not_of(" \t\r", b + 1) == std::string_view::npos)
       return true;  // a programme delimiter line
     Line ln = split(s);
+    if (ln.words.size() == 1 && ln.words[0].letter == 'O' && !seen_words_) ln.words.clear();  // O1000: a program number
     if (ln.words.empty()) {
       for (std::string& c : ln.comments) {
         if (!seen_words_)
@@ -227,7 +240,10 @@ private:
       add(Spindle{dir_, rpm_});
     }
     const bool any_axis = w.axis[0] || w.axis[1] || w.axis[2];
-    if (any_axis || w.i_word || w.j_word || w.r_word) move(w.axis, w.i_word, w.j_word, w.r_word);
+    if (w.home)
+      home(w);
+    else if (any_axis || w.i_word || w.j_word || w.r_word)
+      move(w.axis, w.i_word, w.j_word, w.r_word);
     if (w.has_m(0) || w.has_m(1)) add(Pause{!w.has_m(0)});
     return !(w.has_m(2) || w.has_m(30));
   }
@@ -241,8 +257,8 @@ private:
       slot = w.value;
     };
     // One code per modal group and line (LinuxCNC: "Two G-codes used from same modal group").
-    std::array<const Word*, 8> g_seen{}, m_seen{};
-    auto one_per_group = [&](const Word& w, int group, std::array<const Word*, 8>& seen) {
+    std::array<const Word*, 16> g_seen{}, m_seen{};
+    auto one_per_group = [&](const Word& w, int group, std::array<const Word*, 16>& seen) {
       if (group < 0) return;
       const auto g = static_cast<std::size_t>(group);
       if (seen[g])
@@ -264,8 +280,14 @@ private:
             out.motion = Motion::ArcCW;
           else if (is(w.value, 3))
             out.motion = Motion::ArcCCW;
-          else if (is(w.value, 17) || is(w.value, 94)) {
-          } else if (is(w.value, 20))
+          else if (is(w.value, 17) || is(w.value, 94) || is(w.value, 40) || is(w.value, 49) || is(w.value, 54)) {
+          } else if (is(w.value, 80))
+            out.cancel_motion = true;
+          else if (is(w.value, 28))
+            out.home = true;
+          else if (is(w.value, 43))
+            out.length_offset = true;
+          else if (is(w.value, 20))
             scale_ = kMmPerInch;
           else if (is(w.value, 21))
             scale_ = 1;
@@ -278,7 +300,7 @@ private:
           break;
         case 'M':
           if (is(w.value, 0) || is(w.value, 1) || is(w.value, 2) || is(w.value, 3) || is(w.value, 4) ||
-              is(w.value, 5) || is(w.value, 6) || is(w.value, 30))
+              is(w.value, 5) || is(w.value, 6) || is(w.value, 8) || is(w.value, 9) || is(w.value, 30))
             out.m_codes.push_back(static_cast<int>(std::lround(w.value)));
           else
             fail("unsupported word " + quote(w.text));
@@ -292,7 +314,11 @@ private:
         case 'F': once(out.f_word, w); break;
         case 'S': once(out.s_word, w); break;
         case 'T': once(out.t_word, w); break;
+        case 'H': once(out.h_word, w); break;
         case 'N': break;
+        case 'O':  // a Fanuc program number is read only alone on its line, before any other word (line())
+          fail("O-word " + quote(w.text) +
+               ": only a program number alone on the first line with words is read (no subroutines)");
         default: fail("unsupported word " + quote(w.text));
       }
     }
@@ -302,6 +328,14 @@ private:
   /// Motion mode, feed, spindle speed and tool number of the line, checked.
   void apply_modal(const Words& w) {
     if (w.motion) motion_ = w.motion;
+    if (w.cancel_motion) motion_.reset();
+    if (w.h_word && !w.length_offset) fail("H word without G43");
+    if (w.length_offset) {
+      if (!w.h_word) fail("G43 without an H word (the tool length offset)");
+      if (!(*w.h_word >= 0 && *w.h_word <= kMaxToolNumber && *w.h_word == std::round(*w.h_word)))
+        fail("tool length offset H" + fmt(*w.h_word, 10) + " is not an offset number (0 to " + fmt(kMaxToolNumber) +
+             ")");
+    }
     if (w.f_word) {
       if (*w.f_word < 0) fail("negative feed F" + std::to_string(*w.f_word));
       feed_ = *w.f_word * scale_;
@@ -330,6 +364,19 @@ private:
     } else {
       for (const std::string& c : ln.comments) add(Comment{c});
     }
+  }
+
+  /// G28 read as Fanuc posts write it, "G91 G28 Z0.": the named axes go straight to the machine's
+  /// home, whose place in the program's frame is unknown — those axes are unknown afterwards (no
+  /// move is made of it). An intermediate point (absolute, or a non-zero increment) is refused.
+  void home(const Words& w) {
+    if (!incremental_) fail("G28 is read only as G91 G28 (straight to the machine's home)");
+    if (w.i_word || w.j_word || w.r_word || w.motion) fail("G28 with I, J, R or a motion code");
+    for (std::size_t a = 0; a < 3; ++a)
+      if (w.axis[a]) {
+        if (*w.axis[a] != 0) fail("G28 through an intermediate point (only zero increments are read)");
+        known_ &= static_cast<std::uint8_t>(~(1U << a));
+      }
   }
 
   void move(const std::array<std::optional<double>, 3>& axis, std::optional<double> i_word,

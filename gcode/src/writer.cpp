@@ -42,10 +42,28 @@ Dialect grbl(int decimals) {
   return d;
 }
 
+Dialect fanuc(int decimals) {
+  Dialect d;
+  d.name = "fanuc";
+  d.decimals = std::min(decimals, 3);
+  d.start = "%";
+  d.program_number = 1000;
+  d.decimal_point = true;
+  d.preamble = "G21 G90 G17 G94 G40 G49 G80\nG54";
+  d.end = "G91 G28 Z0.\nG90\nM30\n%";
+  d.coolant_on = "M8";
+  d.coolant_off = "M9";
+  d.tool_length_offset = true;
+  d.max_comment_chars = 60;
+  return d;
+}
+
 const std::vector<DialectEntry>& dialects() {
   static const std::vector<DialectEntry> kDialects = {
       {"linuxcnc", "LinuxCNC (rs274ngc): T<n> M6 tool changes, M1 optional stops", &linuxcnc},
       {"grbl", "GRBL 1.1 (hobby routers): no M6 (a comment and M0 pause), lines within its 80-character buffer", &grbl},
+      {"fanuc", "Fanuc-style (Fanuc, Haas, most industrial controls): % O1000, G54, T M6 G43 H, M8/M9, X10. decimals",
+       &fanuc},
   };
   return kDialects;
 }
@@ -86,17 +104,22 @@ public:
     finite(m.feed, "feed");
     const bool arc = m.motion == Motion::ArcCW || m.motion == Motion::ArcCCW;
     os_ << "G" << static_cast<int>(m.motion);
+    const bool compensate = pending_length_offset_ > 0;
+    if (compensate) {  // G43 H with the move's Z (the Z written even when it does not change)
+      os_ << " G43 H" << pending_length_offset_;
+      pending_length_offset_ = 0;
+    }
     static constexpr std::array<char, 3> kAxis{'X', 'Y', 'Z'};
     for (std::size_t a = 0; a < 3; ++a) {
       if ((m.axes & (1U << a)) == 0 && !(arc && a < 2)) continue;
-      if (!known_[a] || num(m.to[a]) != num(pos_[a]) || (arc && a < 2)) {
+      if (!known_[a] || num(m.to[a]) != num(pos_[a]) || (arc && a < 2) || (compensate && a == 2)) {
         os_ << " " << kAxis[a] << num(m.to[a]);
         known_[a] = true;
       }
     }
     if (arc) os_ << " I" << num(m.center[0] - pos_[0]) << " J" << num(m.center[1] - pos_[1]);
     if (m.motion != Motion::Rapid && m.feed != last_feed_) {
-      os_ << " F" << format_number(m.feed, d_.feed_decimals);
+      os_ << " F" << point(format_number(m.feed, d_.feed_decimals));
       last_feed_ = m.feed;
     }
     os_ << "\n";
@@ -104,11 +127,14 @@ public:
   }
   void operator()(const Spindle& s) {
     finite(s.rpm, "spindle speed");
+    if (s.dir == SpindleDir::Off && coolant_ && !d_.coolant_off.empty()) line(d_.coolant_off);
     switch (s.dir) {
       case SpindleDir::Off: line("M5"); break;
       case SpindleDir::CW: line("M3 S" + format_number(s.rpm, 0)); break;
       case SpindleDir::CCW: line("M4 S" + format_number(s.rpm, 0)); break;
     }
+    if (s.dir != SpindleDir::Off && !coolant_ && !d_.coolant_on.empty()) line(d_.coolant_on);
+    coolant_ = s.dir != SpindleDir::Off && !d_.coolant_on.empty();
   }
   void operator()(const ToolChange& t) {
     if (d_.tool_change_m6) {
@@ -121,6 +147,7 @@ public:
         os_ << "(" << c << ")";
       }
       os_ << "\n";
+      if (d_.tool_length_offset) pending_length_offset_ = t.number;
     } else {
       comment("tool change: load T" + std::to_string(t.number) +
               (t.description.empty() ? std::string() : " " + t.description) + ", then resume");
@@ -133,7 +160,12 @@ public:
   std::string text() const { return os_.str(); }
 
 private:
-  std::string num(double v) const { return format_number(v, d_.decimals); }
+  std::string num(double v) const { return point(format_number(v, d_.decimals)); }
+  /// "10" → "10." where the dialect wants a decimal point on every number.
+  std::string point(std::string s) const {
+    if (d_.decimal_point && s.find('.') == std::string::npos) s += '.';
+    return s;
+  }
   static void finite(double v, const char* what) {
     if (!std::isfinite(v)) throw Error(std::string("gcode: non-finite ") + what + " in the program");
   }
@@ -143,6 +175,8 @@ private:
   Point3 pos_{0, 0, 0};
   std::array<bool, 3> known_{false, false, false};
   double last_feed_ = -1;
+  int pending_length_offset_ = 0;  ///< the tool whose G43 H the next move carries (0: none)
+  bool coolant_ = false;           ///< coolant on (with the spindle)
 };
 
 }  // namespace
@@ -151,6 +185,8 @@ std::string write(const Program& program, const Dialect& dialect) {
   if (dialect.decimals < 3 || dialect.decimals > 8) throw Error("gcode: decimals must be in [3, 8]");
   if (dialect.feed_decimals < 0 || dialect.feed_decimals > 8) throw Error("gcode: feed decimals must be in [0, 8]");
   Writer w(dialect);
+  if (!dialect.start.empty()) w.line(dialect.start);
+  if (dialect.program_number > 0) w.line("O" + std::to_string(dialect.program_number));
   for (const std::string& h : program.header) w.comment(h);
   w.line(dialect.preamble);
   for (const Item& item : program.items) std::visit(w, item);  // O(items)

@@ -101,12 +101,12 @@ TEST(GcodeReader, InchFeedsAndIncrementalArcs) {
 }
 
 TEST(GcodeReader, ErrorsNameTheSourceLineAndTheWord) {
-  const std::string e1 = error_of("G21\nG0 Z5\nG54 X1\n");
+  const std::string e1 = error_of("G21\nG0 Z5\nG55 X1\n");
   EXPECT_NE(e1.find("hand.nc:3"), std::string::npos) << e1;
-  EXPECT_NE(e1.find("G54"), std::string::npos) << e1;
-  const std::string e2 = error_of("(x)\nM8\n");
+  EXPECT_NE(e1.find("G55"), std::string::npos) << e1;
+  const std::string e2 = error_of("(x)\nM7\n");
   EXPECT_NE(e2.find("hand.nc:2"), std::string::npos) << e2;
-  EXPECT_NE(e2.find("M8"), std::string::npos) << e2;
+  EXPECT_NE(e2.find("M7"), std::string::npos) << e2;
   const std::string e3 = error_of("G0 Z1\nG1 X5\n");
   EXPECT_NE(e3.find("hand.nc:2"), std::string::npos) << e3;
   EXPECT_NE(e3.find("feed"), std::string::npos) << e3;

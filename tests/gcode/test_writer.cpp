@@ -102,7 +102,7 @@ TEST(GcodeWriter, Errors) {
   p.items = {mv(Motion::Line, {std::nan(""), 0, 0}, 100)};
   EXPECT_THROW((void)write(p, linuxcnc()), millnet::Error);
   EXPECT_THROW((void)write(Program{}, linuxcnc(2)), millnet::Error);
-  EXPECT_THROW((void)dialect_named("fanuc"), millnet::Error);
+  EXPECT_THROW((void)dialect_named("heidenhain"), millnet::Error);
   EXPECT_EQ(dialect_named("grbl").name, "grbl");
 }
 

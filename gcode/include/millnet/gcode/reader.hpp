@@ -8,6 +8,10 @@
 // the last T; a comment on the same line becomes its description); comments in ( ) and after ;,
 // blank lines and lines holding only "%". Comment-only lines before the first line with words
 // become Program::header; later ones Comment items, as do comments beside other words.
+// What the Fanuc-style dialect adds (writer.hpp) is read and makes no item: an O program number
+// alone on the first line with words; G40, G49, G54, G80 (motion cancelled: axis words need a
+// new motion code); G43 with its H offset number; M8 M9 (coolant); G28 only as "G91 G28" with
+// zero increments (straight to the machine's home: those axes are unknown afterwards).
 // Anything else (another G or M code, another letter, a repeated word, a feed move with no
 // feed, an arc whose radius cannot reach its end) throws millnet::Error "<source>:<line>: …"
 // naming the word.

@@ -9,6 +9,8 @@
 //
 // Dialect differences (what each controller accepts):
 //   LinuxCNC  "T<n> M6" tool changes, M1 optional stop, long comments.
+//   Fanuc     tape format ("%" … "%", O number), G54, G43 H tool length compensation after M6,
+//             M8/M9 coolant, "X10." decimal points, 3 decimals, Z home by G91 G28 Z0. at the end.
 //   GRBL 1.1  no M6 (error 20, "unsupported command"): a tool change is written as a comment
 //             and M0 so the operator changes the tool by hand; M1 is parsed and ignored (no
 //             pause), so an optional stop is written as M0; comments are kept short because
@@ -33,10 +35,24 @@ struct Dialect {
   bool tool_change_m6 = true;         ///< false: "(tool change: T<n> …)" + M0
   bool optional_stop_m1 = true;       ///< false: an optional stop is written as M0
   std::size_t max_comment_chars = 0;  ///< longer comment text is cut (0: no limit)
+  std::string start;                  ///< lines before the program ("%" for tape-format controls)
+  int program_number = 0;             ///< > 0: an "O<nnnn>" line first (Fanuc program number)
+  /// Every number of an axis, centre or feed with a decimal point ("X10." not "X10": a Fanuc
+  /// control reads "X10" as 10 least increments, 0.01 mm).
+  bool decimal_point = false;
+  std::string coolant_on;   ///< after each spindle start ("M8"; empty: none)
+  std::string coolant_off;  ///< before each spindle stop ("M9")
+  /// After each tool change, tool length compensation "G43 H<tool>" on the first move (with its Z).
+  bool tool_length_offset = false;
 };
 
 [[nodiscard]] Dialect linuxcnc(int decimals = 4);
 [[nodiscard]] Dialect grbl(int decimals = 4);
+/// Fanuc-style (Fanuc 0i/30i, Haas and most industrial controls): "%" and an O number, a safety
+/// line (G21 G90 G17 G94 G40 G49 G80) and work offset G54, "T<n> M6" then G43 H<n> on the first
+/// move, flood coolant M8/M9 with the spindle, a decimal point on every coordinate, at most 3
+/// decimals (the controls' least increment, 0.001 mm), and the end "G91 G28 Z0." (Z home) "G90 M30 %".
+[[nodiscard]] Dialect fanuc(int decimals = 3);
 
 /// The registry of dialects (the posts a machine profile may name, /machine/post and --post): one
 /// entry per controller, in the order the CLI lists them. A new dialect is one entry here (and its
