@@ -46,7 +46,7 @@ UnitOutcomes decode_unit(const std::string& bytes) {
 /// ranking when its last unit is in, in a part OutputSet: a batch writes every good part and
 /// nothing of a bad one. Returns the number of parts that failed.
 std::size_t finish_batch(const std::vector<fs::path>& files, const ingest::PrepareOptions& prep,
-                         const FinishSettings& s, const std::string& out) {
+                         const FinishSettings& s, const std::string& out, std::vector<std::string>& gouges) {
   const std::size_t S = s.strategies.size();
   const std::size_t per_part = cluster_size() > 1 ? S : 1, chunk = S / per_part;
   const std::function<UnitOutcomes(std::size_t, const std::string&)> work = [&](std::size_t u, const std::string& dir) {
@@ -84,6 +84,11 @@ std::size_t finish_batch(const std::vector<fs::path>& files, const ingest::Prepa
     for (const std::string& p : packed) unpack_files(p, out);
     write_strategy_ranking(f.stem().string(), s, outcomes, out);
     part.commit();
+    for (const job::StrategyOutcome& o : outcomes)  // a confirmed gouge fails the command (issue 37 §1)
+      if (o.simulated && o.surface.gouged) {
+        const std::string base = f.stem().string() + ".s" + std::to_string(static_cast<int>(o.strategy));
+        gouges.push_back(gouge_failure((fs::path(out) / program_file_name(base, o)).string(), o.surface));
+      }
     info("finish: " + f.string() + ": " + std::to_string(outcomes.size()) + " strategies → " + out);
   };
   const DistributeStats st = distribute_typed<UnitOutcomes>(files.size() * per_part, work, take, false, "finish: parts",
@@ -153,8 +158,12 @@ Registered register_finish(CLI::App& app) {
             if (items.empty()) throw Error("no mesh to finish: give --mesh FILE or set /finish/meshes in the config");
             const auto files = expand_inputs(items, ingest::mesh_extensions());
             const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"], &config);
-            const std::size_t failed = finish_batch(files, prep, s, o->out);
-            if (!cluster_root() || failed == 0) return 0;
+            std::vector<std::string> gouges;
+            const std::size_t failed = finish_batch(files, prep, s, o->out, gouges);
+            if (!cluster_root()) return 0;
+            // A program that gouges is a failure: its files are written (the program as .GOUGES.nc).
+            for (const std::string& g : gouges) std::cerr << "millnet finish: error: " << g << "\n";
+            if (failed == 0) return gouges.empty() ? 0 : 1;
             // The good parts are written (the command's outputs commit when it returns).
             std::cerr << ("millnet finish: error: " + std::to_string(failed) + " of " + std::to_string(files.size()) +
                           " parts failed (named above); the other parts are written\n");
@@ -200,7 +209,10 @@ Registered register_simulate(CLI::App& app) {
         const Json j = simulate_programs(part, part.name, std::move(programs), o->stock, s, o->out, o->save_stock);
         info("simulate: Ra median " + j["ra_median_um"].dump() + " um, gouge " + j["max_gouge_mm"].dump() + " mm → " +
              o->out);
-        return 0;
+        if (!j.contains("gouge_failure")) return 0;
+        // A confirmed gouge is a failure (issue 37 §1); the outputs and the program's copy are written.
+        std::cerr << "millnet simulate: error: " << j["gouge_failure"].get<std::string>() << "\n";
+        return 1;
       }};
 }
 

@@ -57,6 +57,13 @@ Json sim_metrics_json(const simulate::SurfaceMetrics& m, const simulate::GridSpe
     j["gouge_deepest_xy_mm"] = {grid.x(m.gouge_cell % grid.nx), grid.y(m.gouge_cell / grid.nx)};
     j["gouge_deepest_line"] = m.gouge_has_move ? Json(m.gouge_move.line) : Json(nullptr);
   }
+  if (m.gouge_checked) {  // the exact check ran (issue 37 §1): what the z-map said, what became of it
+    if (m.gouged) j["gouge_xy_mm"] = {m.gouge_x_mm, m.gouge_y_mm};
+    j["zmap_max_gouge_mm"] = m.zmap_max_gouge_mm;
+    j["zmap_gouge_places"] = m.zmap_gouge_places;
+    j["gouge_places_checked"] = m.gouge_places_checked;
+    j["zmap_gouge_artefacts"] = m.gouge_places_refuted;
+  }
   j["scallop_max_mm"] = m.scallop_max_mm;
   j["ra_mean_um"] = m.ra_mean_um;
   j["ra_median_um"] = m.ra_median_um;
@@ -150,7 +157,8 @@ job::StrategyOutcome strategy_outcome(const job::Part& part, const FinishSetting
   const std::string& stem = part.name;
   const std::string title = stem + ": " + finish::strategy_name(plan.strategy);
   const std::string base = stem + ".s" + std::to_string(static_cast<int>(plan.strategy));
-  gcode::Written written = gcode::write_program(out / (base + ".nc"), plan.program, settings.post);
+  // Written in memory first: a program that gouges is kept under a name that says so.
+  gcode::Written written = gcode::written(plan.program, settings.post, (out / (base + ".nc")).string());
   job::StrategyOutcome o = job::planned_outcome(plan, gcode::stats(plan.program, settings.machine));
   path_png(out / (base + ".png"), job, plan.program, title);
   std::optional<report::PreviewSurface> surface;
@@ -159,12 +167,14 @@ job::StrategyOutcome strategy_outcome(const job::Part& part, const FinishSetting
         job::score_program(*job.design, job.frame, written.program, job.params.tool, sim_params(settings));
     if (preview_settings().enabled)
       surface = preview_surface(s.machined, simulate::deviation(s.machined, job.design->heights));
-    if (s.metrics.gouged)  // a gouge from the program itself is a planner bug: say where
-      warn(base + ".nc: gouge " + fixed(s.metrics.max_gouge_mm, 4) + " mm first at line " +
-           std::to_string(s.metrics.first_gouge_move.line));
+    if (s.metrics.gouge_places_refuted > 0)
+      info(base + ".nc: " + std::to_string(s.metrics.gouge_places_refuted) +
+           " z-map gouge place(s) refuted by the exact check (cell artefacts; the z-map said " +
+           fixed(s.metrics.zmap_max_gouge_mm, 4) + " mm)");
     ra_png(out / (base + ".ra.png"), job.design->grid, s.metrics, title + ", roughness Ra");
     job::add_simulation(o, s, job.design->grid);
   }
+  write_file_atomic(out / program_file_name(base, o), written.text);
   report::PreviewInput page;  // the 3D page of the program (issue 16), with its machined surface when simulated
   page.title = base + " — " + finish::strategy_name(plan.strategy);
   page.programs.push_back({finish::strategy_name(plan.strategy), std::move(written)});
@@ -178,6 +188,16 @@ job::StrategyOutcome strategy_outcome(const job::Part& part, const FinishSetting
 }
 
 }  // namespace
+
+std::string program_file_name(const std::string& base, const job::StrategyOutcome& o) {
+  return base + (o.simulated && o.surface.gouged ? ".GOUGES.nc" : ".nc");
+}
+
+std::string gouge_failure(const std::string& program, const simulate::SurfaceMetrics& m) {
+  return program + " gouges the part: " + fixed(m.max_gouge_mm, 4) + " mm deep at G-code line " +
+         std::to_string(m.gouge_move.line) + ", X " + fixed(m.gouge_x_mm, 3) + " Y " + fixed(m.gouge_y_mm, 3) +
+         " (confirmed by the exact check; first gouging line " + std::to_string(m.first_gouge_move.line) + ")";
+}
 
 Json strategy_metrics(const job::StrategyOutcome& o, const FinishSettings& settings, const job::Part& part) {
   Json j;
@@ -221,6 +241,20 @@ job::StrategyOutcome outcome_from_metrics(const Json& j, double cell_mm) {
   simulate::SurfaceMetrics& m = o.surface;
   m.max_gouge_mm = j.at("max_gouge_mm").get<double>();
   m.gouged = !j.at("gouge_line").is_null();
+  if (m.gouged && j.contains("gouge_deepest_line") && !j["gouge_deepest_line"].is_null())
+    m.gouge_move.line = j["gouge_deepest_line"].get<std::size_t>();
+  if (m.gouged) m.first_gouge_move.line = j.at("gouge_line").get<std::size_t>();
+  if (j.contains("zmap_max_gouge_mm")) {  // the exact check ran
+    m.gouge_checked = true;
+    m.zmap_max_gouge_mm = j["zmap_max_gouge_mm"].get<double>();
+    m.zmap_gouge_places = j.at("zmap_gouge_places").get<std::size_t>();
+    m.gouge_places_checked = j.at("gouge_places_checked").get<std::size_t>();
+    m.gouge_places_refuted = j.at("zmap_gouge_artefacts").get<std::size_t>();
+    if (j.contains("gouge_xy_mm")) {
+      m.gouge_x_mm = j["gouge_xy_mm"].at(0).get<double>();
+      m.gouge_y_mm = j["gouge_xy_mm"].at(1).get<double>();
+    }
+  }
   m.scallop_max_mm = j.at("scallop_max_mm").get<double>();
   m.ra_mean_um = j.at("ra_mean_um").get<double>();
   m.ra_median_um = j.at("ra_median_um").get<double>();
@@ -348,6 +382,15 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
   const simulate::SurfaceMetrics& m = r.metrics;
   Json j = sim_metrics_json(m, design->grid);
   if (m.gouged) j["gouge_gcode"] = runs.at(m.first_gouge_move.pass)["gcode"];
+  fs::create_directories(out);
+  const std::size_t first_pass = z.passes() - programs.size();  // a stock read back brings its own passes
+  if (m.gouged && m.gouge_move.pass >= first_pass) {            // kept for inspection under a name that says it gouges
+    const ChainProgram& g = programs[m.gouge_move.pass - first_pass];
+    const fs::path kept = out / (fs::path(g.file).stem().string() + ".GOUGES.nc");
+    write_file_atomic(kept, g.written.text);
+    j["gouge_program_kept"] = kept.string();
+    j["gouge_failure"] = gouge_failure(g.file, m);
+  }
   j["programs"] = runs;
   j["stock"] = stock;
   j["stock_top_above_part_mm"] = settings.stock_top_above_part_mm;

@@ -46,6 +46,13 @@ std::vector<job::StrategyOutcome> finish_strategies(const job::Part& part, const
 void write_strategy_ranking(const std::string& stem, const FinishSettings& settings,
                             std::vector<job::StrategyOutcome>& outcomes, const std::filesystem::path& out);
 
+/// The file a strategy's program is written to: <base>.nc, or <base>.GOUGES.nc when its simulation
+/// confirmed a gouge (kept for inspection; such a program never ranks).
+[[nodiscard]] std::string program_file_name(const std::string& base, const job::StrategyOutcome& o);
+/// The one line a confirmed gouge fails a command with: the program, the depth, the G-code line
+/// and the XY of the deepest gouge.
+[[nodiscard]] std::string gouge_failure(const std::string& program, const simulate::SurfaceMetrics& m);
+
 /// The keys of <stem>.s<k>.metrics.json for an outcome of the part (its CAD report under "cad").
 [[nodiscard]] Json strategy_metrics(const job::StrategyOutcome& o, const FinishSettings& settings,
                                     const job::Part& part);

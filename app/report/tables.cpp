@@ -32,9 +32,11 @@ StrategyTable strategy_table(const std::string& stem, const std::string& aim,
   for (std::size_t r = 0; r < order.size(); ++r) {  // O(strategies)
     const job::StrategyOutcome& o = outcomes[order[r]];
     const std::string name = finish::strategy_name(o.strategy);
-    csv << r + 1 << "," << static_cast<int>(o.strategy) << ",\"" << name << "\"," << fixed(o.path_length_mm, 3) << ","
+    // A program that gouges never ranks (issue 37 §1): it is listed last, its rank "gouges".
+    const std::string rank = o.simulated && o.surface.gouged ? std::string("gouges") : std::to_string(r + 1);
+    csv << rank << "," << static_cast<int>(o.strategy) << ",\"" << name << "\"," << fixed(o.path_length_mm, 3) << ","
         << fixed(o.time_feed_min, 4) << "," << fixed(o.time_kinematic_min, 4) << "," << o.lifts;
-    md << "| " << r + 1 << " | " << name << " | " << fixed(o.path_length_mm / 1000, 2) << " | "
+    md << "| " << rank << " | " << name << " | " << fixed(o.path_length_mm / 1000, 2) << " | "
        << fixed(o.time_feed_min, 1) << " | " << fixed(o.time_kinematic_min, 1) << " | " << o.lifts << " |";
     if (simulated) {
       const simulate::SurfaceMetrics& m = o.surface;

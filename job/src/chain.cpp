@@ -12,7 +12,10 @@ simulate::ZMap block_stock(const Design& design, const SimParams& sim) {
 ChainResult machine_chain(simulate::ZMap& stock, const Design& design, const std::vector<ChainStep>& steps,
                           const gcode::MotionModel& machine, const SimParams& sim) {
   ChainResult r;
+  // The exact gouge check's programs per z-map pass: none for the passes of a stock read back.
+  std::vector<simulate::PassTool> passes(stock.passes());
   for (const ChainStep& s : steps) {  // O(steps)
+    passes.push_back({s.program, s.cutter});
     const simulate::SweepResult sw = simulate::machine(stock, *s.program, s.cutter);
     StepResult st;
     st.stats = gcode::stats(*s.program, machine);
@@ -28,6 +31,8 @@ ChainResult machine_chain(simulate::ZMap& stock, const Design& design, const std
     mo.cutter.reset();
   }
   r.metrics = simulate::surface_metrics(stock, design.heights, mo);
+  if (design.solid)
+    simulate::confirm_gouges(r.metrics, stock, design.heights, *design.solid, passes, sim.gouge_options());
   return r;
 }
 

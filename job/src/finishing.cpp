@@ -20,6 +20,12 @@ simulate::MetricsOptions SimParams::metrics_options(const tooling::Cutter& cutte
   return mo;
 }
 
+simulate::ExactGougeOptions SimParams::gouge_options() const {
+  simulate::ExactGougeOptions o;
+  o.tolerance_mm = tolerance_mm;
+  return o;
+}
+
 std::size_t SimParams::max_bytes() const { return static_cast<std::size_t>(std::min(limits.max_memory_bytes, 1e18)); }
 
 Design design_surface(const ingest::Mesh& mesh, const Frame& frame, const SimParams& sim) {
@@ -33,6 +39,7 @@ Design design_surface(const ingest::Mesh& mesh, const Frame& frame, const SimPar
   const ingest::HeightField hf = ingest::rasterize_top(mesh, 0.5 * d.grid.cell, 0.5 * d.grid.cell, d.grid.cell,
                                                        static_cast<int>(d.grid.nx), static_cast<int>(d.grid.ny));
   d.heights = simulate::design_heights(hf, frame.z_shift());
+  d.solid = std::make_shared<const simulate::PartSolid>(mesh, frame.z_shift());
   return d;
 }
 
@@ -51,6 +58,9 @@ Scored score_program(const Design& design, const Frame& frame, const gcode::Prog
   // Uncut = reachable material the program left; the scallops between passes are scored by
   // scallop and Ra, and the rest material no program with this cutter can clear is apart.
   s.metrics = simulate::surface_metrics(s.machined, design.heights, sim.metrics_options(cutter));
+  if (design.solid)  // a z-map gouge is a gouge only when the exact check confirms it (issue 37 §1)
+    simulate::confirm_gouges(s.metrics, s.machined, design.heights, *design.solid, {{&program, cutter}},
+                             sim.gouge_options());
   return s;
 }
 

@@ -10,6 +10,10 @@
 
 namespace millnet::simulate::metrics {
 
+/// cos of the design's slope at cell i (the steeper one-sided difference per axis), for measuring
+/// a height difference e along the surface normal: e·cos. O(1).
+[[nodiscard]] double cos_slope(const GridSpec& spec, const std::vector<double>& design, std::size_t i);
+
 /// Splits the remaining material (cells with (e − allowance)·cos(slope) > tolerance) into rest,
 /// scallop and uncut (definitions in zmap.hpp): fills out's rest, scallop and uncut areas and
 /// scallop_max_mm. `above` is (e − allowance)·cos(slope) per cell (NaN off the surface);

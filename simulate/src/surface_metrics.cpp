@@ -15,24 +15,6 @@ namespace millnet::simulate {
 
 namespace {
 
-// cos of the design's slope at cell i, for measuring a height difference e above or below the
-// design along the surface normal: e·cos. The slope takes, per axis, the steeper of the two
-// one-sided differences: on smooth ground the same as central differences to O(cell·curvature),
-// and at a crease (a wall's top or foot, where a z-map cell straddles two faces) e·cos is then
-// about the distance to the nearer face — not the distance to a blend of the two.
-double cos_slope(const GridSpec& spec, const std::vector<double>& design, std::size_t i) {
-  const std::size_t nx = spec.nx, ny = spec.ny, ix = i % nx, iy = i / nx;
-  auto steeper = [&](bool has_lo, std::size_t lo, bool has_hi, std::size_t hi) {
-    double g = 0;
-    if (has_lo && !std::isnan(design[lo])) g = std::abs(design[i] - design[lo]);
-    if (has_hi && !std::isnan(design[hi])) g = std::max(g, std::abs(design[hi] - design[i]));
-    return g / spec.cell;
-  };
-  const double gx = steeper(ix > 0, i - 1, ix + 1 < nx, i + 1);
-  const double gy = steeper(iy > 0, i - nx, iy + 1 < ny, i + nx);
-  return 1 / std::sqrt(1 + gx * gx + gy * gy);
-}
-
 void check_inputs(const GridSpec& spec, const std::vector<double>& design, const MetricsOptions& opt) {
   if (design.size() != spec.cells())
     throw Error("simulate: design surface has " + std::to_string(design.size()) + " values, the z-map " +
@@ -74,7 +56,7 @@ std::size_t measure_deviation(const ZMap& machined, const std::vector<double>& d
     const double e = z[i] - design[i];
     min_e = std::min(min_e, e);
     max_e = std::max(max_e, e);
-    const double cs = cos_slope(spec, design, i);
+    const double cs = metrics::cos_slope(spec, design, i);
     const double en_left = (e - opt.allowance_mm) * cs;
     if (!above.empty()) above[i] = en_left;
     if (en_left > opt.tolerance_mm) ++remaining;
@@ -113,6 +95,26 @@ void locate_gouges(const ZMap& machined, std::size_t first_gouge_cell, SurfaceMe
 }
 
 }  // namespace
+
+namespace metrics {
+// cos of the design's slope at cell i, for measuring a height difference e above or below the
+// design along the surface normal: e·cos. The slope takes, per axis, the steeper of the two
+// one-sided differences: on smooth ground the same as central differences to O(cell·curvature),
+// and at a crease (a wall's top or foot, where a z-map cell straddles two faces) e·cos is then
+// about the distance to the nearer face — not the distance to a blend of the two.
+double cos_slope(const GridSpec& spec, const std::vector<double>& design, std::size_t i) {
+  const std::size_t nx = spec.nx, ny = spec.ny, ix = i % nx, iy = i / nx;
+  auto steeper = [&](bool has_lo, std::size_t lo, bool has_hi, std::size_t hi) {
+    double g = 0;
+    if (has_lo && !std::isnan(design[lo])) g = std::abs(design[i] - design[lo]);
+    if (has_hi && !std::isnan(design[hi])) g = std::max(g, std::abs(design[hi] - design[i]));
+    return g / spec.cell;
+  };
+  const double gx = steeper(ix > 0, i - 1, ix + 1 < nx, i + 1);
+  const double gy = steeper(iy > 0, i - nx, iy + 1 < ny, i + nx);
+  return 1 / std::sqrt(1 + gx * gx + gy * gy);
+}
+}  // namespace metrics
 
 std::vector<double> deviation(const ZMap& machined, const std::vector<double>& design) {
   if (design.size() != machined.heights().size())

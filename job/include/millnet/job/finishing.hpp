@@ -17,10 +17,12 @@
 #include "millnet/gcode/writer.hpp"
 #include "millnet/job/frame.hpp"
 #include "millnet/simulate/aim.hpp"
+#include "millnet/simulate/exact_gouge.hpp"
 #include "millnet/simulate/zmap.hpp"
 #include "millnet/tooling/cutter.hpp"
 
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -41,13 +43,17 @@ struct SimParams {
   [[nodiscard]] simulate::MetricsOptions metrics_options(const tooling::Cutter& cutter) const;
   /// The z-map's own memory backstop: the run's memory limit.
   [[nodiscard]] std::size_t max_bytes() const;
+  /// The exact gouge check's options (its tolerance is the gouge tolerance).
+  [[nodiscard]] simulate::ExactGougeOptions gouge_options() const;
 };
 
 /// The part's design surface on the z-map grid over its footprint: cells of sim.cell_mm from
-/// (0, 0), heights in the program frame (NaN off the part).
+/// (0, 0), heights in the program frame (NaN off the part); and the part's triangles in the program
+/// frame, for the exact check of the z-map's gouges (simulate/exact_gouge.hpp; null: unchecked).
 struct Design {
   simulate::GridSpec grid;
   std::vector<double> heights;
+  std::shared_ptr<const simulate::PartSolid> solid;
 };
 
 /// Rasterizes the design once per part. Checked first against sim.limits: the z-map (12 bytes a
@@ -67,7 +73,9 @@ struct Scored {
 };
 
 /// Machines `program` (as written: gcode::Written::program, so that gouges name their lines) with
-/// `cutter` on the finishing stock and scores the surface against the design. Writes nothing.
+/// `cutter` on the finishing stock and scores the surface against the design; the z-map's gouges
+/// are confirmed or refuted by the exact check (design.solid), so metrics.gouged is a real gouge.
+/// Writes nothing.
 [[nodiscard]] Scored score_program(const Design& design, const Frame& frame, const gcode::Program& program,
                                    const tooling::Cutter& cutter, const SimParams& sim);
 

@@ -42,4 +42,22 @@ inline constexpr double live_band_margin_mm = 1e-6;
 /// direction: the floor only guards the division).
 inline constexpr double min_profile_cos = 1e-6;
 
+/// The exact gouge check (exact_gouge.hpp) samples a flat or bull cutter's core disk on rings at
+/// most this far apart, and each ring at most this far between samples (mm).
+inline constexpr double exact_disk_step_mm = 0.05;
+
+/// ... with at most this many rings (a wide disk is sampled more coarsely, the step stated by it).
+inline constexpr int exact_disk_max_rings = 24;
+
+/// The outermost ring of that disk lies this far inside the rim, so that a cutter whose rim just
+/// meets a vertical wall's top edge is not read as standing on the wall (mm).
+inline constexpr double exact_rim_inset_mm = 1e-4;
+
+/// The bins of the exact check's triangle grid are at least this big, and at most this many.
+inline constexpr double exact_min_bin_mm = 0.25;
+inline constexpr double exact_max_bins = 4e6;
+
+/// A triangle whose XY projection has at most this area (mm²) is vertical: it has no inside.
+inline constexpr double exact_vertical_area_mm2 = 1e-12;
+
 }  // namespace millnet::simulate::tol

@@ -199,6 +199,16 @@ struct SurfaceMetrics {
   bool gouge_has_move = false;
   MoveRef gouge_move;        ///< the move that cut the deepest gouge
   MoveRef first_gouge_move;  ///< the earliest move (pass, item) that left a gouged cell
+  /// The exact check (confirm_gouges in exact_gouge.hpp), when it ran: the gouge figures above are
+  /// then the confirmed ones (a z-map gouge the check refutes is an artefact of the cells, never a
+  /// gouge), and these keep what the z-map alone said and what became of it.
+  bool gouge_checked = false;
+  double zmap_max_gouge_mm = 0;          ///< the z-map's own deepest gouge (along the normal)
+  std::size_t zmap_gouge_places = 0;     ///< moves that left a z-map gouge cell (one place each)
+  std::size_t gouge_places_checked = 0;  ///< of those, checked exactly (the deepest, bounded)
+  std::size_t gouge_places_refuted = 0;  ///< checked and found clear: z-map artefacts
+  double gouge_x_mm = 0;                 ///< confirmed gouge: the tool tip's XY where it is deepest
+  double gouge_y_mm = 0;
   /// Remaining material: the area with (e − allowance)·cos(slope) > tolerance (measured along the
   /// surface normal, like the gouge: on an 87° wall a vertical e overstates it 19×). With options.cutter it is split
   /// into three parts, each cell in exactly one:

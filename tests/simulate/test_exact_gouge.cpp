@@ -1,0 +1,198 @@
+// The exact gouge check (issue 37 §1): parts built here with walls, bores, a boss and an open patch
+// whose edges lie exactly on z-map cell centres, where the z-map reports a gouge that the tool never
+// cut; the exact check refutes them, and finds a real plunge 0.5 mm into a flat top at its line.
+// Hand-computed values only (cell 0.25 mm, all coordinates exact in binary).
+#include "millnet/simulate/exact_gouge.hpp"
+
+#include "millnet/ingest/heightfield.hpp"
+#include "millnet/simulate/maps.hpp"
+#include "millnet/simulate/zmap.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+using namespace millnet;
+using namespace millnet::simulate;
+using gcode::Motion;
+using gcode::Move;
+using gcode::Program;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// Columns over the breakpoints xs × ys, column (i, j) at height h[j][i] (NaN: no material), top
+/// quads, vertical walls between columns of different heights and around the outside down to
+/// `bottom` (walls = false: the tops only, an open patch).
+ingest::Mesh columns(const std::vector<double>& xs, const std::vector<double>& ys,
+                     const std::vector<std::vector<double>>& h, double bottom, bool walls = true) {
+  ingest::Mesh m;
+  std::vector<std::array<double, 3>> v;
+  std::vector<std::array<int, 3>> f;
+  auto quad = [&](std::array<double, 3> a, std::array<double, 3> b, std::array<double, 3> c, std::array<double, 3> d) {
+    const int k = static_cast<int>(v.size());
+    v.insert(v.end(), {a, b, c, d});
+    f.push_back({k, k + 1, k + 2});
+    f.push_back({k, k + 2, k + 3});
+  };
+  const std::size_t nx = xs.size() - 1, ny = ys.size() - 1;
+  auto at = [&](long i, long j) {
+    if (i < 0 || j < 0 || i >= static_cast<long>(nx) || j >= static_cast<long>(ny)) return kNaN;
+    return h[static_cast<std::size_t>(j)][static_cast<std::size_t>(i)];
+  };
+  for (long j = 0; j < static_cast<long>(ny); ++j)
+    for (long i = 0; i < static_cast<long>(nx); ++i) {
+      const double x0 = xs[static_cast<std::size_t>(i)], x1 = xs[static_cast<std::size_t>(i) + 1];
+      const double y0 = ys[static_cast<std::size_t>(j)], y1 = ys[static_cast<std::size_t>(j) + 1];
+      const double z = at(i, j);
+      if (!std::isnan(z)) quad({x0, y0, z}, {x1, y0, z}, {x1, y1, z}, {x0, y1, z});
+      if (!walls) continue;
+      // walls on the column's +x and +y sides (and on -x, -y at the border), between both heights
+      auto wall = [&](double za, double zb, std::array<double, 2> p, std::array<double, 2> q) {
+        const double lo = std::isnan(za) ? bottom : za, hi = std::isnan(zb) ? bottom : zb;
+        if (std::isnan(za) && std::isnan(zb)) return;
+        if (lo == hi) return;
+        const double a = std::min(lo, hi), b = std::max(lo, hi);
+        quad({p[0], p[1], a}, {q[0], q[1], a}, {q[0], q[1], b}, {p[0], p[1], b});
+      };
+      wall(z, at(i + 1, j), {x1, y0}, {x1, y1});
+      wall(z, at(i, j + 1), {x0, y1}, {x1, y1});
+      if (i == 0) wall(z, kNaN, {x0, y0}, {x0, y1});
+      if (j == 0) wall(z, kNaN, {x0, y0}, {x1, y0});
+    }
+  m.V.resize(static_cast<Eigen::Index>(v.size()), 3);
+  m.F.resize(static_cast<Eigen::Index>(f.size()), 3);
+  for (std::size_t i = 0; i < v.size(); ++i)
+    for (int k = 0; k < 3; ++k) m.V(static_cast<Eigen::Index>(i), k) = v[i][static_cast<std::size_t>(k)];
+  for (std::size_t i = 0; i < f.size(); ++i)
+    for (int k = 0; k < 3; ++k) m.F(static_cast<Eigen::Index>(i), k) = f[i][static_cast<std::size_t>(k)];
+  return m;
+}
+
+/// The plate of the tests, 20 × 20 mm, top Z 0, bottom Z −10: a through-bore [8.125, 11.875]²,
+/// a blind bore [3.125, 6.125]² with its floor at Z −5, a boss [14.125, 17.125]² up to Z +5. Every
+/// wall lies on a line of cell centres of the 0.25 mm grid below.
+ingest::Mesh plate() {
+  const std::vector<double> b{0, 3.125, 6.125, 8.125, 11.875, 14.125, 17.125, 20};
+  std::vector<std::vector<double>> h(7, std::vector<double>(7, 0.0));
+  h[3][3] = kNaN;  // through-bore
+  h[1][1] = -5;    // blind bore
+  h[5][5] = 5;     // boss
+  return columns(b, b, h, -10);
+}
+
+/// An open patch at Z 0 over [0, 10.125] × [0, 20]: no walls, no solid below.
+ingest::Mesh patch() { return columns({0, 10.125}, {0, 20}, {{0.0}}, -10, false); }
+
+const GridSpec kGrid{0, 0, 0.25, 80, 80};
+
+std::vector<double> design_of(const ingest::Mesh& mesh) {
+  const ingest::HeightField hf = ingest::rasterize_top(mesh, 0.125, 0.125, 0.25, 80, 80);
+  return design_heights(hf, 0);
+}
+
+Move mv(Motion m, double x, double y, double z) {
+  Move v;
+  v.motion = m;
+  v.to = {x, y, z};
+  v.feed = m == Motion::Rapid ? 0 : 600;
+  return v;
+}
+
+/// Rapid above (x, y), feed down to z, then along to (x2, y2, z), rapid up; lines 11, 12, 13, 14.
+Program plunge_and_run(double x, double y, double z, double x2, double y2) {
+  Program p;
+  p.items = {mv(Motion::Rapid, x, y, 8), mv(Motion::Line, x, y, z), mv(Motion::Line, x2, y2, z),
+             mv(Motion::Rapid, x2, y2, 8)};
+  p.source_line = {11, 12, 13, 14};
+  return p;
+}
+
+struct Checked {
+  SurfaceMetrics zmap;   ///< what the z-map alone says
+  SurfaceMetrics exact;  ///< after confirm_gouges
+};
+
+Checked machine_and_check(const ingest::Mesh& mesh, const Program& p, const tooling::Cutter& c) {
+  const std::vector<double> design = design_of(mesh);
+  ZMap z = ZMap::flat(kGrid, 6.0);  // above the boss: every cell below the design was cut there
+  (void)machine(z, p, c);
+  MetricsOptions mo;
+  mo.ra_map = false;
+  Checked r;
+  r.zmap = surface_metrics(z, design, mo);
+  r.exact = r.zmap;
+  const PartSolid solid(mesh, 0);
+  confirm_gouges(r.exact, z, design, solid, {{&p, c}}, ExactGougeOptions{});
+  return r;
+}
+
+}  // namespace
+
+// A Ø2 ball plunged in the through-bore 1 mm from its wall (x = 8.125) to Z −5: its side touches
+// the wall, the cells on the bore's edge (design Z 0, the bore beside them empty) are cut to −4.
+TEST(ExactGouge, ThroughBoreWallIsNoGougeWhereTheZMapReportsOne) {
+  const Checked r = machine_and_check(plate(), plunge_and_run(9.125, 10, -5, 9.125, 10.5), tooling::Cutter::ball(2));
+  EXPECT_TRUE(r.zmap.gouged);  // the old behaviour: a 4 mm "gouge" at the bore's edge
+  EXPECT_NEAR(r.zmap.max_gouge_mm, 4.0, 1e-9);
+  EXPECT_TRUE(r.exact.gouge_checked);
+  EXPECT_FALSE(r.exact.gouged);
+  EXPECT_LE(r.exact.max_gouge_mm, 0.002);
+  EXPECT_GE(r.exact.gouge_places_refuted, 1u);
+  EXPECT_EQ(r.exact.gouge_places_refuted, r.exact.gouge_places_checked);
+  EXPECT_NEAR(r.exact.zmap_max_gouge_mm, 4.0, 1e-9);
+}
+
+// The same ball on the blind bore's floor (Z −5), 1 mm from its wall at x = 3.125.
+TEST(ExactGouge, BlindBoreWallAndFloorAreNoGouge) {
+  const Checked r = machine_and_check(plate(), plunge_and_run(4.125, 4.5, -5, 4.125, 5), tooling::Cutter::ball(2));
+  EXPECT_TRUE(r.zmap.gouged);
+  EXPECT_FALSE(r.exact.gouged);
+  EXPECT_LE(r.exact.max_gouge_mm, 0.002);
+  EXPECT_GE(r.exact.gouge_places_refuted, 1u);
+}
+
+// Along the boss's wall (x = 14.125) on the plate (Z 0), the ball's side touching the wall.
+TEST(ExactGouge, BossVerticalWallIsNoGouge) {
+  const Checked r = machine_and_check(plate(), plunge_and_run(13.125, 14.5, 0, 13.125, 16.5), tooling::Cutter::ball(2));
+  EXPECT_TRUE(r.zmap.gouged);
+  EXPECT_FALSE(r.exact.gouged);
+  EXPECT_LE(r.exact.max_gouge_mm, 0.002);
+}
+
+// Beside the open patch's edge (x = 10.125), below it: the ball's side meets the material under
+// the edge only at one line.
+TEST(ExactGouge, OpenPatchEdgeIsNoGouge) {
+  const Checked r = machine_and_check(patch(), plunge_and_run(11.125, 5, -5, 11.125, 6), tooling::Cutter::ball(2));
+  EXPECT_TRUE(r.zmap.gouged);
+  EXPECT_NEAR(r.zmap.max_gouge_mm, 4.0, 1e-9);
+  EXPECT_FALSE(r.exact.gouged);
+  EXPECT_LE(r.exact.max_gouge_mm, 0.002);
+}
+
+// A Ø2 ball plunged to Z −0.5 into the plate's flat top at (1.5, 10): 0.5 mm deep, on line 12
+// (the plunge), where the z-map says the same.
+TEST(ExactGouge, RealPlungeIsConfirmedWithItsDepthLineAndXY) {
+  const Checked r = machine_and_check(plate(), plunge_and_run(1.5, 10, -0.5, 1.5, 10), tooling::Cutter::ball(2));
+  EXPECT_TRUE(r.zmap.gouged);
+  ASSERT_TRUE(r.exact.gouged);
+  EXPECT_NEAR(r.exact.max_gouge_mm, 0.5, 5e-4);
+  EXPECT_EQ(r.exact.first_gouge_move.line, 12u);
+  EXPECT_NEAR(r.exact.gouge_x_mm, 1.5, 1e-9);
+  EXPECT_NEAR(r.exact.gouge_y_mm, 10, 1e-9);
+  EXPECT_EQ(r.exact.gouge_places_refuted, 0u);
+}
+
+// Penetration at one position, by hand: a ball 0.3 mm into the top; a flat Ø4 whose rim stands
+// 0.5 mm over the boss's edge, 0.2 mm below its top (Z 4.8): 0.2 mm, while beside it, it is clear;
+// a bull Ø4 r1 on the plate at Z −0.1: 0.1 mm.
+TEST(ExactGouge, PenetrationAtOnePositionForEachCutter) {
+  const PartSolid solid(plate(), 0);
+  EXPECT_NEAR(penetration_at(solid, tooling::Cutter::ball(2), {1.5, 10, -0.3}), 0.3, 1e-12);
+  EXPECT_NEAR(penetration_at(solid, tooling::Cutter::ball(2), {1.5, 10, 0.25}), -0.25, 1e-12);
+  EXPECT_NEAR(penetration_at(solid, tooling::Cutter::flat(4), {12.625, 15, 4.8}), 0.2, 1e-9);
+  EXPECT_LE(penetration_at(solid, tooling::Cutter::flat(4), {12.125, 15, 4.8}), 0.0);
+  EXPECT_NEAR(penetration_at(solid, tooling::Cutter::bull(4, 1), {1.5, 10, -0.1}), 0.1, 1e-9);
+}
