@@ -69,6 +69,10 @@ Json sim_metrics_json(const simulate::SurfaceMetrics& m, const simulate::GridSpe
   j["ra_median_um"] = m.ra_median_um;
   j["ra_p90_um"] = m.ra_p90_um;
   j["ra_histogram"] = Json{{"bin_edges_um", m.ra_bin_edges_um}, {"shares", m.ra_share}};
+  if (m.not_machined_cells > 0) {  // issue 37 §1: surface left at the stock has no Ra
+    j["ra_histogram"]["not_machined_share"] = m.ra_not_machined_share;
+    j["not_machined_cells"] = m.not_machined_cells;
+  }
   j["uncut_area_mm2"] = m.uncut_area_mm2;
   j["remaining_area_mm2"] = m.remaining_area_mm2;
   j["scallop_area_mm2"] = m.scallop_area_mm2;
@@ -261,6 +265,8 @@ job::StrategyOutcome outcome_from_metrics(const Json& j, double cell_mm) {
   m.ra_p90_um = j.at("ra_p90_um").get<double>();
   m.ra_bin_edges_um = j.at("ra_histogram").at("bin_edges_um").get<std::vector<double>>();
   m.ra_share = j.at("ra_histogram").at("shares").get<std::vector<double>>();
+  m.ra_not_machined_share = j.at("ra_histogram").value("not_machined_share", 0.0);
+  m.not_machined_cells = j.value("not_machined_cells", std::size_t{0});
   m.uncut_area_mm2 = j.at("uncut_area_mm2").get<double>();
   m.remaining_area_mm2 = j.at("remaining_area_mm2").get<double>();
   m.scallop_area_mm2 = j.at("scallop_area_mm2").get<double>();

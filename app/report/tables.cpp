@@ -3,6 +3,7 @@
 
 #include "millnet/report/plots.hpp"
 
+#include <algorithm>
 #include <iomanip>
 #include <sstream>
 
@@ -24,11 +25,11 @@ StrategyTable strategy_table(const std::string& stem, const std::string& aim,
   md << "# " << stem << ": finishing strategies ranked by " << aim << "\n\n"
      << "| rank | strategy | path (m) | time feed (min) | time kinematic (min) | lifts |";
   if (simulated) {
-    csv << ",ra_median_um,ra_p90_um,scallop_max_mm,max_gouge_mm,uncut_area_mm2";
-    md << " Ra median (µm) | Ra p90 (µm) | scallop (mm) | gouge (mm) | uncut (mm²) |";
+    csv << ",ra_median_um,ra_p90_um,scallop_max_mm,max_gouge_mm,uncut_area_mm2,not_machined_pct";
+    md << " Ra median (µm) | Ra p90 (µm) | scallop (mm) | gouge (mm) | uncut (mm²) | not machined (%) |";
   }
   csv << "\n";
-  md << "\n|---|---|---|---|---|---|" << (simulated ? "---|---|---|---|---|" : "") << "\n";
+  md << "\n|---|---|---|---|---|---|" << (simulated ? "---|---|---|---|---|---|" : "") << "\n";
   for (std::size_t r = 0; r < order.size(); ++r) {  // O(strategies)
     const job::StrategyOutcome& o = outcomes[order[r]];
     const std::string name = finish::strategy_name(o.strategy);
@@ -41,9 +42,11 @@ StrategyTable strategy_table(const std::string& stem, const std::string& aim,
     if (simulated) {
       const simulate::SurfaceMetrics& m = o.surface;
       csv << "," << fixed(m.ra_median_um, 3) << "," << fixed(m.ra_p90_um, 3) << "," << fixed(m.scallop_max_mm, 4) << ","
-          << fixed(m.max_gouge_mm, 4) << "," << fixed(m.uncut_area_mm2, 2);
+          << fixed(m.max_gouge_mm, 4) << "," << fixed(m.uncut_area_mm2, 2) << ","
+          << fixed(100 * m.ra_not_machined_share, 2);
       md << " " << fixed(m.ra_median_um, 2) << " | " << fixed(m.ra_p90_um, 2) << " | " << fixed(m.scallop_max_mm, 4)
-         << " | " << fixed(m.max_gouge_mm, 4) << " | " << fixed(m.uncut_area_mm2, 1) << " |";
+         << " | " << fixed(m.max_gouge_mm, 4) << " | " << fixed(m.uncut_area_mm2, 1) << " | "
+         << fixed(100 * m.ra_not_machined_share, 1) << " |";
     }
     csv << "\n";
     md << "\n";
@@ -57,10 +60,15 @@ void ra_bins_png(const std::filesystem::path& path, const std::string& stem, con
   for (std::size_t b = 0; b < edges.size(); ++b)
     cats.push_back(b + 1 < edges.size() ? fixed(edges[b], 2) + "-" + fixed(edges[b + 1], 2)
                                         : ">= " + fixed(edges[b], 2));
+  // Surface left at the stock has its own bar (issue 37 §1), drawn only when some strategy left any.
+  const bool any_untouched = std::any_of(
+      outcomes.begin(), outcomes.end(), [](const job::StrategyOutcome& o) { return o.surface.not_machined_cells > 0; });
+  if (any_untouched) cats.emplace_back("not machined");
   std::vector<NamedValues> series;
   for (const job::StrategyOutcome& o : outcomes) {
     NamedValues nv{finish::strategy_name(o.strategy), {}};
     for (const double s : o.surface.ra_share) nv.values.push_back(100 * s);
+    if (any_untouched) nv.values.push_back(100 * o.surface.ra_not_machined_share);
     series.push_back(std::move(nv));
   }
   BarOptions bo;

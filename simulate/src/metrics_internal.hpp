@@ -24,7 +24,7 @@ void split_remaining(const ZMap& machined, const std::vector<double>& design, co
 /// The Ra map, µm per cell (NaN off the surface, where a profile has fewer than 3 samples, and
 /// between the cells of the ra_every lattice); rows in parallel, bit-identical for any thread count.
 [[nodiscard]] std::vector<float> ra_map(const ZMap& machined, const std::vector<double>& design,
-                                        const MetricsOptions& opt);
+                                        const MetricsOptions& opt, std::size_t& not_machined);
 
 /// The statistics of out.ra_um: cells with an Ra, share per bin (out.ra_share sized to the
 /// bins), mean, nearest-rank median and p90.

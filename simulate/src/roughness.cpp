@@ -1,5 +1,5 @@
 // Roughness: Ra per cell over one sampling length across the feed (definition in zmap.hpp), and
-// the statistics of the Ra map.
+// the statistics of the Ra map. Cells no move lowered are not machined: no Ra, counted apart.
 #include "metrics_internal.hpp"
 
 #include "millnet/simulate/tolerances.hpp"
@@ -87,16 +87,20 @@ double cell_ra(const ZMap& machined, const std::vector<double>& design, const Me
 
 }  // namespace
 
-// The Ra map, µm per cell (NaN off the surface and between the ra_every lattice's cells), rows in
-// parallel.
-std::vector<float> ra_map(const ZMap& machined, const std::vector<double>& design, const MetricsOptions& opt) {
+// The Ra map, µm per cell (NaN off the surface, on cells no move lowered, and between the ra_every
+// lattice's cells), rows in parallel; `not_machined` counts the lattice's surface cells no move
+// lowered.
+std::vector<float> ra_map(const ZMap& machined, const std::vector<double>& design, const MetricsOptions& opt,
+                          std::size_t& not_machined) {
   const GridSpec& spec = machined.spec();
   std::vector<float> ra_um(spec.cells(), std::numeric_limits<float>::quiet_NaN());
   const int nthreads = opt.threads > 0 ? opt.threads : std::max(1, omp_get_max_threads());
   const auto nx = static_cast<std::ptrdiff_t>(spec.nx), ny = static_cast<std::ptrdiff_t>(spec.ny);
   const auto every = static_cast<std::ptrdiff_t>(opt.ra_every), first = every / 2;
   const std::ptrdiff_t rows = ny > first ? (ny - first + every - 1) / every : 0;
-#pragma omp parallel num_threads(nthreads)
+  const std::vector<std::uint32_t>& stamps = machined.stamps();
+  std::size_t untouched = 0;
+#pragma omp parallel num_threads(nthreads) reduction(+ : untouched)
   {
     std::vector<double> prof_store;
 #pragma omp for schedule(dynamic, 4)
@@ -105,11 +109,16 @@ std::vector<float> ra_map(const ZMap& machined, const std::vector<double>& desig
       for (std::ptrdiff_t ix = first; ix < nx; ix += every) {
         const auto i = static_cast<std::size_t>(iy * nx + ix);
         if (std::isnan(design[i])) continue;
+        if (stamps[i] == 0) {  // left at the stock: not machined, no Ra
+          ++untouched;
+          continue;
+        }
         const double ra = cell_ra(machined, design, opt, ix, iy, prof_store);
         if (!std::isnan(ra)) ra_um[i] = static_cast<float>(ra * 1000);
       }
     }
   }
+  not_machined = untouched;
   return ra_um;
 }
 
@@ -120,6 +129,8 @@ void ra_statistics(const MetricsOptions& opt, SurfaceMetrics& out) {
   for (const float v : out.ra_um)
     if (!std::isnan(v)) vals.push_back(v);
   out.ra_cells = vals.size();
+  const double sampled = static_cast<double>(vals.size() + out.not_machined_cells);
+  if (sampled > 0) out.ra_not_machined_share = static_cast<double>(out.not_machined_cells) / sampled;
   if (vals.empty()) return;
   double sum = 0;
   for (const float v : vals) {
@@ -128,7 +139,7 @@ void ra_statistics(const MetricsOptions& opt, SurfaceMetrics& out) {
     const std::size_t b = it == opt.ra_bins_um.begin() ? 0 : static_cast<std::size_t>(it - opt.ra_bins_um.begin()) - 1;
     out.ra_share[b] += 1;
   }
-  for (double& s : out.ra_share) s /= static_cast<double>(vals.size());
+  for (double& s : out.ra_share) s /= sampled;
   out.ra_mean_um = sum / static_cast<double>(vals.size());
   const auto rank = [&](double p) {
     const auto r = static_cast<std::size_t>(std::ceil(p * static_cast<double>(vals.size())));

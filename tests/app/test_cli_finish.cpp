@@ -142,7 +142,7 @@ TEST(CliSimulate, ReportsAGougeAtItsLineAndRejectsUnknownWords) {
   EXPECT_TRUE(fs::exists(d / "sim" / "dome.ra.png"));
   EXPECT_TRUE(fs::exists(d / "sim" / "dome.deviation.png"));
 
-  std::ofstream(d / "g54.nc") << "G21 G90\nG54\nG0 Z5\nM30\n";
+  std::ofstream(d / "g54.nc") << "G21 G90\nG55\nG0 Z5\nM30\n";  // a second work offset: not read
   const auto bad = run_millnet("simulate --mesh '" + mesh.string() + "' --gcode g54.nc --tool ball:2 --out sim2", d);
   EXPECT_EQ(bad.code, 1);
   EXPECT_NE(bad.err.find("g54.nc:2"), std::string::npos) << bad.err;

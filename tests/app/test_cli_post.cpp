@@ -78,14 +78,14 @@ TEST(CliPost, FinishRoughAndPocketWriteGrblThatGrblAccepts) {
   }
   const auto bad = run_millnet("pocket --pocket '" + pocket + "' --post fanuc16 --out x", d);
   EXPECT_EQ(bad.code, 1) << bad.err;
-  EXPECT_NE(bad.err.find("--post: fanuc16 not in {linuxcnc,grbl}"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("--post: fanuc16 not in {linuxcnc,grbl,fanuc}"), std::string::npos) << bad.err;
 }
 
 TEST(CliPost, AGrblProgramMachinesTheSameSurfaceAsTheLinuxcncOne) {
   const fs::path d = fresh_dir("post_same_zmap");
   const fs::path mesh = write_dome(d);
   std::ofstream(d / "fast.json") << R"({"simulate": {"cell_mm": 0.05}})";
-  for (const char* post : {"linuxcnc", "grbl"}) {
+  for (const char* post : {"linuxcnc", "grbl", "fanuc"}) {
     const auto f = run_millnet("finish --quiet --no-preview --config fast.json --mesh '" + mesh.string() +
                                    "' --strategy 3 --stepover 0.5 --post " + post + " --out " + post,
                                d);
@@ -101,6 +101,22 @@ TEST(CliPost, AGrblProgramMachinesTheSameSurfaceAsTheLinuxcncOne) {
   a.erase("programs"), b.erase("programs");  // they name their files
   EXPECT_EQ(a.dump(), b.dump());
   EXPECT_EQ(slurp(d / "sim_linuxcnc" / "dome.deviation.png"), slurp(d / "sim_grbl" / "dome.deviation.png"));
+  // The Fanuc text rounds to its 0.001 mm increment: the same surface within that, no gouge.
+  auto c = nlohmann::json::parse(slurp(d / "sim_fanuc" / "dome.sim.json"));
+  const std::string fanuc = slurp(d / "fanuc" / "dome.s3.nc");
+  EXPECT_EQ(fanuc.rfind("%\nO1000\n", 0), 0u) << fanuc.substr(0, 200);
+  for (const char* key : {"ra_median_um", "scallop_max_mm", "max_gouge_mm"}) {
+    const auto find = [&](const nlohmann::json& j) {
+      for (const auto& [k, v] : j.items())
+        if (k == key) return v.get<double>();
+      for (const auto& [k, v] : j.items())
+        if (v.is_object() && v.contains(key)) return v[key].get<double>();
+      return -1.0;
+    };
+    const double x = find(a), y = find(c);
+    ASSERT_GE(x, 0) << key;
+    EXPECT_NEAR(x, y, std::string(key) == "ra_median_um" ? 0.05 : 0.002) << key;
+  }
 }
 
 }  // namespace

@@ -722,3 +722,23 @@ TEST(ZMap, AGougeIsMeasuredAlongTheSurfaceNormal) {
   m = surface_metrics(ZMap::from_heights(g, flat, -0.01), flat, o);
   EXPECT_NEAR(m.max_gouge_mm, 0.01, 1e-12);
 }
+
+// Surface left at the stock is "not machined", never Ra 0 (issue 37 §1): a raster over the lower
+// part of the window leaves its upper 57 % untouched — by hand: passes up to y = 1, a Ø2 ball at Z 0
+// lowers the 0.5 mm stock within √(1 − 0.5²) = 0.866 mm of its path, so y > 1.866 of [1, 3] stays.
+// Those cells have no Ra; the statistics are the machined cells' (the scallop's Ra, not 0).
+TEST(ZMap, SurfaceLeftAtTheStockIsNotMachinedNotSmooth) {
+  const double p = 0.2, R = 1;
+  const GridSpec g{-0.005, -0.005, 0.01, 400, 400};
+  ZMap zm = ZMap::flat(g, 0.5);
+  machine(zm, raster(-2, 6, -1.0, p, 11, zero), tooling::Cutter::ball(2 * R));  // y = -1 … 1
+  const auto m = surface_metrics(zm, design_window(g, 1, 3, 1, 3, zero));
+  const double untouched = (3 - (1 + std::sqrt(R * R - 0.25))) / 2;  // 0.567
+  EXPECT_NEAR(m.ra_not_machined_share, untouched, 0.01);
+  EXPECT_EQ(m.ra_cells + m.not_machined_cells, m.surface_cells);
+  double share = m.ra_not_machined_share;
+  for (double s : m.ra_share) share += s;
+  EXPECT_NEAR(share, 1, 1e-12);
+  // Without the rule the median would be 0 (most cells flat at the stock): it is the scallop's.
+  EXPECT_GT(m.ra_median_um, 0.5);
+}

@@ -230,8 +230,14 @@ struct SurfaceMetrics {
   double scallop_max_mm = 0;
   std::vector<float> ra_um;             ///< per cell, µm; NaN off the surface (empty if !ra_map)
   std::vector<double> ra_bin_edges_um;  ///< copy of the edges
-  std::vector<double> ra_share;         ///< share of the Ra cells per bin (edges.size() bins)
-  std::size_t ra_cells = 0;             ///< cells with an Ra
+  /// Share per bin (edges.size() bins) of the surface's sampled cells: the cells with an Ra and
+  /// the not-machined ones (ra_not_machined_share), which together make 1.
+  std::vector<double> ra_share;
+  std::size_t ra_cells = 0;  ///< cells with an Ra (machined cells of the ra_every lattice)
+  /// Cells of the ra_every lattice on the surface that no move lowered (stamp 0): left at the
+  /// stock. They have no Ra — never Ra 0 — and no part in ra_mean/median/p90 (issue 37 §1).
+  std::size_t not_machined_cells = 0;
+  double ra_not_machined_share = 0;  ///< not_machined_cells / (ra_cells + not_machined_cells)
   double ra_mean_um = 0;
   double ra_median_um = 0;
   double ra_p90_um = 0;
