@@ -49,7 +49,7 @@ Dialect fanuc(int decimals) {
   d.start = "%";
   d.program_number = 1000;
   d.decimal_point = true;
-  d.preamble = "G21 G90 G17 G94 G40 G49 G80\nG54";
+  d.preamble = "G21 G90 G17 G94 G40 G80\nG54";  // no G49: a program without a tool change keeps the active H
   d.end = "G91 G28 Z0.\nG90\nM30\n%";
   d.coolant_on = "M8";
   d.coolant_off = "M9";

@@ -49,7 +49,8 @@ struct Dialect {
 [[nodiscard]] Dialect linuxcnc(int decimals = 4);
 [[nodiscard]] Dialect grbl(int decimals = 4);
 /// Fanuc-style (Fanuc 0i/30i, Haas and most industrial controls): "%" and an O number, a safety
-/// line (G21 G90 G17 G94 G40 G49 G80) and work offset G54, "T<n> M6" then G43 H<n> on the first
+/// line (G21 G90 G17 G94 G40 G80: not G49, so that a program without a tool change keeps the length
+/// offset the operator set) and work offset G54, "T<n> M6" then G43 H<n> on the first
 /// move, flood coolant M8/M9 with the spindle, a decimal point on every coordinate, at most 3
 /// decimals (the controls' least increment, 0.001 mm), and the end "G91 G28 Z0." (Z home) "G90 M30 %".
 [[nodiscard]] Dialect fanuc(int decimals = 3);
