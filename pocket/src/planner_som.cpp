@@ -262,8 +262,8 @@ std::vector<WorkEstimate> som_work(const Region& region, const CutParams&, const
   return {{grid, n, "tool points", 24.0 * n},
           {"node_factor " + detail::mm(som.som.node_factor) + " × the tool points of " + grid, m, "SOM ring nodes",
            32.0 * m},
-         {grid + " (its SOM's winner searches; a larger stepover or another planner)", n * m,
-          "tool point × ring node pairs", 32.0 * m, false, true}};
+          {grid + " (its SOM's winner searches; a larger stepover or another planner)", n * m,
+           "tool point × ring node pairs", 32.0 * m, false, true}};
 }
 
 }  // namespace
