@@ -65,8 +65,7 @@ std::string uncut_warning(const pocket::PlanResult& plan, const pocket::Machinin
                                                 fixed(reachable, 0) + " mm²)"
                                           : std::string();
   return "the " + plan.planner + " plan leaves " + fixed(uncut, 1) + " mm² uncut" + share + ", more than the " +
-         fixed(pocket::kClearedUncutMm2, 0) +
-         " mm² a cleared pocket may leave (uncut_area_mm2 in the metrics)";
+         fixed(pocket::kClearedUncutMm2, 0) + " mm² a cleared pocket may leave (uncut_area_mm2 in the metrics)";
 }
 
 void write_pocket_outputs(const fs::path& dir, const std::string& stem, const pocket::Region& region,

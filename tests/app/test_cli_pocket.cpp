@@ -559,7 +559,8 @@ TEST(CliPocket, HundredThousandVertexBoundaryIsPlannedQuickly) {
 TEST(CliPocket, APlanThatLeavesMaterialSaysSo) {
   const fs::path d = fresh_dir("cli_pocket/uncut_warning");
   const std::string sq = std::string(MILLNET_SOURCE_DIR) + "/tests/corpus/cli/square100.json";
-  const CliResult r = run_millnet("pocket --pocket '" + sq + "' --planner zigzag --no-contour --quiet --out out", d, 120);
+  const CliResult r =
+      run_millnet("pocket --pocket '" + sq + "' --planner zigzag --no-contour --quiet --out out", d, 120);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_NE(r.err.find("warning: pocket: " + sq + ": the zigzag-i plan leaves "), std::string::npos) << r.err;

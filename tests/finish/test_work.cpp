@@ -73,8 +73,6 @@ TEST(FinishWork, PlanFinishRefusesOverTheLimitAndRunsAtIt) {
   EXPECT_FALSE(plan_finish(mesh, dc, Strategy::Raster, p).passes.empty());
 }
 
-}  // namespace millnet::finish
-
 // Issue 42 §7: scallop 1e-9 spaced scallop mode's passes 8.9e-5 mm apart with no estimate (a hang);
 // it is refused before a pass is sampled, naming the scallop and the spacing it makes.
 TEST(FinishWork, ScallopModeIsEstimatedAtItsPassSpacing) {
@@ -86,7 +84,7 @@ TEST(FinishWork, ScallopModeIsEstimatedAtItsPassSpacing) {
     (void)plan_finish(mesh, dc, Strategy::ScallopMode, p);
     ADD_FAILURE() << "not refused";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("scallop 0.000000001 mm (passes 0.0000894427 mm apart) over a 20 × 10 mm "
+    EXPECT_NE(std::string(e.what()).find("scallop 1e-09 mm (passes 0.000089442719 mm apart) over a 20 × 10 mm "
                                          "machining boundary makes 2.2e7 scallop-mode CL points"),
               std::string::npos)
         << e.what();
@@ -97,3 +95,5 @@ TEST(FinishWork, ScallopModeIsEstimatedAtItsPassSpacing) {
   p.limits.max_work = n;
   EXPECT_FALSE(plan_finish(mesh, dc, Strategy::ScallopMode, p).passes.empty());
 }
+
+}  // namespace millnet::finish

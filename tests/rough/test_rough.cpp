@@ -7,6 +7,7 @@
 #include "testing/gcode_replay.hpp"
 #include "testing/mesh_gouge.hpp"
 
+#include "millnet/core/error.hpp"
 #include "millnet/datasets/generator.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
 #include "millnet/ingest/zlevels.hpp"
