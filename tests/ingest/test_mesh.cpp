@@ -174,8 +174,9 @@ TEST(Mesh, ValidateCountsDefectsAndRejectsBadInput) {
     validate(flat, "flat");
     ADD_FAILURE() << "a mesh of one collinear triangle was accepted";
   } catch (const millnet::Error& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "flat: every triangle has zero area (1 triangles of collinear or coincident vertices), expected a surface");
+    EXPECT_EQ(
+        std::string(e.what()),
+        "flat: every triangle has zero area (1 triangles of collinear or coincident vertices), expected a surface");
   }
 
   Mesh nan = b;
