@@ -64,7 +64,7 @@ struct PocketFlags {
 };
 
 /// A flag's check against the schema's range for `pointer` (e.g. "/pocket/tool_diameter"): a finite
-/// number within minimum / exclusiveMinimum / maximum, so that a flag and its config key accept the
+/// number within minimum / exclusiveMinimum / maximum / exclusiveMaximum, so that a flag and its config key accept the
 /// same values (issue 15: NaN passed CLI11's PositiveNumber, 1e308 passed everything).
 /// The usage error reads "--tool-diameter: expected a finite number > 0 and ≤ 1000 (/pocket/tool_diameter), got nan".
 [[nodiscard]] CLI::Validator schema_range(const std::string& pointer);

@@ -38,6 +38,7 @@ int run_pocket(const PocketOpts& o) {
     throw Error(o.pocket + ": " + pocket::to_string(m.status) + ": " + m.message + " (no G-code written; see " +
                 (fs::path(o.out) / (stem + ".metrics.json")).string() + ")");
   }
+  if (const std::string w = uncut_warning(plan, m); !w.empty()) warn("pocket: " + o.pocket + ": " + w);
   info("pocket: " + plan.planner + ": " + format_double(m.metrics.tool_points) + " tool points, cut " +
        std::to_string(static_cast<long>(m.metrics.cut_length_mm)) + " mm, rapid " +
        std::to_string(static_cast<long>(m.metrics.rapid_length_mm)) + " mm, " +

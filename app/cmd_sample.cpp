@@ -56,7 +56,7 @@ int run_sample(const SampleOpts& o) {
   (void)setup(o.common);
   ingest::MeshReport report;
   const ingest::Mesh mesh = ingest::load_prepared(o.mesh, o.mesh_flags.prepare(nullptr), &report);
-  if (report.is_cad && !report.cad.units_note.empty()) std::cerr << "note: " << report.cad.units_note << "\n";
+  if (report.is_cad && !report.cad.units_note.empty()) info("note: " + report.cad.units_note);
   const ingest::Grid grid = ingest::sample_grid(mesh, o.raster, o.grid, work_limits());
   // Before anything is written: the heat map's "extent_mm must be finite … with min < max" was the
   // message for a part without a footprint (issue 15; tests/corpus/cli/sample_footprint_zero.args).

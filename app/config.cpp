@@ -154,6 +154,8 @@ private:
       throw Error(at + ": must be > " + rule["exclusiveMinimum"].dump() + ", got " + number(x));
     if (rule.contains("maximum") && x > rule["maximum"].get<double>())
       throw Error(at + ": must be ≤ " + rule["maximum"].dump() + ", got " + number(x));
+    if (rule.contains("exclusiveMaximum") && x >= rule["exclusiveMaximum"].get<double>())
+      throw Error(at + ": must be < " + rule["exclusiveMaximum"].dump() + ", got " + number(x));
   }
   fs::path base_;
   std::string source_;

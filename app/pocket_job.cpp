@@ -49,7 +49,23 @@ Json metrics_json(const pocket::PlanResult& plan, const pocket::MachiningResult&
   // The entry points that need a pre-drilled hole (drilled first in the program with entry "predrill").
   j["predrill"] = pocket::xy_pairs(plan.predrill);
   j["parameters"] = cut_json(cut);
+  // Only when it says something: the metrics of a cleared pocket stay as they were.
+  if (const std::string w = uncut_warning(plan, m); !w.empty()) {
+    j["cleared"] = false;
+    j["warning"] = w;
+  }
   return j;
+}
+
+std::string uncut_warning(const pocket::PlanResult& plan, const pocket::MachiningResult& m) {
+  const double uncut = m.metrics.uncut_area_mm2;
+  if (m.status != pocket::PlanStatus::Ok || !(uncut > pocket::kClearedUncutMm2)) return {};
+  const double reachable = m.metrics.reachable_area_mm2;
+  const std::string share = reachable > 0 ? " (" + fixed(100.0 * uncut / reachable, 1) + " % of the reachable " +
+                                                fixed(reachable, 0) + " mm²)"
+                                          : std::string();
+  return "the " + plan.planner + " plan leaves " + fixed(uncut, 1) + " mm² uncut" + share + ", more than the " +
+         fixed(pocket::kClearedUncutMm2, 0) + " mm² a cleared pocket may leave (uncut_area_mm2 in the metrics)";
 }
 
 void write_pocket_outputs(const fs::path& dir, const std::string& stem, const pocket::Region& region,

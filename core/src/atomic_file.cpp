@@ -4,6 +4,7 @@
 #include "millnet/core/interrupt.hpp"
 #include "millnet/core/output_set.hpp"
 
+#include <cerrno>
 #include <charconv>
 #include <system_error>
 #include <unistd.h>
@@ -16,6 +17,17 @@ fs::path temp_name(const fs::path& path) {
   fs::path tmp = path;
   tmp += ".tmp-" + std::to_string(static_cast<long>(::getpid()));
   return tmp;
+}
+/// "write failed", with the reason when it is one a user can act on: a full disk and a file-size
+/// limit (`ulimit -f`: SIGXFSZ is ignored, interrupt.hpp) read alike (issue 42 §9).
+std::string write_failure(int err) {
+  switch (err) {
+    case ENOSPC: return "write failed: no space left on device";
+    case EDQUOT: return "write failed: disk quota exceeded";
+    case EFBIG: return "write failed: the file would exceed the file-size limit (ulimit -f)";
+    case EIO: return "write failed: input/output error";
+    default: return "write failed";
+  }
 }
 void ensure_parent(const fs::path& path) {
   if (path.has_parent_path()) {
@@ -47,10 +59,13 @@ AtomicOFStream::~AtomicOFStream() {
 
 void AtomicOFStream::commit() {
   out_.flush();
+  const int flush_errno = errno;
   const bool ok = static_cast<bool>(out_);
   out_.close();
-  if (!ok) throw file_error(path_.string(), "write failed");  // the destructor removes the temporary
-  if (OutputSet::stage(tmp_, path_)) {                        // an open set renames it with the command's other outputs
+  // The destructor removes the temporary. The stream keeps the failed write's errno in errno (nothing
+  // runs after a failed write but the no-ops of a failed stream).
+  if (!ok || !out_) throw file_error(path_.string(), write_failure(ok ? errno : flush_errno));
+  if (OutputSet::stage(tmp_, path_)) {  // an open set renames it with the command's other outputs
     committed_ = true;
     // The temporary stays registered for an interrupt until the set renames or removes it; its
     // slot is reclaimed once the file is gone (interrupt.cpp).

@@ -23,11 +23,24 @@ struct Slot {
 Slot g_slots[kSlots];
 static_assert(std::atomic<int>::is_always_lock_free, "the signal handler reads the slot states");
 
-extern "C" void on_interrupt(int sig) {
+// DeferInterrupts: how many are alive, and the signal held back (0: none). The handler notes the
+// signal before it looks at the depth, and the last DeferInterrupts clears the depth before it
+// takes the note, so a signal is never lost between them (at worst both act on it).
+std::atomic<int> g_defer_depth{0};
+std::atomic<int> g_deferred{0};
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler reads the deferral state");
+
+void remove_temporaries_and_raise(int sig) {
   for (Slot& s : g_slots)
     if (s.state.load(std::memory_order_acquire) == 2) ::unlink(s.path);
   std::signal(sig, SIG_DFL);
   std::raise(sig);
+}
+
+extern "C" void on_interrupt(int sig) {
+  g_deferred.store(sig);
+  if (g_defer_depth.load() > 0) return;
+  remove_temporaries_and_raise(sig);
 }
 
 void install_handlers() {
@@ -43,6 +56,8 @@ void install_handlers() {
       if (::sigaction(sig, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
       ::sigaction(sig, &sa, nullptr);
     }
+    // A file-size limit: the write fails with EFBIG and the writer reports it (see interrupt.hpp).
+    std::signal(SIGXFSZ, SIG_IGN);
   });
 }
 
@@ -75,6 +90,16 @@ int register_temp_file(const std::filesystem::path& tmp) {
 void unregister_temp_file(int slot) {
   if (slot < 0 || slot >= kSlots) return;
   g_slots[slot].state.store(0, std::memory_order_release);
+}
+
+DeferInterrupts::DeferInterrupts() {
+  install_handlers();
+  g_defer_depth.fetch_add(1);
+}
+
+DeferInterrupts::~DeferInterrupts() {
+  if (g_defer_depth.fetch_sub(1) != 1) return;
+  if (const int sig = g_deferred.exchange(0); sig != 0) remove_temporaries_and_raise(sig);
 }
 
 }  // namespace millnet

@@ -1,6 +1,7 @@
 #include "millnet/core/output_set.hpp"
 
 #include "millnet/core/error.hpp"
+#include "millnet/core/interrupt.hpp"
 
 #include <system_error>
 
@@ -76,6 +77,9 @@ void OutputSet::commit() {
     done_ = true;
     return;
   }
+  // SIGINT/SIGTERM wait until every file is in place (or every one removed again): a signal between
+  // two renames left part of the set (issue 42 §9; tests/core/test_output_set.cpp).
+  const DeferInterrupts hold;
   std::size_t n = 0;
   for (; n < files_.size(); ++n) {
     std::error_code ec;

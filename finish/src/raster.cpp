@@ -89,8 +89,8 @@ double next_spacing(const Sampler& s, const PassFrame& f, const Box& box, double
   return p;
 }
 
-/// 3D distance between neighbouring passes that keeps the scallop of the cutter on a plane at h:
-/// flat bottom width 2(R − rc) plus the chord of the corner circle at depth h.
+}  // namespace
+
 double scallop_spacing(const Cutter& c, double h) {
   const double rc = c.corner_radius;
   const double flat = 2 * (c.radius() - rc);
@@ -98,8 +98,6 @@ double scallop_spacing(const Cutter& c, double h) {
   const double hh = std::min(h, rc);
   return flat + 2 * std::sqrt(hh * (2 * rc - hh));
 }
-
-}  // namespace
 
 std::vector<std::vector<Sample>> raster_lines(const Sampler& s, const Box& box, const FinishParams& p,
                                               bool adaptive_spacing) {

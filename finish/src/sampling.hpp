@@ -70,6 +70,11 @@ template <class Keep>
 
 [[nodiscard]] double polyline_length(const std::vector<Sample>& pts);
 
+/// 3D distance between neighbouring passes that keeps the scallop of the cutter on a plane at h:
+/// flat bottom width 2(R − rc) plus the chord of the corner circle at depth h. Scallop mode's
+/// passes start at this spacing (and its work estimate counts them at it, work.cpp).
+[[nodiscard]] double scallop_spacing(const tooling::Cutter& c, double h);
+
 /// The five strategies' pass generators (sampling.cpp, raster.cpp, waterline.cpp, equidistant.cpp).
 std::vector<Pass> to_passes(std::vector<std::vector<Sample>> lines);
 [[nodiscard]] std::vector<std::vector<Sample>> raster_lines(const Sampler& s, const Box& box, const FinishParams& p,

@@ -113,7 +113,7 @@ struct Entry {
 constexpr auto kRegistry = std::to_array<Entry>({
     {Strategy::SlopeMode, "profile + Z finishing, slope mode", slope_mode, false, kRasterSampling | kWaterlineSampling},
     {Strategy::Raster, "3D finishing (parallel)", raster, true, kRasterSampling},
-    {Strategy::ScallopMode, "profile finishing, scallop-height mode", scallop_mode, true, kRasterSampling},
+    {Strategy::ScallopMode, "profile finishing, scallop-height mode", scallop_mode, true, kScallopSampling},
     {Strategy::Waterline, "Z-level finishing", waterline, false, kWaterlineSampling},
     {Strategy::Equidistant, "profile finishing, equidistant, constant in-feed", equidistant, false,
      kEquidistantSampling},

@@ -2,6 +2,8 @@
 // grids, equidistant fast-marching grids.
 #include "millnet/finish/work.hpp"
 
+#include "sampling.hpp"
+
 #include "millnet/finish/tolerances.hpp"
 
 #include <algorithm>
@@ -29,15 +31,28 @@ std::vector<WorkEstimate> estimate_work(double x0, double y0, double x1, double 
     for (const StrategyInfo& e : strategy_registry())
       if (e.id == s) sampling |= e.sampling;
   const bool raster = sampling & kRasterSampling, waterline = sampling & kWaterlineSampling,
-             equidistant = sampling & kEquidistantSampling;
+             equidistant = sampling & kEquidistantSampling, scallop = sampling & kScallopSampling;
   std::vector<WorkEstimate> out;
+  // Raster passes `spacing` apart across the rotated box, sampled every h0 along.
+  const double a = p.raster_angle_deg * std::numbers::pi / 180.0;
+  const double c = std::abs(std::cos(a)), s = std::abs(std::sin(a));
+  const double along = w * c + h * s, across = w * s + h * c;  // the rotated box's sides
+  const double h0 = std::min(tol::initial_sample_mm, R / 4);
+  auto raster_points = [&](double spacing) {
+    return (std::ceil(across / spacing - 1e-9) + 1) * (std::ceil(along / h0 - 1e-9) + 1);
+  };
   if (raster) {
-    const double a = p.raster_angle_deg * std::numbers::pi / 180.0;
-    const double c = std::abs(std::cos(a)), s = std::abs(std::sin(a));
-    const double along = w * c + h * s, across = w * s + h * c;  // the rotated box's sides
-    const double h0 = std::min(tol::initial_sample_mm, R / 4);
-    const double n = (std::ceil(across / p.stepover_mm - 1e-9) + 1) * (std::ceil(along / h0 - 1e-9) + 1);
+    const double n = raster_points(p.stepover_mm);
     out.push_back({over("stepover", p.stepover_mm, w, h), n, "raster CL points", 24.0 * n});
+  }
+  if (scallop) {
+    // Issue 42 §7: scallop 1e-9 spaced the passes 1e-4 mm apart, unestimated (a hang). The passes
+    // start at the scallop's spacing (flat faces keep it, steep ones close in to stepover × 0.1).
+    const double spacing = detail::scallop_spacing(p.tool, p.scallop_mm);
+    const double n = raster_points(spacing);
+    out.push_back({"scallop " + format_size(p.scallop_mm) + " mm (passes " + format_size(spacing) +
+                       " mm apart) over a " + format_size(w) + " × " + format_size(h) + " mm machining boundary",
+                   n, "scallop-mode CL points", 24.0 * n});
   }
   if (waterline) {
     const double g = std::min(tol::waterline_grid_mm, R / 2);

@@ -84,15 +84,29 @@ Dialect dialect_named(std::string_view name, int decimals) {
 
 namespace {
 
+/// A comment's text as one line the reader reads back: parentheses become brackets (a nested
+/// comment is an error in rs274ngc) and control bytes '?' (a newline in a file stem broke the
+/// program's title comment in two; issue 42 §10, tests/gcode/test_writer.cpp).
+std::string comment_text(std::string_view text) {
+  std::string t(text);
+  for (char& c : t) {
+    if (c == '(')
+      c = '[';
+    else if (c == ')')
+      c = ']';
+    else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      c = '?';
+  }
+  return t;
+}
+
 /// Writes items in order, remembering what the controller already knows (position per axis, feed).
 class Writer {
 public:
   explicit Writer(const Dialect& d) : d_(d) {}
 
   void comment(std::string_view text) {
-    std::string t(text);
-    std::replace(t.begin(), t.end(), '(', '[');
-    std::replace(t.begin(), t.end(), ')', ']');
+    std::string t = comment_text(text);
     if (d_.max_comment_chars > 0 && t.size() > d_.max_comment_chars) t.resize(d_.max_comment_chars);
     os_ << "(" << t << ")\n";
   }
@@ -140,11 +154,7 @@ public:
     if (d_.tool_change_m6) {
       os_ << "T" << t.number << " M6";
       if (!t.description.empty()) {
-        os_ << " ";
-        std::string c = t.description;
-        std::replace(c.begin(), c.end(), '(', '[');
-        std::replace(c.begin(), c.end(), ')', ']');
-        os_ << "(" << c << ")";
+        os_ << " (" << comment_text(t.description) << ")";
       }
       os_ << "\n";
       if (d_.tool_length_offset) pending_length_offset_ = t.number;

@@ -83,6 +83,20 @@ void validate(const Mesh& mesh, const std::string& source, MeshReport* report) {
                     ", expected 0…" + std::to_string(nv - 1));
     }
   }
+  // O(#F) at worst, O(1) for a real surface (it stops at the first triangle with an area): a mesh
+  // of collinear or coincident triangles was sampled and roughed as a part ("1 level, cut 270 mm";
+  // issue 42 §8, tests/corpus/mesh/every_triangle_collinear.off).
+  {
+    Eigen::Index f = 0;
+    for (; f < nf; ++f) {
+      const Eigen::Vector3d a = vertex(mesh, mesh.F(f, 0)), b = vertex(mesh, mesh.F(f, 1)),
+                            c = vertex(mesh, mesh.F(f, 2));
+      if (0.5 * (b - a).cross(c - a).norm() > tol::degenerate_area_mm2) break;
+    }
+    if (f == nf)
+      throw Error(source + ": every triangle has zero area (" + std::to_string(nf) +
+                  " triangles of collinear or coincident vertices), expected a surface");
+  }
   if (!report) return;
   // O(#F): degenerate (zero-area) triangles.
   std::size_t degenerate = 0;

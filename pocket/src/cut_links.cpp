@@ -36,6 +36,17 @@ constexpr double kSliverDepthMm = 0.15;
 /// Candidates (a target and the lattice position its way leaves from) tried per query at most.
 constexpr std::size_t kMaxCandidates = 4000;
 
+/// Cells of the default raster at most; past them the cell doubles until they fit (a 2 × 2 m pocket
+/// with a Ø10 tool: 6.5·10⁷ cells at D/40 were refused, issue 42; 1.6·10⁷ is a 1 × 1 m pocket at D/40).
+constexpr double kMaxDefaultCells = 1.6e7;
+
+/// D/40, or the first doubling of it whose raster over the region fits kMaxDefaultCells.
+double default_cell(const Region& region, double tool_diameter) {
+  double h = tool_diameter / 40;
+  while (raster::cells_of(region, h, tool_diameter) > kMaxDefaultCells && h < tool_diameter / 4) h *= 2;
+  return h;
+}
+
 }  // namespace
 
 std::vector<Vec2> approach_of(const std::vector<Vec2>& chain, double tool_diameter) {
@@ -61,7 +72,7 @@ struct CutLinker::Impl {
   Impl(const Region& region, const CutParams& cut, double max_new, double cell)
       : R(cut.tool.diameter / 2),
         max_new_mm2(max_new),
-        g(raster::grid_of(region, cell > 0 ? cell : cut.tool.diameter / 40, cut.tool.diameter,
+        g(raster::grid_of(region, cell > 0 ? cell : default_cell(region, cut.tool.diameter), cut.tool.diameter,
                           "links through cut material")),
         st(raster::material(region, g)),
         walls(region, cut.clearance() - kEndSlackMm),

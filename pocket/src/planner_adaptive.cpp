@@ -258,7 +258,13 @@ std::vector<WorkEstimate> adaptive_work(const Region& region, const CutParams& c
   const double h = adaptive_raster_mm(region, cut, spec.get<AdaptiveSpec>()->adaptive);
   const double n = std::ceil((box.hi.x() - box.lo.x() + 2 * cut.tool.diameter) / h) *
                    std::ceil((box.hi.y() - box.lo.y() + 2 * cut.tool.diameter) / h);
-  return {{detail::over("raster_mm", h, box), n, "adaptive raster cells", 24.0 * n}};
+  // The key to change in the refusal (issue 42: a 2 × 2 m pocket was refused naming a raster_mm the
+  // user never set); a coarser raster does not make it fast: the 1 × 1 m square plans in 41 s.
+  const bool chosen = spec.get<AdaptiveSpec>()->adaptive.raster_mm > 0;
+  return {{detail::over("raster_mm", h, box) + (chosen ? " (/pocket/adaptive/raster_mm)"
+                                                       : " (raster_mm 0: D/80, D/40 past 10⁷ cells; "
+                                                         "/pocket/adaptive/raster_mm)"),
+           n, "adaptive raster cells", 24.0 * n}};
 }
 
 }  // namespace

@@ -93,6 +93,23 @@ Level plan_level(const Result& res, const Params& p, const pocket::Loop& stock, 
   return lv;
 }
 
+/// Every level plans within the stock's outline (its regions are that rectangle less the part's
+/// section, or cavities inside it) and every level's plan is kept: the levels × the estimates of the
+/// whole outline bound the run, checked before the first level (issue 42 §7: --step-down 0.01
+/// planned 2,700 levels, each within its own estimate; the SOM at stepover 0.05 too).
+void check_levels_work(const pocket::Loop& stock, std::int64_t n_levels, double height, const Params& p) {
+  const double levels = static_cast<double>(n_levels);
+  pocket::Region outline;
+  outline.boundary = stock;
+  for (WorkEstimate e : pocket::estimate_work(outline, p.cut, p.planner)) {
+    e.cause = std::to_string(n_levels) + " Z levels (step_down " + format_size(p.cut.step_down) + " mm over " +
+              format_size(height) + " mm of stock) × " + e.cause;
+    e.count *= levels;
+    e.bytes *= levels;
+    check_work(e, p.limits);
+  }
+}
+
 }  // namespace
 
 std::vector<pocket::Region> level_regions(const std::vector<ingest::ContourLoop>& loops, const pocket::Loop& stock,
@@ -161,6 +178,7 @@ Result rough_mesh(const ingest::Mesh& mesh, const Params& p) {
   // is narrower than the clearance plus the islands' growth.
   const pocket::Loop stock = rectangle(res.stock_x0 - 2 * clearance, res.stock_y0 - 2 * clearance,
                                        res.stock_x1 + 2 * clearance, res.stock_y1 + 2 * clearance);
+  check_levels_work(stock, n_levels, height, p);
   std::vector<pocket::LevelPlan> plans;
   double top_z = 0;
   for (std::int64_t k = 1; k <= n_levels; ++k) {

@@ -101,3 +101,20 @@ TEST(CliLimits, InterruptLeavesNoFile) {
   EXPECT_TRUE(by_signal || failed) << "status " << status;
   EXPECT_EQ(list_files(out), "");
 }
+
+// Issue 42 §9: `ulimit -f` ended the process by SIGXFSZ with 1–6 `.tmp` files left. The file-size
+// limit now reads like a full disk: exit 1, one line naming the file and the limit, no file at all.
+// 16 KiB: the pocket's tool points fit, its feed profile (square100.feed.csv) does not.
+TEST(CliLimits, FileSizeLimitIsAWriteErrorAndLeavesNoFile) {
+  const fs::path d = fresh_dir("cli_limits/ulimit_f");
+  const std::string cmd = "cd '" + d.string() + "' && bash -c \"ulimit -f 16; exec '" + std::string(MILLNET_EXE) +
+                          "' pocket --pocket '" + kSquare + "' --tool-diameter 10 --quiet --out out\" >cli.stdout " +
+                          "2>cli.stderr </dev/null";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status)) << "status " << status;
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  const std::string err = millnet::testing::slurp(d / "cli.stderr");
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  EXPECT_NE(err.find("write failed: the file would exceed the file-size limit (ulimit -f)"), std::string::npos) << err;
+  EXPECT_EQ(list_files(d / "out"), "");
+}

@@ -551,3 +551,30 @@ TEST(CliPocket, HundredThousandVertexBoundaryIsPlannedQuickly) {
   EXPECT_TRUE(fs::exists(d / "out" / "circle.nc"));
   RecordProperty("cpu_s", std::to_string(cpu));  // reported, not asserted: speed is measured, not tested
 }
+
+// Issue 42 §8: a plan that leaves more than pocket::kClearedUncutMm2 of the reachable area uncut
+// said "status ok" and nothing else. Zigzag without its wall pass leaves the wedges along the walls:
+// one warning line naming the pocket and the uncut area, and the metrics say "cleared": false with
+// the same text; a cleared plan's metrics have neither key (they stay as they were).
+TEST(CliPocket, APlanThatLeavesMaterialSaysSo) {
+  const fs::path d = fresh_dir("cli_pocket/uncut_warning");
+  const std::string sq = std::string(MILLNET_SOURCE_DIR) + "/tests/corpus/cli/square100.json";
+  const CliResult r =
+      run_millnet("pocket --pocket '" + sq + "' --planner zigzag --no-contour --quiet --out out", d, 120);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find("warning: pocket: " + sq + ": the zigzag-i plan leaves "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(" mm² uncut ("), std::string::npos) << r.err;
+  const json m = json::parse(slurp(d / "out" / "square100.metrics.json"));
+  EXPECT_EQ(m["status"], "ok");
+  EXPECT_EQ(m["cleared"], false);
+  EXPECT_GT(m["uncut_area_mm2"].get<double>(), 2.0);
+  EXPECT_NE(m["warning"].get<std::string>().find("more than the 2 mm² a cleared pocket may leave"), std::string::npos);
+  const CliResult ok = run_millnet("pocket --pocket '" + sq + "' --planner zigzag --quiet --out cleared", d, 120);
+  ASSERT_EQ(ok.code, 0) << ok.err;
+  EXPECT_EQ(ok.err, "");
+  const json c = json::parse(slurp(d / "cleared" / "square100.metrics.json"));
+  EXPECT_LE(c["uncut_area_mm2"].get<double>(), 2.0);
+  EXPECT_FALSE(c.contains("cleared"));
+  EXPECT_FALSE(c.contains("warning"));
+}

@@ -122,7 +122,8 @@ void unbounded(const Json& rule, const std::string& ptr, std::vector<std::string
       unbounded(it.value(), ptr + "/" + it.key(), out);
   if (type == "array" && rule.contains("items")) unbounded(rule["items"], ptr + "/*", out);
   if (type == "number" || type == "integer" || type == "integer_or_string")
-    if (!(rule.contains("minimum") || rule.contains("exclusiveMinimum")) || !rule.contains("maximum"))
+    if (!(rule.contains("minimum") || rule.contains("exclusiveMinimum")) ||
+        !(rule.contains("maximum") || rule.contains("exclusiveMaximum")))
       out.push_back(ptr);
 }
 }  // namespace

@@ -1,13 +1,19 @@
 // core::OutputSet: a command's outputs are committed together or not at all (issue 15).
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
+#include "millnet/core/interrupt.hpp"
 #include "millnet/core/output_set.hpp"
 
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <thread>
+
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "testing/tmp_dirs.hpp"
 
@@ -88,4 +94,53 @@ TEST(OutputSet, WithoutASetWritesAreImmediate) {
   const fs::path d = fresh_set_dir("output_set_none");
   millnet::write_file_atomic(d / "a.txt", "A");
   EXPECT_TRUE(fs::exists(d / "a.txt"));
+}
+
+// Issue 42 §9: a signal during the final renames left part of an output set. A signal held back by
+// DeferInterrupts is acted on when the scope ends: the process still ends by it, after the scope.
+TEST(Interrupts, DeferredSignalEndsTheProcessAfterTheScope) {
+  const fs::path d = fresh_set_dir("defer_interrupts");
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    {
+      const millnet::DeferInterrupts hold;
+      ::kill(::getpid(), SIGTERM);
+      millnet::write_file_atomic(d / "after_the_signal.txt", "held back");
+    }
+    ::_exit(0);  // not reached: the held-back SIGTERM ends the process here
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << "status " << status;
+  EXPECT_TRUE(fs::exists(d / "after_the_signal.txt"));
+  EXPECT_EQ(files_in(d), 1u);
+}
+
+// SIGTERM sent (by another thread, which may also be the one to receive it) as soon as the first of
+// 400 files is in place: the process ends by the signal with all 400 in place and no temporary.
+TEST(OutputSet, ASignalDuringTheRenamesLeavesTheWholeSet) {
+  const fs::path d = fresh_set_dir("output_set_signal");
+  constexpr int kFiles = 400;
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    OutputSet set;
+    for (int i = 0; i < kFiles; ++i) millnet::write_file_atomic(d / ("f" + std::to_string(i) + ".txt"), "x");
+    std::thread killer([&] {
+      while (!fs::exists(d / "f0.txt")) std::this_thread::yield();
+      ::kill(::getpid(), SIGTERM);
+    });
+    killer.detach();
+    set.commit();
+    for (;;) ::pause();  // the held-back signal ended the process at the end of commit()
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << "status " << status;
+  std::size_t finals = 0, temporaries = 0;
+  for (const auto& e : fs::directory_iterator(d))
+    (e.path().string().find(".tmp-") == std::string::npos ? finals : temporaries) += 1;
+  EXPECT_EQ(finals, static_cast<std::size_t>(kFiles));
+  EXPECT_EQ(temporaries, 0u);
 }

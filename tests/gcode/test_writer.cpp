@@ -88,6 +88,21 @@ TEST(GcodeWriter, GrblHasNoToolChangeAndNoOptionalStop) {
   EXPECT_EQ(c.find(std::string(61, 'x')), std::string::npos);
 }
 
+// Issue 42 §10: a newline in a file stem ended the title comment and left "t.stl)" as a line of
+// its own; control bytes and parentheses in any comment or tool description stay on their line.
+TEST(GcodeWriter, CommentsStayOneLine) {
+  Program p;
+  p.header = {"millnet finish par\nt.stl (a\r\x7f\tb)"};
+  p.items = {ToolChange{3, "tool\nname (x)"}, Comment{std::string("nul\0byte", 8)}};
+  for (const Dialect& d : {linuxcnc(), grbl()}) {
+    const std::string t = write(p, d);
+    EXPECT_NE(t.find("(millnet finish par?t.stl [a???b])\n"), std::string::npos) << t;
+    EXPECT_NE(t.find("(nul?byte)\n"), std::string::npos) << t;
+    EXPECT_NE(t.find("tool?name [x]"), std::string::npos) << t;
+    EXPECT_NO_THROW((void)read(t, "comments.nc")) << t;
+  }
+}
+
 TEST(GcodeWriter, NumberFormat) {
   EXPECT_EQ(format_number(-0.00001, 4), "0");
   EXPECT_EQ(format_number(2.50, 4), "2.5");

@@ -165,6 +165,19 @@ TEST(Mesh, ValidateCountsDefectsAndRejectsBadInput) {
   MeshReport r3;
   validate(degen, "degen", &r3);
   EXPECT_EQ(r3.degenerate_triangles, 1u);
+  // Only that triangle: nothing with an area is left, refused (issue 42 §8), with or without a report.
+  Mesh flat;
+  flat.V = degen.V.bottomRows(3);
+  flat.F.resize(1, 3);
+  flat.F << 0, 1, 2;
+  try {
+    validate(flat, "flat");
+    ADD_FAILURE() << "a mesh of one collinear triangle was accepted";
+  } catch (const millnet::Error& e) {
+    EXPECT_EQ(
+        std::string(e.what()),
+        "flat: every triangle has zero area (1 triangles of collinear or coincident vertices), expected a surface");
+  }
 
   Mesh nan = b;
   nan.V(3, 1) = std::numeric_limits<double>::quiet_NaN();

@@ -39,7 +39,7 @@ TEST(PocketWork, ToolPointGridOfA100mmSquareAtStepover1Is101Squared) {
   // Grid rows and columns 0..100 at spacing 1 from the origin: 101 × 101 = 10,201 points visited;
   // the tool points are a subset (D 10 keeps 91 × 91 of them).
   const auto e = estimate_work(square(100), cut(10, 1), som(1));
-  ASSERT_EQ(e.size(), 3U);
+  ASSERT_EQ(e.size(), 4U);
   EXPECT_EQ(e[0].count, 101.0 * 101.0);
   EXPECT_EQ(e[0].unit, "tool points");
   EXPECT_EQ(e[0].bytes, 24.0 * 101 * 101);
@@ -52,9 +52,24 @@ TEST(PocketWork, ToolPointGridOfA100mmSquareAtStepover1Is101Squared) {
   EXPECT_EQ(e[1].unit, "SOM ring nodes");
   EXPECT_EQ(e[1].count, 2.0 * 101 * 101);
   EXPECT_EQ(e[1].cause, "node_factor 2 × the tool points of stepover 1 mm over a 100 × 100 mm pocket");
+  // The run's time: tool points × ring nodes, checked against max_pairs (issue 42).
+  EXPECT_EQ(e[2].unit, "tool point × ring node pairs");
+  EXPECT_EQ(e[2].count, 101.0 * 101 * 2 * 101 * 101);
+  EXPECT_TRUE(e[2].pairs);
   // Feed map: D/10 = 1 mm cells over the box grown by R + g = 6 on each side: 112 × 112.
-  EXPECT_EQ(e[2].unit, "feed-map cells");
-  EXPECT_EQ(e[2].count, 112.0 * 112.0);
+  EXPECT_EQ(e[3].unit, "feed-map cells");
+  EXPECT_EQ(e[3].count, 112.0 * 112.0);
+}
+
+// Issue 42 §7/5: the SOM on a 2 × 2 m pocket at stepover 5 (160,801 tool points) never finished;
+// its N × M pairs are refused against max_pairs, naming the stepover and what to change.
+TEST(PocketWork, TheSomOfA2mPocketIsRefusedByItsPairs) {
+  const std::string msg = refusal(square(2000), cut(10, 5), som(5), WorkLimits{});
+  EXPECT_NE(msg.find("stepover 5 mm over a 2000 × 2000 mm pocket (its SOM's winner searches; a larger stepover or "
+                     "another planner) makes 5.2e10 tool point × ring node pairs"),
+            std::string::npos)
+      << msg;
+  EXPECT_NE(msg.find("; the limit is 5.0e9 (--max-pairs, /limits/max_pairs)"), std::string::npos) << msg;
 }
 
 TEST(PocketWork, IssueExampleStepover0001IsRefusedWithTheDocumentedLine) {
@@ -67,9 +82,12 @@ TEST(PocketWork, IssueExampleStepover0001IsRefusedWithTheDocumentedLine) {
 
 TEST(PocketWork, IssueExampleVertex1kmAwayIsRefusedByItsFeedMap) {
   const Region r{{{0, 0, 0}, {1000000, 0, 0}, {100, 100, 0}, {0, 100, 0}}, {}};
-  const std::string msg = refusal(r, cut(10, 5), som(5), WorkLimits{});
+  // The offset planner: the SOM's tool point × ring node pairs refuse it first (issue 42).
+  const std::string msg = refusal(r, cut(10, 5), OffsetSpec{}, WorkLimits{});
   EXPECT_NE(msg.find("feed_grid 1 mm over a 1000000 × 100 mm pocket makes 1.1e8 feed-map cells"), std::string::npos)
       << msg;
+  EXPECT_NE(refusal(r, cut(10, 5), som(5), WorkLimits{}).find("makes 3.5e13 tool point × ring node pairs"),
+            std::string::npos);
 }
 
 TEST(PocketWork, JustUnderTheLimitIsNotRefusedJustOverIs) {

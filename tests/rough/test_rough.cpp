@@ -7,6 +7,7 @@
 #include "testing/gcode_replay.hpp"
 #include "testing/mesh_gouge.hpp"
 
+#include "millnet/core/error.hpp"
 #include "millnet/datasets/generator.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
 #include "millnet/ingest/zlevels.hpp"
@@ -463,3 +464,27 @@ INSTANTIATE_TEST_SUITE_P(GeneratedParts, RoughGouge,
                          case_name);
 
 }  // namespace
+
+// Issue 42 §7: --step-down 0.01 planned 2,100 levels, each within its own estimate and the run
+// unbounded. The levels × the stock outline's estimates are checked before the first level: here
+// 2,100 × the feed map's 82 × 72 cells, refused under a limit that one level (5,904 cells) keeps.
+TEST(RoughWork, TheLevelsTogetherAreEstimatedBeforeTheFirst) {
+  ingest::Mesh m;
+  add_box(m, 0, 0, 0, 40, 30, 20);
+  Params p = params_for("offset", 0, 0.01);
+  p.limits.max_work = 1e6;
+  try {
+    (void)rough_mesh(m, p);
+    ADD_FAILURE() << "not refused";
+  } catch (const millnet::Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("2100 Z levels (step_down 0.01 mm over 21 mm of stock) × feed_grid 1 mm over a 70 × 60 mm "
+                        "pocket makes 1.2e7 feed-map cells"),
+              std::string::npos)
+        << what;
+    EXPECT_NE(what.find("the limit is 1.0e6 (--max-work, /limits/max_work)"), std::string::npos) << what;
+  }
+  p = params_for("offset", 0, 5);
+  p.limits.max_work = 1e6;
+  EXPECT_EQ(rough_mesh(m, p).machining.status, pocket::PlanStatus::Ok);
+}

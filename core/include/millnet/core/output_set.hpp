@@ -26,6 +26,7 @@ public:
   ~OutputSet();  ///< uncommitted: removes the staged temporaries
 
   /// Renames every staged file into place (the outermost set) or hands them to the enclosing set.
+  /// SIGINT and SIGTERM are held back during the renames (DeferInterrupts): all or nothing.
   /// Throws millnet::Error naming the file when a rename fails; the files this call had already put
   /// in place are removed again.
   void commit();

@@ -40,7 +40,13 @@ namespace millnet::finish {
 enum class Strategy : int { SlopeMode = 1, Raster = 2, ScallopMode = 3, Waterline = 4, Equidistant = 5 };
 
 /// The CL grids a strategy samples the part on (its work estimate: finish/work.hpp).
-enum Sampling : unsigned { kRasterSampling = 1, kWaterlineSampling = 2, kEquidistantSampling = 4 };
+/// kScallopSampling: raster passes spaced by the scallop height (strategy 3), not by the stepover.
+enum Sampling : unsigned {
+  kRasterSampling = 1,
+  kWaterlineSampling = 2,
+  kEquidistantSampling = 4,
+  kScallopSampling = 8
+};
 
 /// One strategy of the registry (finish/src/strategy.cpp): a new strategy is its passes function
 /// and one entry there; the CLI's choices, the config schema's enum (checked by a test) and the

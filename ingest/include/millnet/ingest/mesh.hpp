@@ -94,7 +94,7 @@ struct MeshReport {
 };
 
 /// Throws millnet::Error (prefixed with `source`) when the mesh has no triangles, an index out of
-/// range, or a NaN/inf coordinate. Fills the counting fields of *report when given.
+/// range, a NaN/inf coordinate, or no triangle with an area (all collinear or coincident). Fills the counting fields of *report when given.
 void validate(const Mesh& mesh, const std::string& source, MeshReport* report = nullptr);
 
 struct PrepareOptions {

@@ -53,7 +53,8 @@ inline constexpr double kLinkSliverMm2 = 1.0;
 class CutLinker {
 public:
   /// `region` validated and normalized; the tool's clearance is cut.clearance(). max_new_mm2: the
-  /// uncut area a link may cut outside its rules (kLinkSliverMm2). cell_mm: the raster cell, 0 ⇒ D/40.
+  /// uncut area a link may cut outside its rules (kLinkSliverMm2). cell_mm: the raster cell, 0 ⇒ D/40
+  /// (doubled, up to D/5, while the raster would pass 1.6·10⁷ cells: a pocket over 1 × 1 m at Ø10).
   /// Throws millnet::Error when the raster would exceed 4·10⁷ cells.
   CutLinker(const Region& region, const CutParams& cut, double max_new_mm2, double cell_mm = 0);
   ~CutLinker();
