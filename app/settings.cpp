@@ -238,18 +238,10 @@ void set_setting(Json& pocket, std::string_view path, std::string_view value) {
   *at = std::string(value);
 }
 
-/// --angle: degrees in [-360, 360] or "auto", as /pocket/zigzag/angle takes it.
+/// --angle checked as /pocket/zigzag/angle is, in the config's terms: "auto" or a number.
 Json angle_flag(const std::string& angle) {
-  if (angle == "auto") return angle;
-  try {
-    std::size_t used = 0;
-    const double deg = std::stod(angle, &used);
-    if (used != angle.size() || !(std::abs(deg) <= 360)) throw std::invalid_argument(angle);
-    return deg;
-  } catch (const std::exception&) {
-    throw Error("--angle: expected a number of degrees in [-360, 360] or \"auto\", got \"" + angle.substr(0, 40) +
-                "\"");
-  }
+  const std::optional<double> deg = pocket::parse_zigzag_angle(angle, "--angle");
+  return deg ? Json(*deg) : Json(angle);
 }
 
 }  // namespace

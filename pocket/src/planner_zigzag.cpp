@@ -310,22 +310,25 @@ PlanResult plan_zigzag(const Region& region, const CutParams& cut, const ZigzagP
 
 // ---- the registry's entry ----
 
+std::optional<double> parse_zigzag_angle(const std::string& text, const std::string& where) {
+  if (text == "auto") return std::nullopt;
+  try {
+    std::size_t used = 0;
+    const double deg = std::stod(text, &used);
+    if (used != text.size() || !(std::abs(deg) <= 360)) throw std::invalid_argument(text);
+    return deg;
+  } catch (const std::exception&) {
+    throw Error(where + ": expected a number of degrees in [-360, 360] or \"auto\", got \"" + text.substr(0, 40) +
+                "\"");
+  }
+}
+
 namespace {
 
 /// /pocket/zigzag/angle: degrees in [-360, 360], or "auto" (searched).
 std::optional<double> zigzag_angle(const SettingsView& z) {
   if (!z.is_text("angle")) return z.number("angle");
-  const std::string angle = z.text("angle");
-  if (angle == "auto") return std::nullopt;
-  try {
-    std::size_t used = 0;
-    const double deg = std::stod(angle, &used);
-    if (used != angle.size() || !(std::abs(deg) <= 360)) throw std::invalid_argument(angle);
-    return deg;
-  } catch (const std::exception&) {
-    throw Error(z.pointer() + "/angle: expected a number of degrees in [-360, 360] or \"auto\", got \"" +
-                angle.substr(0, 40) + "\"");
-  }
+  return parse_zigzag_angle(z.text("angle"), z.pointer() + "/angle");
 }
 
 PlannerSpec parse_zigzag(const SettingsView& pc, const PlannerContext&) {

@@ -12,6 +12,7 @@
 #include "millnet/pocket/planner_registry.hpp"
 
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -62,6 +63,10 @@ struct ZigzagSpec {
   static constexpr std::string_view kPlanner = "zigzag";
   ZigzagParams zigzag;
 };
+
+/// A zigzag angle as text: degrees in [-360, 360], or "auto" (nullopt: searched). Throws
+/// millnet::Error naming `where` (a flag or a JSON pointer) otherwise.
+[[nodiscard]] std::optional<double> parse_zigzag_angle(const std::string& text, const std::string& where);
 
 /// The registry's entry (planner_registry.hpp): settings /pocket/zigzag; `millnet compare` runs it
 /// twice, T- and I-partition, the angle searched unless --angle says.
