@@ -345,25 +345,22 @@ void write_verification(const datasets::Table& table, const classifier::LooRepor
   for (Eigen::Index k = 1; k <= K; ++k) ver << ",filtration_" << k;
   for (Eigen::Index k = 1; k <= K; ++k) ver << ",verification_" << k;
   ver << "\n";
-  std::vector<double> fil_true, ver_true;
+  std::vector<int> labels;
   for (std::size_t i = 0; i < table.rows.size(); ++i) {
     const auto r = static_cast<Eigen::Index>(i);
     ver << table.rows[i].id << "," << table.rows[i].source;
     for (Eigen::Index k = 0; k < K; ++k) ver << "," << format_double(loo.filtration(r, k));
     for (Eigen::Index k = 0; k < K; ++k) ver << "," << format_double(loo.verification(r, k));
     ver << "\n";
-    const int label = table.rows[i].label;
-    if (label >= 1) {
-      fil_true.push_back(loo.filtration(r, label - 1));
-      ver_true.push_back(loo.verification(r, label - 1));
-    }
+    labels.push_back(table.rows[i].label);
   }
   write_file_atomic(out_dir / "verification.csv", ver.str());
-  if (!fil_true.empty())
+  const classifier::TrueOutputs t = classifier::true_label_outputs(loo, labels);
+  if (!t.filtration.empty())
     (void)report::multi_line_png(
         out_dir / "verification.png",
-        {{"filtration (self included)", fil_true},
-         {std::string("verification (") + (part_mode ? "part" : "vector") + " left out)", ver_true}},
+        {{"filtration (self included)", t.filtration},
+         {std::string("verification (") + (part_mode ? "part" : "vector") + " left out)", t.verification}},
         "Output of the true strategy for every stored vector (paper Fig. 6)", "stored vector",
         "output of the labelled strategy");
 }

@@ -195,4 +195,15 @@ LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<
   return rep;
 }
 
+TrueOutputs true_label_outputs(const LooReport& loo, const std::vector<int>& labels) {
+  TrueOutputs t;
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    if (labels[i] < 1) continue;
+    const auto r = static_cast<Eigen::Index>(i), k = static_cast<Eigen::Index>(labels[i] - 1);
+    t.filtration.push_back(loo.filtration(r, k));
+    t.verification.push_back(loo.verification(r, k));
+  }
+  return t;
+}
+
 }  // namespace millnet::classifier

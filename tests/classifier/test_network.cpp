@@ -173,3 +173,13 @@ TEST(Model, LeaveOneOutPairsAreRefusedOverTheLimitAndRunAtIt) {
   p.limits.max_pairs = 1;
   EXPECT_THROW((void)train(set, p), millnet::Error);
 }
+
+// Fig. 6's series: the output of each labelled vector's own strategy, unlabelled rows skipped.
+TEST(LooReport, TrueLabelOutputsPickEachRowsOwnStrategy) {
+  millnet::classifier::LooReport loo;
+  loo.filtration = Eigen::MatrixXd{{0.9, 0.1}, {0.2, 0.8}, {0.5, 0.5}};
+  loo.verification = Eigen::MatrixXd{{0.7, 0.3}, {0.4, 0.6}, {0.1, 0.9}};
+  const auto t = millnet::classifier::true_label_outputs(loo, {1, 2, 0});
+  EXPECT_EQ(t.filtration, (std::vector<double>{0.9, 0.8}));
+  EXPECT_EQ(t.verification, (std::vector<double>{0.7, 0.6}));
+}

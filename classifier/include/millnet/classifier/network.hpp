@@ -122,6 +122,13 @@ struct LooReport {
                                                    const std::vector<std::string>& groups, double alpha, LooMode mode,
                                                    Eigen::Index block_rows = 256);
 
+/// The paper's Fig. 6: per labelled vector (labels 1…K; 0 or less: unlabelled, skipped), the output
+/// of its own strategy in `filtration` and in `verification`, in row order. O(N).
+struct TrueOutputs {
+  std::vector<double> filtration, verification;
+};
+[[nodiscard]] TrueOutputs true_label_outputs(const LooReport& loo, const std::vector<int>& labels);
+
 /// RMS over all N·K outputs of (outputs − Y); accuracy = share of rows whose argmax matches Y's.
 [[nodiscard]] double rms_error(const Eigen::MatrixXd& outputs, const Eigen::MatrixXd& Y);
 [[nodiscard]] double argmax_accuracy(const Eigen::MatrixXd& outputs, const Eigen::MatrixXd& Y);
