@@ -130,11 +130,14 @@ Registered register_finish(CLI::App& app) {
   sub->add_option("--tool", o->tool,
                   "cutter: a tool library id (configs/tools.json), or ball:D, flat:D or bull:D:r (mm)");
   sub->add_option("--material", o->material, "workpiece material id (configs/materials.json)");
-  sub->add_option("--stepover", o->stepover, "p_f, mm")->check(schema_range("/finish/stepover_mm"));
+  sub->add_option("--stepover", o->stepover, "p_f, mm (every strategy then uses the parameters as written)")
+      ->check(schema_range("/finish/stepover_mm"));
   sub->add_option("--step-down", o->step_down, "a_a, mm")->check(schema_range("/finish/step_down_mm"));
   sub->add_option("--boundary-angle", o->boundary_angle, "slope-mode boundary angle, degrees")
       ->check(schema_range("/finish/boundary_angle_deg"));
-  sub->add_option("--scallop", o->scallop, "scallop-height target, mm")->check(schema_range("/finish/scallop_mm"));
+  sub->add_option("--scallop", o->scallop,
+                  "largest scallop of the surface specification (and scallop mode's target), mm")
+      ->check(schema_range("/finish/scallop_mm"));
   sub->add_flag("--simulate", o->simulate, "machine each program on a z-map and score the surface");
   add_post_flag(sub, o->post);
   sub->add_option("--out", o->out, "output folder")->check(output_path())->required();
@@ -150,7 +153,16 @@ Registered register_finish(CLI::App& app) {
             if (o->stepover) s.params.stepover_mm = *o->stepover;
             if (o->step_down) s.params.step_down_mm = *o->step_down;
             if (o->boundary_angle) s.params.boundary_angle_deg = *o->boundary_angle;
-            if (o->scallop) s.params.scallop_mm = *o->scallop;
+            if (o->scallop) {  // the scallop target is the specification's (and scallop mode's)
+              s.params.scallop_mm = *o->scallop;
+              s.spec.scallop_mm = *o->scallop;
+            }
+            if ((o->stepover || o->step_down) && s.params_from_spec) {
+              s.params_from_spec = false;  // a stepover written on the command line is the one cut
+              info(
+                  "finish: --stepover/--step-down given: every strategy uses the parameters as written, not "
+                  "derived from /finish/spec (/finish/params_from fixed)");
+            }
             s.simulate = o->simulate;
             s.params.check();
             std::vector<std::string> items = config["finish"]["meshes"].get<std::vector<std::string>>();

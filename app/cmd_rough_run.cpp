@@ -171,10 +171,12 @@ std::vector<PredictInput> run_test_parts(const RunSettings& run) {
 struct FinishOutcome {
   bool ok = false;
   std::string error;
-  std::vector<int> slots;            ///< the strategies simulated, ascending
-  std::vector<int> network_rank;     ///< per slot: 1-based rank by the network's totals
-  std::vector<int> simulated_rank;   ///< per slot: 1-based rank by the simulation under the aim
-  std::vector<double> ra_median_um;  ///< per slot
+  std::vector<int> slots;                            ///< the strategies simulated, ascending
+  std::vector<int> network_rank;                     ///< per slot: 1-based rank by the network's totals
+  std::vector<int> simulated_rank;                   ///< per slot: 1-based rank by the simulation under the aim
+  std::vector<double> ra_median_um;                  ///< per slot
+  std::vector<double> time_min, regret, spec_share;  ///< per slot (job::OutcomeColumns)
+  std::vector<int> meets_spec;                       ///< per slot
   double spearman = 0;
   bool chained = false;  ///< rough + top strategy simulated on one z-map
   Json chain;            ///< <name>.rough_finish.sim.json
@@ -203,6 +205,10 @@ FinishOutcome finish_test_part(const job::Part& part, const std::string& name, c
     fo.slots = cols.slots;
     fo.simulated_rank = cols.ranks;
     fo.ra_median_um = cols.ra_median_um;
+    fo.time_min = cols.time_min;
+    fo.regret = cols.regret;
+    fo.spec_share = cols.spec_share;
+    fo.meets_spec = cols.meets_spec;
     if (pr.ok) {
       fo.network_rank = classifier::slot_ranks(pr.totals, fo.slots);  // the paper's Figure 8 totals
       fo.spearman = simulate::spearman(fo.network_rank, fo.simulated_rank);
@@ -265,11 +271,14 @@ PartOutcomes predict_and_rough(const Json& config, const std::string& config_fil
     }
     if (run.finish) {
       t0 = clock::now();
-      if (named.part)
+      if (named.part) {
         po.finishes.push_back(finish_test_part(*named.part, name, preds.back(),
                                                roughs.empty() ? nullptr : &roughs.back(), fset, rp.cut.tool, dir));
-      else
-        po.finishes.push_back(FinishOutcome{false, load_error, {}, {}, {}, {}, 0, false, Json()});
+      } else {
+        FinishOutcome failed;
+        failed.error = load_error;
+        po.finishes.push_back(std::move(failed));
+      }
       po.finish_s += std::chrono::duration<double>(clock::now() - t0).count();
     }
     progress.tick();
@@ -326,6 +335,10 @@ report::RunSummary run_summary(const std::string& config_file, const TrainSummar
       p.network_rank = f.network_rank;
       p.simulated_rank = f.simulated_rank;
       p.ra_median_um = f.ra_median_um;
+      p.time_min = f.time_min;
+      p.regret = f.regret;
+      p.spec_share = f.spec_share;
+      p.meets_spec = f.meets_spec;
       p.spearman = f.spearman;
       p.chained = f.chained;
       if (f.chained) {
@@ -356,9 +369,20 @@ Json finishing_json(const report::RunSummary& s) {
     }
     j["simulated_ranking"] = simulate::slots_by_rank(p.slots, p.simulated_rank);
     j["ra_median_um"] = p.ra_median_um;
+    j["time_kinematic_min"] = p.time_min;
+    auto or_null = [](const std::vector<double>& v) {  // NaN (unmeasured) as null
+      Json a = Json::array();
+      for (const double x : v) a.push_back(std::isnan(x) ? Json(nullptr) : Json(x));
+      return a;
+    };
+    j["regret"] = or_null(p.regret);
+    j["share_in_spec"] = or_null(p.spec_share);
+    j["meets_spec"] = p.meets_spec;
     if (!p.network_rank.empty()) {
       j["network_ranking"] = simulate::slots_by_rank(p.slots, p.network_rank);
       j["spearman"] = p.spearman;
+      const double r = report::pick_regret(p);
+      j["network_pick_regret"] = std::isnan(r) ? Json(nullptr) : Json(r);
     }
     if (p.chained)
       j["rough_then_top"] = {{"strategy", p.top},

@@ -78,6 +78,18 @@ Json sim_metrics_json(const simulate::SurfaceMetrics& m, const simulate::GridSpe
   j["scallop_area_mm2"] = m.scallop_area_mm2;
   j["rest_area_mm2"] = m.rest_area_mm2;
   j["surface_cells"] = m.surface_cells;
+  if (!std::isnan(m.ra_target_share)) j["ra_target_share"] = m.ra_target_share;
+  if (m.spec_measured) {  // issue 37 §2: the surface specification, and where and how much it is missed
+    const double a = grid.cell * grid.cell;
+    Json sp{{"share_in_spec", m.spec_share},
+            {"judged_area_mm2", static_cast<double>(m.spec_cells) * a},
+            {"over_spec_area_mm2", static_cast<double>(m.over_spec_cells) * a},
+            {"not_machined_area_mm2", static_cast<double>(m.spec_not_machined_cells) * a},
+            {"over_spec_max_mm", m.over_spec_max_mm}};
+    if (m.over_spec_cell < grid.cells())
+      sp["over_spec_max_xy_mm"] = {grid.x(m.over_spec_cell % grid.nx), grid.y(m.over_spec_cell / grid.nx)};
+    j["spec"] = sp;
+  }
   return j;
 }
 
@@ -157,13 +169,17 @@ void path_png(const fs::path& path, const PartJob& job, const gcode::Program& pr
 /// One planned strategy written (program, metrics, pictures, page) and, with settings.simulate,
 /// machined on the z-map and scored (job::score_program).
 job::StrategyOutcome strategy_outcome(const job::Part& part, const FinishSettings& settings, const PartJob& job,
-                                      const finish::FinishPlan& plan, const fs::path& out) {
+                                      const finish::FinishPlan& plan, const fs::path& out,
+                                      const finish::FinishParams& params) {
   const std::string& stem = part.name;
   const std::string title = stem + ": " + finish::strategy_name(plan.strategy);
   const std::string base = stem + ".s" + std::to_string(static_cast<int>(plan.strategy));
   // Written in memory first: a program that gouges is kept under a name that says so.
   gcode::Written written = gcode::written(plan.program, settings.post, (out / (base + ".nc")).string());
   job::StrategyOutcome o = job::planned_outcome(plan, gcode::stats(plan.program, settings.machine));
+  o.stepover_mm = params.stepover_mm;
+  o.step_down_mm = params.step_down_mm;
+  o.scallop_mm = params.scallop_mm;
   path_png(out / (base + ".png"), job, plan.program, title);
   std::optional<report::PreviewSurface> surface;
   if (job.design) {  // the program as the machine gets it: the text written, read back
@@ -219,6 +235,10 @@ Json strategy_metrics(const job::StrategyOutcome& o, const FinishSettings& setti
   j["cl_points"] = o.cl_points;
   j["drops"] = o.drops;  // a property of the strategy: the same planned alone (MPI) or with others
   j["planning_s"] = o.planning_s;
+  j["params"] = Json{{"from", settings.params_from_spec ? "spec" : "fixed"},
+                     {"stepover_mm", o.stepover_mm},
+                     {"step_down_mm", o.step_down_mm},
+                     {"scallop_mm", o.scallop_mm}};
   if (o.simulated) {
     j.update(sim_metrics_json(o.surface, o.grid));
     j["cutting_rapids"] = o.cutting_rapids;
@@ -241,8 +261,14 @@ job::StrategyOutcome outcome_from_metrics(const Json& j, double cell_mm) {
   o.score.slot = static_cast<int>(o.strategy);
   o.score.time_min = o.time_kinematic_min;
   o.simulated = j.contains("max_gouge_mm");
+  if (j.contains("params")) {
+    o.stepover_mm = j["params"].at("stepover_mm").get<double>();
+    o.step_down_mm = j["params"].at("step_down_mm").get<double>();
+    o.scallop_mm = j["params"].at("scallop_mm").get<double>();
+  }
   if (!o.simulated) return o;
   simulate::SurfaceMetrics& m = o.surface;
+  o.grid.cell = cell_mm;  // (its size and origin are the part's, not in the file)
   m.max_gouge_mm = j.at("max_gouge_mm").get<double>();
   m.gouged = !j.at("gouge_line").is_null();
   if (m.gouged && j.contains("gouge_deepest_line") && !j["gouge_deepest_line"].is_null())
@@ -272,6 +298,19 @@ job::StrategyOutcome outcome_from_metrics(const Json& j, double cell_mm) {
   m.scallop_area_mm2 = j.at("scallop_area_mm2").get<double>();
   m.rest_area_mm2 = j.at("rest_area_mm2").get<double>();
   m.surface_cells = j.at("surface_cells").get<std::size_t>();
+  if (j.contains("ra_target_share")) m.ra_target_share = j["ra_target_share"].get<double>();
+  if (j.contains("spec")) {
+    const Json& sp = j["spec"];
+    const double a = cell_mm * cell_mm;
+    auto cells = [&](const char* key) { return static_cast<std::size_t>(std::llround(sp.at(key).get<double>() / a)); };
+    m.spec_measured = true;
+    m.spec_share = sp.at("share_in_spec").get<double>();
+    m.spec_cells = cells("judged_area_mm2");
+    m.over_spec_cells = cells("over_spec_area_mm2");
+    m.spec_not_machined_cells = cells("not_machined_area_mm2");
+    m.in_spec_cells = m.spec_cells - m.over_spec_cells - m.spec_not_machined_cells;
+    m.over_spec_max_mm = sp.at("over_spec_max_mm").get<double>();
+  }
   o.cutting_rapids = j.at("cutting_rapids").get<std::size_t>();
   o.max_depth_of_cut_mm = j.at("max_depth_of_cut_mm").get<double>();
   o.score.ra_median_um = m.ra_median_um;
@@ -279,6 +318,8 @@ job::StrategyOutcome outcome_from_metrics(const Json& j, double cell_mm) {
   o.score.uncut_area_mm2 = m.uncut_area_mm2;
   o.score.max_gouge_mm = m.max_gouge_mm;
   o.score.surface_area_mm2 = static_cast<double>(m.surface_cells) * cell_mm * cell_mm;
+  if (m.spec_measured) o.score.spec_share = m.spec_share;
+  o.score.ra_target_share = m.ra_target_share;
   return o;
 }
 
@@ -290,6 +331,8 @@ job::SimParams sim_params(const FinishSettings& settings) {
   p.sampling_length_mm = settings.sim.sampling_length_mm;
   p.ra_spacing_mm = settings.sim.ra_spacing_mm;
   p.ra_bins_um = settings.sim.ra_bins_um;
+  p.spec_limit_mm = settings.spec.limit_mm();
+  p.ra_target_um = settings.sim.ra_target_um;
   p.limits = work_limits();
   return p;
 }
@@ -299,11 +342,12 @@ namespace {
 std::vector<job::StrategyOutcome> plan_and_write(const job::Part& part, const FinishSettings& settings,
                                                  const std::vector<finish::Strategy>& strategies, PartJob& job,
                                                  const fs::path& out) {
-  const std::vector<finish::FinishPlan> plans = finish::plan_finish(part.mesh, *job.dropper, strategies, job.params);
+  const std::vector<finish::FinishParams> params = settings.strategy_params(strategies, job.params);
+  const std::vector<finish::FinishPlan> plans = finish::plan_finish(part.mesh, *job.dropper, strategies, params);
   std::vector<job::StrategyOutcome> outcomes;
   Progress progress("finish " + part.name, strategies.size());
-  for (const finish::FinishPlan& plan : plans) {  // O(strategies)
-    outcomes.push_back(strategy_outcome(part, settings, job, plan, out));
+  for (std::size_t i = 0; i < plans.size(); ++i) {  // O(strategies)
+    outcomes.push_back(strategy_outcome(part, settings, job, plans[i], out, params[i]));
     progress.tick();
   }
   return outcomes;
@@ -332,6 +376,20 @@ void write_strategy_ranking(const std::string& stem, const FinishSettings& setti
   if (outcomes.size() < 2) return;
   const std::vector<std::size_t> order = job::rank_outcomes(outcomes, settings.aim);
   const simulate::Aim used = settings.simulate ? settings.aim.aim : simulate::Aim::Time;
+  for (const job::StrategyOutcome& o : outcomes) {  // where and how much a strategy misses the spec
+    const simulate::SurfaceMetrics& m = o.surface;
+    if (!o.simulated || !m.spec_measured || o.meets_spec) continue;
+    const double a = o.grid.cell * o.grid.cell;
+    std::string where;
+    if (m.over_spec_cell < o.grid.cells())
+      where = " by up to " + fixed(m.over_spec_max_mm, 3) + " mm at X " +
+              fixed(o.grid.x(m.over_spec_cell % o.grid.nx), 2) + " Y " +
+              fixed(o.grid.y(m.over_spec_cell / o.grid.nx), 2);
+    info(stem + ": strategy " + std::to_string(static_cast<int>(o.strategy)) +
+         " misses the specification: " + fixed(100 * m.spec_share, 1) + " % of the surface in spec (" +
+         fixed(static_cast<double>(m.over_spec_cells) * a, 1) + " mm² over it" + where + ", " +
+         fixed(static_cast<double>(m.spec_not_machined_cells) * a, 1) + " mm² not machined)");
+  }
   const report::StrategyTable t =
       report::strategy_table(stem, simulate::to_string(used), outcomes, order, settings.simulate);
   write_file_atomic(out / (stem + ".strategies.csv"), t.csv);
@@ -344,8 +402,8 @@ std::vector<job::StrategyFigures> label_part(const job::Part& part, const Finish
   FinishSettings s = settings;
   s.simulate = false;  // score_strategies rasterizes the design itself
   const PartJob job = finishing_job(part, s);
-  const std::vector<finish::FinishPlan> plans =
-      finish::plan_finish(part.mesh, *job.dropper, settings.strategies, job.params);
+  const std::vector<finish::FinishPlan> plans = finish::plan_finish(
+      part.mesh, *job.dropper, settings.strategies, settings.strategy_params(settings.strategies, job.params));
   return job::score_strategies(part.mesh, job.frame, plans, job.params.tool, settings.post, settings.machine,
                                settings.aim, sim_params(settings));
 }

@@ -373,6 +373,12 @@ void finish_cutting_data(FinishSettings& s, const Json& config, const FinishTool
 
 }  // namespace
 
+std::vector<finish::FinishParams> FinishSettings::strategy_params(const std::vector<finish::Strategy>& strategies,
+                                                                  const finish::FinishParams& base) const {
+  if (!params_from_spec) return std::vector<finish::FinishParams>(strategies.size(), base);
+  return finish::params_for_spec(strategies, spec, base);
+}
+
 FinishSettings finish_settings(const Json& config, const FinishToolFlags& flags) {
   const Json& f = config["finish"];
   FinishSettings s;
@@ -396,6 +402,12 @@ FinishSettings finish_settings(const Json& config, const FinishToolFlags& flags)
   s.aim.aim = simulate::parse_aim(f["aim"].get<std::string>());
   s.aim.time_budget_min = f["time_budget_min"].get<double>();
   s.aim.complete_share = f["complete_margin_share"].get<double>();
+  s.params_from_spec = f["params_from"].get<std::string>() == "spec";
+  s.spec.scallop_mm = f["spec"]["scallop_mm"].get<double>();
+  s.spec.form_tolerance_mm = f["spec"]["form_tolerance_mm"].get<double>();
+  s.spec.out_of_spec_share = f["spec"]["out_of_spec_share"].get<double>();
+  s.spec.check();
+  s.aim.out_of_spec_share = s.spec.out_of_spec_share;
   const Json& sim = config["simulate"];
   s.sim.cell_mm = sim["cell_mm"].get<double>();
   s.sim.allowance_mm = sim["allowance_mm"].get<double>();
@@ -403,6 +415,7 @@ FinishSettings finish_settings(const Json& config, const FinishToolFlags& flags)
   s.sim.sampling_length_mm = sim["sampling_length_mm"].get<double>();
   s.sim.ra_bins_um = sim["ra_bins_um"].get<std::vector<double>>();
   s.sim.ra_spacing_mm = sim["ra_spacing_mm"].get<double>();
+  s.sim.ra_target_um = sim["ra_target_um"].get<double>();
   s.aim.gouge_tolerance_mm = s.sim.tolerance_mm;
   s.machine = motion_model(config);
   s.post = post_dialect(config, std::nullopt);

@@ -13,6 +13,7 @@
 #include "millnet/classifier/network.hpp"
 #include "millnet/datasets/build.hpp"
 #include "millnet/datasets/generator.hpp"
+#include "millnet/finish/spec.hpp"
 #include "millnet/finish/strategy.hpp"
 #include "millnet/gcode/stats.hpp"
 #include "millnet/gcode/writer.hpp"
@@ -84,11 +85,17 @@ struct SimSettings {
   double sampling_length_mm = 0.8;
   double ra_spacing_mm = 0.1;  ///< Ra centres this far apart (whole cells)
   std::vector<double> ra_bins_um;
+  double ra_target_um = 1.6;  ///< the quality aim's Ra target
 };
 
 struct FinishSettings {
   finish::FinishParams params;  ///< z_shift and the boundary are set per part
   std::vector<finish::Strategy> strategies;
+  finish::SurfaceSpec spec;      ///< /finish/spec: what every simulated strategy is judged by
+  bool params_from_spec = true;  ///< /finish/params_from "spec": each strategy derives its parameters
+  /// Each strategy's parameters: `base` (the part's) with what it derives from the spec, or base.
+  [[nodiscard]] std::vector<finish::FinishParams> strategy_params(const std::vector<finish::Strategy>& strategies,
+                                                                  const finish::FinishParams& base) const;
   bool simulate = false;
   double stock_top_above_part_mm = 1;
   gcode::MotionModel machine;

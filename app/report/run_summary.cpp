@@ -25,8 +25,51 @@ std::size_t top_index(const RunPart& p) {
   return static_cast<std::size_t>(std::find(p.slots.begin(), p.slots.end(), p.top) - p.slots.begin());
 }
 
+/// The slot the simulation ranks first, 0 when none.
+int simulated_best(const RunPart& p) {
+  for (std::size_t k = 0; k < p.slots.size() && k < p.simulated_rank.size(); ++k)
+    if (p.simulated_rank[k] == 1) return p.slots[k];
+  return 0;
+}
+
+/// What matters first (issue 37 §2): per part, the network's pick, the simulation's best at the
+/// aim, and what the pick costs against it.
+void decision(std::ostringstream& md, const RunSummary& s, const RunCounts& c) {
+  md << "## The network's pick against the simulation\n\n"
+     << "Each test part machined virtually with all five strategies and ranked by the aim (" << s.aim
+     << "). Regret = the pick's machining time / the simulated best's − 1 (0: the pick is the best; "
+        "\"misses spec\": the pick leaves more of the surface out of the specification than it allows).\n\n"
+     << "| part | network's pick | simulated best | pick's simulated rank | pick's regret | pick in spec (%) | "
+        "best's time (min) | pick's time (min) |\n|---|---|---|---:|---:|---:|---:|---:|\n";
+  for (const RunPart& p : s.parts) {  // O(parts × strategies)
+    if (!(p.finished && p.finish_ok)) continue;
+    const std::size_t ti = top_index(p);
+    const bool top = p.predicted && ti < p.slots.size();
+    const int best = simulated_best(p);
+    const auto bi = static_cast<std::size_t>(std::find(p.slots.begin(), p.slots.end(), best) - p.slots.begin());
+    auto at = [](const std::vector<double>& v, std::size_t i) { return i < v.size() ? v[i] : std::nan(""); };
+    const double r = pick_regret(p);
+    std::string regret = "-";
+    if (top && !std::isnan(r)) regret = fixed(100 * r, 1) + " %";
+    if (top && ti < p.meets_spec.size() && !p.meets_spec[ti] && !std::isnan(at(p.spec_share, ti)))
+      regret += " (misses spec)";
+    md << "| " << p.name << " | " << (p.predicted ? std::to_string(p.top) + " " + p.top_name : "-") << " | "
+       << (best ? std::to_string(best) : "-") << " | " << (top ? std::to_string(p.simulated_rank[ti]) : "-") << " | "
+       << regret << " | " << (top && !std::isnan(at(p.spec_share, ti)) ? fixed(100 * at(p.spec_share, ti), 1) : "-")
+       << " | " << (bi < p.slots.size() ? fixed(at(p.time_min, bi), 1) : "-") << " | "
+       << (top ? fixed(at(p.time_min, ti), 1) : "-") << " |\n";
+  }
+  if (c.pick_parts)
+    md << "\nThe pick is the simulated best on " << c.pick_is_best << " of " << c.pick_parts << " parts and meets "
+       << "the specification on " << c.pick_meets_spec << "; mean regret of the pick "
+       << (c.regret_parts ? fixed(100 * c.mean_pick_regret, 1) + " % over the " + std::to_string(c.regret_parts) +
+                                " parts where it meets it"
+                          : std::string("not measured"))
+       << ".\n\n";
+}
+
 void training(std::ostringstream& md, const RunSummary& s) {
-  md << "# millnet run: " << s.config_name << "\n\n"
+  md << "## Training\n\n"
      << "Training set: " << s.vectors << " vectors from " << s.training_parts
      << " parts. Penalty coefficient α = " << fixed(s.alpha, 4) << " chosen by leave-one-" << s.loo_mode << "-out"
      << (s.alpha_edge != "none" ? " (at the " + s.alpha_edge + " edge of the scan)" : std::string()) << ".\n"
@@ -56,7 +99,9 @@ void prediction_table(std::ostringstream& md, const RunSummary& s, const RunCoun
       md << "- | - | - | - |\n";
   }
   if (c.labelled)
-    md << "\nHeld-out test parts predicted as their family's strategy: " << c.correct << " of " << c.labelled << ".\n";
+    md << "\nFamily agreement (the strategy number the part generator gave the test part's family, which is what "
+          "the network is trained on — not a machining outcome): "
+       << c.correct << " of " << c.labelled << ".\n";
 }
 
 void finishing_table(std::ostringstream& md, const RunSummary& s, const RunCounts& c) {
@@ -135,7 +180,7 @@ std::string ranking_text(const std::vector<int>& slots, const std::vector<int>& 
 
 RunCounts run_counts(const RunSummary& s) {
   RunCounts c;
-  double rho_sum = 0;
+  double rho_sum = 0, regret_sum = 0;
   for (const RunPart& p : s.parts) {  // O(parts)
     if (p.predicted && p.expected) {
       ++c.labelled;
@@ -146,14 +191,36 @@ RunCounts run_counts(const RunSummary& s) {
       rho_sum += p.spearman;
       ++c.spearman_parts;
     }
+    const std::size_t ti = top_index(p);
+    if (p.finished && p.finish_ok && p.predicted && ti < p.slots.size()) {
+      ++c.pick_parts;
+      c.pick_is_best += simulated_best(p) == p.top ? 1 : 0;
+      const bool meets = ti < p.meets_spec.size() && p.meets_spec[ti];
+      c.pick_meets_spec += meets ? 1 : 0;
+      // A pick that misses the spec is faster for leaving work undone: its regret is not a gain.
+      if (const double r = pick_regret(p);
+          !std::isnan(r) && (meets || ti >= p.spec_share.size() || std::isnan(p.spec_share[ti]))) {
+        regret_sum += r;
+        ++c.regret_parts;
+      }
+    }
   }
   if (c.spearman_parts) c.mean_spearman = rho_sum / static_cast<double>(c.spearman_parts);
+  if (c.regret_parts) c.mean_pick_regret = regret_sum / static_cast<double>(c.regret_parts);
   return c;
+}
+
+double pick_regret(const RunPart& p) {
+  const std::size_t ti = top_index(p);
+  if (!(p.finished && p.finish_ok && p.predicted) || ti >= p.regret.size()) return std::nan("");
+  return p.regret[ti];
 }
 
 std::string run_summary_md(const RunSummary& s) {
   const RunCounts c = run_counts(s);
   std::ostringstream md;
+  md << "# millnet run: " << s.config_name << "\n\n";
+  if (any_finished(s)) decision(md, s, c);
   training(md, s);
   prediction_table(md, s, c);
   if (any_finished(s)) finishing_table(md, s, c);
@@ -174,7 +241,9 @@ SummaryPage run_summary_page(const RunSummary& s) {
                  "retractions",
                  "cut length (mm)",
                  "levels",
-                 "3D preview"};
+                 "3D preview",
+                 "simulated best",
+                 "pick's regret"};
   SummaryChart time_chart{"roughing time per part", "min", {}, {{"roughing time (min)", {}}}};
   SummaryChart ra_chart{"finishing: simulated Ra median per strategy", "Ra median (µm)", {}, {}};
   for (const RunPart& p : s.parts) {  // O(parts × strategies)
@@ -193,6 +262,9 @@ SummaryPage run_summary_page(const RunSummary& s) {
     } else {
       row.insert(row.end(), {"", "", "", "", ""});
     }
+    const int best = p.finished && p.finish_ok ? simulated_best(p) : 0;
+    const double r = pick_regret(p);
+    row.insert(row.end(), {best ? std::to_string(best) : "", std::isnan(r) ? "" : fixed(100 * r, 1) + " %"});
     page.rows.push_back(row);
     if (!(p.finished && p.finish_ok)) continue;
     ra_chart.labels.push_back(p.name);

@@ -4,6 +4,7 @@
 #include "millnet/report/plots.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <iomanip>
 #include <sstream>
 
@@ -25,11 +26,16 @@ StrategyTable strategy_table(const std::string& stem, const std::string& aim,
   md << "# " << stem << ": finishing strategies ranked by " << aim << "\n\n"
      << "| rank | strategy | path (m) | time feed (min) | time kinematic (min) | lifts |";
   if (simulated) {
-    csv << ",ra_median_um,ra_p90_um,scallop_max_mm,max_gouge_mm,uncut_area_mm2,not_machined_pct";
-    md << " Ra median (µm) | Ra p90 (µm) | scallop (mm) | gouge (mm) | uncut (mm²) | not machined (%) |";
+    csv << ",ra_median_um,ra_p90_um,scallop_max_mm,max_gouge_mm,uncut_area_mm2,not_machined_pct"
+        << ",in_spec_pct,meets_spec,regret,ra_target_pct,stepover_mm,step_down_mm";
+    md << " Ra median (µm) | Ra p90 (µm) | scallop (mm) | gouge (mm) | uncut (mm²) | not machined (%) |"
+       << " in spec (%) | regret (%) | Ra ≤ target (%) | stepover / step-down (mm) |";
   }
   csv << "\n";
-  md << "\n|---|---|---|---|---|---|" << (simulated ? "---|---|---|---|---|---|" : "") << "\n";
+  md << "\n|---|---|---|---|---|---|" << (simulated ? "---|---|---|---|---|---|---|---|---|---|" : "") << "\n";
+  auto pct = [](double share, int decimals) {
+    return std::isnan(share) ? std::string() : fixed(100 * share, decimals);
+  };
   for (std::size_t r = 0; r < order.size(); ++r) {  // O(strategies)
     const job::StrategyOutcome& o = outcomes[order[r]];
     const std::string name = finish::strategy_name(o.strategy);
@@ -47,6 +53,13 @@ StrategyTable strategy_table(const std::string& stem, const std::string& aim,
       md << " " << fixed(m.ra_median_um, 2) << " | " << fixed(m.ra_p90_um, 2) << " | " << fixed(m.scallop_max_mm, 4)
          << " | " << fixed(m.max_gouge_mm, 4) << " | " << fixed(m.uncut_area_mm2, 1) << " | "
          << fixed(100 * m.ra_not_machined_share, 1) << " |";
+      const double in_spec = m.spec_measured ? m.spec_share : std::nan("");
+      csv << "," << pct(in_spec, 2) << "," << (m.spec_measured ? (o.meets_spec ? "yes" : "no") : "") << ","
+          << (std::isnan(o.regret) ? std::string() : fixed(o.regret, 4)) << "," << pct(m.ra_target_share, 2) << ","
+          << fixed(o.stepover_mm, 4) << "," << fixed(o.step_down_mm, 4);
+      md << " " << pct(in_spec, 1) << (m.spec_measured && !o.meets_spec ? " (misses)" : "") << " | " << pct(o.regret, 1)
+         << " | " << pct(m.ra_target_share, 1) << " | " << fixed(o.stepover_mm, 3) << " / " << fixed(o.step_down_mm, 3)
+         << " |";
     }
     csv << "\n";
     md << "\n";

@@ -26,51 +26,59 @@ using Levels = std::vector<std::vector<std::vector<Sample>>>;
 
 /// Pieces that several strategies share, computed once per plan_finish call: the fixed-spacing
 /// raster lines (2 and the shallow part of 1) and the Z-level loops (4 and the steep part of 1).
+/// Each strategy plans with its own parameters (`p`, set before its passes are made); a piece is
+/// reused only when the parameters it depends on are the same (raster: stepover, angle, chord
+/// tolerance; Z-levels: step-down, chord tolerance), else it is computed anew and kept.
 struct Shared {
   const Sampler& s;
   const Box& box;
-  const FinishParams& p;
-  std::optional<Lines> raster;
-  std::optional<Levels> levels;
-  std::size_t raster_drops = 0, levels_drops = 0;  ///< what each piece cost when it was computed
-  std::size_t reused_drops = 0;                    ///< the current plan's: pieces it used that an earlier plan paid for
+  const FinishParams* p = nullptr;
+  template <class Piece>
+  struct Cached {
+    std::vector<double> key;
+    Piece piece;
+    std::size_t drops = 0;  ///< what it cost when it was computed
+  };
+  std::vector<Cached<Lines>> rasters;
+  std::vector<Cached<Levels>> levels;
+  std::size_t reused_drops = 0;  ///< the current plan's: pieces it used that an earlier plan paid for
+  template <class Piece, class Make>
+  const Piece& cached(std::vector<Cached<Piece>>& cache, std::vector<double> key, Make make) {
+    for (const Cached<Piece>& c : cache)  // O(strategies)
+      if (c.key == key) {
+        reused_drops += c.drops;
+        return c.piece;
+      }
+    const std::size_t d0 = s.drops();
+    Piece piece = make();
+    cache.push_back({std::move(key), std::move(piece), s.drops() - d0});
+    return cache.back().piece;
+  }
   const Lines& raster_lines() {
-    if (!raster) {
-      const std::size_t d0 = s.drops();
-      raster = detail::raster_lines(s, box, p, false);
-      raster_drops = s.drops() - d0;
-    } else {
-      reused_drops += raster_drops;
-    }
-    return *raster;
+    return cached(rasters, {p->stepover_mm, p->raster_angle_deg, p->chord_tolerance_mm},
+                  [&] { return detail::raster_lines(s, box, *p, false); });
   }
   const Levels& waterline_loops() {
-    if (!levels) {
-      const std::size_t d0 = s.drops();
-      levels = detail::waterline_loops(s, box, p);
-      levels_drops = s.drops() - d0;
-    } else {
-      reused_drops += levels_drops;
-    }
-    return *levels;
+    return cached(levels, {p->step_down_mm, p->chord_tolerance_mm},
+                  [&] { return detail::waterline_loops(s, box, *p); });
   }
 };
 
 Lines raster(Shared& sh) { return sh.raster_lines(); }
 
-Lines scallop_mode(Shared& sh) { return detail::raster_lines(sh.s, sh.box, sh.p, true); }
+Lines scallop_mode(Shared& sh) { return detail::raster_lines(sh.s, sh.box, *sh.p, true); }
 
 double near_mm(const FinishParams& p) { return p.tool.diameter + 4 * p.stepover_mm; }
 
-Lines waterline(Shared& sh) { return detail::order_by_level(sh.waterline_loops(), near_mm(sh.p)); }
+Lines waterline(Shared& sh) { return detail::order_by_level(sh.waterline_loops(), near_mm(*sh.p)); }
 
 Lines equidistant(Shared& sh) {
-  return detail::order_by_level(detail::equidistant_loops(sh.s, sh.box, sh.p), near_mm(sh.p));
+  return detail::order_by_level(detail::equidistant_loops(sh.s, sh.box, *sh.p), near_mm(*sh.p));
 }
 
 /// Steep pieces of the Z-levels first (top-down per island), then the shallow runs of the raster.
 Lines slope_mode(Shared& sh) {
-  const FinishParams& p = sh.p;
+  const FinishParams& p = *sh.p;
   const double steep_from = p.boundary_angle_deg - tol::slope_overlap_deg;
   const double shallow_to = p.boundary_angle_deg + tol::slope_overlap_deg;
   Levels levels = sh.waterline_loops();
@@ -189,8 +197,19 @@ void FinishParams::check() const {
 
 std::vector<FinishPlan> plan_finish(const ingest::Mesh& mesh, const DropCutter& dropper,
                                     const std::vector<Strategy>& strategies, const FinishParams& params) {
-  params.check();
+  return plan_finish(mesh, dropper, strategies, std::vector<FinishParams>(strategies.size(), params));
+}
+
+std::vector<FinishPlan> plan_finish(const ingest::Mesh& mesh, const DropCutter& dropper,
+                                    const std::vector<Strategy>& strategies,
+                                    const std::vector<FinishParams>& params_each) {
+  if (params_each.size() != strategies.size())
+    throw Error("finish: " + std::to_string(params_each.size()) + " parameter sets for " +
+                std::to_string(strategies.size()) + " strategies");
+  if (strategies.empty()) return {};
+  for (const FinishParams& p : params_each) p.check();
   for (const Strategy st : strategies) (void)entry(st);
+  const FinishParams& params = params_each.front();  // what every strategy's parameters share
   // The part is machined from above: it needs a face that looks up (n_z > 0). O(#F).
   bool faces_up = false;
   for (Eigen::Index f = 0; f < mesh.F.rows() && !faces_up; ++f) {
@@ -206,8 +225,9 @@ std::vector<FinishPlan> plan_finish(const ingest::Mesh& mesh, const DropCutter& 
   if (!(box.x1 > box.x0 && box.y1 > box.y0)) {
     box = {mesh.V.col(0).minCoeff(), mesh.V.col(1).minCoeff(), mesh.V.col(0).maxCoeff(), mesh.V.col(1).maxCoeff()};
   }
-  for (const WorkEstimate& e : estimate_work(box.x0, box.y0, box.x1, box.y1, strategies, params))
-    check_work(e, params.limits);  // before any CL point is dropped (issue 12)
+  for (std::size_t i = 0; i < strategies.size(); ++i)  // before any CL point is dropped (issue 12)
+    for (const WorkEstimate& e : estimate_work(box.x0, box.y0, box.x1, box.y1, {strategies[i]}, params_each[i]))
+      check_work(e, params.limits);
   if (std::min(box.x1 - box.x0, box.y1 - box.y0) < params.tool.diameter)
     throw Error("finish: the tool (" + params.tool.describe() + ") is larger than the machining boundary (" +
                 std::to_string(box.x1 - box.x0) + " × " + std::to_string(box.y1 - box.y0) + " mm)");
@@ -215,24 +235,26 @@ std::vector<FinishPlan> plan_finish(const ingest::Mesh& mesh, const DropCutter& 
     throw Error("finish: safe_z_mm " + std::to_string(params.safe_z_mm) +
                 " is not above the part top plus the clearance (" +
                 std::to_string(s.top_z() + params.z_shift + params.clearance_mm) + ")");
-  Shared shared{s, box, params, std::nullopt, std::nullopt};
+  Shared shared{s, box};
   std::vector<FinishPlan> plans;
-  for (const Strategy strategy : strategies) {
+  for (std::size_t i = 0; i < strategies.size(); ++i) {
     const auto t0 = std::chrono::steady_clock::now();
     const std::size_t drops0 = s.drops();
+    const FinishParams& p = params_each[i];
+    shared.p = &p;
     shared.reused_drops = 0;
-    const Entry& e = entry(strategy);
+    const Entry& e = entry(strategies[i]);
     FinishPlan plan;
-    plan.strategy = strategy;
+    plan.strategy = strategies[i];
     Lines lines = e.passes(shared);
     std::vector<Lines::value_type> simple(lines.size());
 #pragma omp parallel for schedule(dynamic, 4)
-    for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(lines.size()); ++i)
-      simple[static_cast<std::size_t>(i)] =
-          detail::simplify(lines[static_cast<std::size_t>(i)], params.chord_tolerance_mm, e.straight_passes);
+    for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(lines.size()); ++k)
+      simple[static_cast<std::size_t>(k)] =
+          detail::simplify(lines[static_cast<std::size_t>(k)], p.chord_tolerance_mm, e.straight_passes);
     plan.passes = detail::to_passes(std::move(simple));
     if (plan.passes.empty()) throw Error("finish: no surface under the machining boundary to finish");
-    detail::link_passes(s, params, plan);
+    detail::link_passes(s, p, plan);
     plan.drops = s.drops() - drops0;
     plan.drops_needed = plan.drops + shared.reused_drops;
     plan.planning_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -17,6 +17,8 @@ simulate::MetricsOptions SimParams::metrics_options(const tooling::Cutter& cutte
   mo.ra_bins_um = ra_bins_um;
   mo.ra_every = static_cast<std::size_t>(std::max(1.0, std::round(ra_spacing_mm / cell_mm)));
   mo.cutter = cutter;
+  mo.spec_limit_mm = spec_limit_mm;
+  mo.ra_target_um = ra_target_um;
   return mo;
 }
 
@@ -82,6 +84,8 @@ simulate::StrategyScore strategy_score(int slot, double time_min, const Scored& 
   c.uncut_area_mm2 = scored.metrics.uncut_area_mm2;
   c.max_gouge_mm = scored.metrics.max_gouge_mm;
   c.surface_area_mm2 = static_cast<double>(scored.metrics.surface_cells) * cell_mm * cell_mm;
+  if (scored.metrics.spec_measured) c.spec_share = scored.metrics.spec_share;
+  c.ra_target_share = scored.metrics.ra_target_share;
   return c;
 }
 
@@ -122,7 +126,12 @@ std::vector<std::size_t> rank_outcomes(std::vector<StrategyOutcome>& outcomes, s
   if (!simulated) aim.aim = simulate::Aim::Time;
   const std::vector<std::size_t> order = simulate::rank_strategies(scores, aim);
   const std::vector<int> rank = simulate::ranks_from_order(order);
-  for (std::size_t i = 0; i < outcomes.size(); ++i) outcomes[i].rank = rank[i];
+  const std::vector<double> regret = simulate::regrets(scores, order, aim);
+  for (std::size_t i = 0; i < outcomes.size(); ++i) {
+    outcomes[i].rank = rank[i];
+    outcomes[i].regret = regret[i];
+    outcomes[i].meets_spec = simulate::meets_spec(outcomes[i].score, aim);
+  }
   return order;
 }
 
@@ -132,6 +141,10 @@ OutcomeColumns outcome_columns(const std::vector<StrategyOutcome>& outcomes) {
     c.slots.push_back(static_cast<int>(o.strategy));
     c.ranks.push_back(o.rank);
     c.ra_median_um.push_back(o.score.ra_median_um);
+    c.time_min.push_back(o.time_kinematic_min);
+    c.regret.push_back(o.regret);
+    c.spec_share.push_back(o.score.spec_share);
+    c.meets_spec.push_back(o.meets_spec ? 1 : 0);
   }
   return c;
 }
@@ -163,8 +176,13 @@ std::vector<StrategyFigures> score_strategies(const ingest::Mesh& mesh, const Fr
     scores.push_back(strategy_score(slot, time, s, design.grid.cell));
     out.push_back({slot, scores.back(), 0});
   }
-  const std::vector<int> rank = simulate::ranks_from_order(simulate::rank_strategies(scores, aim));
-  for (std::size_t i = 0; i < out.size(); ++i) out[i].rank = rank[i];
+  const std::vector<std::size_t> order = simulate::rank_strategies(scores, aim);
+  const std::vector<int> rank = simulate::ranks_from_order(order);
+  const std::vector<double> regret = simulate::regrets(scores, order, aim);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    out[i].rank = rank[i];
+    out[i].regret = regret[i];
+  }
   return out;
 }
 

@@ -4,6 +4,7 @@
 #include "millnet/core/error.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <numeric>
 #include <tuple>
@@ -14,7 +15,8 @@ Aim parse_aim(std::string_view s) {
   if (s == "quality") return Aim::Quality;
   if (s == "time") return Aim::Time;
   if (s == "quality_within_time") return Aim::QualityWithinTime;
-  throw Error("aim \"" + std::string(s) + "\": expected quality, time or quality_within_time");
+  if (s == "time_to_spec") return Aim::TimeToSpec;
+  throw Error("aim \"" + std::string(s) + "\": expected time_to_spec, quality, time or quality_within_time");
 }
 
 const char* to_string(Aim aim) {
@@ -22,11 +24,87 @@ const char* to_string(Aim aim) {
     case Aim::Quality: return "quality";
     case Aim::Time: return "time";
     case Aim::QualityWithinTime: return "quality_within_time";
+    case Aim::TimeToSpec: return "time_to_spec";
   }
   return "?";
 }
 
+bool meets_spec(const StrategyScore& s, const AimParams& params) {
+  return s.spec_share >= 1 - params.out_of_spec_share - 1e-12;  // false on NaN
+}
+
+namespace {
+
+using Order = std::vector<std::size_t>;
+
+/// Reorders [first, last) of an order already sorted by its primary key into tie groups: the first
+/// remaining item leads a group of every later one that `ties` with it (the rest keep their order),
+/// and the group is sorted by `within`. O(n²).
+template <class Tie, class Within>
+void tie_groups(Order::iterator first, Order::iterator last, Tie ties, Within within) {
+  while (first != last) {
+    const std::size_t lead = *first;
+    const auto mid = std::stable_partition(first, last, [&](std::size_t i) { return ties(lead, i); });
+    std::stable_sort(first, mid, within);
+    first = mid;
+  }
+}
+
+/// TimeToSpec: (no gouge, meets) by time in near-tie groups (→ Ra p90); then those that miss by
+/// share in spec, then time; gouging ones last in the same order.
+Order rank_time_to_spec(const std::vector<StrategyScore>& scores, const AimParams& params) {
+  Order order(scores.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  auto gouges = [&](std::size_t i) { return scores[i].max_gouge_mm > params.gouge_tolerance_mm; };
+  auto meets = [&](std::size_t i) { return meets_spec(scores[i], params); };
+  auto share = [&](std::size_t i) { return std::isnan(scores[i].spec_share) ? 0.0 : scores[i].spec_share; };
+  auto key = [&](std::size_t i) {
+    return std::make_tuple(gouges(i), !meets(i), meets(i) ? 0.0 : -share(i), scores[i].time_min, scores[i].slot);
+  };
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
+  const auto good_end = std::find_if(order.begin(), order.end(), [&](std::size_t i) { return gouges(i) || !meets(i); });
+  tie_groups(
+      order.begin(), good_end,
+      [&](std::size_t lead, std::size_t i) {
+        return scores[i].time_min <= scores[lead].time_min * (1 + params.near_tie_share);
+      },
+      [&](std::size_t a, std::size_t b) {
+        return std::make_tuple(scores[a].ra_p90_um, scores[a].time_min, scores[a].slot) <
+               std::make_tuple(scores[b].ra_p90_um, scores[b].time_min, scores[b].slot);
+      });
+  return order;
+}
+
+/// Quality with an Ra target: (no gouge) by the share within the target in one-point tie groups
+/// (→ the faster); gouging ones last.
+Order rank_ra_target(const std::vector<StrategyScore>& scores, const AimParams& params) {
+  Order order(scores.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  auto gouges = [&](std::size_t i) { return scores[i].max_gouge_mm > params.gouge_tolerance_mm; };
+  auto key = [&](std::size_t i) {
+    return std::make_tuple(gouges(i), -scores[i].ra_target_share, scores[i].time_min, scores[i].slot);
+  };
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
+  const auto good_end = std::find_if(order.begin(), order.end(), gouges);
+  tie_groups(
+      order.begin(), good_end,
+      [&](std::size_t lead, std::size_t i) {
+        return scores[lead].ra_target_share - scores[i].ra_target_share <= params.quality_tie_share + 1e-12;
+      },
+      [&](std::size_t a, std::size_t b) {
+        return std::make_tuple(scores[a].time_min, scores[a].slot) <
+               std::make_tuple(scores[b].time_min, scores[b].slot);
+      });
+  return order;
+}
+
+}  // namespace
+
 std::vector<std::size_t> rank_strategies(const std::vector<StrategyScore>& scores, const AimParams& params) {
+  if (params.aim == Aim::TimeToSpec) return rank_time_to_spec(scores, params);
+  if (params.aim == Aim::Quality && !scores.empty() &&
+      std::none_of(scores.begin(), scores.end(), [](const StrategyScore& s) { return std::isnan(s.ra_target_share); }))
+    return rank_ra_target(scores, params);
   std::vector<std::size_t> order(scores.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   auto gouges = [&](const StrategyScore& s) { return s.max_gouge_mm > params.gouge_tolerance_mm; };
@@ -54,10 +132,23 @@ std::vector<std::size_t> rank_strategies(const std::vector<StrategyScore>& score
         if (in_a != in_b) return in_a;
         return in_a ? quality_key(a) < quality_key(b) : time_key(a) < time_key(b);
       }
+      case Aim::TimeToSpec: break;  // ranked above
     }
     return false;
   });
   return order;
+}
+
+std::vector<double> regrets(const std::vector<StrategyScore>& scores, const std::vector<std::size_t>& order,
+                            const AimParams& params) {
+  std::vector<double> r(scores.size(), std::numeric_limits<double>::quiet_NaN());
+  if (order.empty()) return r;
+  const StrategyScore& best = scores.at(order.front());
+  if (best.max_gouge_mm > params.gouge_tolerance_mm) return r;
+  if (params.aim == Aim::TimeToSpec && !meets_spec(best, params)) return r;
+  if (!(best.time_min > 0)) return r;
+  for (std::size_t i = 0; i < scores.size(); ++i) r[i] = scores[i].time_min / best.time_min - 1;
+  return r;
 }
 
 std::vector<int> ranks_from_order(const std::vector<std::size_t>& order) {

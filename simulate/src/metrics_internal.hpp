@@ -6,6 +6,7 @@
 //   roughness.cpp        the Ra map and its statistics
 #include "millnet/simulate/zmap.hpp"
 
+#include <cstdint>
 #include <vector>
 
 namespace millnet::simulate::metrics {
@@ -18,8 +19,9 @@ namespace millnet::simulate::metrics {
 /// scallop and uncut (definitions in zmap.hpp): fills out's rest, scallop and uncut areas and
 /// scallop_max_mm. `above` is (e − allowance)·cos(slope) per cell (NaN off the surface);
 /// opt.cutter must be set. The same for any thread count.
+/// When `rest` is not empty (sized to the cells), each cell it finds to be rest material is set to 1.
 void split_remaining(const ZMap& machined, const std::vector<double>& design, const std::vector<double>& above,
-                     const MetricsOptions& opt, SurfaceMetrics& out);
+                     const MetricsOptions& opt, SurfaceMetrics& out, std::vector<std::uint8_t>& rest);
 
 /// The Ra map, µm per cell (NaN off the surface, where a profile has fewer than 3 samples, and
 /// between the cells of the ra_every lattice); rows in parallel, bit-identical for any thread count.

@@ -140,7 +140,7 @@ bool between_passes(const ZMap& machined, const std::vector<double>& design, con
 // the max are reductions: the same for any thread count.
 // `above` is (e − allowance)·cos(slope) per cell (NaN off the surface), computed once by the caller.
 void split_remaining(const ZMap& machined, const std::vector<double>& design, const std::vector<double>& above,
-                     const MetricsOptions& opt, SurfaceMetrics& out) {
+                     const MetricsOptions& opt, SurfaceMetrics& out, std::vector<std::uint8_t>& rest_cell) {
   const GridSpec& spec = machined.spec();
   const tooling::Cutter& cutter = *opt.cutter;
   cutter.check();
@@ -169,6 +169,7 @@ void split_remaining(const ZMap& machined, const std::vector<double>& design, co
       if (!left(i)) continue;
       if (reach[iy / k * lx + ix / k] == 0) {
         ++rest;
+        if (!rest_cell.empty()) rest_cell[i] = 1;
       } else if (between_passes(machined, design, above, opt.tolerance_mm, steps, i)) {
         ++scallop;
         scallop_max = std::max(scallop_max, above[i]);

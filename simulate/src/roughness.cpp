@@ -131,6 +131,11 @@ void ra_statistics(const MetricsOptions& opt, SurfaceMetrics& out) {
   out.ra_cells = vals.size();
   const double sampled = static_cast<double>(vals.size() + out.not_machined_cells);
   if (sampled > 0) out.ra_not_machined_share = static_cast<double>(out.not_machined_cells) / sampled;
+  if (!std::isnan(opt.ra_target_um))  // not machined counts as outside the target
+    out.ra_target_share =
+        static_cast<double>(std::count_if(vals.begin(), vals.end(),
+                                          [&](float v) { return static_cast<double>(v) <= opt.ra_target_um; })) /
+        sampled;
   if (vals.empty()) return;
   double sum = 0;
   for (const float v : vals) {

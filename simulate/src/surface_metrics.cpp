@@ -24,6 +24,9 @@ void check_inputs(const GridSpec& spec, const std::vector<double>& design, const
   if (!(opt.sampling_length_mm > 0)) throw Error("simulate: Ra sampling length must be > 0 mm");
   if (opt.ra_bins_um.empty() || !std::is_sorted(opt.ra_bins_um.begin(), opt.ra_bins_um.end()))
     throw Error("simulate: Ra bin edges must be a non-empty ascending list (um)");
+  if (!std::isnan(opt.spec_limit_mm) && !(opt.spec_limit_mm >= 0))
+    throw Error("simulate: the specification's limit must be >= 0 mm");
+  if (!std::isnan(opt.ra_target_um) && !(opt.ra_target_um > 0)) throw Error("simulate: the Ra target must be > 0 um");
   if (opt.ra_every < 1) throw Error("simulate: the Ra stride must be >= 1 cell");
   if (opt.reach_every < 1) throw Error("simulate: the rest-material block size must be >= 1 cell");
 }
@@ -94,6 +97,31 @@ void locate_gouges(const ZMap& machined, std::size_t first_gouge_cell, SurfaceMe
   }
 }
 
+// The surface specification's figures (SurfaceMetrics::spec_*): each cell the cutter can reach
+// (not rest) in spec, over the limit or not machined. One serial pass, O(cells): the same for any
+// thread count.
+void spec_figures(const ZMap& machined, const std::vector<double>& above, const std::vector<std::uint8_t>& rest,
+                  const MetricsOptions& opt, SurfaceMetrics& out) {
+  const auto& stamps = machined.stamps();
+  out.spec_measured = true;
+  for (std::size_t i = 0; i < above.size(); ++i) {
+    if (std::isnan(above[i]) || (!rest.empty() && rest[i] != 0)) continue;
+    ++out.spec_cells;
+    if (stamps[i] == 0) {
+      ++out.spec_not_machined_cells;
+    } else if (above[i] <= opt.spec_limit_mm) {
+      ++out.in_spec_cells;
+    } else {
+      ++out.over_spec_cells;
+      if (above[i] > out.over_spec_max_mm) {
+        out.over_spec_max_mm = above[i];
+        out.over_spec_cell = i;
+      }
+    }
+  }
+  if (out.spec_cells > 0) out.spec_share = static_cast<double>(out.in_spec_cells) / static_cast<double>(out.spec_cells);
+}
+
 }  // namespace
 
 namespace metrics {
@@ -130,13 +158,18 @@ SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& 
   SurfaceMetrics out;
   // 1. Deviation, gouge, remaining material. (e − allowance) along the normal per cell is kept
   // only when split_remaining needs it.
+  const bool spec = !std::isnan(opt.spec_limit_mm);
   std::vector<double> above;
-  if (opt.cutter) above.assign(design.size(), std::numeric_limits<double>::quiet_NaN());
+  if (opt.cutter || spec) above.assign(design.size(), std::numeric_limits<double>::quiet_NaN());
   const std::size_t first_gouge_cell = measure_deviation(machined, design, opt, out, above);
   // 2. The remaining material split into rest, scallop and uncut (with the cutter only).
-  if (opt.cutter) metrics::split_remaining(machined, design, above, opt, out);
+  std::vector<std::uint8_t> rest;
+  if (opt.cutter && spec) rest.assign(design.size(), 0);
+  if (opt.cutter) metrics::split_remaining(machined, design, above, opt, out, rest);
   locate_gouges(machined, first_gouge_cell, out);
-  // 3. The Ra map and its statistics.
+  // 3. The surface specification: in spec, over it, or not machined, over what the cutter reaches.
+  if (spec) spec_figures(machined, above, rest, opt, out);
+  // 4. The Ra map and its statistics.
   out.ra_bin_edges_um = opt.ra_bins_um;
   out.ra_share.assign(opt.ra_bins_um.size(), 0);
   if (!opt.ra_map) return out;

@@ -13,7 +13,11 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
+#include <numbers>
 #include <regex>
+#include <sstream>
+#include <utility>
 
 namespace millnet::testing {
 namespace {
@@ -86,6 +90,104 @@ TEST(CliFinish, AllStrategiesSimulatedWriteTheContractFilesAndLinuxCncAcceptsThe
     EXPECT_TRUE(fs::exists(out / f)) << f;
   const std::string csv = slurp(out / "dome.strategies.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 6) << csv;  // header + 5 ranked strategies
+}
+
+namespace {
+/// strategies.csv as rows of named cells (header keys).
+std::vector<std::map<std::string, std::string>> csv_rows(const std::string& text) {
+  std::vector<std::vector<std::string>> cells;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> row;
+    std::string cell;
+    bool quoted = false;
+    for (const char c : line) {
+      if (c == '"')
+        quoted = !quoted;
+      else if (c == ',' && !quoted)
+        row.push_back(std::exchange(cell, {}));
+      else
+        cell += c;
+    }
+    row.push_back(cell);
+    cells.push_back(row);
+  }
+  std::vector<std::map<std::string, std::string>> rows;
+  for (std::size_t r = 1; r < cells.size(); ++r) {
+    std::map<std::string, std::string> m;
+    for (std::size_t c = 0; c < cells[0].size() && c < cells[r].size(); ++c) m[cells[0][c]] = cells[r][c];
+    rows.push_back(m);
+  }
+  return rows;
+}
+}  // namespace
+
+// Issue 37 §2 as a user runs it: every strategy set up from one surface specification (here a
+// 0.02 mm scallop: a Ø2 ball's passes w = 2√(2·0.02 − 0.02²) = 0.3980 mm apart), ranked by the time
+// to meet it, each one's regret against the best; the paper's preset cuts the parameters as written.
+TEST(CliFinish, StrategiesSetUpFromOneSpecificationAreRankedByTheTimeToMeetIt) {
+  const fs::path d = fresh_dir("finish_spec");
+  const fs::path mesh = write_dome(d), cfg = write_config(d);
+  const auto r = run_millnet("finish --quiet --config '" + cfg.string() + "' --mesh '" + mesh.string() +
+                                 "' --strategy all --simulate --scallop 0.02 --out out",
+                             d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const double w = 2 * std::sqrt(2 * 0.02 - 0.02 * 0.02);
+  const double expect_stepover[] = {w * std::cos(std::numbers::pi / 6), w, w, 0.2 /* Z-level: no stepover of its own */,
+                                    w};
+  for (int k = 1; k <= 5; ++k) {
+    const auto j = nlohmann::json::parse(slurp(d / "out" / ("dome.s" + std::to_string(k) + ".metrics.json")));
+    EXPECT_EQ(j["params"]["from"], "spec") << k;
+    EXPECT_NEAR(j["params"]["stepover_mm"].get<double>(), expect_stepover[k - 1], 1e-9) << k;
+    if (k == 1 || k == 4) EXPECT_NEAR(j["params"]["step_down_mm"].get<double>(), w / 2, 1e-9) << k;
+    ASSERT_TRUE(j.contains("spec")) << k;
+    const double share = j["spec"]["share_in_spec"].get<double>();
+    EXPECT_GE(share, 0.0);
+    EXPECT_LE(share, 1.0);
+  }
+  EXPECT_NE(slurp(d / "out" / "dome.strategies.md").find("ranked by time_to_spec"), std::string::npos);
+  const auto rows = csv_rows(slurp(d / "out" / "dome.strategies.csv"));
+  ASSERT_EQ(rows.size(), 5u);
+  // The best meets the spec (the dome's slopes are gentle enough for equidistant or scallop mode);
+  // every strategy's regret is its time over the best's − 1; those that meet come first, by time
+  // up to the 2 % near-tie rule.
+  const auto& best = rows.front();
+  ASSERT_EQ(best.at("meets_spec"), "yes");
+  const double t_best = std::stod(best.at("time_kinematic_min"));
+  bool missed = false;
+  for (const auto& row : rows) {
+    SCOPED_TRACE(row.at("strategy"));
+    const double t = std::stod(row.at("time_kinematic_min"));
+    EXPECT_NEAR(std::stod(row.at("regret")), t / t_best - 1, 2e-4);
+    if (row.at("meets_spec") == "yes") {
+      EXPECT_FALSE(missed) << "a strategy that meets the spec ranked after one that misses it";
+      EXPECT_GE(t, t_best / 1.02);
+    } else {
+      missed = true;
+    }
+  }
+  // The paper's fixed settings: the parameters as written, ranked by the quality aim.
+  const fs::path paper = d / "paper.json";
+  std::ofstream(paper) << R"({"finish": {"params_from": "fixed", "aim": "quality"}, "simulate": {"cell_mm": 0.05}})";
+  const auto q = run_millnet("finish --quiet --config '" + paper.string() + "' --mesh '" + mesh.string() +
+                                 "' --strategy all --simulate --out paper",
+                             d);
+  ASSERT_EQ(q.code, 0) << q.err;
+  for (int k = 1; k <= 5; ++k) {
+    const auto j = nlohmann::json::parse(slurp(d / "paper" / ("dome.s" + std::to_string(k) + ".metrics.json")));
+    EXPECT_EQ(j["params"]["from"], "fixed");
+    EXPECT_EQ(j["params"]["stepover_mm"].get<double>(), 0.2);
+    EXPECT_EQ(j["params"]["step_down_mm"].get<double>(), 0.04);
+  }
+  EXPECT_NE(slurp(d / "paper" / "dome.strategies.md").find("ranked by quality"), std::string::npos);
+  // A stepover on the command line is the one cut, and the run says so.
+  const auto f = run_millnet(
+      "finish --config '" + cfg.string() + "' --mesh '" + mesh.string() + "' --strategy 2 --stepover 0.5 --out flag",
+      d);
+  ASSERT_EQ(f.code, 0) << f.err;
+  EXPECT_NE(f.err.find("not derived from /finish/spec"), std::string::npos) << f.err;
+  EXPECT_EQ(nlohmann::json::parse(slurp(d / "flag" / "dome.s2.metrics.json"))["params"]["stepover_mm"].get<double>(),
+            0.5);
 }
 
 TEST(CliFinish, BadInputGetsOneLineAndNoFiles) {

@@ -103,3 +103,69 @@ TEST(Aim, SlotsByRankListTheSlotsBestFirst) {
   EXPECT_THROW((void)slots_by_rank({1, 2}, {1}), millnet::Error);
   EXPECT_THROW((void)slots_by_rank({1, 2}, {1, 3}), millnet::Error);
 }
+
+namespace {
+StrategyScore spec_score(int slot, double time, double share, double p90 = 1.0, double gouge = 0) {
+  StrategyScore s = score(slot, 1.0, p90, time, gouge);
+  s.spec_share = share;
+  return s;
+}
+}  // namespace
+
+// Issue 37 §2, by hand: out-of-spec share 1 % ⇒ meeting the spec needs ≥ 99 % of the surface in it.
+TEST(Aim, TimeToSpecRanksTheStrategiesThatMeetTheSpecByTimeThenTheOthersByShare) {
+  AimParams p;
+  p.aim = Aim::TimeToSpec;
+  const std::vector<StrategyScore> s = {spec_score(1, 30, 0.995),  // meets, 30 min
+                                        spec_score(2, 10, 0.80),   // fastest, misses (80 %)
+                                        spec_score(3, 25, 0.990),  // meets exactly at 99 %, fastest of those that meet
+                                        spec_score(4, 5, 0.40),    // misses more
+                                        spec_score(5, 20, 1.0, 1.0, /*gouge*/ 0.05)};  // would win, but gouges
+  const std::vector<std::size_t> order = rank_strategies(s, p);
+  EXPECT_EQ(slots(s, order), (std::vector<int>{3, 1, 2, 4, 5}));
+  EXPECT_TRUE(meets_spec(s[2], p));
+  EXPECT_FALSE(meets_spec(s[1], p));
+  // Regret against the best (slot 3, 25 min): 30 / 25 − 1 = 0.2; 10 / 25 − 1 = −0.6 for the faster
+  // strategy that misses (faster, but not good enough).
+  const std::vector<double> r = regrets(s, order, p);
+  EXPECT_DOUBLE_EQ(r[2], 0.0);
+  EXPECT_DOUBLE_EQ(r[0], 0.2);
+  EXPECT_DOUBLE_EQ(r[1], -0.6);
+  EXPECT_DOUBLE_EQ(r[4], 20.0 / 25 - 1);
+}
+
+TEST(Aim, TimeToSpecNearTiesGoToTheLowerRaP90) {
+  AimParams p;
+  p.aim = Aim::TimeToSpec;
+  // 2 is 1.5 % slower than 1 (within 2 %) with a better p90; 3 is 3 % slower: a tie with neither.
+  const std::vector<StrategyScore> s = {spec_score(1, 20.0, 1.0, 1.4), spec_score(2, 20.3, 1.0, 1.2),
+                                        spec_score(3, 20.6, 1.0, 0.9)};
+  EXPECT_EQ(slots(s, rank_strategies(s, p)), (std::vector<int>{2, 1, 3}));
+  p.near_tie_share = 0.05;  // all three tie: p90 decides
+  EXPECT_EQ(slots(s, rank_strategies(s, p)), (std::vector<int>{3, 2, 1}));
+}
+
+TEST(Aim, NoRegretWhenNoStrategyMeetsTheSpec) {
+  AimParams p;
+  p.aim = Aim::TimeToSpec;
+  const std::vector<StrategyScore> s = {spec_score(1, 20, 0.9), spec_score(2, 10, 0.95)};
+  const std::vector<std::size_t> order = rank_strategies(s, p);
+  EXPECT_EQ(slots(s, order), (std::vector<int>{2, 1}));  // the larger share in spec first
+  for (double r : regrets(s, order, p)) EXPECT_TRUE(std::isnan(r));
+  // Without a measured specification nothing meets it.
+  EXPECT_FALSE(meets_spec(score(1, 1, 1, 1), p));
+}
+
+// The paper's quality aim read as Figures 9–10 do: the share of the surface within the Ra target
+// (not machined counts as outside), shares within one point go to the faster strategy.
+TEST(Aim, QualityWithAnRaTargetRanksByTheShareWithinItTiesToTheFaster) {
+  std::vector<StrategyScore> s = {score(1, 0.5, 0.9, 30), score(2, 1.2, 1.4, 10), score(3, 0.1, 0.2, 5),
+                                  score(4, 1.0, 1.1, 12)};
+  s[0].ra_target_share = 0.960;  // best share
+  s[1].ra_target_share = 0.955;  // within a point of 1, faster: first
+  s[2].ra_target_share = 0.300;  // smoothest median (untouched floors elsewhere), but little within the target
+  s[3].ra_target_share = 0.949;  // 1.1 points below 1: not a tie with 1's group
+  EXPECT_EQ(slots(s, rank_strategies(s, {})), (std::vector<int>{2, 1, 4, 3}));
+  s[2].ra_target_share = std::nan("");  // one without a share: the lexicographic median rule of before
+  EXPECT_EQ(slots(s, rank_strategies(s, {})), (std::vector<int>{3, 1, 4, 2}));
+}

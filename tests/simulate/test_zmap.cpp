@@ -742,3 +742,63 @@ TEST(ZMap, SurfaceLeftAtTheStockIsNotMachinedNotSmooth) {
   // Without the rule the median would be 0 (most cells flat at the stock): it is the scallop's.
   EXPECT_GT(m.ra_median_um, 0.5);
 }
+
+// Issue 37 §2: the share of a surface in specification, by hand. A Ø2 ball's raster on a plane,
+// passes p apart, leaves at distance d from a pass the height R − √(R² − d²): with the limit
+// L = scallop + form tolerance, the cells with d > d* = √(R² − (R − L)²) are over it.
+TEST(ZMap, TheShareInSpecOfABallRasterIsTheShareOfItsCuspsUnderTheLimit) {
+  const double R = 1, L = 0.010, cell = 0.004;
+  const GridSpec g{-0.5 * cell, -0.5 * cell, cell, 875, 875};  // centres on multiples of 0.004, to 3.5 mm
+  MetricsOptions o;
+  o.cutter = tooling::Cutter::ball(2 * R);
+  o.spec_limit_mm = L;
+  o.ra_map = false;
+  const double d_star = std::sqrt(R * R - (R - L) * (R - L));  // 0.14107 mm
+  // Passes 0.3 apart: cusps 0.0113 mm > L; over the limit on 2·(0.15 − d*) of every 0.3 mm.
+  ZMap wide = ZMap::flat(g, 0.5);
+  machine(wide, raster(-2, 6, -1.15, 0.3, 20, zero), tooling::Cutter::ball(2 * R));  // cusps on cell centres
+  const auto m = surface_metrics(wide, design_window(g, 1, 3, 1, 3, zero), o);
+  ASSERT_TRUE(m.spec_measured);
+  EXPECT_EQ(m.spec_cells, m.surface_cells);  // a plane: no rest material
+  EXPECT_EQ(m.in_spec_cells + m.over_spec_cells + m.spec_not_machined_cells, m.spec_cells);
+  EXPECT_EQ(m.spec_not_machined_cells, 0u);
+  const double over = 2 * (0.15 - d_star) / 0.3;  // 0.0596
+  EXPECT_NEAR(1 - m.spec_share, over, 2 * cell / 0.3);
+  EXPECT_NEAR(m.over_spec_max_mm, R - std::sqrt(R * R - 0.15 * 0.15), 1e-9);  // the cusp, 0.01131 mm
+  // Passes 0.2 apart (the spec's spacing for a 0.005 mm scallop): all of it in spec.
+  ZMap fine = ZMap::flat(g, 0.5);
+  machine(fine, raster(-2, 6, -1.2, 0.2, 30, zero), tooling::Cutter::ball(2 * R));
+  const auto f = surface_metrics(fine, design_window(g, 1, 3, 1, 3, zero), o);
+  EXPECT_EQ(f.spec_share, 1.0);
+  EXPECT_EQ(f.over_spec_cells, 0u);
+}
+
+// Surface the passes never reach is "not machined", never in spec; the ball's flank at the end of
+// the passes is over the limit. Passes end at x = 2; the design runs to x = 3.4 over a stock 0.5 mm
+// above it. Beyond x = 2 a cell at dy from the nearest pass (|dy| ≤ 0.1) is in spec to
+// x − 2 = √(d*² − dy²), and cut at all to √(r² − dy²), r = √(R² − (R − 0.5)²) where the flank
+// leaves the stock: over the limit between, not machined beyond. Averaged over dy, the reach of a
+// radius r is (1/0.2)∫√(r² − t²) dt over [−0.1, 0.1].
+TEST(ZMap, SurfaceThePassesNeverReachIsNotMachinedAndNotInSpec) {
+  const double R = 1, L = 0.010, cell = 0.0025;
+  const GridSpec g{-0.5 * cell, -0.5 * cell, cell, 1400, 1400};
+  ZMap zm = ZMap::flat(g, 0.5);
+  machine(zm, raster(-2, 2, -1.2, 0.2, 30, zero), tooling::Cutter::ball(2 * R));
+  MetricsOptions o;
+  o.spec_limit_mm = L;  // without the cutter: every surface cell judged
+  o.ra_map = false;
+  const auto m = surface_metrics(zm, design_window(g, 1, 3.4, 1, 3, zero), o);
+  auto reach = [](double r) {  // (1/0.2)·∫_{−0.1}^{0.1} √(r² − t²) dt, r ≥ 0.1
+    auto F = [r](double t) { return 0.5 * (t * std::sqrt(r * r - t * t) + r * r * std::asin(t / r)); };
+    return (F(0.1) - F(-0.1)) / 0.2;
+  };
+  const double d_star = reach(std::sqrt(R * R - (R - L) * (R - L)));     // 0.1281 mm
+  const double flank = reach(std::sqrt(R * R - (R - 0.5) * (R - 0.5)));  // 0.8641 mm
+  const double width = 2.4, n = static_cast<double>(m.spec_cells);
+  EXPECT_NEAR(m.spec_share, (1 + d_star) / width, 2 * cell / width);
+  EXPECT_NEAR(static_cast<double>(m.over_spec_cells) / n, (flank - d_star) / width, 2 * cell / width);
+  EXPECT_NEAR(static_cast<double>(m.spec_not_machined_cells) / n, (1.4 - flank) / width, 2 * cell / width);
+  EXPECT_LT(m.over_spec_max_mm, 0.5);  // nearly the stock's full allowance, just inside the flank
+  EXPECT_GT(m.over_spec_max_mm, 0.49);
+  EXPECT_GT(g.x(m.over_spec_cell % g.nx), 2 + d_star);
+}

@@ -127,4 +127,12 @@ struct FinishPlan {
 [[nodiscard]] std::vector<FinishPlan> plan_finish(const ingest::Mesh& mesh, const DropCutter& dropper,
                                                   const std::vector<Strategy>& strategies, const FinishParams& params);
 
+/// Several strategies, each with its own parameters (params[i] for strategies[i], e.g. derived from
+/// a surface specification: finish/spec.hpp). They must agree on the tool, the frame, the boundary
+/// and the limits (the first one's are used for the part's checks); a shared piece is reused only
+/// between strategies whose parameters for it agree. Throws millnet::Error when the counts differ.
+[[nodiscard]] std::vector<FinishPlan> plan_finish(const ingest::Mesh& mesh, const DropCutter& dropper,
+                                                  const std::vector<Strategy>& strategies,
+                                                  const std::vector<FinishParams>& params);
+
 }  // namespace millnet::finish

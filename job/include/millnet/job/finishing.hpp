@@ -22,6 +22,7 @@
 #include "millnet/tooling/cutter.hpp"
 
 #include <cstddef>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -36,6 +37,10 @@ struct SimParams {
   double sampling_length_mm = 0.8;  ///< Ra sampling length (ISO 4288)
   double ra_spacing_mm = 0.1;       ///< Ra centres this far apart (whole cells)
   std::vector<double> ra_bins_um{0, 0.4, 0.8, 1.6, 3.2, 6.3, 12.5, 25};
+  /// The surface specification's limit (finish::SurfaceSpec::limit_mm: scallop + form tolerance);
+  /// NaN: no specification, its figures not measured.
+  double spec_limit_mm = std::numeric_limits<double>::quiet_NaN();
+  double ra_target_um = std::numeric_limits<double>::quiet_NaN();  ///< the quality aim's Ra target; NaN: none
   WorkLimits limits;  ///< the z-map, design and metrics are checked against them first
 
   /// The surface metrics' options for a finished surface (nothing should be left: allowance 0),
@@ -102,6 +107,12 @@ struct StrategyOutcome {
   double max_depth_of_cut_mm = 0;
   simulate::StrategyScore score;  ///< what the aim ranks (time only when not simulated)
   int rank = 0;                   ///< 1-based by the aim, once ranked; 0 before
+  /// Its time / the best's time − 1, once ranked (simulate::regrets; NaN when no strategy is good
+  /// enough to measure against).
+  double regret = std::numeric_limits<double>::quiet_NaN();
+  bool meets_spec = false;  ///< once ranked: simulate::meets_spec
+  /// The parameters it was planned with (the spec's derived ones, or the fixed ones).
+  double stepover_mm = 0, step_down_mm = 0, scallop_mm = 0;
 };
 
 /// The outcome of a planned strategy, from its plan and program figures (not simulated yet).
@@ -118,6 +129,10 @@ std::vector<std::size_t> rank_outcomes(std::vector<StrategyOutcome>& outcomes, s
 struct OutcomeColumns {
   std::vector<int> slots, ranks;
   std::vector<double> ra_median_um;
+  std::vector<double> time_min;    ///< kinematic
+  std::vector<double> regret;      ///< NaN where unmeasured
+  std::vector<double> spec_share;  ///< NaN without a specification
+  std::vector<int> meets_spec;     ///< 1 / 0
 };
 [[nodiscard]] OutcomeColumns outcome_columns(const std::vector<StrategyOutcome>& outcomes);
 
@@ -125,7 +140,8 @@ struct OutcomeColumns {
 struct StrategyFigures {
   int slot = 0;
   simulate::StrategyScore score;
-  int rank = 0;  ///< 1-based, by the aim
+  int rank = 0;                                              ///< 1-based, by the aim
+  double regret = std::numeric_limits<double>::quiet_NaN();  ///< simulate::regrets
 };
 
 /// Every strategy of `plans` written in memory (`post`), machined and scored, then ranked by

@@ -12,15 +12,17 @@
 // foot): uncut area ≤ the smallest uncut area among the non-gouging strategies + complete_share ×
 // the surface area.
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace millnet::simulate {
 
-enum class Aim { Quality, Time, QualityWithinTime };
+enum class Aim { Quality, Time, QualityWithinTime, TimeToSpec };
 
-/// "quality" | "time" | "quality_within_time"; throws millnet::Error naming the accepted values.
+/// "quality" | "time" | "quality_within_time" | "time_to_spec"; throws millnet::Error naming the
+/// accepted values.
 [[nodiscard]] Aim parse_aim(std::string_view s);
 [[nodiscard]] const char* to_string(Aim aim);
 
@@ -33,24 +35,47 @@ struct StrategyScore {
   double surface_area_mm2 = 0;  ///< the scored surface (for the completeness margin)
   double max_gouge_mm = 0;      ///< deepest cut below the design surface (≥ 0)
   double time_min = 0;          ///< machining time (kinematic), min
+  /// Share of the machinable surface in the surface specification (SurfaceMetrics::spec_share);
+  /// NaN when no specification was measured.
+  double spec_share = std::numeric_limits<double>::quiet_NaN();
+  /// Share of the sampled surface with Ra ≤ the Ra target (SurfaceMetrics::ra_target_share); NaN: none.
+  double ra_target_share = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct AimParams {
   Aim aim = Aim::Quality;
   double time_budget_min = 60;  ///< QualityWithinTime only
   double gouge_tolerance_mm = 0.002;
-  double complete_share = 0.01;  ///< completeness margin, share of the surface area
+  double complete_share = 0.01;     ///< completeness margin, share of the surface area
+  double out_of_spec_share = 0.01;  ///< TimeToSpec: a strategy meets the spec with spec_share ≥ 1 − this
+  double near_tie_share = 0.02;     ///< TimeToSpec: times within this share of a faster one tie (→ Ra p90)
+  double quality_tie_share = 0.01;  ///< Quality with an Ra target: shares within one point tie (→ time)
 };
 
-/// Indices into `scores`, best first. Rules (ties broken by the next key, finally by slot):
-/// non-gouging first; then complete before incomplete (above); incomplete ones by uncut area;
-/// among the complete ones:
-///  * Quality: ra_median, ra_p90, uncut area, time;
-///  * Time: time, ra_median;
-///  * QualityWithinTime: those within the budget by Quality, then the others by time.
-/// O(n log n). Deterministic (a total order).
+/// Whether a strategy meets the surface specification: spec_share ≥ 1 − out_of_spec_share (false
+/// when no specification was measured).
+[[nodiscard]] bool meets_spec(const StrategyScore& s, const AimParams& params);
+
+/// Indices into `scores`, best first. Non-gouging strategies first, always. Then:
+///  * TimeToSpec (issue 37 §2): those that meet the specification (meets_spec), by time — where
+///    times are within near_tie_share of the fastest of a group, the group goes by Ra p90, then
+///    time; then those that miss it, by their share in spec (more first), then time;
+///  * Quality with an Ra target (ra_target_share known for all): by the share within the target,
+///    more first — shares within quality_tie_share of the group's best tie and go to the faster
+///    (the reading of the paper's Figures 9–10); no completeness rule: not-machined surface is
+///    outside the target already;
+///  * otherwise complete before incomplete (above), incomplete ones by uncut area, and among the
+///    complete ones — Quality: ra_median, ra_p90, uncut area, time; Time: time, ra_median;
+///    QualityWithinTime: those within the budget by Quality, then the others by time.
+/// Last ties by slot. O(n²) at worst for the tie groups (n = strategies, ≤ 8). Deterministic.
 [[nodiscard]] std::vector<std::size_t> rank_strategies(const std::vector<StrategyScore>& scores,
                                                        const AimParams& params);
+
+/// Each strategy's regret (issue 37 §2): its time / the time of the best (order[0]) − 1, so the
+/// best's is 0 and a strategy twice as long has 1. NaN for all when the best gouges, or with
+/// TimeToSpec misses the specification (no strategy is good enough to be measured against).
+[[nodiscard]] std::vector<double> regrets(const std::vector<StrategyScore>& scores,
+                                          const std::vector<std::size_t>& order, const AimParams& params);
 
 /// The 1-based rank of each item from an order of the items, best first (order[r] = the item at
 /// rank r + 1, a permutation of 0..n−1, e.g. rank_strategies'): rank[order[r]] = r + 1. O(n).

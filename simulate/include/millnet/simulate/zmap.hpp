@@ -185,6 +185,12 @@ struct MetricsOptions {
   /// holds material left, at the block's such cell nearest its centre; every cell left in the
   /// block takes that answer. The test samples the design under the cutter at the same stride.
   std::size_t reach_every = 5;
+  /// The surface specification (issue 37 §2): a cell is in spec when some move machined it and the
+  /// material it keeps over the design, along the normal ((e − allowance)·cos(slope)), is at most
+  /// spec_limit_mm (the spec's scallop + form tolerance). NaN: no specification, nothing measured.
+  double spec_limit_mm = std::numeric_limits<double>::quiet_NaN();
+  /// The Ra target, µm, of ra_target_share (the paper's quality aim read as a share). NaN: none.
+  double ra_target_um = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct SurfaceMetrics {
@@ -241,6 +247,22 @@ struct SurfaceMetrics {
   double ra_mean_um = 0;
   double ra_median_um = 0;
   double ra_p90_um = 0;
+  /// Share of the sampled surface (cells with an Ra and not-machined ones) with Ra ≤ the options'
+  /// ra_target_um: not-machined surface counts as outside. NaN without a target.
+  double ra_target_share = std::numeric_limits<double>::quiet_NaN();
+  /// The surface specification (options' spec_limit_mm), when one was given. The surface it is
+  /// judged over is the one the cutter can machine: every surface cell but the rest material (no
+  /// program with this cutter can reach it; without options.cutter, every surface cell). Each of
+  /// those cells is in spec, over the limit (machined, more material left than the spec allows:
+  /// cusps too high, uncut) or not machined (no move lowered it), exactly one of the three.
+  bool spec_measured = false;
+  std::size_t spec_cells = 0;  ///< the surface judged (cells)
+  std::size_t in_spec_cells = 0;
+  std::size_t over_spec_cells = 0;
+  std::size_t spec_not_machined_cells = 0;
+  double spec_share = 0;                  ///< in_spec_cells / spec_cells (0 when there is none)
+  double over_spec_max_mm = 0;            ///< the most material left over the design among the over-limit cells
+  std::size_t over_spec_cell = SIZE_MAX;  ///< where (the first such cell in row order on a tie)
 };
 
 /// The deviation map e = machined − design per cell (NaN where the design is NaN), for heat maps.

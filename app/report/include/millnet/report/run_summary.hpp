@@ -37,6 +37,10 @@ struct RunPart {
   std::vector<int> network_rank;     ///< per slot, 1-based; empty without a prediction
   std::vector<int> simulated_rank;   ///< per slot, 1-based, by the aim
   std::vector<double> ra_median_um;  ///< per slot
+  std::vector<double> time_min;      ///< per slot, kinematic
+  std::vector<double> regret;        ///< per slot: time / the simulated best's − 1 (NaN: unmeasured)
+  std::vector<double> spec_share;    ///< per slot: share of the surface in spec (NaN: none)
+  std::vector<int> meets_spec;       ///< per slot, 1 / 0
   double spearman = std::numeric_limits<double>::quiet_NaN();
 
   bool chained = false;  ///< roughing + the top strategy machined on one z-map
@@ -60,8 +64,16 @@ struct RunCounts {
   std::size_t correct = 0, labelled = 0, failures = 0;
   double mean_spearman = std::numeric_limits<double>::quiet_NaN();
   std::size_t spearman_parts = 0;
+  /// Parts finished with a prediction: where the pick is the simulated best, where the pick meets
+  /// the specification, and the mean regret of the pick over those where it is measured.
+  std::size_t pick_parts = 0, pick_is_best = 0, pick_meets_spec = 0, regret_parts = 0;
+  double mean_pick_regret = std::numeric_limits<double>::quiet_NaN();
 };
 [[nodiscard]] RunCounts run_counts(const RunSummary& s);
+
+/// The regret of the network's pick (its top slot) on a finished part: the simulated regret of
+/// that slot (NaN when it was not simulated, no prediction, or nothing met the specification).
+[[nodiscard]] double pick_regret(const RunPart& p);
 
 /// summary.md.
 [[nodiscard]] std::string run_summary_md(const RunSummary& s);
