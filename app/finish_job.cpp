@@ -185,8 +185,7 @@ job::StrategyOutcome strategy_outcome(const job::Part& part, const FinishSetting
   if (job.design) {  // the program as the machine gets it: the text written, read back
     const job::Scored s =
         job::score_program(*job.design, job.frame, written.program, job.params.tool, sim_params(settings));
-    if (preview_settings().enabled)
-      surface = preview_surface(s.machined, simulate::deviation(s.machined, job.design->heights));
+    if (preview_settings().enabled) surface = preview_surface(s.machined, job.design->heights);
     if (s.metrics.gouge_places_refuted > 0)
       info(base + ".nc: " + std::to_string(s.metrics.gouge_places_refuted) +
            " z-map gouge place(s) refuted by the exact check (cell artefacts; the z-map said " +
@@ -475,7 +474,7 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
       page.programs.push_back({fs::path(p.file).filename().string(), std::move(p.written)});
     page.tool = {last.diameter, last.profile_corner_radius(), last.describe()};
     frame_page(page, part, frame);
-    page.surface = preview_surface(z, e);
+    page.surface = preview_surface(z, design->heights);
     (void)write_program_preview(out / (stem + ".html"), std::move(page));
   }
   write_file_atomic(out / (stem + ".sim.json"), j.dump(2) + "\n");

@@ -17,9 +17,9 @@ void set_preview_part(report::PreviewInput& in, const ingest::Mesh& mesh, double
   in.part_F = mesh.F.cast<int>();
 }
 
-report::PreviewSurface preview_surface(const simulate::ZMap& z, const std::vector<double>& value,
+report::PreviewSurface preview_surface(const simulate::ZMap& z, const std::vector<double>& design,
                                        const std::string& name, const std::string& units) {
-  return report::zmap_surface(z, value, name, units);
+  return report::zmap_surface(z, design, g_preview.limits.max_surface_cells, name, units);
 }
 
 bool write_program_preview(const std::filesystem::path& html, report::PreviewInput in) {

@@ -24,8 +24,9 @@ void set_preview_settings(const PreviewSettings& s);
 /// The part as the page shows it: V shifted by z_shift in Z (program Z = part z + z_shift).
 void set_preview_part(report::PreviewInput& in, const ingest::Mesh& mesh, double z_shift = 0);
 
-/// The machined surface of a z-map with a value per cell (e.g. simulate::deviation), for the page.
-[[nodiscard]] report::PreviewSurface preview_surface(const simulate::ZMap& z, const std::vector<double>& value,
+/// The machined surface of a z-map coloured by its deviation from `design`, for the page: only the
+/// cells the page shows (report::zmap_surface).
+[[nodiscard]] report::PreviewSurface preview_surface(const simulate::ZMap& z, const std::vector<double>& design,
                                                      const std::string& name = "deviation, machined − design",
                                                      const std::string& units = "mm");
 

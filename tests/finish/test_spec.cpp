@@ -29,7 +29,7 @@ TEST(SurfaceSpec, EachStrategyDerivesItsOwnParameters) {
   const double w = 2 * std::sqrt(0.009975);
   const double c30 = std::cos(std::numbers::pi / 6), s30 = 0.5;
   const FinishParams slope = params_for_spec(Strategy::SlopeMode, spec, base);
-  EXPECT_NEAR(slope.stepover_mm, w * c30, 1e-12);  // 0.17299: passes w apart on a 30° slope
+  EXPECT_NEAR(slope.stepover_mm, w * c30, 1e-12);   // 0.17299: passes w apart on a 30° slope
   EXPECT_NEAR(slope.step_down_mm, w * s30, 1e-12);  // 0.09988: levels w apart on a 30° wall
   EXPECT_EQ(slope.chord_tolerance_mm, 0.005);
   const FinishParams raster = params_for_spec(Strategy::Raster, spec, base);

@@ -69,6 +69,9 @@ struct PreviewSurface {
   std::string layer = "machined surface";  ///< the layer's name (a height grid is not machined)
   std::string value_name = "deviation";    ///< legend title
   std::string units = "mm";
+  /// Taken every `source_stride`-th row and column of a source_rows × source_cols grid (zmap_surface
+  /// decimates as it copies: a page never shows more than its cell budget); the page notes it.
+  std::size_t source_rows = 0, source_cols = 0, source_stride = 1;
 };
 
 struct PreviewLimits {
@@ -110,9 +113,12 @@ struct PreviewPath {
 /// moves; helix: an arc that changes Z).
 [[nodiscard]] StepKind step_kind(int motion, const std::array<double, 3>& from, const std::array<double, 3>& to);
 
-/// The page's surface of a z-map with a value per cell (e.g. simulate::deviation; NaN past its end).
-[[nodiscard]] PreviewSurface zmap_surface(const simulate::ZMap& z, const std::vector<double>& value,
-                                          const std::string& name, const std::string& units);
+/// The page's surface of a z-map coloured by its deviation from `design` (machined − design per
+/// cell, NaN where the design is), every s-th row and column with s the smallest stride that keeps
+/// at most `max_cells` cells (what the page shows: the copy never holds the whole grid).
+/// O(max_cells).
+[[nodiscard]] PreviewSurface zmap_surface(const simulate::ZMap& z, const std::vector<double>& design,
+                                          std::size_t max_cells, const std::string& name, const std::string& units);
 
 /// Tessellates a program into display points, keeping at most `max_points`.
 [[nodiscard]] PreviewPath preview_path(const PreviewProgram& program, std::size_t max_points, double arc_step_deg);
