@@ -373,10 +373,10 @@ void finish_cutting_data(FinishSettings& s, const Json& config, const FinishTool
 
 }  // namespace
 
-std::vector<finish::FinishParams> FinishSettings::strategy_params(const std::vector<finish::Strategy>& strategies,
+std::vector<finish::FinishParams> FinishSettings::strategy_params(const std::vector<finish::Strategy>& which,
                                                                   const finish::FinishParams& base) const {
-  if (!params_from_spec) return std::vector<finish::FinishParams>(strategies.size(), base);
-  return finish::params_for_spec(strategies, spec, base);
+  if (!params_from_spec) return std::vector<finish::FinishParams>(which.size(), base);
+  return finish::params_for_spec(which, spec, base);
 }
 
 FinishSettings finish_settings(const Json& config, const FinishToolFlags& flags) {

@@ -94,7 +94,7 @@ struct FinishSettings {
   finish::SurfaceSpec spec;      ///< /finish/spec: what every simulated strategy is judged by
   bool params_from_spec = true;  ///< /finish/params_from "spec": each strategy derives its parameters
   /// Each strategy's parameters: `base` (the part's) with what it derives from the spec, or base.
-  [[nodiscard]] std::vector<finish::FinishParams> strategy_params(const std::vector<finish::Strategy>& strategies,
+  [[nodiscard]] std::vector<finish::FinishParams> strategy_params(const std::vector<finish::Strategy>& which,
                                                                   const finish::FinishParams& base) const;
   bool simulate = false;
   double stock_top_above_part_mm = 1;

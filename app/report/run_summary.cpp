@@ -186,7 +186,8 @@ RunCounts run_counts(const RunSummary& s) {
       ++c.labelled;
       c.correct += p.top == p.expected ? 1 : 0;
     }
-    c.failures += (p.predicted ? 0 : 1) + (p.roughed && !p.rough_ok ? 1 : 0) + (p.finished && !p.finish_ok ? 1 : 0);
+    c.failures +=
+        (p.predicted ? 0U : 1U) + (p.roughed && !p.rough_ok ? 1U : 0U) + (p.finished && !p.finish_ok ? 1U : 0U);
     if (p.finished && p.finish_ok && !p.network_rank.empty()) {
       rho_sum += p.spearman;
       ++c.spearman_parts;
@@ -194,9 +195,9 @@ RunCounts run_counts(const RunSummary& s) {
     const std::size_t ti = top_index(p);
     if (p.finished && p.finish_ok && p.predicted && ti < p.slots.size()) {
       ++c.pick_parts;
-      c.pick_is_best += simulated_best(p) == p.top ? 1 : 0;
+      c.pick_is_best += simulated_best(p) == p.top ? 1U : 0U;
       const bool meets = ti < p.meets_spec.size() && p.meets_spec[ti];
-      c.pick_meets_spec += meets ? 1 : 0;
+      c.pick_meets_spec += meets ? 1U : 0U;
       // A pick that misses the spec is faster for leaving work undone: its regret is not a gain.
       if (const double r = pick_regret(p);
           !std::isnan(r) && (meets || ti >= p.spec_share.size() || std::isnan(p.spec_share[ti]))) {

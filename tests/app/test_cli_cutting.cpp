@@ -143,7 +143,9 @@ TEST(CliCutting, LibraryToolInAluminiumRunsAtTheHandComputedSpeedAndFeed) {
   const double fmax = max_feed(nc);
   EXPECT_GT(fmax, 1432);
   EXPECT_LE(fmax, 3 * 1432 + 1e-9);
-  if (fs::exists("/usr/bin/rs274")) EXPECT_TRUE(millnet::testing::linuxcnc_accepts((d / "o" / "rect.nc").string()));
+  if (fs::exists("/usr/bin/rs274")) {
+    EXPECT_TRUE(millnet::testing::linuxcnc_accepts((d / "o" / "rect.nc").string()));
+  }
 }
 
 TEST(CliCutting, AWrittenFigureReplacesTheComputedOneAndSaysWhereItCameFrom) {

@@ -82,8 +82,9 @@ void expect_good_page(const fs::path& page, const fs::path& work, const std::vec
   cv::Scalar mean, sd;
   cv::meanStdDev(view, mean, sd);
   EXPECT_GT(sd[0] + sd[1] + sd[2], 6.0) << page << ": blank 3D view";
-  if (!path_colours.empty())
+  if (!path_colours.empty()) {
     EXPECT_GE(pixels_near(b.shot, path_colours, 24, x0), 30) << page << ": no path colour in the view";
+  }
 }
 
 std::vector<std::uint32_t> feed_colours() { return {report::kFeedRamp.begin(), report::kFeedRamp.end()}; }
