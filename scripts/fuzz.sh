@@ -4,21 +4,26 @@
 #   FUZZ_RUNS=N scripts/fuzz.sh TARGET|all   N inputs per target from seed 1 instead of a time
 #                                            budget: the same inputs on every machine (CI uses it,
 #                                            so that CI checks exactly what was run before landing)
-# Builds build-fuzz/ with clang first. Seeds: fuzz/seeds/<target>/ and the test corpus; the corpus
-# grown by a run stays in build-fuzz/corpus/<target> (not in git) and seeds the next run there.
+# Builds build-fuzz/ with clang first (FUZZ_BUILD_DIR=DIR: a build already configured with
+# -DMILLNET_FUZZ=ON instead, e.g. CI's sanitizer build, which carries the targets beside the tests).
+# Seeds: fuzz/seeds/<target>/ and the test corpus; the corpus grown by a run stays in
+# <build>/corpus/<target> (not in git) and seeds the next run there.
 # Exits non-zero on the first finding (crash, leak, timeout > 10 s, RSS > 2 GB, an exception other
-# than millnet::Error); the input is kept in build-fuzz/findings/.
+# than millnet::Error); the input is kept in <build>/findings/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 target=${1:?usage: scripts/fuzz.sh TARGET|all [SECONDS]}
 seconds=${2:-60}
 scripts/setup.sh
-# -O1 with line tables: libFuzzer's recommended optimisation, and half the sanitizers' compile time
-# of -O2 -g; findings still name file and line.
-CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
-  -DMILLNET_FUZZ=ON -DMILLNET_TESTS=OFF -DMILLNET_BENCH=OFF -DMILLNET_NATIVE=OFF >/dev/null
-cmake --build build-fuzz -j "${JOBS:-$(nproc)}" --target fuzz_all
+B=${FUZZ_BUILD_DIR:-build-fuzz}
+if [ -z "${FUZZ_BUILD_DIR:-}" ]; then
+  # -O1 with line tables: libFuzzer's recommended optimisation, and half the sanitizers' compile time
+  # of -O2 -g; findings still name file and line.
+  CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
+    -DMILLNET_FUZZ=ON -DMILLNET_TESTS=OFF -DMILLNET_BENCH=OFF -DMILLNET_NATIVE=OFF >/dev/null
+fi
+cmake --build "$B" -j "${JOBS:-$(nproc)}" --target fuzz_all
 if [ "$target" = all ]; then
   targets=$(cd fuzz && ls fuzz_*.cpp | sed 's/^fuzz_//; s/\.cpp$//')
 else
@@ -41,11 +46,11 @@ seed_dirs() {
 }
 export ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-mkdir -p build-fuzz/findings
+mkdir -p "$B"/findings
 status=0
 for t in $targets; do
-  [ -x "build-fuzz/fuzz/fuzz_$t" ] || { echo "fuzz: no target '$t' (see fuzz/)" >&2; exit 2; }
-  corpus=build-fuzz/corpus/$t
+  [ -x "$B/fuzz/fuzz_$t" ] || { echo "fuzz: no target '$t' (see fuzz/)" >&2; exit 2; }
+  corpus=$B/corpus/$t
   mkdir -p "$corpus"
   seeds=()
   [ -d "fuzz/seeds/$t" ] && seeds+=("fuzz/seeds/$t")
@@ -57,12 +62,12 @@ for t in $targets; do
     budget=(-max_total_time="$seconds")
     echo "== fuzz_$t: ${seconds} s" >&2
   fi
-  log=build-fuzz/fuzz_$t.log
-  if ! "build-fuzz/fuzz/fuzz_$t" "$corpus" "${seeds[@]}" "${budget[@]}" -timeout=10 \
+  log=$B/fuzz_$t.log
+  if ! "$B/fuzz/fuzz_$t" "$corpus" "${seeds[@]}" "${budget[@]}" -timeout=10 \
        -rss_limit_mb=2048 -malloc_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
-       -artifact_prefix=build-fuzz/findings/"$t"- >"$log" 2>&1; then
+       -artifact_prefix="$B"/findings/"$t"- >"$log" 2>&1; then
     tail -40 "$log" >&2
-    echo "fuzz: fuzz_$t found a problem; the input is in build-fuzz/findings/" >&2
+    echo "fuzz: fuzz_$t found a problem; the input is in $B/findings/" >&2
     status=1
     break
   fi
