@@ -375,20 +375,7 @@ void write_strategy_ranking(const std::string& stem, const FinishSettings& setti
   if (outcomes.size() < 2) return;
   const std::vector<std::size_t> order = job::rank_outcomes(outcomes, settings.aim);
   const simulate::Aim used = settings.simulate ? settings.aim.aim : simulate::Aim::Time;
-  for (const job::StrategyOutcome& o : outcomes) {  // where and how much a strategy misses the spec
-    const simulate::SurfaceMetrics& m = o.surface;
-    if (!o.simulated || !m.spec_measured || o.meets_spec) continue;
-    const double a = o.grid.cell * o.grid.cell;
-    std::string where;
-    if (m.over_spec_cell < o.grid.cells())
-      where = " by up to " + fixed(m.over_spec_max_mm, 3) + " mm at X " +
-              fixed(o.grid.x(m.over_spec_cell % o.grid.nx), 2) + " Y " +
-              fixed(o.grid.y(m.over_spec_cell / o.grid.nx), 2);
-    info(stem + ": strategy " + std::to_string(static_cast<int>(o.strategy)) +
-         " misses the specification: " + fixed(100 * m.spec_share, 1) + " % of the surface in spec (" +
-         fixed(static_cast<double>(m.over_spec_cells) * a, 1) + " mm² over it" + where + ", " +
-         fixed(static_cast<double>(m.spec_not_machined_cells) * a, 1) + " mm² not machined)");
-  }
+  for (const std::string& line : job::spec_misses(outcomes)) info(stem + ": " + line);  // where and how much
   const report::StrategyTable t =
       report::strategy_table(stem, simulate::to_string(used), outcomes, order, settings.simulate);
   write_file_atomic(out / (stem + ".strategies.csv"), t.csv);

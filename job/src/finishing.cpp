@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace millnet::job {
 
@@ -116,6 +117,22 @@ void add_simulation(StrategyOutcome& o, const Scored& scored, const simulate::Gr
   o.score = strategy_score(o.score.slot, o.time_kinematic_min, scored, grid.cell);
 }
 
+namespace {
+/// Ranks `scores` by the aim: each one's 1-based rank and regret, and the order best first.
+struct Ranked {
+  std::vector<std::size_t> order;
+  std::vector<int> rank;
+  std::vector<double> regret;
+};
+Ranked rank_scores(const std::vector<simulate::StrategyScore>& scores, const simulate::AimParams& aim) {
+  Ranked r;
+  r.order = simulate::rank_strategies(scores, aim);
+  r.rank = simulate::ranks_from_order(r.order);
+  r.regret = simulate::regrets(scores, r.order, aim);
+  return r;
+}
+}  // namespace
+
 std::vector<std::size_t> rank_outcomes(std::vector<StrategyOutcome>& outcomes, simulate::AimParams aim) {
   std::vector<simulate::StrategyScore> scores;
   bool simulated = !outcomes.empty();
@@ -124,15 +141,37 @@ std::vector<std::size_t> rank_outcomes(std::vector<StrategyOutcome>& outcomes, s
     simulated = simulated && o.simulated;
   }
   if (!simulated) aim.aim = simulate::Aim::Time;
-  const std::vector<std::size_t> order = simulate::rank_strategies(scores, aim);
-  const std::vector<int> rank = simulate::ranks_from_order(order);
-  const std::vector<double> regret = simulate::regrets(scores, order, aim);
+  const Ranked r = rank_scores(scores, aim);
   for (std::size_t i = 0; i < outcomes.size(); ++i) {
-    outcomes[i].rank = rank[i];
-    outcomes[i].regret = regret[i];
+    outcomes[i].rank = r.rank[i];
+    outcomes[i].regret = r.regret[i];
     outcomes[i].meets_spec = simulate::meets_spec(outcomes[i].score, aim);
   }
-  return order;
+  return r.order;
+}
+
+std::vector<std::string> spec_misses(const std::vector<StrategyOutcome>& outcomes) {
+  auto fixed = [](double v, int decimals) {
+    char b[64];
+    std::snprintf(b, sizeof b, "%.*f", decimals, v);
+    return std::string(b);
+  };
+  std::vector<std::string> lines;
+  for (const StrategyOutcome& o : outcomes) {
+    const simulate::SurfaceMetrics& m = o.surface;
+    if (!o.simulated || !m.spec_measured || o.meets_spec) continue;
+    const double a = o.grid.cell * o.grid.cell;
+    std::string where;
+    if (m.over_spec_cell < o.grid.cells())
+      where = " by up to " + fixed(m.over_spec_max_mm, 3) + " mm at X " +
+              fixed(o.grid.x(m.over_spec_cell % o.grid.nx), 2) + " Y " +
+              fixed(o.grid.y(m.over_spec_cell / o.grid.nx), 2);
+    lines.push_back("strategy " + std::to_string(static_cast<int>(o.strategy)) +
+                    " misses the specification: " + fixed(100 * m.spec_share, 1) + " % of the surface in spec (" +
+                    fixed(static_cast<double>(m.over_spec_cells) * a, 1) + " mm² over it" + where + ", " +
+                    fixed(static_cast<double>(m.spec_not_machined_cells) * a, 1) + " mm² not machined)");
+  }
+  return lines;
 }
 
 OutcomeColumns outcome_columns(const std::vector<StrategyOutcome>& outcomes) {
@@ -176,12 +215,10 @@ std::vector<StrategyFigures> score_strategies(const ingest::Mesh& mesh, const Fr
     scores.push_back(strategy_score(slot, time, s, design.grid.cell));
     out.push_back({slot, scores.back(), 0});
   }
-  const std::vector<std::size_t> order = simulate::rank_strategies(scores, aim);
-  const std::vector<int> rank = simulate::ranks_from_order(order);
-  const std::vector<double> regret = simulate::regrets(scores, order, aim);
+  const Ranked r = rank_scores(scores, aim);
   for (std::size_t i = 0; i < out.size(); ++i) {
-    out[i].rank = rank[i];
-    out[i].regret = regret[i];
+    out[i].rank = r.rank[i];
+    out[i].regret = r.regret[i];
   }
   return out;
 }

@@ -124,6 +124,10 @@ void add_simulation(StrategyOutcome& outcome, const Scored& scored, const simula
 /// can rank): sets each one's rank and returns their indices best first. O(n log n).
 std::vector<std::size_t> rank_outcomes(std::vector<StrategyOutcome>& outcomes, simulate::AimParams aim);
 
+/// One line per ranked, simulated outcome that misses the surface specification: its share in spec,
+/// the area over it (and where the most material is left) and the area not machined. O(outcomes).
+[[nodiscard]] std::vector<std::string> spec_misses(const std::vector<StrategyOutcome>& outcomes);
+
 /// The outcomes' slots, ranks and Ra medians as columns, in the outcomes' order (a run's summary
 /// sets the network's ranking beside them).
 struct OutcomeColumns {
