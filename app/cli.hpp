@@ -109,6 +109,7 @@ Registered register_finish(CLI::App& app);
 Registered register_simulate(CLI::App& app);
 Registered register_view(CLI::App& app);
 Registered register_tools(CLI::App& app);
+Registered register_job(CLI::App& app);
 
 /// Messages for the user on stderr (suppressed by --quiet, except errors and warnings).
 void info(const std::string& msg);

@@ -206,26 +206,26 @@ Registered register_simulate(CLI::App& app) {
   o->mesh_flags.add_to(sub);
   sub->add_option("--out", o->out, "output folder")->check(output_path())->required();
   add_common(sub, o->common);
-  return {
-      sub, [o]() {
-        const Json config = setup(o->common);
-        const FinishSettings s = finish_settings(config);
-        if (o->tools.size() != 1 && o->tools.size() != o->gcode.size())
-          throw Error("give one --tool for all programs or one per --gcode (" + std::to_string(o->gcode.size()) +
-                      " programs, " + std::to_string(o->tools.size()) + " tools)");
-        std::vector<ChainProgram> programs;
-        for (std::size_t i = 0; i < o->gcode.size(); ++i)  // each file read once, before any output
-          programs.push_back(read_chain_program(o->gcode[i], tool_arg(o->tools[o->tools.size() == 1 ? 0 : i], config)));
-        const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"], &config);
-        const job::Part part = load_part(o->mesh, prep);
-        const Json j = simulate_programs(part, part.name, std::move(programs), o->stock, s, o->out, o->save_stock);
-        info("simulate: Ra median " + j["ra_median_um"].dump() + " um, gouge " + j["max_gouge_mm"].dump() + " mm → " +
-             o->out);
-        if (!j.contains("gouge_failure")) return 0;
-        // A confirmed gouge is a failure (issue 37 §1); the outputs and the program's copy are written.
-        std::cerr << "millnet simulate: error: " << j["gouge_failure"].get<std::string>() << "\n";
-        return 1;
-      }};
+  return {sub, [o]() {
+            const Json config = setup(o->common);
+            const FinishSettings s = finish_settings(config);
+            if (o->tools.size() != 1 && o->tools.size() != o->gcode.size())
+              throw Error("give one --tool for all programs or one per --gcode (" + std::to_string(o->gcode.size()) +
+                          " programs, " + std::to_string(o->tools.size()) + " tools)");
+            std::vector<ChainProgram> programs;
+            for (std::size_t i = 0; i < o->gcode.size(); ++i)  // each file read once, before any output
+              programs.push_back(
+                  read_chain_program(o->gcode[i], tool_arg(o->tools[o->tools.size() == 1 ? 0 : i], config, true)));
+            const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"], &config);
+            const job::Part part = load_part(o->mesh, prep);
+            const Json j = simulate_programs(part, part.name, std::move(programs), o->stock, s, o->out, o->save_stock);
+            info("simulate: Ra median " + j["ra_median_um"].dump() + " um, gouge " + j["max_gouge_mm"].dump() +
+                 " mm → " + o->out);
+            if (!j.contains("gouge_failure")) return 0;
+            // A confirmed gouge is a failure (issue 37 §1); the outputs and the program's copy are written.
+            std::cerr << "millnet simulate: error: " << j["gouge_failure"].get<std::string>() << "\n";
+            return 1;
+          }};
 }
 
 }  // namespace millnet::app

@@ -49,6 +49,8 @@ simulate::ZMap stock_from_file(const std::string& file, const simulate::GridSpec
   return z;
 }
 
+}  // namespace
+
 Json sim_metrics_json(const simulate::SurfaceMetrics& m, const simulate::GridSpec& grid) {
   Json j;
   j["max_gouge_mm"] = m.max_gouge_mm;
@@ -92,6 +94,8 @@ Json sim_metrics_json(const simulate::SurfaceMetrics& m, const simulate::GridSpe
   }
   return j;
 }
+
+namespace {
 
 /// A map over the z-map grid as a heat-map PNG with the footprint's extent.
 void grid_png(const fs::path& path, const std::vector<double>& values, const simulate::GridSpec& g,

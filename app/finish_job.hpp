@@ -64,6 +64,10 @@ void write_strategy_ranking(const std::string& stem, const FinishSettings& setti
 /// and scored, ranked by the aim (job::score_strategies). Writes nothing.
 [[nodiscard]] std::vector<job::StrategyFigures> label_part(const job::Part& part, const FinishSettings& settings);
 
+/// The simulated surface's keys of a metrics or .sim.json file (gouge, scallop, Ra, uncut, rest,
+/// the specification's share) over the z-map grid.
+[[nodiscard]] Json sim_metrics_json(const simulate::SurfaceMetrics& m, const simulate::GridSpec& grid);
+
 /// The job::SimParams of the settings (with the run's work limits).
 [[nodiscard]] job::SimParams sim_params(const FinishSettings& settings);
 

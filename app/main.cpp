@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
   add(register_finish);
   add(register_simulate);
   add(register_run);
+  add(register_job);
   add(register_view);
   add(register_tools);
   try {

@@ -315,9 +315,10 @@ tooling::Cutter parse_tool(const std::string& text) {
   return c;
 }
 
-tooling::Cutter tool_arg(const std::string& text, const Json& config) {
+tooling::Cutter tool_arg(const std::string& text, const Json& config, bool drills) {
   if (text.find(':') != std::string::npos) return parse_tool(text);
-  return cutter_of(tool_library(config).tool(text, "--tool"));
+  const tooling::Tool& t = tool_library(config).tool(text, "--tool");
+  return drills && t.type == tooling::ToolType::Drill ? t.cutter() : cutter_of(t);
 }
 
 namespace {

@@ -119,7 +119,8 @@ struct FinishToolFlags {
 [[nodiscard]] FinishSettings finish_settings(const Json& config, const FinishToolFlags& flags = {});
 
 /// A --tool value of finish or simulate: ball:D, flat:D, bull:D:r, or a tool library id.
-[[nodiscard]] tooling::Cutter tool_arg(const std::string& text, const Json& config);
+/// `drills`: a library drill is taken too (simulate machines what a drill cuts; finishing refuses one).
+[[nodiscard]] tooling::Cutter tool_arg(const std::string& text, const Json& config, bool drills = false);
 
 /// finish_settings with every strategy, simulated: how a part is labelled by simulation (dataset)
 /// and how run finishes its test parts.

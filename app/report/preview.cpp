@@ -125,6 +125,8 @@ struct RawPoint {
 
 }  // namespace
 
+std::string escape_html(std::string_view s) { return html_escape(s); }
+
 std::vector<std::size_t> decimate_indices(std::size_t n, std::size_t budget) {
   std::vector<std::size_t> out;
   if (n == 0) return out;
@@ -409,6 +411,8 @@ PreviewAssets preview_assets() {
 namespace {
 #include "preview_page.inc"
 }  // namespace
+
+const char* error_trap_script() { return kErrorTrap; }
 
 std::string preview_html(const PreviewInput& in) {
   const PreviewAssets a = preview_assets();

@@ -5,12 +5,15 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 namespace millnet::gcode {
@@ -221,14 +224,20 @@ private:
     if (ln.words.size() == 1 && ln.words[0].letter == 'O' && !seen_words_) ln.words.clear();  // O1000: a program number
     if (ln.words.empty()) {
       for (std::string& c : ln.comments) {
-        if (!seen_words_)
+        if (!seen_words_) {
           prog_.header.push_back(std::move(c));
-        else
+        } else if (std::optional<ToolChange> tc = manual_tool_change(c)) {
+          add(std::move(*tc));  // a dialect without M6 (GRBL): the change is this comment and an M0
+          manual_change_pause_ = true;
+        } else {
           add(Comment{std::move(c)});
+        }
       }
       return true;
     }
     seen_words_ = true;
+    const bool swallow_pause = std::exchange(manual_change_pause_, false) && ln.words.size() == 1 &&
+                               ln.words[0].letter == 'M' && is(ln.words[0].value, 0);
     const Words w = sort_words(ln);
     apply_modal(w);
     add_comments_and_tool_change(w, ln);
@@ -244,8 +253,29 @@ private:
       home(w);
     else if (any_axis || w.i_word || w.j_word || w.r_word)
       move(w.axis, w.i_word, w.j_word, w.r_word);
-    if (w.has_m(0) || w.has_m(1)) add(Pause{!w.has_m(0)});
+    if ((w.has_m(0) && !swallow_pause) || w.has_m(1)) add(Pause{!w.has_m(0)});
     return !(w.has_m(2) || w.has_m(30));
+  }
+
+  /// The comment the writer makes of a tool change where the dialect has no M6 (writer.cpp: "tool
+  /// change: load T<n>[ <description>], then resume", then M0), read back as that tool change; the
+  /// M0 right after it belongs to it. Anything else: nothing.
+  static std::optional<ToolChange> manual_tool_change(const std::string& c) {
+    static constexpr std::string_view kPrefix = "tool change: load T";
+    if (c.rfind(kPrefix, 0) != 0) return std::nullopt;
+    std::size_t k = kPrefix.size();
+    int n = 0;
+    const std::size_t digits = k;
+    while (k < c.size() && k - digits < 5 && std::isdigit(static_cast<unsigned char>(c[k])) != 0)
+      n = n * 10 + (c[k++] - '0');
+    if (k == digits || (k < c.size() && c[k] != ' ' && c[k] != ',')) return std::nullopt;
+    ToolChange tc;
+    tc.number = n;
+    std::string rest = c.substr(k);
+    if (const std::size_t e = rest.rfind(", then resume"); e != std::string::npos) rest.resize(e);
+    if (!rest.empty() && rest.front() == ' ') rest.erase(0, 1);
+    tc.description = std::move(rest);
+    return tc;
   }
 
   /// The line's words by kind, checked as LinuxCNC checks them: one word per letter, one code per
@@ -457,7 +487,8 @@ private:
   std::size_t line_no_ = 0;
   Program prog_;
   bool seen_words_ = false;
-  double scale_ = 1;  ///< mm per program unit
+  bool manual_change_pause_ = false;  ///< a manual tool change comment was just read: its M0 follows
+  double scale_ = 1;                  ///< mm per program unit
   bool incremental_ = false;
   std::optional<Motion> motion_;
   double feed_ = 0;  ///< mm/min

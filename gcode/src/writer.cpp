@@ -157,7 +157,7 @@ public:
         os_ << " (" << comment_text(t.description) << ")";
       }
       os_ << "\n";
-      if (d_.tool_length_offset) pending_length_offset_ = t.number;
+      if (d_.tool_length_offset) pending_length_offset_ = t.length_offset > 0 ? t.length_offset : t.number;
     } else {
       comment("tool change: load T" + std::to_string(t.number) +
               (t.description.empty() ? std::string() : " " + t.description) + ", then resume");

@@ -135,7 +135,7 @@ TEST(FanucDialect, ReadsBackToTheLinuxcncMovesWithinTheLeastIncrement) {
   }
   // The tool changes and spindle items come back too; write → read → write is the same text.
   std::size_t tools = 0;
-  for (const Item& i : f.items) tools += std::holds_alternative<ToolChange>(i) ? 1 : 0;
+  for (const Item& i : f.items) tools += std::holds_alternative<ToolChange>(i) ? 1U : 0U;
   EXPECT_EQ(tools, 2u);
   EXPECT_EQ(write(f, fanuc()), write(sample(), fanuc()));
 }

@@ -53,8 +53,10 @@ void check_gouge(ReplayResult& r, const ReplayPocket& pocket, double tool_radius
                  double step_mm = 0.05);
 
 /// LinuxCNC's own interpreter (`rs274 -g`, linuxcnc-uspace) accepts the program file.
-inline bool linuxcnc_accepts(const std::string& nc_path) {
-  const std::string cmd = "/usr/bin/rs274 -g '" + nc_path + "' </dev/null >/dev/null 2>&1";
+/// With `tool_table` (a LinuxCNC tool.tbl), the tools the program changes to are the table's.
+inline bool linuxcnc_accepts(const std::string& nc_path, const std::string& tool_table = {}) {
+  const std::string tools = tool_table.empty() ? std::string() : "-t '" + tool_table + "' ";
+  const std::string cmd = "/usr/bin/rs274 " + tools + "-g '" + nc_path + "' </dev/null >/dev/null 2>&1";
   return std::system(cmd.c_str()) == 0;
 }
 

@@ -41,6 +41,7 @@ struct Spindle {
 struct ToolChange {  ///< T<n> M6
   int number = 1;
   std::string description;  ///< written as a comment beside it
+  int length_offset = 0;    ///< the H register of the dialect's G43 after it; 0 = the tool's number
 };
 struct Pause {  ///< M0 (M1 when optional)
   bool optional = false;

@@ -155,4 +155,10 @@ struct PreviewAssets {
 };
 [[nodiscard]] PreviewAssets preview_assets();
 
+/// Text as HTML ("<" → "&lt;", quotes too): what every page of millnet writes text with.
+[[nodiscard]] std::string escape_html(std::string_view s);
+/// The script every page starts with: an error or unhandled rejection is written into the page
+/// ("MILLNET_PAGE_ERROR: …"), so that a headless browser's DOM dump shows it.
+[[nodiscard]] const char* error_trap_script();
+
 }  // namespace millnet::report

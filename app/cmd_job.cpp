@@ -1,0 +1,370 @@
+// millnet job --mesh FILE [--config FILE] [--post linuxcnc|grbl|fanuc] [--strategy K|best] --out DIR
+// One program for a part (issue 40 §2–3): drilling where the roughing pre-drills, roughing, then the
+// chosen finishing strategy, each operation with its tool change, in one work offset; the same
+// operations as programs of their own; the job machined from the block; the setup sheet.
+#include "cli.hpp"
+#include "finish_job.hpp"
+#include "settings.hpp"
+#include "text.hpp"
+
+#include "millnet/core/atomic_file.hpp"
+#include "millnet/core/error.hpp"
+#include "millnet/core/output_set.hpp"
+#include "millnet/core/sha256.hpp"
+#include "millnet/job/chain.hpp"
+#include "millnet/job/operations.hpp"
+#include "millnet/report/setup_sheet.hpp"
+#include "millnet/tooling/io/tool_tables.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace millnet::app {
+namespace fs = std::filesystem;
+
+namespace {
+
+struct JobOpts {
+  Common common;
+  MeshFlags mesh_flags;
+  std::string mesh, out, strategy = "best";
+  std::optional<std::string> post, finish_tool, rough_tool, material;
+};
+
+/// A tool as the job runs it: the configured one, or the library's one of the same kind that reaches
+/// (job::tool_that_reaches); `note` says which and why.
+tooling::Tool reaching(const ToolLibrary& lib, const tooling::Tool& configured, double depth_mm,
+                       const std::string& what, const std::string& file, std::vector<std::string>& notes) {
+  const tooling::Tool* t = job::tool_that_reaches(lib.tools, configured, depth_mm);
+  if (t == nullptr)
+    throw Error(file + ": the " + what + " tool " + configured.label() + " sticks out " +
+                fixed(configured.stickout_mm, 1) + " mm, the part reaches " + fixed(depth_mm, 1) +
+                " mm below the stock top, and no tool of its kind in the library reaches that deep: add one "
+                "(/cutting/tools_file) or choose another tool");
+  if (t->id != configured.id)
+    notes.push_back("the " + what + " tool " + configured.id + " (stick-out " + fixed(configured.stickout_mm, 1) +
+                    " mm) cannot reach " + fixed(depth_mm, 1) + " mm below the stock top: " + t->id +
+                    " (stick-out " + fixed(t->stickout_mm, 1) + " mm) runs it instead");
+  return *t;
+}
+
+/// The finishing strategy of the job: `choice` "best" = the simulated ranking's first (under the
+/// aim, which puts first a strategy that meets the spec without a gouge), else the slot given.
+job::StrategyOutcome chosen_strategy(const std::vector<job::StrategyOutcome>& outcomes, const std::string& file) {
+  auto best = std::min_element(outcomes.begin(), outcomes.end(), [](const auto& a, const auto& b) {
+    return (a.rank > 0 ? a.rank : 1 << 20) < (b.rank > 0 ? b.rank : 1 << 20);
+  });
+  if (best == outcomes.end()) throw Error(file + ": no finishing strategy was planned");
+  if (best->simulated && best->surface.gouged)
+    throw Error(file + ": the finishing strategy s" + std::to_string(static_cast<int>(best->strategy)) +
+                " gouges the part (" + fixed(best->surface.max_gouge_mm, 3) + " mm): no job is written");
+  return *best;
+}
+
+/// The cutting data of the drilling: the drill's own speed and feed in the material.
+job::DrillCut drill_cut(const tooling::Tool& drill, const Json& config, const std::optional<std::string>& material,
+                        double depth_mm) {
+  const CuttingSettings cs = cutting_settings(config, material);
+  const ToolLibrary lib = tool_library(config);
+  const tooling::CuttingData d = tooling::cutting_data(drill, lib.material(cs.material_id, cs.material_from),
+                                                       std::max(depth_mm, 0.1), cs.machine, cs.factors);
+  return {d.rpm, d.feed_plunge_mm_min};
+}
+
+double deepest_z(const gcode::Program& p) {
+  double z = 0;
+  for (const gcode::Item& i : p.items)
+    if (const auto* m = std::get_if<gcode::Move>(&i)) z = std::min(z, m->to[2]);
+  return z;
+}
+
+report::SetupTool setup_tool(const tooling::Tool& t) {
+  report::SetupTool s;
+  s.number = t.number;
+  s.length_offset = t.length_offset_register();
+  s.id = t.id;
+  s.description = t.description.empty() ? t.label() : t.description;
+  s.type = tooling::to_string(t.type);
+  s.diameter_mm = t.diameter_mm;
+  s.corner_radius_mm = t.corner_radius_mm;
+  s.stickout_mm = t.stickout_mm;
+  s.holder_diameter_mm = t.holder_diameter_mm;
+  s.holder_length_mm = t.holder_length_mm;
+  return s;
+}
+
+std::string share_text(double share) { return std::isnan(share) ? "–" : fixed(100 * share, 2) + " %"; }
+
+int run_job(const JobOpts& o) {
+  // 1. Settings and the part.
+  const Json config = setup(o.common);
+  FinishSettings fs_ = finish_settings(config, {o.finish_tool, o.material});
+  fs_.post = post_dialect(config, o.post);
+  fs_.simulate = true;
+  fs_.strategies = o.strategy == "best" ? finish::all_strategies() : std::vector{finish::parse_strategy(o.strategy)};
+  PocketFlags pflags;
+  pflags.tool_id = o.rough_tool;
+  pflags.material = o.material;
+  CuttingRecord rough_cutting;
+  rough::Params rp = rough_params(config, explicit_pocket_section(o.common.config), pflags, &rough_cutting);
+  const ToolLibrary lib = tool_library(config);
+  const ingest::PrepareOptions prep = o.mesh_flags.prepare(&config["rough"], &config);
+  job::Part part = load_part(o.mesh, prep);
+  const std::string stem = part.name, file = o.mesh;
+  const fs::path out = o.out;
+  const job::Frame frame = job::frame_of(part.mesh, rp.top_allowance_mm);
+  std::vector<std::string> notes;
+
+  // 2. Tools that reach the part's depth (never a silent deeper cut).
+  const double depth = frame.depth_below_top(frame.part_bottom);
+  const tooling::Tool mill = reaching(lib, rough_cutting.tool, depth, "roughing", file, notes);
+  rp.cut.tool = mill.cutter();
+  const tooling::Tool ball = reaching(lib, fs_.cutting.tool, depth, "finishing", file, notes);
+  fs_.cutting.tool = ball;
+  fs_.params.tool = ball.cutter();
+
+  OutputSet files;  // every file of the job, or none (core/output_set.hpp)
+  fs::create_directories(out);
+  // 3. Roughing, and the drilling its pre-drilled entries need.
+  info("job: " + stem + ": roughing with " + mill.label());
+  const rough::Result rough = rough::rough_mesh(part.mesh, rp);
+  if (rough.machining.status != pocket::PlanStatus::Ok) throw Error(file + ": roughing: " + rough.machining.message);
+  const tooling::Tool* drill = nullptr;
+  job::DrillCut dc;
+  if (job::predrills(rough.machining.program)) {
+    const double hole = -deepest_z(rough.machining.program);
+    drill = job::drill_for(lib.tools, mill, hole);
+    if (drill == nullptr)
+      throw Error(file + ": the roughing pre-drills its entries " + fixed(hole, 1) + " mm deep and no drill of Ø" +
+                  fixed(mill.diameter_mm / 2, 1) + "–" + fixed(mill.diameter_mm, 1) +
+                  " mm in the tool library reaches that deep: add one (/cutting/tools_file) or set /pocket/entry to "
+                  "helix or ramp");
+    dc = drill_cut(*drill, config, o.material, hole);
+  }
+  std::vector<job::Operation> ops = job::roughing_operations(rough.machining.program, mill, drill, dc);
+
+  // 4. Finishing: the strategies machined and ranked (their files in DIR/strategies), the chosen one's program.
+  info("job: " + stem + ": finishing with " + ball.label() + " (" + std::to_string(fs_.strategies.size()) +
+       " strateg" + (fs_.strategies.size() == 1 ? "y" : "ies") + " simulated)");
+  const PartFinish pf = finish_part(part, fs_, out / "strategies");
+  const job::StrategyOutcome pick = chosen_strategy(pf.outcomes, file);
+  const int slot = static_cast<int>(pick.strategy);
+  const fs::path pick_nc = out / "strategies" / program_file_name(stem + ".s" + std::to_string(slot), pick);
+  const ChainProgram finishing = read_chain_program(pick_nc, ball.cutter());
+  const std::string strategy_name = "s" + finish::strategy_name(pick.strategy);  // "s3 profile finishing, …"
+  ops.push_back({"finishing (" + strategy_name + ")", ball, finishing.written.program});
+  if (!pick.meets_spec && pf.outcomes.size() > 1)
+    notes.push_back("no strategy meets the surface specification; the job finishes with the best of them");
+  ops = job::numbered(std::move(ops));
+
+  // 5. The job program and one program per operation.
+  std::vector<std::string> header{"millnet job: " + stem, "part " + fs::path(file).filename().string(), frame.header(),
+                                  "work offset G54: X0 Y0 = the part footprint's lower-left corner, Z0 = stock top"};
+  for (const job::Operation& op : ops) header.push_back("T" + std::to_string(op.tool.number) + " " + op.tool.label());
+  const fs::path job_nc = out / (stem + ".job.nc");
+  const gcode::Written job_w = gcode::write_program(job_nc, job::job_program(ops, header), fs_.post);
+  std::vector<report::SetupFile> program_files{{job_nc.filename().string(), sha256_hex(job_w.text), job_w.text.size()}};
+  std::vector<std::string> op_files;
+  for (std::size_t i = 0; i < ops.size(); ++i) {
+    std::string name = ops[i].name.substr(0, ops[i].name.find(' '));
+    const fs::path p = out / (stem + ".op" + std::to_string(i + 1) + "." + name + ".nc");
+    const gcode::Written w = gcode::write_program(
+        p, job::operation_program(ops[i], {"millnet job: " + stem + ", operation " + std::to_string(i + 1) + " of " +
+                                               std::to_string(ops.size()) + ": " + ops[i].name,
+                                           frame.header()}),
+        fs_.post);
+    op_files.push_back(p.filename().string());
+    program_files.push_back({p.filename().string(), sha256_hex(w.text), w.text.size()});
+  }
+
+  // The job's tools as a LinuxCNC tool table (what the control loads before the job runs).
+  std::vector<tooling::Tool> job_tools;
+  for (const job::Operation& op : ops)
+    if (std::none_of(job_tools.begin(), job_tools.end(), [&](const auto& t) { return t.number == op.tool.number; }))
+      job_tools.push_back(op.tool);
+  const fs::path tbl = out / (stem + ".tool.tbl");
+  const std::string tbl_text = tooling::io::linuxcnc_tool_table(job_tools).text;
+  write_file_atomic(tbl, tbl_text);
+  program_files.push_back({tbl.filename().string(), sha256_hex(tbl_text), tbl_text.size()});
+
+  // 6. The job program machined from the block, tool by tool, on one z-map.
+  info("job: " + stem + ": machining the job program from the block");
+  const job::Design& design = *pf.design;
+  const job::SimParams sim = sim_params(fs_);
+  simulate::ZMap z = job::block_stock(design, sim);
+  const std::vector<job::ToolRun> runs = job::split_at_tool_changes(job_w.program);
+  std::map<int, const job::Operation*> by_number;
+  for (const job::Operation& op : ops) by_number[op.tool.number] = &op;
+  std::vector<job::ChainStep> steps;
+  for (const job::ToolRun& r : runs) {
+    const auto it = by_number.find(r.tool_number);
+    if (it == by_number.end()) continue;  // only comments before the first tool change
+    steps.push_back({&r.program, it->second->tool.cutter()});
+  }
+  if (steps.size() != ops.size())
+    throw Error(job_nc.string() + ": read back with " + std::to_string(steps.size()) + " tool changes, written with " +
+                std::to_string(ops.size()));
+  const job::ChainResult chain = job::machine_chain(z, design, steps, fs_.machine, sim);
+
+  // 7. The setup sheet's tools (reach and holder clearance over the part) and operations.
+  report::SetupSheet sheet;
+  sheet.title = stem + " — setup sheet";
+  sheet.part_file = file;
+  sheet.post = fs_.post.name;
+  sheet.material = fs_.cutting.material_id;
+  sheet.stock_x0 = rough.stock_x0, sheet.stock_y0 = rough.stock_y0;
+  sheet.stock_x1 = rough.stock_x1, sheet.stock_y1 = rough.stock_y1;
+  sheet.stock_bottom_z = frame.program_bottom();
+  sheet.part_width = frame.width, sheet.part_depth = frame.depth;
+  sheet.part_top_z = frame.part_top - frame.stock_top, sheet.part_bottom_z = frame.program_bottom();
+  sheet.grid = design.grid;
+  sheet.heights = &design.heights;
+  std::map<int, report::SetupTool> tools;
+  Json ops_json = Json::array();
+  for (std::size_t i = 0; i < ops.size(); ++i) {
+    const job::Operation& op = ops[i];
+    const job::HolderClearance hc = job::holder_clearance(*steps[i].program, op.tool, design.grid, design.heights);
+    report::SetupTool& t = tools.try_emplace(op.tool.number, setup_tool(op.tool)).first->second;
+    t.reach_needed_mm = std::max(t.reach_needed_mm, hc.reach_needed_mm);
+    t.holder_checked = hc.checked;
+    t.holder_clearance_mm = op.tool.stickout_mm - t.reach_needed_mm;
+    if (hc.checked && hc.min_clearance_mm < 0)
+      warn(file + ": operation " + std::to_string(i + 1) + " (" + op.name + "): the holder of " + op.tool.label() +
+           " comes " + fixed(-hc.min_clearance_mm, 2) + " mm into the part at X" + fixed(hc.worst[0], 2) + " Y" +
+           fixed(hc.worst[1], 2) + " Z" + fixed(hc.worst[2], 2) + ": a longer tool is needed");
+    const job::StepResult& st = chain.steps[i];
+    report::SetupOperation so;
+    so.index = static_cast<int>(i + 1);
+    so.name = op.name;
+    so.tool_number = op.tool.number;
+    so.deepest_z_mm = hc.deepest_tip_z;
+    so.max_depth_of_cut_mm = st.max_depth_of_cut_mm;
+    so.cutting_rapids = st.cutting_rapids;
+    so.time_min = st.stats.kinematic_time_min;
+    so.program = op_files[i];
+    if (op.name == "drilling") {
+      so.strategy = "plunge per pre-drilled entry";
+      so.rpm = dc.rpm, so.feed_mm_min = dc.feed_mm_min;
+    } else if (op.name == "roughing") {  // the roughing's own cutting data
+      so.strategy = "Z-level roughing";
+      so.rpm = rp.cut.spindle_rpm, so.feed_mm_min = rp.cut.feed_half;
+      so.stepover_mm = rp.cut.stepover, so.step_down_mm = rp.cut.step_down;
+    } else {
+      so.strategy = strategy_name;
+      so.rpm = fs_.params.spindle_rpm, so.feed_mm_min = fs_.params.feed_mm_min;
+      so.stepover_mm = pick.stepover_mm, so.step_down_mm = pick.step_down_mm;
+    }
+    sheet.deepest_z = std::min(sheet.deepest_z, hc.deepest_tip_z);
+    sheet.total_time_min += so.time_min;
+    sheet.operations.push_back(so);
+    ops_json.push_back(Json{{"operation", so.index},
+                            {"name", op.name},
+                            {"strategy", so.strategy},
+                            {"tool", Json{{"number", op.tool.number},
+                                          {"length_offset", op.tool.length_offset_register()},
+                                          {"id", op.tool.id},
+                                          {"label", op.tool.label()}}},
+                            {"spindle_rpm", so.rpm},
+                            {"feed_mm_min", so.feed_mm_min},
+                            {"stepover_mm", so.stepover_mm},
+                            {"step_down_mm", so.step_down_mm},
+                            {"deepest_z_mm", so.deepest_z_mm},
+                            {"reach_needed_mm", hc.reach_needed_mm},
+                            {"holder_checked", hc.checked},
+                            {"holder_clearance_mm", hc.checked ? Json(hc.min_clearance_mm) : Json(nullptr)},
+                            {"time_kinematic_min", so.time_min},
+                            {"time_feed_min", st.stats.feed_time_min},
+                            {"max_depth_of_cut_mm", st.max_depth_of_cut_mm},
+                            {"cutting_rapids", st.cutting_rapids},
+                            {"program", op_files[i]}});
+  }
+  for (auto& [n, t] : tools) sheet.tools.push_back(t);
+  for (const std::string& n : notes)
+    for (report::SetupTool& t : sheet.tools)
+      if (n.find(" " + t.id + " (stick-out") != std::string::npos) t.note = n;
+
+  // 8. The simulated result, job.json and the setup sheet.
+  const simulate::SurfaceMetrics& m = chain.metrics;
+  const double cell2 = design.grid.cell * design.grid.cell;
+  sheet.result = {
+      {"gouge", m.gouged ? "YES: " + fixed(m.max_gouge_mm, 3) + " mm at G-code line " +
+                               std::to_string(m.first_gouge_move.line)
+                         : "none (largest " + fixed(m.max_gouge_mm, 4) + " mm, within the tolerance)"},
+      {"surface specification", m.spec_measured ? share_text(m.spec_share) + " of " +
+                                                      fixed(static_cast<double>(m.spec_cells) * cell2, 0) +
+                                                      " mm² in spec (needs " +
+                                                      share_text(1 - fs_.spec.out_of_spec_share) + ")"
+                                                : "not measured"},
+      {"left above the design (uncut)", fixed(m.uncut_area_mm2, 1) + " mm²"},
+      {"rest material (corners tighter than the ball)", fixed(m.rest_area_mm2, 1) + " mm²"},
+      {"largest scallop", fixed(m.scallop_max_mm * 1000, 1) + " µm"},
+      {"Ra median / p90", fixed(m.ra_median_um, 2) + " / " + fixed(m.ra_p90_um, 2) + " µm"},
+      {"finishing chosen", strategy_name + (o.strategy == "best" ? " (first of the simulated ranking, strategies/" +
+                                                                        stem + ".strategies.md)"
+                                                                  : " (--strategy)")}};
+  sheet.files = program_files;
+  notes.push_back("times are kinematic (the /machine motion model); tool changes and the operator's setup are not "
+                  "counted");
+  if (drill != nullptr)
+    notes.push_back("the drill's tip goes to each hole's level; its point leaves a cone the end mill's plunge cuts");
+  sheet.notes = notes;
+  Json j{{"part", stem},
+         {"file", file},
+         {"post", fs_.post.name},
+         {"frame", Json{{"origin", "X0 Y0 = part footprint's lower-left corner, Z0 = stock top (G54)"},
+                        {"stock_mm", {sheet.stock_x0, sheet.stock_y0, sheet.stock_bottom_z, sheet.stock_x1,
+                                      sheet.stock_y1, 0.0}},
+                        {"deepest_z_mm", sheet.deepest_z}}},
+         {"operations", ops_json},
+         {"total_time_kinematic_min", sheet.total_time_min},
+         {"simulated", sim_metrics_json(m, design.grid)},
+         {"strategy", Json{{"slot", slot}, {"name", finish::strategy_name(pick.strategy)}, {"chosen_by", o.strategy}}},
+         {"notes", notes}};
+  Json fj = Json::array();
+  for (const report::SetupFile& f : program_files)
+    fj.push_back(Json{{"file", f.name}, {"sha256", f.sha256}, {"bytes", f.bytes}});
+  j["programs"] = fj;
+  write_file_atomic(out / (stem + ".job.json"), j.dump(2) + "\n");
+  report::write_setup_sheet(out / (stem + ".setup.html"), sheet);
+  files.commit();
+  info("job: " + stem + ": " + std::to_string(ops.size()) + " operations, " + fixed(sheet.total_time_min, 1) +
+       " min, gouge " + (m.gouged ? fixed(m.max_gouge_mm, 3) + " mm" : std::string("none")) + " → " +
+       job_nc.string());
+  if (m.gouged) {
+    std::cerr << "millnet job: error: " << job_nc.string() << " gouges the part by " << fixed(m.max_gouge_mm, 3)
+              << " mm (line " << m.first_gouge_move.line << ")\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+Registered register_job(CLI::App& app) {
+  auto o = std::make_shared<JobOpts>();
+  CLI::App* sub = app.add_subcommand(
+      "job", "one program for a part (drilling, roughing, finishing; tool changes) + its setup sheet, simulated");
+  sub->add_option("--mesh", o->mesh, "the part's mesh or CAD file")->required();
+  o->mesh_flags.add_to(sub);
+  sub->add_option("--strategy", o->strategy,
+                  "finishing strategy slot 1..5, or best (the simulated ranking's first under /finish/aim)")
+      ->check([](const std::string& v) -> std::string {
+        if (v == "best") return {};
+        try {
+          (void)finish::parse_strategy(v);
+          return v == "all" ? "expected a slot 1..5 or best, got all" : std::string();
+        } catch (const Error&) {
+          return "expected a slot 1..5 or best, got '" + v.substr(0, 40) + "'";
+        }
+      });
+  sub->add_option("--tool", o->finish_tool, "finishing tool (library id or ball:D, bull:D:r)");
+  sub->add_option("--rough-tool", o->rough_tool, "roughing tool (library id)");
+  sub->add_option("--material", o->material, "workpiece material id (configs/materials.json)");
+  add_post_flag(sub, o->post);
+  sub->add_option("--out", o->out, "output folder")->check(output_path())->required();
+  add_common(sub, o->common);
+  return {sub, [o]() { return run_job(*o); }};
+}
+
+}  // namespace millnet::app

@@ -1,0 +1,258 @@
+// A part's job: operations, their tools, one program (operations.hpp).
+#include "millnet/job/operations.hpp"
+
+#include "millnet/core/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <variant>
+
+namespace millnet::job {
+namespace {
+
+bool drill_move(const gcode::Item& item) {
+  const auto* m = std::get_if<gcode::Move>(&item);
+  return m != nullptr && m->op == 1;
+}
+bool is_move(const gcode::Item& item) { return std::holds_alternative<gcode::Move>(item); }
+
+/// Tools are the same tool when their library ids match (inline tools: their shape).
+bool same_tool(const tooling::Tool& a, const tooling::Tool& b) {
+  if (!a.id.empty() || !b.id.empty()) return a.id == b.id;
+  return a.type == b.type && a.diameter_mm == b.diameter_mm && a.corner_radius_mm == b.corner_radius_mm;
+}
+
+bool reaches(const tooling::Tool& t, double depth_mm) { return t.stickout_mm <= 0 || t.stickout_mm >= depth_mm; }
+
+}  // namespace
+
+bool predrills(const gcode::Program& rough) {
+  return std::any_of(rough.items.begin(), rough.items.end(), drill_move);
+}
+
+std::vector<Operation> roughing_operations(const gcode::Program& rough, const tooling::Tool& mill,
+                                           const tooling::Tool* drill, const DrillCut& cut) {
+  const auto first = std::find_if(rough.items.begin(), rough.items.end(), drill_move);
+  if (first == rough.items.end()) return {{"roughing", mill, rough}};
+  if (drill == nullptr) throw Error("job: the roughing program pre-drills its entries and no drill was given");
+  const auto last = std::find_if(rough.items.rbegin(), rough.items.rend(), drill_move).base();  // one past
+  // The drilling block: the comments and spindle items just before its first move and those just
+  // after its last (the "load a drill" comment, its spindle, the pause for the end mill).
+  auto begin = first;
+  while (begin != rough.items.begin() && !is_move(*(begin - 1))) --begin;
+  auto end = last;
+  while (end != rough.items.end() && !is_move(*end) && !std::holds_alternative<gcode::Pause>(*end)) ++end;
+  if (end != rough.items.end() && std::holds_alternative<gcode::Pause>(*end)) ++end;  // the pause goes too
+
+  Operation drilling{"drilling", *drill, {}};
+  drilling.program.header = {"pre-drilled entries of the roughing: " + drill->label()};
+  drilling.program.items.emplace_back(gcode::Spindle{gcode::SpindleDir::CW, cut.rpm});
+  for (auto it = first; it != last; ++it) {  // O(items)
+    if (const auto* c = std::get_if<gcode::Comment>(&*it); c != nullptr && c->text == "pre-drill") {
+      drilling.program.items.emplace_back(*c);
+      continue;
+    }
+    const auto* m = std::get_if<gcode::Move>(&*it);
+    if (m == nullptr) continue;  // the drill block's own spindle and comments
+    gcode::Move d = *m;
+    d.op = 0;
+    if (d.motion != gcode::Motion::Rapid) d.feed = cut.feed_mm_min;
+    drilling.program.items.emplace_back(d);
+  }
+  drilling.program.items.emplace_back(gcode::Spindle{gcode::SpindleDir::Off, cut.rpm});
+
+  Operation roughing{"roughing", mill, {}};
+  roughing.program.header = rough.header;
+  roughing.program.items.assign(rough.items.begin(), begin);
+  roughing.program.items.insert(roughing.program.items.end(), end, rough.items.end());
+  return {drilling, roughing};
+}
+
+const tooling::Tool* drill_for(const std::vector<tooling::Tool>& library, const tooling::Tool& mill, double depth_mm) {
+  const tooling::Tool* best = nullptr;
+  for (const tooling::Tool& t : library) {  // O(tools)
+    if (t.type != tooling::ToolType::Drill || t.diameter_mm > mill.diameter_mm ||
+        t.diameter_mm < mill.diameter_mm / 2 || !reaches(t, depth_mm) ||
+        (t.flute_length_mm > 0 && t.flute_length_mm < depth_mm))
+      continue;
+    if (best == nullptr || t.diameter_mm > best->diameter_mm ||
+        (t.diameter_mm == best->diameter_mm && t.stickout_mm < best->stickout_mm))
+      best = &t;
+  }
+  return best;
+}
+
+const tooling::Tool* tool_that_reaches(const std::vector<tooling::Tool>& library, const tooling::Tool& configured,
+                                       double depth_mm) {
+  if (reaches(configured, depth_mm)) return &configured;
+  const tooling::Tool* best = nullptr;
+  for (const tooling::Tool& t : library)  // O(tools)
+    if (t.type == configured.type && t.diameter_mm == configured.diameter_mm &&
+        t.cutter().profile_corner_radius() == configured.cutter().profile_corner_radius() &&
+        t.flutes == configured.flutes && t.material == configured.material && t.stickout_mm > 0 &&
+        t.stickout_mm >= depth_mm && (best == nullptr || t.stickout_mm < best->stickout_mm))
+      best = &t;
+  return best;
+}
+
+std::vector<Operation> numbered(std::vector<Operation> ops) {
+  int next = 0;
+  for (const Operation& op : ops) next = std::max({next, op.tool.number, op.tool.length_offset});
+  for (std::size_t i = 0; i < ops.size(); ++i) {
+    if (ops[i].tool.number > 0) continue;
+    int n = 0;
+    for (std::size_t j = 0; j < i; ++j)
+      if (same_tool(ops[j].tool, ops[i].tool)) n = ops[j].tool.number;
+    ops[i].tool.number = n > 0 ? n : ++next;
+  }
+  return ops;
+}
+
+namespace {
+void append_operation(gcode::Program& out, const Operation& op) {
+  if (op.tool.number <= 0)
+    throw Error("job: operation '" + op.name + "' has a tool without a number (" + op.tool.label() + ")");
+  out.items.emplace_back(gcode::ToolChange{op.tool.number, op.tool.label(), op.tool.length_offset_register()});
+  for (const std::string& h : op.program.header) out.items.emplace_back(gcode::Comment{h});
+  out.items.insert(out.items.end(), op.program.items.begin(), op.program.items.end());
+}
+}  // namespace
+
+gcode::Program operation_program(const Operation& op, std::vector<std::string> header) {
+  gcode::Program p;
+  p.header = std::move(header);
+  append_operation(p, op);
+  return p;
+}
+
+gcode::Program job_program(const std::vector<Operation>& ops, std::vector<std::string> header) {
+  gcode::Program p;
+  p.header = std::move(header);
+  for (std::size_t i = 0; i < ops.size(); ++i) {  // O(items)
+    p.items.emplace_back(gcode::Comment{"operation " + std::to_string(i + 1) + " of " + std::to_string(ops.size()) +
+                                        ": " + ops[i].name});
+    append_operation(p, ops[i]);
+  }
+  return p;
+}
+
+std::vector<ToolRun> split_at_tool_changes(const gcode::Program& program) {
+  std::vector<ToolRun> runs;
+  const bool lines = program.source_line.size() == program.items.size();
+  for (std::size_t i = 0; i < program.items.size(); ++i) {  // O(items)
+    if (const auto* tc = std::get_if<gcode::ToolChange>(&program.items[i])) {
+      runs.push_back({tc->number, {}});
+    } else if (runs.empty()) {
+      runs.push_back({0, {}});
+    }
+    gcode::Program& p = runs.back().program;
+    p.items.push_back(program.items[i]);
+    if (lines) p.source_line.push_back(program.source_line[i]);
+  }
+  // Comments before the first tool change (the first operation's name) are no run of their own.
+  if (runs.size() > 1 && runs.front().tool_number == 0 &&
+      std::none_of(runs.front().program.items.begin(), runs.front().program.items.end(), is_move))
+    runs.erase(runs.begin());
+  if (!runs.empty()) runs.front().program.header = program.header;
+  return runs;
+}
+
+HolderClearance holder_clearance(const gcode::Program& program, const tooling::Tool& tool,
+                                 const simulate::GridSpec& grid, const std::vector<double>& design, double coarse_mm,
+                                 double step_mm) {
+  HolderClearance hc;
+  // The part max-pooled onto coarse cells (−inf where no part), then dilated by the holder's radius
+  // plus a coarse cell's diagonal (a point anywhere in its cell, a part point anywhere in its own):
+  // conservative, it may report the holder nearer than it is by up to that diagonal sideways.
+  const double w = grid.cell * static_cast<double>(grid.nx), h = grid.cell * static_cast<double>(grid.ny);
+  const auto cx = static_cast<std::size_t>(std::ceil(w / coarse_mm)), cy = static_cast<std::size_t>(std::ceil(h / coarse_mm));
+  constexpr double kNone = -std::numeric_limits<double>::infinity();
+  std::vector<double> pooled(cx * cy, kNone);
+  for (std::size_t iy = 0; iy < grid.ny; ++iy)  // O(cells)
+    for (std::size_t ix = 0; ix < grid.nx; ++ix) {
+      const double z = design[iy * grid.nx + ix];
+      if (std::isnan(z)) continue;
+      const auto px = std::min(cx - 1, static_cast<std::size_t>((grid.x(ix) - grid.x0) / coarse_mm));
+      const auto py = std::min(cy - 1, static_cast<std::size_t>((grid.y(iy) - grid.y0) / coarse_mm));
+      pooled[py * cx + px] = std::max(pooled[py * cx + px], z);
+    }
+  const double radius = std::max(tool.holder_diameter_mm, tool.diameter_mm) / 2 + coarse_mm * std::numbers::sqrt2;
+  const auto k = static_cast<std::ptrdiff_t>(std::ceil(radius / coarse_mm));
+  std::vector<double> dilated(cx * cy, kNone);
+  for (std::size_t py = 0; py < cy; ++py)  // O(coarse cells × disk)
+    for (std::size_t px = 0; px < cx; ++px) {
+      double m = kNone;
+      for (std::ptrdiff_t dy = -k; dy <= k; ++dy)
+        for (std::ptrdiff_t dx = -k; dx <= k; ++dx) {
+          const auto qx = static_cast<std::ptrdiff_t>(px) + dx, qy = static_cast<std::ptrdiff_t>(py) + dy;
+          if (qx < 0 || qy < 0 || qx >= static_cast<std::ptrdiff_t>(cx) || qy >= static_cast<std::ptrdiff_t>(cy))
+            continue;
+          if (std::hypot(static_cast<double>(dx), static_cast<double>(dy)) * coarse_mm > radius) continue;
+          m = std::max(m, pooled[static_cast<std::size_t>(qy) * cx + static_cast<std::size_t>(qx)]);
+        }
+      dilated[py * cx + px] = m;
+    }
+  auto part_under = [&](double x, double y) {
+    const double fx = std::floor((x - grid.x0) / coarse_mm), fy = std::floor((y - grid.y0) / coarse_mm);
+    const double px = std::clamp(fx, 0.0, static_cast<double>(cx - 1)), py = std::clamp(fy, 0.0, static_cast<double>(cy - 1));
+    // Off the grid by more than the radius: nothing of the part under the holder.
+    if (std::abs(fx - px) * coarse_mm > radius || std::abs(fy - py) * coarse_mm > radius) return kNone;
+    return dilated[static_cast<std::size_t>(py) * cx + static_cast<std::size_t>(px)];
+  };
+  hc.deepest_tip_z = std::numeric_limits<double>::infinity();
+  hc.reach_needed_mm = kNone;
+  auto sample = [&](const gcode::Point3& p) {
+    hc.deepest_tip_z = std::min(hc.deepest_tip_z, p[2]);
+    const double top = part_under(p[0], p[1]);
+    if (top == kNone) return;
+    if (top - p[2] > hc.reach_needed_mm) {
+      hc.reach_needed_mm = top - p[2];
+      hc.worst = p;
+    }
+  };
+  gcode::Point3 pos{std::nan(""), std::nan(""), std::nan("")};
+  for (const gcode::Item& item : program.items) {  // O(moves × length / step)
+    const auto* m = std::get_if<gcode::Move>(&item);
+    if (m == nullptr) continue;
+    gcode::Point3 end = pos;
+    for (std::size_t a = 0; a < 3; ++a)
+      if (m->axes & (1U << a)) end[a] = m->to[a];
+    if (std::isnan(end[0]) || std::isnan(end[1]) || std::isnan(end[2])) {
+      pos = end;
+      continue;
+    }
+    if (!std::isnan(pos[0]) && !std::isnan(pos[1]) && !std::isnan(pos[2])) {
+      const bool arc = m->motion == gcode::Motion::ArcCW || m->motion == gcode::Motion::ArcCCW;
+      double a0 = 0, sweep = 0, r = 0;
+      if (arc) {
+        r = std::hypot(pos[0] - m->center[0], pos[1] - m->center[1]);
+        a0 = std::atan2(pos[1] - m->center[1], pos[0] - m->center[0]);
+        const double a1 = std::atan2(end[1] - m->center[1], end[0] - m->center[0]);
+        sweep = m->motion == gcode::Motion::ArcCCW ? a1 - a0 : a0 - a1;
+        while (sweep <= 1e-12) sweep += 2 * std::numbers::pi;  // a full circle when the ends meet
+      }
+      const double len = arc ? r * sweep : std::hypot(end[0] - pos[0], end[1] - pos[1]);
+      const auto n = static_cast<std::size_t>(std::ceil(len / step_mm));
+      for (std::size_t s = 1; s < n; ++s) {
+        const double f = static_cast<double>(s) / static_cast<double>(n);
+        if (arc) {
+          const double a = a0 + (m->motion == gcode::Motion::ArcCCW ? 1 : -1) * sweep * f;
+          sample({m->center[0] + r * std::cos(a), m->center[1] + r * std::sin(a), pos[2] + (end[2] - pos[2]) * f});
+        } else {
+          sample({pos[0] + (end[0] - pos[0]) * f, pos[1] + (end[1] - pos[1]) * f, pos[2] + (end[2] - pos[2]) * f});
+        }
+      }
+    }
+    sample(end);
+    pos = end;
+  }
+  if (hc.reach_needed_mm == kNone) hc.reach_needed_mm = 0;
+  if (!std::isfinite(hc.deepest_tip_z)) hc.deepest_tip_z = 0;
+  hc.checked = tool.stickout_mm > 0 && tool.holder_diameter_mm > 0;
+  hc.min_clearance_mm = tool.stickout_mm - hc.reach_needed_mm;
+  return hc;
+}
+
+}  // namespace millnet::job

@@ -1,0 +1,173 @@
+// millnet job (issue 40 §2–3): one program per part with a tool change per operation — drilling where
+// the roughing pre-drills, roughing, finishing — in every dialect; LinuxCNC's interpreter accepts the
+// LinuxCNC job, the GRBL grammar check the GRBL one, the Fanuc one reads back to the LinuxCNC moves;
+// the job.json checksums are the files' SHA-256 (sha256sum's); the job machined tool by tool gives
+// the figures of its operations' own programs machined one after the other by `millnet simulate`;
+// a tool that cannot reach is replaced by the library's one that can, or the job is refused.
+#include "app/cli_runner.hpp"
+#include "ingest/builders.hpp"
+#include "testing/gcode_replay.hpp"
+#include "testing/grbl_check.hpp"
+
+#include "millnet/gcode/reader.hpp"
+#include "millnet/ingest/io/mesh_io.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <variant>
+
+namespace millnet::testing {
+namespace {
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+/// A 30 × 24 mm block 8 mm tall with a bowl-shaped cavity 5 mm deep in its middle.
+fs::path write_cavity(const fs::path& dir) {
+  const auto m = testing_ingest::solid(
+      [](double x, double y) {
+        const double r2 = (x - 15) * (x - 15) / 81 + (y - 12) * (y - 12) / 49;
+        return r2 < 1 ? 3 + 5 * r2 : 8.0;
+      },
+      0, 30, 0, 24, 60, 48);
+  const fs::path p = dir / "cavity.stl";
+  ingest::save_stl_binary(m, p);
+  return p;
+}
+
+std::string sha256sum(const fs::path& f) {
+  const fs::path out = f.string() + ".sha256";
+  EXPECT_EQ(std::system(("sha256sum '" + f.string() + "' >'" + out.string() + "'").c_str()), 0);
+  return slurp(out).substr(0, 64);
+}
+
+/// The positions a program's moves go to, a move within 0.0015 mm of the last one kept left out (a
+/// Fanuc G43 H line restates Z after each tool change; its Z home at the end goes nowhere the
+/// program knows; a LinuxCNC step of 0.0005 mm may be none on the Fanuc's 0.001 mm increment).
+std::vector<gcode::Point3> positions(const fs::path& f) {
+  std::vector<gcode::Point3> out;
+  for (const gcode::Item& i : gcode::read(slurp(f), f.string()).items) {
+    const auto* m = std::get_if<gcode::Move>(&i);
+    if (m == nullptr || m->axes != gcode::kXYZ) continue;
+    auto near = [&](const gcode::Point3& q) {
+      return std::abs(q[0] - m->to[0]) <= 0.0015 && std::abs(q[1] - m->to[1]) <= 0.0015 &&
+             std::abs(q[2] - m->to[2]) <= 0.0015;
+    };
+    if (out.empty() || !near(out.back())) out.push_back(m->to);
+  }
+  return out;
+}
+
+constexpr const char* kFast = R"({"simulate": {"cell_mm": 0.1}, "finish": {"tool": {"id": "bn2-2f-carbide"}}})";
+
+TEST(CliJob, OneProgramPerPartInEveryDialectWithItsToolChangesChecksumsAndSetupSheet) {
+  const fs::path d = fresh_dir("cli_job");
+  const fs::path mesh = write_cavity(d);
+  std::ofstream(d / "fast.json") << kFast;
+  for (const std::string post : {"linuxcnc", "grbl", "fanuc"}) {
+    const auto r = run_millnet("job --quiet --no-preview --config fast.json --mesh '" + mesh.string() +
+                                   "' --strategy 1 --post " + post + " --out " + post,
+                               d);
+    ASSERT_EQ(r.code, 0) << post << ": " << r.err;
+  }
+  const fs::path lx = d / "linuxcnc";
+  const Json j = Json::parse(slurp(lx / "cavity.job.json"));
+  const auto& ops = j["operations"];
+  ASSERT_EQ(ops.size(), 3U) << j.dump(1);  // the cavity's entries are pre-drilled
+  EXPECT_EQ(ops[0]["name"], "drilling");
+  EXPECT_EQ(ops[0]["tool"]["id"], "dr10-hss");
+  EXPECT_EQ(ops[1]["name"], "roughing");
+  EXPECT_EQ(ops[1]["tool"]["id"], "em10-3f-carbide");
+  EXPECT_EQ(ops[2]["tool"]["id"], "bn2-2f-carbide");
+  // Tool changes in the operations' order, the library's numbers.
+  const std::string text = slurp(lx / "cavity.job.nc");
+  const auto t10 = text.find("T10 M6"), t3 = text.find("T3 M6"), t7 = text.find("T7 M6");
+  ASSERT_NE(t10, std::string::npos);
+  EXPECT_LT(t10, t3);
+  EXPECT_LT(t3, t7);
+  EXPECT_EQ(text.find("PRE-DRILL"), std::string::npos);  // a drilling operation, not a comment
+  const std::string tbl = (lx / "cavity.tool.tbl").string();  // the job's tools, as the control loads them
+  EXPECT_TRUE(linuxcnc_accepts((lx / "cavity.job.nc").string(), tbl));
+  for (int k = 1; k <= 3; ++k) {  // each operation's own program, with its tool change
+    const std::string name = ops[static_cast<std::size_t>(k - 1)]["program"];
+    EXPECT_TRUE(linuxcnc_accepts((lx / name).string(), tbl)) << name;
+  }
+  // Checksums: sha256sum's, for the job and each operation's program.
+  ASSERT_EQ(j["programs"].size(), 5U);  // the job, its three operations, the tool table
+  for (const auto& p : j["programs"]) EXPECT_EQ(p["sha256"], sha256sum(lx / p["file"].get<std::string>())) << p;
+  // GRBL: accepted by the grammar check, the tool changes as pauses.
+  const std::string g = slurp(d / "grbl" / "cavity.job.nc");
+  const auto errors = grbl_errors(g);
+  EXPECT_TRUE(errors.empty()) << grbl_report(errors);
+  EXPECT_EQ(g.find("M6"), std::string::npos);
+  // Fanuc: G43 H per tool, and the same moves as the LinuxCNC job within the 0.001 mm increment.
+  const std::string f = slurp(d / "fanuc" / "cavity.job.nc");
+  EXPECT_NE(f.find("G43 H10"), std::string::npos);
+  EXPECT_NE(f.find("G43 H3"), std::string::npos);
+  EXPECT_NE(f.find("G43 H7"), std::string::npos);
+  const auto a = positions(lx / "cavity.job.nc"), b = positions(d / "fanuc" / "cavity.job.nc");
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_GT(a.size(), 1000U);
+  double worst = 0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (std::size_t k = 0; k < 3; ++k) worst = std::max(worst, std::abs(a[i][k] - b[i][k]));
+  EXPECT_LE(worst, 0.0015 + 1e-9);
+  // The setup sheet names every tool and file.
+  const std::string sheet = slurp(lx / "cavity.setup.html");
+  for (const char* s : {"dr10-hss", "em10-3f-carbide", "bn2-2f-carbide", "cavity.job.nc", "part-picture"})
+    EXPECT_NE(sheet.find(s), std::string::npos) << s;
+  // The job machined tool by tool: no gouge, and the figures of the operations' own programs machined
+  // one after the other by simulate (an independent reading of the three files).
+  EXPECT_EQ(j["simulated"]["gouge_line"], nullptr);
+  double sum = 0;
+  for (const auto& o : ops) sum += o["time_kinematic_min"].get<double>();
+  EXPECT_NEAR(j["total_time_kinematic_min"].get<double>(), sum, 1e-9);
+  const auto s = run_millnet("simulate --quiet --no-preview --config fast.json --mesh '" + mesh.string() +
+                                 "' --gcode linuxcnc/cavity.op1.drilling.nc --gcode linuxcnc/cavity.op2.roughing.nc "
+                                 "--gcode linuxcnc/cavity.op3.finishing.nc --tool dr10-hss --tool em10-3f-carbide "
+                                 "--tool bn2-2f-carbide --out sim",
+                             d);
+  ASSERT_EQ(s.code, 0) << s.err;
+  const Json sim = Json::parse(slurp(d / "sim" / "cavity.sim.json"));
+  for (const char* k : {"uncut_area_mm2", "rest_area_mm2", "max_gouge_mm", "ra_median_um", "scallop_max_mm"})
+    EXPECT_DOUBLE_EQ(sim[k].get<double>(), j["simulated"][k].get<double>()) << k;
+  for (std::size_t i = 0; i < 3; ++i)
+    EXPECT_NEAR(sim["programs"][i]["time_kinematic_min"].get<double>(), ops[i]["time_kinematic_min"].get<double>(),
+                1e-9);
+}
+
+TEST(CliJob, AToolThatCannotReachIsReplacedByOneThatCanOrTheJobIsRefused) {
+  const fs::path d = fresh_dir("cli_job_reach");
+  const fs::path mesh = write_cavity(d);
+  // A shop library: the Ø2 ball also in a short version (5 mm out of the holder: the part is 9 mm deep).
+  std::ofstream(d / "shop.json") << R"({"tools": [{"id": "bn2-short", "description": "short ball", "type": "ball",
+    "diameter": 2, "flutes": 2, "flute_length": 3, "stickout": 5, "tool_material": "carbide", "number": 21}]})";
+  std::ofstream(d / "short.json") << R"({"simulate": {"cell_mm": 0.1}, "finish": {"tool": {"id": "bn2-short"}},
+    "cutting": {"tools_file": "shop.json"}})";
+  const auto r = run_millnet("job --no-preview --config short.json --mesh '" + mesh.string() +
+                                 "' --strategy 1 --out o",
+                             d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Json j = Json::parse(slurp(d / "o" / "cavity.job.json"));
+  EXPECT_EQ(j["operations"].back()["tool"]["id"], "bn2-2f-carbide");  // 45 mm out: the shortest that reaches
+  EXPECT_NE(j["notes"].dump().find("bn2-short"), std::string::npos) << j["notes"];
+  // Nothing of that kind reaches: one line naming the tool and the depth, nothing written.
+  std::ofstream(d / "shop2.json") << R"({"tools": [{"id": "bn3-short", "description": "short ball", "type": "ball",
+    "diameter": 3, "flutes": 2, "flute_length": 3, "stickout": 5, "tool_material": "carbide", "number": 22}]})";
+  std::ofstream(d / "short2.json") << R"({"simulate": {"cell_mm": 0.1}, "finish": {"tool": {"id": "bn3-short"}},
+    "cutting": {"tools_file": "shop2.json"}})";
+  const auto bad = run_millnet("job --no-preview --config short2.json --mesh '" + mesh.string() +
+                                   "' --strategy 1 --out o2",
+                               d);
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_NE(bad.err.find("bn3-short"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("9.0 mm below the stock top"), std::string::npos) << bad.err;
+  EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+  EXPECT_FALSE(fs::exists(d / "o2" / "cavity.job.nc"));
+}
+
+}  // namespace
+}  // namespace millnet::testing

@@ -1,0 +1,212 @@
+// job/operations: a roughing program's pre-drilling split into a drilling operation with the drill's
+// speed and feed, the job program's tool changes (T M6, G43 H in the Fanuc dialect) read back and
+// split tool by tool, the drill and the reaching tool chosen from a library, inline tools numbered,
+// and the holder clearance against hand-computed heights.
+#include "millnet/job/operations.hpp"
+
+#include "millnet/core/error.hpp"
+#include "millnet/gcode/reader.hpp"
+#include "millnet/gcode/writer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <variant>
+
+using namespace millnet;
+using gcode::Motion;
+
+namespace {
+
+gcode::Move mv(Motion m, gcode::Point3 to, double feed = 0, std::uint8_t op = 0) {
+  gcode::Move v;
+  v.motion = m;
+  v.to = to;
+  v.feed = feed;
+  v.op = op;
+  return v;
+}
+
+/// A roughing program as pocket's build_program lays out a pre-drilled entry: safe Z, the drilling
+/// block (its comment, spindle, holes, spindle off, the end mill's comment and pause), then a level.
+gcode::Program predrilled_rough() {
+  gcode::Program p;
+  p.header = {"roughing"};
+  p.items = {mv(Motion::Rapid, {0, 0, 5}),
+             gcode::Comment{"PRE-DRILL: load a drill of diameter 10 mm"},
+             gcode::Spindle{gcode::SpindleDir::CW, 9000},
+             gcode::Comment{"pre-drill"},
+             mv(Motion::Rapid, {20, 20, 5}, 0, 1),
+             mv(Motion::Rapid, {20, 20, 1}, 0, 1),
+             mv(Motion::Line, {20, 20, -6}, 300, 1),
+             mv(Motion::Rapid, {20, 20, 5}, 0, 1),
+             gcode::Spindle{gcode::SpindleDir::Off, 9000},
+             gcode::Comment{"change to the end mill of diameter 10 mm, then resume"},
+             gcode::Pause{false},
+             gcode::Spindle{gcode::SpindleDir::CW, 9000},
+             mv(Motion::Rapid, {20, 20, 1}),
+             mv(Motion::Line, {20, 20, -6}, 300),
+             mv(Motion::Line, {30, 20, -6}, 1200),
+             mv(Motion::Rapid, {30, 20, 5}),
+             gcode::Spindle{gcode::SpindleDir::Off, 9000}};
+  return p;
+}
+
+tooling::Tool tool(std::string id, tooling::ToolType type, double d, int number, double stickout = 0) {
+  tooling::Tool t;
+  t.id = std::move(id);
+  t.type = type;
+  t.diameter_mm = d;
+  t.corner_radius_mm = type == tooling::ToolType::Ball ? d / 2 : 0;
+  t.number = number;
+  t.stickout_mm = stickout;
+  return t;
+}
+
+template <class T>
+std::size_t count(const gcode::Program& p) {
+  std::size_t n = 0;
+  for (const gcode::Item& i : p.items) n += std::holds_alternative<T>(i) ? 1U : 0U;
+  return n;
+}
+
+}  // namespace
+
+TEST(JobOperations, PredrillingBecomesADrillingOperationAtTheDrillsSpeedAndFeed) {
+  const gcode::Program rough = predrilled_rough();
+  ASSERT_TRUE(job::predrills(rough));
+  const tooling::Tool mill = tool("em10", tooling::ToolType::Flat, 10, 3);
+  const tooling::Tool drill = tool("dr10", tooling::ToolType::Drill, 10, 10);
+  EXPECT_THROW((void)job::roughing_operations(rough, mill, nullptr, {}), Error);
+  const auto ops = job::roughing_operations(rough, mill, &drill, {1200, 240});
+  ASSERT_EQ(ops.size(), 2U);
+  EXPECT_EQ(ops[0].name, "drilling");
+  EXPECT_EQ(ops[0].tool.id, "dr10");
+  EXPECT_EQ(count<gcode::Move>(ops[0].program), 4U);  // the hole's four moves, nothing else
+  const auto& on = std::get<gcode::Spindle>(ops[0].program.items.front());
+  EXPECT_EQ(on.rpm, 1200);
+  for (const gcode::Item& i : ops[0].program.items) {
+    if (const auto* m = std::get_if<gcode::Move>(&i); m && m->motion == Motion::Line) {
+      EXPECT_EQ(m->feed, 240);
+    }
+  }
+  EXPECT_EQ(ops[1].name, "roughing");
+  EXPECT_EQ(count<gcode::Move>(ops[1].program), 5U);  // safe Z + the level's four
+  EXPECT_EQ(count<gcode::Pause>(ops[1].program), 0U);
+  EXPECT_EQ(count<gcode::Comment>(ops[1].program), 0U);
+  EXPECT_EQ(count<gcode::Spindle>(ops[1].program), 2U);  // the end mill's on and off
+  // Without pre-drilling: the roughing alone, untouched.
+  gcode::Program plain;
+  plain.items = {mv(Motion::Rapid, {0, 0, 5}), mv(Motion::Line, {0, 0, -1}, 100)};
+  const auto one = job::roughing_operations(plain, mill, nullptr, {});
+  ASSERT_EQ(one.size(), 1U);
+  EXPECT_EQ(one[0].program.items.size(), 2U);
+}
+
+TEST(JobOperations, TheJobProgramChangesToolsAndReadsBackToolByTool) {
+  const tooling::Tool mill = tool("em10", tooling::ToolType::Flat, 10, 3);
+  tooling::Tool drill = tool("dr10", tooling::ToolType::Drill, 10, 10);
+  drill.length_offset = 21;
+  auto ops = job::roughing_operations(predrilled_rough(), mill, &drill, {1200, 240});
+  gcode::Program finishing;
+  finishing.items = {gcode::Spindle{gcode::SpindleDir::CW, 18000}, mv(Motion::Rapid, {0, 0, 5}),
+                     mv(Motion::Line, {0, 0, -2}, 1900), mv(Motion::Rapid, {0, 0, 5}),
+                     gcode::Spindle{gcode::SpindleDir::Off, 0}};
+  ops.push_back({"finishing", tool("bn2", tooling::ToolType::Ball, 2, 7), finishing});
+  const gcode::Program job = job::job_program(ops, {"part"});
+  const std::string text = gcode::write(job, gcode::fanuc());
+  EXPECT_NE(text.find("T10 M6"), std::string::npos) << text;
+  EXPECT_NE(text.find("G43 H21"), std::string::npos) << text;  // the drill's own length-offset register
+  EXPECT_NE(text.find("T3 M6"), std::string::npos);
+  EXPECT_NE(text.find("G43 H3"), std::string::npos);
+  EXPECT_NE(text.find("T7 M6"), std::string::npos);
+  EXPECT_LT(text.find("T10 M6"), text.find("T3 M6"));
+  EXPECT_LT(text.find("T3 M6"), text.find("T7 M6"));
+  const gcode::Program back = gcode::read(text, "job.nc");
+  const auto runs = job::split_at_tool_changes(back);
+  ASSERT_EQ(runs.size(), 3U);
+  EXPECT_EQ(runs[0].tool_number, 10);
+  EXPECT_EQ(runs[1].tool_number, 3);
+  EXPECT_EQ(runs[2].tool_number, 7);
+  EXPECT_EQ(count<gcode::Move>(runs[0].program), 4U);
+  EXPECT_EQ(count<gcode::Move>(runs[1].program), 5U);
+  EXPECT_EQ(count<gcode::Move>(runs[2].program), 3U);
+  EXPECT_EQ(runs[1].program.items.size(), runs[1].program.source_line.size());
+  // One operation alone: its tool change first.
+  const std::string alone = gcode::write(job::operation_program(ops[2], {"finishing"}), gcode::linuxcnc());
+  EXPECT_NE(alone.find("T7 M6"), std::string::npos);
+  // A tool without a number cannot be changed to.
+  ops[2].tool.number = 0;
+  EXPECT_THROW((void)job::job_program(ops, {}), Error);
+  const auto renumbered = job::numbered(ops);
+  EXPECT_EQ(renumbered[2].tool.number, 22);  // above every number and H register in use
+}
+
+TEST(JobOperations, InlineToolsSharingAShapeShareANumber) {
+  std::vector<job::Operation> ops{{"a", tool("", tooling::ToolType::Ball, 2, 0), {}},
+                                  {"b", tool("em6", tooling::ToolType::Flat, 6, 4), {}},
+                                  {"c", tool("", tooling::ToolType::Ball, 2, 0), {}},
+                                  {"d", tool("", tooling::ToolType::Ball, 3, 0), {}}};
+  const auto n = job::numbered(ops);
+  EXPECT_EQ(n[0].tool.number, 5);
+  EXPECT_EQ(n[1].tool.number, 4);
+  EXPECT_EQ(n[2].tool.number, 5);
+  EXPECT_EQ(n[3].tool.number, 6);
+}
+
+TEST(JobOperations, TheDrillAndTheReachingToolComeFromTheLibrary) {
+  std::vector<tooling::Tool> lib{tool("dr8-long", tooling::ToolType::Drill, 8, 11, 80),
+                                 tool("dr10-short", tooling::ToolType::Drill, 10, 12, 15),
+                                 tool("dr10", tooling::ToolType::Drill, 10, 10, 100),
+                                 tool("dr10-mid", tooling::ToolType::Drill, 10, 13, 40),
+                                 tool("dr12", tooling::ToolType::Drill, 12, 14, 100),
+                                 tool("bn6-35", tooling::ToolType::Ball, 6, 8, 35),
+                                 tool("bn6-60", tooling::ToolType::Ball, 6, 15, 60),
+                                 tool("bn6-45", tooling::ToolType::Ball, 6, 16, 45)};
+  const tooling::Tool em10 = tool("em10", tooling::ToolType::Flat, 10, 3, 50);
+  // The largest drill not wider than the end mill that reaches, then the shortest.
+  EXPECT_EQ(job::drill_for(lib, em10, 30)->id, "dr10-mid");
+  EXPECT_EQ(job::drill_for(lib, em10, 10)->id, "dr10-short");
+  EXPECT_EQ(job::drill_for(lib, em10, 90)->id, "dr10");
+  EXPECT_EQ(job::drill_for(lib, em10, 101), nullptr);
+  EXPECT_EQ(job::drill_for(lib, tool("em3", tooling::ToolType::Flat, 3, 1), 5), nullptr);  // Ø8 is wider than Ø3
+  EXPECT_EQ(job::drill_for(lib, tool("em16", tooling::ToolType::Flat, 16, 1), 5)->id, "dr12");
+  // The configured ball reaches 30 mm; for 40 mm the shortest library ball Ø6 that does (45), for
+  // 61 none.
+  const tooling::Tool& short_ball = lib[5];
+  EXPECT_EQ(job::tool_that_reaches(lib, short_ball, 30), &short_ball);
+  EXPECT_EQ(job::tool_that_reaches(lib, short_ball, 40)->id, "bn6-45");
+  EXPECT_EQ(job::tool_that_reaches(lib, short_ball, 50)->id, "bn6-60");
+  EXPECT_EQ(job::tool_that_reaches(lib, short_ball, 61), nullptr);
+  EXPECT_EQ(job::tool_that_reaches(lib, tool("x", tooling::ToolType::Ball, 6, 0), 500)->id, "x");  // no stick-out
+}
+
+TEST(JobOperations, HolderClearanceAgainstAStep) {
+  // A 20 x 20 mm plate at Z -10 with a step up to Z -5 for x ≥ 10, cells of 0.1 mm.
+  simulate::GridSpec g;
+  g.cell = 0.1;
+  g.nx = g.ny = 200;
+  std::vector<double> design(g.cells());
+  for (std::size_t iy = 0; iy < g.ny; ++iy)
+    for (std::size_t ix = 0; ix < g.nx; ++ix) design[iy * g.nx + ix] = g.x(ix) >= 10 ? -5 : -10;
+  tooling::Tool t = tool("bn2", tooling::ToolType::Ball, 2, 7, 4);
+  t.holder_diameter_mm = 10;  // radius 5; conservative by the 0.5 mm cells' diagonal, 0.71 mm
+  auto run_at = [&](double x) {
+    gcode::Program p;
+    p.items = {mv(Motion::Rapid, {x, 2, 5}), mv(Motion::Line, {x, 2, -10}, 100), mv(Motion::Line, {x, 18, -10}, 100)};
+    return job::holder_clearance(p, t, g, design);
+  };
+  const job::HolderClearance far = run_at(3);  // the step 7 mm away: only the plate under the holder
+  EXPECT_TRUE(far.checked);
+  EXPECT_DOUBLE_EQ(far.deepest_tip_z, -10);
+  EXPECT_DOUBLE_EQ(far.reach_needed_mm, 0);
+  EXPECT_DOUBLE_EQ(far.min_clearance_mm, 4);
+  const job::HolderClearance near = run_at(6);  // 4 mm from the step: its top is under the holder
+  EXPECT_DOUBLE_EQ(near.reach_needed_mm, 5);
+  EXPECT_DOUBLE_EQ(near.min_clearance_mm, -1);  // stick-out 4 < 5: the holder hits the step
+  EXPECT_DOUBLE_EQ(near.worst[2], -10);
+  t.holder_diameter_mm = 0;
+  EXPECT_FALSE(job::holder_clearance({}, t, g, design).checked);
+}
