@@ -189,7 +189,7 @@ void front_view(std::ostringstream& o, const SetupSheet& s) {
     if (open)
       o << "<path id=\"part-silhouette\" d=\"" << d.str() << " L" << num(v.px(s.part_width), 1) << ' '
         << num(v.py(s.part_bottom_z), 1) << " L" << num(v.px(0), 1) << ' ' << num(v.py(s.part_bottom_z), 1)
-        << " Z\" fill=\"#3b528b\" fill-opacity=\"0.85\" stroke=\"#1f2f55\"/>";
+        << " Z\" fill=\"#3b528b\" stroke=\"#1f2f55\"/>";
   }
   const double xr = v.px(s.stock_x1) + 8;
   o << "<line x1=\"" << num(v.px(s.stock_x0) - 10, 1) << "\" y1=\"" << num(v.py(s.deepest_z), 1) << "\" x2=\""

@@ -271,10 +271,10 @@ private:
     if (k == digits || (k < c.size() && c[k] != ' ' && c[k] != ',')) return std::nullopt;
     ToolChange tc;
     tc.number = n;
-    std::string rest = c.substr(k);
-    if (const std::size_t e = rest.rfind(", then resume"); e != std::string::npos) rest.resize(e);
-    if (!rest.empty() && rest.front() == ' ') rest.erase(0, 1);
-    tc.description = std::move(rest);
+    std::string_view rest(c);
+    rest.remove_prefix(k < c.size() && c[k] == ' ' ? k + 1 : k);
+    if (const std::size_t e = rest.rfind(", then resume"); e != std::string_view::npos) rest = rest.substr(0, e);
+    tc.description = std::string(rest);
     return tc;
   }
 

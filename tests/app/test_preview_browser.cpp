@@ -148,6 +148,27 @@ TEST(PreviewBrowser, FinishPageWithSimulationShowsTheSurfaceAndPaths) {
   expect_good_page(d / "o" / "dome.s1.html", d, feed_colours());
 }
 
+TEST(PreviewBrowser, SetupSheetDrawsThePartStockAndOrigin) {
+  if (!have_chromium()) GTEST_SKIP() << kChromium << " is not installed (scripts/setup.sh installs chromium)";
+  const fs::path d = fresh_dir("preview_setup");
+  const fs::path stl = write_part_stl(d);
+  std::ofstream(d / "fast.json") << R"({"simulate": {"cell_mm": 0.1}})";
+  const auto r = run_millnet("job --quiet --no-preview --config fast.json --mesh '" + stl.string() +
+                                 "' --strategy 2 --out o",
+                             d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Browsed b = browse(d / "o" / "dome.setup.html", d);
+  EXPECT_EQ(b.dom.find("MILLNET_PAGE_ERROR"), std::string::npos) << b.dom;
+  EXPECT_NE(b.dom.find("data-rendered=\"1\""), std::string::npos);
+  ASSERT_FALSE(b.shot.empty());
+  // The part picture's ramp ends (viridis: the dome's base and top), the front view's silhouette,
+  // and the origin's X arrow.
+  EXPECT_GE(pixels_near(b.shot, {0x440154, 0x482878}, 12, 0), 100);
+  EXPECT_GE(pixels_near(b.shot, {0xfde725, 0xb5de2b}, 12, 0), 30);
+  EXPECT_GE(pixels_near(b.shot, {0x3b528b}, 12, 0), 100);
+  EXPECT_GE(pixels_near(b.shot, {0xcc0000}, 30, 0), 10);
+}
+
 TEST(PreviewBrowser, SummaryPageDrawsItsCharts) {
   if (!have_chromium()) GTEST_SKIP() << kChromium << " is not installed (scripts/setup.sh installs chromium)";
   const fs::path d = fresh_dir("preview_summary");

@@ -92,6 +92,29 @@ TEST(GrblDialect, EveryItemKindIsWrittenAsGrblAcceptsIt) {
   }
 }
 
+TEST(GrblDialect, AToolChangeReadsBackAsTheToolChangeItWasWrittenFrom) {
+  Program p;
+  p.items = {line_to(Motion::Rapid, {0, 0, 5}), ToolChange{7, "bn2: D2 mm ball"},
+             line_to(Motion::Rapid, {1, 0, 5}), Pause{false}, ToolChange{12, ""},
+             line_to(Motion::Rapid, {2, 0, 5})};
+  const std::string text = write(p, grbl());
+  const Program back = read(text, "g.nc");
+  std::vector<int> numbers;
+  std::size_t pauses = 0;
+  for (const Item& i : back.items) {
+    if (const auto* t = std::get_if<ToolChange>(&i)) numbers.push_back(t->number);
+    if (std::holds_alternative<Pause>(i)) ++pauses;
+  }
+  EXPECT_EQ(numbers, (std::vector<int>{7, 12}));
+  EXPECT_EQ(pauses, 1U);  // the M0 of each change belongs to it; the program's own pause stays
+  EXPECT_EQ(std::get<ToolChange>(back.items[1]).description, "bn2: D2 mm ball");
+  EXPECT_EQ(write(back, grbl()), text);  // written again: the same text
+  // A comment that merely mentions a tool change stays a comment.
+  const Program other = read("G0 Z5\n(tool change: load the vise)\nM0\n", "o.nc");
+  EXPECT_TRUE(std::holds_alternative<Comment>(other.items[1]));
+  EXPECT_TRUE(std::holds_alternative<Pause>(other.items[2]));
+}
+
 TEST(Dialects, TheRegistryNamesEachControllerOnce) {
   const std::vector<std::string> names = dialect_names();
   ASSERT_GE(names.size(), 2u);
