@@ -33,6 +33,7 @@ function(millnet_add_module name)
   endif()
   add_library(millnet_${name} STATIC ${M_SOURCES})
   add_library(millnet::${name} ALIAS millnet_${name})
+  millnet_unity(millnet_${name})
   # 3. includes, standard
   target_include_directories(millnet_${name} PUBLIC ${M_INCLUDE_DIR})
   target_compile_features(millnet_${name} PUBLIC cxx_std_20)
@@ -40,6 +41,13 @@ function(millnet_add_module name)
   millnet_warnings(millnet_${name})
   # 5. deps
   target_link_libraries(millnet_${name} PUBLIC ${M_PUBLIC_DEPS} PRIVATE ${M_PRIVATE_DEPS})
+endfunction()
+
+# MILLNET_UNITY: the target's sources compiled in batches (CMakeLists.txt says why).
+function(millnet_unity target)
+  if(MILLNET_UNITY)
+    set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 16)
+  endif()
 endfunction()
 
 function(millnet_warnings target)

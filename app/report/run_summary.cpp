@@ -10,7 +10,7 @@ namespace millnet::report {
 
 namespace {
 
-std::string fixed(double v, int decimals) {
+std::string summary_fixed(double v, int decimals) {
   std::ostringstream os;
   os << std::fixed << std::setprecision(decimals) << v;
   return os.str();
@@ -50,19 +50,19 @@ void decision(std::ostringstream& md, const RunSummary& s, const RunCounts& c) {
     auto at = [](const std::vector<double>& v, std::size_t i) { return i < v.size() ? v[i] : std::nan(""); };
     const double r = pick_regret(p);
     std::string regret = "-";
-    if (top && !std::isnan(r)) regret = fixed(100 * r, 1) + " %";
+    if (top && !std::isnan(r)) regret = summary_fixed(100 * r, 1) + " %";
     if (top && ti < p.meets_spec.size() && !p.meets_spec[ti] && !std::isnan(at(p.spec_share, ti)))
       regret += " (misses spec)";
     md << "| " << p.name << " | " << (p.predicted ? std::to_string(p.top) + " " + p.top_name : "-") << " | "
        << (best ? std::to_string(best) : "-") << " | " << (top ? std::to_string(p.simulated_rank[ti]) : "-") << " | "
-       << regret << " | " << (top && !std::isnan(at(p.spec_share, ti)) ? fixed(100 * at(p.spec_share, ti), 1) : "-")
-       << " | " << (bi < p.slots.size() ? fixed(at(p.time_min, bi), 1) : "-") << " | "
-       << (top ? fixed(at(p.time_min, ti), 1) : "-") << " |\n";
+       << regret << " | " << (top && !std::isnan(at(p.spec_share, ti)) ? summary_fixed(100 * at(p.spec_share, ti), 1) : "-")
+       << " | " << (bi < p.slots.size() ? summary_fixed(at(p.time_min, bi), 1) : "-") << " | "
+       << (top ? summary_fixed(at(p.time_min, ti), 1) : "-") << " |\n";
   }
   if (c.pick_parts)
     md << "\nThe pick is the simulated best on " << c.pick_is_best << " of " << c.pick_parts << " parts and meets "
        << "the specification on " << c.pick_meets_spec << "; mean regret of the pick "
-       << (c.regret_parts ? fixed(100 * c.mean_pick_regret, 1) + " % over the " + std::to_string(c.regret_parts) +
+       << (c.regret_parts ? summary_fixed(100 * c.mean_pick_regret, 1) + " % over the " + std::to_string(c.regret_parts) +
                                 " parts where it meets it"
                           : std::string("not measured"))
        << ".\n\n";
@@ -71,10 +71,10 @@ void decision(std::ostringstream& md, const RunSummary& s, const RunCounts& c) {
 void training(std::ostringstream& md, const RunSummary& s) {
   md << "## Training\n\n"
      << "Training set: " << s.vectors << " vectors from " << s.training_parts
-     << " parts. Penalty coefficient α = " << fixed(s.alpha, 4) << " chosen by leave-one-" << s.loo_mode << "-out"
+     << " parts. Penalty coefficient α = " << summary_fixed(s.alpha, 4) << " chosen by leave-one-" << s.loo_mode << "-out"
      << (s.alpha_edge != "none" ? " (at the " + s.alpha_edge + " edge of the scan)" : std::string()) << ".\n"
-     << "Verification accuracy: " << fixed(100 * s.accuracy_part, 1) << " % leaving out whole parts, "
-     << fixed(100 * s.accuracy_vector, 1) << " % leaving out single vectors (the paper's LOO; optimistic, "
+     << "Verification accuracy: " << summary_fixed(100 * s.accuracy_part, 1) << " % leaving out whole parts, "
+     << summary_fixed(100 * s.accuracy_vector, 1) << " % leaving out single vectors (the paper's LOO; optimistic, "
      << "since a vector's rotated siblings stay in).\n\n"
      << "![leave-one-out curve](model/loo_curve.png)\n\n";
 }
@@ -86,12 +86,12 @@ void prediction_table(std::ostringstream& md, const RunSummary& s, const RunCoun
     md << "| [" << p.name << "](parts/" << p.name << "/) | " << (p.expected ? std::to_string(p.expected) : "-")
        << " | ";
     if (p.predicted)
-      md << p.top << " " << p.top_name << " | " << fixed(100 * p.confidence, 0) << " % | "
-         << fixed(100 * p.consistency, 0) << " % | " << (p.unfamiliar ? "yes" : "no") << " | ";
+      md << p.top << " " << p.top_name << " | " << summary_fixed(100 * p.confidence, 0) << " % | "
+         << summary_fixed(100 * p.consistency, 0) << " % | " << (p.unfamiliar ? "yes" : "no") << " | ";
     else
       md << "error: " << p.predict_error << " | | | | ";
     if (p.roughed && p.rough_ok)
-      md << fixed(p.rough_time_min, 1) << " | " << fixed(p.retractions, 0) << " | " << fixed(p.cut_length_mm, 0)
+      md << summary_fixed(p.rough_time_min, 1) << " | " << summary_fixed(p.retractions, 0) << " | " << summary_fixed(p.cut_length_mm, 0)
          << " | " << p.levels << " |\n";
     else if (p.roughed)
       md << "error: " << p.rough_error << " | | | |\n";
@@ -130,17 +130,17 @@ void finishing_table(std::ostringstream& md, const RunSummary& s, const RunCount
     const std::size_t ti = top_index(p);
     const bool top = ti < p.slots.size();
     md << (p.network_rank.empty() ? "-" : ranking_text(p.slots, p.network_rank)) << " | "
-       << ranking_text(p.slots, p.simulated_rank) << " | " << (p.network_rank.empty() ? "-" : fixed(p.spearman, 2))
+       << ranking_text(p.slots, p.simulated_rank) << " | " << (p.network_rank.empty() ? "-" : summary_fixed(p.spearman, 2))
        << " | " << (top ? std::to_string(p.simulated_rank[ti]) : "-") << " | "
-       << (top ? fixed(p.ra_median_um[ti], 2) : "-") << " | " << fixed(best, 2) << " | ";
+       << (top ? summary_fixed(p.ra_median_um[ti], 2) : "-") << " | " << summary_fixed(best, 2) << " | ";
     if (p.chained)
-      md << fixed(p.chain_finisher_depth_of_cut_mm, 2) << " | " << fixed(p.chain_ra_median_um, 2) << " | "
-         << fixed(p.chain_uncut_mm2, 1) << " | " << fixed(p.chain_rest_mm2, 1) << " | " << fixed(p.chain_gouge_mm, 4)
+      md << summary_fixed(p.chain_finisher_depth_of_cut_mm, 2) << " | " << summary_fixed(p.chain_ra_median_um, 2) << " | "
+         << summary_fixed(p.chain_uncut_mm2, 1) << " | " << summary_fixed(p.chain_rest_mm2, 1) << " | " << summary_fixed(p.chain_gouge_mm, 4)
          << " |\n";
     else
       md << "- | - | - | - | - |\n";
   }
-  if (c.spearman_parts) md << "\nMean ρ over " << c.spearman_parts << " parts: " << fixed(c.mean_spearman, 2) << ".\n";
+  if (c.spearman_parts) md << "\nMean ρ over " << c.spearman_parts << " parts: " << summary_fixed(c.mean_spearman, 2) << ".\n";
 }
 
 void part_sections(std::ostringstream& md, const RunSummary& s) {
@@ -227,7 +227,7 @@ std::string run_summary_md(const RunSummary& s) {
   if (any_finished(s)) finishing_table(md, s, c);
   part_sections(md, s);
   md << "\n## Time per stage\n\n| stage | seconds |\n|---|---:|\n";
-  for (const auto& [stage, seconds] : s.timing_s) md << "| " << stage << " | " << fixed(seconds, 2) << " |\n";
+  for (const auto& [stage, seconds] : s.timing_s) md << "| " << stage << " | " << summary_fixed(seconds, 2) << " |\n";
   return md.str();
 }
 
@@ -251,11 +251,11 @@ SummaryPage run_summary_page(const RunSummary& s) {
     const std::string d = "parts/" + p.name + "/";
     std::vector<std::string> row{p.name, p.expected ? std::to_string(p.expected) : "-"};
     if (p.predicted)
-      row.insert(row.end(), {std::to_string(p.top) + " " + p.top_name, fixed(100 * p.confidence, 0) + " %"});
+      row.insert(row.end(), {std::to_string(p.top) + " " + p.top_name, summary_fixed(100 * p.confidence, 0) + " %"});
     else
       row.insert(row.end(), {"error: " + p.predict_error, ""});
     if (p.roughed && p.rough_ok) {
-      row.insert(row.end(), {fixed(p.rough_time_min, 1), fixed(p.retractions, 0), fixed(p.cut_length_mm, 0),
+      row.insert(row.end(), {summary_fixed(p.rough_time_min, 1), summary_fixed(p.retractions, 0), summary_fixed(p.cut_length_mm, 0),
                              std::to_string(p.levels), "link:roughing|" + d + p.name + ".html"});
       time_chart.labels.push_back(p.name);
       time_chart.series[0].second.push_back(p.rough_time_min);
@@ -265,7 +265,7 @@ SummaryPage run_summary_page(const RunSummary& s) {
     }
     const int best = p.finished && p.finish_ok ? simulated_best(p) : 0;
     const double r = pick_regret(p);
-    row.insert(row.end(), {best ? std::to_string(best) : "", std::isnan(r) ? "" : fixed(100 * r, 1) + " %"});
+    row.insert(row.end(), {best ? std::to_string(best) : "", std::isnan(r) ? "" : summary_fixed(100 * r, 1) + " %"});
     page.rows.push_back(row);
     if (!(p.finished && p.finish_ok)) continue;
     ra_chart.labels.push_back(p.name);

@@ -287,7 +287,7 @@ float round_up(double v) {
   return f;
 }
 
-struct Box {
+struct CellBox {
   float x0, y0, x1, y1, zmax;
 };
 
@@ -296,8 +296,8 @@ struct Box {
 /// With its plane bound: the facet formula against the triangle's whole plane, an upper bound of
 /// every contact of the triangle, is zp + gx·(x − box.x0) + gy·(y − box.y0) for the axis at (x, y)
 /// (zp = +inf for vertical triangles).
-struct Entry {
-  Box box;
+struct FaceEntry {
+  CellBox box;
   std::int32_t tri;
   double zp, gx, gy;
 };
@@ -322,8 +322,8 @@ struct DropCutter::Impl {
   double x0 = 0, y0 = 0, cs = 1, inv_cs = 1;
   int nx = 1, ny = 1;
   std::vector<std::int32_t> start;  // nx·ny + 1
-  std::vector<Entry> entries;       // per cell, by descending top z
-  std::vector<Box> cells;           // per cell: union of boxes, max top z
+  std::vector<FaceEntry> entries;       // per cell, by descending top z
+  std::vector<CellBox> cells;           // per cell: union of boxes, max top z
 
   Impl(const ingest::Mesh& m, const Cutter& c) : cutter(c), shape(c), mesh(m) {}
 
@@ -345,7 +345,7 @@ struct DropCutter::Impl {
     int ix0, ix1, iy0, iy1;
     bool big;
   };
-  [[nodiscard]] CellRange cells_of(const Box& b) const {
+  [[nodiscard]] CellRange cells_of(const CellBox& b) const {
     const double bx0 = static_cast<double>(b.x0), by0 = static_cast<double>(b.y0), bx1 = static_cast<double>(b.x1),
                  by1 = static_cast<double>(b.y1);
     if (bx1 - bx0 <= cs && by1 - by0 <= cs) {
@@ -361,7 +361,7 @@ struct DropCutter::Impl {
 
 void DropCutter::Impl::build() {
   const auto nf = static_cast<std::int32_t>(mesh.F.rows());
-  std::vector<Box> boxes(static_cast<std::size_t>(nf));                     // per triangle
+  std::vector<CellBox> boxes(static_cast<std::size_t>(nf));                     // per triangle
   std::vector<std::array<double, 3>> planes(static_cast<std::size_t>(nf));  // zp, gx, gy
 #pragma omp parallel for schedule(static) if (nf > kSerialBelow)
   for (std::int32_t f = 0; f < nf; ++f) {
@@ -375,7 +375,7 @@ void DropCutter::Impl::build() {
       by1 = std::max(by1, mesh.V(v, 1));
       bz = std::max(bz, mesh.V(v, 2));
     }
-    const Box box{round_down(bx0), round_down(by0), round_up(bx1), round_up(by1), round_up(bz)};
+    const CellBox box{round_down(bx0), round_down(by0), round_up(bx1), round_up(by1), round_up(bz)};
     boxes[static_cast<std::size_t>(f)] = box;
     // Plane z = zA + gx·(x − xA) + gy·(y − yA); facet value = plane(axis) + a·|g| + r·(1/nz − 1).
     const Eigen::Vector3d A = mesh.V.row(static_cast<Eigen::Index>(mesh.F(fi, 0))).transpose();
@@ -394,7 +394,7 @@ void DropCutter::Impl::build() {
     planes[static_cast<std::size_t>(f)] = pl;
   }
   double X0 = kInf, Y0 = kInf, X1 = -kInf, Y1 = -kInf;
-  for (const Box& b : boxes) {
+  for (const CellBox& b : boxes) {
     X0 = std::min(X0, static_cast<double>(b.x0));
     Y0 = std::min(Y0, static_cast<double>(b.y0));
     X1 = std::max(X1, static_cast<double>(b.x1));
@@ -413,7 +413,7 @@ void DropCutter::Impl::build() {
 
   // Counting sort of (cell, triangle) pairs, in triangle order: deterministic.
   start.assign(ncell + 1, 0);
-  for (const Box& b : boxes) {
+  for (const CellBox& b : boxes) {
     const CellRange cr = cells_of(b);
     for (int iy = cr.iy0; iy <= cr.iy1; ++iy)
       for (int ix = cr.ix0; ix <= cr.ix1; ++ix) ++start[static_cast<std::size_t>(iy * nx + ix) + 1];
@@ -423,7 +423,7 @@ void DropCutter::Impl::build() {
   {
     std::vector<std::int32_t> fill(start.begin(), start.end() - 1);
     for (std::int32_t f = 0; f < nf; ++f) {
-      const Box& b = boxes[static_cast<std::size_t>(f)];
+      const CellBox& b = boxes[static_cast<std::size_t>(f)];
       const CellRange cr = cells_of(b);
       const std::int32_t tag = cr.big ? -f - 1 : f;
       const auto& pl = planes[static_cast<std::size_t>(f)];
@@ -433,19 +433,19 @@ void DropCutter::Impl::build() {
                                                                                                pl[2]};
     }
   }
-  cells.assign(ncell, Box{0, 0, 0, 0, 0});
+  cells.assign(ncell, CellBox{0, 0, 0, 0, 0});
   const auto ncell_i = static_cast<std::int64_t>(ncell);
 #pragma omp parallel for schedule(dynamic, 256) if (ncell_i > kSerialBelow)
   for (std::int64_t ci = 0; ci < ncell_i; ++ci) {
     const auto c = static_cast<std::size_t>(ci);
     const auto b = entries.begin() + start[c], e = entries.begin() + start[c + 1];
-    std::sort(b, e, [](const Entry& p, const Entry& q) {
+    std::sort(b, e, [](const FaceEntry& p, const FaceEntry& q) {
       return p.box.zmax != q.box.zmax ? p.box.zmax > q.box.zmax : p.tri < q.tri;  // any fixed order
     });
     if (b == e) continue;
-    Box u = b->box;
+    CellBox u = b->box;
     for (auto it = b + 1; it != e; ++it) {
-      const Box& t = it->box;
+      const CellBox& t = it->box;
       u.x0 = std::min(u.x0, t.x0);
       u.y0 = std::min(u.y0, t.y0);
       u.x1 = std::max(u.x1, t.x1);
@@ -457,7 +457,7 @@ void DropCutter::Impl::build() {
 }
 
 namespace {
-double box_dist2(const Box& b, double x, double y) {
+double box_dist2(const CellBox& b, double x, double y) {
   const double dx = std::max({static_cast<double>(b.x0) - x, x - static_cast<double>(b.x1), 0.0});
   const double dy = std::max({static_cast<double>(b.y0) - y, y - static_cast<double>(b.y1), 0.0});
   return dx * dx + dy * dy;
@@ -499,8 +499,8 @@ void DropCutter::Impl::query(double x, double y, std::int32_t hint, Best& best) 
     if (cd.ub <= best.z - kPruneSlack) break;
     const auto c = static_cast<std::size_t>(cd.iy * nx + cd.ix);
     for (auto i = start[c]; i < start[c + 1]; ++i) {
-      const Entry& en = entries[static_cast<std::size_t>(i)];
-      const Box& b = en.box;
+      const FaceEntry& en = entries[static_cast<std::size_t>(i)];
+      const CellBox& b = en.box;
       if (static_cast<double>(b.zmax) <= best.z - kPruneSlack) break;
       const double bx0 = static_cast<double>(b.x0), by0 = static_cast<double>(b.y0), bx1 = static_cast<double>(b.x1),
                    by1 = static_cast<double>(b.y1);

@@ -30,7 +30,7 @@ std::string_view to_string(Entry e) {
 }
 
 namespace {
-constexpr double kPi = std::numbers::pi;
+constexpr double kGcodePi = std::numbers::pi;
 constexpr double kZEps = 1e-9;
 /// Decimals of the figures in the program's comments (the coordinates' are the dialect's).
 constexpr int kCommentDecimals = 4;
@@ -103,7 +103,7 @@ struct Builder {
 std::optional<std::pair<Vec2, double>> fit_helix(const Clearance& clear, const Vec2& p, double D) {
   for (double rh = 0.45 * D; rh >= 0.05 * D; rh *= 0.8)
     for (int k = 0; k < 8; ++k) {
-      const double a = k * kPi / 4;
+      const double a = k * kGcodePi / 4;
       const Vec2 c = p + rh * Vec2(std::cos(a), std::sin(a));
       if (clear.point_ok(c) && clear.wall_distance(c) >= clear.clearance() + rh) return std::make_pair(c, rh);
     }
@@ -113,7 +113,7 @@ std::optional<std::pair<Vec2, double>> fit_helix(const Clearance& clear, const V
 /// Where a helix round c (radius rh) from z_from to z_to at angle_deg must start so that its
 /// descent ends at p (on its circle): sweep = (z_from − z_to) / (rh · tan angle) before it.
 Vec2 helix_start(const Vec2& p, const Vec2& c, double rh, double z_from, double z_to, double angle_deg) {
-  const double sweep = (z_from - z_to) / (rh * std::tan(angle_deg * kPi / 180));
+  const double sweep = (z_from - z_to) / (rh * std::tan(angle_deg * kGcodePi / 180));
   const double a = std::atan2(p.y() - c.y(), p.x() - c.x()) - sweep;
   return {c.x() + rh * std::cos(a), c.y() + rh * std::sin(a)};
 }
@@ -129,15 +129,15 @@ void helix(Builder& b, const Vec2& s, const Vec2& p, const Vec2& c, double rh, d
   // With s = helix_start(p, …) the descent ends at p, where the chain begins, and the flat turn
   // closes there (until 2026-11-26 every helix started at p and its tool went back across the bore
   // from where the descent ended, up to 2·rh).
-  const double slope = std::tan(angle_deg * kPi / 180);
+  const double slope = std::tan(angle_deg * kGcodePi / 180);
   const double sweep = (z_from - z_to) / (rh * slope);  // radians of descent
   const double a0 = std::atan2(s.y() - c.y(), s.x() - c.x());
   const auto at = [&](double a) { return Vec2(c.x() + rh * std::cos(a), c.y() + rh * std::sin(a)); };
   b.line(s.x(), s.y(), z_from, feed);
-  const int halves = std::max(1, static_cast<int>(std::ceil(sweep / kPi - 1e-9)));
+  const int halves = std::max(1, static_cast<int>(std::ceil(sweep / kGcodePi - 1e-9)));
   Vec2 end = s;
   for (int h = 1; h <= halves; ++h) {
-    const double a = h < halves ? h * kPi : sweep;
+    const double a = h < halves ? h * kGcodePi : sweep;
     end = h < halves ? ((h % 2 == 1) ? Vec2(2 * c - s) : s) : at(a0 + a);
     if (h == halves && (end - p).norm() < tol::join_mm) end = p;  // it ends at p: exactly there
     b.arc(true, c, end.x(), end.y(), h < halves ? z_from - rh * slope * a : z_to, feed);
@@ -153,7 +153,7 @@ void helix(Builder& b, const Vec2& s, const Vec2& p, const Vec2& c, double rh, d
 
 std::string fmt(double v, int decimals) { return gcode::format_number(v, decimals); }
 
-void check_params(const GcodeParams& gp) {
+void check_gcode_params(const GcodeParams& gp) {
   const CutParams& c = gp.cut;
   auto positive = [](double v, const char* name) {
     if (!(v > 0) || !std::isfinite(v))
@@ -275,7 +275,7 @@ bool ramp_entry(Builder& b, const LevelPlan& L, const Chain& ch, const EntryPlan
   const double seg = (p1 - p0).norm();
   const double Lr = std::min(seg, 2 * gp.cut.tool.diameter);
   const double z0 = ramp_start(b, L.top_z);
-  const double slope = std::tan(gp.entry_angle_deg * kPi / 180);
+  const double slope = std::tan(gp.entry_angle_deg * kGcodePi / 180);
   int legs = std::max(2, static_cast<int>(std::ceil((z0 - L.z) / (Lr * slope) - 1e-9)));
   if (legs % 2 == 1) ++legs;  // end back at p0
   // Legs shortened to descend at exactly the entry angle: the ramp is (z0 − z) / tan(angle)
@@ -360,7 +360,7 @@ void cut_level(Builder& b, const LevelPlan& L, std::size_t li, std::size_t n) {
 }
 
 std::vector<Step> build_steps(const std::vector<LevelPlan>& levels, const GcodeParams& gp) {
-  check_params(gp);
+  check_gcode_params(gp);
   Builder b{gp, {}, {}, false};
   b.rapid(std::nullopt, std::nullopt, gp.cut.safe_z);
   check_levels(levels);

@@ -21,9 +21,9 @@ namespace {
 using ClipperLib::cInt;
 // Finer than the offset's 1e-4 mm grid so that slits of 2·tol::slit_half_mm stay several units
 // wide while the area's vertices (already on the 1e-4 grid) are kept exactly.
-constexpr double kScale = 1e5;
+constexpr double kPartitionScale = 1e5;
 constexpr double kTiny = 1e-9;  // mm, strictness margin of ray contacts
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kPartitionInf = std::numeric_limits<double>::infinity();
 
 /// Extrema of one loop by hysteresis (O(n)): a reversal of the y-direction counts only once y has
 /// moved more than tol::srp_flat_mm away from the running extreme, so flat tops, Clipper rounding
@@ -78,7 +78,7 @@ void loop_extrema(const std::vector<Vec2>& ring, int component, int loop, bool r
     if (steps >= n - 1) return;  // degenerate flat ring
     std::vector<Vec2> poly;
     poly.push_back(at(lo - 1));
-    double xmin = kInf, xmax = -kInf;
+    double xmin = kPartitionInf, xmax = -kPartitionInf;
     for (std::size_t k = lo; k <= hi; ++k) {
       poly.push_back(at(k));
       xmin = std::min(xmin, at(k).x());
@@ -119,7 +119,7 @@ std::vector<Seg> obstacles(const PolyArea& a, const std::vector<Cut>& cuts) {
 /// Largest x < x0 − kTiny where the ray from (x0, y) toward −x touches a segment (closed contact).
 /// −inf when nothing is hit. O(segments).
 double first_contact_left(const std::vector<Seg>& segs, double x0, double y) {
-  double best = -kInf;
+  double best = -kPartitionInf;
   for (const Seg& s : segs) {
     const double y0 = std::min(s.a.y(), s.b.y()), y1 = std::max(s.a.y(), s.b.y());
     if (y < y0 || y > y1) continue;
@@ -136,7 +136,7 @@ double first_contact_left(const std::vector<Seg>& segs, double x0, double y) {
 
 /// Smallest y > y0 + kTiny where the ray from (x, y0) toward +y touches a segment. O(segments).
 double first_contact_up(const std::vector<Seg>& segs, double x, double y0) {
-  double best = kInf;
+  double best = kPartitionInf;
   for (const Seg& s : segs) {
     const double x0 = std::min(s.a.x(), s.b.x()), x1 = std::max(s.a.x(), s.b.x());
     if (x < x0 || x > x1) continue;
@@ -152,14 +152,14 @@ double first_contact_up(const std::vector<Seg>& segs, double x, double y0) {
   return best;
 }
 
-ClipperLib::Path to_path(const std::vector<Vec2>& pts, bool want_ccw) {
-  ClipperLib::Path p = clipper_bridge::to_path(pts, kScale);
+ClipperLib::Path partition_to_path(const std::vector<Vec2>& pts, bool want_ccw) {
+  ClipperLib::Path p = clipper_bridge::to_path(pts, kPartitionScale);
   if (ClipperLib::Orientation(p) != want_ccw) ClipperLib::ReversePath(p);
   return p;
 }
 
-void collect(const ClipperLib::PolyNode& node, std::vector<PolyArea>& out) {
-  clipper_bridge::collect(node, out, kScale);
+void collect_partition(const ClipperLib::PolyNode& node, std::vector<PolyArea>& out) {
+  clipper_bridge::collect(node, out, kPartitionScale);
 }
 
 /// A rectangle of half-width tol::slit_half_mm around segment a→b, extended by `ext_a`/`ext_b`
@@ -171,15 +171,15 @@ ClipperLib::Path slit(const Vec2& a, const Vec2& b, double ext_a, double ext_b) 
   const Vec2 nrm(-d.y(), d.x());
   const double e = tol::slit_half_mm;
   const Vec2 a2 = a - ext_a * d, b2 = b + ext_b * d;
-  return to_path({a2 - e * nrm, b2 - e * nrm, b2 + e * nrm, a2 + e * nrm}, true);
+  return partition_to_path({a2 - e * nrm, b2 - e * nrm, b2 + e * nrm, a2 + e * nrm}, true);
 }
 
 /// Faces = areas minus the slits of every cut. One Clipper difference, O(V log V).
 std::vector<PolyArea> build_faces(const std::vector<PolyArea>& areas, const std::vector<std::vector<Cut>>& cuts) {
   ClipperLib::Clipper c;
   for (const PolyArea& a : areas) {
-    c.AddPath(to_path(a.outer, true), ClipperLib::ptSubject, true);
-    for (const auto& h : a.holes) c.AddPath(to_path(h, false), ClipperLib::ptSubject, true);
+    c.AddPath(partition_to_path(a.outer, true), ClipperLib::ptSubject, true);
+    for (const auto& h : a.holes) c.AddPath(partition_to_path(h, false), ClipperLib::ptSubject, true);
   }
   const double ext = 3 * tol::slit_half_mm;  // reach a little into the wall / hole that is hit
   for (const auto& comp_cuts : cuts)
@@ -189,12 +189,12 @@ std::vector<PolyArea> build_faces(const std::vector<PolyArea>& areas, const std:
   ClipperLib::PolyTree tree;
   c.Execute(ClipperLib::ctDifference, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
   std::vector<PolyArea> out;
-  collect(tree, out);
+  collect_partition(tree, out);
   // Deterministic order: by lowest point, then x (Clipper's own order is deterministic too, but this
   // one is readable). O(F log F).
   std::vector<std::pair<Vec2, std::size_t>> key;
   for (std::size_t k = 0; k < out.size(); ++k) {
-    Vec2 lo(kInf, kInf);
+    Vec2 lo(kPartitionInf, kPartitionInf);
     for (const Vec2& v : out[k].outer)
       if (v.y() < lo.y() || (v.y() == lo.y() && v.x() < lo.x())) lo = v;
     key.emplace_back(lo, k);
@@ -280,7 +280,7 @@ std::vector<std::vector<int>> island_groups(const std::vector<PolyArea>& areas) 
     const auto& holes = areas[c].holes;
     std::vector<std::pair<double, double>> span(holes.size());
     for (std::size_t h = 0; h < holes.size(); ++h) {
-      double lo = kInf, hi = -kInf;
+      double lo = kPartitionInf, hi = -kPartitionInf;
       for (const Vec2& v : holes[h]) {
         lo = std::min(lo, v.y());
         hi = std::max(hi, v.y());
@@ -292,7 +292,7 @@ std::vector<std::vector<int>> island_groups(const std::vector<PolyArea>& areas) 
     std::sort(order.begin(), order.end(), [&](std::size_t u, std::size_t v) { return span[u].first < span[v].first; });
     group[c].assign(holes.size(), -1);
     int g = -1;
-    double reach = -kInf;
+    double reach = -kPartitionInf;
     for (std::size_t h : order) {
       if (span[h].first > reach) ++g;
       reach = std::max(reach, span[h].second);

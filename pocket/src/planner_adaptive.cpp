@@ -161,7 +161,7 @@ namespace {
 
 using adaptive::kPi;
 
-void check_params(const AdaptiveParams& params) {
+void check_adaptive_params(const AdaptiveParams& params) {
   if (!(params.safety > 0 && params.safety <= 1))
     throw Error("adaptive planner: safety must be in (0, 1], got " + std::to_string(params.safety));
   if (params.step_mm < 0 || params.raster_mm < 0 || !std::isfinite(params.step_mm) || !std::isfinite(params.raster_mm))
@@ -206,7 +206,7 @@ double adaptive_target_deg(const CutParams& cut, const AdaptiveParams& params) {
 PlanResult plan_adaptive(const Region& region, const CutParams& cut, const AdaptiveParams& params) {
   cut.check("adaptive planner");
   const double target = adaptive_target_deg(cut, params);
-  check_params(params);
+  check_adaptive_params(params);
   const auto t0 = std::chrono::steady_clock::now();
   PlanResult res;
   res.planner = "adaptive";

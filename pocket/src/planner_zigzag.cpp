@@ -35,7 +35,7 @@ struct Candidate {
   double cut_len = 0, rapid_len = 0;
 };
 
-double polyline_length(const std::vector<Vec2>& pts) {
+double planner_polyline_length(const std::vector<Vec2>& pts) {
   double l = 0;
   for (std::size_t k = 0; k + 1 < pts.size(); ++k) l += (pts[k + 1] - pts[k]).norm();
   return l;
@@ -63,7 +63,7 @@ Candidate evaluate(const std::vector<PolyArea>& reach_world, double angle, Parti
     for (int q = 0; q < 4; ++q) {
       it.entry[static_cast<std::size_t>(q)] = faces[k].entry(q);
       it.exit[static_cast<std::size_t>(q)] = faces[k].exit(q);
-      it.length[static_cast<std::size_t>(q)] = polyline_length(faces[k].chain(q));  // O(passes · V_f)
+      it.length[static_cast<std::size_t>(q)] = planner_polyline_length(faces[k].chain(q));  // O(passes · V_f)
     }
     items.push_back(it);
     face_of.push_back(k);
@@ -75,7 +75,7 @@ Candidate evaluate(const std::vector<PolyArea>& reach_world, double angle, Parti
     for (std::size_t q = 0; q < 4; ++q) {
       it.entry[q] = (q & 2) ? e.back() : e.front();
       it.exit[q] = (q & 2) ? e.front() : e.back();
-      it.length[q] = polyline_length(e);
+      it.length[q] = planner_polyline_length(e);
     }
     items.push_back(it);
     face_of.push_back(faces.size());
@@ -102,7 +102,7 @@ Candidate evaluate(const std::vector<PolyArea>& reach_world, double angle, Parti
       auto& seen = c.corners.back();
       if (std::find(seen.begin(), seen.end(), alt) == seen.end()) seen.push_back(std::move(alt));
     }
-    c.cut_len += polyline_length(c.chains.back());
+    c.cut_len += planner_polyline_length(c.chains.back());
   }
   c.rapid_len = ord.rapid_length;
   c.regions = static_cast<int>(c.chains.size());
@@ -141,10 +141,10 @@ std::vector<std::vector<Vec2>> link_regions(const std::vector<std::vector<std::v
     for (std::size_t i = 0; i < n; ++i) {
       if (done[i]) continue;
       double shortest = std::numeric_limits<double>::infinity();
-      for (const auto& ch : corners[i]) shortest = std::min(shortest, polyline_length(ch));
+      for (const auto& ch : corners[i]) shortest = std::min(shortest, planner_polyline_length(ch));
       for (std::size_t q = 0; q < corners[i].size(); ++q) {
         const auto& ch = corners[i][q];
-        targets.push_back({ch.front(), approach_of(ch, cut.tool.diameter), polyline_length(ch) - shortest});
+        targets.push_back({ch.front(), approach_of(ch, cut.tool.diameter), planner_polyline_length(ch) - shortest});
         owner.push_back({i, q});
       }
     }

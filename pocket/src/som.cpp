@@ -130,7 +130,7 @@ std::pair<std::size_t, double> nearest_node(const NodeGrid& grid, const std::vec
   return {static_cast<std::size_t>(j), d2};
 }
 
-void check_params(const SomParams& p) {
+void check_som_params(const SomParams& p) {
   auto bad = [](const std::string& key, const std::string& what) {
     return Error("som parameters: '" + key + "' " + what);
   };
@@ -302,7 +302,7 @@ void tour_from_ring(const NodeGrid& grid, const ScaledCities& s, const std::vect
 }  // namespace
 
 SomResult som_tour(const std::vector<Vec2>& cities, const SomParams& params) {
-  check_params(params);
+  check_som_params(params);
   const std::size_t n = cities.size();
   for (std::size_t i = 0; i < n; ++i)
     if (!std::isfinite(cities[i].x()) || !std::isfinite(cities[i].y()))

@@ -10,9 +10,9 @@
 namespace millnet::pocket {
 
 namespace {
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kZigzagInf = std::numeric_limits<double>::infinity();
 
-double polyline_length(const std::vector<Vec2>& pts) {
+double zigzag_polyline_length(const std::vector<Vec2>& pts) {
   double l = 0;
   for (std::size_t k = 0; k + 1 < pts.size(); ++k) l += (pts[k + 1] - pts[k]).norm();
   return l;
@@ -63,7 +63,7 @@ std::vector<double> pass_heights(const std::vector<PolyArea>& areas, const std::
 
 FaceZigzag::FaceZigzag(const PolyArea& face, const std::vector<double>& ys) : ring_(face.outer) {
   const std::size_t n = ring_.size();
-  double lo = kInf, hi = -kInf;
+  double lo = kZigzagInf, hi = -kZigzagInf;
   for (const Vec2& v : ring_) {
     lo = std::min(lo, v.y());
     hi = std::max(hi, v.y());
@@ -121,7 +121,7 @@ std::vector<Vec2> FaceZigzag::walk(const End& a, const End& b) const {
   }
   fwd.push_back(b.p);
   bwd.push_back(b.p);
-  return polyline_length(fwd) <= polyline_length(bwd) ? fwd : bwd;
+  return zigzag_polyline_length(fwd) <= zigzag_polyline_length(bwd) ? fwd : bwd;
 }
 
 std::vector<Vec2> FaceZigzag::chain(int corner) const {
@@ -162,7 +162,7 @@ double best_corners(const std::vector<OrderItem>& items, const std::vector<std::
   for (std::size_t c = 0; c < 4; ++c) cost[0][c] = items[order[0]].length[c];
   for (std::size_t i = 1; i < n; ++i)
     for (int c = 0; c < 4; ++c) {
-      cost[i][static_cast<std::size_t>(c)] = kInf;
+      cost[i][static_cast<std::size_t>(c)] = kZigzagInf;
       for (int d = 0; d < 4; ++d) {
         const double v =
             cost[i - 1][static_cast<std::size_t>(d)] +
@@ -201,7 +201,7 @@ Ordering order_items(const std::vector<OrderItem>& items) {
   while (order.size() < n) {
     const OrderItem& last = items[order.back()];
     std::size_t pick = n;
-    double bd = kInf;
+    double bd = kZigzagInf;
     for (std::size_t j = 0; j < n; ++j) {
       if (used[j]) continue;
       for (std::size_t a = 0; a < 4; ++a)

@@ -158,7 +158,7 @@ double core_penetration(const PartSolid& part, const Core& k, const P3& tip) {
   return best;
 }
 
-bool known(const P3& p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
+bool known_point(const P3& p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
 
 // The polyline a move follows from `start` (arcs: chords of sagitta ≤ chord_tol).
 std::vector<P3> move_points(const gcode::Move& mv, const P3& start, const P3& end, double chord_tol) {
@@ -340,11 +340,11 @@ Penetration sweep_penetration(const PartSolid& part, const gcode::Program& progr
     P3 end = starts[it];
     for (std::size_t a = 0; a < 3; ++a)
       if (mv->axes & (1u << a)) end[a] = mv->to[a];
-    if (!known(end)) continue;
-    const P3 start = known(starts[it]) ? starts[it] : end;  // unknown start: placed at the end (as the sweep)
+    if (!known_point(end)) continue;
+    const P3 start = known_point(starts[it]) ? starts[it] : end;  // unknown start: placed at the end (as the sweep)
     const std::size_t line = it < program.source_line.size() ? program.source_line[it] : 0;
     const std::vector<P3> pts =
-        known(starts[it]) ? move_points(*mv, start, end, opt.chord_tol_mm) : std::vector<P3>{end, end};
+        known_point(starts[it]) ? move_points(*mv, start, end, opt.chord_tol_mm) : std::vector<P3>{end, end};
     for (std::size_t i = 0; i + 1 < pts.size(); ++i) {  // O(chords)
       double t0 = 0, t1 = 1;
       if (clip_to_window(pts[i], pts[i + 1], cx, cy, window, t0, t1))

@@ -32,7 +32,7 @@ namespace {
 
 enum class Kind { Length, Angle };
 
-std::string lower(std::string s) {
+std::string lower_ascii(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
 }
@@ -101,7 +101,7 @@ std::optional<double> bit_quantity(const Json& bit, const std::string& key, Kind
 
 /// The shape millnet models for a bit's "shape-type" or "shape" ("bullnose.fcstd", "Ballend"), if any.
 std::optional<ToolType> shape_type(const std::string& shape) {
-  std::string s = lower(std::filesystem::path(shape).filename().string());
+  std::string s = lower_ascii(std::filesystem::path(shape).filename().string());
   if (const auto dot = s.rfind('.'); dot != std::string::npos && s.substr(dot) == ".fcstd") s.resize(dot);
   if (s == "endmill") return ToolType::Flat;
   if (s == "ballend") return ToolType::Ball;
@@ -169,7 +169,7 @@ Bit read_bit(const Json& doc, const std::string& source, const std::string& stem
     notes.add("no Flutes: 2", t.id);
   }
   if (const Json* m = value(doc, "Material", source)) {
-    const std::string s = m->is_string() ? lower(m->get<std::string>()) : std::string();
+    const std::string s = m->is_string() ? lower_ascii(m->get<std::string>()) : std::string();
     if (s == "hss")
       t.material = ToolMaterial::HSS;
     else if (s == "carbide")

@@ -23,7 +23,7 @@ using namespace detail;
 
 namespace {
 
-constexpr double kMmPerInch = 25.4;
+constexpr double kFusionMmPerInch = 25.4;
 
 std::optional<ToolType> fusion_type(const std::string& t) {
   if (t == "flat end mill") return ToolType::Flat;
@@ -42,7 +42,7 @@ double unit_of(const Json& obj, const std::string& source, const std::string& at
     throw file_error(source, at + "/unit: missing (\"millimeters\" or \"inches\")");
   }
   if (*u == "millimeters") return 1;
-  if (*u == "inches") return kMmPerInch;
+  if (*u == "inches") return kFusionMmPerInch;
   throw file_error(source, at + "/unit: " + in_quotes(*u) + ": expected \"millimeters\" or \"inches\"");
 }
 
