@@ -44,8 +44,8 @@ tooling::Tool reaching(const ToolLibrary& lib, const tooling::Tool& configured, 
                 "(/cutting/tools_file) or choose another tool");
   if (t->id != configured.id)
     notes.push_back("the " + what + " tool " + configured.id + " (stick-out " + fixed(configured.stickout_mm, 1) +
-                    " mm) cannot reach " + fixed(depth_mm, 1) + " mm below the stock top: " + t->id +
-                    " (stick-out " + fixed(t->stickout_mm, 1) + " mm) runs it instead");
+                    " mm) cannot reach " + fixed(depth_mm, 1) + " mm below the stock top: " + t->id + " (stick-out " +
+                    fixed(t->stickout_mm, 1) + " mm) runs it instead");
   return *t;
 }
 
@@ -145,8 +145,8 @@ int run_job(const JobOpts& o) {
   std::vector<job::Operation> ops = job::roughing_operations(rough.machining.program, mill, drill, dc);
 
   // 4. Finishing: the strategies machined and ranked (their files in DIR/strategies), the chosen one's program.
-  info("job: " + stem + ": finishing with " + ball.label() + " (" + std::to_string(fs_.strategies.size()) +
-       " strateg" + (fs_.strategies.size() == 1 ? "y" : "ies") + " simulated)");
+  info("job: " + stem + ": finishing with " + ball.label() + " (" + std::to_string(fs_.strategies.size()) + " strateg" +
+       (fs_.strategies.size() == 1 ? "y" : "ies") + " simulated)");
   const PartFinish pf = finish_part(part, fs_, out / "strategies");
   const job::StrategyOutcome pick = chosen_strategy(pf.outcomes, file);
   const int slot = static_cast<int>(pick.strategy);
@@ -170,9 +170,10 @@ int run_job(const JobOpts& o) {
     std::string name = ops[i].name.substr(0, ops[i].name.find(' '));
     const fs::path p = out / (stem + ".op" + std::to_string(i + 1) + "." + name + ".nc");
     const gcode::Written w = gcode::write_program(
-        p, job::operation_program(ops[i], {"millnet job: " + stem + ", operation " + std::to_string(i + 1) + " of " +
-                                               std::to_string(ops.size()) + ": " + ops[i].name,
-                                           frame.header()}),
+        p,
+        job::operation_program(ops[i], {"millnet job: " + stem + ", operation " + std::to_string(i + 1) + " of " +
+                                            std::to_string(ops.size()) + ": " + ops[i].name,
+                                        frame.header()}),
         fs_.post);
     op_files.push_back(p.filename().string());
     program_files.push_back({p.filename().string(), sha256_hex(w.text), w.text.size()});
@@ -234,12 +235,22 @@ int run_job(const JobOpts& o) {
            " comes " + fixed(-hc.min_clearance_mm, 2) + " mm into the part at X" + fixed(hc.worst[0], 2) + " Y" +
            fixed(hc.worst[1], 2) + " Z" + fixed(hc.worst[2], 2) + ": a longer tool is needed");
     const job::StepResult& st = chain.steps[i];
+    if (op.tool.flute_length_mm > 0 && st.max_depth_of_cut_mm > op.tool.flute_length_mm) {
+      // What the operations before it left is more than this tool's flutes take (issue 38): said, not hidden.
+      const std::string line = "operation " + std::to_string(i + 1) + " (" + op.name + "): the largest depth of cut " +
+                               fixed(st.max_depth_of_cut_mm, 2) + " mm exceeds the " +
+                               fixed(op.tool.flute_length_mm, 1) + " mm flutes of " + op.tool.label() +
+                               ": the stock left before it needs another pass before this runs on a machine";
+      warn(file + ": " + line);
+      notes.push_back(line);
+    }
     report::SetupOperation so;
     so.index = static_cast<int>(i + 1);
     so.name = op.name;
     so.tool_number = op.tool.number;
     so.deepest_z_mm = hc.deepest_tip_z;
     so.max_depth_of_cut_mm = st.max_depth_of_cut_mm;
+    so.beyond_flutes = op.tool.flute_length_mm > 0 && st.max_depth_of_cut_mm > op.tool.flute_length_mm;
     so.cutting_rapids = st.cutting_rapids;
     so.time_min = st.stats.kinematic_time_min;
     so.program = op_files[i];
@@ -288,24 +299,24 @@ int run_job(const JobOpts& o) {
   const simulate::SurfaceMetrics& m = chain.metrics;
   const double cell2 = design.grid.cell * design.grid.cell;
   sheet.result = {
-      {"gouge", m.gouged ? "YES: " + fixed(m.max_gouge_mm, 3) + " mm at G-code line " +
-                               std::to_string(m.first_gouge_move.line)
-                         : "none (largest " + fixed(m.max_gouge_mm, 4) + " mm, within the tolerance)"},
-      {"surface specification", m.spec_measured ? share_text(m.spec_share) + " of " +
-                                                      fixed(static_cast<double>(m.spec_cells) * cell2, 0) +
-                                                      " mm² in spec (needs " +
-                                                      share_text(1 - fs_.spec.out_of_spec_share) + ")"
-                                                : "not measured"},
+      {"gouge",
+       m.gouged ? "YES: " + fixed(m.max_gouge_mm, 3) + " mm at G-code line " + std::to_string(m.first_gouge_move.line)
+                : "none (largest " + fixed(m.max_gouge_mm, 4) + " mm, within the tolerance)"},
+      {"surface specification",
+       m.spec_measured ? share_text(m.spec_share) + " of " + fixed(static_cast<double>(m.spec_cells) * cell2, 0) +
+                             " mm² in spec (needs " + share_text(1 - fs_.spec.out_of_spec_share) + ")"
+                       : "not measured"},
       {"left above the design (uncut)", fixed(m.uncut_area_mm2, 1) + " mm²"},
       {"rest material (corners tighter than the ball)", fixed(m.rest_area_mm2, 1) + " mm²"},
       {"largest scallop", fixed(m.scallop_max_mm * 1000, 1) + " µm"},
       {"Ra median / p90", fixed(m.ra_median_um, 2) + " / " + fixed(m.ra_p90_um, 2) + " µm"},
       {"finishing chosen", strategy_name + (o.strategy == "best" ? " (first of the simulated ranking, strategies/" +
-                                                                        stem + ".strategies.md)"
-                                                                  : " (--strategy)")}};
+                                                                       stem + ".strategies.md)"
+                                                                 : " (--strategy)")}};
   sheet.files = program_files;
-  notes.push_back("times are kinematic (the /machine motion model); tool changes and the operator's setup are not "
-                  "counted");
+  notes.push_back(
+      "times are kinematic (the /machine motion model); tool changes and the operator's setup are not "
+      "counted");
   if (drill != nullptr)
     notes.push_back("the drill's tip goes to each hole's level; its point leaves a cone the end mill's plunge cuts");
   sheet.notes = notes;
@@ -313,8 +324,8 @@ int run_job(const JobOpts& o) {
          {"file", file},
          {"post", fs_.post.name},
          {"frame", Json{{"origin", "X0 Y0 = part footprint's lower-left corner, Z0 = stock top (G54)"},
-                        {"stock_mm", {sheet.stock_x0, sheet.stock_y0, sheet.stock_bottom_z, sheet.stock_x1,
-                                      sheet.stock_y1, 0.0}},
+                        {"stock_mm",
+                         {sheet.stock_x0, sheet.stock_y0, sheet.stock_bottom_z, sheet.stock_x1, sheet.stock_y1, 0.0}},
                         {"deepest_z_mm", sheet.deepest_z}}},
          {"operations", ops_json},
          {"total_time_kinematic_min", sheet.total_time_min},
@@ -329,8 +340,7 @@ int run_job(const JobOpts& o) {
   report::write_setup_sheet(out / (stem + ".setup.html"), sheet);
   files.commit();
   info("job: " + stem + ": " + std::to_string(ops.size()) + " operations, " + fixed(sheet.total_time_min, 1) +
-       " min, gouge " + (m.gouged ? fixed(m.max_gouge_mm, 3) + " mm" : std::string("none")) + " → " +
-       job_nc.string());
+       " min, gouge " + (m.gouged ? fixed(m.max_gouge_mm, 3) + " mm" : std::string("none")) + " → " + job_nc.string());
   if (m.gouged) {
     std::cerr << "millnet job: error: " << job_nc.string() << " gouges the part by " << fixed(m.max_gouge_mm, 3)
               << " mm (line " << m.first_gouge_move.line << ")\n";

@@ -55,15 +55,16 @@ void decision(std::ostringstream& md, const RunSummary& s, const RunCounts& c) {
       regret += " (misses spec)";
     md << "| " << p.name << " | " << (p.predicted ? std::to_string(p.top) + " " + p.top_name : "-") << " | "
        << (best ? std::to_string(best) : "-") << " | " << (top ? std::to_string(p.simulated_rank[ti]) : "-") << " | "
-       << regret << " | " << (top && !std::isnan(at(p.spec_share, ti)) ? summary_fixed(100 * at(p.spec_share, ti), 1) : "-")
-       << " | " << (bi < p.slots.size() ? summary_fixed(at(p.time_min, bi), 1) : "-") << " | "
+       << regret << " | "
+       << (top && !std::isnan(at(p.spec_share, ti)) ? summary_fixed(100 * at(p.spec_share, ti), 1) : "-") << " | "
+       << (bi < p.slots.size() ? summary_fixed(at(p.time_min, bi), 1) : "-") << " | "
        << (top ? summary_fixed(at(p.time_min, ti), 1) : "-") << " |\n";
   }
   if (c.pick_parts)
     md << "\nThe pick is the simulated best on " << c.pick_is_best << " of " << c.pick_parts << " parts and meets "
        << "the specification on " << c.pick_meets_spec << "; mean regret of the pick "
-       << (c.regret_parts ? summary_fixed(100 * c.mean_pick_regret, 1) + " % over the " + std::to_string(c.regret_parts) +
-                                " parts where it meets it"
+       << (c.regret_parts ? summary_fixed(100 * c.mean_pick_regret, 1) + " % over the " +
+                                std::to_string(c.regret_parts) + " parts where it meets it"
                           : std::string("not measured"))
        << ".\n\n";
 }
@@ -71,8 +72,8 @@ void decision(std::ostringstream& md, const RunSummary& s, const RunCounts& c) {
 void training(std::ostringstream& md, const RunSummary& s) {
   md << "## Training\n\n"
      << "Training set: " << s.vectors << " vectors from " << s.training_parts
-     << " parts. Penalty coefficient α = " << summary_fixed(s.alpha, 4) << " chosen by leave-one-" << s.loo_mode << "-out"
-     << (s.alpha_edge != "none" ? " (at the " + s.alpha_edge + " edge of the scan)" : std::string()) << ".\n"
+     << " parts. Penalty coefficient α = " << summary_fixed(s.alpha, 4) << " chosen by leave-one-" << s.loo_mode
+     << "-out" << (s.alpha_edge != "none" ? " (at the " + s.alpha_edge + " edge of the scan)" : std::string()) << ".\n"
      << "Verification accuracy: " << summary_fixed(100 * s.accuracy_part, 1) << " % leaving out whole parts, "
      << summary_fixed(100 * s.accuracy_vector, 1) << " % leaving out single vectors (the paper's LOO; optimistic, "
      << "since a vector's rotated siblings stay in).\n\n"
@@ -91,8 +92,8 @@ void prediction_table(std::ostringstream& md, const RunSummary& s, const RunCoun
     else
       md << "error: " << p.predict_error << " | | | | ";
     if (p.roughed && p.rough_ok)
-      md << summary_fixed(p.rough_time_min, 1) << " | " << summary_fixed(p.retractions, 0) << " | " << summary_fixed(p.cut_length_mm, 0)
-         << " | " << p.levels << " |\n";
+      md << summary_fixed(p.rough_time_min, 1) << " | " << summary_fixed(p.retractions, 0) << " | "
+         << summary_fixed(p.cut_length_mm, 0) << " | " << p.levels << " |\n";
     else if (p.roughed)
       md << "error: " << p.rough_error << " | | | |\n";
     else
@@ -130,17 +131,19 @@ void finishing_table(std::ostringstream& md, const RunSummary& s, const RunCount
     const std::size_t ti = top_index(p);
     const bool top = ti < p.slots.size();
     md << (p.network_rank.empty() ? "-" : ranking_text(p.slots, p.network_rank)) << " | "
-       << ranking_text(p.slots, p.simulated_rank) << " | " << (p.network_rank.empty() ? "-" : summary_fixed(p.spearman, 2))
-       << " | " << (top ? std::to_string(p.simulated_rank[ti]) : "-") << " | "
+       << ranking_text(p.slots, p.simulated_rank) << " | "
+       << (p.network_rank.empty() ? "-" : summary_fixed(p.spearman, 2)) << " | "
+       << (top ? std::to_string(p.simulated_rank[ti]) : "-") << " | "
        << (top ? summary_fixed(p.ra_median_um[ti], 2) : "-") << " | " << summary_fixed(best, 2) << " | ";
     if (p.chained)
-      md << summary_fixed(p.chain_finisher_depth_of_cut_mm, 2) << " | " << summary_fixed(p.chain_ra_median_um, 2) << " | "
-         << summary_fixed(p.chain_uncut_mm2, 1) << " | " << summary_fixed(p.chain_rest_mm2, 1) << " | " << summary_fixed(p.chain_gouge_mm, 4)
-         << " |\n";
+      md << summary_fixed(p.chain_finisher_depth_of_cut_mm, 2) << " | " << summary_fixed(p.chain_ra_median_um, 2)
+         << " | " << summary_fixed(p.chain_uncut_mm2, 1) << " | " << summary_fixed(p.chain_rest_mm2, 1) << " | "
+         << summary_fixed(p.chain_gouge_mm, 4) << " |\n";
     else
       md << "- | - | - | - | - |\n";
   }
-  if (c.spearman_parts) md << "\nMean ρ over " << c.spearman_parts << " parts: " << summary_fixed(c.mean_spearman, 2) << ".\n";
+  if (c.spearman_parts)
+    md << "\nMean ρ over " << c.spearman_parts << " parts: " << summary_fixed(c.mean_spearman, 2) << ".\n";
 }
 
 void part_sections(std::ostringstream& md, const RunSummary& s) {
@@ -255,8 +258,9 @@ SummaryPage run_summary_page(const RunSummary& s) {
     else
       row.insert(row.end(), {"error: " + p.predict_error, ""});
     if (p.roughed && p.rough_ok) {
-      row.insert(row.end(), {summary_fixed(p.rough_time_min, 1), summary_fixed(p.retractions, 0), summary_fixed(p.cut_length_mm, 0),
-                             std::to_string(p.levels), "link:roughing|" + d + p.name + ".html"});
+      row.insert(row.end(), {summary_fixed(p.rough_time_min, 1), summary_fixed(p.retractions, 0),
+                             summary_fixed(p.cut_length_mm, 0), std::to_string(p.levels),
+                             "link:roughing|" + d + p.name + ".html"});
       time_chart.labels.push_back(p.name);
       time_chart.series[0].second.push_back(p.rough_time_min);
       page.previews.emplace_back(p.name + ": roughing", d + p.name + ".html");

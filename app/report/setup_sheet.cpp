@@ -61,8 +61,8 @@ std::string viridis_hex(double t) {
 std::string part_png(const SetupSheet& s, int max_px, double& lo, double& hi, std::size_t& step) {
   const simulate::GridSpec& g = s.grid;
   const std::vector<double>& h = *s.heights;
-  step = std::max<std::size_t>(1, (std::max(g.nx, g.ny) + static_cast<std::size_t>(max_px) - 1) /
-                                      static_cast<std::size_t>(max_px));
+  step = std::max<std::size_t>(
+      1, (std::max(g.nx, g.ny) + static_cast<std::size_t>(max_px) - 1) / static_cast<std::size_t>(max_px));
   const std::size_t w = (g.nx + step - 1) / step, r = (g.ny + step - 1) / step;
   lo = std::numeric_limits<double>::infinity();
   hi = -lo;
@@ -107,10 +107,10 @@ void origin_marker(std::ostringstream& o, const View& v, double len_mm, const ch
     << "<text x=\"" << num(x + l + 3, 1) << "\" y=\"" << num(y + 4, 1) << "\" fill=\"#c00\">X</text>"
     << "<text x=\"" << num(x - 4, 1) << "\" y=\"" << num(y - l - 4, 1) << "\" fill=\"#080\">" << second_axis
     << "</text><circle cx=\"" << num(x, 1) << "\" cy=\"" << num(y, 1)
-    << "\" r=\"5\" fill=\"#fff\" stroke=\"#000\" stroke-width=\"1.5\"/><path d=\"M" << num(x, 1) << ' '
-    << num(y - 5, 1) << " A5 5 0 0 1 " << num(x + 5, 1) << ' ' << num(y, 1) << " L" << num(x, 1) << ' ' << num(y, 1)
-    << " Z M" << num(x, 1) << ' ' << num(y + 5, 1) << " A5 5 0 0 1 " << num(x - 5, 1) << ' ' << num(y, 1) << " L"
-    << num(x, 1) << ' ' << num(y, 1) << " Z\" fill=\"#000\"/></g>";
+    << "\" r=\"5\" fill=\"#fff\" stroke=\"#000\" stroke-width=\"1.5\"/><path d=\"M" << num(x, 1) << ' ' << num(y - 5, 1)
+    << " A5 5 0 0 1 " << num(x + 5, 1) << ' ' << num(y, 1) << " L" << num(x, 1) << ' ' << num(y, 1) << " Z M"
+    << num(x, 1) << ' ' << num(y + 5, 1) << " A5 5 0 0 1 " << num(x - 5, 1) << ' ' << num(y, 1) << " L" << num(x, 1)
+    << ' ' << num(y, 1) << " Z\" fill=\"#000\"/></g>";
 }
 
 const char* kDefs =
@@ -155,8 +155,8 @@ void top_view(std::ostringstream& o, const SetupSheet& s) {
   o << "<text x=\"" << num(v.px((s.stock_x0 + s.stock_x1) / 2), 1) << "\" y=\"" << num(v.py(s.stock_y0) + 20, 1)
     << "\" text-anchor=\"middle\">stock X " << num(wmm, 1) << " mm (X " << num(s.stock_x0, 1) << " … "
     << num(s.stock_x1, 1) << ")</text><text transform=\"translate(" << num(v.px(s.stock_x0) - 12, 1) << ','
-    << num(v.py((s.stock_y0 + s.stock_y1) / 2), 1) << ") rotate(-90)\" text-anchor=\"middle\">stock Y "
-    << num(dmm, 1) << " mm (Y " << num(s.stock_y0, 1) << " … " << num(s.stock_y1, 1) << ")</text></svg>";
+    << num(v.py((s.stock_y0 + s.stock_y1) / 2), 1) << ") rotate(-90)\" text-anchor=\"middle\">stock Y " << num(dmm, 1)
+    << " mm (Y " << num(s.stock_y0, 1) << " … " << num(s.stock_y1, 1) << ")</text></svg>";
 }
 
 /// From the front (looking along +Y): the stock, the part's silhouette, Z0 and the deepest tool Z.
@@ -168,9 +168,8 @@ void front_view(std::ostringstream& o, const SetupSheet& s) {
   const double W = wmm * scale + 2 * pad + 150, H = hmm * scale + 2 * pad;
   o << "<svg id=\"front-view\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << num(W, 0) << "\" height=\""
     << num(H, 0) << "\" viewBox=\"0 0 " << num(W, 0) << ' ' << num(H, 0) << "\">" << kDefs;
-  o << "<rect x=\"" << num(v.px(s.stock_x0), 1) << "\" y=\"" << num(v.py(0), 1) << "\" width=\""
-    << num(wmm * scale, 1) << "\" height=\"" << num(hmm * scale, 1)
-    << "\" fill=\"#e8e8e8\" stroke=\"#333\" stroke-width=\"1.5\"/>";
+  o << "<rect x=\"" << num(v.px(s.stock_x0), 1) << "\" y=\"" << num(v.py(0), 1) << "\" width=\"" << num(wmm * scale, 1)
+    << "\" height=\"" << num(hmm * scale, 1) << "\" fill=\"#e8e8e8\" stroke=\"#333\" stroke-width=\"1.5\"/>";
   if (s.heights != nullptr && !s.heights->empty()) {  // the silhouette: per column, the highest point
     const simulate::GridSpec& g = s.grid;
     const std::size_t step = std::max<std::size_t>(1, g.nx / 600);
@@ -218,8 +217,8 @@ constexpr const char* kStyle =
 
 std::string setup_sheet_html(const SetupSheet& s) {
   std::ostringstream o;
-  o << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" << esc(s.title)
-    << "</title>\n<style>" << kStyle << "</style>\n<script>" << error_trap_script() << "</script>\n</head><body>\n";
+  o << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" << esc(s.title) << "</title>\n<style>"
+    << kStyle << "</style>\n<script>" << error_trap_script() << "</script>\n</head><body>\n";
   o << "<h1>" << esc(s.title) << "</h1>\n<p>Part <code>" << esc(s.part_file) << "</code> · post " << esc(s.post)
     << " · material " << esc(s.material) << " · total cycle time <b>" << num(s.total_time_min, 1)
     << " min</b> (kinematic, tool changes not counted)</p>\n";
@@ -272,14 +271,14 @@ std::string setup_sheet_html(const SetupSheet& s) {
        "<th>feed mm/min</th><th>stepover mm</th><th>step-down mm</th><th>deepest Z</th><th>largest depth of cut mm</th>"
        "<th>rapids into material</th><th>time min</th><th>program run alone</th></tr>\n";
   for (const SetupOperation& op : s.operations)
-    o << "<tr><td class=\"n\">" << op.index << "</td><td>" << esc(op.name) << "</td><td class=\"n\">T"
-      << op.tool_number << "</td><td>" << esc(op.strategy) << "</td><td class=\"n\">" << num(op.rpm, 0)
-      << "</td><td class=\"n\">" << num(op.feed_mm_min, 0) << "</td><td class=\"n\">"
-      << (op.stepover_mm > 0 ? num(op.stepover_mm, 3) : "–") << "</td><td class=\"n\">"
-      << (op.step_down_mm > 0 ? num(op.step_down_mm, 3) : "–") << "</td><td class=\"n\">" << num(op.deepest_z_mm, 2)
-      << "</td><td class=\"n\">" << num(op.max_depth_of_cut_mm, 2) << "</td><td class=\"n"
-      << (op.cutting_rapids > 0 ? " bad" : "") << "\">" << op.cutting_rapids << "</td><td class=\"n\">"
-      << num(op.time_min, 1) << "</td><td><code>" << esc(op.program) << "</code></td></tr>\n";
+    o << "<tr><td class=\"n\">" << op.index << "</td><td>" << esc(op.name) << "</td><td class=\"n\">T" << op.tool_number
+      << "</td><td>" << esc(op.strategy) << "</td><td class=\"n\">" << num(op.rpm, 0) << "</td><td class=\"n\">"
+      << num(op.feed_mm_min, 0) << "</td><td class=\"n\">" << (op.stepover_mm > 0 ? num(op.stepover_mm, 3) : "–")
+      << "</td><td class=\"n\">" << (op.step_down_mm > 0 ? num(op.step_down_mm, 3) : "–") << "</td><td class=\"n\">"
+      << num(op.deepest_z_mm, 2) << "</td><td class=\"n" << (op.beyond_flutes ? " bad" : "") << "\">"
+      << num(op.max_depth_of_cut_mm, 2) << "</td><td class=\"n" << (op.cutting_rapids > 0 ? " bad" : "") << "\">"
+      << op.cutting_rapids << "</td><td class=\"n\">" << num(op.time_min, 1) << "</td><td><code>" << esc(op.program)
+      << "</code></td></tr>\n";
   o << "<tr><th colspan=\"11\">total</th><td class=\"n\"><b>" << num(s.total_time_min, 1)
     << "</b></td><td></td></tr></table>\n";
   // 4. The simulated result.

@@ -322,8 +322,8 @@ struct DropCutter::Impl {
   double x0 = 0, y0 = 0, cs = 1, inv_cs = 1;
   int nx = 1, ny = 1;
   std::vector<std::int32_t> start;  // nx·ny + 1
-  std::vector<FaceEntry> entries;       // per cell, by descending top z
-  std::vector<CellBox> cells;           // per cell: union of boxes, max top z
+  std::vector<FaceEntry> entries;   // per cell, by descending top z
+  std::vector<CellBox> cells;       // per cell: union of boxes, max top z
 
   Impl(const ingest::Mesh& m, const Cutter& c) : cutter(c), shape(c), mesh(m) {}
 
@@ -361,7 +361,7 @@ struct DropCutter::Impl {
 
 void DropCutter::Impl::build() {
   const auto nf = static_cast<std::int32_t>(mesh.F.rows());
-  std::vector<CellBox> boxes(static_cast<std::size_t>(nf));                     // per triangle
+  std::vector<CellBox> boxes(static_cast<std::size_t>(nf));                 // per triangle
   std::vector<std::array<double, 3>> planes(static_cast<std::size_t>(nf));  // zp, gx, gy
 #pragma omp parallel for schedule(static) if (nf > kSerialBelow)
   for (std::int32_t f = 0; f < nf; ++f) {

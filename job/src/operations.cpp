@@ -28,9 +28,7 @@ bool reaches(const tooling::Tool& t, double depth_mm) { return t.stickout_mm <= 
 
 }  // namespace
 
-bool predrills(const gcode::Program& rough) {
-  return std::any_of(rough.items.begin(), rough.items.end(), drill_move);
-}
+bool predrills(const gcode::Program& rough) { return std::any_of(rough.items.begin(), rough.items.end(), drill_move); }
 
 std::vector<Operation> roughing_operations(const gcode::Program& rough, const tooling::Tool& mill,
                                            const tooling::Tool* drill, const DrillCut& cut) {
@@ -167,7 +165,8 @@ HolderClearance holder_clearance(const gcode::Program& program, const tooling::T
   // plus a coarse cell's diagonal (a point anywhere in its cell, a part point anywhere in its own):
   // conservative, it may report the holder nearer than it is by up to that diagonal sideways.
   const double w = grid.cell * static_cast<double>(grid.nx), h = grid.cell * static_cast<double>(grid.ny);
-  const auto cx = static_cast<std::size_t>(std::ceil(w / coarse_mm)), cy = static_cast<std::size_t>(std::ceil(h / coarse_mm));
+  const auto cx = static_cast<std::size_t>(std::ceil(w / coarse_mm)),
+             cy = static_cast<std::size_t>(std::ceil(h / coarse_mm));
   constexpr double kNone = -std::numeric_limits<double>::infinity();
   std::vector<double> pooled(cx * cy, kNone);
   for (std::size_t iy = 0; iy < grid.ny; ++iy)  // O(cells)
@@ -196,7 +195,8 @@ HolderClearance holder_clearance(const gcode::Program& program, const tooling::T
     }
   auto part_under = [&](double x, double y) {
     const double fx = std::floor((x - grid.x0) / coarse_mm), fy = std::floor((y - grid.y0) / coarse_mm);
-    const double px = std::clamp(fx, 0.0, static_cast<double>(cx - 1)), py = std::clamp(fy, 0.0, static_cast<double>(cy - 1));
+    const double px = std::clamp(fx, 0.0, static_cast<double>(cx - 1)),
+                 py = std::clamp(fy, 0.0, static_cast<double>(cy - 1));
     // Off the grid by more than the radius: nothing of the part under the holder.
     if (std::abs(fx - px) * coarse_mm > radius || std::abs(fy - py) * coarse_mm > radius) return kNone;
     return dilated[static_cast<std::size_t>(py) * cx + static_cast<std::size_t>(px)];

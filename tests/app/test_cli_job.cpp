@@ -88,7 +88,7 @@ TEST(CliJob, OneProgramPerPartInEveryDialectWithItsToolChangesChecksumsAndSetupS
   ASSERT_NE(t10, std::string::npos);
   EXPECT_LT(t10, t3);
   EXPECT_LT(t3, t7);
-  EXPECT_EQ(text.find("PRE-DRILL"), std::string::npos);  // a drilling operation, not a comment
+  EXPECT_EQ(text.find("PRE-DRILL"), std::string::npos);       // a drilling operation, not a comment
   const std::string tbl = (lx / "cavity.tool.tbl").string();  // the job's tools, as the control loads them
   EXPECT_TRUE(linuxcnc_accepts((lx / "cavity.job.nc").string(), tbl));
   for (int k = 1; k <= 3; ++k) {  // each operation's own program, with its tool change
@@ -147,9 +147,8 @@ TEST(CliJob, AToolThatCannotReachIsReplacedByOneThatCanOrTheJobIsRefused) {
     "diameter": 2, "flutes": 2, "flute_length": 3, "stickout": 5, "tool_material": "carbide", "number": 21}]})";
   std::ofstream(d / "short.json") << R"({"simulate": {"cell_mm": 0.1}, "finish": {"tool": {"id": "bn2-short"}},
     "cutting": {"tools_file": "shop.json"}})";
-  const auto r = run_millnet("job --no-preview --config short.json --mesh '" + mesh.string() +
-                                 "' --strategy 1 --out o",
-                             d);
+  const auto r =
+      run_millnet("job --no-preview --config short.json --mesh '" + mesh.string() + "' --strategy 1 --out o", d);
   ASSERT_EQ(r.code, 0) << r.err;
   const Json j = Json::parse(slurp(d / "o" / "cavity.job.json"));
   EXPECT_EQ(j["operations"].back()["tool"]["id"], "bn2-2f-carbide");  // 45 mm out: the shortest that reaches
@@ -159,9 +158,8 @@ TEST(CliJob, AToolThatCannotReachIsReplacedByOneThatCanOrTheJobIsRefused) {
     "diameter": 3, "flutes": 2, "flute_length": 3, "stickout": 5, "tool_material": "carbide", "number": 22}]})";
   std::ofstream(d / "short2.json") << R"({"simulate": {"cell_mm": 0.1}, "finish": {"tool": {"id": "bn3-short"}},
     "cutting": {"tools_file": "shop2.json"}})";
-  const auto bad = run_millnet("job --no-preview --config short2.json --mesh '" + mesh.string() +
-                                   "' --strategy 1 --out o2",
-                               d);
+  const auto bad =
+      run_millnet("job --no-preview --config short2.json --mesh '" + mesh.string() + "' --strategy 1 --out o2", d);
   EXPECT_EQ(bad.code, 1);
   EXPECT_NE(bad.err.find("bn3-short"), std::string::npos) << bad.err;
   EXPECT_NE(bad.err.find("9.0 mm below the stock top"), std::string::npos) << bad.err;

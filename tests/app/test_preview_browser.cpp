@@ -153,9 +153,8 @@ TEST(PreviewBrowser, SetupSheetDrawsThePartStockAndOrigin) {
   const fs::path d = fresh_dir("preview_setup");
   const fs::path stl = write_part_stl(d);
   std::ofstream(d / "fast.json") << R"({"simulate": {"cell_mm": 0.1}})";
-  const auto r = run_millnet("job --quiet --no-preview --config fast.json --mesh '" + stl.string() +
-                                 "' --strategy 2 --out o",
-                             d);
+  const auto r =
+      run_millnet("job --quiet --no-preview --config fast.json --mesh '" + stl.string() + "' --strategy 2 --out o", d);
   ASSERT_EQ(r.code, 0) << r.err;
   const Browsed b = browse(d / "o" / "dome.setup.html", d);
   EXPECT_EQ(b.dom.find("MILLNET_PAGE_ERROR"), std::string::npos) << b.dom;

@@ -109,7 +109,9 @@ TEST_P(Interrupt, RemovesThePendingTemporaryFileAndEndsByTheSignal) {
   int status = 0;
   ASSERT_EQ(::waitpid(pid, &status, 0), pid);
   EXPECT_TRUE(WIFSIGNALED(status));
-  if (WIFSIGNALED(status)) EXPECT_EQ(WTERMSIG(status), sig);
+  if (WIFSIGNALED(status)) {
+    EXPECT_EQ(WTERMSIG(status), sig);
+  }
   std::string left;
   for (const auto& e : fs::directory_iterator(d)) left += e.path().filename().string() + " ";
   EXPECT_EQ(left, "");

@@ -94,8 +94,11 @@ TEST(GrblDialect, EveryItemKindIsWrittenAsGrblAcceptsIt) {
 
 TEST(GrblDialect, AToolChangeReadsBackAsTheToolChangeItWasWrittenFrom) {
   Program p;
-  p.items = {line_to(Motion::Rapid, {0, 0, 5}), ToolChange{7, "bn2: D2 mm ball"},
-             line_to(Motion::Rapid, {1, 0, 5}), Pause{false}, ToolChange{12, ""},
+  p.items = {line_to(Motion::Rapid, {0, 0, 5}),
+             ToolChange{7, "bn2: D2 mm ball"},
+             line_to(Motion::Rapid, {1, 0, 5}),
+             Pause{false},
+             ToolChange{12, ""},
              line_to(Motion::Rapid, {2, 0, 5})};
   const std::string text = write(p, grbl());
   const Program back = read(text, "g.nc");

@@ -157,14 +157,11 @@ TEST(JobOperations, InlineToolsSharingAShapeShareANumber) {
 }
 
 TEST(JobOperations, TheDrillAndTheReachingToolComeFromTheLibrary) {
-  std::vector<tooling::Tool> lib{tool("dr8-long", tooling::ToolType::Drill, 8, 11, 80),
-                                 tool("dr10-short", tooling::ToolType::Drill, 10, 12, 15),
-                                 tool("dr10", tooling::ToolType::Drill, 10, 10, 100),
-                                 tool("dr10-mid", tooling::ToolType::Drill, 10, 13, 40),
-                                 tool("dr12", tooling::ToolType::Drill, 12, 14, 100),
-                                 tool("bn6-35", tooling::ToolType::Ball, 6, 8, 35),
-                                 tool("bn6-60", tooling::ToolType::Ball, 6, 15, 60),
-                                 tool("bn6-45", tooling::ToolType::Ball, 6, 16, 45)};
+  std::vector<tooling::Tool> lib{
+      tool("dr8-long", tooling::ToolType::Drill, 8, 11, 80), tool("dr10-short", tooling::ToolType::Drill, 10, 12, 15),
+      tool("dr10", tooling::ToolType::Drill, 10, 10, 100),   tool("dr10-mid", tooling::ToolType::Drill, 10, 13, 40),
+      tool("dr12", tooling::ToolType::Drill, 12, 14, 100),   tool("bn6-35", tooling::ToolType::Ball, 6, 8, 35),
+      tool("bn6-60", tooling::ToolType::Ball, 6, 15, 60),    tool("bn6-45", tooling::ToolType::Ball, 6, 16, 45)};
   const tooling::Tool em10 = tool("em10", tooling::ToolType::Flat, 10, 3, 50);
   // The largest drill not wider than the end mill that reaches, then the shortest.
   EXPECT_EQ(job::drill_for(lib, em10, 30)->id, "dr10-mid");

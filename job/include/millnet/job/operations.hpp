@@ -84,11 +84,11 @@ struct ToolRun {
 /// radius from the tool's stick-out above the tip upwards; the part is the design z-map. Measured at
 /// every feed move's end (and every `step_mm` along it).
 struct HolderClearance {
-  bool checked = false;              ///< false: the tool states no stick-out or no holder
-  double min_clearance_mm = 0;       ///< smallest gap between the holder's face and the part below it (< 0: collision)
-  double deepest_tip_z = 0;          ///< lowest Z the tip reaches (program frame)
-  double reach_needed_mm = 0;        ///< how far below the highest part point under the holder the tip goes
-  gcode::Point3 worst{};             ///< where the gap is smallest (tip position)
+  bool checked = false;         ///< false: the tool states no stick-out or no holder
+  double min_clearance_mm = 0;  ///< smallest gap between the holder's face and the part below it (< 0: collision)
+  double deepest_tip_z = 0;     ///< lowest Z the tip reaches (program frame)
+  double reach_needed_mm = 0;   ///< how far below the highest part point under the holder the tip goes
+  gcode::Point3 worst{};        ///< where the gap is smallest (tip position)
 };
 /// The check over the design heights `design` (NaN off the part) on `grid`, in the program frame.
 /// O(feed moves × length / step + cells × holder disk cells / coarse²): the part is max-pooled to a

@@ -17,12 +17,12 @@ struct SetupTool {
   int number = 0, length_offset = 0;  ///< T and H
   std::string id, description, type;
   double diameter_mm = 0, corner_radius_mm = 0;
-  double stickout_mm = 0;                             ///< 0: not stated
+  double stickout_mm = 0;                               ///< 0: not stated
   double holder_diameter_mm = 0, holder_length_mm = 0;  ///< 0: not stated
-  double reach_needed_mm = 0;                         ///< the most its operations need below the holder's face
-  bool holder_checked = false;                        ///< stick-out and holder stated
-  double holder_clearance_mm = 0;                     ///< stick-out − reach needed (< 0: collision)
-  std::string note;                                   ///< e.g. "chosen for its reach: the configured … reaches 30 mm"
+  double reach_needed_mm = 0;                           ///< the most its operations need below the holder's face
+  bool holder_checked = false;                          ///< stick-out and holder stated
+  double holder_clearance_mm = 0;                       ///< stick-out − reach needed (< 0: collision)
+  std::string note;  ///< e.g. "chosen for its reach: the configured … reaches 30 mm"
 };
 
 struct SetupOperation {
@@ -34,6 +34,7 @@ struct SetupOperation {
   double time_min = 0;                       ///< kinematic, simulated from the job program
   double deepest_z_mm = 0;
   double max_depth_of_cut_mm = 0;
+  bool beyond_flutes = false;  ///< the largest depth of cut exceeds the tool's flute length (drawn red)
   std::size_t cutting_rapids = 0;
   std::string program;  ///< its own program file (for shops that run operations one by one)
 };
