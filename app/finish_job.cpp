@@ -103,7 +103,15 @@ void grid_png(const fs::path& path, const std::vector<double>& values, const sim
   const Eigen::MatrixXd m = picture_map(values, g, 0.0);
   report::HeatMapOptions o;
   o.extent_mm = std::array<double, 4>{0, static_cast<double>(g.nx) * g.cell, 0, static_cast<double>(g.ny) * g.cell};
-  if (!(m.maxCoeff() > m.minCoeff())) o.value_range = std::pair{m.minCoeff(), m.minCoeff() + 1};
+  // The scale a few extreme cells (an uncut corner's Ra, a step left by the roughing) do not flatten.
+  const report::ColourRange r = report::robust_range(m);
+  if (r.hi > r.lo) {
+    o.value_range = std::pair{r.lo, r.hi};
+    o.below_share = r.below_share;
+    o.above_share = r.above_share;
+  } else {
+    o.value_range = std::pair{m.minCoeff(), m.minCoeff() + 1};
+  }
   (void)report::heat_map_png(path, m, title, units, o);
 }
 

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace millnet::report {
 
@@ -125,7 +126,58 @@ void draw_overlays(cv::Mat& img, const HeatMapOptions& opt, const Axis& x, const
   for (const auto& pl : opt.overlay_cuts) polyline(img, to_px(pl), kWhite, 1);
 }
 
+/// Under the colour bar, what its ends leave out: "≥ hi: p %" and "≤ lo: p %" (ASCII: ">=", "<=").
+void clipped_note(cv::Mat& img, int bottom, double lo, double hi, const HeatMapOptions& opt) {
+  auto pct = [](double share) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.1f %%", 100 * share);
+    return std::string(b);
+  };
+  int y = bottom + 22;
+  if (opt.above_share > 0 || opt.below_share > 0) {
+    put_text(img, "scale clipped:", {kWidth - 12, y}, kTickFont, kTextGrey, HAlign::Right, VAlign::Middle);
+    y += 16;
+  }
+  if (opt.above_share > 0) {
+    put_text(img, ">= " + compact_number(hi, 4) + ": " + pct(opt.above_share) + " of cells", {kWidth - 12, y},
+             kTickFont, kTextGrey, HAlign::Right, VAlign::Middle);
+    y += 16;
+  }
+  if (opt.below_share > 0)
+    put_text(img, "<= " + compact_number(lo, 4) + ": " + pct(opt.below_share) + " of cells", {kWidth - 12, y},
+             kTickFont, kTextGrey, HAlign::Right, VAlign::Middle);
+}
+
 }  // namespace
+
+ColourRange robust_range(const Eigen::MatrixXd& grid, double q) {
+  std::vector<double> v;
+  v.reserve(static_cast<std::size_t>(grid.size()));
+  for (Eigen::Index i = 0; i < grid.size(); ++i)  // O(cells)
+    if (std::isfinite(grid.data()[i])) v.push_back(grid.data()[i]);
+  ColourRange r;
+  if (v.empty()) return r;
+  const auto n = v.size();
+  auto rank = [&](double p) {  // nearest rank: the ceil(p·n)-th smallest
+    const auto k =
+        static_cast<std::size_t>(std::clamp(std::ceil(p * static_cast<double>(n)), 1.0, static_cast<double>(n))) - 1;
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+    return v[k];
+  };
+  const double qlo = rank(q), qhi = rank(1 - q);
+  const double mn = *std::min_element(v.begin(), v.end()), mx = *std::max_element(v.begin(), v.end());
+  r.lo = mn;
+  r.hi = mx;
+  const double core = qhi - qlo;
+  if (!(core > 0)) return r;
+  if (mx - qhi > 0.5 * core) r.hi = qhi;
+  if (qlo - mn > 0.5 * core) r.lo = qlo;
+  std::size_t below = 0, above = 0;
+  for (const double x : v) below += x < r.lo ? 1U : 0U, above += x > r.hi ? 1U : 0U;
+  r.below_share = static_cast<double>(below) / static_cast<double>(n);
+  r.above_share = static_cast<double>(above) / static_cast<double>(n);
+  return r;
+}
 
 Layout heat_map_png(const std::filesystem::path& path, const Eigen::MatrixXd& grid, const std::string& title_text,
                     const std::string& units, const HeatMapOptions& opt) {
@@ -163,6 +215,7 @@ Layout heat_map_png(const std::filesystem::path& path, const Eigen::MatrixXd& gr
   draw_axes(img, x, y, xl, yl, style);
   if (opt.extent_mm && (!opt.overlay_cuts.empty() || !opt.overlay_rapids.empty())) draw_overlays(img, opt, x, y);
   colour_bar(img, left + plot_w + 36, top, 26, top + plot_h, lo, hi, units, &viridis);
+  clipped_note(img, top + plot_h, lo, hi, opt);
   write_png(path, img);
   return make_layout(img, x, y);
 }

@@ -118,6 +118,50 @@ TEST(ReportHeatMap, ExtentInMillimetresAndAnnotations) {
   EXPECT_NE(bytes(p), bytes(pa));  // the numbers are drawn
 }
 
+TEST(ReportHeatMap, AFewExtremeCellsAreLeftOutOfTheScaleAndSaidSo) {
+  // 0 … 99 and one cell at 10,000 (an uncut corner's Ra): the 99th percentile (nearest rank: the
+  // 100th of 101 values, 99) ends the scale; 1 of 101 cells lies above it; the low end stays 0 (the
+  // 1st percentile, 1, is not half the range away from it).
+  Eigen::MatrixXd g(1, 101);
+  for (int j = 0; j < 100; ++j) g(0, j) = j;
+  g(0, 100) = 10000;
+  const ColourRange r = robust_range(g);
+  EXPECT_EQ(r.lo, 0);
+  EXPECT_EQ(r.hi, 99);
+  EXPECT_DOUBLE_EQ(r.above_share, 1.0 / 101);
+  EXPECT_EQ(r.below_share, 0);
+  // Both ends: −10,000 added (102 values): the 2nd smallest, 0, and the 101st, 99.
+  Eigen::MatrixXd h(1, 102);
+  h(0, 0) = -10000;
+  for (int j = 0; j < 101; ++j) h(0, j + 1) = g(0, j);
+  const ColourRange b = robust_range(h);
+  EXPECT_EQ(b.lo, 0);
+  EXPECT_EQ(b.hi, 99);
+  EXPECT_DOUBLE_EQ(b.below_share, 1.0 / 102);
+  EXPECT_DOUBLE_EQ(b.above_share, 1.0 / 102);
+  // Nothing extreme: the whole range, nothing left out.
+  const ColourRange w = robust_range(g.leftCols(100));
+  EXPECT_EQ(w.lo, 0);
+  EXPECT_EQ(w.hi, 99);
+  EXPECT_EQ(w.above_share + w.below_share, 0);
+  // Drawn: the cells keep their colours on the 0…99 scale, the extreme one the top colour, and the
+  // note under the colour bar changes the picture.
+  Eigen::MatrixXd sq(10, 10);
+  for (int i = 0; i < 100; ++i) sq(i / 10, i % 10) = i;
+  sq(9, 9) = 10000;
+  const ColourRange rs = robust_range(sq);
+  HeatMapOptions o;
+  o.value_range = std::pair{rs.lo, rs.hi};
+  const fs::path plain = out_dir() / "heat_clipped_plain.png", noted = out_dir() / "heat_clipped.png";
+  heat_map_png(plain, sq, "clipped", "Ra (um)", o);
+  o.above_share = rs.above_share;
+  const Layout l = heat_map_png(noted, sq, "clipped", "Ra (um)", o);
+  const cv::Mat img = decode(noted);
+  EXPECT_EQ(rgb_at(img, l, 6, 5), viridis_int(45.0 / rs.hi));  // row 4, col 5: 45
+  EXPECT_EQ(rgb_at(img, l, 10, 10), viridis_int(1.0));
+  EXPECT_NE(bytes(plain), bytes(noted));
+}
+
 TEST(ReportHeatMap, RejectsEmptyAndNonFiniteGrids) {
   const fs::path p = out_dir() / "bad_heat.png";
   EXPECT_THROW(heat_map_png(p, Eigen::MatrixXd(0, 0), "t", "mm"), millnet::Error);

@@ -67,7 +67,20 @@ struct HeatMapOptions {
   /// rapids dashed. Empty by default (the plain heat map is unchanged).
   std::vector<std::vector<std::array<double, 2>>> overlay_cuts;
   std::vector<std::vector<std::array<double, 2>>> overlay_rapids;
+  /// Shares of the cells beyond value_range (robust_range): drawn in the end colours, and the colour
+  /// bar says "≤ lo: p %" / "≥ hi: p %" under it. 0: nothing clipped at that end.
+  double below_share = 0, above_share = 0;
 };
+
+/// A colour scale the few extreme cells of a map do not flatten (issue 37 §1: an Ra map whose
+/// scale ran to 580 µm read as one colour): [min, max] of the grid, each end pulled in to the q
+/// (1 − q) quantile by nearest rank when the cells beyond it would stretch the scale by more than
+/// half the range between the two quantiles; with the shares of cells beyond each end. O(cells).
+struct ColourRange {
+  double lo = 0, hi = 0;
+  double below_share = 0, above_share = 0;
+};
+[[nodiscard]] ColourRange robust_range(const Eigen::MatrixXd& grid, double q = 0.01);
 
 /// Heat map of `grid` (rows = y, cols = x; row 0 = smallest y, drawn at the BOTTOM; col 0 = smallest
 /// x, at the left), viridis colours with a colour bar labelled `units` (e.g. "height (mm)").
