@@ -168,6 +168,7 @@ HolderClearance holder_clearance(const gcode::Program& program, const tooling::T
   const auto cx = static_cast<std::size_t>(std::ceil(w / coarse_mm)),
              cy = static_cast<std::size_t>(std::ceil(h / coarse_mm));
   constexpr double kNone = -std::numeric_limits<double>::infinity();
+  if (cx == 0 || cy == 0 || design.size() != grid.cells()) return hc;  // no part to clear
   std::vector<double> pooled(cx * cy, kNone);
   for (std::size_t iy = 0; iy < grid.ny; ++iy)  // O(cells)
     for (std::size_t ix = 0; ix < grid.nx; ++ix) {
