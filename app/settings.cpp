@@ -317,7 +317,8 @@ tooling::Cutter parse_tool(const std::string& text) {
 
 tooling::Cutter tool_arg(const std::string& text, const Json& config, bool drills) {
   if (text.find(':') != std::string::npos) return parse_tool(text);
-  const tooling::Tool& t = tool_library(config).tool(text, "--tool");
+  const ToolLibrary lib = tool_library(config);  // kept: the tool is a reference into it
+  const tooling::Tool& t = lib.tool(text, "--tool");
   return drills && t.type == tooling::ToolType::Drill ? t.cutter() : cutter_of(t);
 }
 
