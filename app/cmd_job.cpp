@@ -72,13 +72,6 @@ job::DrillCut drill_cut(const tooling::Tool& drill, const Json& config, const st
   return {d.rpm, d.feed_plunge_mm_min};
 }
 
-double deepest_z(const gcode::Program& p) {
-  double z = 0;
-  for (const gcode::Item& i : p.items)
-    if (const auto* m = std::get_if<gcode::Move>(&i)) z = std::min(z, m->to[2]);
-  return z;
-}
-
 report::SetupTool setup_tool(const tooling::Tool& t) {
   report::SetupTool s;
   s.number = t.number;
@@ -133,7 +126,7 @@ int run_job(const JobOpts& o) {
   const tooling::Tool* drill = nullptr;
   job::DrillCut dc;
   if (job::predrills(rough.machining.program)) {
-    const double hole = -deepest_z(rough.machining.program);
+    const double hole = -job::deepest_z(rough.machining.program);
     drill = job::drill_for(lib.tools, mill, hole);
     if (drill == nullptr)
       throw Error(file + ": the roughing pre-drills its entries " + fixed(hole, 1) + " mm deep and no drill of Ø" +
@@ -180,10 +173,7 @@ int run_job(const JobOpts& o) {
   }
 
   // The job's tools as a LinuxCNC tool table (what the control loads before the job runs).
-  std::vector<tooling::Tool> job_tools;
-  for (const job::Operation& op : ops)
-    if (std::none_of(job_tools.begin(), job_tools.end(), [&](const auto& t) { return t.number == op.tool.number; }))
-      job_tools.push_back(op.tool);
+  const std::vector<tooling::Tool> job_tools = job::tools_of(ops);
   const fs::path tbl = out / (stem + ".tool.tbl");
   const std::string tbl_text = tooling::io::linuxcnc_tool_table(job_tools).text;
   write_file_atomic(tbl, tbl_text);

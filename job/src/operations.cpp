@@ -108,6 +108,21 @@ std::vector<Operation> numbered(std::vector<Operation> ops) {
   return ops;
 }
 
+std::vector<tooling::Tool> tools_of(const std::vector<Operation>& ops) {
+  std::vector<tooling::Tool> tools;
+  for (const Operation& op : ops)
+    if (std::none_of(tools.begin(), tools.end(), [&](const auto& t) { return t.number == op.tool.number; }))
+      tools.push_back(op.tool);
+  return tools;
+}
+
+double deepest_z(const gcode::Program& program) {
+  double z = 0;
+  for (const gcode::Item& i : program.items)
+    if (const auto* m = std::get_if<gcode::Move>(&i)) z = std::min(z, m->to[2]);
+  return z;
+}
+
 namespace {
 void append_operation(gcode::Program& out, const Operation& op) {
   if (op.tool.number <= 0)

@@ -142,6 +142,10 @@ TEST(JobOperations, TheJobProgramChangesToolsAndReadsBackToolByTool) {
   EXPECT_THROW((void)job::job_program(ops, {}), Error);
   const auto renumbered = job::numbered(ops);
   EXPECT_EQ(renumbered[2].tool.number, 22);  // above every number and H register in use
+  const auto tools = job::tools_of(renumbered);
+  ASSERT_EQ(tools.size(), 3U);
+  EXPECT_EQ(tools[0].id, "dr10");
+  EXPECT_DOUBLE_EQ(job::deepest_z(predrilled_rough()), -6);
 }
 
 TEST(JobOperations, InlineToolsSharingAShapeShareANumber) {

@@ -64,6 +64,12 @@ struct DrillCut {
 /// number in use, the same number for operations sharing that tool; returns the operations renumbered.
 [[nodiscard]] std::vector<Operation> numbered(std::vector<Operation> ops);
 
+/// The operations' tools, one per tool number, in the order they are first used. O(ops²): ops are few.
+[[nodiscard]] std::vector<tooling::Tool> tools_of(const std::vector<Operation>& ops);
+
+/// The lowest Z any move of `program` goes to (0 when none goes below Z 0). O(items).
+[[nodiscard]] double deepest_z(const gcode::Program& program);
+
 /// One operation run alone: `header` as its header, then its tool change, then its items.
 [[nodiscard]] gcode::Program operation_program(const Operation& op, std::vector<std::string> header);
 
