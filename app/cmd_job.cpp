@@ -12,6 +12,7 @@
 #include "millnet/core/output_set.hpp"
 #include "millnet/core/sha256.hpp"
 #include "millnet/job/chain.hpp"
+#include "millnet/job/links.hpp"
 #include "millnet/job/operations.hpp"
 #include "millnet/report/setup_sheet.hpp"
 #include "millnet/tooling/io/tool_tables.hpp"
@@ -70,6 +71,59 @@ job::DrillCut drill_cut(const tooling::Tool& drill, const Json& config, const st
   const tooling::CuttingData d = tooling::cutting_data(drill, lib.material(cs.material_id, cs.material_from),
                                                        std::max(depth_mm, 0.1), cs.machine, cs.factors);
   return {d.rpm, d.feed_plunge_mm_min};
+}
+
+/// What the semi-finishing needs to know of the job so far.
+struct SemiFinishInput {
+  const job::Part& part;
+  const PartFinish& finishing;
+  const FinishSettings& settings;
+  const tooling::Tool& finisher;
+  const tooling::Tool& mill;
+  const job::StepResult& roughed;  ///< what the roughing left (its largest and where)
+  double depth_mm = 0;             ///< the part's depth below the stock top (the reach)
+};
+
+/// A semi-finishing operation (issue 38) for when the roughing leaves more above the design than
+/// the finishing tool's flutes take: strategy 1 (Z-level on the steep, raster on the shallow, as a
+/// CAM engineer semi-finishes) with the library's smallest larger ball whose flutes take that
+/// stock, over the design + the finishing allowance (a ball of radius R over the surface offset by
+/// a is a ball of radius R + a over the surface, raised by a), its passes the step that leaves
+/// cusps no higher than the allowance, at the ball's own cutting data. Refused in one line when no
+/// ball of the library will do.
+struct SemiFinish {
+  job::Operation op;
+  finish::FinishParams params;  ///< its cutting data and steps
+};
+SemiFinish semi_finishing(const SemiFinishInput& in, const Json& config, const std::optional<std::string>& material,
+                          const ToolLibrary& lib, const std::string& file) {
+  const double left = in.roughed.max_left_mm, a = in.settings.sim.allowance_mm;
+  const tooling::Tool* semi = job::semi_finishing_tool(lib.tools, in.finisher, in.mill, left, in.depth_mm);
+  if (semi == nullptr)
+    throw Error(file + ": the roughing leaves " + fixed(left, 2) + " mm above the design (at X" +
+                fixed(in.roughed.max_left_at[0], 1) + " Y" + fixed(in.roughed.max_left_at[1], 1) + "), more than the " +
+                fixed(in.finisher.flute_length_mm, 1) + " mm flutes of " + in.finisher.label() +
+                " take, and no ball of the library between Ø" + fixed(in.finisher.diameter_mm, 1) + " and Ø" +
+                fixed(in.mill.diameter_mm, 1) + " mm has flutes that long and reaches " + fixed(in.depth_mm, 1) +
+                " mm: add one, or rough with a smaller step-down (/pocket/step_down)");
+  const CuttingSettings cs = cutting_settings(config, material);
+  const tooling::CuttingData d =
+      tooling::cutting_data(*semi, lib.material(cs.material_id, cs.material_from), left, cs.machine, cs.factors);
+  finish::FinishParams p = job::part_params(in.settings.params, in.finishing.frame, in.part.name + " semi-finishing",
+                                            {"tool: " + semi->label()});
+  const tooling::Cutter grown = tooling::Cutter::ball(semi->diameter_mm + 2 * a);
+  p.tool = grown;
+  p.z_shift += a;
+  p.stepover_mm = p.step_down_mm = job::scallop_step(semi->diameter_mm / 2, a);
+  p.spindle_rpm = d.rpm, p.feed_mm_min = d.feed_mm_min, p.plunge_feed_mm_min = d.feed_plunge_mm_min;
+  const finish::DropCutter dropper(in.part.mesh, grown);
+  finish::FinishPlan plan = finish::plan_finish(in.part.mesh, dropper, finish::Strategy::SlopeMode, p);
+  for (gcode::Item& item : plan.program.items)  // its tool comment names the real ball
+    if (auto* c = std::get_if<gcode::Comment>(&item)) {
+      c->text = "semi-finishing, " + semi->label() + ", leaving " + format_double(a) + " mm";
+      break;
+    }
+  return {{"semi-finishing (s1 slope mode, leaving " + format_double(a) + " mm)", *semi, std::move(plan.program)}, p};
 }
 
 report::SetupTool setup_tool(const tooling::Tool& t) {
@@ -146,7 +200,38 @@ int run_job(const JobOpts& o) {
   const fs::path pick_nc = out / "strategies" / program_file_name(stem + ".s" + std::to_string(slot), pick);
   const ChainProgram finishing = read_chain_program(pick_nc, ball.cutter());
   const std::string strategy_name = "s" + finish::strategy_name(pick.strategy);  // "s3 profile finishing, …"
-  ops.push_back({"finishing (" + strategy_name + ")", ball, finishing.written.program});
+  // The finishing was planned over the design + its allowance; in the job it meets what the drilling
+  // and roughing leave: its rapids are lifted over that stock (issue 38).
+  const job::Design& design = *pf.design;
+  const job::SimParams sim = sim_params(fs_);
+  simulate::ZMap roughed = job::block_stock(design, sim);
+  std::vector<job::StepResult> before = job::machine_steps(roughed, design, job::chain_steps(ops), fs_.machine);
+  std::optional<finish::FinishParams> semi_params;
+  if (ball.flute_length_mm > 0 && before.back().max_left_mm > ball.flute_length_mm) {
+    info("job: " + stem + ": the roughing leaves " + fixed(before.back().max_left_mm, 2) + " mm, more than the " +
+         fixed(ball.flute_length_mm, 1) + " mm flutes of " + ball.label() + ": semi-finishing");
+    SemiFinish sf = semi_finishing({part, pf, fs_, ball, mill, before.back(), depth}, config, o.material, lib, file);
+    semi_params = sf.params;
+    job::Operation& semi = sf.op;
+    job::LinkChanges semi_links;
+    semi.program = job::clear_rapids(semi.program, roughed, semi.tool.cutter(), fs_.params.clearance_mm,
+                                     fs_.params.plunge_feed_mm_min, &semi_links);
+    notes.push_back("the roughing leaves " + fixed(before.back().max_left_mm, 2) + " mm above the design (at X" +
+                    fixed(before.back().max_left_at[0], 1) + " Y" + fixed(before.back().max_left_at[1], 1) +
+                    "), more than the " + fixed(ball.flute_length_mm, 1) + " mm flutes of " + ball.label() +
+                    " take: " + semi.tool.label() + " semi-finishes first");
+    ops.push_back(std::move(semi));
+    before.push_back(job::machine_steps(roughed, design, {job::chain_steps(ops).back()}, fs_.machine).front());
+  }
+  job::LinkChanges links;
+  ops.push_back({"finishing (" + strategy_name + ")", ball,
+                 job::clear_rapids(finishing.written.program, roughed, ball.cutter(), fs_.params.clearance_mm,
+                                   fs_.params.plunge_feed_mm_min, &links)});
+  if (links.raised + links.fed > 0)
+    notes.push_back("finishing: " + std::to_string(links.raised) + " links lifted over the stock left before it (" +
+                    fixed(before.back().max_left_mm, 2) + " mm above the design at most, at X" +
+                    fixed(before.back().max_left_at[0], 1) + " Y" + fixed(before.back().max_left_at[1], 1) + "), " +
+                    std::to_string(links.fed) + " approaches finished at the plunge feed");
   if (!pick.meets_spec && pf.outcomes.size() > 1)
     notes.push_back("no strategy meets the surface specification; the job finishes with the best of them");
   ops = job::numbered(std::move(ops));
@@ -181,8 +266,6 @@ int run_job(const JobOpts& o) {
 
   // 6. The job program machined from the block, tool by tool, on one z-map.
   info("job: " + stem + ": machining the job program from the block");
-  const job::Design& design = *pf.design;
-  const job::SimParams sim = sim_params(fs_);
   simulate::ZMap z = job::block_stock(design, sim);
   const std::vector<job::ToolRun> runs = job::split_at_tool_changes(job_w.program);
   std::map<int, const job::Operation*> by_number;
@@ -247,6 +330,10 @@ int run_job(const JobOpts& o) {
     if (op.name == "drilling") {
       so.strategy = "plunge per pre-drilled entry";
       so.rpm = dc.rpm, so.feed_mm_min = dc.feed_mm_min;
+    } else if (op.name.rfind("semi-finishing", 0) == 0 && semi_params) {
+      so.strategy = "s1 slope mode over the design + " + format_double(sim.allowance_mm) + " mm";
+      so.rpm = semi_params->spindle_rpm, so.feed_mm_min = semi_params->feed_mm_min;
+      so.stepover_mm = semi_params->stepover_mm, so.step_down_mm = semi_params->step_down_mm;
     } else if (op.name == "roughing") {  // the roughing's own cutting data
       so.strategy = "Z-level roughing";
       so.rpm = rp.cut.spindle_rpm, so.feed_mm_min = rp.cut.feed_half;
@@ -259,26 +346,31 @@ int run_job(const JobOpts& o) {
     sheet.deepest_z = std::min(sheet.deepest_z, hc.deepest_tip_z);
     sheet.total_time_min += so.time_min;
     sheet.operations.push_back(so);
-    ops_json.push_back(Json{{"operation", so.index},
-                            {"name", op.name},
-                            {"strategy", so.strategy},
-                            {"tool", Json{{"number", op.tool.number},
-                                          {"length_offset", op.tool.length_offset_register()},
-                                          {"id", op.tool.id},
-                                          {"label", op.tool.label()}}},
-                            {"spindle_rpm", so.rpm},
-                            {"feed_mm_min", so.feed_mm_min},
-                            {"stepover_mm", so.stepover_mm},
-                            {"step_down_mm", so.step_down_mm},
-                            {"deepest_z_mm", so.deepest_z_mm},
-                            {"reach_needed_mm", hc.reach_needed_mm},
-                            {"holder_checked", hc.checked},
-                            {"holder_clearance_mm", hc.checked ? Json(hc.min_clearance_mm) : Json(nullptr)},
-                            {"time_kinematic_min", so.time_min},
-                            {"time_feed_min", st.stats.feed_time_min},
-                            {"max_depth_of_cut_mm", st.max_depth_of_cut_mm},
-                            {"cutting_rapids", st.cutting_rapids},
-                            {"program", op_files[i]}});
+    ops_json.push_back(Json{
+        {"operation", so.index},
+        {"name", op.name},
+        {"strategy", so.strategy},
+        {"tool", Json{{"number", op.tool.number},
+                      {"length_offset", op.tool.length_offset_register()},
+                      {"id", op.tool.id},
+                      {"label", op.tool.label()}}},
+        {"spindle_rpm", so.rpm},
+        {"feed_mm_min", so.feed_mm_min},
+        {"stepover_mm", so.stepover_mm},
+        {"step_down_mm", so.step_down_mm},
+        {"deepest_z_mm", so.deepest_z_mm},
+        {"reach_needed_mm", hc.reach_needed_mm},
+        {"holder_checked", hc.checked},
+        {"holder_clearance_mm", hc.checked ? Json(hc.min_clearance_mm) : Json(nullptr)},
+        {"time_kinematic_min", so.time_min},
+        {"time_feed_min", st.stats.feed_time_min},
+        {"max_depth_of_cut_mm", st.max_depth_of_cut_mm},
+        {"cutting_rapids", st.cutting_rapids},
+        {"max_depth_of_cut_at",
+         Json{{"line", st.max_cut_line}, {"x", st.max_cut_at[0]}, {"y", st.max_cut_at[1]}, {"z", st.max_cut_at[2]}}},
+        {"left_above_design_mm", st.max_left_mm},
+        {"left_above_design_at", {st.max_left_at[0], st.max_left_at[1]}},
+        {"program", op_files[i]}});
   }
   for (auto& [n, t] : tools) sheet.tools.push_back(t);
   for (const std::string& n : notes)

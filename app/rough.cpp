@@ -26,7 +26,8 @@ Json write_rough_outputs(const fs::path& dir, const std::string& stem, const rou
                       {"retractions", s.chains > 0 ? s.chains - 1 : 0},
                       {"cut_length_mm", s.cut_length_mm},
                       {"uncut_area_mm2", s.uncut_area_mm2},
-                      {"status", lv.status}});
+                      {"status", lv.status},
+                      {"flat_z_part_mm", std::isnan(lv.flat_z_part) ? Json(nullptr) : Json(lv.flat_z_part)}});
     (void)report::level_png(dir / (stem + ".level_" + std::to_string(k + 1) + ".png"), lv.regions, s.path, lv.z, stem,
                             {{"islands", std::to_string(lv.islands)},
                              {"cut", fixed(s.cut_length_mm, 0) + " mm"},

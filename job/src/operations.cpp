@@ -95,6 +95,26 @@ const tooling::Tool* tool_that_reaches(const std::vector<tooling::Tool>& library
   return best;
 }
 
+const tooling::Tool* semi_finishing_tool(const std::vector<tooling::Tool>& library, const tooling::Tool& finisher,
+                                         const tooling::Tool& rough, double depth_of_cut_mm, double depth_mm) {
+  const tooling::Tool* best = nullptr;
+  for (const tooling::Tool& t : library) {  // O(tools)
+    if (t.type != tooling::ToolType::Ball || t.diameter_mm <= finisher.diameter_mm ||
+        t.diameter_mm > rough.diameter_mm || !reaches(t, depth_mm) ||
+        (t.flute_length_mm > 0 && t.flute_length_mm < depth_of_cut_mm))
+      continue;
+    if (best == nullptr || t.diameter_mm < best->diameter_mm ||
+        (t.diameter_mm == best->diameter_mm && t.stickout_mm < best->stickout_mm))
+      best = &t;
+  }
+  return best;
+}
+
+double scallop_step(double radius, double scallop_mm) {
+  const double h = std::min(scallop_mm, radius);
+  return 2 * std::sqrt(std::max(0.0, 2 * radius * h - h * h));
+}
+
 std::vector<Operation> numbered(std::vector<Operation> ops) {
   int next = 0;
   for (const Operation& op : ops) next = std::max({next, op.tool.number, op.tool.length_offset});

@@ -6,6 +6,8 @@
 #include "millnet/core/error.hpp"
 #include "millnet/pocket/gcode.hpp"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -110,7 +112,67 @@ void check_levels_work(const pocket::Loop& stock, std::int64_t n_levels, double 
   }
 }
 
+/// The levels' heights (part frame), highest first: the even split of the stock's height at ≤
+/// step_down, then a level per flat that no level keeps within kFlatToleranceMm (flat_z[k]: the
+/// flat of level k, NaN for a step-down level). O(levels · flats).
+std::vector<double> level_heights(const Result& res, double floor, std::int64_t n_levels,
+                                  const std::vector<Flat>& flats, double stock_to_leave, std::vector<double>& flat_z) {
+  const double dz = (res.stock_top_part - floor) / static_cast<double>(n_levels);
+  std::vector<std::pair<double, double>> zs;  // (level, flat or NaN)
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (std::int64_t k = 1; k <= n_levels; ++k) zs.emplace_back(res.stock_top_part - static_cast<double>(k) * dz, nan);
+  for (const Flat& f : flats) {
+    const double z = f.z + stock_to_leave + kFlatClearanceMm;
+    if (z <= floor || z >= res.stock_top_part) continue;
+    // A level cuts the flat when it lies above the flat + stock to leave; within the tolerance of that it keeps it.
+    const bool kept = std::any_of(zs.begin(), zs.end(), [&](const auto& l) {
+      return l.first > f.z + stock_to_leave && l.first <= f.z + stock_to_leave + kFlatToleranceMm;
+    });
+    if (!kept) zs.emplace_back(z, f.z);
+  }
+  std::sort(zs.begin(), zs.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<double> out;
+  flat_z.clear();
+  for (const auto& [z, fz] : zs) {
+    out.push_back(z);
+    flat_z.push_back(fz);
+  }
+  return out;
+}
+
 }  // namespace
+
+std::vector<Flat> flat_areas(const ingest::Mesh& mesh, double max_angle_deg, double min_area_mm2) {
+  // Upward faces within the angle: (highest vertex z, projected area), sorted by height and grouped
+  // while consecutive heights stay within kFlatZToleranceMm of the group's lowest.
+  const double min_nz = std::cos(max_angle_deg * 3.14159265358979323846 / 180.0);
+  std::vector<std::pair<double, double>> faces;
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)).transpose();
+    const Eigen::Vector3d b = mesh.V.row(mesh.F(f, 1)).transpose();
+    const Eigen::Vector3d c = mesh.V.row(mesh.F(f, 2)).transpose();
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    const double len = n.norm();
+    if (!(len > 0) || n.z() < min_nz * len) continue;
+    const double top = std::max({a.z(), b.z(), c.z()});
+    if (top - std::min({a.z(), b.z(), c.z()}) > kFlatZToleranceMm) continue;
+    faces.emplace_back(top, 0.5 * n.z());
+  }
+  std::sort(faces.begin(), faces.end());
+  std::vector<Flat> out;
+  for (std::size_t i = 0; i < faces.size();) {
+    Flat f{faces[i].first, 0};
+    std::size_t j = i;
+    for (; j < faces.size() && faces[j].first - faces[i].first <= kFlatZToleranceMm; ++j) {
+      f.z = faces[j].first;
+      f.area_mm2 += faces[j].second;
+    }
+    if (f.area_mm2 >= min_area_mm2) out.push_back(f);
+    i = j;
+  }
+  std::reverse(out.begin(), out.end());
+  return out;
+}
 
 std::vector<pocket::Region> level_regions(const std::vector<ingest::ContourLoop>& loops, const pocket::Loop& stock,
                                           std::size_t* islands) {
@@ -170,8 +232,13 @@ Result rough_mesh(const ingest::Mesh& mesh, const Params& p) {
   const double height = res.stock_top_part - floor;
   if (height <= 0) throw Error("nothing to rough: the stock top is not above the floor");
   // Counted in 64 bits and bounded before any level is planned (issue 15: --step-down 1e-9).
-  const std::int64_t n_levels = pocket::level_count(height, p.cut.step_down);
-  const double dz = height / static_cast<double>(n_levels);
+  const std::int64_t n_steps = pocket::level_count(height, p.cut.step_down);
+  std::vector<double> flat_z;
+  const std::vector<double> zs =
+      level_heights(res, floor, n_steps,
+                    p.flat_levels ? flat_areas(mesh, p.flat_max_angle_deg, p.flat_min_area_mm2) : std::vector<Flat>{},
+                    p.cut.stock_to_leave, flat_z);
+  const auto n_levels = static_cast<std::int64_t>(zs.size());
   const double clearance = p.cut.clearance();
   // Tool centres may pass up to one clearance outside the stock edge (the tool then just touches
   // it from the air side), so that the margin ring around the part is cleared even when the margin
@@ -181,9 +248,9 @@ Result rough_mesh(const ingest::Mesh& mesh, const Params& p) {
   check_levels_work(stock, n_levels, height, p);
   std::vector<pocket::LevelPlan> plans;
   double top_z = 0;
-  for (std::int64_t k = 1; k <= n_levels; ++k) {
-    res.levels.push_back(
-        plan_level(res, p, stock, res.stock_top_part - static_cast<double>(k) * dz, top_z, plans, res.tool_points));
+  for (std::size_t k = 0; k < zs.size(); ++k) {
+    res.levels.push_back(plan_level(res, p, stock, zs[k], top_z, plans, res.tool_points));
+    res.levels.back().flat_z_part = flat_z[k];
     top_z = res.levels.back().z;
   }
   if (plans.empty()) {
@@ -192,8 +259,11 @@ Result rough_mesh(const ingest::Mesh& mesh, const Params& p) {
   } else {
     pocket::MachiningOptions mo = p.machining;
     mo.contour = false;
+    const auto flats =
+        static_cast<std::size_t>(std::count_if(flat_z.begin(), flat_z.end(), [](double f) { return !std::isnan(f); }));
     mo.comments = {"roughing: stock top Z 0 = part top + " + format_double(p.top_allowance_mm) + " mm, " +
-                   std::to_string(res.levels.size()) + " Z levels"};
+                   std::to_string(res.levels.size()) + " Z levels" +
+                   (flats > 0 ? " (" + std::to_string(flats) + " at flat areas)" : "")};
     pocket::CutParams cut = p.cut;
     cut.depth = height;  // the program's floor: the last level
     res.machining = pocket::machine_levels(std::move(plans), cut, mo);

@@ -12,6 +12,7 @@
 #include "millnet/ingest/io/mesh_io.hpp"
 #include "millnet/ingest/zlevels.hpp"
 #include "millnet/rough/rough.hpp"
+#include "millnet/simulate/zmap.hpp"
 
 #include <gtest/gtest.h>
 
@@ -178,6 +179,7 @@ TEST(RoughLevels, BoxOnPlateGivesOneSquareIslandPerLevelAndNoneAboveTheBox) {
     add_box(m, 0, 0, 0, 100, 80, plate_top);
     add_box(m, bx0, by0, plate_top, bx1, by1, box_top);
     Params p = params_for("som", stl, 5.1);
+    p.flat_levels = false;  // the even split's slices (the flats' own levels: RoughFlats)
     // Stock top 30.3, 6 levels of 5.05 mm (25.25, 20.2, …, 5.05, 0): the first lies above the box
     // top but within 0.5 mm of it, so with stock_to_leave 0.5 the box is already an island there;
     // 5.05 lies just above the plate (with stock_to_leave 0 the plate is not yet material).
@@ -335,7 +337,8 @@ TEST(RoughLevels, PlainBoxIsRoughedAroundDownToTheFloor) {
   // level was all material.
   ingest::Mesh m;
   add_box(m, 0, 0, 0, 40, 30, 20);
-  const Params p = params_for("som", 0, 5);
+  Params p = params_for("som", 0, 5);
+  p.flat_levels = false;  // the box's top would get a level of its own (RoughFlats)
   const Result r = rough_mesh(m, p);
   ASSERT_EQ(r.machining.status, pocket::PlanStatus::Ok) << r.machining.message;
   ASSERT_EQ(r.levels.size(), 5u);
@@ -487,4 +490,75 @@ TEST(RoughWork, TheLevelsTogetherAreEstimatedBeforeTheFirst) {
   p = params_for("offset", 0, 5);
   p.limits.max_work = 1e6;
   EXPECT_EQ(rough_mesh(m, p).machining.status, pocket::PlanStatus::Ok);
+}
+
+// Issue 38: a floor between two step-down levels kept a step (1.29 mm here) instead of the
+// allowance. A cavity 30 × 30 mm with its floor at z 12 in a 60 × 60 × 30 block: stock top 31,
+// seven step-down levels of 31/7 = 4.43 mm (… 13.29, 8.86 …) straddle the floor. The program is
+// machined on an independent z-map (simulate::machine, exact sweeps): with flat levels every floor
+// cell the Ø10 tool reaches keeps the 0.5 mm allowance within 0.01 mm, never less; without them
+// (the old behaviour, flat_levels false) the floor keeps 13.29 − 12 = 1.29 mm.
+TEST(RoughFlats, ACavityFloorBetweenTwoLevelsKeepsTheAllowance) {
+  ingest::Mesh m;
+  add_box(m, 0, 0, 0, 60, 15, 30);  // the block around the cavity: four walls …
+  add_box(m, 0, 45, 0, 60, 60, 30);
+  add_box(m, 0, 15, 0, 15, 45, 30);
+  add_box(m, 45, 15, 0, 60, 45, 30);
+  add_box(m, 15, 15, 0, 45, 45, 12);  // … and the cavity's floor
+  const std::vector<millnet::rough::Flat> flats = millnet::rough::flat_areas(m, 0.1, 1);
+  ASSERT_EQ(flats.size(), 2u);
+  EXPECT_DOUBLE_EQ(flats[0].z, 30);
+  EXPECT_NEAR(flats[0].area_mm2, 60 * 60 - 30 * 30, 1e-9);
+  EXPECT_DOUBLE_EQ(flats[1].z, 12);
+  EXPECT_NEAR(flats[1].area_mm2, 30 * 30, 1e-9);
+  EXPECT_TRUE(millnet::rough::flat_areas(m, 0.1, 901).size() == 1u) << "the floor is smaller than 901 mm²";
+
+  const double stl = 0.5, floor_z = 12;
+  for (const bool flat_levels : {true, false}) {
+    SCOPED_TRACE(flat_levels ? "flat levels" : "step-down levels only");
+    Params p = params_for("offset", stl, 5);
+    p.flat_levels = flat_levels;
+    const Result r = rough_mesh(m, p);
+    ASSERT_EQ(r.machining.status, pocket::PlanStatus::Ok) << r.machining.message;
+    // 7 step-down levels, + the top face's and the floor's levels at 30.502 and 12.502.
+    ASSERT_EQ(r.levels.size(), flat_levels ? 9u : 7u);
+    int flat_count = 0;
+    for (const auto& lv : r.levels)
+      if (!std::isnan(lv.flat_z_part)) {
+        ++flat_count;
+        EXPECT_NEAR(lv.z_part, lv.flat_z_part + stl + millnet::rough::kFlatClearanceMm, 1e-12);
+      }
+    EXPECT_EQ(flat_count, flat_levels ? 2 : 0);
+    for (std::size_t k = 1; k < r.levels.size(); ++k)
+      EXPECT_LE(r.levels[k - 1].z_part - r.levels[k].z_part, p.cut.step_down + 1e-9) << "no level cuts deeper";
+
+    // The cavity machined on a 0.1 mm z-map (program frame: Z 0 = stock top 31).
+    millnet::simulate::GridSpec g;
+    g.x0 = 15, g.y0 = 15, g.cell = 0.1, g.nx = 300, g.ny = 300;
+    millnet::simulate::ZMap z = millnet::simulate::ZMap::flat(g, 0);
+    (void)millnet::simulate::machine(z, r.machining.program, p.cut.tool);
+    double lo = 1e9, hi = -1e9;
+    std::size_t cells = 0;
+    for (std::size_t iy = 0; iy < g.ny; ++iy)
+      for (std::size_t ix = 0; ix < g.nx; ++ix) {
+        const double x = g.x(ix), y = g.y(iy);
+        // Where the Ø10 tool's bottom reaches: within its radius of the square of centres 5.5 mm
+        // (radius + stock to leave) + 0.5 mm (the islands grow by the contour tolerance + a raster
+        // diagonal: 0.40 mm) inside the walls.
+        const double cx = std::clamp(x, 21.0, 39.0), cy = std::clamp(y, 21.0, 39.0);
+        if (std::hypot(x - cx, y - cy) > 5) continue;
+        const double left = z.at(ix, iy) + 31 - floor_z;
+        lo = std::min(lo, left);
+        hi = std::max(hi, left);
+        ++cells;
+      }
+    std::printf("[flats %d] %zu floor cells: left %.4f … %.4f mm\n", flat_levels, cells, lo, hi);
+    EXPECT_GT(cells, 75000u);
+    if (flat_levels) {
+      EXPECT_GE(lo, stl - 1e-9) << "into the allowance";
+      EXPECT_LE(hi, stl + 0.01);
+    } else {
+      EXPECT_NEAR(lo, 31 - 4 * 31.0 / 7 - floor_z, 1e-6) << "the step-down level 13.29 over the floor";
+    }
+  }
 }

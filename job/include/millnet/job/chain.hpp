@@ -5,9 +5,11 @@
 #include "millnet/gcode/program.hpp"
 #include "millnet/gcode/stats.hpp"
 #include "millnet/job/finishing.hpp"
+#include "millnet/job/operations.hpp"
 #include "millnet/simulate/zmap.hpp"
 #include "millnet/tooling/cutter.hpp"
 
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -20,11 +22,23 @@ struct ChainStep {
   tooling::Cutter cutter;
 };
 
+/// The operations as chain steps (each its program and its tool's cutter), in order; they point
+/// into `ops`.
+[[nodiscard]] std::vector<ChainStep> chain_steps(const std::vector<Operation>& ops);
+
 /// What one program of the chain did.
 struct StepResult {
   gcode::ProgramStats stats;       ///< lengths and times (the /machine motion model)
   double max_depth_of_cut_mm = 0;  ///< deepest cut of any of its moves
   std::size_t cutting_rapids = 0;  ///< its rapids that removed material
+  /// Where that deepest cut was: the move's G-code line (0 when the program was built, not read)
+  /// and its end point (program frame).
+  std::size_t max_cut_line = 0;
+  gcode::Point3 max_cut_at{};
+  /// After it: the most stock above the design (cells where the design is), mm, and where (XY);
+  /// what the next tool meets at worst.
+  double max_left_mm = 0;
+  std::array<double, 2> max_left_at{};
 };
 
 struct ChainResult {
@@ -34,6 +48,13 @@ struct ChainResult {
 
 /// A block up to Z 0 over the design's grid (the raw stock of a part roughed from a block).
 [[nodiscard]] simulate::ZMap block_stock(const Design& design, const SimParams& sim);
+
+/// Machines the steps in order on `stock` (left machined), each measured: its lengths and times,
+/// its deepest cut and where, its cutting rapids and the stock it leaves above the design.
+/// O(steps × (moves + cells swept + cells)).
+[[nodiscard]] std::vector<StepResult> machine_steps(simulate::ZMap& stock, const Design& design,
+                                                    const std::vector<ChainStep>& steps,
+                                                    const gcode::MotionModel& machine);
 
 /// Machines the steps in order on `stock` (left machined) and scores the surface against the
 /// design (allowance 0: the finished part) with the last step's cutter (none: all material left

@@ -60,6 +60,19 @@ struct DrillCut {
 [[nodiscard]] const tooling::Tool* tool_that_reaches(const std::vector<tooling::Tool>& library,
                                                      const tooling::Tool& configured, double depth_mm);
 
+/// The semi-finishing tool (issue 38) when the roughing leaves more than the finishing tool's flutes
+/// take: a ball of the library larger than `finisher`, no larger than `rough`, whose flutes take
+/// `depth_of_cut_mm` and whose stick-out reaches `depth_mm` (none stated: it reaches); the smallest
+/// such (it leaves the least in concave corners), then the shortest stick-out. nullptr: none.
+/// O(tools).
+[[nodiscard]] const tooling::Tool* semi_finishing_tool(const std::vector<tooling::Tool>& library,
+                                                       const tooling::Tool& finisher, const tooling::Tool& rough,
+                                                       double depth_of_cut_mm, double depth_mm);
+
+/// The pass distance at which a ball of `radius` leaves cusps of `scallop_mm` between passes on a
+/// plane (XY stepover on a flat, step-down on a wall): 2·√(2·r·h − h²), mm.
+[[nodiscard]] double scallop_step(double radius, double scallop_mm);
+
 /// Gives every operation's tool without a number (an inline tool: 0) the smallest number above every
 /// number in use, the same number for operations sharing that tool; returns the operations renumbered.
 [[nodiscard]] std::vector<Operation> numbered(std::vector<Operation> ops);

@@ -9,8 +9,14 @@
 // Frames: the mesh is prepared (units, up → +Z, footprint lower-left at x = y = 0, lowest point at
 // z = 0). The G-code frame keeps X/Y and puts Z = 0 at the stock top: z_gcode = z_part − stock_top.
 //
-// Per level z (from the top down at ≤ step_down; the last level at the part's lowest point plus
-// floor_allowance_mm):
+// Levels: from the top down at ≤ step_down, the last at the part's lowest point plus
+// floor_allowance_mm; and, with flat_levels, one level per flat area of the part (an upward
+// horizontal face: flat_areas) at its height + stock_to_leave + kFlatClearanceMm, unless a level
+// already leaves it within kFlatToleranceMm of that, so that a floor between two step-down levels
+// keeps the allowance instead of a step (issue 38). A flat level only splits a step: no level cuts
+// deeper than step_down, and none cuts air that the ones above it cleared.
+//
+// Per level z:
 //   * islands = outlines of the raster points whose height ≥ z − stock_to_leave (axial allowance),
 //     traced by ingest::material_contours, grown outward (never into the part) by
 //     contour_tolerance_mm + half a raster diagonal, simplified on the material side. The raster
@@ -37,6 +43,7 @@
 #include "millnet/pocket/plan.hpp"
 
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -48,8 +55,13 @@ struct Params {
   double raster_mm = 0.25;      ///< height-field raster of the slicing
   double contour_tolerance_mm = 0.05;
   double floor_allowance_mm = 0;  ///< last level this far above the part's lowest point
-  pocket::CutParams cut;          ///< depth is derived (stock top − last level)
-  pocket::PlannerSpec planner;    ///< the planner of every region
+  /// A level per flat area (flat_areas) between the stock top and the last level; false: the
+  /// evenly split levels alone (millnet before 2026-11-27: floors kept up to a step-down).
+  bool flat_levels = true;
+  double flat_min_area_mm2 = 1;     ///< smaller flats get no level of their own
+  double flat_max_angle_deg = 0.1;  ///< a face this close to horizontal (facing up) is flat
+  pocket::CutParams cut;            ///< depth is derived (stock top − last level)
+  pocket::PlannerSpec planner;      ///< the planner of every region
   /// Entry and program options; rough_mesh sets contour = false and the header comment.
   pocket::MachiningOptions machining;
   /// Budgets of the slicing raster (ingest::raster_work over the stock) and of every region's plan
@@ -57,9 +69,28 @@ struct Params {
   WorkLimits limits;
 };
 
+/// A flat level sits this far above its flat + stock_to_leave (the slicing's material test is
+/// "height ≥ level − stock_to_leave": the flat itself must fall below it), mm.
+inline constexpr double kFlatClearanceMm = 0.002;
+/// A level this close above a flat's level (and not below it) already keeps its allowance, mm.
+inline constexpr double kFlatToleranceMm = 0.01;
+
+/// An upward horizontal area of the part: faces within the angle of horizontal whose heights lie
+/// within kFlatZToleranceMm of each other.
+struct Flat {
+  double z = 0;         ///< its highest point, part frame
+  double area_mm2 = 0;  ///< the faces' area (projected on XY)
+};
+inline constexpr double kFlatZToleranceMm = 0.005;
+
+/// The part's flats of at least `min_area_mm2`, highest first. O(triangles · log triangles).
+[[nodiscard]] std::vector<Flat> flat_areas(const ingest::Mesh& mesh, double max_angle_deg, double min_area_mm2);
+
 struct Level {
   double z_part = 0;  ///< level height in the part frame (mm above the part's lowest point)
-  double z = 0;       ///< G-code Z (≤ 0)
+  /// A flat's level (flat_levels): the flat's height, part frame; NaN for a step-down level.
+  double flat_z_part = std::numeric_limits<double>::quiet_NaN();
+  double z = 0;  ///< G-code Z (≤ 0)
   std::vector<pocket::Region> regions;
   std::vector<pocket::PlanResult> plans;
   std::size_t islands = 0;
