@@ -137,7 +137,11 @@ public:
       last_feed_ = m.feed;
     }
     os_ << "\n";
-    pos_ = m.to;
+    // What the controller now knows: the axes the block states (an unstated axis keeps its value,
+    // whatever the move's `to` says of it: a program composed of others' items, such as a job's
+    // operations, may carry another program's idea of it).
+    for (std::size_t a = 0; a < 3; ++a)
+      if ((m.axes & (1U << a)) != 0 || (arc && a < 2)) pos_[a] = m.to[a];
   }
   void operator()(const Spindle& s) {
     finite(s.rpm, "spindle speed");

@@ -47,7 +47,8 @@ public:
       for (std::size_t px = px0; px < px1; ++px) {
         const double z = z_[py * nx_ + px];
         if (z <= h) continue;
-        const double cx = x0_ + (static_cast<double>(px) + 0.5) * edge_, cy = y0_ + (static_cast<double>(py) + 0.5) * edge_;
+        const double cx = x0_ + (static_cast<double>(px) + 0.5) * edge_,
+                     cy = y0_ + (static_cast<double>(py) + 0.5) * edge_;
         const double t = l2 > 0 ? std::clamp(((cx - ax) * dx + (cy - ay) * dy) / l2, 0.0, 1.0) : 0.0;
         if (std::hypot(cx - (ax + t * dx), cy - (ay + t * dy)) <= reach) h = z;
       }
@@ -103,28 +104,35 @@ gcode::Program clear_rapids(const gcode::Program& program, const simulate::ZMap&
     }
     const bool known = xy_known && z_known;
     const gcode::Point3 from = at;
-    at = m->to;
+    for (std::size_t a = 0; a < 3; ++a)  // the stated axes (an unstated one keeps its value)
+      if ((m->axes & (1U << a)) != 0 ||
+          (m->motion != gcode::Motion::Rapid && m->motion != gcode::Motion::Line && a < 2))
+        at[a] = m->to[a];
     xy_known = xy_known || ((m->axes & gcode::kX) && (m->axes & gcode::kY));
     z_known = z_known || (m->axes & gcode::kZ);
     if (m->motion != gcode::Motion::Rapid || !known) {
       out.items.push_back(item);
       continue;
     }
-    const bool vertical = from[0] == m->to[0] && from[1] == m->to[1];
+    gcode::Move target = *m;
+    target.to = at;
+    const bool vertical = from[0] == target.to[0] && from[1] == target.to[1];
     if (vertical) {
-      if (m->to[2] >= from[2]) out.items.push_back(item);  // up: nothing to hit
-      else descend(from[2], *m);
+      if (target.to[2] >= from[2])
+        out.items.push_back(item);  // up: nothing to hit
+      else
+        descend(from[2], target);
       continue;
     }
-    const double h = pooled.under(from[0], from[1], m->to[0], m->to[1], r) + clearance_mm;
-    if (std::min(from[2], m->to[2]) >= h) {
+    const double h = pooled.under(from[0], from[1], target.to[0], target.to[1], r) + clearance_mm;
+    if (std::min(from[2], target.to[2]) >= h) {
       out.items.push_back(item);
       continue;
     }
-    const double top = std::max({from[2], m->to[2], h});
-    if (top > from[2]) out.items.emplace_back(rapid_to(from[0], from[1], top, gcode::kZ, m->op));
-    out.items.emplace_back(rapid_to(m->to[0], m->to[1], top, gcode::kX | gcode::kY, m->op));
-    if (m->to[2] < top) descend(top, *m);
+    const double top = std::max({from[2], target.to[2], h});
+    if (top > from[2]) out.items.emplace_back(rapid_to(from[0], from[1], top, gcode::kZ, target.op));
+    out.items.emplace_back(rapid_to(target.to[0], target.to[1], top, gcode::kX | gcode::kY, target.op));
+    if (target.to[2] < top) descend(top, target);
     ++ch.raised;
   }
   if (changes) *changes = ch;

@@ -76,27 +76,41 @@ TEST(CliJob, OneProgramPerPartInEveryDialectWithItsToolChangesChecksumsAndSetupS
   const fs::path lx = d / "linuxcnc";
   const Json j = Json::parse(slurp(lx / "cavity.job.json"));
   const auto& ops = j["operations"];
-  ASSERT_EQ(ops.size(), 3U) << j.dump(1);  // the cavity's entries are pre-drilled
+  // The cavity's entries are pre-drilled; the roughing's 5 mm steps are more than the Ø2 ball's 3 mm
+  // flutes take, so a Ø6 ball semi-finishes first (issue 38).
+  ASSERT_EQ(ops.size(), 4U) << j.dump(1);
   EXPECT_EQ(ops[0]["name"], "drilling");
   EXPECT_EQ(ops[0]["tool"]["id"], "dr10-hss");
   EXPECT_EQ(ops[1]["name"], "roughing");
   EXPECT_EQ(ops[1]["tool"]["id"], "em10-3f-carbide");
-  EXPECT_EQ(ops[2]["tool"]["id"], "bn2-2f-carbide");
+  EXPECT_EQ(ops[2]["name"], "semi-finishing (s1 slope mode, leaving 0.1 mm)");
+  EXPECT_EQ(ops[2]["tool"]["id"], "bn6-2f-carbide");
+  EXPECT_EQ(ops[3]["tool"]["id"], "bn2-2f-carbide");
+  // A job a machine survives: no rapid into material, no cut deeper than the tool's flutes (the
+  // library's: drill 87, Ø10 end mill 22, Ø6 ball 10, Ø2 ball 3 mm).
+  const double flutes[] = {87, 22, 10, 3};
+  for (std::size_t k = 0; k < 4; ++k) {
+    EXPECT_EQ(ops[k]["cutting_rapids"], 0) << ops[k]["name"];
+    EXPECT_LE(ops[k]["max_depth_of_cut_mm"].get<double>(), flutes[k]) << ops[k]["name"];
+  }
+  EXPECT_GT(ops[1]["left_above_design_mm"].get<double>(), 3) << "the roughing leaves more than the Ø2 takes";
+  EXPECT_LT(ops[2]["left_above_design_mm"].get<double>(), 3) << "the semi-finishing leaves less";
   // Tool changes in the operations' order, the library's numbers.
   const std::string text = slurp(lx / "cavity.job.nc");
-  const auto t10 = text.find("T10 M6"), t3 = text.find("T3 M6"), t7 = text.find("T7 M6");
+  const auto t10 = text.find("T10 M6"), t3 = text.find("T3 M6"), t8 = text.find("T8 M6"), t7 = text.find("T7 M6");
   ASSERT_NE(t10, std::string::npos);
   EXPECT_LT(t10, t3);
-  EXPECT_LT(t3, t7);
+  EXPECT_LT(t3, t8);
+  EXPECT_LT(t8, t7);
   EXPECT_EQ(text.find("PRE-DRILL"), std::string::npos);       // a drilling operation, not a comment
   const std::string tbl = (lx / "cavity.tool.tbl").string();  // the job's tools, as the control loads them
   EXPECT_TRUE(linuxcnc_accepts((lx / "cavity.job.nc").string(), tbl));
-  for (int k = 1; k <= 3; ++k) {  // each operation's own program, with its tool change
+  for (int k = 1; k <= 4; ++k) {  // each operation's own program, with its tool change
     const std::string name = ops[static_cast<std::size_t>(k - 1)]["program"];
     EXPECT_TRUE(linuxcnc_accepts((lx / name).string(), tbl)) << name;
   }
   // Checksums: sha256sum's, for the job and each operation's program.
-  ASSERT_EQ(j["programs"].size(), 5U);  // the job, its three operations, the tool table
+  ASSERT_EQ(j["programs"].size(), 6U);  // the job, its four operations, the tool table
   for (const auto& p : j["programs"]) EXPECT_EQ(p["sha256"], sha256sum(lx / p["file"].get<std::string>())) << p;
   // GRBL: accepted by the grammar check, the tool changes as pauses.
   const std::string g = slurp(d / "grbl" / "cavity.job.nc");
@@ -107,6 +121,7 @@ TEST(CliJob, OneProgramPerPartInEveryDialectWithItsToolChangesChecksumsAndSetupS
   const std::string f = slurp(d / "fanuc" / "cavity.job.nc");
   EXPECT_NE(f.find("G43 H10"), std::string::npos);
   EXPECT_NE(f.find("G43 H3"), std::string::npos);
+  EXPECT_NE(f.find("G43 H8"), std::string::npos);
   EXPECT_NE(f.find("G43 H7"), std::string::npos);
   const auto a = positions(lx / "cavity.job.nc"), b = positions(d / "fanuc" / "cavity.job.nc");
   ASSERT_EQ(a.size(), b.size());
@@ -117,24 +132,27 @@ TEST(CliJob, OneProgramPerPartInEveryDialectWithItsToolChangesChecksumsAndSetupS
   EXPECT_LE(worst, 0.0015 + 1e-9);
   // The setup sheet names every tool and file.
   const std::string sheet = slurp(lx / "cavity.setup.html");
-  for (const char* s : {"dr10-hss", "em10-3f-carbide", "bn2-2f-carbide", "cavity.job.nc", "part-picture"})
+  for (const char* s :
+       {"dr10-hss", "em10-3f-carbide", "bn6-2f-carbide", "bn2-2f-carbide", "cavity.job.nc", "part-picture"})
     EXPECT_NE(sheet.find(s), std::string::npos) << s;
   // The job machined tool by tool: no gouge, and the figures of the operations' own programs machined
-  // one after the other by simulate (an independent reading of the three files).
+  // one after the other by simulate (an independent reading of the four files).
   EXPECT_EQ(j["simulated"]["gouge_line"], nullptr);
   double sum = 0;
   for (const auto& o : ops) sum += o["time_kinematic_min"].get<double>();
   EXPECT_NEAR(j["total_time_kinematic_min"].get<double>(), sum, 1e-9);
-  const auto s = run_millnet("simulate --quiet --no-preview --config fast.json --mesh '" + mesh.string() +
-                                 "' --gcode linuxcnc/cavity.op1.drilling.nc --gcode linuxcnc/cavity.op2.roughing.nc "
-                                 "--gcode linuxcnc/cavity.op3.finishing.nc --tool dr10-hss --tool em10-3f-carbide "
-                                 "--tool bn2-2f-carbide --out sim",
-                             d);
+  const auto s =
+      run_millnet("simulate --quiet --no-preview --config fast.json --mesh '" + mesh.string() +
+                      "' --gcode linuxcnc/cavity.op1.drilling.nc --gcode linuxcnc/cavity.op2.roughing.nc "
+                      "--gcode linuxcnc/cavity.op3.semi-finishing.nc --gcode linuxcnc/cavity.op4.finishing.nc "
+                      "--tool dr10-hss --tool em10-3f-carbide --tool bn6-2f-carbide --tool bn2-2f-carbide "
+                      "--out sim",
+                  d);
   ASSERT_EQ(s.code, 0) << s.err;
   const Json sim = Json::parse(slurp(d / "sim" / "cavity.sim.json"));
   for (const char* k : {"uncut_area_mm2", "rest_area_mm2", "max_gouge_mm", "ra_median_um", "scallop_max_mm"})
     EXPECT_DOUBLE_EQ(sim[k].get<double>(), j["simulated"][k].get<double>()) << k;
-  for (std::size_t i = 0; i < 3; ++i)
+  for (std::size_t i = 0; i < 4; ++i)
     EXPECT_NEAR(sim["programs"][i]["time_kinematic_min"].get<double>(), ops[i]["time_kinematic_min"].get<double>(),
                 1e-9);
 }

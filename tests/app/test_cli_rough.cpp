@@ -71,7 +71,14 @@ TEST(RoughCli, BatchReportsTheBrokenMeshAndWritesTheGoodOnesOutputsInTheGcodeFra
   const ingest::Mesh part = ingest::prepare(gen.mesh, {});
   const double part_top = part.V.col(2).maxCoeff();
   EXPECT_NEAR(m["stock"]["height_mm"].get<double>(), part_top + 1, 1e-4);  // STL is float32
-  EXPECT_EQ(levels, static_cast<std::size_t>(std::ceil((part_top + 1) / 5 - 1e-9)));
+  // The step-down levels, and a level per flat area not already kept (its flat + stock to leave + 0.002).
+  std::size_t flat_levels = 0;
+  for (const Json& lv : m["per_level"])
+    if (!lv["flat_z_part_mm"].is_null()) {
+      ++flat_levels;
+      EXPECT_NEAR(lv["z_part_mm"].get<double>(), lv["flat_z_part_mm"].get<double>() + 0.5 + 0.002, 1e-9);
+    }
+  EXPECT_EQ(levels - flat_levels, static_cast<std::size_t>(std::ceil((part_top + 1) / 5 - 1e-9)));
   double prev = 0, cut_sum = 0;
   for (std::size_t k = 0; k < levels; ++k) {
     const Json& lv = m["per_level"][k];

@@ -48,12 +48,12 @@ TEST(JobLinks, RapidsClearTheStockLeftAndFinishTheirApproachAtThePlungeFeed) {
   const tooling::Cutter ball = tooling::Cutter::ball(6);
   gcode::Program p;
   p.items = {mv(Motion::Rapid, {5, 5, 5}, gcode::kXYZ),
-             mv(Motion::Rapid, {5, 5, -10}, gcode::kZ),                     // down beside the ridge: kept
-             mv(Motion::Rapid, {30, 5, -10}, gcode::kX | gcode::kY),        // through the ridge: raised
-             mv(Motion::Rapid, {24, 30, -10}, gcode::kX | gcode::kY),       // 4 mm beside it (r 3): kept
-             mv(Motion::Rapid, {15, 30, -12}, gcode::kXYZ),                 // onto the ridge: raised, fed
-             mv(Motion::Line, {15, 35, -12}, gcode::kY, 1000),              // a cut: kept
-             mv(Motion::Rapid, {15, 35, 5}, gcode::kZ)};                    // up: kept
+             mv(Motion::Rapid, {5, 5, -10}, gcode::kZ),                // down beside the ridge: kept
+             mv(Motion::Rapid, {30, 5, -10}, gcode::kX | gcode::kY),   // through the ridge: raised
+             mv(Motion::Rapid, {24, 30, -10}, gcode::kX | gcode::kY),  // 4 mm beside it (r 3): kept
+             mv(Motion::Rapid, {15, 30, -12}, gcode::kXYZ),            // onto the ridge: raised, fed
+             mv(Motion::Line, {15, 35, -12}, gcode::kY, 1000),         // a cut: kept
+             mv(Motion::Rapid, {15, 35, 5}, gcode::kZ)};               // up: kept
   job::LinkChanges ch;
   const gcode::Program q = job::clear_rapids(p, ridge_stock(), ball, 1.0, 300, &ch);
   EXPECT_EQ(ch.raised, 2u);
@@ -61,15 +61,16 @@ TEST(JobLinks, RapidsClearTheStockLeftAndFinishTheirApproachAtThePlungeFeed) {
   const std::vector<gcode::Move> m = moves(q);
   // Hand-written: the ridge's top −5 + clearance 1 = −4 is the height of both crossings.
   const std::vector<std::pair<Motion, gcode::Point3>> want{
-      {Motion::Rapid, {5, 5, 5}},     {Motion::Rapid, {5, 5, -10}},  {Motion::Rapid, {5, 5, -4}},
-      {Motion::Rapid, {30, 5, -4}},   {Motion::Rapid, {30, 5, -10}}, {Motion::Rapid, {24, 30, -10}},
-      {Motion::Rapid, {24, 30, -4}},  {Motion::Rapid, {15, 30, -4}}, {Motion::Line, {15, 30, -12}},
-      {Motion::Line, {15, 35, -12}},  {Motion::Rapid, {15, 35, 5}}};
+      {Motion::Rapid, {5, 5, 5}},    {Motion::Rapid, {5, 5, -10}},  {Motion::Rapid, {5, 5, -4}},
+      {Motion::Rapid, {30, 5, -4}},  {Motion::Rapid, {30, 5, -10}}, {Motion::Rapid, {24, 30, -10}},
+      {Motion::Rapid, {24, 30, -4}}, {Motion::Rapid, {15, 30, -4}}, {Motion::Line, {15, 30, -12}},
+      {Motion::Line, {15, 35, -12}}, {Motion::Rapid, {15, 35, 5}}};
   ASSERT_EQ(m.size(), want.size());
   for (std::size_t i = 0; i < m.size(); ++i) {
     SCOPED_TRACE("move " + std::to_string(i));
     EXPECT_EQ(m[i].motion, want[i].first);
-    for (int a = 0; a < 3; ++a) EXPECT_DOUBLE_EQ(m[i].to[static_cast<std::size_t>(a)], want[i].second[static_cast<std::size_t>(a)]);
+    for (int a = 0; a < 3; ++a)
+      EXPECT_DOUBLE_EQ(m[i].to[static_cast<std::size_t>(a)], want[i].second[static_cast<std::size_t>(a)]);
   }
   EXPECT_DOUBLE_EQ(m[8].feed, 300);
 

@@ -27,7 +27,7 @@ struct LinkChanges {
 /// depth of cut is the simulation's to measure. O(cells + Σ over rapids of the coarse cells under
 /// their swept disk).
 [[nodiscard]] gcode::Program clear_rapids(const gcode::Program& program, const simulate::ZMap& stock,
-                                          const tooling::Cutter& cutter, double clearance_mm,
-                                          double plunge_feed_mm_min, LinkChanges* changes = nullptr);
+                                          const tooling::Cutter& cutter, double clearance_mm, double plunge_feed_mm_min,
+                                          LinkChanges* changes = nullptr);
 
 }  // namespace millnet::job
