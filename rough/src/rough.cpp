@@ -99,13 +99,18 @@ Level plan_level(const Result& res, const Params& p, const pocket::Loop& stock, 
 /// section, or cavities inside it) and every level's plan is kept: the levels × the estimates of the
 /// whole outline bound the run, checked before the first level (issue 42 §7: --step-down 0.01
 /// planned 2,700 levels, each within its own estimate; the SOM at stepover 0.05 too).
-void check_levels_work(const pocket::Loop& stock, std::int64_t n_levels, double height, const Params& p) {
+void check_levels_work(const pocket::Loop& stock, std::int64_t n_levels, std::size_t flats, double height,
+                       const Params& p) {
   const double levels = static_cast<double>(n_levels);
   pocket::Region outline;
   outline.boundary = stock;
   for (WorkEstimate e : pocket::estimate_work(outline, p.cut, p.planner)) {
     e.cause = std::to_string(n_levels) + " Z levels (step_down " + format_size(p.cut.step_down) + " mm over " +
-              format_size(height) + " mm of stock) × " + e.cause;
+              format_size(height) + " mm of stock" +
+              (flats == 1  ? ", 1 at a flat area"
+               : flats > 1 ? ", " + std::to_string(flats) + " at flat areas"
+                           : "") +
+              ") × " + e.cause;
     e.count *= levels;
     e.bytes *= levels;
     check_work(e, p.limits);
@@ -245,7 +250,9 @@ Result rough_mesh(const ingest::Mesh& mesh, const Params& p) {
   // is narrower than the clearance plus the islands' growth.
   const pocket::Loop stock = rectangle(res.stock_x0 - 2 * clearance, res.stock_y0 - 2 * clearance,
                                        res.stock_x1 + 2 * clearance, res.stock_y1 + 2 * clearance);
-  check_levels_work(stock, n_levels, height, p);
+  const auto flats =
+      static_cast<std::size_t>(std::count_if(flat_z.begin(), flat_z.end(), [](double f) { return !std::isnan(f); }));
+  check_levels_work(stock, n_levels, flats, height, p);
   std::vector<pocket::LevelPlan> plans;
   double top_z = 0;
   for (std::size_t k = 0; k < zs.size(); ++k) {
@@ -259,8 +266,6 @@ Result rough_mesh(const ingest::Mesh& mesh, const Params& p) {
   } else {
     pocket::MachiningOptions mo = p.machining;
     mo.contour = false;
-    const auto flats =
-        static_cast<std::size_t>(std::count_if(flat_z.begin(), flat_z.end(), [](double f) { return !std::isnan(f); }));
     mo.comments = {"roughing: stock top Z 0 = part top + " + format_double(p.top_allowance_mm) + " mm, " +
                    std::to_string(res.levels.size()) + " Z levels" +
                    (flats > 0 ? " (" + std::to_string(flats) + " at flat areas)" : "")};
