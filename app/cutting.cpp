@@ -227,17 +227,32 @@ CuttingSettings cutting_settings(const Json& config, const std::optional<std::st
   s.overrides.vc_m_min = c["vc_m_min"].get<double>();
   s.overrides.fz_mm = c["fz_mm"].get<double>();
   s.inline_flutes = c["inline_flutes"].get<int>();
+  s.inline_stickout_mm = c["inline_stickout_mm"].get<double>();
   s.inline_material = tooling::parse_tool_material(c["inline_tool_material"].get<std::string>());
   return s;
 }
 
-tooling::Tool inline_tool(tooling::ToolType type, double d, double r, const CuttingSettings& cs) {
+tooling::Tool inline_tool(tooling::ToolType type, double d, double r, const CuttingSettings& cs,
+                          const ToolLibrary& library) {
   tooling::Tool t;
   t.type = type;
   t.diameter_mm = d;
   t.corner_radius_mm = type == tooling::ToolType::Ball ? d / 2 : type == tooling::ToolType::Bull ? r : 0.0;
   t.flutes = cs.inline_flutes;
   t.material = cs.inline_material;
+  t.stickout_mm = cs.inline_stickout_mm;
+  const tooling::Tool* same = nullptr;  // the library's tool of this shape that reaches farthest
+  for (const tooling::Tool& l : library.tools)
+    if (l.type == type && std::abs(l.diameter_mm - d) <= 1e-9 &&
+        std::abs(l.corner_radius_mm - t.corner_radius_mm) <= 1e-9 && l.stickout_mm > 0 &&
+        (same == nullptr || l.stickout_mm > same->stickout_mm))
+      same = &l;
+  if (same != nullptr) {
+    t.stickout_mm = same->stickout_mm;
+    t.flute_length_mm = same->flute_length_mm;
+    t.holder_diameter_mm = same->holder_diameter_mm;
+    t.holder_length_mm = same->holder_length_mm;
+  }
   return t;
 }
 

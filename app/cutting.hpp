@@ -48,13 +48,17 @@ struct CuttingSettings {
   tooling::Overrides overrides;
   int inline_flutes = 2;
   tooling::ToolMaterial inline_material = tooling::ToolMaterial::Carbide;
+  double inline_stickout_mm = 40;  ///< /cutting/inline_stickout_mm
 };
 /// `material_flag` = --material (else /cutting/material, written or default).
 [[nodiscard]] CuttingSettings cutting_settings(const Json& config, const std::optional<std::string>& material_flag);
 
-/// A tool given inline by its geometry, with the inline flutes and tool material of /cutting.
+/// A tool given inline by its geometry, with the inline flutes and tool material of /cutting, and
+/// its reach (issue 38: an inline tool was never checked against the holder): the stick-out, flute
+/// length and holder of the library's tool of that type, diameter and corner radius (the longest
+/// stick-out when several), else /cutting/inline_stickout_mm.
 [[nodiscard]] tooling::Tool inline_tool(tooling::ToolType type, double diameter_mm, double corner_radius_mm,
-                                        const CuttingSettings& cs);
+                                        const CuttingSettings& cs, const ToolLibrary& library);
 
 /// The finishing cutter's shape of a library tool (flat, ball or bull; a drill is refused).
 [[nodiscard]] tooling::Cutter cutter_of(const tooling::Tool& tool);

@@ -84,13 +84,13 @@ void apply_cutting_data(pocket::CutParams& c, const Json& config, const Json& ex
     rec.tool = lib.tool(*flags.tool_id, "--tool");
     rec.tool_from = "flag --tool";
   } else if (flags.tool_diameter) {
-    rec.tool = inline_tool(tooling::ToolType::Flat, c.tool.diameter, 0, cs);
+    rec.tool = inline_tool(tooling::ToolType::Flat, c.tool.diameter, 0, cs, lib);
     rec.tool_from = "flag --tool-diameter";
   } else if (file_d) {
-    rec.tool = inline_tool(tooling::ToolType::Flat, c.tool.diameter, 0, cs);
+    rec.tool = inline_tool(tooling::ToolType::Flat, c.tool.diameter, 0, cs, lib);
     rec.tool_from = "pocket file tool_diameter";
   } else if (explicit_pocket.contains("tool_diameter") && !explicit_pocket.contains("tool")) {
-    rec.tool = inline_tool(tooling::ToolType::Flat, c.tool.diameter, 0, cs);
+    rec.tool = inline_tool(tooling::ToolType::Flat, c.tool.diameter, 0, cs, lib);
     rec.tool_from = "config /pocket/tool_diameter";
   } else if (const std::string id = pc["tool"].get<std::string>(); !id.empty()) {
     rec.tool = lib.tool(id, "/pocket/tool");
@@ -99,7 +99,7 @@ void apply_cutting_data(pocket::CutParams& c, const Json& config, const Json& ex
       throw Error("/pocket/tool " + id + " is D" + format_double(rec.tool.diameter_mm) +
                   " mm but /pocket/tool_diameter is " + format_double(c.tool.diameter) + " mm: write one of them");
   } else {
-    rec.tool = inline_tool(tooling::ToolType::Flat, c.tool.diameter, 0, cs);
+    rec.tool = inline_tool(tooling::ToolType::Flat, c.tool.diameter, 0, cs, lib);
     rec.tool_from = "config /pocket/tool_diameter";
   }
   const tooling::Tool& tool = rec.tool;
@@ -341,14 +341,14 @@ void finish_cutting_data(FinishSettings& s, const Json& config, const FinishTool
     p.tool = cutter_of(rec.tool);
   } else if (flags.tool) {
     p.tool = parse_tool(*flags.tool);
-    rec.tool = inline_tool(p.tool.type, p.tool.diameter, p.tool.corner_radius, cs);
+    rec.tool = inline_tool(p.tool.type, p.tool.diameter, p.tool.corner_radius, cs, lib);
     rec.tool_from = "flag --tool";
   } else if (const std::string id = f["tool"]["id"].get<std::string>(); !id.empty()) {
     rec.tool = lib.tool(id, "/finish/tool/id");
     rec.tool_from = "config /finish/tool/id";
     p.tool = cutter_of(rec.tool);
   } else {
-    rec.tool = inline_tool(p.tool.type, p.tool.diameter, p.tool.corner_radius, cs);
+    rec.tool = inline_tool(p.tool.type, p.tool.diameter, p.tool.corner_radius, cs, lib);
     rec.tool_from = "config /finish/tool";
   }
   auto written = [&](const char* key) -> std::optional<Figure> {

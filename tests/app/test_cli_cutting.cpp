@@ -241,6 +241,26 @@ TEST(CliCutting, APartDeeperThanTheToolsStickOutIsRefusedByRoughAndFinish) {
   EXPECT_NE(nc.find("S22792"), std::string::npos);
 }
 
+// Issue 38: a tool given only by its diameter had no stick-out and was never checked. It takes the
+// library's tool of its shape (Ø3 flat: em3-2f-carbide, 20 mm), else /cutting/inline_stickout_mm.
+TEST(CliCutting, AToolGivenByItsDiameterIsCheckedWithTheLibrarysStickOut) {
+  const fs::path d = fresh_dir("cutting_inline_stickout");
+  const fs::path mesh = write_tall(d);  // 31 mm below the stock top
+  auto r = run_millnet("rough -q --mesh '" + mesh.string() + "' --tool-diameter 3 --stepover 1.5 --out o", d);
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("beyond the tool's stick-out 20 mm by 11.00 mm"), std::string::npos) << r.err;
+  EXPECT_EQ(list_files(d / "o"), "");
+  // No Ø7 ball in the library: the default stick-out, 25 mm here, refuses it; 40 mm (the default) reaches.
+  std::ofstream(d / "c.json") << R"({"cutting": {"inline_stickout_mm": 25}})";
+  r = run_millnet("finish -q --config c.json --mesh '" + mesh.string() + "' --tool ball:7 --strategy 2 --out f", d);
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("beyond the tool's stick-out 25 mm by 6.00 mm"), std::string::npos) << r.err;
+  EXPECT_EQ(list_files(d / "f"), "");
+  r = run_millnet("finish -q --mesh '" + mesh.string() + "' --tool ball:7 --strategy 2 --stepover 2 --out g", d);
+  EXPECT_EQ(r.code, 0) << r.err;
+}
+
 TEST(CliCutting, AShopLibraryAddsToolsAndIsCheckedLikeAConfig) {
   const fs::path d = fresh_dir("cutting_shop");
   const fs::path p = write_rect(d);

@@ -211,3 +211,34 @@ TEST(JobOperations, HolderClearanceAgainstAStep) {
   t.holder_diameter_mm = 0;
   EXPECT_FALSE(job::holder_clearance({}, t, g, design).checked);
 }
+
+// Issue 38: the semi-finishing ball — larger than the finisher, no larger than the end mill, flutes
+// that take the stock left, a stick-out that reaches; the smallest, then the shortest.
+TEST(JobOperations, TheSemiFinishingBallTakesTheStockLeftAndReaches) {
+  auto ball = [](std::string id, double d, double flutes, double stickout) {
+    tooling::Tool t = tool(std::move(id), tooling::ToolType::Ball, d, 1, stickout);
+    t.flute_length_mm = flutes;
+    return t;
+  };
+  const std::vector<tooling::Tool> lib{ball("bn2", 2, 3, 45),
+                                       ball("bn4", 4, 6, 20),
+                                       ball("bn6-35", 6, 10, 35),
+                                       ball("bn6-50", 6, 10, 50),
+                                       ball("bn10", 10, 16, 45),
+                                       ball("bn12", 12, 20, 60),
+                                       tool("em8", tooling::ToolType::Flat, 8, 2, 60)};
+  const tooling::Tool& bn2 = lib[0];
+  const tooling::Tool em10 = tool("em10", tooling::ToolType::Flat, 10, 3, 50);
+  EXPECT_EQ(job::semi_finishing_tool(lib, bn2, em10, 5, 15)->id, "bn4");     // 6 mm flutes take 5
+  EXPECT_EQ(job::semi_finishing_tool(lib, bn2, em10, 5, 30)->id, "bn6-35");  // bn4 reaches 20
+  EXPECT_EQ(job::semi_finishing_tool(lib, bn2, em10, 5, 40)->id, "bn6-50");  // the Ø6 that reaches
+  EXPECT_EQ(job::semi_finishing_tool(lib, bn2, em10, 12, 30)->id, "bn10");   // flutes of 16
+  EXPECT_EQ(job::semi_finishing_tool(lib, bn2, em10, 17, 30), nullptr);      // Ø12 is wider than the end mill
+  EXPECT_EQ(job::semi_finishing_tool(lib, lib[4], em10, 5, 30), nullptr);    // none larger than Ø10 and ≤ Ø10
+  // The step that leaves a 0.1 mm cusp with a Ø6 ball: 2·√(2·3·0.1 − 0.01) = 1.5362 mm; the cusp
+  // of that step, h = r − √(r² − (s/2)²), is the 0.1 mm asked for.
+  const double s = job::scallop_step(3, 0.1);
+  EXPECT_NEAR(s, 2 * std::sqrt(0.59), 1e-12);
+  EXPECT_NEAR(3 - std::sqrt(9 - s * s / 4), 0.1, 1e-12);
+  EXPECT_DOUBLE_EQ(job::scallop_step(3, 5), 6.0);  // a cusp above the radius: the diameter
+}
