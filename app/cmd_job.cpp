@@ -165,7 +165,7 @@ int run_job(const JobOpts& o) {
 
   // 2. Tools that reach the part's depth (never a silent deeper cut).
   const double depth = frame.depth_below_top(frame.part_bottom);
-  const tooling::Tool mill = reaching(lib, rough_cutting.tool, depth, "roughing", file, notes);
+  const tooling::Tool mill = reaching(lib, rough_cutting.tool, depth - rp.floor_allowance_mm, "roughing", file, notes);
   rp.cut.tool = mill.cutter();
   const tooling::Tool ball = reaching(lib, fs_.cutting.tool, depth, "finishing", file, notes);
   fs_.cutting.tool = ball;

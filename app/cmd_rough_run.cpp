@@ -41,11 +41,13 @@ RoughOutcome rough_prepared(const job::Part* part, const std::string& load_error
   RoughOutcome o{name, file.string(), load_error, false, Json::object()};
   if (!part) return o;
   try {
-    // The holder must stay above the stock: the levels reach from the stock top to the part's base.
+    // The holder must stay above the stock: the levels reach from the stock top to the last level,
+    // /rough/floor_allowance_mm above the part's base (issue 38: the check ignored the allowance).
     const job::Frame frame = job::frame_of(part->mesh, params.top_allowance_mm);
     try {
-      job::check_reach(cutting.tool.cutter(), cutting.tool.label(), frame.depth_below_top(frame.part_bottom),
-                       "the part");
+      job::check_reach(cutting.tool.cutter(), cutting.tool.label(),
+                       frame.depth_below_top(frame.part_bottom + params.floor_allowance_mm),
+                       params.floor_allowance_mm > 0 ? "the last level" : "the part");
     } catch (const Error& e) {
       throw Error(file.string() + ": " + e.what());
     }

@@ -259,6 +259,11 @@ TEST(CliCutting, AToolGivenByItsDiameterIsCheckedWithTheLibrarysStickOut) {
   EXPECT_EQ(list_files(d / "f"), "");
   r = run_millnet("finish -q --mesh '" + mesh.string() + "' --tool ball:7 --strategy 2 --stepover 2 --out g", d);
   EXPECT_EQ(r.code, 0) << r.err;
+  // The roughing stops /rough/floor_allowance_mm above the base: 31 − 12 = 19 mm, within em3's 20.
+  std::ofstream(d / "floor.json") << R"({"rough": {"floor_allowance_mm": 12}})";
+  r = run_millnet(
+      "rough -q --config floor.json --mesh '" + mesh.string() + "' --tool em3-2f-carbide --stepover 1.5 --out h", d);
+  EXPECT_EQ(r.code, 0) << r.err;
 }
 
 TEST(CliCutting, AShopLibraryAddsToolsAndIsCheckedLikeAConfig) {
