@@ -325,6 +325,7 @@ int run_job(const JobOpts& o) {
     so.max_depth_of_cut_mm = st.max_depth_of_cut_mm;
     so.beyond_flutes = op.tool.flute_length_mm > 0 && st.max_depth_of_cut_mm > op.tool.flute_length_mm;
     so.cutting_rapids = st.cutting_rapids;
+    so.left_after_mm = st.max_left_mm;
     so.time_min = st.stats.kinematic_time_min;
     so.program = op_files[i];
     if (op.name == "drilling") {

@@ -269,7 +269,8 @@ std::string setup_sheet_html(const SetupSheet& s) {
   // 3. Operations.
   o << "<h2>Operations</h2>\n<table><tr><th>#</th><th>operation</th><th>T</th><th>strategy</th><th>spindle rpm</th>"
        "<th>feed mm/min</th><th>stepover mm</th><th>step-down mm</th><th>deepest Z</th><th>largest depth of cut mm</th>"
-       "<th>rapids into material</th><th>time min</th><th>program run alone</th></tr>\n";
+       "<th>rapids into material</th><th>left above the design after it, mm</th><th>time min</th>"
+       "<th>program run alone</th></tr>\n";
   for (const SetupOperation& op : s.operations)
     o << "<tr><td class=\"n\">" << op.index << "</td><td>" << esc(op.name) << "</td><td class=\"n\">T" << op.tool_number
       << "</td><td>" << esc(op.strategy) << "</td><td class=\"n\">" << num(op.rpm, 0) << "</td><td class=\"n\">"
@@ -277,9 +278,9 @@ std::string setup_sheet_html(const SetupSheet& s) {
       << "</td><td class=\"n\">" << (op.step_down_mm > 0 ? num(op.step_down_mm, 3) : "–") << "</td><td class=\"n\">"
       << num(op.deepest_z_mm, 2) << "</td><td class=\"n" << (op.beyond_flutes ? " bad" : "") << "\">"
       << num(op.max_depth_of_cut_mm, 2) << "</td><td class=\"n" << (op.cutting_rapids > 0 ? " bad" : "") << "\">"
-      << op.cutting_rapids << "</td><td class=\"n\">" << num(op.time_min, 1) << "</td><td><code>" << esc(op.program)
-      << "</code></td></tr>\n";
-  o << "<tr><th colspan=\"11\">total</th><td class=\"n\"><b>" << num(s.total_time_min, 1)
+      << op.cutting_rapids << "</td><td class=\"n\">" << num(op.left_after_mm, 2) << "</td><td class=\"n\">"
+      << num(op.time_min, 1) << "</td><td><code>" << esc(op.program) << "</code></td></tr>\n";
+  o << "<tr><th colspan=\"12\">total</th><td class=\"n\"><b>" << num(s.total_time_min, 1)
     << "</b></td><td></td></tr></table>\n";
   // 4. The simulated result.
   o << "<h2>Simulated result (the job program machined from the block on one z-map)</h2>\n<table>";

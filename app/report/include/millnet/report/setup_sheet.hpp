@@ -36,7 +36,8 @@ struct SetupOperation {
   double max_depth_of_cut_mm = 0;
   bool beyond_flutes = false;  ///< the largest depth of cut exceeds the tool's flute length (drawn red)
   std::size_t cutting_rapids = 0;
-  std::string program;  ///< its own program file (for shops that run operations one by one)
+  double left_after_mm = 0;  ///< the most stock above the design after it (what the next tool meets)
+  std::string program;       ///< its own program file (for shops that run operations one by one)
 };
 
 struct SetupFile {
