@@ -31,6 +31,7 @@ struct JobOpts {
   MeshFlags mesh_flags;
   std::string mesh, out, strategy = "best";
   std::optional<std::string> post, finish_tool, rough_tool, material;
+  bool keep_deep_cuts = false;  ///< write a job whose cut goes beyond a tool's flutes (warned), as before 2026-11-27
 };
 
 /// A tool as the job runs it: the configured one, or the library's one of the same kind that reaches
@@ -309,11 +310,16 @@ int run_job(const JobOpts& o) {
            fixed(hc.worst[1], 2) + " Z" + fixed(hc.worst[2], 2) + ": a longer tool is needed");
     const job::StepResult& st = chain.steps[i];
     if (op.tool.flute_length_mm > 0 && st.max_depth_of_cut_mm > op.tool.flute_length_mm) {
-      // What the operations before it left is more than this tool's flutes take (issue 38): said, not hidden.
-      const std::string line = "operation " + std::to_string(i + 1) + " (" + op.name + "): the largest depth of cut " +
-                               fixed(st.max_depth_of_cut_mm, 2) + " mm exceeds the " +
-                               fixed(op.tool.flute_length_mm, 1) + " mm flutes of " + op.tool.label() +
-                               ": the stock left before it needs another pass before this runs on a machine";
+      // What the operations before it left is more than this tool's flutes take (issue 38): a tool
+      // breaks there, so no job is written (--keep-deep-cuts: written, with the warning).
+      const std::string line =
+          "operation " + std::to_string(i + 1) + " (" + op.name + ") cuts " + fixed(st.max_depth_of_cut_mm, 2) +
+          " mm deep at X" + fixed(st.max_cut_at[0], 2) + " Y" + fixed(st.max_cut_at[1], 2) + " Z" +
+          fixed(st.max_cut_at[2], 2) + " (" + job_nc.filename().string() + " line " + std::to_string(st.max_cut_line) +
+          "), beyond the " + fixed(op.tool.flute_length_mm, 1) + " mm flutes of " + op.tool.label() +
+          ": the stock left before it needs another pass (a smaller semi-finishing ball that reaches, or rest "
+          "machining)";
+      if (!o.keep_deep_cuts) throw Error(file + ": " + line + "; no job is written (--keep-deep-cuts writes it)");
       warn(file + ": " + line);
       notes.push_back(line);
     }
@@ -453,6 +459,8 @@ Registered register_job(CLI::App& app) {
       });
   sub->add_option("--tool", o->finish_tool, "finishing tool (library id or ball:D, bull:D:r)");
   sub->add_option("--rough-tool", o->rough_tool, "roughing tool (library id)");
+  sub->add_flag("--keep-deep-cuts", o->keep_deep_cuts,
+                "write the job even where a cut goes deeper than its tool's flutes (warned; refused without)");
   sub->add_option("--material", o->material, "workpiece material id (configs/materials.json)");
   add_post_flag(sub, o->post);
   sub->add_option("--out", o->out, "output folder")->check(output_path())->required();

@@ -185,5 +185,34 @@ TEST(CliJob, AToolThatCannotReachIsReplacedByOneThatCanOrTheJobIsRefused) {
   EXPECT_FALSE(fs::exists(d / "o2" / "cavity.job.nc"));
 }
 
+// Issue 38: a cut deeper than the tool's flutes breaks the tool: the job is refused in one line
+// naming the operation, the place and the depth (--keep-deep-cuts writes it, warned). A Ø2 ball with
+// 0.1 mm of flutes: the roughing leaves 5 mm, a Ø6 ball semi-finishes to the 0.1 mm allowance plus
+// its cusps, and the Ø2 ball still meets more than 0.1 mm.
+TEST(CliJob, ACutDeeperThanTheToolsFlutesRefusesTheJob) {
+  const fs::path d = fresh_dir("cli_job_flutes");
+  const fs::path mesh = write_cavity(d);
+  std::ofstream(d / "shop.json") << R"({"tools": [{"id": "bn2-stub", "description": "stub ball", "type": "ball",
+    "diameter": 2, "flutes": 2, "flute_length": 0.1, "stickout": 45, "tool_material": "carbide", "number": 23}]})";
+  std::ofstream(d / "stub.json") << R"({"simulate": {"cell_mm": 0.1}, "finish": {"tool": {"id": "bn2-stub"}},
+    "cutting": {"tools_file": "shop.json"}})";
+  const std::string args =
+      "job --quiet --no-preview --config stub.json --mesh '" + mesh.string() + "' --strategy 1 --out ";
+  const auto bad = run_millnet(args + "o", d);
+  EXPECT_EQ(bad.code, 1) << bad.err;
+  EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+  for (const char* s : {"operation 4 (finishing", "mm deep at X", "cavity.job.nc line ",
+                        "beyond the 0.1 mm flutes of bn2-stub", "no job is written"})
+    EXPECT_NE(bad.err.find(s), std::string::npos) << s << "\n" << bad.err;
+  EXPECT_FALSE(fs::exists(d / "o" / "cavity.job.nc"));
+  const auto kept = run_millnet(args + "k --keep-deep-cuts", d);
+  ASSERT_EQ(kept.code, 0) << kept.err;
+  const Json j = Json::parse(slurp(d / "k" / "cavity.job.json"));
+  ASSERT_EQ(j["operations"].size(), 4U);
+  EXPECT_EQ(j["operations"][2]["tool"]["id"], "bn6-2f-carbide");
+  EXPECT_GT(j["operations"][3]["max_depth_of_cut_mm"].get<double>(), 0.1);
+  EXPECT_NE(j["notes"].dump().find("beyond the 0.1 mm flutes"), std::string::npos) << j["notes"];
+}
+
 }  // namespace
 }  // namespace millnet::testing
