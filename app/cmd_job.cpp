@@ -114,16 +114,12 @@ SemiFinish semi_finishing(const SemiFinishInput& in, const Json& config, const s
                                             {"tool: " + semi->label()});
   const tooling::Cutter grown = tooling::Cutter::ball(semi->diameter_mm + 2 * a);
   p.tool = grown;
+  p.tool_label = "semi-finishing, " + semi->label() + ", leaving " + format_double(a) + " mm";
   p.z_shift += a;
   p.stepover_mm = p.step_down_mm = job::scallop_step(semi->diameter_mm / 2, a);
   p.spindle_rpm = d.rpm, p.feed_mm_min = d.feed_mm_min, p.plunge_feed_mm_min = d.feed_plunge_mm_min;
   const finish::DropCutter dropper(in.part.mesh, grown);
   finish::FinishPlan plan = finish::plan_finish(in.part.mesh, dropper, finish::Strategy::SlopeMode, p);
-  for (gcode::Item& item : plan.program.items)  // its tool comment names the real ball
-    if (auto* c = std::get_if<gcode::Comment>(&item)) {
-      c->text = "semi-finishing, " + semi->label() + ", leaving " + format_double(a) + " mm";
-      break;
-    }
   return {{"semi-finishing (s1 slope mode, leaving " + format_double(a) + " mm)", *semi, std::move(plan.program)}, p};
 }
 

@@ -3,6 +3,7 @@
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/edit_distance.hpp"
 #include "millnet/core/error.hpp"
+#include "millnet/job/operations.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -241,12 +242,7 @@ tooling::Tool inline_tool(tooling::ToolType type, double d, double r, const Cutt
   t.flutes = cs.inline_flutes;
   t.material = cs.inline_material;
   t.stickout_mm = cs.inline_stickout_mm;
-  const tooling::Tool* same = nullptr;  // the library's tool of this shape that reaches farthest
-  for (const tooling::Tool& l : library.tools)
-    if (l.type == type && std::abs(l.diameter_mm - d) <= 1e-9 &&
-        std::abs(l.corner_radius_mm - t.corner_radius_mm) <= 1e-9 && l.stickout_mm > 0 &&
-        (same == nullptr || l.stickout_mm > same->stickout_mm))
-      same = &l;
+  const tooling::Tool* same = job::longest_of_shape(library.tools, type, d, t.corner_radius_mm);
   if (same != nullptr) {
     t.stickout_mm = same->stickout_mm;
     t.flute_length_mm = same->flute_length_mm;

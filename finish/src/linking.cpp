@@ -61,7 +61,8 @@ void link_passes(const Sampler& s, const FinishParams& p, FinishPlan& plan) {
   if (!p.program_name.empty()) prog.header.push_back(p.program_name);
   prog.header.push_back("strategy: " + strategy_name(plan.strategy));
   for (const auto& c : p.comments) prog.header.push_back(c);
-  prog.items.emplace_back(gcode::Comment{strategy_name(plan.strategy) + ", " + p.tool.describe()});
+  prog.items.emplace_back(
+      gcode::Comment{strategy_name(plan.strategy) + ", " + (p.tool_label.empty() ? p.tool.describe() : p.tool_label)});
   prog.items.emplace_back(gcode::Spindle{gcode::SpindleDir::CW, p.spindle_rpm});
   Builder b(p, plan);
   b.rapid_z_abs(p.safe_z_mm);

@@ -95,6 +95,17 @@ const tooling::Tool* tool_that_reaches(const std::vector<tooling::Tool>& library
   return best;
 }
 
+const tooling::Tool* longest_of_shape(const std::vector<tooling::Tool>& library, tooling::ToolType type,
+                                      double diameter_mm, double corner_radius_mm) {
+  const tooling::Tool* best = nullptr;
+  for (const tooling::Tool& t : library)  // O(tools)
+    if (t.type == type && std::abs(t.diameter_mm - diameter_mm) <= 1e-9 &&
+        std::abs(t.corner_radius_mm - corner_radius_mm) <= 1e-9 && t.stickout_mm > 0 &&
+        (best == nullptr || t.stickout_mm > best->stickout_mm))
+      best = &t;
+  return best;
+}
+
 const tooling::Tool* semi_finishing_tool(const std::vector<tooling::Tool>& library, const tooling::Tool& finisher,
                                          const tooling::Tool& rough, double depth_of_cut_mm, double depth_mm) {
   const tooling::Tool* best = nullptr;

@@ -61,6 +61,18 @@ std::vector<gcode::Point3> positions(const fs::path& f) {
   return out;
 }
 
+/// A shop library of one ball (`<config>.tools.json`) and a config `<config>.json` that finishes
+/// with it at 0.1 mm cells.
+void shop_ball(const fs::path& d, const std::string& config, const std::string& id, double diameter,
+               double flute_length, double stickout, int number) {
+  std::ofstream(d / (config + ".tools.json"))
+      << R"({"tools": [{"id": ")" << id << R"(", "description": "shop ball", "type": "ball", "diameter": )" << diameter
+      << R"(, "flutes": 2, "flute_length": )" << flute_length << R"(, "stickout": )" << stickout
+      << R"(, "tool_material": "carbide", "number": )" << number << "}]}";
+  std::ofstream(d / (config + ".json")) << R"({"simulate": {"cell_mm": 0.1}, "finish": {"tool": {"id": ")" << id
+                                        << R"("}}, "cutting": {"tools_file": ")" << config << R"(.tools.json"}})";
+}
+
 constexpr const char* kFast = R"({"simulate": {"cell_mm": 0.1}, "finish": {"tool": {"id": "bn2-2f-carbide"}}})";
 
 TEST(CliJob, OneProgramPerPartInEveryDialectWithItsToolChangesChecksumsAndSetupSheet) {
@@ -85,6 +97,12 @@ TEST(CliJob, OneProgramPerPartInEveryDialectWithItsToolChangesChecksumsAndSetupS
   EXPECT_EQ(ops[1]["tool"]["id"], "em10-3f-carbide");
   EXPECT_EQ(ops[2]["name"], "semi-finishing (s1 slope mode, leaving 0.1 mm)");
   EXPECT_EQ(ops[2]["tool"]["id"], "bn6-2f-carbide");
+  // Planned with a Ø6.2 ball over the design (the allowance), its program names the real Ø6 ball.
+  const std::string semi_text = slurp(d / "linuxcnc" / ops[2]["program"].get<std::string>());
+  const auto named = semi_text.find("semi-finishing, bn6-2f-carbide");
+  ASSERT_NE(named, std::string::npos);
+  const std::string line = semi_text.substr(named, semi_text.find('\n', named) - named);
+  EXPECT_EQ(line.find("6.2"), std::string::npos) << line << ": the grown planning ball is not the tool";
   EXPECT_EQ(ops[3]["tool"]["id"], "bn2-2f-carbide");
   // A job a machine survives: no rapid into material, no cut deeper than the tool's flutes (the
   // library's: drill 87, Ø10 end mill 22, Ø6 ball 10, Ø2 ball 3 mm).
@@ -161,10 +179,7 @@ TEST(CliJob, AToolThatCannotReachIsReplacedByOneThatCanOrTheJobIsRefused) {
   const fs::path d = fresh_dir("cli_job_reach");
   const fs::path mesh = write_cavity(d);
   // A shop library: the Ø2 ball also in a short version (5 mm out of the holder: the part is 9 mm deep).
-  std::ofstream(d / "shop.json") << R"({"tools": [{"id": "bn2-short", "description": "short ball", "type": "ball",
-    "diameter": 2, "flutes": 2, "flute_length": 3, "stickout": 5, "tool_material": "carbide", "number": 21}]})";
-  std::ofstream(d / "short.json") << R"({"simulate": {"cell_mm": 0.1}, "finish": {"tool": {"id": "bn2-short"}},
-    "cutting": {"tools_file": "shop.json"}})";
+  shop_ball(d, "short", "bn2-short", 2, 3, 5, 21);
   const auto r =
       run_millnet("job --no-preview --config short.json --mesh '" + mesh.string() + "' --strategy 1 --out o", d);
   ASSERT_EQ(r.code, 0) << r.err;
@@ -172,10 +187,7 @@ TEST(CliJob, AToolThatCannotReachIsReplacedByOneThatCanOrTheJobIsRefused) {
   EXPECT_EQ(j["operations"].back()["tool"]["id"], "bn2-2f-carbide");  // 45 mm out: the shortest that reaches
   EXPECT_NE(j["notes"].dump().find("bn2-short"), std::string::npos) << j["notes"];
   // Nothing of that kind reaches: one line naming the tool and the depth, nothing written.
-  std::ofstream(d / "shop2.json") << R"({"tools": [{"id": "bn3-short", "description": "short ball", "type": "ball",
-    "diameter": 3, "flutes": 2, "flute_length": 3, "stickout": 5, "tool_material": "carbide", "number": 22}]})";
-  std::ofstream(d / "short2.json") << R"({"simulate": {"cell_mm": 0.1}, "finish": {"tool": {"id": "bn3-short"}},
-    "cutting": {"tools_file": "shop2.json"}})";
+  shop_ball(d, "short2", "bn3-short", 3, 3, 5, 22);
   const auto bad =
       run_millnet("job --no-preview --config short2.json --mesh '" + mesh.string() + "' --strategy 1 --out o2", d);
   EXPECT_EQ(bad.code, 1);
@@ -192,10 +204,7 @@ TEST(CliJob, AToolThatCannotReachIsReplacedByOneThatCanOrTheJobIsRefused) {
 TEST(CliJob, ACutDeeperThanTheToolsFlutesRefusesTheJob) {
   const fs::path d = fresh_dir("cli_job_flutes");
   const fs::path mesh = write_cavity(d);
-  std::ofstream(d / "shop.json") << R"({"tools": [{"id": "bn2-stub", "description": "stub ball", "type": "ball",
-    "diameter": 2, "flutes": 2, "flute_length": 0.1, "stickout": 45, "tool_material": "carbide", "number": 23}]})";
-  std::ofstream(d / "stub.json") << R"({"simulate": {"cell_mm": 0.1}, "finish": {"tool": {"id": "bn2-stub"}},
-    "cutting": {"tools_file": "shop.json"}})";
+  shop_ball(d, "stub", "bn2-stub", 2, 0.1, 45, 23);
   const std::string args =
       "job --quiet --no-preview --config stub.json --mesh '" + mesh.string() + "' --strategy 1 --out ";
   const auto bad = run_millnet(args + "o", d);

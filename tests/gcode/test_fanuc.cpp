@@ -6,6 +6,7 @@
 #include "millnet/core/error.hpp"
 #include "millnet/gcode/reader.hpp"
 #include "millnet/gcode/writer.hpp"
+#include "testing/moves.hpp"
 
 #include <gtest/gtest.h>
 
@@ -19,36 +20,28 @@ using namespace millnet::gcode;
 
 namespace {
 
-Move line_to(Motion m, Point3 to, double feed = 0) {
-  Move x;
-  x.motion = m;
-  x.to = to;
-  x.feed = feed;
-  return x;
-}
-
 Program sample() {
   Program p;
   p.header = {"fanuc sample (every item)", "part: s1 (a (nested) name)"};
-  Move arc = line_to(Motion::ArcCCW, {20, 10, -1}, 300);
+  Move arc = millnet::testing::move(Motion::ArcCCW, {20, 10, -1}, 300);
   arc.center = {20, 5};
-  Move helix = line_to(Motion::ArcCW, {10.12345, 10, -1.5}, 250.25);
+  Move helix = millnet::testing::move(Motion::ArcCW, {10.12345, 10, -1.5}, 250.25);
   helix.center = {15.061725, 10};
   p.items = {ToolChange{2, "6 mm end mill (carbide)"},
              Spindle{SpindleDir::CW, 12000},
-             line_to(Motion::Rapid, {10, 0, 5}),
-             line_to(Motion::Line, {10, 0, -1}, 100),
-             line_to(Motion::Line, {20, 0, -1}, 300),
+             millnet::testing::move(Motion::Rapid, {10, 0, 5}),
+             millnet::testing::move(Motion::Line, {10, 0, -1}, 100),
+             millnet::testing::move(Motion::Line, {20, 0, -1}, 300),
              arc,
              helix,
              Comment{"finish"},
-             line_to(Motion::Rapid, {10.12345, 10, 5}),
+             millnet::testing::move(Motion::Rapid, {10.12345, 10, 5}),
              Pause{true},
              Spindle{SpindleDir::Off, 0},
              ToolChange{5, "ball 2"},
              Spindle{SpindleDir::CW, 18000},
-             line_to(Motion::Rapid, {0, 0, 25}),
-             line_to(Motion::Line, {0, 0, 1}, 1900),
+             millnet::testing::move(Motion::Rapid, {0, 0, 25}),
+             millnet::testing::move(Motion::Line, {0, 0, 1}, 1900),
              Spindle{SpindleDir::Off, 0}};
   return p;
 }

@@ -1,6 +1,7 @@
 // The GRBL 1.1 dialect against an independent check of GRBL's grammar (tests/testing/grbl_check.hpp,
 // GRBL's own rules and error numbers): the check fails on what GRBL refuses, and the writer's GRBL
 // text of a program with every item kind passes it. The dialect registry lists both controllers.
+#include "testing/moves.hpp"
 #include "testing/grbl_check.hpp"
 
 #include "millnet/core/error.hpp"
@@ -20,14 +21,6 @@ namespace {
 int first_code(const std::string& text) {
   const auto e = grbl_errors(text);
   return e.empty() ? -1 : e.front().code;
-}
-
-Move line_to(Motion m, Point3 to, double feed = 0) {
-  Move x;
-  x.motion = m;
-  x.to = to;
-  x.feed = feed;
-  return x;
 }
 
 }  // namespace
@@ -53,20 +46,20 @@ TEST(GrblCheck, RefusesWhatGrblRefusesWithItsErrorNumber) {
 TEST(GrblDialect, EveryItemKindIsWrittenAsGrblAcceptsIt) {
   Program p;
   p.header = {"grbl sample (every item)", std::string(200, 'h')};  // a long header comment is cut
-  Move arc = line_to(Motion::ArcCCW, {20, 10, -1}, 300);
+  Move arc = millnet::testing::move(Motion::ArcCCW, {20, 10, -1}, 300);
   arc.center = {20, 5};
-  Move helix = line_to(Motion::ArcCW, {10.12345, 10, -1.5}, 250.25);
+  Move helix = millnet::testing::move(Motion::ArcCW, {10.12345, 10, -1.5}, 250.25);
   helix.center = {15.061725, 10};
-  p.items = {line_to(Motion::Rapid, {0, 0, 5}),
+  p.items = {millnet::testing::move(Motion::Rapid, {0, 0, 5}),
              ToolChange{2, "6 mm end mill (carbide)"},
-             line_to(Motion::Rapid, {10, 0, 5}),
+             millnet::testing::move(Motion::Rapid, {10, 0, 5}),
              Spindle{SpindleDir::CW, 12000},
-             line_to(Motion::Line, {10, 0, -1}, 100),
-             line_to(Motion::Line, {20, 0, -1}, 300),
+             millnet::testing::move(Motion::Line, {10, 0, -1}, 100),
+             millnet::testing::move(Motion::Line, {20, 0, -1}, 300),
              arc,
              helix,
              Comment{"finish " + std::string(150, 'x')},
-             line_to(Motion::Rapid, {10.12345, 10, 5}),
+             millnet::testing::move(Motion::Rapid, {10.12345, 10, 5}),
              Pause{true},
              Spindle{SpindleDir::Off, 0},
              Pause{false}};
@@ -94,12 +87,12 @@ TEST(GrblDialect, EveryItemKindIsWrittenAsGrblAcceptsIt) {
 
 TEST(GrblDialect, AToolChangeReadsBackAsTheToolChangeItWasWrittenFrom) {
   Program p;
-  p.items = {line_to(Motion::Rapid, {0, 0, 5}),
+  p.items = {millnet::testing::move(Motion::Rapid, {0, 0, 5}),
              ToolChange{7, "bn2: D2 mm ball"},
-             line_to(Motion::Rapid, {1, 0, 5}),
+             millnet::testing::move(Motion::Rapid, {1, 0, 5}),
              Pause{false},
              ToolChange{12, ""},
-             line_to(Motion::Rapid, {2, 0, 5})};
+             millnet::testing::move(Motion::Rapid, {2, 0, 5})};
   const std::string text = write(p, grbl());
   const Program back = read(text, "g.nc");
   std::vector<int> numbers;

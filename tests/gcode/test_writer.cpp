@@ -2,6 +2,7 @@
 #include "millnet/core/error.hpp"
 #include "millnet/gcode/reader.hpp"
 #include "millnet/gcode/writer.hpp"
+#include "testing/moves.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,16 +16,8 @@
 using namespace millnet::gcode;
 
 namespace {
-Move mv(Motion m, Point3 to, double feed = 0, std::uint8_t axes = kXYZ) {
-  Move x;
-  x.motion = m;
-  x.to = to;
-  x.feed = feed;
-  x.axes = axes;
-  return x;
-}
 Move arc(Motion m, Point3 to, std::array<double, 2> c, double feed) {
-  Move x = mv(m, to, feed);
+  Move x = millnet::testing::move(m, to, feed);
   x.center = c;
   return x;
 }
@@ -34,16 +27,16 @@ Program sample() {
   Program p;
   p.header = {"sample (test)", "units mm"};
   p.items = {
-      mv(Motion::Rapid, {0, 0, 5}, 0, kZ),
+      millnet::testing::move(Motion::Rapid, {0, 0, 5}, 0, kZ),
       ToolChange{2, "6 mm end mill"},
-      mv(Motion::Rapid, {10, 0, 5}),
+      millnet::testing::move(Motion::Rapid, {10, 0, 5}),
       Spindle{SpindleDir::CW, 12000},
-      mv(Motion::Line, {10, 0, -1}, 100),
-      mv(Motion::Line, {20, 0, -1}, 300),
+      millnet::testing::move(Motion::Line, {10, 0, -1}, 100),
+      millnet::testing::move(Motion::Line, {20, 0, -1}, 300),
       arc(Motion::ArcCCW, {20, 10, -1}, {20, 5}, 300),
       arc(Motion::ArcCW, {10.12345, 10, -1.5}, {15.061725, 10}, 250.25),
       Comment{"finish"},
-      mv(Motion::Rapid, {10.12345, 10, 5}),
+      millnet::testing::move(Motion::Rapid, {10.12345, 10, 5}),
       Pause{true},
       Spindle{SpindleDir::Off, 12000},
       Pause{false},
@@ -114,7 +107,7 @@ TEST(GcodeWriter, NumberFormat) {
 
 TEST(GcodeWriter, Errors) {
   Program p;
-  p.items = {mv(Motion::Line, {std::nan(""), 0, 0}, 100)};
+  p.items = {millnet::testing::move(Motion::Line, {std::nan(""), 0, 0}, 100)};
   EXPECT_THROW((void)write(p, linuxcnc()), millnet::Error);
   EXPECT_THROW((void)write(Program{}, linuxcnc(2)), millnet::Error);
   EXPECT_THROW((void)dialect_named("heidenhain"), millnet::Error);
@@ -145,16 +138,16 @@ TEST(GcodeWriter, LinuxcncInterpreterAcceptsWrittenPrograms) {
   const auto dir = std::filesystem::temp_directory_path() / ("millnet_gcode_rs_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   Program helix;  // a helical entry and a full circle, as pocket writes them
-  helix.items = {mv(Motion::Rapid, {0, 0, 5}, 0, kZ),
-                 mv(Motion::Rapid, {3, 0, 5}),
+  helix.items = {millnet::testing::move(Motion::Rapid, {0, 0, 5}, 0, kZ),
+                 millnet::testing::move(Motion::Rapid, {3, 0, 5}),
                  Spindle{SpindleDir::CW, 10000},
-                 mv(Motion::Line, {3, 0, 1}, 200),
+                 millnet::testing::move(Motion::Line, {3, 0, 1}, 200),
                  arc(Motion::ArcCCW, {-3, 0, 0.5}, {0, 0}, 200),
                  arc(Motion::ArcCCW, {3, 0, 0}, {0, 0}, 200),
                  arc(Motion::ArcCCW, {-3, 0, -0.5}, {0, 0}, 200),
                  arc(Motion::ArcCCW, {3, 0, -1}, {0, 0}, 200),
                  arc(Motion::ArcCW, {3, 0, -2}, {0, 0}, 400),  // a full circle
-                 mv(Motion::Rapid, {3, 0, 5}),
+                 millnet::testing::move(Motion::Rapid, {3, 0, 5}),
                  Spindle{SpindleDir::Off, 0}};
   int k = 0;
   const Program programs[] = {helix, sample()};

@@ -6,6 +6,7 @@
 #include "millnet/job/links.hpp"
 
 #include "millnet/simulate/zmap.hpp"
+#include "testing/moves.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,15 +16,6 @@ using namespace millnet;
 using gcode::Motion;
 
 namespace {
-
-gcode::Move mv(Motion m, gcode::Point3 to, std::uint8_t axes, double feed = 0) {
-  gcode::Move v;
-  v.motion = m;
-  v.to = to;
-  v.axes = axes;
-  v.feed = feed;
-  return v;
-}
 
 simulate::ZMap ridge_stock() {
   simulate::GridSpec g;
@@ -47,13 +39,14 @@ std::vector<gcode::Move> moves(const gcode::Program& p) {
 TEST(JobLinks, RapidsClearTheStockLeftAndFinishTheirApproachAtThePlungeFeed) {
   const tooling::Cutter ball = tooling::Cutter::ball(6);
   gcode::Program p;
-  p.items = {mv(Motion::Rapid, {5, 5, 5}, gcode::kXYZ),
-             mv(Motion::Rapid, {5, 5, -10}, gcode::kZ),                // down beside the ridge: kept
-             mv(Motion::Rapid, {30, 5, -10}, gcode::kX | gcode::kY),   // through the ridge: raised
-             mv(Motion::Rapid, {24, 30, -10}, gcode::kX | gcode::kY),  // 4 mm beside it (r 3): kept
-             mv(Motion::Rapid, {15, 30, -12}, gcode::kXYZ),            // onto the ridge: raised, fed
-             mv(Motion::Line, {15, 35, -12}, gcode::kY, 1000),         // a cut: kept
-             mv(Motion::Rapid, {15, 35, 5}, gcode::kZ)};               // up: kept
+  p.items = {
+      millnet::testing::move(Motion::Rapid, {5, 5, 5}, 0, gcode::kXYZ),
+      millnet::testing::move(Motion::Rapid, {5, 5, -10}, 0, gcode::kZ),                // down beside the ridge: kept
+      millnet::testing::move(Motion::Rapid, {30, 5, -10}, 0, gcode::kX | gcode::kY),   // through the ridge: raised
+      millnet::testing::move(Motion::Rapid, {24, 30, -10}, 0, gcode::kX | gcode::kY),  // 4 mm beside it (r 3): kept
+      millnet::testing::move(Motion::Rapid, {15, 30, -12}, 0, gcode::kXYZ),            // onto the ridge: raised, fed
+      millnet::testing::move(Motion::Line, {15, 35, -12}, 1000, gcode::kY),            // a cut: kept
+      millnet::testing::move(Motion::Rapid, {15, 35, 5}, 0, gcode::kZ)};               // up: kept
   job::LinkChanges ch;
   const gcode::Program q = job::clear_rapids(p, ridge_stock(), ball, 1.0, 300, &ch);
   EXPECT_EQ(ch.raised, 2u);
@@ -84,8 +77,10 @@ TEST(JobLinks, RapidsClearTheStockLeftAndFinishTheirApproachAtThePlungeFeed) {
 
 TEST(JobLinks, AProgramThatClearsTheStockIsKeptAsItIs) {
   gcode::Program p;
-  p.items = {mv(Motion::Rapid, {0, 0, 5}, gcode::kZ), mv(Motion::Rapid, {5, 5, 5}, gcode::kX | gcode::kY),
-             mv(Motion::Rapid, {35, 35, -3}, gcode::kXYZ), mv(Motion::Line, {35, 35, -19}, gcode::kZ, 300)};
+  p.items = {millnet::testing::move(Motion::Rapid, {0, 0, 5}, 0, gcode::kZ),
+             millnet::testing::move(Motion::Rapid, {5, 5, 5}, 0, gcode::kX | gcode::kY),
+             millnet::testing::move(Motion::Rapid, {35, 35, -3}, 0, gcode::kXYZ),
+             millnet::testing::move(Motion::Line, {35, 35, -19}, 300, gcode::kZ)};
   job::LinkChanges ch;
   const gcode::Program q = job::clear_rapids(p, ridge_stock(), tooling::Cutter::flat(10), 1.0, 300, &ch);
   EXPECT_EQ(ch.raised + ch.fed, 0u);

@@ -7,6 +7,7 @@
 #include "millnet/core/error.hpp"
 #include "millnet/gcode/reader.hpp"
 #include "millnet/gcode/writer.hpp"
+#include "testing/moves.hpp"
 
 #include <gtest/gtest.h>
 
@@ -20,36 +21,27 @@ using gcode::Motion;
 
 namespace {
 
-gcode::Move mv(Motion m, gcode::Point3 to, double feed = 0, std::uint8_t op = 0) {
-  gcode::Move v;
-  v.motion = m;
-  v.to = to;
-  v.feed = feed;
-  v.op = op;
-  return v;
-}
-
 /// A roughing program as pocket's build_program lays out a pre-drilled entry: safe Z, the drilling
 /// block (its comment, spindle, holes, spindle off, the end mill's comment and pause), then a level.
 gcode::Program predrilled_rough() {
   gcode::Program p;
   p.header = {"roughing"};
-  p.items = {mv(Motion::Rapid, {0, 0, 5}),
+  p.items = {millnet::testing::move(Motion::Rapid, {0, 0, 5}),
              gcode::Comment{"PRE-DRILL: load a drill of diameter 10 mm"},
              gcode::Spindle{gcode::SpindleDir::CW, 9000},
              gcode::Comment{"pre-drill"},
-             mv(Motion::Rapid, {20, 20, 5}, 0, 1),
-             mv(Motion::Rapid, {20, 20, 1}, 0, 1),
-             mv(Motion::Line, {20, 20, -6}, 300, 1),
-             mv(Motion::Rapid, {20, 20, 5}, 0, 1),
+             millnet::testing::move(Motion::Rapid, {20, 20, 5}, 0, gcode::kXYZ, 1),
+             millnet::testing::move(Motion::Rapid, {20, 20, 1}, 0, gcode::kXYZ, 1),
+             millnet::testing::move(Motion::Line, {20, 20, -6}, 300, gcode::kXYZ, 1),
+             millnet::testing::move(Motion::Rapid, {20, 20, 5}, 0, gcode::kXYZ, 1),
              gcode::Spindle{gcode::SpindleDir::Off, 9000},
              gcode::Comment{"change to the end mill of diameter 10 mm, then resume"},
              gcode::Pause{false},
              gcode::Spindle{gcode::SpindleDir::CW, 9000},
-             mv(Motion::Rapid, {20, 20, 1}),
-             mv(Motion::Line, {20, 20, -6}, 300),
-             mv(Motion::Line, {30, 20, -6}, 1200),
-             mv(Motion::Rapid, {30, 20, 5}),
+             millnet::testing::move(Motion::Rapid, {20, 20, 1}),
+             millnet::testing::move(Motion::Line, {20, 20, -6}, 300),
+             millnet::testing::move(Motion::Line, {30, 20, -6}, 1200),
+             millnet::testing::move(Motion::Rapid, {30, 20, 5}),
              gcode::Spindle{gcode::SpindleDir::Off, 9000}};
   return p;
 }
@@ -99,7 +91,8 @@ TEST(JobOperations, PredrillingBecomesADrillingOperationAtTheDrillsSpeedAndFeed)
   EXPECT_EQ(count<gcode::Spindle>(ops[1].program), 2U);  // the end mill's on and off
   // Without pre-drilling: the roughing alone, untouched.
   gcode::Program plain;
-  plain.items = {mv(Motion::Rapid, {0, 0, 5}), mv(Motion::Line, {0, 0, -1}, 100)};
+  plain.items = {millnet::testing::move(Motion::Rapid, {0, 0, 5}),
+                 millnet::testing::move(Motion::Line, {0, 0, -1}, 100)};
   const auto one = job::roughing_operations(plain, mill, nullptr, {});
   ASSERT_EQ(one.size(), 1U);
   EXPECT_EQ(one[0].program.items.size(), 2U);
@@ -111,9 +104,9 @@ TEST(JobOperations, TheJobProgramChangesToolsAndReadsBackToolByTool) {
   drill.length_offset = 21;
   auto ops = job::roughing_operations(predrilled_rough(), mill, &drill, {1200, 240});
   gcode::Program finishing;
-  finishing.items = {gcode::Spindle{gcode::SpindleDir::CW, 18000}, mv(Motion::Rapid, {0, 0, 5}),
-                     mv(Motion::Line, {0, 0, -2}, 1900), mv(Motion::Rapid, {0, 0, 5}),
-                     gcode::Spindle{gcode::SpindleDir::Off, 0}};
+  finishing.items = {gcode::Spindle{gcode::SpindleDir::CW, 18000}, millnet::testing::move(Motion::Rapid, {0, 0, 5}),
+                     millnet::testing::move(Motion::Line, {0, 0, -2}, 1900),
+                     millnet::testing::move(Motion::Rapid, {0, 0, 5}), gcode::Spindle{gcode::SpindleDir::Off, 0}};
   ops.push_back({"finishing", tool("bn2", tooling::ToolType::Ball, 2, 7), finishing});
   const gcode::Program job = job::job_program(ops, {"part"});
   const std::string text = gcode::write(job, gcode::fanuc());
@@ -184,6 +177,18 @@ TEST(JobOperations, TheDrillAndTheReachingToolComeFromTheLibrary) {
   EXPECT_EQ(job::tool_that_reaches(lib, tool("x", tooling::ToolType::Ball, 6, 0), 500)->id, "x");  // no stick-out
 }
 
+TEST(JobOperations, AToolGivenByItsShapeTakesTheLongestLibraryToolOfThatShape) {
+  std::vector<tooling::Tool> lib{
+      tool("bn6-35", tooling::ToolType::Ball, 6, 8, 35), tool("bn6-60", tooling::ToolType::Ball, 6, 15, 60),
+      tool("bn6-none", tooling::ToolType::Ball, 6, 16, 0), tool("em6-80", tooling::ToolType::Flat, 6, 17, 80),
+      tool("bn8-90", tooling::ToolType::Ball, 8, 18, 90)};
+  EXPECT_EQ(job::longest_of_shape(lib, tooling::ToolType::Ball, 6, 3)->id, "bn6-60");
+  EXPECT_EQ(job::longest_of_shape(lib, tooling::ToolType::Flat, 6, 0)->id, "em6-80");
+  EXPECT_EQ(job::longest_of_shape(lib, tooling::ToolType::Ball, 6.5, 3.25), nullptr);  // no Ø6.5
+  EXPECT_EQ(job::longest_of_shape(lib, tooling::ToolType::Bull, 6, 1), nullptr);       // no bull
+  EXPECT_EQ(job::longest_of_shape({lib[2]}, tooling::ToolType::Ball, 6, 3), nullptr);  // no stick-out stated
+}
+
 TEST(JobOperations, HolderClearanceAgainstAStep) {
   // A 20 x 20 mm plate at Z -10 with a step up to Z -5 for x ≥ 10, cells of 0.1 mm.
   simulate::GridSpec g;
@@ -196,7 +201,8 @@ TEST(JobOperations, HolderClearanceAgainstAStep) {
   t.holder_diameter_mm = 10;  // radius 5; conservative by the 0.5 mm cells' diagonal, 0.71 mm
   auto run_at = [&](double x) {
     gcode::Program p;
-    p.items = {mv(Motion::Rapid, {x, 2, 5}), mv(Motion::Line, {x, 2, -10}, 100), mv(Motion::Line, {x, 18, -10}, 100)};
+    p.items = {millnet::testing::move(Motion::Rapid, {x, 2, 5}), millnet::testing::move(Motion::Line, {x, 2, -10}, 100),
+               millnet::testing::move(Motion::Line, {x, 18, -10}, 100)};
     return job::holder_clearance(p, t, g, design);
   };
   const job::HolderClearance far = run_at(3);  // the step 7 mm away: only the plate under the holder

@@ -84,7 +84,10 @@ struct FinishParams {
   double z_shift = 0;       ///< program Z = mesh z + z_shift
   /// Machining boundary (XY box of tool-axis positions, mesh frame); empty ⇒ the part's footprint.
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-  std::string program_name;           ///< first header comment
+  std::string program_name;  ///< first header comment
+  /// What the program's tool comment names; empty ⇒ tool.describe(). A caller that plans with a
+  /// grown cutter (a ball of R + allowance over the design) names the real tool here.
+  std::string tool_label;
   std::vector<std::string> comments;  ///< further header comments (after "strategy: <name>")
   /// Budgets of the CL grids (finish/work.hpp), checked by plan_finish before any point is dropped.
   WorkLimits limits;

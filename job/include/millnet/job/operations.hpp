@@ -60,6 +60,12 @@ struct DrillCut {
 [[nodiscard]] const tooling::Tool* tool_that_reaches(const std::vector<tooling::Tool>& library,
                                                      const tooling::Tool& configured, double depth_mm);
 
+/// The library's tool of this shape (type, diameter, corner radius) with the longest stated
+/// stick-out: what a tool given only by its shape (`--tool-diameter`, `ball:D`, a pocket file's
+/// diameter) takes its stick-out, flutes and holder from. Null when the library has none. O(tools).
+[[nodiscard]] const tooling::Tool* longest_of_shape(const std::vector<tooling::Tool>& library, tooling::ToolType type,
+                                                    double diameter_mm, double corner_radius_mm);
+
 /// The semi-finishing tool (issue 38) when the roughing leaves more than the finishing tool's flutes
 /// take: a ball of the library larger than `finisher`, no larger than `rough`, whose flutes take
 /// `depth_of_cut_mm` and whose stick-out reaches `depth_mm` (none stated: it reaches); the smallest
