@@ -137,19 +137,42 @@ struct PartJob {
   std::optional<job::Design> design;
 };
 
+/// The holder check on what a plan machines: its lowest cut (feed move), below the stock top.
+void check_plan_reach(const FinishSettings& settings, const finish::FinishPlan& plan) {
+  double lowest = 0;                                  // program frame: Z 0 = stock top
+  for (const gcode::Item& item : plan.program.items)  // O(items)
+    if (const auto* m = std::get_if<gcode::Move>(&item); m != nullptr && m->motion != gcode::Motion::Rapid)
+      lowest = std::min(lowest, m->to[2]);
+  job::check_reach(settings.cutting.tool.cutter(), settings.cutting.tool.label(), -lowest,
+                   "the finishing's lowest cut (" + finish::strategy_name(plan.strategy) + ")");
+}
+
 /// The frame, the holder check, the parameters in the frame and the drop-cutter (and, simulated,
 /// the design surface): what planning and scoring a part's strategies needs.
 PartJob finishing_job(const job::Part& part, const FinishSettings& settings) {
   PartJob job;
   settings.params.check();
   job.frame = job::frame_of(part.mesh, settings.stock_top_above_part_mm);
-  if (settings.simulate) job.design = job::design_surface(part.mesh, job.frame, sim_params(settings));
-  // The tool reaches down from the stock top at most to the part's lowest point.
-  job::check_reach(settings.cutting.tool.cutter(), settings.cutting.tool.label(),
-                   job.frame.depth_below_top(job.frame.part_bottom), "the part");
+  finish::Boundary in_program = settings.params.boundary;  // the Z range as given (program frame)
+  if (settings.z_min) in_program.z_min = *settings.z_min;
+  if (settings.z_max) in_program.z_max = *settings.z_max;
+  if (settings.simulate) {
+    job.design = job::design_surface(part.mesh, job.frame, sim_params(settings));
+    job::judge_within(*job.design, in_program);
+  }
+  // The holder check on the depth the finishing machines: without a boundary, down to the part's
+  // lowest point (or the Z range's floor) before planning; inside one, its lowest cut after
+  // (check_plan_reach).
+  const finish::Boundary& b = settings.params.boundary;
+  if (b.polygons.empty() && !b.on_part)
+    job::check_reach(settings.cutting.tool.cutter(), settings.cutting.tool.label(),
+                     job.frame.depth_below_top(std::max(job.frame.part_bottom, in_program.z_min + job.frame.stock_top)),
+                     "the part");
   std::vector<std::string> tool_lines = settings.cutting.header();
   if (tool_lines.empty()) tool_lines.push_back("tool: " + settings.params.tool.describe());
   job.params = job::part_params(settings.params, job.frame, part.name, std::move(tool_lines));
+  job.params.boundary.z_min = in_program.z_min - job.frame.z_shift();  // the tip's, mesh frame
+  job.params.boundary.z_max = in_program.z_max - job.frame.z_shift();
   job.dropper.emplace(part.mesh, job.params.tool);
   return job;
 }
@@ -355,6 +378,7 @@ std::vector<job::StrategyOutcome> plan_and_write(const job::Part& part, const Fi
                                                  const fs::path& out) {
   const std::vector<finish::FinishParams> params = settings.strategy_params(strategies, job.params);
   const std::vector<finish::FinishPlan> plans = finish::plan_finish(part.mesh, *job.dropper, strategies, params);
+  for (const finish::FinishPlan& plan : plans) check_plan_reach(settings, plan);
   std::vector<job::StrategyOutcome> outcomes;
   Progress progress("finish " + part.name, strategies.size());
   for (std::size_t i = 0; i < plans.size(); ++i) {  // O(strategies)
@@ -402,6 +426,7 @@ std::vector<job::StrategyFigures> label_part(const job::Part& part, const Finish
   const PartJob job = finishing_job(part, s);
   const std::vector<finish::FinishPlan> plans = finish::plan_finish(
       part.mesh, *job.dropper, settings.strategies, settings.strategy_params(settings.strategies, job.params));
+  for (const finish::FinishPlan& plan : plans) check_plan_reach(settings, plan);
   return job::score_strategies(part.mesh, job.frame, plans, job.params.tool, settings.post, settings.machine,
                                settings.aim, sim_params(settings));
 }

@@ -384,6 +384,16 @@ std::vector<finish::FinishParams> FinishSettings::strategy_params(const std::vec
   return finish::params_for_spec(which, spec, base);
 }
 
+void set_boundary_file(FinishSettings& s, const std::string& file) {
+  const pocket::PocketFile pf = pocket::read_pocket(file);
+  constexpr double kChordMm = 0.001;  // arcs of the outline, flattened
+  auto& polys = s.params.boundary.polygons;
+  polys.clear();
+  polys.push_back(pocket::flatten(pf.region.boundary, kChordMm));
+  for (const pocket::Loop& island : pf.region.islands) polys.push_back(pocket::flatten(island, kChordMm));
+  s.boundary_file = file;
+}
+
 FinishSettings finish_settings(const Json& config, const FinishToolFlags& flags) {
   const Json& f = config["finish"];
   FinishSettings s;
@@ -402,6 +412,11 @@ FinishSettings finish_settings(const Json& config, const FinishToolFlags& flags)
   p.raster_angle_deg = f["raster_angle_deg"].get<double>();
   p.safe_z_mm = f["safe_z_mm"].get<double>();
   p.limits = work_limits();
+  const Json& b = f["boundary"];
+  p.boundary.on_part = b["on_part"].get<bool>();
+  if (!b["z_min"].is_null()) s.z_min = b["z_min"].get<double>();
+  if (!b["z_max"].is_null()) s.z_max = b["z_max"].get<double>();
+  if (!b["file"].is_null()) set_boundary_file(s, b["file"].get<std::string>());
   const std::string strat = f["strategy"].get<std::string>();
   s.strategies = strat == "all" ? finish::all_strategies() : std::vector{finish::parse_strategy(strat)};
   s.aim.aim = simulate::parse_aim(f["aim"].get<std::string>());

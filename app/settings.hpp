@@ -103,7 +103,14 @@ struct FinishSettings {
   SimSettings sim;
   simulate::AimParams aim;
   CuttingRecord cutting;  ///< the tool, its cutting data and each figure's source
+  /// /finish/boundary's Z range (program frame: Z 0 = stock top), set into params.boundary per part.
+  std::optional<double> z_min, z_max;
+  std::string boundary_file;  ///< the outline params.boundary.polygons came from ("" = none)
 };
+
+/// Reads a machining boundary (pocket JSON or DXF: the outline and its islands, arcs flattened to
+/// 0.001 mm) into `p`'s polygons; errors name the file.
+void set_boundary_file(FinishSettings& s, const std::string& file);
 
 /// "ball:2", "flat:10", "bull:6:1" (type:diameter[:corner radius]); throws millnet::Error.
 [[nodiscard]] tooling::Cutter parse_tool(const std::string& text);

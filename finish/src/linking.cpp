@@ -2,6 +2,7 @@
 // surface at feed, so they cannot gouge), lifts elsewhere (up to the highest CL point under the
 // link plus the clearance, across at rapid, down at rapid to the clearance, plunge at the plunge
 // feed), the end at safe Z.
+#include "boundary.hpp"
 #include "sampling.hpp"
 
 #include "millnet/finish/tolerances.hpp"
@@ -56,7 +57,7 @@ private:
 
 }  // namespace
 
-void link_passes(const Sampler& s, const FinishParams& p, FinishPlan& plan) {
+void link_passes(const Sampler& s, const FinishParams& p, const Fence& fence, FinishPlan& plan) {
   auto& prog = plan.program;
   if (!p.program_name.empty()) prog.header.push_back(p.program_name);
   prog.header.push_back("strategy: " + strategy_name(plan.strategy));
@@ -78,8 +79,10 @@ void link_passes(const Sampler& s, const FinishParams& p, FinishPlan& plan) {
       b.line(start, p.plunge_feed_mm_min);
     } else {
       const double d = (start.head<2>() - prev->head<2>()).norm();
-      if (d <= stay_max) {
-        const auto link = sample_segment(s, prev->head<2>(), start.head<2>(), h0, p.chord_tolerance_mm);
+      std::vector<Sample> link;
+      if (d <= stay_max) link = sample_segment(s, prev->head<2>(), start.head<2>(), h0, p.chord_tolerance_mm);
+      const bool stays_in = std::all_of(link.begin(), link.end(), [&](const Sample& q) { return fence.inside(q.p); });
+      if (d <= stay_max && stays_in) {
         for (std::size_t i = 1; i + 1 < link.size(); ++i) b.line(link[i].p, p.feed_mm_min);
         b.line(start, p.feed_mm_min);
       } else {

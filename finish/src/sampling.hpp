@@ -93,8 +93,10 @@ std::vector<Pass> to_passes(std::vector<std::vector<Sample>> lines);
   return c.size() > 2 && (c.front().p - c.back().p).norm() < 1e-12;
 }
 
-/// The linked program (linking.cpp); fills plan.program, path_length_mm, lifts, cl_points.
-void link_passes(const Sampler& s, const FinishParams& p, FinishPlan& plan);
+class Fence;
+/// The linked program (linking.cpp); fills plan.program, path_length_mm, lifts, cl_points. A short
+/// link stays down only when every point of it is inside the fence.
+void link_passes(const Sampler& s, const FinishParams& p, const Fence& fence, FinishPlan& plan);
 
 template <class Keep>
 std::vector<std::vector<Sample>> runs(const std::vector<Sample>& pts, Keep keep) {

@@ -1,4 +1,5 @@
 // The strategy registry and the top function: passes by the strategy, simplified, linked.
+#include "boundary.hpp"
 #include "sampling.hpp"
 
 #include "millnet/core/error.hpp"
@@ -63,6 +64,24 @@ struct Shared {
                   [&] { return detail::waterline_loops(s, box, *p); });
   }
 };
+
+/// The box cut down to the polygons' box (they may reach beyond the part: the box stays the part's
+/// where they do). Throws when they miss it.
+Box within_polygons(const Box& box, const std::vector<std::vector<Eigen::Vector2d>>& polygons) {
+  Box b{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (const auto& poly : polygons)  // O(polygon points)
+    for (const Eigen::Vector2d& q : poly) {
+      b.x0 = std::min(b.x0, q.x()), b.y0 = std::min(b.y0, q.y());
+      b.x1 = std::max(b.x1, q.x()), b.y1 = std::max(b.y1, q.y());
+    }
+  const Box out{std::max(box.x0, b.x0), std::max(box.y0, b.y0), std::min(box.x1, b.x1), std::min(box.y1, b.y1)};
+  if (!(out.x1 > out.x0 && out.y1 > out.y0))
+    throw Error("finish: the machining boundary (X " + std::to_string(b.x0) + ".." + std::to_string(b.x1) + ", Y " +
+                std::to_string(b.y0) + ".." + std::to_string(b.y1) + ") lies off the part (X " +
+                std::to_string(box.x0) + ".." + std::to_string(box.x1) + ", Y " + std::to_string(box.y0) + ".." +
+                std::to_string(box.y1) + ")");
+  return out;
+}
 
 Lines raster(Shared& sh) { return sh.raster_lines(); }
 
@@ -225,6 +244,8 @@ std::vector<FinishPlan> plan_finish(const ingest::Mesh& mesh, const DropCutter& 
   if (!(box.x1 > box.x0 && box.y1 > box.y0)) {
     box = {mesh.V.col(0).minCoeff(), mesh.V.col(1).minCoeff(), mesh.V.col(0).maxCoeff(), mesh.V.col(1).maxCoeff()};
   }
+  const detail::Fence fence(mesh, params.boundary);
+  if (!params.boundary.polygons.empty()) box = within_polygons(box, params.boundary.polygons);
   for (std::size_t i = 0; i < strategies.size(); ++i)  // before any CL point is dropped (issue 12)
     for (const WorkEstimate& e : estimate_work(box.x0, box.y0, box.x1, box.y1, {strategies[i]}, params_each[i]))
       check_work(e, params.limits);
@@ -235,7 +256,7 @@ std::vector<FinishPlan> plan_finish(const ingest::Mesh& mesh, const DropCutter& 
     throw Error("finish: safe_z_mm " + std::to_string(params.safe_z_mm) +
                 " is not above the part top plus the clearance (" +
                 std::to_string(s.top_z() + params.z_shift + params.clearance_mm) + ")");
-  Shared shared{s, box};
+  Shared shared{s, box, nullptr, {}, {}, 0};
   std::vector<FinishPlan> plans;
   for (std::size_t i = 0; i < strategies.size(); ++i) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -246,7 +267,7 @@ std::vector<FinishPlan> plan_finish(const ingest::Mesh& mesh, const DropCutter& 
     const Entry& e = entry(strategies[i]);
     FinishPlan plan;
     plan.strategy = strategies[i];
-    Lines lines = e.passes(shared);
+    Lines lines = fence.clip(e.passes(shared));
     std::vector<Lines::value_type> simple(lines.size());
 #pragma omp parallel for schedule(dynamic, 4)
     for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(lines.size()); ++k)
@@ -254,7 +275,7 @@ std::vector<FinishPlan> plan_finish(const ingest::Mesh& mesh, const DropCutter& 
           detail::simplify(lines[static_cast<std::size_t>(k)], p.chord_tolerance_mm, e.straight_passes);
     plan.passes = detail::to_passes(std::move(simple));
     if (plan.passes.empty()) throw Error("finish: no surface under the machining boundary to finish");
-    detail::link_passes(s, p, plan);
+    detail::link_passes(s, p, fence, plan);
     plan.drops = s.drops() - drops0;
     plan.drops_needed = plan.drops + shared.reused_drops;
     plan.planning_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -69,11 +69,26 @@ Scored score_program(const Design& design, const Frame& frame, const gcode::Prog
   s.max_depth_of_cut_mm = *std::max_element(sw.max_cut_mm.begin(), sw.max_cut_mm.end());
   // Uncut = reachable material the program left; the scallops between passes are scored by
   // scallop and Ra, and the rest material no program with this cutter can clear is apart.
-  s.metrics = simulate::surface_metrics(s.machined, design.heights, sim.metrics_options(cutter));
+  simulate::MetricsOptions mo = sim.metrics_options(cutter);
+  mo.judged = design.judged;
+  s.metrics = simulate::surface_metrics(s.machined, design.heights, mo);
   if (design.solid)  // a z-map gouge is a gouge only when the exact check confirms it (issue 37 §1)
     simulate::confirm_gouges(s.metrics, s.machined, design.heights, *design.solid, {{&program, cutter}},
                              sim.gouge_options());
   return s;
+}
+
+void judge_within(Design& design, const finish::Boundary& b) {
+  if (b.polygons.empty() && !b.limits_z()) return;
+  const simulate::GridSpec& g = design.grid;
+  design.judged.assign(design.heights.size(), 1);
+  for (std::size_t iy = 0; iy < g.ny; ++iy)  // O(cells · polygon points)
+    for (std::size_t ix = 0; ix < g.nx; ++ix) {
+      const std::size_t i = iy * g.nx + ix;
+      const double z = design.heights[i];
+      const bool in = b.encloses(g.x(ix), g.y(iy)) && (std::isnan(z) || (z >= b.z_min && z <= b.z_max));
+      design.judged[i] = in ? 1 : 0;
+    }
 }
 
 simulate::StrategyScore strategy_score(int slot, double time_min, const Scored& scored, double cell_mm) {

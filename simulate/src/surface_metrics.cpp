@@ -155,6 +155,29 @@ std::vector<double> deviation(const ZMap& machined, const std::vector<double>& d
 
 SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& design, const MetricsOptions& opt) {
   check_inputs(machined.spec(), design, opt);
+  if (!opt.judged.empty()) {  // the judged surface's figures, the whole design's gouge
+    if (opt.judged.size() != design.size())
+      throw Error("simulate: the judged-surface mask has " + std::to_string(opt.judged.size()) + " cells, the z-map " +
+                  std::to_string(design.size()));
+    std::vector<double> inside = design;
+    for (std::size_t i = 0; i < inside.size(); ++i)  // O(cells)
+      if (opt.judged[i] == 0) inside[i] = std::numeric_limits<double>::quiet_NaN();
+    MetricsOptions all = opt;
+    all.judged.clear();
+    SurfaceMetrics out = surface_metrics(machined, inside, all);
+    SurfaceMetrics whole;
+    std::vector<double> none;
+    const std::size_t first_gouge_cell = measure_deviation(machined, design, all, whole, none);
+    locate_gouges(machined, first_gouge_cell, whole);
+    out.max_gouge_mm = whole.max_gouge_mm;
+    out.gouged = whole.gouged;
+    out.gouge_cell = whole.gouge_cell;
+    out.gouge_has_move = whole.gouge_has_move;
+    out.gouge_move = whole.gouge_move;
+    out.first_gouge_move = whole.first_gouge_move;
+    out.min_e_mm = std::min(out.min_e_mm, whole.min_e_mm);
+    return out;
+  }
   SurfaceMetrics out;
   // 1. Deviation, gouge, remaining material. (e − allowance) along the normal per cell is kept
   // only when split_remaining needs it.

@@ -350,7 +350,7 @@ TEST(ZMap, ADrillPlungeLeavesItsCone) {
   const tooling::Cutter d = tooling::Cutter::drill(6);
   machine(zm, p, d, o);
   const double k = 1 / std::tan(59 * std::numbers::pi / 180);
-  for (const std::size_t off : {0, 10, 30, 55}) {
+  for (const std::size_t off : {0UL, 10UL, 30UL, 55UL}) {
     const double r = static_cast<double>(off) * g.cell;
     EXPECT_NEAR(zm.at(100 + off, 100), -3 + r * k, 1e-12) << r;
   }

@@ -31,6 +31,8 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -68,6 +70,26 @@ struct StrategyInfo {
 /// All five, in slot order.
 [[nodiscard]] std::vector<Strategy> all_strategies();
 
+/// Where the tool may cut (issue 38; docs/finishing.md, "Machining boundaries"). Containment is of
+/// the tool axis (its tip's XY) and the tip's height: a pass that leaves is cut where it crosses, on
+/// its own straight segment (no new point off the planned path), and resumes where it comes back; a
+/// short link between passes stays down only when it stays inside, else it lifts.
+struct Boundary {
+  /// Closed XY polygons, mesh frame (last point ≠ first; closed implicitly); a point is inside when
+  /// an odd number of them enclose it (an outline and the islands within it). Empty: no polygon.
+  std::vector<std::vector<Eigen::Vector2d>> polygons;
+  /// The axis stays over the part: the XY projection of some face that is not vertical contains it
+  /// (the part's silhouette, within tol::on_part_mm). No pass then runs down the outside walls to
+  /// the table or drops off an open surface's edge onto the floor.
+  bool on_part = true;
+  /// The tip's height, mesh frame: pieces below z_min or above z_max are left out.
+  double z_min = -std::numeric_limits<double>::infinity();
+  double z_max = std::numeric_limits<double>::infinity();
+  [[nodiscard]] bool limits_z() const { return std::isfinite(z_min) || std::isfinite(z_max); }
+  /// Whether the polygons enclose (x, y) (even-odd; true when there are none). O(polygon points).
+  [[nodiscard]] bool encloses(double x, double y) const;
+};
+
 struct FinishParams {
   tooling::Cutter tool = tooling::Cutter::ball(2);
   double stepover_mm = 0.2;           ///< p_f: XY pass distance (2, 1), 3D distance (5), start value (3)
@@ -82,8 +104,10 @@ struct FinishParams {
   double safe_z_mm = 5;     ///< program Z of rapids at start and end (above the stock top)
   double clearance_mm = 1;  ///< lifts clear the highest CL point under a link by this
   double z_shift = 0;       ///< program Z = mesh z + z_shift
-  /// Machining boundary (XY box of tool-axis positions, mesh frame); empty ⇒ the part's footprint.
+  /// Machining box (XY box of tool-axis positions, mesh frame); empty ⇒ the part's footprint (or
+  /// the boundary polygons' box, when they are given).
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  Boundary boundary;         ///< polygons, the part's silhouette, the Z range
   std::string program_name;  ///< first header comment
   /// What the program's tool comment names; empty ⇒ tool.describe(). A caller that plans with a
   /// grown cutter (a ball of R + allowance over the design) names the real tool here.

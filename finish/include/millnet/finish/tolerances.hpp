@@ -39,4 +39,12 @@ inline constexpr double stay_down_link_diameters = 2.0;
 /// Passes (and pieces of passes) shorter than this are dropped.
 inline constexpr double min_pass_mm = 0.01;
 
+/// Machining boundaries: a tool axis within this of a non-vertical face's XY projection is over
+/// the part (so that a pass along the footprint's edge, exactly on it, is kept).
+inline constexpr double on_part_mm = 1e-6;
+
+/// Machining boundaries: where a pass crosses, the crossing on its segment is found by bisection
+/// to this (the segment's own points, so the path stays as safe as planned).
+inline constexpr double boundary_crossing_mm = 1e-5;
+
 }  // namespace millnet::finish::tol

@@ -59,7 +59,15 @@ struct Design {
   simulate::GridSpec grid;
   std::vector<double> heights;
   std::shared_ptr<const simulate::PartSolid> solid;
+  /// The surface a finishing program is judged on (simulate::MetricsOptions::judged); empty = all.
+  std::vector<std::uint8_t> judged;
 };
+
+/// Judges finishing only inside a machining boundary (issue 38): the cells whose centre the
+/// boundary's polygons enclose and whose design height (program frame) lies in [z_min, z_max] of
+/// `boundary` given in the program frame. Nothing changes when the boundary has neither. O(cells ·
+/// polygon points).
+void judge_within(Design& design, const finish::Boundary& boundary_program_frame);
 
 /// Rasterizes the design once per part. Checked first against sim.limits: the z-map (12 bytes a
 /// cell) + design and raster (17) + the metrics' per-cell excess (8). Throws millnet::Error.

@@ -191,6 +191,10 @@ struct MetricsOptions {
   double spec_limit_mm = std::numeric_limits<double>::quiet_NaN();
   /// The Ra target, µm, of ra_target_share (the paper's quality aim read as a share). NaN: none.
   double ra_target_um = std::numeric_limits<double>::quiet_NaN();
+  /// The surface an operation is judged on (a machining boundary, issue 38): when not empty (one
+  /// per cell), cells with 0 count only for the gouge (a cut into the design anywhere is one);
+  /// the surface cells, remaining material, scallop, specification and Ra are those with 1.
+  std::vector<std::uint8_t> judged;
 };
 
 struct SurfaceMetrics {
