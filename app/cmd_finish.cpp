@@ -106,8 +106,7 @@ Registered register_finish(CLI::App& app) {
     std::vector<std::string> meshes;
     std::optional<std::string> strategy, tool, material, post;
     std::optional<double> stepover, step_down, boundary_angle, scallop;
-    std::optional<std::string> boundary;
-    std::vector<double> z_range;
+    BoundaryFlags boundary;
     bool simulate = false;
     std::string out;
   };
@@ -140,14 +139,7 @@ Registered register_finish(CLI::App& app) {
   sub->add_option("--scallop", o->scallop,
                   "largest scallop of the surface specification (and scallop mode's target), mm")
       ->check(schema_range("/finish/scallop_mm"));
-  sub->add_option("--boundary", o->boundary,
-                  "machining boundary: a closed outline (pocket JSON or DXF, program frame X Y; its islands left "
-                  "out) the tool axis stays inside (/finish/boundary/file)")
-      ->check(CLI::ExistingFile);
-  sub->add_option("--z-range", o->z_range,
-                  "lowest and highest tool tip Z of the cuts, mm, program frame (Z 0 = stock "
-                  "top; /finish/boundary/z_min, z_max)")
-      ->expected(2);
+  o->boundary.add_to(sub);
   sub->add_flag("--simulate", o->simulate, "machine each program on a z-map and score the surface");
   add_post_flag(sub, o->post);
   sub->add_option("--out", o->out, "output folder")->check(output_path())->required();
@@ -173,14 +165,7 @@ Registered register_finish(CLI::App& app) {
                   "finish: --stepover/--step-down given: every strategy uses the parameters as written, not "
                   "derived from /finish/spec (/finish/params_from fixed)");
             }
-            if (o->boundary) set_boundary_file(s, *o->boundary);
-            if (!o->z_range.empty()) {
-              if (!(o->z_range[0] < o->z_range[1]))
-                throw Error("--z-range: the lowest Z (" + format_double(o->z_range[0]) +
-                            ") must be below the highest (" + format_double(o->z_range[1]) + ")");
-              s.z_min = o->z_range[0];
-              s.z_max = o->z_range[1];
-            }
+            o->boundary.apply(s);
             s.simulate = o->simulate;
             s.params.check();
             std::vector<std::string> items = config["finish"]["meshes"].get<std::vector<std::string>>();

@@ -31,6 +31,7 @@ struct JobOpts {
   MeshFlags mesh_flags;
   std::string mesh, out, strategy = "best";
   std::optional<std::string> post, finish_tool, rough_tool, material;
+  BoundaryFlags boundary;       ///< the finishing's (and semi-finishing's) machining boundary
   bool keep_deep_cuts = false;  ///< write a job whose cut goes beyond a tool's flutes (warned), as before 2026-11-27
 };
 
@@ -112,6 +113,7 @@ SemiFinish semi_finishing(const SemiFinishInput& in, const Json& config, const s
       tooling::cutting_data(*semi, lib.material(cs.material_id, cs.material_from), left, cs.machine, cs.factors);
   finish::FinishParams p = job::part_params(in.settings.params, in.finishing.frame, in.part.name + " semi-finishing",
                                             {"tool: " + semi->label()});
+  p.boundary = in.settings.boundary_in(in.finishing.frame);
   const tooling::Cutter grown = tooling::Cutter::ball(semi->diameter_mm + 2 * a);
   p.tool = grown;
   p.tool_label = "semi-finishing, " + semi->label() + ", leaving " + format_double(a) + " mm";
@@ -145,6 +147,7 @@ int run_job(const JobOpts& o) {
   const Json config = setup(o.common);
   FinishSettings fs_ = finish_settings(config, {o.finish_tool, o.material});
   fs_.post = post_dialect(config, o.post);
+  o.boundary.apply(fs_);
   fs_.simulate = true;
   fs_.strategies = o.strategy == "best" ? finish::all_strategies() : std::vector{finish::parse_strategy(o.strategy)};
   PocketFlags pflags;
@@ -455,6 +458,7 @@ Registered register_job(CLI::App& app) {
       });
   sub->add_option("--tool", o->finish_tool, "finishing tool (library id or ball:D, bull:D:r)");
   sub->add_option("--rough-tool", o->rough_tool, "roughing tool (library id)");
+  o->boundary.add_to(sub);
   sub->add_flag("--keep-deep-cuts", o->keep_deep_cuts,
                 "write the job even where a cut goes deeper than its tool's flutes (warned; refused without)");
   sub->add_option("--material", o->material, "workpiece material id (configs/materials.json)");

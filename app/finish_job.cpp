@@ -154,8 +154,8 @@ PartJob finishing_job(const job::Part& part, const FinishSettings& settings) {
   settings.params.check();
   job.frame = job::frame_of(part.mesh, settings.stock_top_above_part_mm);
   finish::Boundary in_program = settings.params.boundary;  // the Z range as given (program frame)
-  if (settings.z_min) in_program.z_min = *settings.z_min;
-  if (settings.z_max) in_program.z_max = *settings.z_max;
+  in_program.z_min = settings.z_min.value_or(in_program.z_min);
+  in_program.z_max = settings.z_max.value_or(in_program.z_max);
   if (settings.simulate) {
     job.design = job::design_surface(part.mesh, job.frame, sim_params(settings));
     job::judge_within(*job.design, in_program);
@@ -171,8 +171,7 @@ PartJob finishing_job(const job::Part& part, const FinishSettings& settings) {
   std::vector<std::string> tool_lines = settings.cutting.header();
   if (tool_lines.empty()) tool_lines.push_back("tool: " + settings.params.tool.describe());
   job.params = job::part_params(settings.params, job.frame, part.name, std::move(tool_lines));
-  job.params.boundary.z_min = in_program.z_min - job.frame.z_shift();  // the tip's, mesh frame
-  job.params.boundary.z_max = in_program.z_max - job.frame.z_shift();
+  job.params.boundary = settings.boundary_in(job.frame);
   job.dropper.emplace(part.mesh, job.params.tool);
   return job;
 }

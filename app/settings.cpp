@@ -394,6 +394,34 @@ void set_boundary_file(FinishSettings& s, const std::string& file) {
   s.boundary_file = file;
 }
 
+finish::Boundary FinishSettings::boundary_in(const job::Frame& frame) const {
+  finish::Boundary b = params.boundary;
+  if (z_min) b.z_min = *z_min - frame.z_shift();
+  if (z_max) b.z_max = *z_max - frame.z_shift();
+  return b;
+}
+
+void BoundaryFlags::add_to(CLI::App* sub) {
+  sub->add_option("--boundary", file,
+                  "machining boundary of the finishing: a closed outline (pocket JSON or DXF, program frame X Y; its "
+                  "islands left out) the tool axis stays inside (/finish/boundary/file)")
+      ->check(CLI::ExistingFile);
+  sub->add_option("--z-range", z_range,
+                  "lowest and highest tool tip Z of the finishing cuts, mm, program frame (Z 0 = stock top; "
+                  "/finish/boundary/z_min, z_max)")
+      ->expected(2);
+}
+
+void BoundaryFlags::apply(FinishSettings& s) const {
+  if (file) set_boundary_file(s, *file);
+  if (z_range.empty()) return;
+  if (!(z_range[0] < z_range[1]))
+    throw Error("--z-range: the lowest Z (" + format_double(z_range[0]) + ") must be below the highest (" +
+                format_double(z_range[1]) + ")");
+  s.z_min = z_range[0];
+  s.z_max = z_range[1];
+}
+
 FinishSettings finish_settings(const Json& config, const FinishToolFlags& flags) {
   const Json& f = config["finish"];
   FinishSettings s;

@@ -18,6 +18,7 @@
 #include "millnet/gcode/stats.hpp"
 #include "millnet/gcode/writer.hpp"
 #include "millnet/ingest/mesh.hpp"
+#include "millnet/job/frame.hpp"
 #include "millnet/pocket/machining.hpp"
 #include "millnet/pocket/plan.hpp"
 #include "millnet/pocket/planner_som.hpp"
@@ -106,6 +107,17 @@ struct FinishSettings {
   /// /finish/boundary's Z range (program frame: Z 0 = stock top), set into params.boundary per part.
   std::optional<double> z_min, z_max;
   std::string boundary_file;  ///< the outline params.boundary.polygons came from ("" = none)
+  /// params.boundary with the Z range in the part's mesh frame (the tip's z = program Z − z_shift).
+  [[nodiscard]] finish::Boundary boundary_in(const job::Frame& frame) const;
+};
+
+/// --boundary FILE and --z-range ZMIN ZMAX (finish, job): /finish/boundary from the command line.
+struct BoundaryFlags {
+  std::optional<std::string> file;
+  std::vector<double> z_range;
+  void add_to(CLI::App* sub);
+  /// Reads the outline, checks the range (one line naming the flag), sets them into `s`.
+  void apply(FinishSettings& s) const;
 };
 
 /// Reads a machining boundary (pocket JSON or DXF: the outline and its islands, arcs flattened to

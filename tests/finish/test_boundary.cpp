@@ -74,8 +74,8 @@ void each_feed_point(const FinishPlan& plan, double z_shift, double step,
       const int n = std::max(1, static_cast<int>(std::ceil(len / step)));
       for (int k = 0; k <= n; ++k) {
         const double t = static_cast<double>(k) / n;
-        visit({at[0] + t * (m->to[0] - at[0]), at[1] + t * (m->to[1] - at[1]),
-               at[2] + t * (m->to[2] - at[2]) - z_shift});
+        visit(
+            {at[0] + t * (m->to[0] - at[0]), at[1] + t * (m->to[1] - at[1]), at[2] + t * (m->to[2] - at[2]) - z_shift});
       }
     }
     at = m->to;
