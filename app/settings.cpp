@@ -268,7 +268,8 @@ PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, c
 }
 
 gcode::Dialect post_dialect(const Json& config, const std::optional<std::string>& flag) {
-  return gcode::dialect_named(flag.value_or(config["machine"]["post"].get<std::string>()));
+  const gcode::Dialect d = gcode::dialect_named(flag.value_or(config["machine"]["post"].get<std::string>()));
+  return config["machine"]["program_units"].get<std::string>() == "inch" ? gcode::in_inches(d) : d;
 }
 
 rough::Params rough_params(const Json& config, const Json& explicit_pocket, const PocketFlags& flags,

@@ -74,6 +74,16 @@ std::vector<std::string> dialect_names() {
   return names;
 }
 
+Dialect in_inches(Dialect d) {
+  if (d.inch) return d;
+  d.inch = true;
+  d.decimals = std::min(d.decimals + 1, 8);
+  d.feed_decimals = std::min(d.feed_decimals + 1, 8);
+  const auto g21 = d.preamble.find("G21");
+  if (g21 != std::string::npos) d.preamble.replace(g21, 3, "G20");
+  return d;
+}
+
 Dialect dialect_named(std::string_view name, int decimals) {
   for (const DialectEntry& d : dialects())
     if (d.name == name) return d.make(decimals);
@@ -103,7 +113,7 @@ std::string comment_text(std::string_view text) {
 /// Writes items in order, remembering what the controller already knows (position per axis, feed).
 class Writer {
 public:
-  explicit Writer(const Dialect& d) : d_(d) {}
+  explicit Writer(const Dialect& d) : d_(d), unit_(d.inch ? 1 / 25.4 : 1.0) {}
 
   void comment(std::string_view text) {
     std::string t = comment_text(text);
@@ -126,14 +136,14 @@ public:
     static constexpr std::array<char, 3> kAxis{'X', 'Y', 'Z'};
     for (std::size_t a = 0; a < 3; ++a) {
       if ((m.axes & (1U << a)) == 0 && !(arc && a < 2)) continue;
-      if (!known_[a] || num(m.to[a]) != num(pos_[a]) || (arc && a < 2) || (compensate && a == 2)) {
-        os_ << " " << kAxis[a] << num(m.to[a]);
+      if (!known_[a] || num(m.to[a] * unit_) != num(pos_[a] * unit_) || (arc && a < 2) || (compensate && a == 2)) {
+        os_ << " " << kAxis[a] << num(m.to[a] * unit_);
         known_[a] = true;
       }
     }
-    if (arc) os_ << " I" << num(m.center[0] - pos_[0]) << " J" << num(m.center[1] - pos_[1]);
+    if (arc) os_ << " I" << num((m.center[0] - pos_[0]) * unit_) << " J" << num((m.center[1] - pos_[1]) * unit_);
     if (m.motion != Motion::Rapid && m.feed != last_feed_) {
-      os_ << " F" << point(format_number(m.feed, d_.feed_decimals));
+      os_ << " F" << point(format_number(m.feed * unit_, d_.feed_decimals));
       last_feed_ = m.feed;
     }
     os_ << "\n";
@@ -185,6 +195,7 @@ private:
   }
 
   const Dialect& d_;
+  double unit_;  ///< program units per mm
   std::ostringstream os_;
   Point3 pos_{0, 0, 0};
   std::array<bool, 3> known_{false, false, false};
@@ -202,6 +213,7 @@ std::string write(const Program& program, const Dialect& dialect) {
   if (!dialect.start.empty()) w.line(dialect.start);
   if (dialect.program_number > 0) w.line("O" + std::to_string(dialect.program_number));
   for (const std::string& h : program.header) w.comment(h);
+  if (dialect.inch) w.comment("units: inch (G20), feeds in/min");
   w.line(dialect.preamble);
   for (const Item& item : program.items) std::visit(w, item);  // O(items)
   w.line(dialect.end);

@@ -223,5 +223,40 @@ TEST(CliJob, ACutDeeperThanTheToolsFlutesRefusesTheJob) {
   EXPECT_NE(j["notes"].dump().find("beyond the 0.1 mm flutes"), std::string::npos) << j["notes"];
 }
 
+// Issue 38: an inch shop's job (/machine/program_units inch) is the same job in inches: G20, every
+// operation's program accepted by LinuxCNC, and machined from the block the same result as the
+// millimetre job (times within 0.5 %, depths and what is left within 0.01 mm: the inch programs'
+// last decimal is 0.00254 mm).
+TEST(CliJob, AnInchJobIsTheSameJobInInches) {
+  const fs::path d = fresh_dir("cli_job_inch");
+  const fs::path mesh = write_cavity(d);
+  std::ofstream(d / "mm.json") << kFast;
+  std::ofstream(d / "inch.json") << R"({"simulate": {"cell_mm": 0.1}, "finish": {"tool": {"id": "bn2-2f-carbide"}},
+    "machine": {"program_units": "inch"}})";
+  for (const std::string u : {"mm", "inch"}) {
+    const auto r = run_millnet(
+        "job --quiet --no-preview --config " + u + ".json --mesh '" + mesh.string() + "' --strategy 1 --out " + u, d);
+    ASSERT_EQ(r.code, 0) << u << ": " << r.err;
+  }
+  const Json mm = Json::parse(slurp(d / "mm" / "cavity.job.json"));
+  const Json in = Json::parse(slurp(d / "inch" / "cavity.job.json"));
+  const std::string text = slurp(d / "inch" / "cavity.job.nc");
+  EXPECT_NE(text.find("G20 G90"), std::string::npos);
+  EXPECT_EQ(text.find("G21"), std::string::npos);
+  EXPECT_TRUE(linuxcnc_accepts((d / "inch" / "cavity.job.nc").string(), (d / "inch" / "cavity.tool.tbl").string()));
+  ASSERT_EQ(mm["operations"].size(), in["operations"].size());
+  for (std::size_t k = 0; k < mm["operations"].size(); ++k) {
+    const Json& a = mm["operations"][k];
+    const Json& b = in["operations"][k];
+    EXPECT_EQ(a["name"], b["name"]);
+    EXPECT_NEAR(a["time_kinematic_min"].get<double>(), b["time_kinematic_min"].get<double>(),
+                0.005 * a["time_kinematic_min"].get<double>())
+        << a["name"];
+    EXPECT_NEAR(a["max_depth_of_cut_mm"].get<double>(), b["max_depth_of_cut_mm"].get<double>(), 0.01) << a["name"];
+    EXPECT_NEAR(a["left_above_design_mm"].get<double>(), b["left_above_design_mm"].get<double>(), 0.01) << a["name"];
+    EXPECT_EQ(a["cutting_rapids"], b["cutting_rapids"]) << a["name"];
+  }
+}
+
 }  // namespace
 }  // namespace millnet::testing

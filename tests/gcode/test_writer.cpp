@@ -2,6 +2,7 @@
 #include "millnet/core/error.hpp"
 #include "millnet/gcode/reader.hpp"
 #include "millnet/gcode/writer.hpp"
+#include "testing/grbl_check.hpp"
 #include "testing/moves.hpp"
 
 #include <gtest/gtest.h>
@@ -163,4 +164,46 @@ TEST(GcodeWriter, LinuxcncInterpreterAcceptsWrittenPrograms) {
     }
   }
   std::filesystem::remove_all(dir);
+}
+
+// Inch output (issue 38): G20, coordinates and arc offsets in inches with one more decimal, feeds
+// in in/min; read back (G20 converted to mm) the same moves within half an increment (0.0000127 in
+// = 0.000127 mm), and accepted by LinuxCNC's interpreter and the GRBL grammar.
+TEST(GcodeWriter, InchProgramsReadBackToTheSameMovesInMillimetres) {
+  const Dialect in = in_inches(linuxcnc());
+  EXPECT_EQ(in.decimals, 5);
+  EXPECT_EQ(in_inches(fanuc()).decimals, 4);
+  EXPECT_EQ(in_inches(in).decimals, 5);  // once
+  const std::string text = write(sample(), in);
+  EXPECT_NE(text.find("G20 G90 G17 G94\n"), std::string::npos) << text;
+  EXPECT_EQ(text.find("G21"), std::string::npos) << text;
+  EXPECT_NE(text.find("(units: inch [G20], feeds in/min)"), std::string::npos) << text;
+  // 10 mm = 0.393700787 in, 300 mm/min = 11.811 in/min; the arc's I −4.938275 mm = −0.194420 in.
+  EXPECT_NE(text.find("G0 X0.3937 Y0\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("G1 X0.7874 F11.81\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("I-0.19442 J0 F9.85\n"), std::string::npos) << text;
+  const Program mm = read(write(sample(), linuxcnc(8)), "mm.nc");
+  const Program inch = read(text, "inch.nc");
+  ASSERT_EQ(mm.items.size(), inch.items.size());
+  std::size_t moves = 0;
+  for (std::size_t i = 0; i < mm.items.size(); ++i) {
+    const auto* a = std::get_if<Move>(&mm.items[i]);
+    const auto* b = std::get_if<Move>(&inch.items[i]);
+    ASSERT_EQ(a == nullptr, b == nullptr) << i;
+    if (a == nullptr) continue;
+    ++moves;
+    EXPECT_EQ(a->motion, b->motion);
+    for (std::size_t k = 0; k < 3; ++k) EXPECT_NEAR(a->to[k], b->to[k], 0.5e-5 * 25.4 + 1e-12) << i;
+    for (std::size_t k = 0; k < 2; ++k) EXPECT_NEAR(a->center[k], b->center[k], 1e-5 * 25.4 + 1e-12) << i;
+    EXPECT_NEAR(a->feed, b->feed, 0.005 * 25.4 + 1e-9) << i;
+  }
+  EXPECT_EQ(moves, 7u);
+  const auto errors = millnet::testing::grbl_errors(write(sample(), in_inches(grbl())));
+  EXPECT_TRUE(errors.empty()) << millnet::testing::grbl_report(errors);
+  if (!std::filesystem::exists("/usr/bin/rs274")) GTEST_SKIP() << "/usr/bin/rs274 (linuxcnc-uspace) missing";
+  const auto f = std::filesystem::temp_directory_path() / ("millnet_inch_" + std::to_string(::getpid()) + ".nc");
+  write_program(f, sample(), in);
+  const std::string cmd = "/usr/bin/rs274 -g '" + f.string() + "' </dev/null >/dev/null 2>&1";
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << text;
+  std::filesystem::remove(f);
 }

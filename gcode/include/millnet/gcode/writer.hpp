@@ -44,7 +44,15 @@ struct Dialect {
   std::string coolant_off;  ///< before each spindle stop ("M9")
   /// After each tool change, tool length compensation "G43 H<tool>" on the first move (with its Z).
   bool tool_length_offset = false;
+  /// Inch output (G20): coordinates, arc offsets and feeds (in/min) divided by 25.4. Programs stay
+  /// millimetres inside millnet; the reader converts G20 back.
+  bool inch = false;
 };
+
+/// The dialect writing inches (an inch shop's job, /machine/program_units): G20 in place of G21 in
+/// the preamble, one more decimal on coordinates and feeds (0.0001 in is 0.00254 mm, a Fanuc inch
+/// control's least increment), a header line saying so.
+[[nodiscard]] Dialect in_inches(Dialect d);
 
 [[nodiscard]] Dialect linuxcnc(int decimals = 4);
 [[nodiscard]] Dialect grbl(int decimals = 4);
