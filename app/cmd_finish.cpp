@@ -221,6 +221,9 @@ Registered register_simulate(CLI::App& app) {
                   read_chain_program(o->gcode[i], tool_arg(o->tools[o->tools.size() == 1 ? 0 : i], config, true)));
             const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"], &config);
             const job::Part part = load_part(o->mesh, prep);
+            // The programs' work origin (/machine/work_origin) on this part's stock, back to millnet's frame.
+            const gcode::Dialect post = job::frame_of(part.mesh, s.stock_top_above_part_mm).post(s.post);
+            for (ChainProgram& p : programs) gcode::shift(p.written.program, post.origin[0], post.origin[1]);
             const Json j = simulate_programs(part, part.name, std::move(programs), o->stock, s, o->out, o->save_stock);
             info("simulate: Ra median " + j["ra_median_um"].dump() + " um, gouge " + j["max_gouge_mm"].dump() +
                  " mm → " + o->out);

@@ -198,7 +198,7 @@ int run_job(const JobOpts& o) {
   const job::StrategyOutcome pick = chosen_strategy(pf.outcomes, file);
   const int slot = static_cast<int>(pick.strategy);
   const fs::path pick_nc = out / "strategies" / program_file_name(stem + ".s" + std::to_string(slot), pick);
-  const ChainProgram finishing = read_chain_program(pick_nc, ball.cutter());
+  const ChainProgram finishing = read_chain_program(pick_nc, ball.cutter(), frame.post(fs_.post));
   const std::string strategy_name = "s" + finish::strategy_name(pick.strategy);  // "s3 profile finishing, …"
   // The finishing was planned over the design + its allowance; in the job it meets what the drilling
   // and roughing leave: its rapids are lifted over that stock (issue 38).
@@ -237,11 +237,13 @@ int run_job(const JobOpts& o) {
   ops = job::numbered(std::move(ops));
 
   // 5. The job program and one program per operation.
-  std::vector<std::string> header{"millnet job: " + stem, "part " + fs::path(file).filename().string(), frame.header(),
-                                  "work offset G54: X0 Y0 = the part footprint's lower-left corner, Z0 = stock top"};
+  std::vector<std::string> header{
+      "millnet job: " + stem, "part " + fs::path(file).filename().string(), frame.header(),
+      "work offset G54: X0 Y0 = the " + gcode::to_string(fs_.post.origin_at) + ", Z0 = stock top"};
   for (const job::Operation& op : ops) header.push_back("T" + std::to_string(op.tool.number) + " " + op.tool.label());
   const fs::path job_nc = out / (stem + ".job.nc");
-  const gcode::Written job_w = gcode::write_program(job_nc, job::job_program(ops, header), fs_.post);
+  const gcode::Dialect post = frame.post(fs_.post);  // the work origin on this part's stock
+  const gcode::Written job_w = gcode::write_program(job_nc, job::job_program(ops, header), post);
   std::vector<report::SetupFile> program_files{{job_nc.filename().string(), sha256_hex(job_w.text), job_w.text.size()}};
   std::vector<std::string> op_files;
   for (std::size_t i = 0; i < ops.size(); ++i) {
@@ -252,7 +254,7 @@ int run_job(const JobOpts& o) {
         job::operation_program(ops[i], {"millnet job: " + stem + ", operation " + std::to_string(i + 1) + " of " +
                                             std::to_string(ops.size()) + ": " + ops[i].name,
                                         frame.header()}),
-        fs_.post);
+        post);
     op_files.push_back(p.filename().string());
     program_files.push_back({p.filename().string(), sha256_hex(w.text), w.text.size()});
   }
@@ -290,6 +292,8 @@ int run_job(const JobOpts& o) {
   sheet.stock_x0 = rough.stock_x0, sheet.stock_y0 = rough.stock_y0;
   sheet.stock_x1 = rough.stock_x1, sheet.stock_y1 = rough.stock_y1;
   sheet.stock_bottom_z = frame.program_bottom();
+  sheet.origin_x = post.origin[0], sheet.origin_y = post.origin[1];
+  sheet.origin_name = gcode::to_string(post.origin_at);
   sheet.part_width = frame.width, sheet.part_depth = frame.depth;
   sheet.part_top_z = frame.part_top - frame.stock_top, sheet.part_bottom_z = frame.program_bottom();
   sheet.grid = design.grid;
@@ -411,7 +415,8 @@ int run_job(const JobOpts& o) {
   Json j{{"part", stem},
          {"file", file},
          {"post", fs_.post.name},
-         {"frame", Json{{"origin", "X0 Y0 = part footprint's lower-left corner, Z0 = stock top (G54)"},
+         {"frame", Json{{"origin", "X0 Y0 = " + gcode::to_string(post.origin_at) + ", Z0 = stock top (G54)"},
+                        {"origin_in_part_frame_mm", {post.origin[0], post.origin[1]}},
                         {"stock_mm",
                          {sheet.stock_x0, sheet.stock_y0, sheet.stock_bottom_z, sheet.stock_x1, sheet.stock_y1, 0.0}},
                         {"deepest_z_mm", sheet.deepest_z}}},

@@ -218,10 +218,11 @@ FinishOutcome finish_test_part(const job::Part& part, const std::string& name, c
     const auto top = std::find(fo.slots.begin(), fo.slots.end(), pr.top);
     if (pr.ok && rough != nullptr && rough->ok && top != fo.slots.end()) {
       const fs::path finish_nc = dir / "finish" / (name + ".s" + std::to_string(pr.top) + ".nc");
-      fo.chain = simulate_programs(
-          named, name + ".rough_finish",
-          {read_chain_program(dir / (name + ".nc"), rough_cutter), read_chain_program(finish_nc, settings.params.tool)},
-          "flat", settings, dir, false, pf.design ? &*pf.design : nullptr);
+      fo.chain =
+          simulate_programs(named, name + ".rough_finish",
+                            {read_chain_program(dir / (name + ".nc"), rough_cutter, pf.frame.post(settings.post)),
+                             read_chain_program(finish_nc, settings.params.tool, pf.frame.post(settings.post))},
+                            "flat", settings, dir, false, pf.design ? &*pf.design : nullptr);
       fo.chained = true;
     }
     fo.ok = true;

@@ -209,7 +209,7 @@ job::StrategyOutcome strategy_outcome(const job::Part& part, const FinishSetting
   const std::string title = stem + ": " + finish::strategy_name(plan.strategy);
   const std::string base = stem + ".s" + std::to_string(static_cast<int>(plan.strategy));
   // Written in memory first: a program that gouges is kept under a name that says so.
-  gcode::Written written = gcode::written(plan.program, settings.post, (out / (base + ".nc")).string());
+  gcode::Written written = gcode::written(plan.program, job.frame.post(settings.post), (out / (base + ".nc")).string());
   job::StrategyOutcome o = job::planned_outcome(plan, gcode::stats(plan.program, settings.machine));
   o.stepover_mm = params.stepover_mm;
   o.step_down_mm = params.step_down_mm;
@@ -426,17 +426,18 @@ std::vector<job::StrategyFigures> label_part(const job::Part& part, const Finish
   const std::vector<finish::FinishPlan> plans = finish::plan_finish(
       part.mesh, *job.dropper, settings.strategies, settings.strategy_params(settings.strategies, job.params));
   for (const finish::FinishPlan& plan : plans) check_plan_reach(settings, plan);
-  return job::score_strategies(part.mesh, job.frame, plans, job.params.tool, settings.post, settings.machine,
-                               settings.aim, sim_params(settings));
+  return job::score_strategies(part.mesh, job.frame, plans, job.params.tool, job.frame.post(settings.post),
+                               settings.machine, settings.aim, sim_params(settings));
 }
 
-ChainProgram read_chain_program(const fs::path& file, const tooling::Cutter& cutter) {
+ChainProgram read_chain_program(const fs::path& file, const tooling::Cutter& cutter, const gcode::Dialect& post) {
   ChainProgram p;
   p.file = file.string();
   // read_file: a program this command wrote is read from its OutputSet's temporary (core/output_set.hpp).
   p.written.text = read_file(file);
   // Bounds, a move, and the chords its arcs become, before the part is read (issue 42).
   p.written.program = gcode::read_checked(p.written.text, file.string(), work_limits());
+  gcode::shift(p.written.program, post.origin[0], post.origin[1]);  // from the work frame into millnet's
   p.cutter = cutter;
   return p;
 }

@@ -88,7 +88,9 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
                        const std::string& stock, const FinishSettings& settings, const std::filesystem::path& out,
                        bool save_stock = false, const job::Design* design = nullptr);
 
-/// A program file read for simulate_programs (the file's text and that text read back).
-[[nodiscard]] ChainProgram read_chain_program(const std::filesystem::path& file, const tooling::Cutter& cutter);
+/// A program file read for simulate_programs (the file's text and that text read back), shifted from
+/// the work frame `post` placed it in (its origin) back into millnet's.
+[[nodiscard]] ChainProgram read_chain_program(const std::filesystem::path& file, const tooling::Cutter& cutter,
+                                              const gcode::Dialect& post = {});
 
 }  // namespace millnet::app

@@ -55,7 +55,10 @@ Json write_rough_outputs(const fs::path& dir, const std::string& stem, const rou
   if (r.machining.status == pocket::PlanStatus::Ok) {
     report::PreviewInput page;  // the 3D page of the program just written (issue 16)
     page.title = stem + " — roughing, " + std::string(pocket::planner_name(p.planner));
-    page.programs.push_back({"roughing", gcode::write_program(dir / (stem + ".nc"), r.machining.program, post)});
+    // The work origin on the stock (its footprint is the stock less the margin).
+    const gcode::Dialect placed = gcode::placed(post, r.stock_x0 + p.margin_mm, r.stock_y0 + p.margin_mm,
+                                                r.stock_x1 - p.margin_mm, r.stock_y1 - p.margin_mm);
+    page.programs.push_back({"roughing", gcode::write_program(dir / (stem + ".nc"), r.machining.program, placed)});
     const tooling::Cutter& cutter = p.cut.tool;
     page.tool = {cutter.diameter, cutter.profile_corner_radius(), cutter.describe()};
     // Program Z = part z − stock top (rough.hpp); the part's base is its lowest point.

@@ -268,7 +268,12 @@ PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, c
 }
 
 gcode::Dialect post_dialect(const Json& config, const std::optional<std::string>& flag) {
-  const gcode::Dialect d = gcode::dialect_named(flag.value_or(config["machine"]["post"].get<std::string>()));
+  gcode::Dialect d = gcode::dialect_named(flag.value_or(config["machine"]["post"].get<std::string>()));
+  const std::string origin = config["machine"]["work_origin"].get<std::string>();
+  d.origin_at = origin == "stock_corner"   ? gcode::WorkOrigin::StockCorner
+                : origin == "stock_centre" ? gcode::WorkOrigin::StockCentre
+                                           : gcode::WorkOrigin::PartCorner;
+  d.stock_margin_mm = config["rough"]["margin_mm"].get<double>();
   return config["machine"]["program_units"].get<std::string>() == "inch" ? gcode::in_inches(d) : d;
 }
 

@@ -98,8 +98,9 @@ struct View {
   [[nodiscard]] double py(double y) const { return (y1 - y) * scale; }
 };
 
-void origin_marker(std::ostringstream& o, const View& v, double len_mm, const char* second_axis) {
-  const double x = v.px(0), y = v.py(0), l = len_mm * v.scale;
+void origin_marker(std::ostringstream& o, const View& v, double at_x, double at_y, double len_mm,
+                   const char* second_axis) {
+  const double x = v.px(at_x), y = v.py(at_y), l = len_mm * v.scale;
   o << "<g class=\"origin\"><line x1=\"" << num(x, 1) << "\" y1=\"" << num(y, 1) << "\" x2=\"" << num(x + l, 1)
     << "\" y2=\"" << num(y, 1) << "\" stroke=\"#c00\" stroke-width=\"2\" marker-end=\"url(#arrow-x)\"/>"
     << "<line x1=\"" << num(x, 1) << "\" y1=\"" << num(y, 1) << "\" x2=\"" << num(x, 1) << "\" y2=\"" << num(y - l, 1)
@@ -151,12 +152,12 @@ void top_view(std::ostringstream& o, const SetupSheet& s) {
       << num(ly + lh, 1) << "\">Z " << num(lo, 2) << "</text><text x=\"" << num(lx, 1) << "\" y=\""
       << num(ly + lh + 16, 1) << "\">part height</text>";
   }
-  origin_marker(o, v, std::clamp(0.15 * std::min(wmm, dmm), 5.0, 30.0), "Y");
+  origin_marker(o, v, s.origin_x, s.origin_y, std::clamp(0.15 * std::min(wmm, dmm), 5.0, 30.0), "Y");
   o << "<text x=\"" << num(v.px((s.stock_x0 + s.stock_x1) / 2), 1) << "\" y=\"" << num(v.py(s.stock_y0) + 20, 1)
-    << "\" text-anchor=\"middle\">stock X " << num(wmm, 1) << " mm (X " << num(s.stock_x0, 1) << " … "
-    << num(s.stock_x1, 1) << ")</text><text transform=\"translate(" << num(v.px(s.stock_x0) - 12, 1) << ','
+    << "\" text-anchor=\"middle\">stock X " << num(wmm, 1) << " mm (X " << num(s.stock_x0 - s.origin_x, 1) << " … "
+    << num(s.stock_x1 - s.origin_x, 1) << ")</text><text transform=\"translate(" << num(v.px(s.stock_x0) - 12, 1) << ','
     << num(v.py((s.stock_y0 + s.stock_y1) / 2), 1) << ") rotate(-90)\" text-anchor=\"middle\">stock Y " << num(dmm, 1)
-    << " mm (Y " << num(s.stock_y0, 1) << " … " << num(s.stock_y1, 1) << ")</text></svg>";
+    << " mm (Y " << num(s.stock_y0 - s.origin_y, 1) << " … " << num(s.stock_y1 - s.origin_y, 1) << ")</text></svg>";
 }
 
 /// From the front (looking along +Y): the stock, the part's silhouette, Z0 and the deepest tool Z.
@@ -200,7 +201,7 @@ void front_view(std::ostringstream& o, const SetupSheet& s) {
   if (std::abs(v.py(s.deepest_z) - v.py(s.stock_bottom_z)) >= 14)  // its own label where there is room
     o << "<text x=\"" << num(xr + 4, 1) << "\" y=\"" << num(v.py(s.stock_bottom_z) + 4, 1) << "\">Z "
       << num(s.stock_bottom_z, 2) << " part base</text>";
-  origin_marker(o, v, std::clamp(0.15 * std::min(wmm, hmm), 4.0, 20.0), "Z");
+  origin_marker(o, v, s.origin_x, 0, std::clamp(0.15 * std::min(wmm, hmm), 4.0, 20.0), "Z");
   o << "</svg>";
 }
 
@@ -229,8 +230,10 @@ std::string setup_sheet_html(const SetupSheet& s) {
     << " mm (X × Y × Z), part footprint " << num(s.part_width, 1) << " × " << num(s.part_depth, 1)
     << " mm centred with " << num(-s.stock_x0, 1) << " mm each side in X, " << num(-s.stock_y0, 1)
     << " mm in Y</td></tr>"
-    << "<tr><th>work origin (G54)</th><td>X0 Y0 at the part footprint's lower-left corner (the stock corner at X "
-    << num(s.stock_x0, 1) << " Y " << num(s.stock_y0, 1) << "); Z0 on the stock top, " << num(-s.part_top_z, 2)
+    << "<tr><th>work origin (G54)</th><td>X0 Y0 at the " << esc(s.origin_name)
+    << " (the stock's lower-left corner at X " << num(s.stock_x0 - s.origin_x, 1) << " Y "
+    << num(s.stock_y0 - s.origin_y, 1) << ", the part footprint's at X " << num(-s.origin_x, 1) << " Y "
+    << num(-s.origin_y, 1) << "); Z0 on the stock top, " << num(-s.part_top_z, 2)
     << " mm above the part's highest point</td></tr>"
     << "<tr><th>clamping</th><td>";
   const double free_mm = s.deepest_z - s.stock_bottom_z;

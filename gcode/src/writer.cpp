@@ -84,6 +84,35 @@ Dialect in_inches(Dialect d) {
   return d;
 }
 
+Dialect placed(Dialect d, double x0, double y0, double x1, double y1) {
+  const double m = d.stock_margin_mm;
+  switch (d.origin_at) {
+    case WorkOrigin::PartCorner: d.origin = {x0, y0}; break;
+    case WorkOrigin::StockCorner: d.origin = {x0 - m, y0 - m}; break;
+    case WorkOrigin::StockCentre: d.origin = {0.5 * (x0 + x1), 0.5 * (y0 + y1)}; break;
+  }
+  d.origin_placed = true;
+  return d;
+}
+
+std::string to_string(WorkOrigin w) {
+  switch (w) {
+    case WorkOrigin::PartCorner: return "part footprint's lower-left corner";
+    case WorkOrigin::StockCorner: return "stock's lower-left corner";
+    case WorkOrigin::StockCentre: return "stock's centre";
+  }
+  return "?";
+}
+
+void shift(Program& program, double dx, double dy) {
+  if (dx == 0 && dy == 0) return;
+  for (Item& item : program.items)  // O(items)
+    if (auto* m = std::get_if<Move>(&item)) {
+      m->to[0] += dx, m->to[1] += dy;
+      m->center[0] += dx, m->center[1] += dy;
+    }
+}
+
 Dialect dialect_named(std::string_view name, int decimals) {
   for (const DialectEntry& d : dialects())
     if (d.name == name) return d.make(decimals);
@@ -136,8 +165,8 @@ public:
     static constexpr std::array<char, 3> kAxis{'X', 'Y', 'Z'};
     for (std::size_t a = 0; a < 3; ++a) {
       if ((m.axes & (1U << a)) == 0 && !(arc && a < 2)) continue;
-      if (!known_[a] || num(m.to[a] * unit_) != num(pos_[a] * unit_) || (arc && a < 2) || (compensate && a == 2)) {
-        os_ << " " << kAxis[a] << num(m.to[a] * unit_);
+      if (!known_[a] || num(out(a, m.to[a])) != num(out(a, pos_[a])) || (arc && a < 2) || (compensate && a == 2)) {
+        os_ << " " << kAxis[a] << num(out(a, m.to[a]));
         known_[a] = true;
       }
     }
@@ -185,6 +214,8 @@ public:
 
 private:
   std::string num(double v) const { return point(format_number(v, d_.decimals)); }
+  /// Axis a's value as written: in the work frame (X Y less the origin), in the program's units.
+  double out(std::size_t a, double v) const { return (a < 2 ? v - d_.origin[a] : v) * unit_; }
   /// "10" → "10." where the dialect wants a decimal point on every number.
   std::string point(std::string s) const {
     if (d_.decimal_point && s.find('.') == std::string::npos) s += '.';
@@ -214,6 +245,9 @@ std::string write(const Program& program, const Dialect& dialect) {
   if (dialect.program_number > 0) w.line("O" + std::to_string(dialect.program_number));
   for (const std::string& h : program.header) w.comment(h);
   if (dialect.inch) w.comment("units: inch (G20), feeds in/min");
+  if (dialect.origin_placed && dialect.origin_at != WorkOrigin::PartCorner)
+    w.comment("work origin: X0 Y0 = the " + to_string(dialect.origin_at) + " (the part's lower-left corner at X" +
+              format_number(-dialect.origin[0], 3) + " Y" + format_number(-dialect.origin[1], 3) + " mm)");
   w.line(dialect.preamble);
   for (const Item& item : program.items) std::visit(w, item);  // O(items)
   w.line(dialect.end);
@@ -224,6 +258,7 @@ Written written(const Program& program, const Dialect& dialect, std::string_view
   Written w;
   w.text = write(program, dialect);
   w.program = read(w.text, source_name);
+  shift(w.program, dialect.origin[0], dialect.origin[1]);  // back into millnet's frame
   return w;
 }
 

@@ -223,38 +223,63 @@ TEST(CliJob, ACutDeeperThanTheToolsFlutesRefusesTheJob) {
   EXPECT_NE(j["notes"].dump().find("beyond the 0.1 mm flutes"), std::string::npos) << j["notes"];
 }
 
-// Issue 38: an inch shop's job (/machine/program_units inch) is the same job in inches: G20, every
-// operation's program accepted by LinuxCNC, and machined from the block the same result as the
-// millimetre job (times within 0.5 %, depths and what is left within 0.01 mm: the inch programs'
+// Issue 38: an inch shop's job (/machine/program_units inch) and a job whose work origin is the
+// stock's centre (/machine/work_origin) are the same job: G20 / moves translated by the origin, every
+// program accepted by LinuxCNC, and machined from the block the same result as the millimetre job at
+// the part's corner (times within 0.5 %, depths and what is left within 0.01 mm: an inch program's
 // last decimal is 0.00254 mm).
-TEST(CliJob, AnInchJobIsTheSameJobInInches) {
-  const fs::path d = fresh_dir("cli_job_inch");
+TEST(CliJob, AnInchJobAndAJobAtTheStockCentreAreTheSameJob) {
+  const fs::path d = fresh_dir("cli_job_units");
   const fs::path mesh = write_cavity(d);
   std::ofstream(d / "mm.json") << kFast;
   std::ofstream(d / "inch.json") << R"({"simulate": {"cell_mm": 0.1}, "finish": {"tool": {"id": "bn2-2f-carbide"}},
     "machine": {"program_units": "inch"}})";
-  for (const std::string u : {"mm", "inch"}) {
+  std::ofstream(d / "centre.json") << R"({"simulate": {"cell_mm": 0.1}, "finish": {"tool": {"id": "bn2-2f-carbide"}},
+    "machine": {"work_origin": "stock_centre"}})";
+  for (const std::string u : {"mm", "inch", "centre"}) {
     const auto r = run_millnet(
         "job --quiet --no-preview --config " + u + ".json --mesh '" + mesh.string() + "' --strategy 1 --out " + u, d);
     ASSERT_EQ(r.code, 0) << u << ": " << r.err;
+    EXPECT_TRUE(linuxcnc_accepts((d / u / "cavity.job.nc").string(), (d / u / "cavity.tool.tbl").string())) << u;
   }
+  const std::string inch = slurp(d / "inch" / "cavity.job.nc");
+  EXPECT_NE(inch.find("G20 G90"), std::string::npos);
+  EXPECT_EQ(inch.find("G21"), std::string::npos);
+  // The stock is the 30 × 24 mm footprint grown by 5 mm: its centre is at X15 Y12 of the part's frame.
+  auto x_range = [&](const std::string& u) {
+    std::array<double, 4> r{1e9, -1e9, 1e9, -1e9};
+    for (const gcode::Item& i : gcode::read(slurp(d / u / "cavity.job.nc"), u).items)
+      if (const auto* m = std::get_if<gcode::Move>(&i)) {
+        r[0] = std::min(r[0], m->to[0]), r[1] = std::max(r[1], m->to[0]);
+        r[2] = std::min(r[2], m->to[1]), r[3] = std::max(r[3], m->to[1]);
+      }
+    return r;
+  };
+  const auto at_corner = x_range("mm"), at_centre = x_range("centre");
+  EXPECT_NEAR(at_centre[0], at_corner[0] - 15, 1e-3);
+  EXPECT_NEAR(at_centre[1], at_corner[1] - 15, 1e-3);
+  EXPECT_NEAR(at_centre[2], at_corner[2] - 12, 1e-3);
+  EXPECT_NEAR(at_centre[3], at_corner[3] - 12, 1e-3);
+  const std::string centre = slurp(d / "centre" / "cavity.job.nc");
+  EXPECT_NE(centre.find("work offset G54: X0 Y0 = the stock's centre"), std::string::npos);
+  EXPECT_NE(slurp(d / "centre" / "cavity.setup.html").find("centre (the stock"), std::string::npos);
   const Json mm = Json::parse(slurp(d / "mm" / "cavity.job.json"));
-  const Json in = Json::parse(slurp(d / "inch" / "cavity.job.json"));
-  const std::string text = slurp(d / "inch" / "cavity.job.nc");
-  EXPECT_NE(text.find("G20 G90"), std::string::npos);
-  EXPECT_EQ(text.find("G21"), std::string::npos);
-  EXPECT_TRUE(linuxcnc_accepts((d / "inch" / "cavity.job.nc").string(), (d / "inch" / "cavity.tool.tbl").string()));
-  ASSERT_EQ(mm["operations"].size(), in["operations"].size());
-  for (std::size_t k = 0; k < mm["operations"].size(); ++k) {
-    const Json& a = mm["operations"][k];
-    const Json& b = in["operations"][k];
-    EXPECT_EQ(a["name"], b["name"]);
-    EXPECT_NEAR(a["time_kinematic_min"].get<double>(), b["time_kinematic_min"].get<double>(),
-                0.005 * a["time_kinematic_min"].get<double>())
-        << a["name"];
-    EXPECT_NEAR(a["max_depth_of_cut_mm"].get<double>(), b["max_depth_of_cut_mm"].get<double>(), 0.01) << a["name"];
-    EXPECT_NEAR(a["left_above_design_mm"].get<double>(), b["left_above_design_mm"].get<double>(), 0.01) << a["name"];
-    EXPECT_EQ(a["cutting_rapids"], b["cutting_rapids"]) << a["name"];
+  for (const std::string u : {"inch", "centre"}) {
+    const Json other = Json::parse(slurp(d / u / "cavity.job.json"));
+    ASSERT_EQ(mm["operations"].size(), other["operations"].size()) << u;
+    for (std::size_t k = 0; k < mm["operations"].size(); ++k) {
+      const Json& a = mm["operations"][k];
+      const Json& b = other["operations"][k];
+      EXPECT_EQ(a["name"], b["name"]) << u;
+      EXPECT_NEAR(a["time_kinematic_min"].get<double>(), b["time_kinematic_min"].get<double>(),
+                  0.005 * a["time_kinematic_min"].get<double>())
+          << u << " " << a["name"];
+      EXPECT_NEAR(a["max_depth_of_cut_mm"].get<double>(), b["max_depth_of_cut_mm"].get<double>(), 0.01)
+          << u << " " << a["name"];
+      EXPECT_NEAR(a["left_above_design_mm"].get<double>(), b["left_above_design_mm"].get<double>(), 0.01)
+          << u << " " << a["name"];
+      EXPECT_EQ(a["cutting_rapids"], b["cutting_rapids"]) << u << " " << a["name"];
+    }
   }
 }
 

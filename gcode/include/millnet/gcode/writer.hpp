@@ -18,13 +18,17 @@
 //             buffer (GRBL strips comments itself, but only after receiving them).
 #include "millnet/gcode/program.hpp"
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace millnet::gcode {
+
+enum class WorkOrigin : std::uint8_t { PartCorner, StockCorner, StockCentre };
 
 struct Dialect {
   std::string name = "linuxcnc";
@@ -47,7 +51,24 @@ struct Dialect {
   /// Inch output (G20): coordinates, arc offsets and feeds (in/min) divided by 25.4. Programs stay
   /// millimetres inside millnet; the reader converts G20 back.
   bool inch = false;
+  /// Where the work origin (G54's X0 Y0) lies (/machine/work_origin): at the part footprint's
+  /// lower-left corner (millnet's own frame), the stock's lower-left corner, or the stock's centre.
+  WorkOrigin origin_at = WorkOrigin::PartCorner;
+  double stock_margin_mm = 0;  ///< the stock around the footprint (the stock corner's offset)
+  /// The work origin in millnet's frame, mm (set per part by placed()): X Y are written as x − origin
+  /// and shifted back when a program is read back (written(), shift()).
+  std::array<double, 2> origin{0, 0};
+  bool origin_placed = false;  ///< placed() ran (a pocket's program keeps its own frame)
 };
+
+/// The dialect with its origin placed for a part whose footprint is [x0, x1] × [y0, y1] (millnet's
+/// frame): origin_at's point of the stock (footprint ± stock_margin_mm). A header line names it.
+[[nodiscard]] Dialect placed(Dialect d, double x0, double y0, double x1, double y1);
+/// "part footprint's lower-left corner", "stock's lower-left corner", "stock's centre".
+[[nodiscard]] std::string to_string(WorkOrigin w);
+/// Moves every move (end points and arc centres) by (dx, dy): a program read in a work frame back
+/// into millnet's.
+void shift(Program& program, double dx, double dy);
 
 /// The dialect writing inches (an inch shop's job, /machine/program_units): G20 in place of G21 in
 /// the preamble, one more decimal on coordinates and feeds (0.0001 in is 0.00254 mm, a Fanuc inch

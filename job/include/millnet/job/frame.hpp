@@ -11,6 +11,7 @@
 //   const job::Frame f = job::frame_of(mesh, 1.0);       // Z 0 = part top + 1 mm
 //   params.z_shift = f.z_shift();                         // finishing: CL z → program Z
 //   job::check_reach(tool, label, f.depth_below_top(z_lowest), "the part");
+#include "millnet/gcode/writer.hpp"
 #include "millnet/ingest/mesh.hpp"
 #include "millnet/tooling/cutter.hpp"
 
@@ -35,6 +36,10 @@ struct Frame {
   [[nodiscard]] double program_bottom() const { return part_bottom - stock_top; }
   /// "frame: Z 0 = stock top = part top + 1.000 mm" (the programs' header comment).
   [[nodiscard]] std::string header() const;
+  /// The dialect with the work origin placed on this part's stock (gcode::placed over the footprint).
+  [[nodiscard]] gcode::Dialect post(const gcode::Dialect& dialect) const {
+    return gcode::placed(dialect, 0, 0, width, depth);
+  }
 };
 
 /// The frame of a prepared mesh with `top_allowance_mm` of stock above it. Throws millnet::Error

@@ -51,6 +51,10 @@ struct SetupSheet {
   double stock_x0 = 0, stock_y0 = 0, stock_x1 = 0, stock_y1 = 0, stock_bottom_z = 0;
   double part_width = 0, part_depth = 0, part_top_z = 0, part_bottom_z = 0;
   double deepest_z = 0;  ///< the lowest any tool goes
+  /// The work origin (G54's X0 Y0) in this frame and its name (/machine/work_origin): the programs'
+  /// X Y are these coordinates less it.
+  double origin_x = 0, origin_y = 0;
+  std::string origin_name = "part footprint's lower-left corner";
   /// The part's design heights on `grid` (NaN off the part), program frame; not owned (the page
   /// samples at most 480 × 480 of them for its picture).
   simulate::GridSpec grid;
