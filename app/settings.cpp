@@ -287,6 +287,7 @@ rough::Params rough_params(const Json& config, const Json& explicit_pocket, cons
   p.contour_tolerance_mm = r["contour_tolerance_mm"].get<double>();
   p.floor_allowance_mm = r["floor_allowance_mm"].get<double>();
   p.flat_levels = r["flat_levels"].get<bool>();
+  p.flat_levels_everywhere = r["flat_levels_everywhere"].get<bool>();
   p.flat_min_area_mm2 = r["flat_min_area_mm2"].get<double>();
   p.flat_max_angle_deg = r["flat_max_angle_deg"].get<double>();
   p.cut = cut_params(config, explicit_pocket, nullptr, flags, record);

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
@@ -54,9 +55,17 @@ void make_stock(const ingest::Mesh& mesh, const ingest::Box3& box, const Params&
     if (!res.field.hit[i]) res.field.z[i] = box.min.z() - p.cut.stock_to_leave - 1.0;
 }
 
-/// Slices and plans one level; appends the plans with a path to `plans`.
+/// Keeps the regions that hold one of the points (inside the boundary, outside every island).
+/// O(regions · points · region vertices).
+void keep_regions_holding(std::vector<pocket::Region>& regions, const std::vector<Eigen::Vector2d>& points) {
+  std::erase_if(regions, [&](const pocket::Region& r) {
+    return std::none_of(points.begin(), points.end(), [&](const Eigen::Vector2d& q) { return pocket::inside(r, q); });
+  });
+}
+
+/// Slices and plans one level (a flat's level: only its regions that hold the flat, when `flat`).
 Level plan_level(const Result& res, const Params& p, const pocket::Loop& stock, double z_part, double top_z,
-                 std::vector<pocket::LevelPlan>& plans, std::size_t& tool_points) {
+                 const Flat* flat, std::vector<pocket::LevelPlan>& plans, std::size_t& tool_points) {
   Level lv;
   lv.z_part = z_part;
   lv.z = lv.z_part - res.stock_top_part;
@@ -64,6 +73,7 @@ Level plan_level(const Result& res, const Params& p, const pocket::Loop& stock, 
   // point whose surface lies above z_part − stock_to_leave.
   const auto loops = ingest::material_contours(res.field, lv.z_part - p.cut.stock_to_leave, p.contour_tolerance_mm);
   lv.regions = level_regions(loops, stock, &lv.islands);
+  if (flat != nullptr) keep_regions_holding(lv.regions, flat->samples);
   for (std::size_t ri = 0; ri < lv.regions.size(); ++ri) {
     auto& region = lv.regions[ri];
     try {
@@ -151,7 +161,11 @@ std::vector<Flat> flat_areas(const ingest::Mesh& mesh, double max_angle_deg, dou
   // Upward faces within the angle: (highest vertex z, projected area), sorted by height and grouped
   // while consecutive heights stay within kFlatZToleranceMm of the group's lowest.
   const double min_nz = std::cos(max_angle_deg * 3.14159265358979323846 / 180.0);
-  std::vector<std::pair<double, double>> faces;
+  struct FlatFace {
+    double top, area;
+    std::array<Eigen::Vector2d, 4> at;  ///< centroid, then the corners (a big face's centroid may lie under another)
+  };
+  std::vector<FlatFace> faces;
   for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
     const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)).transpose();
     const Eigen::Vector3d b = mesh.V.row(mesh.F(f, 1)).transpose();
@@ -161,17 +175,23 @@ std::vector<Flat> flat_areas(const ingest::Mesh& mesh, double max_angle_deg, dou
     if (!(len > 0) || n.z() < min_nz * len) continue;
     const double top = std::max({a.z(), b.z(), c.z()});
     if (top - std::min({a.z(), b.z(), c.z()}) > kFlatZToleranceMm) continue;
-    faces.emplace_back(top, 0.5 * n.z());
+    faces.push_back({top, 0.5 * n.z(), {((a + b + c) / 3).head<2>(), a.head<2>(), b.head<2>(), c.head<2>()}});
   }
-  std::sort(faces.begin(), faces.end());
+  std::sort(faces.begin(), faces.end(), [](const FlatFace& p, const FlatFace& q) {
+    return p.top != q.top ? p.top < q.top
+                          : std::make_pair(p.at[0].x(), p.at[0].y()) < std::make_pair(q.at[0].x(), q.at[0].y());
+  });
   std::vector<Flat> out;
   for (std::size_t i = 0; i < faces.size();) {
-    Flat f{faces[i].first, 0};
+    Flat f{faces[i].top, 0, {}};
     std::size_t j = i;
-    for (; j < faces.size() && faces[j].first - faces[i].first <= kFlatZToleranceMm; ++j) {
-      f.z = faces[j].first;
-      f.area_mm2 += faces[j].second;
+    for (; j < faces.size() && faces[j].top - faces[i].top <= kFlatZToleranceMm; ++j) {
+      f.z = faces[j].top;
+      f.area_mm2 += faces[j].area;
     }
+    const std::size_t every = (j - i + kFlatSamples - 1) / kFlatSamples;  // ≤ kFlatSamples, spread
+    for (std::size_t k = i; k < j; k += every)
+      f.samples.insert(f.samples.end(), faces[k].at.begin(), faces[k].at.end());
     if (f.area_mm2 >= min_area_mm2) out.push_back(f);
     i = j;
   }
@@ -239,10 +259,9 @@ Result rough_mesh(const ingest::Mesh& mesh, const Params& p) {
   // Counted in 64 bits and bounded before any level is planned (issue 15: --step-down 1e-9).
   const std::int64_t n_steps = pocket::level_count(height, p.cut.step_down);
   std::vector<double> flat_z;
-  const std::vector<double> zs =
-      level_heights(res, floor, n_steps,
-                    p.flat_levels ? flat_areas(mesh, p.flat_max_angle_deg, p.flat_min_area_mm2) : std::vector<Flat>{},
-                    p.cut.stock_to_leave, flat_z);
+  const std::vector<Flat> part_flats =
+      p.flat_levels ? flat_areas(mesh, p.flat_max_angle_deg, p.flat_min_area_mm2) : std::vector<Flat>{};
+  const std::vector<double> zs = level_heights(res, floor, n_steps, part_flats, p.cut.stock_to_leave, flat_z);
   const auto n_levels = static_cast<std::int64_t>(zs.size());
   const double clearance = p.cut.clearance();
   // Tool centres may pass up to one clearance outside the stock edge (the tool then just touches
@@ -256,7 +275,10 @@ Result rough_mesh(const ingest::Mesh& mesh, const Params& p) {
   std::vector<pocket::LevelPlan> plans;
   double top_z = 0;
   for (std::size_t k = 0; k < zs.size(); ++k) {
-    res.levels.push_back(plan_level(res, p, stock, zs[k], top_z, plans, res.tool_points));
+    const Flat* flat = nullptr;  // a flat's level clears only where the flat is (unless everywhere)
+    for (const Flat& f : part_flats)
+      if (!p.flat_levels_everywhere && f.z == flat_z[k]) flat = &f;
+    res.levels.push_back(plan_level(res, p, stock, zs[k], top_z, flat, plans, res.tool_points));
     res.levels.back().flat_z_part = flat_z[k];
     top_z = res.levels.back().z;
   }

@@ -562,3 +562,47 @@ TEST(RoughFlats, ACavityFloorBetweenTwoLevelsKeepsTheAllowance) {
     }
   }
 }
+
+// A flat's level clears only the regions that hold the flat: the cavity floor's level (12.502) has
+// the cavity alone, not the margin ring around the block that the next step-down level clears
+// anyway; everywhere (the stop-47 behaviour) it has both, and the roughing is longer for it.
+TEST(RoughFlats, AFlatsLevelClearsOnlyTheRegionsThatHoldTheFlat) {
+  ingest::Mesh m;
+  add_box(m, 0, 0, 0, 60, 15, 30);
+  add_box(m, 0, 45, 0, 60, 60, 30);
+  add_box(m, 0, 15, 0, 15, 45, 30);
+  add_box(m, 45, 15, 0, 60, 45, 30);
+  add_box(m, 15, 15, 0, 45, 45, 12);
+  const std::vector<millnet::rough::Flat> flats = millnet::rough::flat_areas(m, 0.1, 1);
+  ASSERT_EQ(flats.size(), 2u);
+  for (const Eigen::Vector2d& q : flats[1].samples) {  // the floor's faces: on the cavity's floor
+    EXPECT_GE(q.x(), 15);
+    EXPECT_LE(q.x(), 45);
+    EXPECT_GE(q.y(), 15);
+    EXPECT_LE(q.y(), 45);
+  }
+  double cut[2] = {0, 0};
+  for (const bool everywhere : {false, true}) {
+    SCOPED_TRACE(everywhere ? "everywhere" : "where the flat is");
+    Params p = params_for("offset", 0.5, 5);
+    p.flat_levels_everywhere = everywhere;
+    const Result r = rough_mesh(m, p);
+    ASSERT_EQ(r.machining.status, pocket::PlanStatus::Ok) << r.machining.message;
+    std::size_t floor_levels = 0;
+    for (const auto& lv : r.levels) {
+      if (lv.flat_z_part != 12) continue;
+      ++floor_levels;
+      ASSERT_EQ(lv.regions.size(), everywhere ? 2u : 1u);
+      // The kept region is the cavity (its outline within the block's inner walls).
+      const auto& b = lv.regions.back().boundary;
+      for (const auto& v : b) {
+        EXPECT_GE(v.x, 15 - 1e-6);
+        EXPECT_LE(v.x, 45 + 1e-6);
+      }
+    }
+    EXPECT_EQ(floor_levels, 1u);
+    cut[everywhere ? 1 : 0] = r.machining.metrics.cut_length_mm;
+  }
+  // The margin ring around the 60 × 60 block at one more level: about its perimeter's passes.
+  EXPECT_LT(cut[0], cut[1] - 200) << cut[0] << " vs " << cut[1];
+}

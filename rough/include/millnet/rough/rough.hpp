@@ -14,7 +14,8 @@
 // horizontal face: flat_areas) at its height + stock_to_leave + kFlatClearanceMm, unless a level
 // already leaves it within kFlatToleranceMm of that, so that a floor between two step-down levels
 // keeps the allowance instead of a step (issue 38). A flat level only splits a step: no level cuts
-// deeper than step_down, and none cuts air that the ones above it cleared.
+// deeper than step_down, and none cuts air that the ones above it cleared. It clears only the
+// regions of its height that hold the flat (the next step-down level clears the others).
 //
 // Per level z:
 //   * islands = outlines of the raster points whose height ≥ z − stock_to_leave (axial allowance),
@@ -43,6 +44,8 @@
 #include "millnet/pocket/plan.hpp"
 
 #include <cstddef>
+#include <Eigen/Core>
+
 #include <limits>
 #include <string>
 #include <vector>
@@ -58,6 +61,9 @@ struct Params {
   /// A level per flat area (flat_areas) between the stock top and the last level; false: the
   /// evenly split levels alone (millnet before 2026-11-27: floors kept up to a step-down).
   bool flat_levels = true;
+  /// A flat's level clears every region of its height; false (default): only the regions that hold
+  /// the flat (a cavity's floor level does not clear the rest of the part's surround again).
+  bool flat_levels_everywhere = false;
   double flat_min_area_mm2 = 1;     ///< smaller flats get no level of their own
   double flat_max_angle_deg = 0.1;  ///< a face this close to horizontal (facing up) is flat
   pocket::CutParams cut;            ///< depth is derived (stock top − last level)
@@ -80,7 +86,12 @@ inline constexpr double kFlatToleranceMm = 0.01;
 struct Flat {
   double z = 0;         ///< its highest point, part frame
   double area_mm2 = 0;  ///< the faces' area (projected on XY)
+  /// Where it lies: the centroid and corners of its faces (of at most kFlatSamples faces, spread
+  /// over them). A flat's level clears only the regions that hold one of them
+  /// (Params::flat_levels_everywhere).
+  std::vector<Eigen::Vector2d> samples;
 };
+inline constexpr std::size_t kFlatSamples = 256;
 inline constexpr double kFlatZToleranceMm = 0.005;
 
 /// The part's flats of at least `min_area_mm2`, highest first. O(triangles · log triangles).
