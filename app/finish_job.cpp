@@ -1,6 +1,8 @@
 // millnet finish / simulate: job/'s values written to files (finish_job.hpp).
 #include "finish_job.hpp"
 
+#include "millnet/job/operations.hpp"
+
 #include "cli.hpp"
 #include "preview.hpp"
 #include "text.hpp"
@@ -137,14 +139,12 @@ struct PartJob {
   std::optional<job::Design> design;
 };
 
-/// The holder check on what a plan machines: its lowest cut (feed move), below the stock top.
-void check_plan_reach(const FinishSettings& settings, const finish::FinishPlan& plan) {
-  double lowest = 0;                                  // program frame: Z 0 = stock top
-  for (const gcode::Item& item : plan.program.items)  // O(items)
-    if (const auto* m = std::get_if<gcode::Move>(&item); m != nullptr && m->motion != gcode::Motion::Rapid)
-      lowest = std::min(lowest, m->to[2]);
-  job::check_reach(settings.cutting.tool.cutter(), settings.cutting.tool.label(), -lowest,
-                   "the finishing's lowest cut (" + finish::strategy_name(plan.strategy) + ")");
+/// The holder check on what the plans machine: each one's lowest move (a finishing program's rapids
+/// stop above its cuts), below the stock top.
+void check_plans_reach(const FinishSettings& settings, const std::vector<finish::FinishPlan>& plans) {
+  for (const finish::FinishPlan& plan : plans)  // O(strategies)
+    job::check_reach(settings.cutting.tool.cutter(), settings.cutting.tool.label(), -job::deepest_z(plan.program),
+                     "the finishing's lowest cut (" + finish::strategy_name(plan.strategy) + ")");
 }
 
 /// The frame, the holder check, the parameters in the frame and the drop-cutter (and, simulated,
@@ -377,7 +377,7 @@ std::vector<job::StrategyOutcome> plan_and_write(const job::Part& part, const Fi
                                                  const fs::path& out) {
   const std::vector<finish::FinishParams> params = settings.strategy_params(strategies, job.params);
   const std::vector<finish::FinishPlan> plans = finish::plan_finish(part.mesh, *job.dropper, strategies, params);
-  for (const finish::FinishPlan& plan : plans) check_plan_reach(settings, plan);
+  check_plans_reach(settings, plans);
   std::vector<job::StrategyOutcome> outcomes;
   Progress progress("finish " + part.name, strategies.size());
   for (std::size_t i = 0; i < plans.size(); ++i) {  // O(strategies)
@@ -425,7 +425,7 @@ std::vector<job::StrategyFigures> label_part(const job::Part& part, const Finish
   const PartJob job = finishing_job(part, s);
   const std::vector<finish::FinishPlan> plans = finish::plan_finish(
       part.mesh, *job.dropper, settings.strategies, settings.strategy_params(settings.strategies, job.params));
-  for (const finish::FinishPlan& plan : plans) check_plan_reach(settings, plan);
+  check_plans_reach(settings, plans);
   return job::score_strategies(part.mesh, job.frame, plans, job.params.tool, job.frame.post(settings.post),
                                settings.machine, settings.aim, sim_params(settings));
 }
