@@ -160,9 +160,9 @@ PartJob finishing_job(const job::Part& part, const FinishSettings& settings) {
     job.design = job::design_surface(part.mesh, job.frame, sim_params(settings));
     job::judge_within(*job.design, in_program);
   }
-  // The holder check on the depth the finishing machines: without a boundary, down to the part's
-  // lowest point (or the Z range's floor) before planning; inside one, its lowest cut after
-  // (check_plan_reach).
+  // The holder check on the depth the finishing machines: over the whole footprint box (on_part
+  // false, no outline), down to the part's lowest point (or the Z range's floor) before planning;
+  // inside a boundary, each plan's lowest cut after planning (check_plans_reach).
   const finish::Boundary& b = settings.params.boundary;
   if (b.polygons.empty() && !b.on_part)
     job::check_reach(settings.cutting.tool.cutter(), settings.cutting.tool.label(),

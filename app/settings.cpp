@@ -398,7 +398,6 @@ void set_boundary_file(FinishSettings& s, const std::string& file) {
   polys.clear();
   polys.push_back(pocket::flatten(pf.region.boundary, kChordMm));
   for (const pocket::Loop& island : pf.region.islands) polys.push_back(pocket::flatten(island, kChordMm));
-  s.boundary_file = file;
 }
 
 finish::Boundary FinishSettings::boundary_in(const job::Frame& frame) const {

@@ -106,7 +106,6 @@ struct FinishSettings {
   CuttingRecord cutting;  ///< the tool, its cutting data and each figure's source
   /// /finish/boundary's Z range (program frame: Z 0 = stock top), set into params.boundary per part.
   std::optional<double> z_min, z_max;
-  std::string boundary_file;  ///< the outline params.boundary.polygons came from ("" = none)
   /// params.boundary with the Z range in the part's mesh frame (the tip's z = program Z − z_shift).
   [[nodiscard]] finish::Boundary boundary_in(const job::Frame& frame) const;
 };
