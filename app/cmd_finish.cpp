@@ -51,13 +51,16 @@ std::size_t finish_batch(const std::vector<fs::path>& files, const ingest::Prepa
   const std::size_t per_part = cluster_size() > 1 ? S : 1, chunk = S / per_part;
   const std::function<UnitOutcomes(std::size_t, const std::string&)> work = [&](std::size_t u, const std::string& dir) {
     const job::Part part = load_part(files[u / per_part], prep);
+    std::string why;
+    const FinishSettings ps = for_part(s, part.mesh, &why);  // the part's ball when none is named
     const std::vector<finish::Strategy> mine(
         s.strategies.begin() + static_cast<std::ptrdiff_t>(u % per_part * chunk),
         s.strategies.begin() + static_cast<std::ptrdiff_t>((u % per_part + 1) * chunk));
     UnitOutcomes r;
-    r.outcomes = finish_strategies(part, s, mine, dir);
-    r.cell_mm = s.sim.cell_mm;
-    for (const job::StrategyOutcome& o : r.outcomes) r.metrics.push_back(strategy_metrics(o, s, part));
+    r.outcomes = finish_strategies(part, ps, mine, dir);
+    if (!why.empty() && u % per_part == 0) info("finish: " + part.name + ": " + why);
+    r.cell_mm = ps.sim.cell_mm;
+    for (const job::StrategyOutcome& o : r.outcomes) r.metrics.push_back(strategy_metrics(o, ps, part));
     return r;
   };
   std::vector<job::StrategyOutcome> outcomes;

@@ -167,6 +167,9 @@ int run_job(const JobOpts& o) {
   const double depth = frame.depth_below_top(frame.part_bottom);
   const tooling::Tool mill = reaching(lib, rough_cutting.tool, depth - rp.floor_allowance_mm, "roughing", file, notes);
   rp.cut.tool = mill.cutter();
+  std::string why;
+  fs_ = for_part(fs_, part.mesh, &why);  // the part's ball when no finishing tool is named
+  if (!why.empty()) notes.push_back(why);
   const tooling::Tool ball = reaching(lib, fs_.cutting.tool, depth, "finishing", file, notes);
   fs_.cutting.tool = ball;
   fs_.params.tool = ball.cutter();

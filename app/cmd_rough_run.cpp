@@ -196,10 +196,11 @@ struct PartOutcomes {
 /// the roughing program dir/<name>.nc and the top strategy's program one after the other on one
 /// z-map from flat stock (dir/<name>.rough_finish.sim.json and its pictures).
 FinishOutcome finish_test_part(const job::Part& part, const std::string& name, const PartPrediction& pr,
-                               const RoughOutcome* rough, const FinishSettings& settings,
+                               const RoughOutcome* rough, const FinishSettings& configured,
                                const tooling::Cutter& rough_cutter, const fs::path& dir) {
   FinishOutcome fo;
   try {
+    const FinishSettings settings = for_part(configured, part.mesh);
     job::Part named = part;
     named.name = name;
     const PartFinish pf = finish_part(named, settings, dir / "finish");

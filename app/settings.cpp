@@ -2,12 +2,14 @@
 
 #include "json_settings.hpp"
 #include "cli.hpp"
+#include "text.hpp"
 
 #include <cmath>
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/job/frame.hpp"
+#include "millnet/job/tool_choice.hpp"
 
 #include <algorithm>
 #include <sstream>
@@ -277,8 +279,14 @@ gcode::Dialect post_dialect(const Json& config, const std::optional<std::string>
   return config["machine"]["program_units"].get<std::string>() == "inch" ? gcode::in_inches(d) : d;
 }
 
-rough::Params rough_params(const Json& config, const Json& explicit_pocket, const PocketFlags& flags,
+rough::Params rough_params(const Json& config, const Json& explicit_pocket, const PocketFlags& given,
                            CuttingRecord* record) {
+  // What a shop would choose where neither the config nor a flag says (issue 38): the fastest
+  // complete planner on roughing levels (docs/roughing.md: offset 59.0 min, SOM 59.7, zigzag 72.9,
+  // adaptive 127.8 on the five default test parts) and stock left for the finishing.
+  PocketFlags flags = given;
+  if (!flags.planner && !explicit_pocket.contains("planner")) flags.planner = std::string(kRoughPlanner);
+  if (!flags.stock_to_leave && !explicit_pocket.contains("stock_to_leave")) flags.stock_to_leave = kRoughStockToLeaveMm;
   const Json& r = config["rough"];
   rough::Params p;
   p.margin_mm = r["margin_mm"].get<double>();
@@ -334,30 +342,13 @@ tooling::Cutter tool_arg(const std::string& text, const Json& config, bool drill
 
 namespace {
 
-/// The finishing tool and its cutting data (issue 17), into s.params and s.cutting.
-void finish_cutting_data(FinishSettings& s, const Json& config, const FinishToolFlags& flags) {
+/// The cutting data of the finishing tool rec.tool: spindle and feeds into `p`, each figure's source
+/// into `rec` (a figure written in /finish wins).
+void finish_tool_data(CuttingRecord& rec, finish::FinishParams& p, const Json& config, const CuttingSettings& cs,
+                      const ToolLibrary& lib) {
   const Json& f = config["finish"];
-  auto& p = s.params;
-  const CuttingSettings cs = cutting_settings(config, flags.material);
-  CuttingRecord& rec = s.cutting;
   rec.library_feeds = cs.library_feeds;
-  const ToolLibrary lib = tool_library(config);
-  if (flags.tool && flags.tool->find(':') == std::string::npos) {
-    rec.tool = lib.tool(*flags.tool, "--tool");
-    rec.tool_from = "flag --tool";
-    p.tool = cutter_of(rec.tool);
-  } else if (flags.tool) {
-    p.tool = parse_tool(*flags.tool);
-    rec.tool = inline_tool(p.tool.type, p.tool.diameter, p.tool.corner_radius, cs, lib);
-    rec.tool_from = "flag --tool";
-  } else if (const std::string id = f["tool"]["id"].get<std::string>(); !id.empty()) {
-    rec.tool = lib.tool(id, "/finish/tool/id");
-    rec.tool_from = "config /finish/tool/id";
-    p.tool = cutter_of(rec.tool);
-  } else {
-    rec.tool = inline_tool(p.tool.type, p.tool.diameter, p.tool.corner_radius, cs, lib);
-    rec.tool_from = "config /finish/tool";
-  }
+  rec.figures.clear();
   auto written = [&](const char* key) -> std::optional<Figure> {
     if (f[key].is_null()) return std::nullopt;
     return Figure{f[key].get<double>(), std::string("config /finish/") + key};
@@ -383,12 +374,89 @@ void finish_cutting_data(FinishSettings& s, const Json& config, const FinishTool
   for (const auto& [key, fig] : rec.figures) check_machine_limit(cs, key, fig);
 }
 
+/// The finishing tool and its cutting data (issue 17), into s.params and s.cutting; with no tool
+/// named anywhere (no --tool, no /finish/tool/id, no /finish/tool/diameter, or id "auto"), also
+/// every library ball with its cutting data into s.tool_by_part, for the pick per part (for_part).
+void finish_cutting_data(FinishSettings& s, const Json& config, const FinishToolFlags& flags) {
+  const Json& t = config["finish"]["tool"];
+  auto& p = s.params;
+  const CuttingSettings cs = cutting_settings(config, flags.material);
+  CuttingRecord& rec = s.cutting;
+  const ToolLibrary lib = tool_library(config);
+  const std::string id = t["id"].get<std::string>();
+  const bool by_part = !flags.tool && (id == "auto" || (id.empty() && t["diameter"].is_null()));
+  if (flags.tool && flags.tool->find(':') == std::string::npos) {
+    rec.tool = lib.tool(*flags.tool, "--tool");
+    rec.tool_from = "flag --tool";
+    p.tool = cutter_of(rec.tool);
+  } else if (flags.tool) {
+    p.tool = parse_tool(*flags.tool);
+    rec.tool = inline_tool(p.tool.type, p.tool.diameter, p.tool.corner_radius, cs, lib);
+    rec.tool_from = "flag --tool";
+  } else if (!id.empty() && id != "auto") {
+    rec.tool = lib.tool(id, "/finish/tool/id");
+    rec.tool_from = "config /finish/tool/id";
+    p.tool = cutter_of(rec.tool);
+  } else {  // inline; not named at all: the paper's Ø2 ball wherever a part does not pick its own
+    rec.tool = inline_tool(p.tool.type, p.tool.diameter, p.tool.corner_radius, cs, lib);
+    rec.tool_from = "config /finish/tool";
+  }
+  finish_tool_data(rec, p, config, cs, lib);
+  if (!by_part) return;
+  for (const tooling::Tool& ball : lib.tools) {  // O(tools)
+    if (ball.type != tooling::ToolType::Ball) continue;
+    FinishSettings::ToolChoice c;
+    c.cutting.tool = ball;
+    c.cutting.tool_from = "picked by the part (no /finish/tool, no --tool)";
+    finish::FinishParams q = p;
+    q.tool = cutter_of(ball);
+    finish_tool_data(c.cutting, q, config, cs, lib);
+    c.cutter = q.tool;
+    c.spindle_rpm = q.spindle_rpm;
+    c.feed_mm_min = q.feed_mm_min;
+    c.plunge_feed_mm_min = q.plunge_feed_mm_min;
+    s.tool_by_part.push_back(std::move(c));
+  }
+}
+
 }  // namespace
 
 std::vector<finish::FinishParams> FinishSettings::strategy_params(const std::vector<finish::Strategy>& which,
                                                                   const finish::FinishParams& base) const {
   if (!params_from_spec) return std::vector<finish::FinishParams>(which.size(), base);
   return finish::params_for_spec(which, spec, base);
+}
+
+FinishSettings for_part(const FinishSettings& s, const ingest::Mesh& mesh, std::string* why) {
+  if (s.tool_by_part.empty()) return s;
+  const job::Frame frame = job::frame_of(mesh, s.stock_top_above_part_mm);
+  const job::PartShape shape = job::part_shape(mesh, frame.stock_top);
+  std::vector<tooling::Tool> balls;
+  for (const FinishSettings::ToolChoice& c : s.tool_by_part) balls.push_back(c.cutting.tool);
+  const tooling::Tool* ball = job::finishing_ball(balls, shape);
+  const auto& c = s.tool_by_part[static_cast<std::size_t>(ball - balls.data())];  // never null: balls not empty
+  FinishSettings out = s;
+  out.tool_by_part.clear();
+  out.cutting = c.cutting;
+  out.params.tool = c.cutter;
+  out.params.spindle_rpm = c.spindle_rpm;
+  out.params.feed_mm_min = c.feed_mm_min;
+  out.params.plunge_feed_mm_min = c.plunge_feed_mm_min;
+  if (why == nullptr) return out;
+  const double size_limit = shape.size_mm / job::kSizePerDiameter;
+  *why = "finishing tool " + (ball->id.empty() ? ball->label() : ball->id) + ": the part's " + fixed(shape.size_mm, 1) +
+         " mm footprint allows Ø" + fixed(size_limit, 1) + " (its longer side / " + fixed(job::kSizePerDiameter, 0) +
+         ")";
+  if (std::isfinite(shape.concave_radius_mm))
+    *why += ", its smallest concave radius " + fixed(shape.concave_radius_mm, 2) + " mm Ø" +
+            fixed(2 * shape.concave_radius_mm, 1) + " (" + fixed(100 * job::kRestShare, 0) +
+            " % of its concave curved edges and every sharp corner left to rest machining)";
+  else
+    *why += ", it has no concave curved surface";
+  if (ball->diameter_mm > std::min(size_limit, 2 * shape.concave_radius_mm) * (1 + 1e-12))
+    *why += "; the library has no ball that small reaching " + fixed(shape.depth_mm, 1) +
+            " mm below the stock top: its smallest that does";
+  return out;
 }
 
 void set_boundary_file(FinishSettings& s, const std::string& file) {
@@ -434,7 +502,7 @@ FinishSettings finish_settings(const Json& config, const FinishToolFlags& flags)
   auto& p = s.params;
   const Json& t = f["tool"];
   const std::string type = t["type"].get<std::string>();
-  const double d = t["diameter"].get<double>();
+  const double d = t["diameter"].is_null() ? kPaperBallMm : t["diameter"].get<double>();
   p.tool = type == "ball"   ? tooling::Cutter::ball(d)
            : type == "flat" ? tooling::Cutter::flat(d)
                             : tooling::Cutter::bull(d, t["corner_radius"].get<double>());

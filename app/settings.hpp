@@ -29,6 +29,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace millnet::app {
@@ -73,6 +74,12 @@ struct PlannerChoice {
 
 // ---- rough (rough, run) ----
 
+/// The planner and stock to leave of `rough` and `job` when neither the config's /pocket nor a flag
+/// names one (issue 38's shop defaults; /pocket/planner som and /pocket/stock_to_leave 0 written in
+/// the config, configs/presets/rough-before-2026-11-27.json, give the roughing of before).
+inline constexpr std::string_view kRoughPlanner = "offset";
+inline constexpr double kRoughStockToLeaveMm = 0.5;
+
 /// rough::Params from a checked config (rough + pocket sections) and the pocket flags.
 [[nodiscard]] rough::Params rough_params(const Json& config, const Json& explicit_pocket, const PocketFlags& flags,
                                          CuttingRecord* record = nullptr);
@@ -104,11 +111,29 @@ struct FinishSettings {
   SimSettings sim;
   simulate::AimParams aim;
   CuttingRecord cutting;  ///< the tool, its cutting data and each figure's source
+  /// No finishing tool named (no --tool, /finish/tool/id "" or "auto" and no diameter): every library
+  /// ball with its cutting data, one picked per part by for_part (job::finishing_ball). Empty: the
+  /// tool above finishes every part.
+  struct ToolChoice {
+    CuttingRecord cutting;
+    tooling::Cutter cutter;
+    double spindle_rpm = 0, feed_mm_min = 0, plunge_feed_mm_min = 0;
+  };
+  std::vector<ToolChoice> tool_by_part;
   /// /finish/boundary's Z range (program frame: Z 0 = stock top), set into params.boundary per part.
   std::optional<double> z_min, z_max;
   /// params.boundary with the Z range in the part's mesh frame (the tip's z = program Z − z_shift).
   [[nodiscard]] finish::Boundary boundary_in(const job::Frame& frame) const;
 };
+
+/// The ball of /finish/tool when it gives neither an id nor a diameter and a part does not pick its
+/// own (the dataset labels by simulation, simulate, view): Korosec & Kopac's Ø2 mm (§6.2).
+inline constexpr double kPaperBallMm = 2.0;
+
+/// The settings a part is finished with: `s` itself, or (s.tool_by_part) with the ball
+/// job::finishing_ball picks for the part's size, smallest concave radius and depth below the stock
+/// top, and that ball's cutting data; `why` (when given) gets one line naming the ball and why.
+[[nodiscard]] FinishSettings for_part(const FinishSettings& s, const ingest::Mesh& mesh, std::string* why = nullptr);
 
 /// --boundary FILE and --z-range ZMIN ZMAX (finish, job): /finish/boundary from the command line.
 struct BoundaryFlags {

@@ -142,12 +142,29 @@ TEST(CliJob, OneProgramPerPartInEveryDialectWithItsToolChangesChecksumsAndSetupS
   EXPECT_NE(f.find("G43 H8"), std::string::npos);
   EXPECT_NE(f.find("G43 H7"), std::string::npos);
   const auto a = positions(lx / "cavity.job.nc"), b = positions(d / "fanuc" / "cavity.job.nc");
-  ASSERT_EQ(a.size(), b.size());
   ASSERT_GT(a.size(), 1000U);
-  double worst = 0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    for (std::size_t k = 0; k < 3; ++k) worst = std::max(worst, std::abs(a[i][k] - b[i][k]));
-  EXPECT_LE(worst, 0.0015 + 1e-9);
+  // Walked side by side: each position matched within the increments, or a step of < 0.003 mm on
+  // one side only (a 0.0016 mm LinuxCNC step that Fanuc's rounding brings under positions()' 0.0015).
+  auto apart = [](const gcode::Point3& p, const gcode::Point3& q) {
+    return std::max({std::abs(p[0] - q[0]), std::abs(p[1] - q[1]), std::abs(p[2] - q[2])});
+  };
+  std::size_t m = 0, n = 0, skipped = 0;
+  while (m < a.size() && n < b.size()) {
+    if (apart(a[m], b[n]) <= 0.0015 + 1e-9) {
+      ++m, ++n;
+    } else if (m > 0 && apart(a[m], a[m - 1]) < 0.003) {
+      ++m, ++skipped;
+    } else if (n > 0 && apart(b[n], b[n - 1]) < 0.003) {
+      ++n, ++skipped;
+    } else {
+      ADD_FAILURE() << "position " << m << " of the LinuxCNC job (" << a[m][0] << ", " << a[m][1] << ", " << a[m][2]
+                    << ") is not position " << n << " of the Fanuc job";
+      break;
+    }
+  }
+  EXPECT_EQ(m, a.size());
+  EXPECT_EQ(n, b.size());
+  EXPECT_LE(skipped, 5U);
   // The setup sheet names every tool and file.
   const std::string sheet = slurp(lx / "cavity.setup.html");
   for (const char* s :
