@@ -353,7 +353,8 @@ int run_job(const JobOpts& o) {
       so.stepover_mm = rp.cut.stepover, so.step_down_mm = rp.cut.step_down;
     } else {
       so.strategy = strategy_name;
-      so.rpm = fs_.params.spindle_rpm, so.feed_mm_min = fs_.params.feed_mm_min;
+      so.rpm = fs_.params.spindle_rpm,
+      so.feed_mm_min = pick.feed_mm_min > 0 ? pick.feed_mm_min : fs_.params.feed_mm_min;
       so.stepover_mm = pick.stepover_mm, so.step_down_mm = pick.step_down_mm;
     }
     sheet.deepest_z = std::min(sheet.deepest_z, hc.deepest_tip_z);

@@ -214,6 +214,7 @@ job::StrategyOutcome strategy_outcome(const job::Part& part, const FinishSetting
   o.stepover_mm = params.stepover_mm;
   o.step_down_mm = params.step_down_mm;
   o.scallop_mm = params.scallop_mm;
+  o.feed_mm_min = params.feed_mm_min;
   path_png(out / (base + ".png"), job, plan.program, title);
   std::optional<report::PreviewSurface> surface;
   if (job.design) {  // the program as the machine gets it: the text written, read back
@@ -271,7 +272,8 @@ Json strategy_metrics(const job::StrategyOutcome& o, const FinishSettings& setti
   j["params"] = Json{{"from", settings.params_from_spec ? "spec" : "fixed"},
                      {"stepover_mm", o.stepover_mm},
                      {"step_down_mm", o.step_down_mm},
-                     {"scallop_mm", o.scallop_mm}};
+                     {"scallop_mm", o.scallop_mm},
+                     {"feed_mm_min", o.feed_mm_min}};
   if (o.simulated) {
     j.update(sim_metrics_json(o.surface, o.grid));
     j["cutting_rapids"] = o.cutting_rapids;
@@ -298,6 +300,7 @@ job::StrategyOutcome outcome_from_metrics(const Json& j, double cell_mm) {
     o.stepover_mm = j["params"].at("stepover_mm").get<double>();
     o.step_down_mm = j["params"].at("step_down_mm").get<double>();
     o.scallop_mm = j["params"].at("scallop_mm").get<double>();
+    o.feed_mm_min = j["params"].value("feed_mm_min", 0.0);
   }
   if (!o.simulated) return o;
   simulate::SurfaceMetrics& m = o.surface;

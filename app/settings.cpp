@@ -344,8 +344,8 @@ namespace {
 
 /// The cutting data of the finishing tool rec.tool: spindle and feeds into `p`, each figure's source
 /// into `rec` (a figure written in /finish wins).
-void finish_tool_data(CuttingRecord& rec, finish::FinishParams& p, const Json& config, const CuttingSettings& cs,
-                      const ToolLibrary& lib) {
+void finish_tool_data(CuttingRecord& rec, finish::FinishParams& p, FinishSettings::Thinning& thinning,
+                      const Json& config, const CuttingSettings& cs, const ToolLibrary& lib) {
   const Json& f = config["finish"];
   rec.library_feeds = cs.library_feeds;
   rec.figures.clear();
@@ -364,6 +364,9 @@ void finish_tool_data(CuttingRecord& rec, finish::FinishParams& p, const Json& c
     take(rec, "feed_mm_min", p.feed_mm_min, d.feed_mm_min, w_feed, src + ": fz·z·n at D_eff");
     take(rec, "plunge_feed_mm_min", p.plunge_feed_mm_min, d.feed_plunge_mm_min, w_plunge,
          src + ": feed × /cutting/plunge_factor");
+    thinning = {};
+    if (!w_feed && cs.factors.max_chip_thinning > 1)
+      thinning = {d.d_eff_mm, cs.factors.max_chip_thinning, d.feed_max_mm_min};
   } else {  // FinishParams' defaults are the paper's §6.2 figures
     const finish::FinishParams paper;
     take(rec, "spindle_rpm", p.spindle_rpm, paper.spindle_rpm, w_rpm, "fixed: Korosec & Kopac §6.2, 18,000 min^-1");
@@ -401,7 +404,7 @@ void finish_cutting_data(FinishSettings& s, const Json& config, const FinishTool
     rec.tool = inline_tool(p.tool.type, p.tool.diameter, p.tool.corner_radius, cs, lib);
     rec.tool_from = "config /finish/tool";
   }
-  finish_tool_data(rec, p, config, cs, lib);
+  finish_tool_data(rec, p, s.thinning, config, cs, lib);
   if (!by_part) return;
   for (const tooling::Tool& ball : lib.tools) {  // O(tools)
     if (ball.type != tooling::ToolType::Ball) continue;
@@ -410,7 +413,7 @@ void finish_cutting_data(FinishSettings& s, const Json& config, const FinishTool
     c.cutting.tool_from = "picked by the part (no /finish/tool, no --tool)";
     finish::FinishParams q = p;
     q.tool = cutter_of(ball);
-    finish_tool_data(c.cutting, q, config, cs, lib);
+    finish_tool_data(c.cutting, q, c.thinning, config, cs, lib);
     c.cutter = q.tool;
     c.spindle_rpm = q.spindle_rpm;
     c.feed_mm_min = q.feed_mm_min;
@@ -424,7 +427,22 @@ void finish_cutting_data(FinishSettings& s, const Json& config, const FinishTool
 std::vector<finish::FinishParams> FinishSettings::strategy_params(const std::vector<finish::Strategy>& which,
                                                                   const finish::FinishParams& base) const {
   if (!params_from_spec) return std::vector<finish::FinishParams>(which.size(), base);
-  return finish::params_for_spec(which, spec, base);
+  std::vector<finish::FinishParams> out = finish::params_for_spec(which, spec, base);
+  if (!(thinning.d_eff_mm > 0)) return out;
+  const double w = finish::spec_spacing_mm(base.tool, spec.scallop_mm);  // on the surface, at most
+  const double k = std::min(thinning.cap, tooling::chip_thinning_factor(thinning.d_eff_mm, w));
+  if (!(k > 1)) return out;
+  for (std::size_t i = 0; i < which.size(); ++i) {  // O(strategies)
+    if (which[i] == finish::Strategy::Raster || which[i] == finish::Strategy::Waterline) continue;
+    finish::FinishParams& p = out[i];
+    const double thinned = std::min(std::max(1.0, std::round(p.feed_mm_min * k)), thinning.feed_max_mm_min);
+    if (!(thinned > p.feed_mm_min)) continue;
+    p.comments.push_back("feed " + format_double(p.feed_mm_min) + " -> " + format_double(thinned) +
+                         " mm/min: radial chip thinning at a_e " + fixed(w, 3) + " mm on D_eff " +
+                         fixed(thinning.d_eff_mm, 3) + " mm, x" + fixed(thinned / p.feed_mm_min, 3));
+    p.feed_mm_min = thinned;
+  }
+  return out;
 }
 
 FinishSettings for_part(const FinishSettings& s, const ingest::Mesh& mesh, std::string* why) {
@@ -438,6 +456,7 @@ FinishSettings for_part(const FinishSettings& s, const ingest::Mesh& mesh, std::
   FinishSettings out = s;
   out.tool_by_part.clear();
   out.cutting = c.cutting;
+  out.thinning = c.thinning;
   out.params.tool = c.cutter;
   out.params.spindle_rpm = c.spindle_rpm;
   out.params.feed_mm_min = c.feed_mm_min;

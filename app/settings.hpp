@@ -111,11 +111,21 @@ struct FinishSettings {
   SimSettings sim;
   simulate::AimParams aim;
   CuttingRecord cutting;  ///< the tool, its cutting data and each figure's source
+  /// Radial chip thinning of the finishing feed (issue 38): with the library's cutting data, the feed
+  /// not written, /cutting/max_chip_thinning > 1 and the parameters from the spec, a strategy whose
+  /// pass spacing on the surface is bounded (slope mode, scallop mode, equidistant: the spec's
+  /// spacing w) runs at feed × min(D_eff / (2·√(w·(D_eff − w))), cap), within feed_max, so that its
+  /// chip is the tool maker's fz; raster and Z-level (whose spacing on steep or flat areas grows
+  /// without bound) keep the feed. d_eff_mm 0: off.
+  struct Thinning {
+    double d_eff_mm = 0, cap = 1, feed_max_mm_min = 0;
+  } thinning;
   /// No finishing tool named (no --tool, /finish/tool/id "" or "auto" and no diameter): every library
   /// ball with its cutting data, one picked per part by for_part (job::finishing_ball). Empty: the
   /// tool above finishes every part.
   struct ToolChoice {
     CuttingRecord cutting;
+    Thinning thinning;
     tooling::Cutter cutter;
     double spindle_rpm = 0, feed_mm_min = 0, plunge_feed_mm_min = 0;
   };

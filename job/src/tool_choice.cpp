@@ -111,7 +111,8 @@ const tooling::Tool* finishing_ball(const std::vector<tooling::Tool>& library, c
   for (const tooling::Tool& t : library) {  // O(tools)
     if (t.type != tooling::ToolType::Ball) continue;
     auto shorter = [&](const tooling::Tool* than) { return t.stickout_mm < than->stickout_mm; };
-    if (longest == nullptr || (longest->stickout_mm > 0 && (t.stickout_mm <= 0 || t.stickout_mm > longest->stickout_mm)))
+    if (longest == nullptr ||
+        (longest->stickout_mm > 0 && (t.stickout_mm <= 0 || t.stickout_mm > longest->stickout_mm)))
       longest = &t;
     if (!reaches(t)) continue;
     if (smallest == nullptr || t.diameter_mm < smallest->diameter_mm ||

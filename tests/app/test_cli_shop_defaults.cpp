@@ -1,7 +1,9 @@
 // Issue 38's shop defaults, without a config: `finish` picks its ball from the library by the part
 // (a 300 mm dome: the Ø10 ball at the specification's stepover, not the paper's Ø2 at p_f 0.2; a
-// 40 mm block with 2.5 mm fillets: the Ø2), and `rough` takes the offset planner and leaves 0.5 mm
-// for the finishing; configs/presets/rough-before-2026-11-27.json gives the roughing of before.
+// Ø100 mm block whose cavity has a 2.5 mm fillet: the Ø2, a 4 mm fillet: the Ø6 its size allows),
+// and `rough` takes the offset planner and leaves 0.5 mm for the finishing (the preset
+// configs/presets/rough-before-2026-11-27.json gives the roughing of before). Strategies whose pass
+// spacing on the surface is bounded run at the feed radial chip thinning allows (hand-computed).
 #include "app/cli_runner.hpp"
 #include "ingest/builders.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
@@ -15,6 +17,7 @@
 #include <cmath>
 #include <fstream>
 #include <numbers>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -139,6 +142,53 @@ TEST(CliShopDefaults, RoughTakesTheOffsetPlannerAndLeavesStockForTheFinishing) {
   m = json::parse(slurp(d / "c" / "part.metrics.json"));
   EXPECT_EQ(m["planner"], "zigzag");
   EXPECT_EQ(m["stock_to_leave_mm"].get<double>(), 0.2);
+}
+
+TEST(CliShopDefaults, BoundedEngagementFinishingRunsAtTheChipThinnedFeed) {
+  const fs::path d = fresh_dir("cli_shop_thinning");
+  ingest::save_stl_binary(testing_ingest::solid(
+                              [](double x, double y) {
+                                const double u = (x - 20) / 20, v = (y - 15) / 15;
+                                return 5 + 8 * std::max(0.0, 1 - 0.5 * (u * u + v * v));
+                              },
+                              0, 40, 0, 30, 40, 30),
+                          d / "dome.stl");
+  // Ø6 ball in 6061: fz 0.05 × 2 × 24,000 rpm (the machine's limit) = 2400 mm/min. D_eff at the
+  // 0.1 mm allowance 2·√(0.1·5.9) = 1.5362 mm; the spec's spacing 2·√(2·3·0.005 − 0.005²) = 0.34634 mm;
+  // k = 1.5362 / (2·√(0.34634·(1.5362 − 0.34634))) = 1.1965: 2872 mm/min.
+  const double deff = 2 * std::sqrt(0.1 * 5.9), w = 2 * std::sqrt(2 * 3 * 0.005 - 0.005 * 0.005);
+  const double thinned = std::round(2400 * deff / (2 * std::sqrt(w * (deff - w))));
+  ASSERT_EQ(thinned, 2872);
+  auto feeds = [&](const fs::path& nc) {  // the F words of the program
+    std::set<int> f;
+    std::istringstream in(slurp(nc));
+    for (std::string line; std::getline(in, line);)
+      if (const auto at = line.find(" F"); line.rfind("G1", 0) == 0 && at != std::string::npos)
+        f.insert(std::stoi(line.substr(at + 2)));
+    return f;
+  };
+  auto r = run_millnet("finish -q --mesh dome.stl --tool bn6-2f-carbide --out a", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const int slot : {1, 3, 5}) {  // bounded spacing on the surface: thinned
+    const fs::path nc = d / "a" / ("dome.s" + std::to_string(slot) + ".nc");
+    EXPECT_TRUE(feeds(nc).count(2872)) << slot;
+    EXPECT_FALSE(feeds(nc).count(2400)) << slot;
+    EXPECT_NE(header_line(nc, "(feed 2400 -> 2872 mm/min: radial chip thinning"), "") << slot;
+  }
+  for (const int slot : {2, 4}) {  // raster and Z-level: the spacing grows on steep or flat areas
+    const fs::path nc = d / "a" / ("dome.s" + std::to_string(slot) + ".nc");
+    EXPECT_TRUE(feeds(nc).count(2400)) << slot;
+    EXPECT_FALSE(feeds(nc).count(2872)) << slot;
+  }
+  // Chip thinning off (/cutting/max_chip_thinning 1) or the feed written: every strategy at it.
+  std::ofstream(d / "off.json") << R"({"cutting": {"max_chip_thinning": 1}})";
+  std::ofstream(d / "feed.json") << R"({"finish": {"feed_mm_min": 2000}})";
+  for (const std::string c : {"off", "feed"}) {
+    r = run_millnet("finish -q --config " + c + ".json --mesh dome.stl --tool bn6-2f-carbide --strategy 5 --out " + c,
+                    d);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(feeds(d / c / "dome.s5.nc"), (std::set<int>{c == "off" ? 2400 : 2000, 720})) << c;
+  }
 }
 
 }  // namespace

@@ -83,8 +83,8 @@ TEST(ToolChoice, AFacetedTroughGivesItsRadiusAndARidgeNone) {
   for (const double r : {0.8, 4.0, 25.0}) {
     const job::PartShape trough = job::part_shape(extruded(arc(r, 60, 24, true), 20, 5), 30);
     EXPECT_NEAR(trough.concave_radius_mm, r, 1e-9 * r) << r;  // facets of one circle: exact
-    EXPECT_NEAR(trough.concave_edges_mm, 23 * 20, 1e-9);    // the 23 inner generators, 20 mm each
-    EXPECT_NEAR(trough.depth_mm, 30, 1e-12);                 // its lowest point is at z 0
+    EXPECT_NEAR(trough.concave_edges_mm, 23 * 20, 1e-9);      // the 23 inner generators, 20 mm each
+    EXPECT_NEAR(trough.depth_mm, 30, 1e-12);                  // its lowest point is at z 0
     EXPECT_NEAR(trough.size_mm, std::max(20.0, 2 * r * std::sin(std::numbers::pi / 3)), 1e-9);  // the longer side
     const job::PartShape ridge = job::part_shape(extruded(arc(r, 60, 24, false), 20, 5), 30);
     EXPECT_TRUE(std::isinf(ridge.concave_radius_mm)) << r;
@@ -137,6 +137,6 @@ TEST(ToolChoice, TheBallIsTheLargestThePartsSizeAndConcaveRadiusAllowThatReaches
   EXPECT_EQ(pick(300, 4.0, 40), "bn2");   // Ø6's 35 mm stick-out does not reach 40 mm
   EXPECT_EQ(pick(300, 0.2, 20), "bn2");   // nothing that small: the smallest that reaches
   EXPECT_EQ(pick(300, 0.2, 40), "bn2");
-  EXPECT_EQ(pick(300, 6.0, 50), "bn2");   // none reaches: the longest stick-out (the holder check refuses)
+  EXPECT_EQ(pick(300, 6.0, 50), "bn2");  // none reaches: the longest stick-out (the holder check refuses)
   EXPECT_EQ(job::finishing_ball({lib[0]}, shape(300, inf, 20)), nullptr);  // no ball at all
 }

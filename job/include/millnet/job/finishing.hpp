@@ -121,6 +121,7 @@ struct StrategyOutcome {
   bool meets_spec = false;  ///< once ranked: simulate::meets_spec
   /// The parameters it was planned with (the spec's derived ones, or the fixed ones).
   double stepover_mm = 0, step_down_mm = 0, scallop_mm = 0;
+  double feed_mm_min = 0;  ///< its cutting feed (chip thinning may raise it above the tool's)
 };
 
 /// The outcome of a planned strategy, from its plan and program figures (not simulated yet).

@@ -29,10 +29,10 @@ inline constexpr double kSizePerDiameter = 15;
 
 /// What the choice reads of a part (mesh frame, mm).
 struct PartShape {
-  double size_mm = 0;             ///< the footprint's longer side
-  double concave_radius_mm = 0;   ///< the smallest concave radius of its curved surfaces (infinity: none)
-  double concave_edges_mm = 0;    ///< the length of the concave curved edges it was measured on
-  double depth_mm = 0;            ///< from `stock_top` to the lowest face that faces up
+  double size_mm = 0;            ///< the footprint's longer side
+  double concave_radius_mm = 0;  ///< the smallest concave radius of its curved surfaces (infinity: none)
+  double concave_edges_mm = 0;   ///< the length of the concave curved edges it was measured on
+  double depth_mm = 0;           ///< from `stock_top` to the lowest face that faces up
 };
 
 /// The radius of curvature across every edge of the surfaces machined from above (both faces facing
