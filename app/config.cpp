@@ -76,6 +76,8 @@ public:
       if (!value.is_array()) throw Error(at + ": expected an array, got " + type_name(value));
       if (rule.contains("minItems") && value.size() < rule["minItems"].get<std::size_t>())
         throw Error(at + ": expected at least " + rule["minItems"].dump() + " items");
+      if (rule.contains("maxItems") && value.size() > rule["maxItems"].get<std::size_t>())
+        throw Error(at + ": expected at most " + rule["maxItems"].dump() + " items");
       if (rule.contains("items"))
         for (std::size_t i = 0; i < value.size(); ++i) check(value[i], rule["items"], ptr + "/" + std::to_string(i));
       return;

@@ -55,9 +55,8 @@ Json write_rough_outputs(const fs::path& dir, const std::string& stem, const rou
   if (r.machining.status == pocket::PlanStatus::Ok) {
     report::PreviewInput page;  // the 3D page of the program just written (issue 16)
     page.title = stem + " — roughing, " + std::string(pocket::planner_name(p.planner));
-    // The work origin on the stock (its footprint is the stock less the margin).
-    const gcode::Dialect placed = gcode::placed(post, r.stock_x0 + p.margin_mm, r.stock_y0 + p.margin_mm,
-                                                r.stock_x1 - p.margin_mm, r.stock_y1 - p.margin_mm);
+    // The work origin on the stock (around the part's footprint, as the roughing took it).
+    const gcode::Dialect placed = gcode::placed(post, r.part_x0, r.part_y0, r.part_x1, r.part_y1);
     page.programs.push_back({"roughing", gcode::write_program(dir / (stem + ".nc"), r.machining.program, placed)});
     const tooling::Cutter& cutter = p.cut.tool;
     page.tool = {cutter.diameter, cutter.profile_corner_radius(), cutter.describe()};

@@ -269,13 +269,24 @@ PlannerChoice planner_choice(const Json& config, const pocket::CutParams& cut, c
   return ch;
 }
 
+gcode::StockBlock stock_block(const Json& config) {
+  const Json& r = config["rough"];
+  gcode::StockBlock b;
+  b.margin_mm = r["margin_mm"].get<double>();
+  if (!r["stock_offsets_mm"].is_null()) b.offsets_mm = r["stock_offsets_mm"].get<std::array<double, 4>>();
+  if (!r["stock_size_mm"].is_null()) b.size_mm = r["stock_size_mm"].get<std::array<double, 2>>();
+  if (b.offsets_mm && b.size_mm)
+    throw Error("/rough/stock_offsets_mm and /rough/stock_size_mm both given: write one of them");
+  return b;
+}
+
 gcode::Dialect post_dialect(const Json& config, const std::optional<std::string>& flag) {
   gcode::Dialect d = gcode::dialect_named(flag.value_or(config["machine"]["post"].get<std::string>()));
   const std::string origin = config["machine"]["work_origin"].get<std::string>();
   d.origin_at = origin == "stock_corner"   ? gcode::WorkOrigin::StockCorner
                 : origin == "stock_centre" ? gcode::WorkOrigin::StockCentre
                                            : gcode::WorkOrigin::PartCorner;
-  d.stock_margin_mm = config["rough"]["margin_mm"].get<double>();
+  d.stock = stock_block(config);
   return config["machine"]["program_units"].get<std::string>() == "inch" ? gcode::in_inches(d) : d;
 }
 
@@ -289,7 +300,7 @@ rough::Params rough_params(const Json& config, const Json& explicit_pocket, cons
   if (!flags.stock_to_leave && !explicit_pocket.contains("stock_to_leave")) flags.stock_to_leave = kRoughStockToLeaveMm;
   const Json& r = config["rough"];
   rough::Params p;
-  p.margin_mm = r["margin_mm"].get<double>();
+  p.stock = stock_block(config);
   p.top_allowance_mm = r["top_allowance_mm"].get<double>();
   p.raster_mm = r["raster_mm"].get<double>();
   p.contour_tolerance_mm = r["contour_tolerance_mm"].get<double>();

@@ -59,6 +59,9 @@ struct PlannerChoice {
 /// The machine profile of the motion-time model (/machine/…).
 [[nodiscard]] gcode::MotionModel motion_model(const Json& config);
 
+/// The stock block of /rough (margin_mm, stock_offsets_mm or stock_size_mm: one of the last two).
+[[nodiscard]] gcode::StockBlock stock_block(const Json& config);
+
 /// The controller's dialect every program is written in: --post, else /machine/post.
 [[nodiscard]] gcode::Dialect post_dialect(const Json& config, const std::optional<std::string>& flag);
 

@@ -95,7 +95,8 @@ rough::Params params(bool som) {
 void BM_RoughSlicing(benchmark::State& state) {
   const ingest::Mesh& m = wavy_part();
   const rough::Params p = params(true);
-  const double x0 = -p.margin_mm, x1 = kSide + p.margin_mm, top = m.V.col(2).maxCoeff() + p.top_allowance_mm;
+  const double x0 = -p.stock.margin_mm, x1 = kSide + p.stock.margin_mm,
+               top = m.V.col(2).maxCoeff() + p.top_allowance_mm;
   const int nx = static_cast<int>(std::ceil((x1 - x0) / p.raster_mm)) + 1;
   double raster_s = 0;
   std::size_t loops = 0;

@@ -84,12 +84,26 @@ Dialect in_inches(Dialect d) {
   return d;
 }
 
+std::array<double, 4> StockBlock::sides(double width, double depth) const {
+  if (size_mm) {
+    const auto [sx, sy] = *size_mm;
+    if (sx < width - 1e-9 || sy < depth - 1e-9)
+      throw Error("/rough/stock_size_mm: a block of " + format_double(sx) + " × " + format_double(sy) +
+                  " mm is smaller than the part's footprint " + format_double(width) + " × " + format_double(depth) +
+                  " mm");
+    const double mx = std::max(0.0, 0.5 * (sx - width)), my = std::max(0.0, 0.5 * (sy - depth));
+    return {mx, mx, my, my};
+  }
+  if (offsets_mm) return *offsets_mm;
+  return {margin_mm, margin_mm, margin_mm, margin_mm};
+}
+
 Dialect placed(Dialect d, double x0, double y0, double x1, double y1) {
-  const double m = d.stock_margin_mm;
+  const std::array<double, 4> m = d.stock.sides(x1 - x0, y1 - y0);
   switch (d.origin_at) {
     case WorkOrigin::PartCorner: d.origin = {x0, y0}; break;
-    case WorkOrigin::StockCorner: d.origin = {x0 - m, y0 - m}; break;
-    case WorkOrigin::StockCentre: d.origin = {0.5 * (x0 + x1), 0.5 * (y0 + y1)}; break;
+    case WorkOrigin::StockCorner: d.origin = {x0 - m[0], y0 - m[2]}; break;
+    case WorkOrigin::StockCentre: d.origin = {0.5 * (x0 - m[0] + x1 + m[1]), 0.5 * (y0 - m[2] + y1 + m[3])}; break;
   }
   d.origin_placed = true;
   return d;

@@ -40,10 +40,12 @@ std::string fixed(double v, int decimals) {
 /// The stock and its slicing height field; raster points off the part are set below every level's
 /// cut-off (the fill z_min would make the whole stock material at the floor level). O(raster points).
 void make_stock(const ingest::Mesh& mesh, const ingest::Box3& box, const Params& p, Result& res) {
-  res.stock_x0 = box.min.x() - p.margin_mm;
-  res.stock_y0 = box.min.y() - p.margin_mm;
-  res.stock_x1 = box.max.x() + p.margin_mm;
-  res.stock_y1 = box.max.y() + p.margin_mm;
+  const std::array<double, 4> m = p.stock.sides(box.max.x() - box.min.x(), box.max.y() - box.min.y());
+  res.stock_x0 = box.min.x() - m[0];
+  res.stock_x1 = box.max.x() + m[1];
+  res.stock_y0 = box.min.y() - m[2];
+  res.stock_y1 = box.max.y() + m[3];
+  res.part_x0 = box.min.x(), res.part_y0 = box.min.y(), res.part_x1 = box.max.x(), res.part_y1 = box.max.y();
   res.stock_top_part = box.max.z() + p.top_allowance_mm;
   // The height field covers the stock (points off the part carry z_min = the part's lowest point).
   check_work(ingest::raster_work(res.stock_x1 - res.stock_x0, res.stock_y1 - res.stock_y0, p.raster_mm, "stock"),

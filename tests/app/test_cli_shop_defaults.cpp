@@ -144,6 +144,65 @@ TEST(CliShopDefaults, RoughTakesTheOffsetPlannerAndLeavesStockForTheFinishing) {
   EXPECT_EQ(m["stock_to_leave_mm"].get<double>(), 0.2);
 }
 
+TEST(CliShopDefaults, TheStockBlockIsGivenBySideOrBySizeAndTheWorkOriginSitsOnIt) {
+  const fs::path d = fresh_dir("cli_shop_stock");
+  ingest::save_stl_binary(
+      testing_ingest::solid([](double x, double y) { return 10 + 5 * std::sin(x / 10) * std::cos(y / 12); }, 0, 50, 0,
+                            40, 50, 40),
+      d / "part.stl");  // footprint 50 × 40 mm
+  auto stock_of = [&](const std::string& dir) {
+    const json m = json::parse(slurp(d / dir / "part.metrics.json"));
+    const json& s = m["stock"];
+    return std::array<double, 4>{s["x0"].get<double>(), s["x1"].get<double>(), s["y0"].get<double>(),
+                                 s["y1"].get<double>()};
+  };
+  // A saw-cut blank: 2 mm left of the part, 20 right, 5 front and back; the origin at its corner.
+  std::ofstream(d / "sides.json")
+      << R"({"rough": {"stock_offsets_mm": [2, 20, 5, 5]}, "machine": {"work_origin": "stock_corner"}})";
+  auto r = run_millnet("rough -q --config sides.json --mesh part.stl --out a", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto s = stock_of("a");
+  EXPECT_NEAR(s[0], -2, 1e-9);
+  EXPECT_NEAR(s[1], 70, 1e-9);
+  EXPECT_NEAR(s[2], -5, 1e-9);
+  EXPECT_NEAR(s[3], 45, 1e-9);
+  EXPECT_NE(header_line(d / "a" / "part.nc",
+                        "(work origin: X0 Y0 = the stock's lower-left corner [the part's "
+                        "lower-left corner at X2 Y5 mm])"),
+            "");
+  // Its centre: ((−2 + 70) / 2, (−5 + 45) / 2) = (34, 20) in the part's frame.
+  std::ofstream(d / "centre.json")
+      << R"({"rough": {"stock_offsets_mm": [2, 20, 5, 5]}, "machine": {"work_origin": "stock_centre"}})";
+  r = run_millnet("rough -q --config centre.json --mesh part.stl --out b", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(header_line(d / "b" / "part.nc",
+                        "(work origin: X0 Y0 = the stock's centre [the part's lower-left "
+                        "corner at X-34 Y-20 mm])"),
+            "");
+  // A pre-cut 80 × 60 mm blank, centred: 15 mm and 10 mm each side.
+  std::ofstream(d / "size.json") << R"({"rough": {"stock_size_mm": [80, 60]}})";
+  r = run_millnet("rough -q --config size.json --mesh part.stl --out c", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  s = stock_of("c");
+  EXPECT_NEAR(s[0], -15, 1e-9);
+  EXPECT_NEAR(s[1], 65, 1e-9);
+  EXPECT_NEAR(s[2], -10, 1e-9);
+  EXPECT_NEAR(s[3], 50, 1e-9);
+  // Refused in one line: a blank smaller than the part, both keys, a side too many.
+  auto refused = [&](const std::string& config, const std::string& what) {
+    std::ofstream(d / "bad.json") << config;
+    const auto bad = run_millnet("rough --config bad.json --mesh part.stl --out bad", d);
+    EXPECT_EQ(bad.code, 1) << bad.err;
+    EXPECT_NE(bad.err.find(what), std::string::npos) << bad.err;
+    EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+    EXPECT_FALSE(fs::exists(d / "bad" / "part.nc"));
+  };
+  refused(R"({"rough": {"stock_size_mm": [45, 60]}})",
+          "/rough/stock_size_mm: a block of 45 × 60 mm is smaller than the part's footprint 50 × 40 mm");
+  refused(R"({"rough": {"stock_size_mm": [80, 60], "stock_offsets_mm": [1, 1, 1, 1]}})", "write one of them");
+  refused(R"({"rough": {"stock_offsets_mm": [1, 1, 1, 1, 1]}})", "/rough/stock_offsets_mm: expected at most 4 items");
+}
+
 TEST(CliShopDefaults, BoundedEngagementFinishingRunsAtTheChipThinnedFeed) {
   const fs::path d = fresh_dir("cli_shop_thinning");
   ingest::save_stl_binary(testing_ingest::solid(

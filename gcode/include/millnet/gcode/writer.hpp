@@ -22,6 +22,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -29,6 +30,18 @@
 namespace millnet::gcode {
 
 enum class WorkOrigin : std::uint8_t { PartCorner, StockCorner, StockCentre };
+
+/// The stock block around a part's footprint [x0, x1] × [y0, y1] (issue 38; /rough/margin_mm,
+/// /rough/stock_offsets_mm, /rough/stock_size_mm): one margin on every side, or an offset per side,
+/// or a block of a given size centred on the footprint.
+struct StockBlock {
+  double margin_mm = 0;
+  std::optional<std::array<double, 4>> offsets_mm;  ///< x−, x+, y−, y+ (≥ 0)
+  std::optional<std::array<double, 2>> size_mm;     ///< X, Y: the block, centred on the footprint
+  /// The offsets of the block's sides from a footprint of `width` × `depth` (x−, x+, y−, y+). Throws
+  /// millnet::Error when the size is smaller than the footprint (naming /rough/stock_size_mm).
+  [[nodiscard]] std::array<double, 4> sides(double width, double depth) const;
+};
 
 struct Dialect {
   std::string name = "linuxcnc";
@@ -54,7 +67,7 @@ struct Dialect {
   /// Where the work origin (G54's X0 Y0) lies (/machine/work_origin): at the part footprint's
   /// lower-left corner (millnet's own frame), the stock's lower-left corner, or the stock's centre.
   WorkOrigin origin_at = WorkOrigin::PartCorner;
-  double stock_margin_mm = 0;  ///< the stock around the footprint (the stock corner's offset)
+  StockBlock stock;  ///< the stock around each part's footprint (where its corner and centre are)
   /// The work origin in millnet's frame, mm (set per part by placed()): X Y are written as x − origin
   /// and shifted back when a program is read back (written(), shift()).
   std::array<double, 2> origin{0, 0};
@@ -62,7 +75,7 @@ struct Dialect {
 };
 
 /// The dialect with its origin placed for a part whose footprint is [x0, x1] × [y0, y1] (millnet's
-/// frame): origin_at's point of the stock (footprint ± stock_margin_mm). A header line names it.
+/// frame): origin_at's point of the stock (d.stock around the footprint). A header line names it.
 [[nodiscard]] Dialect placed(Dialect d, double x0, double y0, double x1, double y1);
 /// "part footprint's lower-left corner", "stock's lower-left corner", "stock's centre".
 [[nodiscard]] std::string to_string(WorkOrigin w);

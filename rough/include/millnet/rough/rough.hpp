@@ -40,6 +40,7 @@
 #include "millnet/ingest/mesh.hpp"
 #include "millnet/ingest/zlevels.hpp"
 #include "millnet/core/budget.hpp"
+#include "millnet/gcode/writer.hpp"
 #include "millnet/pocket/machining.hpp"
 #include "millnet/pocket/plan.hpp"
 
@@ -53,7 +54,7 @@
 namespace millnet::rough {
 
 struct Params {
-  double margin_mm = 5;         ///< stock = footprint rectangle grown by this
+  gcode::StockBlock stock{5};   ///< the stock block around the footprint (a margin on every side by default)
   double top_allowance_mm = 1;  ///< stock top above the part's highest point
   double raster_mm = 0.25;      ///< height-field raster of the slicing
   double contour_tolerance_mm = 0.05;
@@ -111,6 +112,7 @@ struct Level {
 struct Result {
   double stock_top_part = 0;                                      ///< stock top in the part frame
   double stock_x0 = 0, stock_y0 = 0, stock_x1 = 0, stock_y1 = 0;  ///< stock rectangle, mm
+  double part_x0 = 0, part_y0 = 0, part_x1 = 0, part_y1 = 0;      ///< the part's footprint inside it, mm
   ingest::HeightField field;                                      ///< the slicing height field (part frame)
   std::vector<Level> levels;
   pocket::MachiningResult machining;  ///< program over all levels
