@@ -398,7 +398,9 @@ void finish_cutting_data(FinishSettings& s, const Json& config, const FinishTool
   CuttingRecord& rec = s.cutting;
   const ToolLibrary lib = tool_library(config);
   const std::string id = t["id"].get<std::string>();
-  const bool by_part = !flags.tool && (id == "auto" || (id.empty() && t["diameter"].is_null()));
+  const bool by_part =
+      !flags.tool &&
+      (id == "auto" || (id.empty() && t["diameter"].is_null() && t["type"].get<std::string>() == "ball"));
   if (flags.tool && flags.tool->find(':') == std::string::npos) {
     rec.tool = lib.tool(*flags.tool, "--tool");
     rec.tool_from = "flag --tool";

@@ -54,9 +54,10 @@
 namespace millnet::rough {
 
 struct Params {
-  gcode::StockBlock stock{5};   ///< the stock block around the footprint (a margin on every side by default)
-  double top_allowance_mm = 1;  ///< stock top above the part's highest point
-  double raster_mm = 0.25;      ///< height-field raster of the slicing
+  gcode::StockBlock stock{5, std::nullopt,
+                          std::nullopt};  ///< the stock block around the footprint (a margin on every side by default)
+  double top_allowance_mm = 1;            ///< stock top above the part's highest point
+  double raster_mm = 0.25;                ///< height-field raster of the slicing
   double contour_tolerance_mm = 0.05;
   double floor_allowance_mm = 0;  ///< last level this far above the part's lowest point
   /// A level per flat area (flat_areas) between the stock top and the last level; false: the
