@@ -77,16 +77,21 @@ ingest::Mesh filleted_cavity(double fillet) {
   return m;
 }
 
+/// A W × D mm block `base` mm tall under a dome `height` mm high at its centre, on an nx × ny grid.
+void write_dome(const fs::path& file, double w, double d, double base, double height, int nx, int ny) {
+  ingest::save_stl_binary(testing_ingest::solid(
+                              [=](double x, double y) {
+                                const double u = (x - w / 2) / (w / 2), v = (y - d / 2) / (d / 2);
+                                return base + height * std::max(0.0, 1 - 0.5 * (u * u + v * v));
+                              },
+                              0, w, 0, d, nx, ny),
+                          file);
+}
+
 TEST(CliShopDefaults, FinishPicksItsBallByThePartsSizeAndConcaveRadius) {
   const fs::path d = fresh_dir("cli_shop_finish");
   // A 300 × 200 mm dome, 20 mm high (convex: no concave radius bounds the ball).
-  ingest::save_stl_binary(testing_ingest::solid(
-                              [](double x, double y) {
-                                const double u = (x - 150) / 150, v = (y - 100) / 100;
-                                return 10 + 20 * std::max(0.0, 1 - 0.5 * (u * u + v * v));
-                              },
-                              0, 300, 0, 200, 60, 40),
-                          d / "dome.stl");
+  write_dome(d / "dome.stl", 300, 200, 10, 20, 60, 40);
   auto r = run_millnet("finish -q --mesh dome.stl --strategy 2 --out a", d);
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string tool = header_line(d / "a" / "dome.s2.nc", "(tool: ");
@@ -205,13 +210,7 @@ TEST(CliShopDefaults, TheStockBlockIsGivenBySideOrBySizeAndTheWorkOriginSitsOnIt
 
 TEST(CliShopDefaults, BoundedEngagementFinishingRunsAtTheChipThinnedFeed) {
   const fs::path d = fresh_dir("cli_shop_thinning");
-  ingest::save_stl_binary(testing_ingest::solid(
-                              [](double x, double y) {
-                                const double u = (x - 20) / 20, v = (y - 15) / 15;
-                                return 5 + 8 * std::max(0.0, 1 - 0.5 * (u * u + v * v));
-                              },
-                              0, 40, 0, 30, 40, 30),
-                          d / "dome.stl");
+  write_dome(d / "dome.stl", 40, 30, 5, 8, 40, 30);
   // Ø6 ball in 6061: fz 0.05 × 2 × 24,000 rpm (the machine's limit) = 2400 mm/min. D_eff at the
   // 0.1 mm allowance 2·√(0.1·5.9) = 1.5362 mm; the spec's spacing 2·√(2·3·0.005 − 0.005²) = 0.34634 mm;
   // k = 1.5362 / (2·√(0.34634·(1.5362 − 0.34634))) = 1.1965: 2872 mm/min.
