@@ -71,6 +71,7 @@ Scored score_program(const Design& design, const Frame& frame, const gcode::Prog
   // scallop and Ra, and the rest material no program with this cutter can clear is apart.
   simulate::MetricsOptions mo = sim.metrics_options(cutter);
   mo.judged = design.judged;
+  mo.reach_memo = design.reach_memo;
   s.metrics = simulate::surface_metrics(s.machined, design.heights, mo);
   if (design.solid)  // a z-map gouge is a gouge only when the exact check confirms it (issue 37 §1)
     simulate::confirm_gouges(s.metrics, s.machined, design.heights, *design.solid, {{&program, cutter}},
@@ -82,6 +83,7 @@ void judge_within(Design& design, const finish::Boundary& b) {
   if (b.polygons.empty() && !b.limits_z()) return;
   const simulate::GridSpec& g = design.grid;
   design.judged.assign(design.heights.size(), 1);
+  design.reach_memo = std::make_shared<simulate::ReachMemo>();  // its answers were for the whole surface
   for (std::size_t iy = 0; iy < g.ny; ++iy)  // O(cells · polygon points)
     for (std::size_t ix = 0; ix < g.nx; ++ix) {
       const std::size_t i = iy * g.nx + ix;

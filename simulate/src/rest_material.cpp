@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <utility>
 
 namespace millnet::simulate::metrics {
@@ -34,8 +35,25 @@ std::pair<double, double> gradient(const GridSpec& spec, const std::vector<doubl
 // design's normal at c (ball R·sinθ, bull (R − rc) + rc·sinθ, flat R on a slope), then 0, R/2, R.
 // Each placement is checked against the design sampled every `stride` cells under the cutter.
 // O(t's × (R / (stride·cell))²) per call.
+// The cutter's profile f(d) for 0 ≤ d ≤ R with the arithmetic of tooling::Cutter::profile_height
+// (the same bits), inlined: the test below evaluates it (R / (stride·cell))² times per placement.
+struct Profile {
+  explicit Profile(const tooling::Cutter& c)
+      : drill(c.shape() == tooling::CutterType::Drill), r(c.profile_corner_radius()), a(c.radius() - r),
+        tan_half(std::tan(0.5 * c.point_angle_deg * std::numbers::pi / 180)) {}
+  [[nodiscard]] double at(double d) const {
+    if (drill) return d / tan_half;
+    if (d <= a) return 0.0;
+    const double u = d - a;
+    return r - std::sqrt(std::max(0.0, r * r - u * u));
+  }
+  bool drill;
+  double r, a, tan_half;
+};
+
 bool reachable(const GridSpec& spec, const std::vector<double>& design, const tooling::Cutter& cutter, std::size_t c,
                std::size_t stride, double tol) {
+  const Profile f(cutter);
   const double dc = design[c];
   if (std::isnan(dc)) return true;
   const auto [gx, gy] = gradient(spec, design, c);
@@ -56,7 +74,7 @@ bool reachable(const GridSpec& spec, const std::vector<double>& design, const to
   const auto span = static_cast<std::ptrdiff_t>(std::ceil(R / spec.cell));
   for (const double t : {contact, 0.0, 0.5 * R, R}) {
     const double px = cx + t * ux, py = cy + t * uy;
-    const double tip = dc - cutter.profile_height(std::min(t, R));
+    const double tip = dc - f.at(std::min(t, R));
     const auto pix = static_cast<std::ptrdiff_t>(std::floor((px - spec.x0) / spec.cell));
     const auto piy = static_cast<std::ptrdiff_t>(std::floor((py - spec.y0) / spec.cell));
     bool ok = true;
@@ -72,7 +90,7 @@ bool reachable(const GridSpec& spec, const std::vector<double>& design, const to
         if (r2 > R * R) continue;
         const double r = std::sqrt(r2);
         const double dq = design[static_cast<std::size_t>(qy * nx + qx)];
-        if (dq > tip + cutter.profile_height(r) + tol) {
+        if (dq > tip + f.at(r) + tol) {
           ok = false;
           break;
         }
@@ -150,12 +168,23 @@ void split_remaining(const ZMap& machined, const std::vector<double>& design, co
   // The rest test runs once per block, at its probe; every cell left in the block takes its answer.
   const std::vector<std::size_t> probe = block_probes(spec, above, opt.tolerance_mm, k);
   std::vector<std::uint8_t> reach(probe.size(), 1);  // 1 = reachable, 0 = rest
+  // A probe another program on this design already tested keeps its answer (ReachMemo): each
+  // block's probe is its own cell, so the parallel writes never meet.
+  std::vector<std::uint8_t>* memo =
+      opt.reach_memo ? &opt.reach_memo->answers(spec, cutter, k, opt.tolerance_mm) : nullptr;
   const int nthreads = opt.threads > 0 ? opt.threads : std::max(1, omp_get_max_threads());
   const auto nl = static_cast<std::ptrdiff_t>(reach.size());
 #pragma omp parallel for schedule(dynamic, 64) num_threads(nthreads)
   for (std::ptrdiff_t l = 0; l < nl; ++l) {
     const auto ul = static_cast<std::size_t>(l);
-    if (probe[ul] != SIZE_MAX) reach[ul] = reachable(spec, design, cutter, probe[ul], k, opt.tolerance_mm) ? 1 : 0;
+    const std::size_t c = probe[ul];
+    if (c == SIZE_MAX) continue;
+    std::uint8_t known = memo != nullptr ? (*memo)[c] : 0;
+    if (known == 0) {
+      known = reachable(spec, design, cutter, c, k, opt.tolerance_mm) ? 1 : 2;
+      if (memo != nullptr) (*memo)[c] = known;
+    }
+    reach[ul] = known == 1 ? 1 : 0;
   }
   const auto steps = static_cast<std::ptrdiff_t>(std::ceil(cutter.radius() / spec.cell));
   std::size_t rest = 0, scallop = 0, uncut = 0;
@@ -187,3 +216,29 @@ void split_remaining(const ZMap& machined, const std::vector<double>& design, co
 }
 
 }  // namespace millnet::simulate::metrics
+
+namespace millnet::simulate {
+
+std::vector<std::uint8_t>& ReachMemo::answers(const GridSpec& grid, const tooling::Cutter& cutter,
+                                              std::size_t reach_every, double tolerance_mm) {
+  const auto same_grid = [&] {
+    return grid.x0 == grid_.x0 && grid.y0 == grid_.y0 && grid.cell == grid_.cell && grid.nx == grid_.nx &&
+           grid.ny == grid_.ny;
+  };
+  const auto same_cutter = [&] {
+    return cutter.shape() == cutter_.shape() && cutter.diameter == cutter_.diameter &&
+           cutter.profile_corner_radius() == cutter_.profile_corner_radius() &&
+           cutter.point_angle_deg == cutter_.point_angle_deg;
+  };
+  if (answers_.size() != grid.cells() || !same_grid() || !same_cutter() || reach_every != reach_every_ ||
+      tolerance_mm != tolerance_mm_) {
+    grid_ = grid;
+    cutter_ = cutter;
+    reach_every_ = reach_every;
+    tolerance_mm_ = tolerance_mm;
+    answers_.assign(grid.cells(), 0);
+  }
+  return answers_;
+}
+
+}  // namespace millnet::simulate

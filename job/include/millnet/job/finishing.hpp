@@ -61,6 +61,9 @@ struct Design {
   std::shared_ptr<const simulate::PartSolid> solid;
   /// The surface a finishing program is judged on (simulate::MetricsOptions::judged); empty = all.
   std::vector<std::uint8_t> judged;
+  /// The rest-material test's answers, shared by every program scored on this design (its
+  /// strategies): computed once per part instead of once per program (simulate::ReachMemo).
+  std::shared_ptr<simulate::ReachMemo> reach_memo = std::make_shared<simulate::ReachMemo>();
 };
 
 /// Judges finishing only inside a machining boundary (issue 38): the cells whose centre the

@@ -22,6 +22,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -163,6 +164,31 @@ SweepResult machine(ZMap& zmap, const gcode::Program& program, const tooling::Cu
 // along Y. Cells whose design height is NaN are not part of the surface; profile samples there
 // are skipped, and a cell with fewer than 3 samples has no Ra.
 
+/// The rest-material test's answers (MetricsOptions::reach_every, SurfaceMetrics::rest_area_mm2)
+/// kept between the metrics of several programs machined with one cutter on one design: the test
+/// asks whether the cutter can touch the design at a cell at all, which depends on the design, the
+/// cutter, the grid, the block size and the tolerance only, never on the program. A part's five
+/// strategies then test each probed cell once instead of five times (the test was 56 % of
+/// `finish --strategy all --simulate` with a Ø6 ball). The answers are the ones the test gives, so
+/// the figures are the same bytes with or without a memo.
+/// Contract: one memo serves one design (heights and judged surface); the caller that owns the
+/// design owns its memo (job::Design). A call with another grid, cutter, block size or tolerance
+/// starts it afresh. Not for concurrent surface_metrics calls.
+class ReachMemo {
+public:
+  /// Per cell: 0 not tested yet, 1 reachable, 2 rest material. Sized to the grid's cells; emptied
+  /// first when any of the keys differ from the last call's.
+  std::vector<std::uint8_t>& answers(const GridSpec& grid, const tooling::Cutter& cutter, std::size_t reach_every,
+                                     double tolerance_mm);
+
+private:
+  GridSpec grid_;
+  tooling::Cutter cutter_;
+  std::size_t reach_every_ = 0;
+  double tolerance_mm_ = 0;
+  std::vector<std::uint8_t> answers_;
+};
+
 struct MetricsOptions {
   double allowance_mm = 0;          ///< stock the operation should leave on the design
   double tolerance_mm = 0.002;      ///< gouge / remaining-material tolerance
@@ -185,6 +211,8 @@ struct MetricsOptions {
   /// holds material left, at the block's such cell nearest its centre; every cell left in the
   /// block takes that answer. The test samples the design under the cutter at the same stride.
   std::size_t reach_every = 5;
+  /// The rest test's answers shared by the programs scored on one design (null: none kept).
+  std::shared_ptr<ReachMemo> reach_memo;
   /// The surface specification (issue 37 §2): a cell is in spec when some move machined it and the
   /// material it keeps over the design, along the normal ((e − allowance)·cos(slope)), is at most
   /// spec_limit_mm (the spec's scallop + form tolerance). NaN: no specification, nothing measured.
