@@ -84,7 +84,7 @@ void judge_within(Design& design, const finish::Boundary& b) {
   const simulate::GridSpec& g = design.grid;
   design.judged.assign(design.heights.size(), 1);
   design.reach_memo = std::make_shared<simulate::ReachMemo>();  // its answers were for the whole surface
-  for (std::size_t iy = 0; iy < g.ny; ++iy)  // O(cells · polygon points)
+  for (std::size_t iy = 0; iy < g.ny; ++iy)                     // O(cells · polygon points)
     for (std::size_t ix = 0; ix < g.nx; ++ix) {
       const std::size_t i = iy * g.nx + ix;
       const double z = design.heights[i];

@@ -39,7 +39,9 @@ std::pair<double, double> gradient(const GridSpec& spec, const std::vector<doubl
 // (the same bits), inlined: the test below evaluates it (R / (stride·cell))² times per placement.
 struct Profile {
   explicit Profile(const tooling::Cutter& c)
-      : drill(c.shape() == tooling::CutterType::Drill), r(c.profile_corner_radius()), a(c.radius() - r),
+      : drill(c.shape() == tooling::CutterType::Drill),
+        r(c.profile_corner_radius()),
+        a(c.radius() - r),
         tan_half(std::tan(0.5 * c.point_angle_deg * std::numbers::pi / 180)) {}
   [[nodiscard]] double at(double d) const {
     if (drill) return d / tan_half;
@@ -101,27 +103,45 @@ bool reachable(const GridSpec& spec, const std::vector<double>& design, const to
   return false;
 }
 
-// Per k × k block of cells, the cell with material left (above > tol) nearest the block's centre
-// (first in row order on a tie); SIZE_MAX where the block has none. Blocks are numbered row by
-// row, ⌈nx / k⌉ per row.
-std::vector<std::size_t> block_probes(const GridSpec& spec, const std::vector<double>& above, double tol,
-                                      std::size_t k) {
+// Per k × k block of cells that holds material left (above > tol), the block's probe: its cell with
+// a design height nearest the block's centre (first in row order on a tie); SIZE_MAX for the other
+// blocks. The probe depends on the design only, never on the program, so every program machined on
+// one design asks the rest test the same questions (ReachMemo answers them once) and the rest
+// material is the same for every strategy, as SurfaceMetrics says. Blocks are numbered row by
+// row, ⌈nx / k⌉ per row. O(cells), no division per cell.
+std::vector<std::size_t> block_probes(const GridSpec& spec, const std::vector<double>& design,
+                                      const std::vector<double>& above, double tol, std::size_t k) {
   const std::size_t nx = spec.nx, ny = spec.ny;
   const std::size_t lx = (nx + k - 1) / k, ly = (ny + k - 1) / k;
   std::vector<std::size_t> probe(lx * ly, SIZE_MAX);
   std::vector<std::size_t> probe_d2(lx * ly, SIZE_MAX);
-  for (std::size_t iy = 0; iy < ny; ++iy)
-    for (std::size_t ix = 0; ix < nx; ++ix) {
-      if (!(above[iy * nx + ix] > tol)) continue;
-      const std::size_t b = iy / k * lx + ix / k;
-      const auto dx = static_cast<std::ptrdiff_t>(2 * (ix % k)) - static_cast<std::ptrdiff_t>(k - 1);
-      const auto dy = static_cast<std::ptrdiff_t>(2 * (iy % k)) - static_cast<std::ptrdiff_t>(k - 1);
-      const auto d2 = static_cast<std::size_t>(dx * dx + dy * dy);
-      if (d2 < probe_d2[b]) {
-        probe_d2[b] = d2;
-        probe[b] = iy * nx + ix;
+  std::vector<std::uint8_t> left(lx * ly, 0);
+  const auto half = static_cast<std::ptrdiff_t>(k - 1);
+  for (std::size_t iy = 0, by = 0, ry = 0; iy < ny; ++iy) {
+    const std::ptrdiff_t dy = 2 * static_cast<std::ptrdiff_t>(ry) - half;
+    for (std::size_t ix = 0, bx = 0, rx = 0; ix < nx; ++ix) {
+      const std::size_t i = iy * nx + ix, b = by * lx + bx;
+      if (above[i] > tol) left[b] = 1;
+      if (!std::isnan(design[i])) {
+        const std::ptrdiff_t dx = 2 * static_cast<std::ptrdiff_t>(rx) - half;
+        const auto d2 = static_cast<std::size_t>(dx * dx + dy * dy);
+        if (d2 < probe_d2[b]) {
+          probe_d2[b] = d2;
+          probe[b] = i;
+        }
+      }
+      if (++rx == k) {
+        rx = 0;
+        ++bx;
       }
     }
+    if (++ry == k) {
+      ry = 0;
+      ++by;
+    }
+  }
+  for (std::size_t b = 0; b < probe.size(); ++b)  // O(blocks)
+    if (left[b] == 0) probe[b] = SIZE_MAX;
   return probe;
 }
 
@@ -165,8 +185,9 @@ void split_remaining(const ZMap& machined, const std::vector<double>& design, co
   cutter.check();
   const std::size_t nx = spec.nx, ny = spec.ny, k = opt.reach_every, lx = (nx + k - 1) / k;
   auto left = [&](std::size_t i) { return above[i] > opt.tolerance_mm; };  // false on NaN
-  // The rest test runs once per block, at its probe; every cell left in the block takes its answer.
-  const std::vector<std::size_t> probe = block_probes(spec, above, opt.tolerance_mm, k);
+  // The rest test runs once per block that holds material left, at its probe; every cell left in the
+  // block takes its answer.
+  const std::vector<std::size_t> probe = block_probes(spec, design, above, opt.tolerance_mm, k);
   std::vector<std::uint8_t> reach(probe.size(), 1);  // 1 = reachable, 0 = rest
   // A probe another program on this design already tested keeps its answer (ReachMemo): each
   // block's probe is its own cell, so the parallel writes never meet.

@@ -168,7 +168,7 @@ SweepResult machine(ZMap& zmap, const gcode::Program& program, const tooling::Cu
 /// kept between the metrics of several programs machined with one cutter on one design: the test
 /// asks whether the cutter can touch the design at a cell at all, which depends on the design, the
 /// cutter, the grid, the block size and the tolerance only, never on the program. A part's five
-/// strategies then test each probed cell once instead of five times (the test was 56 % of
+/// strategies then test each block once instead of five times (the test was 56 % of
 /// `finish --strategy all --simulate` with a Ø6 ball). The answers are the ones the test gives, so
 /// the figures are the same bytes with or without a memo.
 /// Contract: one memo serves one design (heights and judged surface); the caller that owns the
@@ -208,7 +208,8 @@ struct MetricsOptions {
   /// and scallop_max_mm is max(e − allowance) over the cells some move lowered.
   std::optional<tooling::Cutter> cutter;
   /// The rest-material test runs once per block of reach_every × reach_every cells (≥ 1) that
-  /// holds material left, at the block's such cell nearest its centre; every cell left in the
+  /// holds material left, at the block's cell with a design height nearest its centre (the same cell
+  /// whatever the program: rest material is the same for every strategy); every cell left in the
   /// block takes that answer. The test samples the design under the cutter at the same stride.
   std::size_t reach_every = 5;
   /// The rest test's answers shared by the programs scored on one design (null: none kept).
