@@ -8,6 +8,7 @@ PKGS=(build-essential cmake ninja-build pkg-config
       libocct-data-exchange-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev libocct-foundation-dev  # STEP/IGES (MILLNET_CAD)
       libopenmpi-dev openmpi-bin   # MPI: mpirun -np K millnet dataset|predict|finish (issue 10)
       linuxcnc-uspace   # LinuxCNC's rs274 interpreter: tests check that every program millnet writes is accepted
+      zlib1g-dev   # the preview pages pack their data (gzip + base64)
       libjs-three libjs-chart.js   # three.js r111 + OrbitControls and Chart.js, inlined into the HTML preview pages
       chromium fonts-dejavu-core   # headless Chromium: the preview pages are opened and screenshot by tests/app/test_preview_browser.cpp
       clang libclang-rt-14-dev libomp-14-dev  # libFuzzer and clang's OpenMP: scripts/fuzz.sh

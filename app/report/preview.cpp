@@ -1,6 +1,8 @@
 // HTML previews: see preview.hpp. The page's script is at the bottom of this file (kPageScript).
 #include "millnet/report/preview.hpp"
 
+#include "millnet/report/page_data.hpp"
+
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/gcode/reader.hpp"
@@ -256,32 +258,33 @@ namespace {
 
 /// The programs' paths within the point budget, shared in proportion to their tessellated size; a
 /// note when that decimated them.
-std::vector<PreviewPath> budgeted_paths(const PreviewInput& in, std::vector<std::string>& notes) {
+std::vector<PreviewPath> budgeted_paths(const PreviewInput& in, const PreviewLimits& limits,
+                                        std::vector<std::string>& notes) {
   std::vector<PreviewPath> paths;
   std::size_t total = 0;
   for (const PreviewProgram& p : in.programs) {
-    paths.push_back(preview_path(p, std::numeric_limits<std::size_t>::max(), in.limits.arc_step_deg));
+    paths.push_back(preview_path(p, std::numeric_limits<std::size_t>::max(), limits.arc_step_deg));
     total += paths.back().points_before;
   }
-  if (total > in.limits.max_path_points) {
+  if (total > limits.max_path_points) {
     for (std::size_t k = 0; k < paths.size(); ++k) {
       const double share = static_cast<double>(paths[k].points_before) / static_cast<double>(total);
-      const auto budget = static_cast<std::size_t>(std::floor(share * static_cast<double>(in.limits.max_path_points)));
-      paths[k] = preview_path(in.programs[k], std::max<std::size_t>(budget, 2), in.limits.arc_step_deg);
+      const auto budget = static_cast<std::size_t>(std::floor(share * static_cast<double>(limits.max_path_points)));
+      paths[k] = preview_path(in.programs[k], std::max<std::size_t>(budget, 2), limits.arc_step_deg);
     }
     notes.push_back("decimated for display: path points " + std::to_string(total) + " → " +
-                    std::to_string(in.limits.max_path_points) + " (evenly spaced; first and last kept)");
+                    std::to_string(limits.max_path_points) + " (evenly spaced; first and last kept)");
   }
   return paths;
 }
 
 /// Surface decimation: a stride s over rows and columns within the cell budget (a note when > 1).
-std::size_t surface_stride(const PreviewInput& in, std::vector<std::string>& notes) {
+std::size_t surface_stride(const PreviewInput& in, const PreviewLimits& limits, std::vector<std::string>& notes) {
   std::size_t stride = 1;
   if (!in.surface) return stride;
   const auto rows = static_cast<std::size_t>(in.surface->z.rows()),
              cols = static_cast<std::size_t>(in.surface->z.cols());
-  while ((rows + stride - 1) / stride * ((cols + stride - 1) / stride) > in.limits.max_surface_cells) ++stride;
+  while ((rows + stride - 1) / stride * ((cols + stride - 1) / stride) > limits.max_surface_cells) ++stride;
   if (stride > 1) {
     notes.push_back("decimated for display: surface " + std::to_string(rows) + "×" + std::to_string(cols) +
                     " cells shown every " + std::to_string(stride) + " cells");
@@ -377,12 +380,13 @@ void write_surface(std::ostringstream& o, const PreviewSurface& s, std::size_t s
 
 }  // namespace
 
-std::string preview_data_json(const PreviewInput& in) {
+namespace {
+std::string data_json(const PreviewInput& in, const PreviewLimits& limits) {
   std::ostringstream o;
   o << "{\"title\":" << jstr(in.title) << ",\"notes\":";
   std::vector<std::string> notes = in.notes;
-  const std::vector<PreviewPath> paths = budgeted_paths(in, notes);
-  const std::size_t stride = surface_stride(in, notes);
+  const std::vector<PreviewPath> paths = budgeted_paths(in, limits, notes);
+  const std::size_t stride = surface_stride(in, limits, notes);
   const std::size_t face_stride = part_face_stride(in, notes);
   o << jarr(notes, [](const std::string& s) { return jstr(s); }) << ",\"programs\":[";
   for (std::size_t k = 0; k < paths.size(); ++k) {
@@ -400,6 +404,9 @@ std::string preview_data_json(const PreviewInput& in) {
     << ",\"rapid\":" << jstr(hex(kRapidColour)) << ",\"entry\":" << jstr(hex(kEntryColour)) << "}}";
   return o.str();
 }
+}  // namespace
+
+std::string preview_data_json(const PreviewInput& in) { return data_json(in, in.limits); }
 
 PreviewAssets preview_assets() {
   const char* env = std::getenv("MILLNET_JS_DIR");
@@ -414,11 +421,32 @@ namespace {
 
 const char* error_trap_script() { return kErrorTrap; }
 
+namespace {
+/// The page's data element within limits.max_page_bytes (with `fixed_bytes` of scripts beside it):
+/// while it is larger, the path and surface budgets shrink in proportion to the excess (at most 8
+/// times, then what fits is what remains). The decimation notes say what the page shows.
+std::string fitted_page_data(const PreviewInput& in, std::size_t fixed_bytes) {
+  PreviewLimits limits = in.limits;
+  const std::size_t room =
+      in.limits.max_page_bytes > fixed_bytes + 200000 ? in.limits.max_page_bytes - fixed_bytes - 200000 : 1;
+  std::string data = embed_page_data(data_json(in, limits));
+  for (int k = 0; k < 8 && data.size() > room; ++k) {  // O(page) each
+    const double f = 0.95 * static_cast<double>(room) / static_cast<double>(data.size());
+    limits.max_path_points =
+        std::max<std::size_t>(2, static_cast<std::size_t>(f * static_cast<double>(limits.max_path_points)));
+    limits.max_surface_cells =
+        std::max<std::size_t>(1, static_cast<std::size_t>(f * static_cast<double>(limits.max_surface_cells)));
+    data = embed_page_data(data_json(in, limits));
+  }
+  return data;
+}
+}  // namespace
+
 std::string preview_html(const PreviewInput& in) {
   const PreviewAssets a = preview_assets();
   const std::string three = read_asset(a.three, "libjs-three");
   const std::string orbit = read_asset(a.orbit_controls, "libjs-three");
-  std::string data = preview_data_json(in);
+  const std::string data = fitted_page_data(in, three.size() + orbit.size());
   std::ostringstream o;
   o << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" << html_escape(in.title)
     << " — millnet preview</title>\n<style>" << kPageStyle << "</style>\n"
@@ -426,8 +454,7 @@ std::string preview_html(const PreviewInput& in) {
     << "<div id=\"panel\" style=\"width:" << kPanelWidthPx - 16
     << "px\"></div><div id=\"view\" style=\"left:" << kPanelWidthPx << "px\"></div>\n<script>" << three
     << "\n</script>\n<script>" << orbit << "\n</script>\n"
-    << "<script type=\"application/json\" id=\"millnet-data\">" << data << "</script>\n<script>" << kPageScript
-    << "</script>\n</body></html>\n";
+    << data << "\n<script>" << kPageScript << "</script>\n</body></html>\n";
   return o.str();
 }
 

@@ -1,6 +1,8 @@
 // The setup sheet (setup_sheet.hpp): tables and two inline SVG views, printable.
 #include "millnet/report/setup_sheet.hpp"
 
+#include "millnet/report/page_data.hpp"
+
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/report/preview.hpp"
 
@@ -28,22 +30,6 @@ std::string num(double v, int decimals) {
   return s;
 }
 std::string esc(const std::string& s) { return escape_html(s); }
-
-std::string base64(const std::vector<uchar>& bytes) {
-  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  for (std::size_t i = 0; i < bytes.size(); i += 3) {  // O(bytes)
-    const unsigned n = static_cast<unsigned>(bytes[i]) << 16 |
-                       (i + 1 < bytes.size() ? static_cast<unsigned>(bytes[i + 1]) << 8 : 0U) |
-                       (i + 2 < bytes.size() ? static_cast<unsigned>(bytes[i + 2]) : 0U);
-    out += kAlphabet[n >> 18 & 63];
-    out += kAlphabet[n >> 12 & 63];
-    out += i + 1 < bytes.size() ? kAlphabet[n >> 6 & 63] : '=';
-    out += i + 2 < bytes.size() ? kAlphabet[n & 63] : '=';
-  }
-  return out;
-}
 
 /// The colour map's colour at t in [0, 1] as "#rrggbb" (OpenCV's viridis, the picture's own).
 std::string viridis_hex(double t) {
@@ -88,7 +74,7 @@ std::string part_png(const SetupSheet& s, int max_px, double& lo, double& hi, st
   cv::merge(ch, bgra);
   std::vector<uchar> png;
   cv::imencode(".png", bgra, png, {cv::IMWRITE_PNG_COMPRESSION, 6});
-  return "data:image/png;base64," + base64(png);
+  return "data:image/png;base64," + base64(std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
 }
 
 /// The view's frame: mm → px, y up.

@@ -2,6 +2,7 @@
 // bytes twice, and one clear line with nothing written for an unreadable program, a missing file or
 // a bad tool.
 #include "app/cli_runner.hpp"
+#include "millnet/report/page_data.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -14,13 +15,7 @@ namespace millnet::testing {
 namespace {
 namespace fs = std::filesystem;
 
-nlohmann::json page_data(const fs::path& html) {
-  const std::string s = slurp(html);
-  const std::string open = "id=\"millnet-data\">";
-  const auto a = s.find(open), b = s.find("</script>", a);
-  EXPECT_NE(a, std::string::npos);
-  return nlohmann::json::parse(s.substr(a + open.size(), b - a - open.size()));
-}
+nlohmann::json page_data(const fs::path& html) { return nlohmann::json::parse(report::page_data_json(slurp(html))); }
 
 int lines_of(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 

@@ -4,6 +4,7 @@
 // and a missing Debian script is one clear error.
 #include "millnet/core/error.hpp"
 #include "millnet/gcode/reader.hpp"
+#include "millnet/report/page_data.hpp"
 #include "millnet/report/preview.hpp"
 
 #include <nlohmann/json.hpp>
@@ -158,15 +159,53 @@ TEST(PreviewPage, BigJobStaysUnder50MbInlinesThreeJsAndNeverClosesItsScriptEarly
   in.title = "big </script> <b>";
   in.programs.push_back(read_preview_program("big", g.str(), "big.nc"));
   const std::string html = preview_html(in);
-  EXPECT_LT(html.size(), 50u * 1024 * 1024);
+  EXPECT_LE(html.size(), in.limits.max_page_bytes);  // issue 37 §3: pages ≤ 5 MB
   EXPECT_NE(html.find("OrbitControls"), std::string::npos);
-  EXPECT_NE(html.find("decimated for display: path points 400004"), std::string::npos);
+  EXPECT_NE(html.find("id=\"millnet-data-gz\""), std::string::npos);  // packed: gzip + base64
+  EXPECT_NE(page_data_json(html).find("decimated for display: path points 400004 → 200000"), std::string::npos);
+  // A smaller page budget: decimated further than the point budget until the page fits.
+  PreviewInput tight = in;
+  tight.limits.max_page_bytes = 2000000;
+  const std::string small = preview_html(tight);
+  EXPECT_LE(small.size(), tight.limits.max_page_bytes);
+  const json data = json::parse(page_data_json(small));
+  const std::string note = data["notes"][0].get<std::string>();
+  EXPECT_NE(note.find("decimated for display: path points 400004 → "), std::string::npos) << note;
+  const auto shown = data["programs"][0]["kind"].size();
+  EXPECT_LT(shown, 200000u);
+  EXPECT_GT(shown, 20000u);  // shrunk in proportion to the excess, not to nothing
   // exactly the page's own script elements close: three.js, OrbitControls, data, page script, error trap
   std::size_t closes = 0;
   for (std::size_t p = html.find("</script"); p != std::string::npos; p = html.find("</script", p + 1)) ++closes;
   EXPECT_EQ(closes, 5u);
   EXPECT_EQ(html.find("<b>"), std::string::npos);
   EXPECT_EQ(preview_html(in), html);  // same input, same bytes
+}
+
+TEST(PreviewPage, DataOverAMegabyteIsPackedAndReadsBackToTheSameJson) {
+  PreviewInput in;
+  in.title = "t";
+  in.programs.push_back(read_preview_program("t", kProgram, "t.nc"));
+  const std::string small = preview_html(in);  // small data stays readable JSON in the page
+  EXPECT_NE(small.find("id=\"millnet-data\""), std::string::npos);
+  EXPECT_EQ(page_data_json(small), preview_data_json(in));
+  std::ostringstream g;
+  g << "G21 G90 G17\nG0 Z5\nG0 X0 Y0\nG1 Z-1 F200\n";
+  for (int i = 0; i < 30000; ++i) g << "G1 X" << (i % 2 ? 100 : 0) << " Y" << i * 0.013 << " F" << 500 + i % 7 << "\n";
+  g << "G0 Z5\nM30\n";
+  in.programs = {read_preview_program("mid", g.str(), "mid.nc")};
+  const std::string plain = preview_data_json(in);
+  ASSERT_GT(plain.size(), kPlainDataBytes);
+  const std::string packed = preview_html(in);
+  EXPECT_NE(packed.find("id=\"millnet-data-gz\""), std::string::npos);
+  EXPECT_EQ(packed.find("id=\"millnet-data\""), std::string::npos);
+  EXPECT_EQ(page_data_json(packed), plain);  // under the page budget: nothing decimated, bytes kept
+  EXPECT_LT(packed.size(), plain.size());
+  EXPECT_EQ(preview_html(in), packed);  // gzip without a time stamp: same input, same bytes
+  EXPECT_EQ(base64("Man"), "TWFu");     // RFC 4648 §10's vectors
+  EXPECT_EQ(base64("fo"), "Zm8=");
+  EXPECT_EQ(base64("f"), "Zg==");
+  EXPECT_THROW((void)page_data_json("<html></html>"), Error);
 }
 
 TEST(PreviewPage, MissingDebianScriptIsOneClearError) {

@@ -148,6 +148,20 @@ TEST(PreviewBrowser, FinishPageWithSimulationShowsTheSurfaceAndPaths) {
   expect_good_page(d / "o" / "dome.s1.html", d, feed_colours());
 }
 
+TEST(PreviewBrowser, APackedPageInflatesItsDataAndRenders) {
+  if (!have_chromium()) GTEST_SKIP() << kChromium << " is not installed (scripts/setup.sh installs chromium)";
+  const fs::path d = fresh_dir("preview_packed");
+  std::ofstream g(d / "long.nc");
+  g << "G21 G90 G17\nG0 Z5\nG0 X0 Y0\nG1 Z-1 F200\n";
+  for (int i = 0; i < 30000; ++i) g << "G1 X" << (i % 2 ? 60 : 0) << " Y" << i * 0.002 << " F" << 500 + i % 7 << "\n";
+  g << "G0 Z5\nM30\n";
+  g.close();
+  const auto r = run_millnet("view long.nc --quiet --out o", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(slurp(d / "o" / "long.html").find("id=\"millnet-data-gz\""), std::string::npos);  // data over 1 MB
+  expect_good_page(d / "o" / "long.html", d, feed_colours());
+}
+
 TEST(PreviewBrowser, SetupSheetDrawsThePartStockAndOrigin) {
   if (!have_chromium()) GTEST_SKIP() << kChromium << " is not installed (scripts/setup.sh installs chromium)";
   const fs::path d = fresh_dir("preview_setup");

@@ -79,6 +79,9 @@ struct PreviewLimits {
   std::size_t max_surface_cells = 250000;  ///< surface cells shown
   std::size_t max_mesh_faces = 400000;     ///< part triangles shown
   double arc_step_deg = 6;                 ///< arc tessellation angle
+  /// The whole page (three.js and OrbitControls, ~0.9 MB, included): its data is packed (gzip +
+  /// base64, report/page_data.hpp) and the path and surface budgets shrink until it fits.
+  std::size_t max_page_bytes = 5000000;
 };
 
 struct PreviewInput {
@@ -123,7 +126,8 @@ struct PreviewPath {
 /// Tessellates a program into display points, keeping at most `max_points`.
 [[nodiscard]] PreviewPath preview_path(const PreviewProgram& program, std::size_t max_points, double arc_step_deg);
 
-/// The JSON the page embeds (numbers rounded to µm): exposed for tests.
+/// The JSON the page embeds (numbers rounded to µm) within input.limits' point and cell budgets
+/// (preview_html may shrink them to fit max_page_bytes): exposed for tests.
 [[nodiscard]] std::string preview_data_json(const PreviewInput& input);
 
 /// The whole page.
