@@ -58,7 +58,8 @@ std::string gunzip(std::string_view in) {
 std::string unbase64(std::string_view in) {
   std::array<int, 256> value{};
   value.fill(-1);
-  for (std::size_t k = 0; k < kAlphabet.size(); ++k) value[static_cast<unsigned char>(kAlphabet[k])] = static_cast<int>(k);
+  for (std::size_t k = 0; k < kAlphabet.size(); ++k)
+    value[static_cast<unsigned char>(kAlphabet[k])] = static_cast<int>(k);
   std::string out;
   std::uint32_t acc = 0;
   int bits = 0;

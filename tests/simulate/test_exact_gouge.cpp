@@ -196,3 +196,69 @@ TEST(ExactGouge, PenetrationAtOnePositionForEachCutter) {
   EXPECT_LE(penetration_at(solid, tooling::Cutter::flat(4), {12.125, 15, 4.8}), 0.0);
   EXPECT_NEAR(penetration_at(solid, tooling::Cutter::bull(4, 1), {1.5, 10, -0.1}), 0.1, 1e-9);
 }
+
+namespace {
+/// A mushroom seen from above (issue 37 §1's undercut): the plate of 20 × 20 mm at Z −8 (bottom
+/// −10) with a stem [8.125, 11.875]² up to Z 0, and a cap [4.125, 15.875]² from Z 0 to Z 2 resting
+/// on it, 4 mm over the plate all round: a closed box of its own, so the cap's underside faces down
+/// over the plate. A 3-axis machine sees the cap and the column below it as solid.
+ingest::Mesh mushroom() {
+  const std::vector<double> b{0, 8.125, 11.875, 20};
+  ingest::Mesh m = columns(b, b, {{-8, -8, -8}, {-8, 0, -8}, {-8, -8, -8}}, -10);
+  const double x0 = 4.125, x1 = 15.875, z0 = 0, z1 = 2;
+  const std::array<std::array<double, 3>, 8> c{
+      {{x0, x0, z0}, {x1, x0, z0}, {x1, x1, z0}, {x0, x1, z0}, {x0, x0, z1}, {x1, x0, z1}, {x1, x1, z1}, {x0, x1, z1}}};
+  // Outward normals: bottom down, top up, the four sides out.
+  const std::array<std::array<int, 3>, 12> f{{{0, 2, 1},
+                                              {0, 3, 2},
+                                              {4, 5, 6},
+                                              {4, 6, 7},
+                                              {0, 1, 5},
+                                              {0, 5, 4},
+                                              {1, 2, 6},
+                                              {1, 6, 5},
+                                              {2, 3, 7},
+                                              {2, 7, 6},
+                                              {3, 0, 4},
+                                              {3, 4, 7}}};
+  const Eigen::Index v0 = m.V.rows(), f0 = m.F.rows();
+  m.V.conservativeResize(v0 + 8, 3);
+  m.F.conservativeResize(f0 + 12, 3);
+  for (Eigen::Index i = 0; i < 8; ++i)
+    for (int k = 0; k < 3; ++k) m.V(v0 + i, k) = c[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
+  for (Eigen::Index i = 0; i < 12; ++i)
+    for (int k = 0; k < 3; ++k)
+      m.F(f0 + i, k) = static_cast<int>(v0) + f[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
+  return m;
+}
+}  // namespace
+
+// Beside the cap's edge (x = 4.125, on a line of cell centres) down on the plate (tip Z −8), the
+// ball's side touching the edge's vertical: the cells on the edge read the cap's top (Z 2) and are
+// cut to −7 by the ball's rim, a "gouge" (9 mm vertically, the steep edge's cos makes it 0.22 mm
+// along the normal) that the exact check refutes (distance centre–edge = R).
+TEST(ExactGouge, BesideAnUndercutCapIsNoGouge) {
+  const Checked r = machine_and_check(mushroom(), plunge_and_run(3.125, 5, -8, 3.125, 15), tooling::Cutter::ball(2));
+  EXPECT_TRUE(r.zmap.gouged);
+  EXPECT_GT(r.zmap.max_gouge_mm, 0.2);
+  EXPECT_NEAR(r.zmap.min_e_mm, -9.0, 1e-9);
+  EXPECT_TRUE(r.exact.gouge_checked);
+  EXPECT_FALSE(r.exact.gouged);
+  EXPECT_LE(r.exact.max_gouge_mm, 0.002);
+  EXPECT_EQ(r.exact.gouge_places_refuted, r.exact.gouge_places_checked);
+}
+
+// Under the cap (x = 5, tip Z −5, between the stem and the cap's edge): reachable only through the
+// cap from above, so a real gouge for a 3-axis machine, and both agree on its depth: the ball's
+// centre (Z −4) lies 6 mm below the cap's top, penetration R + 6 = 7 mm; the z-map's deepest cells
+// under the cap (design Z 2), their centres 0.125 mm off the tool's axis, are cut to
+// −5 + f(0.125) = −5 + 1 − √(1 − 0.125²): within one cell's profile of 7 mm.
+TEST(ExactGouge, UnderAnUndercutCapTheZMapAndTheExactCheckAgree) {
+  const Checked r = machine_and_check(mushroom(), plunge_and_run(5, 6, -5, 5, 14), tooling::Cutter::ball(2));
+  ASSERT_TRUE(r.zmap.gouged);
+  ASSERT_TRUE(r.exact.gouged);
+  EXPECT_NEAR(r.zmap.max_gouge_mm, 7.0 - (1 - std::sqrt(1 - 0.125 * 0.125)), 1e-9);
+  EXPECT_NEAR(r.exact.max_gouge_mm, 7.0, 5e-4);
+  EXPECT_EQ(r.exact.gouge_places_refuted, 0u);
+  EXPECT_NEAR(r.exact.gouge_x_mm, 5, 1e-9);
+}
