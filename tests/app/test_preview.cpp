@@ -150,7 +150,7 @@ TEST(PreviewData, SurfaceOverTheBudgetIsStridedAndKeepsItsValues) {
   EXPECT_EQ(j["notes"].size(), 1u);
 }
 
-TEST(PreviewPage, BigJobStaysUnder50MbInlinesThreeJsAndNeverClosesItsScriptEarly) {
+TEST(PreviewPage, BigJobStaysWithinItsPageBudgetInlinesThreeJsAndNeverClosesItsScriptEarly) {
   std::ostringstream g;
   g << "G21 G90 G17\nG0 Z5\nG0 X0 Y0\nG1 Z-1 F200\n";
   for (int i = 0; i < 400000; ++i) g << "G1 X" << (i % 2 ? 100 : 0) << " Y" << i * 0.01 << " F" << 500 + i % 7 << "\n";

@@ -137,8 +137,8 @@ TEST(GougeProperty, AProgramPushedIntoThePlateauIsAGougeOfTheSameDepthForBoth) {
     ASSERT_TRUE(found);
     const Case c = check(mesh, frame, design, program, cutter, dip[0], dip[1], cutter.radius() + 0.1);
     ASSERT_TRUE(c.scored.metrics.gouged);
-    EXPECT_NEAR(c.exact.depth_mm, 0.05, 5e-4);                                // the swept cutter, exact
-    EXPECT_NEAR(c.scored.metrics.max_gouge_mm, c.exact.depth_mm, 1e-3);        // confirmed: the check's depth
+    EXPECT_NEAR(c.exact.depth_mm, 0.05, 5e-4);                           // the swept cutter, exact
+    EXPECT_NEAR(c.scored.metrics.max_gouge_mm, c.exact.depth_mm, 1e-3);  // confirmed: the check's depth
     // The cells: the one nearest the dip lies within half a cell's diagonal h of it, where the V's
     // flanks (slope 0.05 / run) and the cutter's profile leave at most h·0.05/run + f(h) more.
     const double h = 0.5 * std::sqrt(2.0) * sim().cell_mm;
