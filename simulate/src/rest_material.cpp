@@ -29,12 +29,6 @@ std::pair<double, double> gradient(const GridSpec& spec, const std::vector<doubl
   return {gx, gy};
 }
 
-// Can `cutter` touch the design at cell c without cutting into it anywhere else by more than
-// `tol`? The cutter is placed so that its profile passes through (c, design(c)) with its axis
-// offset from c down the slope by t: first the contact offset of a smooth surface with the
-// design's normal at c (ball R·sinθ, bull (R − rc) + rc·sinθ, flat R on a slope), then 0, R/2, R.
-// Each placement is checked against the design sampled every `stride` cells under the cutter.
-// O(t's × (R / (stride·cell))²) per call.
 // The cutter's profile f(d) for 0 ≤ d ≤ R with the arithmetic of tooling::Cutter::profile_height
 // (the same bits), inlined: the test below evaluates it (R / (stride·cell))² times per placement.
 struct Profile {
@@ -53,6 +47,12 @@ struct Profile {
   double r, a, tan_half;
 };
 
+// Can `cutter` touch the design at cell c without cutting into it anywhere else by more than
+// `tol`? The cutter is placed so that its profile passes through (c, design(c)) with its axis
+// offset from c down the slope by t: first the contact offset of a smooth surface with the
+// design's normal at c (ball R·sinθ, bull (R − rc) + rc·sinθ, flat R on a slope), then 0, R/2, R.
+// Each placement is checked against the design sampled every `stride` cells under the cutter.
+// O(t's × (R / (stride·cell))²) per call.
 bool reachable(const GridSpec& spec, const std::vector<double>& design, const tooling::Cutter& cutter, std::size_t c,
                std::size_t stride, double tol) {
   const Profile f(cutter);

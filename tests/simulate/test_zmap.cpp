@@ -214,6 +214,63 @@ TEST(ZMap, WithTheCutterAConcaveCornerTighterThanTheBallIsRestMaterial) {
   EXPECT_LE(m.scallop_max_mm, R - std::sqrt(R * R - (a + 0.05) * (a + 0.05)));
 }
 
+TEST(ZMap, TheRestTestsAnswersKeptForADesignGiveTheSameFiguresForEveryProgramAndCutter) {
+  // The corner of the test above, machined by passes along Y and by passes along X, then with a
+  // Ø1.5 ball along Y stopping where the Ø2 did (leaving a band it could reach: uncut, where the
+  // Ø2's answers would call it rest): each program's figures with one ReachMemo shared by all three calls (the way a part's
+  // strategies are scored) are those computed without it, bit for bit; the memo starts afresh for
+  // the other cutter instead of handing it the Ø2's answers.
+  const GridSpec g{-0.01, -0.01, 0.02, 250, 250};
+  std::vector<double> design(g.cells(), kNaN);
+  for (std::size_t iy = 0; iy < g.ny; ++iy)
+    for (std::size_t ix = 0; ix < g.nx; ++ix) {
+      const double x = g.x(ix), y = g.y(iy);
+      if (x >= 0.5 && x <= 4 && y >= 1 && y <= 3 + 1e-9) design[iy * g.nx + ix] = x < 3 - 1e-9 ? 0 : 5;
+    }
+  auto along_y = [](double R) {
+    Program p;
+    auto pass = [&](double x, double z) {
+      add(p, mv(Motion::Rapid, x, -2, 8));
+      add(p, mv(Motion::Line, x, -2, z));
+      add(p, mv(Motion::Line, x, 7, z));
+      add(p, mv(Motion::Rapid, x, 7, 8));
+    };
+    for (double x = 0; x < 2.99 - R; x += 0.1) pass(x, 0);
+    pass(2.99 - R, 0);
+    for (int k = 0; k <= 15; ++k) pass(3 + 0.1 * k, 5);
+    return p;
+  };
+  Program across;  // along X, the floor's passes stopping 1.01 mm short of the wall
+  for (int k = 0; k <= 90; ++k) {
+    const double y = -2 + 0.1 * k;
+    add(across, mv(Motion::Rapid, -2, y, 8));
+    add(across, mv(Motion::Line, -2, y, 0));
+    add(across, mv(Motion::Line, 1.99, y, 0));
+    add(across, mv(Motion::Rapid, 1.99, y, 8));
+    add(across, mv(Motion::Rapid, 3, y, 8));
+    add(across, mv(Motion::Line, 3, y, 5));
+    add(across, mv(Motion::Line, 7, y, 5));
+    add(across, mv(Motion::Rapid, 7, y, 8));
+  }
+  const auto memo = std::make_shared<ReachMemo>();
+  const std::vector<std::pair<Program, double>> runs{{along_y(1), 1}, {across, 1}, {along_y(1), 0.75}};
+  for (const auto& [program, R] : runs) {
+    ZMap zm = ZMap::flat(g, 6);
+    machine(zm, program, tooling::Cutter::ball(2 * R));
+    MetricsOptions o;
+    o.ra_map = false;
+    o.cutter = tooling::Cutter::ball(2 * R);
+    const SurfaceMetrics alone = surface_metrics(zm, design, o);
+    o.reach_memo = memo;
+    const SurfaceMetrics shared = surface_metrics(zm, design, o);
+    EXPECT_GT(alone.rest_area_mm2, 0.5);
+    EXPECT_EQ(shared.rest_area_mm2, alone.rest_area_mm2);
+    EXPECT_EQ(shared.scallop_area_mm2, alone.scallop_area_mm2);
+    EXPECT_EQ(shared.uncut_area_mm2, alone.uncut_area_mm2);
+    EXPECT_EQ(shared.scallop_max_mm, alone.scallop_max_mm);
+  }
+}
+
 TEST(ZMap, FlatEndMillLeavesNoScallop) {
   const GridSpec g{0, 0, 0.02, 200, 200};
   ZMap zm = ZMap::flat(g, 0.5);
