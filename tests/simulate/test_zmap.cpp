@@ -62,6 +62,35 @@ std::vector<double> design_window(const GridSpec& g, double xa, double xb, doubl
 
 double zero(double) { return 0; }
 
+/// The concave corner of the rest-material tests: a floor at 0 for x < 3 and a vertical wall up
+/// to a top at 5 for x ≥ 3, judged over [0.5, 4] × [1, 3] on `g` (NaN elsewhere).
+std::vector<double> corner_design(const GridSpec& g) {
+  std::vector<double> design(g.cells(), kNaN);
+  for (std::size_t iy = 0; iy < g.ny; ++iy)
+    for (std::size_t ix = 0; ix < g.nx; ++ix) {
+      const double x = g.x(ix), y = g.y(iy);
+      if (x >= 0.5 && x <= 4 && y >= 1 && y <= 3 + 1e-9) design[iy * g.nx + ix] = x < 3 - 1e-9 ? 0 : 5;
+    }
+  return design;
+}
+
+/// Passes along Y every 0.1 mm over the corner for a ball of radius R: on the floor up to
+/// x = 2.99 − R (the ball next to the wall; at 3 − R it would reach the wall's cells at its
+/// equator), on the top from x = 3.
+Program corner_passes_along_y(double R) {
+  Program p;
+  auto pass = [&](double x, double z) {
+    add(p, mv(Motion::Rapid, x, -2, 8));
+    add(p, mv(Motion::Line, x, -2, z));
+    add(p, mv(Motion::Line, x, 7, z));
+    add(p, mv(Motion::Rapid, x, 7, 8));
+  };
+  for (int k = 0; 0.1 * k < 2.99 - R; ++k) pass(0.1 * k, 0);
+  pass(2.99 - R, 0);
+  for (int k = 0; k <= 15; ++k) pass(3 + 0.1 * k, 5);
+  return p;
+}
+
 }  // namespace
 
 TEST(ZMap, BallLineLeavesExactCircularGroove) {
@@ -177,23 +206,8 @@ TEST(ZMap, WithTheCutterAConcaveCornerTighterThanTheBallIsRestMaterial) {
   const double R = 1, tol = 0.002;
   const GridSpec g{-0.01, -0.01, 0.02, 250, 250};  // cell centres on multiples of 0.02
   ZMap zm = ZMap::flat(g, 6);
-  Program p;
-  auto pass = [&](double x, double z) {
-    add(p, mv(Motion::Rapid, x, -2, 8));
-    add(p, mv(Motion::Line, x, -2, z));
-    add(p, mv(Motion::Line, x, 7, z));
-    add(p, mv(Motion::Rapid, x, 7, 8));
-  };
-  for (int k = 0; k < 20; ++k) pass(0.1 * k, 0);
-  pass(1.99, 0);  // (a ball at x = 2 would reach the wall's cells at x = 3 at its equator)
-  for (int k = 0; k <= 15; ++k) pass(3 + 0.1 * k, 5);
-  machine(zm, p, tooling::Cutter::ball(2 * R));
-  std::vector<double> design(g.cells(), kNaN);
-  for (std::size_t iy = 0; iy < g.ny; ++iy)
-    for (std::size_t ix = 0; ix < g.nx; ++ix) {
-      const double x = g.x(ix), y = g.y(iy);
-      if (x >= 0.5 && x <= 4 && y >= 1 && y <= 3 + 1e-9) design[iy * g.nx + ix] = x < 3 - 1e-9 ? 0 : 5;
-    }
+  machine(zm, corner_passes_along_y(R), tooling::Cutter::ball(2 * R));
+  const std::vector<double> design = corner_design(g);
   MetricsOptions o;
   o.tolerance_mm = tol;
   o.cutter = tooling::Cutter::ball(2 * R);
@@ -221,25 +235,7 @@ TEST(ZMap, TheRestTestsAnswersKeptForADesignGiveTheSameFiguresForEveryProgramAnd
   // strategies are scored) are those computed without it, bit for bit; the memo starts afresh for
   // the other cutter instead of handing it the Ø2's answers.
   const GridSpec g{-0.01, -0.01, 0.02, 250, 250};
-  std::vector<double> design(g.cells(), kNaN);
-  for (std::size_t iy = 0; iy < g.ny; ++iy)
-    for (std::size_t ix = 0; ix < g.nx; ++ix) {
-      const double x = g.x(ix), y = g.y(iy);
-      if (x >= 0.5 && x <= 4 && y >= 1 && y <= 3 + 1e-9) design[iy * g.nx + ix] = x < 3 - 1e-9 ? 0 : 5;
-    }
-  auto along_y = [](double R) {
-    Program p;
-    auto pass = [&](double x, double z) {
-      add(p, mv(Motion::Rapid, x, -2, 8));
-      add(p, mv(Motion::Line, x, -2, z));
-      add(p, mv(Motion::Line, x, 7, z));
-      add(p, mv(Motion::Rapid, x, 7, 8));
-    };
-    for (double x = 0; x < 2.99 - R; x += 0.1) pass(x, 0);
-    pass(2.99 - R, 0);
-    for (int k = 0; k <= 15; ++k) pass(3 + 0.1 * k, 5);
-    return p;
-  };
+  const std::vector<double> design = corner_design(g);
   Program across;  // along X, the floor's passes stopping 1.01 mm short of the wall
   for (int k = 0; k <= 90; ++k) {
     const double y = -2 + 0.1 * k;
@@ -253,7 +249,8 @@ TEST(ZMap, TheRestTestsAnswersKeptForADesignGiveTheSameFiguresForEveryProgramAnd
     add(across, mv(Motion::Rapid, 7, y, 8));
   }
   const auto memo = std::make_shared<ReachMemo>();
-  const std::vector<std::pair<Program, double>> runs{{along_y(1), 1}, {across, 1}, {along_y(1), 0.75}};
+  const std::vector<std::pair<Program, double>> runs{
+      {corner_passes_along_y(1), 1}, {across, 1}, {corner_passes_along_y(1), 0.75}};
   for (const auto& [program, R] : runs) {
     ZMap zm = ZMap::flat(g, 6);
     machine(zm, program, tooling::Cutter::ball(2 * R));
