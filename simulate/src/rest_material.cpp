@@ -189,8 +189,8 @@ void split_remaining(const ZMap& machined, const std::vector<double>& design, co
   // block takes its answer.
   const std::vector<std::size_t> probe = block_probes(spec, design, above, opt.tolerance_mm, k);
   std::vector<std::uint8_t> reach(probe.size(), 1);  // 1 = reachable, 0 = rest
-  // A probe another program on this design already tested keeps its answer (ReachMemo): each
-  // block's probe is its own cell, so the parallel writes never meet.
+  // A block another program on this design already tested keeps its answer (ReachMemo): its probe
+  // is the same cell; each iteration writes its own block.
   std::vector<std::uint8_t>* memo =
       opt.reach_memo ? &opt.reach_memo->answers(spec, cutter, k, opt.tolerance_mm) : nullptr;
   const int nthreads = opt.threads > 0 ? opt.threads : std::max(1, omp_get_max_threads());
@@ -200,10 +200,10 @@ void split_remaining(const ZMap& machined, const std::vector<double>& design, co
     const auto ul = static_cast<std::size_t>(l);
     const std::size_t c = probe[ul];
     if (c == SIZE_MAX) continue;
-    std::uint8_t known = memo != nullptr ? (*memo)[c] : 0;
+    std::uint8_t known = memo != nullptr ? (*memo)[ul] : 0;
     if (known == 0) {
       known = reachable(spec, design, cutter, c, k, opt.tolerance_mm) ? 1 : 2;
-      if (memo != nullptr) (*memo)[c] = known;
+      if (memo != nullptr) (*memo)[ul] = known;
     }
     reach[ul] = known == 1 ? 1 : 0;
   }
@@ -251,13 +251,14 @@ std::vector<std::uint8_t>& ReachMemo::answers(const GridSpec& grid, const toolin
            cutter.profile_corner_radius() == cutter_.profile_corner_radius() &&
            cutter.point_angle_deg == cutter_.point_angle_deg;
   };
-  if (answers_.size() != grid.cells() || !same_grid() || !same_cutter() || reach_every != reach_every_ ||
+  const std::size_t blocks = ((grid.nx + reach_every - 1) / reach_every) * ((grid.ny + reach_every - 1) / reach_every);
+  if (answers_.size() != blocks || !same_grid() || !same_cutter() || reach_every != reach_every_ ||
       tolerance_mm != tolerance_mm_) {
     grid_ = grid;
     cutter_ = cutter;
     reach_every_ = reach_every;
     tolerance_mm_ = tolerance_mm;
-    answers_.assign(grid.cells(), 0);
+    answers_.assign(blocks, 0);
   }
   return answers_;
 }

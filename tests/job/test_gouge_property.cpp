@@ -1,5 +1,5 @@
-// Issue 37 §1's property: on every program the five strategies write for parts made for it (45°
-// flanks and a plateau; narrow ridges and a steep round boss) with a ball, the z-map's
+// Issue 37 §1's property: on every program the five strategies write for a part made for it (45°
+// flanks and a plateau) with a ball, the z-map's
 // gouge verdict after its exact check (job::score_program: the 16 deepest z-map places) and an
 // exact check of the WHOLE program (every move swept against the part's triangles) agree — no
 // strategy gouges, every z-map gouge place is an artefact the check refutes — and a program pushed
@@ -29,15 +29,6 @@ ingest::Mesh flanks() {  // plateau z 8 for |d|∞ ≤ 2 around (8, 8), 45° fla
   return testing_ingest::solid(
       [](double x, double y) { return std::clamp(8 - (std::max(std::abs(x - 8), std::abs(y - 8)) - 2), 0.5, 8.0); }, 0,
       16, 0, 16, 32, 32);
-}
-
-ingest::Mesh ridges() {  // a ridge about as narrow as the cutter and a steep rounded boss
-  return testing_ingest::solid(
-      [](double x, double y) {
-        const double r = std::hypot(x - 11, y - 6);
-        return 1 + 2.5 * std::exp(-(x - 5) * (x - 5) / 0.4) + 3 / (1 + std::exp((r - 2.5) * 12));
-      },
-      0, 16, 0, 14, 32, 28);
 }
 
 constexpr double kWholeProgramTolMm = 0.005;

@@ -176,8 +176,9 @@ SweepResult machine(ZMap& zmap, const gcode::Program& program, const tooling::Cu
 /// starts it afresh. Not for concurrent surface_metrics calls.
 class ReachMemo {
 public:
-  /// Per cell: 0 not tested yet, 1 reachable, 2 rest material. Sized to the grid's cells; emptied
-  /// first when any of the keys differ from the last call's.
+  /// Per block of reach_every × reach_every cells (numbered row by row, ⌈nx / reach_every⌉ per row;
+  /// each block is always probed at the same cell): 0 not tested yet, 1 reachable, 2 rest material;
+  /// emptied first when any of the keys differ from the last call's.
   std::vector<std::uint8_t>& answers(const GridSpec& grid, const tooling::Cutter& cutter, std::size_t reach_every,
                                      double tolerance_mm);
 

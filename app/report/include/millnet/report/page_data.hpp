@@ -3,7 +3,6 @@
 // above it, so that a finishing page with its path, G-code lines and machined surface stays within
 // PreviewLimits::max_page_bytes (issue 37 §3: 8–18 MB pages became ≤ 5 MB).
 #include <cstddef>
-#include <optional>
 #include <string>
 #include <string_view>
 
