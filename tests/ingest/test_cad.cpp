@@ -5,6 +5,7 @@
 #if MILLNET_HAVE_CAD
 
 #include "app/cli_runner.hpp"
+#include "testing/linuxcnc.hpp"
 
 #include "millnet/core/error.hpp"
 #include "millnet/ingest/heightfield.hpp"
@@ -311,8 +312,7 @@ TEST(Cad, RoughOnAStepPartWritesAProgramRs274AcceptsAndTheCadMetrics) {
   EXPECT_NEAR(metrics["stock"]["x1"].get<double>() - metrics["stock"]["x0"].get<double>(), 40 + 2 * 5, 1e-6)
       << "the stock spans the part in mm plus 2 × /rough/margin_mm (5), not 40/25.4";
   if (fs::exists("/usr/bin/rs274")) {
-    const std::string cmd = "/usr/bin/rs274 -g '" + (d / "o" / "part.nc").string() + "' </dev/null >/dev/null 2>&1";
-    EXPECT_EQ(std::system(cmd.c_str()), 0);
+    EXPECT_EQ(millnet::testing::linuxcnc_status((d / "o" / "part.nc").string()), 0);
   }
   // --units mm contradicts the inch file: one note on stderr, not an error.
   const auto s = run_millnet("sample --mesh part.step --units mm --raster 0.1 --out s", d);

@@ -6,6 +6,7 @@
 // runs as root on 2 cores), shared memory without single-copy (containers), and for the sanitizer
 // build no LeakSanitizer in the ranks (see run_ranks).
 #include "app/cli_runner.hpp"
+#include "testing/linuxcnc.hpp"
 #include "ingest/builders.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
 
@@ -220,9 +221,8 @@ TEST(Mpi, FinishAllSimulatedOverAFolderIsTheOneProcessBytesAndGoesPastABrokenPar
   expect_same_tree(d / "one", d / "three");
   EXPECT_TRUE(fs::exists(d / "three" / "b_ridge.strategies.csv"));
   for (int k = 1; k <= 5; ++k) {
-    const std::string cmd = "/usr/bin/rs274 -g '" + (d / "three" / ("a_dome.s" + std::to_string(k) + ".nc")).string() +
-                            "' </dev/null >/dev/null 2>&1";
-    EXPECT_EQ(std::system(cmd.c_str()), 0) << k;
+    const auto nc = d / "three" / ("a_dome.s" + std::to_string(k) + ".nc");
+    EXPECT_EQ(millnet::testing::linuxcnc_status(nc.string()), 0) << k;
   }
 
   std::ofstream(d / "parts" / "a_broken.stl") << "solid nothing\nendsolid nothing\n";

@@ -1,4 +1,5 @@
 // G-code writer checked by the independent replay (tests/testing/gcode_replay).
+#include "testing/linuxcnc.hpp"
 #include "testing/program_text.hpp"
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
@@ -289,8 +290,7 @@ TEST(PocketGcode, ProgramsReadBackAndLinuxcncAcceptsThem) {
     const auto f = std::filesystem::temp_directory_path() /
                    ("millnet_pocket_rs274_" + std::to_string(::getpid()) + std::string(to_string(e)) + ".nc");
     millnet::write_file_atomic(f, text);
-    const std::string cmd = "/usr/bin/rs274 -g '" + f.string() + "' </dev/null >/dev/null 2>&1";
-    EXPECT_EQ(std::system(cmd.c_str()), 0) << to_string(e);
+    EXPECT_EQ(millnet::testing::linuxcnc_status(f.string()), 0) << to_string(e);
     std::filesystem::remove(f);
   }
 }

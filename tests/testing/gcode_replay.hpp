@@ -3,6 +3,8 @@
 // absolute G90, arc centres incremental) and checks that the tool disk never gouges a pocket wall.
 // Deliberately shares NO code with millnet::pocket (own parser, own point–line/arc distances), so
 // that a bug in the pocket module's Clearance cannot hide itself. mm throughout.
+#include "linuxcnc.hpp"  // the file beside this one
+
 #include <array>
 #include <cstdlib>
 #include <map>
@@ -51,13 +53,5 @@ struct ReplayResult {
 /// an island.
 void check_gouge(ReplayResult& r, const ReplayPocket& pocket, double tool_radius, double tol_mm = 0.01,
                  double step_mm = 0.05);
-
-/// LinuxCNC's own interpreter (`rs274 -g`, linuxcnc-uspace) accepts the program file.
-/// With `tool_table` (a LinuxCNC tool.tbl), the tools the program changes to are the table's.
-inline bool linuxcnc_accepts(const std::string& nc_path, const std::string& tool_table = {}) {
-  const std::string tools = tool_table.empty() ? std::string() : "-t '" + tool_table + "' ";
-  const std::string cmd = "/usr/bin/rs274 " + tools + "-g '" + nc_path + "' </dev/null >/dev/null 2>&1";
-  return std::system(cmd.c_str()) == 0;
-}
 
 }  // namespace millnet::testing
