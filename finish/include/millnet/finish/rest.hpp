@@ -1,0 +1,114 @@
+#pragma once
+// Rest machining (issue 41; docs/finishing.md, "Rest finishing"): where a previous, larger tool
+// left material in concave corners, a smaller tool finishes only there.
+//
+// Rest regions from a reference tool (no simulation needed). The part is sampled on a grid of
+// tool-axis positions of the NEW tool; at each, the new tool's drop-cutter contact point P (on the
+// design) is tested against the reference tool: the material left at P is the distance from P to
+// the nearest non-gouging placement of the reference tool (its drop-cutter CL on a grid of the same
+// step), measured exactly to the tool's solid (flat bottom, toroidal corner, cylindrical side) —
+// the normal thickness, so a wall the reference touches counts 0 however steep it is. Where it
+// exceeds threshold_mm the new tool, standing there, would cut rest material: that axis position
+// is in a rest region. Regions smaller than min_area_mm2 (slivers) are dropped, the rest grown by
+// margin_mm, and the outlines traced (marching squares, CCW outside, CW around holes) into the
+// machining boundary of the rest program. Its Z range is capped at the highest rest material in
+// reach (the reference's envelope over the design by more than the threshold): a Z-level pass up a
+// wall the reference touched cuts nothing, and is left out.
+//
+// Rest finishing: strategy 1's slope split inside that boundary (Z-levels on the steep pieces,
+// raster on the shallow ones), the raster run along the corners: at the rest regions' principal
+// direction (their cells' second moments, area-weighted over the regions by doubled angles), so
+// that a shallow pass follows the corner instead of crossing it.
+//
+// Sampling: the reference is placed on grid nodes only, so between nodes its envelope stands up to
+// f(step/√2) above a flat floor (ball: step²/(4R)); the automatic step keeps that ≤ threshold/4.
+// O(nodes · (R_ref/step)²) distance tests at worst; a node is settled by the first placement that
+// comes within the threshold (the nearest are tried first), so flat and touched ground costs a few.
+#include "millnet/finish/dropcutter.hpp"
+#include "millnet/finish/strategy.hpp"
+#include "millnet/ingest/mesh.hpp"
+#include "millnet/tooling/cutter.hpp"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace millnet::finish {
+
+struct RestParams {
+  tooling::Cutter reference = tooling::Cutter::ball(6);  ///< the tool that machined before
+  double threshold_mm = 0.02;  ///< material thicker than this (normal to the design) is rest
+  double margin_mm = -1;       ///< regions grown by this; < 0 ⇒ the new tool's radius / 2
+  double min_area_mm2 = -1;    ///< regions smaller than this (axis area) dropped; < 0 ⇒ π r_new² / 4
+  double cell_mm = 0;          ///< grid step; 0 ⇒ automatic (see above), at most 0.25 mm
+  /// Throws millnet::Error naming the parameter.
+  void check() const;
+};
+
+/// The grid step the automatic rule gives for a reference tool and a threshold: the largest step
+/// whose between-node envelope f(step/√2) stays ≤ threshold/4, within [0.02, 0.25] mm.
+[[nodiscard]] double rest_cell_mm(const tooling::Cutter& reference, double threshold_mm);
+
+/// The material a reference tool at tip height `tip` over (cx, cy) leaves above a point p: the
+/// Euclidean distance from p to the tool's solid (0 when p is inside it). Exact for flat, bull and
+/// ball (the solid: the profile of tooling::Cutter revolved, a cylinder above it).
+[[nodiscard]] double distance_to_tool(const tooling::Cutter& tool, double cx, double cy, double tip,
+                                      const Eigen::Vector3d& p);
+
+struct RestRegions {
+  double x0 = 0, y0 = 0, cell = 0;  ///< node (i, j) at (x0 + j·cell, y0 + i·cell)
+  int nx = 0, ny = 0;
+  /// Per node (row-major): 1 where the new tool's contact point has rest material (before the
+  /// slivers are dropped and the regions grown); 2 where it is in a kept region after the growth.
+  std::vector<std::uint8_t> mask;
+  /// Per node: the material at the new tool's contact point, mm (0 where settled below the
+  /// threshold, the exact distance above it; NaN where the new tool touches nothing).
+  std::vector<float> thickness;
+  Boundary boundary;              ///< the outlines of the kept, grown regions (polygons, on the part)
+  std::size_t regions = 0;        ///< kept regions (4-connected components of the rest nodes)
+  std::size_t slivers = 0;        ///< components dropped for their size
+  double rest_axis_area_mm2 = 0;  ///< XY area of the new tool's axis positions that cut rest (kept)
+  double max_thickness_mm = 0;    ///< the largest rest found
+  double axis_deg = 0;            ///< the regions' principal direction, degrees from +X, in [0, 180)
+  /// The highest rest material (mesh z) within the new tool's reach of the regions: the boundary's
+  /// z_max (a tip above it cuts no rest). −infinity when there is no rest.
+  double rest_top_z = -std::numeric_limits<double>::infinity();
+  [[nodiscard]] bool empty() const { return boundary.polygons.empty(); }
+};
+
+/// The rest regions of the new tool (its drop-cutter `new_tool`) behind `params.reference` over the
+/// box [x0, x1] × [y0, y1] (mesh frame; empty box ⇒ the part's footprint). Throws millnet::Error for
+/// bad parameters or a reference tool smaller than the new one in radius (it would leave nothing
+/// the new one can take).
+[[nodiscard]] RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, const RestParams& params,
+                                       double x0 = 0, double y0 = 0, double x1 = 0, double y1 = 0);
+
+/// Pencil tracing: the bitangent positions of the tool along concave edges, as passes. On a grid of
+/// axis positions (step `cell_mm`; within `mask` when given: nodes ≠ 0 of a grid of the same origin
+/// and step), a grid edge whose two drop-cutter contacts lie farther apart than max(4·cell, 0.3·R)
+/// crosses a concave edge (the contact jumps from one surface to the other; over a convex edge it
+/// stays on the edge); the crossing is found by bisection of real drops to 1e-5 mm, its tip the
+/// lower of the two sides (the bitangent position itself, where the tool touches both). The points
+/// are chained into polylines (neighbours within 2·√2·cell, from the chain ends), and a chord whose
+/// middle lies below the drop-cutter by more than chord_tolerance_mm gets that middle point
+/// (recursively, to 1/64 of the chord). O(nodes) drops + O(edges crossed · 17) drops.
+[[nodiscard]] std::vector<Pass> pencil_passes(const DropCutter& tool, double x0, double y0, double x1, double y1,
+                                              double cell_mm, double chord_tolerance_mm,
+                                              const std::vector<std::uint8_t>* mask = nullptr);
+
+/// Pencil tracing alone over the box (params' box, else the part's footprint), grid step
+/// min(0.1, R/4): the passes linked into a program like a strategy's (the header names pencil
+/// tracing). Throws millnet::Error when the part has no concave edge for the tool.
+[[nodiscard]] FinishPlan plan_pencil(const ingest::Mesh& mesh, const DropCutter& tool, FinishParams params);
+
+/// Rest finishing inside `regions` with the new tool (params.tool, whose drop-cutter is `new_tool`):
+/// the pencil passes of the regions first, then strategy 1 with the regions' outline as the
+/// machining boundary (params.boundary's Z range capped at the rest's top, on_part kept) and the
+/// raster along the regions' principal direction. The program's header names
+/// it rest finishing and the reference tool. Throws millnet::Error when the regions are empty.
+[[nodiscard]] FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const RestRegions& regions,
+                                   const tooling::Cutter& reference, FinishParams params);
+
+}  // namespace millnet::finish

@@ -1,0 +1,479 @@
+// Rest regions behind a reference tool and rest finishing inside them (rest.hpp): the new tool's
+// contacts tested against the reference's placements, the regions cleaned, grown and traced, then
+// strategy 1 inside their outline along the corners.
+#include "millnet/finish/rest.hpp"
+
+#include "boundary.hpp"
+#include "contours.hpp"
+#include "sampling.hpp"
+
+#include "millnet/core/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <string>
+
+namespace millnet::finish {
+namespace {
+
+struct Grid {
+  double x0, y0, h;
+  int nx, ny;
+  [[nodiscard]] std::size_t size() const { return static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny); }
+  [[nodiscard]] double x(int j) const { return x0 + h * j; }
+  [[nodiscard]] double y(int i) const { return y0 + h * i; }
+  [[nodiscard]] std::size_t at(int i, int j) const {
+    return static_cast<std::size_t>(i) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(j);
+  }
+};
+
+/// Node offsets within `radius` cells, nearest first (ties by offset: deterministic).
+std::vector<std::pair<int, int>> disc_offsets(double radius_cells) {
+  const int r = static_cast<int>(std::ceil(radius_cells));
+  std::vector<std::pair<int, int>> out;
+  for (int di = -r; di <= r; ++di)  // O(r²)
+    for (int dj = -r; dj <= r; ++dj)
+      if (di * di + dj * dj <= radius_cells * radius_cells) out.emplace_back(di, dj);
+  std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) {
+    return a.first * a.first + a.second * a.second < b.first * b.first + b.second * b.second;
+  });
+  return out;
+}
+
+/// The material at p behind the reference: the nearest of its grid placements first (stopping at
+/// the threshold), then, when that is above the threshold, a pattern search of real drops around
+/// the best placement (steps halved down to cell/64), so that a placement between nodes (a wall
+/// touched at an axis position off the grid) is found.
+double material_at(const Eigen::Vector3d& p, const Grid& g, const std::vector<double>& ref_cl,
+                   const DropCutter& ref, const std::vector<std::pair<int, int>>& offsets, double thr) {
+  const tooling::Cutter& tool = ref.cutter();
+  const int bi = static_cast<int>(std::lround((p.y() - g.y0) / g.h));
+  const int bj = static_cast<int>(std::lround((p.x() - g.x0) / g.h));
+  double best = std::numeric_limits<double>::infinity();
+  double bx = p.x(), by = p.y();
+  for (const auto& [di, dj] : offsets) {  // O(offsets), usually a few
+    const int i = bi + di, j = bj + dj;
+    if (i < 0 || j < 0 || i >= g.ny || j >= g.nx) continue;
+    const double tip = ref_cl[g.at(i, j)];
+    if (!std::isfinite(tip)) continue;
+    const double d = distance_to_tool(tool, g.x(j), g.y(i), tip, p);
+    if (d < best) best = d, bx = g.x(j), by = g.y(i);
+    if (best <= thr) return 0;
+  }
+  for (double s = g.h; s > g.h / 64; s *= 0.5) {  // O(log 64 · moves) drops
+    bool moved = true;
+    for (int guard = 0; moved && guard < 64; ++guard) {
+      moved = false;
+      for (const auto& [u, v] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}}) {
+        const CLPoint c = ref.drop(bx + s * u, by + s * v);
+        if (c.contact == Contact::None) continue;
+        const double d = distance_to_tool(tool, c.x, c.y, c.z, p);
+        if (d < best) {
+          best = d, bx = c.x, by = c.y, moved = true;
+          if (best <= thr) return 0;
+        }
+      }
+    }
+  }
+  return best;
+}
+
+/// 4-connected components of `on` nodes: a component id per node (−1 off), in first-node order.
+std::vector<int> components(const Grid& g, const std::vector<std::uint8_t>& on, int* count) {
+  std::vector<int> id(g.size(), -1);
+  std::vector<std::size_t> stack;
+  int n = 0;
+  for (std::size_t s = 0; s < g.size(); ++s) {  // O(nodes): each node pushed once
+    if (!on[s] || id[s] >= 0) continue;
+    id[s] = n;
+    stack.push_back(s);
+    while (!stack.empty()) {
+      const std::size_t k = stack.back();
+      stack.pop_back();
+      const int i = static_cast<int>(k / static_cast<std::size_t>(g.nx)), j = static_cast<int>(k % g.nx);
+      for (const auto& [di, dj] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+        const int a = i + di, b = j + dj;
+        if (a < 0 || b < 0 || a >= g.ny || b >= g.nx) continue;
+        const std::size_t q = g.at(a, b);
+        if (on[q] && id[q] < 0) id[q] = n, stack.push_back(q);
+      }
+    }
+    ++n;
+  }
+  *count = n;
+  return id;
+}
+
+/// The crossing of a concave edge between axis positions a and b (contacts far apart): bisection
+/// keeping the half whose ends' contacts differ most, to 1e-5 mm; the lower side's CL point.
+CLPoint bitangent(const DropCutter& tool, Eigen::Vector2d a, Eigen::Vector2d b, CLPoint ca, CLPoint cb) {
+  while ((b - a).norm() > 1e-5) {  // ≤ 17 drops for a 1 mm edge
+    const Eigen::Vector2d m = 0.5 * (a + b);
+    const CLPoint cm = tool.drop(m.x(), m.y());
+    if (cm.contact == Contact::None) break;
+    if ((cm.cc - ca.cc).norm() < (cm.cc - cb.cc).norm())
+      a = m, ca = cm;
+    else
+      b = m, cb = cm;
+  }
+  return ca.z <= cb.z ? ca : cb;
+}
+
+/// Chains points into polylines: from the point with the fewest neighbours (a chain's end; lowest
+/// index on ties), always to the nearest unvisited one within `link`. O(points · neighbours) with a
+/// bucket grid of side `link`.
+std::vector<std::vector<Eigen::Vector3d>> chain(const std::vector<Eigen::Vector3d>& pts, double link) {
+  if (pts.empty()) return {};
+  double x0 = HUGE_VAL, y0 = HUGE_VAL;
+  for (const auto& p : pts) x0 = std::min(x0, p.x()), y0 = std::min(y0, p.y());
+  auto key = [&](double x, double y) {
+    return std::pair{static_cast<long>(std::floor((x - x0) / link)), static_cast<long>(std::floor((y - y0) / link))};
+  };
+  std::map<std::pair<long, long>, std::vector<std::size_t>> buckets;
+  for (std::size_t k = 0; k < pts.size(); ++k) buckets[key(pts[k].x(), pts[k].y())].push_back(k);
+  auto neighbours = [&](std::size_t k, auto&& visit) {
+    const auto [bx, by] = key(pts[k].x(), pts[k].y());
+    for (long dx = -1; dx <= 1; ++dx)
+      for (long dy = -1; dy <= 1; ++dy) {
+        const auto it = buckets.find({bx + dx, by + dy});
+        if (it == buckets.end()) continue;
+        for (const std::size_t q : it->second)
+          if (q != k && std::hypot(pts[q].x() - pts[k].x(), pts[q].y() - pts[k].y()) <= link) visit(q);
+      }
+  };
+  std::vector<int> degree(pts.size(), 0);
+  for (std::size_t k = 0; k < pts.size(); ++k) neighbours(k, [&](std::size_t) { ++degree[k]; });
+  std::vector<std::size_t> order(pts.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return degree[a] < degree[b]; });
+  std::vector<std::uint8_t> used(pts.size(), 0);
+  std::vector<std::vector<Eigen::Vector3d>> out;
+  for (const std::size_t s0 : order) {
+    if (used[s0]) continue;
+    std::vector<Eigen::Vector3d> line{pts[s0]};
+    used[s0] = 1;
+    for (std::size_t at = s0;;) {
+      std::size_t best = pts.size();
+      double best_d = HUGE_VAL;
+      neighbours(at, [&](std::size_t q) {
+        const double d = std::hypot(pts[q].x() - pts[at].x(), pts[q].y() - pts[at].y());
+        if (!used[q] && (d < best_d || (d == best_d && q < best))) best = q, best_d = d;
+      });
+      if (best == pts.size()) break;
+      used[best] = 1;
+      line.push_back(pts[best]);
+      at = best;
+    }
+    if (line.size() >= 2) out.push_back(std::move(line));
+  }
+  return out;
+}
+
+/// The chord a→b checked at its middle against the drop-cutter; a middle more than `tol` below it is
+/// inserted (recursively, `depth` levels).
+void refine_chord(const DropCutter& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double tol, int depth,
+                  std::vector<Eigen::Vector3d>& out) {
+  const Eigen::Vector3d m = 0.5 * (a + b);
+  const CLPoint c = tool.drop(m.x(), m.y());
+  if (depth > 0 && c.contact != Contact::None && c.z > m.z() + tol) {
+    const Eigen::Vector3d mid(m.x(), m.y(), c.z);
+    refine_chord(tool, a, mid, tol, depth - 1, out);
+    out.push_back(mid);
+    refine_chord(tool, mid, b, tol, depth - 1, out);
+  }
+}
+
+/// Passes cut to the machining boundary (pieces shorter than tol::min_pass_mm dropped).
+std::vector<Pass> clip_passes(const detail::Fence& fence, const std::vector<Pass>& passes) {
+  std::vector<Pass> out;
+  for (const Pass& p : passes) {  // O(points · log(step / tol))
+    std::vector<std::vector<detail::Sample>> one(1);
+    for (const auto& q : p.points) one.front().push_back({q, 0});
+    for (auto& piece : fence.clip(std::move(one))) {
+      Pass kept;
+      for (const auto& q : piece) kept.points.push_back(q.p);
+      out.push_back(std::move(kept));
+    }
+  }
+  return out;
+}
+
+/// The plan's program made again from its passes (pencil passes put in front).
+void relink(const ingest::Mesh& mesh, const DropCutter& tool, const FinishParams& p, FinishPlan& plan) {
+  plan.program = {};
+  plan.path_length_mm = 0, plan.lifts = 0, plan.cl_points = 0;
+  const detail::Sampler s(mesh, tool);
+  const detail::Fence fence(mesh, p.boundary);
+  detail::link_passes(s, p, fence, plan);
+}
+
+void require_rest(bool ok, const std::string& key, const std::string& what) {
+  if (!ok) throw Error("rest: " + key + " " + what);
+}
+
+}  // namespace
+
+void RestParams::check() const {
+  check_finishing_cutter(reference);
+  require_rest(std::isfinite(threshold_mm) && threshold_mm > 0, "threshold_mm",
+          "must be > 0 (got " + std::to_string(threshold_mm) + ")");
+  require_rest(std::isfinite(margin_mm) && margin_mm <= 100, "margin_mm", "must be ≤ 100 (< 0: automatic)");
+  require_rest(std::isfinite(min_area_mm2), "min_area_mm2", "must be finite (< 0: automatic)");
+  require_rest(std::isfinite(cell_mm) && (cell_mm == 0 || (cell_mm >= 0.005 && cell_mm <= 5)), "cell_mm",
+          "must be 0 (automatic) or in [0.005, 5] mm (got " + std::to_string(cell_mm) + ")");
+}
+
+double rest_cell_mm(const tooling::Cutter& reference, double threshold_mm) {
+  const double t = threshold_mm / 4, rc = reference.profile_corner_radius(), a = reference.radius() - rc;
+  const double d = rc > 0 ? a + std::sqrt(std::max(0.0, 2 * rc * t - t * t)) : reference.radius();
+  return std::clamp(d * std::numbers::sqrt2, 0.02, 0.25);
+}
+
+double distance_to_tool(const tooling::Cutter& tool, double cx, double cy, double tip, const Eigen::Vector3d& p) {
+  const double R = tool.radius(), rc = tool.profile_corner_radius(), a = R - rc;
+  const double rho = std::hypot(p.x() - cx, p.y() - cy);
+  if (rho <= a) return std::max(0.0, tip - p.z());  // under the flat bottom
+  const double dz = p.z() - (tip + rc);
+  if (dz >= 0) return std::max(0.0, rho - R);              // beside the side
+  return std::max(0.0, std::hypot(rho - a, dz) - rc);      // below the corner's centre: the torus
+}
+
+RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, const RestParams& params, double x0,
+                         double y0, double x1, double y1) {
+  params.check();
+  const tooling::Cutter& tool = new_tool.cutter();
+  if (params.reference.radius() < tool.radius())
+    throw Error("rest: the reference tool (" + params.reference.describe() + ") is smaller than the rest tool (" +
+                tool.describe() + "): it leaves nothing the rest tool can take");
+  if (!(x1 > x0 && y1 > y0))
+    x0 = mesh.V.col(0).minCoeff(), y0 = mesh.V.col(1).minCoeff(), x1 = mesh.V.col(0).maxCoeff(),
+    y1 = mesh.V.col(1).maxCoeff();
+  const double h = params.cell_mm > 0 ? params.cell_mm : rest_cell_mm(params.reference, params.threshold_mm);
+  const double cells = std::ceil((x1 - x0) / h + 1) * std::ceil((y1 - y0) / h + 1);
+  if (!(cells <= 5e7))
+    throw Error("rest: a grid of " + std::to_string(static_cast<long long>(cells)) + " nodes at " + std::to_string(h) +
+                " mm exceeds the limit of 50,000,000 (raise cell_mm or the threshold)");
+  const Grid g{x0, y0, h, static_cast<int>(std::ceil((x1 - x0) / h - 1e-9)) + 1,
+               static_cast<int>(std::ceil((y1 - y0) / h - 1e-9)) + 1};
+  RestRegions out;
+  out.x0 = g.x0, out.y0 = g.y0, out.cell = h, out.nx = g.nx, out.ny = g.ny;
+
+  // 1. The new tool's contacts and the reference's placements on the same nodes.
+  std::vector<Eigen::Vector2d> xy(g.size());
+  for (int i = 0; i < g.ny; ++i)  // O(nodes)
+    for (int j = 0; j < g.nx; ++j) xy[g.at(i, j)] = {g.x(j), g.y(i)};
+  const std::vector<CLPoint> cl = new_tool.drop(xy);
+  const DropCutter ref(mesh, params.reference);
+  const std::vector<double> ref_cl = ref.drop_grid(g.x0, g.y0, h, g.nx, g.ny);
+
+  // 2. The material at each contact (rows in parallel; each node on its own: any thread count).
+  const auto offsets = disc_offsets((params.reference.radius() + params.threshold_mm) / h + 1);
+  out.thickness.assign(g.size(), 0.0F);
+  out.mask.assign(g.size(), 0);
+#pragma omp parallel for schedule(dynamic, 8)
+  for (int i = 0; i < g.ny; ++i)
+    for (int j = 0; j < g.nx; ++j) {
+      const std::size_t k = g.at(i, j);
+      if (cl[k].contact == Contact::None) {
+        out.thickness[k] = std::numeric_limits<float>::quiet_NaN();
+        continue;
+      }
+      const double m = material_at(cl[k].cc, g, ref_cl, ref, offsets, params.threshold_mm);
+      out.thickness[k] = static_cast<float>(m);
+      out.mask[k] = m > params.threshold_mm ? 1 : 0;
+    }
+
+  // 3. Slivers dropped: components whose axis area is below the minimum.
+  const double min_area =
+      params.min_area_mm2 >= 0 ? params.min_area_mm2 : std::numbers::pi * tool.radius() * tool.radius() / 4;
+  int n = 0;
+  const std::vector<int> id = components(g, out.mask, &n);
+  std::vector<double> area(static_cast<std::size_t>(n), 0.0), sx(area), sy(area), sxx(area), syy(area), sxy(area);
+  for (std::size_t k = 0; k < g.size(); ++k) {  // O(nodes)
+    if (id[k] < 0) continue;
+    const auto c = static_cast<std::size_t>(id[k]);
+    const double x = g.x(static_cast<int>(k % g.nx)), y = g.y(static_cast<int>(k / g.nx));
+    area[c] += h * h, sx[c] += x, sy[c] += y, sxx[c] += x * x, syy[c] += y * y, sxy[c] += x * y;
+  }
+  std::vector<std::uint8_t> kept(g.size(), 0);
+  double cxx = 0, cyy = 0, cxy = 0;  // the kept regions' second moments about their own centroids
+  for (std::size_t c = 0; c < area.size(); ++c) {
+    if (area[c] < min_area) {
+      ++out.slivers;
+      continue;
+    }
+    ++out.regions;
+    out.rest_axis_area_mm2 += area[c];
+    const double m = area[c] / (h * h), mx = sx[c] / m, my = sy[c] / m;
+    cxx += sxx[c] - m * mx * mx, cyy += syy[c] - m * my * my, cxy += sxy[c] - m * mx * my;
+  }
+  for (std::size_t k = 0; k < g.size(); ++k)
+    if (id[k] >= 0 && area[static_cast<std::size_t>(id[k])] >= min_area) {
+      kept[k] = 1;
+      out.max_thickness_mm = std::max(out.max_thickness_mm, static_cast<double>(out.thickness[k]));
+    }
+  double axis = 0.5 * std::atan2(2 * cxy, cxx - cyy) * 180 / std::numbers::pi;
+  if (axis < 0) axis += 180;
+  out.axis_deg = axis;
+
+  // 4. Grown by the margin (a disc of nodes around each kept node).
+  const double margin = params.margin_mm >= 0 ? params.margin_mm : tool.radius() / 2;
+  const auto grow = disc_offsets(margin / h);
+  std::vector<std::uint8_t> grown(g.size(), 0);
+  for (int i = 0; i < g.ny; ++i)  // O(kept nodes · (margin / h)²)
+    for (int j = 0; j < g.nx; ++j) {
+      if (!kept[g.at(i, j)]) continue;
+      for (const auto& [di, dj] : grow) {
+        const int a = i + di, b = j + dj;
+        if (a >= 0 && b >= 0 && a < g.ny && b < g.nx) grown[g.at(a, b)] = 1;
+      }
+    }
+  for (std::size_t k = 0; k < g.size(); ++k)
+    if (grown[k]) out.mask[k] = 2;
+
+  // 5. The tip's ceiling: the highest design point within the new tool's reach of the regions whose
+  // material behind the reference exceeds the threshold (points on every triangle there, ≤ cell/2
+  // apart, each tested like a contact above). A tip above the highest rest cuts none of it: Z-levels
+  // up a wall the reference touched are left out.
+  const auto reach = disc_offsets(tool.radius() / h + 1);
+  std::vector<std::uint8_t> near(g.size(), 0);
+  for (int i = 0; i < g.ny; ++i)  // O(grown nodes · (r / h)²)
+    for (int j = 0; j < g.nx; ++j) {
+      if (!grown[g.at(i, j)]) continue;
+      for (const auto& [di, dj] : reach) {
+        const int a = i + di, b = j + dj;
+        if (a >= 0 && b >= 0 && a < g.ny && b < g.nx) near[g.at(a, b)] = 1;
+      }
+    }
+  auto near_at = [&](const Eigen::Vector3d& q) {
+    const auto i = static_cast<int>(std::lround((q.y() - g.y0) / h)), j = static_cast<int>(std::lround((q.x() - g.x0) / h));
+    return i >= 0 && j >= 0 && i < g.ny && j < g.nx && near[g.at(i, j)] != 0;
+  };
+  double top = -std::numeric_limits<double>::infinity();
+  const auto faces = static_cast<std::ptrdiff_t>(mesh.F.rows());
+#pragma omp parallel for schedule(dynamic, 64) reduction(max : top)
+  for (std::ptrdiff_t f = 0; f < faces; ++f) {  // O(sampled area / (h/2)²) over the near faces
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
+    const int nu = std::clamp(static_cast<int>(std::ceil((b - a).norm() / (0.5 * h))), 1, 4096);
+    const int nv = std::clamp(static_cast<int>(std::ceil((c - a).norm() / (0.5 * h))), 1, 4096);
+    for (int u = 0; u <= nu; ++u)
+      for (int v = 0; v * nu <= (nu - u) * nv; ++v) {  // u/nu + v/nv ≤ 1
+        const Eigen::Vector3d q = a + (b - a) * (static_cast<double>(u) / nu) + (c - a) * (static_cast<double>(v) / nv);
+        if (q.z() <= top || !near_at(q)) continue;
+        if (material_at(q, g, ref_cl, ref, offsets, params.threshold_mm) > params.threshold_mm) top = q.z();
+      }
+  }
+  out.rest_top_z = top;
+  if (std::isfinite(top)) out.boundary.z_max = top;
+
+  // 6. The outlines: marching squares on the grown nodes, crossings halfway between nodes.
+  std::vector<double> field(g.size());
+  for (std::size_t k = 0; k < g.size(); ++k) field[k] = grown[k] ? 1.0 : 0.0;
+  detail::GridSpec gs;
+  gs.x0 = g.x0, gs.y0 = g.y0, gs.step = h, gs.nx = g.nx, gs.ny = g.ny;
+  gs.x1 = g.x(g.nx - 1), gs.y1 = g.y(g.ny - 1);
+  const detail::PlaceCrossing half = [](const Eigen::Vector2d& in, const Eigen::Vector2d& outside, double, double,
+                                        bool) { return std::pair{Eigen::Vector2d(0.5 * (in + outside)), 0.0}; };
+  for (const auto& loop : detail::iso_contours(gs, field, 0.5, half)) {
+    std::vector<Eigen::Vector2d> poly;
+    for (std::size_t q = 0; q + 1 < loop.size(); ++q) poly.push_back(loop[q].xy);  // last = first
+    if (poly.size() >= 3) out.boundary.polygons.push_back(std::move(poly));
+  }
+  return out;
+}
+
+std::vector<Pass> pencil_passes(const DropCutter& tool, double x0, double y0, double x1, double y1, double cell_mm,
+                                double chord_tolerance_mm, const std::vector<std::uint8_t>* mask) {
+  if (!(std::isfinite(cell_mm) && cell_mm > 0)) throw Error("pencil: cell_mm must be > 0");
+  const Grid g{x0, y0, cell_mm, static_cast<int>(std::ceil((x1 - x0) / cell_mm - 1e-9)) + 1,
+               static_cast<int>(std::ceil((y1 - y0) / cell_mm - 1e-9)) + 1};
+  if (mask != nullptr && mask->size() != g.size()) throw Error("pencil: the mask is not the grid's");
+  std::vector<Eigen::Vector2d> xy(g.size());
+  for (int i = 0; i < g.ny; ++i)  // O(nodes)
+    for (int j = 0; j < g.nx; ++j) xy[g.at(i, j)] = {g.x(j), g.y(i)};
+  const std::vector<CLPoint> cl = tool.drop(xy);
+  const double jump = std::max(4 * cell_mm, 0.3 * tool.cutter().radius());
+  auto on = [&](std::size_t k) { return cl[k].contact != Contact::None && (mask == nullptr || (*mask)[k] != 0); };
+  std::vector<std::vector<Eigen::Vector3d>> found(static_cast<std::size_t>(g.ny));
+#pragma omp parallel for schedule(dynamic, 8)
+  for (int i = 0; i < g.ny; ++i)  // each row's right and upper edges: O(nodes), rows apart
+    for (int j = 0; j < g.nx; ++j) {
+      const std::size_t k = g.at(i, j);
+      if (!on(k)) continue;
+      for (const auto& [di, dj] : {std::pair{0, 1}, {1, 0}}) {
+        if (i + di >= g.ny || j + dj >= g.nx) continue;
+        const std::size_t q = g.at(i + di, j + dj);
+        if (!on(q) || (cl[k].cc - cl[q].cc).norm() <= jump) continue;
+        const CLPoint c = bitangent(tool, xy[k], xy[q], cl[k], cl[q]);
+        found[static_cast<std::size_t>(i)].emplace_back(c.x, c.y, c.z);
+      }
+    }
+  std::vector<Eigen::Vector3d> pts;
+  for (auto& row : found) pts.insert(pts.end(), row.begin(), row.end());
+  std::vector<Pass> passes;
+  for (const auto& line : chain(pts, 2 * std::numbers::sqrt2 * cell_mm)) {
+    Pass p;
+    p.points.push_back(line.front());
+    for (std::size_t k = 1; k < line.size(); ++k) {  // O(points · 2^6) drops at worst
+      refine_chord(tool, line[k - 1], line[k], chord_tolerance_mm, 6, p.points);
+      p.points.push_back(line[k]);
+    }
+    passes.push_back(std::move(p));
+  }
+  return passes;
+}
+
+FinishPlan plan_pencil(const ingest::Mesh& mesh, const DropCutter& tool, FinishParams params) {
+  params.check();
+  double x0 = params.x0, y0 = params.y0, x1 = params.x1, y1 = params.y1;
+  if (!(x1 > x0 && y1 > y0))
+    x0 = mesh.V.col(0).minCoeff(), y0 = mesh.V.col(1).minCoeff(), x1 = mesh.V.col(0).maxCoeff(),
+    y1 = mesh.V.col(1).maxCoeff();
+  const double cell = std::min(0.1, params.tool.radius() / 4);
+  const double nodes = std::ceil((x1 - x0) / cell + 1) * std::ceil((y1 - y0) / cell + 1);
+  if (!(nodes <= 5e7))
+    throw Error("pencil: a grid of " + std::to_string(static_cast<long long>(nodes)) + " nodes at " +
+                std::to_string(cell) + " mm exceeds the limit of 50,000,000");
+  FinishPlan plan;
+  plan.strategy = Strategy::SlopeMode;  // the program's header names pencil tracing below
+  const detail::Fence fence(mesh, params.boundary);
+  plan.passes = clip_passes(fence, pencil_passes(tool, x0, y0, x1, y1, cell, params.chord_tolerance_mm));
+  if (plan.passes.empty())
+    throw Error("pencil: no concave edge on the part for " + params.tool.describe() + " (nothing to trace)");
+  params.comments.insert(params.comments.begin(), "pencil tracing: bitangent passes along concave edges");
+  relink(mesh, tool, params, plan);
+  return plan;
+}
+
+FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const RestRegions& regions,
+                     const tooling::Cutter& reference, FinishParams params) {
+  if (regions.empty())
+    throw Error("rest: no rest material behind " + reference.describe() + " for " + params.tool.describe() +
+                " (nothing to finish)");
+  params.boundary.polygons = regions.boundary.polygons;
+  params.boundary.z_max = std::min(params.boundary.z_max, regions.boundary.z_max);
+  params.raster_angle_deg = regions.axis_deg;
+  params.comments.insert(params.comments.begin(),
+                         "rest finishing behind " + reference.describe() + ": " + std::to_string(regions.regions) +
+                             " region(s), raster along " + std::to_string(static_cast<int>(std::lround(regions.axis_deg))) +
+                             " deg");
+  FinishPlan plan = plan_finish(mesh, new_tool, Strategy::SlopeMode, params);
+  // The corners themselves first: pencil passes within the regions (their grid and mask), below
+  // the rest's top.
+  std::vector<std::uint8_t> inside(regions.mask.size());
+  for (std::size_t k = 0; k < inside.size(); ++k) inside[k] = regions.mask[k] == 2 ? 1 : 0;
+  const double x1 = regions.x0 + regions.cell * (regions.nx - 1), y1 = regions.y0 + regions.cell * (regions.ny - 1);
+  const std::vector<Pass> pencil =
+      clip_passes(detail::Fence(mesh, params.boundary),
+                  pencil_passes(new_tool, regions.x0, regions.y0, x1, y1, regions.cell, params.chord_tolerance_mm, &inside));
+  if (!pencil.empty()) {
+    plan.passes.insert(plan.passes.begin(), pencil.begin(), pencil.end());
+    relink(mesh, new_tool, params, plan);
+  }
+  return plan;
+}
+
+}  // namespace millnet::finish

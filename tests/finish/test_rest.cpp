@@ -1,0 +1,224 @@
+// Rest finishing (issue 41): an L-shaped concave corner (a wall at x = 0 rising to z = 10, a 1 mm
+// fillet, a floor at z = 0) finished by a Ø6 ball leaves, behind it, material a Ø2 ball can take.
+// By hand (the Ø6 ball in the corner: centre (3, 3)): a floor point (x, 0) is at
+// √((3 − x)² + 9) − 3 from it, so with the threshold t the Ø2 axis positions that cut rest are
+// 1 < x < 3 − √(6t + t²) (2.6530 for t = 0.02; left of 1 the Ø2 sits on the wall's top edge); the
+// wall's rest reaches up to where the Ø6 touches it, z = 3 − √(6t + t²). Oracles: those formulas,
+// and the ball's centre distance to every triangle (brute force) for gouge and for coverage.
+#include "millnet/core/error.hpp"
+#include "millnet/finish/rest.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+namespace millnet::finish {
+namespace {
+
+using tooling::Cutter;
+
+constexpr double kT = 0.02;                                            // threshold, mm
+const double kBandEnd = 3 - std::sqrt(6 * kT + kT * kT);               // 2.65302
+double floor_rest(double x) { return std::hypot(3 - x, 3.0) - 3; }    // x in [1, 3]
+
+/// The corner's profile in XZ extruded along Y over [0, 30]: top z = 10 for x in [−10, 0], the wall
+/// x = 0 down to z = 1, the fillet (centre (1, 1), radius 1, 64 chords), the floor to x = 20.
+ingest::Mesh l_corner() {
+  std::vector<Eigen::Vector2d> prof{{-10, 10}, {0, 10}};
+  for (int k = 0; k <= 64; ++k) {
+    const double t = 0.5 * std::numbers::pi * k / 64;
+    prof.emplace_back(1 - std::cos(t), 1 - std::sin(t));
+  }
+  prof.emplace_back(20, 0);
+  ingest::Mesh m;
+  const auto n = static_cast<Eigen::Index>(prof.size());
+  m.V.resize(2 * n, 3);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    m.V.row(k) << prof[static_cast<std::size_t>(k)].x(), 0, prof[static_cast<std::size_t>(k)].y();
+    m.V.row(n + k) << prof[static_cast<std::size_t>(k)].x(), 30, prof[static_cast<std::size_t>(k)].y();
+  }
+  m.F.resize(2 * (n - 1), 3);
+  for (Eigen::Index k = 0; k + 1 < n; ++k) {
+    m.F.row(2 * k) << static_cast<int>(k), static_cast<int>(k + 1), static_cast<int>(n + k + 1);
+    m.F.row(2 * k + 1) << static_cast<int>(k), static_cast<int>(n + k + 1), static_cast<int>(n + k);
+  }
+  return m;
+}
+
+/// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection §5.1.5).
+Eigen::Vector3d closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                    const Eigen::Vector3d& c) {
+  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+  const double denom = 1 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+double distance_to_mesh(const ingest::Mesh& m, const Eigen::Vector3d& p) {
+  double best = HUGE_VAL;
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {  // O(#F)
+    const Eigen::Vector3d a = m.V.row(m.F(f, 0)), b = m.V.row(m.F(f, 1)), c = m.V.row(m.F(f, 2));
+    best = std::min(best, (closest_on_triangle(p, a, b, c) - p).norm());
+  }
+  return best;
+}
+
+FinishParams rest_params() {
+  FinishParams p;
+  p.tool = Cutter::ball(2);
+  p.stepover_mm = 0.2;
+  p.step_down_mm = 0.04;
+  p.chord_tolerance_mm = 0.005;
+  p.safe_z_mm = 20;
+  return p;
+}
+
+TEST(RestRegions, TheCornerBandBehindASixMillimetreBallIsTheHandComputedOne) {
+  const ingest::Mesh part = l_corner();
+  const DropCutter two(part, Cutter::ball(2));
+  RestParams rp;
+  rp.reference = Cutter::ball(6);
+  rp.threshold_mm = kT;
+  const RestRegions r = rest_regions(part, two, rp, -10, 0, 20, 30);
+  EXPECT_NEAR(r.cell, rest_cell_mm(Cutter::ball(6), kT), 1e-12);
+  EXPECT_NEAR(r.cell, std::sqrt(2 * 3 * kT / 4 - kT * kT / 16) * std::numbers::sqrt2, 1e-12);  // 0.2449
+  std::size_t checked = 0;
+  for (int i = 0; i < r.ny; ++i) {
+    const double y = r.y0 + r.cell * i;
+    if (y < 8 || y > 22) continue;  // the open ends let the Ø6 in from the side
+    for (int j = 0; j < r.nx; ++j) {
+      const double x = r.x0 + r.cell * j;
+      const std::size_t k = static_cast<std::size_t>(i) * static_cast<std::size_t>(r.nx) + static_cast<std::size_t>(j);
+      if (std::abs(x - 1) < r.cell || std::abs(x - kBandEnd) < r.cell) continue;
+      const bool in_band = x > 1 && x < kBandEnd;
+      EXPECT_EQ(r.mask[k] == 1 || (r.mask[k] == 2 && r.thickness[k] > kT), in_band) << x << " " << y;
+      if (in_band) {  // the Ø2 stands on the floor at (x, 0): the material there, by hand
+        EXPECT_NEAR(r.thickness[k], floor_rest(x), 0.004) << x;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 100U);
+  EXPECT_EQ(r.regions, 1U);
+  EXPECT_NEAR(r.max_thickness_mm, floor_rest(1), 0.01);  // at the fillet's foot: 0.6056
+  EXPECT_NEAR(r.axis_deg, 90, 1);                        // along the corner (Y)
+  // The wall's rest ends where the Ø6 touches it, 3 − √(6t + t²) = 2.653 (within a cell's envelope).
+  EXPECT_NEAR(r.rest_top_z, kBandEnd, 0.15);
+  // The outline: the band grown by the margin (r/2 = 0.5 mm) within a cell.
+  const Boundary& b = r.boundary;
+  for (double x : {1.0, 1.5, 2.0, 2.6, kBandEnd + 0.5 - r.cell}) EXPECT_TRUE(b.encloses(x, 15)) << x;
+  for (double x : {0.5 - 2 * r.cell, kBandEnd + 0.5 + 2 * r.cell, 5.0, -3.0}) EXPECT_FALSE(b.encloses(x, 15)) << x;
+}
+
+TEST(RestFinishing, CleansTheBandOnlyAndNeverGouges) {
+  const ingest::Mesh part = l_corner();
+  const DropCutter two(part, Cutter::ball(2));
+  RestParams rp;
+  rp.reference = Cutter::ball(6);
+  rp.threshold_mm = kT;
+  const RestRegions r = rest_regions(part, two, rp, -10, 0, 20, 30);
+  const FinishPlan plan = plan_rest(part, two, r, rp.reference, rest_params());
+  ASSERT_FALSE(plan.passes.empty());
+  // Every CL point: within the band plus the margin and the cell, below the rest's top, no gouge
+  // (the ball's centre at least R from every triangle), and sampled every 0.1 mm for coverage.
+  std::vector<Eigen::Vector3d> centres;
+  for (const Pass& pass : plan.passes)
+    for (std::size_t q = 0; q < pass.points.size(); ++q) {
+      const Eigen::Vector3d& p = pass.points[q];
+      EXPECT_GE(p.x(), 0.5 - 2 * r.cell) << p.transpose();
+      EXPECT_LE(p.x(), kBandEnd + 0.5 + 2 * r.cell) << p.transpose();
+      EXPECT_LE(p.z(), r.rest_top_z + 1e-9);
+      if (q == 0) continue;
+      const Eigen::Vector3d& a = pass.points[q - 1];
+      const int n = std::max(1, static_cast<int>(std::ceil((p - a).norm() / 0.1)));
+      for (int k = 0; k < n; ++k) centres.push_back(a + (p - a) * (k + 0.5) / n + Eigen::Vector3d(0, 0, 1));
+    }
+  ASSERT_GT(centres.size(), 1000U);
+  double worst = HUGE_VAL;
+  for (const Eigen::Vector3d& c : centres)
+    if (c.y() > 12 && c.y() < 18) worst = std::min(worst, distance_to_mesh(part, c));
+  EXPECT_GE(worst, 1 - 1e-4) << "the Ø2 ball goes into the part by " << 1 - worst << " mm";
+  // Coverage at y = 15: floor, fillet and wall points of the band are within the threshold of the
+  // Ø2's surface at some sampled position (a ball: |P − centre| − 1).
+  std::vector<Eigen::Vector3d> band;
+  for (double x = 1.05; x < kBandEnd - 0.05; x += 0.1) band.emplace_back(x, 15, 0);
+  for (double t = 0.05; t < 0.5 * std::numbers::pi; t += 0.1) band.emplace_back(1 - std::cos(t), 15, 1 - std::sin(t));
+  for (double z = 1.05; z < kBandEnd - 0.05; z += 0.1) band.emplace_back(0, 15, z);
+  for (const Eigen::Vector3d& p : band) {
+    double d = HUGE_VAL;
+    for (const Eigen::Vector3d& c : centres)
+      if (std::abs(c.y() - 15) < 1.2) d = std::min(d, (p - c).norm() - 1);
+    EXPECT_LE(d, kT) << "rest left at " << p.transpose();
+  }
+}
+
+TEST(RestRegions, BadParametersAndASmallerReferenceAreRefused) {
+  const ingest::Mesh part = l_corner();
+  const DropCutter two(part, Cutter::ball(2));
+  RestParams rp;
+  rp.reference = Cutter::ball(1);
+  EXPECT_THROW((void)rest_regions(part, two, rp), Error);
+  rp.reference = Cutter::ball(6);
+  rp.threshold_mm = 0;
+  EXPECT_THROW((void)rest_regions(part, two, rp), Error);
+  rp.threshold_mm = 0.02;
+  rp.cell_mm = 0.001;
+  EXPECT_THROW((void)rest_regions(part, two, rp), Error);
+  // Nothing to take: the same tool as the reference leaves no rest, and plan_rest says so.
+  rp.cell_mm = 0;
+  rp.reference = Cutter::ball(2);
+  const RestRegions none = rest_regions(part, two, rp, -10, 0, 20, 30);
+  EXPECT_TRUE(none.empty());
+  EXPECT_THROW((void)plan_rest(part, two, none, rp.reference, rest_params()), Error);
+}
+
+// A V-groove along Y with 45° flanks (z = |x|): the Ø2 ball touches both flanks with its centre at
+// x = 0, R / cos 45° = √2 high, so its tip runs along x = 0 at z = √2 − 1 = 0.41421.
+TEST(Pencil, FollowsTheVGroovesBitangentLine) {
+  ingest::Mesh m;
+  m.V.resize(6, 3);
+  m.V << -8, 0, 8, 0, 0, 0, 8, 0, 8, -8, 20, 8, 0, 20, 0, 8, 20, 8;
+  m.F.resize(4, 3);
+  m.F << 0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4;
+  const DropCutter two(m, Cutter::ball(2));
+  FinishParams p = rest_params();
+  p.safe_z_mm = 30;
+  p.boundary.polygons = {{{-6, 2}, {6, 2}, {6, 18}, {-6, 18}}};  // away from the open ends
+  const FinishPlan plan = plan_pencil(m, two, p);
+  ASSERT_EQ(plan.passes.size(), 1U);
+  const Pass& pass = plan.passes.front();
+  double lo = HUGE_VAL, hi = -HUGE_VAL;
+  for (const Eigen::Vector3d& q : pass.points) {
+    EXPECT_NEAR(q.x(), 0, p.chord_tolerance_mm) << q.transpose();
+    EXPECT_NEAR(q.z(), std::sqrt(2.0) - 1, p.chord_tolerance_mm) << q.transpose();
+    lo = std::min(lo, q.y()), hi = std::max(hi, q.y());
+  }
+  EXPECT_LT(lo, 2.2);
+  EXPECT_GT(hi, 17.8);
+  // A plane has no concave edge: nothing to trace, said so.
+  ingest::Mesh flat;
+  flat.V.resize(4, 3);
+  flat.V << 0, 0, 0, 10, 0, 0, 10, 10, 0, 0, 10, 0;
+  flat.F.resize(2, 3);
+  flat.F << 0, 1, 2, 0, 2, 3;
+  EXPECT_THROW((void)plan_pencil(flat, DropCutter(flat, Cutter::ball(2)), rest_params()), Error);
+}
+
+}  // namespace
+}  // namespace millnet::finish
