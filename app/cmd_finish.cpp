@@ -110,7 +110,9 @@ Registered register_finish(CLI::App& app) {
     std::optional<std::string> strategy, tool, material, post;
     std::optional<double> stepover, step_down, boundary_angle, scallop;
     BoundaryFlags boundary;
-    bool simulate = false;
+    bool simulate = false, pencil = false;
+    std::optional<std::string> rest_tool, rest_reference;
+    std::optional<double> rest_threshold;
     std::string out;
   };
   auto o = std::make_shared<Opts>();
@@ -144,6 +146,13 @@ Registered register_finish(CLI::App& app) {
       ->check(schema_range("/finish/scallop_mm"));
   o->boundary.add_to(sub);
   sub->add_flag("--simulate", o->simulate, "machine each program on a z-map and score the surface");
+  sub->add_option("--rest-tool", o->rest_tool,
+                  "rest finishing with this smaller tool (ball:D, bull:D:r or a library id): <stem>.rest.nc");
+  sub->add_option("--rest-reference", o->rest_reference,
+                  "the tool whose rest is taken (default: the finishing tool)");
+  sub->add_option("--rest-threshold", o->rest_threshold, "material thicker than this is rest, mm (default 0.02)")
+      ->check(CLI::Range(0.001, 10.0));
+  sub->add_flag("--pencil", o->pencil, "pencil tracing along concave edges with the finishing tool: <stem>.pencil.nc");
   add_post_flag(sub, o->post);
   sub->add_option("--out", o->out, "output folder")->check(output_path())->required();
   add_common(sub, o->common);
@@ -170,6 +179,11 @@ Registered register_finish(CLI::App& app) {
             }
             o->boundary.apply(s);
             s.simulate = o->simulate;
+            if (o->rest_tool) s.rest_tool = tool_arg(*o->rest_tool, config);
+            if (o->rest_reference) s.rest_reference = tool_arg(*o->rest_reference, config);
+            if (o->rest_reference && !o->rest_tool) throw Error("--rest-reference needs --rest-tool");
+            if (o->rest_threshold) s.rest_threshold_mm = *o->rest_threshold;
+            s.pencil = o->pencil;
             s.params.check();
             std::vector<std::string> items = config["finish"]["meshes"].get<std::vector<std::string>>();
             items.insert(items.end(), o->meshes.begin(), o->meshes.end());

@@ -11,6 +11,7 @@
 #include "millnet/core/error.hpp"
 #include "millnet/core/progress.hpp"
 #include "millnet/finish/dropcutter.hpp"
+#include "millnet/finish/rest.hpp"
 #include "millnet/gcode/bounds.hpp"
 #include "millnet/gcode/polylines.hpp"
 #include "millnet/gcode/reader.hpp"
@@ -374,6 +375,62 @@ job::SimParams sim_params(const FinishSettings& settings) {
 }
 
 namespace {
+/// A program beside the strategies' (rest finishing, pencil tracing): <stem>.<kind>.nc, its path
+/// picture and <stem>.<kind>.json with `figures` and the program's own.
+void write_extra_program(const job::Part& part, const FinishSettings& settings, const PartJob& job,
+                         const finish::FinishPlan& plan, const std::string& kind, Json figures, const fs::path& out) {
+  const std::string base = part.name + "." + kind;
+  const gcode::Written written = gcode::written(plan.program, job.frame.post(settings.post), (out / (base + ".nc")).string());
+  const gcode::ProgramStats st = gcode::stats(plan.program, settings.machine);
+  figures["path_length_mm"] = plan.path_length_mm;
+  figures["lifts"] = plan.lifts;
+  figures["passes"] = plan.passes.size();
+  figures["time_min"] = st.feed_time_min;
+  figures["time_kinematic_min"] = st.kinematic_time_min;
+  path_png(out / (base + ".png"), job, plan.program, part.name + ": " + kind);
+  write_file_atomic(out / (base + ".nc"), written.text);
+  write_file_atomic(out / (base + ".json"), figures.dump(2) + "\n");
+}
+
+/// finish --rest-tool and --pencil (issue 41): rest finishing behind the reference tool, and pencil
+/// tracing with the finishing tool, each a program of its own. No rest: said, and no program.
+void write_rest_and_pencil(const job::Part& part, const FinishSettings& settings, const PartJob& job,
+                           const fs::path& out) {
+  if (settings.rest_tool) {
+    finish::FinishParams p = job.params;
+    p.tool = *settings.rest_tool;
+    p.tool_label.clear();
+    p.comments = {"tool: " + p.tool.describe()};
+    const finish::DropCutter dropper(part.mesh, p.tool);
+    finish::RestParams rp;
+    rp.reference = settings.rest_reference.value_or(job.params.tool);
+    rp.threshold_mm = settings.rest_threshold_mm;
+    const finish::RestRegions r = finish::rest_regions(part.mesh, dropper, rp, p.x0, p.y0, p.x1, p.y1);
+    Json figures{{"rest_tool", p.tool.describe()},
+                 {"reference_tool", rp.reference.describe()},
+                 {"threshold_mm", rp.threshold_mm},
+                 {"cell_mm", r.cell},
+                 {"regions", r.regions},
+                 {"slivers_dropped", r.slivers},
+                 {"rest_axis_area_mm2", r.rest_axis_area_mm2},
+                 {"max_rest_mm", r.max_thickness_mm},
+                 {"along_deg", r.axis_deg}};
+    if (r.empty()) {
+      info("finish: " + part.name + ": no rest material behind " + rp.reference.describe() + " for " +
+           p.tool.describe() + "; no rest program");
+      write_file_atomic(out / (part.name + ".rest.json"), figures.dump(2) + "\n");
+    } else {
+      figures["rest_top_z"] = r.rest_top_z + job.frame.z_shift();  // program frame
+      write_extra_program(part, settings, job, finish::plan_rest(part.mesh, dropper, r, rp.reference, p), "rest",
+                          std::move(figures), out);
+    }
+  }
+  if (settings.pencil) {
+    const finish::FinishPlan plan = finish::plan_pencil(part.mesh, *job.dropper, job.params);
+    write_extra_program(part, settings, job, plan, "pencil", Json{{"tool", job.params.tool.describe()}}, out);
+  }
+}
+
 /// The part's strategies planned, written and (simulated) scored; the job kept for the caller.
 std::vector<job::StrategyOutcome> plan_and_write(const job::Part& part, const FinishSettings& settings,
                                                  const std::vector<finish::Strategy>& strategies, PartJob& job,
@@ -395,6 +452,7 @@ PartFinish finish_part(const job::Part& part, const FinishSettings& settings, co
   PartJob job = part_job(part, settings, out);
   PartFinish pf;
   pf.outcomes = plan_and_write(part, settings, settings.strategies, job, out);
+  write_rest_and_pencil(part, settings, job, out);
   write_strategy_ranking(part.name, settings, pf.outcomes, out);
   pf.frame = job.frame;
   pf.design = std::move(job.design);
@@ -405,7 +463,10 @@ std::vector<job::StrategyOutcome> finish_strategies(const job::Part& part, const
                                                     const std::vector<finish::Strategy>& strategies,
                                                     const fs::path& out) {
   PartJob job = part_job(part, settings, out);
-  return plan_and_write(part, settings, strategies, job, out);
+  std::vector<job::StrategyOutcome> outcomes = plan_and_write(part, settings, strategies, job, out);
+  if (!strategies.empty() && strategies.front() == settings.strategies.front())  // once per part (MPI units)
+    write_rest_and_pencil(part, settings, job, out);
+  return outcomes;
 }
 
 void write_strategy_ranking(const std::string& stem, const FinishSettings& settings,

@@ -108,6 +108,11 @@ struct FinishSettings {
   [[nodiscard]] std::vector<finish::FinishParams> strategy_params(const std::vector<finish::Strategy>& which,
                                                                   const finish::FinishParams& base) const;
   bool simulate = false;
+  /// Rest finishing (issue 41; finish --rest-tool): the smaller tool, the reference tool whose rest it
+  /// takes (unset: the finishing tool) and the thickness that counts as rest.
+  std::optional<tooling::Cutter> rest_tool, rest_reference;
+  double rest_threshold_mm = 0.02;
+  bool pencil = false;  ///< finish --pencil: pencil tracing with the finishing tool
   double stock_top_above_part_mm = 1;
   gcode::MotionModel machine;
   gcode::Dialect post;  ///< the dialect the programs are written in (/machine/post)

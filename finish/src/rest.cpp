@@ -10,6 +10,7 @@
 #include "millnet/core/error.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -334,54 +335,102 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
   for (std::size_t k = 0; k < g.size(); ++k)
     if (grown[k]) out.mask[k] = 2;
 
-  // 5. The tip's ceiling: the highest design point within the new tool's reach of the regions whose
+  // 5. The grown regions (4-connected components of the grown nodes: margins may join kept ones),
+  // each with its outline, its Z range and its direction.
+  int ng = 0;
+  const std::vector<int> gid = components(g, grown, &ng);
+  out.parts.resize(static_cast<std::size_t>(ng));
+  std::vector<double> pxx(out.parts.size(), 0.0), pyy(pxx), pxy(pxx), pm(pxx), psx(pxx), psy(pxx);
+  std::vector<std::array<int, 4>> bbox(out.parts.size(), {g.ny, g.nx, -1, -1});
+  for (int i = 0; i < g.ny; ++i)  // O(nodes)
+    for (int j = 0; j < g.nx; ++j) {
+      const std::size_t k = g.at(i, j);
+      if (gid[k] < 0) continue;
+      const auto c = static_cast<std::size_t>(gid[k]);
+      auto& bb = bbox[c];
+      bb = {std::min(bb[0], i), std::min(bb[1], j), std::max(bb[2], i), std::max(bb[3], j)};
+      RestRegion& part = out.parts[c];
+      part.z_min = std::min(part.z_min, cl[k].contact == Contact::None ? part.z_min : cl[k].z);
+      if (!kept[k]) continue;
+      part.rest_axis_area_mm2 += h * h;
+      const double x = g.x(j), y = g.y(i);
+      pm[c] += 1, psx[c] += x, psy[c] += y, pxx[c] += x * x, pyy[c] += y * y, pxy[c] += x * y;
+    }
+  for (std::size_t c = 0; c < out.parts.size(); ++c) {
+    const double m = std::max(pm[c], 1.0), mx = psx[c] / m, my = psy[c] / m;
+    double a = 0.5 * std::atan2(2 * (pxy[c] - m * mx * my), (pxx[c] - m * mx * mx) - (pyy[c] - m * my * my)) * 180 /
+               std::numbers::pi;
+    out.parts[c].axis_deg = a < 0 ? a + 180 : a;
+  }
+
+  // 6. Each region's ceiling: the highest design point within the new tool's reach of it whose
   // material behind the reference exceeds the threshold (points on every triangle there, ≤ cell/2
   // apart, each tested like a contact above). A tip above the highest rest cuts none of it: Z-levels
-  // up a wall the reference touched are left out.
+  // up a wall the reference touched are left out. A point belongs to the region of the nearest
+  // grown node within reach.
   const auto reach = disc_offsets(tool.radius() / h + 1);
-  std::vector<std::uint8_t> near(g.size(), 0);
-  for (int i = 0; i < g.ny; ++i)  // O(grown nodes · (r / h)²)
-    for (int j = 0; j < g.nx; ++j) {
-      if (!grown[g.at(i, j)]) continue;
-      for (const auto& [di, dj] : reach) {
-        const int a = i + di, b = j + dj;
-        if (a >= 0 && b >= 0 && a < g.ny && b < g.nx) near[g.at(a, b)] = 1;
-      }
+  auto region_of = [&](const Eigen::Vector3d& q) {
+    const auto bi = static_cast<int>(std::lround((q.y() - g.y0) / h)), bj = static_cast<int>(std::lround((q.x() - g.x0) / h));
+    for (const auto& [di, dj] : reach) {  // nearest first
+      const int i = bi + di, j = bj + dj;
+      if (i >= 0 && j >= 0 && i < g.ny && j < g.nx && gid[g.at(i, j)] >= 0) return gid[g.at(i, j)];
     }
-  auto near_at = [&](const Eigen::Vector3d& q) {
-    const auto i = static_cast<int>(std::lround((q.y() - g.y0) / h)), j = static_cast<int>(std::lround((q.x() - g.x0) / h));
-    return i >= 0 && j >= 0 && i < g.ny && j < g.nx && near[g.at(i, j)] != 0;
+    return -1;
   };
-  double top = -std::numeric_limits<double>::infinity();
   const auto faces = static_cast<std::ptrdiff_t>(mesh.F.rows());
-#pragma omp parallel for schedule(dynamic, 64) reduction(max : top)
+  std::vector<std::vector<double>> tops(static_cast<std::size_t>(faces));
+#pragma omp parallel for schedule(dynamic, 64)
   for (std::ptrdiff_t f = 0; f < faces; ++f) {  // O(sampled area / (h/2)²) over the near faces
     const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
     const int nu = std::clamp(static_cast<int>(std::ceil((b - a).norm() / (0.5 * h))), 1, 4096);
     const int nv = std::clamp(static_cast<int>(std::ceil((c - a).norm() / (0.5 * h))), 1, 4096);
+    std::vector<double> mine;
     for (int u = 0; u <= nu; ++u)
       for (int v = 0; v * nu <= (nu - u) * nv; ++v) {  // u/nu + v/nv ≤ 1
         const Eigen::Vector3d q = a + (b - a) * (static_cast<double>(u) / nu) + (c - a) * (static_cast<double>(v) / nv);
-        if (q.z() <= top || !near_at(q)) continue;
-        if (material_at(q, g, ref_cl, ref, offsets, params.threshold_mm) > params.threshold_mm) top = q.z();
+        const int r = region_of(q);
+        if (r < 0) continue;
+        if (mine.empty()) mine.assign(out.parts.size(), -std::numeric_limits<double>::infinity());
+        if (q.z() <= mine[static_cast<std::size_t>(r)]) continue;
+        if (material_at(q, g, ref_cl, ref, offsets, params.threshold_mm) > params.threshold_mm)
+          mine[static_cast<std::size_t>(r)] = q.z();
       }
+    tops[static_cast<std::size_t>(f)] = std::move(mine);
   }
-  out.rest_top_z = top;
-  if (std::isfinite(top)) out.boundary.z_max = top;
+  for (const auto& t : tops)  // O(faces · regions) where sampled
+    for (std::size_t c = 0; c < t.size(); ++c) out.parts[c].z_max = std::max(out.parts[c].z_max, t[c]);
+  for (const RestRegion& part : out.parts) out.rest_top_z = std::max(out.rest_top_z, part.z_max);
+  if (std::isfinite(out.rest_top_z)) out.boundary.z_max = out.rest_top_z;
 
-  // 6. The outlines: marching squares on the grown nodes, crossings halfway between nodes.
-  std::vector<double> field(g.size());
-  for (std::size_t k = 0; k < g.size(); ++k) field[k] = grown[k] ? 1.0 : 0.0;
-  detail::GridSpec gs;
-  gs.x0 = g.x0, gs.y0 = g.y0, gs.step = h, gs.nx = g.nx, gs.ny = g.ny;
-  gs.x1 = g.x(g.nx - 1), gs.y1 = g.y(g.ny - 1);
+  // 7. The outlines: marching squares on each region's nodes (its box and a ring), crossings
+  // halfway between nodes; the union's outlines for the whole.
   const detail::PlaceCrossing half = [](const Eigen::Vector2d& in, const Eigen::Vector2d& outside, double, double,
                                         bool) { return std::pair{Eigen::Vector2d(0.5 * (in + outside)), 0.0}; };
-  for (const auto& loop : detail::iso_contours(gs, field, 0.5, half)) {
-    std::vector<Eigen::Vector2d> poly;
-    for (std::size_t q = 0; q + 1 < loop.size(); ++q) poly.push_back(loop[q].xy);  // last = first
-    if (poly.size() >= 3) out.boundary.polygons.push_back(std::move(poly));
+  auto trace = [&](int i0, int j0, int i1, int j1, auto&& on) {
+    detail::GridSpec gs;
+    gs.x0 = g.x(j0), gs.y0 = g.y(i0), gs.step = h, gs.nx = j1 - j0 + 1, gs.ny = i1 - i0 + 1;
+    gs.x1 = g.x(j1), gs.y1 = g.y(i1);
+    std::vector<double> field(static_cast<std::size_t>(gs.nx) * static_cast<std::size_t>(gs.ny));
+    for (int i = i0; i <= i1; ++i)  // O(box nodes)
+      for (int j = j0; j <= j1; ++j)
+        field[static_cast<std::size_t>(i - i0) * static_cast<std::size_t>(gs.nx) + static_cast<std::size_t>(j - j0)] =
+            on(g.at(i, j)) ? 1.0 : 0.0;
+    std::vector<std::vector<Eigen::Vector2d>> polys;
+    for (const auto& loop : detail::iso_contours(gs, field, 0.5, half)) {
+      std::vector<Eigen::Vector2d> poly;
+      for (std::size_t q = 0; q + 1 < loop.size(); ++q) poly.push_back(loop[q].xy);  // last = first
+      if (poly.size() >= 3) polys.push_back(std::move(poly));
+    }
+    return polys;
+  };
+  for (std::size_t c = 0; c < out.parts.size(); ++c) {
+    const auto& bb = bbox[c];
+    out.parts[c].boundary.polygons =
+        trace(bb[0], bb[1], bb[2], bb[3], [&](std::size_t k) { return gid[k] == static_cast<int>(c); });
+    out.parts[c].boundary.z_min = out.parts[c].z_min;
+    out.parts[c].boundary.z_max = out.parts[c].z_max;
   }
+  if (ng > 0) out.boundary.polygons = trace(0, 0, g.ny - 1, g.nx - 1, [&](std::size_t k) { return grown[k] != 0; });
   return out;
 }
 
@@ -453,26 +502,44 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
   if (regions.empty())
     throw Error("rest: no rest material behind " + reference.describe() + " for " + params.tool.describe() +
                 " (nothing to finish)");
-  params.boundary.polygons = regions.boundary.polygons;
-  params.boundary.z_max = std::min(params.boundary.z_max, regions.boundary.z_max);
-  params.raster_angle_deg = regions.axis_deg;
-  params.comments.insert(params.comments.begin(),
-                         "rest finishing behind " + reference.describe() + ": " + std::to_string(regions.regions) +
-                             " region(s), raster along " + std::to_string(static_cast<int>(std::lround(regions.axis_deg))) +
-                             " deg");
-  FinishPlan plan = plan_finish(mesh, new_tool, Strategy::SlopeMode, params);
+  // Each region on its own: its outline, its Z range (within the caller's), its direction.
+  FinishPlan plan;
+  plan.strategy = Strategy::SlopeMode;
+  std::size_t narrow = 0;
+  for (const RestRegion& region : regions.parts) {  // O(regions) plans
+    if (!std::isfinite(region.z_max)) continue;     // no rest within reach above the threshold
+    FinishParams p = params;
+    p.boundary.polygons = region.boundary.polygons;
+    p.boundary.z_min = std::max(params.boundary.z_min, region.boundary.z_min - params.step_down_mm);
+    p.boundary.z_max = std::min(params.boundary.z_max, region.boundary.z_max);
+    p.raster_angle_deg = region.axis_deg;
+    try {
+      FinishPlan one = plan_finish(mesh, new_tool, Strategy::SlopeMode, p);
+      plan.passes.insert(plan.passes.end(), one.passes.begin(), one.passes.end());
+      plan.drops += one.drops;
+    } catch (const Error&) {  // narrower than the tool, or nothing inside its range: pencil only
+      ++narrow;
+    }
+  }
   // The corners themselves first: pencil passes within the regions (their grid and mask), below
   // the rest's top.
+  params.boundary.polygons = regions.boundary.polygons;
+  params.boundary.z_max = std::min(params.boundary.z_max, regions.boundary.z_max);
   std::vector<std::uint8_t> inside(regions.mask.size());
   for (std::size_t k = 0; k < inside.size(); ++k) inside[k] = regions.mask[k] == 2 ? 1 : 0;
   const double x1 = regions.x0 + regions.cell * (regions.nx - 1), y1 = regions.y0 + regions.cell * (regions.ny - 1);
   const std::vector<Pass> pencil =
       clip_passes(detail::Fence(mesh, params.boundary),
                   pencil_passes(new_tool, regions.x0, regions.y0, x1, y1, regions.cell, params.chord_tolerance_mm, &inside));
-  if (!pencil.empty()) {
-    plan.passes.insert(plan.passes.begin(), pencil.begin(), pencil.end());
-    relink(mesh, new_tool, params, plan);
-  }
+  plan.passes.insert(plan.passes.begin(), pencil.begin(), pencil.end());
+  if (plan.passes.empty())
+    throw Error("rest: the rest regions behind " + reference.describe() + " are all narrower than " +
+                params.tool.describe() + " and have no concave edge to trace");
+  params.comments.insert(params.comments.begin(),
+                         "rest finishing behind " + reference.describe() + ": " + std::to_string(regions.parts.size()) +
+                             " region(s) (" + std::to_string(narrow) + " pencil only), " +
+                             std::to_string(pencil.size()) + " pencil pass(es) first");
+  relink(mesh, new_tool, params, plan);
   return plan;
 }
 

@@ -57,6 +57,15 @@ struct RestParams {
 [[nodiscard]] double distance_to_tool(const tooling::Cutter& tool, double cx, double cy, double tip,
                                       const Eigen::Vector3d& p);
 
+/// One rest region (a 4-connected component of the grown axis nodes).
+struct RestRegion {
+  Boundary boundary;  ///< its outline; z_min/z_max: its tips' lowest CL, its rest's top
+  double z_min = std::numeric_limits<double>::infinity();  ///< the new tool's lowest tip over it
+  double z_max = -std::numeric_limits<double>::infinity();  ///< its highest rest (−inf: none in reach)
+  double rest_axis_area_mm2 = 0;  ///< its axis nodes that cut rest (before the growth)
+  double axis_deg = 0;            ///< its principal direction, degrees from +X, in [0, 180)
+};
+
 struct RestRegions {
   double x0 = 0, y0 = 0, cell = 0;  ///< node (i, j) at (x0 + j·cell, y0 + i·cell)
   int nx = 0, ny = 0;
@@ -67,13 +76,14 @@ struct RestRegions {
   /// threshold, the exact distance above it; NaN where the new tool touches nothing).
   std::vector<float> thickness;
   Boundary boundary;              ///< the outlines of the kept, grown regions (polygons, on the part)
+  std::vector<RestRegion> parts;  ///< the grown regions one by one (margins may join kept ones)
   std::size_t regions = 0;        ///< kept regions (4-connected components of the rest nodes)
   std::size_t slivers = 0;        ///< components dropped for their size
   double rest_axis_area_mm2 = 0;  ///< XY area of the new tool's axis positions that cut rest (kept)
   double max_thickness_mm = 0;    ///< the largest rest found
   double axis_deg = 0;            ///< the regions' principal direction, degrees from +X, in [0, 180)
-  /// The highest rest material (mesh z) within the new tool's reach of the regions: the boundary's
-  /// z_max (a tip above it cuts no rest). −infinity when there is no rest.
+  /// The highest rest material (mesh z) within the new tool's reach of the regions (the highest of
+  /// the parts' z_max): the boundary's z_max. −infinity when there is no rest.
   double rest_top_z = -std::numeric_limits<double>::infinity();
   [[nodiscard]] bool empty() const { return boundary.polygons.empty(); }
 };
@@ -104,9 +114,10 @@ struct RestRegions {
 [[nodiscard]] FinishPlan plan_pencil(const ingest::Mesh& mesh, const DropCutter& tool, FinishParams params);
 
 /// Rest finishing inside `regions` with the new tool (params.tool, whose drop-cutter is `new_tool`):
-/// the pencil passes of the regions first, then strategy 1 with the regions' outline as the
-/// machining boundary (params.boundary's Z range capped at the rest's top, on_part kept) and the
-/// raster along the regions' principal direction. The program's header names
+/// the pencil passes of the regions first, then strategy 1 in each region with its outline as the
+/// machining boundary, its Z range (from a step-down below its lowest tip to its rest's top, within
+/// params.boundary's; on_part kept) and its raster along its principal direction; a region narrower
+/// than the tool gets its pencil passes only. All linked into one program. The program's header names
 /// it rest finishing and the reference tool. Throws millnet::Error when the regions are empty.
 [[nodiscard]] FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const RestRegions& regions,
                                    const tooling::Cutter& reference, FinishParams params);
