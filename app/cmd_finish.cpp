@@ -148,8 +148,7 @@ Registered register_finish(CLI::App& app) {
   sub->add_flag("--simulate", o->simulate, "machine each program on a z-map and score the surface");
   sub->add_option("--rest-tool", o->rest_tool,
                   "rest finishing with this smaller tool (ball:D, bull:D:r or a library id): <stem>.rest.nc");
-  sub->add_option("--rest-reference", o->rest_reference,
-                  "the tool whose rest is taken (default: the finishing tool)");
+  sub->add_option("--rest-reference", o->rest_reference, "the tool whose rest is taken (default: the finishing tool)");
   sub->add_option("--rest-threshold", o->rest_threshold, "material thicker than this is rest, mm (default 0.02)")
       ->check(CLI::Range(0.001, 10.0));
   sub->add_flag("--pencil", o->pencil, "pencil tracing along concave edges with the finishing tool: <stem>.pencil.nc");

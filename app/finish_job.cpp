@@ -380,7 +380,8 @@ namespace {
 void write_extra_program(const job::Part& part, const FinishSettings& settings, const PartJob& job,
                          const finish::FinishPlan& plan, const std::string& kind, Json figures, const fs::path& out) {
   const std::string base = part.name + "." + kind;
-  const gcode::Written written = gcode::written(plan.program, job.frame.post(settings.post), (out / (base + ".nc")).string());
+  const gcode::Written written =
+      gcode::written(plan.program, job.frame.post(settings.post), (out / (base + ".nc")).string());
   const gcode::ProgramStats st = gcode::stats(plan.program, settings.machine);
   figures["path_length_mm"] = plan.path_length_mm;
   figures["lifts"] = plan.lifts;

@@ -48,8 +48,8 @@ std::vector<std::pair<int, int>> disc_offsets(double radius_cells) {
 /// the threshold), then, when that is above the threshold, a pattern search of real drops around
 /// the best placement (steps halved down to cell/64), so that a placement between nodes (a wall
 /// touched at an axis position off the grid) is found.
-double material_at(const Eigen::Vector3d& p, const Grid& g, const std::vector<double>& ref_cl,
-                   const DropCutter& ref, const std::vector<std::pair<int, int>>& offsets, double thr) {
+double material_at(const Eigen::Vector3d& p, const Grid& g, const std::vector<double>& ref_cl, const DropCutter& ref,
+                   const std::vector<std::pair<int, int>>& offsets, double thr) {
   const tooling::Cutter& tool = ref.cutter();
   const int bi = static_cast<int>(std::lround((p.y() - g.y0) / g.h));
   const int bj = static_cast<int>(std::lround((p.x() - g.x0) / g.h));
@@ -220,11 +220,11 @@ void require_rest(bool ok, const std::string& key, const std::string& what) {
 void RestParams::check() const {
   check_finishing_cutter(reference);
   require_rest(std::isfinite(threshold_mm) && threshold_mm > 0, "threshold_mm",
-          "must be > 0 (got " + std::to_string(threshold_mm) + ")");
+               "must be > 0 (got " + std::to_string(threshold_mm) + ")");
   require_rest(std::isfinite(margin_mm) && margin_mm <= 100, "margin_mm", "must be ≤ 100 (< 0: automatic)");
   require_rest(std::isfinite(min_area_mm2), "min_area_mm2", "must be finite (< 0: automatic)");
   require_rest(std::isfinite(cell_mm) && (cell_mm == 0 || (cell_mm >= 0.005 && cell_mm <= 5)), "cell_mm",
-          "must be 0 (automatic) or in [0.005, 5] mm (got " + std::to_string(cell_mm) + ")");
+               "must be 0 (automatic) or in [0.005, 5] mm (got " + std::to_string(cell_mm) + ")");
 }
 
 double rest_cell_mm(const tooling::Cutter& reference, double threshold_mm) {
@@ -238,8 +238,8 @@ double distance_to_tool(const tooling::Cutter& tool, double cx, double cy, doubl
   const double rho = std::hypot(p.x() - cx, p.y() - cy);
   if (rho <= a) return std::max(0.0, tip - p.z());  // under the flat bottom
   const double dz = p.z() - (tip + rc);
-  if (dz >= 0) return std::max(0.0, rho - R);              // beside the side
-  return std::max(0.0, std::hypot(rho - a, dz) - rc);      // below the corner's centre: the torus
+  if (dz >= 0) return std::max(0.0, rho - R);          // beside the side
+  return std::max(0.0, std::hypot(rho - a, dz) - rc);  // below the corner's centre: the torus
 }
 
 RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, const RestParams& params, double x0,
@@ -370,7 +370,8 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
   // grown node within reach.
   const auto reach = disc_offsets(tool.radius() / h + 1);
   auto region_of = [&](const Eigen::Vector3d& q) {
-    const auto bi = static_cast<int>(std::lround((q.y() - g.y0) / h)), bj = static_cast<int>(std::lround((q.x() - g.x0) / h));
+    const auto bi = static_cast<int>(std::lround((q.y() - g.y0) / h)),
+               bj = static_cast<int>(std::lround((q.x() - g.x0) / h));
     for (const auto& [di, dj] : reach) {  // nearest first
       const int i = bi + di, j = bj + dj;
       if (i >= 0 && j >= 0 && i < g.ny && j < g.nx && gid[g.at(i, j)] >= 0) return gid[g.at(i, j)];
@@ -405,7 +406,9 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
   // 7. The outlines: marching squares on each region's nodes (its box and a ring), crossings
   // halfway between nodes; the union's outlines for the whole.
   const detail::PlaceCrossing half = [](const Eigen::Vector2d& in, const Eigen::Vector2d& outside, double, double,
-                                        bool) { return std::pair{Eigen::Vector2d(0.5 * (in + outside)), 0.0}; };
+                                        bool) {
+    return std::pair{Eigen::Vector2d(0.5 * (in + outside)), 0.0};
+  };
   auto trace = [&](int i0, int j0, int i1, int j1, auto&& on) {
     detail::GridSpec gs;
     gs.x0 = g.x(j0), gs.y0 = g.y(i0), gs.step = h, gs.nx = j1 - j0 + 1, gs.ny = i1 - i0 + 1;
@@ -444,7 +447,7 @@ std::vector<Pass> pencil_passes(const DropCutter& tool, double x0, double y0, do
   for (int i = 0; i < g.ny; ++i)  // O(nodes)
     for (int j = 0; j < g.nx; ++j) xy[g.at(i, j)] = {g.x(j), g.y(i)};
   const std::vector<CLPoint> cl = tool.drop(xy);
-  const double jump = std::max(4 * cell_mm, 0.3 * tool.cutter().radius());
+  const double jump = std::max(6 * cell_mm, 0.5 * tool.cutter().radius());
   auto on = [&](std::size_t k) { return cl[k].contact != Contact::None && (mask == nullptr || (*mask)[k] != 0); };
   std::vector<std::vector<Eigen::Vector3d>> found(static_cast<std::size_t>(g.ny));
 #pragma omp parallel for schedule(dynamic, 8)
@@ -528,17 +531,17 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
   std::vector<std::uint8_t> inside(regions.mask.size());
   for (std::size_t k = 0; k < inside.size(); ++k) inside[k] = regions.mask[k] == 2 ? 1 : 0;
   const double x1 = regions.x0 + regions.cell * (regions.nx - 1), y1 = regions.y0 + regions.cell * (regions.ny - 1);
-  const std::vector<Pass> pencil =
-      clip_passes(detail::Fence(mesh, params.boundary),
-                  pencil_passes(new_tool, regions.x0, regions.y0, x1, y1, regions.cell, params.chord_tolerance_mm, &inside));
+  const std::vector<Pass> pencil = clip_passes(
+      detail::Fence(mesh, params.boundary),
+      pencil_passes(new_tool, regions.x0, regions.y0, x1, y1, regions.cell, params.chord_tolerance_mm, &inside));
   plan.passes.insert(plan.passes.begin(), pencil.begin(), pencil.end());
   if (plan.passes.empty())
     throw Error("rest: the rest regions behind " + reference.describe() + " are all narrower than " +
                 params.tool.describe() + " and have no concave edge to trace");
-  params.comments.insert(params.comments.begin(),
-                         "rest finishing behind " + reference.describe() + ": " + std::to_string(regions.parts.size()) +
-                             " region(s) (" + std::to_string(narrow) + " pencil only), " +
-                             std::to_string(pencil.size()) + " pencil pass(es) first");
+  params.comments.insert(params.comments.begin(), "rest finishing behind " + reference.describe() + ": " +
+                                                      std::to_string(regions.parts.size()) + " region(s) (" +
+                                                      std::to_string(narrow) + " pencil only), " +
+                                                      std::to_string(pencil.size()) + " pencil pass(es) first");
   relink(mesh, new_tool, params, plan);
   return plan;
 }

@@ -20,9 +20,9 @@ namespace {
 
 using tooling::Cutter;
 
-constexpr double kT = 0.02;                                            // threshold, mm
-const double kBandEnd = 3 - std::sqrt(6 * kT + kT * kT);               // 2.65302
-double floor_rest(double x) { return std::hypot(3 - x, 3.0) - 3; }    // x in [1, 3]
+constexpr double kT = 0.02;                                         // threshold, mm
+const double kBandEnd = 3 - std::sqrt(6 * kT + kT * kT);            // 2.65302
+double floor_rest(double x) { return std::hypot(3 - x, 3.0) - 3; }  // x in [1, 3]
 
 /// The corner's profile in XZ extruded along Y over [0, 30]: top z = 10 for x in [−10, 0], the wall
 /// x = 0 down to z = 1, the fillet (centre (1, 1), radius 1, 64 chords), the floor to x = 20.

@@ -39,10 +39,10 @@ namespace millnet::finish {
 
 struct RestParams {
   tooling::Cutter reference = tooling::Cutter::ball(6);  ///< the tool that machined before
-  double threshold_mm = 0.02;  ///< material thicker than this (normal to the design) is rest
-  double margin_mm = -1;       ///< regions grown by this; < 0 ⇒ the new tool's radius / 2
-  double min_area_mm2 = -1;    ///< regions smaller than this (axis area) dropped; < 0 ⇒ π r_new² / 4
-  double cell_mm = 0;          ///< grid step; 0 ⇒ automatic (see above), at most 0.25 mm
+  double threshold_mm = 0.02;                            ///< material thicker than this (normal to the design) is rest
+  double margin_mm = -1;                                 ///< regions grown by this; < 0 ⇒ the new tool's radius / 2
+  double min_area_mm2 = -1;  ///< regions smaller than this (axis area) dropped; < 0 ⇒ π r_new² / 4
+  double cell_mm = 0;        ///< grid step; 0 ⇒ automatic (see above), at most 0.25 mm
   /// Throws millnet::Error naming the parameter.
   void check() const;
 };
@@ -60,10 +60,10 @@ struct RestParams {
 /// One rest region (a 4-connected component of the grown axis nodes).
 struct RestRegion {
   Boundary boundary;  ///< its outline; z_min/z_max: its tips' lowest CL, its rest's top
-  double z_min = std::numeric_limits<double>::infinity();  ///< the new tool's lowest tip over it
+  double z_min = std::numeric_limits<double>::infinity();   ///< the new tool's lowest tip over it
   double z_max = -std::numeric_limits<double>::infinity();  ///< its highest rest (−inf: none in reach)
-  double rest_axis_area_mm2 = 0;  ///< its axis nodes that cut rest (before the growth)
-  double axis_deg = 0;            ///< its principal direction, degrees from +X, in [0, 180)
+  double rest_axis_area_mm2 = 0;                            ///< its axis nodes that cut rest (before the growth)
+  double axis_deg = 0;                                      ///< its principal direction, degrees from +X, in [0, 180)
 };
 
 struct RestRegions {
@@ -97,7 +97,7 @@ struct RestRegions {
 
 /// Pencil tracing: the bitangent positions of the tool along concave edges, as passes. On a grid of
 /// axis positions (step `cell_mm`; within `mask` when given: nodes ≠ 0 of a grid of the same origin
-/// and step), a grid edge whose two drop-cutter contacts lie farther apart than max(4·cell, 0.3·R)
+/// and step), a grid edge whose two drop-cutter contacts lie farther apart than max(6·cell, 0.5·R)
 /// crosses a concave edge (the contact jumps from one surface to the other; over a convex edge it
 /// stays on the edge); the crossing is found by bisection of real drops to 1e-5 mm, its tip the
 /// lower of the two sides (the bitangent position itself, where the tool touches both). The points
