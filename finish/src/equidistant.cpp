@@ -21,7 +21,7 @@
 namespace millnet::finish::detail {
 namespace {
 
-std::vector<double> fast_marching(const GridSpec& g, const std::vector<double>& z) {
+std::vector<double> fast_marching(const GridSpec& g, const std::vector<double>& z, const std::vector<char>& source) {
   const auto nx = static_cast<std::size_t>(g.nx), ny = static_cast<std::size_t>(g.ny);
   const double inf = std::numeric_limits<double>::infinity();
   auto at = [&](std::size_t i, std::size_t j) { return z[i * nx + j]; };
@@ -41,7 +41,7 @@ std::vector<double> fast_marching(const GridSpec& g, const std::vector<double>& 
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> heap;
   for (std::size_t i = 0; i < ny; ++i)
     for (std::size_t j = 0; j < nx; ++j)
-      if (i == 0 || j == 0 || i + 1 == ny || j + 1 == nx) {
+      if (i == 0 || j == 0 || i + 1 == ny || j + 1 == nx || (!source.empty() && source[i * nx + j] != 0)) {
         T[i * nx + j] = 0;
         heap.emplace(0.0, i * nx + j);
       }
@@ -81,12 +81,22 @@ std::vector<double> fast_marching(const GridSpec& g, const std::vector<double>& 
 
 }  // namespace
 
-std::vector<std::vector<std::vector<Sample>>> equidistant_loops(const Sampler& s, const Box& box,
-                                                                const FinishParams& p) {
+std::vector<std::vector<std::vector<Sample>>> equidistant_loops(const Sampler& s, const Box& box, const FinishParams& p,
+                                                                bool from_polygons) {
   const double g = std::min(tol::equidistant_grid_mm, p.stepover_mm / 2);
   const GridSpec grid = GridSpec::over(box.x0, box.y0, box.x1, box.y1, g);
   const std::vector<double> cl = cl_heights(s, grid.x0, grid.y0, grid.x1, grid.y1, grid.step, grid.nx, grid.ny);
-  const std::vector<double> T = fast_marching(grid, cl);
+  std::vector<char> source;
+  if (from_polygons && !p.boundary.polygons.empty()) {
+    source.assign(cl.size(), 0);
+    for (int i = 0; i < grid.ny; ++i)  // O(nodes · polygon points)
+      for (int j = 0; j < grid.nx; ++j) {
+        const Eigen::Vector2d q = grid.node(i, j);
+        source[static_cast<std::size_t>(i) * static_cast<std::size_t>(grid.nx) + static_cast<std::size_t>(j)] =
+            p.boundary.encloses(q.x(), q.y()) ? 0 : 1;
+      }
+  }
+  const std::vector<double> T = fast_marching(grid, cl, source);
   const double t_max = *std::max_element(T.begin(), T.end());
   std::vector<double> levels;
   for (int k = 0;; ++k) {

@@ -8,6 +8,7 @@
 #include "sampling.hpp"
 
 #include "millnet/core/error.hpp"
+#include "millnet/finish/tolerances.hpp"
 
 #include <algorithm>
 #include <array>
@@ -173,33 +174,45 @@ std::vector<std::vector<Eigen::Vector3d>> chain(const std::vector<Eigen::Vector3
   return out;
 }
 
-/// The chord a→b checked at its middle against the drop-cutter; a middle more than `tol` below it is
-/// inserted (recursively, `depth` levels).
-void refine_chord(const DropCutter& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double tol, int depth,
-                  std::vector<Eigen::Vector3d>& out) {
-  const Eigen::Vector3d m = 0.5 * (a + b);
-  const CLPoint c = tool.drop(m.x(), m.y());
-  if (depth > 0 && c.contact != Contact::None && c.z > m.z() + tol) {
-    const Eigen::Vector3d mid(m.x(), m.y(), c.z);
-    refine_chord(tool, a, mid, tol, depth - 1, out);
-    out.push_back(mid);
-    refine_chord(tool, mid, b, tol, depth - 1, out);
-  }
-}
-
-/// Passes cut to the machining boundary (pieces shorter than tol::min_pass_mm dropped).
-std::vector<Pass> clip_passes(const detail::Fence& fence, const std::vector<Pass>& passes) {
+/// Sampled passes (steps ≤ 0.25 mm) cut to the machining boundary (pieces shorter than
+/// tol::min_pass_mm dropped), then simplified to the chord tolerance.
+std::vector<Pass> clip_passes(const detail::Fence& fence, const std::vector<Pass>& passes, double chord_tolerance_mm) {
   std::vector<Pass> out;
   for (const Pass& p : passes) {  // O(points · log(step / tol))
     std::vector<std::vector<detail::Sample>> one(1);
     for (const auto& q : p.points) one.front().push_back({q, 0});
     for (auto& piece : fence.clip(std::move(one))) {
       Pass kept;
-      for (const auto& q : piece) kept.points.push_back(q.p);
+      for (const auto& q : detail::simplify(piece, chord_tolerance_mm, false)) kept.points.push_back(q.p);
       out.push_back(std::move(kept));
     }
   }
   return out;
+}
+
+/// A rest region's passes (p.boundary: its outline and Z range): the steep pieces of the Z-levels,
+/// top-down, then the shallow runs of loops a constant 3D distance p_f apart inside its outline
+/// (strategy 5's fast marching started from the outline), which run along the corner whatever its
+/// shape (a ring around a cavity's floor too), cut to the boundary and simplified. Empty when the
+/// region is narrower than the tool.
+std::vector<Pass> corner_passes(const ingest::Mesh& mesh, const DropCutter& tool, const FinishParams& p) {
+  detail::Box box{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (const auto& poly : p.boundary.polygons)  // O(polygon points)
+    for (const Eigen::Vector2d& q : poly)
+      box = {std::min(box.x0, q.x()), std::min(box.y0, q.y()), std::max(box.x1, q.x()), std::max(box.y1, q.y())};
+  if (!(std::min(box.x1 - box.x0, box.y1 - box.y0) >= p.tool.diameter)) return {};
+  const detail::Sampler s(mesh, tool);
+  const detail::Fence fence(mesh, p.boundary);
+  const double shallow_to = p.boundary_angle_deg + tol::slope_overlap_deg;
+  std::vector<std::vector<detail::Sample>> lines =
+      detail::order_by_level(detail::steep_pieces(detail::waterline_loops(s, box, p), p), p.tool.diameter);
+  for (const auto& level : detail::equidistant_loops(s, box, p, true))
+    for (const auto& loop : level)
+      for (auto& r : detail::runs(loop, [&](const detail::Sample& q) { return q.slope_deg < shallow_to; }))
+        lines.push_back(std::move(r));
+  lines = fence.clip(std::move(lines));
+  for (auto& line : lines) line = detail::simplify(line, p.chord_tolerance_mm, false);
+  return detail::to_passes(std::move(lines));
 }
 
 /// The plan's program made again from its passes (pencil passes put in front).
@@ -437,8 +450,9 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
   return out;
 }
 
-std::vector<Pass> pencil_passes(const DropCutter& tool, double x0, double y0, double x1, double y1, double cell_mm,
-                                double chord_tolerance_mm, const std::vector<std::uint8_t>* mask) {
+std::vector<Pass> pencil_passes(const ingest::Mesh& mesh, const DropCutter& tool, double x0, double y0, double x1,
+                                double y1, double cell_mm, double chord_tolerance_mm,
+                                const std::vector<std::uint8_t>* mask) {
   if (!(std::isfinite(cell_mm) && cell_mm > 0)) throw Error("pencil: cell_mm must be > 0");
   const Grid g{x0, y0, cell_mm, static_cast<int>(std::ceil((x1 - x0) / cell_mm - 1e-9)) + 1,
                static_cast<int>(std::ceil((y1 - y0) / cell_mm - 1e-9)) + 1};
@@ -465,17 +479,22 @@ std::vector<Pass> pencil_passes(const DropCutter& tool, double x0, double y0, do
     }
   std::vector<Eigen::Vector3d> pts;
   for (auto& row : found) pts.insert(pts.end(), row.begin(), row.end());
-  std::vector<Pass> passes;
+  // Between the chained points the path is sampled like any pass (detail::sample_segment: no chord
+  // dips below the drop-cutter by more than tol::chord_below_mm) and simplified.
+  const detail::Sampler s(mesh, tool);
+  std::vector<std::vector<detail::Sample>> lines;
   for (const auto& line : chain(pts, 2 * std::numbers::sqrt2 * cell_mm)) {
-    Pass p;
-    p.points.push_back(line.front());
-    for (std::size_t k = 1; k < line.size(); ++k) {  // O(points · 2^6) drops at worst
-      refine_chord(tool, line[k - 1], line[k], chord_tolerance_mm, 6, p.points);
-      p.points.push_back(line[k]);
+    std::vector<detail::Sample> run;
+    for (std::size_t k = 1; k < line.size(); ++k) {  // O(points · samples per chord) drops
+      auto seg =
+          detail::sample_segment(s, line[k - 1].head<2>(), line[k].head<2>(),
+                                 std::clamp((line[k] - line[k - 1]).head<2>().norm(), 1e-3, 0.25), chord_tolerance_mm);
+      if (!run.empty()) seg.erase(seg.begin());
+      run.insert(run.end(), seg.begin(), seg.end());
     }
-    passes.push_back(std::move(p));
+    lines.push_back(std::move(run));
   }
-  return passes;
+  return detail::to_passes(std::move(lines));
 }
 
 FinishPlan plan_pencil(const ingest::Mesh& mesh, const DropCutter& tool, FinishParams params) {
@@ -492,7 +511,8 @@ FinishPlan plan_pencil(const ingest::Mesh& mesh, const DropCutter& tool, FinishP
   FinishPlan plan;
   plan.strategy = Strategy::SlopeMode;  // the program's header names pencil tracing below
   const detail::Fence fence(mesh, params.boundary);
-  plan.passes = clip_passes(fence, pencil_passes(tool, x0, y0, x1, y1, cell, params.chord_tolerance_mm));
+  plan.passes = clip_passes(fence, pencil_passes(mesh, tool, x0, y0, x1, y1, cell, params.chord_tolerance_mm),
+                            params.chord_tolerance_mm);
   if (plan.passes.empty())
     throw Error("pencil: no concave edge on the part for " + params.tool.describe() + " (nothing to trace)");
   params.comments.insert(params.comments.begin(), "pencil tracing: bitangent passes along concave edges");
@@ -516,13 +536,9 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
     p.boundary.z_min = std::max(params.boundary.z_min, region.boundary.z_min - params.step_down_mm);
     p.boundary.z_max = std::min(params.boundary.z_max, region.boundary.z_max);
     p.raster_angle_deg = region.axis_deg;
-    try {
-      FinishPlan one = plan_finish(mesh, new_tool, Strategy::SlopeMode, p);
-      plan.passes.insert(plan.passes.end(), one.passes.begin(), one.passes.end());
-      plan.drops += one.drops;
-    } catch (const Error&) {  // narrower than the tool, or nothing inside its range: pencil only
-      ++narrow;
-    }
+    const std::vector<Pass> passes = corner_passes(mesh, new_tool, p);
+    if (passes.empty()) ++narrow;  // narrower than the tool, or nothing inside its range: pencil only
+    plan.passes.insert(plan.passes.end(), passes.begin(), passes.end());
   }
   // The corners themselves first: pencil passes within the regions (their grid and mask), below
   // the rest's top.
@@ -533,7 +549,8 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
   const double x1 = regions.x0 + regions.cell * (regions.nx - 1), y1 = regions.y0 + regions.cell * (regions.ny - 1);
   const std::vector<Pass> pencil = clip_passes(
       detail::Fence(mesh, params.boundary),
-      pencil_passes(new_tool, regions.x0, regions.y0, x1, y1, regions.cell, params.chord_tolerance_mm, &inside));
+      pencil_passes(mesh, new_tool, regions.x0, regions.y0, x1, y1, regions.cell, params.chord_tolerance_mm, &inside),
+      params.chord_tolerance_mm);
   plan.passes.insert(plan.passes.begin(), pencil.begin(), pencil.end());
   if (plan.passes.empty())
     throw Error("rest: the rest regions behind " + reference.describe() + " are all narrower than " +

@@ -81,8 +81,15 @@ std::vector<Pass> to_passes(std::vector<std::vector<Sample>> lines);
                                                             bool adaptive_spacing);
 [[nodiscard]] std::vector<std::vector<std::vector<Sample>>> waterline_loops(const Sampler& s, const Box& box,
                                                                             const FinishParams& p);
+/// `from_polygons`: the distance is measured from p.boundary's polygons too (nodes outside them are
+/// sources), so that the loops run along a region's outline (rest finishing's corner passes).
 [[nodiscard]] std::vector<std::vector<std::vector<Sample>>> equidistant_loops(const Sampler& s, const Box& box,
-                                                                              const FinishParams& p);
+                                                                              const FinishParams& p,
+                                                                              bool from_polygons = false);
+/// Strategy 1's steep pieces: of each Z-level loop, the runs steeper than the boundary angle less
+/// the overlap (a closed loop started at a shallow point so that no piece wraps).
+[[nodiscard]] std::vector<std::vector<std::vector<Sample>>> steep_pieces(
+    std::vector<std::vector<std::vector<Sample>>> levels, const FinishParams& p);
 /// Orders loops grouped by level (outer index: level, top-down / outside-in): after a loop, the
 /// nearest loop of the next level within `near_mm`, else the nearest loop of the highest level
 /// left; closed loops (last point = first point) start at their point nearest to the tool, open

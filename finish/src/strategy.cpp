@@ -98,9 +98,21 @@ Lines equidistant(Shared& sh) {
 /// Steep pieces of the Z-levels first (top-down per island), then the shallow runs of the raster.
 Lines slope_mode(Shared& sh) {
   const FinishParams& p = *sh.p;
-  const double steep_from = p.boundary_angle_deg - tol::slope_overlap_deg;
   const double shallow_to = p.boundary_angle_deg + tol::slope_overlap_deg;
-  Levels levels = sh.waterline_loops();
+  Lines out = detail::order_by_level(detail::steep_pieces(sh.waterline_loops(), p), near_mm(p));
+  for (const auto& line : sh.raster_lines())
+    for (auto& r : detail::runs(line, [&](const Sample& q) { return q.slope_deg < shallow_to; }))
+      out.push_back(std::move(r));
+  return out;
+}
+
+}  // namespace
+
+namespace detail {
+
+std::vector<std::vector<std::vector<Sample>>> steep_pieces(std::vector<std::vector<std::vector<Sample>>> levels,
+                                                           const FinishParams& p) {
+  const double steep_from = p.boundary_angle_deg - tol::slope_overlap_deg;
   for (auto& level : levels) {
     std::vector<std::vector<Sample>> kept;
     for (auto& loop : level) {
@@ -120,12 +132,12 @@ Lines slope_mode(Shared& sh) {
     }
     level = std::move(kept);
   }
-  Lines out = detail::order_by_level(std::move(levels), near_mm(p));
-  for (const auto& line : sh.raster_lines())
-    for (auto& r : detail::runs(line, [&](const Sample& q) { return q.slope_deg < shallow_to; }))
-      out.push_back(std::move(r));
-  return out;
+  return levels;
 }
+
+}  // namespace detail
+
+namespace {
 
 struct Entry {
   Strategy id;

@@ -101,11 +101,11 @@ struct RestRegions {
 /// crosses a concave edge (the contact jumps from one surface to the other; over a convex edge it
 /// stays on the edge); the crossing is found by bisection of real drops to 1e-5 mm, its tip the
 /// lower of the two sides (the bitangent position itself, where the tool touches both). The points
-/// are chained into polylines (neighbours within 2·√2·cell, from the chain ends), and a chord whose
-/// middle lies below the drop-cutter by more than chord_tolerance_mm gets that middle point
-/// (recursively, to 1/64 of the chord). O(nodes) drops + O(edges crossed · 17) drops.
-[[nodiscard]] std::vector<Pass> pencil_passes(const DropCutter& tool, double x0, double y0, double x1, double y1,
-                                              double cell_mm, double chord_tolerance_mm,
+/// are chained into polylines (neighbours within 2·√2·cell, from the chain ends) and sampled between
+/// them like any pass (steps ≤ 0.25 mm, no chord below the drop-cutter by more than
+/// tol::chord_below_mm): the caller cuts them to its boundary, then simplifies. O(nodes) drops + O(edges crossed · 17) drops + the sampling.
+[[nodiscard]] std::vector<Pass> pencil_passes(const ingest::Mesh& mesh, const DropCutter& tool, double x0, double y0,
+                                              double x1, double y1, double cell_mm, double chord_tolerance_mm,
                                               const std::vector<std::uint8_t>* mask = nullptr);
 
 /// Pencil tracing alone over the box (params' box, else the part's footprint), grid step
