@@ -529,7 +529,15 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
                         {"time_feed_min", s.stats.feed_time_min},
                         {"time_kinematic_min", s.stats.kinematic_time_min},
                         {"max_depth_of_cut_mm", s.max_depth_of_cut_mm},
-                        {"cutting_rapids", s.cutting_rapids}});
+                        {"cutting_rapids", s.cutting_rapids},
+                        {"air_cut_share", s.air_cut_share()}});
+  }
+  if (r.rest_step) {  // issue 41: the last program as rest machining behind the one before it
+    Json& last = runs.back();
+    last["rest_reference_tool"] = r.rest_reference.describe();
+    last["rest_area_before_mm2"] = r.rest_area_before_mm2;
+    last["rest_area_after_mm2"] = r.rest_area_after_mm2;
+    last["rest_area_unreachable_mm2"] = r.metrics.rest_area_mm2;  // what the last tool cannot reach either
   }
   const simulate::SurfaceMetrics& m = r.metrics;
   Json j = sim_metrics_json(m, design->grid);

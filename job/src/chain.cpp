@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
+#include <optional>
 #include <variant>
 
 namespace millnet::job {
@@ -29,6 +31,32 @@ void left_above(const simulate::ZMap& stock, const Design& design, StepResult& s
     }
 }
 
+/// The 3D length of every program item that is a feed move (0 for the rest), from the previous
+/// position (unknown before the first: 0). Arcs: radius × swept angle in XY with their Z travel.
+std::vector<double> feed_lengths(const gcode::Program& program) {
+  std::vector<double> out(program.items.size(), 0.0);
+  std::optional<gcode::Point3> at;
+  for (std::size_t i = 0; i < program.items.size(); ++i) {  // O(items)
+    const auto* m = std::get_if<gcode::Move>(&program.items[i]);
+    if (m == nullptr) continue;
+    if (at && m->motion != gcode::Motion::Rapid) {
+      const double dz = m->to[2] - (*at)[2];
+      if (m->motion == gcode::Motion::Line) {
+        out[i] = std::hypot(m->to[0] - (*at)[0], m->to[1] - (*at)[1], dz);
+      } else {
+        const double r = std::hypot((*at)[0] - m->center[0], (*at)[1] - m->center[1]);
+        const double a0 = std::atan2((*at)[1] - m->center[1], (*at)[0] - m->center[0]);
+        const double a1 = std::atan2(m->to[1] - m->center[1], m->to[0] - m->center[0]);
+        double sweep = m->motion == gcode::Motion::ArcCCW ? a1 - a0 : a0 - a1;
+        while (sweep <= 1e-12) sweep += 2 * std::numbers::pi;  // a full circle when the ends meet
+        out[i] = std::hypot(r * sweep, dz);
+      }
+    }
+    at = m->to;
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<ChainStep> chain_steps(const std::vector<Operation>& ops) {
@@ -53,6 +81,11 @@ std::vector<StepResult> machine_steps(simulate::ZMap& stock, const Design& desig
       if (item < s.program->source_line.size()) st.max_cut_line = s.program->source_line[item];
     }
     st.cutting_rapids = sw.cutting_rapids.size();
+    const std::vector<double> len = feed_lengths(*s.program);
+    for (std::size_t i = 0; i < len.size(); ++i) {  // O(items)
+      st.feed_mm += len[i];
+      if (len[i] > 0 && (i >= sw.item_max_cut_mm.size() || sw.item_max_cut_mm[i] < kAirCutMm)) st.air_feed_mm += len[i];
+    }
     left_above(stock, design, st);
     out.push_back(st);
   }
@@ -65,7 +98,20 @@ ChainResult machine_chain(simulate::ZMap& stock, const Design& design, const std
   // The exact gouge check's programs per z-map pass: none for the passes of a stock read back.
   std::vector<simulate::PassTool> passes(stock.passes());
   for (const ChainStep& s : steps) passes.push_back({s.program, s.cutter});
-  r.steps = machine_steps(stock, design, steps, machine);
+  // A rest step: the last tool smaller than the one before; the reference's rest before it.
+  if (steps.size() >= 2 && steps.back().cutter.radius() < steps[steps.size() - 2].cutter.radius()) {
+    r.rest_step = true;
+    r.rest_reference = steps[steps.size() - 2].cutter;
+    const std::vector<ChainStep> before(steps.begin(), steps.end() - 1);
+    r.steps = machine_steps(stock, design, before, machine);
+    simulate::MetricsOptions ro = sim.metrics_options(r.rest_reference);
+    r.rest_area_before_mm2 = simulate::surface_metrics(stock, design.heights, ro).rest_area_mm2;
+    const std::vector<ChainStep> last{steps.back()};
+    r.steps.push_back(machine_steps(stock, design, last, machine).front());
+    r.rest_area_after_mm2 = simulate::surface_metrics(stock, design.heights, ro).rest_area_mm2;
+  } else {
+    r.steps = machine_steps(stock, design, steps, machine);
+  }
   simulate::MetricsOptions mo;
   if (!steps.empty()) {
     mo = sim.metrics_options(steps.back().cutter);  // scallop and rest of the last tool

@@ -39,11 +39,25 @@ struct StepResult {
   /// what the next tool meets at worst.
   double max_left_mm = 0;
   std::array<double, 2> max_left_at{};
+  /// Feed moves (G1/G2/G3) and those of them that removed less than kAirCutMm anywhere, 3D length:
+  /// air_cut_share = air_feed_mm / feed_mm (cutting air: what rest machining must not do).
+  double feed_mm = 0, air_feed_mm = 0;
+  [[nodiscard]] double air_cut_share() const { return feed_mm > 0 ? air_feed_mm / feed_mm : 0.0; }
 };
+
+/// A feed move that lowers no cell by more than this removes nothing (mm).
+inline constexpr double kAirCutMm = 0.001;
 
 struct ChainResult {
   std::vector<StepResult> steps;     ///< per program, in order
   simulate::SurfaceMetrics metrics;  ///< the surface after the last, scored with its tool
+  /// Rest machining (issue 41): when the last tool is smaller than the one before it, the rest of
+  /// that reference tool (SurfaceMetrics::rest_area_mm2 scored with it: material above the spec
+  /// where it cannot touch the design) before and after the last program. The ideal after is the
+  /// last tool's own rest (metrics.rest_area_mm2): what it cannot reach either.
+  bool rest_step = false;
+  tooling::Cutter rest_reference;
+  double rest_area_before_mm2 = 0, rest_area_after_mm2 = 0;
 };
 
 /// A block up to Z 0 over the design's grid (the raw stock of a part roughed from a block).
@@ -58,7 +72,9 @@ struct ChainResult {
 
 /// Machines the steps in order on `stock` (left machined) and scores the surface against the
 /// design (allowance 0: the finished part) with the last step's cutter (none: all material left
-/// counts as uncut). O(steps × (moves + cells swept) + cells).
+/// counts as uncut); a last step with a smaller tool than the one before is scored as rest
+/// machining too (ChainResult::rest_*: two more scorings with the reference tool). O(steps ×
+/// (moves + cells swept) + cells).
 [[nodiscard]] ChainResult machine_chain(simulate::ZMap& stock, const Design& design,
                                         const std::vector<ChainStep>& steps, const gcode::MotionModel& machine,
                                         const SimParams& sim);
