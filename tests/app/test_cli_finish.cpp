@@ -52,6 +52,44 @@ fs::path write_config(const fs::path& dir) {
   return p;
 }
 
+// Issue 41: rest finishing behind a Ø4 ball with a Ø1 ball and pencil tracing with the Ø4, where
+// the dome meets the block's top (a concave crease); the chain simulated: the rest program leaves
+// less of the Ø4's rest than it found, and says how much of its feed path cut air.
+TEST(CliFinish, RestAndPencilProgramsAreWrittenAcceptedAndScoredInTheChain) {
+  const fs::path d = fresh_dir("finish_rest");
+  const fs::path mesh = write_dome(d), cfg = write_config(d);
+  const auto r = run_millnet("finish --quiet --config '" + cfg.string() + "' --mesh '" + mesh.string() +
+                                 "' --strategy 2 --tool ball:4 --stepover 0.3 --rest-tool ball:1 --pencil --out out",
+                             d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const fs::path out = d / "out";
+  for (const char* f : {"dome.rest.nc", "dome.rest.json", "dome.rest.png", "dome.pencil.nc", "dome.pencil.json"})
+    ASSERT_TRUE(fs::exists(out / f)) << f;
+  const auto j = nlohmann::json::parse(slurp(out / "dome.rest.json"));
+  for (const char* key : {"regions", "rest_axis_area_mm2", "max_rest_mm", "rest_top_z", "path_length_mm", "lifts"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_EQ(j["reference_tool"], "ball D4");
+  EXPECT_GE(j["regions"].get<int>(), 1);
+  EXPECT_NE(slurp(out / "dome.rest.nc").find("(rest finishing behind ball D4"), std::string::npos);
+  if (fs::exists("/usr/bin/rs274")) {
+    EXPECT_TRUE(linuxcnc_accepts((out / "dome.rest.nc").string()));
+    EXPECT_TRUE(linuxcnc_accepts((out / "dome.pencil.nc").string()));
+  }
+  const auto s = run_millnet("simulate --quiet --config '" + cfg.string() + "' --mesh '" + mesh.string() +
+                                 "' --gcode out/dome.s2.nc --tool ball:4 --gcode out/dome.rest.nc --tool ball:1 "
+                                 "--stock design --out sim",
+                             d);
+  ASSERT_EQ(s.code, 0) << s.err;
+  const auto sim = nlohmann::json::parse(slurp(d / "sim" / "dome.sim.json"));
+  const auto& rest = sim["programs"][1];
+  EXPECT_EQ(rest["rest_reference_tool"], "ball D4");
+  EXPECT_GT(rest["rest_area_before_mm2"].get<double>(), 0);
+  EXPECT_LT(rest["rest_area_after_mm2"].get<double>(), rest["rest_area_before_mm2"].get<double>());
+  EXPECT_GE(rest["air_cut_share"].get<double>(), 0);
+  EXPECT_LE(rest["air_cut_share"].get<double>(), 1);
+  EXPECT_LE(sim["max_gouge_mm"].get<double>(), 0.002);
+}
+
 TEST(CliFinish, AllStrategiesSimulatedWriteTheContractFilesAndLinuxCncAcceptsThem) {
   const fs::path d = fresh_dir("finish_all");
   const fs::path mesh = write_dome(d), cfg = write_config(d);

@@ -1,0 +1,73 @@
+// The chain of programs on one stock (job/chain.hpp), issue 41's figures: the share of the feed
+// path that cuts air (by hand on a plate) and the rest-machining scoring of a last, smaller tool.
+#include "millnet/job/chain.hpp"
+#include "millnet/job/frame.hpp"
+
+#include "ingest/builders.hpp"
+
+#include <gtest/gtest.h>
+
+namespace millnet::job {
+namespace {
+
+using gcode::Motion;
+using tooling::Cutter;
+
+gcode::Move to(Motion m, double x, double y, double z, double feed = 0) {
+  gcode::Move mv;
+  mv.motion = m;
+  mv.to = {x, y, z};
+  mv.feed = feed;
+  return mv;
+}
+
+// A 20 × 20 plate 5 high; stock top 1 above it, so its top is at program Z −1 and the finishing
+// stock (allowance 0.1) at −0.9. The program plunges at X5 (6 mm, cuts 0.1 at its foot), cuts to
+// X15 along Z −1 (10 mm), rapids up to Z 0 and feeds back to X5 above the stock (10 mm of air):
+// air 10 of 26 mm of feed.
+TEST(JobChain, AirCutShareIsTheFeedLengthThatRemovesNothing) {
+  const ingest::Mesh plate = testing_ingest::box(0, 0, 0, 20, 20, 5);
+  const Frame frame = frame_of(plate, 1.0);
+  SimParams sim;
+  sim.cell_mm = 0.05;
+  const Design design = design_surface(plate, frame, sim);
+  simulate::ZMap stock = finishing_stock(design, frame, sim);
+  gcode::Program p;
+  p.items = {to(Motion::Rapid, 5, 10, 5), to(Motion::Line, 5, 10, -1, 300), to(Motion::Line, 15, 10, -1, 300),
+             to(Motion::Rapid, 15, 10, 0), to(Motion::Line, 5, 10, 0, 300)};
+  const std::vector<ChainStep> steps{{&p, Cutter::ball(2)}};
+  const std::vector<StepResult> r = machine_steps(stock, design, steps, gcode::MotionModel{});
+  ASSERT_EQ(r.size(), 1U);
+  EXPECT_NEAR(r[0].feed_mm, 26, 1e-9);
+  EXPECT_NEAR(r[0].air_feed_mm, 10, 1e-9);
+  EXPECT_NEAR(r[0].air_cut_share(), 10.0 / 26, 1e-9);
+}
+
+// A last program with a smaller tool than the one before is rest machining, scored with that
+// reference too; the other way round it is not.
+TEST(JobChain, ASmallerLastToolIsScoredAsRestMachiningBehindTheOneBefore) {
+  const ingest::Mesh plate = testing_ingest::box(0, 0, 0, 20, 20, 5);
+  const Frame frame = frame_of(plate, 1.0);
+  SimParams sim;
+  sim.cell_mm = 0.1;
+  const Design design = design_surface(plate, frame, sim);
+  gcode::Program p;
+  p.items = {to(Motion::Rapid, 10, 10, 5)};
+  {
+    simulate::ZMap stock = finishing_stock(design, frame, sim);
+    const ChainResult r =
+        machine_chain(stock, design, {{&p, Cutter::ball(6)}, {&p, Cutter::ball(2)}}, gcode::MotionModel{}, sim);
+    EXPECT_TRUE(r.rest_step);
+    EXPECT_EQ(r.rest_reference.describe(), Cutter::ball(6).describe());
+    EXPECT_EQ(r.steps.size(), 2U);
+    EXPECT_EQ(r.rest_area_before_mm2, r.rest_area_after_mm2);  // the rapid above removes nothing
+  }
+  simulate::ZMap stock = finishing_stock(design, frame, sim);
+  const ChainResult r =
+      machine_chain(stock, design, {{&p, Cutter::ball(2)}, {&p, Cutter::ball(6)}}, gcode::MotionModel{}, sim);
+  EXPECT_FALSE(r.rest_step);
+  EXPECT_EQ(r.steps.size(), 2U);
+}
+
+}  // namespace
+}  // namespace millnet::job
