@@ -112,7 +112,7 @@ Registered register_finish(CLI::App& app) {
     BoundaryFlags boundary;
     bool simulate = false, pencil = false;
     std::optional<std::string> rest_tool, rest_reference;
-    std::optional<double> rest_threshold;
+    std::optional<double> rest_threshold, rest_margin;
     std::string out;
   };
   auto o = std::make_shared<Opts>();
@@ -151,6 +151,9 @@ Registered register_finish(CLI::App& app) {
   sub->add_option("--rest-reference", o->rest_reference, "the tool whose rest is taken (default: the finishing tool)");
   sub->add_option("--rest-threshold", o->rest_threshold, "material thicker than this is rest, mm (default 0.02)")
       ->check(CLI::Range(0.001, 10.0));
+  sub->add_option("--rest-margin", o->rest_margin,
+                  "rest regions grown by this, mm (default: the rest tool's radius / 2)")
+      ->check(CLI::Range(0.0, 100.0));
   sub->add_flag("--pencil", o->pencil, "pencil tracing along concave edges with the finishing tool: <stem>.pencil.nc");
   add_post_flag(sub, o->post);
   sub->add_option("--out", o->out, "output folder")->check(output_path())->required();
@@ -182,6 +185,7 @@ Registered register_finish(CLI::App& app) {
             if (o->rest_reference) s.rest_reference = tool_arg(*o->rest_reference, config);
             if (o->rest_reference && !o->rest_tool) throw Error("--rest-reference needs --rest-tool");
             if (o->rest_threshold) s.rest_threshold_mm = *o->rest_threshold;
+            if (o->rest_margin) s.rest_margin_mm = *o->rest_margin;
             s.pencil = o->pencil;
             s.params.check();
             std::vector<std::string> items = config["finish"]["meshes"].get<std::vector<std::string>>();

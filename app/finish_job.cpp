@@ -406,6 +406,7 @@ void write_rest_and_pencil(const job::Part& part, const FinishSettings& settings
     finish::RestParams rp;
     rp.reference = settings.rest_reference.value_or(job.params.tool);
     rp.threshold_mm = settings.rest_threshold_mm;
+    rp.margin_mm = settings.rest_margin_mm;
     const finish::RestRegions r = finish::rest_regions(part.mesh, dropper, rp, p.x0, p.y0, p.x1, p.y1);
     Json figures{{"rest_tool", p.tool.describe()},
                  {"reference_tool", rp.reference.describe()},

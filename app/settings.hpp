@@ -112,6 +112,7 @@ struct FinishSettings {
   /// takes (unset: the finishing tool) and the thickness that counts as rest.
   std::optional<tooling::Cutter> rest_tool, rest_reference;
   double rest_threshold_mm = 0.02;
+  double rest_margin_mm = -1;  ///< < 0: the rest tool's radius / 2
   bool pencil = false;  ///< finish --pencil: pencil tracing with the finishing tool
   double stock_top_above_part_mm = 1;
   gcode::MotionModel machine;
