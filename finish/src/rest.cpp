@@ -48,22 +48,31 @@ std::vector<std::pair<int, int>> disc_offsets(double radius_cells) {
 /// The material at p behind the reference: the nearest of its grid placements first (stopping at
 /// the threshold), then, when that is above the threshold, a pattern search of real drops around
 /// the best placement (steps halved down to cell/64), so that a placement between nodes (a wall
-/// touched at an axis position off the grid) is found.
+/// touched at an axis position off the grid) is found. `hint` (in and out; per row or triangle, so
+/// the answers do not depend on the thread count): a placement that settles p at once when it is
+/// within the threshold (the search never starts from it: it may lie in another basin), and the
+/// best one found left there, so that neighbouring points settle with no drop where the reference
+/// touched the surface between them.
 double material_at(const Eigen::Vector3d& p, const Grid& g, const std::vector<double>& ref_cl, const DropCutter& ref,
-                   const std::vector<std::pair<int, int>>& offsets, double thr) {
+                   const std::vector<std::pair<int, int>>& offsets, double thr, CLPoint& hint) {
   const tooling::Cutter& tool = ref.cutter();
+  if (hint.contact != Contact::None && distance_to_tool(tool, hint.x, hint.y, hint.z, p) <= thr) return 0;
   const int bi = static_cast<int>(std::lround((p.y() - g.y0) / g.h));
   const int bj = static_cast<int>(std::lround((p.x() - g.x0) / g.h));
   double best = std::numeric_limits<double>::infinity();
-  double bx = p.x(), by = p.y();
+  double bx = p.x(), by = p.y(), bz = 0;
+  auto settle = [&](double value) {
+    if (std::isfinite(best)) hint.x = bx, hint.y = by, hint.z = bz, hint.contact = Contact::Facet;
+    return value;
+  };
   for (const auto& [di, dj] : offsets) {  // O(offsets), usually a few
     const int i = bi + di, j = bj + dj;
     if (i < 0 || j < 0 || i >= g.ny || j >= g.nx) continue;
     const double tip = ref_cl[g.at(i, j)];
     if (!std::isfinite(tip)) continue;
     const double d = distance_to_tool(tool, g.x(j), g.y(i), tip, p);
-    if (d < best) best = d, bx = g.x(j), by = g.y(i);
-    if (best <= thr) return 0;
+    if (d < best) best = d, bx = g.x(j), by = g.y(i), bz = tip;
+    if (best <= thr) return settle(0);
   }
   for (double s = g.h; s > g.h / 64; s *= 0.5) {  // O(log 64 · moves) drops
     bool moved = true;
@@ -74,13 +83,13 @@ double material_at(const Eigen::Vector3d& p, const Grid& g, const std::vector<do
         if (c.contact == Contact::None) continue;
         const double d = distance_to_tool(tool, c.x, c.y, c.z, p);
         if (d < best) {
-          best = d, bx = c.x, by = c.y, moved = true;
-          if (best <= thr) return 0;
+          best = d, bx = c.x, by = c.y, bz = c.z, moved = true;
+          if (best <= thr) return settle(0);
         }
       }
     }
   }
-  return best;
+  return settle(best);
 }
 
 /// 4-connected components of `on` nodes: a component id per node (−1 off), in first-node order.
@@ -288,17 +297,19 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
   out.thickness.assign(g.size(), 0.0F);
   out.mask.assign(g.size(), 0);
 #pragma omp parallel for schedule(dynamic, 8)
-  for (int i = 0; i < g.ny; ++i)
+  for (int i = 0; i < g.ny; ++i) {
+    CLPoint hint;  // the row's last placement
     for (int j = 0; j < g.nx; ++j) {
       const std::size_t k = g.at(i, j);
       if (cl[k].contact == Contact::None) {
         out.thickness[k] = std::numeric_limits<float>::quiet_NaN();
         continue;
       }
-      const double m = material_at(cl[k].cc, g, ref_cl, ref, offsets, params.threshold_mm);
+      const double m = material_at(cl[k].cc, g, ref_cl, ref, offsets, params.threshold_mm, hint);
       out.thickness[k] = static_cast<float>(m);
       out.mask[k] = m > params.threshold_mm ? 1 : 0;
     }
+  }
 
   // 3. Slivers dropped: components whose axis area is below the minimum.
   const double min_area =
@@ -399,6 +410,7 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
     const int nu = std::clamp(static_cast<int>(std::ceil((b - a).norm() / (0.5 * h))), 1, 4096);
     const int nv = std::clamp(static_cast<int>(std::ceil((c - a).norm() / (0.5 * h))), 1, 4096);
     std::vector<double> mine;
+    CLPoint hint;  // the triangle's last placement
     for (int u = 0; u <= nu; ++u)
       for (int v = 0; v * nu <= (nu - u) * nv; ++v) {  // u/nu + v/nv ≤ 1
         const Eigen::Vector3d q = a + (b - a) * (static_cast<double>(u) / nu) + (c - a) * (static_cast<double>(v) / nv);
@@ -406,7 +418,7 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
         if (r < 0) continue;
         if (mine.empty()) mine.assign(out.parts.size(), -std::numeric_limits<double>::infinity());
         if (q.z() <= mine[static_cast<std::size_t>(r)]) continue;
-        if (material_at(q, g, ref_cl, ref, offsets, params.threshold_mm) > params.threshold_mm)
+        if (material_at(q, g, ref_cl, ref, offsets, params.threshold_mm, hint) > params.threshold_mm)
           mine[static_cast<std::size_t>(r)] = q.z();
       }
     tops[static_cast<std::size_t>(f)] = std::move(mine);
@@ -448,6 +460,47 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
   }
   if (ng > 0) out.boundary.polygons = trace(0, 0, g.ny - 1, g.nx - 1, [&](std::size_t k) { return grown[k] != 0; });
   return out;
+}
+
+double unreachable_area_mm2(const ingest::Mesh& mesh, const tooling::Cutter& reference, double threshold_mm,
+                            double spacing_mm, double x0, double y0, double x1, double y1) {
+  RestParams rp;
+  rp.reference = reference;
+  rp.threshold_mm = threshold_mm;
+  rp.check();
+  if (!(x1 > x0 && y1 > y0))
+    x0 = mesh.V.col(0).minCoeff(), y0 = mesh.V.col(1).minCoeff(), x1 = mesh.V.col(0).maxCoeff(),
+    y1 = mesh.V.col(1).maxCoeff();
+  const double h = rest_cell_mm(reference, threshold_mm);
+  const double sp = spacing_mm > 0 ? spacing_mm : 0.5 * h;
+  const Grid g{x0, y0, h, static_cast<int>(std::ceil((x1 - x0) / h - 1e-9)) + 1,
+               static_cast<int>(std::ceil((y1 - y0) / h - 1e-9)) + 1};
+  if (!(static_cast<double>(g.size()) <= 5e7)) throw Error("rest: the reference's grid exceeds 50,000,000 nodes");
+  const DropCutter ref(mesh, reference);
+  const std::vector<double> ref_cl = ref.drop_grid(g.x0, g.y0, h, g.nx, g.ny);
+  const auto offsets = disc_offsets((reference.radius() + threshold_mm) / h + 1);
+  const auto faces = static_cast<std::ptrdiff_t>(mesh.F.rows());
+  std::vector<double> area(static_cast<std::size_t>(faces), 0.0);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::ptrdiff_t f = 0; f < faces; ++f) {  // O(area / spacing²) material tests
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    if (n.z() < 0) continue;
+    const int nu = std::clamp(static_cast<int>(std::ceil((b - a).norm() / sp)), 1, 4096);
+    const int nv = std::clamp(static_cast<int>(std::ceil((c - a).norm() / sp)), 1, 4096);
+    std::size_t all = 0, left = 0;
+    CLPoint hint;  // the triangle's last placement
+    for (int u = 0; u < nu; ++u)  // sub-cell centres: u + 1/3, v + 1/3 inside the triangle
+      for (int v = 0; (u + 1.0 / 3) / nu + (v + 1.0 / 3) / nv <= 1; ++v) {
+        const Eigen::Vector3d q = a + (b - a) * ((u + 1.0 / 3) / nu) + (c - a) * ((v + 1.0 / 3) / nv);
+        ++all;
+        if (material_at(q, g, ref_cl, ref, offsets, threshold_mm, hint) > threshold_mm) ++left;
+      }
+    if (all > 0) area[static_cast<std::size_t>(f)] = 0.5 * n.norm() * static_cast<double>(left) / static_cast<double>(all);
+  }
+  double total = 0;
+  for (const double x : area) total += x;  // in face order: any thread count
+  return total;
 }
 
 std::vector<Pass> pencil_passes(const ingest::Mesh& mesh, const DropCutter& tool, double x0, double y0, double x1,
