@@ -416,12 +416,7 @@ void write_rest_and_pencil(const job::Part& part, const FinishSettings& settings
                  {"slivers_dropped", r.slivers},
                  {"rest_axis_area_mm2", r.rest_axis_area_mm2},
                  {"max_rest_mm", r.max_thickness_mm},
-                 {"along_deg", r.axis_deg},
-                 // the design's area each tool cannot touch (exact reference test, issue 41's yardstick)
-                 {"unreachable_by_reference_mm2",
-                  finish::unreachable_area_mm2(part.mesh, rp.reference, rp.threshold_mm, 0, p.x0, p.y0, p.x1, p.y1)},
-                 {"unreachable_by_rest_tool_mm2",
-                  finish::unreachable_area_mm2(part.mesh, p.tool, rp.threshold_mm, 0, p.x0, p.y0, p.x1, p.y1)}};
+                 {"along_deg", r.axis_deg}};
     if (r.empty()) {
       info("finish: " + part.name + ": no rest material behind " + rp.reference.describe() + " for " +
            p.tool.describe() + "; no rest program");

@@ -113,7 +113,7 @@ struct FinishSettings {
   std::optional<tooling::Cutter> rest_tool, rest_reference;
   double rest_threshold_mm = 0.02;
   double rest_margin_mm = -1;  ///< < 0: the rest tool's radius / 2
-  bool pencil = false;  ///< finish --pencil: pencil tracing with the finishing tool
+  bool pencil = false;         ///< finish --pencil: pencil tracing with the finishing tool
   double stock_top_above_part_mm = 1;
   gcode::MotionModel machine;
   gcode::Dialect post;  ///< the dialect the programs are written in (/machine/post)

@@ -462,47 +462,6 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
   return out;
 }
 
-double unreachable_area_mm2(const ingest::Mesh& mesh, const tooling::Cutter& reference, double threshold_mm,
-                            double spacing_mm, double x0, double y0, double x1, double y1) {
-  RestParams rp;
-  rp.reference = reference;
-  rp.threshold_mm = threshold_mm;
-  rp.check();
-  if (!(x1 > x0 && y1 > y0))
-    x0 = mesh.V.col(0).minCoeff(), y0 = mesh.V.col(1).minCoeff(), x1 = mesh.V.col(0).maxCoeff(),
-    y1 = mesh.V.col(1).maxCoeff();
-  const double h = rest_cell_mm(reference, threshold_mm);
-  const double sp = spacing_mm > 0 ? spacing_mm : 0.5 * h;
-  const Grid g{x0, y0, h, static_cast<int>(std::ceil((x1 - x0) / h - 1e-9)) + 1,
-               static_cast<int>(std::ceil((y1 - y0) / h - 1e-9)) + 1};
-  if (!(static_cast<double>(g.size()) <= 5e7)) throw Error("rest: the reference's grid exceeds 50,000,000 nodes");
-  const DropCutter ref(mesh, reference);
-  const std::vector<double> ref_cl = ref.drop_grid(g.x0, g.y0, h, g.nx, g.ny);
-  const auto offsets = disc_offsets((reference.radius() + threshold_mm) / h + 1);
-  const auto faces = static_cast<std::ptrdiff_t>(mesh.F.rows());
-  std::vector<double> area(static_cast<std::size_t>(faces), 0.0);
-#pragma omp parallel for schedule(dynamic, 64)
-  for (std::ptrdiff_t f = 0; f < faces; ++f) {  // O(area / spacing²) material tests
-    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
-    const Eigen::Vector3d n = (b - a).cross(c - a);
-    if (n.z() < 0) continue;
-    const int nu = std::clamp(static_cast<int>(std::ceil((b - a).norm() / sp)), 1, 4096);
-    const int nv = std::clamp(static_cast<int>(std::ceil((c - a).norm() / sp)), 1, 4096);
-    std::size_t all = 0, left = 0;
-    CLPoint hint;  // the triangle's last placement
-    for (int u = 0; u < nu; ++u)  // sub-cell centres: u + 1/3, v + 1/3 inside the triangle
-      for (int v = 0; (u + 1.0 / 3) / nu + (v + 1.0 / 3) / nv <= 1; ++v) {
-        const Eigen::Vector3d q = a + (b - a) * ((u + 1.0 / 3) / nu) + (c - a) * ((v + 1.0 / 3) / nv);
-        ++all;
-        if (material_at(q, g, ref_cl, ref, offsets, threshold_mm, hint) > threshold_mm) ++left;
-      }
-    if (all > 0) area[static_cast<std::size_t>(f)] = 0.5 * n.norm() * static_cast<double>(left) / static_cast<double>(all);
-  }
-  double total = 0;
-  for (const double x : area) total += x;  // in face order: any thread count
-  return total;
-}
-
 std::vector<Pass> pencil_passes(const ingest::Mesh& mesh, const DropCutter& tool, double x0, double y0, double x1,
                                 double y1, double cell_mm, double chord_tolerance_mm,
                                 const std::vector<std::uint8_t>* mask) {

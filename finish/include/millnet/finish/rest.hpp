@@ -95,16 +95,6 @@ struct RestRegions {
 [[nodiscard]] RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, const RestParams& params,
                                        double x0 = 0, double y0 = 0, double x1 = 0, double y1 = 0);
 
-/// The design's area (mm², mesh frame) that `reference` cannot touch within `threshold_mm`: points
-/// on every triangle over the box (≤ spacing_mm apart, each standing for its share of the triangle's
-/// area; spacing 0 ⇒ the rest grid's cell / 2) whose material behind the reference's placements
-/// exceeds the threshold (the exact distance of rest_regions, with its pattern search). Faces that
-/// look down (n_z < 0) are skipped: a tool from above does not finish them. An independent measure
-/// of rest: of what a tool leaves, and of what a smaller one can take. Empty box ⇒ the footprint.
-[[nodiscard]] double unreachable_area_mm2(const ingest::Mesh& mesh, const tooling::Cutter& reference,
-                                          double threshold_mm, double spacing_mm = 0, double x0 = 0, double y0 = 0,
-                                          double x1 = 0, double y1 = 0);
-
 /// Pencil tracing: the bitangent positions of the tool along concave edges, as passes. On a grid of
 /// axis positions (step `cell_mm`; within `mask` when given: nodes ≠ 0 of a grid of the same origin
 /// and step), a grid edge whose two drop-cutter contacts lie farther apart than max(6·cell, 0.5·R)
