@@ -244,7 +244,8 @@ Registered register_simulate(CLI::App& app) {
             // The programs' work origin (/machine/work_origin) on this part's stock, back to millnet's frame.
             const gcode::Dialect post = job::frame_of(part.mesh, s.stock_top_above_part_mm).post(s.post);
             for (ChainProgram& p : programs) gcode::shift(p.written.program, post.origin[0], post.origin[1]);
-            const Json j = simulate_programs(part, part.name, std::move(programs), o->stock, s, o->out, o->save_stock);
+            const Json j = simulate_programs(part, part.name, std::move(programs), o->stock, s, o->out, o->save_stock,
+                                             nullptr, true);
             info("simulate: Ra median " + j["ra_median_um"].dump() + " um, gouge " + j["max_gouge_mm"].dump() +
                  " mm → " + o->out);
             if (!j.contains("gouge_failure")) return 0;

@@ -510,7 +510,7 @@ ChainProgram read_chain_program(const fs::path& file, const tooling::Cutter& cut
 
 Json simulate_programs(const job::Part& part, const std::string& stem, std::vector<ChainProgram> programs,
                        const std::string& stock, const FinishSettings& settings, const fs::path& out, bool save_stock,
-                       const job::Design* design) {
+                       const job::Design* design, bool score_rest) {
   const job::SimParams sim = sim_params(settings);
   const job::Frame frame = job::frame_of(part.mesh, settings.stock_top_above_part_mm);
   std::optional<job::Design> own;
@@ -520,7 +520,7 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
                                          : stock_from_file(stock, design->grid);
   std::vector<job::ChainStep> steps;
   for (const ChainProgram& p : programs) steps.push_back({&p.written.program, p.cutter});
-  const job::ChainResult r = job::machine_chain(z, *design, steps, settings.machine, sim);
+  const job::ChainResult r = job::machine_chain(z, *design, steps, settings.machine, sim, score_rest);
   Json runs = Json::array();
   for (std::size_t i = 0; i < programs.size(); ++i) {
     const job::StepResult& s = r.steps[i];

@@ -83,10 +83,11 @@ struct ChainProgram {
 /// simulation of the same part (any other value: its path; the grid must match); writes
 /// DIR/<stem>.sim.json, <stem>.ra.png and <stem>.deviation.png, and with save_stock the machined
 /// z-map as DIR/<stem>.zmap. `design` (the part's, when its finishing already made it) saves a
-/// second rasterization.
+/// second rasterization. `score_rest` (millnet simulate): a last program with a smaller tool than a
+/// finishing one before it is scored as rest machining (job::machine_chain).
 Json simulate_programs(const job::Part& part, const std::string& stem, std::vector<ChainProgram> programs,
                        const std::string& stock, const FinishSettings& settings, const std::filesystem::path& out,
-                       bool save_stock = false, const job::Design* design = nullptr);
+                       bool save_stock = false, const job::Design* design = nullptr, bool score_rest = false);
 
 /// A program file read for simulate_programs (the file's text and that text read back), shifted from
 /// the work frame `post` placed it in (its origin) back into millnet's.

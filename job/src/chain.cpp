@@ -93,13 +93,14 @@ std::vector<StepResult> machine_steps(simulate::ZMap& stock, const Design& desig
 }
 
 ChainResult machine_chain(simulate::ZMap& stock, const Design& design, const std::vector<ChainStep>& steps,
-                          const gcode::MotionModel& machine, const SimParams& sim) {
+                          const gcode::MotionModel& machine, const SimParams& sim, bool score_rest) {
   ChainResult r;
   // The exact gouge check's programs per z-map pass: none for the passes of a stock read back.
   std::vector<simulate::PassTool> passes(stock.passes());
   for (const ChainStep& s : steps) passes.push_back({s.program, s.cutter});
   // A rest step: the last tool smaller than the one before; the reference's rest before it.
-  if (steps.size() >= 2 && steps.back().cutter.radius() < steps[steps.size() - 2].cutter.radius()) {
+  if (score_rest && steps.size() >= 2 && steps.back().cutter.radius() < steps[steps.size() - 2].cutter.radius() &&
+      steps[steps.size() - 2].cutter.shape() != tooling::CutterType::Flat) {
     r.rest_step = true;
     r.rest_reference = steps[steps.size() - 2].cutter;
     const std::vector<ChainStep> before(steps.begin(), steps.end() - 1);

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <tuple>
+
 namespace millnet::job {
 namespace {
 
@@ -43,8 +45,9 @@ TEST(JobChain, AirCutShareIsTheFeedLengthThatRemovesNothing) {
   EXPECT_NEAR(r[0].air_cut_share(), 10.0 / 26, 1e-9);
 }
 
-// A last program with a smaller tool than the one before is rest machining, scored with that
-// reference too; the other way round it is not.
+// Asked for, a last program with a smaller tool than a finishing one before it is rest machining,
+// scored with that reference too; a larger last tool, a flat end mill before (roughing) or a
+// chain not asked is not (`millnet run`'s rough + finish chain pays no rest tests).
 TEST(JobChain, ASmallerLastToolIsScoredAsRestMachiningBehindTheOneBefore) {
   const ingest::Mesh plate = testing_ingest::box(0, 0, 0, 20, 20, 5);
   const Frame frame = frame_of(plate, 1.0);
@@ -56,17 +59,20 @@ TEST(JobChain, ASmallerLastToolIsScoredAsRestMachiningBehindTheOneBefore) {
   {
     simulate::ZMap stock = finishing_stock(design, frame, sim);
     const ChainResult r =
-        machine_chain(stock, design, {{&p, Cutter::ball(6)}, {&p, Cutter::ball(2)}}, gcode::MotionModel{}, sim);
+        machine_chain(stock, design, {{&p, Cutter::ball(6)}, {&p, Cutter::ball(2)}}, gcode::MotionModel{}, sim, true);
     EXPECT_TRUE(r.rest_step);
     EXPECT_EQ(r.rest_reference.describe(), Cutter::ball(6).describe());
     EXPECT_EQ(r.steps.size(), 2U);
     EXPECT_EQ(r.rest_area_before_mm2, r.rest_area_after_mm2);  // the rapid above removes nothing
   }
-  simulate::ZMap stock = finishing_stock(design, frame, sim);
-  const ChainResult r =
-      machine_chain(stock, design, {{&p, Cutter::ball(2)}, {&p, Cutter::ball(6)}}, gcode::MotionModel{}, sim);
-  EXPECT_FALSE(r.rest_step);
-  EXPECT_EQ(r.steps.size(), 2U);
+  for (const auto& [a, b, score] : {std::tuple{Cutter::ball(2), Cutter::ball(6), true},      // a larger last tool
+                                    std::tuple{Cutter::flat(10), Cutter::ball(2), true},     // roughing, finishing
+                                    std::tuple{Cutter::ball(6), Cutter::ball(2), false}}) {  // not asked
+    simulate::ZMap stock = finishing_stock(design, frame, sim);
+    const ChainResult r = machine_chain(stock, design, {{&p, a}, {&p, b}}, gcode::MotionModel{}, sim, score);
+    EXPECT_FALSE(r.rest_step) << a.describe() << " then " << b.describe();
+    EXPECT_EQ(r.steps.size(), 2U);
+  }
 }
 
 }  // namespace

@@ -72,11 +72,12 @@ struct ChainResult {
 
 /// Machines the steps in order on `stock` (left machined) and scores the surface against the
 /// design (allowance 0: the finished part) with the last step's cutter (none: all material left
-/// counts as uncut); a last step with a smaller tool than the one before is scored as rest
-/// machining too (ChainResult::rest_*: two more scorings with the reference tool). O(steps ×
-/// (moves + cells swept) + cells).
+/// counts as uncut). With `score_rest`, a last step with a smaller tool than the one before, that
+/// one not a flat end mill (a roughing tool: roughing then finishing is not rest machining), is
+/// scored as rest machining too (ChainResult::rest_*: two more scorings with the reference tool,
+/// each a rest test as costly as the surface's). O(steps × (moves + cells swept) + cells).
 [[nodiscard]] ChainResult machine_chain(simulate::ZMap& stock, const Design& design,
                                         const std::vector<ChainStep>& steps, const gcode::MotionModel& machine,
-                                        const SimParams& sim);
+                                        const SimParams& sim, bool score_rest = false);
 
 }  // namespace millnet::job
