@@ -89,13 +89,18 @@ FinishParams rest_params() {
   return p;
 }
 
-TEST(RestRegions, TheCornerBandBehindASixMillimetreBallIsTheHandComputedOne) {
-  const ingest::Mesh part = l_corner();
-  const DropCutter two(part, Cutter::ball(2));
+/// The corner's rest for the Ø2 behind a Ø6 ball at the threshold kT, over the part's box.
+RestRegions behind_six(const ingest::Mesh& part, const DropCutter& two) {
   RestParams rp;
   rp.reference = Cutter::ball(6);
   rp.threshold_mm = kT;
-  const RestRegions r = rest_regions(part, two, rp, -10, 0, 20, 30);
+  return rest_regions(part, two, rp, -10, 0, 20, 30);
+}
+
+TEST(RestRegions, TheCornerBandBehindASixMillimetreBallIsTheHandComputedOne) {
+  const ingest::Mesh part = l_corner();
+  const DropCutter two(part, Cutter::ball(2));
+  const RestRegions r = behind_six(part, two);
   EXPECT_NEAR(r.cell, rest_cell_mm(Cutter::ball(6), kT), 1e-12);
   EXPECT_NEAR(r.cell, std::sqrt(2 * 3 * kT / 4 - kT * kT / 16) * std::numbers::sqrt2, 1e-12);  // 0.2449
   std::size_t checked = 0;
@@ -129,11 +134,8 @@ TEST(RestRegions, TheCornerBandBehindASixMillimetreBallIsTheHandComputedOne) {
 TEST(RestFinishing, CleansTheBandOnlyAndNeverGouges) {
   const ingest::Mesh part = l_corner();
   const DropCutter two(part, Cutter::ball(2));
-  RestParams rp;
-  rp.reference = Cutter::ball(6);
-  rp.threshold_mm = kT;
-  const RestRegions r = rest_regions(part, two, rp, -10, 0, 20, 30);
-  const FinishPlan plan = plan_rest(part, two, r, rp.reference, rest_params());
+  const RestRegions r = behind_six(part, two);
+  const FinishPlan plan = plan_rest(part, two, r, Cutter::ball(6), rest_params());
   ASSERT_FALSE(plan.passes.empty());
   // Every CL point: within the band plus the margin and the cell, below the rest's top, no gouge
   // (the ball's centre at least R from every triangle), and sampled every 0.1 mm for coverage.
