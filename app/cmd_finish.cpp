@@ -111,7 +111,7 @@ Registered register_finish(CLI::App& app) {
     std::optional<double> stepover, step_down, boundary_angle, scallop;
     BoundaryFlags boundary;
     bool simulate = false, pencil = false;
-    std::optional<std::string> rest_tool, rest_reference;
+    std::optional<std::string> rest_tool, rest_reference, rest_from;
     std::optional<double> rest_threshold, rest_margin;
     std::string out;
   };
@@ -149,6 +149,9 @@ Registered register_finish(CLI::App& app) {
   sub->add_option("--rest-tool", o->rest_tool,
                   "rest finishing with this smaller tool (ball:D, bull:D:r or a library id): <stem>.rest.nc");
   sub->add_option("--rest-reference", o->rest_reference, "the tool whose rest is taken (default: the finishing tool)");
+  sub->add_option("--rest-from", o->rest_from,
+                  "rest from the stock: a FILE.zmap saved by simulate --save-stock (or a folder of <stem>.zmap); "
+                  "instead of --rest-reference");
   sub->add_option("--rest-threshold", o->rest_threshold, "material thicker than this is rest, mm (default 0.02)")
       ->check(CLI::Range(0.001, 10.0));
   sub->add_option("--rest-margin", o->rest_margin,
@@ -184,6 +187,11 @@ Registered register_finish(CLI::App& app) {
             if (o->rest_tool) s.rest_tool = tool_arg(*o->rest_tool, config);
             if (o->rest_reference) s.rest_reference = tool_arg(*o->rest_reference, config);
             if (o->rest_reference && !o->rest_tool) throw Error("--rest-reference needs --rest-tool");
+            if (o->rest_from && !o->rest_tool) throw Error("--rest-from needs --rest-tool");
+            if (o->rest_from && o->rest_reference)
+              throw Error("--rest-from and --rest-reference: the rest comes from the stock or from a reference "
+                          "tool, not both");
+            if (o->rest_from) s.rest_from = *o->rest_from;
             if (o->rest_threshold) s.rest_threshold_mm = *o->rest_threshold;
             if (o->rest_margin) s.rest_margin_mm = *o->rest_margin;
             s.pencil = o->pencil;

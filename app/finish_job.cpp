@@ -371,6 +371,7 @@ job::SimParams sim_params(const FinishSettings& settings) {
   p.spec_limit_mm = settings.spec.limit_mm();
   p.ra_target_um = settings.sim.ra_target_um;
   p.limits = work_limits();
+  p.rest_threshold_mm = settings.rest_threshold_mm;
   return p;
 }
 
@@ -393,6 +394,31 @@ void write_extra_program(const job::Part& part, const FinishSettings& settings, 
   write_file_atomic(out / (base + ".json"), figures.dump(2) + "\n");
 }
 
+/// The stock a simulation saved (`simulate --save-stock`), in the mesh frame, for rest from the
+/// stock: it must cover the part's footprint. Errors name the file.
+finish::RestStock rest_stock(const fs::path& file, const job::Part& part, const job::Frame& frame) {
+  if (!fs::is_regular_file(file))
+    throw file_error(file.string(), "no such z-map (--rest-from: a FILE.zmap saved by simulate --save-stock, or a "
+                                    "folder holding " + part.name + ".zmap)");
+  simulate::ZMap z = simulate::io::read_zmap(file);
+  const simulate::GridSpec& g = z.spec();
+  const double x1 = g.x(g.nx - 1) + 0.5 * g.cell, y1 = g.y(g.ny - 1) + 0.5 * g.cell;
+  const double px0 = part.mesh.V.col(0).minCoeff(), py0 = part.mesh.V.col(1).minCoeff();
+  const double px1 = part.mesh.V.col(0).maxCoeff(), py1 = part.mesh.V.col(1).maxCoeff();
+  const double slack = g.cell;
+  if (g.x0 - 0.5 * g.cell > px0 + slack || g.y0 - 0.5 * g.cell > py0 + slack || x1 < px1 - slack || y1 < py1 - slack)
+    throw file_error(file.string(), "its grid (X " + fixed(g.x0, 3) + " … " + fixed(x1, 3) + ", Y " + fixed(g.y0, 3) +
+                                        " … " + fixed(y1, 3) + ") does not cover the part " + part.name + " (X " +
+                                        fixed(px0, 3) + " … " + fixed(px1, 3) + ", Y " + fixed(py0, 3) + " … " +
+                                        fixed(py1, 3) + "): save the stock from a simulation of this part");
+  finish::RestStock s;
+  s.x0 = g.x0, s.y0 = g.y0, s.cell = g.cell;
+  s.nx = static_cast<int>(g.nx), s.ny = static_cast<int>(g.ny);
+  s.z = std::move(z.heights());
+  for (double& v : s.z) v -= frame.z_shift();  // program frame → part frame
+  return s;
+}
+
 /// finish --rest-tool and --pencil (issue 41): rest finishing behind the reference tool, and pencil
 /// tracing with the finishing tool, each a program of its own. No rest: said, and no program.
 void write_rest_and_pencil(const job::Part& part, const FinishSettings& settings, const PartJob& job,
@@ -407,9 +433,17 @@ void write_rest_and_pencil(const job::Part& part, const FinishSettings& settings
     rp.reference = settings.rest_reference.value_or(job.params.tool);
     rp.threshold_mm = settings.rest_threshold_mm;
     rp.margin_mm = settings.rest_margin_mm;
+    std::optional<finish::RestStock> stock;
+    std::string behind = rp.reference.describe();
+    if (!settings.rest_from.empty()) {
+      const fs::path file = fs::is_directory(settings.rest_from) ? fs::path(settings.rest_from) / (part.name + ".zmap")
+                                                                 : fs::path(settings.rest_from);
+      rp.stock = &stock.emplace(rest_stock(file, part, job.frame));
+      behind = "the stock " + file.filename().string();
+    }
     const finish::RestRegions r = finish::rest_regions(part.mesh, dropper, rp, p.x0, p.y0, p.x1, p.y1);
     Json figures{{"rest_tool", p.tool.describe()},
-                 {"reference_tool", rp.reference.describe()},
+                 {rp.stock ? "rest_from" : "reference_tool", rp.stock ? behind : rp.reference.describe()},
                  {"threshold_mm", rp.threshold_mm},
                  {"cell_mm", r.cell},
                  {"regions", r.regions},
@@ -418,12 +452,12 @@ void write_rest_and_pencil(const job::Part& part, const FinishSettings& settings
                  {"max_rest_mm", r.max_thickness_mm},
                  {"along_deg", r.axis_deg}};
     if (r.empty()) {
-      info("finish: " + part.name + ": no rest material behind " + rp.reference.describe() + " for " +
+      info("finish: " + part.name + ": no rest material behind " + behind + " for " +
            p.tool.describe() + "; no rest program");
       write_file_atomic(out / (part.name + ".rest.json"), figures.dump(2) + "\n");
     } else {
       figures["rest_top_z"] = r.rest_top_z + job.frame.z_shift();  // program frame
-      write_extra_program(part, settings, job, finish::plan_rest(part.mesh, dropper, r, rp.reference, p), "rest",
+      write_extra_program(part, settings, job, finish::plan_rest(part.mesh, dropper, r, behind, p), "rest",
                           std::move(figures), out);
     }
   }
@@ -508,6 +542,50 @@ ChainProgram read_chain_program(const fs::path& file, const tooling::Cutter& cut
   return p;
 }
 
+namespace {
+/// A rest step's figures (issue 41), split by what each tool can reach (finish::unreachable_regions,
+/// exact, from the mesh; a z-map cell takes the answer of the test's nearest node): the rest is the
+/// material over the threshold where the reference cannot reach; `rest_area_before_mm2` and
+/// `rest_area_after_mm2` that rest before and after the rest program; `rest_area_unreachable_mm2`
+/// what the rest tool cannot reach either (the ideal after); `rest_area_missed_mm2` rest left where
+/// the rest tool reaches (drawn in `picture`); `over_threshold_*_mm2` all material over the
+/// threshold, rest or not (scallops of the first program included). O(cells) + the two tests.
+void rest_figures(const job::Part& part, const job::Design& design, const simulate::ZMap& z,
+                  const job::ChainResult& r, const tooling::Cutter& tool, double threshold_mm, Json& figures,
+                  const fs::path& picture) {
+  const finish::RestRegions ref = finish::unreachable_regions(part.mesh, r.rest_reference, threshold_mm);
+  const finish::RestRegions own = finish::unreachable_regions(part.mesh, tool, threshold_mm);
+  const simulate::GridSpec& g = design.grid;
+  auto in = [&](const finish::RestRegions& u, std::size_t i) {
+    const long bi = std::lround((g.y(i / g.nx) - u.y0) / u.cell), bj = std::lround((g.x(i % g.nx) - u.x0) / u.cell);
+    return bi >= 0 && bj >= 0 && bi < u.ny && bj < u.nx && u.mask[static_cast<std::size_t>(bi * u.nx + bj)] != 0;
+  };
+  const std::vector<std::uint8_t> above = simulate::cells_above(z, design.heights, threshold_mm);
+  std::vector<double> missed(g.cells(), std::numeric_limits<double>::quiet_NaN());
+  std::size_t before = 0, after = 0, miss = 0;
+  for (std::size_t i = 0; i < g.cells(); ++i) {  // O(cells)
+    if ((r.rest_above_before[i] == 0 && above[i] == 0) || !in(ref, i)) continue;
+    before += r.rest_above_before[i] != 0 ? 1 : 0;
+    if (above[i] == 0) continue;
+    ++after;
+    if (in(own, i)) continue;
+    missed[i] = z.heights()[i] - design.heights[i];
+    ++miss;
+  }
+  const double cell_area = g.cell * g.cell;
+  figures["over_threshold_before_mm2"] = r.rest_area_before_mm2;
+  figures["over_threshold_after_mm2"] = r.rest_area_after_mm2;
+  figures["rest_area_before_mm2"] = static_cast<double>(before) * cell_area;
+  figures["rest_area_after_mm2"] = static_cast<double>(after) * cell_area;
+  figures["rest_area_unreachable_mm2"] = own.rest_axis_area_mm2;
+  figures["rest_area_reference_unreachable_mm2"] = ref.rest_axis_area_mm2;
+  figures["rest_area_missed_mm2"] = static_cast<double>(miss) * cell_area;
+  fs::create_directories(picture.parent_path());
+  grid_png(picture, missed, g,
+           part.name + ": rest left where the " + tool.describe() + " reaches (vertical, mm)", "mm");
+}
+}  // namespace
+
 Json simulate_programs(const job::Part& part, const std::string& stem, std::vector<ChainProgram> programs,
                        const std::string& stock, const FinishSettings& settings, const fs::path& out, bool save_stock,
                        const job::Design* design, bool score_rest) {
@@ -536,9 +614,9 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
   if (r.rest_step) {  // issue 41: the last program as rest machining behind the one before it
     Json& last = runs.back();
     last["rest_reference_tool"] = r.rest_reference.describe();
-    last["rest_area_before_mm2"] = r.rest_area_before_mm2;
-    last["rest_area_after_mm2"] = r.rest_area_after_mm2;
-    last["rest_area_unreachable_mm2"] = r.metrics.rest_area_mm2;  // what the last tool cannot reach either
+    last["rest_threshold_mm"] = sim.rest_threshold_mm;
+    rest_figures(part, *design, z, r, programs.back().cutter, sim.rest_threshold_mm, last,
+                 out / (stem + ".rest_missed.png"));
   }
   const simulate::SurfaceMetrics& m = r.metrics;
   Json j = sim_metrics_json(m, design->grid);

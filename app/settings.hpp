@@ -113,6 +113,9 @@ struct FinishSettings {
   std::optional<tooling::Cutter> rest_tool, rest_reference;
   double rest_threshold_mm = 0.02;
   double rest_margin_mm = -1;  ///< < 0: the rest tool's radius / 2
+  /// finish --rest-from: the rest from the stock a simulation saved (a FILE.zmap, or a folder holding
+  /// <stem>.zmap per part) instead of behind a reference tool; empty: from the reference.
+  std::string rest_from;
   bool pencil = false;         ///< finish --pencil: pencil tracing with the finishing tool
   double stock_top_above_part_mm = 1;
   gcode::MotionModel machine;

@@ -15,7 +15,9 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <numbers>
+#include <optional>
 #include <string>
 
 namespace millnet::finish {
@@ -90,6 +92,47 @@ double material_at(const Eigen::Vector3d& p, const Grid& g, const std::vector<do
     }
   }
   return settle(best);
+}
+
+/// Rest from the stock, between the contacts: on a steep wall the new tool's contacts at
+/// neighbouring nodes lie (step / cos slope) apart along the wall, too sparse for the scallops an
+/// earlier tool left there. So the design itself is sampled (points on every upward triangle ≤
+/// step/2 apart), and where the stock over a point exceeds the threshold the node under the axis of
+/// the new tool touching it there (p + the tool's offset along the face's normal) is marked too.
+/// Faces in parallel, each writing its own list: any thread count gives the same mask. O(design
+/// area / (step/2)²).
+void mark_stock_samples(const ingest::Mesh& mesh, const RestStock& stock, const tooling::Cutter& tool, double thr,
+                        const Grid& g, RestRegions& out) {
+  const double rc = tool.profile_corner_radius(), a = tool.radius() - rc;
+  const auto faces = static_cast<std::ptrdiff_t>(mesh.F.rows());
+  std::vector<std::vector<std::pair<std::size_t, float>>> marks(static_cast<std::size_t>(faces));
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::ptrdiff_t f = 0; f < faces; ++f) {
+    const Eigen::Vector3d A = mesh.V.row(mesh.F(f, 0)), B = mesh.V.row(mesh.F(f, 1)), C = mesh.V.row(mesh.F(f, 2));
+    Eigen::Vector3d n = (B - A).cross(C - A);
+    if (!(n.norm() > 0) || n.z() <= 0) continue;  // degenerate, vertical or facing down: no contact from above
+    n.normalize();
+    const double nxy = std::hypot(n.x(), n.y());
+    const double scale = nxy > 1e-12 ? a / nxy + rc : 0.0;
+    const Eigen::Vector2d off(n.x() * scale, n.y() * scale);
+    const int nu = std::clamp(static_cast<int>(std::ceil((B - A).norm() / (0.5 * g.h))), 1, 4096);
+    const int nv = std::clamp(static_cast<int>(std::ceil((C - A).norm() / (0.5 * g.h))), 1, 4096);
+    auto& mine = marks[static_cast<std::size_t>(f)];
+    for (int u = 0; u <= nu; ++u)
+      for (int v = 0; v * nu <= (nu - u) * nv; ++v) {  // u/nu + v/nv ≤ 1
+        const Eigen::Vector3d q = A + (B - A) * (static_cast<double>(u) / nu) + (C - A) * (static_cast<double>(v) / nv);
+        const double m = stock.material(q, n.z());
+        if (m <= thr) continue;
+        const int i = static_cast<int>(std::lround((q.y() + off.y() - g.y0) / g.h));
+        const int j = static_cast<int>(std::lround((q.x() + off.x() - g.x0) / g.h));
+        if (i >= 0 && j >= 0 && i < g.ny && j < g.nx) mine.emplace_back(g.at(i, j), static_cast<float>(m));
+      }
+  }
+  for (const auto& list : marks)  // O(marks)
+    for (const auto& [k, m] : list) {
+      out.mask[k] = 1;
+      if (!(out.thickness[k] >= m)) out.thickness[k] = m;  // (a NaN node: the tool touches nothing there)
+    }
 }
 
 /// 4-connected components of `on` nodes: a component id per node (−1 off), in first-node order.
@@ -225,6 +268,61 @@ std::vector<Pass> corner_passes(const ingest::Mesh& mesh, const DropCutter& tool
 }
 
 /// The plan's program made again from its passes (pencil passes put in front).
+/// The pieces of `passes` where the tool removes rest: a point cuts when the material at its
+/// contact (a drop at its XY) exceeds a quarter of the threshold; each cutting point keeps the
+/// points within the tool's radius (path length) on either side; runs of kept points are the
+/// pieces. Passes in parallel, each on its own: any thread count. O(points) drops.
+std::vector<Pass> trim_to_rest(const std::vector<Pass>& passes, const DropCutter& tool, const ingest::Mesh& mesh,
+                               const RestRegions& regions) {
+  if (!regions.material) return passes;
+  const double eps = regions.threshold_mm / 4, run_on = tool.cutter().radius() / 4;
+  std::vector<std::vector<Pass>> pieces(passes.size());
+  const auto n = static_cast<std::ptrdiff_t>(passes.size());
+#pragma omp parallel for schedule(dynamic, 4)
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    const auto& pts = passes[static_cast<std::size_t>(k)].points;
+    const std::size_t m = pts.size();
+    std::vector<double> s(m, 0.0);  // path length along the pass
+    for (std::size_t i = 1; i < m; ++i) s[i] = s[i - 1] + (pts[i] - pts[i - 1]).norm();
+    std::vector<std::uint8_t> cuts(m, 0), keep(m, 0);
+    for (std::size_t i = 0; i < m; ++i) {  // O(points) drops
+      const CLPoint c = tool.drop(pts[i].x(), pts[i].y());
+      if (c.contact == Contact::None || c.triangle < 0) continue;
+      const Eigen::Vector3d a = mesh.V.row(mesh.F(c.triangle, 0)), b = mesh.V.row(mesh.F(c.triangle, 1)),
+                            d = mesh.V.row(mesh.F(c.triangle, 2));
+      const Eigen::Vector3d nrm = (b - a).cross(d - a);
+      const double nz = nrm.norm() > 0 ? nrm.z() / nrm.norm() : 1.0;
+      cuts[i] = regions.material(c.cc, nz) > eps ? 1 : 0;
+    }
+    // Run on by the radius: forward then backward, from the last cutting point seen.
+    double last = -HUGE_VAL;
+    for (std::size_t i = 0; i < m; ++i) {
+      if (cuts[i]) last = s[i];
+      if (s[i] - last <= run_on) keep[i] = 1;
+    }
+    last = HUGE_VAL;
+    for (std::size_t i = m; i-- > 0;) {
+      if (cuts[i]) last = s[i];
+      if (last - s[i] <= run_on) keep[i] = 1;
+    }
+    auto& mine = pieces[static_cast<std::size_t>(k)];
+    Pass cur;
+    for (std::size_t i = 0; i <= m; ++i) {
+      if (i < m && keep[i]) {
+        cur.points.push_back(pts[i]);
+        continue;
+      }
+      if (cur.points.size() >= 2) mine.push_back(std::move(cur));
+      cur = Pass{};
+    }
+    if (mine.size() == 1 && mine.front().points.size() == m) mine.front().closed = passes[static_cast<std::size_t>(k)].closed;
+  }
+  std::vector<Pass> out;
+  for (auto& list : pieces)  // O(pieces), in pass order
+    for (auto& piece : list) out.push_back(std::move(piece));
+  return out;
+}
+
 void relink(const ingest::Mesh& mesh, const DropCutter& tool, const FinishParams& p, FinishPlan& plan) {
   plan.program = {};
   plan.path_length_mm = 0, plan.lifts = 0, plan.cl_points = 0;
@@ -249,6 +347,28 @@ void RestParams::check() const {
                "must be 0 (automatic) or in [0.005, 5] mm (got " + std::to_string(cell_mm) + ")");
 }
 
+void RestStock::check() const {
+  require_rest(nx > 0 && ny > 0 && z.size() == static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), "stock",
+               "must hold nx·ny heights (" + std::to_string(nx) + " × " + std::to_string(ny) + ", got " +
+                   std::to_string(z.size()) + ")");
+  require_rest(std::isfinite(x0) && std::isfinite(y0) && std::isfinite(cell) && cell > 0, "stock",
+               "needs a finite origin and a cell > 0");
+  require_rest(std::all_of(z.begin(), z.end(), [](double v) { return std::isfinite(v); }), "stock",
+               "heights must be finite");
+}
+
+double RestStock::material(const Eigen::Vector3d& p, double cos_slope) const {
+  // The stock surface through the cells' centres, bilinear between them (outside the grid: air).
+  const double u = (p.x() - x0) / cell, v = (p.y() - y0) / cell;
+  if (!(u >= 0 && v >= 0 && u <= nx - 1 && v <= ny - 1)) return 0.0;
+  const int j0 = std::min(static_cast<int>(u), std::max(nx - 2, 0)), i0 = std::min(static_cast<int>(v), std::max(ny - 2, 0));
+  const int j1 = std::min(j0 + 1, nx - 1), i1 = std::min(i0 + 1, ny - 1);
+  const double fu = u - j0, fv = v - i0;
+  auto at = [&](int i, int j) { return z[static_cast<std::size_t>(i) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(j)]; };
+  const double top = (1 - fv) * ((1 - fu) * at(i0, j0) + fu * at(i0, j1)) + fv * ((1 - fu) * at(i1, j0) + fu * at(i1, j1));
+  return std::max(0.0, top - p.z()) * std::abs(cos_slope);
+}
+
 double rest_cell_mm(const tooling::Cutter& reference, double threshold_mm) {
   const double t = threshold_mm / 4, rc = reference.profile_corner_radius(), a = reference.radius() - rc;
   const double d = rc > 0 ? a + std::sqrt(std::max(0.0, 2 * rc * t - t * t)) : reference.radius();
@@ -268,13 +388,18 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
                          double y0, double x1, double y1) {
   params.check();
   const tooling::Cutter& tool = new_tool.cutter();
-  if (params.reference.radius() < tool.radius())
+  if (params.stock != nullptr) params.stock->check();
+  if (params.stock == nullptr && params.reference.radius() < tool.radius())
     throw Error("rest: the reference tool (" + params.reference.describe() + ") is smaller than the rest tool (" +
                 tool.describe() + "): it leaves nothing the rest tool can take");
   if (!(x1 > x0 && y1 > y0))
     x0 = mesh.V.col(0).minCoeff(), y0 = mesh.V.col(1).minCoeff(), x1 = mesh.V.col(0).maxCoeff(),
     y1 = mesh.V.col(1).maxCoeff();
-  const double h = params.cell_mm > 0 ? params.cell_mm : rest_cell_mm(params.reference, params.threshold_mm);
+  // From the stock: the new tool's own step (its contacts as dense as a reference of its size needs),
+  // not finer than the stock's cells.
+  const double h = params.cell_mm > 0   ? params.cell_mm
+                   : params.stock      ? std::max(params.stock->cell, rest_cell_mm(tool, params.threshold_mm))
+                                       : rest_cell_mm(params.reference, params.threshold_mm);
   const double cells = std::ceil((x1 - x0) / h + 1) * std::ceil((y1 - y0) / h + 1);
   if (!(cells <= 5e7))
     throw Error("rest: a grid of " + std::to_string(static_cast<long long>(cells)) + " nodes at " + std::to_string(h) +
@@ -283,17 +408,45 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
                static_cast<int>(std::ceil((y1 - y0) / h - 1e-9)) + 1};
   RestRegions out;
   out.x0 = g.x0, out.y0 = g.y0, out.cell = h, out.nx = g.nx, out.ny = g.ny;
+  out.threshold_mm = params.threshold_mm;
 
   // 1. The new tool's contacts and the reference's placements on the same nodes.
   std::vector<Eigen::Vector2d> xy(g.size());
   for (int i = 0; i < g.ny; ++i)  // O(nodes)
     for (int j = 0; j < g.nx; ++j) xy[g.at(i, j)] = {g.x(j), g.y(i)};
   const std::vector<CLPoint> cl = new_tool.drop(xy);
-  const DropCutter ref(mesh, params.reference);
-  const std::vector<double> ref_cl = ref.drop_grid(g.x0, g.y0, h, g.nx, g.ny);
+  // The reference's placements, kept with the material model handed on to plan_rest.
+  struct Reference {
+    DropCutter tool;
+    std::vector<double> cl;
+    std::vector<std::pair<int, int>> offsets;
+  };
+  std::shared_ptr<const Reference> ref;
+  if (params.stock == nullptr) {
+    DropCutter rt(mesh, params.reference);
+    std::vector<double> rcl = rt.drop_grid(g.x0, g.y0, h, g.nx, g.ny);
+    ref = std::make_shared<const Reference>(Reference{
+        std::move(rt), std::move(rcl), disc_offsets((params.reference.radius() + params.threshold_mm) / h + 1)});
+  }
+  // The material at a design point: behind the reference's placements, or under the stock (along
+  // the design's normal there, whose z component is `nz`).
+  const RestStock* stock = params.stock;
+  const double thr = params.threshold_mm;
+  auto material = [stock, ref, g, thr](const Eigen::Vector3d& p, double nz, CLPoint& hint) {
+    return stock ? stock->material(p, nz) : material_at(p, g, ref->cl, ref->tool, ref->offsets, thr, hint);
+  };
+  out.material = [material](const Eigen::Vector3d& p, double nz) {
+    CLPoint hint;
+    return material(p, nz, hint);
+  };
+  auto face_nz = [&](std::ptrdiff_t f) {
+    if (f < 0 || f >= mesh.F.rows()) return 1.0;
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    return n.norm() > 0 ? std::abs(n.z()) / n.norm() : 1.0;
+  };
 
   // 2. The material at each contact (rows in parallel; each node on its own: any thread count).
-  const auto offsets = disc_offsets((params.reference.radius() + params.threshold_mm) / h + 1);
   out.thickness.assign(g.size(), 0.0F);
   out.mask.assign(g.size(), 0);
 #pragma omp parallel for schedule(dynamic, 8)
@@ -305,11 +458,12 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
         out.thickness[k] = std::numeric_limits<float>::quiet_NaN();
         continue;
       }
-      const double m = material_at(cl[k].cc, g, ref_cl, ref, offsets, params.threshold_mm, hint);
+      const double m = material(cl[k].cc, params.stock ? face_nz(cl[k].triangle) : 1.0, hint);
       out.thickness[k] = static_cast<float>(m);
       out.mask[k] = m > params.threshold_mm ? 1 : 0;
     }
   }
+  if (params.stock) mark_stock_samples(mesh, *params.stock, tool, params.threshold_mm, g, out);
 
   // 3. Slivers dropped: components whose axis area is below the minimum.
   const double min_area =
@@ -407,6 +561,7 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::ptrdiff_t f = 0; f < faces; ++f) {  // O(sampled area / (h/2)²) over the near faces
     const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
+    const double nz = params.stock ? face_nz(f) : 1.0;
     const int nu = std::clamp(static_cast<int>(std::ceil((b - a).norm() / (0.5 * h))), 1, 4096);
     const int nv = std::clamp(static_cast<int>(std::ceil((c - a).norm() / (0.5 * h))), 1, 4096);
     std::vector<double> mine;
@@ -418,7 +573,7 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
         if (r < 0) continue;
         if (mine.empty()) mine.assign(out.parts.size(), -std::numeric_limits<double>::infinity());
         if (q.z() <= mine[static_cast<std::size_t>(r)]) continue;
-        if (material_at(q, g, ref_cl, ref, offsets, params.threshold_mm, hint) > params.threshold_mm)
+        if (material(q, nz, hint) > params.threshold_mm)
           mine[static_cast<std::size_t>(r)] = q.z();
       }
     tops[static_cast<std::size_t>(f)] = std::move(mine);
@@ -533,9 +688,9 @@ FinishPlan plan_pencil(const ingest::Mesh& mesh, const DropCutter& tool, FinishP
 }
 
 FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const RestRegions& regions,
-                     const tooling::Cutter& reference, FinishParams params) {
+                     const std::string& behind, FinishParams params) {
   if (regions.empty())
-    throw Error("rest: no rest material behind " + reference.describe() + " for " + params.tool.describe() +
+    throw Error("rest: no rest material behind " + behind + " for " + params.tool.describe() +
                 " (nothing to finish)");
   // Each region on its own: its outline, its Z range (within the caller's), its direction.
   FinishPlan plan;
@@ -548,7 +703,7 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
     p.boundary.z_min = std::max(params.boundary.z_min, region.boundary.z_min - params.step_down_mm);
     p.boundary.z_max = std::min(params.boundary.z_max, region.boundary.z_max);
     p.raster_angle_deg = region.axis_deg;
-    const std::vector<Pass> passes = corner_passes(mesh, new_tool, p);
+    const std::vector<Pass> passes = trim_to_rest(corner_passes(mesh, new_tool, p), new_tool, mesh, regions);
     if (passes.empty()) ++narrow;  // narrower than the tool, or nothing inside its range: pencil only
     plan.passes.insert(plan.passes.end(), passes.begin(), passes.end());
   }
@@ -559,20 +714,40 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
   std::vector<std::uint8_t> inside(regions.mask.size());
   for (std::size_t k = 0; k < inside.size(); ++k) inside[k] = regions.mask[k] == 2 ? 1 : 0;
   const double x1 = regions.x0 + regions.cell * (regions.nx - 1), y1 = regions.y0 + regions.cell * (regions.ny - 1);
-  const std::vector<Pass> pencil = clip_passes(
-      detail::Fence(mesh, params.boundary),
-      pencil_passes(mesh, new_tool, regions.x0, regions.y0, x1, y1, regions.cell, params.chord_tolerance_mm, &inside),
-      params.chord_tolerance_mm);
+  const std::vector<Pass> pencil = trim_to_rest(
+      clip_passes(detail::Fence(mesh, params.boundary),
+                  pencil_passes(mesh, new_tool, regions.x0, regions.y0, x1, y1, regions.cell,
+                                params.chord_tolerance_mm, &inside),
+                  params.chord_tolerance_mm),
+      new_tool, mesh, regions);
   plan.passes.insert(plan.passes.begin(), pencil.begin(), pencil.end());
   if (plan.passes.empty())
-    throw Error("rest: the rest regions behind " + reference.describe() + " are all narrower than " +
+    throw Error("rest: the rest regions behind " + behind + " are all narrower than " +
                 params.tool.describe() + " and have no concave edge to trace");
-  params.comments.insert(params.comments.begin(), "rest finishing behind " + reference.describe() + ": " +
+  params.comments.insert(params.comments.begin(), "rest finishing behind " + behind + ": " +
                                                       std::to_string(regions.parts.size()) + " region(s) (" +
                                                       std::to_string(narrow) + " pencil only), " +
                                                       std::to_string(pencil.size()) + " pencil pass(es) first");
   relink(mesh, new_tool, params, plan);
   return plan;
+}
+
+}  // namespace millnet::finish
+
+namespace millnet::finish {
+
+double unreachable_area_mm2(const ingest::Mesh& mesh, const tooling::Cutter& tool, double threshold_mm) {
+  return unreachable_regions(mesh, tool, threshold_mm).rest_axis_area_mm2;
+}
+
+RestRegions unreachable_regions(const ingest::Mesh& mesh, const tooling::Cutter& tool, double threshold_mm) {
+  RestParams rp;
+  rp.reference = tool;
+  rp.threshold_mm = threshold_mm;
+  rp.margin_mm = 0;
+  rp.min_area_mm2 = 0;
+  const DropCutter probe(mesh, tooling::Cutter::ball(0.01));
+  return rest_regions(mesh, probe, rp);
 }
 
 }  // namespace millnet::finish

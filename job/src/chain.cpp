@@ -105,11 +105,11 @@ ChainResult machine_chain(simulate::ZMap& stock, const Design& design, const std
     r.rest_reference = steps[steps.size() - 2].cutter;
     const std::vector<ChainStep> before(steps.begin(), steps.end() - 1);
     r.steps = machine_steps(stock, design, before, machine);
-    simulate::MetricsOptions ro = sim.metrics_options(r.rest_reference);
-    r.rest_area_before_mm2 = simulate::surface_metrics(stock, design.heights, ro).rest_area_mm2;
+    r.rest_above_before = simulate::cells_above(stock, design.heights, sim.rest_threshold_mm);
+    r.rest_area_before_mm2 = simulate::area_above_mm2(stock, design.heights, sim.rest_threshold_mm);
     const std::vector<ChainStep> last{steps.back()};
     r.steps.push_back(machine_steps(stock, design, last, machine).front());
-    r.rest_area_after_mm2 = simulate::surface_metrics(stock, design.heights, ro).rest_area_mm2;
+    r.rest_area_after_mm2 = simulate::area_above_mm2(stock, design.heights, sim.rest_threshold_mm);
   } else {
     r.steps = machine_steps(stock, design, steps, machine);
   }

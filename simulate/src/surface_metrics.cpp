@@ -153,6 +153,31 @@ std::vector<double> deviation(const ZMap& machined, const std::vector<double>& d
   return e;
 }
 
+std::vector<std::uint8_t> cells_above(const ZMap& machined, const std::vector<double>& design, double thickness_mm) {
+  if (design.size() != machined.heights().size())
+    throw Error("simulate: design surface has " + std::to_string(design.size()) + " values, the z-map " +
+                std::to_string(machined.heights().size()));
+  const GridSpec& spec = machined.spec();
+  std::vector<std::uint8_t> out(design.size(), 0);
+  for (std::size_t i = 0; i < design.size(); ++i) {  // O(cells)
+    if (std::isnan(design[i])) continue;
+    const double e = machined.heights()[i] - design[i];
+    out[i] = e > thickness_mm && e * metrics::cos_slope(spec, design, i) > thickness_mm ? 1 : 0;
+  }
+  return out;
+}
+
+double area_above_mm2(const ZMap& machined, const std::vector<double>& design, double thickness_mm,
+                      const std::vector<std::uint8_t>& only) {
+  if (!only.empty() && only.size() != design.size())
+    throw Error("simulate: the mask has " + std::to_string(only.size()) + " cells, the design " +
+                std::to_string(design.size()));
+  const std::vector<std::uint8_t> above = cells_above(machined, design, thickness_mm);
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < above.size(); ++i) n += above[i] != 0 && (only.empty() || only[i] != 0) ? 1 : 0;
+  return static_cast<double>(n) * machined.spec().cell * machined.spec().cell;
+}
+
 SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& design, const MetricsOptions& opt) {
   check_inputs(machined.spec(), design, opt);
   if (!opt.judged.empty()) {  // the judged surface's figures, the whole design's gouge

@@ -135,7 +135,7 @@ TEST(RestFinishing, CleansTheBandOnlyAndNeverGouges) {
   const ingest::Mesh part = l_corner();
   const DropCutter two(part, Cutter::ball(2));
   const RestRegions r = behind_six(part, two);
-  const FinishPlan plan = plan_rest(part, two, r, Cutter::ball(6), rest_params());
+  const FinishPlan plan = plan_rest(part, two, r, Cutter::ball(6).describe(), rest_params());
   ASSERT_FALSE(plan.passes.empty());
   // Every CL point: within the band plus the margin and the cell, below the rest's top, no gouge
   // (the ball's centre at least R from every triangle), and sampled every 0.1 mm for coverage.
@@ -187,7 +187,7 @@ TEST(RestRegions, BadParametersAndASmallerReferenceAreRefused) {
   rp.reference = Cutter::ball(2);
   const RestRegions none = rest_regions(part, two, rp, -10, 0, 20, 30);
   EXPECT_TRUE(none.empty());
-  EXPECT_THROW((void)plan_rest(part, two, none, rp.reference, rest_params()), Error);
+  EXPECT_THROW((void)plan_rest(part, two, none, rp.reference.describe(), rest_params()), Error);
 }
 
 // A V-groove along Y with 45° flanks (z = |x|): the Ø2 ball touches both flanks with its centre at

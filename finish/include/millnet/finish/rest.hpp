@@ -32,13 +32,34 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <functional>
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace millnet::finish {
 
+/// The stock earlier programs left (rest from the stock, `finish --rest-from`): heights on a grid in
+/// the mesh frame, node (i, j) standing for the square cell of side `cell` centred at
+/// (x0 + j·cell, y0 + i·cell) — a simulated z-map (simulate::ZMap, shifted by the frame).
+struct RestStock {
+  double x0 = 0, y0 = 0, cell = 0;
+  int nx = 0, ny = 0;
+  std::vector<double> z;  ///< row-major, nx·ny heights, mm
+  /// Throws millnet::Error when the grid is empty, the step not > 0 or a height not finite.
+  void check() const;
+  /// The material over a design point p whose surface normal has z component `cos_slope`: the
+  /// stock's height over p (bilinear between the cells' centres) less p's, times cos_slope — the
+  /// thickness along the normal, measured like simulate::area_above_mm2. 0 outside the grid. O(1).
+  [[nodiscard]] double material(const Eigen::Vector3d& p, double cos_slope) const;
+};
+
 struct RestParams {
-  tooling::Cutter reference = tooling::Cutter::ball(6);  ///< the tool that machined before
+  /// The tool that machined before (rest from a reference tool; not used with `stock`).
+  tooling::Cutter reference = tooling::Cutter::ball(6);
+  /// Rest from the stock instead (not owned; outlives the call): where the material the earlier
+  /// programs really left over the new tool's contact exceeds the threshold.
+  const RestStock* stock = nullptr;
   double threshold_mm = 0.02;                            ///< material thicker than this (normal to the design) is rest
   double margin_mm = -1;                                 ///< regions grown by this; < 0 ⇒ the new tool's radius / 2
   double min_area_mm2 = -1;  ///< regions smaller than this (axis area) dropped; < 0 ⇒ π r_new² / 4
@@ -68,6 +89,7 @@ struct RestRegion {
 
 struct RestRegions {
   double x0 = 0, y0 = 0, cell = 0;  ///< node (i, j) at (x0 + j·cell, y0 + i·cell)
+  double threshold_mm = 0.02;       ///< the parameters' threshold
   int nx = 0, ny = 0;
   /// Per node (row-major): 1 where the new tool's contact point has rest material (before the
   /// slivers are dropped and the regions grown); 2 where it is in a kept region after the growth.
@@ -85,6 +107,10 @@ struct RestRegions {
   /// The highest rest material (mesh z) within the new tool's reach of the regions (the highest of
   /// the parts' z_max): the boundary's z_max. −infinity when there is no rest.
   double rest_top_z = -std::numeric_limits<double>::infinity();
+  /// The material over a design point (p, the z component of the design's normal there), measured
+  /// as the regions were found: behind the reference's placements, or under the stock (which must
+  /// outlive this). plan_rest keeps only the pieces of passes that cut it. Thread-safe.
+  std::function<double(const Eigen::Vector3d&, double)> material;
   [[nodiscard]] bool empty() const { return boundary.polygons.empty(); }
 };
 
@@ -117,9 +143,22 @@ struct RestRegions {
 /// the pencil passes of the regions first, then strategy 1 in each region with its outline as the
 /// machining boundary, its Z range (from a step-down below its lowest tip to its rest's top, within
 /// params.boundary's; on_part kept) and its raster along its principal direction; a region narrower
-/// than the tool gets its pencil passes only. All linked into one program. The program's header names
+/// than the tool gets its pencil passes only. Every pass is then cut to the pieces where the tool
+/// removes rest (regions.material at its contact over a quarter of the threshold), each piece
+/// run on by the tool's radius at both ends (the tool's flank meets the rest before its contact
+/// does): no pass cuts air for longer than that. All linked into one program. The program's header names
 /// it rest finishing and the reference tool. Throws millnet::Error when the regions are empty.
+/// `behind` names what left the rest ("ball D6", "the stock of FILE") in the header and errors.
 [[nodiscard]] FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const RestRegions& regions,
-                                   const tooling::Cutter& reference, FinishParams params);
+                                   const std::string& behind, FinishParams params);
+
+/// The XY area (mm²) of the design that `tool` cannot come within `threshold_mm` of without
+/// gouging elsewhere: the rest regions of a point-like probe (a ball of Ø0.01 mm) behind `tool`,
+/// with no margin and no sliver dropped, over the part's footprint (grid step rest_cell_mm). What a
+/// rest program with `tool` must leave at worst: the yardstick of `simulate`'s rest figures.
+[[nodiscard]] double unreachable_area_mm2(const ingest::Mesh& mesh, const tooling::Cutter& tool, double threshold_mm);
+/// The same, as regions: mask 1 where `tool` cannot reach the design point under the node.
+[[nodiscard]] RestRegions unreachable_regions(const ingest::Mesh& mesh, const tooling::Cutter& tool,
+                                              double threshold_mm);
 
 }  // namespace millnet::finish

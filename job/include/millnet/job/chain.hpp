@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace millnet::job {
@@ -51,13 +52,16 @@ inline constexpr double kAirCutMm = 0.001;
 struct ChainResult {
   std::vector<StepResult> steps;     ///< per program, in order
   simulate::SurfaceMetrics metrics;  ///< the surface after the last, scored with its tool
-  /// Rest machining (issue 41): when the last tool is smaller than the one before it, the rest of
-  /// that reference tool (SurfaceMetrics::rest_area_mm2 scored with it: material above the spec
-  /// where it cannot touch the design) before and after the last program. The ideal after is the
-  /// last tool's own rest (metrics.rest_area_mm2): what it cannot reach either.
+  /// Rest machining (issue 41): when the last tool is smaller than the one before it, the XY area
+  /// of the surface carrying more than sim.rest_threshold_mm of material (along the normal:
+  /// simulate::area_above_mm2) before and after the last program. The ideal after is what the last
+  /// tool cannot reach (finish::unreachable_area_mm2, from the mesh: the caller's yardstick).
   bool rest_step = false;
   tooling::Cutter rest_reference;
   double rest_area_before_mm2 = 0, rest_area_after_mm2 = 0;
+  /// The cells over the threshold before the last program (simulate::cells_above), for the
+  /// caller's split by what each tool can reach.
+  std::vector<std::uint8_t> rest_above_before;
 };
 
 /// A block up to Z 0 over the design's grid (the raw stock of a part roughed from a block).
@@ -74,8 +78,8 @@ struct ChainResult {
 /// design (allowance 0: the finished part) with the last step's cutter (none: all material left
 /// counts as uncut). With `score_rest`, a last step with a smaller tool than the one before, that
 /// one not a flat end mill (a roughing tool: roughing then finishing is not rest machining), is
-/// scored as rest machining too (ChainResult::rest_*: two more scorings with the reference tool,
-/// each a rest test as costly as the surface's). O(steps × (moves + cells swept) + cells).
+/// scored as rest machining too (ChainResult::rest_*: the area over the rest threshold before and
+/// after it, O(cells) each). O(steps × (moves + cells swept) + cells).
 [[nodiscard]] ChainResult machine_chain(simulate::ZMap& stock, const Design& design,
                                         const std::vector<ChainStep>& steps, const gcode::MotionModel& machine,
                                         const SimParams& sim, bool score_rest = false);

@@ -42,6 +42,9 @@ struct SimParams {
   double spec_limit_mm = std::numeric_limits<double>::quiet_NaN();
   double ra_target_um = std::numeric_limits<double>::quiet_NaN();  ///< the quality aim's Ra target; NaN: none
   WorkLimits limits;  ///< the z-map, design and metrics are checked against them first
+  /// Material over the design thicker than this (along the normal) is rest, for a rest step's
+  /// figures (ChainResult::rest_area_*; /finish/rest/threshold_mm, finish --rest-threshold).
+  double rest_threshold_mm = 0.02;
 
   /// The surface metrics' options for a finished surface (nothing should be left: allowance 0),
   /// with `cutter` the last tool (scallop, rest material and uncut told apart).

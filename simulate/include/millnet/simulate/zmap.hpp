@@ -303,6 +303,16 @@ struct SurfaceMetrics {
 /// Throws millnet::Error on a size mismatch.
 [[nodiscard]] std::vector<double> deviation(const ZMap& machined, const std::vector<double>& design);
 
+/// The XY area (mm²) of the surface cells (design not NaN) carrying more than `thickness_mm` of
+/// material over the design along the normal ((machined − design)·cos(slope), the measure of the
+/// metrics below): what a rest program should leave only where its tool cannot reach. Only the
+/// cells with `only` ≠ 0 when it is not empty. O(cells). Throws millnet::Error on a size mismatch.
+[[nodiscard]] double area_above_mm2(const ZMap& machined, const std::vector<double>& design, double thickness_mm,
+                                    const std::vector<std::uint8_t>& only = {});
+/// Per cell, 1 where area_above_mm2 counts it (with no `only`), else 0. O(cells).
+[[nodiscard]] std::vector<std::uint8_t> cells_above(const ZMap& machined, const std::vector<double>& design,
+                                                    double thickness_mm);
+
 /// `design` is the part's top surface at the z-map's cells (row-major, spec.cells() values, NaN
 /// where there is no surface). Throws millnet::Error on a size mismatch or bad options.
 [[nodiscard]] SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& design,
