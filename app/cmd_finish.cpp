@@ -189,8 +189,9 @@ Registered register_finish(CLI::App& app) {
             if (o->rest_reference && !o->rest_tool) throw Error("--rest-reference needs --rest-tool");
             if (o->rest_from && !o->rest_tool) throw Error("--rest-from needs --rest-tool");
             if (o->rest_from && o->rest_reference)
-              throw Error("--rest-from and --rest-reference: the rest comes from the stock or from a reference "
-                          "tool, not both");
+              throw Error(
+                  "--rest-from and --rest-reference: the rest comes from the stock or from a reference "
+                  "tool, not both");
             if (o->rest_from) s.rest_from = *o->rest_from;
             if (o->rest_threshold) s.rest_threshold_mm = *o->rest_threshold;
             if (o->rest_margin) s.rest_margin_mm = *o->rest_margin;

@@ -398,8 +398,10 @@ void write_extra_program(const job::Part& part, const FinishSettings& settings, 
 /// stock: it must cover the part's footprint. Errors name the file.
 finish::RestStock rest_stock(const fs::path& file, const job::Part& part, const job::Frame& frame) {
   if (!fs::is_regular_file(file))
-    throw file_error(file.string(), "no such z-map (--rest-from: a FILE.zmap saved by simulate --save-stock, or a "
-                                    "folder holding " + part.name + ".zmap)");
+    throw file_error(file.string(),
+                     "no such z-map (--rest-from: a FILE.zmap saved by simulate --save-stock, or a "
+                     "folder holding " +
+                         part.name + ".zmap)");
   simulate::ZMap z = simulate::io::read_zmap(file);
   const simulate::GridSpec& g = z.spec();
   const double x1 = g.x(g.nx - 1) + 0.5 * g.cell, y1 = g.y(g.ny - 1) + 0.5 * g.cell;
@@ -452,8 +454,8 @@ void write_rest_and_pencil(const job::Part& part, const FinishSettings& settings
                  {"max_rest_mm", r.max_thickness_mm},
                  {"along_deg", r.axis_deg}};
     if (r.empty()) {
-      info("finish: " + part.name + ": no rest material behind " + behind + " for " +
-           p.tool.describe() + "; no rest program");
+      info("finish: " + part.name + ": no rest material behind " + behind + " for " + p.tool.describe() +
+           "; no rest program");
       write_file_atomic(out / (part.name + ".rest.json"), figures.dump(2) + "\n");
     } else {
       figures["rest_top_z"] = r.rest_top_z + job.frame.z_shift();  // program frame
@@ -550,9 +552,8 @@ namespace {
 /// what the rest tool cannot reach either (the ideal after); `rest_area_missed_mm2` rest left where
 /// the rest tool reaches (drawn in `picture`); `over_threshold_*_mm2` all material over the
 /// threshold, rest or not (scallops of the first program included). O(cells) + the two tests.
-void rest_figures(const job::Part& part, const job::Design& design, const simulate::ZMap& z,
-                  const job::ChainResult& r, const tooling::Cutter& tool, double threshold_mm, Json& figures,
-                  const fs::path& picture) {
+void rest_figures(const job::Part& part, const job::Design& design, const simulate::ZMap& z, const job::ChainResult& r,
+                  const tooling::Cutter& tool, double threshold_mm, Json& figures, const fs::path& picture) {
   const finish::RestRegions ref = finish::unreachable_regions(part.mesh, r.rest_reference, threshold_mm);
   const finish::RestRegions own = finish::unreachable_regions(part.mesh, tool, threshold_mm);
   const simulate::GridSpec& g = design.grid;
@@ -581,8 +582,8 @@ void rest_figures(const job::Part& part, const job::Design& design, const simula
   figures["rest_area_reference_unreachable_mm2"] = ref.rest_axis_area_mm2;
   figures["rest_area_missed_mm2"] = static_cast<double>(miss) * cell_area;
   fs::create_directories(picture.parent_path());
-  grid_png(picture, missed, g,
-           part.name + ": rest left where the " + tool.describe() + " reaches (vertical, mm)", "mm");
+  grid_png(picture, missed, g, part.name + ": rest left where the " + tool.describe() + " reaches (vertical, mm)",
+           "mm");
 }
 }  // namespace
 

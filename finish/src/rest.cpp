@@ -94,6 +94,14 @@ double material_at(const Eigen::Vector3d& p, const Grid& g, const std::vector<do
   return settle(best);
 }
 
+/// Triangle f's unit normal (+Z for a degenerate one or an index out of range).
+Eigen::Vector3d unit_normal(const ingest::Mesh& mesh, std::ptrdiff_t f) {
+  if (f < 0 || f >= mesh.F.rows()) return Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
+  const Eigen::Vector3d n = (b - a).cross(c - a);
+  return n.norm() > 0 ? Eigen::Vector3d(n / n.norm()) : Eigen::Vector3d::UnitZ();
+}
+
 /// Rest from the stock, between the contacts: on a steep wall the new tool's contacts at
 /// neighbouring nodes lie (step / cos slope) apart along the wall, too sparse for the scallops an
 /// earlier tool left there. So the design itself is sampled (points on every upward triangle ≤
@@ -109,9 +117,8 @@ void mark_stock_samples(const ingest::Mesh& mesh, const RestStock& stock, const 
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::ptrdiff_t f = 0; f < faces; ++f) {
     const Eigen::Vector3d A = mesh.V.row(mesh.F(f, 0)), B = mesh.V.row(mesh.F(f, 1)), C = mesh.V.row(mesh.F(f, 2));
-    Eigen::Vector3d n = (B - A).cross(C - A);
-    if (!(n.norm() > 0) || n.z() <= 0) continue;  // degenerate, vertical or facing down: no contact from above
-    n.normalize();
+    const Eigen::Vector3d n = unit_normal(mesh, f);
+    if (n.z() < -1e-12) continue;  // facing down: no contact from above
     const double nxy = std::hypot(n.x(), n.y());
     const double scale = nxy > 1e-12 ? a / nxy + rc : 0.0;
     const Eigen::Vector2d off(n.x() * scale, n.y() * scale);
@@ -121,7 +128,7 @@ void mark_stock_samples(const ingest::Mesh& mesh, const RestStock& stock, const 
     for (int u = 0; u <= nu; ++u)
       for (int v = 0; v * nu <= (nu - u) * nv; ++v) {  // u/nu + v/nv ≤ 1
         const Eigen::Vector3d q = A + (B - A) * (static_cast<double>(u) / nu) + (C - A) * (static_cast<double>(v) / nv);
-        const double m = stock.material(q, n.z());
+        const double m = stock.material(q, n);
         if (m <= thr) continue;
         const int i = static_cast<int>(std::lround((q.y() + off.y() - g.y0) / g.h));
         const int j = static_cast<int>(std::lround((q.x() + off.x() - g.x0) / g.h));
@@ -288,11 +295,7 @@ std::vector<Pass> trim_to_rest(const std::vector<Pass>& passes, const DropCutter
     for (std::size_t i = 0; i < m; ++i) {  // O(points) drops
       const CLPoint c = tool.drop(pts[i].x(), pts[i].y());
       if (c.contact == Contact::None || c.triangle < 0) continue;
-      const Eigen::Vector3d a = mesh.V.row(mesh.F(c.triangle, 0)), b = mesh.V.row(mesh.F(c.triangle, 1)),
-                            d = mesh.V.row(mesh.F(c.triangle, 2));
-      const Eigen::Vector3d nrm = (b - a).cross(d - a);
-      const double nz = nrm.norm() > 0 ? nrm.z() / nrm.norm() : 1.0;
-      cuts[i] = regions.material(c.cc, nz) > eps ? 1 : 0;
+      cuts[i] = regions.material(c.cc, unit_normal(mesh, c.triangle)) > eps ? 1 : 0;
     }
     // Run on by the radius: forward then backward, from the last cutting point seen.
     double last = -HUGE_VAL;
@@ -315,7 +318,8 @@ std::vector<Pass> trim_to_rest(const std::vector<Pass>& passes, const DropCutter
       if (cur.points.size() >= 2) mine.push_back(std::move(cur));
       cur = Pass{};
     }
-    if (mine.size() == 1 && mine.front().points.size() == m) mine.front().closed = passes[static_cast<std::size_t>(k)].closed;
+    if (mine.size() == 1 && mine.front().points.size() == m)
+      mine.front().closed = passes[static_cast<std::size_t>(k)].closed;
   }
   std::vector<Pass> out;
   for (auto& list : pieces)  // O(pieces), in pass order
@@ -357,16 +361,35 @@ void RestStock::check() const {
                "heights must be finite");
 }
 
-double RestStock::material(const Eigen::Vector3d& p, double cos_slope) const {
-  // The stock surface through the cells' centres, bilinear between them (outside the grid: air).
-  const double u = (p.x() - x0) / cell, v = (p.y() - y0) / cell;
-  if (!(u >= 0 && v >= 0 && u <= nx - 1 && v <= ny - 1)) return 0.0;
-  const int j0 = std::min(static_cast<int>(u), std::max(nx - 2, 0)), i0 = std::min(static_cast<int>(v), std::max(ny - 2, 0));
+double RestStock::height(double x, double y) const {
+  const double u = (x - x0) / cell, v = (y - y0) / cell;
+  if (!(u >= 0 && v >= 0 && u <= nx - 1 && v <= ny - 1)) return -std::numeric_limits<double>::infinity();
+  const int j0 = std::min(static_cast<int>(u), std::max(nx - 2, 0)),
+            i0 = std::min(static_cast<int>(v), std::max(ny - 2, 0));
   const int j1 = std::min(j0 + 1, nx - 1), i1 = std::min(i0 + 1, ny - 1);
   const double fu = u - j0, fv = v - i0;
-  auto at = [&](int i, int j) { return z[static_cast<std::size_t>(i) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(j)]; };
-  const double top = (1 - fv) * ((1 - fu) * at(i0, j0) + fu * at(i0, j1)) + fv * ((1 - fu) * at(i1, j0) + fu * at(i1, j1));
-  return std::max(0.0, top - p.z()) * std::abs(cos_slope);
+  auto at = [&](int i, int j) {
+    return z[static_cast<std::size_t>(i) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(j)];
+  };
+  return (1 - fv) * ((1 - fu) * at(i0, j0) + fu * at(i0, j1)) + fv * ((1 - fu) * at(i1, j0) + fu * at(i1, j1));
+}
+
+double RestStock::material(const Eigen::Vector3d& p, const Eigen::Vector3d& n) const {
+  // Along the normal from p: how far until the point is above the stock (in the air)?
+  auto in = [&](double t) { return height(p.x() + t * n.x(), p.y() + t * n.y()) - (p.z() + t * n.z()); };
+  if (!(in(0) > 0)) return 0.0;
+  const double cap = 64 * cell;
+  double lo = 0, hi = cell / 4;
+  while (in(hi) > 0) {  // O(log(cap / cell)) steps out
+    if (hi >= cap) return cap;
+    lo = hi;
+    hi = std::min(2 * hi, cap);
+  }
+  for (int k = 0; k < 16; ++k) {  // bisection to (hi − lo) / 65536
+    const double mid = 0.5 * (lo + hi);
+    (in(mid) > 0 ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
 }
 
 double rest_cell_mm(const tooling::Cutter& reference, double threshold_mm) {
@@ -397,9 +420,9 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
     y1 = mesh.V.col(1).maxCoeff();
   // From the stock: the new tool's own step (its contacts as dense as a reference of its size needs),
   // not finer than the stock's cells.
-  const double h = params.cell_mm > 0   ? params.cell_mm
-                   : params.stock      ? std::max(params.stock->cell, rest_cell_mm(tool, params.threshold_mm))
-                                       : rest_cell_mm(params.reference, params.threshold_mm);
+  const double h = params.cell_mm > 0 ? params.cell_mm
+                   : params.stock     ? std::max(params.stock->cell, rest_cell_mm(tool, params.threshold_mm))
+                                      : rest_cell_mm(params.reference, params.threshold_mm);
   const double cells = std::ceil((x1 - x0) / h + 1) * std::ceil((y1 - y0) / h + 1);
   if (!(cells <= 5e7))
     throw Error("rest: a grid of " + std::to_string(static_cast<long long>(cells)) + " nodes at " + std::to_string(h) +
@@ -432,19 +455,14 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
   // the design's normal there, whose z component is `nz`).
   const RestStock* stock = params.stock;
   const double thr = params.threshold_mm;
-  auto material = [stock, ref, g, thr](const Eigen::Vector3d& p, double nz, CLPoint& hint) {
-    return stock ? stock->material(p, nz) : material_at(p, g, ref->cl, ref->tool, ref->offsets, thr, hint);
+  auto material = [stock, ref, g, thr](const Eigen::Vector3d& p, const Eigen::Vector3d& n, CLPoint& hint) {
+    return stock ? stock->material(p, n) : material_at(p, g, ref->cl, ref->tool, ref->offsets, thr, hint);
   };
-  out.material = [material](const Eigen::Vector3d& p, double nz) {
+  out.material = [material](const Eigen::Vector3d& p, const Eigen::Vector3d& n) {
     CLPoint hint;
-    return material(p, nz, hint);
+    return material(p, n, hint);
   };
-  auto face_nz = [&](std::ptrdiff_t f) {
-    if (f < 0 || f >= mesh.F.rows()) return 1.0;
-    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
-    const Eigen::Vector3d n = (b - a).cross(c - a);
-    return n.norm() > 0 ? std::abs(n.z()) / n.norm() : 1.0;
-  };
+  auto face_normal = [&](std::ptrdiff_t f) { return unit_normal(mesh, f); };
 
   // 2. The material at each contact (rows in parallel; each node on its own: any thread count).
   out.thickness.assign(g.size(), 0.0F);
@@ -458,7 +476,7 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
         out.thickness[k] = std::numeric_limits<float>::quiet_NaN();
         continue;
       }
-      const double m = material(cl[k].cc, params.stock ? face_nz(cl[k].triangle) : 1.0, hint);
+      const double m = material(cl[k].cc, face_normal(cl[k].triangle), hint);
       out.thickness[k] = static_cast<float>(m);
       out.mask[k] = m > params.threshold_mm ? 1 : 0;
     }
@@ -561,7 +579,7 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::ptrdiff_t f = 0; f < faces; ++f) {  // O(sampled area / (h/2)²) over the near faces
     const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
-    const double nz = params.stock ? face_nz(f) : 1.0;
+    const Eigen::Vector3d nf = face_normal(f);
     const int nu = std::clamp(static_cast<int>(std::ceil((b - a).norm() / (0.5 * h))), 1, 4096);
     const int nv = std::clamp(static_cast<int>(std::ceil((c - a).norm() / (0.5 * h))), 1, 4096);
     std::vector<double> mine;
@@ -573,8 +591,7 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
         if (r < 0) continue;
         if (mine.empty()) mine.assign(out.parts.size(), -std::numeric_limits<double>::infinity());
         if (q.z() <= mine[static_cast<std::size_t>(r)]) continue;
-        if (material(q, nz, hint) > params.threshold_mm)
-          mine[static_cast<std::size_t>(r)] = q.z();
+        if (material(q, nf, hint) > params.threshold_mm) mine[static_cast<std::size_t>(r)] = q.z();
       }
     tops[static_cast<std::size_t>(f)] = std::move(mine);
   }
@@ -690,8 +707,7 @@ FinishPlan plan_pencil(const ingest::Mesh& mesh, const DropCutter& tool, FinishP
 FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const RestRegions& regions,
                      const std::string& behind, FinishParams params) {
   if (regions.empty())
-    throw Error("rest: no rest material behind " + behind + " for " + params.tool.describe() +
-                " (nothing to finish)");
+    throw Error("rest: no rest material behind " + behind + " for " + params.tool.describe() + " (nothing to finish)");
   // Each region on its own: its outline, its Z range (within the caller's), its direction.
   FinishPlan plan;
   plan.strategy = Strategy::SlopeMode;
@@ -714,16 +730,16 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
   std::vector<std::uint8_t> inside(regions.mask.size());
   for (std::size_t k = 0; k < inside.size(); ++k) inside[k] = regions.mask[k] == 2 ? 1 : 0;
   const double x1 = regions.x0 + regions.cell * (regions.nx - 1), y1 = regions.y0 + regions.cell * (regions.ny - 1);
-  const std::vector<Pass> pencil = trim_to_rest(
-      clip_passes(detail::Fence(mesh, params.boundary),
-                  pencil_passes(mesh, new_tool, regions.x0, regions.y0, x1, y1, regions.cell,
-                                params.chord_tolerance_mm, &inside),
-                  params.chord_tolerance_mm),
-      new_tool, mesh, regions);
+  const std::vector<Pass> pencil =
+      trim_to_rest(clip_passes(detail::Fence(mesh, params.boundary),
+                               pencil_passes(mesh, new_tool, regions.x0, regions.y0, x1, y1, regions.cell,
+                                             params.chord_tolerance_mm, &inside),
+                               params.chord_tolerance_mm),
+                   new_tool, mesh, regions);
   plan.passes.insert(plan.passes.begin(), pencil.begin(), pencil.end());
   if (plan.passes.empty())
-    throw Error("rest: the rest regions behind " + behind + " are all narrower than " +
-                params.tool.describe() + " and have no concave edge to trace");
+    throw Error("rest: the rest regions behind " + behind + " are all narrower than " + params.tool.describe() +
+                " and have no concave edge to trace");
   params.comments.insert(params.comments.begin(), "rest finishing behind " + behind + ": " +
                                                       std::to_string(regions.parts.size()) + " region(s) (" +
                                                       std::to_string(narrow) + " pencil only), " +

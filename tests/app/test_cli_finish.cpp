@@ -88,6 +88,61 @@ TEST(CliFinish, RestAndPencilProgramsAreWrittenAcceptedAndScoredInTheChain) {
   EXPECT_GE(rest["air_cut_share"].get<double>(), 0);
   EXPECT_LE(rest["air_cut_share"].get<double>(), 1);
   EXPECT_LE(sim["max_gouge_mm"].get<double>(), 0.002);
+  // The rest split by what each tool reaches: the rest tool leaves at most what it cannot reach
+  // plus what it missed; the missed cells drawn.
+  for (const char* key : {"rest_area_unreachable_mm2", "rest_area_missed_mm2", "over_threshold_before_mm2",
+                          "over_threshold_after_mm2", "rest_threshold_mm"})
+    EXPECT_TRUE(rest.contains(key)) << key;
+  EXPECT_TRUE(fs::exists(d / "sim" / "dome.rest_missed.png"));
+  EXPECT_LE(rest["rest_area_after_mm2"].get<double>(),
+            rest["rest_area_unreachable_mm2"].get<double>() + rest["rest_area_missed_mm2"].get<double>() + 0.5);
+}
+
+// Rest from the stock (finish --rest-from): the finishing program's simulated stock saved, the rest
+// program planned from it, scored in the chain; bad combinations and a missing file refused.
+TEST(CliFinish, RestFromTheSimulatedStockIsPlannedFromWhatWasLeft) {
+  const fs::path d = fresh_dir("finish_rest_stock");
+  const fs::path mesh = write_dome(d), cfg = write_config(d);
+  const std::string base = "--quiet --config '" + cfg.string() + "' --mesh '" + mesh.string() + "' ";
+  ASSERT_EQ(run_millnet("finish " + base + "--strategy 2 --tool ball:4 --stepover 0.3 --out out", d).code, 0);
+  const auto s0 = run_millnet("simulate " + base +
+                                  "--gcode out/dome.s2.nc --tool ball:4 --stock design --save-stock "
+                                  "--no-preview --out sim0",
+                              d);
+  ASSERT_EQ(s0.code, 0) << s0.err;
+  const auto r = run_millnet("finish " + base +
+                                 "--strategy 2 --tool ball:4 --stepover 0.3 --rest-tool ball:1 "
+                                 "--rest-from sim0 --out rest",
+                             d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(slurp(d / "rest" / "dome.rest.json"));
+  EXPECT_EQ(j["rest_from"], "the stock dome.zmap");
+  EXPECT_GE(j["regions"].get<int>(), 1);
+  EXPECT_NE(slurp(d / "rest" / "dome.rest.nc").find("(rest finishing behind the stock dome.zmap"), std::string::npos);
+  if (fs::exists("/usr/bin/rs274")) EXPECT_TRUE(linuxcnc_accepts((d / "rest" / "dome.rest.nc").string()));
+  const auto s = run_millnet("simulate " + base +
+                                 "--gcode out/dome.s2.nc --tool ball:4 --gcode rest/dome.rest.nc "
+                                 "--tool ball:1 --stock design --no-preview --out sim",
+                             d);
+  ASSERT_EQ(s.code, 0) << s.err;
+  const auto sim = nlohmann::json::parse(slurp(d / "sim" / "dome.sim.json"));
+  const auto& rest = sim["programs"][1];
+  EXPECT_LT(rest["over_threshold_after_mm2"].get<double>(), rest["over_threshold_before_mm2"].get<double>());
+  EXPECT_LE(sim["max_gouge_mm"].get<double>(), 0.002);
+  // Refused with one line each: both sources, no rest tool, a file that is not there.
+  for (const std::string& bad :
+       {std::string("--rest-tool ball:1 --rest-from sim0 --rest-reference ball:4"), std::string("--rest-from sim0"),
+        std::string("--rest-tool ball:1 --rest-from nowhere.zmap")}) {
+    const auto e = run_millnet("finish " + base + "--strategy 2 --tool ball:4 " + bad + " --out bad", d);
+    EXPECT_NE(e.code, 0) << bad;
+    EXPECT_NE(e.err.find("rest"), std::string::npos) << e.err;
+  }
+  EXPECT_NE(run_millnet("finish " + base +
+                            "--strategy 2 --tool ball:4 --rest-tool ball:1 --rest-from nowhere.zmap "
+                            "--out bad",
+                        d)
+                .err.find("nowhere.zmap"),
+            std::string::npos);
 }
 
 TEST(CliFinish, AllStrategiesSimulatedWriteTheContractFilesAndLinuxCncAcceptsThem) {

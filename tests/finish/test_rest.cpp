@@ -23,6 +23,7 @@ using tooling::Cutter;
 constexpr double kT = 0.02;                                         // threshold, mm
 const double kBandEnd = 3 - std::sqrt(6 * kT + kT * kT);            // 2.65302
 double floor_rest(double x) { return std::hypot(3 - x, 3.0) - 3; }  // x in [1, 3]
+const double kTouched = 3 - std::sqrt(6 * kT / 4 + kT * kT / 16);   // 2.8267: rest over kT / 4 ends
 
 /// The corner's profile in XZ extruded along Y over [0, 30]: top z = 10 for x in [−10, 0], the wall
 /// x = 0 down to z = 1, the fillet (centre (1, 1), radius 1, 64 chords), the floor to x = 20.
@@ -143,8 +144,10 @@ TEST(RestFinishing, CleansTheBandOnlyAndNeverGouges) {
   for (const Pass& pass : plan.passes)
     for (std::size_t q = 0; q < pass.points.size(); ++q) {
       const Eigen::Vector3d& p = pass.points[q];
+      // Cut to where the rest is (over a quarter of the threshold at the contact: the floor up to
+      // 3 − √(6ε + ε²) = 2.827), run on by R/4 along the pass: no pass over the bare floor beyond.
       EXPECT_GE(p.x(), 0.5 - 2 * r.cell) << p.transpose();
-      EXPECT_LE(p.x(), kBandEnd + 0.5 + 2 * r.cell) << p.transpose();
+      EXPECT_LE(p.x(), kTouched + 0.25 + 2 * r.cell) << p.transpose();
       EXPECT_LE(p.z(), r.rest_top_z + 1e-9);
       if (q == 0) continue;
       const Eigen::Vector3d& a = pass.points[q - 1];
@@ -168,6 +171,113 @@ TEST(RestFinishing, CleansTheBandOnlyAndNeverGouges) {
       if (std::abs(c.y() - 15) < 1.2) d = std::min(d, (p - c).norm() - 1);
     EXPECT_LE(d, kT) << "rest left at " << p.transpose();
   }
+}
+
+/// The stock the Ø6 ball leaves on the L corner, by hand, on a z-map grid (cells of 0.02 mm,
+/// centres at multiples of 0.02 + 0.01): over the top (x < 0) z = 10; in the corner the Ø6's lower
+/// arc about (3, 3), z = 3 − √(9 − (3 − x)²) for 0 < x < 3; the floor z = 0 beyond.
+RestStock six_stock() {
+  RestStock st;
+  st.cell = 0.02, st.x0 = -9.99, st.y0 = 0.01, st.nx = 1500, st.ny = 1500;
+  st.z.resize(static_cast<std::size_t>(st.nx) * static_cast<std::size_t>(st.ny));
+  for (int i = 0; i < st.ny; ++i)
+    for (int j = 0; j < st.nx; ++j) {
+      const double x = st.x0 + st.cell * j;
+      st.z[static_cast<std::size_t>(i) * static_cast<std::size_t>(st.nx) + static_cast<std::size_t>(j)] =
+          x < 0   ? 10.0
+          : x < 3 ? 3 - std::sqrt(9 - (3 - x) * (3 - x))
+                  : 0.0;
+    }
+  return st;
+}
+
+TEST(RestStock, TheMaterialIsTheStocksHeightOverThePointAlongTheNormal) {
+  RestStock st;
+  st.cell = 0.5, st.x0 = 0, st.y0 = 0, st.nx = 9, st.ny = 3;
+  for (int i = 0; i < st.ny; ++i)
+    for (int j = 0; j < st.nx; ++j) st.z.push_back(0.1 * st.cell * j + 1);  // z = 0.1·x + 1: bilinear is exact
+  st.check();
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  EXPECT_NEAR(st.height(1.3, 0.7), 1.13, 1e-12);
+  EXPECT_NEAR(st.material({1.3, 0.7, 0.0}, up), 1.13, 1e-4);
+  // Along a normal tilted 60° from Z towards +X: 1.13 − 0.5 + 0.1·t·sin60 = t·cos60 ⇒ t = 0.63 / (0.5 − 0.0866).
+  const Eigen::Vector3d tilted(std::sin(std::numbers::pi / 3), 0, std::cos(std::numbers::pi / 3));
+  EXPECT_NEAR(st.material({1.3, 0.7, 0.5}, tilted), 0.63 / (0.5 - 0.1 * std::sin(std::numbers::pi / 3)), 1e-4);
+  EXPECT_EQ(st.material({1.3, 0.7, 2.0}, up), 0.0);  // above the stock: none
+  EXPECT_EQ(st.material({4.1, 0.7, 0.0}, up), 0.0);  // off the grid: air
+  // A wall facing +X at x = 1.3, z = 0: the stock beside it (never below z = 1) ends with the grid at x = 4.
+  EXPECT_NEAR(st.material({1.3, 0.7, 0.0}, Eigen::Vector3d::UnitX()), 2.7, 1e-4);
+  RestStock bad = st;
+  bad.z.pop_back();
+  EXPECT_THROW(bad.check(), Error);
+  bad = st;
+  bad.z[3] = std::nan("");
+  EXPECT_THROW(bad.check(), Error);
+}
+
+TEST(RestRegions, FromTheStockTheSixMillimetreBallLeftTheBandIsTheHandComputedOne) {
+  const ingest::Mesh part = l_corner();
+  const DropCutter two(part, Cutter::ball(2));
+  const RestStock stock = six_stock();
+  RestParams rp;
+  rp.threshold_mm = kT;
+  rp.stock = &stock;
+  rp.reference = Cutter::ball(1);  // not used from the stock (a smaller one would be refused)
+  const RestRegions r = rest_regions(part, two, rp, -10, 0, 20, 30);
+  EXPECT_NEAR(r.cell, rest_cell_mm(Cutter::ball(2), kT), 1e-12);
+  std::size_t checked = 0;
+  for (int i = 0; i < r.ny; ++i) {
+    const double y = r.y0 + r.cell * i;
+    if (y < 1 || y > 29) continue;
+    for (int j = 0; j < r.nx; ++j) {
+      const double x = r.x0 + r.cell * j;
+      const std::size_t k = static_cast<std::size_t>(i) * static_cast<std::size_t>(r.nx) + static_cast<std::size_t>(j);
+      if (std::abs(x - 1) < r.cell || std::abs(x - kBandEnd) < r.cell) continue;
+      const bool in_band = x > 1 && x < kBandEnd;
+      EXPECT_EQ(r.mask[k] == 1 || (r.mask[k] == 2 && r.thickness[k] > kT), in_band) << x << " " << y;
+      if (in_band) {  // vertical stock over the floor under the Ø2, 3 − √(9 − (3 − x)²): the most of the
+        // node's contact and of the design samples its cell gathers (within half a cell nearer the corner)
+        auto stock_at = [](double u) { return 3 - std::sqrt(9 - (3 - u) * (3 - u)); };
+        EXPECT_GE(r.thickness[k], stock_at(x) - 0.002) << x;
+        EXPECT_LE(r.thickness[k], stock_at(x - r.cell / 2) + 0.002) << x;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 500U);
+  EXPECT_EQ(r.regions, 1U);
+  EXPECT_NEAR(r.rest_top_z, kBandEnd, 0.15);  // where the wall's rest ends (stock beside it thinner than t)
+  ASSERT_TRUE(r.material);
+  EXPECT_NEAR(r.material({2, 15, 0}, Eigen::Vector3d::UnitZ()), 3 - std::sqrt(8.0), 1e-3);
+  // The wall's rest beside the point (0, 15, 2.6): where the Ø6's arc comes down to z = 2.6.
+  EXPECT_NEAR(r.material({0, 15, 2.6}, Eigen::Vector3d::UnitX()), 3 - std::sqrt(9 - 0.4 * 0.4), 1e-3);
+  // Its rest program stays where the stock is: within the band plus R/4 run-on and the cell.
+  const FinishPlan plan = plan_rest(part, two, r, "the stock", rest_params());
+  ASSERT_FALSE(plan.passes.empty());
+  for (const Pass& pass : plan.passes)
+    for (const Eigen::Vector3d& p : pass.points) {
+      EXPECT_GE(p.x(), 0.5 - 2 * r.cell) << p.transpose();
+      EXPECT_LE(p.x(), kTouched + 0.25 + 2 * r.cell) << p.transpose();
+    }
+}
+
+TEST(RestRegions, TheUnreachableAreaOfABallInTheCornerIsTheHandComputedBand) {
+  // The Ø6 cannot come within t of the floor for 0 < x < 3 − √(6t + t²) nor of the wall below that
+  // height (no XY area), nor of the fillet (x in [0, 1]): over y in [0, 30], less the open ends
+  // where it comes in from the side (up to 3 mm each end), the XY band is 2.653 mm wide.
+  const ingest::Mesh part = l_corner();
+  const RestRegions u = unreachable_regions(part, Cutter::ball(6), kT);
+  double area = 0;
+  for (int i = 0; i < u.ny; ++i) {
+    const double y = u.y0 + u.cell * i;
+    if (y < 8 || y > 22) continue;
+    for (int j = 0; j < u.nx; ++j)
+      if (u.mask[static_cast<std::size_t>(i) * static_cast<std::size_t>(u.nx) + static_cast<std::size_t>(j)] != 0)
+        area += u.cell;  // per row: the band's width
+  }
+  const double rows = std::floor(22 / u.cell) - std::ceil(8 / u.cell) + 1;
+  EXPECT_NEAR(area / rows, kBandEnd, 2 * u.cell);
+  EXPECT_LT(unreachable_area_mm2(part, Cutter::ball(2), kT), unreachable_area_mm2(part, Cutter::ball(6), kT));
 }
 
 TEST(RestRegions, BadParametersAndASmallerReferenceAreRefused) {

@@ -856,3 +856,30 @@ TEST(ZMap, SurfaceThePassesNeverReachIsNotMachinedAndNotInSpec) {
   EXPECT_GT(m.over_spec_max_mm, 0.49);
   EXPECT_GT(g.x(m.over_spec_cell % g.nx), 2 + d_star);
 }
+
+// Material over a threshold, along the normal (area_above_mm2, cells_above): a 45° plane
+// z = x over 40 × 20 cells of 0.1 mm, its stock raised vertically by 0.03 mm on the left half
+// (0.03·cos 45° = 0.0212 mm along the normal) and by 0.025 mm on the right (0.0177 mm): with
+// t = 0.02 only the left half counts, 20 × 20 cells = 4 mm²; with t = 0.015 all of it, 8 mm².
+TEST(ZMap, TheAreaOverAThicknessCountsTheMaterialAlongTheNormal) {
+  const GridSpec g{0.05, 0.05, 0.1, 40, 20};
+  std::vector<double> design(g.cells()), stock(g.cells());
+  for (std::size_t i = 0; i < g.cells(); ++i) {
+    design[i] = g.x(i % g.nx);
+    stock[i] = design[i] + (i % g.nx < 20 ? 0.03 : 0.025);
+  }
+  const ZMap z = ZMap::from_heights(g, stock);
+  EXPECT_NEAR(area_above_mm2(z, design, 0.02), 4.0, 1e-9);
+  EXPECT_NEAR(area_above_mm2(z, design, 0.015), 8.0, 1e-9);
+  const std::vector<std::uint8_t> cells = cells_above(z, design, 0.02);
+  EXPECT_EQ(std::count(cells.begin(), cells.end(), 1), 400);
+  EXPECT_EQ(cells[5], 1);
+  EXPECT_EQ(cells[25], 0);
+  // Only the cells asked for; off the surface (NaN) never.
+  std::vector<std::uint8_t> only(g.cells(), 0);
+  for (std::size_t i = 0; i < g.cells(); i += 2) only[i] = 1;
+  EXPECT_NEAR(area_above_mm2(z, design, 0.02, only), 2.0, 1e-9);
+  design[0] = std::nan("");
+  EXPECT_NEAR(area_above_mm2(z, design, 0.02), 3.99, 1e-9);
+  EXPECT_THROW((void)area_above_mm2(z, std::vector<double>(3, 0.0), 0.02), Error);
+}

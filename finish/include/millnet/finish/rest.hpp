@@ -48,10 +48,13 @@ struct RestStock {
   std::vector<double> z;  ///< row-major, nx·ny heights, mm
   /// Throws millnet::Error when the grid is empty, the step not > 0 or a height not finite.
   void check() const;
-  /// The material over a design point p whose surface normal has z component `cos_slope`: the
-  /// stock's height over p (bilinear between the cells' centres) less p's, times cos_slope — the
-  /// thickness along the normal, measured like simulate::area_above_mm2. 0 outside the grid. O(1).
-  [[nodiscard]] double material(const Eigen::Vector3d& p, double cos_slope) const;
+  /// The stock's height over (x, y): bilinear between the cells' centres; −infinity off the grid.
+  [[nodiscard]] double height(double x, double y) const;
+  /// The material over a design point p with unit normal n (pointing out of the part): how far
+  /// from p along n the stock ends (its height below the point), found by doubling steps from a
+  /// quarter cell and bisection, at most 64 cells; 0 when p is not under the stock. On a floor it
+  /// is the stock's height over p, on a wall the stock's thickness beside it. O(log) heights.
+  [[nodiscard]] double material(const Eigen::Vector3d& p, const Eigen::Vector3d& n) const;
 };
 
 struct RestParams {
@@ -60,10 +63,10 @@ struct RestParams {
   /// Rest from the stock instead (not owned; outlives the call): where the material the earlier
   /// programs really left over the new tool's contact exceeds the threshold.
   const RestStock* stock = nullptr;
-  double threshold_mm = 0.02;                            ///< material thicker than this (normal to the design) is rest
-  double margin_mm = -1;                                 ///< regions grown by this; < 0 ⇒ the new tool's radius / 2
-  double min_area_mm2 = -1;  ///< regions smaller than this (axis area) dropped; < 0 ⇒ π r_new² / 4
-  double cell_mm = 0;        ///< grid step; 0 ⇒ automatic (see above), at most 0.25 mm
+  double threshold_mm = 0.02;  ///< material thicker than this (normal to the design) is rest
+  double margin_mm = -1;       ///< regions grown by this; < 0 ⇒ the new tool's radius / 2
+  double min_area_mm2 = -1;    ///< regions smaller than this (axis area) dropped; < 0 ⇒ π r_new² / 4
+  double cell_mm = 0;          ///< grid step; 0 ⇒ automatic (see above), at most 0.25 mm
   /// Throws millnet::Error naming the parameter.
   void check() const;
 };
@@ -107,10 +110,10 @@ struct RestRegions {
   /// The highest rest material (mesh z) within the new tool's reach of the regions (the highest of
   /// the parts' z_max): the boundary's z_max. −infinity when there is no rest.
   double rest_top_z = -std::numeric_limits<double>::infinity();
-  /// The material over a design point (p, the z component of the design's normal there), measured
+  /// The material over a design point (p, the design's unit normal there), measured
   /// as the regions were found: behind the reference's placements, or under the stock (which must
   /// outlive this). plan_rest keeps only the pieces of passes that cut it. Thread-safe.
-  std::function<double(const Eigen::Vector3d&, double)> material;
+  std::function<double(const Eigen::Vector3d&, const Eigen::Vector3d&)> material;
   [[nodiscard]] bool empty() const { return boundary.polygons.empty(); }
 };
 
