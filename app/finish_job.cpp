@@ -417,7 +417,7 @@ finish::RestStock rest_stock(const fs::path& file, const job::Part& part, const 
   s.x0 = g.x0, s.y0 = g.y0, s.cell = g.cell;
   s.nx = static_cast<int>(g.nx), s.ny = static_cast<int>(g.ny);
   s.z = std::move(z.heights());
-  for (double& v : s.z) v -= frame.z_shift();  // program frame → part frame
+  s.z_offset = -frame.z_shift();  // program frame → part frame
   return s;
 }
 
@@ -545,45 +545,20 @@ ChainProgram read_chain_program(const fs::path& file, const tooling::Cutter& cut
 }
 
 namespace {
-/// A rest step's figures (issue 41), split by what each tool can reach (finish::unreachable_regions,
-/// exact, from the mesh; a z-map cell takes the answer of the test's nearest node): the rest is the
-/// material over the threshold where the reference cannot reach; `rest_area_before_mm2` and
-/// `rest_area_after_mm2` that rest before and after the rest program; `rest_area_unreachable_mm2`
-/// what the rest tool cannot reach either (the ideal after); `rest_area_missed_mm2` rest left where
-/// the rest tool reaches (drawn in `picture`); `over_threshold_*_mm2` all material over the
-/// threshold, rest or not (scallops of the first program included). O(cells) + the two tests.
+/// A rest step's figures (issue 41; job::split_rest) into the program's entry, its missed rest drawn.
 void rest_figures(const job::Part& part, const job::Design& design, const simulate::ZMap& z, const job::ChainResult& r,
                   const tooling::Cutter& tool, double threshold_mm, Json& figures, const fs::path& picture) {
-  const finish::RestRegions ref = finish::unreachable_regions(part.mesh, r.rest_reference, threshold_mm);
-  const finish::RestRegions own = finish::unreachable_regions(part.mesh, tool, threshold_mm);
-  const simulate::GridSpec& g = design.grid;
-  auto in = [&](const finish::RestRegions& u, std::size_t i) {
-    const long bi = std::lround((g.y(i / g.nx) - u.y0) / u.cell), bj = std::lround((g.x(i % g.nx) - u.x0) / u.cell);
-    return bi >= 0 && bj >= 0 && bi < u.ny && bj < u.nx && u.mask[static_cast<std::size_t>(bi * u.nx + bj)] != 0;
-  };
-  const std::vector<std::uint8_t> above = simulate::cells_above(z, design.heights, threshold_mm);
-  std::vector<double> missed(g.cells(), std::numeric_limits<double>::quiet_NaN());
-  std::size_t before = 0, after = 0, miss = 0;
-  for (std::size_t i = 0; i < g.cells(); ++i) {  // O(cells)
-    if ((r.rest_above_before[i] == 0 && above[i] == 0) || !in(ref, i)) continue;
-    before += r.rest_above_before[i] != 0 ? 1 : 0;
-    if (above[i] == 0) continue;
-    ++after;
-    if (in(own, i)) continue;
-    missed[i] = z.heights()[i] - design.heights[i];
-    ++miss;
-  }
-  const double cell_area = g.cell * g.cell;
+  const job::RestSplit split = job::split_rest(part.mesh, design, z, r, tool, threshold_mm);
   figures["over_threshold_before_mm2"] = r.rest_area_before_mm2;
   figures["over_threshold_after_mm2"] = r.rest_area_after_mm2;
-  figures["rest_area_before_mm2"] = static_cast<double>(before) * cell_area;
-  figures["rest_area_after_mm2"] = static_cast<double>(after) * cell_area;
-  figures["rest_area_unreachable_mm2"] = own.rest_axis_area_mm2;
-  figures["rest_area_reference_unreachable_mm2"] = ref.rest_axis_area_mm2;
-  figures["rest_area_missed_mm2"] = static_cast<double>(miss) * cell_area;
+  figures["rest_area_before_mm2"] = split.before_mm2;
+  figures["rest_area_after_mm2"] = split.after_mm2;
+  figures["rest_area_unreachable_mm2"] = split.unreachable_mm2;
+  figures["rest_area_reference_unreachable_mm2"] = split.reference_unreachable_mm2;
+  figures["rest_area_missed_mm2"] = split.missed_mm2;
   fs::create_directories(picture.parent_path());
-  grid_png(picture, missed, g, part.name + ": rest left where the " + tool.describe() + " reaches (vertical, mm)",
-           "mm");
+  grid_png(picture, split.missed, design.grid,
+           part.name + ": rest left where the " + tool.describe() + " reaches (vertical, mm)", "mm");
 }
 }  // namespace
 

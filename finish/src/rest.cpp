@@ -4,6 +4,7 @@
 #include "millnet/finish/rest.hpp"
 
 #include "boundary.hpp"
+#include "rest_internal.hpp"
 #include "contours.hpp"
 #include "sampling.hpp"
 
@@ -94,14 +95,6 @@ double material_at(const Eigen::Vector3d& p, const Grid& g, const std::vector<do
   return settle(best);
 }
 
-/// Triangle f's unit normal (+Z for a degenerate one or an index out of range).
-Eigen::Vector3d unit_normal(const ingest::Mesh& mesh, std::ptrdiff_t f) {
-  if (f < 0 || f >= mesh.F.rows()) return Eigen::Vector3d::UnitZ();
-  const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
-  const Eigen::Vector3d n = (b - a).cross(c - a);
-  return n.norm() > 0 ? Eigen::Vector3d(n / n.norm()) : Eigen::Vector3d::UnitZ();
-}
-
 /// Rest from the stock, between the contacts: on a steep wall the new tool's contacts at
 /// neighbouring nodes lie (step / cos slope) apart along the wall, too sparse for the scallops an
 /// earlier tool left there. So the design itself is sampled (points on every upward triangle ≤
@@ -117,7 +110,7 @@ void mark_stock_samples(const ingest::Mesh& mesh, const RestStock& stock, const 
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::ptrdiff_t f = 0; f < faces; ++f) {
     const Eigen::Vector3d A = mesh.V.row(mesh.F(f, 0)), B = mesh.V.row(mesh.F(f, 1)), C = mesh.V.row(mesh.F(f, 2));
-    const Eigen::Vector3d n = unit_normal(mesh, f);
+    const Eigen::Vector3d n = detail::unit_normal(mesh, f);
     if (n.z() < -1e-12) continue;  // facing down: no contact from above
     const double nxy = std::hypot(n.x(), n.y());
     const double scale = nxy > 1e-12 ? a / nxy + rc : 0.0;
@@ -275,58 +268,6 @@ std::vector<Pass> corner_passes(const ingest::Mesh& mesh, const DropCutter& tool
 }
 
 /// The plan's program made again from its passes (pencil passes put in front).
-/// The pieces of `passes` where the tool removes rest: a point cuts when the material at its
-/// contact (a drop at its XY) exceeds a quarter of the threshold; each cutting point keeps the
-/// points within the tool's radius (path length) on either side; runs of kept points are the
-/// pieces. Passes in parallel, each on its own: any thread count. O(points) drops.
-std::vector<Pass> trim_to_rest(const std::vector<Pass>& passes, const DropCutter& tool, const ingest::Mesh& mesh,
-                               const RestRegions& regions) {
-  if (!regions.material) return passes;
-  const double eps = regions.threshold_mm / 4, run_on = tool.cutter().radius() / 4;
-  std::vector<std::vector<Pass>> pieces(passes.size());
-  const auto n = static_cast<std::ptrdiff_t>(passes.size());
-#pragma omp parallel for schedule(dynamic, 4)
-  for (std::ptrdiff_t k = 0; k < n; ++k) {
-    const auto& pts = passes[static_cast<std::size_t>(k)].points;
-    const std::size_t m = pts.size();
-    std::vector<double> s(m, 0.0);  // path length along the pass
-    for (std::size_t i = 1; i < m; ++i) s[i] = s[i - 1] + (pts[i] - pts[i - 1]).norm();
-    std::vector<std::uint8_t> cuts(m, 0), keep(m, 0);
-    for (std::size_t i = 0; i < m; ++i) {  // O(points) drops
-      const CLPoint c = tool.drop(pts[i].x(), pts[i].y());
-      if (c.contact == Contact::None || c.triangle < 0) continue;
-      cuts[i] = regions.material(c.cc, unit_normal(mesh, c.triangle)) > eps ? 1 : 0;
-    }
-    // Run on by the radius: forward then backward, from the last cutting point seen.
-    double last = -HUGE_VAL;
-    for (std::size_t i = 0; i < m; ++i) {
-      if (cuts[i]) last = s[i];
-      if (s[i] - last <= run_on) keep[i] = 1;
-    }
-    last = HUGE_VAL;
-    for (std::size_t i = m; i-- > 0;) {
-      if (cuts[i]) last = s[i];
-      if (last - s[i] <= run_on) keep[i] = 1;
-    }
-    auto& mine = pieces[static_cast<std::size_t>(k)];
-    Pass cur;
-    for (std::size_t i = 0; i <= m; ++i) {
-      if (i < m && keep[i]) {
-        cur.points.push_back(pts[i]);
-        continue;
-      }
-      if (cur.points.size() >= 2) mine.push_back(std::move(cur));
-      cur = Pass{};
-    }
-    if (mine.size() == 1 && mine.front().points.size() == m)
-      mine.front().closed = passes[static_cast<std::size_t>(k)].closed;
-  }
-  std::vector<Pass> out;
-  for (auto& list : pieces)  // O(pieces), in pass order
-    for (auto& piece : list) out.push_back(std::move(piece));
-  return out;
-}
-
 void relink(const ingest::Mesh& mesh, const DropCutter& tool, const FinishParams& p, FinishPlan& plan) {
   plan.program = {};
   plan.path_length_mm = 0, plan.lifts = 0, plan.cl_points = 0;
@@ -349,47 +290,6 @@ void RestParams::check() const {
   require_rest(std::isfinite(min_area_mm2), "min_area_mm2", "must be finite (< 0: automatic)");
   require_rest(std::isfinite(cell_mm) && (cell_mm == 0 || (cell_mm >= 0.005 && cell_mm <= 5)), "cell_mm",
                "must be 0 (automatic) or in [0.005, 5] mm (got " + std::to_string(cell_mm) + ")");
-}
-
-void RestStock::check() const {
-  require_rest(nx > 0 && ny > 0 && z.size() == static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), "stock",
-               "must hold nx·ny heights (" + std::to_string(nx) + " × " + std::to_string(ny) + ", got " +
-                   std::to_string(z.size()) + ")");
-  require_rest(std::isfinite(x0) && std::isfinite(y0) && std::isfinite(cell) && cell > 0, "stock",
-               "needs a finite origin and a cell > 0");
-  require_rest(std::all_of(z.begin(), z.end(), [](double v) { return std::isfinite(v); }), "stock",
-               "heights must be finite");
-}
-
-double RestStock::height(double x, double y) const {
-  const double u = (x - x0) / cell, v = (y - y0) / cell;
-  if (!(u >= 0 && v >= 0 && u <= nx - 1 && v <= ny - 1)) return -std::numeric_limits<double>::infinity();
-  const int j0 = std::min(static_cast<int>(u), std::max(nx - 2, 0)),
-            i0 = std::min(static_cast<int>(v), std::max(ny - 2, 0));
-  const int j1 = std::min(j0 + 1, nx - 1), i1 = std::min(i0 + 1, ny - 1);
-  const double fu = u - j0, fv = v - i0;
-  auto at = [&](int i, int j) {
-    return z[static_cast<std::size_t>(i) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(j)];
-  };
-  return (1 - fv) * ((1 - fu) * at(i0, j0) + fu * at(i0, j1)) + fv * ((1 - fu) * at(i1, j0) + fu * at(i1, j1));
-}
-
-double RestStock::material(const Eigen::Vector3d& p, const Eigen::Vector3d& n) const {
-  // Along the normal from p: how far until the point is above the stock (in the air)?
-  auto in = [&](double t) { return height(p.x() + t * n.x(), p.y() + t * n.y()) - (p.z() + t * n.z()); };
-  if (!(in(0) > 0)) return 0.0;
-  const double cap = 64 * cell;
-  double lo = 0, hi = cell / 4;
-  while (in(hi) > 0) {  // O(log(cap / cell)) steps out
-    if (hi >= cap) return cap;
-    lo = hi;
-    hi = std::min(2 * hi, cap);
-  }
-  for (int k = 0; k < 16; ++k) {  // bisection to (hi − lo) / 65536
-    const double mid = 0.5 * (lo + hi);
-    (in(mid) > 0 ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
 }
 
 double rest_cell_mm(const tooling::Cutter& reference, double threshold_mm) {
@@ -462,7 +362,7 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
     CLPoint hint;
     return material(p, n, hint);
   };
-  auto face_normal = [&](std::ptrdiff_t f) { return unit_normal(mesh, f); };
+  auto face_normal = [&](std::ptrdiff_t f) { return detail::unit_normal(mesh, f); };
 
   // 2. The material at each contact (rows in parallel; each node on its own: any thread count).
   out.thickness.assign(g.size(), 0.0F);
@@ -719,7 +619,7 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
     p.boundary.z_min = std::max(params.boundary.z_min, region.boundary.z_min - params.step_down_mm);
     p.boundary.z_max = std::min(params.boundary.z_max, region.boundary.z_max);
     p.raster_angle_deg = region.axis_deg;
-    const std::vector<Pass> passes = trim_to_rest(corner_passes(mesh, new_tool, p), new_tool, mesh, regions);
+    const std::vector<Pass> passes = detail::trim_to_rest(corner_passes(mesh, new_tool, p), new_tool, mesh, regions);
     if (passes.empty()) ++narrow;  // narrower than the tool, or nothing inside its range: pencil only
     plan.passes.insert(plan.passes.end(), passes.begin(), passes.end());
   }
@@ -731,11 +631,11 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
   for (std::size_t k = 0; k < inside.size(); ++k) inside[k] = regions.mask[k] == 2 ? 1 : 0;
   const double x1 = regions.x0 + regions.cell * (regions.nx - 1), y1 = regions.y0 + regions.cell * (regions.ny - 1);
   const std::vector<Pass> pencil =
-      trim_to_rest(clip_passes(detail::Fence(mesh, params.boundary),
-                               pencil_passes(mesh, new_tool, regions.x0, regions.y0, x1, y1, regions.cell,
-                                             params.chord_tolerance_mm, &inside),
-                               params.chord_tolerance_mm),
-                   new_tool, mesh, regions);
+      detail::trim_to_rest(clip_passes(detail::Fence(mesh, params.boundary),
+                                       pencil_passes(mesh, new_tool, regions.x0, regions.y0, x1, y1, regions.cell,
+                                                     params.chord_tolerance_mm, &inside),
+                                       params.chord_tolerance_mm),
+                           new_tool, mesh, regions);
   plan.passes.insert(plan.passes.begin(), pencil.begin(), pencil.end());
   if (plan.passes.empty())
     throw Error("rest: the rest regions behind " + behind + " are all narrower than " + params.tool.describe() +
@@ -746,24 +646,6 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
                                                       std::to_string(pencil.size()) + " pencil pass(es) first");
   relink(mesh, new_tool, params, plan);
   return plan;
-}
-
-}  // namespace millnet::finish
-
-namespace millnet::finish {
-
-double unreachable_area_mm2(const ingest::Mesh& mesh, const tooling::Cutter& tool, double threshold_mm) {
-  return unreachable_regions(mesh, tool, threshold_mm).rest_axis_area_mm2;
-}
-
-RestRegions unreachable_regions(const ingest::Mesh& mesh, const tooling::Cutter& tool, double threshold_mm) {
-  RestParams rp;
-  rp.reference = tool;
-  rp.threshold_mm = threshold_mm;
-  rp.margin_mm = 0;
-  rp.min_area_mm2 = 0;
-  const DropCutter probe(mesh, tooling::Cutter::ball(0.01));
-  return rest_regions(mesh, probe, rp);
 }
 
 }  // namespace millnet::finish

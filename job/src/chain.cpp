@@ -1,8 +1,12 @@
 // A part's programs machined in order on one stock (chain.hpp).
 #include "millnet/job/chain.hpp"
 
+#include "millnet/finish/rest.hpp"
+
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <variant>
@@ -124,6 +128,38 @@ ChainResult machine_chain(simulate::ZMap& stock, const Design& design, const std
   if (design.solid)
     simulate::confirm_gouges(r.metrics, stock, design.heights, *design.solid, passes, sim.gouge_options());
   return r;
+}
+
+RestSplit split_rest(const ingest::Mesh& mesh, const Design& design, const simulate::ZMap& stock, const ChainResult& r,
+                     const tooling::Cutter& tool, double threshold_mm) {
+  const finish::RestRegions ref = finish::unreachable_regions(mesh, r.rest_reference, threshold_mm);
+  const finish::RestRegions own = finish::unreachable_regions(mesh, tool, threshold_mm);
+  const simulate::GridSpec& g = design.grid;
+  auto in = [&g](const finish::RestRegions& u, std::size_t i) {
+    const long bi = std::lround((g.y(i / g.nx) - u.y0) / u.cell), bj = std::lround((g.x(i % g.nx) - u.x0) / u.cell);
+    return bi >= 0 && bj >= 0 && bi < u.ny && bj < u.nx && u.mask[static_cast<std::size_t>(bi * u.nx + bj)] != 0;
+  };
+  const std::vector<std::uint8_t> above = simulate::cells_above(stock, design.heights, threshold_mm);
+  RestSplit out;
+  out.missed.assign(g.cells(), std::numeric_limits<double>::quiet_NaN());
+  std::size_t before = 0, after = 0, miss = 0;
+  for (std::size_t i = 0; i < g.cells(); ++i) {  // O(cells)
+    const bool was = i < r.rest_above_before.size() && r.rest_above_before[i] != 0;
+    if ((!was && above[i] == 0) || !in(ref, i)) continue;
+    before += was ? 1 : 0;
+    if (above[i] == 0) continue;
+    ++after;
+    if (in(own, i)) continue;
+    out.missed[i] = stock.heights()[i] - design.heights[i];
+    ++miss;
+  }
+  const double cell_area = g.cell * g.cell;
+  out.before_mm2 = static_cast<double>(before) * cell_area;
+  out.after_mm2 = static_cast<double>(after) * cell_area;
+  out.missed_mm2 = static_cast<double>(miss) * cell_area;
+  out.unreachable_mm2 = own.rest_axis_area_mm2;
+  out.reference_unreachable_mm2 = ref.rest_axis_area_mm2;
+  return out;
 }
 
 }  // namespace millnet::job

@@ -46,6 +46,7 @@ struct RestStock {
   double x0 = 0, y0 = 0, cell = 0;
   int nx = 0, ny = 0;
   std::vector<double> z;  ///< row-major, nx·ny heights, mm
+  double z_offset = 0;    ///< added to every height (a stock saved in another frame: the program's)
   /// Throws millnet::Error when the grid is empty, the step not > 0 or a height not finite.
   void check() const;
   /// The stock's height over (x, y): bilinear between the cells' centres; −infinity off the grid.

@@ -6,6 +6,7 @@
 #include "millnet/gcode/stats.hpp"
 #include "millnet/job/finishing.hpp"
 #include "millnet/job/operations.hpp"
+#include "millnet/ingest/mesh.hpp"
 #include "millnet/simulate/zmap.hpp"
 #include "millnet/tooling/cutter.hpp"
 
@@ -83,5 +84,19 @@ struct ChainResult {
 [[nodiscard]] ChainResult machine_chain(simulate::ZMap& stock, const Design& design,
                                         const std::vector<ChainStep>& steps, const gcode::MotionModel& machine,
                                         const SimParams& sim, bool score_rest = false);
+
+/// A rest step's material over the threshold split by what each tool can reach (issue 41), both
+/// found exactly from the mesh (finish::unreachable_regions: a point-like probe's rest behind the
+/// tool; a z-map cell takes the answer of the test's nearest node). The rest is the material over
+/// the threshold where the reference (r.rest_reference) cannot reach: before (r.rest_above_before)
+/// and after the rest program (`stock`); what the rest tool cannot reach either (the ideal after);
+/// rest left where the rest tool reaches (missed), with its vertical excess per cell (NaN elsewhere).
+/// `mesh` in the part frame, whose XY is the z-map's. O(cells) + the two tests.
+struct RestSplit {
+  double before_mm2 = 0, after_mm2 = 0, unreachable_mm2 = 0, reference_unreachable_mm2 = 0, missed_mm2 = 0;
+  std::vector<double> missed;
+};
+[[nodiscard]] RestSplit split_rest(const ingest::Mesh& mesh, const Design& design, const simulate::ZMap& stock,
+                                   const ChainResult& r, const tooling::Cutter& tool, double threshold_mm);
 
 }  // namespace millnet::job
