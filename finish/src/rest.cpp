@@ -18,7 +18,6 @@
 #include <map>
 #include <memory>
 #include <numbers>
-#include <optional>
 #include <string>
 
 namespace millnet::finish {
@@ -95,6 +94,18 @@ double material_at(const Eigen::Vector3d& p, const Grid& g, const std::vector<do
   return settle(best);
 }
 
+/// Calls visit(q) at points of triangle f on a lattice of its two edges from vertex 0, each step at
+/// most `spacing` (≤ 4096 per edge), vertices included. O(area / spacing²).
+template <class Visit>
+void sample_triangle(const ingest::Mesh& mesh, std::ptrdiff_t f, double spacing, Visit&& visit) {
+  const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
+  const int nu = std::clamp(static_cast<int>(std::ceil((b - a).norm() / spacing)), 1, 4096);
+  const int nv = std::clamp(static_cast<int>(std::ceil((c - a).norm() / spacing)), 1, 4096);
+  for (int u = 0; u <= nu; ++u)
+    for (int v = 0; v * nu <= (nu - u) * nv; ++v)  // u/nu + v/nv ≤ 1
+      visit(Eigen::Vector3d(a + (b - a) * (static_cast<double>(u) / nu) + (c - a) * (static_cast<double>(v) / nv)));
+}
+
 /// Rest from the stock, between the contacts: on a steep wall the new tool's contacts at
 /// neighbouring nodes lie (step / cos slope) apart along the wall, too sparse for the scallops an
 /// earlier tool left there. So the design itself is sampled (points on every upward triangle ≤
@@ -109,24 +120,19 @@ void mark_stock_samples(const ingest::Mesh& mesh, const RestStock& stock, const 
   std::vector<std::vector<std::pair<std::size_t, float>>> marks(static_cast<std::size_t>(faces));
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::ptrdiff_t f = 0; f < faces; ++f) {
-    const Eigen::Vector3d A = mesh.V.row(mesh.F(f, 0)), B = mesh.V.row(mesh.F(f, 1)), C = mesh.V.row(mesh.F(f, 2));
     const Eigen::Vector3d n = detail::unit_normal(mesh, f);
     if (n.z() < -1e-12) continue;  // facing down: no contact from above
     const double nxy = std::hypot(n.x(), n.y());
     const double scale = nxy > 1e-12 ? a / nxy + rc : 0.0;
     const Eigen::Vector2d off(n.x() * scale, n.y() * scale);
-    const int nu = std::clamp(static_cast<int>(std::ceil((B - A).norm() / (0.5 * g.h))), 1, 4096);
-    const int nv = std::clamp(static_cast<int>(std::ceil((C - A).norm() / (0.5 * g.h))), 1, 4096);
     auto& mine = marks[static_cast<std::size_t>(f)];
-    for (int u = 0; u <= nu; ++u)
-      for (int v = 0; v * nu <= (nu - u) * nv; ++v) {  // u/nu + v/nv ≤ 1
-        const Eigen::Vector3d q = A + (B - A) * (static_cast<double>(u) / nu) + (C - A) * (static_cast<double>(v) / nv);
-        const double m = stock.material(q, n);
-        if (m <= thr) continue;
-        const int i = static_cast<int>(std::lround((q.y() + off.y() - g.y0) / g.h));
-        const int j = static_cast<int>(std::lround((q.x() + off.x() - g.x0) / g.h));
-        if (i >= 0 && j >= 0 && i < g.ny && j < g.nx) mine.emplace_back(g.at(i, j), static_cast<float>(m));
-      }
+    sample_triangle(mesh, f, 0.5 * g.h, [&](const Eigen::Vector3d& q) {
+      const double m = stock.material(q, n);
+      if (m <= thr) return;
+      const int i = static_cast<int>(std::lround((q.y() + off.y() - g.y0) / g.h));
+      const int j = static_cast<int>(std::lround((q.x() + off.x() - g.x0) / g.h));
+      if (i >= 0 && j >= 0 && i < g.ny && j < g.nx) mine.emplace_back(g.at(i, j), static_cast<float>(m));
+    });
   }
   for (const auto& list : marks)  // O(marks)
     for (const auto& [k, m] : list) {
@@ -351,8 +357,8 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
     ref = std::make_shared<const Reference>(Reference{
         std::move(rt), std::move(rcl), disc_offsets((params.reference.radius() + params.threshold_mm) / h + 1)});
   }
-  // The material at a design point: behind the reference's placements, or under the stock (along
-  // the design's normal there, whose z component is `nz`).
+  // The material at a design point with normal n: behind the reference's placements, or under the
+  // stock (along n).
   const RestStock* stock = params.stock;
   const double thr = params.threshold_mm;
   auto material = [stock, ref, g, thr](const Eigen::Vector3d& p, const Eigen::Vector3d& n, CLPoint& hint) {
@@ -478,21 +484,16 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
   std::vector<std::vector<double>> tops(static_cast<std::size_t>(faces));
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::ptrdiff_t f = 0; f < faces; ++f) {  // O(sampled area / (h/2)²) over the near faces
-    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
     const Eigen::Vector3d nf = face_normal(f);
-    const int nu = std::clamp(static_cast<int>(std::ceil((b - a).norm() / (0.5 * h))), 1, 4096);
-    const int nv = std::clamp(static_cast<int>(std::ceil((c - a).norm() / (0.5 * h))), 1, 4096);
     std::vector<double> mine;
     CLPoint hint;  // the triangle's last placement
-    for (int u = 0; u <= nu; ++u)
-      for (int v = 0; v * nu <= (nu - u) * nv; ++v) {  // u/nu + v/nv ≤ 1
-        const Eigen::Vector3d q = a + (b - a) * (static_cast<double>(u) / nu) + (c - a) * (static_cast<double>(v) / nv);
-        const int r = region_of(q);
-        if (r < 0) continue;
-        if (mine.empty()) mine.assign(out.parts.size(), -std::numeric_limits<double>::infinity());
-        if (q.z() <= mine[static_cast<std::size_t>(r)]) continue;
-        if (material(q, nf, hint) > params.threshold_mm) mine[static_cast<std::size_t>(r)] = q.z();
-      }
+    sample_triangle(mesh, f, 0.5 * h, [&](const Eigen::Vector3d& q) {
+      const int r = region_of(q);
+      if (r < 0) return;
+      if (mine.empty()) mine.assign(out.parts.size(), -std::numeric_limits<double>::infinity());
+      if (q.z() <= mine[static_cast<std::size_t>(r)]) return;
+      if (material(q, nf, hint) > params.threshold_mm) mine[static_cast<std::size_t>(r)] = q.z();
+    });
     tops[static_cast<std::size_t>(f)] = std::move(mine);
   }
   for (const auto& t : tops)  // O(faces · regions) where sampled

@@ -110,7 +110,9 @@ ChainResult machine_chain(simulate::ZMap& stock, const Design& design, const std
     const std::vector<ChainStep> before(steps.begin(), steps.end() - 1);
     r.steps = machine_steps(stock, design, before, machine);
     r.rest_above_before = simulate::cells_above(stock, design.heights, sim.rest_threshold_mm);
-    r.rest_area_before_mm2 = simulate::area_above_mm2(stock, design.heights, sim.rest_threshold_mm);
+    r.rest_area_before_mm2 =
+        static_cast<double>(std::count(r.rest_above_before.begin(), r.rest_above_before.end(), 1)) * stock.spec().cell *
+        stock.spec().cell;
     const std::vector<ChainStep> last{steps.back()};
     r.steps.push_back(machine_steps(stock, design, last, machine).front());
     r.rest_area_after_mm2 = simulate::area_above_mm2(stock, design.heights, sim.rest_threshold_mm);
