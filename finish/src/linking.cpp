@@ -1,7 +1,8 @@
 // Passes → one program: the start at safe Z, stay-down links where short (they follow the CL
 // surface at feed, so they cannot gouge), lifts elsewhere (up to the highest CL point under the
 // link plus the clearance, across at rapid, down at rapid to the clearance, plunge at the plunge
-// feed), the end at safe Z.
+// feed), the end at safe Z. Over a stock (FinishParams::stock_tip, rest finishing) the lifts clear
+// the stock too, and the rapid down stops tol::rest_approach_mm above it instead of the clearance.
 #include "boundary.hpp"
 #include "sampling.hpp"
 
@@ -69,13 +70,19 @@ void link_passes(const Sampler& s, const FinishParams& p, const Fence& fence, Fi
   b.rapid_z_abs(p.safe_z_mm);
   const double h0 = std::min(tol::initial_sample_mm, s.cutter().radius() / 4);
   const double stay_max = p.tool.diameter * tol::stay_down_link_diameters + 4 * p.stepover_mm;
+  // Where a pass's plunge begins: the clearance over its start, or, over a stock (rest
+  // finishing), just above the stock.
+  auto entry = [&p](const Eigen::Vector3d& q) {
+    if (!p.stock_tip) return q.z() + p.clearance_mm;
+    return std::max(q.z(), p.stock_tip(q.x(), q.y())) + tol::rest_approach_mm;
+  };
   const Eigen::Vector3d* prev = nullptr;
   for (const Pass& pass : plan.passes) {
     if (pass.points.size() < 2) continue;
     const Eigen::Vector3d& start = pass.points.front();
     if (prev == nullptr) {
       b.rapid(start.x(), start.y(), p.safe_z_mm - p.z_shift, gcode::kX | gcode::kY);
-      b.rapid(start.x(), start.y(), start.z() + p.clearance_mm, gcode::kZ);
+      b.rapid(start.x(), start.y(), std::min(entry(start), p.safe_z_mm - p.z_shift), gcode::kZ);
       b.line(start, p.plunge_feed_mm_min);
     } else {
       const double d = (start.head<2>() - prev->head<2>()).norm();
@@ -88,14 +95,15 @@ void link_passes(const Sampler& s, const FinishParams& p, const Fence& fence, Fi
       } else {
         double top = std::max(prev->z(), start.z());
         const auto n = static_cast<int>(std::ceil(d / h0));
-        for (int i = 1; i < n; ++i) {
+        for (int i = 0; i <= n; ++i) {  // O(d / h0) drops (and stock tips)
           const Eigen::Vector2d q = prev->head<2>() + (start.head<2>() - prev->head<2>()) * (i / double(n));
-          top = std::max(top, s.z(q.x(), q.y()));
+          if (i > 0 && i < n) top = std::max(top, s.z(q.x(), q.y()));
+          if (p.stock_tip) top = std::max(top, p.stock_tip(q.x(), q.y()));
         }
         const double lift = std::min(top + p.clearance_mm, p.safe_z_mm - p.z_shift);
         b.rapid(prev->x(), prev->y(), lift, gcode::kZ);
         b.rapid(start.x(), start.y(), lift, gcode::kX | gcode::kY);
-        if (start.z() + p.clearance_mm < lift) b.rapid(start.x(), start.y(), start.z() + p.clearance_mm, gcode::kZ);
+        if (entry(start) < lift) b.rapid(start.x(), start.y(), entry(start), gcode::kZ);
         b.line(start, p.plunge_feed_mm_min);
         ++plan.lifts;
       }

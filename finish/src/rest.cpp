@@ -18,6 +18,7 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <numeric>
 #include <string>
 
 namespace millnet::finish {
@@ -436,6 +437,22 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
     }
   for (std::size_t k = 0; k < g.size(); ++k)
     if (grown[k]) out.mask[k] = 2;
+  if (stock) {  // what the links and entries clear
+    out.stock_tip = [stock, tool](double x, double y) { return stock->clearing_tip(tool, x, y); };
+  } else {
+    // The reference's envelope near the regions (+ the threshold for its cusps); elsewhere the new
+    // tool on the reference's tip, raised until its profile clears the reference's.
+    auto env = std::make_shared<const RestStock>(detail::reference_envelope(
+        params.reference, ref->cl, g.x0, g.y0, h, g.nx, g.ny, grown, tool.radius() + 2 * h, thr));
+    double rise = 0;
+    for (int k = 0; k <= 64; ++k)  // O(1) samples of the new tool's radius
+      rise = std::max(
+          rise, params.reference.profile_height(tool.radius() * k / 64) - tool.profile_height(tool.radius() * k / 64));
+    out.stock_tip = [ref, env, tool, lift = rise + thr](double x, double y) {
+      const double tip = env->clearing_tip(tool, x, y);
+      return tip < HUGE_VAL ? tip : ref->tool.drop(x, y).z + lift;
+    };
+  }
 
   // 5. The grown regions (4-connected components of the grown nodes: margins may join kept ones),
   // each with its outline, its Z range and its direction.
@@ -612,17 +629,20 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
   // Each region on its own: its outline, its Z range (within the caller's), its direction.
   FinishPlan plan;
   plan.strategy = Strategy::SlopeMode;
-  std::size_t narrow = 0;
-  for (const RestRegion& region : regions.parts) {  // O(regions) plans
-    if (!std::isfinite(region.z_max)) continue;     // no rest within reach above the threshold
+  std::vector<Pass> corner;
+  std::vector<std::size_t> region_of;                       // per corner pass
+  for (std::size_t c = 0; c < regions.parts.size(); ++c) {  // O(regions) plans
+    const RestRegion& region = regions.parts[c];
+    if (!std::isfinite(region.z_max)) continue;  // no rest within reach above the threshold
     FinishParams p = params;
     p.boundary.polygons = region.boundary.polygons;
     p.boundary.z_min = std::max(params.boundary.z_min, region.boundary.z_min - params.step_down_mm);
     p.boundary.z_max = std::min(params.boundary.z_max, region.boundary.z_max);
     p.raster_angle_deg = region.axis_deg;
-    const std::vector<Pass> passes = detail::trim_to_rest(corner_passes(mesh, new_tool, p), new_tool, mesh, regions);
-    if (passes.empty()) ++narrow;  // narrower than the tool, or nothing inside its range: pencil only
-    plan.passes.insert(plan.passes.end(), passes.begin(), passes.end());
+    for (Pass& pass : corner_passes(mesh, new_tool, p)) {
+      corner.push_back(std::move(pass));
+      region_of.push_back(c);
+    }
   }
   // The corners themselves first: pencil passes within the regions (their grid and mask), below
   // the rest's top.
@@ -631,13 +651,34 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
   std::vector<std::uint8_t> inside(regions.mask.size());
   for (std::size_t k = 0; k < inside.size(); ++k) inside[k] = regions.mask[k] == 2 ? 1 : 0;
   const double x1 = regions.x0 + regions.cell * (regions.nx - 1), y1 = regions.y0 + regions.cell * (regions.ny - 1);
-  const std::vector<Pass> pencil =
-      detail::trim_to_rest(clip_passes(detail::Fence(mesh, params.boundary),
-                                       pencil_passes(mesh, new_tool, regions.x0, regions.y0, x1, y1, regions.cell,
-                                                     params.chord_tolerance_mm, &inside),
-                                       params.chord_tolerance_mm),
-                           new_tool, mesh, regions);
-  plan.passes.insert(plan.passes.begin(), pencil.begin(), pencil.end());
+  // In machining order (nearest first: the pencil passes, then the regions' passes from where the
+  // pencil ended), each pass cut to where it removes rest that the ones before it left.
+  Eigen::Vector3d at(regions.x0, regions.y0, params.safe_z_mm - params.z_shift);
+  std::vector<Pass> passes =
+      detail::order_nearest(clip_passes(detail::Fence(mesh, params.boundary),
+                                        pencil_passes(mesh, new_tool, regions.x0, regions.y0, x1, y1, regions.cell,
+                                                      params.chord_tolerance_mm, &inside),
+                                        params.chord_tolerance_mm),
+                            at);
+  const std::size_t pencils = passes.size();
+  std::vector<std::size_t> order(corner.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::vector<Pass> corner_ordered = detail::order_nearest(corner, at, &order);
+  passes.insert(passes.end(), std::make_move_iterator(corner_ordered.begin()),
+                std::make_move_iterator(corner_ordered.end()));
+  const std::vector<std::vector<Pass>> pieces = detail::trim_to_rest(passes, new_tool, mesh, regions);
+  // The pieces nearest first again (pencil pieces first); regions left with pencil passes only.
+  std::vector<Pass> pencil, rest;
+  std::vector<std::uint8_t> cut(regions.parts.size(), 0);
+  for (std::size_t k = 0; k < pieces.size(); ++k) {  // O(pieces)
+    if (k >= pencils && !pieces[k].empty()) cut[region_of[order[k - pencils]]] = 1;
+    for (const Pass& piece : pieces[k]) (k < pencils ? pencil : rest).push_back(piece);
+  }
+  const auto narrow = static_cast<std::size_t>(std::count(cut.begin(), cut.end(), 0));
+  at = Eigen::Vector3d(regions.x0, regions.y0, params.safe_z_mm - params.z_shift);
+  plan.passes = detail::order_nearest(pencil, at);
+  for (Pass& piece : detail::order_nearest(std::move(rest), at)) plan.passes.push_back(std::move(piece));
+  params.stock_tip = regions.stock_tip;
   if (plan.passes.empty())
     throw Error("rest: the rest regions behind " + behind + " are all narrower than " + params.tool.describe() +
                 " and have no concave edge to trace");

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace millnet::finish::detail {
@@ -19,12 +20,34 @@ inline Eigen::Vector3d unit_normal(const ingest::Mesh& mesh, std::ptrdiff_t f) {
   return n.norm() > 0 ? Eigen::Vector3d(n / n.norm()) : Eigen::Vector3d::UnitZ();
 }
 
-/// The pieces of `passes` where the tool removes rest: a point cuts when the material at its
-/// contact (a drop at its XY, regions.material) exceeds a quarter of the threshold; each cutting
-/// point keeps the points within a quarter of the tool's radius (path length) on either side; runs
-/// of kept points are the pieces. Passes in parallel, each on its own: any thread count. O(points)
-/// drops.
-[[nodiscard]] std::vector<Pass> trim_to_rest(const std::vector<Pass>& passes, const DropCutter& tool,
-                                             const ingest::Mesh& mesh, const RestRegions& regions);
+/// The pieces of each of `passes` (in their machining order) where the tool removes rest. Each
+/// pass is probed every R/8 along its straight segments (the path the machine follows): a probe
+/// cuts when the material at its contact exceeds half the threshold as the regions measure it
+/// (regions.material), unless the tool came within that of the contact along the kept pieces of
+/// the passes before it (placements every R/8, its profile only): a pass does not cut again what an
+/// earlier one cleared. The contact is the drop's at the probe's XY, or, for a probe hanging above
+/// its drop (beside a vertical wall), the tool's widest point on the side where the drops rise.
+/// Each cutting probe keeps the stretch within R/4 (path length) on either side, stretches within
+/// tol::rest_bridge_radii · R of each other are joined (also across a closed pass's seam), and each
+/// stretch is a piece: its ends interpolated on their segments, the pass's vertices between. Passes
+/// in order, a pass's probes in parallel: any thread count. O(length / R) drops, each tested against
+/// the O(1) placements near it.
+[[nodiscard]] std::vector<std::vector<Pass>> trim_to_rest(const std::vector<Pass>& passes, const DropCutter& tool,
+                                                          const ingest::Mesh& mesh, const RestRegions& regions);
+
+/// The reference's envelope over the nodes within `reach_mm` of a `near` node (a grid x0 + j·h,
+/// y0 + i·h of nx × ny nodes, its drop-cutter tips `ref_cl`): the lowest of its surfaces over each,
+/// over all its placements within its radius, plus `add_mm`; +infinity at the other nodes (−infinity
+/// where it meets nothing). What it leaves, as a stock whose clearing_tip is +infinity off them.
+/// O(nodes near · (R / h)²).
+[[nodiscard]] RestStock reference_envelope(const tooling::Cutter& reference, const std::vector<double>& ref_cl,
+                                           double x0, double y0, double h, int nx, int ny,
+                                           const std::vector<std::uint8_t>& near, double reach_mm, double add_mm);
+
+/// The passes reordered nearest first from `at` (3D distance; updated to the last pass's end): an
+/// open pass may be cut backwards, a loop may start at any vertex; `order` (one entry per pass),
+/// when given, is permuted alike. O(passes · points).
+[[nodiscard]] std::vector<Pass> order_nearest(std::vector<Pass> passes, Eigen::Vector3d& at,
+                                              std::vector<std::size_t>* order = nullptr);
 
 }  // namespace millnet::finish::detail

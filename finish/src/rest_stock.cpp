@@ -5,11 +5,13 @@
 
 #include "millnet/core/error.hpp"
 #include "millnet/finish/rest.hpp"
+#include "millnet/finish/tolerances.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numbers>
 #include <string>
 
 namespace millnet::finish {
@@ -60,7 +62,30 @@ double RestStock::material(const Eigen::Vector3d& p, const Eigen::Vector3d& n) c
     const double mid = 0.5 * (lo + hi);
     (in(mid) > 0 ? lo : hi) = mid;
   }
-  return 0.5 * (lo + hi);
+  // A wall's place in the columns is known to half a cell: the ray's length less that.
+  return std::max(0.0, 0.5 * (lo + hi) - 0.5 * cell * std::hypot(n.x(), n.y()));
+}
+
+double RestStock::clearing_tip(const tooling::Cutter& tool, double x, double y) const {
+  // Each cell at its corner nearest the axis: the tool must clear the cell's whole top.
+  const double r = tool.radius(), half = cell * std::numbers::sqrt2 / 2;
+  const double reach = r + cell;
+  if (!(x >= x0 - reach && x <= x0 + nx * cell + reach && y >= y0 - reach && y <= y0 + ny * cell + reach))
+    return -std::numeric_limits<double>::infinity();  // off the grid (or not finite)
+  const int j0 = std::max(0, static_cast<int>(std::floor((x - reach - x0) / cell))),
+            j1 = std::min(nx - 1, static_cast<int>(std::ceil((x + reach - x0) / cell)));
+  const int i0 = std::max(0, static_cast<int>(std::floor((y - reach - y0) / cell))),
+            i1 = std::min(ny - 1, static_cast<int>(std::ceil((y + reach - y0) / cell)));
+  if (j0 > j1 || i0 > i1) return -std::numeric_limits<double>::infinity();
+  double tip = -std::numeric_limits<double>::infinity();
+  for (int i = i0; i <= i1; ++i)  // O((R / cell)²) cells
+    for (int j = j0; j <= j1; ++j) {
+      const double d = std::hypot(x0 + j * cell - x, y0 + i * cell - y) - half;
+      if (d > r) continue;
+      const double h = z[static_cast<std::size_t>(i) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(j)];
+      tip = std::max(tip, h - tool.profile_height(std::max(d, 0.0)));
+    }
+  return tip == -std::numeric_limits<double>::infinity() ? tip : tip + z_offset;
 }
 
 double unreachable_area_mm2(const ingest::Mesh& mesh, const tooling::Cutter& tool, double threshold_mm) {
@@ -79,51 +104,223 @@ RestRegions unreachable_regions(const ingest::Mesh& mesh, const tooling::Cutter&
 
 namespace detail {
 
-std::vector<Pass> trim_to_rest(const std::vector<Pass>& passes, const DropCutter& tool, const ingest::Mesh& mesh,
-                               const RestRegions& regions) {
-  if (!regions.material) return passes;
-  const double eps = regions.threshold_mm / 4, run_on = tool.cutter().radius() / 4;
+namespace {
+
+/// What the rest program itself has cut so far: the new tool's placements along the kept pieces
+/// (every R/8), bucketed by XY in squares of side R over the regions' box. A design point is
+/// cleared when some placement's solid comes within eps of it (distance_to_tool, as the
+/// reference's placements are tested) no higher than the top of its profile (the flutes above
+/// are not counted on: a small tool's are short). Between placements the tool comes closer than at them, so
+/// nothing is taken for cleared that is not.
+class SweptByRest {
+public:
+  SweptByRest(const RestRegions& regions, const tooling::Cutter& tool)
+      : tool_(tool), side_(tool.radius()), top_(tool.profile_height(tool.radius())) {
+    x0_ = regions.x0 - side_, y0_ = regions.y0 - side_;
+    const double w = regions.cell * (regions.nx - 1) + 2 * side_, h = regions.cell * (regions.ny - 1) + 2 * side_;
+    if (!((w / side_ + 2) * (h / side_ + 2) <= 1e7)) return;  // too many: the rest program's cuts not followed
+    nx_ = static_cast<int>(std::ceil(w / side_)) + 1, ny_ = static_cast<int>(std::ceil(h / side_)) + 1;
+    buckets_.resize(static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_));
+  }
+  [[nodiscard]] bool cleared(const Eigen::Vector3d& p, double eps) const {
+    if (buckets_.empty()) return false;
+    const int reach = static_cast<int>(std::ceil((side_ + eps) / side_));
+    const int bi = static_cast<int>(std::floor((p.y() - y0_) / side_)),
+              bj = static_cast<int>(std::floor((p.x() - x0_) / side_));
+    for (int i = std::max(0, bi - reach); i <= std::min(ny_ - 1, bi + reach); ++i)  // O(placements near)
+      for (int j = std::max(0, bj - reach); j <= std::min(nx_ - 1, bj + reach); ++j)
+        for (const Eigen::Vector3d& t : buckets_[at(i, j)])  // the cutting end only, not the flutes above
+          if (p.z() <= t.z() + top_ && distance_to_tool(tool_, t.x(), t.y(), t.z(), p) <= eps) return true;
+    return false;
+  }
+  void sweep(const Pass& piece) {
+    if (buckets_.empty()) return;
+    const double spacing = tool_.radius() / 8;
+    for (std::size_t i = 0; i + 1 < piece.points.size(); ++i) {  // O(length / spacing)
+      const Eigen::Vector3d &a = piece.points[i], &b = piece.points[i + 1];
+      const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / spacing)));
+      for (int t = (i == 0 ? 0 : 1); t <= steps; ++t) {
+        const Eigen::Vector3d q = a + (b - a) * (static_cast<double>(t) / steps);
+        const int bi = static_cast<int>(std::floor((q.y() - y0_) / side_)),
+                  bj = static_cast<int>(std::floor((q.x() - x0_) / side_));
+        if (bi >= 0 && bj >= 0 && bi < ny_ && bj < nx_) buckets_[at(bi, bj)].push_back(q);
+      }
+    }
+  }
+
+private:
+  [[nodiscard]] std::size_t at(int i, int j) const {
+    return static_cast<std::size_t>(i) * static_cast<std::size_t>(nx_) + static_cast<std::size_t>(j);
+  }
+  tooling::Cutter tool_;
+  double side_, top_, x0_ = 0, y0_ = 0;
+  int nx_ = 0, ny_ = 0;
+  std::vector<std::vector<Eigen::Vector3d>> buckets_;
+};
+
+}  // namespace
+
+std::vector<std::vector<Pass>> trim_to_rest(const std::vector<Pass>& passes, const DropCutter& tool,
+                                            const ingest::Mesh& mesh, const RestRegions& regions) {
   std::vector<std::vector<Pass>> pieces(passes.size());
-  const auto n = static_cast<std::ptrdiff_t>(passes.size());
-#pragma omp parallel for schedule(dynamic, 4)
-  for (std::ptrdiff_t k = 0; k < n; ++k) {
-    const auto& pts = passes[static_cast<std::size_t>(k)].points;
+  if (!regions.material) {
+    for (std::size_t k = 0; k < passes.size(); ++k) pieces[k] = {passes[k]};
+    return pieces;
+  }
+  const double eps = regions.threshold_mm / 2, r = tool.cutter().radius(), run_on = r / 4;
+  const double probe = run_on / 2, bridge = tol::rest_bridge_radii * r;
+  SweptByRest swept(regions, tool.cutter());
+  for (std::size_t k = 0; k < passes.size(); ++k) {  // in order: each pass after what the ones before cut
+    const Pass& pass = passes[k];
+    const auto& pts = pass.points;
     const std::size_t m = pts.size();
+    if (m < 2) continue;
     std::vector<double> s(m, 0.0);  // path length along the pass
     for (std::size_t i = 1; i < m; ++i) s[i] = s[i - 1] + (pts[i] - pts[i - 1]).norm();
-    std::vector<std::uint8_t> cuts(m, 0), keep(m, 0);
-    for (std::size_t i = 0; i < m; ++i) {  // O(points) drops
-      const CLPoint c = tool.drop(pts[i].x(), pts[i].y());
+    // 1. Probes every run_on / 2 along the pass (its straight segments are the path the machine
+    //    follows): where the material left, by the stock and by the passes before, exceeds eps.
+    std::vector<double> at;
+    for (std::size_t i = 0; i + 1 < m; ++i) {  // O(length / probe)
+      const int steps = std::max(1, static_cast<int>(std::ceil((s[i + 1] - s[i]) / probe)));
+      for (int t = (i == 0 ? 0 : 1); t <= steps; ++t) at.push_back(s[i] + (s[i + 1] - s[i]) * t / steps);
+    }
+    auto point_at = [&](double where) {
+      const auto it = std::upper_bound(s.begin(), s.end(), where);
+      const auto i =
+          std::min<std::size_t>(static_cast<std::size_t>(std::max<std::ptrdiff_t>(it - s.begin(), 1)), m - 1);
+      const double len = s[i] - s[i - 1];
+      return Eigen::Vector3d(len > 0 ? pts[i - 1] + (where - s[i - 1]) / len * (pts[i] - pts[i - 1]) : pts[i]);
+    };
+    std::vector<std::uint8_t> cuts(at.size(), 0);
+    const auto probes = static_cast<std::ptrdiff_t>(at.size());
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t t = 0; t < probes; ++t) {  // O(probes) drops, each on its own
+      const Eigen::Vector3d q = point_at(at[static_cast<std::size_t>(t)]);
+      const CLPoint c = tool.drop(q.x(), q.y());
       if (c.contact == Contact::None || c.triangle < 0) continue;
-      cuts[i] = regions.material(c.cc, unit_normal(mesh, c.triangle)) > eps ? 1 : 0;
+      Eigen::Vector3d cc = c.cc, n = unit_normal(mesh, c.triangle);
+      if (q.z() > c.z + tol::rest_hanging_mm) {
+        // Hanging above its drop (a Z-level beside a vertical wall): the tool touches the wall at
+        // its widest, on the side where the drops rise.
+        const double dx = tool.drop(q.x() + probe, q.y()).z - tool.drop(q.x() - probe, q.y()).z,
+                     dy = tool.drop(q.x(), q.y() + probe).z - tool.drop(q.x(), q.y() - probe).z;
+        const double len = std::hypot(dx, dy);
+        if (!(len > 0 && std::isfinite(len))) continue;
+        const Eigen::Vector3d u(dx / len, dy / len, 0);
+        cc = q + tool.cutter().radius() * u + Eigen::Vector3d(0, 0, tool.cutter().profile_height(r));
+        n = -u;
+      }
+      cuts[static_cast<std::size_t>(t)] = regions.material(cc, n) > eps && !swept.cleared(cc, eps) ? 1 : 0;
     }
-    // Run on by the radius: forward then backward, from the last cutting point seen.
-    double last = -HUGE_VAL;
-    for (std::size_t i = 0; i < m; ++i) {
-      if (cuts[i]) last = s[i];
-      if (s[i] - last <= run_on) keep[i] = 1;
+    // 2. Each cutting probe keeps the run-on on either side; stretches within the bridge are one.
+    std::vector<std::pair<double, double>> keep;  // [from, to] in path length, ascending
+    for (std::size_t t = 0; t < at.size(); ++t) {
+      if (!cuts[t]) continue;
+      const double from = std::max(0.0, at[t] - run_on), to = std::min(s[m - 1], at[t] + run_on);
+      if (!keep.empty() && from <= keep.back().second + bridge)
+        keep.back().second = std::max(keep.back().second, to);
+      else
+        keep.emplace_back(from, to);
     }
-    last = HUGE_VAL;
-    for (std::size_t i = m; i-- > 0;) {
-      if (cuts[i]) last = s[i];
-      if (last - s[i] <= run_on) keep[i] = 1;
+    auto& mine = pieces[k];
+    if (keep.size() == 1 && keep.front().first <= 0 && keep.front().second >= s[m - 1]) {
+      mine.push_back(pass);  // the whole pass cuts
+    } else {
+      // 3. The pieces: each stretch's ends on their segments, the vertices between; a closed pass
+      //    cut near its seam is one piece across it.
+      const bool loop =
+          pass.closed && keep.size() >= 2 && keep.front().first + (s[m - 1] - keep.back().second) <= bridge;
+      auto piece = [&](double from, double to, Pass& out) {
+        out.points.push_back(point_at(from));
+        for (std::size_t i = 0; i < m; ++i)  // O(points)
+          if (s[i] > from && s[i] < to) out.points.push_back(pts[i]);
+        out.points.push_back(point_at(to));
+      };
+      for (std::size_t j = loop ? 1 : 0; j < keep.size(); ++j) {
+        Pass out;
+        piece(keep[j].first, keep[j].second, out);
+        const bool wraps = loop && j + 1 == keep.size();
+        if (wraps) piece(0, keep.front().second, out);  // on across the seam
+        if (keep[j].second - keep[j].first + (wraps ? keep.front().second : 0) >= tol::min_pass_mm)
+          mine.push_back(std::move(out));
+      }
     }
-    auto& mine = pieces[static_cast<std::size_t>(k)];
-    Pass cur;
-    for (std::size_t i = 0; i <= m; ++i) {
-      if (i < m && keep[i]) {
-        cur.points.push_back(pts[i]);
+    for (const Pass& piece : mine) swept.sweep(piece);
+  }
+  return pieces;
+}
+
+RestStock reference_envelope(const tooling::Cutter& reference, const std::vector<double>& ref_cl, double x0, double y0,
+                             double h, int nx, int ny, const std::vector<std::uint8_t>& near, double reach_mm,
+                             double add_mm) {
+  RestStock env;
+  env.x0 = x0, env.y0 = y0, env.cell = h, env.nx = nx, env.ny = ny;
+  env.z.assign(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), HUGE_VAL);
+  auto at = [nx](int i, int j) {
+    return static_cast<std::size_t>(i) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(j);
+  };
+  const int wide = static_cast<int>(std::ceil(reach_mm / h)),
+            ref_cells = static_cast<int>(std::ceil(reference.radius() / h));
+  std::vector<std::uint8_t> want(env.z.size(), 0);
+  for (int i = 0; i < ny; ++i)  // O(near nodes · (reach / h)²)
+    for (int j = 0; j < nx; ++j) {
+      if (!near[at(i, j)]) continue;
+      for (int a = std::max(0, i - wide); a <= std::min(ny - 1, i + wide); ++a)
+        for (int b = std::max(0, j - wide); b <= std::min(nx - 1, j + wide); ++b)
+          if ((a - i) * (a - i) + (b - j) * (b - j) <= wide * wide) want[at(a, b)] = 1;
+    }
+#pragma omp parallel for schedule(dynamic, 8)
+  for (int i = 0; i < ny; ++i)  // O(wanted nodes · (R / h)²)
+    for (int j = 0; j < nx; ++j) {
+      if (!want[at(i, j)]) continue;
+      double e = HUGE_VAL;  // the lowest of the reference's surfaces over the node
+      for (int a = std::max(0, i - ref_cells); a <= std::min(ny - 1, i + ref_cells); ++a)
+        for (int b = std::max(0, j - ref_cells); b <= std::min(nx - 1, j + ref_cells); ++b) {
+          const double d = h * std::hypot(a - i, b - j);
+          if (d <= reference.radius()) e = std::min(e, ref_cl[at(a, b)] + reference.profile_height(d));
+        }
+      env.z[at(i, j)] = e + add_mm;
+    }
+  return env;
+}
+
+std::vector<Pass> order_nearest(std::vector<Pass> passes, Eigen::Vector3d& at, std::vector<std::size_t>* order) {
+  std::vector<Pass> out;
+  out.reserve(passes.size());
+  std::vector<std::uint8_t> done(passes.size(), 0);
+  std::vector<std::size_t> taken;                             // the order's entries, reordered
+  for (std::size_t left = passes.size(); left > 0; --left) {  // O(passes²)
+    std::size_t best = 0, best_vertex = 0;
+    bool reverse = false;
+    double best_d = HUGE_VAL;
+    for (std::size_t k = 0; k < passes.size(); ++k) {
+      if (done[k]) continue;
+      const auto& pts = passes[k].points;
+      if (passes[k].closed && pts.size() > 2 && (pts.front() - pts.back()).norm() < 1e-9) {
+        // a loop may start at any of its vertices (its last repeats its first)
+        for (std::size_t i = 0; i + 1 < pts.size(); ++i)
+          if (const double d = (pts[i] - at).squaredNorm(); d < best_d)
+            best_d = d, best = k, best_vertex = i, reverse = false;
         continue;
       }
-      if (cur.points.size() >= 2) mine.push_back(std::move(cur));
-      cur = Pass{};
+      if (const double d = (pts.front() - at).squaredNorm(); d < best_d)
+        best_d = d, best = k, best_vertex = 0, reverse = false;
+      if (const double d = (pts.back() - at).squaredNorm(); d < best_d)
+        best_d = d, best = k, best_vertex = 0, reverse = true;
     }
-    if (mine.size() == 1 && mine.front().points.size() == m)
-      mine.front().closed = passes[static_cast<std::size_t>(k)].closed;
+    done[best] = 1;
+    if (order) taken.push_back((*order)[best]);
+    Pass p = std::move(passes[best]);
+    if (reverse) std::reverse(p.points.begin(), p.points.end());
+    if (p.closed && best_vertex > 0) {  // the loop's last point repeats its first
+      p.points.pop_back();
+      std::rotate(p.points.begin(), p.points.begin() + static_cast<std::ptrdiff_t>(best_vertex), p.points.end());
+      p.points.push_back(p.points.front());
+    }
+    at = p.points.back();
+    out.push_back(std::move(p));
   }
-  std::vector<Pass> out;
-  for (auto& list : pieces)  // O(pieces), in pass order
-    for (auto& piece : list) out.push_back(std::move(piece));
+  if (order) *order = std::move(taken);
   return out;
 }
 

@@ -129,6 +129,7 @@ TEST(CliFinish, RestFromTheSimulatedStockIsPlannedFromWhatWasLeft) {
   const auto& rest = sim["programs"][1];
   EXPECT_LT(rest["over_threshold_after_mm2"].get<double>(), rest["over_threshold_before_mm2"].get<double>());
   EXPECT_LE(sim["max_gouge_mm"].get<double>(), 0.002);
+  EXPECT_EQ(rest["cutting_rapids"].get<int>(), 0);  // its links clear the stock, not only the design
   // Refused with one line each: both sources, no rest tool, a file that is not there.
   for (const std::string& bad :
        {std::string("--rest-tool ball:1 --rest-from sim0 --rest-reference ball:4"), std::string("--rest-from sim0"),

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <variant>
 #include <vector>
 
 namespace millnet::finish {
@@ -23,7 +24,7 @@ using tooling::Cutter;
 constexpr double kT = 0.02;                                         // threshold, mm
 const double kBandEnd = 3 - std::sqrt(6 * kT + kT * kT);            // 2.65302
 double floor_rest(double x) { return std::hypot(3 - x, 3.0) - 3; }  // x in [1, 3]
-const double kTouched = 3 - std::sqrt(6 * kT / 4 + kT * kT / 16);   // 2.8267: rest over kT / 4 ends
+const double kTouched = 3 - std::sqrt(6 * kT / 2 + kT * kT / 4);    // 2.7548: rest over kT / 2 ends
 
 /// The corner's profile in XZ extruded along Y over [0, 30]: top z = 10 for x in [−10, 0], the wall
 /// x = 0 down to z = 1, the fillet (centre (1, 1), radius 1, 64 chords), the floor to x = 20.
@@ -144,8 +145,8 @@ TEST(RestFinishing, CleansTheBandOnlyAndNeverGouges) {
   for (const Pass& pass : plan.passes)
     for (std::size_t q = 0; q < pass.points.size(); ++q) {
       const Eigen::Vector3d& p = pass.points[q];
-      // Cut to where the rest is (over a quarter of the threshold at the contact: the floor up to
-      // 3 − √(6ε + ε²) = 2.827), run on by R/4 along the pass: no pass over the bare floor beyond.
+      // Cut to where the rest is (over half the threshold at the contact: the floor up to
+      // 3 − √(6ε + ε²) = 2.755), run on by R/4 along the pass: no pass over the bare floor beyond.
       EXPECT_GE(p.x(), 0.5 - 2 * r.cell) << p.transpose();
       EXPECT_LE(p.x(), kTouched + 0.25 + 2 * r.cell) << p.transpose();
       EXPECT_LE(p.z(), r.rest_top_z + 1e-9);
@@ -173,6 +174,38 @@ TEST(RestFinishing, CleansTheBandOnlyAndNeverGouges) {
   }
 }
 
+TEST(RestFinishing, LinksClearWhatTheReferenceLeftAndEntriesComeDownJustAboveIt) {
+  const ingest::Mesh part = l_corner();
+  const DropCutter two(part, Cutter::ball(2));
+  const RestRegions r = behind_six(part, two);
+  ASSERT_TRUE(r.stock_tip);
+  // Over the floor beyond the corner the stock is the floor (the Ø6 reached it); in the corner the
+  // Ø2 must stand at least on the Ø6's arc: at x = 1 (the Ø2 against the wall) the arc is at
+  // 3 − √(9 − 2²) = 0.764 at x = 1 and rises toward the wall.
+  EXPECT_NEAR(r.stock_tip(8, 15), kT, 0.01);
+  EXPECT_GE(r.stock_tip(1.0, 15), 3 - std::sqrt(5.0));
+  const FinishPlan plan = plan_rest(part, two, r, Cutter::ball(6).describe(), rest_params());
+  gcode::Point3 at{0, 0, 0};
+  std::size_t plunges = 0;
+  for (const auto& item : plan.program.items) {
+    const auto* m = std::get_if<gcode::Move>(&item);
+    if (m == nullptr) continue;
+    const bool across = std::hypot(m->to[0] - at[0], m->to[1] - at[1]) > 1e-9;
+    if (m->motion == gcode::Motion::Rapid && across && at[2] < 20 - 1e-9) {  // a link (not from safe Z)
+      for (double f = 0; f <= 1; f += 0.01) {
+        const double x = at[0] + f * (m->to[0] - at[0]), y = at[1] + f * (m->to[1] - at[1]);
+        EXPECT_GE(m->to[2], r.stock_tip(x, y) + 0.5) << "a rapid into the stock at " << x << ", " << y;
+      }
+    }
+    if (m->motion == gcode::Motion::Line && !across && m->to[2] < at[2]) {  // an entry's plunge
+      ++plunges;
+      EXPECT_NEAR(at[2], std::max(m->to[2], r.stock_tip(m->to[0], m->to[1])) + 0.1, 1e-9);
+    }
+    at = m->to;
+  }
+  EXPECT_EQ(plunges, plan.lifts + 1);
+}
+
 /// The stock the Ø6 ball leaves on the L corner, by hand, on a z-map grid (cells of 0.02 mm,
 /// centres at multiples of 0.02 + 0.01): over the top (x < 0) z = 10; in the corner the Ø6's lower
 /// arc about (3, 3), z = 3 − √(9 − (3 − x)²) for 0 < x < 3; the floor z = 0 beyond.
@@ -191,6 +224,27 @@ RestStock six_stock() {
   return st;
 }
 
+TEST(RestStock, TheToolClearsTheHighestCellWithinReachLessItsProfileThere) {
+  // Flat at z = 1 (cells of 0.1), one column at z = 3 whose centre is 0.5 mm from the axis at
+  // (1, 1) and one at z = 9 out of the Ø2 ball's reach from there.
+  RestStock st;
+  st.cell = 0.1, st.x0 = 0, st.y0 = 0, st.nx = 25, st.ny = 21;
+  st.z.assign(25 * 21, 1.0);
+  st.z[10 * 25 + 15] = 3.0;  // (1.5, 1.0)
+  st.z[10 * 25 + 21] = 9.0;  // (2.1, 1.0): 1.1 mm away, beyond R plus half a diagonal
+  const Cutter ball = Cutter::ball(2);
+  // The column at 0.5 taken at its corner nearest the axis, 0.5 − 0.1·√2/2: the ball is
+  // 1 − √(1 − d²) above its tip there.
+  const double d = 0.5 - 0.1 * std::numbers::sqrt2 / 2;
+  EXPECT_NEAR(st.clearing_tip(ball, 1.0, 1.0), 3 - (1 - std::sqrt(1 - d * d)), 1e-12);
+  EXPECT_NEAR(st.clearing_tip(Cutter::flat(2), 1.0, 1.0), 3.0, 1e-12);  // flat: no rise
+  const double far = 0.9 - 0.1 * std::numbers::sqrt2 / 2;               // from (1.2, 1) to the far column
+  EXPECT_NEAR(st.clearing_tip(ball, 1.2, 1.0), 9.0 - (1 - std::sqrt(1 - far * far)), 1e-12);
+  st.z_offset = -0.5;
+  EXPECT_NEAR(st.clearing_tip(ball, 0.5, 0.5), 0.5, 1e-12);  // only the flat cells within reach, shifted
+  EXPECT_EQ(st.clearing_tip(ball, 40, 40), -HUGE_VAL);       // off the grid: nothing to clear
+}
+
 TEST(RestStock, TheMaterialIsTheStocksHeightOverThePointAlongTheNormal) {
   RestStock st;
   st.cell = 0.5, st.x0 = 0, st.y0 = 0, st.nx = 9, st.ny = 3;
@@ -200,13 +254,15 @@ TEST(RestStock, TheMaterialIsTheStocksHeightOverThePointAlongTheNormal) {
   const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
   EXPECT_NEAR(st.height(1.3, 0.7), 1.13, 1e-12);
   EXPECT_NEAR(st.material({1.3, 0.7, 0.0}, up), 1.13, 1e-4);
-  // Along a normal tilted 60° from Z towards +X: 1.13 − 0.5 + 0.1·t·sin60 = t·cos60 ⇒ t = 0.63 / (0.5 − 0.0866).
-  const Eigen::Vector3d tilted(std::sin(std::numbers::pi / 3), 0, std::cos(std::numbers::pi / 3));
-  EXPECT_NEAR(st.material({1.3, 0.7, 0.5}, tilted), 0.63 / (0.5 - 0.1 * std::sin(std::numbers::pi / 3)), 1e-4);
+  // Along a normal tilted 60° from Z towards +X: 1.13 − 0.5 + 0.1·t·sin60 = t·cos60 ⇒ t = 0.63 / (0.5 − 0.0866),
+  // less half a cell times the normal's horizontal part (where a wall stands in a cell is not known).
+  const double s60 = std::sin(std::numbers::pi / 3);
+  const Eigen::Vector3d tilted(s60, 0, std::cos(std::numbers::pi / 3));
+  EXPECT_NEAR(st.material({1.3, 0.7, 0.5}, tilted), 0.63 / (0.5 - 0.1 * s60) - 0.25 * s60, 1e-4);
   EXPECT_EQ(st.material({1.3, 0.7, 2.0}, up), 0.0);  // above the stock: none
   EXPECT_EQ(st.material({4.1, 0.7, 0.0}, up), 0.0);  // off the grid: air
   // A wall facing +X at x = 1.3, z = 0: the stock beside it (never below z = 1) ends with the grid at x = 4.
-  EXPECT_NEAR(st.material({1.3, 0.7, 0.0}, Eigen::Vector3d::UnitX()), 2.7, 1e-4);
+  EXPECT_NEAR(st.material({1.3, 0.7, 0.0}, Eigen::Vector3d::UnitX()), 2.7 - 0.25, 1e-4);
   RestStock bad = st;
   bad.z.pop_back();
   EXPECT_THROW(bad.check(), Error);
@@ -249,8 +305,9 @@ TEST(RestRegions, FromTheStockTheSixMillimetreBallLeftTheBandIsTheHandComputedOn
   EXPECT_NEAR(r.rest_top_z, kBandEnd, 0.15);  // where the wall's rest ends (stock beside it thinner than t)
   ASSERT_TRUE(r.material);
   EXPECT_NEAR(r.material({2, 15, 0}, Eigen::Vector3d::UnitZ()), 3 - std::sqrt(8.0), 1e-3);
-  // The wall's rest beside the point (0, 15, 2.6): where the Ø6's arc comes down to z = 2.6.
-  EXPECT_NEAR(r.material({0, 15, 2.6}, Eigen::Vector3d::UnitX()), 3 - std::sqrt(9 - 0.4 * 0.4), 1e-3);
+  // The wall's rest beside the point (0, 15, 2.6): where the Ø6's arc comes down to z = 2.6, less
+  // half a cell (a wall's place in the columns is known to that).
+  EXPECT_NEAR(r.material({0, 15, 2.6}, Eigen::Vector3d::UnitX()), 3 - std::sqrt(9 - 0.4 * 0.4) - 0.01, 1e-3);
   // Its rest program stays where the stock is: within the band plus R/4 run-on and the cell.
   const FinishPlan plan = plan_rest(part, two, r, "the stock", rest_params());
   ASSERT_FALSE(plan.passes.empty());

@@ -54,8 +54,14 @@ struct RestStock {
   /// The material over a design point p with unit normal n (pointing out of the part): how far
   /// from p along n the stock ends (its height below the point), found by doubling steps from a
   /// quarter cell and bisection, at most 64 cells; 0 when p is not under the stock. On a floor it
-  /// is the stock's height over p, on a wall the stock's thickness beside it. O(log) heights.
+  /// is the stock's height over p, on a wall the stock's thickness beside it, less half a cell
+  /// times the normal's horizontal part (where a wall stands within its columns is known to half a
+  /// cell: a wall the stock is flush with would otherwise read up to a cell thick). O(log) heights.
   [[nodiscard]] double material(const Eigen::Vector3d& p, const Eigen::Vector3d& n) const;
+  /// The lowest tip height at which `tool` with its axis over (x, y) clears the stock: the highest
+  /// of the cells within its reach less the tool's profile there, each cell taken at its corner
+  /// nearest the axis (conservative). −infinity when no cell is within reach. O((R / cell)²).
+  [[nodiscard]] double clearing_tip(const tooling::Cutter& tool, double x, double y) const;
 };
 
 struct RestParams {
@@ -115,6 +121,12 @@ struct RestRegions {
   /// as the regions were found: behind the reference's placements, or under the stock (which must
   /// outlive this). plan_rest keeps only the pieces of passes that cut it. Thread-safe.
   std::function<double(const Eigen::Vector3d&, const Eigen::Vector3d&)> material;
+  /// The lowest tip height at which the new tool over (x, y) clears what was left (an upper bound):
+  /// the stock's (RestStock::clearing_tip), or the reference's drop-cutter tip there raised by the
+  /// most the reference's profile rises above the new tool's within the new tool's radius (0 for a
+  /// smaller ball: it lies inside the reference on the same tip) plus the threshold (the
+  /// reference's cusps). plan_rest's links and entries use it. Thread-safe.
+  std::function<double(double, double)> stock_tip;
   [[nodiscard]] bool empty() const { return boundary.polygons.empty(); }
 };
 
@@ -147,11 +159,12 @@ struct RestRegions {
 /// the pencil passes of the regions first, then strategy 1 in each region with its outline as the
 /// machining boundary, its Z range (from a step-down below its lowest tip to its rest's top, within
 /// params.boundary's; on_part kept) and its raster along its principal direction; a region narrower
-/// than the tool gets its pencil passes only. Every pass is then cut to the pieces where the tool
-/// removes rest (regions.material at its contact over a quarter of the threshold), each piece
-/// run on by the tool's radius at both ends (the tool's flank meets the rest before its contact
-/// does): no pass cuts air for longer than that. All linked into one program. The program's header names
-/// it rest finishing and the reference tool. Throws millnet::Error when the regions are empty.
+/// than the tool gets its pencil passes only. The passes, nearest first, are each cut to the pieces
+/// where the tool removes rest that the regions measure and the pieces before it left (over half
+/// the threshold at its contact; detail::trim_to_rest), run on by R/4 at both ends, and the pieces
+/// ordered nearest first again. All linked into one program whose links clear regions.stock_tip
+/// and whose entries come down to tol::rest_approach_mm above it. The program's header names it
+/// rest finishing and the reference tool. Throws millnet::Error when the regions are empty.
 /// `behind` names what left the rest ("ball D6", "the stock of FILE") in the header and errors.
 [[nodiscard]] FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const RestRegions& regions,
                                    const std::string& behind, FinishParams params);

@@ -32,6 +32,7 @@
 #include <Eigen/Core>
 
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -104,6 +105,11 @@ struct FinishParams {
   double safe_z_mm = 5;     ///< program Z of rapids at start and end (above the stock top)
   double clearance_mm = 1;  ///< lifts clear the highest CL point under a link by this
   double z_shift = 0;       ///< program Z = mesh z + z_shift
+  /// Rest finishing: the lowest tip height (mesh frame) at which the tool over (x, y) clears the
+  /// stock left before it, an upper bound (−infinity where there is none). When set, lifts clear it
+  /// as well as the design by clearance_mm, and each entry comes down at rapid to
+  /// tol::rest_approach_mm above it (or above the entry, when that is higher) before it plunges.
+  std::function<double(double, double)> stock_tip;
   /// Machining box (XY box of tool-axis positions, mesh frame); empty ⇒ the part's footprint (or
   /// the boundary polygons' box, when they are given).
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0;

@@ -36,6 +36,20 @@ inline constexpr double scallop_min_spacing_rel = 0.1;
 /// instead of lifting.
 inline constexpr double stay_down_link_diameters = 2.0;
 
+/// Rest finishing: a pass's entry comes down at rapid to this above the stock left before it (an
+/// upper bound of it: the reference's envelope, or the simulated stock under the tool), then plunges
+/// at the plunge feed, so that an entry feeds through a tenth of a millimetre of air, not the
+/// clearance.
+inline constexpr double rest_approach_mm = 0.1;
+
+/// Rest finishing: two pieces of one pass that remove rest, this many tool radii apart or closer
+/// along the pass, are cut as one (the tool stays on the pass instead of lifting and plunging).
+inline constexpr double rest_bridge_radii = 1.0;
+
+/// Rest finishing: a pass point this far above the tool's drop at its XY hangs beside a vertical
+/// wall (a Z-level): it touches the wall at its widest, not at the drop's contact.
+inline constexpr double rest_hanging_mm = 1e-3;
+
 /// Passes (and pieces of passes) shorter than this are dropped.
 inline constexpr double min_pass_mm = 0.01;
 
