@@ -30,7 +30,7 @@ struct JobOpts {
   Common common;
   MeshFlags mesh_flags;
   std::string mesh, out, strategy = "best";
-  std::optional<std::string> post, finish_tool, rough_tool, material;
+  std::optional<std::string> post, finish_tool, rough_tool, material, rest_tool;
   BoundaryFlags boundary;       ///< the finishing's (and semi-finishing's) machining boundary
   bool keep_deep_cuts = false;  ///< write a job whose cut goes beyond a tool's flutes (warned), as before 2026-11-27
 };
@@ -123,6 +123,15 @@ SemiFinish semi_finishing(const SemiFinishInput& in, const Json& config, const s
   const finish::DropCutter dropper(in.part.mesh, grown);
   finish::FinishPlan plan = finish::plan_finish(in.part.mesh, dropper, finish::Strategy::SlopeMode, p);
   return {{"semi-finishing (s1 slope mode, leaving " + format_double(a) + " mm)", *semi, std::move(plan.program)}, p};
+}
+
+/// A tool named on the command line: a library id, or inline (ball:D, flat:D, bull:D:r) with the
+/// reach of the library's tool of its shape.
+tooling::Tool job_tool(const std::string& text, const Json& config, const std::optional<std::string>& material,
+                       const ToolLibrary& lib) {
+  if (text.find(':') == std::string::npos) return lib.tool(text, "--rest-tool");
+  const tooling::Cutter c = parse_tool(text);
+  return inline_tool(c.type, c.diameter, c.corner_radius, cutting_settings(config, material), lib);
 }
 
 report::SetupTool setup_tool(const tooling::Tool& t) {
@@ -235,6 +244,32 @@ int run_job(const JobOpts& o) {
                     fixed(before.back().max_left_mm, 2) + " mm above the design at most, at X" +
                     fixed(before.back().max_left_at[0], 1) + " Y" + fixed(before.back().max_left_at[1], 1) + "), " +
                     std::to_string(links.fed) + " approaches finished at the plunge feed");
+  // 4b. Rest finishing (issue 41): a smaller tool where the finishing leaves rest, its own operation.
+  const std::string rest_id = o.rest_tool.value_or(config["finish"]["rest"]["tool"].get<std::string>());
+  if (!rest_id.empty()) {
+    const tooling::Tool rest = job_tool(rest_id, config, o.material, lib);
+    if (!(rest.diameter_mm < ball.diameter_mm))
+      throw Error(file + ": the rest tool " + rest.label() + " is not smaller than the finishing tool " + ball.label());
+    job::check_reach(rest.cutter(), rest.label(), depth, "the part");
+    (void)job::machine_steps(roughed, design, {job::chain_steps(ops).back()},
+                             fs_.machine);  // what the finishing leaves
+    const CuttingSettings cs = cutting_settings(config, o.material);
+    const tooling::CuttingData d =
+        tooling::cutting_data(rest, lib.material(cs.material_id, cs.material_from),
+                              config["simulate"]["allowance_mm"].get<double>(), cs.machine, cs.factors);
+    std::string why;
+    const std::optional<gcode::Program> rest_program =
+        job_rest_program(part, fs_, roughed, cutter_of(rest), config["finish"]["rest"]["min_area_mm2"].get<double>(),
+                         {d.rpm, d.feed_mm_min, d.feed_plunge_mm_min}, why);
+    info("job: " + stem + ": " + why);
+    notes.push_back(why);
+    if (rest_program) {
+      job::LinkChanges rest_links;
+      ops.push_back({"rest finishing (" + rest.label() + ")", rest,
+                     job::clear_rapids(*rest_program, roughed, rest.cutter(), fs_.params.clearance_mm,
+                                       d.feed_plunge_mm_min, &rest_links)});
+    }
+  }
   if (!pick.meets_spec && pf.outcomes.size() > 1)
     notes.push_back("no strategy meets the surface specification; the job finishes with the best of them");
   ops = job::numbered(std::move(ops));
@@ -380,6 +415,7 @@ int run_job(const JobOpts& o) {
         {"time_feed_min", st.stats.feed_time_min},
         {"max_depth_of_cut_mm", st.max_depth_of_cut_mm},
         {"cutting_rapids", st.cutting_rapids},
+        {"air_cut_share", st.air_cut_share()},
         {"max_depth_of_cut_at",
          Json{{"line", st.max_cut_line}, {"x", st.max_cut_at[0]}, {"y", st.max_cut_at[1]}, {"z", st.max_cut_at[2]}}},
         {"left_above_design_mm", st.max_left_mm},
@@ -467,6 +503,10 @@ Registered register_job(CLI::App& app) {
       });
   sub->add_option("--tool", o->finish_tool, "finishing tool (library id or ball:D, bull:D:r)");
   sub->add_option("--rough-tool", o->rough_tool, "roughing tool (library id)");
+  sub->add_option("--rest-tool", o->rest_tool,
+                  "rest finishing after the finishing with this smaller tool (library id or ball:D), from the stock "
+                  "the finishing leaves, when its rest covers /finish/rest/min_area_mm2 (default /finish/rest/tool: "
+                  "none)");
   o->boundary.add_to(sub);
   sub->add_flag("--keep-deep-cuts", o->keep_deep_cuts,
                 "write the job even where a cut goes deeper than its tool's flutes (warned; refused without)");

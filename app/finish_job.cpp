@@ -633,4 +633,39 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
   return j;
 }
 
+std::optional<gcode::Program> job_rest_program(const job::Part& part, const FinishSettings& settings,
+                                               const simulate::ZMap& z, const tooling::Cutter& rest_tool,
+                                               double min_area_mm2, const RestCut& cut, std::string& why) {
+  FinishSettings plain = settings;
+  plain.simulate = false;  // the frame and parameters only
+  const PartJob job = finishing_job(part, plain);
+  finish::FinishParams p = job.params;
+  p.tool = rest_tool;
+  p.tool_label.clear();
+  p.comments = {"tool: " + p.tool.describe()};
+  p.spindle_rpm = cut.rpm, p.feed_mm_min = cut.feed_mm_min, p.plunge_feed_mm_min = cut.plunge_feed_mm_min;
+  finish::RestStock stock;
+  const simulate::GridSpec& g = z.spec();
+  stock.x0 = g.x0, stock.y0 = g.y0, stock.cell = g.cell;
+  stock.nx = static_cast<int>(g.nx), stock.ny = static_cast<int>(g.ny);
+  stock.z = z.heights();
+  stock.z_offset = -job.frame.z_shift();  // program frame → part frame
+  finish::RestParams rp;
+  rp.stock = &stock;
+  rp.threshold_mm = settings.rest_threshold_mm;
+  rp.margin_mm = settings.rest_margin_mm;
+  const finish::DropCutter dropper(part.mesh, p.tool);
+  const finish::RestRegions r = finish::rest_regions(part.mesh, dropper, rp, p.x0, p.y0, p.x1, p.y1);
+  if (r.empty() || r.rest_axis_area_mm2 < min_area_mm2) {
+    why = "rest finishing: " + fixed(r.rest_axis_area_mm2, 1) + " mm² of " + rest_tool.describe() +
+          " positions over rest thicker than " + fixed(rp.threshold_mm, 3) + " mm, under /finish/rest/min_area_mm2 (" +
+          fixed(min_area_mm2, 1) + " mm²): no rest operation";
+    return std::nullopt;
+  }
+  why = "rest finishing with " + rest_tool.describe() +
+        " from the stock the finishing leaves: " + std::to_string(r.regions) + " region(s), " +
+        fixed(r.rest_axis_area_mm2, 1) + " mm² of tool positions over " + fixed(rp.threshold_mm, 3) + " mm of rest";
+  return finish::plan_rest(part.mesh, dropper, r, "the stock the finishing leaves", p).program;
+}
+
 }  // namespace millnet::app

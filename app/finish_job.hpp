@@ -14,6 +14,7 @@
 #include "millnet/job/frame.hpp"
 #include "millnet/job/part.hpp"
 #include "millnet/simulate/aim.hpp"
+#include "millnet/simulate/zmap.hpp"
 
 #include <filesystem>
 #include <optional>
@@ -28,6 +29,18 @@ struct PartFinish {
   std::optional<job::Design> design;
   std::vector<job::StrategyOutcome> outcomes;
 };
+
+/// Rest finishing as a job's operation (issue 41): the program of `rest_tool` behind the stock `z`
+/// the operations before it left (a z-map in the program frame), planned as `finish --rest-tool
+/// --rest-from` plans it, in the part's finishing frame. Empty, with `why` saying so, when the rest
+/// tool's axis positions over rest cover less than `min_area_mm2` (or none). `cut`: the rest
+/// tool's spindle speed, feed and plunge feed.
+struct RestCut {
+  double rpm = 0, feed_mm_min = 0, plunge_feed_mm_min = 0;
+};
+[[nodiscard]] std::optional<gcode::Program> job_rest_program(const job::Part& part, const FinishSettings& settings,
+                                                             const simulate::ZMap& z, const tooling::Cutter& rest_tool,
+                                                             double min_area_mm2, const RestCut& cut, std::string& why);
 
 /// Plans, writes and (optionally) simulates every strategy of `settings` on the part:
 /// DIR/<stem>.s<k>.nc, .metrics.json, .png, .ra.png (with simulate); with several strategies also

@@ -218,6 +218,54 @@ TEST(CliJob, AToolThatCannotReachIsReplacedByOneThatCanOrTheJobIsRefused) {
 // naming the operation, the place and the depth (--keep-deep-cuts writes it, warned). A Ø2 ball with
 // 0.1 mm of flutes: the roughing leaves 5 mm, a Ø6 ball semi-finishes to the 0.1 mm allowance plus
 // its cusps, and the Ø2 ball still meets more than 0.1 mm.
+/// A 30 × 24 mm block 8 mm tall with a rectangular pocket 2 mm deep (walls steep over one 0.5 mm
+/// grid step): its floor meets the walls in corners no ball fills.
+fs::path write_pocket(const fs::path& dir) {
+  const auto m = testing_ingest::solid(
+      [](double x, double y) { return x > 8 && x < 22 && y > 6 && y < 18 ? 6.0 : 8.0; }, 0, 30, 0, 24, 60, 48);
+  const fs::path p = dir / "pocket.stl";
+  ingest::save_stl_binary(m, p);
+  return p;
+}
+
+TEST(CliJob, RestFinishingIsAnOperationWithItsToolChangeWhereTheFinishingLeavesRest) {
+  const fs::path d = fresh_dir("cli_job_rest");
+  const fs::path mesh = write_pocket(d);
+  std::ofstream(d / "fast.json") << kFast;
+  const std::string base = "job --quiet --no-preview --config fast.json --mesh '" + mesh.string() + "' --strategy 1 ";
+  const auto r = run_millnet(base + "--rest-tool ball:1 --out out", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Json j = Json::parse(slurp(d / "out" / "pocket.job.json"));
+  const auto& ops = j["operations"];
+  ASSERT_GE(ops.size(), 3U) << j.dump(1);
+  const auto& finishing = ops[ops.size() - 2];
+  const auto& rest = ops.back();
+  EXPECT_EQ(finishing["tool"]["id"], "bn2-2f-carbide");
+  EXPECT_EQ(rest["name"].get<std::string>().rfind("rest finishing", 0), 0U) << rest["name"];
+  EXPECT_NE(rest["tool"]["number"], finishing["tool"]["number"]);  // its own tool, its own change
+  EXPECT_EQ(rest["cutting_rapids"], 0);
+  EXPECT_LE(rest["max_depth_of_cut_mm"].get<double>(), 1.0);  // the corners' rest, not a slot
+  EXPECT_LT(rest["left_above_design_mm"].get<double>(), finishing["left_above_design_mm"].get<double>());
+  EXPECT_LT(rest["time_kinematic_min"].get<double>(), finishing["time_kinematic_min"].get<double>() / 4);
+  EXPECT_LT(rest["air_cut_share"].get<double>(), 0.5);
+  EXPECT_LE(j["simulated"]["max_gouge_mm"].get<double>(), 0.002);
+  const std::string text = slurp(d / "out" / "pocket.job.nc");
+  EXPECT_NE(text.find("T" + std::to_string(rest["tool"]["number"].get<int>()) + " M6"), std::string::npos);
+  EXPECT_TRUE(linuxcnc_accepts((d / "out" / "pocket.job.nc").string(), (d / "out" / "pocket.tool.tbl").string()));
+  // Over the minimum area only; a rest tool no smaller than the finishing's is refused.
+  std::ofstream(d / "big.json") << R"({"simulate": {"cell_mm": 0.1}, "finish": {"tool": {"id": "bn2-2f-carbide"},
+                                       "rest": {"tool": "ball:1", "min_area_mm2": 1e6}}})";
+  const auto none = run_millnet(
+      "job --quiet --no-preview --config big.json --mesh '" + mesh.string() + "' --strategy 1 --out none", d);
+  ASSERT_EQ(none.code, 0) << none.err;
+  const Json n = Json::parse(slurp(d / "none" / "pocket.job.json"));
+  EXPECT_EQ(n["operations"].size(), ops.size() - 1);
+  EXPECT_NE(n.dump().find("no rest operation"), std::string::npos);
+  const auto big = run_millnet(base + "--rest-tool ball:3 --out bad", d);
+  EXPECT_NE(big.code, 0);
+  EXPECT_NE(big.err.find("not smaller"), std::string::npos) << big.err;
+}
+
 TEST(CliJob, ACutDeeperThanTheToolsFlutesRefusesTheJob) {
   const fs::path d = fresh_dir("cli_job_flutes");
   const fs::path mesh = write_cavity(d);
