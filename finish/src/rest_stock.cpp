@@ -129,8 +129,12 @@ public:
               bj = static_cast<int>(std::floor((p.x() - x0_) / side_));
     for (int i = std::max(0, bi - reach); i <= std::min(ny_ - 1, bi + reach); ++i)  // O(placements near)
       for (int j = std::max(0, bj - reach); j <= std::min(nx_ - 1, bj + reach); ++j)
-        for (const Eigen::Vector3d& t : buckets_[at(i, j)])  // the cutting end only, not the flutes above
-          if (p.z() <= t.z() + top_ && distance_to_tool(tool_, t.x(), t.y(), t.z(), p) <= eps) return true;
+        // Latest first (the pass before is the likeliest to have cleared it); the cutting end only,
+        // not the flutes above; a tip above the point by more than eps cannot touch it.
+        for (auto t = buckets_[at(i, j)].rbegin(); t != buckets_[at(i, j)].rend(); ++t)
+          if (p.z() <= t->z() + top_ && p.z() >= t->z() - eps &&
+              distance_to_tool(tool_, t->x(), t->y(), t->z(), p) <= eps)
+            return true;
     return false;
   }
   void sweep(const Pass& piece) {
