@@ -129,7 +129,7 @@ SemiFinish semi_finishing(const SemiFinishInput& in, const Json& config, const s
 /// reach of the library's tool of its shape.
 tooling::Tool job_tool(const std::string& text, const Json& config, const std::optional<std::string>& material,
                        const ToolLibrary& lib) {
-  if (text.find(':') == std::string::npos) return lib.tool(text, "--rest-tool");
+  if (text.find(':') == std::string::npos) return lib.tool(text, "--rest-tool (or /finish/rest/tool)");
   const tooling::Cutter c = parse_tool(text);
   return inline_tool(c.type, c.diameter, c.corner_radius, cutting_settings(config, material), lib);
 }
@@ -263,12 +263,10 @@ int run_job(const JobOpts& o) {
                          {d.rpm, d.feed_mm_min, d.feed_plunge_mm_min}, why);
     info("job: " + stem + ": " + why);
     notes.push_back(why);
-    if (rest_program) {
-      job::LinkChanges rest_links;
-      ops.push_back({"rest finishing (" + rest.label() + ")", rest,
-                     job::clear_rapids(*rest_program, roughed, rest.cutter(), fs_.params.clearance_mm,
-                                       d.feed_plunge_mm_min, &rest_links)});
-    }
+    if (rest_program)  // its links already clear the stock it read; lifted here too, like the finishing's
+      ops.push_back(
+          {"rest finishing (" + rest.label() + ")", rest,
+           job::clear_rapids(*rest_program, roughed, rest.cutter(), fs_.params.clearance_mm, d.feed_plunge_mm_min)});
   }
   if (!pick.meets_spec && pf.outcomes.size() > 1)
     notes.push_back("no strategy meets the surface specification; the job finishes with the best of them");

@@ -394,6 +394,17 @@ void write_extra_program(const job::Part& part, const FinishSettings& settings, 
   write_file_atomic(out / (base + ".json"), figures.dump(2) + "\n");
 }
 
+/// A simulated stock (a z-map in the program frame) as rest finishing reads it, in the part's frame.
+finish::RestStock stock_of(simulate::ZMap z, const job::Frame& frame) {
+  const simulate::GridSpec g = z.spec();
+  finish::RestStock s;
+  s.x0 = g.x0, s.y0 = g.y0, s.cell = g.cell;
+  s.nx = static_cast<int>(g.nx), s.ny = static_cast<int>(g.ny);
+  s.z = std::move(z.heights());
+  s.z_offset = -frame.z_shift();  // program frame → part frame
+  return s;
+}
+
 /// The stock a simulation saved (`simulate --save-stock`), in the mesh frame, for rest from the
 /// stock: it must cover the part's footprint. Errors name the file.
 finish::RestStock rest_stock(const fs::path& file, const job::Part& part, const job::Frame& frame) {
@@ -413,12 +424,7 @@ finish::RestStock rest_stock(const fs::path& file, const job::Part& part, const 
                                         " … " + fixed(y1, 3) + ") does not cover the part " + part.name + " (X " +
                                         fixed(px0, 3) + " … " + fixed(px1, 3) + ", Y " + fixed(py0, 3) + " … " +
                                         fixed(py1, 3) + "): save the stock from a simulation of this part");
-  finish::RestStock s;
-  s.x0 = g.x0, s.y0 = g.y0, s.cell = g.cell;
-  s.nx = static_cast<int>(g.nx), s.ny = static_cast<int>(g.ny);
-  s.z = std::move(z.heights());
-  s.z_offset = -frame.z_shift();  // program frame → part frame
-  return s;
+  return stock_of(std::move(z), frame);
 }
 
 /// finish --rest-tool and --pencil (issue 41): rest finishing behind the reference tool, and pencil
@@ -644,12 +650,7 @@ std::optional<gcode::Program> job_rest_program(const job::Part& part, const Fini
   p.tool_label.clear();
   p.comments = {"tool: " + p.tool.describe()};
   p.spindle_rpm = cut.rpm, p.feed_mm_min = cut.feed_mm_min, p.plunge_feed_mm_min = cut.plunge_feed_mm_min;
-  finish::RestStock stock;
-  const simulate::GridSpec& g = z.spec();
-  stock.x0 = g.x0, stock.y0 = g.y0, stock.cell = g.cell;
-  stock.nx = static_cast<int>(g.nx), stock.ny = static_cast<int>(g.ny);
-  stock.z = z.heights();
-  stock.z_offset = -job.frame.z_shift();  // program frame → part frame
+  const finish::RestStock stock = stock_of(z, job.frame);
   finish::RestParams rp;
   rp.stock = &stock;
   rp.threshold_mm = settings.rest_threshold_mm;
