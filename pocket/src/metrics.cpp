@@ -38,7 +38,7 @@ std::vector<std::pair<std::string, double>> Metrics::to_key_values() const {
 
 UncutArea uncut_area(const Region& region, const Path2D& path, double clearance_mm, double tool_radius_mm) {
   UncutArea u;
-  const auto centre_area = offset_inward(region, clearance_mm, tol::uncut_chord_mm);
+  const auto centre_area = offset_inward(region, clearance_mm + tol::contour_margin_mm, tol::uncut_chord_mm);
   const auto reachable = offset_areas(centre_area, tool_radius_mm, tol::uncut_chord_mm);
   u.reachable_mm2 = area(reachable);
   std::vector<std::vector<Vec2>> lines;

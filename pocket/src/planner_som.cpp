@@ -248,11 +248,10 @@ PlanResult plan_som_spec(const Region& region, const CutParams& cut, const Plann
 }
 
 /// The tool-point grid make_tool_points visits (exact), then the ring: M = max(3, round(node_factor
-/// · N)) nodes, N ≤ the grid points (som.hpp); then the time of the run as N × M tool point – ring
-/// node pairs, checked against max_pairs: until the ring has spread over the pocket a winner search
-/// scans the nodes within the city's distance to the ring, a share of M that grows with the pocket
-/// (issue 42: a 500 mm square at stepover 5, N = 10⁴, took 62 s on two loaded cores, 1,000 mm
-/// more than 300 s, 2,000 mm never finished).
+/// · N)) nodes, N ≤ the grid points (som.hpp); then the time of the run as the ring node pulls and
+/// winner queries of its schedule (som_node_steps), checked against max_pairs. (Issue 42: the
+/// tool points × ring nodes counted before refused a 2 × 2 m pocket at stepover 5 by 5.2e10 "pairs";
+/// its tour of N = 157,609 points takes ~10 s, for 3.7e8 steps of the schedule.)
 std::vector<WorkEstimate> som_work(const Region& region, const CutParams&, const PlannerSpec& spec) {
   const SomSpec& som = *spec.get<SomSpec>();
   const detail::BBox box = detail::boundary_box(region);
@@ -262,8 +261,8 @@ std::vector<WorkEstimate> som_work(const Region& region, const CutParams&, const
   return {{grid, n, "tool points", 24.0 * n},
           {"node_factor " + detail::mm(som.som.node_factor) + " × the tool points of " + grid, m, "SOM ring nodes",
            32.0 * m},
-          {grid + " (its SOM's winner searches; a larger stepover or another planner)", n * m,
-           "tool point × ring node pairs", 32.0 * m, false, true}};
+          {grid + " (its SOM's adaptation passes; a larger stepover or another planner)", som_node_steps(n, som.som),
+           "ring node pulls and winner searches", 32.0 * m, false, true}};
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "millnet/pocket/som.hpp"
 
 #include "millnet/core/error.hpp"
+#include "node_grid.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -22,102 +23,7 @@ std::uint64_t splitmix64(std::uint64_t& x) {
 
 std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
 
-/// Uniform grid of ring nodes (points in the w-scaled plane). Each node sits in one cell; a node
-/// remembers its cell and slot so that a move is O(1).
-class NodeGrid {
-public:
-  NodeGrid(const Vec2& lo, const Vec2& hi, std::size_t target_cells) : lo_(lo) {
-    const double wdt = std::max(hi.x() - lo.x(), 0.0), hgt = std::max(hi.y() - lo.y(), 0.0);
-    const double tc = static_cast<double>(std::max<std::size_t>(target_cells, 1));
-    double s = std::sqrt(wdt * hgt / tc);
-    s = std::max({s, std::max(wdt, hgt) / tc, 1e-12});
-    s_ = s;
-    inv_s_ = 1.0 / s;
-    nx_ = static_cast<int>(std::floor(wdt / s)) + 1;
-    ny_ = static_cast<int>(std::floor(hgt / s)) + 1;
-    cells_.resize(static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_));
-  }
-
-  void insert(int j, const Vec2& p) {
-    if (cell_of_.size() <= static_cast<std::size_t>(j)) {
-      cell_of_.resize(static_cast<std::size_t>(j) + 1, -1);
-      slot_of_.resize(static_cast<std::size_t>(j) + 1, 0);
-    }
-    const int c = cell(p);
-    auto& v = cells_[static_cast<std::size_t>(c)];
-    cell_of_[static_cast<std::size_t>(j)] = c;
-    slot_of_[static_cast<std::size_t>(j)] = v.size();
-    v.push_back(j);
-  }
-
-  /// Node j moved to p: O(1).
-  void moved(int j, const Vec2& p) {
-    const int c = cell(p);
-    const int old = cell_of_[static_cast<std::size_t>(j)];
-    if (c == old) return;
-    auto& v = cells_[static_cast<std::size_t>(old)];
-    const std::size_t slot = slot_of_[static_cast<std::size_t>(j)];
-    const int last = v.back();
-    v[slot] = last;
-    slot_of_[static_cast<std::size_t>(last)] = slot;
-    v.pop_back();
-    auto& w = cells_[static_cast<std::size_t>(c)];
-    cell_of_[static_cast<std::size_t>(j)] = c;
-    slot_of_[static_cast<std::size_t>(j)] = w.size();
-    w.push_back(j);
-  }
-
-  /// Nearest node to q (smallest index on ties). Rings of cells around q's cell are scanned until the
-  /// ring's lower bound exceeds the best distance: O(cells within the nearest distance).
-  /// Returns {-1, inf} when no node is at a finite distance: callers go through nearest_node().
-  std::pair<int, double> nearest(const Vec2& q, const std::vector<Vec2>& nodes) const {
-    const int cx = std::clamp(static_cast<int>(std::floor((q.x() - lo_.x()) * inv_s_)), 0, nx_ - 1);
-    const int cy = std::clamp(static_cast<int>(std::floor((q.y() - lo_.y()) * inv_s_)), 0, ny_ - 1);
-    int best = -1;
-    double bd = std::numeric_limits<double>::infinity();
-    const int rmax = std::max(nx_, ny_);
-    for (int r = 0; r <= rmax; ++r) {
-      if (r > 0) {
-        // distance from q to the outside of the (2r−1)² block of cells already scanned
-        const double x0 = lo_.x() + (cx - r + 1) * s_, x1 = lo_.x() + (cx + r) * s_;
-        const double y0 = lo_.y() + (cy - r + 1) * s_, y1 = lo_.y() + (cy + r) * s_;
-        const double lb = std::min({q.x() - x0, x1 - q.x(), q.y() - y0, y1 - q.y()});
-        if (best >= 0 && lb > 0 && lb * lb > bd) break;
-        if (cx - r < 0 && cy - r < 0 && cx + r >= nx_ && cy + r >= ny_) break;
-      }
-      const int ylo = std::max(cy - r, 0), yhi = std::min(cy + r, ny_ - 1);
-      for (int y = ylo; y <= yhi; ++y) {
-        const bool edge_row = (y == cy - r || y == cy + r);
-        const int step = edge_row ? 1 : 2 * r;
-        for (int x = cx - r; x <= cx + r; x += std::max(step, 1)) {
-          if (x < 0 || x >= nx_) continue;
-          for (int j : cells_[static_cast<std::size_t>(y * nx_ + x)]) {
-            const double d = (nodes[static_cast<std::size_t>(j)] - q).squaredNorm();
-            if (d < bd || (d == bd && j < best)) {
-              bd = d;
-              best = j;
-            }
-          }
-        }
-      }
-    }
-    return {best, bd};
-  }
-
-private:
-  int cell(const Vec2& p) const {
-    // nodes never leave the grid's box (convex combinations), so truncation is a floor here
-    const int x = std::min(static_cast<int>((p.x() - lo_.x()) * inv_s_), nx_ - 1);
-    const int y = std::min(static_cast<int>((p.y() - lo_.y()) * inv_s_), ny_ - 1);
-    return y * nx_ + x;
-  }
-  Vec2 lo_;
-  double s_ = 1, inv_s_ = 1;
-  int nx_ = 1, ny_ = 1;
-  std::vector<std::vector<int>> cells_;
-  std::vector<int> cell_of_;
-  std::vector<std::size_t> slot_of_;
-};
+using detail::NodeGrid;
 
 /// The grid's nearest node to city i; found-nothing (every squared distance overflowed) is an error,
 /// never an index (issue 15: /pocket/som/w 1e307 indexed with -1 and corrupted the heap).
@@ -299,7 +205,42 @@ void tour_from_ring(const NodeGrid& grid, const ScaledCities& s, const std::vect
   for (std::size_t i = 0; i < n; ++i) res.order[i] = std::get<2>(key[i]);
 }
 
+/// The gain G₀ in ring nodes. Auto: quality barely depends on G₀ here (the elliptic initial ring
+/// already carries the global order), while the cost of the early passes grows as N·G₀/α; 30 ring
+/// nodes was the knee on 1k–10k random and grid points (tour within 0.5 % of G₀ = 100, 3× faster).
+double initial_gain(const SomParams& params, double md) {
+  return params.g0 > 0 ? params.g0 : std::clamp(0.1 * md, 3.0, 30.0);
+}
+
+/// The ring neighbours pulled on either side of the winner at gain G: f(n) > 1e-6·f(0) ⇔ |n| < G·reach.
+double kernel_width(double G, double md) {
+  const double reach = std::sqrt(std::log(1e6));
+  return std::min(std::floor(G * reach), std::floor((md - 1) / 2));
+}
+
+/// Passes after G has shrunk to the winner alone: two cities that share a node keep pulling it to
+/// and fro once G is tiny; after a few passes nothing changes the order any more.
+constexpr int kSettlePasses = 20;
+
 }  // namespace
+
+double som_node_steps(double n, const SomParams& params) {
+  const double md = std::max(3.0, std::round(params.node_factor * n));
+  // The slowest decay the run can take: α, or the adaptive α's floor.
+  const double alpha = params.adaptive_alpha ? params.alpha_min : params.alpha;
+  double G = initial_gain(params, md), per_city = 1;  // + the tour's own winner query
+  int settled = 0;
+  for (int pass = 0; pass < params.max_passes; ++pass) {  // O(passes)
+    const double width = kernel_width(G, md);
+    per_city += 2 * width + 2;  // the pulls and the winner query
+    G *= (1 - alpha);
+    if (width == 0) {
+      per_city += 1;  // the mapping check's query
+      if (++settled >= kSettlePasses) break;
+    }
+  }
+  return n * per_city;
+}
 
 SomResult som_tour(const std::vector<Vec2>& cities, const SomParams& params) {
   check_som_params(params);
@@ -328,21 +269,16 @@ SomResult som_tour(const std::vector<Vec2>& cities, const SomParams& params) {
   NodeGrid grid(s.lo, s.hi, m / 2);
   for (std::size_t j = 0; j < m; ++j) grid.insert(static_cast<int>(j), C[j]);
 
-  // Auto G0: quality barely depends on G0 here (the elliptic initial ring already carries the global
-  // order), while the cost of the early passes grows as N·G0/α; 30 ring nodes was the knee on 1k–10k
-  // random and grid points (tour within 0.5 % of G0 = 100, 3× faster).
-  double G = params.g0 > 0 ? params.g0 : std::clamp(0.1 * md, 3.0, 30.0);
-  const double reach = std::sqrt(std::log(1e6));  // f(n) > 1e-6·f(0) ⇔ |n| < G·reach
+  double G = initial_gain(params, md);
   const double f0 = 1.0 / std::numbers::sqrt2;
   std::vector<std::size_t> perm(n);
   for (std::size_t i = 0; i < n; ++i) perm[i] = i;
   std::vector<double> f;
   std::vector<int> owner(m, -1);
 
-  constexpr int kSettlePasses = 20;
   int settled = 0;
   for (int pass = 0; pass < params.max_passes; ++pass) {
-    const auto width = static_cast<std::ptrdiff_t>(std::min(std::floor(G * reach), std::floor((md - 1) / 2)));
+    const auto width = static_cast<std::ptrdiff_t>(kernel_width(G, md));
     f.assign(static_cast<std::size_t>(width) + 1, 0.0);
     for (std::ptrdiff_t k = 0; k <= width; ++k) {  // O(width)
       const double kd = static_cast<double>(k);

@@ -352,7 +352,7 @@ TEST(RestRegions, BadParametersAndASmallerReferenceAreRefused) {
   // Nothing to take: the same tool as the reference leaves no rest, and plan_rest says so.
   rp.cell_mm = 0;
   rp.reference = Cutter::ball(2);
-  const RestRegions none = rest_regions(part, two, rp, -10, 0, 20, 30);
+  const RestRegions none = rest_regions(part, two, rp, -2, 10, 6, 16);  // wall, fillet and floor
   EXPECT_TRUE(none.empty());
   EXPECT_THROW((void)plan_rest(part, two, none, rp.reference.describe(), rest_params()), Error);
 }

@@ -3,6 +3,7 @@
 #include "millnet/pocket/som.hpp"
 
 #include "millnet/core/error.hpp"
+#include "node_grid.hpp"
 
 #include <gtest/gtest.h>
 
@@ -142,4 +143,72 @@ TEST(Som, WeightThatOverflowsTheSquaredDistancesIsRefused) {
   }
   const auto r = mp::som_tour(pts, {.w = 1e6});
   EXPECT_TRUE(mp::is_permutation_of(r.order, pts.size()));
+}
+
+// The winner search (node_grid.hpp) against a scan of every node, while nodes move as the SOM moves
+// them (toward random cities, by convex combinations): the same node and squared distance, the
+// smallest index on ties, for queries near the nodes, far from a ring that has not spread (many
+// rings of empty cells) and outside the grid's box. Exact ties:
+// nodes stacked on one point and queries on the grid's lines.
+TEST(SomNodeGrid, TheWinnerIsTheScanOfEveryNodeWhereverTheQueryAndTheNodesAre) {
+  mp::Rng rng(42);
+  const mp::Vec2 lo(-3, 5), hi(997, 605);
+  const std::size_t m = 3000;
+  std::vector<mp::Vec2> nodes(m);
+  mp::detail::NodeGrid grid(lo, hi, m / 2);
+  // A small ring in one corner of the box, as a ring that has not spread yet; every tenth node on one point.
+  for (std::size_t j = 0; j < m; ++j) {
+    const double t = 2 * std::numbers::pi * static_cast<double>(j) / static_cast<double>(m);
+    nodes[j] = j % 10 == 0 ? mp::Vec2(20, 30) : mp::Vec2(30 + 20 * std::cos(t), 40 + 15 * std::sin(t));
+    grid.insert(static_cast<int>(j), nodes[j]);
+  }
+  auto scan = [&](const mp::Vec2& q) {
+    int best = -1;
+    double bd = std::numeric_limits<double>::infinity();
+    for (std::size_t j = 0; j < m; ++j) {
+      const double d = (nodes[j] - q).squaredNorm();
+      if (d < bd) {
+        bd = d;
+        best = static_cast<int>(j);
+      }
+    }
+    return std::pair<int, double>(best, bd);
+  };
+  const mp::Vec2 span = hi - lo;
+  int far = 0, outside = 0;
+  for (int round = 0; round < 4000; ++round) {
+    mp::Vec2 q(lo.x() + span.x() * rng.uniform(), lo.y() + span.y() * rng.uniform());
+    if (round % 7 == 0) q = mp::Vec2(lo.x() - 50 + (span.x() + 100) * rng.uniform(), hi.y() + 30 * rng.uniform());
+    if (round % 11 == 0) q = mp::Vec2(std::round(q.x()), std::round(q.y()));
+    if (round % 13 == 0) q = nodes[rng.below(m)];
+    const auto want = scan(q);
+    const auto got = grid.nearest(q, nodes);
+    ASSERT_EQ(got.first, want.first) << "round " << round << " q " << q.transpose();
+    ASSERT_EQ(got.second, want.second) << "round " << round;
+    far += want.second > 100.0 * 100.0;
+    outside += q.y() > hi.y();
+    // The SOM's pull: the winner and its ring neighbours toward q (they stay inside the box).
+    for (int k = -5; k <= 5; ++k) {
+      const auto j = static_cast<std::size_t>((static_cast<int>(m) + want.first + k) % static_cast<int>(m));
+      mp::Vec2 target = q.cwiseMax(lo).cwiseMin(hi);
+      nodes[j] += 0.3 * (target - nodes[j]);
+      grid.moved(static_cast<int>(j), nodes[j]);
+    }
+  }
+  EXPECT_GT(far, 100);  // queries far from the ring
+  EXPECT_GT(outside, 100);
+}
+
+// The SOM's estimate (planner_som.cpp's refusal) is its schedule: with G₀ = 3 and α = 0.5 the widths
+// are floor(3·3.717) = 11, 5, 2, 1, 0 (G 3, 1.5, 0.75, 0.375, 0.1875), then 19 more passes at width 0:
+// per city 1 + (24 + 12 + 6 + 4 + 2) + 1 + 19 · (2 + 1) = 107.
+TEST(Som, TheWorkEstimateFollowsTheGainSchedule) {
+  mp::SomParams p;
+  p.g0 = 3;
+  p.alpha = 0.5;
+  EXPECT_DOUBLE_EQ(mp::som_node_steps(1000, p), 1000.0 * 107);
+  // A real run makes no more passes than the schedule allows.
+  const auto cities = random_points(300, 3, 100.0);
+  const mp::SomResult r = mp::som_tour(cities, p);
+  EXPECT_LE(r.passes, 24);
 }

@@ -52,9 +52,10 @@ TEST(PocketWork, ToolPointGridOfA100mmSquareAtStepover1Is101Squared) {
   EXPECT_EQ(e[1].unit, "SOM ring nodes");
   EXPECT_EQ(e[1].count, 2.0 * 101 * 101);
   EXPECT_EQ(e[1].cause, "node_factor 2 × the tool points of stepover 1 mm over a 100 × 100 mm pocket");
-  // The run's time: tool points × ring nodes, checked against max_pairs (issue 42).
-  EXPECT_EQ(e[2].unit, "tool point × ring node pairs");
-  EXPECT_EQ(e[2].count, 101.0 * 101 * 2 * 101 * 101);
+  // The run's time: the ring node pulls and winner searches of its schedule, checked against
+  // max_pairs (issue 42).
+  EXPECT_EQ(e[2].unit, "ring node pulls and winner searches");
+  EXPECT_EQ(e[2].count, som_node_steps(101.0 * 101, SomParams{}));
   EXPECT_TRUE(e[2].pairs);
   // Feed map: D/10 = 1 mm cells over the box grown by R + g = 6 on each side: 112 × 112.
   EXPECT_EQ(e[3].unit, "feed-map cells");
@@ -62,11 +63,13 @@ TEST(PocketWork, ToolPointGridOfA100mmSquareAtStepover1Is101Squared) {
 }
 
 // Issue 42 §7/5: the SOM on a 2 × 2 m pocket at stepover 5 (160,801 tool points) never finished;
-// its N × M pairs are refused against max_pairs, naming the stepover and what to change.
-TEST(PocketWork, TheSomOfA2mPocketIsRefusedByItsPairs) {
-  const std::string msg = refusal(square(2000), cut(10, 5), som(5), WorkLimits{});
-  EXPECT_NE(msg.find("stepover 5 mm over a 2000 × 2000 mm pocket (its SOM's winner searches; a larger stepover or "
-                     "another planner) makes 5.2e10 tool point × ring node pairs"),
+// its tour takes ~10 s (3.7e8 steps of its schedule pass the limit: docs/roughing.md), and a
+// pocket 5 times as wide is refused by them, naming the stepover and what to change.
+TEST(PocketWork, TheSomOfA2mPocketPassesAndOfA10mPocketIsRefusedByItsSteps) {
+  EXPECT_EQ(refusal(square(2000), cut(10, 5), som(5), WorkLimits{1e7, 8e9, 5e9}), "");
+  const std::string msg = refusal(square(10000), cut(10, 5), som(5), WorkLimits{1e8, 8e9, 5e9});
+  EXPECT_NE(msg.find("stepover 5 mm over a 10000 × 10000 mm pocket (its SOM's adaptation passes; a larger stepover "
+                     "or another planner) makes 9.3e9 ring node pulls and winner searches"),
             std::string::npos)
       << msg;
   EXPECT_NE(msg.find("; the limit is 5.0e9 (--max-pairs, /limits/max_pairs)"), std::string::npos) << msg;
@@ -82,11 +85,11 @@ TEST(PocketWork, IssueExampleStepover0001IsRefusedWithTheDocumentedLine) {
 
 TEST(PocketWork, IssueExampleVertex1kmAwayIsRefusedByItsFeedMap) {
   const Region r{{{0, 0, 0}, {1000000, 0, 0}, {100, 100, 0}, {0, 100, 0}}, {}};
-  // The offset planner: the SOM's tool point × ring node pairs refuse it first (issue 42).
+  // The offset planner: the SOM's adaptation steps refuse it first (issue 42).
   const std::string msg = refusal(r, cut(10, 5), OffsetSpec{}, WorkLimits{});
   EXPECT_NE(msg.find("feed_grid 1 mm over a 1000000 × 100 mm pocket makes 1.1e8 feed-map cells"), std::string::npos)
       << msg;
-  EXPECT_NE(refusal(r, cut(10, 5), som(5), WorkLimits{}).find("makes 3.5e13 tool point × ring node pairs"),
+  EXPECT_NE(refusal(r, cut(10, 5), som(5), WorkLimits{}).find("makes 9.7e9 ring node pulls and winner searches"),
             std::string::npos);
 }
 

@@ -11,8 +11,8 @@
 //
 // Complexity: the winner search uses a uniform grid of nodes in the w-scaled plane, updated in O(1)
 // per node move (nodes move by convex combinations toward cities, so they never leave the grid's box);
-// a query costs O(1) cells once the ring has spread over the cities. One pass costs
-// O(N·(query + G·sqrt(ln 1e6))); the whole run O(N·G0/α + passes·N).
+// a query costs O(1) cells once the ring has spread over the cities (pocket/src/node_grid.hpp). One
+// pass costs O(N·(query + G·sqrt(ln 1e6))); the whole run O(N·G0/α + passes·N) (som_node_steps).
 #include "millnet/pocket/geometry.hpp"
 
 #include <cstdint>
@@ -53,6 +53,11 @@ struct SomResult {
 /// SOM tour through `cities` (mm). Throws millnet::Error for invalid parameters or non-finite points.
 /// Deterministic for a seed (own xoshiro256** generator, no std:: distributions).
 [[nodiscard]] SomResult som_tour(const std::vector<Vec2>& cities, const SomParams& params);
+
+/// The work of som_tour on n cities, from the schedule of G alone: Σ over passes of the ring nodes
+/// each city pulls (2·width + 1) and its winner queries, × n; an upper bound for adaptive α (its
+/// floor alpha_min). O(passes).
+[[nodiscard]] double som_node_steps(double n, const SomParams& params);
 
 /// Σ |p[order[k+1]] − p[order[k]]|, plus the closing edge when `closed`. O(N).
 [[nodiscard]] double tour_length(const std::vector<Vec2>& pts, const std::vector<int>& order, bool closed);
