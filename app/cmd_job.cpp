@@ -18,6 +18,7 @@
 #include "millnet/tooling/io/tool_tables.hpp"
 
 #include <algorithm>
+#include <variant>
 #include <cmath>
 #include <map>
 
@@ -444,9 +445,15 @@ int run_job(const JobOpts& o) {
                                                                        stem + ".strategies.md)"
                                                                  : " (--strategy)")}};
   sheet.files = program_files;
-  notes.push_back(
-      "times are kinematic (the /machine motion model); tool changes and the operator's setup are not "
-      "counted");
+  sheet.tool_changes =
+      static_cast<int>(std::count_if(job_w.program.items.begin(), job_w.program.items.end(), [](const gcode::Item& it) {
+        return std::holds_alternative<gcode::ToolChange>(it);
+      }));
+  sheet.tool_change_s = config["machine"]["tool_change_s"].get<double>();
+  const double change_min = sheet.tool_changes * sheet.tool_change_s / 60;
+  notes.push_back("operation times are kinematic (the /machine motion model); the cycle time adds " +
+                  std::to_string(sheet.tool_changes) + " tool changes × " + format_double(sheet.tool_change_s) +
+                  " s (/machine/tool_change_s); the operator's setup is not counted");
   if (drill != nullptr)
     notes.push_back("the drill's tip goes to each hole's level; its point leaves a cone the end mill's plunge cuts");
   sheet.notes = notes;
@@ -460,6 +467,10 @@ int run_job(const JobOpts& o) {
                         {"deepest_z_mm", sheet.deepest_z}}},
          {"operations", ops_json},
          {"total_time_kinematic_min", sheet.total_time_min},
+         {"tool_changes", sheet.tool_changes},
+         {"tool_change_s", sheet.tool_change_s},
+         {"tool_change_time_min", change_min},
+         {"total_time_min", sheet.total_time_min + change_min},
          {"simulated", sim_metrics_json(m, design.grid)},
          {"strategy", Json{{"slot", slot}, {"name", finish::strategy_name(pick.strategy)}, {"chosen_by", o.strategy}}},
          {"notes", notes}};
@@ -470,8 +481,10 @@ int run_job(const JobOpts& o) {
   write_file_atomic(out / (stem + ".job.json"), j.dump(2) + "\n");
   report::write_setup_sheet(out / (stem + ".setup.html"), sheet);
   files.commit();
-  info("job: " + stem + ": " + std::to_string(ops.size()) + " operations, " + fixed(sheet.total_time_min, 1) +
-       " min, gouge " + (m.gouged ? fixed(m.max_gouge_mm, 3) + " mm" : std::string("none")) + " → " + job_nc.string());
+  info("job: " + stem + ": " + std::to_string(ops.size()) + " operations, " +
+       fixed(sheet.total_time_min + change_min, 1) + " min (" + std::to_string(sheet.tool_changes) +
+       " tool changes), gouge " + (m.gouged ? fixed(m.max_gouge_mm, 3) + " mm" : std::string("none")) + " → " +
+       job_nc.string());
   if (m.gouged) {
     std::cerr << "millnet job: error: " << job_nc.string() << " gouges the part by " << fixed(m.max_gouge_mm, 3)
               << " mm (line " << m.first_gouge_move.line << ")\n";

@@ -18,6 +18,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <sstream>
 #include <variant>
 
 namespace millnet::testing {
@@ -176,6 +177,20 @@ TEST(CliJob, OneProgramPerPartInEveryDialectWithItsToolChangesChecksumsAndSetupS
   double sum = 0;
   for (const auto& o : ops) sum += o["time_kinematic_min"].get<double>();
   EXPECT_NEAR(j["total_time_kinematic_min"].get<double>(), sum, 1e-9);
+  // The cycle time adds each tool change of the program (/machine/tool_change_s, 15 s by default):
+  // counted here on the written text, one "M6" per tool change.
+  std::size_t m6 = 0;
+  {
+    std::istringstream in(slurp(lx / "cavity.job.nc"));
+    for (std::string line; std::getline(in, line);)
+      m6 += line.find(" M6") != std::string::npos && line.find('(') != 0 ? 1U : 0U;
+  }
+  EXPECT_EQ(m6, 4U);
+  EXPECT_EQ(j["tool_changes"].get<std::size_t>(), m6);
+  EXPECT_EQ(j["tool_change_s"].get<double>(), 15.0);
+  EXPECT_NEAR(j["tool_change_time_min"].get<double>(), 4 * 15.0 / 60, 1e-12);
+  EXPECT_NEAR(j["total_time_min"].get<double>(), sum + 1.0, 1e-9);
+  EXPECT_NE(sheet.find("+ 4 tool changes × 15 s"), std::string::npos);
   const auto s =
       run_millnet("simulate --quiet --no-preview --config fast.json --mesh '" + mesh.string() +
                       "' --gcode linuxcnc/cavity.op1.drilling.nc --gcode linuxcnc/cavity.op2.roughing.nc "

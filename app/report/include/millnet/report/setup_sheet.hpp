@@ -61,7 +61,9 @@ struct SetupSheet {
   const std::vector<double>* heights = nullptr;
   std::vector<SetupTool> tools;
   std::vector<SetupOperation> operations;
-  double total_time_min = 0;
+  double total_time_min = 0;  ///< Σ of the operations' kinematic times
+  int tool_changes = 0;       ///< T M6 in the job program
+  double tool_change_s = 0;   ///< /machine/tool_change_s: the cycle time is total_time_min + changes × this
   /// The simulated job from the block: lines "gouge: none", "in spec: 99.2 % of 1,234 mm²", …
   std::vector<std::pair<std::string, std::string>> result;
   std::vector<SetupFile> files;
