@@ -2,6 +2,7 @@
 #include "millnet/gcode/reader.hpp"
 
 #include "millnet/core/error.hpp"
+#include "millnet/gcode/cycles.hpp"
 
 #include <algorithm>
 #include <array>
@@ -34,6 +35,8 @@ constexpr double kArcSpiralAbsInch = 2 * 0.001 * 1.41421356237309504880;  // CEN
 constexpr double kArcSpiralRel = 0.001;                                   // SPIRAL_RELATIVE_TOLERANCE
 /// Largest tool number a T word may give (LinuxCNC's tool table holds up to 99999 pockets).
 constexpr double kMaxToolNumber = 99999;
+/// Most pecks one G83 block may make (its depth / Q): a bound on the moves a short line may add.
+constexpr double kMaxPecks = 10000;
 /// Characters of a bad word or comment quoted in a message.
 constexpr std::size_t kQuoteChars = 40;
 
@@ -68,15 +71,16 @@ std::string fmt(double v, int digits = 6) {
 int g_group(double code) {
   if (!(std::abs(code - std::round(code)) < 1e-9 && std::abs(code) < 1e6)) return -1;  // not a code of ours
   const long c = std::lround(code);
-  if (c == 28) return 0;                        // non-modal (return home)
-  if ((c >= 0 && c <= 3) || c == 80) return 1;  // motion
-  if (c == 17) return 2;                        // plane
-  if (c == 90 || c == 91) return 3;             // distance mode
-  if (c == 94) return 5;                        // feed rate mode
-  if (c == 20 || c == 21) return 6;             // units
-  if (c == 40) return 7;                        // cutter radius compensation
-  if (c == 43 || c == 49) return 8;             // tool length offset
-  if (c == 54) return 12;                       // coordinate system
+  if (c == 28) return 0;                                              // non-modal (return home)
+  if ((c >= 0 && c <= 3) || c == 80 || c == 81 || c == 83) return 1;  // motion (canned cycles too)
+  if (c == 17) return 2;                                              // plane
+  if (c == 90 || c == 91) return 3;                                   // distance mode
+  if (c == 94) return 5;                                              // feed rate mode
+  if (c == 20 || c == 21) return 6;                                   // units
+  if (c == 40) return 7;                                              // cutter radius compensation
+  if (c == 43 || c == 49) return 8;                                   // tool length offset
+  if (c == 54) return 12;                                             // coordinate system
+  if (c == 98 || c == 99) return 10;                                  // canned cycle return mode
   return -1;
 }
 int m_group(int code) {
@@ -88,15 +92,16 @@ int m_group(int code) {
 }
 const char* group_name(char letter, int group) {
   if (letter == 'G')
-    return group == 0   ? "non-modal"
-           : group == 1 ? "motion"
-           : group == 2 ? "plane"
-           : group == 3 ? "distance mode"
-           : group == 5 ? "feed rate mode"
-           : group == 6 ? "units"
-           : group == 7 ? "cutter compensation"
-           : group == 8 ? "tool length offset"
-                        : "coordinate system";
+    return group == 0    ? "non-modal"
+           : group == 1  ? "motion"
+           : group == 2  ? "plane"
+           : group == 3  ? "distance mode"
+           : group == 5  ? "feed rate mode"
+           : group == 6  ? "units"
+           : group == 7  ? "cutter compensation"
+           : group == 8  ? "tool length offset"
+           : group == 10 ? "canned cycle return mode"
+                         : "coordinate system";
   return group == 4 ? "stopping" : group == 6 ? "tool change" : group == 7 ? "spindle" : "coolant";
 }
 
@@ -203,10 +208,12 @@ private:
   struct Words {
     std::optional<Motion> motion;
     std::array<std::optional<double>, 3> axis{};
-    std::optional<double> i_word, j_word, r_word, f_word, s_word, t_word, h_word;
-    bool cancel_motion = false;  ///< G80
-    bool home = false;           ///< G28
-    bool length_offset = false;  ///< G43 (with H)
+    std::optional<double> i_word, j_word, r_word, f_word, s_word, t_word, h_word, q_word;
+    int cycle = 0;                       ///< G81 / G83 on the line
+    std::optional<bool> retract_to_old;  ///< G98 (true) / G99 (false)
+    bool cancel_motion = false;          ///< G80
+    bool home = false;                   ///< G28
+    bool length_offset = false;          ///< G43 (with H)
     std::vector<int> m_codes;
     [[nodiscard]] bool has_m(int code) const {
       for (int m : m_codes)
@@ -251,6 +258,8 @@ private:
     const bool any_axis = w.axis[0] || w.axis[1] || w.axis[2];
     if (w.home)
       home(w);
+    else if (cycle_ != 0 && (any_axis || w.r_word || w.q_word))
+      drill_cycle(w);
     else if (any_axis || w.i_word || w.j_word || w.r_word)
       move(w.axis, w.i_word, w.j_word, w.r_word);
     if ((w.has_m(0) && !swallow_pause) || w.has_m(1)) add(Pause{!w.has_m(0)});
@@ -313,6 +322,10 @@ private:
           else if (is(w.value, 17) || is(w.value, 94) || is(w.value, 40) || is(w.value, 49) || is(w.value, 54)) {
           } else if (is(w.value, 80))
             out.cancel_motion = true;
+          else if (is(w.value, 81) || is(w.value, 83))
+            out.cycle = static_cast<int>(std::lround(w.value));
+          else if (is(w.value, 98) || is(w.value, 99))
+            out.retract_to_old = is(w.value, 98);
           else if (is(w.value, 28))
             out.home = true;
           else if (is(w.value, 43))
@@ -345,6 +358,7 @@ private:
         case 'S': once(out.s_word, w); break;
         case 'T': once(out.t_word, w); break;
         case 'H': once(out.h_word, w); break;
+        case 'Q': once(out.q_word, w); break;
         case 'N': break;
         case 'O':  // a Fanuc program number is read only alone on its line, before any other word (line())
           fail("O-word " + quote(w.text) +
@@ -357,8 +371,17 @@ private:
 
   /// Motion mode, feed, spindle speed and tool number of the line, checked.
   void apply_modal(const Words& w) {
-    if (w.motion) motion_ = w.motion;
-    if (w.cancel_motion) motion_.reset();
+    const int cycle_before = cycle_;
+    if (w.motion) motion_ = w.motion, cycle_ = 0;
+    if (w.cancel_motion) motion_.reset(), cycle_ = 0;
+    if (w.cycle != 0) motion_.reset(), cycle_ = w.cycle;
+    if (cycle_ != 0 && cycle_before == 0) {  // a series of cycles starts: G98 returns to this Z
+      series_z_ = pos_[2];
+      series_z_known_ = (known_ & kZ) != 0;
+      series_first_ = true;
+    }
+    if (w.retract_to_old) retract_to_old_ = *w.retract_to_old;
+    if (w.q_word && cycle_ == 0) fail("Q word outside a G83 cycle");
     if (w.h_word && !w.length_offset) fail("H word without G43");
     if (w.length_offset) {
       if (!w.h_word) fail("G43 without an H word (the tool length offset)");
@@ -453,6 +476,59 @@ private:
     add(m);
   }
 
+  /// One block of a G81 / G83 cycle, expanded as LinuxCNC expands it (gcode/cycles.hpp). Z, R and Q
+  /// are modal within the cycle mode; checked as LinuxCNC checks them (R at or above Z, Q > 0, a
+  /// feed), and the pecks bounded (kMaxPecks).
+  void drill_cycle(const Words& w) {
+    const char* name = cycle_ == 81 ? "G81" : "G83";
+    if (incremental_) fail(std::string(name) + " in G91: drilling cycles are read in absolute mode (G90) only");
+    if (w.i_word || w.j_word) fail(std::string("I or J on a ") + name + " drilling cycle");
+    if (w.axis[2]) cycle_z_ = *w.axis[2] * scale_;
+    if (w.r_word) cycle_r_ = *w.r_word * scale_;
+    if (w.q_word) cycle_q_ = *w.q_word * scale_;
+    if (!cycle_z_) fail(std::string(name) + " without a Z word (the hole's bottom)");
+    if (!cycle_r_) fail(std::string(name) + " without an R word (the plane the feed starts from)");
+    if (!series_z_known_) fail(std::string(name) + " from an unknown Z (no Z stated before the cycle)");
+    DrillHole h;
+    for (std::size_t a = 0; a < 2; ++a) {
+      if (!w.axis[a] && (known_ & (1U << a)) == 0)
+        fail(std::string(name) + " at an unknown " + "XY"[a] + " (none stated before it)");
+      (a == 0 ? h.x : h.y) = w.axis[a] ? *w.axis[a] * scale_ : pos_[a];
+    }
+    h.bottom_z = *cycle_z_, h.r_z = *cycle_r_;
+    for (const double v : {h.x, h.y, h.bottom_z, h.r_z})
+      if (!(std::abs(v) <= kMaxCoordinateMm))
+        fail(std::string(name) + ": " + fmt(v, 10) + " mm is beyond the travel bound ±" + fmt(kMaxCoordinateMm) +
+             " mm");
+    if (h.r_z < h.bottom_z)
+      fail(std::string(name) + ": R " + fmt(h.r_z / scale_) + " is below the hole's bottom Z " +
+           fmt(h.bottom_z / scale_) + " (LinuxCNC: R value less than Z value in canned cycle)");
+    if (cycle_ == 83) {
+      if (!cycle_q_ || !(*cycle_q_ > 0)) fail("G83 without a Q word > 0 (the depth of each peck)");
+      if ((h.r_z - h.bottom_z) / *cycle_q_ > kMaxPecks)
+        fail("G83: Q " + fmt(*cycle_q_ / scale_) + " over a hole " + fmt((h.r_z - h.bottom_z) / scale_) +
+             " deep makes more than " + fmt(kMaxPecks) + " pecks");
+      h.peck_mm = *cycle_q_;
+    }
+    if (!(feed_ > 0)) fail(std::string(name) + " with no feed rate (F)");
+    h.feed = feed_;
+    const double retract = retract_to_old_ ? std::max(series_z_, h.r_z) : h.r_z;
+    if (!series_first_ && pos_[2] < h.r_z) {  // LinuxCNC: within a series, below R, one traverse to the hole at R
+      Move up;
+      up.to = {h.x, h.y, h.r_z};
+      up.axes = static_cast<std::uint8_t>(known_ | kXYZ);
+      up.cycle = static_cast<std::uint8_t>(cycle_);
+      pos_ = up.to, known_ = up.axes;
+      add(up);
+    }
+    series_first_ = false;
+    for (Move& m : drill_cycle_moves(pos_, known_, h, retract)) {  // O(pecks)
+      pos_ = m.to;
+      known_ = m.axes;
+      add(m);
+    }
+  }
+
   /// LinuxCNC's check of an arc given by its centre (interp_arc.cc, arc_data_ijk), in the
   /// program's unit: neither radius zero, and the end on the circle within its tolerances.
   void check_centre(const Point3& a, const Point3& b, const std::array<double, 2>& c) const {
@@ -491,7 +567,13 @@ private:
   double scale_ = 1;                  ///< mm per program unit
   bool incremental_ = false;
   std::optional<Motion> motion_;
-  double feed_ = 0;  ///< mm/min
+  int cycle_ = 0;               ///< the drilling cycle in effect (81, 83) instead of motion_; 0: none
+  bool retract_to_old_ = true;  ///< G98 (the default here) / G99
+  double series_z_ = 0;         ///< Z when the current series of cycles began (G98 returns there)
+  bool series_z_known_ = false;
+  bool series_first_ = false;                          ///< the next cycle block is its series' first
+  std::optional<double> cycle_z_, cycle_r_, cycle_q_;  ///< modal Z, R, Q of the cycles, mm
+  double feed_ = 0;                                    ///< mm/min
   double rpm_ = 0;
   SpindleDir dir_ = SpindleDir::Off;
   std::optional<int> tool_;

@@ -2,6 +2,7 @@
 #include "millnet/gcode/writer.hpp"
 
 #include "millnet/gcode/reader.hpp"
+#include "millnet/gcode/cycles.hpp"
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
@@ -38,6 +39,7 @@ Dialect grbl(int decimals) {
   d.decimals = decimals;
   d.tool_change_m6 = false;
   d.optional_stop_m1 = false;
+  d.canned_cycles = false;
   d.max_comment_chars = 60;
   return d;
 }
@@ -222,6 +224,77 @@ public:
     }
   }
   void operator()(const Pause& p) { line(p.optional && d_.optional_stop_m1 ? "M1" : "M0"); }
+
+  /// The drilling hole that starts at items[i] written as one canned cycle block: the number of
+  /// items it stands for, or 0 when those items are not exactly the moves of one hole from here
+  /// (drill_cycle_moves; then they are written as moves). O(moves of the hole).
+  std::size_t cycle(const std::vector<Item>& items, std::size_t i) {
+    const auto* first = std::get_if<Move>(&items[i]);
+    if (!d_.canned_cycles || first == nullptr || first->cycle == 0 || pending_length_offset_ > 0 || !known_[0] ||
+        !known_[1] || !known_[2])
+      return 0;
+    // The hole's figures: the first feed starts at R (its X Y are the hole's); the bottom is the end
+    // of one of the feeds that follow (the longest run of items that is exactly one hole wins).
+    std::size_t first_feed = items.size();
+    Point3 before_feed = pos_;
+    std::size_t end = i;
+    for (; end < items.size(); ++end) {  // the run of moves marked with this cycle
+      const auto* m = std::get_if<Move>(&items[end]);
+      if (m == nullptr || m->cycle != first->cycle) break;
+      if (m->motion == Motion::Line && first_feed == items.size()) first_feed = end;
+      if (first_feed == items.size()) before_feed = m->to;
+    }
+    if (first_feed == items.size()) return 0;
+    const Move& feed = std::get<Move>(items[first_feed]);
+    DrillHole h;
+    h.x = feed.to[0], h.y = feed.to[1];
+    h.r_z = before_feed[2];
+    h.peck_mm = first->cycle == 83 ? h.r_z - feed.to[2] : 0;
+    h.feed = feed.feed;
+    const double series_z = in_cycle_ ? series_z_ : pos_[2];
+    std::vector<Move> want;
+    for (std::size_t b = first_feed; b < end; ++b) {  // O(feeds of the run × moves of a hole)
+      const Move& bottom = std::get<Move>(items[b]);
+      if (bottom.motion != Motion::Line) continue;
+      DrillHole c = h;
+      c.bottom_z = bottom.to[2];
+      std::vector<Move> moves = drill_cycle_moves(pos_, kXYZ, c, series_z);
+      if (moves.size() > end - i || moves.size() <= want.size()) continue;
+      bool same = true;
+      for (std::size_t n = 0; n < moves.size() && same; ++n) {
+        const Move& m = std::get<Move>(items[i + n]);
+        same = m.motion == moves[n].motion && m.to == moves[n].to && (m.motion != Motion::Line || m.feed == h.feed);
+      }
+      if (same) want = std::move(moves), h.bottom_z = c.bottom_z;
+    }
+    if (want.empty()) return 0;
+    // The block: the cycle and its figures where they change (all of them on a series' first hole).
+    const bool start = !in_cycle_ || cycle_code_ != first->cycle;
+    if (start) os_ << (in_cycle_ ? "" : "G98 ") << "G" << static_cast<int>(first->cycle);
+    const char* sep = start ? " " : "";
+    os_ << sep << "X" << num(out(0, h.x)) << " Y" << num(out(1, h.y));
+    if (start || h.bottom_z != cycle_z_) os_ << " Z" << num(out(2, h.bottom_z));
+    if (start || h.r_z != cycle_r_) os_ << " R" << num(out(2, h.r_z));
+    if (h.peck_mm > 0 && (start || h.peck_mm != cycle_q_)) os_ << " Q" << num(h.peck_mm * unit_);
+    if (h.feed != last_feed_) os_ << " F" << point(format_number(h.feed * unit_, d_.feed_decimals));
+    os_ << "\n";
+    if (!in_cycle_) series_z_ = pos_[2];
+    in_cycle_ = true;
+    cycle_code_ = first->cycle;
+    cycle_z_ = h.bottom_z, cycle_r_ = h.r_z, cycle_q_ = h.peck_mm;
+    last_feed_ = h.feed;
+    pos_ = want.back().to;
+    return want.size();
+  }
+
+  /// Ends a series of canned cycles (G80) before anything but a comment is written.
+  void end_cycles(const Item& next) {
+    if (in_cycle_ && !std::holds_alternative<Comment>(next)) end_cycles();
+  }
+  void end_cycles() {
+    if (in_cycle_) line("G80");
+    in_cycle_ = false;
+  }
   void operator()(const Comment& c) { comment(c.text); }
 
   std::string text() const { return os_.str(); }
@@ -245,8 +318,12 @@ private:
   Point3 pos_{0, 0, 0};
   std::array<bool, 3> known_{false, false, false};
   double last_feed_ = -1;
-  int pending_length_offset_ = 0;  ///< the tool whose G43 H the next move carries (0: none)
-  bool coolant_ = false;           ///< coolant on (with the spindle)
+  int pending_length_offset_ = 0;                   ///< the tool whose G43 H the next move carries (0: none)
+  bool in_cycle_ = false;                           ///< a series of canned cycles is in effect (G80 ends it)
+  std::uint8_t cycle_code_ = 0;                     ///< its G code (81, 83)
+  double series_z_ = 0;                             ///< Z before the series: where G98 retracts
+  double cycle_z_ = 0, cycle_r_ = 0, cycle_q_ = 0;  ///< its modal Z, R, Q, mm
+  bool coolant_ = false;                            ///< coolant on (with the spindle)
 };
 
 }  // namespace
@@ -263,7 +340,16 @@ std::string write(const Program& program, const Dialect& dialect) {
     w.comment("work origin: X0 Y0 = the " + to_string(dialect.origin_at) + " (the part's lower-left corner at X" +
               format_number(-dialect.origin[0], 3) + " Y" + format_number(-dialect.origin[1], 3) + " mm)");
   w.line(dialect.preamble);
-  for (const Item& item : program.items) std::visit(w, item);  // O(items)
+  for (std::size_t i = 0; i < program.items.size();) {  // O(items)
+    if (const std::size_t n = w.cycle(program.items, i); n > 0) {
+      i += n;
+      continue;
+    }
+    w.end_cycles(program.items[i]);
+    std::visit(w, program.items[i]);
+    ++i;
+  }
+  w.end_cycles();
   w.line(dialect.end);
   return w.text();
 }

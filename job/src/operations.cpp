@@ -2,6 +2,7 @@
 #include "millnet/job/operations.hpp"
 
 #include "millnet/core/error.hpp"
+#include "millnet/gcode/cycles.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +18,10 @@ bool drill_move(const gcode::Item& item) {
   return m != nullptr && m->op == 1;
 }
 bool is_move(const gcode::Item& item) { return std::holds_alternative<gcode::Move>(item); }
+
+/// A hole deeper than this many drill diameters is peck-drilled (G83), one diameter per peck: the
+/// shop rule for chip evacuation of a twist drill.
+constexpr double kPeckDepthDiameters = 3.0;
 
 /// Tools are the same tool when their library ids match (inline tools: their shape).
 bool same_tool(const tooling::Tool& a, const tooling::Tool& b) {
@@ -47,6 +52,12 @@ std::vector<Operation> roughing_operations(const gcode::Program& rough, const to
   Operation drilling{"drilling", *drill, {}};
   drilling.program.header = {"pre-drilled entries of the roughing: " + drill->label()};
   drilling.program.items.emplace_back(gcode::Spindle{gcode::SpindleDir::CW, cut.rpm});
+  // Each plunge of the roughing's pre-drilling is a hole: a drilling cycle (gcode/cycles.hpp) from
+  // the plane the plunge starts at, retracting to the height it rose to; pecks of one diameter where
+  // the hole is deeper than kPeckDepthDiameters diameters. The first hole is reached by a plain rapid.
+  gcode::Point3 pos{};
+  std::uint8_t known = 0;
+  const gcode::Move* prev = nullptr;
   for (auto it = first; it != last; ++it) {  // O(items)
     if (const auto* c = std::get_if<gcode::Comment>(&*it); c != nullptr && c->text == "pre-drill") {
       drilling.program.items.emplace_back(*c);
@@ -54,10 +65,28 @@ std::vector<Operation> roughing_operations(const gcode::Program& rough, const to
     }
     const auto* m = std::get_if<gcode::Move>(&*it);
     if (m == nullptr) continue;  // the drill block's own spindle and comments
-    gcode::Move d = *m;
-    d.op = 0;
-    if (d.motion != gcode::Motion::Rapid) d.feed = cut.feed_mm_min;
-    drilling.program.items.emplace_back(d);
+    if (m->motion != gcode::Motion::Line) {
+      prev = m;
+      continue;
+    }
+    const auto next = std::find_if(it + 1, last, is_move);
+    const auto* up = next == last ? nullptr : std::get_if<gcode::Move>(&*next);
+    gcode::DrillHole h;
+    h.x = m->to[0], h.y = m->to[1], h.bottom_z = m->to[2];
+    h.r_z = prev != nullptr ? std::max(prev->to[2], h.bottom_z) : h.bottom_z;
+    h.peck_mm = h.r_z - h.bottom_z > kPeckDepthDiameters * drill->diameter_mm ? drill->diameter_mm : 0;
+    h.feed = cut.feed_mm_min;
+    const double clear = up != nullptr ? std::max(up->to[2], h.r_z) : h.r_z;
+    if (known != gcode::kXYZ) {
+      gcode::Move reach;
+      reach.to = {h.x, h.y, clear};
+      drilling.program.items.emplace_back(reach);
+      pos = reach.to, known = gcode::kXYZ;
+    }
+    for (const gcode::Move& d : gcode::drill_cycle_moves(pos, known, h, clear)) {  // O(pecks)
+      pos = d.to;
+      drilling.program.items.emplace_back(d);
+    }
   }
   drilling.program.items.emplace_back(gcode::Spindle{gcode::SpindleDir::Off, cut.rpm});
 

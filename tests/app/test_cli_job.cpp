@@ -186,6 +186,10 @@ TEST(CliJob, OneProgramPerPartInEveryDialectWithItsToolChangesChecksumsAndSetupS
       m6 += line.find(" M6") != std::string::npos && line.find('(') != 0 ? 1U : 0U;
   }
   EXPECT_EQ(m6, 4U);
+  // The drilling as canned cycles where the control has them (GRBL: the moves), one simulated result.
+  EXPECT_NE(slurp(lx / "cavity.job.nc").find("G98 G81 X"), std::string::npos);
+  EXPECT_NE(slurp(lx.parent_path() / "fanuc" / "cavity.job.nc").find("G98 G81 X"), std::string::npos);
+  EXPECT_EQ(slurp(lx.parent_path() / "grbl" / "cavity.job.nc").find("G81"), std::string::npos);
   EXPECT_EQ(j["tool_changes"].get<std::size_t>(), m6);
   EXPECT_EQ(j["tool_change_s"].get<double>(), 15.0);
   EXPECT_NEAR(j["tool_change_time_min"].get<double>(), 4 * 15.0 / 60, 1e-12);

@@ -248,3 +248,30 @@ TEST(JobOperations, TheSemiFinishingBallTakesTheStockLeftAndReaches) {
   EXPECT_NEAR(3 - std::sqrt(9 - s * s / 4), 0.1, 1e-12);
   EXPECT_DOUBLE_EQ(job::scallop_step(3, 5), 6.0);  // a cusp above the radius: the diameter
 }
+
+// The drilling operation's holes are drilling cycles: a hole 7 mm deep from R 1 is drilled in one
+// feed by a Ø10 drill (G81) and pecked by a Ø2 (deeper than 3 × 2 mm: G83, Q 2 mm): feeds to −1,
+// −3, −5, each followed by a rapid to R and back down to 0.254 mm above, then to the bottom −6,
+// and back to Z 5. Written, the LinuxCNC program says so in one block and reads back to the moves.
+TEST(JobOperations, TheHolesAreDrilledByCyclesAndDeepHolesPecked) {
+  const tooling::Tool mill = tool("em10", tooling::ToolType::Flat, 10, 3);
+  const tooling::Tool big = tool("dr10", tooling::ToolType::Drill, 10, 10);
+  const tooling::Tool small = tool("dr2", tooling::ToolType::Drill, 2, 11);
+  const auto g81 = job::roughing_operations(predrilled_rough(), mill, &big, {1200, 240});
+  const std::string text81 = gcode::write(g81[0].program, gcode::linuxcnc());
+  EXPECT_NE(text81.find("G0 X20 Y20 Z5\nG98 G81 X20 Y20 Z-6 R1 F240\nG80\n"), std::string::npos) << text81;
+  const auto g83 = job::roughing_operations(predrilled_rough(), mill, &small, {4000, 100});
+  std::vector<double> zs;
+  for (const gcode::Item& i : g83[0].program.items)
+    if (const auto* m = std::get_if<gcode::Move>(&i)) {
+      zs.push_back(m->motion == Motion::Line ? -100 + m->to[2] : m->to[2]);  // feeds marked by −100
+      EXPECT_EQ(m->cycle, m == &std::get<gcode::Move>(g83[0].program.items[1]) ? 0 : 83);
+    }
+  const std::vector<double> want{5, 1, -101, 1, -0.746, -103, 1, -2.746, -105, 1, -4.746, -106, 5};
+  ASSERT_EQ(zs.size(), want.size());
+  for (std::size_t k = 0; k < want.size(); ++k) EXPECT_NEAR(zs[k], want[k], 1e-12) << k;
+  const std::string text83 = gcode::write(g83[0].program, gcode::linuxcnc());
+  EXPECT_NE(text83.find("G98 G83 X20 Y20 Z-6 R1 Q2 F100\nG80\n"), std::string::npos) << text83;
+  const gcode::Program back = gcode::read(text83, "g83.nc");
+  EXPECT_EQ(count<gcode::Move>(back), want.size());
+}

@@ -31,6 +31,9 @@ struct Move {
   double feed = 0;                 ///< mm/min for Line and arcs; 0 for Rapid
   std::uint8_t axes = kXYZ;        ///< AxisMask of the axes the block states
   std::uint8_t op = 0;             ///< operation index (0 = main; e.g. 1 = the pocket's pre-drilling)
+  /// 81 / 83: one of the moves a drilling cycle (G81, G83) stands for (gcode/cycles.hpp): the
+  /// writer writes such a hole as one cycle block on a dialect with canned cycles; 0: a plain move.
+  std::uint8_t cycle = 0;
 };
 
 enum class SpindleDir : std::uint8_t { Off, CW, CCW };  ///< M5, M3, M4

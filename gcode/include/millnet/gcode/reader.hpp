@@ -12,6 +12,12 @@
 // alone on the first line with words; G40, G49, G54, G80 (motion cancelled: axis words need a
 // new motion code); G43 with its H offset number; M8 M9 (coolant); G28 only as "G91 G28" with
 // zero increments (straight to the machine's home: those axes are unknown afterwards).
+// Drilling cycles (issue 40), G90 only: G81 (drill) and G83 (peck drill, Q per peck) with modal Z
+// (bottom), R (feed plane) and Q, G98 / G99 (return to the Z before the series / to R; G98 when
+// neither is given), G80 ending them; each block becomes the moves LinuxCNC makes of it
+// (gcode/cycles.hpp, Move::cycle set; tests/gcode/test_cycles.cpp holds them equal to rs274's),
+// refused as LinuxCNC refuses them (R below Z, G83 without Q > 0, no feed) and bounded (10,000
+// pecks a block). G82, G73 and the other canned cycles are not read.
 // Anything else (another G or M code, another letter, a repeated word, a feed move with no
 // feed, an arc whose radius cannot reach its end) throws millnet::Error "<source>:<line>: …"
 // naming the word.

@@ -61,6 +61,10 @@ struct Dialect {
   std::string coolant_off;  ///< before each spindle stop ("M9")
   /// After each tool change, tool length compensation "G43 H<tool>" on the first move (with its Z).
   bool tool_length_offset = false;
+  /// Drilling cycles (moves marked Move::cycle, gcode/cycles.hpp) as canned cycle blocks: "G98 G81
+  /// X Y Z R F" (G83 with Q), the next holes of a series by their X Y, then G80. False: the moves
+  /// themselves (GRBL 1.1 has no canned cycles).
+  bool canned_cycles = true;
   /// Inch output (G20): coordinates, arc offsets and feeds (in/min) divided by 25.4. Programs stay
   /// millimetres inside millnet; the reader converts G20 back.
   bool inch = false;

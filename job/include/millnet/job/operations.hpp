@@ -38,7 +38,9 @@ struct DrillCut {
 [[nodiscard]] bool predrills(const gcode::Program& rough);
 
 /// A roughing program as operations: without pre-drilled entries, the roughing alone; with them, a
-/// drilling operation by `drill` first (the same holes, plunged at the drill's feed and speed), then
+/// drilling operation by `drill` first (the same holes as drilling cycles, gcode/cycles.hpp: from
+/// the plane each plunge starts at, back to the height it rose to, at the drill's feed and speed;
+/// G83 pecks of one diameter for holes deeper than three diameters), then
 /// the roughing without its "load a drill" comment, its drill spindle and its pause for the end
 /// mill. The drill's tip goes to the hole's level (its point leaves a cone the end mill's plunge
 /// cuts: drilling deeper could reach the part below). Throws millnet::Error when the program
