@@ -35,8 +35,10 @@ constexpr double kArcSpiralAbsInch = 2 * 0.001 * 1.41421356237309504880;  // CEN
 constexpr double kArcSpiralRel = 0.001;                                   // SPIRAL_RELATIVE_TOLERANCE
 /// Largest tool number a T word may give (LinuxCNC's tool table holds up to 99999 pockets).
 constexpr double kMaxToolNumber = 99999;
-/// Most pecks one G83 block may make (its depth / Q): a bound on the moves a short line may add.
+/// Most pecks one G83 block may make (its depth / Q), and a whole program's G83 blocks together: a
+/// bound on the moves short lines may add (3 per peck; 200,000 pecks ≈ 50 MB of moves).
 constexpr double kMaxPecks = 10000;
+constexpr double kMaxProgramPecks = 200000;
 /// Characters of a bad word or comment quoted in a message.
 constexpr std::size_t kQuoteChars = 40;
 
@@ -509,6 +511,9 @@ private:
         fail("G83: Q " + fmt(*cycle_q_ / scale_) + " over a hole " + fmt((h.r_z - h.bottom_z) / scale_) +
              " deep makes more than " + fmt(kMaxPecks) + " pecks");
       h.peck_mm = *cycle_q_;
+      pecks_ += std::ceil((h.r_z - h.bottom_z) / h.peck_mm);
+      if (pecks_ > kMaxProgramPecks)
+        fail("G83: the program's drilling cycles make more than " + fmt(kMaxProgramPecks) + " pecks");
     }
     if (!(feed_ > 0)) fail(std::string(name) + " with no feed rate (F)");
     h.feed = feed_;
@@ -571,7 +576,8 @@ private:
   bool retract_to_old_ = true;  ///< G98 (the default here) / G99
   double series_z_ = 0;         ///< Z when the current series of cycles began (G98 returns there)
   bool series_z_known_ = false;
-  bool series_first_ = false;                          ///< the next cycle block is its series' first
+  bool series_first_ = false;
+  double pecks_ = 0;             ///< pecks of the G83 blocks read so far                          ///< the next cycle block is its series' first
   std::optional<double> cycle_z_, cycle_r_, cycle_q_;  ///< modal Z, R, Q of the cycles, mm
   double feed_ = 0;                                    ///< mm/min
   double rpm_ = 0;

@@ -179,6 +179,11 @@ TEST(DrillCycles, WhatLinuxCncRefusesIsOneLine) {
   EXPECT_NE(error_of("G21 G90\nG0 X0 Y0 Z5\nG1 X1 F0\nG81 X1 Y1 Z-1 R1\n").find("no feed rate"), std::string::npos);
   EXPECT_NE(error_of(pre + "G91 G81 X1 Y1 Z-1 R1 F10\n").find("G81 in G91"), std::string::npos);
   EXPECT_NE(error_of(pre + "G83 X1 Y1 Z-100 R1 Q0.001 F100\n").find("makes more than 10000 pecks"), std::string::npos);
+  std::string many = pre + "G83 X1 Y1 Z-99 R1 Q0.01 F100\n";  // 10,000 pecks a hole: allowed, 21 holes are not
+  for (int k = 2; k <= 21; ++k) many += "X" + std::to_string(k) + "\n";
+  EXPECT_NE(error_of(many).find("drill.nc:23: G83: the program's drilling cycles make more than 200000 pecks"),
+            std::string::npos)
+      << error_of(many);
   EXPECT_NE(error_of(pre + "G1 X1 Q2 F10\n").find("Q word outside a G83 cycle"), std::string::npos);
   EXPECT_NE(error_of(pre + "G1 G81 X1 Y1 Z-1 R1 F10\n").find("two G-codes of one modal group"), std::string::npos);
   EXPECT_NE(error_of("G21 G90\nG81 X1 Y1 Z-1 R1 F10\n").find("G81 from an unknown Z"), std::string::npos);
