@@ -577,7 +577,8 @@ private:
   double series_z_ = 0;         ///< Z when the current series of cycles began (G98 returns there)
   bool series_z_known_ = false;
   bool series_first_ = false;
-  double pecks_ = 0;             ///< pecks of the G83 blocks read so far                          ///< the next cycle block is its series' first
+  double pecks_ =
+      0;  ///< pecks of the G83 blocks read so far                          ///< the next cycle block is its series' first
   std::optional<double> cycle_z_, cycle_r_, cycle_q_;  ///< modal Z, R, Q of the cycles, mm
   double feed_ = 0;                                    ///< mm/min
   double rpm_ = 0;
