@@ -450,7 +450,6 @@ int run_job(const JobOpts& o) {
         return std::holds_alternative<gcode::ToolChange>(it);
       }));
   sheet.tool_change_s = config["machine"]["tool_change_s"].get<double>();
-  const double change_min = sheet.tool_changes * sheet.tool_change_s / 60;
   notes.push_back("operation times are kinematic (the /machine motion model); the cycle time adds " +
                   std::to_string(sheet.tool_changes) + " tool changes × " + format_double(sheet.tool_change_s) +
                   " s (/machine/tool_change_s); the operator's setup is not counted");
@@ -469,8 +468,8 @@ int run_job(const JobOpts& o) {
          {"total_time_kinematic_min", sheet.total_time_min},
          {"tool_changes", sheet.tool_changes},
          {"tool_change_s", sheet.tool_change_s},
-         {"tool_change_time_min", change_min},
-         {"total_time_min", sheet.total_time_min + change_min},
+         {"tool_change_time_min", sheet.cycle_time_min() - sheet.total_time_min},
+         {"total_time_min", sheet.cycle_time_min()},
          {"simulated", sim_metrics_json(m, design.grid)},
          {"strategy", Json{{"slot", slot}, {"name", finish::strategy_name(pick.strategy)}, {"chosen_by", o.strategy}}},
          {"notes", notes}};
@@ -481,10 +480,9 @@ int run_job(const JobOpts& o) {
   write_file_atomic(out / (stem + ".job.json"), j.dump(2) + "\n");
   report::write_setup_sheet(out / (stem + ".setup.html"), sheet);
   files.commit();
-  info("job: " + stem + ": " + std::to_string(ops.size()) + " operations, " +
-       fixed(sheet.total_time_min + change_min, 1) + " min (" + std::to_string(sheet.tool_changes) +
-       " tool changes), gouge " + (m.gouged ? fixed(m.max_gouge_mm, 3) + " mm" : std::string("none")) + " → " +
-       job_nc.string());
+  info("job: " + stem + ": " + std::to_string(ops.size()) + " operations, " + fixed(sheet.cycle_time_min(), 1) +
+       " min (" + std::to_string(sheet.tool_changes) + " tool changes), gouge " +
+       (m.gouged ? fixed(m.max_gouge_mm, 3) + " mm" : std::string("none")) + " → " + job_nc.string());
   if (m.gouged) {
     std::cerr << "millnet job: error: " << job_nc.string() << " gouges the part by " << fixed(m.max_gouge_mm, 3)
               << " mm (line " << m.first_gouge_move.line << ")\n";

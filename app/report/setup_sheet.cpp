@@ -207,9 +207,9 @@ std::string setup_sheet_html(const SetupSheet& s) {
   o << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" << esc(s.title) << "</title>\n<style>"
     << kStyle << "</style>\n<script>" << error_trap_script() << "</script>\n</head><body>\n";
   o << "<h1>" << esc(s.title) << "</h1>\n<p>Part <code>" << esc(s.part_file) << "</code> · post " << esc(s.post)
-    << " · material " << esc(s.material) << " · total cycle time <b>"
-    << num(s.total_time_min + s.tool_changes * s.tool_change_s / 60, 1) << " min</b> (" << num(s.total_time_min, 1)
-    << " min kinematic + " << s.tool_changes << " tool changes × " << num(s.tool_change_s, 0) << " s)</p>\n";
+    << " · material " << esc(s.material) << " · total cycle time <b>" << num(s.cycle_time_min(), 1) << " min</b> ("
+    << num(s.total_time_min, 1) << " min kinematic + " << s.tool_changes << " tool changes × "
+    << num(s.tool_change_s, 0) << " s)</p>\n";
   // 1. Stock and origin.
   const double sw = s.stock_x1 - s.stock_x0, sd = s.stock_y1 - s.stock_y0, sh = -s.stock_bottom_z;
   o << "<h2>Stock and work origin</h2>\n<table>"

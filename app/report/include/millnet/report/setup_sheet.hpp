@@ -63,7 +63,9 @@ struct SetupSheet {
   std::vector<SetupOperation> operations;
   double total_time_min = 0;  ///< Σ of the operations' kinematic times
   int tool_changes = 0;       ///< T M6 in the job program
-  double tool_change_s = 0;   ///< /machine/tool_change_s: the cycle time is total_time_min + changes × this
+  double tool_change_s = 0;   ///< /machine/tool_change_s
+  /// The job's cycle time: the operations' kinematic times and every tool change, min.
+  [[nodiscard]] double cycle_time_min() const { return total_time_min + tool_changes * tool_change_s / 60; }
   /// The simulated job from the block: lines "gouge: none", "in spec: 99.2 % of 1,234 mm²", …
   std::vector<std::pair<std::string, std::string>> result;
   std::vector<SetupFile> files;
