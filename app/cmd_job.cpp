@@ -14,6 +14,7 @@
 #include "millnet/job/chain.hpp"
 #include "millnet/job/links.hpp"
 #include "millnet/job/operations.hpp"
+#include "millnet/job/tool_choice.hpp"
 #include "millnet/report/setup_sheet.hpp"
 #include "millnet/tooling/io/tool_tables.hpp"
 
@@ -173,14 +174,21 @@ int run_job(const JobOpts& o) {
   const job::Frame frame = job::frame_of(part.mesh, rp.top_allowance_mm);
   std::vector<std::string> notes;
 
-  // 2. Tools that reach the part's depth (never a silent deeper cut).
+  // 2. Tools that reach what they machine (never a silent deeper cut): the roughing its last level
+  // over the part's base, the finishing (and the semi-finishing and rest after it) the lowest face
+  // it machines: inside the part's silhouette or a boundary that is the lowest face facing up, not
+  // the outside walls below it (issue 38: a 27 mm cavity was refused for walls going to 42 mm).
   const double depth = frame.depth_below_top(frame.part_bottom);
   const tooling::Tool mill = reaching(lib, rough_cutting.tool, depth - rp.floor_allowance_mm, "roughing", file, notes);
   rp.cut.tool = mill.cutter();
   std::string why;
   fs_ = for_part(fs_, part.mesh, &why);  // the part's ball when no finishing tool is named
   if (!why.empty()) notes.push_back(why);
-  const tooling::Tool ball = reaching(lib, fs_.cutting.tool, depth, "finishing", file, notes);
+  const finish::Boundary& fb = fs_.params.boundary;
+  const double finish_depth = fb.on_part || !fb.polygons.empty()
+                                  ? std::min(depth, job::part_shape(part.mesh, frame.stock_top).depth_mm)
+                                  : depth;
+  const tooling::Tool ball = reaching(lib, fs_.cutting.tool, finish_depth, "finishing", file, notes);
   fs_.cutting.tool = ball;
   fs_.params.tool = ball.cutter();
 
@@ -220,10 +228,24 @@ int run_job(const JobOpts& o) {
   simulate::ZMap roughed = job::block_stock(design, sim);
   std::vector<job::StepResult> before = job::machine_steps(roughed, design, job::chain_steps(ops), fs_.machine);
   std::optional<finish::FinishParams> semi_params;
+  job::LinkChanges links;
+  gcode::Program finish_program = job::clear_rapids(finishing.written.program, roughed, ball.cutter(),
+                                                    fs_.params.clearance_mm, fs_.params.plunge_feed_mm_min, &links);
+  // Whether the finishing tool's flutes take what the roughing leaves: the finishing machined on a
+  // copy of that stock, its deepest cut (the height one move removes at one cell). The stock's
+  // height over the design is only a bound: at the foot of a steep wall it is the wall's height,
+  // which a Z-level or a raster pass down the wall takes a step at a time (issue 38).
+  double finish_cut = 0;
   if (ball.flute_length_mm > 0 && before.back().max_left_mm > ball.flute_length_mm) {
-    info("job: " + stem + ": the roughing leaves " + fixed(before.back().max_left_mm, 2) + " mm, more than the " +
+    simulate::ZMap trial = roughed;
+    finish_cut =
+        job::machine_steps(trial, design, {{&finish_program, ball.cutter()}}, fs_.machine).front().max_depth_of_cut_mm;
+  }
+  if (finish_cut > ball.flute_length_mm) {
+    info("job: " + stem + ": the finishing would cut " + fixed(finish_cut, 2) + " mm deep, more than the " +
          fixed(ball.flute_length_mm, 1) + " mm flutes of " + ball.label() + ": semi-finishing");
-    SemiFinish sf = semi_finishing({part, pf, fs_, ball, mill, before.back(), depth}, config, o.material, lib, file);
+    SemiFinish sf =
+        semi_finishing({part, pf, fs_, ball, mill, before.back(), finish_depth}, config, o.material, lib, file);
     semi_params = sf.params;
     job::Operation& semi = sf.op;
     job::LinkChanges semi_links;
@@ -236,10 +258,7 @@ int run_job(const JobOpts& o) {
     ops.push_back(std::move(semi));
     before.push_back(job::machine_steps(roughed, design, {job::chain_steps(ops).back()}, fs_.machine).front());
   }
-  job::LinkChanges links;
-  ops.push_back({"finishing (" + strategy_name + ")", ball,
-                 job::clear_rapids(finishing.written.program, roughed, ball.cutter(), fs_.params.clearance_mm,
-                                   fs_.params.plunge_feed_mm_min, &links)});
+  ops.push_back({"finishing (" + strategy_name + ")", ball, std::move(finish_program)});
   if (links.raised + links.fed > 0)
     notes.push_back("finishing: " + std::to_string(links.raised) + " links lifted over the stock left before it (" +
                     fixed(before.back().max_left_mm, 2) + " mm above the design at most, at X" +
@@ -251,19 +270,19 @@ int run_job(const JobOpts& o) {
     const tooling::Tool rest = job_tool(rest_id, config, o.material, lib);
     if (!(rest.diameter_mm < ball.diameter_mm))
       throw Error(file + ": the rest tool " + rest.label() + " is not smaller than the finishing tool " + ball.label());
-    job::check_reach(rest.cutter(), rest.label(), depth, "the part");
+    job::check_reach(rest.cutter(), rest.label(), finish_depth, "the part");
     (void)job::machine_steps(roughed, design, {job::chain_steps(ops).back()},
                              fs_.machine);  // what the finishing leaves
     const CuttingSettings cs = cutting_settings(config, o.material);
     const tooling::CuttingData d =
         tooling::cutting_data(rest, lib.material(cs.material_id, cs.material_from),
                               config["simulate"]["allowance_mm"].get<double>(), cs.machine, cs.factors);
-    std::string why;
+    std::string rest_why;
     const std::optional<gcode::Program> rest_program =
         job_rest_program(part, fs_, roughed, cutter_of(rest), config["finish"]["rest"]["min_area_mm2"].get<double>(),
-                         {d.rpm, d.feed_mm_min, d.feed_plunge_mm_min}, why);
-    info("job: " + stem + ": " + why);
-    notes.push_back(why);
+                         {d.rpm, d.feed_mm_min, d.feed_plunge_mm_min}, rest_why);
+    info("job: " + stem + ": " + rest_why);
+    notes.push_back(rest_why);
     if (rest_program)  // its links already clear the stock it read; lifted here too, like the finishing's
       ops.push_back(
           {"rest finishing (" + rest.label() + ")", rest,

@@ -214,7 +214,8 @@ TEST(CliJob, OneProgramPerPartInEveryDialectWithItsToolChangesChecksumsAndSetupS
 TEST(CliJob, AToolThatCannotReachIsReplacedByOneThatCanOrTheJobIsRefused) {
   const fs::path d = fresh_dir("cli_job_reach");
   const fs::path mesh = write_cavity(d);
-  // A shop library: the Ø2 ball also in a short version (5 mm out of the holder: the part is 9 mm deep).
+  // A shop library: the Ø2 ball also in a short version (5 mm out of the holder: the cavity's floor is
+  // 6 mm below the stock top; the outside walls below it to 9 mm are the roughing's, not the ball's).
   shop_ball(d, "short", "bn2-short", 2, 3, 5, 21);
   const auto r =
       run_millnet("job --no-preview --config short.json --mesh '" + mesh.string() + "' --strategy 1 --out o", d);
@@ -228,7 +229,7 @@ TEST(CliJob, AToolThatCannotReachIsReplacedByOneThatCanOrTheJobIsRefused) {
       run_millnet("job --no-preview --config short2.json --mesh '" + mesh.string() + "' --strategy 1 --out o2", d);
   EXPECT_EQ(bad.code, 1);
   EXPECT_NE(bad.err.find("bn3-short"), std::string::npos) << bad.err;
-  EXPECT_NE(bad.err.find("9.0 mm below the stock top"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("6.0 mm below the stock top"), std::string::npos) << bad.err;
   EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
   EXPECT_FALSE(fs::exists(d / "o2" / "cavity.job.nc"));
 }
@@ -305,6 +306,37 @@ TEST(CliJob, ACutDeeperThanTheToolsFlutesRefusesTheJob) {
   EXPECT_EQ(j["operations"][2]["tool"]["id"], "bn6-2f-carbide");
   EXPECT_GT(j["operations"][3]["max_depth_of_cut_mm"].get<double>(), 0.1);
   EXPECT_NE(j["notes"].dump().find("beyond the 0.1 mm flutes"), std::string::npos) << j["notes"];
+}
+
+// Issue 38: whether the finishing ball's flutes take what the roughing leaves is the depth the
+// finishing would really cut (the finishing machined on the roughed stock), not the stock's height
+// over the design: at the foot of a steep wall that height is the wall's (here > 3 mm, the Ø2 ball's
+// flutes), and Z-level finishing takes it a step at a time. No semi-finishing, no refusal.
+TEST(CliJob, AStockTallOverASteepWallIsNotADeepCutForZLevelFinishing) {
+  const fs::path d = fresh_dir("cli_job_steep");
+  // A 40 × 32 mm block 14 mm tall with a round-ended cavity 9 mm deep whose walls stand at ~84°.
+  const auto m = testing_ingest::solid(
+      [](double x, double y) {
+        const double r = std::hypot((x - 20) / 1.25, y - 16);
+        return r < 9 ? 5.0 : r < 10 ? 5 + 9 * (r - 9) : 14.0;
+      },
+      0, 40, 0, 32, 160, 128);
+  const fs::path mesh = d / "steep.stl";
+  ingest::save_stl_binary(m, mesh);
+  std::ofstream(d / "fast.json") << kFast;
+  const auto r =
+      run_millnet("job --quiet --no-preview --config fast.json --mesh '" + mesh.string() + "' --strategy 4 --out o", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Json j = Json::parse(slurp(d / "o" / "steep.job.json"));
+  const auto& ops = j["operations"];
+  ASSERT_GE(ops.size(), 2U) << j.dump(1);
+  const Json& rough = ops[ops.size() - 2];
+  const Json& finish = ops.back();
+  EXPECT_EQ(rough["name"], "roughing");
+  EXPECT_GT(rough["left_above_design_mm"].get<double>(), 3) << "the wall's stock, measured vertically";
+  EXPECT_EQ(finish["tool"]["id"], "bn2-2f-carbide");
+  EXPECT_LE(finish["max_depth_of_cut_mm"].get<double>(), 3) << "what the Ø2 ball really meets";
+  for (const Json& op : ops) EXPECT_EQ(op["name"].get<std::string>().rfind("semi", 0), std::string::npos);
 }
 
 // Issue 38: an inch shop's job (/machine/program_units inch) and a job whose work origin is the
