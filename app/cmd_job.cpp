@@ -4,6 +4,7 @@
 // operations as programs of their own; the job machined from the block; the setup sheet.
 #include "cli.hpp"
 #include "finish_job.hpp"
+#include "run_job.hpp"
 #include "settings.hpp"
 #include "text.hpp"
 
@@ -67,6 +68,19 @@ job::StrategyOutcome chosen_strategy(const std::vector<job::StrategyOutcome>& ou
   return *best;
 }
 
+/// The strategies in the simulated ranking's order from `first` (chosen_strategy), those that gouge
+/// left out. O(strategies log strategies).
+std::vector<job::StrategyOutcome> ranked_clean(const std::vector<job::StrategyOutcome>& outcomes,
+                                               const job::StrategyOutcome& first) {
+  std::vector<job::StrategyOutcome> out{first};
+  std::vector<job::StrategyOutcome> rest;
+  for (const job::StrategyOutcome& k : outcomes)
+    if (k.strategy != first.strategy && k.rank > 0 && !(k.simulated && k.surface.gouged)) rest.push_back(k);
+  std::sort(rest.begin(), rest.end(), [](const auto& a, const auto& b) { return a.rank < b.rank; });
+  out.insert(out.end(), rest.begin(), rest.end());
+  return out;
+}
+
 /// The cutting data of the drilling: the drill's own speed and feed in the material.
 job::DrillCut drill_cut(const tooling::Tool& drill, const Json& config, const std::optional<std::string>& material,
                         double depth_mm) {
@@ -99,32 +113,56 @@ struct SemiFinish {
   job::Operation op;
   finish::FinishParams params;  ///< its cutting data and steps
 };
-SemiFinish semi_finishing(const SemiFinishInput& in, const Json& config, const std::optional<std::string>& material,
-                          const ToolLibrary& lib, const std::string& file) {
-  const double left = in.roughed.max_left_mm, a = in.settings.sim.allowance_mm;
-  const tooling::Tool* semi = job::semi_finishing_tool(lib.tools, in.finisher, in.mill, left, in.depth_mm);
-  if (semi == nullptr)
-    throw Error(file + ": the roughing leaves " + fixed(left, 2) + " mm above the design (at X" +
-                fixed(in.roughed.max_left_at[0], 1) + " Y" + fixed(in.roughed.max_left_at[1], 1) + "), more than the " +
-                fixed(in.finisher.flute_length_mm, 1) + " mm flutes of " + in.finisher.label() +
-                " take, and no ball of the library between Ø" + fixed(in.finisher.diameter_mm, 1) + " and Ø" +
-                fixed(in.mill.diameter_mm, 1) + " mm has flutes that long and reaches " + fixed(in.depth_mm, 1) +
-                " mm: add one, or rough with a smaller step-down (/pocket/step_down)");
+SemiFinish semi_finishing(const SemiFinishInput& in, const tooling::Tool& semi, const Json& config,
+                          const std::optional<std::string>& material, const ToolLibrary& lib) {
+  const double a = in.settings.sim.allowance_mm;
+  const double left =
+      semi.flute_length_mm > 0 ? std::min(in.roughed.max_left_mm, semi.flute_length_mm) : in.roughed.max_left_mm;
   const CuttingSettings cs = cutting_settings(config, material);
   const tooling::CuttingData d =
-      tooling::cutting_data(*semi, lib.material(cs.material_id, cs.material_from), left, cs.machine, cs.factors);
+      tooling::cutting_data(semi, lib.material(cs.material_id, cs.material_from), left, cs.machine, cs.factors);
   finish::FinishParams p = job::part_params(in.settings.params, in.finishing.frame, in.part.name + " semi-finishing",
-                                            {"tool: " + semi->label()});
+                                            {"tool: " + semi.label()});
   p.boundary = in.settings.boundary_in(in.finishing.frame);
-  const tooling::Cutter grown = tooling::Cutter::ball(semi->diameter_mm + 2 * a);
+  const tooling::Cutter grown = tooling::Cutter::ball(semi.diameter_mm + 2 * a);
   p.tool = grown;
-  p.tool_label = "semi-finishing, " + semi->label() + ", leaving " + format_double(a) + " mm";
+  p.tool_label = "semi-finishing, " + semi.label() + ", leaving " + format_double(a) + " mm";
   p.z_shift += a;
-  p.stepover_mm = p.step_down_mm = job::scallop_step(semi->diameter_mm / 2, a);
+  p.stepover_mm = p.step_down_mm = job::scallop_step(semi.diameter_mm / 2, a);
   p.spindle_rpm = d.rpm, p.feed_mm_min = d.feed_mm_min, p.plunge_feed_mm_min = d.feed_plunge_mm_min;
   const finish::DropCutter dropper(in.part.mesh, grown);
   finish::FinishPlan plan = finish::plan_finish(in.part.mesh, dropper, finish::Strategy::SlopeMode, p);
-  return {{"semi-finishing (s1 slope mode, leaving " + format_double(a) + " mm)", *semi, std::move(plan.program)}, p};
+  return {{"semi-finishing (s1 slope mode, leaving " + format_double(a) + " mm)", semi, std::move(plan.program)}, p};
+}
+
+/// The semi-finishing whose flutes take what it meets: the candidates (job::semi_finishing_tools)
+/// planned in turn, each program's links lifted over the roughed stock and machined on a copy of
+/// it, the first whose axial engagement its flutes take. Refused in one line naming the least
+/// engaged candidate when none will do.
+SemiFinish semi_finishing_that_fits(const SemiFinishInput& in, const simulate::ZMap& roughed, const job::Design& design,
+                                    const FinishSettings& fs, const Json& config,
+                                    const std::optional<std::string>& material, const ToolLibrary& lib,
+                                    const std::string& file, double finish_cut) {
+  const std::vector<const tooling::Tool*> candidates =
+      job::semi_finishing_tools(lib.tools, in.finisher, in.mill, in.depth_mm);
+  std::string tried;
+  for (const tooling::Tool* t : candidates) {  // O(candidates × (plan + simulation))
+    SemiFinish sf = semi_finishing(in, *t, config, material, lib);
+    sf.op.program =
+        job::clear_rapids(sf.op.program, roughed, t->cutter(), fs.params.clearance_mm, sf.params.plunge_feed_mm_min);
+    simulate::ZMap trial = roughed;
+    const job::StepResult st = job::machine_steps(trial, design, {{&sf.op.program, t->cutter()}}, fs.machine).front();
+    if (t->flute_length_mm <= 0 || st.max_depth_of_cut_mm <= t->flute_length_mm) return sf;
+    tried += (tried.empty() ? "" : "; ") + t->id + " would cut " + fixed(st.max_depth_of_cut_mm, 2) + " mm (flutes " +
+             fixed(t->flute_length_mm, 1) + " mm) at X" + fixed(st.max_cut_at[0], 1) + " Y" +
+             fixed(st.max_cut_at[1], 1);
+  }
+  throw Error(file + ": the finishing would cut " + fixed(finish_cut, 2) + " mm deep, more than the " +
+              fixed(in.finisher.flute_length_mm, 1) + " mm flutes of " + in.finisher.label() +
+              " take, and no ball of the library between Ø" + fixed(in.finisher.diameter_mm, 1) + " and Ø" +
+              fixed(in.mill.diameter_mm, 1) + " mm that reaches " + fixed(in.depth_mm, 1) +
+              " mm semi-finishes within its flutes" + (tried.empty() ? std::string() : " (" + tried + ")") +
+              ": add one, or rough with a smaller step-down (/pocket/step_down)");
 }
 
 /// A tool named on the command line: a library id, or inline (ball:D, flat:D, bull:D:r) with the
@@ -153,9 +191,9 @@ report::SetupTool setup_tool(const tooling::Tool& t) {
 
 std::string share_text(double share) { return std::isnan(share) ? "–" : fixed(100 * share, 2) + " %"; }
 
-int run_job(const JobOpts& o) {
+/// The job of `o` with `config` read; `reuse` (from `millnet run`): what is already computed.
+int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, RunJobResult* result) {
   // 1. Settings and the part.
-  const Json config = setup(o.common);
   FinishSettings fs_ = finish_settings(config, {o.finish_tool, o.material});
   fs_.post = post_dialect(config, o.post);
   o.boundary.apply(fs_);
@@ -168,7 +206,7 @@ int run_job(const JobOpts& o) {
   rough::Params rp = rough_params(config, explicit_pocket_section(o.common.config), pflags, &rough_cutting);
   const ToolLibrary lib = tool_library(config);
   const ingest::PrepareOptions prep = o.mesh_flags.prepare(&config["rough"], &config);
-  job::Part part = load_part(o.mesh, prep);
+  job::Part part = reuse != nullptr ? *reuse->part : load_part(o.mesh, prep);
   const std::string stem = part.name, file = o.mesh;
   const fs::path out = o.out;
   const job::Frame frame = job::frame_of(part.mesh, rp.top_allowance_mm);
@@ -196,7 +234,9 @@ int run_job(const JobOpts& o) {
   fs::create_directories(out);
   // 3. Roughing, and the drilling its pre-drilled entries need.
   info("job: " + stem + ": roughing with " + mill.label());
-  const rough::Result rough = rough::rough_mesh(part.mesh, rp);
+  std::optional<rough::Result> own_rough;  // the run's roughing when it ran with this tool
+  const bool reuse_rough = reuse != nullptr && reuse->rough != nullptr && mill.id == rough_cutting.tool.id;
+  const rough::Result& rough = reuse_rough ? *reuse->rough : own_rough.emplace(rough::rough_mesh(part.mesh, rp));
   if (rough.machining.status != pocket::PlanStatus::Ok) throw Error(file + ": roughing: " + rough.machining.message);
   const tooling::Tool* drill = nullptr;
   job::DrillCut dc;
@@ -215,48 +255,99 @@ int run_job(const JobOpts& o) {
   // 4. Finishing: the strategies machined and ranked (their files in DIR/strategies), the chosen one's program.
   info("job: " + stem + ": finishing with " + ball.label() + " (" + std::to_string(fs_.strategies.size()) + " strateg" +
        (fs_.strategies.size() == 1 ? "y" : "ies") + " simulated)");
-  const PartFinish pf = finish_part(part, fs_, out / "strategies");
-  const job::StrategyOutcome pick = chosen_strategy(pf.outcomes, file);
-  const int slot = static_cast<int>(pick.strategy);
-  const fs::path pick_nc = out / "strategies" / program_file_name(stem + ".s" + std::to_string(slot), pick);
-  const ChainProgram finishing = read_chain_program(pick_nc, ball.cutter(), frame.post(fs_.post));
-  const std::string strategy_name = "s" + finish::strategy_name(pick.strategy);  // "s3 profile finishing, …"
+  const fs::path strategies_dir = reuse != nullptr ? reuse->strategies_dir : out / "strategies";
+  std::optional<PartFinish> own_finish;
+  const PartFinish& pf =
+      reuse != nullptr ? *reuse->finished : own_finish.emplace(finish_part(part, fs_, strategies_dir));
   // The finishing was planned over the design + its allowance; in the job it meets what the drilling
-  // and roughing leave: its rapids are lifted over that stock (issue 38).
+  // and roughing leave: its rapids are lifted over that stock (issue 38), and where its flutes would
+  // not take what it meets a semi-finishing goes first; a strategy whose cut goes beyond its flutes
+  // even then gives way to the next of the ranking (--strategy K: K, or no job).
   const job::Design& design = *pf.design;
   const job::SimParams sim = sim_params(fs_);
   simulate::ZMap roughed = job::block_stock(design, sim);
   std::vector<job::StepResult> before = job::machine_steps(roughed, design, job::chain_steps(ops), fs_.machine);
-  std::optional<finish::FinishParams> semi_params;
+  const bool by_rank = o.strategy == "best";
+  std::vector<job::StrategyOutcome> candidates{chosen_strategy(pf.outcomes, file)};
+  if (by_rank) candidates = ranked_clean(pf.outcomes, candidates.front());
+  std::optional<SemiFinish> semi;  // planned once, when a strategy first needs it
+  std::optional<simulate::ZMap> semi_stock;
+  job::StepResult semi_result;
+  std::string semi_error, passed_over;
+  job::StrategyOutcome pick = candidates.front();
+  gcode::Program finish_program;
   job::LinkChanges links;
-  gcode::Program finish_program = job::clear_rapids(finishing.written.program, roughed, ball.cutter(),
-                                                    fs_.params.clearance_mm, fs_.params.plunge_feed_mm_min, &links);
-  // Whether the finishing tool's flutes take what the roughing leaves: the finishing machined on a
-  // copy of that stock, its deepest cut (the height one move removes at one cell). The stock's
-  // height over the design is only a bound: at the foot of a steep wall it is the wall's height,
-  // which a Z-level or a raster pass down the wall takes a step at a time (issue 38).
   double finish_cut = 0;
-  if (ball.flute_length_mm > 0 && before.back().max_left_mm > ball.flute_length_mm) {
-    simulate::ZMap trial = roughed;
-    finish_cut =
-        job::machine_steps(trial, design, {{&finish_program, ball.cutter()}}, fs_.machine).front().max_depth_of_cut_mm;
+  gcode::Point3 finish_cut_at{};
+  bool use_semi = false;
+  for (std::size_t c = 0; c < candidates.size(); ++c) {  // O(strategies × simulation)
+    const job::StrategyOutcome& cand = candidates[c];
+    const fs::path nc =
+        strategies_dir / program_file_name(stem + ".s" + std::to_string(static_cast<int>(cand.strategy)), cand);
+    const ChainProgram read = read_chain_program(nc, ball.cutter(), frame.post(fs_.post));
+    job::LinkChanges l;
+    gcode::Program program = job::clear_rapids(read.written.program, roughed, ball.cutter(), fs_.params.clearance_mm,
+                                               fs_.params.plunge_feed_mm_min, &l);
+    // Whether the finishing tool's flutes take what it meets: its axial engagement on a copy of the
+    // stock. The stock's height over the design is only a bound (at the foot of a steep wall it is
+    // the wall's height, which a pass down the wall takes a little at a time).
+    const auto engagement = [&](const simulate::ZMap& stock) {
+      simulate::ZMap trial = stock;
+      return job::machine_steps(trial, design, {{&program, ball.cutter()}}, fs_.machine).front();
+    };
+    const bool last = c + 1 == candidates.size();
+    double cut = 0;
+    gcode::Point3 at{};
+    if (ball.flute_length_mm > 0 && before.back().max_left_mm > ball.flute_length_mm) {
+      const job::StepResult st = engagement(roughed);
+      cut = st.max_depth_of_cut_mm, at = st.max_cut_at;
+    }
+    bool needs_semi = cut > ball.flute_length_mm;
+    if (needs_semi) {
+      info("job: " + stem + ": s" + std::to_string(static_cast<int>(cand.strategy)) + " would cut " + fixed(cut, 2) +
+           " mm deep (at X" + fixed(at[0], 2) + " Y" + fixed(at[1], 2) + " Z" + fixed(at[2], 2) + "), more than the " +
+           fixed(ball.flute_length_mm, 1) + " mm flutes of " + ball.label() + ": semi-finishing");
+      if (!semi && semi_error.empty()) {
+        try {
+          semi = semi_finishing_that_fits({part, pf, fs_, ball, mill, before.back(), finish_depth}, roughed, design,
+                                          fs_, config, o.material, lib, file, cut);
+          semi_stock = roughed;
+          semi_result =
+              job::machine_steps(*semi_stock, design, {{&semi->op.program, semi->op.tool.cutter()}}, fs_.machine)
+                  .front();
+        } catch (const Error& e) {
+          semi_error = e.what();
+        }
+      }
+      if (!semi && (!by_rank || last)) throw Error(semi_error);
+      const double after = semi ? engagement(*semi_stock).max_depth_of_cut_mm : cut;
+      if (after > ball.flute_length_mm && by_rank && !last) {
+        passed_over += (passed_over.empty() ? "" : "; ") + std::string("s") +
+                       std::to_string(static_cast<int>(cand.strategy)) + " would cut " + fixed(after, 2) + " mm deep" +
+                       (semi ? " even after the semi-finishing" : "");
+        continue;
+      }
+    }
+    pick = cand, finish_program = std::move(program), links = l, finish_cut = cut, finish_cut_at = at;
+    use_semi = needs_semi;
+    break;
   }
-  if (finish_cut > ball.flute_length_mm) {
-    info("job: " + stem + ": the finishing would cut " + fixed(finish_cut, 2) + " mm deep, more than the " +
-         fixed(ball.flute_length_mm, 1) + " mm flutes of " + ball.label() + ": semi-finishing");
-    SemiFinish sf =
-        semi_finishing({part, pf, fs_, ball, mill, before.back(), finish_depth}, config, o.material, lib, file);
-    semi_params = sf.params;
-    job::Operation& semi = sf.op;
-    job::LinkChanges semi_links;
-    semi.program = job::clear_rapids(semi.program, roughed, semi.tool.cutter(), fs_.params.clearance_mm,
-                                     fs_.params.plunge_feed_mm_min, &semi_links);
-    notes.push_back("the roughing leaves " + fixed(before.back().max_left_mm, 2) + " mm above the design (at X" +
-                    fixed(before.back().max_left_at[0], 1) + " Y" + fixed(before.back().max_left_at[1], 1) +
-                    "), more than the " + fixed(ball.flute_length_mm, 1) + " mm flutes of " + ball.label() +
-                    " take: " + semi.tool.label() + " semi-finishes first");
-    ops.push_back(std::move(semi));
-    before.push_back(job::machine_steps(roughed, design, {job::chain_steps(ops).back()}, fs_.machine).front());
+  if (!passed_over.empty())
+    notes.push_back("the ranking's first strategies would cut beyond the " + fixed(ball.flute_length_mm, 1) +
+                    " mm flutes of " + ball.label() + " (" + passed_over + "): the job finishes with s" +
+                    std::to_string(static_cast<int>(pick.strategy)) + ", the first a machine survives");
+  const int slot = static_cast<int>(pick.strategy);
+  const std::string strategy_name = "s" + finish::strategy_name(pick.strategy);  // "s3 profile finishing, …"
+  std::optional<finish::FinishParams> semi_params;
+  if (use_semi) {
+    semi_params = semi->params;
+    notes.push_back("the finishing would cut " + fixed(finish_cut, 2) + " mm deep (at X" + fixed(finish_cut_at[0], 1) +
+                    " Y" + fixed(finish_cut_at[1], 1) + " Z" + fixed(finish_cut_at[2], 1) +
+                    ") into what the roughing leaves, more than the " + fixed(ball.flute_length_mm, 1) +
+                    " mm flutes of " + ball.label() + " take: " + semi->op.tool.label() + " semi-finishes first");
+    ops.push_back(std::move(semi->op));
+    roughed = std::move(*semi_stock);
+    before.push_back(semi_result);
   }
   ops.push_back({"finishing (" + strategy_name + ")", ball, std::move(finish_program)});
   if (links.raised + links.fed > 0)
@@ -460,8 +551,9 @@ int run_job(const JobOpts& o) {
       {"rest material (corners tighter than the ball)", fixed(m.rest_area_mm2, 1) + " mm²"},
       {"largest scallop", fixed(m.scallop_max_mm * 1000, 1) + " µm"},
       {"Ra median / p90", fixed(m.ra_median_um, 2) + " / " + fixed(m.ra_p90_um, 2) + " µm"},
-      {"finishing chosen", strategy_name + (o.strategy == "best" ? " (first of the simulated ranking, strategies/" +
-                                                                       stem + ".strategies.md)"
+      {"finishing chosen", strategy_name + (o.strategy == "best" ? " (first of the simulated ranking, " +
+                                                                       fs::relative(strategies_dir, out).string() +
+                                                                       "/" + stem + ".strategies.md)"
                                                                  : " (--strategy)")}};
   sheet.files = program_files;
   sheet.tool_changes =
@@ -502,6 +594,8 @@ int run_job(const JobOpts& o) {
   info("job: " + stem + ": " + std::to_string(ops.size()) + " operations, " + fixed(sheet.cycle_time_min(), 1) +
        " min (" + std::to_string(sheet.tool_changes) + " tool changes), gouge " +
        (m.gouged ? fixed(m.max_gouge_mm, 3) + " mm" : std::string("none")) + " → " + job_nc.string());
+  if (result != nullptr)
+    *result = {job_nc, slot, ops.size(), sheet.tool_changes, sheet.cycle_time_min(), m.max_gouge_mm, m.gouged};
   if (m.gouged) {
     std::cerr << "millnet job: error: " << job_nc.string() << " gouges the part by " << fixed(m.max_gouge_mm, 3)
               << " mm (line " << m.first_gouge_move.line << ")\n";
@@ -510,7 +604,20 @@ int run_job(const JobOpts& o) {
   return 0;
 }
 
+int run_job(const JobOpts& o) { return build_job(o, setup(o.common), nullptr, nullptr); }
+
 }  // namespace
+
+RunJobResult write_run_job(const Json& config, const std::string& config_file, const std::string& mesh_file,
+                           const RunJobInput& in, const fs::path& out) {
+  JobOpts o;
+  o.common.config = config_file;
+  o.mesh = mesh_file;
+  o.out = out.string();
+  RunJobResult r;
+  (void)build_job(o, config, &in, &r);
+  return r;
+}
 
 Registered register_job(CLI::App& app) {
   auto o = std::make_shared<JobOpts>();

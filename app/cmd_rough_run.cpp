@@ -6,6 +6,7 @@
 #include "text.hpp"
 #include "learn.hpp"
 #include "rough.hpp"
+#include "run_job.hpp"
 
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
@@ -32,13 +33,14 @@ struct RoughOutcome {
   std::string name, file, error;
   bool ok = false;
   Json metrics;
+  std::shared_ptr<const rough::Result> result;  ///< for the part's job
 };
 
 /// Roughs one loaded part (or reports `load_error` when it could not be read) into `out`.
 RoughOutcome rough_prepared(const job::Part* part, const std::string& load_error, const fs::path& file,
                             const std::string& name, const rough::Params& params, const fs::path& out,
                             const CuttingRecord& cutting, const gcode::Dialect& post) {
-  RoughOutcome o{name, file.string(), load_error, false, Json::object()};
+  RoughOutcome o{name, file.string(), load_error, false, Json::object(), nullptr};
   if (!part) return o;
   try {
     // The holder must stay above the stock: the levels reach from the stock top to the last level,
@@ -52,7 +54,9 @@ RoughOutcome rough_prepared(const job::Part* part, const std::string& load_error
       throw Error(file.string() + ": " + e.what());
     }
     OutputSet files;  // this part's files complete, or none of them (core/output_set.hpp)
-    const rough::Result r = rough::rough_mesh(part->mesh, params);
+    const auto result = std::make_shared<const rough::Result>(rough::rough_mesh(part->mesh, params));
+    const rough::Result& r = *result;
+    o.result = result;
     o.metrics = write_rough_outputs(out, name, r, params, post, cutting.to_json(), &part->mesh, cad_metrics(*part));
     files.commit();
     o.ok = r.machining.status == pocket::PlanStatus::Ok;
@@ -182,6 +186,9 @@ struct FinishOutcome {
   double spearman = 0;
   bool chained = false;  ///< rough + top strategy simulated on one z-map
   Json chain;            ///< <name>.rough_finish.sim.json
+  bool jobbed = false;   ///< /run/job: the part's job was attempted
+  std::string job_error;
+  RunJobResult job;
 };
 
 struct PartOutcomes {
@@ -195,9 +202,15 @@ struct PartOutcomes {
 /// Finishes the prepared part with every strategy (simulated, files in dir/finish/), then machines
 /// the roughing program dir/<name>.nc and the top strategy's program one after the other on one
 /// z-map from flat stock (dir/<name>.rough_finish.sim.json and its pictures).
+/// With a `job` (/run/job), the part's job into dir/job/ (write_run_job), from the same roughing and
+/// strategies.
+struct RunJobRequest {
+  const Json* config = nullptr;
+  std::string config_file, mesh_file;
+};
 FinishOutcome finish_test_part(const job::Part& part, const std::string& name, const PartPrediction& pr,
                                const RoughOutcome* rough, const FinishSettings& configured,
-                               const tooling::Cutter& rough_cutter, const fs::path& dir) {
+                               const tooling::Cutter& rough_cutter, const fs::path& dir, const RunJobRequest& job) {
   FinishOutcome fo;
   try {
     const FinishSettings settings = for_part(configured, part.mesh);
@@ -227,6 +240,16 @@ FinishOutcome finish_test_part(const job::Part& part, const std::string& name, c
       fo.chained = true;
     }
     fo.ok = true;
+    if (job.config != nullptr) {
+      fo.jobbed = true;
+      try {
+        const RunJobInput in{&named, &pf, dir / "finish",
+                             rough != nullptr && rough->ok ? rough->result.get() : nullptr};
+        fo.job = write_run_job(*job.config, job.config_file, job.mesh_file, in, dir / "job");
+      } catch (const std::exception& e) {
+        fo.job_error = e.what();
+      }
+    }
   } catch (const std::exception& e) {
     fo.error = e.what();
   }
@@ -276,8 +299,9 @@ PartOutcomes predict_and_rough(const Json& config, const std::string& config_fil
     if (run.finish) {
       t0 = clock::now();
       if (named.part) {
+        const RunJobRequest job{run.job ? &config : nullptr, config_file, p.file.string()};
         po.finishes.push_back(finish_test_part(*named.part, name, preds.back(),
-                                               roughs.empty() ? nullptr : &roughs.back(), fset, rp.cut.tool, dir));
+                                               roughs.empty() ? nullptr : &roughs.back(), fset, rp.cut.tool, dir, job));
       } else {
         FinishOutcome failed;
         failed.error = load_error;
@@ -354,6 +378,20 @@ report::RunSummary run_summary(const std::string& config_file, const TrainSummar
         p.chain_gouge_mm = c["max_gouge_mm"].get<double>();
         p.chain_scallop_max_mm = c["scallop_max_mm"].get<double>();
       }
+      p.jobbed = f.jobbed;
+      if (f.jobbed) {
+        p.job_error = f.job_error;
+        p.job_ok = f.job_error.empty() && !f.job.gouged;
+        if (f.job_error.empty()) {
+          p.job_program = f.job.program.filename().string();
+          if (f.job.gouged) p.job_error = f.job.program.string() + " gouges the part";
+        }
+        p.job_strategy = f.job.strategy;
+        p.job_operations = f.job.operations;
+        p.job_tool_changes = f.job.tool_changes;
+        p.job_time_min = f.job.cycle_time_min;
+        p.job_gouge_mm = f.job.max_gouge_mm;
+      }
     }
     s.parts.push_back(std::move(p));
   }
@@ -396,6 +434,13 @@ Json finishing_json(const report::RunSummary& s) {
                              {"rest_area_mm2", p.chain_rest_mm2},
                              {"scallop_max_mm", p.chain_scallop_max_mm},
                              {"max_gouge_mm", p.chain_gouge_mm}};
+    if (p.jobbed)
+      j["job"] = p.job_program.empty()
+                     ? Json{{"status", "error"}, {"error", p.job_error}}
+                     : Json{{"status", p.job_ok ? "ok" : "error"}, {"program", "job/" + p.job_program},
+                            {"strategy", p.job_strategy},          {"operations", p.job_operations},
+                            {"tool_changes", p.job_tool_changes},  {"total_time_min", p.job_time_min},
+                            {"max_gouge_mm", p.job_gouge_mm}};
     out.push_back(j);
   }
   return out;

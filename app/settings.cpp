@@ -674,6 +674,7 @@ RunSettings run_settings(const Json& config) {
   RunSettings s;
   s.rough = run["rough"].get<bool>();
   s.finish = run["finish"].get<bool>();
+  s.job = s.finish && run["job"].get<bool>();
   for (const auto& p : run["test_parts"])
     s.test_parts.push_back({p["file"].get<std::string>(), p.value("name", std::string()), p["label"].get<int>()});
   s.generate.seed = run["generate_test_parts"]["seed"].get<std::uint64_t>();

@@ -210,6 +210,7 @@ struct FinishToolFlags {
 struct RunSettings {
   bool rough = true;
   bool finish = true;
+  bool job = true;  ///< /run/job (with finish): each test part's job, write_run_job
   struct TestPart {
     std::filesystem::path file;
     std::string name;  ///< empty ⇒ file stem

@@ -146,6 +146,31 @@ void finishing_table(std::ostringstream& md, const RunSummary& s, const RunCount
     md << "\nMean ρ over " << c.spearman_parts << " parts: " << summary_fixed(c.mean_spearman, 2) << ".\n";
 }
 
+/// Per part, its job: one program from the block to the finish, machined virtually.
+void jobs_table(std::ostringstream& md, const RunSummary& s) {
+  if (std::none_of(s.parts.begin(), s.parts.end(), [](const RunPart& p) { return p.jobbed; })) return;
+  md << "\n## Jobs: one program per part\n\n"
+     << "Each part's job as `millnet job` writes it (docs/job.md): drilling where the roughing pre-drills, "
+        "roughing, semi-finishing where the finishing ball's flutes would not take what the roughing leaves, "
+        "then the simulated ranking's first strategy, each with its tool change, in one work offset; machined "
+        "from the block on one z-map. Cycle time = the operations' kinematic times + the tool changes.\n\n"
+     << "| part | job program | finishing | operations | tool changes | cycle time (min) | gouge (mm) | setup "
+        "sheet |\n|---|---|---:|---:|---:|---:|---:|---|\n";
+  for (const RunPart& p : s.parts) {  // O(parts)
+    if (!p.jobbed) continue;
+    const std::string d = "parts/" + p.name + "/job/";
+    md << "| " << p.name << " | ";
+    if (p.job_program.empty()) {
+      md << "error: " << p.job_error << " | | | | | | |\n";
+      continue;
+    }
+    md << "[" << p.job_program << "](" << d << p.job_program << ") | s" << p.job_strategy << " | " << p.job_operations
+       << " | " << p.job_tool_changes << " | " << summary_fixed(p.job_time_min, 1) << " | "
+       << (p.job_ok ? summary_fixed(p.job_gouge_mm, 4) : "**" + summary_fixed(p.job_gouge_mm, 4) + "**")
+       << " | [setup](" << d << p.name << ".setup.html) |\n";
+  }
+}
+
 void part_sections(std::ostringstream& md, const RunSummary& s) {
   md << "\n## Parts\n";
   for (const RunPart& p : s.parts) {
@@ -189,8 +214,8 @@ RunCounts run_counts(const RunSummary& s) {
       ++c.labelled;
       c.correct += p.top == p.expected ? 1 : 0;
     }
-    c.failures +=
-        (p.predicted ? 0U : 1U) + (p.roughed && !p.rough_ok ? 1U : 0U) + (p.finished && !p.finish_ok ? 1U : 0U);
+    c.failures += (p.predicted ? 0U : 1U) + (p.roughed && !p.rough_ok ? 1U : 0U) +
+                  (p.finished && !p.finish_ok ? 1U : 0U) + (p.jobbed && !p.job_ok ? 1U : 0U);
     if (p.finished && p.finish_ok && !p.network_rank.empty()) {
       rho_sum += p.spearman;
       ++c.spearman_parts;
@@ -228,6 +253,7 @@ std::string run_summary_md(const RunSummary& s) {
   training(md, s);
   prediction_table(md, s, c);
   if (any_finished(s)) finishing_table(md, s, c);
+  jobs_table(md, s);
   part_sections(md, s);
   md << "\n## Time per stage\n\n| stage | seconds |\n|---|---:|\n";
   for (const auto& [stage, seconds] : s.timing_s) md << "| " << stage << " | " << summary_fixed(seconds, 2) << " |\n";

@@ -77,10 +77,11 @@ std::vector<StepResult> machine_steps(simulate::ZMap& stock, const Design& desig
     const simulate::SweepResult sw = simulate::machine(stock, *s.program, s.cutter);
     StepResult st;
     st.stats = gcode::stats(*s.program, machine);
-    const auto deepest = std::max_element(sw.max_cut_mm.begin(), sw.max_cut_mm.end());
-    st.max_depth_of_cut_mm = *deepest;
-    const std::size_t item = sw.max_cut_item[static_cast<std::size_t>(deepest - sw.max_cut_mm.begin())];
-    if (item < s.program->items.size()) {
+    // The depth of cut the flutes take: the axial engagement (simulate::SweepResult), where it is largest.
+    const auto deepest = std::max_element(sw.item_max_engage_mm.begin(), sw.item_max_engage_mm.end());
+    st.max_depth_of_cut_mm = deepest == sw.item_max_engage_mm.end() ? 0.0 : *deepest;
+    const auto item = static_cast<std::size_t>(deepest - sw.item_max_engage_mm.begin());
+    if (st.max_depth_of_cut_mm > 0 && item < s.program->items.size()) {
       if (const auto* m = std::get_if<gcode::Move>(&s.program->items[item])) st.max_cut_at = m->to;
       if (item < s.program->source_line.size()) st.max_cut_line = s.program->source_line[item];
     }

@@ -66,7 +66,9 @@ Scored score_program(const Design& design, const Frame& frame, const gcode::Prog
   s.machined = finishing_stock(design, frame, sim);
   const simulate::SweepResult sw = simulate::machine(s.machined, program, cutter);
   s.cutting_rapids = sw.cutting_rapids.size();
-  s.max_depth_of_cut_mm = *std::max_element(sw.max_cut_mm.begin(), sw.max_cut_mm.end());
+  s.max_depth_of_cut_mm = sw.item_max_engage_mm.empty()
+                              ? 0.0
+                              : *std::max_element(sw.item_max_engage_mm.begin(), sw.item_max_engage_mm.end());
   // Uncut = reachable material the program left; the scallops between passes are scored by
   // scallop and Ra, and the rest material no program with this cutter can clear is apart.
   simulate::MetricsOptions mo = sim.metrics_options(cutter);

@@ -150,6 +150,20 @@ const tooling::Tool* semi_finishing_tool(const std::vector<tooling::Tool>& libra
   return best;
 }
 
+std::vector<const tooling::Tool*> semi_finishing_tools(const std::vector<tooling::Tool>& library,
+                                                       const tooling::Tool& finisher, const tooling::Tool& rough,
+                                                       double depth_mm) {
+  std::vector<const tooling::Tool*> out;
+  for (const tooling::Tool& t : library)  // O(tools)
+    if (t.type == tooling::ToolType::Ball && t.diameter_mm > finisher.diameter_mm &&
+        t.diameter_mm <= rough.diameter_mm && reaches(t, depth_mm))
+      out.push_back(&t);
+  std::stable_sort(out.begin(), out.end(), [](const tooling::Tool* a, const tooling::Tool* b) {
+    return a->diameter_mm != b->diameter_mm ? a->diameter_mm < b->diameter_mm : a->stickout_mm < b->stickout_mm;
+  });
+  return out;
+}
+
 double scallop_step(double radius, double scallop_mm) {
   const double h = std::min(scallop_mm, radius);
   return 2 * std::sqrt(std::max(0.0, 2 * radius * h - h * h));

@@ -67,27 +67,30 @@ std::vector<std::vector<std::uint32_t>> bucket_rows(std::vector<Seg>& segs, cons
 
 /// Sweeps every chunk's primitives over its rows, the chunks in parallel (each cell belongs to one
 /// chunk and sees its primitives in program order: bit-identical for any thread count). Returns
-/// the largest height each item removed at one cell (max over the threads: exact); adds the cell
-/// evaluations to `visited`.
+/// the largest height each item removed at one cell and (`engage`) its largest axial engagement
+/// (max over the threads: exact); adds the cell evaluations to `visited`.
 std::vector<double> sweep_chunks(const std::vector<Seg>& segs,
                                  const std::vector<std::vector<std::uint32_t>>& chunk_segs, const Profile& P,
                                  const GridSpec& spec, double* z, std::uint32_t* stamp, std::size_t nitems, int threads,
-                                 std::uint64_t& visited) {
+                                 std::uint64_t& visited, std::vector<double>& engage) {
   const int nthreads = threads > 0 ? threads : std::max(1, omp_get_max_threads());
-  std::vector<std::vector<double>> thread_cut(static_cast<std::size_t>(nthreads));
+  std::vector<std::vector<double>> thread_cut(static_cast<std::size_t>(nthreads)),
+      thread_engage(static_cast<std::size_t>(nthreads));
   std::uint64_t cells = 0;
   const auto nch = static_cast<std::ptrdiff_t>(chunk_segs.size());
 #pragma omp parallel num_threads(nthreads) reduction(+ : cells)
   {
     auto& cut = thread_cut[static_cast<std::size_t>(omp_get_thread_num())];
     cut.assign(nitems, 0.0);
+    auto& eng = thread_engage[static_cast<std::size_t>(omp_get_thread_num())];
+    eng.assign(nitems, 0.0);
 #pragma omp for schedule(dynamic, 1)
     for (std::ptrdiff_t ci = 0; ci < nch; ++ci) {
       const auto c = static_cast<std::size_t>(ci);
       const std::size_t row0 = c * kChunkRows, row1 = std::min(spec.ny, row0 + kChunkRows) - 1;
       for (const std::uint32_t si : chunk_segs[c]) {
         const Seg& g = segs[si];
-        sweep_rows(g, P, spec, std::max(row0, g.iy0), std::min(row1, g.iy1), z, stamp, cut[g.item], cells);
+        sweep_rows(g, P, spec, std::max(row0, g.iy0), std::min(row1, g.iy1), z, stamp, cut[g.item], eng[g.item], cells);
       }
     }
   }
@@ -95,6 +98,9 @@ std::vector<double> sweep_chunks(const std::vector<Seg>& segs,
   std::vector<double> item_cut(nitems, 0);
   for (const auto& cut : thread_cut)
     for (std::size_t i = 0; i < cut.size(); ++i) item_cut[i] = std::max(item_cut[i], cut[i]);
+  engage.assign(nitems, 0);
+  for (const auto& e : thread_engage)
+    for (std::size_t i = 0; i < e.size(); ++i) engage[i] = std::max(engage[i], e[i]);
   return item_cut;
 }
 
@@ -168,7 +174,7 @@ SweepResult Sweeper::run(ZMap& zm, const gcode::Program& program, const tooling:
 
   // 3. Sweep, parallel over row chunks; 4. each move's depth of cut.
   res.item_max_cut_mm = sweep_chunks(segs, chunk_segs, P, zm.spec_, zm.z_.data(), zm.stamp_.data(),
-                                     program.items.size(), opt.threads, res.cells_visited);
+                                     program.items.size(), opt.threads, res.cells_visited, res.item_max_engage_mm);
   charge_cuts(program, opt, res);
   return res;
 }

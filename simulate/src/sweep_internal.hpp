@@ -135,16 +135,22 @@ int row_spans(const Seg& g, double R, double y, Span out[2]);
 
 /// Lowers the cells of rows [row0, row1] (inclusive) under primitive g to its envelope, with the
 /// kernel of its shape (sweep_kernels.cpp): stamps each lowered cell with g.serial, raises
-/// item_cut to the largest height removed at a cell, adds the cells evaluated to `visited`.
+/// item_cut to the largest height removed at a cell and item_engage to the largest axial
+/// engagement (SweepResult::item_max_engage_mm), adds the cells evaluated to `visited`.
 void sweep_rows(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t row0, std::size_t row1, double* z,
-                std::uint32_t* stamp, double& item_cut, std::uint64_t& visited);
+                std::uint32_t* stamp, double& item_cut, double& item_engage, std::uint64_t& visited);
 
 /// One row iy of a ball line with an XY direction, branch-free (sweep_vector_rows.cpp).
 void ball_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t iy, double* z,
-                   std::uint32_t* stamp, double& item_cut, std::uint64_t& visited);
+                   std::uint32_t* stamp, double& item_cut, double& item_engage, std::uint64_t& visited);
 
 /// One row iy of a flat line with an XY direction, branch-free (sweep_vector_rows.cpp).
 void flat_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t iy, double* z,
-                   std::uint32_t* stamp, double& item_cut, std::uint64_t& visited);
+                   std::uint32_t* stamp, double& item_cut, double& item_engage, std::uint64_t& visited);
+
+/// The axial engagement of a line g (with an XY direction) over the cells [i0, i1] of row iy, whose
+/// heights were `old` before it and are z now (sweep_vector_rows.cpp). O(cells).
+double line_engagement(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t iy, std::size_t i0,
+                       std::size_t i1, const double* old, const double* z);
 
 }  // namespace millnet::simulate::sweep

@@ -110,9 +110,19 @@ double env_arc(const Seg& g, const Profile& P, double px, double py) {
   return g.az + P.f(d);
 }
 
+/// The axial engagement at a cell (px, py) whose stock `before` the primitive lowers by `removed`:
+/// the stock above the tip where the cutter's disk first covers the cell (planar arcs: the tip's
+/// constant height), at least the height removed up to the cutter's radius, at most the height removed.
+double cell_engagement(const Seg& g, const Profile& P, double px, double py, double before, double removed) {
+  double t = 0, t1 = 0;
+  if (g.type != SegType::Arc && !cover_interval(g, P, px - g.ax, py - g.ay, t, t1)) t = 0;
+  const double tip = g.type == SegType::Arc ? g.az : g.az + g.dz * t;
+  return std::max(std::min(removed, before - tip), std::min(removed, P.R));
+}
+
 template <class Env>
 void sweep_row(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t iy, double* z, std::uint32_t* stamp,
-               double& item_cut, std::uint64_t& visited, Env env) {
+               double& item_cut, double& item_engage, std::uint64_t& visited, Env env) {
   const double y = spec.y(iy);
   Span spans[2];
   const int n = row_spans(g, P.R, y, spans);
@@ -130,6 +140,8 @@ void sweep_row(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t
         zr[ix] = h;
         sr[ix] = g.serial;
         item_cut = std::max(item_cut, old - h);
+        if (old - h > item_engage)
+          item_engage = std::max(item_engage, cell_engagement(g, P, spec.x(ix), y, old, old - h));
       }
     }
   }
@@ -138,20 +150,20 @@ void sweep_row(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t
 }  // namespace
 
 void sweep_rows(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t row0, std::size_t row1, double* z,
-                std::uint32_t* stamp, double& item_cut, std::uint64_t& visited) {
+                std::uint32_t* stamp, double& item_cut, double& item_engage, std::uint64_t& visited) {
   for (std::size_t iy = row0; iy <= row1; ++iy) {
     if (g.type == SegType::Arc) {
-      sweep_row(g, P, spec, iy, z, stamp, item_cut, visited, env_arc);
+      sweep_row(g, P, spec, iy, z, stamp, item_cut, item_engage, visited, env_arc);
     } else if (P.type == tooling::CutterType::Ball && g.L > tol::xy_length_mm) {
-      ball_line_row(g, P, spec, iy, z, stamp, item_cut, visited);
+      ball_line_row(g, P, spec, iy, z, stamp, item_cut, item_engage, visited);
     } else if (P.type == tooling::CutterType::Ball) {
-      sweep_row(g, P, spec, iy, z, stamp, item_cut, visited, env_line_ball);
+      sweep_row(g, P, spec, iy, z, stamp, item_cut, item_engage, visited, env_line_ball);
     } else if (P.type == tooling::CutterType::Flat && g.L > tol::xy_length_mm) {
-      flat_line_row(g, P, spec, iy, z, stamp, item_cut, visited);
+      flat_line_row(g, P, spec, iy, z, stamp, item_cut, item_engage, visited);
     } else if (P.type == tooling::CutterType::Flat) {
-      sweep_row(g, P, spec, iy, z, stamp, item_cut, visited, env_line_flat);
+      sweep_row(g, P, spec, iy, z, stamp, item_cut, item_engage, visited, env_line_flat);
     } else {
-      sweep_row(g, P, spec, iy, z, stamp, item_cut, visited, env_line_generic);
+      sweep_row(g, P, spec, iy, z, stamp, item_cut, item_engage, visited, env_line_generic);
     }
   }
 }

@@ -4,6 +4,9 @@
 // They are most of the simulator's time (bench/bench_zmap.cpp).
 #include "sweep_internal.hpp"
 
+#include <algorithm>
+#include <vector>
+
 namespace millnet::simulate::sweep {
 
 namespace {
@@ -51,12 +54,36 @@ void pad_to_vector(std::size_t& i0, std::size_t& i1, std::size_t nx) {
   i0 -= std::min(extra, i0);
 }
 
+/// The heights of a row's span before a line lowers them (per thread: the chunks run in parallel).
+std::vector<double>& old_heights() {
+  thread_local std::vector<double> buffer;
+  return buffer;
+}
+
 }  // namespace
+
+double line_engagement(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t iy, std::size_t i0,
+                       std::size_t i1, const double* old, const double* z) {
+  const double y = spec.y(iy), wy = y - g.ay;
+  double out = 0;
+  for (std::size_t ix = i0; ix <= i1; ++ix) {  // O(cells)
+    const double before = old[ix - i0], removed = before - z[ix];
+    if (!(removed > 0)) continue;
+    // The first t at which the cutter's disk covers the cell: the tip's height there.
+    const double wx = spec.x(ix) - g.ax;
+    const double wd = wx * g.dx + wy * g.dy, w2 = wx * wx + wy * wy;
+    const double disc = wd * wd - g.L2 * (w2 - P.R2);
+    const double t = disc > 0 ? std::clamp((wd - std::sqrt(disc)) / g.L2, 0.0, 1.0) : 0.0;
+    const double met = before - (g.az + g.dz * t);
+    out = std::max(out, std::max(std::min(removed, met), std::min(removed, P.R)));
+  }
+  return out;
+}
 
 // The ball/line kernel, written without branches so that the compiler vectorises it (same closed
 // form as env_line_ball; the ternaries select among the three candidates).
 void ball_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t iy, double* z,
-                   std::uint32_t* stamp, double& item_cut, std::uint64_t& visited) {
+                   std::uint32_t* stamp, double& item_cut, double& item_engage, std::uint64_t& visited) {
   const double y = spec.y(iy);
   Span spans[2];
   int n = row_spans(g, P.R, y, spans);
@@ -75,9 +102,11 @@ void ball_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::si
     visited += i1 - i0 + 1;
     double* zr = z + iy * spec.nx;
     std::uint32_t* sr = stamp + iy * spec.nx;
-    double mx = item_cut;
+    double mx = item_cut, row_cut = 0;
     const int j0 = static_cast<int>(i0), j1 = static_cast<int>(i1);
-#pragma omp simd reduction(max : mx)
+    std::vector<double>& old_z = old_heights();
+    old_z.assign(zr + i0, zr + i1 + 1);
+#pragma omp simd reduction(max : mx, row_cut)
     for (int ix = j0; ix <= j1; ++ix) {
       const double x = x0 + (static_cast<double>(ix) + 0.5) * cell;
       const double wx = x - ax, vx = x - bx;
@@ -106,14 +135,18 @@ void ball_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::si
       sr[ix] = lower ? serial : sr[ix];
       const double d = old - h;
       mx = mx > d ? mx : d;
+      row_cut = row_cut > d ? row_cut : d;
     }
     item_cut = mx;
+    // Up to the cutter's radius the engagement is the height removed; above it, refined.
+    const double e = row_cut > P.R ? line_engagement(g, P, spec, iy, i0, i1, old_z.data(), zr) : row_cut;
+    item_engage = std::max(item_engage, e);
   }
 }
 
 // The flat/line kernel, branch-free like ball_line_row (same closed form as env_line_flat).
 void flat_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t iy, double* z,
-                   std::uint32_t* stamp, double& item_cut, std::uint64_t& visited) {
+                   std::uint32_t* stamp, double& item_cut, double& item_engage, std::uint64_t& visited) {
   const double y = spec.y(iy);
   Span spans[2];
   const int n = row_spans(g, P.R, y, spans);
@@ -127,9 +160,11 @@ void flat_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::si
     visited += i1 - i0 + 1;
     double* zr = z + iy * spec.nx;
     std::uint32_t* sr = stamp + iy * spec.nx;
-    double mx = item_cut;
+    double mx = item_cut, row_cut = 0;
     const int j0 = static_cast<int>(i0), j1 = static_cast<int>(i1);
-#pragma omp simd reduction(max : mx)
+    std::vector<double>& old_z = old_heights();
+    old_z.assign(zr + i0, zr + i1 + 1);
+#pragma omp simd reduction(max : mx, row_cut)
     for (int ix = j0; ix <= j1; ++ix) {
       const double x = x0 + (static_cast<double>(ix) + 0.5) * cell;
       const double wx = x - ax;
@@ -148,8 +183,12 @@ void flat_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::si
       sr[ix] = lower ? serial : sr[ix];
       const double d = old - h;
       mx = mx > d ? mx : d;
+      row_cut = row_cut > d ? row_cut : d;
     }
     item_cut = mx;
+    // Up to the cutter's radius the engagement is the height removed; above it, refined.
+    const double e = row_cut > P.R ? line_engagement(g, P, spec, iy, i0, i1, old_z.data(), zr) : row_cut;
+    item_engage = std::max(item_engage, e);
   }
 }
 

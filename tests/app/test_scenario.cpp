@@ -4,6 +4,7 @@
 // part), one folder per test part and a summary page. One run (~5 min on two cores) serves every
 // assertion.
 #include "cli_runner.hpp"
+#include "testing/linuxcnc.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -13,6 +14,7 @@
 #include <filesystem>
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 
 namespace {
@@ -20,6 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 using millnet::testing::fresh_dir;
+using millnet::testing::linuxcnc_accepts;
 using millnet::testing::run_millnet;
 using millnet::testing::slurp;
 
@@ -99,6 +102,10 @@ TEST(Scenario, DefaultPipelineRunsEndToEndAndMeetsItsFigures) {
   ASSERT_TRUE(rep.contains("finishing"));
   ASSERT_EQ(rep["finishing"].size(), n_parts);
   EXPECT_NE(summary.find("## Finishing: the network's ranking beside the simulated one"), std::string::npos);
+  std::map<std::string, double> flutes;  // the shipped library's flute lengths, by tool id
+  for (const Json& t : Json::parse(slurp(src / "configs/tools.json"))["tools"])
+    flutes[t["id"].get<std::string>()] = t["flute_length"].get<double>();
+  EXPECT_NE(summary.find("## Jobs: one program per part"), std::string::npos);
   for (const Json& f : rep["finishing"]) {
     const std::string name = f["part"].get<std::string>();
     SCOPED_TRACE(name);
@@ -150,6 +157,36 @@ TEST(Scenario, DefaultPipelineRunsEndToEndAndMeetsItsFigures) {
             << k;
       EXPECT_EQ(f["network_pick_regret"], regret[static_cast<std::size_t>(net.front() - 1)]);
     }
+    // Issue 40: the part's job (/run/job): one program from the block, the simulated ranking's first
+    // strategy, that LinuxCNC accepts with the job's tool table, a machine survives (no rapid into
+    // material, no cut beyond a tool's flutes as the library states them) and leaves no gouge.
+    ASSERT_TRUE(f.contains("job")) << f.dump();
+    const Json& jr = f["job"];
+    ASSERT_EQ(jr["status"], "ok") << jr.dump();
+    EXPECT_EQ(jr["strategy"].get<int>(), best);
+    const fs::path jd = out / "parts" / name / "job";
+    const Json jj = Json::parse(slurp(jd / (name + ".job.json")));
+    EXPECT_EQ(jj["strategy"]["slot"].get<int>(), best);
+    EXPECT_EQ(jj["operations"].size(), jr["operations"].get<std::size_t>());
+    EXPECT_GE(jj["operations"].size(), 3U) << "drilling or roughing, then finishing";
+    double op_minutes = 0;
+    for (const Json& op : jj["operations"]) {
+      SCOPED_TRACE(op["name"].get<std::string>());
+      EXPECT_EQ(op["cutting_rapids"].get<int>(), 0);
+      const std::string id = op["tool"]["id"];
+      ASSERT_TRUE(flutes.count(id)) << id;
+      EXPECT_LE(op["max_depth_of_cut_mm"].get<double>(), flutes.at(id));
+      op_minutes += op["time_kinematic_min"].get<double>();
+    }
+    EXPECT_NEAR(jj["total_time_min"].get<double>(),
+                op_minutes + jj["tool_changes"].get<double>() * jj["tool_change_s"].get<double>() / 60, 1e-6);
+    EXPECT_EQ(jj["operations"].back()["name"].get<std::string>().rfind("finishing (s" + std::to_string(best), 0), 0U)
+        << jj["operations"].back()["name"];
+    EXPECT_LE(jj["simulated"]["max_gouge_mm"].get<double>(), 0.002);
+    EXPECT_TRUE(fs::exists(jd / (name + ".setup.html")));
+    EXPECT_TRUE(linuxcnc_accepts((jd / (name + ".job.nc")).string(), (jd / (name + ".tool.tbl")).string()));
+    std::printf("[scenario] %-28s job: %zu operations, %.1f min\n", name.c_str(), jj["operations"].size(),
+                jj["total_time_min"].get<double>());
     std::printf("[scenario] %-28s network %s simulated %s rho %.2f\n", name.c_str(),
                 f["network_ranking"].dump().c_str(), f["simulated_ranking"].dump().c_str(),
                 f["spearman"].get<double>());

@@ -466,6 +466,37 @@ TEST(ZMap, RoughThenFinishReportsTheDepthOfCutTheFinisherMeets) {
   EXPECT_EQ(ref.pass, 0u);
 }
 
+// The axial engagement (SweepResult::item_max_engage_mm) is what a tool's flutes meet: the stock
+// above the tip where the cutter first reaches a cell. A ball shaving a wall's 0.5 mm skin from the
+// top down removes the skin's whole 19 mm height at each cell, but meets it with its ball only; the
+// same ball moving sideways into the wall meets all 19 mm at once.
+TEST(ZMap, TheAxialEngagementIsWhatTheFlutesMeetNotTheHeightAMoveRemoves) {
+  const GridSpec g{0, 0, 0.05, 200, 100};
+  ZMap zm = ZMap::flat(g, 0);
+  Program rough;  // flat Ø6 clears x < 4.5 down to z = −20: a wall at x = 4.5
+  add(rough, mv(Motion::Rapid, 1.5, -2, 5));
+  add(rough, mv(Motion::Line, 1.5, -2, -20));
+  add(rough, mv(Motion::Line, 1.5, 9, -20));
+  add(rough, mv(Motion::Rapid, 1.5, 9, 5));
+  const auto r1 = machine(zm, rough, tooling::Cutter::flat(6));
+  EXPECT_NEAR(r1.item_max_cut_mm[1], 20, 1e-12);
+  EXPECT_NEAR(r1.item_max_cut_mm[2], 20, 1e-12);
+  EXPECT_NEAR(r1.item_max_engage_mm[2], 20, 1e-12) << "sideways into the block: all of it";
+  EXPECT_NEAR(r1.item_max_engage_mm[1], 3, 1e-12) << "a plunge: the cutter's radius (the tip meets the stock)";
+  Program fin;  // Ø2 ball, axis 1 mm off x = 5: down the skin x ∈ [4.5, 5], then along +x at −19
+  add(fin, mv(Motion::Rapid, 4.025, 2.525, 1));
+  add(fin, mv(Motion::Line, 4.025, 2.525, -19));
+  add(fin, mv(Motion::Line, 4.025 + 1e-3, 2.525, -19.1));  // a short step with an XY direction
+  add(fin, mv(Motion::Line, 8.025, 2.525, -19.1));
+  const auto r2 = machine(zm, fin, tooling::Cutter::ball(2));
+  EXPECT_GT(r2.item_max_cut_mm[1], 18.5) << "the skin's height, removed at each of its cells";
+  EXPECT_NEAR(r2.item_max_engage_mm[1], 1.0, 1e-9) << "met by the ball: its radius";
+  EXPECT_LE(r2.item_max_engage_mm[2], 1.0 + 1e-9);
+  EXPECT_NEAR(r2.item_max_engage_mm[3], 19.1, 1e-9) << "into the wall: the wall's height";
+  EXPECT_NEAR(r2.item_max_cut_mm[3], 19.1, 1e-9);
+  for (std::size_t i = 0; i < fin.items.size(); ++i) EXPECT_LE(r2.item_max_engage_mm[i], r2.item_max_cut_mm[i]);
+}
+
 TEST(ZMap, RapidsThatCutAreReported) {
   const GridSpec g{0, 0, 0.05, 100, 100};
   ZMap zm = ZMap::flat(g, 0);

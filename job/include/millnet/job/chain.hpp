@@ -30,8 +30,9 @@ struct ChainStep {
 
 /// What one program of the chain did.
 struct StepResult {
-  gcode::ProgramStats stats;       ///< lengths and times (the /machine motion model)
-  double max_depth_of_cut_mm = 0;  ///< deepest cut of any of its moves
+  gcode::ProgramStats stats;  ///< lengths and times (the /machine motion model)
+  double max_depth_of_cut_mm =
+      0;  ///< deepest cut of any of its moves: the axial engagement (SweepResult::item_max_engage_mm)
   std::size_t cutting_rapids = 0;  ///< its rapids that removed material
   /// Where that deepest cut was: the move's G-code line (0 when the program was built, not read)
   /// and its end point (program frame).

@@ -87,7 +87,7 @@ void judge_within(Design& design, const finish::Boundary& boundary_program_frame
 struct Scored {
   simulate::SurfaceMetrics metrics;
   std::size_t cutting_rapids = 0;  ///< rapids that removed material
-  double max_depth_of_cut_mm = 0;  ///< deepest cut of any move
+  double max_depth_of_cut_mm = 0;  ///< deepest cut of any move (axial engagement)
   simulate::ZMap machined;         ///< the machined stock (pictures and previews)
 };
 

@@ -68,6 +68,15 @@ struct DrillCut {
 [[nodiscard]] const tooling::Tool* longest_of_shape(const std::vector<tooling::Tool>& library, tooling::ToolType type,
                                                     double diameter_mm, double corner_radius_mm);
 
+/// The semi-finishing candidates, best first: the library's balls larger than `finisher`, no larger
+/// than `rough`, whose stick-out reaches `depth_mm`, the smallest first, then the shortest stick-out.
+/// Whether one's flutes take what the roughing leaves is the caller's to measure (its program's
+/// axial engagement on the roughed stock: the stock's height over a steep wall is no measure of
+/// it). O(tools log tools).
+[[nodiscard]] std::vector<const tooling::Tool*> semi_finishing_tools(const std::vector<tooling::Tool>& library,
+                                                                     const tooling::Tool& finisher,
+                                                                     const tooling::Tool& rough, double depth_mm);
+
 /// The semi-finishing tool (issue 38) when the roughing leaves more than the finishing tool's flutes
 /// take: a ball of the library larger than `finisher`, no larger than `rough`, whose flutes take
 /// `depth_of_cut_mm` and whose stick-out reaches `depth_mm` (none stated: it reaches); the smallest

@@ -132,7 +132,15 @@ struct SweepResult {
   /// Item of that largest cut per MoveKind (SIZE_MAX when the kind never cut).
   std::array<std::size_t, 3> max_cut_item{SIZE_MAX, SIZE_MAX, SIZE_MAX};
   std::vector<double> item_max_cut_mm;  ///< per program item (0 for non-moves)
-  std::uint64_t cells_visited = 0;      ///< cell evaluations (for the benchmark's cells × moves)
+  /// Axial engagement per program item, mm: at each cell a move cuts, the height of the stock above
+  /// the tip where the cutter first reaches that cell (its disk first covers it: the flutes' side
+  /// meets that wall of material at once), never more than the height removed there and never less
+  /// than that height up to the cutter's radius (a plunge's cut is the tip's). What a tool's flutes
+  /// must take: a move along a wall's skin from its top down removes the skin's whole height at
+  /// each cell (item_max_cut_mm) but meets it a little at a time. Line moves with an XY direction
+  /// of a ball or flat cutter are refined; other moves report the height removed.
+  std::vector<double> item_max_engage_mm;
+  std::uint64_t cells_visited = 0;  ///< cell evaluations (for the benchmark's cells × moves)
 };
 
 /// Lowers every cell of `zmap` to the lower envelope of `cutter` swept along every move of

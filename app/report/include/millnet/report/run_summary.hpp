@@ -46,6 +46,15 @@ struct RunPart {
   bool chained = false;  ///< roughing + the top strategy machined on one z-map
   double chain_finisher_depth_of_cut_mm = 0, chain_ra_median_um = 0, chain_uncut_mm2 = 0, chain_rest_mm2 = 0,
          chain_gouge_mm = 0, chain_scallop_max_mm = 0;
+
+  bool jobbed = false;  ///< the part's job was attempted (/run/job)
+  bool job_ok = false;  ///< written, and its simulation from the block leaves no gouge
+  std::string job_error;
+  std::string job_program;  ///< its file name, in parts/<name>/job/
+  int job_strategy = 0;     ///< the finishing strategy's slot
+  std::size_t job_operations = 0;
+  int job_tool_changes = 0;
+  double job_time_min = 0, job_gouge_mm = 0;
 };
 
 struct RunSummary {
