@@ -104,8 +104,14 @@ void ball_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::si
     std::uint32_t* sr = stamp + iy * spec.nx;
     double mx = item_cut, row_cut = 0;
     const int j0 = static_cast<int>(i0), j1 = static_cast<int>(i1);
+    // The heights before the line are kept only where it may cut more than the cutter's radius (the
+    // stock above its lowest tip by more than that): elsewhere the engagement is the height removed.
+    double top = -kInf;
+#pragma omp simd reduction(max : top)
+    for (int ix = j0; ix <= j1; ++ix) top = top > zr[ix] ? top : zr[ix];
+    const bool refine = top - g.zmin > P.R;
     std::vector<double>& old_z = old_heights();
-    old_z.assign(zr + i0, zr + i1 + 1);
+    if (refine) old_z.assign(zr + i0, zr + i1 + 1);
 #pragma omp simd reduction(max : mx, row_cut)
     for (int ix = j0; ix <= j1; ++ix) {
       const double x = x0 + (static_cast<double>(ix) + 0.5) * cell;
@@ -139,7 +145,7 @@ void ball_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::si
     }
     item_cut = mx;
     // Up to the cutter's radius the engagement is the height removed; above it, refined.
-    const double e = row_cut > P.R ? line_engagement(g, P, spec, iy, i0, i1, old_z.data(), zr) : row_cut;
+    const double e = refine && row_cut > P.R ? line_engagement(g, P, spec, iy, i0, i1, old_z.data(), zr) : row_cut;
     item_engage = std::max(item_engage, e);
   }
 }
@@ -162,8 +168,14 @@ void flat_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::si
     std::uint32_t* sr = stamp + iy * spec.nx;
     double mx = item_cut, row_cut = 0;
     const int j0 = static_cast<int>(i0), j1 = static_cast<int>(i1);
+    // The heights before the line are kept only where it may cut more than the cutter's radius (the
+    // stock above its lowest tip by more than that): elsewhere the engagement is the height removed.
+    double top = -kInf;
+#pragma omp simd reduction(max : top)
+    for (int ix = j0; ix <= j1; ++ix) top = top > zr[ix] ? top : zr[ix];
+    const bool refine = top - g.zmin > P.R;
     std::vector<double>& old_z = old_heights();
-    old_z.assign(zr + i0, zr + i1 + 1);
+    if (refine) old_z.assign(zr + i0, zr + i1 + 1);
 #pragma omp simd reduction(max : mx, row_cut)
     for (int ix = j0; ix <= j1; ++ix) {
       const double x = x0 + (static_cast<double>(ix) + 0.5) * cell;
@@ -187,7 +199,7 @@ void flat_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::si
     }
     item_cut = mx;
     // Up to the cutter's radius the engagement is the height removed; above it, refined.
-    const double e = row_cut > P.R ? line_engagement(g, P, spec, iy, i0, i1, old_z.data(), zr) : row_cut;
+    const double e = refine && row_cut > P.R ? line_engagement(g, P, spec, iy, i0, i1, old_z.data(), zr) : row_cut;
     item_engage = std::max(item_engage, e);
   }
 }
