@@ -103,8 +103,8 @@ TEST(Scenario, DefaultPipelineRunsEndToEndAndMeetsItsFigures) {
   ASSERT_EQ(rep["finishing"].size(), n_parts);
   EXPECT_NE(summary.find("## Finishing: the network's ranking beside the simulated one"), std::string::npos);
   std::map<std::string, double> flutes;  // the shipped library's flute lengths, by tool id
-  for (const Json& t : Json::parse(slurp(src / "configs/tools.json"))["tools"])
-    flutes[t["id"].get<std::string>()] = t["flute_length"].get<double>();
+  const Json library = Json::parse(slurp(src / "configs/tools.json"));
+  for (const Json& t : library["tools"]) flutes[t["id"].get<std::string>()] = t["flute_length"].get<double>();
   EXPECT_NE(summary.find("## Jobs: one program per part"), std::string::npos);
   for (const Json& f : rep["finishing"]) {
     const std::string name = f["part"].get<std::string>();
@@ -163,10 +163,17 @@ TEST(Scenario, DefaultPipelineRunsEndToEndAndMeetsItsFigures) {
     ASSERT_TRUE(f.contains("job")) << f.dump();
     const Json& jr = f["job"];
     ASSERT_EQ(jr["status"], "ok") << jr.dump();
-    EXPECT_EQ(jr["strategy"].get<int>(), best);
+    // The ranking's first, or a later one when the first would cut beyond the finishing ball's
+    // flutes even after semi-finishing (test part s1: equidistant meets 4.7 mm at a plateau's
+    // corner), which the notes name.
+    const int js = jr["strategy"].get<int>();
     const fs::path jd = out / "parts" / name / "job";
     const Json jj = Json::parse(slurp(jd / (name + ".job.json")));
-    EXPECT_EQ(jj["strategy"]["slot"].get<int>(), best);
+    EXPECT_EQ(jj["strategy"]["slot"].get<int>(), js);
+    if (js != best) {
+      EXPECT_GT(std::find(sim.begin(), sim.end(), js) - sim.begin(), 0);
+      EXPECT_NE(jj["notes"].dump().find("(s" + std::to_string(best) + " would cut "), std::string::npos) << jj["notes"];
+    }
     EXPECT_EQ(jj["operations"].size(), jr["operations"].get<std::size_t>());
     EXPECT_GE(jj["operations"].size(), 3U) << "drilling or roughing, then finishing";
     double op_minutes = 0;
@@ -180,7 +187,7 @@ TEST(Scenario, DefaultPipelineRunsEndToEndAndMeetsItsFigures) {
     }
     EXPECT_NEAR(jj["total_time_min"].get<double>(),
                 op_minutes + jj["tool_changes"].get<double>() * jj["tool_change_s"].get<double>() / 60, 1e-6);
-    EXPECT_EQ(jj["operations"].back()["name"].get<std::string>().rfind("finishing (s" + std::to_string(best), 0), 0U)
+    EXPECT_EQ(jj["operations"].back()["name"].get<std::string>().rfind("finishing (s" + std::to_string(js), 0), 0U)
         << jj["operations"].back()["name"];
     EXPECT_LE(jj["simulated"]["max_gouge_mm"].get<double>(), 0.002);
     EXPECT_TRUE(fs::exists(jd / (name + ".setup.html")));
