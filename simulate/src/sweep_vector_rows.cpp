@@ -54,10 +54,18 @@ void pad_to_vector(std::size_t& i0, std::size_t& i1, std::size_t nx) {
   i0 -= std::min(extra, i0);
 }
 
-/// The heights of a row's span before a line lowers them (per thread: the chunks run in parallel).
-std::vector<double>& old_heights() {
+/// The heights of the row's cells [i0, i1] before the line g lowers them, kept (per thread: the
+/// chunks run in parallel) only where it may cut more than the cutter's radius there — the stock
+/// above its lowest tip by more than that; elsewhere (nullptr) the engagement is the height removed.
+const double* kept_heights(const Seg& g, const Profile& P, const double* zr, std::size_t i0, std::size_t i1) {
+  double top = -kInf;
+  const int j0 = static_cast<int>(i0), j1 = static_cast<int>(i1);
+#pragma omp simd reduction(max : top)
+  for (int ix = j0; ix <= j1; ++ix) top = top > zr[ix] ? top : zr[ix];
+  if (!(top - g.zmin > P.R)) return nullptr;
   thread_local std::vector<double> buffer;
-  return buffer;
+  buffer.assign(zr + i0, zr + i1 + 1);
+  return buffer.data();
 }
 
 }  // namespace
@@ -104,14 +112,7 @@ void ball_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::si
     std::uint32_t* sr = stamp + iy * spec.nx;
     double mx = item_cut, row_cut = 0;
     const int j0 = static_cast<int>(i0), j1 = static_cast<int>(i1);
-    // The heights before the line are kept only where it may cut more than the cutter's radius (the
-    // stock above its lowest tip by more than that): elsewhere the engagement is the height removed.
-    double top = -kInf;
-#pragma omp simd reduction(max : top)
-    for (int ix = j0; ix <= j1; ++ix) top = top > zr[ix] ? top : zr[ix];
-    const bool refine = top - g.zmin > P.R;
-    std::vector<double>& old_z = old_heights();
-    if (refine) old_z.assign(zr + i0, zr + i1 + 1);
+    const double* old_z = kept_heights(g, P, zr, i0, i1);
 #pragma omp simd reduction(max : mx, row_cut)
     for (int ix = j0; ix <= j1; ++ix) {
       const double x = x0 + (static_cast<double>(ix) + 0.5) * cell;
@@ -145,7 +146,7 @@ void ball_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::si
     }
     item_cut = mx;
     // Up to the cutter's radius the engagement is the height removed; above it, refined.
-    const double e = refine && row_cut > P.R ? line_engagement(g, P, spec, iy, i0, i1, old_z.data(), zr) : row_cut;
+    const double e = old_z != nullptr && row_cut > P.R ? line_engagement(g, P, spec, iy, i0, i1, old_z, zr) : row_cut;
     item_engage = std::max(item_engage, e);
   }
 }
@@ -168,14 +169,7 @@ void flat_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::si
     std::uint32_t* sr = stamp + iy * spec.nx;
     double mx = item_cut, row_cut = 0;
     const int j0 = static_cast<int>(i0), j1 = static_cast<int>(i1);
-    // The heights before the line are kept only where it may cut more than the cutter's radius (the
-    // stock above its lowest tip by more than that): elsewhere the engagement is the height removed.
-    double top = -kInf;
-#pragma omp simd reduction(max : top)
-    for (int ix = j0; ix <= j1; ++ix) top = top > zr[ix] ? top : zr[ix];
-    const bool refine = top - g.zmin > P.R;
-    std::vector<double>& old_z = old_heights();
-    if (refine) old_z.assign(zr + i0, zr + i1 + 1);
+    const double* old_z = kept_heights(g, P, zr, i0, i1);
 #pragma omp simd reduction(max : mx, row_cut)
     for (int ix = j0; ix <= j1; ++ix) {
       const double x = x0 + (static_cast<double>(ix) + 0.5) * cell;
@@ -199,7 +193,7 @@ void flat_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::si
     }
     item_cut = mx;
     // Up to the cutter's radius the engagement is the height removed; above it, refined.
-    const double e = refine && row_cut > P.R ? line_engagement(g, P, spec, iy, i0, i1, old_z.data(), zr) : row_cut;
+    const double e = old_z != nullptr && row_cut > P.R ? line_engagement(g, P, spec, iy, i0, i1, old_z, zr) : row_cut;
     item_engage = std::max(item_engage, e);
   }
 }
