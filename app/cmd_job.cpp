@@ -68,19 +68,6 @@ job::StrategyOutcome chosen_strategy(const std::vector<job::StrategyOutcome>& ou
   return *best;
 }
 
-/// The strategies in the simulated ranking's order from `first` (chosen_strategy), those that gouge
-/// left out. O(strategies log strategies).
-std::vector<job::StrategyOutcome> ranked_clean(const std::vector<job::StrategyOutcome>& outcomes,
-                                               const job::StrategyOutcome& first) {
-  std::vector<job::StrategyOutcome> out{first};
-  std::vector<job::StrategyOutcome> rest;
-  for (const job::StrategyOutcome& k : outcomes)
-    if (k.strategy != first.strategy && k.rank > 0 && !(k.simulated && k.surface.gouged)) rest.push_back(k);
-  std::sort(rest.begin(), rest.end(), [](const auto& a, const auto& b) { return a.rank < b.rank; });
-  out.insert(out.end(), rest.begin(), rest.end());
-  return out;
-}
-
 /// The cutting data of the drilling: the drill's own speed and feed in the material.
 job::DrillCut drill_cut(const tooling::Tool& drill, const Json& config, const std::optional<std::string>& material,
                         double depth_mm) {
@@ -269,7 +256,7 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   std::vector<job::StepResult> before = job::machine_steps(roughed, design, job::chain_steps(ops), fs_.machine);
   const bool by_rank = o.strategy == "best";
   std::vector<job::StrategyOutcome> candidates{chosen_strategy(pf.outcomes, file)};
-  if (by_rank) candidates = ranked_clean(pf.outcomes, candidates.front());
+  if (by_rank) candidates = job::ranked_clean(pf.outcomes, candidates.front());
   std::optional<SemiFinish> semi;  // planned once, when a strategy first needs it
   std::optional<simulate::ZMap> semi_stock;
   job::StepResult semi_result;

@@ -242,4 +242,12 @@ std::vector<StrategyFigures> score_strategies(const ingest::Mesh& mesh, const Fr
   return out;
 }
 
+std::vector<StrategyOutcome> ranked_clean(const std::vector<StrategyOutcome>& outcomes, const StrategyOutcome& first) {
+  std::vector<StrategyOutcome> out{first};
+  for (const StrategyOutcome& k : outcomes)  // O(strategies)
+    if (k.strategy != first.strategy && k.rank > 0 && !(k.simulated && k.surface.gouged)) out.push_back(k);
+  std::sort(out.begin() + 1, out.end(), [](const auto& a, const auto& b) { return a.rank < b.rank; });
+  return out;
+}
+
 }  // namespace millnet::job

@@ -2,6 +2,7 @@
 // speed and feed, the job program's tool changes (T M6, G43 H in the Fanuc dialect) read back and
 // split tool by tool, the drill and the reaching tool chosen from a library, inline tools numbered,
 // and the holder clearance against hand-computed heights.
+#include "millnet/job/finishing.hpp"
 #include "millnet/job/operations.hpp"
 
 #include "millnet/core/error.hpp"
@@ -274,4 +275,21 @@ TEST(JobOperations, TheHolesAreDrilledByCyclesAndDeepHolesPecked) {
   EXPECT_NE(text83.find("G98 G83 X20 Y20 Z-6 R1 Q2 F100\nG80\n"), std::string::npos) << text83;
   const gcode::Program back = gcode::read(text83, "g83.nc");
   EXPECT_EQ(count<gcode::Move>(back), want.size());
+}
+
+// The order a job tries the strategies in (job::ranked_clean): the chosen one first, then the others
+// by rank; a gouging one and an unranked one left out.
+TEST(RankedClean, TheChosenFirstThenTheRankingWithoutGougingOrUnranked) {
+  using finish::Strategy;
+  std::vector<job::StrategyOutcome> o(5);
+  const Strategy slots[] = {Strategy::SlopeMode, Strategy::Raster, Strategy::ScallopMode, Strategy::Waterline,
+                            Strategy::Equidistant};
+  const int ranks[] = {2, 5, 3, 1, 0};
+  for (std::size_t i = 0; i < 5; ++i) o[i].strategy = slots[i], o[i].rank = ranks[i];
+  o[1].simulated = true, o[1].surface.gouged = true;  // rank 5, gouges
+  const auto r = job::ranked_clean(o, o[3]);          // the first of the ranking
+  ASSERT_EQ(r.size(), 3U);
+  EXPECT_EQ(r[0].strategy, Strategy::Waterline);
+  EXPECT_EQ(r[1].strategy, Strategy::SlopeMode);
+  EXPECT_EQ(r[2].strategy, Strategy::ScallopMode);
 }

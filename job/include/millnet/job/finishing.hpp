@@ -155,6 +155,12 @@ struct OutcomeColumns {
 };
 [[nodiscard]] OutcomeColumns outcome_columns(const std::vector<StrategyOutcome>& outcomes);
 
+/// `first`, then the other ranked strategies in the simulated ranking's order, those that gouge left
+/// out: the order a job tries them in when the first would cut beyond its tool's flutes.
+/// O(strategies log strategies).
+[[nodiscard]] std::vector<StrategyOutcome> ranked_clean(const std::vector<StrategyOutcome>& outcomes,
+                                                        const StrategyOutcome& first);
+
 /// What labelling a part needs of one strategy (datasets' labels, the agreement table).
 struct StrategyFigures {
   int slot = 0;
