@@ -17,6 +17,7 @@ struct DatasetOpts {
   Common common;
   std::string out;
   bool agreement = false;
+  bool relabel = false;
 };
 
 struct TrainOpts {
@@ -34,7 +35,9 @@ struct PredictOpts {
 /// millnet dataset: the config's recipe → vectors.csv + manifest.json (always rebuilt).
 int run_dataset(const DatasetOpts& o) {
   const Json config = setup(o.common);
-  (void)build_dataset(recipe_from_config(config), o.out, false, config, o.agreement);
+  datasets::Recipe recipe = recipe_from_config(config);
+  recipe.relabel = o.relabel;
+  (void)build_dataset(std::move(recipe), o.out, false, config, o.agreement);
   return 0;
 }
 
@@ -89,6 +92,9 @@ Registered register_dataset(CLI::App& app) {
   sub->add_flag("--agreement", o->agreement,
                 "also plan and simulate the five finishing strategies on every part and report how often the "
                 "simulated best agrees with the recipe's label (agreement.md; minutes per part)");
+  sub->add_flag("--relabel", o->relabel,
+                "simulate every part labelled by simulation, whatever /dataset/labels holds (the new labels "
+                "go to OUT/labels.json)");
   add_common(sub, o->common);
   sub->get_option("--config")->required();
   return {sub, [o]() { return run_dataset(*o); }};

@@ -327,6 +327,19 @@ report::RunSummary run_summary(const std::string& config_file, const TrainSummar
   s.alpha_edge = ts.edge;
   s.accuracy_part = ts.accuracy_part;
   s.accuracy_vector = ts.accuracy_vector;
+  s.scores = ts.scores;
+  s.criterion = ts.criterion == "regret" ? "mean regret of the parts' picks" : "RMS error of the outputs";
+  s.lopo_parts = ts.regret.parts;
+  s.lopo_misses = ts.regret.misses;
+  s.lopo_top1 = ts.regret.top1;
+  s.lopo_mean = ts.regret.mean;
+  s.lopo_median = ts.regret.median;
+  s.lopo_p90 = ts.regret.p90;
+  s.baseline_slot = static_cast<int>(ts.baseline.slot) + 1;
+  s.baseline_top1 = ts.baseline.figures.top1;
+  s.baseline_mean = ts.baseline.figures.mean;
+  s.baseline_median = ts.baseline.figures.median;
+  s.baseline_p90 = ts.baseline.figures.p90;
   s.finish_settings_note = po.finish_settings_note;
   s.aim = po.aim;
   for (auto it = timing.begin(); it != timing.end(); ++it) s.timing_s.emplace_back(it.key(), it.value().get<double>());
@@ -447,6 +460,18 @@ Json finishing_json(const report::RunSummary& s) {
 }
 
 /// summary.md, summary.html and run_report.json; 1 when a part failed.
+/// The network judged by its regret leaving out each training part (issue 39), beside always one strategy.
+Json training_regret_json(const TrainSummary& ts) {
+  if (!ts.scores) return nullptr;
+  const auto fig = [](const classifier::RegretSummary& r) {
+    return Json{{"parts", r.parts},          {"top1", r.top1},      {"mean_regret", r.mean},
+                {"median_regret", r.median}, {"p90_regret", r.p90}, {"misses", r.misses}};
+  };
+  Json b = fig(ts.baseline.figures);
+  b["strategy"] = ts.baseline.slot + 1;
+  return Json{{"criterion", ts.criterion}, {"network", fig(ts.regret)}, {"always_the_same_strategy", b}};
+}
+
 int write_run_summary(const std::string& config_file, const TrainSummary& ts, const PartOutcomes& po,
                       const Json& timing, const fs::path& out) {
   const report::RunSummary s = run_summary(config_file, ts, po, timing);
@@ -462,6 +487,7 @@ int write_run_summary(const std::string& config_file, const TrainSummary& ts, co
                                                   {"alpha", ts.alpha},
                                                   {"accuracy_part", ts.accuracy_part},
                                                   {"accuracy_vector", ts.accuracy_vector},
+                                                  {"training_regret", training_regret_json(ts)},
                                                   {"finishing", finishing_json(s)}}
                                                      .dump(2) +
                                                  "\n");

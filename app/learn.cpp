@@ -8,6 +8,8 @@
 
 #include "millnet/augment/variants.hpp"
 #include "millnet/classifier/rank.hpp"
+#include "millnet/classifier/regret.hpp"
+#include "millnet/classifier/tolerances.hpp"
 #include "millnet/classifier/io/model_file.hpp"
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
@@ -15,6 +17,8 @@
 #include "millnet/core/progress.hpp"
 #include "millnet/datasets/agreement.hpp"
 #include "millnet/datasets/generator.hpp"
+#include "millnet/datasets/hash.hpp"
+#include "millnet/datasets/io/labels.hpp"
 #include "millnet/datasets/io/manifest.hpp"
 #include "millnet/datasets/table.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
@@ -48,13 +52,13 @@ std::string strategy_name(const std::vector<std::string>& names, int slot) {
 
 namespace {
 
-/// One part's strategies as the simulation ranked them.
+/// One part's strategies as the simulation ranked them (or as labels.json kept them).
 struct SimulatedLabel {
-  std::string name;
+  datasets_io::PartLabel label;
   int recipe_label = 0;  ///< the recipe's label (0 for a part labelled by simulation)
-  int best = 0;          ///< the slot ranked first
-  Json figures;          ///< per strategy
 };
+
+std::string part_name_of(const datasets::PartSpec& p) { return p.name.empty() ? p.file.stem().string() : p.name; }
 
 /// Plans and simulates the five strategies on recipe part k (app::label_part: nothing written).
 /// Throws millnet::Error naming the part.
@@ -65,20 +69,29 @@ SimulatedLabel simulate_label(const datasets::Recipe& recipe, std::size_t k, con
   prep.cad = recipe.cad;
   prep.up = recipe.up;
   const datasets::PartSpec& p = recipe.parts[k];
-  const std::string name = p.name.empty() ? p.file.stem().string() : p.name;
-  SimulatedLabel sl{name, p.label_by_simulation ? 0 : p.label, 0, Json::array()};
+  const std::string name = part_name_of(p);
+  SimulatedLabel sl;
+  sl.recipe_label = p.label_by_simulation ? 0 : p.label;
+  sl.label.name = name;
   try {
+    sl.label.fnv1a64 = datasets::to_hex(datasets::fnv1a64_file(p.file, &sl.label.bytes));
     job::Part part = load_part(p.file, prep);
     part.name = name;
     for (const job::StrategyFigures& f : label_part(part, settings)) {
-      if (f.rank == 1) sl.best = f.slot;
-      sl.figures.push_back(Json{{"strategy", f.slot},
-                                {"rank", f.rank},
-                                {"ra_median_um", f.score.ra_median_um},
-                                {"ra_p90_um", f.score.ra_p90_um},
-                                {"uncut_area_mm2", f.score.uncut_area_mm2},
-                                {"max_gouge_mm", f.score.max_gouge_mm},
-                                {"time_kinematic_min", f.score.time_min}});
+      if (f.rank == 1) sl.label.best = f.slot;
+      datasets_io::StrategyLabel s;
+      s.strategy = f.slot;
+      s.rank = f.rank;
+      s.score = f.aim_score;
+      s.time_min = f.score.time_min;
+      s.spec_share = f.score.spec_share;
+      s.meets_spec = simulate::meets_spec(f.score, settings.aim);
+      s.max_gouge_mm = f.score.max_gouge_mm;
+      s.ra_median_um = f.score.ra_median_um;
+      s.ra_p90_um = f.score.ra_p90_um;
+      s.uncut_area_mm2 = f.score.uncut_area_mm2;
+      s.regret = f.regret;
+      sl.label.strategies.push_back(s);
     }
   } catch (const std::exception& e) {
     throw Error("dataset: part '" + name + "' (" + p.file.string() + "): labelling by simulation: " + e.what());
@@ -87,14 +100,14 @@ SimulatedLabel simulate_label(const datasets::Recipe& recipe, std::size_t k, con
 }
 
 std::string encode_label(const SimulatedLabel& sl) {
-  const std::vector<std::uint8_t> cbor = Json::to_cbor(
-      Json{{"name", sl.name}, {"recipe_label", sl.recipe_label}, {"best", sl.best}, {"figures", sl.figures}});
-  return {cbor.begin(), cbor.end()};
+  return std::to_string(sl.recipe_label) + "\n" + datasets_io::part_label_text(sl.label);
 }
 
 SimulatedLabel decode_label(const std::string& bytes) {
-  const Json j = Json::from_cbor(bytes);
-  return {j["name"].get<std::string>(), j["recipe_label"].get<int>(), j["best"].get<int>(), j["figures"]};
+  const std::size_t nl = bytes.find('\n');
+  if (nl == std::string::npos) throw Error("mpi: a simulated label without its recipe label");
+  return {datasets_io::parse_part_label(bytes.substr(nl + 1), "mpi: a simulated label"),
+          std::stoi(bytes.substr(0, nl))};
 }
 
 /// Plans and simulates the five strategies on each part and returns the slot the aim ranks first.
@@ -103,6 +116,7 @@ SimulatedLabel decode_label(const std::string& bytes) {
 std::vector<SimulatedLabel> simulate_labels(const datasets::Recipe& recipe, const std::vector<std::size_t>& which,
                                             const FinishSettings& settings) {
   std::vector<SimulatedLabel> out;
+  if (which.empty()) return out;
   const std::function<SimulatedLabel(std::size_t, const std::string&)> work = [&](std::size_t i, const std::string&) {
     return simulate_label(recipe, which[i], settings);
   };
@@ -117,10 +131,60 @@ std::vector<SimulatedLabel> simulate_labels(const datasets::Recipe& recipe, cons
   return out;
 }
 
+/// The recipe's labels.json when it exists, was computed with the same settings and --relabel was
+/// not asked; an empty file otherwise (the line says why).
+datasets_io::LabelFile cached_labels(const datasets::Recipe& recipe) {
+  if (recipe.labels_file.empty() || recipe.relabel || recipe.simulation_settings_json.empty()) return {};
+  if (!fs::exists(recipe.labels_file)) {
+    info("dataset: no " + recipe.labels_file.string() + " yet: every part labelled by simulation is simulated");
+    return {};
+  }
+  datasets_io::LabelFile f = datasets_io::read_labels(recipe.labels_file);
+  if (!datasets_io::same_settings(f.settings_json, recipe.simulation_settings_json)) {
+    info("dataset: " + recipe.labels_file.string() +
+         " was computed with other settings (/finish, /simulate, /cutting or /machine): every part is simulated");
+    return {};
+  }
+  return f;
+}
+
+/// The labels of recipe parts `which`: from the recipe's labels.json where the part's file bytes and
+/// the settings match, by simulation otherwise (issue 39 §2). In `which` order.
+std::vector<SimulatedLabel> labels_of(const datasets::Recipe& recipe, const std::vector<std::size_t>& which,
+                                      const FinishSettings& settings) {
+  const datasets_io::LabelFile cache = cached_labels(recipe);
+  std::vector<std::optional<SimulatedLabel>> got(which.size());
+  std::vector<std::size_t> missing;
+  for (std::size_t i = 0; i < which.size(); ++i) {  // O(parts · cached parts), one hash of each file
+    const datasets::PartSpec& p = recipe.parts[which[i]];
+    std::uintmax_t bytes = 0;
+    const std::string hash = cache.parts.empty() ? "" : datasets::to_hex(datasets::fnv1a64_file(p.file, &bytes));
+    if (const datasets_io::PartLabel* c = cache.find(part_name_of(p), hash, bytes))
+      got[i] = SimulatedLabel{*c, p.label_by_simulation ? 0 : p.label};
+    else
+      missing.push_back(which[i]);
+  }
+  if (!cache.parts.empty())
+    info("dataset: labels by simulation: " + std::to_string(which.size() - missing.size()) + " of " +
+         std::to_string(which.size()) + " parts from " + recipe.labels_file.string() + ", " +
+         std::to_string(missing.size()) + " to simulate");
+  std::vector<SimulatedLabel> fresh = simulate_labels(recipe, missing, settings);
+  std::vector<SimulatedLabel> out;
+  std::size_t f = 0;
+  for (auto& g : got) out.push_back(g ? std::move(*g) : std::move(fresh[f++]));
+  return out;
+}
+
+/// A label's figures as the manifest echoes them (under "labelling").
+Json figures_json(const datasets_io::PartLabel& l) {
+  Json figures = Json::parse(datasets_io::part_label_text(l))["strategies"];
+  return figures;
+}
+
 /// The agreement of the simulated best with the recipe's labels, per label: JSON and a Markdown table.
 std::pair<Json, std::string> agreement(const std::vector<SimulatedLabel>& labels, const datasets::Recipe& recipe) {
   std::vector<datasets::LabelledBest> parts;
-  for (const auto& l : labels) parts.push_back({l.recipe_label, l.best});
+  for (const auto& l : labels) parts.push_back({l.recipe_label, l.label.best});
   Json j = Json::array();
   std::ostringstream md;
   md << "| label (recipe) | parts | simulated best = label | simulated best (parts) |\n|---|---:|---:|---|\n";
@@ -196,7 +260,7 @@ void build_rows_distributed(const datasets::Recipe& recipe, const datasets::Tabl
     r.inputs.resize(m);
     std::memcpy(r.inputs.data(), bytes.data(), m * sizeof(double));
     std::memcpy(&r.aspect, bytes.data() + m * sizeof(double), sizeof(double));
-    r.outputs = datasets::one_hot(p.label);
+    r.outputs = p.outputs ? *p.outputs : datasets::one_hot(p.label);
     if (v == 0) {
       std::uint64_t f[4];
       std::memcpy(f, bytes.data() + (m + 1) * sizeof(double), 32);
@@ -228,9 +292,10 @@ bool build_dataset(datasets::Recipe recipe, const fs::path& out_dir, bool reuse,
   for (std::size_t k = 0; k < recipe.parts.size(); ++k)
     if (recipe.parts[k].label_by_simulation || with_agreement) which.push_back(k);
   std::string labelling;
+  std::optional<datasets_io::LabelFile> labels_out;  // out_dir/labels.json, with the table
   if (!which.empty()) {
     const FinishSettings fs_ = simulated_finish_settings(config);
-    const std::vector<SimulatedLabel> labels = simulate_labels(recipe, which, fs_);
+    const std::vector<SimulatedLabel> labels = labels_of(recipe, which, fs_);
     if (!cluster_root()) {
       // Rank 0 holds the simulated labels and writes the labelling; the other ranks go on to sample
       // the table's heights, which do not depend on a label (rank 0 puts each row's label in).
@@ -238,15 +303,22 @@ bool build_dataset(datasets::Recipe recipe, const fs::path& out_dir, bool reuse,
         if (recipe.parts[k].label_by_simulation) recipe.parts[k].label = 1;
     } else {
       Json parts = Json::array();
+      datasets_io::LabelFile out_labels{simulate::to_string(fs_.aim.aim), recipe.simulation_settings_json, {}};
       for (std::size_t i = 0; i < which.size(); ++i) {
         datasets::PartSpec& p = recipe.parts[which[i]];
-        if (p.label_by_simulation) p.label = labels[i].best;
-        parts.push_back(Json{{"name", labels[i].name},
+        const datasets_io::PartLabel& l = labels[i].label;
+        if (p.label_by_simulation) {
+          p.label = l.best;
+          p.outputs = l.outputs();
+        }
+        out_labels.parts.push_back(l);
+        parts.push_back(Json{{"name", l.name},
                              {"label_by_simulation", p.label_by_simulation},
                              {"recipe_label", labels[i].recipe_label},
-                             {"simulated_best", labels[i].best},
-                             {"strategies", labels[i].figures}});
+                             {"simulated_best", l.best},
+                             {"strategies", figures_json(l)}});
       }
+      if (!out_labels.settings_json.empty()) labels_out = std::move(out_labels);
       Json lj{{"aim", simulate::to_string(fs_.aim.aim)}, {"parts", parts}};
       if (with_agreement) {
         auto [aj, md] = agreement(labels, recipe);
@@ -271,6 +343,7 @@ bool build_dataset(datasets::Recipe recipe, const fs::path& out_dir, bool reuse,
   if (cluster_root()) {
     table_files.emplace();
     writer.emplace(out_dir, plan.header.grid_n, plan.header.has_aspect, plan.header.strategies);
+    if (labels_out) datasets_io::write_labels(out_dir / "labels.json", *labels_out);
   }
   std::vector<datasets::SourceFile> sources;
   if (cluster_size() == 1) {
@@ -307,13 +380,21 @@ classifier::TrainingSet training_set(const datasets::Table& table, const dataset
 void write_loo_curve(const classifier::Model& model, const fs::path& out_dir) {
   const classifier::LooReport& loo = model.loo;
   std::ostringstream curve;
-  curve << "alpha,rms,rms_part,rms_vector,accuracy_part,accuracy_vector\n";
-  std::vector<double> xs, part_rms, vec_rms;
+  // mean_regret (issue 39): the leave-one-part-out regret of the parts' picks, with the regret criterion.
+  const bool regret = model.regret_curve.size() > loo.curve.size();
+  curve << "alpha,rms,rms_part,rms_vector,accuracy_part,accuracy_vector" << (regret ? ",mean_regret" : "") << "\n";
+  std::vector<double> xs, part_rms, vec_rms, regrets;
   const bool part_mode = loo.mode == classifier::LooMode::PartOut;
-  for (const auto& c : loo.curve) {  // O(scan points)
+  for (std::size_t i = 0; i < loo.curve.size(); ++i) {  // O(scan points)
+    const classifier::CurvePoint& c = loo.curve[i];
     curve << format_double(c.alpha) << "," << format_double(part_mode ? c.rms_part : c.rms_vector) << ","
           << format_double(c.rms_part) << "," << format_double(c.rms_vector) << "," << format_double(c.accuracy_part)
-          << "," << format_double(c.accuracy_vector) << "\n";
+          << "," << format_double(c.accuracy_vector);
+    if (regret) {
+      curve << "," << format_double(model.regret_curve[i].second);
+      regrets.push_back(100 * model.regret_curve[i].second);
+    }
+    curve << "\n";
     xs.push_back(c.alpha);
     part_rms.push_back(c.rms_part);
     vec_rms.push_back(c.rms_vector);
@@ -333,6 +414,10 @@ void write_loo_curve(const classifier::Model& model, const fs::path& out_dir) {
                               {{"leave-one-part-out", xs, part_rms}, {"leave-one-vector-out (paper)", xs, vec_rms}},
                               "Leave-one-out RMS error against the penalty coefficient alpha", "alpha (log scale)",
                               "RMS error of the outputs", lo);
+  if (regret && !xs.empty())
+    (void)report::line_plot_png(out_dir / "loo_regret.png", {{"leave-one-part-out mean regret", xs, regrets}},
+                                "Mean regret of the parts' picks against the penalty coefficient alpha",
+                                "alpha (log scale)", "mean regret, % (time of the pick / best time - 1)", lo);
 }
 
 /// verification.csv and .png: filtration (self included) and verification (the chosen mode's
@@ -384,7 +469,70 @@ TrainSummary train_summary(const classifier::Model& model, const datasets::Table
   return s;
 }
 
-void write_train_report(const TrainSummary& s, const classifier::Model& model, const fs::path& out_dir) {
+/// Whether every output row is one-hot (or all zero): labels given by hand or by family.
+bool one_hot_outputs(const Eigen::MatrixXd& Y) {
+  for (Eigen::Index i = 0; i < Y.rows(); ++i)  // O(N·K)
+    for (Eigen::Index k = 0; k < Y.cols(); ++k)
+      if (Y(i, k) != 0 && Y(i, k) != 1) return false;
+  return true;
+}
+
+/// What the table's simulated outputs were computed for: the aim and the surface specification of
+/// the labels' settings (the manifest's config.label_by_simulation), as JSON text; "" if unknown.
+std::string training_target(const datasets_io::Manifest& manifest) {
+  if (manifest.config_json.empty()) return "";
+  const Json c = Json::parse(manifest.config_json);
+  if (!c.contains("label_by_simulation") || !c["label_by_simulation"].contains("finish")) return "";
+  const Json& f = c["label_by_simulation"]["finish"];
+  return Json{{"aim", f.value("aim", "")}, {"spec", f.value("spec", Json::object())}}.dump();
+}
+
+/// The regret block of train_report.json: the parts' leave-one-part-out picks at α, their figures,
+/// the always-one-strategy baseline, the calibration's reliability table (issue 39 §1, §3). Fills
+/// the summary's figures. O(N·K + P² log P).
+Json regret_report(const classifier::Model& model, const classifier::TrainingSet& set, TrainSummary& s) {
+  s.criterion = classifier::to_string(model.criterion);
+  const std::vector<classifier::PartPick> picks =
+      classifier::part_picks(model.loo.verification, set.outputs, set.groups, model.loo.nearest_d2);
+  s.regret = classifier::summarize(picks);
+  s.baseline = classifier::always_the_same(picks);
+  const auto figures = [](const classifier::RegretSummary& r) {
+    return Json{{"parts", r.parts},
+                {"top1", r.top1},
+                {"mean_regret", r.mean},
+                {"median_regret", r.median},
+                {"p90_regret", r.p90},
+                {"misses", r.misses},
+                {"spearman_mean", std::isfinite(r.spearman) ? Json(r.spearman) : Json(nullptr)}};
+  };
+  const auto K = static_cast<std::size_t>(set.outputs.cols());
+  Json rel = Json::array();
+  for (const classifier::ReliabilityBin& b : classifier::reliability(picks, K, model.unfamiliar_threshold))
+    rel.push_back(Json{{"confidence_from", b.low},
+                       {"confidence_to", b.high},
+                       {"parts", b.parts},
+                       {"mean_confidence", b.mean_confidence},
+                       {"share_right", b.share_right}});
+  Json parts = Json::array();
+  for (const classifier::PartPick& p : picks)
+    parts.push_back(Json{{"part", p.part},
+                         {"best", p.best + 1},
+                         {"pick", p.pick + 1},
+                         {"regret", p.regret},
+                         {"confidence", model.calibration.confidence(p.pick, p.margin, p.d2_min)}});
+  Json baseline = figures(s.baseline.figures);
+  baseline["strategy"] = s.baseline.slot + 1;
+  return Json{{"criterion", s.criterion},
+              {"outputs", s.scores ? "scores" : "one-hot"},
+              {"miss_regret", classifier::tol::kMissRegret},
+              {"leave_one_part_out", figures(s.regret)},
+              {"always_the_same_strategy", baseline},
+              {"reliability", rel},
+              {"parts", parts}};
+}
+
+void write_train_report(const TrainSummary& s, const classifier::Model& model, const Json& regret,
+                        const fs::path& out_dir) {
   const classifier::LooReport& loo = model.loo;
   Json rep = {{"alpha", s.alpha},
               {"loo_mode", s.mode},
@@ -399,7 +547,8 @@ void write_train_report(const TrainSummary& s, const classifier::Model& model, c
               {"rms_vector_optimum", loo.vector.rms},
               {"vectors", s.vectors},
               {"parts", s.parts},
-              {"unfamiliar_threshold_d2", model.unfamiliar_threshold}};
+              {"unfamiliar_threshold_d2", model.unfamiliar_threshold},
+              {"regret", regret}};
   write_file_atomic(out_dir / "train_report.json", rep.dump(2) + "\n");
 }
 
@@ -413,6 +562,9 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
   const classifier::TrainingSet set = training_set(table, manifest, config);
 
   classifier::TrainParams tp = train_params(config);
+  const bool scores = !one_hot_outputs(set.outputs);
+  if (config["train"]["criterion"].get<std::string>() == "auto")
+    tp.criterion = scores ? classifier::Criterion::Regret : classifier::Criterion::Rms;
   Progress progress("train (leave-one-out)", 0);
   tp.search.progress = progress.callback();
   classifier::Model model = classifier::train(set, tp);
@@ -422,6 +574,7 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
   // classifier learns from the n² heights only (Table::inputs_matrix), never from an aspect column.
   const double raster_mm = manifest.raster_mm ? *manifest.raster_mm : config["dataset"]["raster_mm"].get<double>();
   model.input_spec = classifier::InputSpec{raster_mm, table.grid_n, false};
+  if (scores) model.target_json = training_target(manifest);
   classifier_io::save_model(model, out_dir / "model.json");
   // sampling.json: the same spec for readers of model folders from before "features".
   const Json sampling = {{"grid", table.grid_n},
@@ -432,16 +585,41 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
 
   write_loo_curve(model, out_dir);
   write_verification(table, model.loo, out_dir);
-  const TrainSummary s = train_summary(model, table, set);
-  write_train_report(s, model, out_dir);
+  TrainSummary s = train_summary(model, table, set);
+  s.scores = scores;
+  const Json regret = regret_report(model, set, s);
+  write_train_report(s, model, regret, out_dir);
   if (s.edge != "none")
     warn("train: the optimum α lies at the " + s.edge +
          " edge of the scan; widen /train/range_low or /train/range_high");
   info("train: α = " + fixed(s.alpha, 4) + " (" + s.mode + " LOO); verification accuracy " +
        fixed(100 * s.accuracy_part, 1) + " % leaving out parts, " + fixed(100 * s.accuracy_vector, 1) +
        " % leaving out single vectors → " + (out_dir / "model.json").string());
+  if (scores)
+    info("train: α chosen for " + s.criterion + "; leaving out parts, the pick is the simulated best on " +
+         fixed(100 * s.regret.top1, 1) + " % of " + std::to_string(s.regret.parts) + " parts, regret mean " +
+         fixed(100 * s.regret.mean, 1) + " %, median " + fixed(100 * s.regret.median, 1) + " %, p90 " +
+         fixed(100 * s.regret.p90, 1) + " % (always strategy " + std::to_string(s.baseline.slot + 1) + ": mean " +
+         fixed(100 * s.baseline.figures.mean, 1) + " %)");
   return s;
 }
+
+namespace {
+
+/// One model per aim (issue 39 §1): a model trained on simulated scores predicts them for the aim
+/// and surface specification it was trained for; a config asking for another is refused.
+void check_model_target(const ModelFolder& m, const Json& config) {
+  if (m.model.target_json.empty()) return;
+  const Json target = Json::parse(m.model.target_json);
+  const Json asked{{"aim", config["finish"]["aim"]}, {"spec", config["finish"]["spec"]}};
+  if (target == asked) return;
+  throw file_error((m.dir / "model.json").string(),
+                   "trained for aim " + target.value("aim", std::string("?")) + ", spec " + target["spec"].dump() +
+                       "; the config asks for aim " + asked["aim"].get<std::string>() + ", spec " +
+                       asked["spec"].dump() + " (/finish/aim, /finish/spec): train a model for it (millnet train)");
+}
+
+}  // namespace
 
 ModelFolder load_model_folder(const fs::path& dir, const Json& config) {
   ModelFolder m;
@@ -464,6 +642,7 @@ ModelFolder load_model_folder(const fs::path& dir, const Json& config) {
     m.spec.raster_mm = sampling["raster_mm"].get<double>();
   }
   m.spec.augment = predict_augment(config);
+  check_model_target(m, config);
   return m;
 }
 
@@ -490,6 +669,16 @@ std::string predict_one(const ModelFolder& folder, const PredictInput& in, const
     pp.first_share = rk.first_share;
     pp.top = rk.top;
     pp.confidence = rk.confidence;
+    const Eigen::RowVectorXd er = classifier::expected_regret(model, mv.inputs).colwise().mean();
+    pp.expected_regret.assign(er.data(), er.data() + er.size());
+    pp.regret_risk = pp.expected_regret[static_cast<std::size_t>(rk.top - 1)];
+    if (!model.calibration.prior.empty()) {
+      double second = 0;
+      for (std::size_t k = 0; k < rk.mean.size(); ++k)
+        if (static_cast<int>(k) != rk.top - 1) second = std::max(second, rk.mean[k]);
+      pp.confidence =
+          model.calibration.confidence(rk.top - 1, rk.mean[static_cast<std::size_t>(rk.top - 1)] - second, rk.d2_min);
+    }
     pp.consistency = rk.consistency;
     pp.d2_min = rk.d2_min;
     pp.unfamiliar = rk.unfamiliar;
@@ -512,12 +701,14 @@ std::string predict_one(const ModelFolder& folder, const PredictInput& in, const
       ranking.push_back({{"slot", k + 1},
                          {"strategy", model.strategies[k]},
                          {"probability", pp.mean[k]},
+                         {"expected_regret", pp.expected_regret[k]},
                          {"total", pp.totals[k]},
                          {"share_first", pp.first_share[k]}});
     jp["status"] = "ok";
     jp["top"] = pp.top;
     jp["top_name"] = strategy_name(model.strategies, pp.top);
     jp["confidence"] = pp.confidence;
+    jp["regret_risk"] = pp.regret_risk;
     jp["consistency"] = pp.consistency;
     jp["unfamiliar"] = pp.unfamiliar;
     jp["unfamiliar_variants"] = unfamiliar;
@@ -539,6 +730,8 @@ std::string predict_one(const ModelFolder& folder, const PredictInput& in, const
                        {"error", pp.error},
                        {"top", pp.top},
                        {"confidence", pp.confidence},
+                       {"regret_risk", pp.regret_risk},
+                       {"expected_regret", pp.expected_regret},
                        {"consistency", pp.consistency},
                        {"unfamiliar", pp.unfamiliar},
                        {"d2_min", pp.d2_min},
@@ -597,6 +790,8 @@ std::vector<PartPrediction> predict_parts(const ModelFolder& folder, const std::
     pp.error = u["error"].get<std::string>();
     pp.top = u["top"].get<int>();
     pp.confidence = u["confidence"].get<double>();
+    pp.regret_risk = u["regret_risk"].get<double>();
+    pp.expected_regret = u["expected_regret"].get<std::vector<double>>();
     pp.consistency = u["consistency"].get<double>();
     pp.unfamiliar = u["unfamiliar"].get<bool>();
     pp.d2_min = u["d2_min"].get<double>();

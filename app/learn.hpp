@@ -32,6 +32,12 @@ struct TrainSummary {
   std::string mode, edge;
   double rms_part = 0, rms_vector = 0, accuracy_part = 0, accuracy_vector = 0;
   std::size_t vectors = 0, parts = 0;
+  /// Issue 39: the parts' picks judged by their regret (leave-one-part-out at α), and the shop's
+  /// baseline of always one strategy. Meaningful when the outputs are simulated scores.
+  std::string criterion = "rms";
+  bool scores = false;  ///< some output row is not one-hot (labels by simulation)
+  classifier::RegretSummary regret;
+  classifier::Baseline baseline;
 };
 
 /// Trains on a vectors.csv and writes model.json (with its "features"), sampling.json (the same
@@ -45,9 +51,13 @@ struct PartPrediction {
   std::string name, file;
   bool ok = false;
   std::string error;
-  int top = 0;             ///< 1-based strategy slot
-  double confidence = 0;   ///< mean probability of the top strategy over the variants
-  double consistency = 0;  ///< share of variants whose top strategy is the overall top
+  int top = 0;  ///< 1-based strategy slot
+  /// P(top is the part's best): the model's calibration (leave-one-part-out, falling towards the
+  /// top's prior as the part gets unfamiliar); the mean output of the top for model files without one.
+  double confidence = 0;
+  double regret_risk = 0;               ///< expected regret of the top (the network's average over its neighbours)
+  std::vector<double> expected_regret;  ///< K, per strategy
+  double consistency = 0;               ///< share of variants whose top strategy is the overall top
   bool unfamiliar = false;
   double d2_min = 0;                ///< smallest over the variants
   int expected = 0;                 ///< label given for a test part (0 = unknown)

@@ -604,6 +604,8 @@ datasets::Recipe recipe_from_config(const Json& config) {
     info("dataset: generating the default training parts (" + std::to_string(g.per_family) + " per family, seed " +
          std::to_string(g.seed) + ") into " + dir.string());
     r.parts = datasets::to_part_specs(datasets::generate_default_parts(dir, g));
+    if (d["generate"]["label"].get<std::string>() == "simulate")
+      for (datasets::PartSpec& p : r.parts) p.label_by_simulation = true;
     r.generate = g;
   } else {
     for (const auto& p : d["parts"]) {
@@ -618,7 +620,8 @@ datasets::Recipe recipe_from_config(const Json& config) {
       r.parts.push_back(std::move(s));
     }
   }
-  if (std::any_of(r.parts.begin(), r.parts.end(), [](const auto& p) { return p.label_by_simulation; })) {
+  r.labels_file = d["labels"].get<std::string>();
+  {
     Json f = config["finish"];
     f.erase("meshes");
     f.erase("strategy");
@@ -652,6 +655,9 @@ classifier::TrainParams train_params(const Json& config) {
   const Json& t = config["train"];
   classifier::TrainParams tp;
   tp.search.mode = classifier::loo_mode_from_string(t["loo"].get<std::string>());
+  // "auto" is settled by the table (learn.cpp: train_model); here it reads as the paper's.
+  tp.criterion =
+      t["criterion"].get<std::string>() == "regret" ? classifier::Criterion::Regret : classifier::Criterion::Rms;
   tp.limits = work_limits();
   tp.search.steps_per_octave = t["steps_per_octave"].get<int>();
   tp.search.range_low = t["range_low"].get<double>();

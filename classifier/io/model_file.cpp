@@ -190,6 +190,26 @@ void save_model(const Model& m, const std::filesystem::path& path) {
               {"accuracy_vector_at_alpha", finite(L.accuracy_vector_at_alpha, "loo.accuracy_vector_at_alpha")},
               {"full_passes", L.full_passes},
               {"neighbour_cache_used", L.neighbour_cache_used}};
+  j["criterion"] = classifier::to_string(m.criterion);
+  if (!m.regret_curve.empty()) {
+    json rc = json::array();
+    for (const auto& [a, r] : m.regret_curve)
+      rc.push_back(
+          {{"alpha", finite(a, "regret_curve.alpha")}, {"mean_regret", finite(r, "regret_curve.mean_regret")}});
+    j["regret_curve"] = rc;
+  }
+  const classifier::Calibration& c = m.calibration;
+  j["calibration"] = {{"raw", c.raw},
+                      {"right", c.right},
+                      {"prior", c.prior},
+                      {"threshold", finite(c.threshold, "calibration.threshold")}};
+  if (!m.target_json.empty()) {
+    try {
+      j["target"] = json::parse(m.target_json);
+    } catch (const json::exception& e) {
+      throw Error(std::string("save_model: the target is not valid JSON (") + json_error_text(e.what()) + ")");
+    }
+  }
   // nlohmann writes doubles as the shortest text that round-trips (tested bit for bit).
   write_file_atomic(path, j.dump(1) + "\n");
 }
@@ -261,6 +281,39 @@ Model load_model(const std::filesystem::path& path) {
   L.accuracy_vector_at_alpha = rd.number(rd.at(lo, "accuracy_vector_at_alpha", "loo"), "loo.accuracy_vector_at_alpha");
   L.full_passes = rd.integer(rd.at(lo, "full_passes", "loo"), "loo.full_passes");
   L.neighbour_cache_used = rd.boolean(rd.at(lo, "neighbour_cache_used", "loo"), "loo.neighbour_cache_used");
+  // Written since issue 39; absent from older files (Rms, no calibration, no target).
+  if (j.contains("criterion")) {
+    const std::string c = rd.string(j["criterion"], "criterion");
+    if (c != "rms" && c != "regret") rd.fail("criterion", "expected \"rms\" or \"regret\", got \"" + c + "\"");
+    m.criterion = c == "regret" ? classifier::Criterion::Regret : classifier::Criterion::Rms;
+  }
+  if (j.contains("regret_curve")) {
+    const json& rc = rd.array(j["regret_curve"], "regret_curve");
+    for (std::size_t i = 0; i < rc.size(); ++i) {
+      const std::string p = "regret_curve[" + std::to_string(i) + "]";
+      m.regret_curve.emplace_back(rd.number(rd.at(rc[i], "alpha", p), p + ".alpha"),
+                                  rd.number(rd.at(rc[i], "mean_regret", p), p + ".mean_regret"));
+    }
+  }
+  if (j.contains("calibration")) {
+    const json& cj = j["calibration"];
+    classifier::Calibration& c = m.calibration;
+    const Eigen::RowVectorXd raw = rd.vec(rd.at(cj, "raw", "calibration"), "calibration.raw", -1);
+    const Eigen::RowVectorXd right = rd.vec(rd.at(cj, "right", "calibration"), "calibration.right", raw.size());
+    const Eigen::RowVectorXd prior =
+        rd.vec(rd.at(cj, "prior", "calibration"), "calibration.prior", raw.size() == 0 ? -1 : k);
+    c.raw.assign(raw.data(), raw.data() + raw.size());
+    c.right.assign(right.data(), right.data() + right.size());
+    c.prior.assign(prior.data(), prior.data() + prior.size());
+    for (std::size_t i = 0; i < c.right.size(); ++i)
+      if (!(c.right[i] >= 0 && c.right[i] <= 1) || (i > 0 && (c.raw[i] < c.raw[i - 1] || c.right[i] < c.right[i - 1])))
+        rd.fail("calibration", "expected ascending raw values and non-decreasing shares in [0, 1]");
+    c.threshold = rd.number(rd.at(cj, "threshold", "calibration"), "calibration.threshold");
+  }
+  if (j.contains("target")) {
+    if (!j["target"].is_object()) rd.fail("target", "expected an object, got " + Reader::type_name(j["target"]));
+    m.target_json = j["target"].dump();
+  }
   return m;
 }
 

@@ -101,6 +101,55 @@ WorkEstimate estimate_loo_work(Eigen::Index n_vectors, Eigen::Index n_inputs) {
   return e;
 }
 
+const char* to_string(Criterion c) { return c == Criterion::Regret ? "regret" : "rms"; }
+
+namespace {
+
+/// α by the leave-one-part-out mean regret over the scan's candidates and the RMS optimum (ties:
+/// the lower RMS, then the larger α); the report's outputs and figures recomputed at it when it
+/// differs from the RMS choice. O(N²·(D + candidates·K)).
+void choose_by_regret(const MatrixXd& Xn, const TrainingSet& set, const AlphaSearchParams& search, Model& model) {
+  LooReport& rep = model.loo;
+  std::vector<double> alphas, rms;
+  for (const CurvePoint& c : rep.curve) {
+    alphas.push_back(c.alpha);
+    rms.push_back(c.rms_part);
+  }
+  alphas.push_back(rep.alpha);
+  rms.push_back(rep.rms_part_at_alpha);
+  const std::vector<MatrixXd> outs = part_out_outputs(Xn, set.outputs, set.groups, alphas, search.block_rows);
+  std::size_t best = alphas.size() - 1;
+  double best_regret = std::numeric_limits<double>::infinity();
+  for (std::size_t a = 0; a < alphas.size(); ++a) {
+    const double r = summarize(part_picks(outs[a], set.outputs, set.groups)).mean;
+    if (a < rep.curve.size()) model.regret_curve.emplace_back(alphas[a], r);
+    const bool better =
+        r < best_regret - 1e-12 ||
+        (std::abs(r - best_regret) <= 1e-12 &&
+         (rms[a] < rms[best] - 1e-15 || (std::abs(rms[a] - rms[best]) <= 1e-15 && alphas[a] > alphas[best])));
+    if (better) {
+      best = a;
+      best_regret = r;
+    }
+  }
+  model.regret_curve.emplace_back(alphas.back(), summarize(part_picks(outs.back(), set.outputs, set.groups)).mean);
+  if (best == alphas.size() - 1 || alphas[best] == rep.alpha) return;
+  const double alpha = alphas[best];
+  rep.alpha = alpha;
+  rep.mode = LooMode::PartOut;
+  rep.verification = outs[best];
+  const MatrixXd ver_v =
+      verification_outputs(Xn, set.outputs, set.groups, alpha, LooMode::VectorOut, search.block_rows);
+  rep.rms_part_at_alpha = rms_error(rep.verification, set.outputs);
+  rep.rms_vector_at_alpha = rms_error(ver_v, set.outputs);
+  rep.accuracy_part_at_alpha = argmax_accuracy(rep.verification, set.outputs);
+  rep.accuracy_vector_at_alpha = argmax_accuracy(ver_v, set.outputs);
+  rep.filtration = evaluate_network(Xn, set.outputs, Xn, alpha, search.block_rows).outputs;
+  rep.full_passes += 3;
+}
+
+}  // namespace
+
 Model train(const TrainingSet& set, const TrainParams& params) {
   validate(set);
   // Before the normalizer's copy and any distance: N² pairs, refused in one line over the limit.
@@ -148,7 +197,9 @@ Model train(const TrainingSet& set, const TrainParams& params) {
     model.loo = std::move(rep);
   } else {
     model.loo = select_alpha(Xn, set.outputs, set.groups, search);
+    if (params.criterion == Criterion::Regret) choose_by_regret(Xn, set, search, model);
   }
+  model.criterion = params.criterion;
   model.alpha = model.loo.alpha;
   model.strategies = set.strategies;
   model.inputs = set.inputs;
@@ -158,6 +209,8 @@ Model train(const TrainingSet& set, const TrainParams& params) {
   model.unfamiliar_percentile = params.unfamiliar_percentile;
   std::vector<double> nd(model.loo.nearest_d2.data(), model.loo.nearest_d2.data() + model.loo.nearest_d2.size());
   model.unfamiliar_threshold = params.unfamiliar_factor * percentile(std::move(nd), params.unfamiliar_percentile);
+  const std::vector<PartPick> picks = part_picks(model.loo.verification, set.outputs, set.groups, model.loo.nearest_d2);
+  model.calibration = calibrate(picks, static_cast<std::size_t>(set.outputs.cols()), model.unfamiliar_threshold);
   return model;
 }
 
@@ -174,6 +227,16 @@ Prediction predict(const Model& model, const MatrixXd& inputs) {
   for (Index i = 0; i < inputs.rows(); ++i)
     p.unfamiliar[static_cast<std::size_t>(i)] = net.d2_min(i) > model.unfamiliar_threshold;
   return p;
+}
+
+MatrixXd expected_regret(const Model& model, const MatrixXd& inputs) {
+  if (inputs.cols() != model.normalizer.dims())
+    throw Error("predict: input vectors have " + std::to_string(inputs.cols()) + " values, the model expects " +
+                std::to_string(model.normalizer.dims()));
+  MatrixXd R(model.outputs.rows(), model.outputs.cols());
+  for (Index j = 0; j < R.rows(); ++j)  // O(N·K²)
+    for (Index k = 0; k < R.cols(); ++k) R(j, k) = pick_regret(model.outputs.row(j), k);
+  return evaluate_network(model.normalizer.apply(model.inputs), R, model.normalizer.apply(inputs), model.alpha).outputs;
 }
 
 }  // namespace millnet::classifier

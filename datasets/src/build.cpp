@@ -42,7 +42,7 @@ Error part_error(const PartSpec& p, const std::string& what) {
 std::vector<PartSpec> to_part_specs(const std::vector<GeneratedPart>& parts) {
   std::vector<PartSpec> specs;
   specs.reserve(parts.size());
-  for (const auto& p : parts) specs.push_back({p.file, p.label, p.name});
+  for (const auto& p : parts) specs.push_back({p.file, p.label, p.name, false, std::nullopt});
   return specs;
 }
 
@@ -145,7 +145,7 @@ Row variant_row(const Recipe& recipe, const TablePlan& plan, std::size_t k, cons
     r.flip = var.flip;
     r.inputs = std::move(mv.inputs);
     r.inputs.resize(plan.header.inputs_per_row());
-    r.outputs = one_hot(p.label);
+    r.outputs = p.outputs ? *p.outputs : one_hot(p.label);
     r.aspect = mv.aspect;
     return r;
   } catch (const std::exception& e) {

@@ -235,9 +235,11 @@ std::vector<StrategyFigures> score_strategies(const ingest::Mesh& mesh, const Fr
     out.push_back({slot, scores.back(), 0});
   }
   const Ranked r = rank_scores(scores, aim);
+  const std::vector<double> score = simulate::aim_scores(scores, r.order, aim);
   for (std::size_t i = 0; i < out.size(); ++i) {
     out[i].rank = r.rank[i];
     out[i].regret = r.regret[i];
+    out[i].aim_score = score[i];
   }
   return out;
 }

@@ -151,6 +151,38 @@ std::vector<double> regrets(const std::vector<StrategyScore>& scores, const std:
   return r;
 }
 
+/// Every strategy but the best scores below 1, so that the best is the one largest output (a
+/// near-tie faster than the best, ranked after it by Ra p90, keeps a regret of ~0).
+constexpr double kBelowBest = 1 - 1e-6;
+
+std::vector<double> aim_scores(const std::vector<StrategyScore>& scores, const std::vector<std::size_t>& order,
+                               const AimParams& params) {
+  std::vector<double> out(scores.size(), 0.0);
+  if (order.empty()) return out;
+  const auto clean = [&](std::size_t i) { return !(scores[i].max_gouge_mm > params.gouge_tolerance_mm); };
+  const std::size_t best = order.front();
+  if (!clean(best)) return out;
+  if (params.aim != Aim::Time && params.aim != Aim::TimeToSpec) {
+    out[best] = 1;
+    return out;
+  }
+  if (params.aim == Aim::TimeToSpec && !meets_spec(scores[best], params)) {
+    const auto share = [&](std::size_t i) { return std::isnan(scores[i].spec_share) ? 0.0 : scores[i].spec_share; };
+    const double top = share(best);
+    for (std::size_t i = 0; i < scores.size(); ++i)
+      if (clean(i) && top > 0) out[i] = std::clamp(share(i) / top, 0.0, kBelowBest);
+    out[best] = 1;
+    return out;
+  }
+  const double t_best = scores[best].time_min;
+  for (std::size_t i = 0; i < scores.size(); ++i) {
+    const bool ok = clean(i) && (params.aim == Aim::Time || meets_spec(scores[i], params));
+    if (ok && scores[i].time_min > 0 && t_best > 0) out[i] = std::clamp(t_best / scores[i].time_min, 0.0, kBelowBest);
+  }
+  out[best] = 1;
+  return out;
+}
+
 std::vector<int> ranks_from_order(const std::vector<std::size_t>& order) {
   std::vector<int> rank(order.size());
   for (std::size_t r = 0; r < order.size(); ++r) rank[order[r]] = static_cast<int>(r + 1);

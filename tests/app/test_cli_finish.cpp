@@ -460,6 +460,62 @@ TEST(CliDataset, APartLabelledBySimulationGetsTheStrategyItsSimulationRanksFirst
   EXPECT_EQ(ag[0]["agree"], best == 2 ? 1 : 0);
   EXPECT_TRUE(fs::exists(d / "ds" / "agreement.md"));
 
+  // Issue 39: the simulated part's outputs are its strategies' scores (the best 1, the others its
+  // time / theirs or 0), kept in ds/labels.json with the part file's hash.
+  const auto labels = nlohmann::json::parse(slurp(d / "ds" / "labels.json"));
+  ASSERT_EQ(labels["parts"].size(), 2u);
+  EXPECT_EQ(labels["aim"], "time_to_spec");
+  const auto& dome = labels["parts"][0];
+  EXPECT_EQ(dome["name"], "dome");
+  EXPECT_EQ(dome["best"].get<int>(), best);
+  double t_best = 0;
+  for (const auto& st : dome["strategies"])
+    if (st["rank"] == 1) t_best = st["time_kinematic_min"].get<double>();
+  for (const auto& st : dome["strategies"]) {
+    const double score = st["score"].get<double>();
+    if (st["rank"] == 1) {
+      EXPECT_EQ(score, 1.0);
+    } else if (st["meets_spec"].get<bool>() && st["max_gouge_mm"].get<double>() <= 0.002) {
+      EXPECT_NEAR(score, std::min(t_best / st["time_kinematic_min"].get<double>(), 1 - 1e-6), 1e-12);
+    } else {
+      EXPECT_EQ(score, 0.0);
+    }
+  }
+  // The cache: a recipe naming these labels simulates nothing again (the line says so) and gives the
+  // same table, byte for byte; a label edited in the file is what the table then carries.
+  std::ofstream(d / "cached.json") << R"({"dataset": {"parts": [{"file": "dome.stl", "label": "simulate"},
+                                                                {"file": "dome2.stl", "label": 2}],
+                                                      "labels": "ds/labels.json", "raster_mm": 0.5,
+                                                      "augment": {"angles_deg": [0, 10], "axes": ["x"], "flip": false}},
+                                          "finish": {"stepover_mm": 0.5, "step_down_mm": 0.5},
+                                          "simulate": {"cell_mm": 0.05}})";
+  const auto again = run_millnet("dataset --config cached.json --out ds_cached", d);
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_NE(again.err.find("1 of 1 parts from"), std::string::npos) << again.err;
+  EXPECT_EQ(slurp(d / "ds_cached" / "vectors.csv"), csv);
+  // --relabel recomputes the label: the same bytes (a label is a deterministic computation).
+  const auto re = run_millnet("dataset --quiet --config cached.json --relabel --out ds_re", d);
+  ASSERT_EQ(re.code, 0) << re.err;
+  EXPECT_EQ(slurp(d / "ds_re" / "labels.json"), slurp(d / "ds_cached" / "labels.json"));
+  std::string edited = slurp(d / "ds" / "labels.json");
+  const std::size_t at = edited.find("\"ra_median_um\": ");
+  ASSERT_NE(at, std::string::npos);
+  edited.replace(at, edited.find(',', at) - at, "\"ra_median_um\": 123.5");
+  std::ofstream(d / "ds" / "labels.json") << edited;
+  const auto stale = run_millnet("dataset --quiet --config cached.json --out ds_edited", d);
+  ASSERT_EQ(stale.code, 0) << stale.err;
+  const auto edited_labels = nlohmann::json::parse(slurp(d / "ds_edited" / "labels.json"));
+  EXPECT_EQ(edited_labels["parts"][0]["strategies"][0]["ra_median_um"], 123.5);
+  // A setting changed: the cache is not used (the line names why) and the part is simulated again.
+  std::ofstream(d / "other.json") << R"({"dataset": {"parts": [{"file": "dome.stl", "label": "simulate"}],
+                                                     "labels": "ds/labels.json", "raster_mm": 0.5,
+                                                     "augment": {"angles_deg": [0], "axes": ["x"], "flip": false}},
+                                         "finish": {"stepover_mm": 0.5, "step_down_mm": 0.5},
+                                         "simulate": {"cell_mm": 0.1}})";
+  const auto other = run_millnet("dataset --config other.json --out ds_other", d);
+  ASSERT_EQ(other.code, 0) << other.err;
+  EXPECT_NE(other.err.find("computed with other settings"), std::string::npos) << other.err;
+
   std::ofstream(d / "bad.json") << R"({"dataset": {"parts": [{"file": "dome.stl", "label": "simulated"}]}})";
   const auto bad = run_millnet("dataset --config bad.json --out ds2", d);
   EXPECT_EQ(bad.code, 1);

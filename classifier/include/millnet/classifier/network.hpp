@@ -23,6 +23,7 @@
 #include <Eigen/Dense>
 
 #include "millnet/classifier/normalizer.hpp"
+#include "millnet/classifier/regret.hpp"
 #include "millnet/core/progress.hpp"
 
 namespace millnet::classifier {
@@ -142,8 +143,16 @@ struct NetworkOutputs {
 [[nodiscard]] NetworkOutputs evaluate_network(const Eigen::MatrixXd& Xn, const Eigen::MatrixXd& Y,
                                               const Eigen::MatrixXd& Qn, double alpha, Eigen::Index block_rows = 256);
 
+/// What α is chosen for (issue 39 §1).
+enum class Criterion {
+  Rms,     ///< the paper's: the leave-one-out RMS error of the outputs
+  Regret,  ///< the mean leave-one-part-out regret of the parts' picks (regret.hpp), ties by the RMS
+};
+[[nodiscard]] const char* to_string(Criterion c);
+
 struct TrainParams {
   AlphaSearchParams search;
+  Criterion criterion = Criterion::Rms;
   /// A query is unfamiliar when d²_min > unfamiliar_factor × (unfamiliar_percentile of the
   /// training set's leave-one-part-out nearest d², LooReport::nearest_d2; nearest-rank method).
   double unfamiliar_factor = 4.0;
@@ -184,6 +193,16 @@ struct Model {
   double unfamiliar_factor = 0, unfamiliar_percentile = 0;
   LooReport loo;
   std::optional<InputSpec> input_spec;  ///< empty in model files written before it was recorded
+  Criterion criterion = Criterion::Rms;
+  /// Leave-one-part-out mean regret at each α of loo.curve (same order), plus the chosen α's; empty
+  /// with the Rms criterion.
+  std::vector<std::pair<double, double>> regret_curve;
+  /// P(pick is the part's best), fitted on the leave-one-part-out picks at α (regret.hpp).
+  Calibration calibration;
+  /// What the outputs were computed for, as JSON text (e.g. {"aim": "time_to_spec", "spec": {…}});
+  /// empty when the outputs are labels given by hand. Recorded by the caller; the classifier
+  /// itself never reads it.
+  std::string target_json;
 };
 
 /// Validates the set, fits the normalizer, selects α (or uses params.fixed_alpha), and stores.
@@ -197,5 +216,10 @@ struct Prediction {
 
 /// Predicts raw inputs (M×D, same columns as the training inputs). Throws on a D mismatch.
 [[nodiscard]] Prediction predict(const Model& model, const Eigen::MatrixXd& inputs);
+
+/// The network's conditional average of each strategy's regret (regret.hpp: pick_regret of every
+/// stored output row): M×K, the regret a pick of slot k is expected to cost on each input row.
+/// O(M·N·(D + K)).
+[[nodiscard]] Eigen::MatrixXd expected_regret(const Model& model, const Eigen::MatrixXd& inputs);
 
 }  // namespace millnet::classifier

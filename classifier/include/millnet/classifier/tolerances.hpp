@@ -25,4 +25,10 @@ inline constexpr double kConstantColumnStd = 1e-12;
 /// far below what moves the optimum. The final figures and outputs use kTruncationMargin.
 inline constexpr double kRefineTruncationMargin = 20.0;
 
+/// The regret counted for picking a strategy that scores 0 on a part (it gouges or misses the
+/// surface specification, issue 39): as if the part were machined twice — the time of a second
+/// finishing, the best one, on top of the first. A real miss may cost more (a scrapped part);
+/// the count of misses is reported beside every mean.
+inline constexpr double kMissRegret = 1.0;
+
 }  // namespace millnet::classifier::tol

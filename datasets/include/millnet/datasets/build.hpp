@@ -10,6 +10,7 @@
 #include "millnet/datasets/table.hpp"
 #include "millnet/ingest/mesh.hpp"
 
+#include <array>
 #include <filesystem>
 #include <functional>
 #include <optional>
@@ -26,6 +27,9 @@ struct PartSpec {
   /// machining ranks first before build_table; recipe_json echoes "simulate" (so an up-to-date
   /// check needs no simulation).
   bool label_by_simulation = false;
+  /// The model vector's outputs when they are not one_hot(label): each strategy's score under the
+  /// aim for a part labelled by simulation (issue 39 §1; label = the slot scoring highest).
+  std::optional<std::array<double, kStrategySlots>> outputs;
 };
 
 /// The plain-struct form of a dataset recipe (the CLI parses datasets/recipe.json into it).
@@ -44,6 +48,10 @@ struct Recipe {
   /// JSON text of the settings that simulated labels depend on (tool, stepover, aim, …), echoed as
   /// "label_by_simulation" when some part is labelled by simulation; empty otherwise.
   std::string simulation_settings_json;
+  /// labels.json of the recipe (issue 39 §2): simulated labels reused where the part file and the
+  /// settings match; empty = none. `relabel`: simulate every part labelled by simulation anyway.
+  std::filesystem::path labels_file;
+  bool relabel = false;
   /// Budgets of the table (rows × inputs per row, counted before any part is read) and of each
   /// variant's height-field raster (ingest::raster_work), issue 12.
   WorkLimits limits;

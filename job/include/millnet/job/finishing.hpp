@@ -167,6 +167,7 @@ struct StrategyFigures {
   simulate::StrategyScore score;
   int rank = 0;                                              ///< 1-based, by the aim
   double regret = std::numeric_limits<double>::quiet_NaN();  ///< simulate::regrets
+  double aim_score = 0;                                      ///< simulate::aim_scores (the network's output)
 };
 
 /// Every strategy of `plans` written in memory (`post`), machined and scored, then ranked by

@@ -77,6 +77,17 @@ struct AimParams {
 [[nodiscard]] std::vector<double> regrets(const std::vector<StrategyScore>& scores,
                                           const std::vector<std::size_t>& order, const AimParams& params);
 
+/// Each strategy's score under the aim, the output a network trained on simulated outcomes learns
+/// (issue 39 §1): TimeToSpec and Time — the best's time / its time for a strategy that does not
+/// gouge and (TimeToSpec) meets the specification, 0 for one that gouges or misses it; so the best
+/// scores 1 and a strategy taking twice as long 0.5. When no strategy meets the specification, the
+/// non-gouging ones score their share in spec / the best share (the ranking's order of those
+/// that miss). Quality and QualityWithinTime: 1 for the best, 0 for the others (their order is not
+/// a ratio of costs). Scores lie in [0, 1], the best's alone 1 (the others ≤ 1 − 1e-6); a score
+/// s > 0 is a regret of 1/s − 1. O(n).
+[[nodiscard]] std::vector<double> aim_scores(const std::vector<StrategyScore>& scores,
+                                             const std::vector<std::size_t>& order, const AimParams& params);
+
 /// The 1-based rank of each item from an order of the items, best first (order[r] = the item at
 /// rank r + 1, a permutation of 0..n−1, e.g. rank_strategies'): rank[order[r]] = r + 1. O(n).
 [[nodiscard]] std::vector<int> ranks_from_order(const std::vector<std::size_t>& order);

@@ -66,6 +66,14 @@ struct RunSummary {
   std::string finish_settings_note, aim;
   std::vector<RunPart> parts;
   std::vector<std::pair<std::string, double>> timing_s;  ///< stage → seconds
+  /// Issue 39: a network trained on simulated scores, judged by the regret of its picks leaving out
+  /// each training part, beside always one strategy (the one best on the most training parts).
+  bool scores = false;
+  std::string criterion;  ///< what α was chosen for: "regret" | "rms"
+  std::size_t lopo_parts = 0, lopo_misses = 0;
+  double lopo_top1 = 0, lopo_mean = 0, lopo_median = 0, lopo_p90 = 0;
+  int baseline_slot = 0;  ///< 1-based
+  double baseline_top1 = 0, baseline_mean = 0, baseline_median = 0, baseline_p90 = 0;
 };
 
 /// What the headline counts.

@@ -1,0 +1,295 @@
+// Judging a network by the regret of its picks (regret.hpp).
+#include "millnet/classifier/regret.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+
+#include "engine.hpp"
+#include "millnet/classifier/tolerances.hpp"
+#include "millnet/core/error.hpp"
+
+namespace millnet::classifier {
+
+using Eigen::Index;
+using Eigen::MatrixXd;
+using Eigen::RowVectorXd;
+using Eigen::VectorXd;
+
+namespace {
+
+/// Ranks (1-based) with ties given their mean rank. O(n log n).
+std::vector<double> mean_ranks(const std::vector<double>& v) {
+  std::vector<std::size_t> ord(v.size());
+  std::iota(ord.begin(), ord.end(), std::size_t{0});
+  std::stable_sort(ord.begin(), ord.end(), [&](std::size_t a, std::size_t b) { return v[a] > v[b]; });
+  std::vector<double> r(v.size());
+  for (std::size_t i = 0; i < ord.size();) {
+    std::size_t j = i;
+    while (j + 1 < ord.size() && v[ord[j + 1]] == v[ord[i]]) ++j;
+    for (std::size_t t = i; t <= j; ++t) r[ord[t]] = 0.5 * static_cast<double>(i + j) + 1;
+    i = j + 1;
+  }
+  return r;
+}
+
+/// Spearman's ρ with mean ranks for ties (Pearson's r of the ranks); NaN when either is constant.
+double spearman_ties(const std::vector<double>& a, const std::vector<double>& b) {
+  const std::vector<double> ra = mean_ranks(a), rb = mean_ranks(b);
+  const double n = static_cast<double>(ra.size());
+  if (n < 2) return std::numeric_limits<double>::quiet_NaN();
+  const double ma = std::accumulate(ra.begin(), ra.end(), 0.0) / n, mb = std::accumulate(rb.begin(), rb.end(), 0.0) / n;
+  double sab = 0, saa = 0, sbb = 0;
+  for (std::size_t i = 0; i < ra.size(); ++i) {
+    sab += (ra[i] - ma) * (rb[i] - mb);
+    saa += (ra[i] - ma) * (ra[i] - ma);
+    sbb += (rb[i] - mb) * (rb[i] - mb);
+  }
+  if (!(saa > 0) || !(sbb > 0)) return std::numeric_limits<double>::quiet_NaN();
+  return sab / std::sqrt(saa * sbb);
+}
+
+double nearest_rank(std::vector<double> v, double q) {
+  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::sort(v.begin(), v.end());
+  const auto k = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size())));
+  return v[std::clamp<std::size_t>(k, 1, v.size()) - 1];
+}
+
+/// Pool-adjacent-violators: the non-decreasing step function of y on x (each point weight 1;
+/// equal x pooled first). Blocks' upper x ascending.
+void isotonic(std::vector<std::pair<double, double>> pts, std::vector<double>& raw, std::vector<double>& value) {
+  std::sort(pts.begin(), pts.end());
+  struct Block {
+    double x_hi, sum, n;
+  };
+  std::vector<Block> b;
+  for (std::size_t i = 0; i < pts.size();) {
+    std::size_t j = i;
+    Block blk{pts[i].first, 0, 0};
+    for (; j < pts.size() && pts[j].first == pts[i].first; ++j) {
+      blk.sum += pts[j].second;
+      blk.n += 1;
+    }
+    b.push_back(blk);
+    while (b.size() > 1 && b[b.size() - 2].sum / b[b.size() - 2].n >= b.back().sum / b.back().n) {
+      const Block top = b.back();
+      b.pop_back();
+      b.back() = {top.x_hi, b.back().sum + top.sum, b.back().n + top.n};
+    }
+    i = j;
+  }
+  raw.clear();
+  value.clear();
+  for (const Block& k : b) {
+    raw.push_back(k.x_hi);
+    value.push_back(k.sum / k.n);
+  }
+}
+
+}  // namespace
+
+double pick_regret(const Eigen::Ref<const RowVectorXd>& y, Index k) {
+  const double top = y.maxCoeff();
+  if (!(top > 0)) return 0;  // every strategy scores 0 on the part: no pick is worse than another
+  if (y(k) >= top) return 0;
+  if (!(y(k) > 0)) return tol::kMissRegret;
+  return top / y(k) - 1;
+}
+
+std::vector<PartPick> part_picks(const MatrixXd& predicted, const MatrixXd& Y, const std::vector<std::string>& groups,
+                                 const VectorXd& d2_min) {
+  const Index n = Y.rows(), K = Y.cols();
+  if (predicted.rows() != n || predicted.cols() != K || static_cast<Index>(groups.size()) != n ||
+      (d2_min.size() != 0 && d2_min.size() != n))
+    throw Error("part_picks: predicted, outputs, groups and d2_min differ in length");
+  std::map<std::string, std::size_t> id;
+  std::vector<PartPick> picks;
+  std::vector<double> count;
+  std::vector<bool> active(static_cast<std::size_t>(K), false);
+  for (Index i = 0; i < n; ++i)  // O(N·K)
+    for (Index k = 0; k < K; ++k)
+      if (Y(i, k) != 0) active[static_cast<std::size_t>(k)] = true;
+  for (Index i = 0; i < n; ++i) {
+    const auto [it, fresh] = id.try_emplace(groups[static_cast<std::size_t>(i)], picks.size());
+    if (fresh) {
+      PartPick p;
+      p.part = groups[static_cast<std::size_t>(i)];
+      p.predicted = RowVectorXd::Zero(K);
+      p.outputs = Y.row(i);
+      p.d2_min = std::numeric_limits<double>::infinity();
+      picks.push_back(std::move(p));
+      count.push_back(0);
+    }
+    PartPick& p = picks[it->second];
+    if (p.outputs != Y.row(i))
+      throw Error("part_picks: the vectors of part '" + p.part + "' carry different outputs (a part has one label)");
+    p.predicted += predicted.row(i);
+    count[it->second] += 1;
+    if (d2_min.size() != 0) p.d2_min = std::min(p.d2_min, d2_min(i));
+  }
+  for (std::size_t g = 0; g < picks.size(); ++g) {
+    PartPick& p = picks[g];
+    p.predicted /= count[g];
+    if (d2_min.size() == 0) p.d2_min = 0;
+    p.best = detail::argmax(p.outputs);
+    p.pick = detail::argmax(p.predicted);
+    p.regret = pick_regret(p.outputs, p.pick);
+    p.miss = !(p.outputs(p.pick) > 0) && p.outputs.maxCoeff() > 0;
+    double second = -std::numeric_limits<double>::infinity();
+    for (Index k = 0; k < K; ++k)
+      if (k != p.pick) second = std::max(second, p.predicted(k));
+    p.margin = K > 1 ? std::max(0.0, p.predicted(p.pick) - second) : 1.0;
+    std::vector<double> a, b;
+    for (Index k = 0; k < K; ++k)
+      if (active[static_cast<std::size_t>(k)]) {
+        a.push_back(p.predicted(k));
+        b.push_back(p.outputs(k));
+      }
+    p.spearman = spearman_ties(a, b);
+  }
+  return picks;
+}
+
+RegretSummary summarize(const std::vector<PartPick>& picks) {
+  RegretSummary s;
+  s.parts = picks.size();
+  if (picks.empty()) return s;
+  std::vector<double> r;
+  double rho = 0, rho_n = 0, right = 0;
+  for (const PartPick& p : picks) {
+    r.push_back(p.regret);
+    right += p.regret == 0 ? 1 : 0;
+    s.misses += p.miss ? 1 : 0;
+    if (std::isfinite(p.spearman)) {
+      rho += p.spearman;
+      rho_n += 1;
+    }
+  }
+  s.top1 = right / static_cast<double>(picks.size());
+  s.mean = std::accumulate(r.begin(), r.end(), 0.0) / static_cast<double>(r.size());
+  s.median = nearest_rank(r, 0.5);
+  s.p90 = nearest_rank(r, 0.9);
+  if (rho_n > 0) s.spearman = rho / rho_n;
+  return s;
+}
+
+Baseline always_the_same(const std::vector<PartPick>& picks) {
+  Baseline b;
+  if (picks.empty()) return b;
+  const Index K = picks.front().outputs.size();
+  std::vector<int> wins(static_cast<std::size_t>(K), 0);
+  for (const PartPick& p : picks) ++wins[static_cast<std::size_t>(p.best)];
+  b.slot = static_cast<Index>(std::max_element(wins.begin(), wins.end()) - wins.begin());
+  std::vector<PartPick> same = picks;
+  for (PartPick& p : same) {
+    p.pick = b.slot;
+    p.regret = pick_regret(p.outputs, b.slot);
+    p.miss = !(p.outputs(b.slot) > 0) && p.outputs.maxCoeff() > 0;
+    p.spearman = std::numeric_limits<double>::quiet_NaN();
+  }
+  b.figures = summarize(same);
+  return b;
+}
+
+std::vector<MatrixXd> part_out_outputs(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<std::string>& groups,
+                                       const std::vector<double>& alphas, Index block_rows) {
+  const Index n = Xn.rows(), K = Y.cols();
+  if (Y.rows() != n || static_cast<Index>(groups.size()) != n)
+    throw Error("part_out_outputs: inputs, outputs and groups differ in length");
+  for (double a : alphas)
+    if (!(a > 0) || !std::isfinite(a)) throw Error("part_out_outputs: every alpha must be finite and > 0");
+  std::map<std::string, int> ids;
+  std::vector<int> gid(groups.size());
+  for (std::size_t i = 0; i < gid.size(); ++i)
+    gid[i] = ids.try_emplace(groups[i], static_cast<int>(ids.size())).first->second;
+  if (ids.size() < 2) throw Error("part_out_outputs: leave-one-part-out needs at least 2 parts");
+  std::vector<MatrixXd> out(alphas.size(), MatrixXd::Zero(n, K));
+  const VectorXd sq = Xn.rowwise().squaredNorm();
+  detail::for_each_d2_block(Xn, sq, Xn, sq, block_rows, [&](Index, Index r0, Index rows, const MatrixXd& D2) {
+    RowVectorXd acc(K);
+    for (Index c = 0; c < rows; ++c) {
+      const Index i = r0 + c;
+      const int g = gid[static_cast<std::size_t>(i)];
+      double m = std::numeric_limits<double>::infinity();
+      for (Index j = 0; j < n; ++j)  // O(N)
+        if (gid[static_cast<std::size_t>(j)] != g) m = std::min(m, D2(j, c));
+      for (std::size_t a = 0; a < alphas.size(); ++a) {  // O(|alphas|·N·K)
+        acc.setZero();
+        double w_sum = 0;
+        for (Index j = 0; j < n; ++j) {
+          if (gid[static_cast<std::size_t>(j)] == g) continue;
+          const double w = std::exp(-(D2(j, c) - m) / alphas[a]);
+          if (w < tol::kSimilarityFloor) continue;
+          acc += w * Y.row(j);
+          w_sum += w;
+        }
+        out[a].row(i) = acc / w_sum;
+      }
+    }
+  });
+  return out;
+}
+
+double Calibration::familiarity(double d2_min) const {
+  if (!(threshold > 0)) return 1;
+  if (!(d2_min > threshold)) return 1;
+  return threshold / d2_min;
+}
+
+double Calibration::confidence(Index pick, double margin, double d2_min) const {
+  const double f = familiarity(d2_min);
+  const double prior_pick =
+      pick >= 0 && static_cast<std::size_t>(pick) < prior.size() ? prior[static_cast<std::size_t>(pick)] : 0.0;
+  if (raw.empty()) return (1 - f) * prior_pick;
+  const double x = margin * f;
+  const auto it = std::lower_bound(raw.begin(), raw.end(), x);
+  const double mapped = it == raw.end() ? right.back() : right[static_cast<std::size_t>(it - raw.begin())];
+  return f * mapped + (1 - f) * prior_pick;
+}
+
+Calibration calibrate(const std::vector<PartPick>& picks, std::size_t slots, double threshold) {
+  Calibration c;
+  c.threshold = threshold;
+  c.prior.assign(slots, 0.0);
+  if (picks.empty()) return c;
+  std::vector<std::pair<double, double>> pts;
+  for (const PartPick& p : picks) {
+    if (static_cast<std::size_t>(p.best) < slots) c.prior[static_cast<std::size_t>(p.best)] += 1;
+    pts.emplace_back(p.margin * c.familiarity(p.d2_min), p.regret == 0 ? 1.0 : 0.0);
+  }
+  for (double& v : c.prior) v /= static_cast<double>(picks.size());
+  isotonic(std::move(pts), c.raw, c.right);
+  return c;
+}
+
+std::vector<ReliabilityBin> reliability(const std::vector<PartPick>& picks, std::size_t slots, double threshold,
+                                        int bins) {
+  std::vector<ReliabilityBin> out(static_cast<std::size_t>(std::max(bins, 1)));
+  for (std::size_t b = 0; b < out.size(); ++b) {
+    out[b].low = static_cast<double>(b) / static_cast<double>(out.size());
+    out[b].high = static_cast<double>(b + 1) / static_cast<double>(out.size());
+  }
+  std::vector<double> conf_sum(out.size(), 0), right(out.size(), 0);
+  for (std::size_t i = 0; i < picks.size(); ++i) {  // O(P² log P)
+    std::vector<PartPick> others;
+    others.reserve(picks.size() - 1);
+    for (std::size_t j = 0; j < picks.size(); ++j)
+      if (j != i) others.push_back(picks[j]);
+    const Calibration c = calibrate(others, slots, threshold);
+    const double conf = c.confidence(picks[i].pick, picks[i].margin, picks[i].d2_min);
+    const auto b = std::min(out.size() - 1, static_cast<std::size_t>(conf * static_cast<double>(out.size())));
+    out[b].parts += 1;
+    conf_sum[b] += conf;
+    right[b] += picks[i].regret == 0 ? 1 : 0;
+  }
+  for (std::size_t b = 0; b < out.size(); ++b)
+    if (out[b].parts > 0) {
+      out[b].mean_confidence = conf_sum[b] / static_cast<double>(out[b].parts);
+      out[b].share_right = right[b] / static_cast<double>(out[b].parts);
+    }
+  return out;
+}
+
+}  // namespace millnet::classifier
