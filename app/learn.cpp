@@ -492,6 +492,8 @@ std::string training_target(const datasets_io::Manifest& manifest) {
 /// the summary's figures. O(N·K + P² log P).
 Json regret_report(const classifier::Model& model, const classifier::TrainingSet& set, TrainSummary& s) {
   s.criterion = classifier::to_string(model.criterion);
+  if (!classifier::one_output_per_part(set.outputs, set.groups))
+    return Json{{"criterion", s.criterion}, {"note", "a part's vectors carry different outputs: no part picks"}};
   const std::vector<classifier::PartPick> picks =
       classifier::part_picks(model.loo.verification, set.outputs, set.groups, model.loo.nearest_d2);
   s.regret = classifier::summarize(picks);
@@ -701,6 +703,7 @@ std::string predict_one(const ModelFolder& folder, const PredictInput& in, const
       ranking.push_back({{"slot", k + 1},
                          {"strategy", model.strategies[k]},
                          {"probability", pp.mean[k]},
+                         {"expected_score", pp.mean[k]},
                          {"expected_regret", pp.expected_regret[k]},
                          {"total", pp.totals[k]},
                          {"share_first", pp.first_share[k]}});

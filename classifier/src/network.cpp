@@ -197,7 +197,11 @@ Model train(const TrainingSet& set, const TrainParams& params) {
     model.loo = std::move(rep);
   } else {
     model.loo = select_alpha(Xn, set.outputs, set.groups, search);
-    if (params.criterion == Criterion::Regret) choose_by_regret(Xn, set, search, model);
+    if (params.criterion == Criterion::Regret) {
+      if (!one_output_per_part(set.outputs, set.groups))
+        throw Error("train: the regret criterion needs one output row per part (a part's vectors differ)");
+      choose_by_regret(Xn, set, search, model);
+    }
   }
   model.criterion = params.criterion;
   model.alpha = model.loo.alpha;
@@ -209,8 +213,11 @@ Model train(const TrainingSet& set, const TrainParams& params) {
   model.unfamiliar_percentile = params.unfamiliar_percentile;
   std::vector<double> nd(model.loo.nearest_d2.data(), model.loo.nearest_d2.data() + model.loo.nearest_d2.size());
   model.unfamiliar_threshold = params.unfamiliar_factor * percentile(std::move(nd), params.unfamiliar_percentile);
-  const std::vector<PartPick> picks = part_picks(model.loo.verification, set.outputs, set.groups, model.loo.nearest_d2);
-  model.calibration = calibrate(picks, static_cast<std::size_t>(set.outputs.cols()), model.unfamiliar_threshold);
+  if (one_output_per_part(set.outputs, set.groups)) {  // a confidence is about a part's one best strategy
+    const std::vector<PartPick> picks =
+        part_picks(model.loo.verification, set.outputs, set.groups, model.loo.nearest_d2);
+    model.calibration = calibrate(picks, static_cast<std::size_t>(set.outputs.cols()), model.unfamiliar_threshold);
+  }
   return model;
 }
 

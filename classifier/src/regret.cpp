@@ -152,6 +152,15 @@ std::vector<PartPick> part_picks(const MatrixXd& predicted, const MatrixXd& Y, c
   return picks;
 }
 
+bool one_output_per_part(const MatrixXd& Y, const std::vector<std::string>& groups) {
+  std::map<std::string, Index> first;
+  for (Index i = 0; i < Y.rows(); ++i) {
+    const auto [it, fresh] = first.try_emplace(groups[static_cast<std::size_t>(i)], i);
+    if (!fresh && Y.row(it->second) != Y.row(i)) return false;
+  }
+  return true;
+}
+
 RegretSummary summarize(const std::vector<PartPick>& picks) {
   RegretSummary s;
   s.parts = picks.size();

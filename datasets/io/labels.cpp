@@ -21,7 +21,8 @@ struct LabelReader {
     throw file_error(file, key + ": " + what);
   }
   const Json& at(const Json& obj, const std::string& key, const std::string& path) const {
-    if (!obj.is_object()) fail(path.empty() ? "(top level)" : path, std::string("expected an object, got ") + obj.type_name());
+    if (!obj.is_object())
+      fail(path.empty() ? "(top level)" : path, std::string("expected an object, got ") + obj.type_name());
     const auto it = obj.find(key);
     if (it == obj.end()) fail(path.empty() ? key : path + "." + key, "missing key");
     return *it;
@@ -151,7 +152,8 @@ LabelFile read_labels(const fs::path& path) {
   if (!settings.is_object()) rd.fail("settings", std::string("expected an object, got ") + settings.type_name());
   f.settings_json = settings.dump();
   const Json& parts = rd.array(j, "parts", "");
-  for (std::size_t i = 0; i < parts.size(); ++i) f.parts.push_back(part_of(rd, parts[i], "parts[" + std::to_string(i) + "]"));
+  for (std::size_t i = 0; i < parts.size(); ++i)
+    f.parts.push_back(part_of(rd, parts[i], "parts[" + std::to_string(i) + "]"));
   return f;
 }
 

@@ -418,6 +418,59 @@ TEST(CliSimulate, AStockSavedByOneRunContinuesInTheNextAsIfItWereOneRun) {
   for (const char* o : {"bad1", "bad2", "bad3"}) EXPECT_EQ(list_files(d / o), "") << o;
 }
 
+TEST(CliTrain, ANetworkOnSimulatedScoresIsJudgedByRegretAndPredictsOnlyForItsAim) {
+  const fs::path d = fresh_dir("train_scores");
+  (void)write_dome(d);
+  fs::copy_file(d / "dome.stl", d / "dome2.stl");
+  std::ofstream(d / "cfg.json") << R"({"dataset": {"parts": [{"file": "dome.stl", "label": "simulate"},
+                                                             {"file": "dome2.stl", "label": "simulate"}],
+                                                   "raster_mm": 0.5,
+                                                   "augment": {"angles_deg": [0, 10], "axes": ["x"], "flip": false}},
+                                       "finish": {"stepover_mm": 0.5, "step_down_mm": 0.5},
+                                       "simulate": {"cell_mm": 0.1}})";
+  ASSERT_EQ(run_millnet("dataset --quiet --config cfg.json --out ds", d).code, 0);
+  const auto t = run_millnet("train --quiet --config cfg.json --dataset ds/vectors.csv --out M", d);
+  ASSERT_EQ(t.code, 0) << t.err;
+  const auto rep = nlohmann::json::parse(slurp(d / "M" / "train_report.json"));
+  ASSERT_TRUE(rep.contains("regret")) << rep.dump();
+  const auto& r = rep["regret"];
+  EXPECT_EQ(r["criterion"], "regret");
+  EXPECT_EQ(r["outputs"], "scores");
+  // The same mesh twice: leaving one out, the other's scores are the prediction, so the pick is right.
+  EXPECT_EQ(r["leave_one_part_out"]["parts"], 2);
+  EXPECT_EQ(r["leave_one_part_out"]["top1"], 1.0);
+  EXPECT_EQ(r["leave_one_part_out"]["mean_regret"], 0.0);
+  EXPECT_EQ(r["always_the_same_strategy"]["mean_regret"], 0.0);
+  EXPECT_EQ(r["parts"].size(), 2u);
+  const auto model = nlohmann::json::parse(slurp(d / "M" / "model.json"));
+  EXPECT_EQ(model["target"]["aim"], "time_to_spec");
+  EXPECT_EQ(model["target"]["spec"]["scallop_mm"], 0.005);
+  EXPECT_TRUE(fs::exists(d / "M" / "loo_regret.png"));
+  EXPECT_NE(slurp(d / "M" / "loo_curve.csv").find(",mean_regret\n"), std::string::npos);
+
+  const auto p = run_millnet("predict --quiet --model M --config cfg.json --out P dome.stl", d);
+  ASSERT_EQ(p.code, 0) << p.err;
+  const auto pred = nlohmann::json::parse(slurp(d / "P" / "predictions.json"));
+  const auto& part = pred["parts"][0];
+  const double conf = part["confidence"].get<double>();
+  EXPECT_GE(conf, 0.0);
+  EXPECT_LE(conf, 1.0);
+  EXPECT_EQ(part["regret_risk"], 0.0);  // both neighbours say the pick is their best
+  EXPECT_EQ(part["ranking"][0]["expected_regret"], 0.0);
+
+  // One model per aim: a config asking for another aim or specification is refused, naming both.
+  std::ofstream(d / "quality.json") << R"({"finish": {"aim": "quality"}})";
+  const auto q = run_millnet("predict --model M --config quality.json --out Q dome.stl", d);
+  EXPECT_EQ(q.code, 1);
+  EXPECT_NE(q.err.find("trained for aim time_to_spec"), std::string::npos) << q.err;
+  EXPECT_NE(q.err.find("asks for aim quality"), std::string::npos) << q.err;
+  EXPECT_FALSE(fs::exists(d / "Q" / "predictions.json"));
+  std::ofstream(d / "spec.json") << R"({"finish": {"spec": {"scallop_mm": 0.01}}})";
+  const auto sp = run_millnet("predict --model M --config spec.json --out S dome.stl", d);
+  EXPECT_EQ(sp.code, 1);
+  EXPECT_NE(sp.err.find("\"scallop_mm\":0.01"), std::string::npos) << sp.err;
+}
+
 TEST(CliDataset, APartLabelledBySimulationGetsTheStrategyItsSimulationRanksFirst) {
   const fs::path d = fresh_dir("dataset_simulate");
   const fs::path mesh = write_dome(d);

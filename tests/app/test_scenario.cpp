@@ -206,4 +206,43 @@ TEST(Scenario, DefaultPipelineRunsEndToEndAndMeetsItsFigures) {
   EXPECT_LT(lead, summary.find("## Training"));
 }
 
+// Issue 39 §2: the shipped labels are a cache of a deterministic computation — one default
+// training part relabelled today gives its entry of datasets/labels.json, value for value, and
+// with the file as cache nothing is simulated (the default config's settings are the file's).
+TEST(Labels, AShippedLabelIsWhatTheSimulationComputesToday) {
+  const fs::path src = MILLNET_SOURCE_DIR;
+  const std::string part = "s5_shallow_slopes_01";
+  const auto d = fresh_dir("labels_shipped");
+  const Json shipped = Json::parse(slurp(src / "datasets/labels.json"));
+  const Json defaults = Json::parse(slurp(src / "configs/default.json"));
+  // The default training parts (seed 7) with their family labels: generated only, no simulation.
+  Json gen = {{"dataset",
+               {{"generate", {{"seed", 7}, {"per_family", 1}, {"label", "family"}}},
+                {"parts_dir", "parts"},
+                {"augment", {{"angles_deg", Json::array({0})}, {"axes", Json::array({"x"})}, {"flip", false}}}}}};
+  std::ofstream(d / "gen.json") << gen.dump();
+  ASSERT_EQ(run_millnet("dataset --quiet --config gen.json --out g", d).code, 0);
+  ASSERT_TRUE(fs::exists(d / "parts" / (part + ".stl")));
+  Json one = {{"dataset",
+               {{"parts", Json::array({Json{{"file", "parts/" + part + ".stl"}, {"label", "simulate"}}})},
+                {"labels", (src / "datasets/labels.json").string()},
+                {"augment", {{"angles_deg", Json::array({0})}, {"axes", Json::array({"x"})}, {"flip", false}}}}},
+              {"finish", defaults["finish"]},
+              {"cutting", defaults["cutting"]}};
+  std::ofstream(d / "one.json") << one.dump();
+  const auto cached = run_millnet("dataset --config one.json --out cached", d);
+  ASSERT_EQ(cached.code, 0) << cached.err;
+  EXPECT_NE(cached.err.find("1 of 1 parts from"), std::string::npos) << cached.err;
+  const auto re = run_millnet("dataset --quiet --config one.json --relabel --out re", d);
+  ASSERT_EQ(re.code, 0) << re.err;
+  const Json fresh = Json::parse(slurp(d / "re" / "labels.json"));
+  Json want;
+  for (const Json& p : shipped["parts"])
+    if (p["name"] == part) want = p;
+  ASSERT_FALSE(want.is_null()) << part << " is not in datasets/labels.json";
+  ASSERT_EQ(fresh["parts"].size(), 1u);
+  EXPECT_EQ(fresh["parts"][0], want) << "datasets/labels.json is stale: refresh it (datasets/README.md)";
+  EXPECT_EQ(fresh["settings"], shipped["settings"]);
+}
+
 }  // namespace

@@ -169,3 +169,37 @@ TEST(Aim, QualityWithAnRaTargetRanksByTheShareWithinItTiesToTheFaster) {
   s[2].ra_target_share = std::nan("");  // one without a share: the lexicographic median rule of before
   EXPECT_EQ(slots(s, rank_strategies(s, {})), (std::vector<int>{3, 1, 4, 2}));
 }
+
+// Issue 39: the network's outputs. Time to spec: the best 1, a strategy that meets the spec its
+// best time / its time, one that misses it or gouges 0; a faster near-tie ranked after the best
+// stays just below 1.
+TEST(Aim, ScoresAreTheBestTimeOverEachTimeAndZeroForAMissOrAGouge) {
+  AimParams p;
+  p.aim = Aim::TimeToSpec;
+  std::vector<StrategyScore> s = {score(1, 1, 1.0, 20), score(2, 1, 1.0, 9.9), score(3, 1, 1.0, 5),
+                                  score(4, 1, 1.0, 8, /*gouge*/ 0.05), score(5, 1, 0.9, 10)};
+  for (auto& x : s) x.spec_share = 1.0;
+  s[2].spec_share = 0.9;  // 3 is fastest but misses the spec
+  const std::vector<std::size_t> order = rank_strategies(s, p);
+  ASSERT_EQ(slots(s, order).front(), 5);  // 2 and 5 within 2 %: the lower Ra p90
+  const std::vector<double> sc = aim_scores(s, order, p);
+  EXPECT_EQ(sc[4], 1.0);
+  EXPECT_DOUBLE_EQ(sc[0], 10.0 / 20);
+  EXPECT_EQ(sc[1], 1 - 1e-6);  // 9.9 min, faster than the best's 10 but ranked after it: just below 1
+  EXPECT_EQ(sc[2], 0.0);
+  EXPECT_EQ(sc[3], 0.0);
+  // Nothing meets the spec: the shares in spec over the best share.
+  for (auto& x : s) x.spec_share = 0.5;
+  s[0].spec_share = 0.8;
+  const std::vector<std::size_t> o2 = rank_strategies(s, p);
+  const std::vector<double> sc2 = aim_scores(s, o2, p);
+  EXPECT_EQ(sc2[0], 1.0);
+  EXPECT_DOUBLE_EQ(sc2[1], 0.5 / 0.8);
+  EXPECT_EQ(sc2[3], 0.0);  // gouges
+  // Quality: one-hot on the best.
+  p.aim = Aim::Quality;
+  const std::vector<std::size_t> o3 = rank_strategies(s, p);
+  const std::vector<double> sc3 = aim_scores(s, o3, p);
+  EXPECT_EQ(std::count(sc3.begin(), sc3.end(), 1.0), 1);
+  EXPECT_EQ(std::count(sc3.begin(), sc3.end(), 0.0), 4);
+}

@@ -25,15 +25,15 @@ namespace millnet::classifier {
 /// with the largest mean (first on ties), and what that pick costs on the part.
 struct PartPick {
   std::string part;
-  Eigen::Index best = 0;          ///< 0-based, argmax of the part's own outputs
-  Eigen::Index pick = 0;          ///< 0-based, argmax of `predicted`
-  double regret = 0;              ///< pick_regret(outputs, pick)
-  bool miss = false;              ///< the pick scores 0 on the part
-  double margin = 0;              ///< predicted[pick] − the second largest predicted
+  Eigen::Index best = 0;                                       ///< 0-based, argmax of the part's own outputs
+  Eigen::Index pick = 0;                                       ///< 0-based, argmax of `predicted`
+  double regret = 0;                                           ///< pick_regret(outputs, pick)
+  bool miss = false;                                           ///< the pick scores 0 on the part
+  double margin = 0;                                           ///< predicted[pick] − the second largest predicted
   double spearman = std::numeric_limits<double>::quiet_NaN();  ///< predicted vs true, active slots
-  double d2_min = 0;              ///< smallest d² of its vectors to another part (if given)
-  Eigen::RowVectorXd predicted;   ///< K
-  Eigen::RowVectorXd outputs;     ///< K, the part's stored outputs
+  double d2_min = 0;             ///< smallest d² of its vectors to another part (if given)
+  Eigen::RowVectorXd predicted;  ///< K
+  Eigen::RowVectorXd outputs;    ///< K, the part's stored outputs
 };
 
 /// Parts in order of first appearance in `groups`. `predicted` and `Y` are N×K; every vector of a
@@ -44,11 +44,14 @@ struct PartPick {
                                                const std::vector<std::string>& groups,
                                                const Eigen::VectorXd& d2_min = Eigen::VectorXd());
 
+/// Whether every vector of a part carries the same output row (what part_picks needs). O(N·K).
+[[nodiscard]] bool one_output_per_part(const Eigen::MatrixXd& Y, const std::vector<std::string>& groups);
+
 struct RegretSummary {
   std::size_t parts = 0;
-  double top1 = 0;  ///< share of parts whose pick is their best
-  double mean = 0, median = 0, p90 = 0;  ///< regret over the parts (nearest-rank percentiles)
-  std::size_t misses = 0;                ///< picks that score 0
+  double top1 = 0;                                             ///< share of parts whose pick is their best
+  double mean = 0, median = 0, p90 = 0;                        ///< regret over the parts (nearest-rank percentiles)
+  std::size_t misses = 0;                                      ///< picks that score 0
   double spearman = std::numeric_limits<double>::quiet_NaN();  ///< mean over the parts where defined
 };
 [[nodiscard]] RegretSummary summarize(const std::vector<PartPick>& picks);

@@ -51,8 +51,7 @@ struct LabelFile {
   std::vector<PartLabel> parts;
   /// The label of the part named `name` whose file hashes to `fnv1a64` and has `bytes`; null
   /// otherwise. O(parts).
-  [[nodiscard]] const PartLabel* find(const std::string& name, const std::string& fnv1a64,
-                                      std::uintmax_t bytes) const;
+  [[nodiscard]] const PartLabel* find(const std::string& name, const std::string& fnv1a64, std::uintmax_t bytes) const;
 };
 
 /// Whether two settings texts describe the same settings (compared as parsed JSON values, so key
