@@ -184,7 +184,7 @@ Registered register_finish(CLI::App& app) {
             }
             o->boundary.apply(s);
             s.simulate = o->simulate;
-            if (o->rest_tool) s.rest_tool = tool_arg(*o->rest_tool, config);
+            if (o->rest_tool) rest_tool_settings(s, *o->rest_tool, config, {o->tool, o->material});
             if (o->rest_reference) s.rest_reference = tool_arg(*o->rest_reference, config);
             if (o->rest_reference && !o->rest_tool) throw Error("--rest-reference needs --rest-tool");
             if (o->rest_from && !o->rest_tool) throw Error("--rest-from needs --rest-tool");

@@ -434,6 +434,11 @@ void write_rest_and_pencil(const job::Part& part, const FinishSettings& settings
   if (settings.rest_tool) {
     finish::FinishParams p = job.params;
     p.tool = *settings.rest_tool;
+    if (settings.rest_feeds) {  // the rest tool's own cutting data, not the finishing ball's
+      p.spindle_rpm = settings.rest_feeds->spindle_rpm;
+      p.feed_mm_min = settings.rest_feeds->feed_mm_min;
+      p.plunge_feed_mm_min = settings.rest_feeds->plunge_feed_mm_min;
+    }
     p.tool_label.clear();
     p.comments = {"tool: " + p.tool.describe()};
     const finish::DropCutter dropper(part.mesh, p.tool);

@@ -388,6 +388,28 @@ void finish_tool_data(CuttingRecord& rec, finish::FinishParams& p, FinishSetting
   for (const auto& [key, fig] : rec.figures) check_machine_limit(cs, key, fig);
 }
 
+}  // namespace
+
+void rest_tool_settings(FinishSettings& s, const std::string& text, const Json& config, const FinishToolFlags& flags) {
+  const CuttingSettings cs = cutting_settings(config, flags.material);
+  const ToolLibrary lib = tool_library(config);
+  CuttingRecord rec;
+  finish::FinishParams p = s.params;
+  if (text.find(':') != std::string::npos) {
+    p.tool = parse_tool(text);
+    rec.tool = inline_tool(p.tool.type, p.tool.diameter, p.tool.corner_radius, cs, lib);
+  } else {
+    rec.tool = lib.tool(text, "--rest-tool");
+    p.tool = cutter_of(rec.tool);
+  }
+  FinishSettings::Thinning thinning;
+  finish_tool_data(rec, p, thinning, config, cs, lib);
+  s.rest_tool = p.tool;
+  s.rest_feeds = FinishSettings::Feeds{p.spindle_rpm, p.feed_mm_min, p.plunge_feed_mm_min};
+}
+
+namespace {
+
 /// The finishing tool and its cutting data (issue 17), into s.params and s.cutting; with no tool
 /// named anywhere (no --tool, no /finish/tool/id, no /finish/tool/diameter, or id "auto"), also
 /// every library ball with its cutting data into s.tool_by_part, for the pick per part (for_part).

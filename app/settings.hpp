@@ -111,6 +111,12 @@ struct FinishSettings {
   /// Rest finishing (issue 41; finish --rest-tool): the smaller tool, the reference tool whose rest it
   /// takes (unset: the finishing tool) and the thickness that counts as rest.
   std::optional<tooling::Cutter> rest_tool, rest_reference;
+  /// The rest tool's own spindle and feeds (rest_tool_settings: the library's for its diameter,
+  /// flutes and the material, as the job's rest operation gets); unset: the finishing tool's.
+  struct Feeds {
+    double spindle_rpm = 0, feed_mm_min = 0, plunge_feed_mm_min = 0;
+  };
+  std::optional<Feeds> rest_feeds;
   double rest_threshold_mm = 0.02;
   double rest_margin_mm = -1;  ///< < 0: the rest tool's radius / 2
   /// finish --rest-from: the rest from the stock a simulation saved (a FILE.zmap, or a folder holding
@@ -182,6 +188,11 @@ struct FinishToolFlags {
 /// Settings from a checked config (/finish, /simulate, /machine, /cutting, /rough/top_allowance_mm)
 /// and the flags: the tool, then its cutting data (library or fixed feeds).
 [[nodiscard]] FinishSettings finish_settings(const Json& config, const FinishToolFlags& flags = {});
+
+/// finish --rest-tool TEXT (a library id, or ball:D / flat:D / bull:D:r): the rest tool into
+/// s.rest_tool and its own cutting data into s.rest_feeds (a figure written in /finish wins, as for
+/// the finishing tool). Throws millnet::Error naming --rest-tool.
+void rest_tool_settings(FinishSettings& s, const std::string& text, const Json& config, const FinishToolFlags& flags);
 
 /// A --tool value of finish or simulate: ball:D, flat:D, bull:D:r, or a tool library id.
 /// `drills`: a library drill is taken too (simulate machines what a drill cuts; finishing refuses one).

@@ -71,6 +71,17 @@ TEST(CliFinish, RestAndPencilProgramsAreWrittenAcceptedAndScoredInTheChain) {
   EXPECT_EQ(j["reference_tool"], "ball D4");
   EXPECT_GE(j["regions"].get<int>(), 1);
   EXPECT_NE(slurp(out / "dome.rest.nc").find("(rest finishing behind ball D4"), std::string::npos);
+  // The rest tool runs at its own cutting data (fz·z·n of a Ø1, not the Ø4's feed).
+  const auto max_feed = [](const std::string& text) {
+    double f = 0;
+    for (std::size_t at = text.find('F'); at != std::string::npos; at = text.find('F', at + 1))
+      if (at + 1 < text.size() && std::isdigit(static_cast<unsigned char>(text[at + 1])))
+        f = std::max(f, std::stod(text.substr(at + 1)));
+    return f;
+  };
+  const double rest_feed = max_feed(slurp(out / "dome.rest.nc")), finish_feed = max_feed(slurp(out / "dome.s2.nc"));
+  EXPECT_GT(rest_feed, 0);
+  EXPECT_LT(rest_feed, 0.75 * finish_feed) << rest_feed << " vs " << finish_feed;
   if (fs::exists("/usr/bin/rs274")) {
     EXPECT_TRUE(linuxcnc_accepts((out / "dome.rest.nc").string()));
     EXPECT_TRUE(linuxcnc_accepts((out / "dome.pencil.nc").string()));
