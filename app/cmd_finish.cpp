@@ -113,6 +113,7 @@ Registered register_finish(CLI::App& app) {
     bool simulate = false, pencil = false;
     std::optional<std::string> rest_tool, rest_reference, rest_from;
     std::optional<double> rest_threshold, rest_margin;
+    int pencil_offsets = 0;
     std::string out;
   };
   auto o = std::make_shared<Opts>();
@@ -158,6 +159,10 @@ Registered register_finish(CLI::App& app) {
                   "rest regions grown by this, mm (default: the rest tool's radius / 2)")
       ->check(CLI::Range(0.0, 100.0));
   sub->add_flag("--pencil", o->pencil, "pencil tracing along concave edges with the finishing tool: <stem>.pencil.nc");
+  sub->add_option("--pencil-offsets", o->pencil_offsets,
+                  "multi-pencil: this many passes each side of the pencil line, the stepover apart (outermost "
+                  "first, the corner last; needs --pencil)")
+      ->check(CLI::Range(0, 50));
   add_post_flag(sub, o->post);
   sub->add_option("--out", o->out, "output folder")->check(output_path())->required();
   add_common(sub, o->common);
@@ -196,6 +201,8 @@ Registered register_finish(CLI::App& app) {
             if (o->rest_threshold) s.rest_threshold_mm = *o->rest_threshold;
             if (o->rest_margin) s.rest_margin_mm = *o->rest_margin;
             s.pencil = o->pencil;
+            if (o->pencil_offsets > 0 && !o->pencil) throw Error("--pencil-offsets needs --pencil");
+            s.pencil_offsets = o->pencil_offsets;
             s.params.check();
             std::vector<std::string> items = config["finish"]["meshes"].get<std::vector<std::string>>();
             items.insert(items.end(), o->meshes.begin(), o->meshes.end());

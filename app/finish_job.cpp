@@ -475,8 +475,12 @@ void write_rest_and_pencil(const job::Part& part, const FinishSettings& settings
     }
   }
   if (settings.pencil) {
-    const finish::FinishPlan plan = finish::plan_pencil(part.mesh, *job.dropper, job.params);
-    write_extra_program(part, settings, job, plan, "pencil", Json{{"tool", job.params.tool.describe()}}, out);
+    const finish::FinishPlan plan = finish::plan_pencil(part.mesh, *job.dropper, job.params, settings.pencil_offsets);
+    write_extra_program(part, settings, job, plan, "pencil",
+                        Json{{"tool", job.params.tool.describe()},
+                             {"offsets_each_side", settings.pencil_offsets},
+                             {"offset_spacing_mm", job.params.stepover_mm}},
+                        out);
   }
 }
 

@@ -122,7 +122,8 @@ struct FinishSettings {
   /// finish --rest-from: the rest from the stock a simulation saved (a FILE.zmap, or a folder holding
   /// <stem>.zmap per part) instead of behind a reference tool; empty: from the reference.
   std::string rest_from;
-  bool pencil = false;  ///< finish --pencil: pencil tracing with the finishing tool
+  bool pencil = false;     ///< finish --pencil: pencil tracing with the finishing tool
+  int pencil_offsets = 0;  ///< finish --pencil-offsets: multi-pencil passes each side (finish::plan_pencil)
   double stock_top_above_part_mm = 1;
   gcode::MotionModel machine;
   gcode::Dialect post;  ///< the dialect the programs are written in (/machine/post)

@@ -287,6 +287,30 @@ void require_rest(bool ok, const std::string& key, const std::string& what) {
   if (!ok) throw Error("rest: " + key + " " + what);
 }
 
+/// An open XY polyline moved by `d` along its left normal. The chained bitangent points jitter by a
+/// fraction of the grid cell across the line, so the normal at a vertex is taken from the chord
+/// between the points `span` behind and ahead of it along the line (the ends: one-sided), not from
+/// its own short segments; vertices closer than span/8 to the last kept one are skipped. O(vertices).
+std::vector<Eigen::Vector2d> offset_polyline(const std::vector<Eigen::Vector2d>& line, double d, double span) {
+  std::vector<Eigen::Vector2d> pts;
+  for (const Eigen::Vector2d& q : line)
+    if (pts.empty() || (q - pts.back()).norm() >= span / 8) pts.push_back(q);
+  if (pts.size() < 2) return {};
+  std::vector<double> s(pts.size(), 0.0);  // arc length
+  for (std::size_t i = 1; i < pts.size(); ++i) s[i] = s[i - 1] + (pts[i] - pts[i - 1]).norm();
+  std::vector<Eigen::Vector2d> out;
+  std::size_t back = 0, ahead = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    while (back + 1 < i && s[i] - s[back + 1] >= span) ++back;
+    if (ahead < i) ahead = i;
+    while (ahead + 1 < pts.size() && s[ahead] - s[i] < span) ++ahead;
+    const Eigen::Vector2d t = pts[ahead] - pts[back];
+    if (!(t.norm() > 0)) continue;
+    out.push_back(pts[i] + d * Eigen::Vector2d(-t.y(), t.x()) / t.norm());
+  }
+  return out;
+}
+
 }  // namespace
 
 void RestParams::check() const {
@@ -554,8 +578,11 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
 
 std::vector<Pass> pencil_passes(const ingest::Mesh& mesh, const DropCutter& tool, double x0, double y0, double x1,
                                 double y1, double cell_mm, double chord_tolerance_mm,
-                                const std::vector<std::uint8_t>* mask) {
+                                const std::vector<std::uint8_t>* mask, int offsets, double spacing) {
   if (!(std::isfinite(cell_mm) && cell_mm > 0)) throw Error("pencil: cell_mm must be > 0");
+  if (offsets < 0 || offsets > 50) throw Error("pencil: offsets must be in 0…50 (got " + std::to_string(offsets) + ")");
+  if (offsets > 0 && !(std::isfinite(spacing) && spacing > 0))
+    throw Error("pencil: the offset passes' spacing must be > 0 (the stepover)");
   const Grid g{x0, y0, cell_mm, static_cast<int>(std::ceil((x1 - x0) / cell_mm - 1e-9)) + 1,
                static_cast<int>(std::ceil((y1 - y0) / cell_mm - 1e-9)) + 1};
   if (mask != nullptr && mask->size() != g.size()) throw Error("pencil: the mask is not the grid's");
@@ -585,21 +612,30 @@ std::vector<Pass> pencil_passes(const ingest::Mesh& mesh, const DropCutter& tool
   // dips below the drop-cutter by more than tol::chord_below_mm) and simplified.
   const detail::Sampler s(mesh, tool);
   std::vector<std::vector<detail::Sample>> lines;
-  for (const auto& line : chain(pts, 2 * std::numbers::sqrt2 * cell_mm)) {
+  const auto sampled = [&](const std::vector<Eigen::Vector2d>& line) {
     std::vector<detail::Sample> run;
     for (std::size_t k = 1; k < line.size(); ++k) {  // O(points · samples per chord) drops
-      auto seg =
-          detail::sample_segment(s, line[k - 1].head<2>(), line[k].head<2>(),
-                                 std::clamp((line[k] - line[k - 1]).head<2>().norm(), 1e-3, 0.25), chord_tolerance_mm);
+      auto seg = detail::sample_segment(s, line[k - 1], line[k], std::clamp((line[k] - line[k - 1]).norm(), 1e-3, 0.25),
+                                        chord_tolerance_mm);
       if (!run.empty()) seg.erase(seg.begin());
       run.insert(run.end(), seg.begin(), seg.end());
     }
-    lines.push_back(std::move(run));
+    return run;
+  };
+  for (const auto& line : chain(pts, 2 * std::numbers::sqrt2 * cell_mm)) {
+    std::vector<Eigen::Vector2d> xy_line;
+    for (const Eigen::Vector3d& q : line) xy_line.push_back(q.head<2>());
+    for (const double side : {1.0, -1.0})  // multi-pencil: each side from the outermost in
+      for (int k = offsets; k >= 1; --k)
+        if (auto run = sampled(offset_polyline(xy_line, side * k * spacing, std::max(spacing, 4 * cell_mm)));
+            run.size() >= 2)
+          lines.push_back(std::move(run));
+    lines.push_back(sampled(xy_line));
   }
   return detail::to_passes(std::move(lines));
 }
 
-FinishPlan plan_pencil(const ingest::Mesh& mesh, const DropCutter& tool, FinishParams params) {
+FinishPlan plan_pencil(const ingest::Mesh& mesh, const DropCutter& tool, FinishParams params, int offsets) {
   params.check();
   double x0 = params.x0, y0 = params.y0, x1 = params.x1, y1 = params.y1;
   if (!(x1 > x0 && y1 > y0))
@@ -613,11 +649,17 @@ FinishPlan plan_pencil(const ingest::Mesh& mesh, const DropCutter& tool, FinishP
   FinishPlan plan;
   plan.strategy = Strategy::SlopeMode;  // the program's header names pencil tracing below
   const detail::Fence fence(mesh, params.boundary);
-  plan.passes = clip_passes(fence, pencil_passes(mesh, tool, x0, y0, x1, y1, cell, params.chord_tolerance_mm),
-                            params.chord_tolerance_mm);
+  plan.passes = clip_passes(
+      fence,
+      pencil_passes(mesh, tool, x0, y0, x1, y1, cell, params.chord_tolerance_mm, nullptr, offsets, params.stepover_mm),
+      params.chord_tolerance_mm);
   if (plan.passes.empty())
     throw Error("pencil: no concave edge on the part for " + params.tool.describe() + " (nothing to trace)");
-  params.comments.insert(params.comments.begin(), "pencil tracing: bitangent passes along concave edges");
+  params.comments.insert(params.comments.begin(),
+                         offsets > 0
+                             ? "pencil tracing: bitangent passes along concave edges, " + std::to_string(offsets) +
+                                   " offset passes each side " + std::to_string(params.stepover_mm) + " mm apart"
+                             : std::string("pencil tracing: bitangent passes along concave edges"));
   relink(mesh, tool, params, plan);
   return plan;
 }

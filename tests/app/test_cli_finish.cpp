@@ -58,9 +58,10 @@ fs::path write_config(const fs::path& dir) {
 TEST(CliFinish, RestAndPencilProgramsAreWrittenAcceptedAndScoredInTheChain) {
   const fs::path d = fresh_dir("finish_rest");
   const fs::path mesh = write_dome(d), cfg = write_config(d);
-  const auto r = run_millnet("finish --quiet --config '" + cfg.string() + "' --mesh '" + mesh.string() +
-                                 "' --strategy 2 --tool ball:4 --stepover 0.3 --rest-tool ball:1 --pencil --out out",
-                             d);
+  const auto r = run_millnet(
+      "finish --quiet --config '" + cfg.string() + "' --mesh '" + mesh.string() +
+          "' --strategy 2 --tool ball:4 --stepover 0.3 --rest-tool ball:1 --pencil --pencil-offsets 2 --out out",
+      d);
   ASSERT_EQ(r.code, 0) << r.err;
   const fs::path out = d / "out";
   for (const char* f : {"dome.rest.nc", "dome.rest.json", "dome.rest.png", "dome.pencil.nc", "dome.pencil.json"})
@@ -69,6 +70,10 @@ TEST(CliFinish, RestAndPencilProgramsAreWrittenAcceptedAndScoredInTheChain) {
   for (const char* key : {"regions", "rest_axis_area_mm2", "max_rest_mm", "rest_top_z", "path_length_mm", "lifts"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_EQ(j["reference_tool"], "ball D4");
+  const auto pj = nlohmann::json::parse(slurp(out / "dome.pencil.json"));
+  EXPECT_EQ(pj["offsets_each_side"], 2);
+  EXPECT_EQ(pj["offset_spacing_mm"], 0.3);
+  EXPECT_NE(slurp(out / "dome.pencil.nc").find("2 offset passes each side"), std::string::npos);
   EXPECT_GE(j["regions"].get<int>(), 1);
   EXPECT_NE(slurp(out / "dome.rest.nc").find("(rest finishing behind ball D4"), std::string::npos);
   // The rest tool runs at its own cutting data (fz·z·n of a Ø1, not the Ø4's feed).

@@ -380,6 +380,29 @@ TEST(Pencil, FollowsTheVGroovesBitangentLine) {
   }
   EXPECT_LT(lo, 2.2);
   EXPECT_GT(hi, 17.8);
+  // Multi-pencil: two passes each side, 0.5 mm apart in XY, outermost first, the groove last; on a
+  // flank the ball touches one plane only, its tip at z = |x| + √2 − 1 (hand-computed).
+  FinishParams q = p;
+  q.stepover_mm = 0.5;
+  const FinishPlan multi = plan_pencil(m, two, q, 2);
+  ASSERT_EQ(multi.passes.size(), 5U);
+  const double want_x[] = {1.0, 0.5, -1.0, -0.5, 0.0};
+  for (std::size_t k = 0; k < 5; ++k) {
+    SCOPED_TRACE(k);
+    ASSERT_GE(multi.passes[k].points.size(), 2U);
+    double y_lo = HUGE_VAL, y_hi = -HUGE_VAL;
+    for (const Eigen::Vector3d& c : multi.passes[k].points) {
+      // the pass's direction along Y may alternate (the links), its XY offset may not
+      EXPECT_NEAR(std::abs(c.x()), std::abs(want_x[k]), 1e-9) << c.transpose();
+      EXPECT_NEAR(c.z(), std::abs(want_x[k]) + std::sqrt(2.0) - 1, p.chord_tolerance_mm) << c.transpose();
+      y_lo = std::min(y_lo, c.y()), y_hi = std::max(y_hi, c.y());
+    }
+    EXPECT_LT(y_lo, 2.2);
+    EXPECT_GT(y_hi, 17.8);
+  }
+  // The two sides are on opposite flanks.
+  EXPECT_LT(multi.passes[0].points.front().x() * multi.passes[2].points.front().x(), 0);
+  EXPECT_THROW((void)plan_pencil(m, two, q, 51), Error);
   // A plane has no concave edge: nothing to trace, said so.
   ingest::Mesh flat;
   flat.V.resize(4, 3);

@@ -146,14 +146,23 @@ struct RestRegions {
 /// are chained into polylines (neighbours within 2·√2·cell, from the chain ends) and sampled between
 /// them like any pass (steps ≤ 0.25 mm, no chord below the drop-cutter by more than
 /// tol::chord_below_mm): the caller cuts them to its boundary, then simplifies. O(nodes) drops + O(edges crossed · 17) drops + the sampling.
+/// Multi-pencil (`offsets` > 0): beside each chain, `offsets` passes on each side at k·`spacing`
+/// (k = offsets … 1) in XY from it (each vertex moved along the chain's XY normal there, the mean of
+/// its segments' normals), the tool dropped along them like the chain: per chain the passes of one
+/// side from the outermost in, then the other side's, then the bitangent pass itself, so that the
+/// corner is cut last, with the least material left in it. (2·offsets + 1)× the sampling.
 [[nodiscard]] std::vector<Pass> pencil_passes(const ingest::Mesh& mesh, const DropCutter& tool, double x0, double y0,
                                               double x1, double y1, double cell_mm, double chord_tolerance_mm,
-                                              const std::vector<std::uint8_t>* mask = nullptr);
+                                              const std::vector<std::uint8_t>* mask = nullptr, int offsets = 0,
+                                              double spacing = 0);
 
 /// Pencil tracing alone over the box (params' box, else the part's footprint), grid step
 /// min(0.1, R/4): the passes linked into a program like a strategy's (the header names pencil
-/// tracing). Throws millnet::Error when the part has no concave edge for the tool.
-[[nodiscard]] FinishPlan plan_pencil(const ingest::Mesh& mesh, const DropCutter& tool, FinishParams params);
+/// tracing). `offsets` > 0: multi-pencil, that many passes each side params.stepover_mm apart
+/// (pencil_passes). Throws millnet::Error when the part has no concave edge for the tool, or for
+/// offsets outside 0…50.
+[[nodiscard]] FinishPlan plan_pencil(const ingest::Mesh& mesh, const DropCutter& tool, FinishParams params,
+                                     int offsets = 0);
 
 /// Rest finishing inside `regions` with the new tool (params.tool, whose drop-cutter is `new_tool`):
 /// the pencil passes of the regions first, then strategy 1 in each region with its outline as the
