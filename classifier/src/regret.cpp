@@ -58,7 +58,7 @@ double nearest_rank(std::vector<double> v, double q) {
 }
 
 /// Pool-adjacent-violators: the non-decreasing step function of y on x (each point weight 1;
-/// equal x pooled first). Blocks' upper x ascending.
+/// equal x pooled first), each block's mean smoothed as below. Blocks' upper x ascending.
 void isotonic(std::vector<std::pair<double, double>> pts, std::vector<double>& raw, std::vector<double>& value) {
   std::sort(pts.begin(), pts.end());
   struct Block {
@@ -80,11 +80,13 @@ void isotonic(std::vector<std::pair<double, double>> pts, std::vector<double>& r
     }
     i = j;
   }
+  // Each block's share by the rule of succession, (right + 1) / (picks + 2): a block of 29 right
+  // picks out of 29 says 0.97, not a certainty no 29 parts can show; kept non-decreasing.
   raw.clear();
   value.clear();
   for (const Block& k : b) {
     raw.push_back(k.x_hi);
-    value.push_back(k.sum / k.n);
+    value.push_back(std::max(value.empty() ? 0.0 : value.back(), (k.sum + 1) / (k.n + 2)));
   }
 }
 

@@ -141,7 +141,8 @@ TEST(Regret, AlphaChosenByRegretIsTheCurvesLowestAndNoWorseThanTheRmsChoice) {
 }
 
 TEST(Calibration, AnIsotonicMapOfTheMarginFallingToThePriorWhenUnfamiliar) {
-  // Four parts: margins 0.1 … 0.4, right on the 2nd and 4th: PAV pools the middle two (0.5).
+  // Four parts: margins 0.1 … 0.4, right on the 2nd and 4th: PAV pools the middle two; each block
+  // by the rule of succession: 0 of 1 → 1/3, 1 of 2 → 1/2, 1 of 1 → 2/3.
   std::vector<PartPick> picks(4);
   const double margins[] = {0.1, 0.2, 0.3, 0.4};
   for (int i = 0; i < 4; ++i) {
@@ -154,12 +155,15 @@ TEST(Calibration, AnIsotonicMapOfTheMarginFallingToThePriorWhenUnfamiliar) {
   const Calibration c = calibrate(picks, 2, 10.0);
   ASSERT_EQ(c.raw.size(), 3u);
   EXPECT_EQ(c.raw, (std::vector<double>{0.1, 0.3, 0.4}));
-  EXPECT_EQ(c.right, (std::vector<double>{0.0, 0.5, 1.0}));
+  ASSERT_EQ(c.right.size(), 3u);
+  EXPECT_DOUBLE_EQ(c.right[0], 1.0 / 3);
+  EXPECT_DOUBLE_EQ(c.right[1], 0.5);
+  EXPECT_DOUBLE_EQ(c.right[2], 2.0 / 3);
   EXPECT_EQ(c.prior, (std::vector<double>{0.5, 0.5}));
   EXPECT_EQ(c.confidence(0, 0.25, 1.0), 0.5);
-  EXPECT_EQ(c.confidence(0, 0.9, 1.0), 1.0);
-  // Four times the threshold away: f = 1/4, raw margin 0.4·f = 0.1 → 0; then towards the prior.
-  EXPECT_DOUBLE_EQ(c.confidence(0, 0.4, 40.0), 0.25 * 0.0 + 0.75 * 0.5);
+  EXPECT_DOUBLE_EQ(c.confidence(0, 0.9, 1.0), 2.0 / 3);
+  // Four times the threshold away: f = 1/4, raw margin 0.4·f = 0.1 → 1/3; then towards the prior.
+  EXPECT_DOUBLE_EQ(c.confidence(0, 0.4, 40.0), 0.25 / 3 + 0.75 * 0.5);
   // Very far: the prior.
   EXPECT_NEAR(c.confidence(0, 0.4, 1e12), 0.5, 1e-9);
   // Reliability: every part's confidence from a calibration without it, binned.

@@ -75,7 +75,8 @@ struct Baseline {
 /// What a pick's confidence means: the probability that it is the part's best strategy. Fitted
 /// on leave-one-part-out picks: an isotonic (non-decreasing) map of the raw confidence — the
 /// pick's margin over the runner-up, times the part's familiarity min(1, threshold / d²_min) —
-/// to the share of picks that were right; then shrunk towards the pick's prior (the share of
+/// to the share of picks that were right (per block (right + 1) / (picks + 2), the rule of
+/// succession: never 0 or 1 from finitely many parts); then shrunk towards the pick's prior (the share of
 /// training parts it is best on) as the part gets unfamiliar:
 ///   confidence = f·map(margin·f) + (1 − f)·prior[pick],   f = min(1, threshold / d²_min).
 struct Calibration {
