@@ -149,7 +149,8 @@ datasets_io::LabelFile cached_labels(const datasets::Recipe& recipe) {
 }
 
 /// The labels of recipe parts `which`: from the recipe's labels.json where the part's file bytes and
-/// the settings match, by simulation otherwise (issue 39 §2). In `which` order.
+/// the settings match, by simulation otherwise (issue 39 §2). In `which` order, on rank 0; empty on
+/// the other ranks (they simulate their share of the parts and hand it to rank 0).
 std::vector<SimulatedLabel> labels_of(const datasets::Recipe& recipe, const std::vector<std::size_t>& which,
                                       const FinishSettings& settings) {
   const datasets_io::LabelFile cache = cached_labels(recipe);
@@ -169,6 +170,7 @@ std::vector<SimulatedLabel> labels_of(const datasets::Recipe& recipe, const std:
          std::to_string(which.size()) + " parts from " + recipe.labels_file.string() + ", " +
          std::to_string(missing.size()) + " to simulate");
   std::vector<SimulatedLabel> fresh = simulate_labels(recipe, missing, settings);
+  if (!cluster_root()) return {};  // rank 0 holds the simulated labels (simulate_labels)
   std::vector<SimulatedLabel> out;
   std::size_t f = 0;
   for (auto& g : got) out.push_back(g ? std::move(*g) : std::move(fresh[f++]));
