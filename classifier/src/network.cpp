@@ -122,7 +122,7 @@ void choose_by_regret(const MatrixXd& Xn, const TrainingSet& set, const AlphaSea
   double best_regret = std::numeric_limits<double>::infinity();
   for (std::size_t a = 0; a < alphas.size(); ++a) {
     const double r = summarize(part_picks(outs[a], set.outputs, set.groups)).mean;
-    if (a < rep.curve.size()) model.regret_curve.emplace_back(alphas[a], r);
+    model.regret_curve.emplace_back(alphas[a], r);  // the curve's α, then the RMS optimum's
     const bool better =
         r < best_regret - 1e-12 ||
         (std::abs(r - best_regret) <= 1e-12 &&
@@ -132,7 +132,6 @@ void choose_by_regret(const MatrixXd& Xn, const TrainingSet& set, const AlphaSea
       best_regret = r;
     }
   }
-  model.regret_curve.emplace_back(alphas.back(), summarize(part_picks(outs.back(), set.outputs, set.groups)).mean);
   if (best == alphas.size() - 1 || alphas[best] == rep.alpha) return;
   const double alpha = alphas[best];
   rep.alpha = alpha;
