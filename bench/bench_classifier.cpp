@@ -97,6 +97,29 @@ void BM_TrainByRegret(benchmark::State& state) {
   state.counters["N"] = static_cast<double>(n);
 }
 
+// Issue 39: predicting one part once the model is loaded: its 22 variants' vectors against a
+// library of 500 parts × 22 (the network's outputs, d²_min, the expected regret per strategy).
+// The part's own vectors (mesh → height field → 15×15 grid) are BM_SampleGrid15 in bench_ingest.
+// Target: ≤ 50 ms.
+void BM_PredictPart(benchmark::State& state) {
+  static const millnet::classifier::Model model = [] {
+    const Data s = make(500 * 22, 225, 2039, 0.15);
+    millnet::classifier::TrainParams params;
+    params.fixed_alpha = 1.0;
+    params.limits.max_pairs = 1e12;
+    return millnet::classifier::train({s.Xn, s.Y, s.groups, {"1", "2", "3", "4", "5", "6", "7", "8"}}, params);
+  }();
+  const Data q = make(22, 225, 99, 0.15);
+  for (auto _ : state) {
+    const millnet::classifier::Prediction p = millnet::classifier::predict(model, q.Xn);
+    const Eigen::MatrixXd r = millnet::classifier::expected_regret(model, q.Xn);
+    benchmark::DoNotOptimize(p.probabilities.data());
+    benchmark::DoNotOptimize(r.data());
+  }
+  state.counters["stored"] = static_cast<double>(model.inputs.rows());
+}
+
+BENCHMARK(BM_PredictPart)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TrainByRegret)->Arg(120)->Arg(500)->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK(BM_SelectAlpha)->Args({120, 100})->Args({2400, 100})->Args({2400, 15})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SelectAlpha)->Args({24000, 100})->Args({24000, 15})->Unit(benchmark::kSecond)->Iterations(1);

@@ -70,3 +70,24 @@ TEST(RunSummary, NoRegretWithoutAPrediction) {
   p.top = 7;  // a slot that was not simulated
   EXPECT_TRUE(std::isnan(pick_regret(p)));
 }
+
+// A pick faster than the simulated best, which won a near tie on Ra p90 under time to spec: by hand
+// 39.5 / 40 − 1 = −1.25 %. Choosing it costs nothing (0), never a gain below 0 in the means, and the
+// table says why it is faster.
+TEST(RunSummary, APickInTheBestsNearTieCostsNothingAndSaysWhyItIsFaster) {
+  RunSummary s;
+  s.config_name = "default.json";
+  s.aim = "time_to_spec";
+  s.parts.push_back(part("a", 5, {3, 4, 1, 5, 2}, {50, 60, 40, 70, 39.5}, {1, 1, 1, 0, 1}));
+  s.parts.push_back(part("b", 2, {1, 2, 3, 4, 5}, {40, 44, 50, 60, 70}, {1, 1, 1, 1, 1}));
+  ASSERT_DOUBLE_EQ(s.parts[0].regret[4], 39.5 / 40 - 1);
+  EXPECT_DOUBLE_EQ(pick_regret(s.parts[0]), 0.0);
+  const RunCounts c = run_counts(s);
+  EXPECT_EQ(c.regret_parts, 2u);
+  EXPECT_NEAR(c.mean_pick_regret, (0.0 + 0.1) / 2, 1e-15);  // b: 44 / 40 − 1
+  const std::string md = run_summary_md(s);
+  EXPECT_NE(md.find("| a | 5 strategy | 3 | 2 | 0.0 % (1.2 % faster: a near tie the best won on Ra p90) | 100.0 | "
+                    "40.0 | 39.5 |"),
+            std::string::npos)
+      << md;
+}
