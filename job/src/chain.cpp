@@ -61,6 +61,33 @@ std::vector<double> feed_lengths(const gcode::Program& program) {
   return out;
 }
 
+/// Per program item: 1 when it is a feed move whose swept band (its XY box — an arc's whole
+/// circle — grown by the cutter's radius) reaches the z-map's area, 0 otherwise. A move entirely
+/// outside (the roughing's passes round the part in the stock's margin, beyond the design's grid)
+/// cuts what the z-map does not hold: its material is not measured, so it is neither cutting nor
+/// air. O(items).
+std::vector<std::uint8_t> feeds_over_grid(const gcode::Program& program, const simulate::GridSpec& g, double radius) {
+  std::vector<std::uint8_t> out(program.items.size(), 0);
+  const double gx1 = g.x0 + static_cast<double>(g.nx) * g.cell, gy1 = g.y0 + static_cast<double>(g.ny) * g.cell;
+  std::optional<gcode::Point3> at;
+  for (std::size_t i = 0; i < program.items.size(); ++i) {  // O(items)
+    const auto* m = std::get_if<gcode::Move>(&program.items[i]);
+    if (m == nullptr) continue;
+    if (at && m->motion != gcode::Motion::Rapid) {
+      double x0 = std::min((*at)[0], m->to[0]), x1 = std::max((*at)[0], m->to[0]);
+      double y0 = std::min((*at)[1], m->to[1]), y1 = std::max((*at)[1], m->to[1]);
+      if (m->motion != gcode::Motion::Line) {
+        const double r = std::hypot((*at)[0] - m->center[0], (*at)[1] - m->center[1]);
+        x0 = std::min(x0, m->center[0] - r), x1 = std::max(x1, m->center[0] + r);
+        y0 = std::min(y0, m->center[1] - r), y1 = std::max(y1, m->center[1] + r);
+      }
+      out[i] = x1 + radius >= g.x0 && x0 - radius <= gx1 && y1 + radius >= g.y0 && y0 - radius <= gy1 ? 1 : 0;
+    }
+    at = m->to;
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<ChainStep> chain_steps(const std::vector<Operation>& ops) {
@@ -87,7 +114,12 @@ std::vector<StepResult> machine_steps(simulate::ZMap& stock, const Design& desig
     }
     st.cutting_rapids = sw.cutting_rapids.size();
     const std::vector<double> len = feed_lengths(*s.program);
+    const std::vector<std::uint8_t> over = feeds_over_grid(*s.program, stock.spec(), s.cutter.radius());
     for (std::size_t i = 0; i < len.size(); ++i) {  // O(items)
+      if (!over[i]) {
+        st.outside_feed_mm += len[i];
+        continue;
+      }
       st.feed_mm += len[i];
       if (len[i] > 0 && (i >= sw.item_max_cut_mm.size() || sw.item_max_cut_mm[i] < kAirCutMm)) st.air_feed_mm += len[i];
     }

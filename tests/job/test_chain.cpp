@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <numbers>
 #include <tuple>
 
 namespace millnet::job {
@@ -43,6 +44,23 @@ TEST(JobChain, AirCutShareIsTheFeedLengthThatRemovesNothing) {
   EXPECT_NEAR(r[0].feed_mm, 26, 1e-9);
   EXPECT_NEAR(r[0].air_feed_mm, 10, 1e-9);
   EXPECT_NEAR(r[0].air_cut_share(), 10.0 / 26, 1e-9);
+  EXPECT_EQ(r[0].outside_feed_mm, 0.0);
+
+  // Feed moves whose cutter never reaches the z-map (the grid is the plate's 20 × 20 footprint),
+  // like a roughing's passes round the part in the stock's margin: 8 mm at Y −3 (the Ø2 ball's band
+  // reaches Y −2 < 0) and a half circle of radius 2 round (−5, 10) (its band reaches X −2): not
+  // measured, so neither cut nor air; a 4 mm pass at Y −0.5 that grazes the grid's edge counts.
+  simulate::ZMap stock2 = finishing_stock(design, frame, sim);
+  gcode::Program q = p;
+  gcode::Move arc = to(Motion::ArcCCW, -5, 12, 0, 300);
+  arc.center = {-5, 10};
+  q.items.insert(q.items.end(),
+                 {to(Motion::Rapid, 2, -3, 0), to(Motion::Line, 10, -3, 0, 300), to(Motion::Rapid, -5, 8, 0), arc,
+                  to(Motion::Rapid, 2, -0.5, 0), to(Motion::Line, 6, -0.5, 0, 300)});
+  const std::vector<StepResult> r2 = machine_steps(stock2, design, {{&q, Cutter::ball(2)}}, gcode::MotionModel{});
+  EXPECT_NEAR(r2[0].outside_feed_mm, 8 + 2 * std::numbers::pi, 1e-9);
+  EXPECT_NEAR(r2[0].feed_mm, 26 + 4, 1e-9);
+  EXPECT_NEAR(r2[0].air_feed_mm, 10 + 4, 1e-9);  // the grazing pass above the plate's top cuts nothing
 }
 
 // Asked for, a last program with a smaller tool than a finishing one before it is rest machining,

@@ -42,9 +42,11 @@ struct StepResult {
   /// what the next tool meets at worst.
   double max_left_mm = 0;
   std::array<double, 2> max_left_at{};
-  /// Feed moves (G1/G2/G3) and those of them that removed less than kAirCutMm anywhere, 3D length:
-  /// air_cut_share = air_feed_mm / feed_mm (cutting air: what rest machining must not do).
-  double feed_mm = 0, air_feed_mm = 0;
+  /// Feed moves (G1/G2/G3) over the z-map and those of them that removed less than kAirCutMm
+  /// anywhere, 3D length: air_cut_share = air_feed_mm / feed_mm (cutting air: what rest machining
+  /// must not do). Feed moves whose cutter never reaches the z-map's area (a roughing's passes
+  /// round the part in the stock's margin) are outside_feed_mm: not measured, neither cut nor air.
+  double feed_mm = 0, air_feed_mm = 0, outside_feed_mm = 0;
   [[nodiscard]] double air_cut_share() const { return feed_mm > 0 ? air_feed_mm / feed_mm : 0.0; }
 };
 
