@@ -513,6 +513,7 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
         {"cutting_rapids", st.cutting_rapids},
         {"air_cut_share", st.air_cut_share()},
         {"feed_outside_zmap_mm", st.outside_feed_mm},
+        {"air_run_share", st.air_run_share()},
         {"max_depth_of_cut_at",
          Json{{"line", st.max_cut_line}, {"x", st.max_cut_at[0]}, {"y", st.max_cut_at[1]}, {"z", st.max_cut_at[2]}}},
         {"left_above_design_mm", st.max_left_mm},

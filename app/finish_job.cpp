@@ -601,7 +601,8 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
                         {"max_depth_of_cut_mm", s.max_depth_of_cut_mm},
                         {"cutting_rapids", s.cutting_rapids},
                         {"air_cut_share", s.air_cut_share()},
-                        {"feed_outside_zmap_mm", s.outside_feed_mm}});
+                        {"feed_outside_zmap_mm", s.outside_feed_mm},
+                        {"air_run_share", s.air_run_share()}});
   }
   if (r.rest_step) {  // issue 41: the last program as rest machining behind the one before it
     Json& last = runs.back();

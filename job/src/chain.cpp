@@ -115,14 +115,34 @@ std::vector<StepResult> machine_steps(simulate::ZMap& stock, const Design& desig
     st.cutting_rapids = sw.cutting_rapids.size();
     const std::vector<double> len = feed_lengths(*s.program);
     const std::vector<std::uint8_t> over = feeds_over_grid(*s.program, stock.spec(), s.cutter.radius());
+    // Air runs: consecutive air feed moves, closed by a cutting move, a rapid or a move off the z-map.
+    const double bridge = 2 * s.cutter.radius();
+    double run = 0;
+    const auto close_run = [&] {
+      if (run > bridge) st.air_run_feed_mm += run;
+      run = 0;
+    };
     for (std::size_t i = 0; i < len.size(); ++i) {  // O(items)
+      const auto* m = std::get_if<gcode::Move>(&s.program->items[i]);
+      if (m == nullptr) continue;
+      if (m->motion == gcode::Motion::Rapid) {
+        close_run();
+        continue;
+      }
       if (!over[i]) {
         st.outside_feed_mm += len[i];
+        close_run();
         continue;
       }
       st.feed_mm += len[i];
-      if (len[i] > 0 && (i >= sw.item_max_cut_mm.size() || sw.item_max_cut_mm[i] < kAirCutMm)) st.air_feed_mm += len[i];
+      if (len[i] > 0 && (i >= sw.item_max_cut_mm.size() || sw.item_max_cut_mm[i] < kAirCutMm)) {
+        st.air_feed_mm += len[i];
+        run += len[i];
+      } else if (len[i] > 0) {
+        close_run();
+      }
     }
+    close_run();
     left_above(stock, design, st);
     out.push_back(st);
   }

@@ -45,6 +45,7 @@ TEST(JobChain, AirCutShareIsTheFeedLengthThatRemovesNothing) {
   EXPECT_NEAR(r[0].air_feed_mm, 10, 1e-9);
   EXPECT_NEAR(r[0].air_cut_share(), 10.0 / 26, 1e-9);
   EXPECT_EQ(r[0].outside_feed_mm, 0.0);
+  EXPECT_NEAR(r[0].air_run_feed_mm, 10, 1e-9);  // one run of 10 mm: longer than the Ø2 ball
 
   // Feed moves whose cutter never reaches the z-map (the grid is the plate's 20 × 20 footprint),
   // like a roughing's passes round the part in the stock's margin: 8 mm at Y −3 (the Ø2 ball's band
@@ -61,6 +62,18 @@ TEST(JobChain, AirCutShareIsTheFeedLengthThatRemovesNothing) {
   EXPECT_NEAR(r2[0].outside_feed_mm, 8 + 2 * std::numbers::pi, 1e-9);
   EXPECT_NEAR(r2[0].feed_mm, 26 + 4, 1e-9);
   EXPECT_NEAR(r2[0].air_feed_mm, 10 + 4, 1e-9);  // the grazing pass above the plate's top cuts nothing
+  EXPECT_NEAR(r2[0].air_run_feed_mm, 10 + 4, 1e-9);
+
+  // A gap bridged along a pass: cut X5 → X15 at Z −1, back 1 mm over what it cut (air), on to X18
+  // (cuts X16..X19 again): 1 mm of air, but no run longer than the ball's 2 mm diameter.
+  simulate::ZMap stock3 = finishing_stock(design, frame, sim);
+  gcode::Program b;
+  b.items = {to(Motion::Rapid, 5, 10, 5), to(Motion::Line, 5, 10, -1, 300), to(Motion::Line, 15, 10, -1, 300),
+             to(Motion::Line, 14, 10, -1, 300), to(Motion::Line, 18, 10, -1, 300)};
+  const std::vector<StepResult> r3 = machine_steps(stock3, design, {{&b, Cutter::ball(2)}}, gcode::MotionModel{});
+  EXPECT_NEAR(r3[0].air_feed_mm, 1, 1e-9);
+  EXPECT_EQ(r3[0].air_run_feed_mm, 0.0);
+  EXPECT_NEAR(r3[0].air_run_share(), 0.0, 1e-15);
 }
 
 // Asked for, a last program with a smaller tool than a finishing one before it is rest machining,

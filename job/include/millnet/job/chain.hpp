@@ -47,7 +47,12 @@ struct StepResult {
   /// must not do). Feed moves whose cutter never reaches the z-map's area (a roughing's passes
   /// round the part in the stock's margin) are outside_feed_mm: not measured, neither cut nor air.
   double feed_mm = 0, air_feed_mm = 0, outside_feed_mm = 0;
+  /// The air in runs (consecutive air feed moves between cutting moves, rapids or moves off the
+  /// z-map) longer than the cutter's diameter: the air a CAM system trims. A shorter run bridges a
+  /// gap in patchy rest along a pass, which no one lifts for (a lift and a re-entry take longer).
+  double air_run_feed_mm = 0;
   [[nodiscard]] double air_cut_share() const { return feed_mm > 0 ? air_feed_mm / feed_mm : 0.0; }
+  [[nodiscard]] double air_run_share() const { return feed_mm > 0 ? air_run_feed_mm / feed_mm : 0.0; }
 };
 
 /// A feed move that lowers no cell by more than this removes nothing (mm).
