@@ -29,11 +29,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
+/// A given stock may lie this far below the design or above Z 0 (a z-map saved after a finishing
+/// carries its cusps and the simulation's rounding), mm.
+constexpr double kStockToleranceMm = 0.01;
+
 struct JobOpts {
   Common common;
   MeshFlags mesh_flags;
   std::string mesh, out, strategy = "best";
-  std::optional<std::string> post, finish_tool, rough_tool, material, rest_tool;
+  std::optional<std::string> post, finish_tool, rough_tool, material, rest_tool, stock;
   BoundaryFlags boundary;       ///< the finishing's (and semi-finishing's) machining boundary
   bool keep_deep_cuts = false;  ///< write a job whose cut goes beyond a tool's flutes (warned), as before 2026-11-27
 };
@@ -179,6 +183,37 @@ report::SetupTool setup_tool(const tooling::Tool& t) {
 std::string share_text(double share) { return std::isnan(share) ? "–" : fixed(100 * share, 2) + " %"; }
 
 /// The job of `o` with `config` read; `reuse` (from `millnet run`): what is already computed.
+/// The stock the job starts from: the block (footprint + margin up to Z 0), or a z-map saved by
+/// `simulate --save-stock` on this part's grid (issue 38: a stock as a model; a job's real
+/// history). A stock that does not hold the design (below it by more than the tolerance) or
+/// rises above Z 0 (the stock top every rapid and clearance plane is set from) is refused, naming
+/// the place. O(cells).
+simulate::ZMap starting_stock(const std::optional<std::string>& file, const job::Design& design,
+                              const job::SimParams& sim) {
+  if (!file) return job::block_stock(design, sim);
+  simulate::ZMap z = stock_from_file(*file, design.grid);
+  const simulate::GridSpec& g = z.spec();
+  double below = 0, above = 0;
+  std::size_t below_at = 0, above_at = 0;
+  for (std::size_t c = 0; c < g.cells(); ++c) {  // O(cells)
+    const double h = z.at(c % g.nx, c / g.nx), d = design.heights[c];
+    if (h > above) above = h, above_at = c;
+    if (!std::isnan(d) && d - h > below) below = d - h, below_at = c;
+  }
+  const auto where = [&](std::size_t c) {
+    return "X" + fixed(g.x(c % g.nx), 2) + " Y" + fixed(g.y(c / g.nx), 2) + " (part frame)";
+  };
+  if (below > kStockToleranceMm)
+    throw file_error(*file, "the stock lies " + fixed(below, 3) + " mm below the design at " + where(below_at) +
+                                ": not a stock this part can be machined from");
+  if (above > kStockToleranceMm)
+    throw file_error(*file, "the stock rises " + fixed(above, 3) +
+                                " mm above Z 0, the stock top the job's rapids and "
+                                "clearance planes are set from, at " +
+                                where(above_at) + ": raise /rough/top_allowance_mm by that much");
+  return z;
+}
+
 int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, RunJobResult* result) {
   // 1. Settings and the part.
   FinishSettings fs_ = finish_settings(config, {o.finish_tool, o.material});
@@ -252,7 +287,7 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   // even then gives way to the next of the ranking (--strategy K: K, or no job).
   const job::Design& design = *pf.design;
   const job::SimParams sim = sim_params(fs_);
-  simulate::ZMap roughed = job::block_stock(design, sim);
+  simulate::ZMap roughed = starting_stock(o.stock, design, sim);
   std::vector<job::StepResult> before = job::machine_steps(roughed, design, job::chain_steps(ops), fs_.machine);
   const bool by_rank = o.strategy == "best";
   std::vector<job::StrategyOutcome> candidates{chosen_strategy(pf.outcomes, file)};
@@ -402,7 +437,7 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
 
   // 6. The job program machined from the block, tool by tool, on one z-map.
   info("job: " + stem + ": machining the job program from the block");
-  simulate::ZMap z = job::block_stock(design, sim);
+  simulate::ZMap z = starting_stock(o.stock, design, sim);
   const std::vector<job::ToolRun> runs = job::split_at_tool_changes(job_w.program);
   std::map<int, const job::Operation*> by_number;
   for (const job::Operation& op : ops) by_number[op.tool.number] = &op;
@@ -555,6 +590,7 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
                   " s (/machine/tool_change_s); the operator's setup is not counted");
   if (drill != nullptr)
     notes.push_back("the drill's tip goes to each hole's level; its point leaves a cone the end mill's plunge cuts");
+  if (o.stock) notes.insert(notes.begin(), "the job starts from the stock " + *o.stock + ", not the block");
   sheet.notes = notes;
   Json j{{"part", stem},
          {"file", file},
@@ -563,7 +599,8 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
                         {"origin_in_part_frame_mm", {post.origin[0], post.origin[1]}},
                         {"stock_mm",
                          {sheet.stock_x0, sheet.stock_y0, sheet.stock_bottom_z, sheet.stock_x1, sheet.stock_y1, 0.0}},
-                        {"deepest_z_mm", sheet.deepest_z}}},
+                        {"deepest_z_mm", sheet.deepest_z},
+                        {"stock_from", o.stock ? Json(*o.stock) : Json("block")}}},
          {"operations", ops_json},
          {"total_time_kinematic_min", sheet.total_time_min},
          {"tool_changes", sheet.tool_changes},
@@ -627,6 +664,10 @@ Registered register_job(CLI::App& app) {
       });
   sub->add_option("--tool", o->finish_tool, "finishing tool (library id or ball:D, bull:D:r)");
   sub->add_option("--rough-tool", o->rough_tool, "roughing tool (library id)");
+  sub->add_option("--stock", o->stock,
+                  "start from this stock instead of the block: a FILE.zmap saved by simulate --save-stock on this "
+                  "part (e.g. after an earlier job's roughing)")
+      ->check(CLI::ExistingFile);
   sub->add_option("--rest-tool", o->rest_tool,
                   "rest finishing after the finishing with this smaller tool (library id or ball:D), from the stock "
                   "the finishing leaves, when its rest covers /finish/rest/min_area_mm2 (default /finish/rest/tool: "

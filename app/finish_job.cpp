@@ -38,7 +38,8 @@ Eigen::MatrixXd picture_map(const std::vector<double>& v, const simulate::GridSp
   return simulate::block_means(v, g.nx, g.ny, kMaxPictureCells, empty);
 }
 
-/// A stock saved by an earlier `simulate --save-stock`: its grid must be the part's.
+}  // namespace
+
 simulate::ZMap stock_from_file(const std::string& file, const simulate::GridSpec& g) {
   simulate::ZMap z = simulate::io::read_zmap(file);
   const simulate::GridSpec& s = z.spec();
@@ -51,8 +52,6 @@ simulate::ZMap stock_from_file(const std::string& file, const simulate::GridSpec
                                "): save and reuse a stock with the same mesh, --units, --up and /simulate/cell_mm");
   return z;
 }
-
-}  // namespace
 
 Json sim_metrics_json(const simulate::SurfaceMetrics& m, const simulate::GridSpec& grid) {
   Json j;

@@ -102,6 +102,10 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
                        const std::string& stock, const FinishSettings& settings, const std::filesystem::path& out,
                        bool save_stock = false, const job::Design* design = nullptr, bool score_rest = false);
 
+/// A stock saved by `simulate --save-stock` (FILE.zmap), checked to lie on the part's grid `g`
+/// (millnet::Error naming the file and both grids otherwise).
+[[nodiscard]] simulate::ZMap stock_from_file(const std::string& file, const simulate::GridSpec& g);
+
 /// A program file read for simulate_programs (the file's text and that text read back), shifted from
 /// the work frame `post` placed it in (its origin) back into millnet's.
 [[nodiscard]] ChainProgram read_chain_program(const std::filesystem::path& file, const tooling::Cutter& cutter,

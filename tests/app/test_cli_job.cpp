@@ -16,6 +16,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -397,6 +398,72 @@ TEST(CliJob, AnInchJobAndAJobAtTheStockCentreAreTheSameJob) {
       EXPECT_EQ(a["cutting_rapids"], b["cutting_rapids"]) << u << " " << a["name"];
     }
   }
+}
+
+}  // namespace
+}  // namespace millnet::testing
+
+namespace millnet::testing {
+namespace {
+
+// Issue 38: a stock as a model the job reads. The cavity's drilling and roughing machined by
+// `simulate` and saved (--save-stock) are the stock of a second job: its drilling and roughing then
+// remove nothing (every measured feed move is air, no depth of cut) and what follows machines the
+// same surface as the job from the block. A stock that cuts into the design, or one on another
+// grid, is one line, exit 1, no job written.
+TEST(CliJob, AJobFromASavedStockMachinesOnlyWhatTheStockStillHolds) {
+  const fs::path d = fresh_dir("cli_job_stock");
+  const fs::path mesh = write_cavity(d);
+  std::ofstream(d / "fast.json") << kFast;
+  const std::string base = "job --quiet --no-preview --config fast.json --mesh '" + mesh.string() + "' --strategy 1 ";
+  ASSERT_EQ(run_millnet(base + "--out a", d).code, 0);
+  const Json a = Json::parse(slurp(d / "a" / "cavity.job.json"));
+  ASSERT_EQ(a["operations"][1]["name"], "roughing");
+  EXPECT_EQ(a["frame"]["stock_from"], "block");
+  const std::string sim = "simulate --quiet --no-preview --config fast.json --mesh '" + mesh.string() + "' ";
+  const auto s = run_millnet(sim +
+                                 "--gcode a/cavity.op1.drilling.nc --gcode a/cavity.op2.roughing.nc --tool dr10-hss "
+                                 "--tool em10-3f-carbide --save-stock --out roughed",
+                             d);
+  ASSERT_EQ(s.code, 0) << s.err;
+  const auto r = run_millnet(base + "--stock roughed/cavity.zmap --out b", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Json b = Json::parse(slurp(d / "b" / "cavity.job.json"));
+  EXPECT_EQ(b["frame"]["stock_from"], "roughed/cavity.zmap");
+  ASSERT_EQ(b["operations"].size(), a["operations"].size());
+  for (std::size_t i = 0; i < 2; ++i) {  // drilling, roughing: nothing left for them
+    EXPECT_EQ(b["operations"][i]["max_depth_of_cut_mm"].get<double>(), 0.0) << i;
+    EXPECT_EQ(b["operations"][i]["air_cut_share"].get<double>(), 1.0) << i;
+  }
+  EXPECT_LT(a["operations"][1]["air_cut_share"].get<double>(), 0.9);
+  for (const char* k : {"uncut_area_mm2", "max_gouge_mm", "ra_median_um", "scallop_max_mm"})
+    EXPECT_DOUBLE_EQ(b["simulated"][k].get<double>(), a["simulated"][k].get<double>()) << k;
+  EXPECT_NE(b["notes"].dump().find("starts from the stock roughed/cavity.zmap"), std::string::npos);
+
+  // A "stock" that a Ø10 flat end mill cut into the design along the finishing's ball path.
+  const auto g = run_millnet(sim +
+                                 "--stock design --gcode a/cavity.op4.finishing.nc --tool flat:10 --save-stock "
+                                 "--out gouged",
+                             d);
+  ASSERT_EQ(g.code, 1) << g.err;  // the gouge is reported, the machined stock kept for inspection
+  ASSERT_TRUE(fs::exists(d / "gouged" / "cavity.zmap"));
+  const auto bad = run_millnet(base + "--stock gouged/cavity.zmap --out c", d);
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_NE(bad.err.find("gouged/cavity.zmap"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("mm below the design at X"), std::string::npos) << bad.err;
+  EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+  EXPECT_FALSE(fs::exists(d / "c" / "cavity.job.nc"));
+  // Saved on another grid (0.2 mm cells): refused, naming both grids.
+  std::ofstream(d / "coarse.json") << R"({"simulate": {"cell_mm": 0.2}})";
+  ASSERT_EQ(run_millnet("simulate --quiet --no-preview --config coarse.json --mesh '" + mesh.string() +
+                            "' --gcode a/cavity.op2.roughing.nc --tool em10-3f-carbide --save-stock --out coarse",
+                        d)
+                .code,
+            0);
+  const auto other = run_millnet(base + "--stock coarse/cavity.zmap --out e", d);
+  EXPECT_EQ(other.code, 1);
+  EXPECT_NE(other.err.find("is not this part's"), std::string::npos) << other.err;
+  EXPECT_FALSE(fs::exists(d / "e" / "cavity.job.nc"));
 }
 
 }  // namespace
