@@ -12,6 +12,8 @@
 #include "millnet/core/error.hpp"
 #include "millnet/core/output_set.hpp"
 #include "millnet/core/sha256.hpp"
+#include "millnet/ingest/heightfield.hpp"
+#include "millnet/ingest/io/mesh_io.hpp"
 #include "millnet/job/chain.hpp"
 #include "millnet/job/links.hpp"
 #include "millnet/job/operations.hpp"
@@ -183,15 +185,44 @@ report::SetupTool setup_tool(const tooling::Tool& t) {
 std::string share_text(double share) { return std::isnan(share) ? "–" : fixed(100 * share, 2) + " %"; }
 
 /// The job of `o` with `config` read; `reuse` (from `millnet run`): what is already computed.
-/// The stock the job starts from: the block (footprint + margin up to Z 0), or a z-map saved by
+/// Where a stock mesh is put: the part file it belongs to, read as the part was, and its frame.
+struct StockSource {
+  std::string part_file;
+  ingest::PrepareOptions prep;
+  job::Frame frame;
+};
+
+/// The stock the job starts from: the block (footprint + margin up to Z 0), a z-map saved by
 /// `simulate --save-stock` on this part's grid (issue 38: a stock as a model; a job's real
-/// history). A stock that does not hold the design (below it by more than the tolerance) or
+/// history), or a stock mesh (a casting, a plate sawn to size; stock_from_mesh). A stock that does not hold the design (below it by more than the tolerance) or
 /// rises above Z 0 (the stock top every rapid and clearance plane is set from) is refused, naming
 /// the place. O(cells).
-simulate::ZMap starting_stock(const std::optional<std::string>& file, const job::Design& design,
+/// A stock mesh (any mesh or CAD file millnet reads) in the part file's own coordinates: read with
+/// the part's units and up axis and moved as the part is (its footprint's corner and lowest point
+/// to 0), its top rasterized on the part's grid, each cell the highest of the mesh over it (a
+/// conservative stock: no material missed between raster points). A cell it does not cover holds
+/// no material (the part's bottom). O(cells + triangles).
+simulate::ZMap stock_from_mesh(const std::string& file, const StockSource& src, const job::Design& design,
+                               const job::SimParams& sim) {
+  ingest::PrepareOptions raw = src.prep;
+  raw.recentre = false;
+  const Eigen::Vector3d shift = ingest::bounds(ingest::load_prepared(src.part_file, raw)).min;
+  ingest::Mesh stock = ingest::load_prepared(file, raw);
+  stock.V.rowwise() -= shift.transpose();
+  const simulate::GridSpec& g = design.grid;
+  const ingest::HeightField hf =
+      ingest::rasterize_top_cells(stock, g.x(0), g.y(0), g.cell, static_cast<int>(g.nx), static_cast<int>(g.ny));
+  std::vector<double> h(g.cells());
+  for (std::size_t c = 0; c < h.size(); ++c)  // O(cells)
+    h[c] = hf.hit[c] ? hf.z[c] + src.frame.z_shift() : src.frame.program_bottom();
+  return simulate::ZMap::from_heights(g, h, 0.0, 0.0, sim.max_bytes());
+}
+
+simulate::ZMap starting_stock(const std::optional<std::string>& file, const StockSource& src, const job::Design& design,
                               const job::SimParams& sim) {
   if (!file) return job::block_stock(design, sim);
-  simulate::ZMap z = stock_from_file(*file, design.grid);
+  simulate::ZMap z = fs::path(*file).extension() == ".zmap" ? stock_from_file(*file, design.grid)
+                                                            : stock_from_mesh(*file, src, design, sim);
   const simulate::GridSpec& g = z.spec();
   double below = 0, above = 0;
   std::size_t below_at = 0, above_at = 0;
@@ -287,7 +318,7 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   // even then gives way to the next of the ranking (--strategy K: K, or no job).
   const job::Design& design = *pf.design;
   const job::SimParams sim = sim_params(fs_);
-  simulate::ZMap roughed = starting_stock(o.stock, design, sim);
+  simulate::ZMap roughed = starting_stock(o.stock, {o.mesh, prep, frame}, design, sim);
   std::vector<job::StepResult> before = job::machine_steps(roughed, design, job::chain_steps(ops), fs_.machine);
   const bool by_rank = o.strategy == "best";
   std::vector<job::StrategyOutcome> candidates{chosen_strategy(pf.outcomes, file)};
@@ -437,7 +468,7 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
 
   // 6. The job program machined from the block, tool by tool, on one z-map.
   info("job: " + stem + ": machining the job program from the block");
-  simulate::ZMap z = starting_stock(o.stock, design, sim);
+  simulate::ZMap z = starting_stock(o.stock, {o.mesh, prep, frame}, design, sim);
   const std::vector<job::ToolRun> runs = job::split_at_tool_changes(job_w.program);
   std::map<int, const job::Operation*> by_number;
   for (const job::Operation& op : ops) by_number[op.tool.number] = &op;
@@ -666,7 +697,7 @@ Registered register_job(CLI::App& app) {
   sub->add_option("--rough-tool", o->rough_tool, "roughing tool (library id)");
   sub->add_option("--stock", o->stock,
                   "start from this stock instead of the block: a FILE.zmap saved by simulate --save-stock on this "
-                  "part (e.g. after an earlier job's roughing)")
+                  "part (e.g. after an earlier job's roughing), or a stock mesh in the part file's coordinates")
       ->check(CLI::ExistingFile);
   sub->add_option("--rest-tool", o->rest_tool,
                   "rest finishing after the finishing with this smaller tool (library id or ball:D), from the stock "

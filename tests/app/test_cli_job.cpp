@@ -466,5 +466,39 @@ TEST(CliJob, AJobFromASavedStockMachinesOnlyWhatTheStockStillHolds) {
   EXPECT_FALSE(fs::exists(d / "e" / "cavity.job.nc"));
 }
 
+// A stock mesh in the part file's coordinates: a box the block's size (footprint + 5 mm, up to the
+// stock top 9 mm over the part's bottom: job.json's stock_mm) is the block, so the job is the same
+// job, figure for figure; a box whose top lies below the part's top does not hold it, one 1 mm
+// taller rises over Z 0: each refused with one line naming the file.
+TEST(CliJob, AStockMeshTheBlocksSizeIsTheBlockAndOneThatDoesNotHoldThePartIsRefused) {
+  const fs::path d = fresh_dir("cli_job_stock_mesh");
+  const fs::path mesh = write_cavity(d);
+  std::ofstream(d / "fast.json") << kFast;
+  const std::string base = "job --quiet --no-preview --config fast.json --mesh '" + mesh.string() + "' --strategy 1 ";
+  ASSERT_EQ(run_millnet(base + "--out a", d).code, 0);
+  const Json a = Json::parse(slurp(d / "a" / "cavity.job.json"));
+  ASSERT_EQ(a["frame"]["stock_mm"], Json::parse("[-5.0, -5.0, -9.0, 35.0, 29.0, 0.0]"));
+  ingest::save_stl_binary(testing_ingest::box(-5, -5, 0, 35, 29, 9), d / "block.stl");
+  const auto r = run_millnet(base + "--stock block.stl --out b", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Json b = Json::parse(slurp(d / "b" / "cavity.job.json"));
+  ASSERT_EQ(b["operations"].size(), a["operations"].size());
+  for (std::size_t i = 0; i < a["operations"].size(); ++i)
+    for (const char* k : {"time_kinematic_min", "max_depth_of_cut_mm", "air_cut_share", "left_above_design_mm"})
+      EXPECT_EQ(b["operations"][i][k], a["operations"][i][k]) << i << " " << k;
+  EXPECT_EQ(b["simulated"], a["simulated"]);
+  ingest::save_stl_binary(testing_ingest::box(-5, -5, 0, 35, 29, 7), d / "low.stl");
+  const auto low = run_millnet(base + "--stock low.stl --out c", d);
+  EXPECT_EQ(low.code, 1);
+  EXPECT_NE(low.err.find("low.stl"), std::string::npos) << low.err;
+  EXPECT_NE(low.err.find("1.000 mm below the design"), std::string::npos) << low.err;
+  EXPECT_FALSE(fs::exists(d / "c" / "cavity.job.nc"));
+  ingest::save_stl_binary(testing_ingest::box(-5, -5, 0, 35, 29, 10), d / "tall.stl");
+  const auto tall = run_millnet(base + "--stock tall.stl --out e", d);
+  EXPECT_EQ(tall.code, 1);
+  EXPECT_NE(tall.err.find("rises 1.000 mm above Z 0"), std::string::npos) << tall.err;
+  EXPECT_FALSE(fs::exists(d / "e" / "cavity.job.nc"));
+}
+
 }  // namespace
 }  // namespace millnet::testing
