@@ -184,7 +184,6 @@ report::SetupTool setup_tool(const tooling::Tool& t) {
 
 std::string share_text(double share) { return std::isnan(share) ? "–" : fixed(100 * share, 2) + " %"; }
 
-/// The job of `o` with `config` read; `reuse` (from `millnet run`): what is already computed.
 /// Where a stock mesh is put: the part file it belongs to, read as the part was, and its frame.
 struct StockSource {
   std::string part_file;
@@ -192,16 +191,10 @@ struct StockSource {
   job::Frame frame;
 };
 
-/// The stock the job starts from: the block (footprint + margin up to Z 0), a z-map saved by
-/// `simulate --save-stock` on this part's grid (issue 38: a stock as a model; a job's real
-/// history), or a stock mesh (a casting, a plate sawn to size; stock_from_mesh). A stock that does not hold the design (below it by more than the tolerance) or
-/// rises above Z 0 (the stock top every rapid and clearance plane is set from) is refused, naming
-/// the place. O(cells).
 /// A stock mesh (any mesh or CAD file millnet reads) in the part file's own coordinates: read with
 /// the part's units and up axis and moved as the part is (its footprint's corner and lowest point
 /// to 0), its top rasterized on the part's grid, each cell the highest of the mesh over it (a
-/// conservative stock: no material missed between raster points). A cell it does not cover holds
-/// no material (the part's bottom). O(cells + triangles).
+/// conservative stock: no material missed between raster points; job::stock_from_raster).
 simulate::ZMap stock_from_mesh(const std::string& file, const StockSource& src, const job::Design& design,
                                const job::SimParams& sim) {
   ingest::PrepareOptions raw = src.prep;
@@ -210,41 +203,36 @@ simulate::ZMap stock_from_mesh(const std::string& file, const StockSource& src, 
   ingest::Mesh stock = ingest::load_prepared(file, raw);
   stock.V.rowwise() -= shift.transpose();
   const simulate::GridSpec& g = design.grid;
-  const ingest::HeightField hf =
-      ingest::rasterize_top_cells(stock, g.x(0), g.y(0), g.cell, static_cast<int>(g.nx), static_cast<int>(g.ny));
-  std::vector<double> h(g.cells());
-  for (std::size_t c = 0; c < h.size(); ++c)  // O(cells)
-    h[c] = hf.hit[c] ? hf.z[c] + src.frame.z_shift() : src.frame.program_bottom();
-  return simulate::ZMap::from_heights(g, h, 0.0, 0.0, sim.max_bytes());
+  return job::stock_from_raster(
+      ingest::rasterize_top_cells(stock, g.x(0), g.y(0), g.cell, static_cast<int>(g.nx), static_cast<int>(g.ny)),
+      design, src.frame, sim);
 }
 
+/// The stock the job starts from: the block (footprint + margin up to Z 0), a z-map saved by
+/// `simulate --save-stock` on this part's grid (issue 38: a stock as a model; a job's real
+/// history), or a stock mesh (a casting, a plate sawn to size). A stock that does not hold the
+/// design (below it by more than the tolerance) or rises above Z 0 (the stock top every rapid and
+/// clearance plane is set from) is refused, naming the place (job::stock_departure).
 simulate::ZMap starting_stock(const std::optional<std::string>& file, const StockSource& src, const job::Design& design,
                               const job::SimParams& sim) {
   if (!file) return job::block_stock(design, sim);
   simulate::ZMap z = fs::path(*file).extension() == ".zmap" ? stock_from_file(*file, design.grid)
                                                             : stock_from_mesh(*file, src, design, sim);
-  const simulate::GridSpec& g = z.spec();
-  double below = 0, above = 0;
-  std::size_t below_at = 0, above_at = 0;
-  for (std::size_t c = 0; c < g.cells(); ++c) {  // O(cells)
-    const double h = z.at(c % g.nx, c / g.nx), d = design.heights[c];
-    if (h > above) above = h, above_at = c;
-    if (!std::isnan(d) && d - h > below) below = d - h, below_at = c;
-  }
-  const auto where = [&](std::size_t c) {
-    return "X" + fixed(g.x(c % g.nx), 2) + " Y" + fixed(g.y(c / g.nx), 2) + " (part frame)";
+  const job::StockDeparture d = job::stock_departure(z, design);
+  const auto where = [](const std::array<double, 2>& at) {
+    return "X" + fixed(at[0], 2) + " Y" + fixed(at[1], 2) + " (part frame)";
   };
-  if (below > kStockToleranceMm)
-    throw file_error(*file, "the stock lies " + fixed(below, 3) + " mm below the design at " + where(below_at) +
-                                ": not a stock this part can be machined from");
-  if (above > kStockToleranceMm)
-    throw file_error(*file, "the stock rises " + fixed(above, 3) +
-                                " mm above Z 0, the stock top the job's rapids and "
-                                "clearance planes are set from, at " +
-                                where(above_at) + ": raise /rough/top_allowance_mm by that much");
+  if (d.below_design_mm > kStockToleranceMm)
+    throw file_error(*file, "the stock lies " + fixed(d.below_design_mm, 3) + " mm below the design at " +
+                                where(d.below_at) + ": not a stock this part can be machined from");
+  if (d.above_top_mm > kStockToleranceMm)
+    throw file_error(*file, "the stock rises " + fixed(d.above_top_mm, 3) +
+                                " mm above Z 0, the stock top the job's rapids and clearance planes are set from, at " +
+                                where(d.above_at) + ": raise /rough/top_allowance_mm by that much");
   return z;
 }
 
+/// The job of `o` with `config` read; `reuse` (from `millnet run`): what is already computed.
 int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, RunJobResult* result) {
   // 1. Settings and the part.
   FinishSettings fs_ = finish_settings(config, {o.finish_tool, o.material});

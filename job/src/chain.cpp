@@ -1,6 +1,7 @@
 // A part's programs machined in order on one stock (chain.hpp).
 #include "millnet/job/chain.hpp"
 
+#include "millnet/core/error.hpp"
 #include "millnet/finish/rest.hpp"
 
 #include <algorithm>
@@ -15,6 +16,31 @@ namespace millnet::job {
 
 simulate::ZMap block_stock(const Design& design, const SimParams& sim) {
   return simulate::ZMap::flat(design.grid, 0.0, sim.max_bytes());
+}
+
+simulate::ZMap stock_from_raster(const ingest::HeightField& top, const Design& design, const Frame& frame,
+                                 const SimParams& sim) {
+  const simulate::GridSpec& g = design.grid;
+  if (top.z.size() != g.cells() || top.hit.size() != g.cells())
+    throw Error("stock: the stock's raster has " + std::to_string(top.z.size()) + " points, the part's grid " +
+                std::to_string(g.cells()) + " cells");
+  std::vector<double> h(g.cells());
+  for (std::size_t c = 0; c < h.size(); ++c)  // O(cells)
+    h[c] = top.hit[c] ? top.z[c] + frame.z_shift() : frame.program_bottom();
+  return simulate::ZMap::from_heights(g, h, 0.0, 0.0, sim.max_bytes());
+}
+
+StockDeparture stock_departure(const simulate::ZMap& stock, const Design& design) {
+  const simulate::GridSpec& g = stock.spec();
+  StockDeparture d;
+  for (std::size_t iy = 0; iy < g.ny; ++iy)
+    for (std::size_t ix = 0; ix < g.nx; ++ix) {  // O(cells)
+      const double h = stock.at(ix, iy), design_h = design.heights[iy * g.nx + ix];
+      if (h > d.above_top_mm) d.above_top_mm = h, d.above_at = {g.x(ix), g.y(iy)};
+      if (!std::isnan(design_h) && design_h - h > d.below_design_mm)
+        d.below_design_mm = design_h - h, d.below_at = {g.x(ix), g.y(iy)};
+    }
+  return d;
 }
 
 namespace {

@@ -1,6 +1,7 @@
 // The chain of programs on one stock (job/chain.hpp), issue 41's figures: the share of the feed
 // path that cuts air (by hand on a plate) and the rest-machining scoring of a last, smaller tool.
 #include "millnet/job/chain.hpp"
+#include "millnet/core/error.hpp"
 #include "millnet/job/frame.hpp"
 
 #include "ingest/builders.hpp"
@@ -104,6 +105,42 @@ TEST(JobChain, ASmallerLastToolIsScoredAsRestMachiningBehindTheOneBefore) {
     EXPECT_FALSE(r.rest_step) << a.describe() << " then " << b.describe();
     EXPECT_EQ(r.steps.size(), 2U);
   }
+}
+
+}  // namespace
+}  // namespace millnet::job
+
+namespace millnet::job {
+namespace {
+
+// A stock from a raster of its top: the plate's 20 × 20 grid, the raster 1 mm over the plate's top
+// (5) on the left half and missing on the right: program heights 6 − 6 = 0 where it covers (the
+// frame's stock top is 6: the plate + 1), the part's bottom (−6) where it does not; the departure
+// then reads 5 mm below the design on the right half (the plate's top at −1), none above Z 0.
+TEST(JobStock, AStockFromARasterAndHowFarItDepartsFromOneAJobCanStartFrom) {
+  const ingest::Mesh plate = testing_ingest::box(0, 0, 0, 20, 20, 5);
+  const Frame frame = frame_of(plate, 1.0);
+  SimParams sim;
+  sim.cell_mm = 0.5;
+  const Design design = design_surface(plate, frame, sim);
+  const simulate::GridSpec& g = design.grid;
+  ingest::HeightField top;
+  top.nx = static_cast<int>(g.nx), top.ny = static_cast<int>(g.ny);
+  top.z.assign(g.cells(), 6.0);
+  top.hit.assign(g.cells(), 0);
+  for (std::size_t c = 0; c < g.cells(); ++c) top.hit[c] = g.x(c % g.nx) < 10 ? 1 : 0;
+  const simulate::ZMap z = stock_from_raster(top, design, frame, sim);
+  EXPECT_EQ(z.at(0, 0), 0.0);
+  EXPECT_EQ(z.at(g.nx - 1, 0), frame.program_bottom());
+  EXPECT_EQ(frame.program_bottom(), -6.0);
+  const StockDeparture d = stock_departure(z, design);
+  EXPECT_DOUBLE_EQ(d.below_design_mm, 5.0);
+  EXPECT_GE(d.below_at[0], 10.0);
+  EXPECT_EQ(d.above_top_mm, 0.0);
+  top.z.assign(g.cells(), 6.25);  // 0.25 over the stock top
+  EXPECT_DOUBLE_EQ(stock_departure(stock_from_raster(top, design, frame, sim), design).above_top_mm, 0.25);
+  top.z.pop_back();
+  EXPECT_THROW((void)stock_from_raster(top, design, frame, sim), millnet::Error);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include "millnet/gcode/stats.hpp"
 #include "millnet/job/finishing.hpp"
 #include "millnet/job/operations.hpp"
+#include "millnet/ingest/heightfield.hpp"
 #include "millnet/ingest/mesh.hpp"
 #include "millnet/simulate/zmap.hpp"
 #include "millnet/tooling/cutter.hpp"
@@ -75,6 +76,21 @@ struct ChainResult {
 
 /// A block up to Z 0 over the design's grid (the raw stock of a part roughed from a block).
 [[nodiscard]] simulate::ZMap block_stock(const Design& design, const SimParams& sim);
+
+/// A stock from the raster of a stock mesh's top on the design's grid (ingest::rasterize_top_cells
+/// at the grid's cell centres, part frame): program heights z + frame.z_shift(); a cell the mesh
+/// does not cover holds no material (the part's bottom, frame.program_bottom()). O(cells).
+[[nodiscard]] simulate::ZMap stock_from_raster(const ingest::HeightField& top, const Design& design, const Frame& frame,
+                                               const SimParams& sim);
+
+/// How far a given stock departs from one a job can start from: the most it lies below the design
+/// (it does not hold the part there) and the most it rises above Z 0 (the stock top the rapids and
+/// clearance planes are set from), each with its cell's centre (XY, part frame). O(cells).
+struct StockDeparture {
+  double below_design_mm = 0, above_top_mm = 0;
+  std::array<double, 2> below_at{}, above_at{};
+};
+[[nodiscard]] StockDeparture stock_departure(const simulate::ZMap& stock, const Design& design);
 
 /// Machines the steps in order on `stock` (left machined), each measured: its lengths and times,
 /// its deepest cut and where, its cutting rapids and the stock it leaves above the design.
