@@ -158,7 +158,8 @@ TEST(Scenario, DefaultPipelineRunsEndToEndAndMeetsItsFigures) {
     EXPECT_GT(f["rough_then_top"]["finisher_max_depth_of_cut_mm"].get<double>(), 0.0);
     EXPECT_TRUE(fs::exists(out / "parts" / name / (name + ".rough_finish.sim.json")));
     // Regret per strategy: the simulated best's is 0 when it meets the spec, every other one's is its
-    // time over the best's − 1, and the pick's is its strategy's.
+    // time over the best's − 1, and the pick's is its strategy's — or 0 when that is below 0 (a
+    // faster strategy in the best's near tie, which the best won on Ra p90: choosing it costs nothing).
     const auto times = f["time_kinematic_min"].get<std::vector<double>>();
     const Json& regret = f["regret"];
     ASSERT_EQ(regret.size(), 5u);
@@ -168,7 +169,8 @@ TEST(Scenario, DefaultPipelineRunsEndToEndAndMeetsItsFigures) {
         EXPECT_NEAR(regret[static_cast<std::size_t>(k - 1)].get<double>(),
                     times[static_cast<std::size_t>(k - 1)] / times[static_cast<std::size_t>(best - 1)] - 1, 1e-12)
             << k;
-      EXPECT_EQ(f["network_pick_regret"], regret[static_cast<std::size_t>(net.front() - 1)]);
+      EXPECT_EQ(f["network_pick_regret"].get<double>(),
+                std::max(0.0, regret[static_cast<std::size_t>(net.front() - 1)].get<double>()));
     }
     // Issue 40: the part's job (/run/job): one program from the block, the simulated ranking's first
     // strategy, that LinuxCNC accepts with the job's tool table, a machine survives (no rapid into
