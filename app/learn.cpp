@@ -541,17 +541,15 @@ std::string predict_one(const ModelFolder& folder, const PredictInput& in, const
                     {"probabilities", std::vector<double>(row.begin(), row.end())}});
     }
     Json ranking = Json::array();
-    for (std::size_t k : rk.order) {
-      // A spare slot (the table's "spare 6".."spare 8": no strategy, never machined) has no regret.
-      const bool spare = model.strategies[k].rfind("spare ", 0) == 0;
+    for (std::size_t k : rk.order)  // a spare slot ("spare 6".."spare 8": never machined) has no regret
       ranking.push_back({{"slot", k + 1},
                          {"strategy", model.strategies[k]},
                          {"probability", pp.mean[k]},
                          {"expected_score", pp.mean[k]},
-                         {"expected_regret", spare ? Json(nullptr) : Json(pp.expected_regret[k])},
+                         {"expected_regret",
+                          model.strategies[k].rfind("spare ", 0) == 0 ? Json(nullptr) : Json(pp.expected_regret[k])},
                          {"total", pp.totals[k]},
                          {"share_first", pp.first_share[k]}});
-    }
     jp["status"] = "ok";
     jp["top"] = pp.top;
     jp["top_name"] = strategy_name(model.strategies, pp.top);
