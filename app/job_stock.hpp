@@ -1,0 +1,29 @@
+#pragma once
+// The stock a job starts from (issue 38: a stock as a model the job reads): the block, a saved
+// z-map or a stock mesh, checked to be one the part can be machined from.
+#include "millnet/ingest/mesh.hpp"
+#include "millnet/job/finishing.hpp"
+#include "millnet/job/frame.hpp"
+#include "millnet/simulate/zmap.hpp"
+
+#include <optional>
+#include <string>
+
+namespace millnet::app {
+
+/// Where a stock mesh is put: the part file it belongs to, read as the part was, and its frame.
+struct StockSource {
+  std::string part_file;
+  ingest::PrepareOptions prep;
+  job::Frame frame;
+};
+
+/// The stock the job starts from: the block (footprint + margin up to Z 0), a z-map saved by
+/// `simulate --save-stock` on this part's grid (issue 38: a stock as a model; a job's real
+/// history), or a stock mesh (a casting, a plate sawn to size). A stock that does not hold the
+/// design (below it by more than the tolerance) or rises above Z 0 (the stock top every rapid and
+/// clearance plane is set from) is refused, naming the place (job::stock_departure).
+[[nodiscard]] simulate::ZMap starting_stock(const std::optional<std::string>& file, const StockSource& src,
+                                            const job::Design& design, const job::SimParams& sim);
+
+}  // namespace millnet::app
