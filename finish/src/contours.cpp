@@ -1,6 +1,7 @@
 #include "contours.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -18,6 +19,44 @@ GridSpec GridSpec::over(double x0, double y0, double x1, double y1, double step)
 
 std::vector<std::vector<ContourPoint>> iso_contours(const GridSpec& g, const std::vector<double>& values, double level,
                                                     const PlaceCrossing& place) {
+  return IsoField(g, values).contours(level, place);
+}
+
+// Cells (i, j), i in [−1, ny), j in [−1, nx), have the corners (i, j), (i, j + 1), (i + 1, j + 1),
+// (i + 1, j); run r of row i holds the cells j = −1 + r·kRun … −1 + (r + 1)·kRun − 1.
+IsoField::IsoField(const GridSpec& g, const std::vector<double>& values, bool skip_runs) : g_(g), values_(values) {
+  constexpr double kOut = -std::numeric_limits<double>::infinity();
+  auto value = [&](int i, int j) {
+    if (i < 0 || j < 0 || i >= g.ny || j >= g.nx) return kOut;
+    const double v = values[static_cast<std::size_t>(i) * static_cast<std::size_t>(g.nx) + static_cast<std::size_t>(j)];
+    return std::isnan(v) ? kOut : v;
+  };
+  runs_ = (g.nx + 1 + kRun - 1) / kRun;
+  const auto n = static_cast<std::size_t>(g.ny + 1) * static_cast<std::size_t>(runs_);
+  lo_.assign(n, std::numeric_limits<double>::infinity());
+  hi_.assign(n, kOut);
+  if (!skip_runs) {  // bounds that never skip
+    lo_.assign(n, kOut);
+    hi_.assign(n, std::numeric_limits<double>::infinity());
+    return;
+  }
+  for (int i = -1; i < g.ny; ++i)  // O(nodes): each node in ≤ 2 rows × 2 runs
+    for (int r = 0; r < runs_; ++r) {
+      const std::size_t b =
+          static_cast<std::size_t>(i + 1) * static_cast<std::size_t>(runs_) + static_cast<std::size_t>(r);
+      const int j0 = -1 + r * kRun, j1 = std::min(g.nx, j0 + kRun);  // corner columns j0 … j1
+      for (int di = 0; di <= 1; ++di)
+        for (int j = j0; j <= j1; ++j) {
+          const double v = value(i + di, j);
+          lo_[b] = std::min(lo_[b], v);
+          hi_[b] = std::max(hi_[b], v);
+        }
+    }
+}
+
+std::vector<std::vector<ContourPoint>> IsoField::contours(double level, const PlaceCrossing& place) const {
+  const GridSpec& g = g_;
+  const std::vector<double>& values = values_;
   const int W = g.nx + 2;  // padded width: node (i, j) ↦ (i + 1, j + 1), the ring is outside
   auto value = [&](int i, int j) {
     if (i < 0 || j < 0 || i >= g.ny || j >= g.nx) return -std::numeric_limits<double>::infinity();
@@ -47,6 +86,14 @@ std::vector<std::vector<ContourPoint>> iso_contours(const GridSpec& g, const std
   };
   for (int i = -1; i < g.ny; ++i) {
     for (int j = -1; j < g.nx; ++j) {
+      if ((j + 1) % kRun == 0) {  // the first cell of a run: skip the run if no cell of it can cross
+        const std::size_t b = static_cast<std::size_t>(i + 1) * static_cast<std::size_t>(runs_) +
+                              static_cast<std::size_t>((j + 1) / kRun);
+        if (hi_[b] < level || lo_[b] >= level) {
+          j += kRun - 1;
+          continue;
+        }
+      }
       // Corners CCW: a (i,j), b (i,j+1), c (i+1,j+1), d (i+1,j).
       const std::array<int, 4> ci{i, i, i + 1, i + 1};
       const std::array<int, 4> cj{j, j + 1, j + 1, j};

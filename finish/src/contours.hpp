@@ -52,4 +52,23 @@ using PlaceCrossing =
 [[nodiscard]] std::vector<std::vector<ContourPoint>> iso_contours(const GridSpec& g, const std::vector<double>& values,
                                                                   double level, const PlaceCrossing& place);
 
+/// A grid field traced at many levels (the waterline's Z levels, the equidistant strategy's
+/// distances): per run of kRun cells of a padded row, the lowest and highest corner value (NaN and
+/// the padding count as −∞, i.e. outside), so that a level skips the runs wholly inside or outside
+/// it. The contours are those of iso_contours, point for point. Build O(nodes); a level
+/// O(nodes / kRun + cells the contour crosses · kRun). Keeps references to g and values.
+class IsoField {
+public:
+  static constexpr int kRun = 32;
+  /// skip_runs = false: every cell is visited (the plain scan; the tests' reference).
+  IsoField(const GridSpec& g, const std::vector<double>& values, bool skip_runs = true);
+  [[nodiscard]] std::vector<std::vector<ContourPoint>> contours(double level, const PlaceCrossing& place) const;
+
+private:
+  const GridSpec& g_;
+  const std::vector<double>& values_;
+  int runs_ = 0;                 ///< runs per padded row (nx + 1 cells)
+  std::vector<double> lo_, hi_;  ///< per (padded row, run)
+};
+
 }  // namespace millnet::finish::detail

@@ -68,8 +68,11 @@ struct Best {
   double cx = 0, cy = 0, cz = 0;  // contact point
   std::int32_t tri = -1;
 
+  // The highest contact; of equal ones, the lowest triangle's (within a triangle, the first
+  // found): the answer does not depend on the order triangles are evaluated in, so a hint or the
+  // index's visiting order never changes it (ties are never pruned: kPruneSlack).
   void consider(double z_, Contact c, double x, double y, double zc, std::int32_t t) {
-    if (z_ > z) {
+    if (z_ > z || (z_ == z && t < tri)) {
       z = z_;
       contact = c;
       cx = x;
@@ -467,7 +470,7 @@ double box_dist2(const CellBox& b, double x, double y) {
 void DropCutter::Impl::query(double x, double y, std::int32_t hint, Best& best) const {
   const double R = shape.R;
   const double qx0 = x - R, qx1 = x + R, qy0 = y - R, qy1 = y + R;
-  if (hint >= 0) eval_face(shape, mesh, hint, x, y, best);
+  if (hint >= 0 && hint < mesh.F.rows()) eval_face(shape, mesh, hint, x, y, best);
   struct Cand {
     double ub;
     int ix, iy;
@@ -539,9 +542,11 @@ DropCutter& DropCutter::operator=(DropCutter&&) noexcept = default;
 
 const Cutter& DropCutter::cutter() const { return impl_->cutter; }
 
-CLPoint DropCutter::drop(double x, double y) const {
+CLPoint DropCutter::drop(double x, double y) const { return drop(x, y, -1); }
+
+CLPoint DropCutter::drop(double x, double y, std::int32_t hint) const {
   Best b;
-  impl_->query(x, y, -1, b);
+  impl_->query(x, y, hint, b);
   return to_cl(b, x, y);
 }
 

@@ -106,6 +106,7 @@ std::vector<std::vector<std::vector<Sample>>> equidistant_loops(const Sampler& s
   }
   const double h0 = std::min(tol::initial_sample_mm, s.cutter().radius() / 4);
   std::vector<std::vector<std::vector<Sample>>> out(levels.size());
+  const IsoField field(grid, T);
 #pragma omp parallel for schedule(dynamic, 1)
   for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(levels.size()); ++k) {
     const double level = levels[static_cast<std::size_t>(k)];
@@ -113,7 +114,7 @@ std::vector<std::vector<std::vector<Sample>>> equidistant_loops(const Sampler& s
       const double t = std::isfinite(v_out) ? (v_in - level) / (v_in - v_out) : 0.0;
       return std::pair<Eigen::Vector2d, double>(in + t * (outp - in), 0.0);
     };
-    for (const auto& loop : iso_contours(grid, T, level, place)) {
+    for (const auto& loop : field.contours(level, place)) {
       std::vector<Sample> pts;
       for (std::size_t i = 0; i + 1 < loop.size(); ++i) {
         auto seg = sample_segment(s, loop[i].xy, loop[i + 1].xy, std::max(h0, (loop[i + 1].xy - loop[i].xy).norm()),

@@ -54,7 +54,11 @@ Sampler::Sampler(const ingest::Mesh& mesh, const DropCutter& dropper) : mesh_(me
 
 Sample Sampler::sample(double x, double y) const {
   drops_.fetch_add(1, std::memory_order_relaxed);
-  const CLPoint c = dropper_.drop(x, y);
+  // The query starts from this thread's previous contact (usually the answer or next to it): a
+  // heuristic only — the drop-cutter's answer does not depend on the hint.
+  thread_local std::int32_t hint = -1;
+  const CLPoint c = dropper_.drop(x, y, hint);
+  hint = c.triangle;
   Sample s;
   if (c.contact == Contact::None || !(c.z > floor_z_)) {
     s.p = Eigen::Vector3d(x, y, floor_z_);

@@ -173,6 +173,7 @@ std::vector<std::vector<std::vector<Sample>>> waterline_loops(const Sampler& s, 
   }
   const double tol = p.chord_tolerance_mm;
   std::vector<std::vector<std::vector<Sample>>> out(levels.size());
+  const IsoField field(grid, cl);
 #pragma omp parallel for schedule(dynamic, 1)
   for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(levels.size()); ++k) {
     const double z = levels[static_cast<std::size_t>(k)];
@@ -180,7 +181,7 @@ std::vector<std::vector<std::vector<Sample>>> waterline_loops(const Sampler& s, 
       if (pad) return std::pair<Eigen::Vector2d, double>(in, 90.0);  // clipped at the boundary
       return refine_crossing(s, in, outp, v_in - z, v_out - z, z, tol);
     };
-    auto loops = iso_contours(grid, cl, z, place);
+    auto loops = field.contours(z, place);
     auto& level_out = out[static_cast<std::size_t>(k)];
     for (auto& loop : loops) {
       split_gouging_chords(s, loop, z, tol);

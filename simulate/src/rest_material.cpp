@@ -145,11 +145,26 @@ std::vector<std::size_t> block_probes(const GridSpec& spec, const std::vector<do
   return probe;
 }
 
+// Per cell: kOff off the surface (NaN design), kCut cut to the design (above ≤ tol), kLeft
+// material left (above > tol), kNone neither (NaN above on the surface). One byte instead of two doubles: the walk below crosses rows at random, and 1
+// byte a cell keeps what it reads in cache (the answers are those of the doubles). O(cells).
+enum CellClass : std::uint8_t { kOff = 0, kCut = 1, kLeft = 2, kNone = 3 };
+std::vector<std::uint8_t> cell_classes(const std::vector<double>& design, const std::vector<double>& above, double tol,
+                                       int nthreads) {
+  std::vector<std::uint8_t> cls(design.size());
+  const auto n = static_cast<std::ptrdiff_t>(design.size());
+#pragma omp parallel for schedule(static) num_threads(nthreads)
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    cls[i] = std::isnan(design[i]) ? kOff : above[i] <= tol ? kCut : above[i] > tol ? kLeft : kNone;
+  }
+  return cls;
+}
+
 // Whether the cell i with material left lies between passes: walking from it across the feed of
-// the move that last cut it, a cell cut to the design (above ≤ tol) comes within `steps` cells on
-// both sides, before the grid or the surface ends.
-bool between_passes(const ZMap& machined, const std::vector<double>& design, const std::vector<double>& above,
-                    double tol, std::ptrdiff_t steps, std::size_t i) {
+// the move that last cut it, a cell cut to the design comes within `steps` cells on both sides,
+// before the grid or the surface ends.
+bool between_passes(const ZMap& machined, const std::vector<std::uint8_t>& cls, std::ptrdiff_t steps, std::size_t i) {
   const GridSpec& spec = machined.spec();
   const std::size_t nx = spec.nx, ny = spec.ny;
   const double x = spec.x(i % nx), y = spec.y(i / nx);
@@ -162,9 +177,9 @@ bool between_passes(const ZMap& machined, const std::vector<double>& design, con
       const double qx = std::floor((x + d * ax - spec.x0) / spec.cell),
                    qy = std::floor((y + d * ay - spec.y0) / spec.cell);
       if (qx < 0 || qy < 0 || qx >= static_cast<double>(nx) || qy >= static_cast<double>(ny)) break;
-      const std::size_t j = static_cast<std::size_t>(qy) * nx + static_cast<std::size_t>(qx);
-      if (std::isnan(design[j])) break;
-      met = above[j] <= tol;
+      const std::uint8_t c = cls[static_cast<std::size_t>(qy) * nx + static_cast<std::size_t>(qx)];
+      if (c == kOff) break;
+      met = c == kCut;
     }
     if (!met) return false;
   }
@@ -184,7 +199,6 @@ void split_remaining(const ZMap& machined, const std::vector<double>& design, co
   const tooling::Cutter& cutter = *opt.cutter;
   cutter.check();
   const std::size_t nx = spec.nx, ny = spec.ny, k = opt.reach_every, lx = (nx + k - 1) / k;
-  auto left = [&](std::size_t i) { return above[i] > opt.tolerance_mm; };  // false on NaN
   // The rest test runs once per block that holds material left, at its probe; every cell left in the
   // block takes its answer.
   const std::vector<std::size_t> probe = block_probes(spec, design, above, opt.tolerance_mm, k);
@@ -208,6 +222,7 @@ void split_remaining(const ZMap& machined, const std::vector<double>& design, co
     reach[ul] = known == 1 ? 1 : 0;
   }
   const auto steps = static_cast<std::ptrdiff_t>(std::ceil(cutter.radius() / spec.cell));
+  const std::vector<std::uint8_t> cls = cell_classes(design, above, opt.tolerance_mm, nthreads);
   std::size_t rest = 0, scallop = 0, uncut = 0;
   double scallop_max = 0;
   const auto rows = static_cast<std::ptrdiff_t>(ny);
@@ -217,11 +232,11 @@ void split_remaining(const ZMap& machined, const std::vector<double>& design, co
     const auto iy = static_cast<std::size_t>(r);
     for (std::size_t ix = 0; ix < nx; ++ix) {
       const std::size_t i = iy * nx + ix;
-      if (!left(i)) continue;
+      if (cls[i] != kLeft) continue;
       if (reach[iy / k * lx + ix / k] == 0) {
         ++rest;
         if (!rest_cell.empty()) rest_cell[i] = 1;
-      } else if (between_passes(machined, design, above, opt.tolerance_mm, steps, i)) {
+      } else if (between_passes(machined, cls, steps, i)) {
         ++scallop;
         scallop_max = std::max(scallop_max, above[i]);
       } else {

@@ -385,7 +385,15 @@ TEST(DropCutter, RandomMeshesMatchBruteForce) {
         for (std::size_t k = 0; k < pts.size(); ++k) {
           const CLPoint ref = drop_brute_force(*m, c, pts[k].x(), pts[k].y());
           ASSERT_EQ(got[k].z, ref.z) << c.describe() << " seed " << seed << " at " << pts[k].transpose();
-          ASSERT_EQ(got[k].contact == Contact::None, ref.contact == Contact::None);
+          // The whole contact, ties included (the lowest triangle wins), whatever the hint.
+          const auto nf = static_cast<std::int32_t>(m->F.rows());
+          const auto hint = static_cast<std::int32_t>(k * 7919 % static_cast<std::size_t>(nf));
+          for (const CLPoint& p : {got[k], dc.drop(pts[k].x(), pts[k].y(), hint), dc.drop(pts[k].x(), pts[k].y())}) {
+            ASSERT_EQ(p.z, ref.z);
+            ASSERT_EQ(p.contact, ref.contact) << c.describe() << " seed " << seed << " at " << pts[k].transpose();
+            ASSERT_EQ(p.triangle, ref.triangle) << c.describe() << " seed " << seed << " at " << pts[k].transpose();
+            ASSERT_EQ(p.cc, ref.cc);
+          }
           if (k % 50 == 0 && ref.contact != Contact::None) expect_touching_not_penetrating(*m, c, got[k], s);
         }
       }

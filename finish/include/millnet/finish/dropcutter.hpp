@@ -16,8 +16,9 @@
 // Exactness: z is the maximum over triangles of each triangle's contact height, computed the same
 // way by drop(), drop_grid() and drop_brute_force(), so the three agree bit for bit; the index
 // only skips triangles that fall short of the best contact by more than 1e-9 mm. Where several
-// triangles give the same z (shared edges and vertices), which one is reported is fixed for a
-// given call but not specified.
+// triangles give the same z (shared edges and vertices), the lowest-numbered one is reported, so
+// the whole CLPoint is the same whatever the order triangles are tried in (a hint, the index, the
+// brute force).
 #include "millnet/tooling/cutter.hpp"
 #include "millnet/ingest/mesh.hpp"
 
@@ -55,6 +56,9 @@ public:
   [[nodiscard]] const tooling::Cutter& cutter() const;
   /// One query: O(triangles whose grown XY box contains (x, y)).
   [[nodiscard]] CLPoint drop(double x, double y) const;
+  /// The same query started from triangle `hint` (a neighbouring query's contact; −1 for none):
+  /// the same z, found sooner when the hint is the contact or near it.
+  [[nodiscard]] CLPoint drop(double x, double y, std::int32_t hint) const;
   /// Many queries, OpenMP over fixed blocks of 256 points (each block starts its next query from
   /// the previous point's contact triangle), results identical for any thread count.
   [[nodiscard]] std::vector<CLPoint> drop(const std::vector<Eigen::Vector2d>& xy) const;
