@@ -52,13 +52,31 @@ Sampler::Sampler(const ingest::Mesh& mesh, const DropCutter& dropper) : mesh_(me
   top_z_ = mesh.V.col(2).maxCoeff();
 }
 
-Sample Sampler::sample(double x, double y) const {
-  drops_.fetch_add(1, std::memory_order_relaxed);
+std::size_t Sampler::drops() const {
+  std::size_t n = 0;
+  for (const Shard& s : drops_) n += s.n.load(std::memory_order_relaxed);
+  return n;
+}
+
+CLPoint Sampler::drop(double x, double y) const {
+  static std::atomic<std::size_t> threads_seen{0};
+  thread_local const std::size_t shard = threads_seen.fetch_add(1, std::memory_order_relaxed) % kShards;
+  drops_[shard].n.fetch_add(1, std::memory_order_relaxed);
   // The query starts from this thread's previous contact (usually the answer or next to it): a
   // heuristic only — the drop-cutter's answer does not depend on the hint.
   thread_local std::int32_t hint = -1;
   const CLPoint c = dropper_.drop(x, y, hint);
   hint = c.triangle;
+  return c;
+}
+
+double Sampler::z(double x, double y) const {
+  const CLPoint c = drop(x, y);
+  return c.contact == Contact::None || !(c.z > floor_z_) ? floor_z_ : c.z;
+}
+
+Sample Sampler::sample(double x, double y) const {
+  const CLPoint c = drop(x, y);
   Sample s;
   if (c.contact == Contact::None || !(c.z > floor_z_)) {
     s.p = Eigen::Vector3d(x, y, floor_z_);

@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <atomic>
 #include <cstddef>
 #include <vector>
@@ -32,17 +33,26 @@ class Sampler {
 public:
   Sampler(const ingest::Mesh& mesh, const DropCutter& dropper);
   [[nodiscard]] Sample sample(double x, double y) const;
-  [[nodiscard]] double z(double x, double y) const { return sample(x, y).p.z(); }
+  /// sample(x, y).p.z() without the slope.
+  [[nodiscard]] double z(double x, double y) const;
   [[nodiscard]] const tooling::Cutter& cutter() const { return dropper_.cutter(); }
   [[nodiscard]] double floor_z() const { return floor_z_; }
   [[nodiscard]] double top_z() const { return top_z_; }
-  [[nodiscard]] std::size_t drops() const { return drops_.load(); }
+  /// Queries so far (read between parallel sections: the sum of the shards).
+  [[nodiscard]] std::size_t drops() const;
 
 private:
+  [[nodiscard]] CLPoint drop(double x, double y) const;  // counted
   const ingest::Mesh& mesh_;
   const DropCutter& dropper_;
   double floor_z_ = 0, top_z_ = 0;
-  mutable std::atomic<std::size_t> drops_{0};
+  // Counted in shards, one cache line each, a thread always in the same one: one shared counter
+  // next to floor_z_ made every query of one thread evict the line the other was reading.
+  struct alignas(64) Shard {
+    std::atomic<std::size_t> n{0};
+  };
+  static constexpr std::size_t kShards = 16;
+  mutable std::array<Shard, kShards> drops_{};
 };
 
 /// CL heights (floor applied) at the nodes x0 + j·step, y0 + i·step clamped to (x1, y1), rows = y;
