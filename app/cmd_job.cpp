@@ -217,6 +217,11 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   const tooling::Tool ball = reaching(lib, fs_.cutting.tool, finish_depth, "finishing", file, notes);
   fs_.cutting.tool = ball;
   fs_.params.tool = ball.cutter();
+  const job::SimParams sim = sim_params(fs_);
+
+  // A given stock is checked before the minutes of roughing, planning and simulation it would
+  // feed: refused here, naming its file and the place (job_stock.hpp); read again where it is used.
+  if (o.stock) (void)starting_stock(o.stock, {o.mesh, prep, frame}, job::design_surface(part.mesh, frame, sim), sim);
 
   OutputSet files;  // every file of the job, or none (core/output_set.hpp)
   fs::create_directories(out);
@@ -252,7 +257,6 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   // not take what it meets a semi-finishing goes first; a strategy whose cut goes beyond its flutes
   // even then gives way to the next of the ranking (--strategy K: K, or no job).
   const job::Design& design = *pf.design;
-  const job::SimParams sim = sim_params(fs_);
   simulate::ZMap roughed = starting_stock(o.stock, {o.mesh, prep, frame}, design, sim);
   std::vector<job::StepResult> before = job::machine_steps(roughed, design, job::chain_steps(ops), fs_.machine);
   const bool by_rank = o.strategy == "best";

@@ -452,7 +452,7 @@ TEST(CliJob, AJobFromASavedStockMachinesOnlyWhatTheStockStillHolds) {
   EXPECT_NE(bad.err.find("gouged/cavity.zmap"), std::string::npos) << bad.err;
   EXPECT_NE(bad.err.find("mm below the design at X"), std::string::npos) << bad.err;
   EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
-  EXPECT_FALSE(fs::exists(d / "c" / "cavity.job.nc"));
+  EXPECT_FALSE(fs::exists(d / "c")) << "refused before any roughing, planning or simulation";
   // Saved on another grid (0.2 mm cells): refused, naming both grids.
   std::ofstream(d / "coarse.json") << R"({"simulate": {"cell_mm": 0.2}})";
   ASSERT_EQ(run_millnet("simulate --quiet --no-preview --config coarse.json --mesh '" + mesh.string() +
@@ -463,7 +463,7 @@ TEST(CliJob, AJobFromASavedStockMachinesOnlyWhatTheStockStillHolds) {
   const auto other = run_millnet(base + "--stock coarse/cavity.zmap --out e", d);
   EXPECT_EQ(other.code, 1);
   EXPECT_NE(other.err.find("is not this part's"), std::string::npos) << other.err;
-  EXPECT_FALSE(fs::exists(d / "e" / "cavity.job.nc"));
+  EXPECT_FALSE(fs::exists(d / "e"));
 }
 
 // A stock mesh in the part file's coordinates: a box the block's size (footprint + 5 mm, up to the
@@ -492,12 +492,12 @@ TEST(CliJob, AStockMeshTheBlocksSizeIsTheBlockAndOneThatDoesNotHoldThePartIsRefu
   EXPECT_EQ(low.code, 1);
   EXPECT_NE(low.err.find("low.stl"), std::string::npos) << low.err;
   EXPECT_NE(low.err.find("1.000 mm below the design"), std::string::npos) << low.err;
-  EXPECT_FALSE(fs::exists(d / "c" / "cavity.job.nc"));
+  EXPECT_FALSE(fs::exists(d / "c")) << "refused before any roughing, planning or simulation";
   ingest::save_stl_binary(testing_ingest::box(-5, -5, 0, 35, 29, 10), d / "tall.stl");
   const auto tall = run_millnet(base + "--stock tall.stl --out e", d);
   EXPECT_EQ(tall.code, 1);
   EXPECT_NE(tall.err.find("rises 1.000 mm above Z 0"), std::string::npos) << tall.err;
-  EXPECT_FALSE(fs::exists(d / "e" / "cavity.job.nc"));
+  EXPECT_FALSE(fs::exists(d / "e"));
 }
 
 }  // namespace
