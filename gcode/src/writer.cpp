@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -16,9 +17,11 @@
 namespace millnet::gcode {
 
 std::string format_number(double v, int decimals) {
-  std::array<char, 64> buf{};
-  std::snprintf(buf.data(), buf.size(), "%.*f", decimals, v);
-  std::string s(buf.data());
+  // std::to_chars with a precision writes what printf("%.*f") writes (the exact value rounded to
+  // `decimals`), without the locale and format parsing: a finishing program has ~10⁶ numbers.
+  std::array<char, 400> buf{};  // |v| < 1.8e308: ≤ 309 digits before the point
+  const auto r = std::to_chars(buf.data(), buf.data() + buf.size(), v, std::chars_format::fixed, decimals);
+  std::string s(buf.data(), r.ec == std::errc{} ? r.ptr : buf.data());
   if (s.find('.') != std::string::npos) {
     while (!s.empty() && s.back() == '0') s.pop_back();
     if (!s.empty() && s.back() == '.') s.pop_back();

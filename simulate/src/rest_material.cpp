@@ -110,34 +110,35 @@ bool reachable(const GridSpec& spec, const std::vector<double>& design, const to
 // material is the same for every strategy, as SurfaceMetrics says. Blocks are numbered row by
 // row, ⌈nx / k⌉ per row. O(cells), no division per cell.
 std::vector<std::size_t> block_probes(const GridSpec& spec, const std::vector<double>& design,
-                                      const std::vector<double>& above, double tol, std::size_t k) {
+                                      const std::vector<double>& above, double tol, std::size_t k, int nthreads) {
   const std::size_t nx = spec.nx, ny = spec.ny;
   const std::size_t lx = (nx + k - 1) / k, ly = (ny + k - 1) / k;
   std::vector<std::size_t> probe(lx * ly, SIZE_MAX);
   std::vector<std::size_t> probe_d2(lx * ly, SIZE_MAX);
   std::vector<std::uint8_t> left(lx * ly, 0);
   const auto half = static_cast<std::ptrdiff_t>(k - 1);
-  for (std::size_t iy = 0, by = 0, ry = 0; iy < ny; ++iy) {
-    const std::ptrdiff_t dy = 2 * static_cast<std::ptrdiff_t>(ry) - half;
-    for (std::size_t ix = 0, bx = 0, rx = 0; ix < nx; ++ix) {
-      const std::size_t i = iy * nx + ix, b = by * lx + bx;
-      if (above[i] > tol) left[b] = 1;
-      if (!std::isnan(design[i])) {
-        const std::ptrdiff_t dx = 2 * static_cast<std::ptrdiff_t>(rx) - half;
-        const auto d2 = static_cast<std::size_t>(dx * dx + dy * dy);
-        if (d2 < probe_d2[b]) {
-          probe_d2[b] = d2;
-          probe[b] = i;
+  // A row of blocks per iteration (its blocks are its own): the same for any thread count.
+#pragma omp parallel for schedule(dynamic, 4) num_threads(nthreads)
+  for (std::ptrdiff_t bl = 0; bl < static_cast<std::ptrdiff_t>(ly); ++bl) {
+    const auto by = static_cast<std::size_t>(bl);
+    for (std::size_t ry = 0, iy = by * k; ry < k && iy < ny; ++ry, ++iy) {
+      const std::ptrdiff_t dy = 2 * static_cast<std::ptrdiff_t>(ry) - half;
+      for (std::size_t ix = 0, bx = 0, rx = 0; ix < nx; ++ix) {
+        const std::size_t i = iy * nx + ix, b = by * lx + bx;
+        if (above[i] > tol) left[b] = 1;
+        if (!std::isnan(design[i])) {
+          const std::ptrdiff_t dx = 2 * static_cast<std::ptrdiff_t>(rx) - half;
+          const auto d2 = static_cast<std::size_t>(dx * dx + dy * dy);
+          if (d2 < probe_d2[b]) {
+            probe_d2[b] = d2;
+            probe[b] = i;
+          }
+        }
+        if (++rx == k) {
+          rx = 0;
+          ++bx;
         }
       }
-      if (++rx == k) {
-        rx = 0;
-        ++bx;
-      }
-    }
-    if (++ry == k) {
-      ry = 0;
-      ++by;
     }
   }
   for (std::size_t b = 0; b < probe.size(); ++b)  // O(blocks)
@@ -201,13 +202,13 @@ void split_remaining(const ZMap& machined, const std::vector<double>& design, co
   const std::size_t nx = spec.nx, ny = spec.ny, k = opt.reach_every, lx = (nx + k - 1) / k;
   // The rest test runs once per block that holds material left, at its probe; every cell left in the
   // block takes its answer.
-  const std::vector<std::size_t> probe = block_probes(spec, design, above, opt.tolerance_mm, k);
+  const int nthreads = opt.threads > 0 ? opt.threads : std::max(1, omp_get_max_threads());
+  const std::vector<std::size_t> probe = block_probes(spec, design, above, opt.tolerance_mm, k, nthreads);
   std::vector<std::uint8_t> reach(probe.size(), 1);  // 1 = reachable, 0 = rest
   // A block another program on this design already tested keeps its answer (ReachMemo): its probe
   // is the same cell; each iteration writes its own block.
   std::vector<std::uint8_t>* memo =
       opt.reach_memo ? &opt.reach_memo->answers(spec, cutter, k, opt.tolerance_mm) : nullptr;
-  const int nthreads = opt.threads > 0 ? opt.threads : std::max(1, omp_get_max_threads());
   const auto nl = static_cast<std::ptrdiff_t>(reach.size());
 #pragma omp parallel for schedule(dynamic, 64) num_threads(nthreads)
   for (std::ptrdiff_t l = 0; l < nl; ++l) {

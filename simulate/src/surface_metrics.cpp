@@ -5,6 +5,8 @@
 
 #include "millnet/core/error.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -46,45 +48,76 @@ std::size_t measure_deviation(const ZMap& machined, const std::vector<double>& d
   const GridSpec& spec = machined.spec();
   const auto& z = machined.heights();
   const auto& stamps = machined.stamps();
-  double min_e = std::numeric_limits<double>::infinity();
-  double max_e = -std::numeric_limits<double>::infinity();
-  double scallop = -std::numeric_limits<double>::infinity();
-  double min_en = std::numeric_limits<double>::infinity();
-  std::size_t remaining = 0;
-  std::uint32_t first_gouge_stamp = std::numeric_limits<std::uint32_t>::max();
-  std::size_t first_gouge_cell = SIZE_MAX;
-  for (std::size_t i = 0; i < spec.cells(); ++i) {
-    if (std::isnan(design[i])) continue;
-    ++out.surface_cells;
-    const double e = z[i] - design[i];
-    min_e = std::min(min_e, e);
-    max_e = std::max(max_e, e);
-    const double cs = metrics::cos_slope(spec, design, i);
-    const double en_left = (e - opt.allowance_mm) * cs;
-    if (!above.empty()) above[i] = en_left;
-    if (en_left > opt.tolerance_mm) ++remaining;
-    if (stamps[i] != 0) scallop = std::max(scallop, en_left);
-    if (!(e < 0)) continue;
-    const double en = e * cs;
-    if (en < min_en) {
-      min_en = en;
-      out.gouge_cell = i;
-    }
-    if (en < -opt.tolerance_mm && stamps[i] != 0 && stamps[i] < first_gouge_stamp) {
-      first_gouge_stamp = stamps[i];
-      first_gouge_cell = i;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  // Per chunk of cells (fixed, whatever the thread count), combined in chunk order with the same
+  // strict comparisons as one pass in cell order: the first cell wins every tie, so the figures
+  // are those of the serial pass, bit for bit.
+  struct Part {
+    std::size_t surface = 0, remaining = 0;
+    double min_e = kInf, max_e = -kInf, scallop = -kInf, min_en = kInf;
+    std::size_t gouge_cell = SIZE_MAX;
+    std::uint32_t first_stamp = std::numeric_limits<std::uint32_t>::max();
+    std::size_t first_cell = SIZE_MAX;
+  };
+  constexpr std::size_t kChunk = 1 << 16;
+  const std::size_t ncells = spec.cells(), nchunks = (ncells + kChunk - 1) / kChunk;
+  std::vector<Part> parts(nchunks);
+  const int nthreads = opt.threads > 0 ? opt.threads : std::max(1, omp_get_max_threads());
+#pragma omp parallel for schedule(dynamic, 4) num_threads(nthreads)
+  for (std::ptrdiff_t c = 0; c < static_cast<std::ptrdiff_t>(nchunks); ++c) {  // O(cells)
+    Part& pt = parts[static_cast<std::size_t>(c)];
+    const std::size_t i0 = static_cast<std::size_t>(c) * kChunk, i1 = std::min(ncells, i0 + kChunk);
+    for (std::size_t i = i0; i < i1; ++i) {
+      if (std::isnan(design[i])) continue;
+      ++pt.surface;
+      const double e = z[i] - design[i];
+      pt.min_e = std::min(pt.min_e, e);
+      pt.max_e = std::max(pt.max_e, e);
+      const double cs = metrics::cos_slope(spec, design, i);
+      const double en_left = (e - opt.allowance_mm) * cs;
+      if (!above.empty()) above[i] = en_left;
+      if (en_left > opt.tolerance_mm) ++pt.remaining;
+      if (stamps[i] != 0) pt.scallop = std::max(pt.scallop, en_left);
+      if (!(e < 0)) continue;
+      const double en = e * cs;
+      if (en < pt.min_en) {
+        pt.min_en = en;
+        pt.gouge_cell = i;
+      }
+      if (en < -opt.tolerance_mm && stamps[i] != 0 && stamps[i] < pt.first_stamp) {
+        pt.first_stamp = stamps[i];
+        pt.first_cell = i;
+      }
     }
   }
+  Part all;
+  for (const Part& pt : parts) {  // O(chunks), in cell order
+    all.surface += pt.surface;
+    all.remaining += pt.remaining;
+    all.min_e = std::min(all.min_e, pt.min_e);
+    all.max_e = std::max(all.max_e, pt.max_e);
+    all.scallop = std::max(all.scallop, pt.scallop);
+    if (pt.min_en < all.min_en) {
+      all.min_en = pt.min_en;
+      all.gouge_cell = pt.gouge_cell;
+    }
+    if (pt.first_stamp < all.first_stamp) {
+      all.first_stamp = pt.first_stamp;
+      all.first_cell = pt.first_cell;
+    }
+  }
+  out.surface_cells += all.surface;
+  if (all.gouge_cell != SIZE_MAX) out.gouge_cell = all.gouge_cell;
   if (out.surface_cells == 0) throw Error("simulate: the design surface has no cell on the z-map");
-  out.min_e_mm = min_e;
-  out.max_e_mm = max_e;
-  out.max_gouge_mm = std::isfinite(min_en) ? -min_en : 0.0;
-  out.gouged = min_en < -opt.tolerance_mm;
+  out.min_e_mm = all.min_e;
+  out.max_e_mm = all.max_e;
+  out.max_gouge_mm = std::isfinite(all.min_en) ? -all.min_en : 0.0;
+  out.gouged = all.min_en < -opt.tolerance_mm;
   const double cell_area = spec.cell * spec.cell;
-  out.remaining_area_mm2 = static_cast<double>(remaining) * cell_area;
+  out.remaining_area_mm2 = static_cast<double>(all.remaining) * cell_area;
   out.uncut_area_mm2 = out.remaining_area_mm2;
-  out.scallop_max_mm = std::isfinite(scallop) ? std::max(0.0, scallop) : 0;
-  return first_gouge_cell;
+  out.scallop_max_mm = std::isfinite(all.scallop) ? std::max(0.0, all.scallop) : 0;
+  return all.first_cell;
 }
 
 // The moves that cut the deepest gouge and the earliest one; no gouge cell without a gouge.
@@ -98,25 +131,50 @@ void locate_gouges(const ZMap& machined, std::size_t first_gouge_cell, SurfaceMe
 }
 
 // The surface specification's figures (SurfaceMetrics::spec_*): each cell the cutter can reach
-// (not rest) in spec, over the limit or not machined. One serial pass, O(cells): the same for any
-// thread count.
+// (not rest) in spec, over the limit or not machined. O(cells) in fixed chunks combined in order
+// (the first cell wins a tie, as in one pass): the same for any thread count.
 void spec_figures(const ZMap& machined, const std::vector<double>& above, const std::vector<std::uint8_t>& rest,
                   const MetricsOptions& opt, SurfaceMetrics& out) {
   const auto& stamps = machined.stamps();
   out.spec_measured = true;
-  for (std::size_t i = 0; i < above.size(); ++i) {
-    if (std::isnan(above[i]) || (!rest.empty() && rest[i] != 0)) continue;
-    ++out.spec_cells;
-    if (stamps[i] == 0) {
-      ++out.spec_not_machined_cells;
-    } else if (above[i] <= opt.spec_limit_mm) {
-      ++out.in_spec_cells;
-    } else {
-      ++out.over_spec_cells;
-      if (above[i] > out.over_spec_max_mm) {
-        out.over_spec_max_mm = above[i];
-        out.over_spec_cell = i;
+  struct Part {
+    std::size_t cells = 0, not_machined = 0, in_spec = 0, over = 0;
+    double over_max = 0;
+    std::size_t over_cell = SIZE_MAX;
+  };
+  constexpr std::size_t kChunk = 1 << 16;
+  const std::size_t n = above.size(), nchunks = (n + kChunk - 1) / kChunk;
+  std::vector<Part> parts(nchunks);
+  const int nthreads = opt.threads > 0 ? opt.threads : std::max(1, omp_get_max_threads());
+#pragma omp parallel for schedule(dynamic, 4) num_threads(nthreads)
+  for (std::ptrdiff_t c = 0; c < static_cast<std::ptrdiff_t>(nchunks); ++c) {  // O(cells)
+    Part& pt = parts[static_cast<std::size_t>(c)];
+    pt.over_max = out.over_spec_max_mm;
+    const std::size_t i0 = static_cast<std::size_t>(c) * kChunk, i1 = std::min(n, i0 + kChunk);
+    for (std::size_t i = i0; i < i1; ++i) {
+      if (std::isnan(above[i]) || (!rest.empty() && rest[i] != 0)) continue;
+      ++pt.cells;
+      if (stamps[i] == 0) {
+        ++pt.not_machined;
+      } else if (above[i] <= opt.spec_limit_mm) {
+        ++pt.in_spec;
+      } else {
+        ++pt.over;
+        if (above[i] > pt.over_max) {
+          pt.over_max = above[i];
+          pt.over_cell = i;
+        }
       }
+    }
+  }
+  for (const Part& pt : parts) {  // O(chunks), in cell order
+    out.spec_cells += pt.cells;
+    out.spec_not_machined_cells += pt.not_machined;
+    out.in_spec_cells += pt.in_spec;
+    out.over_spec_cells += pt.over;
+    if (pt.over_cell != SIZE_MAX && pt.over_max > out.over_spec_max_mm) {
+      out.over_spec_max_mm = pt.over_max;
+      out.over_spec_cell = pt.over_cell;
     }
   }
   if (out.spec_cells > 0) out.spec_share = static_cast<double>(out.in_spec_cells) / static_cast<double>(out.spec_cells);

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -105,6 +106,32 @@ TEST(GcodeWriter, NumberFormat) {
   EXPECT_EQ(format_number(-1.23456, 4), "-1.2346");
   EXPECT_EQ(format_number(12000, 0), "12000");
   EXPECT_EQ(format_number(1.5, 6), "1.5");
+  EXPECT_EQ(format_number(0.00005, 4), "0.0001");  // 5.000000000000000409e-05: above the tie
+  EXPECT_EQ(format_number(0.125, 2), "0.12");      // an exact tie: to even, as printf
+}
+
+// The number writer (std::to_chars) writes what printf("%.*f") writes, trimmed: random values of
+// every magnitude a program holds, exact ties and their neighbours, at 0–6 decimals.
+TEST(GcodeWriter, NumberFormatIsPrintfs) {
+  std::srand(7);
+  auto printf_trimmed = [](double v, int d) {
+    char buf[400];
+    std::snprintf(buf, sizeof buf, "%.*f", d, v);
+    std::string s(buf);
+    if (s.find('.') != std::string::npos) {
+      while (s.back() == '0') s.pop_back();
+      if (s.back() == '.') s.pop_back();
+    }
+    return s == "-0" ? std::string("0") : s;
+  };
+  for (int k = 0; k < 200000; ++k) {
+    const double mag = std::pow(10.0, std::rand() % 9 - 4);
+    double v = (static_cast<double>(std::rand()) / RAND_MAX - 0.5) * 2 * mag;
+    const int d = k % 7;
+    if (k % 5 == 0) v = std::round(v * std::pow(10.0, d + 1)) / std::pow(10.0, d + 1);  // ties at d + 1
+    if (k % 11 == 0) v = std::nextafter(v, k % 2 == 0 ? 1e9 : -1e9);
+    ASSERT_EQ(format_number(v, d), printf_trimmed(v, d)) << v << " at " << d;
+  }
 }
 
 TEST(GcodeWriter, Errors) {
