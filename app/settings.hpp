@@ -90,7 +90,7 @@ inline constexpr double kRoughStockToLeaveMm = 0.5;
 // ---- finish and simulate (finish, simulate, dataset labels by simulation, run) ----
 
 struct SimSettings {
-  double cell_mm = 0.02;
+  double cell_mm = 0.025;     // the schema's default (/simulate/cell_mm)
   double allowance_mm = 0.1;  ///< finishing stock over the design surface
   double tolerance_mm = 0.002;
   double sampling_length_mm = 0.8;
