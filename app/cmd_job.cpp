@@ -220,8 +220,8 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   const job::SimParams sim = sim_params(fs_);
 
   // A given stock is checked before the minutes of roughing, planning and simulation it would
-  // feed: refused here, naming its file and the place (job_stock.hpp); read again where it is used.
-  if (o.stock) (void)starting_stock(o.stock, {o.mesh, prep, frame}, job::design_surface(part.mesh, frame, sim), sim);
+  // feed (refused naming its file and the place), and the roughing plans from it (job_stock.hpp).
+  rp.stock_top = roughing_stock(o.stock, {o.mesh, prep, frame}, part.mesh, rp, sim);
 
   OutputSet files;  // every file of the job, or none (core/output_set.hpp)
   fs::create_directories(out);
@@ -230,10 +230,14 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   std::optional<rough::Result> own_rough;  // the run's roughing when it ran with this tool
   const bool reuse_rough = reuse != nullptr && reuse->rough != nullptr && mill.id == rough_cutting.tool.id;
   const rough::Result& rough = reuse_rough ? *reuse->rough : own_rough.emplace(rough::rough_mesh(part.mesh, rp));
-  if (rough.machining.status != pocket::PlanStatus::Ok) throw Error(file + ": roughing: " + rough.machining.message);
+  // From a given stock that holds nothing above any level (an earlier job's roughing), no roughing.
+  const bool no_roughing = rp.stock_top && rough.machining.status == pocket::PlanStatus::NothingToCut;
+  if (!no_roughing && rough.machining.status != pocket::PlanStatus::Ok)
+    throw Error(file + ": roughing: " + rough.machining.message);
+  if (no_roughing) notes.push_back("roughing: none, the stock holds no material above any roughing level");
   const tooling::Tool* drill = nullptr;
   job::DrillCut dc;
-  if (job::predrills(rough.machining.program)) {
+  if (!no_roughing && job::predrills(rough.machining.program)) {
     const double hole = -job::deepest_z(rough.machining.program);
     drill = job::drill_for(lib.tools, mill, hole);
     if (drill == nullptr)
@@ -243,7 +247,8 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
                   "helix or ramp");
     dc = drill_cut(*drill, config, o.material, hole);
   }
-  std::vector<job::Operation> ops = job::roughing_operations(rough.machining.program, mill, drill, dc);
+  std::vector<job::Operation> ops =
+      no_roughing ? std::vector<job::Operation>{} : job::roughing_operations(rough.machining.program, mill, drill, dc);
 
   // 4. Finishing: the strategies machined and ranked (their files in DIR/strategies), the chosen one's program.
   info("job: " + stem + ": finishing with " + ball.label() + " (" + std::to_string(fs_.strategies.size()) + " strateg" +
@@ -259,6 +264,8 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   const job::Design& design = *pf.design;
   simulate::ZMap roughed = starting_stock(o.stock, {o.mesh, prep, frame}, design, sim);
   std::vector<job::StepResult> before = job::machine_steps(roughed, design, job::chain_steps(ops), fs_.machine);
+  const job::StepResult met =
+      before.empty() ? job::left_above(roughed, design) : before.back();  // what finishing meets
   const bool by_rank = o.strategy == "best";
   std::vector<job::StrategyOutcome> candidates{chosen_strategy(pf.outcomes, file)};
   if (by_rank) candidates = job::ranked_clean(pf.outcomes, candidates.front());
@@ -290,7 +297,7 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
     const bool last = c + 1 == candidates.size();
     double cut = 0;
     gcode::Point3 at{};
-    if (ball.flute_length_mm > 0 && before.back().max_left_mm > ball.flute_length_mm) {
+    if (ball.flute_length_mm > 0 && met.max_left_mm > ball.flute_length_mm) {
       const job::StepResult st = engagement(roughed);
       cut = st.max_depth_of_cut_mm, at = st.max_cut_at;
     }
@@ -301,8 +308,8 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
            fixed(ball.flute_length_mm, 1) + " mm flutes of " + ball.label() + ": semi-finishing");
       if (!semi && semi_error.empty()) {
         try {
-          semi = semi_finishing_that_fits({part, pf, fs_, ball, mill, before.back(), finish_depth}, roughed, design,
-                                          fs_, config, o.material, lib, file, cut);
+          semi = semi_finishing_that_fits({part, pf, fs_, ball, mill, met, finish_depth}, roughed, design, fs_, config,
+                                          o.material, lib, file, cut);
           semi_stock = roughed;
           semi_result =
               job::machine_steps(*semi_stock, design, {{&semi->op.program, semi->op.tool.cutter()}}, fs_.machine)
@@ -344,9 +351,9 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   ops.push_back({"finishing (" + strategy_name + ")", ball, std::move(finish_program)});
   if (links.raised + links.fed > 0)
     notes.push_back("finishing: " + std::to_string(links.raised) + " links lifted over the stock left before it (" +
-                    fixed(before.back().max_left_mm, 2) + " mm above the design at most, at X" +
-                    fixed(before.back().max_left_at[0], 1) + " Y" + fixed(before.back().max_left_at[1], 1) + "), " +
-                    std::to_string(links.fed) + " approaches finished at the plunge feed");
+                    fixed(met.max_left_mm, 2) + " mm above the design at most, at X" + fixed(met.max_left_at[0], 1) +
+                    " Y" + fixed(met.max_left_at[1], 1) + "), " + std::to_string(links.fed) +
+                    " approaches finished at the plunge feed");
   // 4b. Rest finishing (issue 41): a smaller tool where the finishing leaves rest, its own operation.
   const std::string rest_id = o.rest_tool.value_or(config["finish"]["rest"]["tool"].get<std::string>());
   if (!rest_id.empty()) {

@@ -9,7 +9,9 @@
 #include "millnet/ingest/io/mesh_io.hpp"
 #include "millnet/job/chain.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <filesystem>
 
 namespace millnet::app {
@@ -24,13 +26,18 @@ constexpr double kStockToleranceMm = 0.01;
 /// the part's units and up axis and moved as the part is (its footprint's corner and lowest point
 /// to 0), its top rasterized on the part's grid, each cell the highest of the mesh over it (a
 /// conservative stock: no material missed between raster points; job::stock_from_raster).
-simulate::ZMap stock_from_mesh(const std::string& file, const StockSource& src, const job::Design& design,
-                               const job::SimParams& sim) {
+ingest::Mesh stock_mesh(const std::string& file, const StockSource& src) {
   ingest::PrepareOptions raw = src.prep;
   raw.recentre = false;
   const Eigen::Vector3d shift = ingest::bounds(ingest::load_prepared(src.part_file, raw)).min;
   ingest::Mesh stock = ingest::load_prepared(file, raw);
   stock.V.rowwise() -= shift.transpose();
+  return stock;
+}
+
+simulate::ZMap stock_from_mesh(const std::string& file, const StockSource& src, const job::Design& design,
+                               const job::SimParams& sim) {
+  const ingest::Mesh stock = stock_mesh(file, src);
   const simulate::GridSpec& g = design.grid;
   return job::stock_from_raster(
       ingest::rasterize_top_cells(stock, g.x(0), g.y(0), g.cell, static_cast<int>(g.nx), static_cast<int>(g.ny)),
@@ -61,6 +68,29 @@ simulate::ZMap starting_stock(const std::optional<std::string>& file, const Stoc
                                 " mm above Z 0, the stock top the job's rapids and clearance planes are set from, at " +
                                 where(d.above_at) + ": raise /rough/top_allowance_mm by that much");
   return z;
+}
+
+std::shared_ptr<const ingest::HeightField> roughing_stock(const std::optional<std::string>& file,
+                                                          const StockSource& src, const ingest::Mesh& part,
+                                                          const rough::Params& rp, const job::SimParams& sim) {
+  if (!file) return nullptr;
+  const simulate::ZMap given = starting_stock(file, src, job::design_surface(part, src.frame, sim), sim);
+  // The roughing's slicing raster (rough_mesh: the footprint + the block's margins, raster_mm apart).
+  const ingest::Box3 box = ingest::bounds(part);
+  const std::array<double, 4> m = rp.stock.sides(box.max.x() - box.min.x(), box.max.y() - box.min.y());
+  const double x0 = box.min.x() - m[0], y0 = box.min.y() - m[2], x1 = box.max.x() + m[1], y1 = box.max.y() + m[3];
+  if (fs::path(*file).extension() == ".zmap")  // it covers the part's footprint: the block around it
+    return std::make_shared<const ingest::HeightField>(
+        job::stock_top_field(given, src.frame, x0, y0, x1, y1, rp.raster_mm));
+  // A stock mesh everywhere: its top over each raster point's cell, none where it is not.
+  const int nx = static_cast<int>(std::ceil((x1 - x0) / rp.raster_mm)) + 1;
+  const int ny = static_cast<int>(std::ceil((y1 - y0) / rp.raster_mm)) + 1;
+  ingest::HeightField top = ingest::rasterize_top_cells(stock_mesh(*file, src), x0, y0, rp.raster_mm, nx, ny);
+  const double none = box.min.z() - rp.cut.stock_to_leave - 1.0;  // below every level
+  for (std::size_t k = 0; k < top.z.size(); ++k)                  // O(points)
+    if (top.hit[k] == 0) top.z[k] = none;
+  top.z_min = std::min(top.z_min, none);
+  return std::make_shared<const ingest::HeightField>(std::move(top));
 }
 
 }  // namespace millnet::app

@@ -4,8 +4,10 @@
 #include "millnet/ingest/mesh.hpp"
 #include "millnet/job/finishing.hpp"
 #include "millnet/job/frame.hpp"
+#include "millnet/rough/rough.hpp"
 #include "millnet/simulate/zmap.hpp"
 
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -25,5 +27,15 @@ struct StockSource {
 /// clearance plane is set from) is refused, naming the place (job::stock_departure).
 [[nodiscard]] simulate::ZMap starting_stock(const std::optional<std::string>& file, const StockSource& src,
                                             const job::Design& design, const job::SimParams& sim);
+
+/// A given stock, checked before anything is planned (starting_stock on the part's design surface:
+/// a bad stock is refused before the minutes of roughing, finishing and simulation it would feed),
+/// as the top the roughing plans from (rough::Params::stock_top: its levels clear only where the
+/// stock still holds material), over the roughing's stock rectangle at its raster. Null for the block.
+[[nodiscard]] std::shared_ptr<const ingest::HeightField> roughing_stock(const std::optional<std::string>& file,
+                                                                        const StockSource& src,
+                                                                        const ingest::Mesh& part,
+                                                                        const rough::Params& rp,
+                                                                        const job::SimParams& sim);
 
 }  // namespace millnet::app

@@ -18,6 +18,51 @@ simulate::ZMap block_stock(const Design& design, const SimParams& sim) {
   return simulate::ZMap::flat(design.grid, 0.0, sim.max_bytes());
 }
 
+ingest::HeightField stock_top_field(const simulate::ZMap& stock, const Frame& frame, double x0, double y0, double x1,
+                                    double y1, double step) {
+  if (!(step > 0) || !(x1 >= x0) || !(y1 >= y0)) throw Error("stock: the roughing's raster needs step > 0 over a box");
+  ingest::HeightField f;
+  f.x0 = x0, f.y0 = y0, f.step_x = step, f.step_y = step;
+  f.nx = static_cast<int>(std::ceil((x1 - x0) / step)) + 1;
+  f.ny = static_cast<int>(std::ceil((y1 - y0) / step)) + 1;
+  const auto n = static_cast<std::size_t>(f.nx) * static_cast<std::size_t>(f.ny);
+  f.z.assign(n, frame.stock_top);  // off the stock's grid: the block
+  f.hit.assign(n, 1);
+  const simulate::GridSpec& g = stock.spec();
+  const auto& h = stock.heights();
+  // A point takes the stock's cells only when its square (half a step each way) lies within the
+  // grid; one reaching past the grid keeps the block (material may stand beside the grid).
+  const double gx0 = g.x0, gy0 = g.y0, gx1 = g.x0 + static_cast<double>(g.nx) * g.cell,
+               gy1 = g.y0 + static_cast<double>(g.ny) * g.cell, half = 0.5 * step;
+  auto on_grid = [&](int i, int j) {
+    const double px = x0 + j * step, py = y0 + i * step;
+    return px - half >= gx0 && px + half <= gx1 && py - half >= gy0 && py + half <= gy1;
+  };
+  std::vector<std::uint8_t> seen(n, 0);
+  for (std::size_t iy = 0; iy < g.ny; ++iy)  // O(cells): each cell into the point whose square holds it
+    for (std::size_t ix = 0; ix < g.nx; ++ix) {
+      const double j = std::round((g.x(ix) - x0) / step), i = std::round((g.y(iy) - y0) / step);
+      if (j < 0 || i < 0 || j >= f.nx || i >= f.ny || !on_grid(static_cast<int>(i), static_cast<int>(j))) continue;
+      const std::size_t k = static_cast<std::size_t>(i) * static_cast<std::size_t>(f.nx) + static_cast<std::size_t>(j);
+      const double z = h[iy * g.nx + ix] - frame.z_shift();  // part frame
+      f.z[k] = seen[k] != 0 ? std::max(f.z[k], z) : z;
+      seen[k] = 1;
+    }
+  // A point on the grid whose square holds no cell's centre (a step finer than the cell) takes the
+  // cell it lies in.
+  for (int i = 0; i < f.ny; ++i)  // O(points)
+    for (int j = 0; j < f.nx; ++j) {
+      const std::size_t k = static_cast<std::size_t>(i) * static_cast<std::size_t>(f.nx) + static_cast<std::size_t>(j);
+      if (seen[k] != 0 || !on_grid(i, j)) continue;
+      const auto cx = std::min(g.nx - 1, static_cast<std::size_t>((x0 + j * step - gx0) / g.cell));
+      const auto cy = std::min(g.ny - 1, static_cast<std::size_t>((y0 + i * step - gy0) / g.cell));
+      f.z[k] = h[cy * g.nx + cx] - frame.z_shift();
+    }
+  f.z_min = *std::min_element(f.z.begin(), f.z.end());
+  f.z_max = *std::max_element(f.z.begin(), f.z.end());
+  return f;
+}
+
 simulate::ZMap stock_from_raster(const ingest::HeightField& top, const Design& design, const Frame& frame,
                                  const SimParams& sim) {
   const simulate::GridSpec& g = design.grid;
@@ -43,8 +88,6 @@ StockDeparture stock_departure(const simulate::ZMap& stock, const Design& design
   return d;
 }
 
-namespace {
-
 /// The most stock above the design and where. O(cells).
 void left_above(const simulate::ZMap& stock, const Design& design, StepResult& st) {
   const simulate::GridSpec& g = stock.spec();
@@ -60,6 +103,14 @@ void left_above(const simulate::ZMap& stock, const Design& design, StepResult& s
       }
     }
 }
+
+StepResult left_above(const simulate::ZMap& stock, const Design& design) {
+  StepResult st;
+  left_above(stock, design, st);
+  return st;
+}
+
+namespace {
 
 /// The 3D length of every program item that is a feed move (0 for the rest), from the previous
 /// position (unknown before the first: 0). Arcs: radius × swept angle in XY with their Z travel.

@@ -196,6 +196,39 @@ std::vector<PolyArea> boolean(const std::vector<PolyArea>& a, const std::vector<
 }
 }  // namespace
 
+std::vector<Region> intersect(const Region& region, const std::vector<PolyArea>& keep) {
+  ClipperLib::Paths subject;
+  subject.push_back(to_path(flatten(region.boundary, tol::arc_chord_mm)));
+  if (!ClipperLib::Orientation(subject.back())) ClipperLib::ReversePath(subject.back());
+  for (const Loop& isl : region.islands) {
+    subject.push_back(to_path(flatten(isl, tol::arc_chord_mm)));
+    if (ClipperLib::Orientation(subject.back())) ClipperLib::ReversePath(subject.back());
+  }
+  ClipperLib::Clipper c;
+  c.AddPaths(subject, ClipperLib::ptSubject, true);
+  c.AddPaths(to_paths(keep), ClipperLib::ptClip, true);
+  ClipperLib::PolyTree tree;
+  c.Execute(ClipperLib::ctIntersection, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  std::vector<PolyArea> pieces;
+  collect(tree, pieces);
+  const auto to_loop = [](const std::vector<Vec2>& pts) {
+    Loop l;
+    l.reserve(pts.size());
+    for (const Vec2& v : pts) l.push_back({v.x(), v.y(), 0.0});
+    return l;
+  };
+  std::vector<Region> out;
+  for (const PolyArea& a : pieces) {  // O(pieces)
+    if (a.outer.size() < 3) continue;
+    Region r;
+    r.boundary = to_loop(a.outer);
+    for (const auto& h : a.holes)
+      if (h.size() >= 3) r.islands.push_back(to_loop(h));
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
 std::vector<PolyArea> difference(const std::vector<PolyArea>& a, const std::vector<PolyArea>& b) {
   return boolean(a, b, ClipperLib::ctDifference);
 }

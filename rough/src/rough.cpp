@@ -5,6 +5,7 @@
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/pocket/gcode.hpp"
+#include "millnet/pocket/tolerances.hpp"
 
 #include <Eigen/Geometry>
 
@@ -13,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace millnet::rough {
@@ -65,6 +67,97 @@ void keep_regions_holding(std::vector<pocket::Region>& regions, const std::vecto
   });
 }
 
+/// The given stock less what the finishing is left (Result::stock_left): a point whose stock top
+/// lies within stock_to_leave + kStockSkinMm of the part's highest point within stock_to_leave +
+/// one raster step of it goes below every level. O(points · (r / raster)²).
+ingest::HeightField stock_left(const ingest::HeightField& top, const ingest::HeightField& part, const Params& p,
+                               double below_all, std::vector<double>& near_out) {
+  if (top.nx != part.nx || top.ny != part.ny || top.x0 != part.x0 || top.y0 != part.y0 || top.step_x != part.step_x)
+    throw Error("roughing: the given stock's raster (" + std::to_string(top.nx) + " × " + std::to_string(top.ny) +
+                ") is not the slicing raster (" + std::to_string(part.nx) + " × " + std::to_string(part.ny) + ")");
+  ingest::HeightField left = top;
+  near_out.assign(left.z.size(), below_all);
+  const double r = p.cut.stock_to_leave + p.raster_mm;
+  const int k = static_cast<int>(std::ceil(r / p.raster_mm));
+  const double r2 = (r + 1e-9) * (r + 1e-9);
+#pragma omp parallel for schedule(static)
+  for (int i = 0; i < part.ny; ++i)
+    for (int j = 0; j < part.nx; ++j) {
+      double near = -std::numeric_limits<double>::infinity();  // the part's top within r
+      for (int di = -k; di <= k; ++di)
+        for (int dj = -k; dj <= k; ++dj) {
+          const int ii = i + di, jj = j + dj;
+          if (ii < 0 || jj < 0 || ii >= part.ny || jj >= part.nx) continue;
+          const double dx = dj * p.raster_mm, dy = di * p.raster_mm;
+          if (dx * dx + dy * dy <= r2) near = std::max(near, part.at(ii, jj));
+        }
+      const std::size_t at =
+          static_cast<std::size_t>(i) * static_cast<std::size_t>(part.nx) + static_cast<std::size_t>(j);
+      near_out[at] = near;
+      if (left.z[at] <= near + p.cut.stock_to_leave + kStockSkinMm) left.z[at] = below_all;
+    }
+  left.z_min = std::min(left.z_min, below_all);
+  return left;
+}
+
+/// Where a given stock holds material at a level: its outlines (stock top ≥ z + kStockSkinMm) grown
+/// by the tool's clearance + kStockReachMm (the tool's edge reaches every bit of it), as areas
+/// (outer loops with their holes).
+std::vector<pocket::PolyArea> stock_material(const ingest::HeightField& top, double z_part, const Params& p) {
+  const std::vector<ingest::ContourLoop> loops =
+      ingest::material_contours(top, z_part + kStockSkinMm, p.cut.clearance() + kStockReachMm);
+  std::vector<pocket::PolyArea> out;
+  std::vector<int> area_of(loops.size(), -1);
+  for (std::size_t k = 0; k < loops.size(); ++k)  // outer loops first, then their holes
+    if (!loops[k].hole) {
+      area_of[k] = static_cast<int>(out.size());
+      out.push_back({{loops[k].pts.begin(), loops[k].pts.end()}, {}});
+    }
+  for (const ingest::ContourLoop& l : loops)
+    if (l.hole && l.parent >= 0 && area_of[static_cast<std::size_t>(l.parent)] >= 0)
+      out[static_cast<std::size_t>(area_of[static_cast<std::size_t>(l.parent)])].holes.emplace_back(l.pts.begin(),
+                                                                                                    l.pts.end());
+  return out;
+}
+
+std::vector<const pocket::Loop*> loops_of(const pocket::Region& r) {
+  std::vector<const pocket::Loop*> out{&r.boundary};
+  for (const pocket::Loop& l : r.islands) out.push_back(&l);
+  return out;
+}
+
+/// The level's regions cut to where the stock holds material (Params::stock_top).
+std::vector<pocket::Region> within_stock(const std::vector<pocket::Region>& regions,
+                                         const std::vector<pocket::PolyArea>& material, const Result& res) {
+  std::vector<pocket::Region> out;
+  if (material.empty()) return out;
+  // A piece with no vertex inside the block's outline is the margin ring alone: air.
+  const auto inside_block = [&](const pocket::Region& r) {
+    for (const pocket::Loop* l : loops_of(r))
+      for (const pocket::Vertex& v : *l)
+        if (v.x > res.stock_x0 + 1e-6 && v.x < res.stock_x1 - 1e-6 && v.y > res.stock_y0 + 1e-6 &&
+            v.y < res.stock_y1 - 1e-6)
+          return true;
+    return false;
+  };
+  for (const pocket::Region& r : regions) {  // O(regions · Clipper)
+    std::vector<pocket::Region> pieces = pocket::intersect(r, material);
+    // Wholly within the stock: the region as it was, not its copy on Clipper's integer grid (whose
+    // rounding moves the area by at most the perimeter × the grid).
+    double perimeter = 0;
+    for (const pocket::Loop* l : loops_of(r))
+      for (std::size_t k = 0; k < l->size(); ++k) perimeter += ((*l)[(k + 1) % l->size()].p() - (*l)[k].p()).norm();
+    if (pieces.size() == 1 && std::abs(pocket::area(pieces[0]) - pocket::area(r)) <=
+                                  2 * pocket::tol::clipper_resolution_mm * perimeter + 1e-9) {
+      out.push_back(r);
+      continue;
+    }
+    for (pocket::Region& piece : pieces)
+      if (inside_block(piece)) out.push_back(std::move(piece));
+  }
+  return out;
+}
+
 /// Slices and plans one level (a flat's level: only its regions that hold the flat, when `flat`).
 Level plan_level(const Result& res, const Params& p, const pocket::Loop& stock, double z_part, double top_z,
                  const Flat* flat, std::vector<pocket::LevelPlan>& plans, std::size_t& tool_points) {
@@ -76,6 +169,27 @@ Level plan_level(const Result& res, const Params& p, const pocket::Loop& stock, 
   const auto loops = ingest::material_contours(res.field, lv.z_part - p.cut.stock_to_leave, p.contour_tolerance_mm);
   lv.regions = level_regions(loops, stock, &lv.islands);
   if (flat != nullptr) keep_regions_holding(lv.regions, flat->samples);
+  if (p.stock_top) {
+    // Where the stock holds material, and beyond the block's outline the margin ring the block's
+    // regions have (the tool may pass there as it does around the block).
+    // The stock a tool at this level can reach: not within the stock to leave (+ a raster step) of
+    // the part's section here (its island, grown as the planner keeps the tool off it).
+    ingest::HeightField here = res.stock_left;
+    for (std::size_t k = 0; k < here.z.size(); ++k)  // O(points)
+      if (res.stock_part_near[k] >= lv.z_part - p.cut.stock_to_leave) here.z[k] = here.z_min;
+    std::vector<pocket::PolyArea> keep = stock_material(here, lv.z_part, p);
+    const double c = 2 * p.cut.clearance();
+    if (!keep.empty())
+      keep.push_back({{{res.stock_x0 - c, res.stock_y0 - c},
+                       {res.stock_x1 + c, res.stock_y0 - c},
+                       {res.stock_x1 + c, res.stock_y1 + c},
+                       {res.stock_x0 - c, res.stock_y1 + c}},
+                      {{{res.stock_x0, res.stock_y0},
+                        {res.stock_x0, res.stock_y1},
+                        {res.stock_x1, res.stock_y1},
+                        {res.stock_x1, res.stock_y0}}}});
+    lv.regions = within_stock(lv.regions, keep, res);
+  }
   for (std::size_t ri = 0; ri < lv.regions.size(); ++ri) {
     auto& region = lv.regions[ri];
     try {
@@ -255,6 +369,9 @@ Result rough_mesh(const ingest::Mesh& mesh, const Params& p) {
   const ingest::Box3 box = ingest::bounds(mesh);
   Result res;
   make_stock(mesh, box, p, res);
+  if (p.stock_top)
+    res.stock_left =
+        stock_left(*p.stock_top, res.field, p, box.min.z() - p.cut.stock_to_leave - 1.0, res.stock_part_near);
   const double floor = box.min.z() + p.floor_allowance_mm;
   const double height = res.stock_top_part - floor;
   if (height <= 0) throw Error("nothing to rough: the stock top is not above the floor");

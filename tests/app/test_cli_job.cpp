@@ -487,6 +487,28 @@ TEST(CliJob, AStockMeshTheBlocksSizeIsTheBlockAndOneThatDoesNotHoldThePartIsRefu
     for (const char* k : {"time_kinematic_min", "max_depth_of_cut_mm", "air_cut_share", "left_above_design_mm"})
       EXPECT_EQ(b["operations"][i][k], a["operations"][i][k]) << i << " " << k;
   EXPECT_EQ(b["simulated"], a["simulated"]);
+  // The roughing plans from the stock (issue 38): a block already faced to 8.5 (the part's top 8 +
+  // the 0.5 mm the finishing is left) has nothing for the top level (Z −0.498), so the roughing runs
+  // one level fewer, sooner; a stock that is the part itself leaves the roughing nothing at all: no
+  // drilling, no roughing, said so.
+  ingest::save_stl_binary(testing_ingest::box(-5, -5, 0, 35, 29, 8.5), d / "faced.stl");
+  const auto faced = run_millnet(base + "--stock faced.stl --out f", d);
+  ASSERT_EQ(faced.code, 0) << faced.err;
+  const Json fj = Json::parse(slurp(d / "f" / "cavity.job.json"));
+  ASSERT_EQ(fj["operations"][1]["name"], "roughing");
+  EXPECT_LT(fj["operations"][1]["time_kinematic_min"].get<double>(),
+            a["operations"][1]["time_kinematic_min"].get<double>() - 0.05);
+  EXPECT_NE(slurp(d / "a" / "cavity.op2.roughing.nc").find("Z-0.498"), std::string::npos);
+  EXPECT_EQ(slurp(d / "f" / "cavity.op2.roughing.nc").find("Z-0.498"), std::string::npos);
+  const auto itself = run_millnet(base + "--stock '" + mesh.string() + "' --out g", d);
+  ASSERT_EQ(itself.code, 0) << itself.err;
+  const Json gj = Json::parse(slurp(d / "g" / "cavity.job.json"));
+  for (const Json& op : gj["operations"]) {
+    EXPECT_NE(op["name"], "roughing");
+    EXPECT_NE(op["name"], "drilling");
+  }
+  EXPECT_NE(gj["notes"].dump().find("roughing: none, the stock holds no material above any roughing level"),
+            std::string::npos);
   ingest::save_stl_binary(testing_ingest::box(-5, -5, 0, 35, 29, 7), d / "low.stl");
   const auto low = run_millnet(base + "--stock low.stl --out c", d);
   EXPECT_EQ(low.code, 1);

@@ -248,3 +248,26 @@ TEST(PocketGeometry, HundredThousandVerticesValidateFast) {
     EXPECT_NE(std::string(e.what()).find("self-intersection between segment 999"), std::string::npos) << e.what();
   }
 }
+
+// intersect (issue 38: a roughing level cut to the stock): a 10 × 10 square with a 2 × 2 island at
+// its centre, by hand: kept inside x ≤ 4, the left 4 × 10 part (40 mm²) without the island; inside
+// x ≤ 5, the 5 × 10 part less the island's 1 × 2 half left of x = 5 (48 mm², one piece, the island
+// opened into its edge); inside two bands apart, two pieces of 2 × 10; kept nowhere, none.
+TEST(Region, IntersectKeepsThePartInsideWithHandComputedAreas) {
+  Region sq;
+  sq.boundary = {{0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0}};
+  sq.islands = {{{4, 4, 0}, {4, 6, 0}, {6, 6, 0}, {6, 4, 0}}};
+  auto band = [](double x0, double x1) { return PolyArea{{{x0, -10}, {x1, -10}, {x1, 20}, {x0, 20}}, {}}; };
+  const auto left = intersect(sq, {band(-16, 4)});
+  ASSERT_EQ(left.size(), 1U);
+  EXPECT_NEAR(area(left[0]), 40.0, 1e-3);
+  EXPECT_TRUE(left[0].islands.empty());
+  const auto six = intersect(sq, {band(-16, 5)});
+  ASSERT_EQ(six.size(), 1U);
+  EXPECT_NEAR(area(six[0]), 50.0 - 2.0, 1e-3);  // the island's 1 × 2 left half is cut out of the edge
+  const auto two = intersect(sq, {band(1, 3), band(7, 9)});
+  ASSERT_EQ(two.size(), 2U);
+  EXPECT_NEAR(area(two[0]) + area(two[1]), 40.0, 1e-3);
+  for (const Region& r : two) EXPECT_GT(signed_area(r.boundary), 0) << "boundaries counter-clockwise";
+  EXPECT_TRUE(intersect(sq, {band(20, 30)}).empty());
+}

@@ -83,6 +83,14 @@ struct ChainResult {
 [[nodiscard]] simulate::ZMap stock_from_raster(const ingest::HeightField& top, const Design& design, const Frame& frame,
                                                const SimParams& sim);
 
+/// A given stock's top for the roughing to plan from (rough::Params::stock_top): raster points
+/// x0 + j·step, y0 + i·step up to x1, y1 (part frame), each the highest of the stock's cells within
+/// half a step of it (no material missed between points), part heights; a point off the stock's
+/// grid keeps the block's top (frame.stock_top: the z-map covers the part's footprint, not the
+/// stock's margin). O(cells + points).
+[[nodiscard]] ingest::HeightField stock_top_field(const simulate::ZMap& stock, const Frame& frame, double x0, double y0,
+                                                  double x1, double y1, double step);
+
 /// How far a given stock departs from one a job can start from: the most it lies below the design
 /// (it does not hold the part there) and the most it rises above Z 0 (the stock top the rapids and
 /// clearance planes are set from), each with its cell's centre (XY, part frame). O(cells).
@@ -91,6 +99,11 @@ struct StockDeparture {
   std::array<double, 2> below_at{}, above_at{};
 };
 [[nodiscard]] StockDeparture stock_departure(const simulate::ZMap& stock, const Design& design);
+
+/// The most a stock stands above the design, and where (StepResult::max_left_mm, max_left_at; the
+/// rest zero): what an operation meets when nothing was machined before it. O(cells).
+void left_above(const simulate::ZMap& stock, const Design& design, StepResult& st);
+[[nodiscard]] StepResult left_above(const simulate::ZMap& stock, const Design& design);
 
 /// Machines the steps in order on `stock` (left machined), each measured: its lengths and times,
 /// its deepest cut and where, its cutting rapids and the stock it leaves above the design.

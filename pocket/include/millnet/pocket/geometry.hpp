@@ -71,6 +71,12 @@ struct Arc {
 /// Area of the region (boundary minus islands), mm².
 [[nodiscard]] double area(const Region& region);
 
+/// The part of `region` that lies inside `keep` (Clipper intersection, non-zero fill; arcs
+/// flattened within tol::arc_chord_mm, coordinates on tol::clipper_resolution_mm): one region per
+/// connected piece, its boundary counter-clockwise and its islands clockwise, straight segments.
+/// Empty when they do not overlap. O((n + m) log(n + m)) for n + m vertices.
+[[nodiscard]] std::vector<Region> intersect(const Region& region, const std::vector<PolyArea>& keep);
+
 /// What validate_and_normalize() changed (never silently).
 struct NormalizeReport {
   std::vector<std::string> notes;  ///< e.g. "boundary was clockwise: reversed"

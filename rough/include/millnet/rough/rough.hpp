@@ -49,6 +49,7 @@
 
 #include <limits>
 #include <string>
+#include <memory>
 #include <vector>
 
 namespace millnet::rough {
@@ -75,7 +76,21 @@ struct Params {
   /// Budgets of the slicing raster (ingest::raster_work over the stock) and of every region's plan
   /// (pocket::check_work), checked before each is allocated (issue 12).
   WorkLimits limits;
+  /// The stock to rough when it is not the block (issue 38: an earlier job's roughing, a casting):
+  /// its top at the slicing raster's points (Result::field's: the footprint + the block's margins
+  /// from its lower-left corner, raster_mm apart), part frame. Only what the roughing may take
+  /// counts (Result::stock_left); a level clears only where that stands more than kStockSkinMm above
+  /// it: its regions are cut to its outline there, grown by the tool's clearance + kStockReachMm (so
+  /// that the tool's edge reaches every bit of it), with the margin ring the block's regions have
+  /// beyond the block's outline (a stock as full as the block plans the block's levels). Null: the block.
+  std::shared_ptr<const ingest::HeightField> stock_top;
 };
+
+/// Stock thinner than this above a level is no material for the level (a floor an earlier roughing
+/// left at the same height), mm.
+inline constexpr double kStockSkinMm = 0.01;
+/// The stock's outline at a level is grown by the tool's clearance and this, mm.
+inline constexpr double kStockReachMm = 0.5;
 
 /// A flat level sits this far above its flat + stock_to_leave (the slicing's material test is
 /// "height ≥ level − stock_to_leave": the flat itself must fall below it), mm.
@@ -115,6 +130,13 @@ struct Result {
   double stock_x0 = 0, stock_y0 = 0, stock_x1 = 0, stock_y1 = 0;  ///< stock rectangle, mm
   double part_x0 = 0, part_y0 = 0, part_x1 = 0, part_y1 = 0;      ///< the part's footprint inside it, mm
   ingest::HeightField field;                                      ///< the slicing height field (part frame)
+  /// With Params::stock_top: the stock the roughing may take — its top, but below every level where
+  /// it lies within the stock to leave + kStockSkinMm of the part's top anywhere within the stock to
+  /// leave + one raster step (what the finishing is left, on floors and along walls). Empty otherwise.
+  ingest::HeightField stock_left;
+  /// With Params::stock_top: per slicing point the part's highest point within the stock to leave +
+  /// one raster step (a level's stock within its island, so grown, is the finishing's, not the roughing's).
+  std::vector<double> stock_part_near;
   std::vector<Level> levels;
   pocket::MachiningResult machining;  ///< program over all levels
   double planning_time_s = 0;
