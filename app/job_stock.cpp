@@ -87,9 +87,7 @@ std::shared_ptr<const ingest::HeightField> roughing_stock(const std::optional<st
   const int ny = static_cast<int>(std::ceil((y1 - y0) / rp.raster_mm)) + 1;
   ingest::HeightField top = ingest::rasterize_top_cells(stock_mesh(*file, src), x0, y0, rp.raster_mm, nx, ny);
   const double none = box.min.z() - rp.cut.stock_to_leave - 1.0;  // below every level
-  for (std::size_t k = 0; k < top.z.size(); ++k)                  // O(points)
-    if (top.hit[k] == 0) top.z[k] = none;
-  top.z_min = std::min(top.z_min, none);
+  job::uncovered_to(top, none);
   return std::make_shared<const ingest::HeightField>(std::move(top));
 }
 

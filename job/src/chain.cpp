@@ -63,6 +63,12 @@ ingest::HeightField stock_top_field(const simulate::ZMap& stock, const Frame& fr
   return f;
 }
 
+void uncovered_to(ingest::HeightField& top, double none) {
+  for (std::size_t k = 0; k < top.z.size(); ++k)  // O(points)
+    if (top.hit[k] == 0) top.z[k] = none;
+  top.z_min = std::min(top.z_min, none);
+}
+
 simulate::ZMap stock_from_raster(const ingest::HeightField& top, const Design& design, const Frame& frame,
                                  const SimParams& sim) {
   const simulate::GridSpec& g = design.grid;

@@ -91,6 +91,10 @@ struct ChainResult {
 [[nodiscard]] ingest::HeightField stock_top_field(const simulate::ZMap& stock, const Frame& frame, double x0, double y0,
                                                   double x1, double y1, double step);
 
+/// A stock mesh's raster as a stock top: each point the mesh does not cover (hit 0) set to `none`
+/// (below every level: no material there). O(points).
+void uncovered_to(ingest::HeightField& top, double none);
+
 /// How far a given stock departs from one a job can start from: the most it lies below the design
 /// (it does not hold the part there) and the most it rises above Z 0 (the stock top the rapids and
 /// clearance planes are set from), each with its cell's centre (XY, part frame). O(cells).
