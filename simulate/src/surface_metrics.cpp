@@ -33,6 +33,22 @@ void check_inputs(const GridSpec& spec, const std::vector<double>& design, const
   if (opt.reach_every < 1) throw Error("simulate: the rest-material block size must be >= 1 cell");
 }
 
+// One Part per fixed chunk of n cells (the same chunks for any thread count), each filled by
+// body(part, i0, i1) on `nthreads` threads, returned in cell order: the caller combines them in that
+// order with the comparisons a single pass would make, so the figures are the serial pass's.
+template <class Part, class Body>
+std::vector<Part> in_chunks(std::size_t n, int nthreads, const Part& init, Body body) {
+  constexpr std::size_t kChunk = 1 << 16;
+  const std::size_t nchunks = (n + kChunk - 1) / kChunk;
+  std::vector<Part> parts(nchunks, init);
+#pragma omp parallel for schedule(dynamic, 4) num_threads(nthreads)
+  for (std::ptrdiff_t c = 0; c < static_cast<std::ptrdiff_t>(nchunks); ++c) {  // O(n)
+    const std::size_t i0 = static_cast<std::size_t>(c) * kChunk;
+    body(parts[static_cast<std::size_t>(c)], i0, std::min(n, i0 + kChunk));
+  }
+  return parts;
+}
+
 // Deviation, gouge and remaining material over the surface cells, in one pass: fills the surface
 // cell count, min/max e, the deepest gouge (its cell), the remaining area (all of it uncut until
 // split_remaining splits it) and the scallop without a cutter; `above` (when not empty) takes
@@ -59,37 +75,32 @@ std::size_t measure_deviation(const ZMap& machined, const std::vector<double>& d
     std::uint32_t first_stamp = std::numeric_limits<std::uint32_t>::max();
     std::size_t first_cell = SIZE_MAX;
   };
-  constexpr std::size_t kChunk = 1 << 16;
-  const std::size_t ncells = spec.cells(), nchunks = (ncells + kChunk - 1) / kChunk;
-  std::vector<Part> parts(nchunks);
   const int nthreads = opt.threads > 0 ? opt.threads : std::max(1, omp_get_max_threads());
-#pragma omp parallel for schedule(dynamic, 4) num_threads(nthreads)
-  for (std::ptrdiff_t c = 0; c < static_cast<std::ptrdiff_t>(nchunks); ++c) {  // O(cells)
-    Part& pt = parts[static_cast<std::size_t>(c)];
-    const std::size_t i0 = static_cast<std::size_t>(c) * kChunk, i1 = std::min(ncells, i0 + kChunk);
-    for (std::size_t i = i0; i < i1; ++i) {
-      if (std::isnan(design[i])) continue;
-      ++pt.surface;
-      const double e = z[i] - design[i];
-      pt.min_e = std::min(pt.min_e, e);
-      pt.max_e = std::max(pt.max_e, e);
-      const double cs = metrics::cos_slope(spec, design, i);
-      const double en_left = (e - opt.allowance_mm) * cs;
-      if (!above.empty()) above[i] = en_left;
-      if (en_left > opt.tolerance_mm) ++pt.remaining;
-      if (stamps[i] != 0) pt.scallop = std::max(pt.scallop, en_left);
-      if (!(e < 0)) continue;
-      const double en = e * cs;
-      if (en < pt.min_en) {
-        pt.min_en = en;
-        pt.gouge_cell = i;
-      }
-      if (en < -opt.tolerance_mm && stamps[i] != 0 && stamps[i] < pt.first_stamp) {
-        pt.first_stamp = stamps[i];
-        pt.first_cell = i;
-      }
-    }
-  }
+  const std::vector<Part> parts =
+      in_chunks(spec.cells(), nthreads, Part{}, [&](Part& pt, std::size_t i0, std::size_t i1) {
+        for (std::size_t i = i0; i < i1; ++i) {
+          if (std::isnan(design[i])) continue;
+          ++pt.surface;
+          const double e = z[i] - design[i];
+          pt.min_e = std::min(pt.min_e, e);
+          pt.max_e = std::max(pt.max_e, e);
+          const double cs = metrics::cos_slope(spec, design, i);
+          const double en_left = (e - opt.allowance_mm) * cs;
+          if (!above.empty()) above[i] = en_left;
+          if (en_left > opt.tolerance_mm) ++pt.remaining;
+          if (stamps[i] != 0) pt.scallop = std::max(pt.scallop, en_left);
+          if (!(e < 0)) continue;
+          const double en = e * cs;
+          if (en < pt.min_en) {
+            pt.min_en = en;
+            pt.gouge_cell = i;
+          }
+          if (en < -opt.tolerance_mm && stamps[i] != 0 && stamps[i] < pt.first_stamp) {
+            pt.first_stamp = stamps[i];
+            pt.first_cell = i;
+          }
+        }
+      });
   Part all;
   for (const Part& pt : parts) {  // O(chunks), in cell order
     all.surface += pt.surface;
@@ -142,31 +153,27 @@ void spec_figures(const ZMap& machined, const std::vector<double>& above, const 
     double over_max = 0;
     std::size_t over_cell = SIZE_MAX;
   };
-  constexpr std::size_t kChunk = 1 << 16;
-  const std::size_t n = above.size(), nchunks = (n + kChunk - 1) / kChunk;
-  std::vector<Part> parts(nchunks);
   const int nthreads = opt.threads > 0 ? opt.threads : std::max(1, omp_get_max_threads());
-#pragma omp parallel for schedule(dynamic, 4) num_threads(nthreads)
-  for (std::ptrdiff_t c = 0; c < static_cast<std::ptrdiff_t>(nchunks); ++c) {  // O(cells)
-    Part& pt = parts[static_cast<std::size_t>(c)];
-    pt.over_max = out.over_spec_max_mm;
-    const std::size_t i0 = static_cast<std::size_t>(c) * kChunk, i1 = std::min(n, i0 + kChunk);
-    for (std::size_t i = i0; i < i1; ++i) {
-      if (std::isnan(above[i]) || (!rest.empty() && rest[i] != 0)) continue;
-      ++pt.cells;
-      if (stamps[i] == 0) {
-        ++pt.not_machined;
-      } else if (above[i] <= opt.spec_limit_mm) {
-        ++pt.in_spec;
-      } else {
-        ++pt.over;
-        if (above[i] > pt.over_max) {
-          pt.over_max = above[i];
-          pt.over_cell = i;
+  Part init;
+  init.over_max = out.over_spec_max_mm;
+  const std::vector<Part> parts =
+      in_chunks(above.size(), nthreads, init, [&](Part& pt, std::size_t i0, std::size_t i1) {
+        for (std::size_t i = i0; i < i1; ++i) {
+          if (std::isnan(above[i]) || (!rest.empty() && rest[i] != 0)) continue;
+          ++pt.cells;
+          if (stamps[i] == 0) {
+            ++pt.not_machined;
+          } else if (above[i] <= opt.spec_limit_mm) {
+            ++pt.in_spec;
+          } else {
+            ++pt.over;
+            if (above[i] > pt.over_max) {
+              pt.over_max = above[i];
+              pt.over_cell = i;
+            }
+          }
         }
-      }
-    }
-  }
+      });
   for (const Part& pt : parts) {  // O(chunks), in cell order
     out.spec_cells += pt.cells;
     out.spec_not_machined_cells += pt.not_machined;
