@@ -3,9 +3,12 @@
 #include "learn.hpp"
 
 #include "millnet/core/error.hpp"
+#include "millnet/datasets/shop_parts.hpp"
+#include "millnet/report/plots.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <iostream>
 
 namespace millnet::app {
@@ -18,6 +21,7 @@ struct DatasetOpts {
   std::string out;
   bool agreement = false;
   bool relabel = false;
+  bool gallery = false;
 };
 
 struct TrainOpts {
@@ -32,9 +36,32 @@ struct PredictOpts {
   std::vector<std::string> parts;
 };
 
+/// OUT/library.png: the first two parts of every family of the generated library, as reliefs.
+void write_gallery(const datasets::GenerateParams& params, const fs::path& png) {
+  std::vector<report::ReliefTile> tiles;
+  for (const datasets::GalleryPart& p : datasets::library_gallery(params, 2)) {
+    const Eigen::MatrixXd z = datasets::top_heights(p.part);
+    char size[64];
+    std::snprintf(size, sizeof size, " %.0f x %.0f mm, relief %.0f mm", p.part.a, p.part.b,
+                  z.maxCoeff() - z.minCoeff());
+    tiles.push_back({z, p.part.a, p.part.b, p.part.kind + size});
+  }
+  fs::create_directories(png.parent_path());
+  const bool shop = params.library == datasets::Library::Shop;
+  report::relief_sheet_png(png, tiles,
+                           std::string(shop ? "the tool-shop library" : "the five textbook families") + " (seed " +
+                               std::to_string(params.seed) + "): the first two parts of every family",
+                           4);
+  info("dataset: " + std::to_string(tiles.size()) + " parts → " + png.string());
+}
+
 /// millnet dataset: the config's recipe → vectors.csv + manifest.json (always rebuilt).
 int run_dataset(const DatasetOpts& o) {
   const Json config = setup(o.common);
+  if (o.gallery) {
+    write_gallery(generate_params(config), fs::path(o.out) / "library.png");
+    return 0;
+  }
   datasets::Recipe recipe = recipe_from_config(config);
   recipe.relabel = o.relabel;
   (void)build_dataset(std::move(recipe), o.out, false, config, o.agreement);
@@ -95,6 +122,9 @@ Registered register_dataset(CLI::App& app) {
   sub->add_flag("--relabel", o->relabel,
                 "simulate every part labelled by simulation, whatever /dataset/labels holds (the new labels "
                 "go to OUT/labels.json)");
+  sub->add_flag("--gallery", o->gallery,
+                "only write OUT/library.png: shaded reliefs of the first two parts of every family of the "
+                "generated library (/dataset/generate), no table");
   add_common(sub, o->common);
   sub->get_option("--config")->required();
   return {sub, [o]() { return run_dataset(*o); }};

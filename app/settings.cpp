@@ -600,6 +600,18 @@ FinishSettings finish_settings(const Json& config, const FinishToolFlags& flags)
   return s;
 }
 
+datasets::GenerateParams generate_params(const Json& config) {
+  const Json& gen = config["dataset"]["generate"];
+  datasets::GenerateParams g;
+  g.seed = gen["seed"].get<std::uint64_t>();
+  g.per_family = gen["per_family"].get<int>();
+  g.resolution = gen["resolution"].get<int>();
+  g.library = gen["library"].get<std::string>() == "shop" ? datasets::Library::Shop : datasets::Library::Families;
+  g.count = gen["count"].get<int>();
+  g.spacing_mm = gen["spacing_mm"].get<double>();
+  return g;
+}
+
 datasets::Recipe recipe_from_config(const Json& config) {
   const Json& d = config["dataset"];
   datasets::Recipe r;
@@ -618,15 +630,20 @@ datasets::Recipe recipe_from_config(const Json& config) {
                 std::to_string(names.size()));
   std::copy(names.begin(), names.end(), r.strategies.begin());
   if (d["parts"].empty()) {
-    datasets::GenerateParams g;
-    g.seed = d["generate"]["seed"].get<std::uint64_t>();
-    g.per_family = d["generate"]["per_family"].get<int>();
-    g.resolution = d["generate"]["resolution"].get<int>();
+    const Json& gen = d["generate"];
+    const datasets::GenerateParams g = generate_params(config);
+    const bool shop = g.library == datasets::Library::Shop;
+    if (shop && gen["label"].get<std::string>() != "simulate")
+      throw Error(
+          "/dataset/generate/label: the shop library's parts have no family label; expected \"simulate\", got \"" +
+          gen["label"].get<std::string>() + "\"");
     const fs::path dir = d["parts_dir"].get<std::string>();
-    info("dataset: generating the default training parts (" + std::to_string(g.per_family) + " per family, seed " +
-         std::to_string(g.seed) + ") into " + dir.string());
-    r.parts = datasets::to_part_specs(datasets::generate_default_parts(dir, g));
-    if (d["generate"]["label"].get<std::string>() == "simulate")
+    info(shop ? "dataset: generating the tool-shop library (" + std::to_string(g.count) + " parts, seed " +
+                    std::to_string(g.seed) + ") into " + dir.string()
+              : "dataset: generating the default training parts (" + std::to_string(g.per_family) +
+                    " per family, seed " + std::to_string(g.seed) + ") into " + dir.string());
+    r.parts = datasets::to_part_specs(datasets::generate_library(dir, g));
+    if (gen["label"].get<std::string>() == "simulate")
       for (datasets::PartSpec& p : r.parts) p.label_by_simulation = true;
     r.generate = g;
   } else {

@@ -208,6 +208,8 @@ void rest_tool_settings(FinishSettings& s, const std::string& text, const Json& 
 /// The dataset recipe of a checked config; generates the default training parts into
 /// dataset.parts_dir when dataset.parts is empty (deterministic: same seed ⇒ same bytes).
 [[nodiscard]] datasets::Recipe recipe_from_config(const Json& config);
+/// /dataset/generate as the generator's parameters (the library, its seed and sizes).
+[[nodiscard]] datasets::GenerateParams generate_params(const Json& config);
 
 /// /train → the classifier's training parameters (the progress callback is the caller's).
 [[nodiscard]] classifier::TrainParams train_params(const Json& config);

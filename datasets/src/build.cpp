@@ -64,7 +64,11 @@ std::string recipe_json(const Recipe& r) {
   j += std::string("], \"flip\": ") + (r.augment.flip ? "true" : "false") + "}, \"strategies\": [";
   for (std::size_t k = 0; k < kStrategySlots; ++k) j += (k ? ", " : "") + json_string(r.strategies[k]);
   j += std::string("], \"aspect_feature\": ") + (r.aspect_feature ? "true" : "false");
-  if (r.generate)
+  if (r.generate && r.generate->library == Library::Shop)
+    j += ", \"generate\": {\"library\": \"shop\", \"seed\": " + std::to_string(r.generate->seed) +
+         ", \"count\": " + std::to_string(r.generate->count) +
+         ", \"spacing_mm\": " + json_number(r.generate->spacing_mm, "generate.spacing_mm") + "}";
+  else if (r.generate)
     j += ", \"generate\": {\"seed\": " + std::to_string(r.generate->seed) +
          ", \"per_family\": " + std::to_string(r.generate->per_family) +
          ", \"resolution\": " + std::to_string(r.generate->resolution) + "}";

@@ -1,8 +1,11 @@
 #include "millnet/datasets/generator.hpp"
 
+#include "height_solid.hpp"
+
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 #include "millnet/datasets/rng.hpp"
+#include "millnet/datasets/shop_parts.hpp"
 #include "millnet/datasets/tolerances.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
 
@@ -39,74 +42,10 @@ double gauss(double dx, double dy, double sigma) { return std::exp(-(dx * dx + d
 // Wall run of a wall of height h with draft angle `draft_deg` from the vertical.
 double wall_run(double h, double draft_deg) { return h * std::tan(draft_deg * kDeg); }
 
-using HeightFn = std::function<double(double, double)>;
+using HeightFn = detail::HeightFn;
 
-// Closed height-field solid over [0,a]×[0,b]: top grid (res×res, row-major, row = y), a ring of
-// bottom vertices under the top's boundary, vertical sides, bottom fan at z = 0. Outward normals.
-// The top is shifted so that its lowest point is at z = plinth. O(res²).
 GeneratedMesh solid(double a, double b, int res, double plinth, const HeightFn& f) {
-  GeneratedMesh g;
-  g.res_x = g.res_y = res;
-  g.a = a;
-  g.b = b;
-  const auto R = static_cast<std::size_t>(res);
-  std::vector<double> z(R * R);
-  double zmin = HUGE_VAL;
-  for (std::size_t i = 0; i < R; ++i)
-    for (std::size_t j = 0; j < R; ++j) {
-      const double x = a * static_cast<double>(j) / static_cast<double>(res - 1);
-      const double y = b * static_cast<double>(i) / static_cast<double>(res - 1);
-      z[i * R + j] = f(x, y);
-      zmin = std::min(zmin, z[i * R + j]);
-    }
-  // Boundary ring, counter-clockwise seen from +z: y = 0 (x up), x = a (y up), y = b (x down), x = 0.
-  std::vector<std::size_t> ring;
-  for (std::size_t j = 0; j + 1 < R; ++j) ring.push_back(j);
-  for (std::size_t i = 0; i + 1 < R; ++i) ring.push_back(i * R + R - 1);
-  for (std::size_t j = R - 1; j > 0; --j) ring.push_back((R - 1) * R + j);
-  for (std::size_t i = R - 1; i > 0; --i) ring.push_back(i * R);
-  const std::size_t nv = R * R + ring.size() + 1;
-  const std::size_t nf = 2 * (R - 1) * (R - 1) + 3 * ring.size();
-  g.mesh.V.resize(static_cast<Eigen::Index>(nv), 3);
-  g.mesh.F.resize(static_cast<Eigen::Index>(nf), 3);
-  auto setv = [&](std::size_t k, double x, double y, double zz) {
-    const auto e = static_cast<Eigen::Index>(k);
-    g.mesh.V(e, 0) = x;
-    g.mesh.V(e, 1) = y;
-    g.mesh.V(e, 2) = zz;
-  };
-  for (std::size_t i = 0; i < R; ++i)
-    for (std::size_t j = 0; j < R; ++j)
-      setv(i * R + j, a * static_cast<double>(j) / static_cast<double>(res - 1),
-           b * static_cast<double>(i) / static_cast<double>(res - 1), plinth + z[i * R + j] - zmin);
-  for (std::size_t k = 0; k < ring.size(); ++k) {
-    const auto e = static_cast<Eigen::Index>(ring[k]);
-    setv(R * R + k, g.mesh.V(e, 0), g.mesh.V(e, 1), 0.0);
-  }
-  const std::size_t centre = nv - 1;
-  setv(centre, a / 2, b / 2, 0.0);
-  std::size_t f_at = 0;
-  auto tri = [&](std::size_t p, std::size_t q, std::size_t r) {
-    const auto e = static_cast<Eigen::Index>(f_at++);
-    g.mesh.F(e, 0) = static_cast<std::int32_t>(p);
-    g.mesh.F(e, 1) = static_cast<std::int32_t>(q);
-    g.mesh.F(e, 2) = static_cast<std::int32_t>(r);
-  };
-  for (std::size_t i = 0; i + 1 < R; ++i)
-    for (std::size_t j = 0; j + 1 < R; ++j) {
-      const std::size_t v00 = i * R + j, v01 = v00 + 1, v10 = v00 + R, v11 = v10 + 1;
-      tri(v00, v01, v11);
-      tri(v00, v11, v10);
-    }
-  for (std::size_t k = 0; k < ring.size(); ++k) {
-    const std::size_t k1 = (k + 1) % ring.size();
-    const std::size_t t0 = ring[k], t1 = ring[k1], b0 = R * R + k, b1 = R * R + k1;
-    tri(b0, b1, t1);
-    tri(b0, t1, t0);
-    tri(centre, b1, b0);
-  }
-  MILLNET_ASSERT(f_at == nf, "generated face count");
-  return g;
+  return detail::height_field_solid(a, b, res, res, plinth, f);
 }
 
 // ---- the five families (parameters in mm and degrees; ranges are the README's) ----
@@ -287,6 +226,38 @@ std::vector<GeneratedPart> generate_default_parts(const fs::path& dir, const Gen
     }
   write_file_atomic(dir / "parts.csv", list);
   return parts;
+}
+
+std::vector<GeneratedPart> generate_library(const fs::path& dir, const GenerateParams& params) {
+  if (params.library == Library::Shop) return generate_shop_parts(dir, params.seed, params.count, params.spacing_mm);
+  return generate_default_parts(dir, params);
+}
+
+Eigen::MatrixXd top_heights(const GeneratedMesh& g) {
+  Eigen::MatrixXd z(g.res_y, g.res_x);
+  for (Eigen::Index i = 0; i < g.res_y; ++i)  // O(res_x · res_y)
+    for (Eigen::Index j = 0; j < g.res_x; ++j) z(i, j) = g.mesh.V(i * g.res_x + j, 2);
+  return z;
+}
+
+std::vector<GalleryPart> library_gallery(const GenerateParams& params, int per_family) {
+  std::vector<GalleryPart> out;
+  char name[96];
+  if (params.library == Library::Shop) {
+    for (int f = 0; f < kShopFamilies; ++f)
+      for (int i = 0; i < per_family; ++i) {
+        const int k = f + i * kShopFamilies;
+        std::snprintf(name, sizeof name, "shop_%04d_%s", k + 1, shop_family_name(shop_family_of(k)).c_str());
+        out.push_back({name, make_shop_part(k, params.seed, params.spacing_mm)});
+      }
+    return out;
+  }
+  for (int f = 1; f <= kFamilies; ++f)
+    for (int i = 0; i < per_family; ++i) {
+      std::snprintf(name, sizeof name, "s%d_%s_%02d", f, family_name(static_cast<Family>(f)).c_str(), i + 1);
+      out.push_back({name, make_part(static_cast<Family>(f), i, params.seed, params.resolution)});
+    }
+  return out;
 }
 
 }  // namespace millnet::datasets

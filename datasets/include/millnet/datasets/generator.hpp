@@ -40,10 +40,17 @@ struct GeneratedMesh {
   std::string kind;          ///< sub-type within the family (e.g. "pocket", "boss", "roof")
 };
 
+/// Which generated library: the five textbook families (this header) or the tool-shop parts
+/// (shop_parts.hpp, issue 39 §2).
+enum class Library { Families, Shop };
+
 struct GenerateParams {
   std::uint64_t seed = 7;
-  int per_family = 6;    ///< parts per family (≥ 1)
-  int resolution = 110;  ///< top-grid vertices per side (≥ 8): 110 ⇒ ~25k triangles per part
+  int per_family = 6;    ///< families: parts per family (≥ 1)
+  int resolution = 110;  ///< families: top-grid vertices per side (≥ 8): 110 ⇒ ~25k triangles per part
+  Library library = Library::Families;
+  int count = 500;          ///< shop: parts in the library (≥ 1)
+  double spacing_mm = 0.8;  ///< shop: top-grid spacing, mm
 };
 
 /// One part of a family, deterministic in (family, index, seed). index ≥ 0 selects the sub-type
@@ -61,5 +68,20 @@ struct GeneratedPart {
 /// <dir>/parts.csv ("name,file,label", file relative to dir); returns the list in family order.
 /// Same params ⇒ identical bytes. O(families · per_family · resolution²).
 std::vector<GeneratedPart> generate_default_parts(const std::filesystem::path& dir, const GenerateParams& params = {});
+
+/// The library `params` names: generate_default_parts for the families, generate_shop_parts
+/// (shop_parts.hpp) for the tool-shop parts (labels 0: they are labelled by simulation).
+std::vector<GeneratedPart> generate_library(const std::filesystem::path& dir, const GenerateParams& params);
+
+/// The top surface's heights of a generated part (rows = y from y = 0, cols = x), res_y × res_x.
+[[nodiscard]] Eigen::MatrixXd top_heights(const GeneratedMesh& g);
+
+/// The first `per_family` parts of every family of the library `params` names, in memory, family by
+/// family, each with its library name (for pictures: `millnet dataset --gallery`).
+struct GalleryPart {
+  std::string name;
+  GeneratedMesh part;
+};
+[[nodiscard]] std::vector<GalleryPart> library_gallery(const GenerateParams& params, int per_family);
 
 }  // namespace millnet::datasets

@@ -88,6 +88,21 @@ struct ColourRange {
 Layout heat_map_png(const std::filesystem::path& path, const Eigen::MatrixXd& grid, const std::string& title,
                     const std::string& units, const HeatMapOptions& options = {});
 
+/// One part of a relief sheet: its top surface as heights (rows = y from the smallest y, cols = x),
+/// the footprint it spans, and a caption.
+struct ReliefTile {
+  Eigen::MatrixXd heights;
+  double width_mm = 0, depth_mm = 0;  ///< footprint along x and y
+  std::string caption;
+};
+
+/// A sheet of shaded reliefs (datasets/README.md's library pictures): each tile drawn to fit its
+/// box, lit from the upper left, coloured by its height from its lowest (0) to its highest point (1)
+/// (one colour bar; the caption gives the relief in mm), with a scale bar in mm per tile and a
+/// caption of up to two lines; `columns` tiles per row. O(total cells + pixels).
+void relief_sheet_png(const std::filesystem::path& path, const std::vector<ReliefTile>& tiles, const std::string& title,
+                      int columns);
+
 // ---------------------------------------------------------------------------------------------
 // 2. Line plots (leave-one-out RMS against α; per-vector class probabilities).
 
