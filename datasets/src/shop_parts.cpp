@@ -277,18 +277,19 @@ Design bored_plate(SplitMix64& rng, int index) {
   }
   return {fr, std::string(with_pocket ? "bores_pocket" : "bores") + (bosses.empty() ? "" : "_bosses"),
           [=](double x, double y) {
-            double z = 0;
-            for (const auto& [disc, wall] : bosses) z = std::max(z, wall.at(disc.inside(x, y)));
-            if (with_pocket) z = std::min(z, -pocket_wall.at(pocket.inside(x, y)));
+            // The deepest cut (pocket, bore) where there is one; elsewhere the plate and its bosses.
+            double cut = with_pocket ? pocket_wall.at(pocket.inside(x, y)) : 0.0;
             for (const Bore& b : bores) {
-              if (b.counterbored) {
-                // The counterbore's step, and the bore below it (the hole lies inside the counterbore).
+              if (b.counterbored) {  // the counterbore's step, and the bore below it (inside the counterbore)
                 const Wall below{b.wall.h - b.counter_wall.h, 0.5, 0.2, b.wall.r_top};
-                z = std::min(z, -b.counter_wall.at(b.counter.inside(x, y)) - below.at(b.hole.inside(x, y)));
+                cut = std::max(cut, b.counter_wall.at(b.counter.inside(x, y)) + below.at(b.hole.inside(x, y)));
               } else {
-                z = std::min(z, -b.wall.at(b.hole.inside(x, y)));
+                cut = std::max(cut, b.wall.at(b.hole.inside(x, y)));
               }
             }
+            if (cut > 0) return -cut;
+            double z = 0;
+            for (const auto& [disc, wall] : bosses) z = std::max(z, wall.at(disc.inside(x, y)));
             return z;
           }};
 }

@@ -225,13 +225,19 @@ TEST(ShopParts, RibbedAndBoredPlatesHaveTheirFeatures) {
     for (Eigen::Index k = 1; k < z.rows(); ++k) crossings += (z(k, c) > base + 1) && !(z(k - 1, c) > base + 1);
     EXPECT_GE(crossings, 2) << g.kind;
   }
+  int with_bosses = 0;
   for (int i = 0; i < kPerFamily; ++i) {
     const GeneratedMesh g = part(ShopFamily::BoredPlate, i);
     const Eigen::MatrixXd z = top_heights(g);
     const double plate = z(0, 0);
     EXPECT_GE(components((z.array() < plate - 2).matrix()), 2)
         << g.kind << " part " << i;  // ≥ 2 bores (or a bore and a pocket)
+    // Bosses stand above the plate (the first two parts of every five have them: kind "…_bosses").
+    const bool bosses = g.kind.ends_with("_bosses");
+    with_bosses += bosses;
+    if (bosses) EXPECT_GE(components((z.array() > plate + 2).matrix()), 1) << g.kind << " part " << i;
   }
+  EXPECT_GE(with_bosses, kPerFamily / 5);
 }
 
 TEST(ShopParts, FreeformSurfacesAreSmoothAndBlendsMixSteepAndShallow) {
