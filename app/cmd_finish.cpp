@@ -52,7 +52,7 @@ std::size_t finish_batch(const std::vector<fs::path>& files, const ingest::Prepa
   const std::function<UnitOutcomes(std::size_t, const std::string&)> work = [&](std::size_t u, const std::string& dir) {
     const job::Part part = load_part(files[u / per_part], prep);
     std::string why;
-    const FinishSettings ps = for_part(s, part.mesh, &why);  // the part's ball when none is named
+    const FinishSettings ps = for_part(s, part, &why);  // the part's ball when none is named
     const std::vector<finish::Strategy> mine(
         s.strategies.begin() + static_cast<std::ptrdiff_t>(u % per_part * chunk),
         s.strategies.begin() + static_cast<std::ptrdiff_t>((u % per_part + 1) * chunk));

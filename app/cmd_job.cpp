@@ -208,7 +208,7 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   const tooling::Tool mill = reaching(lib, rough_cutting.tool, depth - rp.floor_allowance_mm, "roughing", file, notes);
   rp.cut.tool = mill.cutter();
   std::string why;
-  fs_ = for_part(fs_, part.mesh, &why);  // the part's ball when no finishing tool is named
+  fs_ = for_part(fs_, part, &why);  // the part's ball when no finishing tool is named
   if (!why.empty()) notes.push_back(why);
   const finish::Boundary& fb = fs_.params.boundary;
   const double finish_depth = fb.on_part || !fb.polygons.empty()

@@ -213,7 +213,7 @@ FinishOutcome finish_test_part(const job::Part& part, const std::string& name, c
                                const tooling::Cutter& rough_cutter, const fs::path& dir, const RunJobRequest& job) {
   FinishOutcome fo;
   try {
-    const FinishSettings settings = for_part(configured, part.mesh);
+    const FinishSettings settings = for_part(configured, part);
     job::Part named = part;
     named.name = name;
     const PartFinish pf = finish_part(named, settings, dir / "finish");

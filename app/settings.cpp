@@ -480,7 +480,52 @@ std::vector<finish::FinishParams> FinishSettings::strategy_params(const std::vec
   return out;
 }
 
-FinishSettings for_part(const FinishSettings& s, const ingest::Mesh& mesh, std::string* why) {
+std::vector<bool> face_selection(const job::Part& part, const std::vector<std::string>& faces) {
+  const std::string file = part.file.string();
+  if (!part.cad)
+    throw Error(file +
+                ": --faces / /finish/boundary/faces select faces of a STEP or IGES part; this part is a mesh "
+                "without faces (use --boundary FILE or --z-range)");
+  const ingest::CadReport& cad = *part.cad;
+  std::vector<bool> chosen_face(cad.faces + 1, false);
+  for (const std::string& f : faces) {
+    const bool digits =
+        !f.empty() && f.size() < 10 && std::all_of(f.begin(), f.end(), [](char c) { return c >= '0' && c <= '9'; });
+    if (digits) {
+      const std::size_t k = std::stoul(f);
+      if (k < 1 || k > cad.faces)
+        throw Error(file + ": no face " + f + " (--faces / /finish/boundary/faces: the part has " +
+                    std::to_string(cad.faces) + " faces, 1–" + std::to_string(cad.faces) + ")");
+      chosen_face[k] = true;
+      continue;
+    }
+    bool found = false;
+    for (std::size_t k = 0; k < cad.face_names.size(); ++k)  // O(faces)
+      if (cad.face_names[k] == f) chosen_face[k + 1] = found = true;
+    if (!found) {
+      std::string named;
+      std::size_t n = 0;
+      for (const std::string& name : cad.face_names)
+        if (!name.empty() && n < 8 && named.find("\"" + name + "\"") == std::string::npos)
+          named += (n++ ? ", \"" : "\"") + name + "\"";
+      throw Error(file + ": no face named \"" + f + "\" (--faces / /finish/boundary/faces; " +
+                  (named.empty()
+                       ? "no face of this part has a name: give 1-based indices, 1–" + std::to_string(cad.faces)
+                       : "named faces: " + named + (n == 8 ? ", …" : "")) +
+                  ")");
+    }
+  }
+  return job::triangles_of_faces(cad.triangle_face, chosen_face);
+}
+
+FinishSettings for_part(const FinishSettings& s, const job::Part& part, std::string* why) {
+  if (!s.boundary_faces.empty()) {
+    FinishSettings out = s;
+    out.boundary_faces.clear();
+    out.params.boundary.triangles = face_selection(part, s.boundary_faces);
+    return for_part(out, part, why);
+  }
+  const ingest::Mesh& mesh = part.mesh;
   if (s.tool_by_part.empty()) return s;
   const job::Frame frame = job::frame_of(mesh, s.stock_top_above_part_mm);
   const job::PartShape shape = job::part_shape(mesh, frame.stock_top);
@@ -534,6 +579,10 @@ void BoundaryFlags::add_to(CLI::App* sub) {
                   "machining boundary of the finishing: a closed outline (pocket JSON or DXF, program frame X Y; its "
                   "islands left out) the tool axis stays inside (/finish/boundary/file)")
       ->check(CLI::ExistingFile);
+  sub->add_option("--faces", faces,
+                  "machining boundary of the finishing on a STEP/IGES part: the faces (1-based index in the file's "
+                  "face order, or name; comma-separated) the tool axis stays over (/finish/boundary/faces)")
+      ->delimiter(',');
   sub->add_option("--z-range", z_range,
                   "lowest and highest tool tip Z of the finishing cuts, mm, program frame (Z 0 = stock top; "
                   "/finish/boundary/z_min, z_max)")
@@ -542,6 +591,7 @@ void BoundaryFlags::add_to(CLI::App* sub) {
 
 void BoundaryFlags::apply(FinishSettings& s) const {
   if (file) set_boundary_file(s, *file);
+  if (!faces.empty()) s.boundary_faces = faces;
   if (z_range.empty()) return;
   if (!(z_range[0] < z_range[1]))
     throw Error("--z-range: the lowest Z (" + format_double(z_range[0]) + ") must be below the highest (" +
@@ -573,6 +623,8 @@ FinishSettings finish_settings(const Json& config, const FinishToolFlags& flags)
   if (!b["z_min"].is_null()) s.z_min = b["z_min"].get<double>();
   if (!b["z_max"].is_null()) s.z_max = b["z_max"].get<double>();
   if (!b["file"].is_null()) set_boundary_file(s, b["file"].get<std::string>());
+  for (const Json& face : b["faces"])
+    s.boundary_faces.push_back(face.is_string() ? face.get<std::string>() : face.dump());
   const std::string strat = f["strategy"].get<std::string>();
   s.strategies = strat == "all" ? finish::all_strategies() : std::vector{finish::parse_strategy(strat)};
   s.aim.aim = simulate::parse_aim(f["aim"].get<std::string>());

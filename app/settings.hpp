@@ -151,6 +151,9 @@ struct FinishSettings {
   std::vector<ToolChoice> tool_by_part;
   /// /finish/boundary's Z range (program frame: Z 0 = stock top), set into params.boundary per part.
   std::optional<double> z_min, z_max;
+  /// /finish/boundary/faces, --faces: a STEP/IGES part's faces (1-based index or name) the axis stays
+  /// over; resolved into params.boundary.triangles per part (for_part).
+  std::vector<std::string> boundary_faces;
   /// params.boundary with the Z range in the part's mesh frame (the tip's z = program Z − z_shift).
   [[nodiscard]] finish::Boundary boundary_in(const job::Frame& frame) const;
 };
@@ -162,12 +165,19 @@ inline constexpr double kPaperBallMm = 2.0;
 /// The settings a part is finished with: `s` itself, or (s.tool_by_part) with the ball
 /// job::finishing_ball picks for the part's size, smallest concave radius and depth below the stock
 /// top, and that ball's cutting data; `why` (when given) gets one line naming the ball and why.
-[[nodiscard]] FinishSettings for_part(const FinishSettings& s, const ingest::Mesh& mesh, std::string* why = nullptr);
+/// s.boundary_faces are resolved on the part (face_selection).
+[[nodiscard]] FinishSettings for_part(const FinishSettings& s, const job::Part& part, std::string* why = nullptr);
+
+/// The triangles of a STEP/IGES part's faces named by 1-based index ("7") or by their name in the
+/// file (every face of that name), as a selection of its mesh's triangles. Throws millnet::Error
+/// naming the part file for a mesh part (no faces), a face index out of range or a name no face has.
+[[nodiscard]] std::vector<bool> face_selection(const job::Part& part, const std::vector<std::string>& faces);
 
 /// --boundary FILE and --z-range ZMIN ZMAX (finish, job): /finish/boundary from the command line.
 struct BoundaryFlags {
   std::optional<std::string> file;
   std::vector<double> z_range;
+  std::vector<std::string> faces;
   void add_to(CLI::App* sub);
   /// Reads the outline, checks the range (one line naming the flag), sets them into `s`.
   void apply(FinishSettings& s) const;

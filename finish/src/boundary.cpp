@@ -46,7 +46,11 @@ bool Boundary::encloses(double x, double y) const {
 
 namespace millnet::finish::detail {
 
-Fence::Fence(const ingest::Mesh& mesh, const Boundary& b) : z_min_(b.z_min), z_max_(b.z_max), on_part_(b.on_part) {
+Fence::Fence(const ingest::Mesh& mesh, const Boundary& b)
+    : z_min_(b.z_min), z_max_(b.z_max), on_part_(b.on_part || !b.triangles.empty()) {
+  if (!b.triangles.empty() && b.triangles.size() != static_cast<std::size_t>(mesh.F.rows()))
+    throw Error("finish: the machining boundary selects among " + std::to_string(b.triangles.size()) +
+                " triangles, the mesh has " + std::to_string(mesh.F.rows()));
   if (std::isnan(z_min_) || std::isnan(z_max_) || z_min_ > z_max_)
     throw Error("finish: the machining boundary's Z range [" + std::to_string(z_min_) + ", " + std::to_string(z_max_) +
                 "] is empty");
@@ -65,6 +69,7 @@ Fence::Fence(const ingest::Mesh& mesh, const Boundary& b) : z_min_(b.z_min), z_m
   // 1. The non-vertical faces' projections, counter-clockwise. O(F).
   std::vector<std::array<double, 4>> boxes;
   for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    if (!b.triangles.empty() && !b.triangles[static_cast<std::size_t>(f)]) continue;  // not selected
     Triangle t;
     for (int k = 0; k < 3; ++k) t.v[static_cast<std::size_t>(k)] = mesh.V.row(mesh.F(f, k)).head<2>().transpose();
     const double area2 = cross2(t.v[1] - t.v[0], t.v[2] - t.v[0]);

@@ -67,6 +67,28 @@ struct Shared {
 
 /// The box cut down to the polygons' box (they may reach beyond the part: the box stays the part's
 /// where they do). Throws when they miss it.
+/// The XY box of the selected triangles that are not vertical, as a rectangle (the planning area of
+/// a boundary made of faces). Throws millnet::Error when every selected triangle is vertical. O(F).
+std::vector<Eigen::Vector2d> selection_outline(const ingest::Mesh& mesh, const Boundary& b) {
+  double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
+  std::size_t selected = 0;
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    if (static_cast<std::size_t>(f) >= b.triangles.size() || !b.triangles[static_cast<std::size_t>(f)]) continue;
+    ++selected;
+    const Eigen::Vector3d p = mesh.V.row(mesh.F(f, 0)), q = mesh.V.row(mesh.F(f, 1)), r = mesh.V.row(mesh.F(f, 2));
+    const Eigen::Vector3d n = (q - p).cross(r - p);
+    if (!(std::abs(n.z()) > 1e-9 * n.norm())) continue;  // vertical: nothing over it
+    for (const Eigen::Vector3d* v : {&p, &q, &r}) {
+      x0 = std::min(x0, v->x()), y0 = std::min(y0, v->y());
+      x1 = std::max(x1, v->x()), y1 = std::max(y1, v->y());
+    }
+  }
+  if (!(x1 >= x0))
+    throw Error("finish: the machining boundary's " + std::to_string(selected) +
+                " selected triangles are all vertical: nothing of them is machined from above");
+  return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+}
+
 Box within_polygons(const Box& box, const std::vector<std::vector<Eigen::Vector2d>>& polygons) {
   Box b{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
   for (const auto& poly : polygons)  // O(polygon points)
@@ -258,6 +280,7 @@ std::vector<FinishPlan> plan_finish(const ingest::Mesh& mesh, const DropCutter& 
   }
   const detail::Fence fence(mesh, params.boundary);
   if (!params.boundary.polygons.empty()) box = within_polygons(box, params.boundary.polygons);
+  if (!params.boundary.triangles.empty()) box = within_polygons(box, {selection_outline(mesh, params.boundary)});
   for (std::size_t i = 0; i < strategies.size(); ++i)  // before any CL point is dropped (issue 12)
     for (const WorkEstimate& e : estimate_work(box.x0, box.y0, box.x1, box.y1, {strategies[i]}, params_each[i]))
       check_work(e, params.limits);

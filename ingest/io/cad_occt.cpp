@@ -249,7 +249,8 @@ std::size_t pick_body(const std::vector<Body>& bodies, const std::string& wanted
   throw file_error(name, "no body named \"" + wanted + "\" (--body / /mesh/cad_body; available: " + list + ")");
 }
 
-Mesh tessellate(const TopoDS_Shape& shape, const CadOptions& o, std::size_t* faces) {
+Mesh tessellate(const TopoDS_Shape& shape, const CadOptions& o, const Handle(XSControl_WorkSession) & ws,
+                CadReport& cad) {
   // Sequential (isInParallel = false): the triangles do not depend on the thread count.
   BRepMesh_IncrementalMesh mesher(shape, o.chord_tolerance_mm, Standard_False, o.angular_deflection_rad,
                                   Standard_False);
@@ -258,13 +259,17 @@ Mesh tessellate(const TopoDS_Shape& shape, const CadOptions& o, std::size_t* fac
   std::vector<double> V;
   std::vector<std::int32_t> F;
   std::vector<std::int32_t> local;
+  std::size_t* faces = &cad.faces;
   *faces = 0;
+  cad.triangle_face.clear();
+  cad.face_names.clear();
   // O(#nodes + #triangles) over all faces (expected, hash map).
   for (TopExp_Explorer x(shape, TopAbs_FACE); x.More(); x.Next()) {
     const TopoDS_Face& face = TopoDS::Face(x.Current());
     TopLoc_Location loc;
     const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(face, loc);
     ++*faces;
+    cad.face_names.push_back(one_line(entity_name(ws, face)));
     if (tri.IsNull()) continue;
     const gp_Trsf T = loc.Transformation();
     local.assign(static_cast<std::size_t>(tri->NbNodes()) + 1, -1);
@@ -289,6 +294,7 @@ Mesh tessellate(const TopoDS_Shape& shape, const CadOptions& o, std::size_t* fac
                          c = local[static_cast<std::size_t>(n3)];
       if (a == b || b == c || a == c) continue;  // collapsed by the join
       F.insert(F.end(), {a, b, c});
+      cad.triangle_face.push_back(static_cast<std::int32_t>(*faces));
     }
   }
   Mesh m;
@@ -473,7 +479,7 @@ CadResult read_here(const fs::path& path, bool step, const CadScan& scan, const 
   } catch (const Error& e) {
     throw file_error(name, e.what());
   }
-  out.mesh = tessellate(chosen, options, &cad.faces);
+  out.mesh = tessellate(chosen, options, ws, cad);
   if (out.mesh.F.rows() == 0)
     throw file_error(
         name, "no triangles: Open CASCADE's mesher produced none for the " + std::to_string(cad.faces) + " faces");
@@ -513,6 +519,9 @@ std::string encode(const CadResult& r) {
   put(o, r.mesh.V.data(), static_cast<std::size_t>(r.mesh.V.size()) * sizeof(double));
   put_u64(o, static_cast<std::uint64_t>(r.mesh.F.rows()));
   put(o, r.mesh.F.data(), static_cast<std::size_t>(r.mesh.F.size()) * sizeof(std::int32_t));
+  put(o, c.triangle_face.data(), c.triangle_face.size() * sizeof(std::int32_t));  // one per triangle
+  put_u64(o, c.face_names.size());
+  for (const auto& n : c.face_names) put_str(o, n);
   return o;
 }
 
@@ -569,10 +578,15 @@ CadResult decode(const std::string& answer, const std::string& name) {
   r.mesh.V.resize(static_cast<Eigen::Index>(nv), 3);
   d.get(r.mesh.V.data(), nv * 24);
   const std::uint64_t nf = d.u64();
-  if (nf > d.left() / 12 || nf * 12 != d.left())
-    throw file_error(name, "the reader's process answered with a truncated mesh");
+  if (nf > d.left() / 16) throw file_error(name, "the reader's process answered with a truncated mesh");
   r.mesh.F.resize(static_cast<Eigen::Index>(nf), 3);
   d.get(r.mesh.F.data(), nf * 12);
+  c.triangle_face.resize(nf);
+  d.get(c.triangle_face.data(), nf * 4);
+  const std::uint64_t names = d.u64();
+  if (names != c.faces) throw file_error(name, "the reader's process answered with a truncated mesh");
+  for (std::uint64_t k = 0; k < names; ++k) c.face_names.push_back(d.str());
+  if (d.left() != 0) throw file_error(name, "the reader's process answered with a truncated mesh");
   return r;
 }
 

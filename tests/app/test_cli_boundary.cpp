@@ -100,5 +100,62 @@ TEST(CliBoundary, ADeepCavityIsFinishedWithABallThatReachesItsFloorInsideAnOutli
   EXPECT_NE(r.err.find("--z-range"), std::string::npos) << r.err;
 }
 
+// Issue 38: a STEP part's faces as the boundary, by name or index (tests/app/data/pocket_block.step:
+// a 60 × 40 × 20 block, a 30 × 20 pocket 12 mm deep at X 15–45, Y 10–30, faces named in the file).
+TEST(CliBoundary, TheFacesOfAStepPartKeepTheAxisOverThem) {
+  const fs::path d = fresh_dir("cli_boundary_faces");
+  const std::string step = std::string(MILLNET_SOURCE_DIR) + "/tests/app/data/pocket_block.step";
+  std::ofstream(d / "faces.json") << R"({"finish": {"boundary": {"faces": ["pocket floor"]}}})";
+  const std::string base =
+      "finish -q --no-preview --mesh '" + step + "' --tool bn6-2f-carbide --strategy 2 --stepover 2 ";
+  auto r = run_millnet(base + "--faces 'pocket floor' --out a", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto floor = cut_points(d / "a" / "pocket_block.s2.nc");
+  ASSERT_GT(floor.size(), 100U);
+  for (const gcode::Point3& p : floor) {  // Z 0 = the stock top, 1 mm over the part's top at 20
+    ASSERT_GE(p[0], 15 - 1e-6);
+    ASSERT_LE(p[0], 45 + 1e-6);
+    ASSERT_GE(p[1], 10 - 1e-6);
+    ASSERT_LE(p[1], 30 + 1e-6);
+  }
+  const double lowest =
+      std::min_element(floor.begin(), floor.end(), [](auto& a, auto& b) { return a[2] < b[2]; })->at(2);
+  EXPECT_NEAR(lowest, 8 - 21, 1e-6);  // the floor, at the tip
+  // The same faces from the config, and by index (the floor is the file's 11th face): the same program.
+  r = run_millnet(base + "--config faces.json --out b", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(slurp(d / "a" / "pocket_block.s2.nc"), slurp(d / "b" / "pocket_block.s2.nc"));
+  r = run_millnet(base + "--faces 11 --out c", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(slurp(d / "a" / "pocket_block.s2.nc"), slurp(d / "c" / "pocket_block.s2.nc"));
+  // Without a selection the top is finished too (over the part, the default).
+  r = run_millnet(base + "--out e", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto all = cut_points(d / "e" / "pocket_block.s2.nc");
+  EXPECT_TRUE(std::any_of(all.begin(), all.end(), [](const gcode::Point3& p) { return p[0] < 10; }));
+  // Faces that do not exist, a name no face has, a mesh part: one line each, exit 1, nothing written.
+  r = run_millnet(base + "--faces 12 --out f", d);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("no face 12 (--faces / /finish/boundary/faces: the part has 11 faces, 1–11)"), std::string::npos)
+      << r.err;
+  r = run_millnet(base + "--faces floor --out f", d);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(
+      r.err.find(
+          R"(no face named "floor" (--faces / /finish/boundary/faces; named faces: "top", "pocket wall", "pocket floor"))"),
+      std::string::npos)
+      << r.err;
+  // The walls alone are vertical: nothing of them is machined from above.
+  r = run_millnet(base + "--faces 'pocket wall' --out f", d);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("selected triangles are all vertical"), std::string::npos) << r.err;
+  const fs::path stl = write_cavity_block(d);
+  r = run_millnet("finish -q --no-preview --mesh '" + stl.string() + "' --strategy 2 --faces 1 --out f", d);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("this part is a mesh without faces"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d / "f" / "pocket_block.s2.nc"));
+  EXPECT_FALSE(fs::exists(d / "f" / "block.s2.nc"));
+}
+
 }  // namespace
 }  // namespace millnet::testing

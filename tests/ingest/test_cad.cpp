@@ -164,6 +164,51 @@ TEST(Cad, StepInMillimetresMatchesTheAnalyticHeightsWithinTheChordTolerance) {
   EXPECT_LE(max_grid_error(m), 0.005 + 0.0047 + 1e-5);
 }
 
+// Issue 38: every triangle knows its B-rep face, and faces keep their names, over the pipe from
+// the reader's process as in this one (tests/app/data/pocket_block.step: a 60 × 40 × 20 block with
+// a 30 × 20 pocket 12 deep, its ADVANCED_FACEs named "top", "pocket wall" ×4, "pocket floor").
+TEST(Cad, TrianglesKnowTheirFaceAndFacesTheirNames) {
+  const fs::path step = fs::path(MILLNET_SOURCE_DIR) / "tests/app/data/pocket_block.step";
+  for (const bool isolate : {true, false}) {
+    ingest::CadOptions cad;
+    cad.isolate = isolate;
+    ingest::MeshReport rep;
+    const ingest::Mesh m = load(step, &rep, cad);
+    ASSERT_TRUE(rep.is_cad);
+    ASSERT_EQ(rep.cad.faces, 11U);
+    ASSERT_EQ(rep.cad.face_names.size(), 11U);
+    ASSERT_EQ(rep.cad.triangle_face.size(), static_cast<std::size_t>(m.F.rows()));
+    std::map<std::string, int> names;
+    for (const std::string& n : rep.cad.face_names) ++names[n];
+    EXPECT_EQ(names["top"], 1);
+    EXPECT_EQ(names["pocket wall"], 4);
+    EXPECT_EQ(names["pocket floor"], 1);
+    EXPECT_EQ(names[""], 5);
+    // Each named face's triangles lie on its plane (the block's frame: recentring moves nothing here).
+    std::map<int, int> per_face;
+    for (Eigen::Index t = 0; t < m.F.rows(); ++t) {
+      const int f = rep.cad.triangle_face[static_cast<std::size_t>(t)];
+      ASSERT_GE(f, 1);
+      ASSERT_LE(f, 11);
+      ++per_face[f];
+      const std::string& name = rep.cad.face_names[static_cast<std::size_t>(f - 1)];
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector3d v = m.V.row(m.F(t, k));
+        if (name == "pocket floor") {
+          EXPECT_NEAR(v.z(), 8, 1e-9);
+          EXPECT_GE(v.x(), 15 - 1e-9);
+          EXPECT_LE(v.x(), 45 + 1e-9);
+        }
+        if (name == "top") EXPECT_NEAR(v.z(), 20, 1e-9);
+        if (name == "pocket wall")
+          EXPECT_TRUE(std::abs(v.x() - 15) < 1e-9 || std::abs(v.x() - 45) < 1e-9 || std::abs(v.y() - 10) < 1e-9 ||
+                      std::abs(v.y() - 30) < 1e-9);
+      }
+    }
+    EXPECT_EQ(per_face.size(), 11U);  // every face has triangles
+  }
+}
+
 TEST(Cad, StepInInchReadsBackInMillimetres) {
   const auto d = fresh_dir("cad_step_inch");
   write_step(dome_pocket_block(), d / "part_in.stp", "INCH");

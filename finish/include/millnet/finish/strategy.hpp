@@ -83,6 +83,10 @@ struct Boundary {
   /// (the part's silhouette, within tol::on_part_mm). No pass then runs down the outside walls to
   /// the table or drops off an open surface's edge onto the floor.
   bool on_part = true;
+  /// A selection of the mesh's triangles (size F; empty: none): the axis stays over the XY
+  /// projection of the selected triangles that are not vertical (a CAD part's faces picked by name
+  /// or index, issue 38), whatever on_part says.
+  std::vector<bool> triangles;
   /// The tip's height, mesh frame: pieces below z_min or above z_max are left out.
   double z_min = -std::numeric_limits<double>::infinity();
   double z_max = std::numeric_limits<double>::infinity();

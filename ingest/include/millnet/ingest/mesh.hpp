@@ -77,6 +77,11 @@ struct CadReport {
   /// What a read allowed to be partial (CadOptions::allow_partial) lost, one line ("" = complete).
   std::string partial;
   double estimated_triangles = 0;  ///< the tessellation's estimate, checked before it ran
+  /// Per triangle of the mesh read, the B-rep face it tessellates: 1-based, in the order the faces
+  /// of the kept shape are visited (a face placed twice counts twice, as in `faces`). Preparation
+  /// keeps the triangles' order, so it indexes the prepared mesh too (issue 38: faces as a boundary).
+  std::vector<std::int32_t> triangle_face;
+  std::vector<std::string> face_names;  ///< per face (size `faces`), its name in the file ("" = none)
 };
 
 /// What was found and done while loading and preparing a mesh (reported, never fatal).

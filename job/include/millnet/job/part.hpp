@@ -6,7 +6,9 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <cstdint>
 #include <optional>
+#include <vector>
 #include <string>
 
 namespace millnet::job {
@@ -18,5 +20,11 @@ struct Part {
   std::optional<ingest::CadReport> cad;  ///< a STEP/IGES file: its unit, tessellation and bodies
   std::size_t triangles = 0;             ///< of the mesh as read (before preparation)
 };
+
+/// A selection of a mesh's triangles from a selection of faces: triangle t is selected when
+/// chosen_face[triangle_face[t]] (triangle_face: each triangle's 1-based face, ingest::CadReport;
+/// chosen_face indexed by face, [0] unused). O(triangles).
+[[nodiscard]] std::vector<bool> triangles_of_faces(const std::vector<std::int32_t>& triangle_face,
+                                                   const std::vector<bool>& chosen_face);
 
 }  // namespace millnet::job
