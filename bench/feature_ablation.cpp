@@ -79,7 +79,7 @@ Figures evaluate(const classifier::TrainingSet& set) {
 }
 
 void print(const std::string& name, const Figures& f) {
-  std::printf("| %s | %.1f %% | %.2f %% | %.2f %% | %.2f %% | %zu | %.3g | %.1f |\n", name.c_str(), 100 * f.net.top1,
+  std::printf("| %s | %.1f %% | %.3g %% | %.3g %% | %.3g %% | %zu | %.3g | %.1f |\n", name.c_str(), 100 * f.net.top1,
               100 * f.net.mean, 100 * f.net.median, 100 * f.net.p90, f.net.misses, f.alpha, f.seconds);
 }
 
@@ -104,10 +104,12 @@ int main(int argc, char** argv) {
     for (const std::string& g : base.groups)
       if (!features.count(g)) features[g] = part_features(ingest::load_mesh(fs::path(argv[2]) / (g + ".stl")));
     std::printf("%zu vectors of %zu parts\n\n", base.groups.size(), features.size());
-    std::printf("| inputs | top-1 | mean regret | median | p90 | misses | alpha | s |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
+    std::printf(
+        "| inputs | top-1 | mean regret | median | p90 | misses | alpha | s "
+        "|\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
     const Figures heights = evaluate(base);
     print("15x15 heights (the paper's)", heights);
-    std::printf("| always strategy the most often best | %.1f %% | %.2f %% | %.2f %% | %.2f %% | %zu | | |\n",
+    std::printf("| always strategy the most often best | %.1f %% | %.3g %% | %.3g %% | %.3g %% | %zu | | |\n",
                 100 * heights.base.top1, 100 * heights.base.mean, 100 * heights.base.median, 100 * heights.base.p90,
                 heights.base.misses);
     const auto with = [&](const std::vector<int>& which, int c) {
