@@ -83,8 +83,8 @@ TEST(ShopParts, FilletedStepMatchesTheHandComputedProfile) {
   // Monotone, within [0, h], and tangent-continuous at both fillets' tangent points, for drafts
   // 0.5–60° and radii that must shrink to fit (h 1 with radii 10).
   for (const double draft : {0.5, 3.0, 20.0, 60.0})
-    for (const auto& [h, r1, r2] :
-         {std::tuple{10.0, 2.0, 1.0}, std::tuple{1.0, 10.0, 10.0}, std::tuple{5.0, 0.0, 3.0}}) {
+    for (const auto& c : {std::tuple{10.0, 2.0, 1.0}, std::tuple{1.0, 10.0, 10.0}, std::tuple{5.0, 0.0, 3.0}}) {
+      const double h = std::get<0>(c), r1 = std::get<1>(c), r2 = std::get<2>(c);  // a lambda captures them below
       const auto z = [&](double d) { return detail::filleted_step(d, h, draft, r1, r2); };
       const double phi = (90 - draft) * std::numbers::pi / 180, run = h / std::tan(phi);
       double prev = 0;
