@@ -165,13 +165,8 @@ inline constexpr double kPaperBallMm = 2.0;
 /// The settings a part is finished with: `s` itself, or (s.tool_by_part) with the ball
 /// job::finishing_ball picks for the part's size, smallest concave radius and depth below the stock
 /// top, and that ball's cutting data; `why` (when given) gets one line naming the ball and why.
-/// s.boundary_faces are resolved on the part (face_selection).
+/// s.boundary_faces are resolved on the part (job::face_selection).
 [[nodiscard]] FinishSettings for_part(const FinishSettings& s, const job::Part& part, std::string* why = nullptr);
-
-/// The triangles of a STEP/IGES part's faces named by 1-based index ("7") or by their name in the
-/// file (every face of that name), as a selection of its mesh's triangles. Throws millnet::Error
-/// naming the part file for a mesh part (no faces), a face index out of range or a name no face has.
-[[nodiscard]] std::vector<bool> face_selection(const job::Part& part, const std::vector<std::string>& faces);
 
 /// --boundary FILE and --z-range ZMIN ZMAX (finish, job): /finish/boundary from the command line.
 struct BoundaryFlags {

@@ -27,4 +27,10 @@ struct Part {
 [[nodiscard]] std::vector<bool> triangles_of_faces(const std::vector<std::int32_t>& triangle_face,
                                                    const std::vector<bool>& chosen_face);
 
+/// The triangles of a STEP/IGES part's faces named by 1-based index ("7") or by their name in the
+/// file (every face of that name), as a selection of its mesh's triangles. Throws millnet::Error
+/// naming the part file for a mesh part (no faces), a face index out of range or a name no face has.
+/// O(faces · names + triangles).
+[[nodiscard]] std::vector<bool> face_selection(const Part& part, const std::vector<std::string>& faces);
+
 }  // namespace millnet::job
