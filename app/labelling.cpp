@@ -1,6 +1,7 @@
 // Labels by virtual machining (labelling.hpp).
 #include "labelling.hpp"
 
+#include "config.hpp"
 #include "finish_job.hpp"
 #include "mpi_cluster.hpp"
 #include "text.hpp"
@@ -98,6 +99,37 @@ std::vector<SimulatedLabel> simulate_labels(const datasets::Recipe& recipe, cons
   return out;
 }
 
+/// The label settings `text` (/finish, /simulate, /cutting, /machine as recipe_from_config writes
+/// them) with every key it lacks at its schema default; null when it does not pass the schema (a
+/// key since removed, a value out of today's range).
+Json label_settings_with_defaults(const std::string& text) {
+  Json rule = {{"type", "object"}, {"properties", Json::object()}};
+  Json doc;
+  try {
+    doc = Json::parse(text);
+    if (!doc.is_object()) return nullptr;
+    for (const char* section : {"finish", "simulate", "cutting", "machine"}) {
+      rule["properties"][section] = schema()["properties"][section];
+      if (!doc.contains(section)) doc[section] = Json::object();
+    }
+    check_against(doc, rule, fs::path(), "labels settings");
+  } catch (const std::exception&) {
+    return nullptr;
+  }
+  doc["finish"].erase("meshes");  // not label settings (recipe_from_config drops them too)
+  doc["finish"].erase("strategy");
+  return doc;
+}
+
+}  // namespace
+
+bool same_label_settings(const std::string& cached, const std::string& current) {
+  const Json a = label_settings_with_defaults(cached);
+  return !a.is_null() && a == label_settings_with_defaults(current);
+}
+
+namespace {
+
 /// The recipe's labels.json when it exists, was computed with the same settings and --relabel was
 /// not asked; an empty file otherwise (the line says why).
 datasets_io::LabelFile cached_labels(const datasets::Recipe& recipe) {
@@ -107,7 +139,7 @@ datasets_io::LabelFile cached_labels(const datasets::Recipe& recipe) {
     return {};
   }
   datasets_io::LabelFile f = datasets_io::read_labels(recipe.labels_file);
-  if (!datasets_io::same_settings(f.settings_json, recipe.simulation_settings_json)) {
+  if (!same_label_settings(f.settings_json, recipe.simulation_settings_json)) {
     info("dataset: " + recipe.labels_file.string() +
          " was computed with other settings (/finish, /simulate, /cutting or /machine): every part is simulated");
     return {};

@@ -3,6 +3,7 @@
 // README's first command: dataset → train → predict → rough → finish (five strategies simulated per
 // part), one folder per test part and a summary page. One run (~5 min on two cores) serves every
 // assertion.
+#include "labelling.hpp"
 #include "cli_runner.hpp"
 #include "testing/linuxcnc.hpp"
 
@@ -251,6 +252,18 @@ TEST(Labels, AShippedLabelIsWhatTheSimulationComputesToday) {
   const auto cached = run_millnet("dataset --config one.json --out cached", d);
   ASSERT_EQ(cached.code, 0) << cached.err;
   EXPECT_NE(cached.err.find("1 of 1 parts from"), std::string::npos) << cached.err;
+  // A key added since the file was written, at its default, leaves the cache valid: the file's
+  // settings without /finish/rest and /finish/boundary/faces still serve the part.
+  Json older = shipped;
+  older["settings"]["finish"].erase("rest");
+  older["settings"]["finish"]["boundary"].erase("faces");
+  std::ofstream(d / "older.json") << older.dump();
+  Json one_older = one;
+  one_older["dataset"]["labels"] = (d / "older.json").string();
+  std::ofstream(d / "one_older.json") << one_older.dump();
+  const auto hit = run_millnet("dataset --config one_older.json --out older", d);
+  ASSERT_EQ(hit.code, 0) << hit.err;
+  EXPECT_NE(hit.err.find("1 of 1 parts from"), std::string::npos) << hit.err;
   const auto re = run_millnet("dataset --quiet --config one.json --relabel --out re", d);
   ASSERT_EQ(re.code, 0) << re.err;
   const Json fresh = Json::parse(slurp(d / "re" / "labels.json"));
@@ -281,6 +294,34 @@ TEST(Labels, AShippedLabelIsWhatTheSimulationComputesToday) {
       EXPECT_LE(std::abs(x - y), 1e-9 * std::max(1.0, std::abs(y))) << it.key() << ": " << stale;
     }
   }
+}
+
+// The label cache compares the settings with every missing key at its schema default: a key
+// absent from one side equals the default on the other, a different value or a key the schema
+// no longer knows does not match, and key order does not matter.
+TEST(Labels, SettingsMatchWithMissingKeysAtTheirDefaults) {
+  using millnet::app::same_label_settings;
+  const Json shipped = Json::parse(slurp(fs::path(MILLNET_SOURCE_DIR) / "datasets/labels.json"));
+  const Json full = shipped["settings"];
+  EXPECT_TRUE(same_label_settings(full.dump(), full.dump()));
+  Json lacking = full;
+  lacking["finish"].erase("rest");
+  lacking["machine"].erase("tool_change_s");
+  lacking.erase("simulate");
+  EXPECT_TRUE(same_label_settings(lacking.dump(), full.dump()));
+  EXPECT_TRUE(same_label_settings(full.dump(), lacking.dump()));
+  Json other = full;
+  other["finish"]["rest"]["min_area_mm2"] = 5.0;
+  EXPECT_FALSE(same_label_settings(lacking.dump(), other.dump()));
+  EXPECT_FALSE(same_label_settings(full.dump(), other.dump()));
+  Json cell = lacking;
+  cell["simulate"] = {{"cell_mm", 0.03}};
+  EXPECT_FALSE(same_label_settings(cell.dump(), full.dump()));
+  Json unknown = full;
+  unknown["finish"]["gone"] = 1;
+  EXPECT_FALSE(same_label_settings(unknown.dump(), full.dump()));
+  EXPECT_FALSE(same_label_settings("not json", full.dump()));
+  EXPECT_FALSE(same_label_settings("[]", full.dump()));
 }
 
 }  // namespace
