@@ -360,7 +360,6 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
     const tooling::Tool rest = job_tool(rest_id, config, o.material, lib);
     if (!(rest.diameter_mm < ball.diameter_mm))
       throw Error(file + ": the rest tool " + rest.label() + " is not smaller than the finishing tool " + ball.label());
-    job::check_reach(rest.cutter(), rest.label(), finish_depth, "the part");
     (void)job::machine_steps(roughed, design, {job::chain_steps(ops).back()},
                              fs_.machine);  // what the finishing leaves
     const CuttingSettings cs = cutting_settings(config, o.material);
@@ -373,10 +372,27 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
                          {d.rpm, d.feed_mm_min, d.feed_plunge_mm_min}, rest_why);
     info("job: " + stem + ": " + rest_why);
     notes.push_back(rest_why);
-    if (rest_program)  // its links already clear the stock it read; lifted here too, like the finishing's
-      ops.push_back(
-          {"rest finishing (" + rest.label() + ")", rest,
-           job::clear_rapids(*rest_program, roughed, rest.cutter(), fs_.params.clearance_mm, d.feed_plunge_mm_min)});
+    if (rest_program) {  // planned within the tool's reach; its links clear the stock it read (and here)
+      job::check_reach(rest.cutter(), rest.label(), -job::deepest_z(*rest_program), "the rest finishing's lowest cut");
+      gcode::Program cleared =
+          job::clear_rapids(*rest_program, roughed, rest.cutter(), fs_.params.clearance_mm, d.feed_plunge_mm_min);
+      // Whether its flutes take what it meets, on a copy of the stock the finishing leaves: a rest
+      // operation is a clean-up, so one that would go beyond them is left out (said, with where),
+      // not the whole job refused; --keep-deep-cuts keeps it (and warns, as for any operation).
+      simulate::ZMap after = roughed;
+      const job::StepResult st = job::machine_steps(after, design, {{&cleared, rest.cutter()}}, fs_.machine).front();
+      if (rest.flute_length_mm > 0 && st.max_depth_of_cut_mm > rest.flute_length_mm && !o.keep_deep_cuts) {
+        const std::string left = "rest finishing left out: " + rest.label() + " would cut " +
+                                 fixed(st.max_depth_of_cut_mm, 2) + " mm deep at X" + fixed(st.max_cut_at[0], 2) +
+                                 " Y" + fixed(st.max_cut_at[1], 2) + " Z" + fixed(st.max_cut_at[2], 2) +
+                                 ", beyond its " + fixed(rest.flute_length_mm, 1) +
+                                 " mm flutes (what stands over a corner it reaches first); the rest stays";
+        info("job: " + stem + ": " + left);
+        notes.push_back(left);
+      } else {
+        ops.push_back({"rest finishing (" + rest.label() + ")", rest, std::move(cleared)});
+      }
+    }
   }
   if (!pick.meets_spec && pf.outcomes.size() > 1)
     notes.push_back("no strategy meets the surface specification; the job finishes with the best of them");

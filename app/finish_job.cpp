@@ -676,6 +676,29 @@ std::optional<gcode::Program> job_rest_program(const job::Part& part, const Fini
   why = "rest finishing with " + rest_tool.describe() +
         " from the stock the finishing leaves: " + std::to_string(r.regions) + " region(s), " +
         fixed(r.rest_axis_area_mm2, 1) + " mm² of tool positions over " + fixed(rp.threshold_mm, 3) + " mm of rest";
+  // As deep as the tool reaches and no deeper (CAM's "limit to the tool's reach"): a region whose
+  // lowest tip lies below the stick-out from the stock top is cut down to it and the rest below is
+  // left, said in the note — never a deeper cut, never the whole job refused for a corner.
+  const double floor_z = job.frame.stock_top - rest_tool.reach_mm;
+  if (rest_tool.reach_mm > 0 && floor_z > p.boundary.z_min) {
+    p.boundary.z_min = floor_z;
+    std::size_t deeper = 0, within = 0;
+    double lowest = floor_z;
+    for (const finish::RestRegion& g : r.parts) {  // O(regions)
+      if (g.z_min < floor_z) ++deeper, lowest = std::min(lowest, g.z_min);
+      if (g.z_max > floor_z) ++within;
+    }
+    if (within == 0) {
+      why = "rest finishing: " + fixed(r.rest_axis_area_mm2, 1) + " mm² of " + rest_tool.describe() +
+            " positions over rest thicker than " + fixed(rp.threshold_mm, 3) + " mm, all of it deeper than the " +
+            format_double(rest_tool.reach_mm) + " mm the tool reaches below the stock top: no rest operation";
+      return std::nullopt;
+    }
+    if (deeper > 0)
+      why += "; " + std::to_string(deeper) + " of them go down to " + fixed(job.frame.depth_below_top(lowest), 1) +
+             " mm below the stock top, beyond the tool's " + format_double(rest_tool.reach_mm) +
+             " mm stick-out: cut to its reach, the rest below it left";
+  }
   return finish::plan_rest(part.mesh, dropper, r, "the stock the finishing leaves", p).program;
 }
 

@@ -118,6 +118,7 @@ Json label_settings_with_defaults(const std::string& text) {
   }
   doc["finish"].erase("meshes");  // not label settings (recipe_from_config drops them too)
   doc["finish"].erase("strategy");
+  doc["finish"].erase("rest");  // a job's rest operation: no label plans it (label_part)
   return doc;
 }
 

@@ -29,7 +29,8 @@ struct SimulatedLabel {
 /// Whether labels computed under the settings `cached` hold under `current` (both as
 /// recipe_from_config writes them): equal once every key either lacks is filled in at its schema
 /// default, so that a key added to /finish, /simulate, /cutting or /machine at a default that keeps
-/// the old behaviour leaves the cache valid. A `cached` text the schema refuses never matches.
+/// the old behaviour leaves the cache valid. /finish/rest (the job's rest operation, which no label
+/// plans) is not compared. A `cached` text the schema refuses never matches.
 [[nodiscard]] bool same_label_settings(const std::string& cached, const std::string& current);
 
 /// A label's figures as the manifest echoes them (under "labelling").

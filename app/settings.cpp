@@ -678,6 +678,7 @@ datasets::Recipe recipe_from_config(const Json& config) {
     Json f = config["finish"];
     f.erase("meshes");
     f.erase("strategy");
+    f.erase("rest");  // a job's rest operation: no label plans it
     // Everything a simulated label depends on: the strategies' settings, the simulator's, and the
     // cutting data and machine that set the programs' feeds (the "time" aims rank by them).
     r.simulation_settings_json = Json{

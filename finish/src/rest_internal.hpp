@@ -1,5 +1,5 @@
 #pragma once
-// Rest machining's internals shared by rest.cpp and rest_stock.cpp (not installed).
+// Rest machining's internals shared by rest.cpp, rest_stock.cpp and pencil.cpp (not installed).
 #include "millnet/finish/dropcutter.hpp"
 #include "millnet/finish/rest.hpp"
 #include "millnet/ingest/mesh.hpp"
@@ -11,6 +11,28 @@
 #include <vector>
 
 namespace millnet::finish::detail {
+
+/// A grid of axis positions: node (i, j) at (x0 + j·h, y0 + i·h), row-major.
+struct Grid {
+  double x0, y0, h;
+  int nx, ny;
+  [[nodiscard]] std::size_t size() const { return static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny); }
+  [[nodiscard]] double x(int j) const { return x0 + h * j; }
+  [[nodiscard]] double y(int i) const { return y0 + h * i; }
+  [[nodiscard]] std::size_t at(int i, int j) const {
+    return static_cast<std::size_t>(i) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(j);
+  }
+};
+
+class Fence;
+
+/// Sampled passes (steps ≤ 0.25 mm) cut to the machining boundary (pieces shorter than
+/// tol::min_pass_mm dropped), then simplified to the chord tolerance.
+[[nodiscard]] std::vector<Pass> clip_passes(const Fence& fence, const std::vector<Pass>& passes,
+                                            double chord_tolerance_mm);
+
+/// The plan's program made again from its passes, in their order (linked as every strategy's).
+void relink(const ingest::Mesh& mesh, const DropCutter& tool, const FinishParams& p, FinishPlan& plan);
 
 /// Triangle f's unit normal (+Z for a degenerate one or an index out of range).
 inline Eigen::Vector3d unit_normal(const ingest::Mesh& mesh, std::ptrdiff_t f) {

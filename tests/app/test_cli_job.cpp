@@ -287,6 +287,45 @@ TEST(CliJob, RestFinishingIsAnOperationWithItsToolChangeWhereTheFinishingLeavesR
   EXPECT_NE(big.err.find("not smaller"), std::string::npos) << big.err;
 }
 
+// A rest tool is held to what it machines (issue 41 in a job): it cuts as deep as its stick-out
+// reaches from the stock top and no deeper (the rest below is left, said), and a rest operation its
+// flutes cannot take is left out with a note naming where, the job written without it.
+TEST(CliJob, ARestToolCutsWithinItsReachAndOneItsFlutesCannotTakeIsLeftOut) {
+  const fs::path d = fresh_dir("cli_job_rest_reach");
+  const fs::path mesh = write_pocket(d);
+  // The pocket's floor (z 6) lies 2 mm + the top allowance below the stock top: a 2.2 mm stick-out
+  // reaches the corners' upper part only; 0.05 mm of flutes take none of the rest.
+  std::ofstream(d / "tools.json") << R"({"tools": [
+      {"id": "bn1-reach", "type": "ball", "diameter": 1, "flutes": 2, "tool_material": "carbide",
+       "flute_length": 1.5, "stickout": 2.2},
+      {"id": "bn1-stub", "type": "ball", "diameter": 1, "flutes": 2, "tool_material": "carbide",
+       "flute_length": 0.05, "stickout": 20}]})";
+  std::ofstream(d / "c.json") << R"({"simulate": {"cell_mm": 0.1}, "finish": {"tool": {"id": "bn2-2f-carbide"}},
+                                     "cutting": {"tools_file": "tools.json"}})";
+  const std::string base = "job --no-preview --config c.json --mesh '" + mesh.string() + "' --strategy 1 ";
+  const auto r = run_millnet(base + "--rest-tool bn1-reach --out reach", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("beyond the tool's 2.2 mm stick-out: cut to its reach"), std::string::npos) << r.err;
+  const Json j = Json::parse(slurp(d / "reach" / "pocket.job.json"));
+  const auto& rest = j["operations"].back();
+  ASSERT_EQ(rest["name"].get<std::string>().rfind("rest finishing", 0), 0U) << j.dump(1);
+  double lowest = 0;
+  const fs::path nc = d / "reach" / "pocket.op4.rest.nc";
+  for (const gcode::Item& i : gcode::read(slurp(nc), nc.string()).items)
+    if (const auto* m = std::get_if<gcode::Move>(&i); m != nullptr && m->motion != gcode::Motion::Rapid)
+      lowest = std::min(lowest, m->to[2]);
+  EXPECT_GE(lowest, -2.2 - 1e-9);
+  EXPECT_LT(lowest, -1.5);  // it does go down to what it reaches
+  EXPECT_LE(rest["max_depth_of_cut_mm"].get<double>(), 1.5);
+
+  const auto stub = run_millnet(base + "--rest-tool bn1-stub --out stub", d);
+  ASSERT_EQ(stub.code, 0) << stub.err;
+  const Json s = Json::parse(slurp(d / "stub" / "pocket.job.json"));
+  EXPECT_EQ(s["operations"].size(), j["operations"].size() - 1);
+  EXPECT_NE(s.dump().find("rest finishing left out: bn1-stub"), std::string::npos) << s["notes"].dump(1);
+  EXPECT_NE(s.dump().find("beyond its 0.1 mm flutes"), std::string::npos) << s["notes"].dump(1);
+}
+
 TEST(CliJob, ACutDeeperThanTheToolsFlutesRefusesTheJob) {
   const fs::path d = fresh_dir("cli_job_flutes");
   const fs::path mesh = write_cavity(d);

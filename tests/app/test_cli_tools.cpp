@@ -70,10 +70,11 @@ TEST(CliTools, ExportWritesTheBuiltInLibraryAsALinuxCncTable) {
   const auto r = run_millnet("tools export --format linuxcnc --out tool.tbl", d);
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string tbl = slurp(d / "tool.tbl");
-  EXPECT_EQ(lines(tbl), 11U) << tbl;  // the header and T1..T10
+  EXPECT_EQ(lines(tbl), 12U) << tbl;  // the header and T1..T11
   EXPECT_NE(tbl.find("\nT1 P1 D3 Z0 ;em3-2f-carbide: flat 2F\n"), std::string::npos) << tbl;
   EXPECT_NE(tbl.find("\nT6 P6 D10 Z0 ;br10r1-4f-carbide: bull r1 4F\n"), std::string::npos) << tbl;
   EXPECT_NE(tbl.find("\nT10 P10 D10 Z0 ;dr10-hss: drill 2F hss\n"), std::string::npos) << tbl;
+  EXPECT_NE(tbl.find("\nT11 P11 D1 Z0 ;bn1-2f-carbide: ball 2F\n"), std::string::npos) << tbl;
 }
 
 TEST(CliTools, ExportOfAnImportedTableKeepsTheShopsToolsOnTheirNumbers) {
@@ -84,12 +85,12 @@ TEST(CliTools, ExportOfAnImportedTableKeepsTheShopsToolsOnTheirNumbers) {
   const auto r = run_millnet("tools export --format linuxcnc --config c.json --out tool.tbl", d);
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string tbl = slurp(d / "tool.tbl");
-  // T1..T5 are the shop's; the built-in T1..T5 are left out (and said so); T6..T10 stay.
+  // T1..T5 are the shop's; the built-in T1..T5 are left out (and said so); T6..T11 stay.
   EXPECT_NE(tbl.find("\nT1 P1 D6 Z0 ;6mm-end-mill-3f-carbide: flat 3F\n"), std::string::npos) << tbl;
   EXPECT_NE(tbl.find("\nT5 P5 D3.175 Z0 ;t5: flat 2F\n"), std::string::npos) << tbl;
   EXPECT_NE(tbl.find("\nT6 P6 D10 Z0 ;br10r1-4f-carbide"), std::string::npos) << tbl;
   EXPECT_EQ(tbl.find("em3-2f-carbide"), std::string::npos) << tbl;
-  EXPECT_EQ(lines(tbl), 11U);
+  EXPECT_EQ(lines(tbl), 12U);
   EXPECT_NE(r.err.find("note: built-in tool em3-2f-carbide (T1) left out: T1 is 6mm-end-mill-3f-carbide of"),
             std::string::npos)
       << r.err;
@@ -168,7 +169,7 @@ TEST(CliTools, HolderNarrowerThanTheToolIsRefusedNamingTheKey) {
 // The built-in tools got numbers and holders, not new labels: program headers name them as before.
 TEST(CliTools, BuiltInToolsHaveDistinctNumbersHoldersAndTheirOldLabels) {
   const app::ToolLibrary lib = app::tool_library(app::default_config(MILLNET_SOURCE_DIR));
-  ASSERT_EQ(lib.tools.size(), 10U);
+  ASSERT_EQ(lib.tools.size(), 11U);
   std::vector<int> numbers;
   for (const tooling::Tool& t : lib.tools) {
     numbers.push_back(t.number);
@@ -176,7 +177,7 @@ TEST(CliTools, BuiltInToolsHaveDistinctNumbersHoldersAndTheirOldLabels) {
     EXPECT_GT(t.holder_length_mm, 0) << t.id;
   }
   std::sort(numbers.begin(), numbers.end());
-  for (int i = 0; i < 10; ++i) EXPECT_EQ(numbers[static_cast<std::size_t>(i)], i + 1);
+  for (int i = 0; i < 11; ++i) EXPECT_EQ(numbers[static_cast<std::size_t>(i)], i + 1);
   EXPECT_EQ(lib.tool("em10-3f-carbide", "test").label(), "em10-3f-carbide: D10 mm 3-flute carbide flat end mill");
   EXPECT_EQ(lib.tool("bn2-2f-carbide", "test").label(), "bn2-2f-carbide: D2 mm 2-flute carbide ball-nose end mill");
   EXPECT_EQ(lib.tool("br10r1-4f-carbide", "test").label(),

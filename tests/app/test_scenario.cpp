@@ -115,6 +115,7 @@ TEST(Scenario, DefaultPipelineRunsEndToEndAndMeetsItsFigures) {
   ASSERT_EQ(rep["finishing"].size(), n_parts);
   EXPECT_NE(summary.find("## Finishing: the network's ranking beside the simulated one"), std::string::npos);
   std::size_t pick_is_best = 0;          // the network's pick = the simulated best
+  std::size_t parts_with_rest = 0;       // jobs with a rest finishing operation
   std::map<std::string, double> flutes;  // the shipped library's flute lengths, by tool id
   const Json library = Json::parse(slurp(src / "configs/tools.json"));
   for (const Json& t : library["tools"]) flutes[t["id"].get<std::string>()] = t["flute_length"].get<double>();
@@ -203,8 +204,20 @@ TEST(Scenario, DefaultPipelineRunsEndToEndAndMeetsItsFigures) {
     }
     EXPECT_NEAR(jj["total_time_min"].get<double>(),
                 op_minutes + jj["tool_changes"].get<double>() * jj["tool_change_s"].get<double>() / 60, 1e-6);
-    EXPECT_EQ(jj["operations"].back()["name"].get<std::string>().rfind("finishing (s" + std::to_string(js), 0), 0U)
-        << jj["operations"].back()["name"];
+    // The finishing last, or followed by rest finishing with the default config's rest tool (issue
+    // 41) where the finishing left rest over /finish/rest/min_area_mm2; the notes say which.
+    const Json& ops = jj["operations"];
+    const bool rested = ops.back()["name"].get<std::string>().rfind("rest finishing", 0) == 0;
+    if (rested) {
+      ++parts_with_rest;
+      EXPECT_EQ(ops.back()["tool"]["id"], "bn1-2f-carbide");
+      EXPECT_LT(ops.back()["time_kinematic_min"].get<double>(),
+                ops[ops.size() - 2]["time_kinematic_min"].get<double>());
+    }
+    const Json& finish_op = ops[ops.size() - (rested ? 2 : 1)];
+    EXPECT_EQ(finish_op["name"].get<std::string>().rfind("finishing (s" + std::to_string(js), 0), 0U)
+        << finish_op["name"];
+    EXPECT_NE(jj["notes"].dump().find("rest finishing"), std::string::npos) << jj["notes"];
     EXPECT_LE(jj["simulated"]["max_gouge_mm"].get<double>(), 0.002);
     EXPECT_TRUE(fs::exists(jd / (name + ".setup.html")));
     EXPECT_TRUE(linuxcnc_accepts((jd / (name + ".job.nc")).string(), (jd / (name + ".tool.tbl")).string()));
@@ -215,6 +228,7 @@ TEST(Scenario, DefaultPipelineRunsEndToEndAndMeetsItsFigures) {
                 f["spearman"].get<double>());
   }
   EXPECT_GE(pick_is_best, sc["min_pick_is_best"].get<std::size_t>());
+  EXPECT_GE(parts_with_rest, 1U) << "the test parts' corners leave rest for the Ø1 (s3 and s4 on 2026-12-04)";
   EXPECT_NE(summary.find("not a machining outcome): " + std::to_string(correct) + " of " + std::to_string(n_parts)),
             std::string::npos);
   EXPECT_NE(summary.find("| always strategy " + std::to_string(always["strategy"].get<int>()) + " |"),
@@ -310,8 +324,11 @@ TEST(Labels, SettingsMatchWithMissingKeysAtTheirDefaults) {
   lacking.erase("simulate");
   EXPECT_TRUE(same_label_settings(lacking.dump(), full.dump()));
   EXPECT_TRUE(same_label_settings(full.dump(), lacking.dump()));
+  Json rest = full;  // the job's rest operation is no label's
+  rest["finish"]["rest"] = {{"tool", "bn1-2f-carbide"}, {"min_area_mm2", 5.0}};
+  EXPECT_TRUE(same_label_settings(lacking.dump(), rest.dump()));
   Json other = full;
-  other["finish"]["rest"]["min_area_mm2"] = 5.0;
+  other["finish"]["stepover_mm"] = 0.3;
   EXPECT_FALSE(same_label_settings(lacking.dump(), other.dump()));
   EXPECT_FALSE(same_label_settings(full.dump(), other.dump()));
   Json cell = lacking;

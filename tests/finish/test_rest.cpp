@@ -412,5 +412,54 @@ TEST(Pencil, FollowsTheVGroovesBitangentLine) {
   EXPECT_THROW((void)plan_pencil(flat, DropCutter(flat, Cutter::ball(2)), rest_params()), Error);
 }
 
+// A staircase of 1.5 mm risers and 0.2 mm treads (a steep concave slope at 82°) seen by a Ø1 ball:
+// the drops jump from step to step, so bitangent positions are found on every step, 0.2 mm apart
+// in XY and 1.5 mm in Z. Each pencil pass follows one step along Y; chaining by XY alone joined the
+// steps into passes that climbed from one to the next (test part s1's steep slopes, 2 mm up and
+// down every tenth of a millimetre).
+TEST(Pencil, PassesOnASteepStaircaseStayOnTheirStep) {
+  constexpr double kW = 0.2, kH = 1.5;
+  constexpr int kSteps = 6;
+  std::vector<Eigen::Vector2d> prof{{-5, 0}};
+  for (int k = 0; k < kSteps; ++k) {
+    prof.emplace_back(k * kW, k * kH);
+    prof.emplace_back(k * kW, (k + 1) * kH);
+  }
+  prof.emplace_back(kSteps * kW + 5, kSteps * kH);
+  ingest::Mesh m;
+  const auto n = static_cast<Eigen::Index>(prof.size());
+  m.V.resize(2 * n, 3);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    m.V.row(k) << prof[static_cast<std::size_t>(k)].x(), 0, prof[static_cast<std::size_t>(k)].y();
+    m.V.row(n + k) << prof[static_cast<std::size_t>(k)].x(), 20, prof[static_cast<std::size_t>(k)].y();
+  }
+  m.F.resize(2 * (n - 1), 3);
+  for (Eigen::Index k = 0; k + 1 < n; ++k) {
+    m.F.row(2 * k) << static_cast<int>(k), static_cast<int>(k + 1), static_cast<int>(n + k + 1);
+    m.F.row(2 * k + 1) << static_cast<int>(k), static_cast<int>(n + k + 1), static_cast<int>(n + k);
+  }
+  const DropCutter one(m, Cutter::ball(1));
+  FinishParams p = rest_params();
+  p.tool = Cutter::ball(1);
+  const FinishPlan plan = plan_pencil(m, one, p);
+  // One pass a crease, each straight along Y at its bitangent position (hand-computed): the floor's
+  // foot at x = −R, z = 0; above it the ball touching riser k + 1 and nose k at x = k·w − 0.5,
+  // tip z = k·h − 0.1 (its centre 0.5 from the riser, 0.3 from the nose in X and 0.4 in Z: 0.5 = R).
+  ASSERT_EQ(plan.passes.size(), static_cast<std::size_t>(kSteps));
+  std::vector<const Pass*> by_z;
+  for (const Pass& pass : plan.passes) by_z.push_back(&pass);
+  std::sort(by_z.begin(), by_z.end(), [](const Pass* a, const Pass* b) { return a->points[0].z() < b->points[0].z(); });
+  for (int k = 0; k < kSteps; ++k) {
+    SCOPED_TRACE(k);
+    double y_lo = HUGE_VAL, y_hi = -HUGE_VAL;
+    for (const Eigen::Vector3d& q : by_z[static_cast<std::size_t>(k)]->points) {
+      EXPECT_NEAR(q.x(), k * kW - 0.5, 1e-4) << q.transpose();
+      EXPECT_NEAR(q.z(), k == 0 ? 0.0 : k * kH - 0.1, p.chord_tolerance_mm) << q.transpose();
+      y_lo = std::min(y_lo, q.y()), y_hi = std::max(y_hi, q.y());
+    }
+    EXPECT_GT(y_hi - y_lo, 19.0);  // along the whole step
+  }
+}
+
 }  // namespace
 }  // namespace millnet::finish
