@@ -682,22 +682,17 @@ std::optional<gcode::Program> job_rest_program(const job::Part& part, const Fini
   const double floor_z = job.frame.stock_top - rest_tool.reach_mm;
   if (rest_tool.reach_mm > 0 && floor_z > p.boundary.z_min) {
     p.boundary.z_min = floor_z;
-    std::size_t deeper = 0, within = 0;
-    double lowest = floor_z;
-    for (const finish::RestRegion& g : r.parts) {  // O(regions)
-      if (g.z_min < floor_z) ++deeper, lowest = std::min(lowest, g.z_min);
-      if (g.z_max > floor_z) ++within;
-    }
-    if (within == 0) {
+    const finish::RestAgainstFloor reach = finish::against_floor(r, floor_z);
+    if (reach.within == 0) {
       why = "rest finishing: " + fixed(r.rest_axis_area_mm2, 1) + " mm² of " + rest_tool.describe() +
             " positions over rest thicker than " + fixed(rp.threshold_mm, 3) + " mm, all of it deeper than the " +
             format_double(rest_tool.reach_mm) + " mm the tool reaches below the stock top: no rest operation";
       return std::nullopt;
     }
-    if (deeper > 0)
-      why += "; " + std::to_string(deeper) + " of them go down to " + fixed(job.frame.depth_below_top(lowest), 1) +
-             " mm below the stock top, beyond the tool's " + format_double(rest_tool.reach_mm) +
-             " mm stick-out: cut to its reach, the rest below it left";
+    if (reach.deeper > 0)
+      why += "; " + std::to_string(reach.deeper) + " of them go down to " +
+             fixed(job.frame.depth_below_top(reach.lowest_z), 1) + " mm below the stock top, beyond the tool's " +
+             format_double(rest_tool.reach_mm) + " mm stick-out: cut to its reach, the rest below it left";
   }
   return finish::plan_rest(part.mesh, dropper, r, "the stock the finishing leaves", p).program;
 }

@@ -482,6 +482,15 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
   return out;
 }
 
+RestAgainstFloor against_floor(const RestRegions& regions, double floor_z) {
+  RestAgainstFloor out;
+  for (const RestRegion& g : regions.parts) {  // O(regions)
+    if (g.z_min < floor_z) ++out.deeper, out.lowest_z = std::min(out.lowest_z, g.z_min);
+    if (g.z_max > floor_z) ++out.within;
+  }
+  return out;
+}
+
 FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const RestRegions& regions,
                      const std::string& behind, FinishParams params) {
   if (regions.empty())

@@ -26,6 +26,23 @@ const double kBandEnd = 3 - std::sqrt(6 * kT + kT * kT);            // 2.65302
 double floor_rest(double x) { return std::hypot(3 - x, 3.0) - 3; }  // x in [1, 3]
 const double kTouched = 3 - std::sqrt(6 * kT / 2 + kT * kT / 4);    // 2.7548: rest over kT / 2 ends
 
+/// An XZ profile extruded along Y over [0, length]: two triangles per profile segment.
+ingest::Mesh extruded(const std::vector<Eigen::Vector2d>& prof, double length) {
+  ingest::Mesh m;
+  const auto n = static_cast<Eigen::Index>(prof.size());
+  m.V.resize(2 * n, 3);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    m.V.row(k) << prof[static_cast<std::size_t>(k)].x(), 0, prof[static_cast<std::size_t>(k)].y();
+    m.V.row(n + k) << prof[static_cast<std::size_t>(k)].x(), length, prof[static_cast<std::size_t>(k)].y();
+  }
+  m.F.resize(2 * (n - 1), 3);
+  for (Eigen::Index k = 0; k + 1 < n; ++k) {
+    m.F.row(2 * k) << static_cast<int>(k), static_cast<int>(k + 1), static_cast<int>(n + k + 1);
+    m.F.row(2 * k + 1) << static_cast<int>(k), static_cast<int>(n + k + 1), static_cast<int>(n + k);
+  }
+  return m;
+}
+
 /// The corner's profile in XZ extruded along Y over [0, 30]: top z = 10 for x in [−10, 0], the wall
 /// x = 0 down to z = 1, the fillet (centre (1, 1), radius 1, 64 chords), the floor to x = 20.
 ingest::Mesh l_corner() {
@@ -35,19 +52,7 @@ ingest::Mesh l_corner() {
     prof.emplace_back(1 - std::cos(t), 1 - std::sin(t));
   }
   prof.emplace_back(20, 0);
-  ingest::Mesh m;
-  const auto n = static_cast<Eigen::Index>(prof.size());
-  m.V.resize(2 * n, 3);
-  for (Eigen::Index k = 0; k < n; ++k) {
-    m.V.row(k) << prof[static_cast<std::size_t>(k)].x(), 0, prof[static_cast<std::size_t>(k)].y();
-    m.V.row(n + k) << prof[static_cast<std::size_t>(k)].x(), 30, prof[static_cast<std::size_t>(k)].y();
-  }
-  m.F.resize(2 * (n - 1), 3);
-  for (Eigen::Index k = 0; k + 1 < n; ++k) {
-    m.F.row(2 * k) << static_cast<int>(k), static_cast<int>(k + 1), static_cast<int>(n + k + 1);
-    m.F.row(2 * k + 1) << static_cast<int>(k), static_cast<int>(n + k + 1), static_cast<int>(n + k);
-  }
-  return m;
+  return extruded(prof, 30);
 }
 
 /// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection §5.1.5).
@@ -426,18 +431,7 @@ TEST(Pencil, PassesOnASteepStaircaseStayOnTheirStep) {
     prof.emplace_back(k * kW, (k + 1) * kH);
   }
   prof.emplace_back(kSteps * kW + 5, kSteps * kH);
-  ingest::Mesh m;
-  const auto n = static_cast<Eigen::Index>(prof.size());
-  m.V.resize(2 * n, 3);
-  for (Eigen::Index k = 0; k < n; ++k) {
-    m.V.row(k) << prof[static_cast<std::size_t>(k)].x(), 0, prof[static_cast<std::size_t>(k)].y();
-    m.V.row(n + k) << prof[static_cast<std::size_t>(k)].x(), 20, prof[static_cast<std::size_t>(k)].y();
-  }
-  m.F.resize(2 * (n - 1), 3);
-  for (Eigen::Index k = 0; k + 1 < n; ++k) {
-    m.F.row(2 * k) << static_cast<int>(k), static_cast<int>(k + 1), static_cast<int>(n + k + 1);
-    m.F.row(2 * k + 1) << static_cast<int>(k), static_cast<int>(n + k + 1), static_cast<int>(n + k);
-  }
+  const ingest::Mesh m = extruded(prof, 20);
   const DropCutter one(m, Cutter::ball(1));
   FinishParams p = rest_params();
   p.tool = Cutter::ball(1);

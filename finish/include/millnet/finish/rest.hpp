@@ -130,6 +130,14 @@ struct RestRegions {
   [[nodiscard]] bool empty() const { return boundary.polygons.empty(); }
 };
 
+/// The regions against a floor (mesh z; e.g. the stock top less a tool's stick-out): how many go
+/// below it (their lowest tip), how many have rest above it, and the lowest tip of those below.
+struct RestAgainstFloor {
+  std::size_t deeper = 0, within = 0;
+  double lowest_z = std::numeric_limits<double>::infinity();
+};
+[[nodiscard]] RestAgainstFloor against_floor(const RestRegions& regions, double floor_z);
+
 /// The rest regions of the new tool (its drop-cutter `new_tool`) behind `params.reference` over the
 /// box [x0, x1] × [y0, y1] (mesh frame; empty box ⇒ the part's footprint). Throws millnet::Error for
 /// bad parameters or a reference tool smaller than the new one in radius (it would leave nothing
