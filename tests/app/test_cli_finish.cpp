@@ -239,7 +239,7 @@ TEST(CliFinish, StrategiesSetUpFromOneSpecificationAreRankedByTheTimeToMeetIt) {
   const fs::path d = fresh_dir("finish_spec");
   const fs::path mesh = write_dome(d), cfg = write_config(d);
   const auto r = run_millnet("finish --quiet --config '" + cfg.string() + "' --mesh '" + mesh.string() +
-                                 "' --strategy all --simulate --scallop 0.02 --out out",
+                                 "' --tool bn2-2f-carbide --strategy all --simulate --scallop 0.02 --out out",
                              d);
   ASSERT_EQ(r.code, 0) << r.err;
   const double w = 2 * std::sqrt(2 * 0.02 - 0.02 * 0.02);

@@ -86,9 +86,10 @@ TEST(CliPost, AGrblProgramMachinesTheSameSurfaceAsTheLinuxcncOne) {
   const fs::path mesh = write_dome(d);
   std::ofstream(d / "fast.json") << R"({"simulate": {"cell_mm": 0.05}})";
   for (const char* post : {"linuxcnc", "grbl", "fanuc"}) {
-    const auto f = run_millnet("finish --quiet --no-preview --config fast.json --mesh '" + mesh.string() +
-                                   "' --strategy 3 --stepover 0.5 --post " + post + " --out " + post,
-                               d);
+    const auto f =
+        run_millnet("finish --quiet --no-preview --config fast.json --mesh '" + mesh.string() +
+                        "' --tool bn2-2f-carbide --strategy 3 --stepover 0.5 --post " + post + " --out " + post,
+                    d);
     ASSERT_EQ(f.code, 0) << f.err;
     const auto s = run_millnet("simulate --quiet --no-preview --config fast.json --mesh '" + mesh.string() +
                                    "' --gcode " + post + "/dome.s3.nc --tool ball:2 --stock design --out sim_" + post,
