@@ -130,10 +130,6 @@ const PartLabel* LabelFile::find(const std::string& name, const std::string& fnv
   return nullptr;
 }
 
-bool same_settings(const std::string& a, const std::string& b) {
-  return parse_settings(a, "labels") == parse_settings(b, "labels");
-}
-
 LabelFile read_labels(const fs::path& path) {
   const std::string text = read_file(path);
   check_json_nesting(text, path.string());

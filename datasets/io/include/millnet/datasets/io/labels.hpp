@@ -54,10 +54,6 @@ struct LabelFile {
   [[nodiscard]] const PartLabel* find(const std::string& name, const std::string& fnv1a64, std::uintmax_t bytes) const;
 };
 
-/// Whether two settings texts describe the same settings (compared as parsed JSON values, so key
-/// order and spacing do not matter). Throws millnet::Error when either is not JSON.
-[[nodiscard]] bool same_settings(const std::string& a, const std::string& b);
-
 /// Reads a labels file; every error names the file and the key (parts[3].strategies[1].score: …).
 [[nodiscard]] LabelFile read_labels(const std::filesystem::path& path);
 
