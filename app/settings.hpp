@@ -222,6 +222,9 @@ void rest_tool_settings(FinishSettings& s, const std::string& text, const Json& 
 /// /predict/augment: the variants a part is predicted over.
 [[nodiscard]] augment::AugmentParams predict_augment(const Json& config);
 
+/// The augmentation an /…/augment object describes (angles, axes, flip).
+[[nodiscard]] augment::AugmentParams augment_from(const Json& augment);
+
 /// Mesh preparation from the --units / --up strings.
 [[nodiscard]] ingest::PrepareOptions prepare_options(const std::string& units, const std::string& up);
 
