@@ -23,7 +23,9 @@
 #include <algorithm>
 #include <variant>
 #include <cmath>
+#include <limits>
 #include <map>
+#include <optional>
 
 namespace millnet::app {
 namespace fs = std::filesystem;
@@ -356,6 +358,7 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
                     " approaches finished at the plunge feed");
   // 4b. Rest finishing (issue 41): a smaller tool where the finishing leaves rest, its own operation.
   const std::string rest_id = o.rest_tool.value_or(config["finish"]["rest"]["tool"].get<std::string>());
+  RestCut rest_cut;  // the rest tool's cutting data (its operation's sheet entry)
   if (!rest_id.empty()) {
     const tooling::Tool rest = job_tool(rest_id, config, o.material, lib);
     if (!(rest.diameter_mm < ball.diameter_mm))
@@ -369,18 +372,27 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
     std::string rest_why;
     const std::optional<gcode::Program> rest_program =
         job_rest_program(part, fs_, roughed, cutter_of(rest), config["finish"]["rest"]["min_area_mm2"].get<double>(),
-                         {d.rpm, d.feed_mm_min, d.feed_plunge_mm_min}, rest_why);
+                         rest_cut = {d.rpm, d.feed_mm_min, d.feed_plunge_mm_min}, rest_why);
     info("job: " + stem + ": " + rest_why);
     notes.push_back(rest_why);
-    if (rest_program) {  // planned within the tool's reach; its links clear the stock it read (and here)
+    if (rest_program) {  // planned within the tool's reach; its links clear the stock it read
       job::check_reach(rest.cutter(), rest.label(), -job::deepest_z(*rest_program), "the rest finishing's lowest cut");
-      gcode::Program cleared =
-          job::clear_rapids(*rest_program, roughed, rest.cutter(), fs_.params.clearance_mm, d.feed_plunge_mm_min);
-      // Whether its flutes take what it meets, on a copy of the stock the finishing leaves: a rest
-      // operation is a clean-up, so one that would go beyond them is left out (said, with where),
-      // not the whole job refused; --keep-deep-cuts keeps it (and warns, as for any operation).
+      // Machined on a copy of the stock the finishing leaves: whether its flutes take what it meets
+      // (a rest operation is a clean-up, so one that would go beyond them is left out, said with
+      // where, not the whole job refused; --keep-deep-cuts keeps it and warns, as for any
+      // operation), and whether its links, which clear the stock it was planned from 0.1 mm over
+      // its cells, really cut nothing; only if one does are they raised over the pooled stock
+      // (job::clear_rapids: its 0.5 mm cells and 1 mm clearance turned every entry into a feed
+      // through a millimetre of air, a third of the rest operation's feed on s4).
+      gcode::Program cleared = *rest_program;
       simulate::ZMap after = roughed;
-      const job::StepResult st = job::machine_steps(after, design, {{&cleared, rest.cutter()}}, fs_.machine).front();
+      job::StepResult st = job::machine_steps(after, design, {{&cleared, rest.cutter()}}, fs_.machine).front();
+      if (st.cutting_rapids > 0) {
+        cleared =
+            job::clear_rapids(*rest_program, roughed, rest.cutter(), fs_.params.clearance_mm, d.feed_plunge_mm_min);
+        after = roughed;
+        st = job::machine_steps(after, design, {{&cleared, rest.cutter()}}, fs_.machine).front();
+      }
       if (rest.flute_length_mm > 0 && st.max_depth_of_cut_mm > rest.flute_length_mm && !o.keep_deep_cuts) {
         const std::string left = "rest finishing left out: " + rest.label() + " would cut " +
                                  fixed(st.max_depth_of_cut_mm, 2) + " mm deep at X" + fixed(st.max_cut_at[0], 2) +
@@ -443,7 +455,15 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   if (steps.size() != ops.size())
     throw Error(job_nc.string() + ": read back with " + std::to_string(steps.size()) + " tool changes, written with " +
                 std::to_string(ops.size()));
-  const job::ChainResult chain = job::machine_chain(z, design, steps, fs_.machine, sim);
+  // A rest operation last: the chain measures the rest before and after it (issue 41), split by
+  // what each tool reaches (job::split_rest, exact from the mesh), as `millnet simulate` does.
+  const bool rest_last = ops.back().name.rfind("rest finishing", 0) == 0;
+  const job::ChainResult chain = job::machine_chain(z, design, steps, fs_.machine, sim, rest_last);
+  std::optional<job::RestSplit> rest_split;
+  if (chain.rest_step)
+    rest_split = job::split_rest(part.mesh, design, z, chain, ops.back().tool.cutter(), sim.rest_threshold_mm,
+                                 ops.back().tool.cutter().reach_mm > 0 ? -ops.back().tool.cutter().reach_mm
+                                                                       : -std::numeric_limits<double>::infinity());
 
   // 7. The setup sheet's tools (reach and holder clearance over the part) and operations.
   report::SetupSheet sheet;
@@ -506,6 +526,10 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
       so.strategy = "s1 slope mode over the design + " + format_double(sim.allowance_mm) + " mm";
       so.rpm = semi_params->spindle_rpm, so.feed_mm_min = semi_params->feed_mm_min;
       so.stepover_mm = semi_params->stepover_mm, so.step_down_mm = semi_params->step_down_mm;
+    } else if (op.name.rfind("rest finishing", 0) == 0) {  // job_rest_program's passes and cutting data
+      so.strategy = "rest finishing: pencil passes, then s1 slope mode in the rest regions";
+      so.rpm = rest_cut.rpm, so.feed_mm_min = rest_cut.feed_mm_min;
+      so.stepover_mm = fs_.params.stepover_mm, so.step_down_mm = fs_.params.step_down_mm;
     } else if (op.name == "roughing") {  // the roughing's own cutting data
       so.strategy = "Z-level roughing";
       so.rpm = rp.cut.spindle_rpm, so.feed_mm_min = rp.cut.feed_half;
@@ -547,6 +571,18 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
         {"left_above_design_mm", st.max_left_mm},
         {"left_above_design_at", {st.max_left_at[0], st.max_left_at[1]}},
         {"program", op_files[i]}});
+    if (const auto& g = chain.metrics.pass_max_gouge_mm; g.size() >= ops.size())  // its own passes are the last
+      ops_json.back()["max_gouge_mm"] = g[g.size() - ops.size() + i];
+    if (rest_split && i + 1 == ops.size()) {  // the rest operation's figures (as simulate reports them)
+      Json& j = ops_json.back();
+      j["over_threshold_before_mm2"] = chain.rest_area_before_mm2;
+      j["over_threshold_after_mm2"] = chain.rest_area_after_mm2;
+      j["rest_area_before_mm2"] = rest_split->before_mm2;
+      j["rest_area_after_mm2"] = rest_split->after_mm2;
+      j["rest_area_unreachable_mm2"] = rest_split->unreachable_mm2;
+      j["rest_area_missed_mm2"] = rest_split->missed_mm2;  // within the tool's reach
+      j["rest_area_beyond_reach_mm2"] = rest_split->beyond_reach_mm2;
+    }
   }
   for (auto& [n, t] : tools) sheet.tools.push_back(t);
   for (const std::string& n : notes)

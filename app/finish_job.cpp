@@ -602,6 +602,8 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
                         {"air_cut_share", s.air_cut_share()},
                         {"feed_outside_zmap_mm", s.outside_feed_mm},
                         {"air_run_share", s.air_run_share()}});
+    if (const auto& g = r.metrics.pass_max_gouge_mm; g.size() >= programs.size())  // its own passes are the last
+      runs.back()["max_gouge_mm"] = g[g.size() - programs.size() + i];
   }
   if (r.rest_step) {  // issue 41: the last program as rest machining behind the one before it
     Json& last = runs.back();

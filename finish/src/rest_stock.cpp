@@ -171,7 +171,7 @@ std::vector<std::vector<Pass>> trim_to_rest(const std::vector<Pass>& passes, con
     for (std::size_t k = 0; k < passes.size(); ++k) pieces[k] = {passes[k]};
     return pieces;
   }
-  const double eps = regions.threshold_mm / 2, r = tool.cutter().radius(), run_on = r / 4;
+  const double eps = regions.threshold_mm / 2, r = tool.cutter().radius(), run_on = tol::rest_run_on_radii * r;
   const double probe = run_on / 2, bridge = tol::rest_bridge_radii * r;
   SweptByRest swept(regions, tool.cutter());
   for (std::size_t k = 0; k < passes.size(); ++k) {  // in order: each pass after what the ones before cut

@@ -269,7 +269,7 @@ ChainResult machine_chain(simulate::ZMap& stock, const Design& design, const std
 }
 
 RestSplit split_rest(const ingest::Mesh& mesh, const Design& design, const simulate::ZMap& stock, const ChainResult& r,
-                     const tooling::Cutter& tool, double threshold_mm) {
+                     const tooling::Cutter& tool, double threshold_mm, double floor_z) {
   const finish::RestRegions ref = finish::unreachable_regions(mesh, r.rest_reference, threshold_mm);
   const finish::RestRegions own = finish::unreachable_regions(mesh, tool, threshold_mm);
   const simulate::GridSpec& g = design.grid;
@@ -280,7 +280,7 @@ RestSplit split_rest(const ingest::Mesh& mesh, const Design& design, const simul
   const std::vector<std::uint8_t> above = simulate::cells_above(stock, design.heights, threshold_mm);
   RestSplit out;
   out.missed.assign(g.cells(), std::numeric_limits<double>::quiet_NaN());
-  std::size_t before = 0, after = 0, miss = 0;
+  std::size_t before = 0, after = 0, miss = 0, deep = 0;
   for (std::size_t i = 0; i < g.cells(); ++i) {  // O(cells)
     const bool was = i < r.rest_above_before.size() && r.rest_above_before[i] != 0;
     if ((!was && above[i] == 0) || !in(ref, i)) continue;
@@ -288,9 +288,14 @@ RestSplit split_rest(const ingest::Mesh& mesh, const Design& design, const simul
     if (above[i] == 0) continue;
     ++after;
     if (in(own, i)) continue;
+    if (design.heights[i] < floor_z) {
+      ++deep;
+      continue;
+    }
     out.missed[i] = stock.heights()[i] - design.heights[i];
     ++miss;
   }
+  out.beyond_reach_mm2 = static_cast<double>(deep) * g.cell * g.cell;
   const double cell_area = g.cell * g.cell;
   out.before_mm2 = static_cast<double>(before) * cell_area;
   out.after_mm2 = static_cast<double>(after) * cell_area;

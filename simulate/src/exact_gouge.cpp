@@ -356,19 +356,23 @@ Penetration sweep_penetration(const PartSolid& part, const gcode::Program& progr
 
 void confirm_gouges(SurfaceMetrics& m, const ZMap& machined, const std::vector<double>& design, const PartSolid& part,
                     const std::vector<PassTool>& passes, const ExactGougeOptions& opt) {
-  if (!m.gouged) return;
   const GridSpec& g = machined.spec();
   const auto& z = machined.heights();
   const auto& stamps = machined.stamps();
-  // 1. The z-map's gouge places: per move (stamp), its deepest gouge cell. O(cells).
+  // 1. The z-map's gouge per pass, and its gouge places: per move (stamp), its deepest gouge
+  //    cell. O(cells).
+  m.pass_max_gouge_mm.assign(machined.passes(), 0.0);
   std::map<std::uint32_t, std::pair<double, std::size_t>> by_move;
   for (std::size_t i = 0; i < g.cells(); ++i) {
     if (std::isnan(design[i]) || stamps[i] == 0 || !(z[i] < design[i])) continue;
     const double en = (z[i] - design[i]) * metrics::cos_slope(g, design, i);
-    if (!(en < -opt.tolerance_mm)) continue;
+    if (MoveRef ref; machined.origin(i, ref) && ref.pass < m.pass_max_gouge_mm.size())
+      m.pass_max_gouge_mm[ref.pass] = std::max(m.pass_max_gouge_mm[ref.pass], -en);
+    if (!m.gouged || !(en < -opt.tolerance_mm)) continue;
     auto [at, fresh] = by_move.try_emplace(stamps[i], en, i);
     if (!fresh && en < at->second.first) at->second = {en, i};
   }
+  if (!m.gouged) return;
   std::vector<std::pair<double, std::size_t>> places;
   for (const auto& [stamp, place] : by_move) places.push_back(place);
   std::sort(places.begin(), places.end());  // deepest first; ties by cell
@@ -376,6 +380,7 @@ void confirm_gouges(SurfaceMetrics& m, const ZMap& machined, const std::vector<d
   m.zmap_max_gouge_mm = m.max_gouge_mm;
   m.zmap_gouge_places = places.size();
   std::size_t checked = 0;
+  std::vector<double> exact_of_pass(m.pass_max_gouge_mm.size(), kNaN);
   // 2. Each place's move and its neighbours swept exactly near the place.
   std::map<std::size_t, std::vector<P3>> starts;
   double deepest = 0;
@@ -400,6 +405,11 @@ void confirm_gouges(SurfaceMetrics& m, const ZMap& machined, const std::vector<d
     const double cx = g.x(cell % g.nx), cy = g.y(cell / g.nx);
     const double window = pt.cutter.radius() + 2 * g.cell;
     const Penetration pen = sweep_penetration(part, *pt.program, it->second, items, pt.cutter, cx, cy, window, opt);
+    // The pass's figure from its checked places (its deepest z-map place comes first).
+    if (ref.pass < exact_of_pass.size()) {
+      double& e = exact_of_pass[ref.pass];
+      e = std::isnan(e) ? std::max(pen.depth_mm, 0.0) : std::max(e, pen.depth_mm);
+    }
     if (!(pen.depth_mm > opt.tolerance_mm)) {  // clear within the tolerance: a z-map artefact
       ++m.gouge_places_refuted;
       deepest = std::max(deepest, pen.depth_mm);
@@ -416,6 +426,8 @@ void confirm_gouges(SurfaceMetrics& m, const ZMap& machined, const std::vector<d
     confirmed = true;
   }
   // 3. The confirmed figures replace the z-map's.
+  for (std::size_t k = 0; k < exact_of_pass.size(); ++k)  // O(passes)
+    if (!std::isnan(exact_of_pass[k])) m.pass_max_gouge_mm[k] = exact_of_pass[k];
   m.gouge_places_checked = checked;
   m.gouged = confirmed;
   m.max_gouge_mm = deepest;

@@ -270,6 +270,15 @@ TEST(CliJob, RestFinishingIsAnOperationWithItsToolChangeWhereTheFinishingLeavesR
   EXPECT_LT(rest["time_kinematic_min"].get<double>(), finishing["time_kinematic_min"].get<double>() / 4);
   EXPECT_LT(rest["air_cut_share"].get<double>(), 0.5);
   EXPECT_LE(j["simulated"]["max_gouge_mm"].get<double>(), 0.002);
+  EXPECT_EQ(rest["strategy"].get<std::string>().rfind("rest finishing", 0), 0U) << rest["strategy"];
+  // Its rest before and after (issue 41), as `simulate` splits them: less after, and what is left
+  // is where the Ø1 cannot reach or missed (no stick-out: nothing beyond its reach).
+  const double before = rest["rest_area_before_mm2"].get<double>(), after = rest["rest_area_after_mm2"].get<double>();
+  EXPECT_GT(before, 0);
+  EXPECT_LT(after, before / 2) << rest.dump(1);
+  EXPECT_EQ(rest["rest_area_beyond_reach_mm2"].get<double>(), 0.0);
+  EXPECT_LE(rest["rest_area_missed_mm2"].get<double>(), after + 1e-9);
+  for (const auto& op : ops) EXPECT_LE(op["max_gouge_mm"].get<double>(), 0.002) << op["name"];
   const std::string text = slurp(d / "out" / "pocket.job.nc");
   EXPECT_NE(text.find("T" + std::to_string(rest["tool"]["number"].get<int>()) + " M6"), std::string::npos);
   EXPECT_TRUE(linuxcnc_accepts((d / "out" / "pocket.job.nc").string(), (d / "out" / "pocket.tool.tbl").string()));
@@ -317,6 +326,8 @@ TEST(CliJob, ARestToolCutsWithinItsReachAndOneItsFlutesCannotTakeIsLeftOut) {
   EXPECT_GE(lowest, -2.2 - 1e-9);
   EXPECT_LT(lowest, -1.5);  // it does go down to what it reaches
   EXPECT_LE(rest["max_depth_of_cut_mm"].get<double>(), 1.5);
+  // The rest below the reach is counted apart from what the tool missed where it reaches.
+  EXPECT_GT(rest["rest_area_beyond_reach_mm2"].get<double>(), 0) << rest.dump(1);
 
   const auto stub = run_millnet(base + "--rest-tool bn1-stub --out stub", d);
   ASSERT_EQ(stub.code, 0) << stub.err;

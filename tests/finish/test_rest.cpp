@@ -7,6 +7,7 @@
 // and the ball's centre distance to every triangle (brute force) for gouge and for coverage.
 #include "millnet/core/error.hpp"
 #include "millnet/finish/rest.hpp"
+#include "millnet/finish/tolerances.hpp"
 
 #include <gtest/gtest.h>
 
@@ -151,9 +152,9 @@ TEST(RestFinishing, CleansTheBandOnlyAndNeverGouges) {
     for (std::size_t q = 0; q < pass.points.size(); ++q) {
       const Eigen::Vector3d& p = pass.points[q];
       // Cut to where the rest is (over half the threshold at the contact: the floor up to
-      // 3 − √(6ε + ε²) = 2.755), run on by R/4 along the pass: no pass over the bare floor beyond.
+      // 3 − √(6ε + ε²) = 2.755), run on by R/8 along the pass: no pass over the bare floor beyond.
       EXPECT_GE(p.x(), 0.5 - 2 * r.cell) << p.transpose();
-      EXPECT_LE(p.x(), kTouched + 0.25 + 2 * r.cell) << p.transpose();
+      EXPECT_LE(p.x(), kTouched + tol::rest_run_on_radii * 1.0 + 2 * r.cell) << p.transpose();
       EXPECT_LE(p.z(), r.rest_top_z + 1e-9);
       if (q == 0) continue;
       const Eigen::Vector3d& a = pass.points[q - 1];
@@ -313,13 +314,13 @@ TEST(RestRegions, FromTheStockTheSixMillimetreBallLeftTheBandIsTheHandComputedOn
   // The wall's rest beside the point (0, 15, 2.6): where the Ø6's arc comes down to z = 2.6, less
   // half a cell (a wall's place in the columns is known to that).
   EXPECT_NEAR(r.material({0, 15, 2.6}, Eigen::Vector3d::UnitX()), 3 - std::sqrt(9 - 0.4 * 0.4) - 0.01, 1e-3);
-  // Its rest program stays where the stock is: within the band plus R/4 run-on and the cell.
+  // Its rest program stays where the stock is: within the band plus the R/8 run-on and the cell.
   const FinishPlan plan = plan_rest(part, two, r, "the stock", rest_params());
   ASSERT_FALSE(plan.passes.empty());
   for (const Pass& pass : plan.passes)
     for (const Eigen::Vector3d& p : pass.points) {
       EXPECT_GE(p.x(), 0.5 - 2 * r.cell) << p.transpose();
-      EXPECT_LE(p.x(), kTouched + 0.25 + 2 * r.cell) << p.transpose();
+      EXPECT_LE(p.x(), kTouched + tol::rest_run_on_radii * 1.0 + 2 * r.cell) << p.transpose();
     }
 }
 

@@ -185,6 +185,40 @@ TEST(ExactGouge, RealPlungeIsConfirmedWithItsDepthLineAndXY) {
   EXPECT_EQ(r.exact.gouge_places_refuted, 0u);
 }
 
+// Two programs on one z-map, each its pass: the first runs the ball along the through-bore's wall
+// (a 4 mm z-map "gouge" the exact check refutes), the second plunges 0.5 mm into the top. Per
+// pass: the first's real penetration (≤ the tolerance), the second's 0.5 mm; a third pass that
+// cuts nothing gouges 0. Without a z-map gouge, the z-map's own per-pass figures.
+TEST(ExactGouge, EachPassCarriesItsOwnDeepestGouge) {
+  const ingest::Mesh mesh = plate();
+  const std::vector<double> design = design_of(mesh);
+  const tooling::Cutter c = tooling::Cutter::ball(2);
+  const Program wall = plunge_and_run(9.125, 10, -5, 9.125, 10.5), dip = plunge_and_run(1.5, 10, -0.5, 1.5, 10),
+                air = plunge_and_run(1.5, 4, 7, 1.5, 5);
+  ZMap z = ZMap::flat(kGrid, 6.0);
+  for (const Program* p : {&wall, &dip, &air}) (void)machine(z, *p, c);
+  MetricsOptions mo;
+  mo.ra_map = false;
+  SurfaceMetrics m = surface_metrics(z, design, mo);
+  confirm_gouges(m, z, design, PartSolid(mesh, 0), {{&wall, c}, {&dip, c}, {&air, c}}, ExactGougeOptions{});
+  ASSERT_EQ(m.pass_max_gouge_mm.size(), 3u);
+  EXPECT_LE(m.pass_max_gouge_mm[0], 0.002);
+  EXPECT_GE(m.pass_max_gouge_mm[0], 0.0);
+  EXPECT_NEAR(m.pass_max_gouge_mm[1], 0.5, 5e-4);
+  EXPECT_EQ(m.pass_max_gouge_mm[2], 0.0);
+  EXPECT_NEAR(m.max_gouge_mm, 0.5, 5e-4);
+  // The plate's top skimmed 0.001 mm deep (within the tolerance): no exact check, the z-map's.
+  ZMap skim = ZMap::flat(kGrid, 6.0);
+  const Program top = plunge_and_run(1.625, 10.125, -0.001, 3.625, 10.125);  // over cell centres
+  (void)machine(skim, top, c);
+  SurfaceMetrics n = surface_metrics(skim, design, mo);
+  confirm_gouges(n, skim, design, PartSolid(mesh, 0), {{&top, c}}, ExactGougeOptions{});
+  EXPECT_FALSE(n.gouge_checked) << n.min_e_mm;
+  EXPECT_NEAR(n.min_e_mm, -0.001, 1e-9);
+  ASSERT_EQ(n.pass_max_gouge_mm.size(), 1u);
+  EXPECT_NEAR(n.pass_max_gouge_mm[0], 0.001, 1e-9);
+}
+
 // Penetration at one position, by hand: a ball 0.3 mm into the top; a flat Ø4 whose rim stands
 // 0.5 mm over the boss's edge, 0.2 mm below its top (Z 4.8): 0.2 mm, while beside it, it is clear;
 // a bull Ø4 r1 on the plate at Z −0.1: 0.1 mm.

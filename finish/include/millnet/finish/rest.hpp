@@ -178,7 +178,7 @@ struct RestAgainstFloor {
 /// params.boundary's; on_part kept) and its raster along its principal direction; a region narrower
 /// than the tool gets its pencil passes only. The passes, nearest first, are each cut to the pieces
 /// where the tool removes rest that the regions measure and the pieces before it left (over half
-/// the threshold at its contact; detail::trim_to_rest), run on by R/4 at both ends, and the pieces
+/// the threshold at its contact; detail::trim_to_rest), run on by R/8 at both ends (tol::rest_run_on_radii), and the pieces
 /// ordered nearest first again. All linked into one program whose links clear regions.stock_tip
 /// and whose entries come down to tol::rest_approach_mm above it. The program's header names it
 /// rest finishing and the reference tool. Throws millnet::Error when the regions are empty.

@@ -14,6 +14,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace millnet::job {
@@ -132,12 +133,16 @@ void left_above(const simulate::ZMap& stock, const Design& design, StepResult& s
 /// the threshold where the reference (r.rest_reference) cannot reach: before (r.rest_above_before)
 /// and after the rest program (`stock`); what the rest tool cannot reach either (the ideal after);
 /// rest left where the rest tool reaches (missed), with its vertical excess per cell (NaN elsewhere).
-/// `mesh` in the part frame, whose XY is the z-map's. O(cells) + the two tests.
+/// `mesh` in the part frame, whose XY is the z-map's. Rest on design below `floor_z` (the z-map's
+/// frame: the stock top less the rest tool's stick-out) is beyond its reach, counted apart from the
+/// missed (beyond_reach_mm2). O(cells) + the two tests.
 struct RestSplit {
   double before_mm2 = 0, after_mm2 = 0, unreachable_mm2 = 0, reference_unreachable_mm2 = 0, missed_mm2 = 0;
+  double beyond_reach_mm2 = 0;
   std::vector<double> missed;
 };
 [[nodiscard]] RestSplit split_rest(const ingest::Mesh& mesh, const Design& design, const simulate::ZMap& stock,
-                                   const ChainResult& r, const tooling::Cutter& tool, double threshold_mm);
+                                   const ChainResult& r, const tooling::Cutter& tool, double threshold_mm,
+                                   double floor_z = -std::numeric_limits<double>::infinity());
 
 }  // namespace millnet::job

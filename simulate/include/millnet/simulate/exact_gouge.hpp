@@ -111,7 +111,8 @@ struct PassTool {
 /// Then `m` carries the confirmed figures: max_gouge_mm = the deepest confirmed penetration (or
 /// the deepest one found, ≤ tolerance, when none is confirmed), gouged, gouge_move,
 /// first_gouge_move and gouge_cell from the exact check; the z-map's own figures move to
-/// zmap_max_gouge_mm and the gouge_check counts. No-op (gouge_checked = false) when the z-map
+/// zmap_max_gouge_mm and the gouge_check counts; pass_max_gouge_mm the same per pass (the z-map's
+/// where no place of the pass was checked). Nothing else (gouge_checked = false) when the z-map
 /// reports no gouge. A place whose pass has no program in `passes` (null: machined before a saved
 /// stock was read back) is left unchecked.
 void confirm_gouges(SurfaceMetrics& m, const ZMap& machined, const std::vector<double>& design, const PartSolid& part,

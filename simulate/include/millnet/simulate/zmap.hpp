@@ -257,6 +257,11 @@ struct SurfaceMetrics {
   std::size_t gouge_places_refuted = 0;  ///< checked and found clear: z-map artefacts
   double gouge_x_mm = 0;                 ///< confirmed gouge: the tool tip's XY where it is deepest
   double gouge_y_mm = 0;
+  /// Per z-map pass (one program each), the deepest gouge of the cells it last lowered, mm ≥ 0:
+  /// the exact check's deepest penetration of its checked places (a refuted artefact reads as its
+  /// real penetration, ≤ tolerance), the z-map's along the normal where none was checked. Filled by
+  /// confirm_gouges (empty when it did not run).
+  std::vector<double> pass_max_gouge_mm;
   /// Remaining material: the area with (e − allowance)·cos(slope) > tolerance (measured along the
   /// surface normal, like the gouge: on an 87° wall a vertical e overstates it 19×). With options.cutter it is split
   /// into three parts, each cell in exactly one:
