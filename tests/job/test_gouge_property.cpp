@@ -5,7 +5,9 @@
 // strategy gouges, every z-map gouge place is an artefact the check refutes — and a program pushed
 // 0.05 mm into the plateau at one point is a gouge for both, of the same depth within a cell's
 // profile error. (A ball: the exact check of a bull samples its disk, ~1,250 probes a position, and
-// took 103 s on this one place.)
+// took 103 s on this one place.) The same on a plate with a steep-walled boss and a blind bore, where
+// cells straddle the walls, and for a rest program there.
+#include "millnet/finish/rest.hpp"
 #include "millnet/finish/strategy.hpp"
 #include "millnet/job/finishing.hpp"
 #include "millnet/job/frame.hpp"
@@ -88,6 +90,49 @@ void expect_strategies_agree(const ingest::Mesh& mesh, const Cutter& cutter) {
 
 TEST(GougeProperty, EveryStrategysProgramIsJudgedAlikeByTheZMapAndByTheWholeProgramAgainstTheTriangles) {
   expect_strategies_agree(flanks(), Cutter::ball(2));
+}
+
+/// Where the cells lie most (issue 37 §1): a plate (z 2) with a boss (z 6) whose walls stand over
+/// one 0.5 mm sampling step (83°) and a blind bore (Ø4 down to z 0.5) with walls as steep: cells
+/// straddle every wall.
+ingest::Mesh boss_and_bore() {
+  return testing_ingest::solid(
+      [](double x, double y) {
+        if (std::max(std::abs(x - 5), std::abs(y - 5)) < 2) return 6.0;
+        if (std::hypot(x - 11, y - 11) < 2) return 0.5;
+        return 2.0;
+      },
+      0, 16, 0, 16, 32, 32);
+}
+
+TEST(GougeProperty, OnSteepWallsAndInABoreTheZMapAndTheWholeProgramAgreeToo) {
+  expect_strategies_agree(boss_and_bore(), Cutter::ball(2));
+}
+
+// A rest program (a Ø1 ball behind a Ø3 reference, in the boss's and the bore's concave feet) is
+// judged alike as well: its pieces, entries just over the stock and stay-down links included.
+TEST(GougeProperty, ARestProgramIsJudgedAlikeByTheZMapAndByTheWholeProgram) {
+  const ingest::Mesh mesh = boss_and_bore();
+  const Frame frame = frame_of(mesh, 1.0);
+  const Design design = design_surface(mesh, frame, sim());
+  const Cutter small = Cutter::ball(1);
+  finish::FinishParams p;
+  p.tool = small;
+  p.stepover_mm = 0.25;
+  p.step_down_mm = 0.25;
+  p.safe_z_mm = 5;
+  p.z_shift = frame.z_shift();
+  const finish::DropCutter dc(mesh, small);
+  finish::RestParams rp;
+  rp.reference = Cutter::ball(3);
+  const finish::RestRegions r = finish::rest_regions(mesh, dc, rp);
+  ASSERT_FALSE(r.empty());
+  const finish::FinishPlan plan = finish::plan_rest(mesh, dc, r, rp.reference.describe(), p);
+  ASSERT_GT(plan.path_length_mm, 10);
+  const Case c = check(mesh, frame, design, plan.program, small);
+  EXPECT_LE(c.exact.depth_mm, kWholeProgramTolMm) << "item " << c.exact.item;
+  EXPECT_EQ(c.scored.metrics.gouged, c.exact.depth_mm > kWholeProgramTolMm);
+  EXPECT_EQ(c.scored.metrics.gouge_places_refuted, c.scored.metrics.gouge_places_checked);
 }
 
 TEST(GougeProperty, AProgramPushedIntoThePlateauIsAGougeOfTheSameDepthForBoth) {
