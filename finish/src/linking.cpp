@@ -41,6 +41,7 @@ public:
     const double len = std::sqrt((m.to[0] - at_[0]) * (m.to[0] - at_[0]) + (m.to[1] - at_[1]) * (m.to[1] - at_[1]) +
                                  (m.to[2] - at_[2]) * (m.to[2] - at_[2]));
     if (len < 1e-9) return;  // nothing to move
+    if (p_.stock_cut) p_.stock_cut(Eigen::Vector3d(at_[0], at_[1], at_[2] - p_.z_shift), q);
     plan_.path_length_mm += len;
     ++plan_.cl_points;
     push(m);
@@ -88,9 +89,20 @@ void link_passes(const Sampler& s, const FinishParams& p, const Fence& fence, Fi
       const double d = (start.head<2>() - prev->head<2>()).norm();
       std::vector<Sample> link;
       if (d <= stay_max) link = sample_segment(s, prev->head<2>(), start.head<2>(), h0, p.chord_tolerance_mm);
-      const bool stays_in = std::all_of(link.begin(), link.end(), [&](const Sample& q) { return fence.inside(q.p); });
+      const double floor_z = p.stock_tip ? std::min(prev->z(), start.z()) : -HUGE_VAL;
+      const bool stays_in = std::all_of(link.begin(), link.end(), [&](const Sample& q) {
+        return fence.inside(q.p) &&
+               (!p.stock_engagement ||
+                p.stock_engagement(q.p.x(), q.p.y(), std::max(q.p.z(), floor_z)) <= p.link_max_cut_mm);
+      });
       if (d <= stay_max && stays_in) {
-        for (std::size_t i = 1; i + 1 < link.size(); ++i) b.line(link[i].p, p.feed_mm_min);
+        // Over a stock (rest finishing) a link never dips below the lower of its ends: between two
+        // raised passes stepping a corner's rest down it would cut through what they leave.
+        for (std::size_t i = 1; i + 1 < link.size(); ++i) {
+          Eigen::Vector3d q = link[i].p;
+          q.z() = std::max(q.z(), floor_z);
+          b.line(q, p.feed_mm_min);
+        }
         b.line(start, p.feed_mm_min);
       } else {
         double top = std::max(prev->z(), start.z());

@@ -19,6 +19,7 @@
 #include <memory>
 #include <numbers>
 #include <numeric>
+#include <optional>
 #include <string>
 
 namespace millnet::finish {
@@ -369,6 +370,7 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
     if (grown[k]) out.mask[k] = 2;
   if (stock) {  // what the links and entries clear
     out.stock_tip = [stock, tool](double x, double y) { return stock->clearing_tip(tool, x, y); };
+    out.left = std::shared_ptr<const RestStock>(std::shared_ptr<const RestStock>(), stock);  // not owned
   } else {
     // The reference's envelope near the regions (+ the threshold for its cusps); elsewhere the new
     // tool on the reference's tip, raised until its profile clears the reference's.
@@ -378,6 +380,7 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
     for (int k = 0; k <= 64; ++k)  // O(1) samples of the new tool's radius
       rise = std::max(
           rise, params.reference.profile_height(tool.radius() * k / 64) - tool.profile_height(tool.radius() * k / 64));
+    out.left = env;
     out.stock_tip = [ref, env, tool, lift = rise + thr](double x, double y) {
       const double tip = env->clearing_tip(tool, x, y);
       return tip < HUGE_VAL ? tip : ref->tool.drop(x, y).z + lift;
@@ -546,16 +549,62 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
   }
   const auto narrow = static_cast<std::size_t>(std::count(cut.begin(), cut.end(), 0));
   at = Eigen::Vector3d(regions.x0, regions.y0, params.safe_z_mm - params.z_shift);
-  plan.passes = detail::order_nearest(pencil, at);
-  for (Pass& piece : detail::order_nearest(std::move(rest), at)) plan.passes.push_back(std::move(piece));
+  const Eigen::Vector3d start = at;
+  std::vector<Pass> ordered = detail::order_nearest(pencil, at);
+  for (Pass& piece : detail::order_nearest(std::move(rest), at)) ordered.push_back(std::move(piece));
+  // A piece that would cut deeper than the tool's flutes take is taken from the top down first:
+  // raised copies of it, each begun from its end nearest the tool, a step apart that leaves the
+  // flutes what a copy leaves beside a wall (its profile's height at its rim: R for a ball) — the
+  // flute length less that (s1 of README command 1, Ø1 ball with 1.5 mm flutes: 1 mm steps, the
+  // deepest cut 2.48 → 1.09 mm). How deep each cuts is measured on what was left as the pieces
+  // before it leave it (a copy of the stock, machined piece by piece). No stepping under 0.1 mm
+  // steps (flutes shorter than the profile: the job's flute check says so).
+  const tooling::Cutter& cutter = new_tool.cutter();
+  const double step = params.tool.flute_length_mm - cutter.profile_height(cutter.radius());
+  const double depth = step >= 0.1 ? step : 0.0;
+  std::optional<RestStock> running;
+  if (depth > 0 && regions.left) running = *regions.left;
+  std::size_t stepped = 0;
+  for (Pass& piece : ordered) {  // O(pieces · samples · (R / cell)²)
+    std::vector<Pass> copies;
+    if (running) {
+      copies = detail::raised_copies(
+          piece, [&](double x, double y, double z) { return running->engagement(cutter, x, y, z); }, depth,
+          cutter.radius() / 4, tol::rest_run_on_radii * cutter.radius());
+      stepped += copies.empty() ? 0 : 1;
+    }
+    Eigen::Vector3d from = plan.passes.empty() ? start : plan.passes.back().points.back();
+    for (Pass& c : copies) {
+      if ((c.points.back() - from).squaredNorm() < (c.points.front() - from).squaredNorm())
+        std::reverse(c.points.begin(), c.points.end());
+      from = c.points.back();
+      plan.passes.push_back(std::move(c));
+    }
+    plan.passes.push_back(std::move(piece));
+    if (running)
+      for (std::size_t k = plan.passes.size() - copies.size() - 1; k < plan.passes.size(); ++k)
+        for (std::size_t i = 0; i + 1 < plan.passes[k].points.size(); ++i)  // O(segments)
+          running->cut(cutter, plan.passes[k].points[i], plan.passes[k].points[i + 1]);
+  }
   params.stock_tip = regions.stock_tip;
+  if (depth > 0 && regions.left) {  // the links judged on the stock as the program leaves it
+    auto linked = std::make_shared<RestStock>(*regions.left);
+    params.stock_engagement = [linked, cutter](double x, double y, double z) {
+      return linked->engagement(cutter, x, y, z);
+    };
+    params.stock_cut = [linked, cutter](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+      linked->cut(cutter, a, b);
+    };
+    params.link_max_cut_mm = depth;
+  }
   if (plan.passes.empty())
     throw Error("rest: the rest regions behind " + behind + " are all narrower than " + params.tool.describe() +
                 " and have no concave edge to trace");
-  params.comments.insert(params.comments.begin(), "rest finishing behind " + behind + ": " +
-                                                      std::to_string(regions.parts.size()) + " region(s) (" +
-                                                      std::to_string(narrow) + " pencil only), " +
-                                                      std::to_string(pencil.size()) + " pencil pass(es) first");
+  params.comments.insert(
+      params.comments.begin(),
+      "rest finishing behind " + behind + ": " + std::to_string(regions.parts.size()) + " region(s) (" +
+          std::to_string(narrow) + " pencil only), " + std::to_string(pencil.size()) + " pencil pass(es) first" +
+          (stepped > 0 ? ", " + std::to_string(stepped) + " piece(s) stepped down from the top" : std::string()));
   detail::relink(mesh, new_tool, params, plan);
   return plan;
 }

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace millnet::finish::detail {
@@ -43,13 +44,14 @@ inline Eigen::Vector3d unit_normal(const ingest::Mesh& mesh, std::ptrdiff_t f) {
 }
 
 /// The pieces of each of `passes` (in their machining order) where the tool removes rest. Each
-/// pass is probed every R/8 along its straight segments (the path the machine follows): a probe
+/// pass is probed along its straight segments (the path the machine follows): a probe
 /// cuts when the material at its contact exceeds half the threshold as the regions measure it
 /// (regions.material), unless the tool came within that of the contact along the kept pieces of
 /// the passes before it (placements every R/8, its profile only): a pass does not cut again what an
 /// earlier one cleared. The contact is the drop's at the probe's XY, or, for a probe hanging above
 /// its drop (beside a vertical wall), the tool's widest point on the side where the drops rise.
-/// Each cutting probe keeps the stretch within R/4 (path length) on either side, stretches within
+/// Each cutting probe keeps the stretch within tol::rest_run_on_radii · R (path length) on either
+/// side (the probes stand half of that apart), stretches within
 /// tol::rest_bridge_radii · R of each other are joined (also across a closed pass's seam), and each
 /// stretch is a piece: its ends interpolated on their segments, the pass's vertices between. Passes
 /// in order, a pass's probes in parallel: any thread count. O(length / R) drops, each tested against
@@ -65,6 +67,17 @@ inline Eigen::Vector3d unit_normal(const ingest::Mesh& mesh, std::ptrdiff_t f) {
 [[nodiscard]] RestStock reference_envelope(const tooling::Cutter& reference, const std::vector<double>& ref_cl,
                                            double x0, double y0, double h, int nx, int ny,
                                            const std::vector<std::uint8_t>& near, double reach_mm, double add_mm);
+
+/// Raised copies of `piece` where it would cut more than `depth_mm` deep (`engagement`: the height of
+/// the stock the tool cuts, over its tip, at the piece's points, sampled every `sample_mm`): at Δ = k·depth_mm,
+/// k = ⌈h/depth_mm⌉ − 1 … 1 for the most h met, the highest first, each the stretch of the piece
+/// (run on by `run_on` at both ends) where the stock stands over Δ, lifted by Δ — so that a deep
+/// corner's rest is taken from the top down, a depth at a time, before the piece meets the rest of
+/// it. A copy lies above the piece's points, which lie on or above the design's drop surface: it
+/// cannot gouge. None when the piece meets ≤ depth_mm (or depth_mm ≤ 0). O(samples · copies).
+[[nodiscard]] std::vector<Pass> raised_copies(const Pass& piece,
+                                              const std::function<double(double, double, double)>& engagement,
+                                              double depth_mm, double sample_mm, double run_on);
 
 /// The passes reordered nearest first from `at` (3D distance; updated to the last pass's end): an
 /// open pass may be cut backwards, a loop may start at any vertex; `order` (one entry per pass),

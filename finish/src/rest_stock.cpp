@@ -88,6 +88,43 @@ double RestStock::clearing_tip(const tooling::Cutter& tool, double x, double y) 
   return tip == -std::numeric_limits<double>::infinity() ? tip : tip + z_offset;
 }
 
+double RestStock::engagement(const tooling::Cutter& tool, double x, double y, double tip) const {
+  const double r = tool.radius(), top = tip - z_offset;  // in the grid's heights
+  const int j0 = std::max(0, static_cast<int>(std::floor((x - r - x0) / cell))),
+            j1 = std::min(nx - 1, static_cast<int>(std::ceil((x + r - x0) / cell)));
+  const int i0 = std::max(0, static_cast<int>(std::floor((y - r - y0) / cell))),
+            i1 = std::min(ny - 1, static_cast<int>(std::ceil((y + r - y0) / cell)));
+  double most = 0;
+  for (int i = i0; i <= i1; ++i)  // O((R / cell)²) cells
+    for (int j = j0; j <= j1; ++j) {
+      const double d = std::hypot(x0 + j * cell - x, y0 + i * cell - y);
+      if (d > r) continue;
+      const double h = z[static_cast<std::size_t>(i) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(j)];
+      if (std::isfinite(h) && h > top + tool.profile_height(d)) most = std::max(most, h - top);
+    }
+  return most;
+}
+
+void RestStock::cut(const tooling::Cutter& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double r = tool.radius();
+  const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / (cell / 2))));
+  for (int t = 0; t <= n; ++t) {  // O(length / cell) placements
+    const Eigen::Vector3d q = a + (b - a) * (static_cast<double>(t) / n);
+    const double tip = q.z() - z_offset;
+    const int j0 = std::max(0, static_cast<int>(std::floor((q.x() - r - x0) / cell))),
+              j1 = std::min(nx - 1, static_cast<int>(std::ceil((q.x() + r - x0) / cell)));
+    const int i0 = std::max(0, static_cast<int>(std::floor((q.y() - r - y0) / cell))),
+              i1 = std::min(ny - 1, static_cast<int>(std::ceil((q.y() + r - y0) / cell)));
+    for (int i = i0; i <= i1; ++i)  // O((R / cell)²) cells
+      for (int j = j0; j <= j1; ++j) {
+        const double d = std::hypot(x0 + j * cell - q.x(), y0 + i * cell - q.y());
+        if (d > r) continue;
+        double& h = z[static_cast<std::size_t>(i) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(j)];
+        h = std::min(h, tip + tool.profile_height(d));
+      }
+  }
+}
+
 double unreachable_area_mm2(const ingest::Mesh& mesh, const tooling::Cutter& tool, double threshold_mm) {
   return unreachable_regions(mesh, tool, threshold_mm).rest_axis_area_mm2;
 }
@@ -286,6 +323,41 @@ RestStock reference_envelope(const tooling::Cutter& reference, const std::vector
       env.z[at(i, j)] = e + add_mm;
     }
   return env;
+}
+
+std::vector<Pass> raised_copies(const Pass& piece, const std::function<double(double, double, double)>& engagement,
+                                double depth_mm, double sample_mm, double run_on) {
+  if (!(depth_mm > 0) || !engagement || piece.points.size() < 2) return {};
+  // The piece densified (every sample_mm along its segments) and the stock over each point.
+  std::vector<Eigen::Vector3d> q;
+  std::vector<double> s, h;                                    // path length, stock over the point
+  for (std::size_t i = 0; i + 1 < piece.points.size(); ++i) {  // O(length / sample)
+    const Eigen::Vector3d &a = piece.points[i], &b = piece.points[i + 1];
+    const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / sample_mm)));
+    for (int t = (i == 0 ? 0 : 1); t <= n; ++t) {
+      const Eigen::Vector3d p = a + (b - a) * (static_cast<double>(t) / n);
+      s.push_back(q.empty() ? 0.0 : s.back() + (p - q.back()).norm());
+      q.push_back(p);
+      h.push_back(engagement(p.x(), p.y(), p.z()));
+    }
+  }
+  const double most = *std::max_element(h.begin(), h.end());
+  const int copies = static_cast<int>(std::ceil(most / depth_mm)) - 1;
+  std::vector<Pass> out;
+  for (int k = copies; k >= 1; --k) {  // O(copies · samples)
+    const double lift = k * depth_mm;
+    std::size_t first = q.size(), last = 0;
+    for (std::size_t i = 0; i < q.size(); ++i)
+      if (h[i] > lift) first = std::min(first, i), last = i;
+    if (first > last) continue;
+    while (first > 0 && s[first - 1] >= s[first] - run_on) --first;
+    while (last + 1 < q.size() && s[last + 1] <= s[last] + run_on) ++last;
+    Pass copy;
+    for (std::size_t i = first; i <= last; ++i) copy.points.push_back(q[i] + Eigen::Vector3d(0, 0, lift));
+    if (copy.points.size() == 1) copy.points.push_back(copy.points.front());
+    out.push_back(std::move(copy));
+  }
+  return out;
 }
 
 std::vector<Pass> order_nearest(std::vector<Pass> passes, Eigen::Vector3d& at, std::vector<std::size_t>* order) {

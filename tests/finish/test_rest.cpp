@@ -277,6 +277,109 @@ TEST(RestStock, TheMaterialIsTheStocksHeightOverThePointAlongTheNormal) {
   EXPECT_THROW(bad.check(), Error);
 }
 
+TEST(RestStock, EngagementAndCutAreTheToolsProfileOverTheCells) {
+  // Flat at z = 1 on cells of 0.05 (centres at multiples of 0.05): a Ø1 ball with its tip at 0
+  // meets all 1 mm of it; at 0.8, where 1 > 0.8 + 0.5 − √(0.25 − d²), i.e. d < 0.4: 0.2 mm.
+  RestStock st;
+  st.cell = 0.05, st.x0 = 0, st.y0 = 0, st.nx = 81, st.ny = 41;
+  st.z.assign(81 * 41, 1.0);
+  const Cutter ball = Cutter::ball(1);
+  EXPECT_NEAR(st.engagement(ball, 1, 1, 0.0), 1.0, 1e-12);
+  EXPECT_NEAR(st.engagement(ball, 1, 1, 0.8), 0.2, 1e-12);
+  EXPECT_EQ(st.engagement(ball, 1, 1, 1.0), 0.0);
+  // Swept from (1, 1) to (3, 1) at tip 0.8: the cells on the line at 0.8, 0.3 aside at
+  // 0.8 + 0.5 − 0.4 = 0.9, 0.35 aside at 1.3 − √(0.25 − 0.1225); from 0.4 aside (where the ball's
+  // surface reaches z 1) untouched.
+  st.cut(ball, {1, 1, 0.8}, {3, 1, 0.8});
+  auto at = [&](double x, double y) {
+    return st.z[static_cast<std::size_t>(std::lround(y / 0.05)) * 81 + static_cast<std::size_t>(std::lround(x / 0.05))];
+  };
+  EXPECT_NEAR(at(2, 1), 0.8, 1e-12);
+  EXPECT_NEAR(at(2, 1.3), 0.9, 1e-12);
+  EXPECT_NEAR(at(2, 1.35), 1.3 - std::sqrt(0.25 - 0.35 * 0.35), 1e-12);
+  EXPECT_EQ(at(2, 1.45), 1.0);
+  EXPECT_EQ(at(3.6, 1), 1.0);
+  // 0.1 lower over the line: the cells the sweep left at 1 from 0.4 to √(0.25 − 0.2²) = 0.458 aside
+  // stand over the lower ball, 0.3 above its tip (its flank meets them first).
+  EXPECT_NEAR(st.engagement(ball, 2, 1, 0.7), 0.3, 1e-12);
+  st.z_offset = 0.5;  // heights read 0.5 higher
+  EXPECT_NEAR(st.engagement(ball, 2, 1, 1.2), 0.3, 1e-12);
+}
+
+namespace {
+/// The L corner's stock with a 4 mm-tall skin left along the wall's foot (x < 1.5, z = 4: what a
+/// roughing with a large stock to leave leaves), on cells of 0.05.
+RestStock skin_stock() {
+  RestStock st;
+  st.cell = 0.05, st.x0 = -4.975, st.y0 = 0.025, st.nx = 300, st.ny = 600;
+  st.z.resize(static_cast<std::size_t>(st.nx) * static_cast<std::size_t>(st.ny));
+  for (int i = 0; i < st.ny; ++i)
+    for (int j = 0; j < st.nx; ++j) {
+      const double x = st.x0 + st.cell * j;
+      st.z[static_cast<std::size_t>(i) * static_cast<std::size_t>(st.nx) + static_cast<std::size_t>(j)] = x < 0 ? 10.0
+                                                                                                          : x < 1.5
+                                                                                                              ? 4.0
+                                                                                                              : 0.0;
+    }
+  return st;
+}
+
+/// The deepest cut of a program's feed moves on `stock` (machined move by move, each probed every
+/// 0.025 mm before it cuts there), mesh frame = program frame.
+double deepest_cut(const gcode::Program& program, RestStock stock, const Cutter& tool) {
+  double most = 0;
+  Eigen::Vector3d at(0, 0, 1e3);
+  for (const gcode::Item& item : program.items) {  // O(moves · length / 0.025 · (R / cell)²)
+    const auto* m = std::get_if<gcode::Move>(&item);
+    if (m == nullptr) continue;
+    const Eigen::Vector3d to(m->to[0], m->to[1], m->to[2]);
+    if (m->motion != gcode::Motion::Rapid) {
+      const int n = std::max(1, static_cast<int>(std::ceil((to - at).norm() / 0.025)));
+      for (int k = 1; k <= n; ++k) {
+        const Eigen::Vector3d a = at + (to - at) * ((k - 1.0) / n), b = at + (to - at) * (static_cast<double>(k) / n);
+        most = std::max(most, stock.engagement(tool, b.x(), b.y(), b.z()));
+        stock.cut(tool, a, b);
+      }
+    }
+    at = to;
+  }
+  return most;
+}
+}  // namespace
+
+// A rest that stands taller than the tool's flutes (a 4 mm skin at the wall's foot, a Ø2 ball
+// with 1.5 mm of flutes) is taken from the top down, in steps of the flutes less the ball's
+// radius (what a step leaves against the wall stands that much over the next): no move of the
+// program — passes, raised copies and links — cuts deeper than the flutes (replayed on the stock);
+// the same tool with no stated flutes plans the pass alone, which meets the skin's whole height.
+// (Steps of 2/3 of the flutes met 1.78 mm here.)
+TEST(RestFinishing, ARestTallerThanTheFlutesIsSteppedDownFromTheTop) {
+  const ingest::Mesh part = l_corner();
+  const RestStock stock = skin_stock();
+  Cutter tool = Cutter::ball(2);
+  tool.flute_length_mm = 1.5;
+  FinishParams p = rest_params();
+  p.step_down_mm = 0.25;
+  p.stepover_mm = 0.25;
+  auto plan_with = [&](const Cutter& c) {
+    const DropCutter dc(part, c);
+    RestParams rp;
+    rp.threshold_mm = kT;
+    rp.stock = &stock;
+    const RestRegions r = rest_regions(part, dc, rp, -5, 0, 10, 30);
+    FinishParams q = p;
+    q.tool = c;
+    return plan_rest(part, dc, r, "the skin", q);
+  };
+  const FinishPlan stepped = plan_with(tool);
+  EXPECT_NE(stepped.program.header.back().find("stepped down from the top"), std::string::npos)
+      << stepped.program.header.back();
+  EXPECT_LE(deepest_cut(stepped.program, stock, tool), 1.5);
+  Cutter unstated = tool;
+  unstated.flute_length_mm = 0;
+  EXPECT_GT(deepest_cut(plan_with(unstated).program, stock, tool), 3.0);
+}
+
 TEST(RestRegions, FromTheStockTheSixMillimetreBallLeftTheBandIsTheHandComputedOne) {
   const ingest::Mesh part = l_corner();
   const DropCutter two(part, Cutter::ball(2));

@@ -34,6 +34,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,15 @@ struct RestStock {
   /// of the cells within its reach less the tool's profile there, each cell taken at its corner
   /// nearest the axis (conservative). −infinity when no cell is within reach. O((R / cell)²).
   [[nodiscard]] double clearing_tip(const tooling::Cutter& tool, double x, double y) const;
+  /// How deep `tool` with its tip at (x, y, tip) cuts: the most a cell within its radius stands
+  /// above the tip where it stands above the tool's profile there (cells at their centres, cells
+  /// not finite skipped; 0 when it cuts nothing). The simulation's axial engagement, on this
+  /// stock. O((R / cell)²).
+  [[nodiscard]] double engagement(const tooling::Cutter& tool, double x, double y, double tip) const;
+  /// `tool` swept from a to b (tips, the grid's frame less z_offset): every cell within its radius
+  /// lowered to the tool's surface over it, sampled every half cell along the segment.
+  /// O(length / cell · (R / cell)²).
+  void cut(const tooling::Cutter& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b);
 };
 
 struct RestParams {
@@ -127,6 +137,11 @@ struct RestRegions {
   /// smaller ball: it lies inside the reference on the same tip) plus the threshold (the
   /// reference's cusps). plan_rest's links and entries use it. Thread-safe.
   std::function<double(double, double)> stock_tip;
+  /// What was left as heights: the stock (not owned: it must outlive this), or the reference's
+  /// envelope near the regions (+infinity elsewhere). plan_rest machines its pieces into a copy, in
+  /// order, to know how deep each cuts (RestStock::engagement) and steps a piece that would cut
+  /// deeper than half the tool's flutes down from the top.
+  std::shared_ptr<const RestStock> left;
   [[nodiscard]] bool empty() const { return boundary.polygons.empty(); }
 };
 

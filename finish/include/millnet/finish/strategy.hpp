@@ -114,6 +114,13 @@ struct FinishParams {
   /// as well as the design by clearance_mm, and each entry comes down at rapid to
   /// tol::rest_approach_mm above it (or above the entry, when that is higher) before it plunges.
   std::function<double(double, double)> stock_tip;
+  /// With stock_tip: how deep the tool with its tip at (x, y, z) (mesh frame) would cut into that
+  /// stock as the program's feed moves so far left it (each reported to `stock_cut`, tips from →
+  /// to, as the linking writes it). A stay-down link that would cut deeper than `link_max_cut_mm`
+  /// lifts instead (a link must not sink into a corner's rest its passes take a step at a time).
+  std::function<double(double, double, double)> stock_engagement;
+  std::function<void(const Eigen::Vector3d&, const Eigen::Vector3d&)> stock_cut;
+  double link_max_cut_mm = HUGE_VAL;
   /// Machining box (XY box of tool-axis positions, mesh frame); empty ⇒ the part's footprint (or
   /// the boundary polygons' box, when they are given).
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
