@@ -4,6 +4,7 @@
 // operations as programs of their own; the job machined from the block; the setup sheet.
 #include "cli.hpp"
 #include "finish_job.hpp"
+#include "job_rest.hpp"
 #include "job_stock.hpp"
 #include "run_job.hpp"
 #include "settings.hpp"
@@ -369,42 +370,11 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
     const tooling::CuttingData d =
         tooling::cutting_data(rest, lib.material(cs.material_id, cs.material_from),
                               config["simulate"]["allowance_mm"].get<double>(), cs.machine, cs.factors);
-    std::string rest_why;
-    const std::optional<gcode::Program> rest_program =
-        job_rest_program(part, fs_, roughed, cutter_of(rest), config["finish"]["rest"]["min_area_mm2"].get<double>(),
-                         rest_cut = {d.rpm, d.feed_mm_min, d.feed_plunge_mm_min}, rest_why);
-    info("job: " + stem + ": " + rest_why);
-    notes.push_back(rest_why);
-    if (rest_program) {  // planned within the tool's reach; its links clear the stock it read
-      job::check_reach(rest.cutter(), rest.label(), -job::deepest_z(*rest_program), "the rest finishing's lowest cut");
-      // Machined on a copy of the stock the finishing leaves: whether its flutes take what it meets
-      // (a rest operation is a clean-up, so one that would go beyond them is left out, said with
-      // where, not the whole job refused; --keep-deep-cuts keeps it and warns, as for any
-      // operation), and whether its links, which clear the stock it was planned from 0.1 mm over
-      // its cells, really cut nothing; only if one does are they raised over the pooled stock
-      // (job::clear_rapids: its 0.5 mm cells and 1 mm clearance turned every entry into a feed
-      // through a millimetre of air, a third of the rest operation's feed on s4).
-      gcode::Program cleared = *rest_program;
-      simulate::ZMap after = roughed;
-      job::StepResult st = job::machine_steps(after, design, {{&cleared, rest.cutter()}}, fs_.machine).front();
-      if (st.cutting_rapids > 0) {
-        cleared =
-            job::clear_rapids(*rest_program, roughed, rest.cutter(), fs_.params.clearance_mm, d.feed_plunge_mm_min);
-        after = roughed;
-        st = job::machine_steps(after, design, {{&cleared, rest.cutter()}}, fs_.machine).front();
-      }
-      if (rest.flute_length_mm > 0 && st.max_depth_of_cut_mm > rest.flute_length_mm && !o.keep_deep_cuts) {
-        const std::string left = "rest finishing left out: " + rest.label() + " would cut " +
-                                 fixed(st.max_depth_of_cut_mm, 2) + " mm deep at X" + fixed(st.max_cut_at[0], 2) +
-                                 " Y" + fixed(st.max_cut_at[1], 2) + " Z" + fixed(st.max_cut_at[2], 2) +
-                                 ", beyond its " + fixed(rest.flute_length_mm, 1) +
-                                 " mm flutes (what stands over a corner it reaches first); the rest stays";
-        info("job: " + stem + ": " + left);
-        notes.push_back(left);
-      } else {
-        ops.push_back({"rest finishing (" + rest.label() + ")", rest, std::move(cleared)});
-      }
-    }
+    rest_cut = {d.rpm, d.feed_mm_min, d.feed_plunge_mm_min};
+    if (std::optional<job::Operation> op =
+            rest_operation(part, fs_, roughed, design, rest, rest_cut,
+                           config["finish"]["rest"]["min_area_mm2"].get<double>(), o.keep_deep_cuts, stem, notes))
+      ops.push_back(std::move(*op));
   }
   if (!pick.meets_spec && pf.outcomes.size() > 1)
     notes.push_back("no strategy meets the surface specification; the job finishes with the best of them");
