@@ -128,52 +128,12 @@ void frame_page(report::PreviewInput& page, const job::Part& part, const job::Fr
   page.stock = std::array<double, 6>{0, 0, frame.program_bottom(), frame.width, frame.depth, 0};
 }
 
-/// What every strategy of a part shares: its frame, the finishing parameters in it, the drop
-/// cutter, the height picture under the paths and (simulated) the design surface.
-struct PartJob {
-  job::Frame frame;
-  finish::FinishParams params;
-  std::optional<finish::DropCutter> dropper;
-  ingest::HeightField hf;
-  Eigen::MatrixXd heights;
-  std::optional<job::Design> design;
-};
-
 /// The holder check on what the plans machine: each one's lowest move (a finishing program's rapids
 /// stop above its cuts), below the stock top.
 void check_plans_reach(const FinishSettings& settings, const std::vector<finish::FinishPlan>& plans) {
   for (const finish::FinishPlan& plan : plans)  // O(strategies)
     job::check_reach(settings.cutting.tool.cutter(), settings.cutting.tool.label(), -job::deepest_z(plan.program),
                      "the finishing's lowest cut (" + finish::strategy_name(plan.strategy) + ")");
-}
-
-/// The frame, the holder check, the parameters in the frame and the drop-cutter (and, simulated,
-/// the design surface): what planning and scoring a part's strategies needs.
-PartJob finishing_job(const job::Part& part, const FinishSettings& settings) {
-  PartJob job;
-  settings.params.check();
-  job.frame = job::frame_of(part.mesh, settings.stock_top_above_part_mm);
-  finish::Boundary in_program = settings.params.boundary;  // the Z range as given (program frame)
-  in_program.z_min = settings.z_min.value_or(in_program.z_min);
-  in_program.z_max = settings.z_max.value_or(in_program.z_max);
-  if (settings.simulate) {
-    job.design = job::design_surface(part.mesh, job.frame, sim_params(settings));
-    job::judge_within(*job.design, in_program);
-  }
-  // The holder check on the depth the finishing machines: over the whole footprint box (on_part
-  // false, no outline), down to the part's lowest point (or the Z range's floor) before planning;
-  // inside a boundary, each plan's lowest cut after planning (check_plans_reach).
-  const finish::Boundary& b = settings.params.boundary;
-  if (b.polygons.empty() && !b.on_part)
-    job::check_reach(settings.cutting.tool.cutter(), settings.cutting.tool.label(),
-                     job.frame.depth_below_top(std::max(job.frame.part_bottom, in_program.z_min + job.frame.stock_top)),
-                     "the part");
-  std::vector<std::string> tool_lines = settings.cutting.header();
-  if (tool_lines.empty()) tool_lines.push_back("tool: " + settings.params.tool.describe());
-  job.params = job::part_params(settings.params, job.frame, part.name, std::move(tool_lines));
-  job.params.boundary = settings.boundary_in(job.frame);
-  job.dropper.emplace(part.mesh, job.params.tool);
-  return job;
 }
 
 PartJob part_job(const job::Part& part, const FinishSettings& settings, const fs::path& out) {
@@ -242,6 +202,33 @@ job::StrategyOutcome strategy_outcome(const job::Part& part, const FinishSetting
 }
 
 }  // namespace
+
+PartJob finishing_job(const job::Part& part, const FinishSettings& settings) {
+  PartJob job;
+  settings.params.check();
+  job.frame = job::frame_of(part.mesh, settings.stock_top_above_part_mm);
+  finish::Boundary in_program = settings.params.boundary;  // the Z range as given (program frame)
+  in_program.z_min = settings.z_min.value_or(in_program.z_min);
+  in_program.z_max = settings.z_max.value_or(in_program.z_max);
+  if (settings.simulate) {
+    job.design = job::design_surface(part.mesh, job.frame, sim_params(settings));
+    job::judge_within(*job.design, in_program);
+  }
+  // The holder check on the depth the finishing machines: over the whole footprint box (on_part
+  // false, no outline), down to the part's lowest point (or the Z range's floor) before planning;
+  // inside a boundary, each plan's lowest cut after planning (check_plans_reach).
+  const finish::Boundary& b = settings.params.boundary;
+  if (b.polygons.empty() && !b.on_part)
+    job::check_reach(settings.cutting.tool.cutter(), settings.cutting.tool.label(),
+                     job.frame.depth_below_top(std::max(job.frame.part_bottom, in_program.z_min + job.frame.stock_top)),
+                     "the part");
+  std::vector<std::string> tool_lines = settings.cutting.header();
+  if (tool_lines.empty()) tool_lines.push_back("tool: " + settings.params.tool.describe());
+  job.params = job::part_params(settings.params, job.frame, part.name, std::move(tool_lines));
+  job.params.boundary = settings.boundary_in(job.frame);
+  job.dropper.emplace(part.mesh, job.params.tool);
+  return job;
+}
 
 std::string program_file_name(const std::string& base, const job::StrategyOutcome& o) {
   return base + (o.simulated && o.surface.gouged ? ".GOUGES.nc" : ".nc");
@@ -359,6 +346,16 @@ job::StrategyOutcome outcome_from_metrics(const Json& j, double cell_mm) {
   return o;
 }
 
+finish::RestStock stock_of(simulate::ZMap z, const job::Frame& frame) {
+  const simulate::GridSpec g = z.spec();
+  finish::RestStock s;
+  s.x0 = g.x0, s.y0 = g.y0, s.cell = g.cell;
+  s.nx = static_cast<int>(g.nx), s.ny = static_cast<int>(g.ny);
+  s.z = std::move(z.heights());
+  s.z_offset = -frame.z_shift();  // program frame → part frame
+  return s;
+}
+
 job::SimParams sim_params(const FinishSettings& settings) {
   job::SimParams p;
   p.cell_mm = settings.sim.cell_mm;
@@ -391,17 +388,6 @@ void write_extra_program(const job::Part& part, const FinishSettings& settings, 
   path_png(out / (base + ".png"), job, plan.program, part.name + ": " + kind);
   write_file_atomic(out / (base + ".nc"), written.text);
   write_file_atomic(out / (base + ".json"), figures.dump(2) + "\n");
-}
-
-/// A simulated stock (a z-map in the program frame) as rest finishing reads it, in the part's frame.
-finish::RestStock stock_of(simulate::ZMap z, const job::Frame& frame) {
-  const simulate::GridSpec g = z.spec();
-  finish::RestStock s;
-  s.x0 = g.x0, s.y0 = g.y0, s.cell = g.cell;
-  s.nx = static_cast<int>(g.nx), s.ny = static_cast<int>(g.ny);
-  s.z = std::move(z.heights());
-  s.z_offset = -frame.z_shift();  // program frame → part frame
-  return s;
 }
 
 /// The stock a simulation saved (`simulate --save-stock`), in the mesh frame, for rest from the
@@ -649,54 +635,6 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
   }
   write_file_atomic(out / (stem + ".sim.json"), j.dump(2) + "\n");
   return j;
-}
-
-std::optional<gcode::Program> job_rest_program(const job::Part& part, const FinishSettings& settings,
-                                               const simulate::ZMap& z, const tooling::Cutter& rest_tool,
-                                               double min_area_mm2, const RestCut& cut, std::string& why) {
-  FinishSettings plain = settings;
-  plain.simulate = false;  // the frame and parameters only
-  const PartJob job = finishing_job(part, plain);
-  finish::FinishParams p = job.params;
-  p.tool = rest_tool;
-  p.tool_label.clear();
-  p.comments = {"tool: " + p.tool.describe()};
-  p.spindle_rpm = cut.rpm, p.feed_mm_min = cut.feed_mm_min, p.plunge_feed_mm_min = cut.plunge_feed_mm_min;
-  const finish::RestStock stock = stock_of(z, job.frame);
-  finish::RestParams rp;
-  rp.stock = &stock;
-  rp.threshold_mm = settings.rest_threshold_mm;
-  rp.margin_mm = settings.rest_margin_mm;
-  const finish::DropCutter dropper(part.mesh, p.tool);
-  const finish::RestRegions r = finish::rest_regions(part.mesh, dropper, rp, p.x0, p.y0, p.x1, p.y1);
-  if (r.empty() || r.rest_axis_area_mm2 < min_area_mm2) {
-    why = "rest finishing: " + fixed(r.rest_axis_area_mm2, 1) + " mm² of " + rest_tool.describe() +
-          " positions over rest thicker than " + fixed(rp.threshold_mm, 3) + " mm, under /finish/rest/min_area_mm2 (" +
-          fixed(min_area_mm2, 1) + " mm²): no rest operation";
-    return std::nullopt;
-  }
-  why = "rest finishing with " + rest_tool.describe() +
-        " from the stock the finishing leaves: " + std::to_string(r.regions) + " region(s), " +
-        fixed(r.rest_axis_area_mm2, 1) + " mm² of tool positions over " + fixed(rp.threshold_mm, 3) + " mm of rest";
-  // As deep as the tool reaches and no deeper (CAM's "limit to the tool's reach"): a region whose
-  // lowest tip lies below the stick-out from the stock top is cut down to it and the rest below is
-  // left, said in the note — never a deeper cut, never the whole job refused for a corner.
-  const double floor_z = job.frame.stock_top - rest_tool.reach_mm;
-  if (rest_tool.reach_mm > 0 && floor_z > p.boundary.z_min) {
-    p.boundary.z_min = floor_z;
-    const finish::RestAgainstFloor reach = finish::against_floor(r, floor_z);
-    if (reach.within == 0) {
-      why = "rest finishing: " + fixed(r.rest_axis_area_mm2, 1) + " mm² of " + rest_tool.describe() +
-            " positions over rest thicker than " + fixed(rp.threshold_mm, 3) + " mm, all of it deeper than the " +
-            format_double(rest_tool.reach_mm) + " mm the tool reaches below the stock top: no rest operation";
-      return std::nullopt;
-    }
-    if (reach.deeper > 0)
-      why += "; " + std::to_string(reach.deeper) + " of them go down to " +
-             fixed(job.frame.depth_below_top(reach.lowest_z), 1) + " mm below the stock top, beyond the tool's " +
-             format_double(rest_tool.reach_mm) + " mm stick-out: cut to its reach, the rest below it left";
-  }
-  return finish::plan_rest(part.mesh, dropper, r, "the stock the finishing leaves", p).program;
 }
 
 }  // namespace millnet::app

@@ -8,7 +8,10 @@
 // offset. Z in the programs is the tool tip.
 #include "settings.hpp"
 
+#include "millnet/finish/dropcutter.hpp"
+#include "millnet/finish/rest.hpp"
 #include "millnet/finish/strategy.hpp"
+#include "millnet/ingest/heightfield.hpp"
 #include "millnet/job/chain.hpp"
 #include "millnet/job/finishing.hpp"
 #include "millnet/job/frame.hpp"
@@ -29,6 +32,24 @@ struct PartFinish {
   std::optional<job::Design> design;
   std::vector<job::StrategyOutcome> outcomes;
 };
+
+/// What every strategy of a part shares: its frame, the finishing parameters in it, the drop
+/// cutter, the height picture under the paths and (simulated) the design surface.
+struct PartJob {
+  job::Frame frame;
+  finish::FinishParams params;
+  std::optional<finish::DropCutter> dropper;
+  ingest::HeightField hf;
+  Eigen::MatrixXd heights;
+  std::optional<job::Design> design;
+};
+
+/// The frame, the holder check, the parameters in the frame and the drop-cutter (and, simulated,
+/// the design surface): what planning and scoring a part's strategies needs.
+[[nodiscard]] PartJob finishing_job(const job::Part& part, const FinishSettings& settings);
+
+/// A simulated stock (a z-map in the program frame) as rest finishing reads it, in the part's frame.
+[[nodiscard]] finish::RestStock stock_of(simulate::ZMap z, const job::Frame& frame);
 
 /// Rest finishing as a job's operation (issue 41): the program of `rest_tool` behind the stock `z`
 /// the operations before it left (a z-map in the program frame), planned as `finish --rest-tool

@@ -5,9 +5,58 @@
 #include "cutting.hpp"
 #include "text.hpp"
 
+#include "millnet/finish/rest.hpp"
 #include "millnet/job/links.hpp"
 
 namespace millnet::app {
+
+std::optional<gcode::Program> job_rest_program(const job::Part& part, const FinishSettings& settings,
+                                               const simulate::ZMap& z, const tooling::Cutter& rest_tool,
+                                               double min_area_mm2, const RestCut& cut, std::string& why) {
+  FinishSettings plain = settings;
+  plain.simulate = false;  // the frame and parameters only
+  const PartJob job = finishing_job(part, plain);
+  finish::FinishParams p = job.params;
+  p.tool = rest_tool;
+  p.tool_label.clear();
+  p.comments = {"tool: " + p.tool.describe()};
+  p.spindle_rpm = cut.rpm, p.feed_mm_min = cut.feed_mm_min, p.plunge_feed_mm_min = cut.plunge_feed_mm_min;
+  const finish::RestStock stock = stock_of(z, job.frame);
+  finish::RestParams rp;
+  rp.stock = &stock;
+  rp.threshold_mm = settings.rest_threshold_mm;
+  rp.margin_mm = settings.rest_margin_mm;
+  const finish::DropCutter dropper(part.mesh, p.tool);
+  const finish::RestRegions r = finish::rest_regions(part.mesh, dropper, rp, p.x0, p.y0, p.x1, p.y1);
+  if (r.empty() || r.rest_axis_area_mm2 < min_area_mm2) {
+    why = "rest finishing: " + fixed(r.rest_axis_area_mm2, 1) + " mm² of " + rest_tool.describe() +
+          " positions over rest thicker than " + fixed(rp.threshold_mm, 3) + " mm, under /finish/rest/min_area_mm2 (" +
+          fixed(min_area_mm2, 1) + " mm²): no rest operation";
+    return std::nullopt;
+  }
+  why = "rest finishing with " + rest_tool.describe() +
+        " from the stock the finishing leaves: " + std::to_string(r.regions) + " region(s), " +
+        fixed(r.rest_axis_area_mm2, 1) + " mm² of tool positions over " + fixed(rp.threshold_mm, 3) + " mm of rest";
+  // As deep as the tool reaches and no deeper (CAM's "limit to the tool's reach"): a region whose
+  // lowest tip lies below the stick-out from the stock top is cut down to it and the rest below is
+  // left, said in the note — never a deeper cut, never the whole job refused for a corner.
+  const double floor_z = job.frame.stock_top - rest_tool.reach_mm;
+  if (rest_tool.reach_mm > 0 && floor_z > p.boundary.z_min) {
+    p.boundary.z_min = floor_z;
+    const finish::RestAgainstFloor reach = finish::against_floor(r, floor_z);
+    if (reach.within == 0) {
+      why = "rest finishing: " + fixed(r.rest_axis_area_mm2, 1) + " mm² of " + rest_tool.describe() +
+            " positions over rest thicker than " + fixed(rp.threshold_mm, 3) + " mm, all of it deeper than the " +
+            format_double(rest_tool.reach_mm) + " mm the tool reaches below the stock top: no rest operation";
+      return std::nullopt;
+    }
+    if (reach.deeper > 0)
+      why += "; " + std::to_string(reach.deeper) + " of them go down to " +
+             fixed(job.frame.depth_below_top(reach.lowest_z), 1) + " mm below the stock top, beyond the tool's " +
+             format_double(rest_tool.reach_mm) + " mm stick-out: cut to its reach, the rest below it left";
+  }
+  return finish::plan_rest(part.mesh, dropper, r, "the stock the finishing leaves", p).program;
+}
 
 std::optional<job::Operation> rest_operation(const job::Part& part, const FinishSettings& settings,
                                              const simulate::ZMap& left, const job::Design& design,

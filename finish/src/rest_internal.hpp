@@ -68,16 +68,20 @@ inline Eigen::Vector3d unit_normal(const ingest::Mesh& mesh, std::ptrdiff_t f) {
                                            double x0, double y0, double h, int nx, int ny,
                                            const std::vector<std::uint8_t>& near, double reach_mm, double add_mm);
 
-/// Raised copies of `piece` where it would cut more than `depth_mm` deep (`engagement`: the height of
-/// the stock the tool cuts, over its tip, at the piece's points, sampled every `sample_mm`): at Δ = k·depth_mm,
-/// k = ⌈h/depth_mm⌉ − 1 … 1 for the most h met, the highest first, each the stretch of the piece
-/// (run on by `run_on` at both ends) where the stock stands over Δ, lifted by Δ — so that a deep
-/// corner's rest is taken from the top down, a depth at a time, before the piece meets the rest of
-/// it. A copy lies above the piece's points, which lie on or above the design's drop surface: it
-/// cannot gouge. None when the piece meets ≤ depth_mm (or depth_mm ≤ 0). O(samples · copies).
-[[nodiscard]] std::vector<Pass> raised_copies(const Pass& piece,
-                                              const std::function<double(double, double, double)>& engagement,
-                                              double depth_mm, double sample_mm, double run_on);
+/// The stretches of `piece` that cut, from the top down (issue 41: cut only where material is
+/// left; `engagement`: how deep the tool with its tip at a point cuts into the stock, sampled every
+/// `sample_mm` along the piece). For Δ = k·depth_mm, k = ⌈h/depth_mm⌉ − 1 … 0 for the most h met
+/// (k = 0 only when depth_mm ≤ 0), the highest first: the stretches where the tool would cut more
+/// than Δ + min_cut_mm, run on by `run_on` at both ends (merged where they meet), lifted by Δ, each
+/// level's in the piece's order and direction — so that a deep corner's rest is taken a depth at
+/// a time before the piece meets the rest of it, and the piece itself runs only where it cuts more
+/// than min_cut_mm. A stretch keeps the piece's vertices and interpolates its ends: it lies on or
+/// above the piece, which lies on or above the design's drop surface, and cannot gouge. The piece
+/// itself, unchanged, when all of it cuts (or when nothing is known of the stock). None when no
+/// part of it cuts. O(samples · copies + points · stretches).
+[[nodiscard]] std::vector<Pass> stepped_runs(const Pass& piece,
+                                             const std::function<double(double, double, double)>& engagement,
+                                             double depth_mm, double min_cut_mm, double sample_mm, double run_on);
 
 /// The passes reordered nearest first from `at` (3D distance; updated to the last pass's end): an
 /// open pass may be cut backwards, a loop may start at any vertex; `order` (one entry per pass),

@@ -13,6 +13,7 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <utility>
 
 namespace millnet::finish {
 namespace {
@@ -325,37 +326,71 @@ RestStock reference_envelope(const tooling::Cutter& reference, const std::vector
   return env;
 }
 
-std::vector<Pass> raised_copies(const Pass& piece, const std::function<double(double, double, double)>& engagement,
-                                double depth_mm, double sample_mm, double run_on) {
-  if (!(depth_mm > 0) || !engagement || piece.points.size() < 2) return {};
-  // The piece densified (every sample_mm along its segments) and the stock over each point.
-  std::vector<Eigen::Vector3d> q;
-  std::vector<double> s, h;                                    // path length, stock over the point
+namespace {
+/// The stretch [s0, s1] of arc length of the polyline `pts` (cumulative lengths `cum`), lifted by
+/// `lift`: its own vertices inside, its ends interpolated. O(points).
+Pass stretch_of(const std::vector<Eigen::Vector3d>& pts, const std::vector<double>& cum, double s0, double s1,
+                double lift) {
+  auto at = [&](double t) {
+    const auto hi = std::lower_bound(cum.begin(), cum.end(), t);
+    if (hi == cum.begin()) return pts.front();
+    if (hi == cum.end()) return pts.back();
+    const auto i = static_cast<std::size_t>(hi - cum.begin());
+    const double len = cum[i] - cum[i - 1];
+    return len > 0 ? Eigen::Vector3d(pts[i - 1] + (pts[i] - pts[i - 1]) * ((t - cum[i - 1]) / len)) : pts[i];
+  };
+  const Eigen::Vector3d up(0, 0, lift);
+  Pass out;
+  out.points.push_back(at(s0) + up);
+  for (std::size_t i = 0; i < pts.size(); ++i)  // O(points)
+    if (cum[i] > s0 && cum[i] < s1) out.points.push_back(pts[i] + up);
+  out.points.push_back(at(s1) + up);
+  return out;
+}
+}  // namespace
+
+std::vector<Pass> stepped_runs(const Pass& piece, const std::function<double(double, double, double)>& engagement,
+                               double depth_mm, double min_cut_mm, double sample_mm, double run_on) {
+  if (!engagement || piece.points.size() < 2) return {piece};
+  // The piece's cumulative length at its vertices, then densified (every sample_mm along its
+  // segments) with the stock over each sample.
+  std::vector<double> cum{0.0};
+  for (std::size_t i = 1; i < piece.points.size(); ++i)  // O(points)
+    cum.push_back(cum.back() + (piece.points[i] - piece.points[i - 1]).norm());
+  std::vector<double> s, h;                                    // path length, depth the tool cuts at the sample
   for (std::size_t i = 0; i + 1 < piece.points.size(); ++i) {  // O(length / sample)
     const Eigen::Vector3d &a = piece.points[i], &b = piece.points[i + 1];
     const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / sample_mm)));
     for (int t = (i == 0 ? 0 : 1); t <= n; ++t) {
-      const Eigen::Vector3d p = a + (b - a) * (static_cast<double>(t) / n);
-      s.push_back(q.empty() ? 0.0 : s.back() + (p - q.back()).norm());
-      q.push_back(p);
+      const double f = static_cast<double>(t) / n;
+      const Eigen::Vector3d p = a + (b - a) * f;
+      s.push_back(cum[i] + (cum[i + 1] - cum[i]) * f);
       h.push_back(engagement(p.x(), p.y(), p.z()));
     }
   }
   const double most = *std::max_element(h.begin(), h.end());
-  const int copies = static_cast<int>(std::ceil(most / depth_mm)) - 1;
+  const int copies = depth_mm > 0 ? std::max(0, static_cast<int>(std::ceil(most / depth_mm)) - 1) : 0;
   std::vector<Pass> out;
-  for (int k = copies; k >= 1; --k) {  // O(copies · samples)
-    const double lift = k * depth_mm;
-    std::size_t first = q.size(), last = 0;
-    for (std::size_t i = 0; i < q.size(); ++i)
-      if (h[i] > lift) first = std::min(first, i), last = i;
-    if (first > last) continue;
-    while (first > 0 && s[first - 1] >= s[first] - run_on) --first;
-    while (last + 1 < q.size() && s[last + 1] <= s[last] + run_on) ++last;
-    Pass copy;
-    for (std::size_t i = first; i <= last; ++i) copy.points.push_back(q[i] + Eigen::Vector3d(0, 0, lift));
-    if (copy.points.size() == 1) copy.points.push_back(copy.points.front());
-    out.push_back(std::move(copy));
+  for (int k = copies; k >= 0; --k) {  // O(copies · samples)
+    const double lift = k * depth_mm, over = lift + min_cut_mm;
+    // Stretches where the tool cuts more than `over`, run on at both ends, merged where they meet.
+    std::vector<std::pair<double, double>> runs;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      if (!(h[i] > over)) continue;
+      std::size_t j = i;
+      while (j + 1 < s.size() && h[j + 1] > over) ++j;
+      const double a = std::max(0.0, s[i] - run_on), b = std::min(cum.back(), s[j] + run_on);
+      if (!runs.empty() && a <= runs.back().second)
+        runs.back().second = b;
+      else
+        runs.emplace_back(a, b);
+      i = j;
+    }
+    if (k == 0 && runs.size() == 1 && runs.front().first <= 0 && runs.front().second >= cum.back()) {
+      out.push_back(piece);  // the whole piece cuts: as planned (a loop stays a loop)
+      continue;
+    }
+    for (const auto& [a, b] : runs) out.push_back(stretch_of(piece.points, cum, a, b, lift));
   }
   return out;
 }

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 namespace millnet::job {
 
@@ -32,8 +33,37 @@ simulate::ExactGougeOptions SimParams::gouge_options() const {
 std::size_t SimParams::max_bytes() const { return static_cast<std::size_t>(std::min(limits.max_memory_bytes, 1e18)); }
 
 namespace {
-/// Bytes per z-map cell the simulating run holds at its peak, all stages together (measured, above).
+/// Bytes per z-map cell the simulating run holds at its peak, all stages together (measured, below).
 constexpr double kRunBytesPerCell = 72;
+
+/// Refuses a z-map the limits cannot hold before any of it is allocated, naming the coarsest
+/// thousandth of a millimetre that would fit so that the user can choose (issue 37 §3: a 300 mm
+/// part at the default cell is refused with its estimate rather than run past 4 GB).
+void check_design_work(const simulate::GridSpec& grid, const Frame& frame, const SimParams& sim) {
+  const auto work = [&](double cell) {
+    simulate::GridSpec g;
+    g.cell = cell;
+    g.nx = static_cast<std::size_t>(std::max(1.0, std::ceil(frame.width / cell)));
+    g.ny = static_cast<std::size_t>(std::max(1.0, std::ceil(frame.depth / cell)));
+    return simulate::zmap_work(g, kRunBytesPerCell - 12);
+  };
+  const auto fits = [&](const WorkEstimate& e) {
+    return e.bytes <= sim.limits.max_memory_bytes && (e.memory_only || e.count <= sim.limits.max_work);
+  };
+  const WorkEstimate e = simulate::zmap_work(grid, kRunBytesPerCell - 12);
+  if (fits(e)) return;
+  // The cell that fits: cells fall with its square, so start from the ratio and step up by 1 µm
+  // (a handful of steps; the ceil of the grid's sides can keep the first one just over).
+  double cell = std::ceil(grid.cell * std::sqrt(e.bytes / std::max(1.0, sim.limits.max_memory_bytes)) * 1000) / 1000;
+  for (int k = 0; k < 1000 && !fits(work(cell)); ++k) cell += 0.001;
+  try {
+    check_work(e, sim.limits);
+  } catch (const Error& err) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "; /simulate/cell_mm %.3f fits", cell);
+    throw Error(err.what() + std::string(buf));
+  }
+}
 }  // namespace
 
 Design design_surface(const ingest::Mesh& mesh, const Frame& frame, const SimParams& sim) {
@@ -47,7 +77,7 @@ Design design_surface(const ingest::Mesh& mesh, const Frame& frame, const SimPar
   // s1_steep_plateaus_01 (2.97e7 cells at 0.02 mm) peaked at 1.89 GB by getrusage: 63.6 B per cell
   // for the whole run (the machined copy per program, the sweep's and the metrics' passes, the
   // plans). 72 B per cell is the honest ceiling with a margin (issue 42 §7: the estimate undercounted).
-  check_work(simulate::zmap_work(d.grid, kRunBytesPerCell - 12), sim.limits);
+  check_design_work(d.grid, frame, sim);
   const ingest::HeightField hf = ingest::rasterize_top(mesh, 0.5 * d.grid.cell, 0.5 * d.grid.cell, d.grid.cell,
                                                        static_cast<int>(d.grid.nx), static_cast<int>(d.grid.ny));
   d.heights = simulate::design_heights(hf, frame.z_shift());

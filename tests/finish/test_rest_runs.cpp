@@ -1,0 +1,75 @@
+// A rest piece cut where it cuts, from the top down (detail::stepped_runs, issue 41): the
+// stretches and their lifts by hand, on a made-up stock depth along a straight piece.
+#include "rest_internal.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+using millnet::finish::Pass;
+using millnet::finish::detail::stepped_runs;
+
+namespace {
+/// A straight piece from (0, 0, z) to (10, 0, z) in vertices 1 mm apart.
+Pass straight(double z) {
+  Pass p;
+  for (int i = 0; i <= 10; ++i) p.points.emplace_back(i, 0, z);
+  return p;
+}
+
+/// How deep the tool cuts at x along the piece (tip at the piece's own height, 0): 2.5 mm over
+/// [2, 4], 0.5 over [6, 7], 0.003 (a scallop's worth) over [8, 9], nothing elsewhere; above the
+/// piece it cuts that less the tip's lift.
+double depth_at(double x, double z) {
+  const double h = x >= 2 && x <= 4 ? 2.5 : x >= 6 && x <= 7 ? 0.5 : x >= 8 && x <= 9 ? 0.003 : 0.0;
+  return std::max(0.0, h - z);
+}
+}  // namespace
+
+// Steps of 1 mm, cuts under 0.005 mm left out, run on by 0.1 mm, sampled every 0.05 mm: two
+// raised copies over [2, 4] alone (at +2 and +1: the 2.5 mm rest is taken 0.5, 1, 1 from the top),
+// then the piece itself over [2, 4] and [6, 7] (each run on by 0.1), not over the 0.003 mm scallop.
+TEST(RestRuns, APieceCutsFromTheTopDownAndOnlyWhereItCuts) {
+  const Pass piece = straight(0);
+  const auto runs = stepped_runs(
+      piece, [](double x, double, double z) { return depth_at(x, z); }, 1.0, 0.005, 0.05, 0.1);
+  ASSERT_EQ(runs.size(), 4U);
+  const double lift[] = {2, 1, 0, 0}, from[] = {1.9, 1.9, 1.9, 5.9}, to[] = {4.1, 4.1, 4.1, 7.1};
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    SCOPED_TRACE(k);
+    const auto& p = runs[k].points;
+    EXPECT_FALSE(runs[k].closed);
+    EXPECT_NEAR(p.front().x(), from[k], 1e-9);
+    EXPECT_NEAR(p.back().x(), to[k], 1e-9);
+    for (const auto& q : p) {
+      EXPECT_NEAR(q.z(), lift[k], 1e-12);
+      EXPECT_EQ(q.y(), 0.0);
+    }
+    // The piece's own vertices inside the stretch are kept, in order: 2, 3, 4 (or 6, 7).
+    EXPECT_EQ(p.size(), k < 3 ? 5U : 4U);
+    for (std::size_t i = 1; i + 1 < p.size(); ++i) EXPECT_EQ(p[i].x(), std::round(p[i].x()));
+  }
+}
+
+// A piece the stock stands over all along is itself, unchanged (a loop stays a loop); one over
+// stock no deeper than the scallop is left out; no stepping without a step (flutes unstated).
+TEST(RestRuns, AWholePieceStaysAsPlannedAndOneInTheAirIsLeftOut) {
+  Pass loop;
+  for (int i = 0; i <= 8; ++i)
+    loop.points.emplace_back(std::cos(i * std::numbers::pi / 4), std::sin(i * std::numbers::pi / 4), 0.0);
+  loop.closed = true;
+  const auto whole = stepped_runs(
+      loop, [](double, double, double z) { return 0.3 - z; }, 1.0, 0.005, 0.05, 0.1);
+  ASSERT_EQ(whole.size(), 1U);
+  EXPECT_TRUE(whole[0].closed);
+  EXPECT_EQ(whole[0].points, loop.points);
+  EXPECT_TRUE(stepped_runs(
+                  straight(0), [](double, double, double) { return 0.004; }, 1.0, 0.005, 0.05, 0.1)
+                  .empty());
+  const auto flat = stepped_runs(
+      straight(0), [](double x, double, double z) { return depth_at(x, z); }, 0.0, 0.005, 0.05, 0.1);
+  ASSERT_EQ(flat.size(), 2U);  // [1.9, 4.1] and [5.9, 7.1] at the piece's height, however deep
+  EXPECT_NEAR(flat[0].points.front().z(), 0.0, 1e-12);
+}
