@@ -34,7 +34,8 @@ namespace {
 constexpr int kMaxPictureCells = 500;
 
 /// A map of the part's z-map grid shrunk for a picture (block means, `empty` where a block has no cell).
-Eigen::MatrixXd picture_map(const std::vector<double>& v, const simulate::GridSpec& g, double empty) {
+template <class T>
+Eigen::MatrixXd picture_map(const std::vector<T>& v, const simulate::GridSpec& g, double empty) {
   return simulate::block_means(v, g.nx, g.ny, kMaxPictureCells, empty);
 }
 
@@ -100,8 +101,9 @@ Json sim_metrics_json(const simulate::SurfaceMetrics& m, const simulate::GridSpe
 namespace {
 
 /// A map over the z-map grid as a heat-map PNG with the footprint's extent.
-void grid_png(const fs::path& path, const std::vector<double>& values, const simulate::GridSpec& g,
-              const std::string& title, const std::string& units) {
+template <class T>
+void grid_png(const fs::path& path, const std::vector<T>& values, const simulate::GridSpec& g, const std::string& title,
+              const std::string& units) {
   const Eigen::MatrixXd m = picture_map(values, g, 0.0);
   report::HeatMapOptions o;
   o.extent_mm = std::array<double, 4>{0, static_cast<double>(g.nx) * g.cell, 0, static_cast<double>(g.ny) * g.cell};
@@ -119,7 +121,7 @@ void grid_png(const fs::path& path, const std::vector<double>& values, const sim
 
 void ra_png(const fs::path& path, const simulate::GridSpec& g, const simulate::SurfaceMetrics& m,
             const std::string& title) {
-  grid_png(path, std::vector<double>(m.ra_um.begin(), m.ra_um.end()), g, title, "Ra (um)");
+  grid_png(path, m.ra_um, g, title, "Ra (um)");  // the float map itself: no 8 B-per-cell copy
 }
 
 /// The 3D page's part and stock in the frame.
@@ -178,14 +180,14 @@ job::StrategyOutcome strategy_outcome(const job::Part& part, const FinishSetting
   path_png(out / (base + ".png"), job, plan.program, title);
   std::optional<report::PreviewSurface> surface;
   if (job.design) {  // the program as the machine gets it: the text written, read back
-    const job::Scored s =
-        job::score_program(*job.design, job.frame, written.program, job.params.tool, sim_params(settings));
+    job::Scored s = job::score_program(*job.design, job.frame, written.program, job.params.tool, sim_params(settings));
     if (preview_settings().enabled) surface = preview_surface(s.machined, job.design->heights);
     if (s.metrics.gouge_places_refuted > 0)
       info(base + ".nc: " + std::to_string(s.metrics.gouge_places_refuted) +
            " z-map gouge place(s) refuted by the exact check (cell artefacts; the z-map said " +
            fixed(s.metrics.zmap_max_gouge_mm, 4) + " mm)");
     ra_png(out / (base + ".ra.png"), job.design->grid, s.metrics, title + ", roughness Ra");
+    std::vector<float>().swap(s.metrics.ra_um);  // drawn; not copied into the outcome (4 B per cell)
     job::add_simulation(o, s, job.design->grid);
   }
   write_file_atomic(out / program_file_name(base, o), written.text);
@@ -460,7 +462,9 @@ void write_rest_and_pencil(const job::Part& part, const FinishSettings& settings
     }
   }
   if (settings.pencil) {
-    const finish::FinishPlan plan = finish::plan_pencil(part.mesh, *job.dropper, job.params, settings.pencil_offsets);
+    std::optional<finish::DropCutter> own;  // the strategies' was freed after planning
+    const finish::DropCutter& dropper = job.dropper ? *job.dropper : own.emplace(part.mesh, job.params.tool);
+    const finish::FinishPlan plan = finish::plan_pencil(part.mesh, dropper, job.params, settings.pencil_offsets);
     write_extra_program(part, settings, job, plan, "pencil",
                         Json{{"tool", job.params.tool.describe()},
                              {"offsets_each_side", settings.pencil_offsets},
@@ -474,12 +478,16 @@ std::vector<job::StrategyOutcome> plan_and_write(const job::Part& part, const Fi
                                                  const std::vector<finish::Strategy>& strategies, PartJob& job,
                                                  const fs::path& out) {
   const std::vector<finish::FinishParams> params = settings.strategy_params(strategies, job.params);
-  const std::vector<finish::FinishPlan> plans = finish::plan_finish(part.mesh, *job.dropper, strategies, params);
+  std::vector<finish::FinishPlan> plans = finish::plan_finish(part.mesh, *job.dropper, strategies, params);
   check_plans_reach(settings, plans);
+  // What scoring does not need is freed before the first z-map is made (issue 37 §3: a 200 mm
+  // plate's peak was the drop-cutter's index, 0.8 GB, and five plans, 0.4 GB, beside it).
+  job.dropper.reset();
   std::vector<job::StrategyOutcome> outcomes;
   Progress progress("finish " + part.name, strategies.size());
   for (std::size_t i = 0; i < plans.size(); ++i) {  // O(strategies)
     outcomes.push_back(strategy_outcome(part, settings, job, plans[i], out, params[i]));
+    plans[i] = {};
     progress.tick();
   }
   return outcomes;
@@ -524,11 +532,12 @@ void write_strategy_ranking(const std::string& stem, const FinishSettings& setti
 std::vector<job::StrategyFigures> label_part(const job::Part& part, const FinishSettings& settings) {
   FinishSettings s = settings;
   s.simulate = false;  // score_strategies rasterizes the design itself
-  const PartJob job = finishing_job(part, s);
-  const std::vector<finish::FinishPlan> plans = finish::plan_finish(
+  PartJob job = finishing_job(part, s);
+  std::vector<finish::FinishPlan> plans = finish::plan_finish(
       part.mesh, *job.dropper, settings.strategies, settings.strategy_params(settings.strategies, job.params));
   check_plans_reach(settings, plans);
-  return job::score_strategies(part.mesh, job.frame, plans, job.params.tool, job.frame.post(settings.post),
+  job.dropper.reset();  // its index (0.8 GB on a 200 mm plate) freed before the z-map is made
+  return job::score_strategies(part.mesh, job.frame, std::move(plans), job.params.tool, job.frame.post(settings.post),
                                settings.machine, settings.aim, sim_params(settings));
 }
 

@@ -34,7 +34,7 @@ std::size_t SimParams::max_bytes() const { return static_cast<std::size_t>(std::
 
 namespace {
 /// Bytes per z-map cell the simulating run holds at its peak, all stages together (measured, below).
-constexpr double kRunBytesPerCell = 72;
+constexpr double kRunBytesPerCell = 44;
 
 /// Refuses a z-map the limits cannot hold before any of it is allocated, naming the coarsest
 /// thousandth of a millimetre that would fit so that the user can choose (issue 37 §3: a 300 mm
@@ -72,11 +72,12 @@ Design design_surface(const ingest::Mesh& mesh, const Frame& frame, const SimPar
   d.grid.nx = static_cast<std::size_t>(std::max(1.0, std::ceil(frame.width / sim.cell_mm)));
   d.grid.ny = static_cast<std::size_t>(std::max(1.0, std::ceil(frame.depth / sim.cell_mm)));
   d.grid.check();
-  // Before any is allocated: the z-map (12 B per cell) + design and raster (17 B) + the metrics'
-  // per-cell excess (8 B) was 37 B per cell, yet `finish --strategy all --simulate` on
-  // s1_steep_plateaus_01 (2.97e7 cells at 0.02 mm) peaked at 1.89 GB by getrusage: 63.6 B per cell
-  // for the whole run (the machined copy per program, the sweep's and the metrics' passes, the
-  // plans). 72 B per cell is the honest ceiling with a margin (issue 42 §7: the estimate undercounted).
+  // Before any is allocated. At the peak (the metrics' rest split) the design (8 B per cell), the
+  // machined z-map (12), the material over the design (8) and two byte masks are alive: 30 B per cell,
+  // 38 with a boundary's judged copy of the design; the drop-cutter's index and the plans are freed
+  // or shrinking by then. `finish --strategy all --simulate` on a 300 × 200 mm plate (9.6e7 cells)
+  // peaked at 3.88 GB by getrusage, 40.4 B per cell with everything fixed in it (was 72 B per cell
+  // budgeted and 60 used before 2026-12-05: the index and the plans stayed alive through the scoring).
   check_design_work(d.grid, frame, sim);
   const ingest::HeightField hf = ingest::rasterize_top(mesh, 0.5 * d.grid.cell, 0.5 * d.grid.cell, d.grid.cell,
                                                        static_cast<int>(d.grid.nx), static_cast<int>(d.grid.ny));
@@ -248,14 +249,13 @@ finish::FinishParams part_params(finish::FinishParams base, const Frame& frame, 
 }
 
 std::vector<StrategyFigures> score_strategies(const ingest::Mesh& mesh, const Frame& frame,
-                                              const std::vector<finish::FinishPlan>& plans,
-                                              const tooling::Cutter& cutter, const gcode::Dialect& post,
-                                              const gcode::MotionModel& machine, const simulate::AimParams& aim,
-                                              const SimParams& sim) {
+                                              std::vector<finish::FinishPlan> plans, const tooling::Cutter& cutter,
+                                              const gcode::Dialect& post, const gcode::MotionModel& machine,
+                                              const simulate::AimParams& aim, const SimParams& sim) {
   const Design design = design_surface(mesh, frame, sim);
   std::vector<StrategyFigures> out;
   std::vector<simulate::StrategyScore> scores;
-  for (const finish::FinishPlan& plan : plans) {  // O(strategies × (program + z-map))
+  for (finish::FinishPlan& plan : plans) {  // O(strategies × (program + z-map))
     const int slot = static_cast<int>(plan.strategy);
     const gcode::Written w =
         gcode::written(plan.program, post, plan.program.header.empty() ? "" : plan.program.header[0]);
@@ -263,6 +263,7 @@ std::vector<StrategyFigures> score_strategies(const ingest::Mesh& mesh, const Fr
     const Scored s = score_program(design, frame, w.program, cutter, sim);
     scores.push_back(strategy_score(slot, time, s, design.grid.cell));
     out.push_back({slot, scores.back(), 0});
+    plan = {};  // its program and passes freed before the next is machined
   }
   const Ranked r = rank_scores(scores, aim);
   const std::vector<double> score = simulate::aim_scores(scores, r.order, aim);

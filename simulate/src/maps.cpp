@@ -13,8 +13,10 @@ std::vector<double> design_heights(const ingest::HeightField& hf, double z_shift
   return design;
 }
 
-Eigen::MatrixXd block_means(const std::vector<double>& v, std::size_t nx, std::size_t ny, std::size_t max_cells,
-                            double empty) {
+namespace {
+template <class T>
+Eigen::MatrixXd block_means_of(const std::vector<T>& v, std::size_t nx, std::size_t ny, std::size_t max_cells,
+                               double empty) {
   const std::size_t k = std::max<std::size_t>(1, (std::max(nx, ny) + max_cells - 1) / max_cells);
   const std::size_t rx = (nx + k - 1) / k, ry = (ny + k - 1) / k;
   Eigen::MatrixXd m(static_cast<Eigen::Index>(ry), static_cast<Eigen::Index>(rx));
@@ -32,6 +34,18 @@ Eigen::MatrixXd block_means(const std::vector<double>& v, std::size_t nx, std::s
       m(static_cast<Eigen::Index>(bi), static_cast<Eigen::Index>(bj)) = n ? sum / static_cast<double>(n) : empty;
     }
   return m;
+}
+
+}  // namespace
+
+Eigen::MatrixXd block_means(const std::vector<double>& v, std::size_t nx, std::size_t ny, std::size_t max_cells,
+                            double empty) {
+  return block_means_of(v, nx, ny, max_cells, empty);
+}
+
+Eigen::MatrixXd block_means(const std::vector<float>& v, std::size_t nx, std::size_t ny, std::size_t max_cells,
+                            double empty) {
+  return block_means_of(v, nx, ny, max_cells, empty);
 }
 
 }  // namespace millnet::simulate

@@ -124,8 +124,9 @@ std::vector<float> ra_map(const ZMap& machined, const std::vector<double>& desig
 
 // The Ra map's statistics: cells with an Ra, share per bin, mean, nearest-rank median and p90.
 void ra_statistics(const MetricsOptions& opt, SurfaceMetrics& out) {
-  std::vector<float> vals;
-  vals.reserve(out.surface_cells);
+  std::vector<float> vals;  // the cells with an Ra only (one in ra_every² of the surface's)
+  vals.reserve(static_cast<std::size_t>(
+      std::count_if(out.ra_um.begin(), out.ra_um.end(), [](float v) { return !std::isnan(v); })));
   for (const float v : out.ra_um)
     if (!std::isnan(v)) vals.push_back(v);
   out.ra_cells = vals.size();

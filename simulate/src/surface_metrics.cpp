@@ -282,6 +282,10 @@ SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& 
   locate_gouges(machined, first_gouge_cell, out);
   // 3. The surface specification: in spec, over it, or not machined, over what the cutter reaches.
   if (spec) spec_figures(machined, above, rest, opt, out);
+  // 9 B per cell freed before the Ra map is drawn (issue 37 §3: memory). (`v = {}` would keep the
+  // capacity: it assigns an empty initializer list.)
+  std::vector<double>().swap(above);
+  std::vector<std::uint8_t>().swap(rest);
   // 4. The Ra map and its statistics.
   out.ra_bin_edges_um = opt.ra_bins_um;
   out.ra_share.assign(opt.ra_bins_um.size(), 0);

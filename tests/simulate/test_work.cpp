@@ -20,7 +20,7 @@ TEST(SimulateWork, ZMapCellsAndBytes) {
   EXPECT_EQ(static_cast<double>(simulate::ZMap::bytes_needed(g)), 5000.0 * 2400.0 * 12);
   EXPECT_TRUE(e.memory_only);
   EXPECT_EQ(e.cause, "cell_mm 0.02 mm over a 100 × 48 mm z-map");
-  // 1.2e7 cells × 37 B = 444 MB = 423.4 MiB: within 8 GiB, refused at 423 MiB, run at 424 MiB.
+  // 1.2e7 cells × 37 B = 444 MB = 423.4 MiB: within 4 GiB, refused at 423 MiB, run at 424 MiB.
   EXPECT_NO_THROW(check_work(e, WorkLimits{}));
   EXPECT_NO_THROW(check_work(e, WorkLimits{1, 424.0 * 1024 * 1024}));
   try {

@@ -16,7 +16,7 @@ namespace millnet {
 /// fit comfortably in 24 GiB and keep every stage to minutes on two cores.
 struct WorkLimits {
   double max_work = 2e7;                               ///< items (points, cells, pairs) per stage
-  double max_memory_bytes = 8.0 * 1024 * 1024 * 1024;  ///< bytes one stage may allocate (8 GiB)
+  double max_memory_bytes = 4.0 * 1024 * 1024 * 1024;  ///< bytes one stage may allocate (4 GiB)
   /// Vector pairs of an N² stage (the classifier's leave-one-out distances): 5e9 ≈ 70,000 stored
   /// vectors, about 5 minutes at the 1.6e7 pairs/s measured on two cores (bench_classifier).
   double max_pairs = 5e9;

@@ -170,10 +170,11 @@ struct StrategyFigures {
   double aim_score = 0;                                      ///< simulate::aim_scores (the network's output)
 };
 
-/// Every strategy of `plans` written in memory (`post`), machined and scored, then ranked by
+/// Every strategy of `plans` written in memory (`post`), machined and scored (each plan freed once
+/// scored), then ranked by
 /// `aim`: the labelling of a part by simulation. Writes nothing; O(strategies × z-map).
 [[nodiscard]] std::vector<StrategyFigures> score_strategies(const ingest::Mesh& mesh, const Frame& frame,
-                                                            const std::vector<finish::FinishPlan>& plans,
+                                                            std::vector<finish::FinishPlan> plans,
                                                             const tooling::Cutter& cutter, const gcode::Dialect& post,
                                                             const gcode::MotionModel& machine,
                                                             const simulate::AimParams& aim, const SimParams& sim);

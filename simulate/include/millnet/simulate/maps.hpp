@@ -21,5 +21,8 @@ namespace millnet::simulate {
 /// ⌈ny/k⌉ × ⌈nx/k⌉ matrix. v.size() must be nx·ny; max_cells ≥ 1. O(nx·ny).
 [[nodiscard]] Eigen::MatrixXd block_means(const std::vector<double>& v, std::size_t nx, std::size_t ny,
                                           std::size_t max_cells, double empty);
+/// The same of a float map (an Ra map), each value widened to double as it is summed.
+[[nodiscard]] Eigen::MatrixXd block_means(const std::vector<float>& v, std::size_t nx, std::size_t ny,
+                                          std::size_t max_cells, double empty);
 
 }  // namespace millnet::simulate
