@@ -239,6 +239,32 @@ TEST(Scenario, DefaultPipelineRunsEndToEndAndMeetsItsFigures) {
   EXPECT_LT(lead, summary.find("## Training"));
 }
 
+namespace {
+/// A label recomputed today (`got`) against the shipped one (`want`) of `file`. On the machine
+/// that wrote the file the entry is the same, value for value. millnet is built with -march=native
+/// (CMakeLists.txt): another CPU may round a last bit differently (FMA contraction, vector width),
+/// so the figures are compared to 1e-9 relative, the ranks, best and verdicts exactly — a change to
+/// the finishing or the simulation moves them by far more.
+void expect_same_label(const Json& got, const Json& want, const std::string& file) {
+  const std::string stale = file + " is stale: refresh it (datasets/README.md)";
+  EXPECT_EQ(got["name"], want["name"]);
+  EXPECT_EQ(got["fnv1a64"], want["fnv1a64"]) << "the generated part's bytes differ";
+  EXPECT_EQ(got["best"], want["best"]) << stale;
+  ASSERT_EQ(got["strategies"].size(), want["strategies"].size()) << stale;
+  for (std::size_t k = 0; k < got["strategies"].size(); ++k) {
+    const Json &a = got["strategies"][k], &b = want["strategies"][k];
+    SCOPED_TRACE(a.dump());
+    for (const char* key : {"strategy", "rank", "meets_spec"}) EXPECT_EQ(a[key], b[key]) << key << ": " << stale;
+    for (auto it = b.begin(); it != b.end(); ++it) {
+      if (!it.value().is_number_float()) continue;
+      ASSERT_TRUE(a[it.key()].is_number()) << it.key();
+      const double x = a[it.key()].get<double>(), y = it.value().get<double>();
+      EXPECT_LE(std::abs(x - y), 1e-9 * std::max(1.0, std::abs(y))) << it.key() << ": " << stale;
+    }
+  }
+}
+}  // namespace
+
 // Issue 39 §2: the shipped labels are a cache of a deterministic computation — one default
 // training part relabelled today gives its entry of datasets/labels.json, value for value, and
 // with the file as cache nothing is simulated (the default config's settings are the file's).
@@ -287,27 +313,49 @@ TEST(Labels, AShippedLabelIsWhatTheSimulationComputesToday) {
   ASSERT_FALSE(want.is_null()) << part << " is not in datasets/labels.json";
   ASSERT_EQ(fresh["parts"].size(), 1u);
   EXPECT_EQ(fresh["settings"], shipped["settings"]);
-  // On the machine that wrote the file the entry is the same, value for value. millnet is built with
-  // -march=native (CMakeLists.txt): another CPU may round a last bit differently (FMA contraction,
-  // vector width), so the figures are compared to 1e-9 relative, the ranks, best and verdicts exactly
-  // — a change to the finishing or the simulation moves them by far more.
-  const Json& got = fresh["parts"][0];
-  const char* stale = "datasets/labels.json is stale: refresh it (datasets/README.md)";
-  EXPECT_EQ(got["name"], want["name"]);
-  EXPECT_EQ(got["fnv1a64"], want["fnv1a64"]) << "the generated part's bytes differ";
-  EXPECT_EQ(got["best"], want["best"]) << stale;
-  ASSERT_EQ(got["strategies"].size(), want["strategies"].size()) << stale;
-  for (std::size_t k = 0; k < got["strategies"].size(); ++k) {
-    const Json &a = got["strategies"][k], &b = want["strategies"][k];
-    SCOPED_TRACE(a.dump());
-    for (const char* key : {"strategy", "rank", "meets_spec"}) EXPECT_EQ(a[key], b[key]) << key << ": " << stale;
-    for (auto it = b.begin(); it != b.end(); ++it) {
-      if (!it.value().is_number_float()) continue;
-      ASSERT_TRUE(a[it.key()].is_number()) << it.key();
-      const double x = a[it.key()].get<double>(), y = it.value().get<double>();
-      EXPECT_LE(std::abs(x - y), 1e-9 * std::max(1.0, std::abs(y))) << it.key() << ": " << stale;
-    }
-  }
+  expect_same_label(fresh["parts"][0], want, "datasets/labels.json");
+}
+
+// Issue 39 §2, the tool-shop library: one shipped shop label (a bored plate, 43 × 52 mm: bores
+// and counterbores, the family the Z-level and raster verdicts flip on) relabelled today from its
+// generated part is its entry of datasets/shop-labels.json, and the shop preset's settings are
+// the file's.
+TEST(Labels, AShippedShopLabelIsWhatTheSimulationComputesToday) {
+  const fs::path src = MILLNET_SOURCE_DIR;
+  const std::string part = "shop_0004_bored_plate";
+  const auto d = fresh_dir("labels_shop");
+  const Json shipped = Json::parse(slurp(src / "datasets/shop-labels.json"));
+  const Json preset = Json::parse(slurp(src / "configs/presets/shop-library.json"));
+  // The library's first four parts, generated and labelled from the shipped file: nothing simulated.
+  Json gen = {{"dataset",
+               {{"generate", {{"library", "shop"}, {"count", 4}, {"label", "simulate"}}},
+                {"parts_dir", "parts"},
+                {"labels", (src / "datasets/shop-labels.json").string()},
+                {"augment", {{"angles_deg", Json::array({0})}, {"axes", Json::array({"x"})}, {"flip", false}}}}},
+              {"finish", preset["finish"]},
+              {"cutting", preset["cutting"]}};
+  std::ofstream(d / "gen.json") << gen.dump();
+  const auto made = run_millnet("dataset --config gen.json --out g", d);
+  ASSERT_EQ(made.code, 0) << made.err;
+  EXPECT_NE(made.err.find("4 of 4 parts from"), std::string::npos) << made.err;
+  ASSERT_TRUE(fs::exists(d / "parts" / (part + ".stl")));
+  Json one = {{"dataset",
+               {{"parts", Json::array({Json{{"file", "parts/" + part + ".stl"}, {"label", "simulate"}}})},
+                {"labels", (src / "datasets/shop-labels.json").string()},
+                {"augment", {{"angles_deg", Json::array({0})}, {"axes", Json::array({"x"})}, {"flip", false}}}}},
+              {"finish", preset["finish"]},
+              {"cutting", preset["cutting"]}};
+  std::ofstream(d / "one.json") << one.dump();
+  const auto re = run_millnet("dataset --quiet --config one.json --relabel --out re", d);
+  ASSERT_EQ(re.code, 0) << re.err;
+  const Json fresh = Json::parse(slurp(d / "re" / "labels.json"));
+  Json want;
+  for (const Json& p : shipped["parts"])
+    if (p["name"] == part) want = p;
+  ASSERT_FALSE(want.is_null()) << part << " is not in datasets/shop-labels.json";
+  ASSERT_EQ(fresh["parts"].size(), 1u);
+  EXPECT_EQ(fresh["settings"], shipped["settings"]);
+  expect_same_label(fresh["parts"][0], want, "datasets/shop-labels.json");
 }
 
 // The label cache compares the settings with every missing key at its schema default: a key
