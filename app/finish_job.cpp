@@ -205,7 +205,7 @@ job::StrategyOutcome strategy_outcome(const job::Part& part, const FinishSetting
 
 }  // namespace
 
-PartJob finishing_job(const job::Part& part, const FinishSettings& settings) {
+PartJob finishing_job(const job::Part& part, const FinishSettings& settings, bool with_dropper) {
   PartJob job;
   settings.params.check();
   job.frame = job::frame_of(part.mesh, settings.stock_top_above_part_mm);
@@ -228,7 +228,7 @@ PartJob finishing_job(const job::Part& part, const FinishSettings& settings) {
   if (tool_lines.empty()) tool_lines.push_back("tool: " + settings.params.tool.describe());
   job.params = job::part_params(settings.params, job.frame, part.name, std::move(tool_lines));
   job.params.boundary = settings.boundary_in(job.frame);
-  job.dropper.emplace(part.mesh, job.params.tool);
+  if (with_dropper) job.dropper.emplace(part.mesh, job.params.tool);
   return job;
 }
 

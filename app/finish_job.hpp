@@ -44,9 +44,10 @@ struct PartJob {
   std::optional<job::Design> design;
 };
 
-/// The frame, the holder check, the parameters in the frame and the drop-cutter (and, simulated,
-/// the design surface): what planning and scoring a part's strategies needs.
-[[nodiscard]] PartJob finishing_job(const job::Part& part, const FinishSettings& settings);
+/// The frame, the holder check, the parameters in the frame and (unless `with_dropper` is false:
+/// the frame and parameters only, for another tool) the drop-cutter, and, simulated, the design
+/// surface: what planning and scoring a part's strategies needs.
+[[nodiscard]] PartJob finishing_job(const job::Part& part, const FinishSettings& settings, bool with_dropper = true);
 
 /// A simulated stock (a z-map in the program frame) as rest finishing reads it, in the part's frame.
 [[nodiscard]] finish::RestStock stock_of(simulate::ZMap z, const job::Frame& frame);

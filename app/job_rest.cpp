@@ -14,8 +14,8 @@ std::optional<gcode::Program> job_rest_program(const job::Part& part, const Fini
                                                const simulate::ZMap& z, const tooling::Cutter& rest_tool,
                                                double min_area_mm2, const RestCut& cut, std::string& why) {
   FinishSettings plain = settings;
-  plain.simulate = false;  // the frame and parameters only
-  const PartJob job = finishing_job(part, plain);
+  plain.simulate = false;                                 // the frame and parameters only
+  const PartJob job = finishing_job(part, plain, false);  // the rest tool drops on its own index below
   finish::FinishParams p = job.params;
   p.tool = rest_tool;
   p.tool_label.clear();
