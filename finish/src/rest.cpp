@@ -553,8 +553,9 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
   std::vector<Pass> ordered = detail::order_nearest(pencil, at);
   for (Pass& piece : detail::order_nearest(std::move(rest), at)) ordered.push_back(std::move(piece));
   // Each piece where it cuts, from the top down, on a copy of the stock machined piece by piece:
-  // a piece cuts only where the tool meets more than the scallop of what the pieces before it left (a corner the pencil passes cleaned is not run over again: the air issue 41 names),
-  // and one that would cut deeper than the tool's flutes take is preceded by raised copies of it,
+  // a piece cuts only where the tool meets more than the scallop of what the pieces before it
+  // left (a corner the pencil passes cleaned is not run over again: the air issue 41 names), and
+  // one that would cut deeper than the tool's flutes take is preceded by raised copies of it,
   // each begun from its end nearest the tool, a step apart that leaves the flutes what a copy
   // leaves beside a wall (its profile's height at its rim: R for a ball) — the flute length less
   // that (s1 of README command 1, Ø1 ball with 1.5 mm flutes: 1 mm steps, the deepest cut 2.48 →
@@ -575,10 +576,11 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
     std::vector<Pass> runs{std::move(piece)};
     if (running) {
       const Pass whole = std::move(runs.front());
+      int raised = 0;
       runs = detail::stepped_runs(
           whole, [&](double x, double y, double z) { return running->engagement(cutter, x, y, z); }, depth, min_cut,
-          cutter.radius() / 4, tol::rest_run_on_radii * cutter.radius());
-      stepped += runs.size() > 1 && depth > 0 && runs.front().points.front().z() > whole.points.front().z() + 1e-9;
+          cutter.radius() / 4, tol::rest_run_on_radii * cutter.radius(), &raised);
+      stepped += raised > 0 ? 1 : 0;
       air += runs.empty() ? 1 : 0;
     }
     Eigen::Vector3d from = plan.passes.empty() ? start : plan.passes.back().points.back();

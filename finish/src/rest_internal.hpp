@@ -78,10 +78,12 @@ inline Eigen::Vector3d unit_normal(const ingest::Mesh& mesh, std::ptrdiff_t f) {
 /// than min_cut_mm. A stretch keeps the piece's vertices and interpolates its ends: it lies on or
 /// above the piece, which lies on or above the design's drop surface, and cannot gouge. The piece
 /// itself, unchanged, when all of it cuts (or when nothing is known of the stock). None when no
-/// part of it cuts. O(samples · copies + points · stretches).
+/// part of it cuts. `raised`, when given, is set to the number of raised levels (k ≥ 1) that have a
+/// stretch. O(samples · copies + points · stretches).
 [[nodiscard]] std::vector<Pass> stepped_runs(const Pass& piece,
                                              const std::function<double(double, double, double)>& engagement,
-                                             double depth_mm, double min_cut_mm, double sample_mm, double run_on);
+                                             double depth_mm, double min_cut_mm, double sample_mm, double run_on,
+                                             int* raised = nullptr);
 
 /// The passes reordered nearest first from `at` (3D distance; updated to the last pass's end): an
 /// open pass may be cut backwards, a loop may start at any vertex; `order` (one entry per pass),

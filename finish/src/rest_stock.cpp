@@ -350,7 +350,8 @@ Pass stretch_of(const std::vector<Eigen::Vector3d>& pts, const std::vector<doubl
 }  // namespace
 
 std::vector<Pass> stepped_runs(const Pass& piece, const std::function<double(double, double, double)>& engagement,
-                               double depth_mm, double min_cut_mm, double sample_mm, double run_on) {
+                               double depth_mm, double min_cut_mm, double sample_mm, double run_on, int* raised) {
+  if (raised) *raised = 0;
   if (!engagement || piece.points.size() < 2) return {piece};
   // The piece's cumulative length at its vertices, then densified (every sample_mm along its
   // segments) with the stock over each sample.
@@ -390,6 +391,7 @@ std::vector<Pass> stepped_runs(const Pass& piece, const std::function<double(dou
       out.push_back(piece);  // the whole piece cuts: as planned (a loop stays a loop)
       continue;
     }
+    if (raised && k > 0 && !runs.empty()) ++*raised;
     for (const auto& [a, b] : runs) out.push_back(stretch_of(piece.points, cum, a, b, lift));
   }
   return out;

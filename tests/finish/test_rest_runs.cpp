@@ -33,9 +33,11 @@ double depth_at(double x, double z) {
 // then the piece itself over [2, 4] and [6, 7] (each run on by 0.1), not over the 0.003 mm scallop.
 TEST(RestRuns, APieceCutsFromTheTopDownAndOnlyWhereItCuts) {
   const Pass piece = straight(0);
+  int raised = -1;
   const auto runs = stepped_runs(
-      piece, [](double x, double, double z) { return depth_at(x, z); }, 1.0, 0.005, 0.05, 0.1);
+      piece, [](double x, double, double z) { return depth_at(x, z); }, 1.0, 0.005, 0.05, 0.1, &raised);
   ASSERT_EQ(runs.size(), 4U);
+  EXPECT_EQ(raised, 2);
   const double lift[] = {2, 1, 0, 0}, from[] = {1.9, 1.9, 1.9, 5.9}, to[] = {4.1, 4.1, 4.1, 7.1};
   for (std::size_t k = 0; k < runs.size(); ++k) {
     SCOPED_TRACE(k);
