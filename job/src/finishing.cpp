@@ -36,25 +36,30 @@ namespace {
 /// Bytes per z-map cell the simulating run holds at its peak, all stages together (measured, below).
 constexpr double kRunBytesPerCell = 44;
 
+/// The z-map grid over the part's footprint at `cell` mm.
+simulate::GridSpec footprint_grid(const Frame& frame, double cell) {
+  simulate::GridSpec g;
+  g.cell = cell;
+  g.nx = static_cast<std::size_t>(std::max(1.0, std::ceil(frame.width / cell)));
+  g.ny = static_cast<std::size_t>(std::max(1.0, std::ceil(frame.depth / cell)));
+  return g;
+}
+
 /// Refuses a z-map the limits cannot hold before any of it is allocated, naming the coarsest
 /// thousandth of a millimetre that would fit so that the user can choose (issue 37 §3: a 300 mm
 /// part at the default cell is refused with its estimate rather than run past 4 GB).
-void check_design_work(const simulate::GridSpec& grid, const Frame& frame, const SimParams& sim) {
+void check_design_work(const Frame& frame, const SimParams& sim) {
   const auto work = [&](double cell) {
-    simulate::GridSpec g;
-    g.cell = cell;
-    g.nx = static_cast<std::size_t>(std::max(1.0, std::ceil(frame.width / cell)));
-    g.ny = static_cast<std::size_t>(std::max(1.0, std::ceil(frame.depth / cell)));
-    return simulate::zmap_work(g, kRunBytesPerCell - 12);
+    return simulate::zmap_work(footprint_grid(frame, cell), kRunBytesPerCell - 12);
   };
   const auto fits = [&](const WorkEstimate& e) {
     return e.bytes <= sim.limits.max_memory_bytes && (e.memory_only || e.count <= sim.limits.max_work);
   };
-  const WorkEstimate e = simulate::zmap_work(grid, kRunBytesPerCell - 12);
+  const WorkEstimate e = work(sim.cell_mm);
   if (fits(e)) return;
   // The cell that fits: cells fall with its square, so start from the ratio and step up by 1 µm
   // (a handful of steps; the ceil of the grid's sides can keep the first one just over).
-  double cell = std::ceil(grid.cell * std::sqrt(e.bytes / std::max(1.0, sim.limits.max_memory_bytes)) * 1000) / 1000;
+  double cell = std::ceil(sim.cell_mm * std::sqrt(e.bytes / std::max(1.0, sim.limits.max_memory_bytes)) * 1000) / 1000;
   for (int k = 0; k < 1000 && !fits(work(cell)); ++k) cell += 0.001;
   try {
     check_work(e, sim.limits);
@@ -68,9 +73,7 @@ void check_design_work(const simulate::GridSpec& grid, const Frame& frame, const
 
 Design design_surface(const ingest::Mesh& mesh, const Frame& frame, const SimParams& sim) {
   Design d;
-  d.grid.cell = sim.cell_mm;
-  d.grid.nx = static_cast<std::size_t>(std::max(1.0, std::ceil(frame.width / sim.cell_mm)));
-  d.grid.ny = static_cast<std::size_t>(std::max(1.0, std::ceil(frame.depth / sim.cell_mm)));
+  d.grid = footprint_grid(frame, sim.cell_mm);
   d.grid.check();
   // Before any is allocated. At the peak (the metrics' rest split) the design (8 B per cell), the
   // machined z-map (12), the material over the design (8) and two byte masks are alive: 30 B per cell,
@@ -78,7 +81,7 @@ Design design_surface(const ingest::Mesh& mesh, const Frame& frame, const SimPar
   // or shrinking by then. `finish --strategy all --simulate` on a 300 × 200 mm plate (9.6e7 cells)
   // peaked at 3.88 GB by getrusage, 40.4 B per cell with everything fixed in it (was 72 B per cell
   // budgeted and 60 used before 2026-12-05: the index and the plans stayed alive through the scoring).
-  check_design_work(d.grid, frame, sim);
+  check_design_work(frame, sim);
   const ingest::HeightField hf = ingest::rasterize_top(mesh, 0.5 * d.grid.cell, 0.5 * d.grid.cell, d.grid.cell,
                                                        static_cast<int>(d.grid.nx), static_cast<int>(d.grid.ny));
   d.heights = simulate::design_heights(hf, frame.z_shift());

@@ -263,6 +263,23 @@ void expect_same_label(const Json& got, const Json& want, const std::string& fil
     }
   }
 }
+/// A dataset config of the one generated part parts/<part>.stl labelled by simulation, one view,
+/// with `labels` as its cache and the finishing and cutting settings of `config`.
+Json one_part_config(const std::string& part, const fs::path& labels, const Json& config) {
+  return {{"dataset",
+           {{"parts", Json::array({Json{{"file", "parts/" + part + ".stl"}, {"label", "simulate"}}})},
+            {"labels", labels.string()},
+            {"augment", {{"angles_deg", Json::array({0})}, {"axes", Json::array({"x"})}, {"flip", false}}}}},
+          {"finish", config["finish"]},
+          {"cutting", config["cutting"]}};
+}
+
+/// The entry of `part` in a labels file (null when it has none).
+Json shipped_entry(const Json& labels, const std::string& part) {
+  for (const Json& p : labels["parts"])
+    if (p["name"] == part) return p;
+  return nullptr;
+}
 }  // namespace
 
 // Issue 39 §2: the shipped labels are a cache of a deterministic computation — one default
@@ -282,12 +299,7 @@ TEST(Labels, AShippedLabelIsWhatTheSimulationComputesToday) {
   std::ofstream(d / "gen.json") << gen.dump();
   ASSERT_EQ(run_millnet("dataset --quiet --config gen.json --out g", d).code, 0);
   ASSERT_TRUE(fs::exists(d / "parts" / (part + ".stl")));
-  Json one = {{"dataset",
-               {{"parts", Json::array({Json{{"file", "parts/" + part + ".stl"}, {"label", "simulate"}}})},
-                {"labels", (src / "datasets/labels.json").string()},
-                {"augment", {{"angles_deg", Json::array({0})}, {"axes", Json::array({"x"})}, {"flip", false}}}}},
-              {"finish", defaults["finish"]},
-              {"cutting", defaults["cutting"]}};
+  const Json one = one_part_config(part, src / "datasets/labels.json", defaults);
   std::ofstream(d / "one.json") << one.dump();
   const auto cached = run_millnet("dataset --config one.json --out cached", d);
   ASSERT_EQ(cached.code, 0) << cached.err;
@@ -307,9 +319,7 @@ TEST(Labels, AShippedLabelIsWhatTheSimulationComputesToday) {
   const auto re = run_millnet("dataset --quiet --config one.json --relabel --out re", d);
   ASSERT_EQ(re.code, 0) << re.err;
   const Json fresh = Json::parse(slurp(d / "re" / "labels.json"));
-  Json want;
-  for (const Json& p : shipped["parts"])
-    if (p["name"] == part) want = p;
+  const Json want = shipped_entry(shipped, part);
   ASSERT_FALSE(want.is_null()) << part << " is not in datasets/labels.json";
   ASSERT_EQ(fresh["parts"].size(), 1u);
   EXPECT_EQ(fresh["settings"], shipped["settings"]);
@@ -339,19 +349,12 @@ TEST(Labels, AShippedShopLabelIsWhatTheSimulationComputesToday) {
   ASSERT_EQ(made.code, 0) << made.err;
   EXPECT_NE(made.err.find("4 of 4 parts from"), std::string::npos) << made.err;
   ASSERT_TRUE(fs::exists(d / "parts" / (part + ".stl")));
-  Json one = {{"dataset",
-               {{"parts", Json::array({Json{{"file", "parts/" + part + ".stl"}, {"label", "simulate"}}})},
-                {"labels", (src / "datasets/shop-labels.json").string()},
-                {"augment", {{"angles_deg", Json::array({0})}, {"axes", Json::array({"x"})}, {"flip", false}}}}},
-              {"finish", preset["finish"]},
-              {"cutting", preset["cutting"]}};
+  const Json one = one_part_config(part, src / "datasets/shop-labels.json", preset);
   std::ofstream(d / "one.json") << one.dump();
   const auto re = run_millnet("dataset --quiet --config one.json --relabel --out re", d);
   ASSERT_EQ(re.code, 0) << re.err;
   const Json fresh = Json::parse(slurp(d / "re" / "labels.json"));
-  Json want;
-  for (const Json& p : shipped["parts"])
-    if (p["name"] == part) want = p;
+  const Json want = shipped_entry(shipped, part);
   ASSERT_FALSE(want.is_null()) << part << " is not in datasets/shop-labels.json";
   ASSERT_EQ(fresh["parts"].size(), 1u);
   EXPECT_EQ(fresh["settings"], shipped["settings"]);
