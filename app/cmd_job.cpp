@@ -182,6 +182,44 @@ report::SetupTool setup_tool(const tooling::Tool& t) {
 
 std::string share_text(double share) { return std::isnan(share) ? "–" : fixed(100 * share, 2) + " %"; }
 
+/// A facing pass's radial engagement, in tool diameters (a face milled with an end mill: 3/4 of it).
+constexpr double kFacingStepover = 0.75;
+
+/// How deep one facing level goes: the roughing's step-down, within the end mill's flutes.
+double facing_level_mm(const rough::Params& rp, const tooling::Tool& mill) {
+  return mill.flute_length_mm > 0 ? std::min(rp.cut.step_down, mill.flute_length_mm) : rp.cut.step_down;
+}
+
+/// The sawn blank's top above Z 0 (/rough/stock_squared false: /rough/facing_mm), 0 for a pre-squared
+/// block. Refused with a given stock (machined as it is) or at or above the rapids' height.
+double sawn_blank_top(const Json& config, const rough::Params& rp, const std::optional<std::string>& stock) {
+  if (config["rough"]["stock_squared"].get<bool>()) return 0;
+  const double top = config["rough"]["facing_mm"].get<double>();
+  if (stock)
+    throw Error(*stock +
+                ": --stock is the stock the job starts from, machined as it is; /rough/stock_squared false "
+                "asks for the block with a sawn top: give one of them");
+  if (!(top < rp.cut.safe_z - job::kFacingFeedHeightMm))
+    throw Error("/rough/facing_mm " + format_double(top) + " leaves the sawn blank's top within " +
+                format_double(job::kFacingFeedHeightMm) + " mm of the safe height /pocket/safe_z " +
+                format_double(rp.cut.safe_z) + ": the rapids would run into it; raise /pocket/safe_z");
+  return top;
+}
+
+/// The facing of a sawn blank over the roughing's stock rectangle, with the roughing's end mill and
+/// cutting data (job::facing_operation).
+job::FacingSpec facing_spec(const rough::Result& rough, const rough::Params& rp, const tooling::Tool& mill,
+                            double blank_top) {
+  job::FacingSpec f;
+  f.x0 = rough.stock_x0, f.y0 = rough.stock_y0, f.x1 = rough.stock_x1, f.y1 = rough.stock_y1;
+  f.blank_top = blank_top;
+  f.max_depth_mm = facing_level_mm(rp, mill);
+  f.stepover_mm = kFacingStepover * mill.diameter_mm;
+  f.safe_z = rp.cut.safe_z;
+  f.rpm = rp.cut.spindle_rpm, f.feed_mm_min = rp.cut.feed_half, f.plunge_feed_mm_min = rp.cut.feed_plunge;
+  return f;
+}
+
 /// The job of `o` with `config` read; `reuse` (from `millnet run`): what is already computed.
 int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, RunJobResult* result) {
   // 1. Settings and the part.
@@ -222,9 +260,14 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   fs_.params.tool = ball.cutter();
   const job::SimParams sim = sim_params(fs_);
 
-  // A given stock is checked before the minutes of roughing, planning and simulation it would
-  // feed (refused naming its file and the place), and the roughing plans from it (job_stock.hpp).
-  rp.stock_top = roughing_stock(o.stock, {o.mesh, prep, frame}, part.mesh, rp, sim);
+  // A given stock is read once, checked before the minutes of roughing, planning and simulation it
+  // would feed (refused naming its file and the place), and the roughing plans from it; a sawn
+  // blank (/rough/stock_squared false) is the block with its top faced first (job_stock.hpp).
+  const double blank_top = sawn_blank_top(config, rp, o.stock);
+  const StockSource stock_src{o.mesh, prep, frame};
+  const std::optional<GivenStock> given = read_stock(o.stock, stock_src);
+  const GivenStock* const given_stock = given ? &*given : nullptr;
+  rp.stock_top = roughing_stock(given_stock, stock_src, part.mesh, rp, sim);
 
   OutputSet files;  // every file of the job, or none (core/output_set.hpp)
   fs::create_directories(out);
@@ -252,6 +295,7 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   }
   std::vector<job::Operation> ops =
       no_roughing ? std::vector<job::Operation>{} : job::roughing_operations(rough.machining.program, mill, drill, dc);
+  if (blank_top > 0) ops.insert(ops.begin(), job::facing_operation(mill, facing_spec(rough, rp, mill, blank_top)));
 
   // 4. Finishing: the strategies machined and ranked (their files in DIR/strategies), the chosen one's program.
   info("job: " + stem + ": finishing with " + ball.label() + " (" + std::to_string(fs_.strategies.size()) + " strateg" +
@@ -265,7 +309,7 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   // not take what it meets a semi-finishing goes first; a strategy whose cut goes beyond its flutes
   // even then gives way to the next of the ranking (--strategy K: K, or no job).
   const job::Design& design = *pf.design;
-  simulate::ZMap roughed = starting_stock(o.stock, {o.mesh, prep, frame}, design, sim);
+  simulate::ZMap roughed = starting_stock(given_stock, stock_src, design, sim, blank_top);
   std::vector<job::StepResult> before = job::machine_steps(roughed, design, job::chain_steps(ops), fs_.machine);
   const job::StepResult met =
       before.empty() ? job::left_above(roughed, design) : before.back();  // what finishing meets
@@ -412,7 +456,7 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
 
   // 6. The job program machined from the block, tool by tool, on one z-map.
   info("job: " + stem + ": machining the job program from the block");
-  simulate::ZMap z = starting_stock(o.stock, {o.mesh, prep, frame}, design, sim);
+  simulate::ZMap z = starting_stock(given_stock, stock_src, design, sim, blank_top);
   const std::vector<job::ToolRun> runs = job::split_at_tool_changes(job_w.program);
   std::map<int, const job::Operation*> by_number;
   for (const job::Operation& op : ops) by_number[op.tool.number] = &op;
@@ -444,6 +488,7 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   sheet.stock_x0 = rough.stock_x0, sheet.stock_y0 = rough.stock_y0;
   sheet.stock_x1 = rough.stock_x1, sheet.stock_y1 = rough.stock_y1;
   sheet.stock_bottom_z = frame.program_bottom();
+  sheet.blank_top_z = blank_top;
   sheet.origin_x = post.origin[0], sheet.origin_y = post.origin[1];
   sheet.origin_name = gcode::to_string(post.origin_at);
   sheet.part_width = frame.width, sheet.part_depth = frame.depth;
@@ -489,7 +534,11 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
     so.left_after_mm = st.max_left_mm;
     so.time_min = st.stats.kinematic_time_min;
     so.program = op_files[i];
-    if (op.name == "drilling") {
+    if (op.name == "facing") {
+      so.strategy = "facing the sawn top: zigzag passes along the longer side";
+      so.rpm = rp.cut.spindle_rpm, so.feed_mm_min = rp.cut.feed_half;
+      so.stepover_mm = kFacingStepover * mill.diameter_mm, so.step_down_mm = facing_level_mm(rp, mill);
+    } else if (op.name == "drilling") {
       so.strategy = "plunge per pre-drilled entry";
       so.rpm = dc.rpm, so.feed_mm_min = dc.feed_mm_min;
     } else if (op.name.rfind("semi-finishing", 0) == 0 && semi_params) {
@@ -590,16 +639,22 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   if (drill != nullptr)
     notes.push_back("the drill's tip goes to each hole's level; its point leaves a cone the end mill's plunge cuts");
   if (o.stock) notes.insert(notes.begin(), "the job starts from the stock " + *o.stock + ", not the block");
+  if (blank_top > 0)
+    notes.insert(notes.begin(), "a sawn blank (/rough/stock_squared false): operation 1 faces its top " +
+                                    fixed(blank_top, 2) + " mm down to Z0 with the roughing's " + mill.label() +
+                                    "; its sides stay as sawn");
   sheet.notes = notes;
   Json j{{"part", stem},
          {"file", file},
          {"post", fs_.post.name},
-         {"frame", Json{{"origin", "X0 Y0 = " + gcode::to_string(post.origin_at) + ", Z0 = stock top (G54)"},
-                        {"origin_in_part_frame_mm", {post.origin[0], post.origin[1]}},
-                        {"stock_mm",
-                         {sheet.stock_x0, sheet.stock_y0, sheet.stock_bottom_z, sheet.stock_x1, sheet.stock_y1, 0.0}},
-                        {"deepest_z_mm", sheet.deepest_z},
-                        {"stock_from", o.stock ? Json(*o.stock) : Json("block")}}},
+         {"frame",
+          Json{{"origin", "X0 Y0 = " + gcode::to_string(post.origin_at) + ", Z0 = stock top (G54)"},
+               {"origin_in_part_frame_mm", {post.origin[0], post.origin[1]}},
+               {"stock_mm",
+                {sheet.stock_x0, sheet.stock_y0, sheet.stock_bottom_z, sheet.stock_x1, sheet.stock_y1, blank_top}},
+               {"blank_top_z_mm", blank_top},
+               {"deepest_z_mm", sheet.deepest_z},
+               {"stock_from", o.stock ? Json(*o.stock) : Json("block")}}},
          {"operations", ops_json},
          {"total_time_kinematic_min", sheet.total_time_min},
          {"tool_changes", sheet.tool_changes},

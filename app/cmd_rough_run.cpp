@@ -117,6 +117,10 @@ Registered register_rough(CLI::App& app) {
             CuttingRecord cutting;
             const rough::Params params =
                 rough_params(config, explicit_pocket_section(o->common.config), o->flags, &cutting);
+            if (!config["rough"]["stock_squared"].get<bool>())
+              warn(
+                  "/rough/stock_squared false: facing the sawn top is an operation of `millnet job`; `rough` "
+                  "plans from the squared top Z 0");
             const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"], &config);
             const gcode::Dialect post = post_dialect(config, o->flags.post);
             std::vector<RoughOutcome> done;

@@ -35,9 +35,8 @@ ingest::Mesh stock_mesh(const std::string& file, const StockSource& src) {
   return stock;
 }
 
-simulate::ZMap stock_from_mesh(const std::string& file, const StockSource& src, const job::Design& design,
+simulate::ZMap stock_from_mesh(const ingest::Mesh& stock, const StockSource& src, const job::Design& design,
                                const job::SimParams& sim) {
-  const ingest::Mesh stock = stock_mesh(file, src);
   const simulate::GridSpec& g = design.grid;
   return job::stock_from_raster(
       ingest::rasterize_top_cells(stock, g.x(0), g.y(0), g.cell, static_cast<int>(g.nx), static_cast<int>(g.ny)),
@@ -46,46 +45,48 @@ simulate::ZMap stock_from_mesh(const std::string& file, const StockSource& src, 
 
 }  // namespace
 
-/// The stock the job starts from: the block (footprint + margin up to Z 0), a z-map saved by
-/// `simulate --save-stock` on this part's grid (issue 38: a stock as a model; a job's real
-/// history), or a stock mesh (a casting, a plate sawn to size). A stock that does not hold the
-/// design (below it by more than the tolerance) or rises above Z 0 (the stock top every rapid and
-/// clearance plane is set from) is refused, naming the place (job::stock_departure).
-simulate::ZMap starting_stock(const std::optional<std::string>& file, const StockSource& src, const job::Design& design,
-                              const job::SimParams& sim) {
-  if (!file) return job::block_stock(design, sim);
-  simulate::ZMap z = fs::path(*file).extension() == ".zmap" ? stock_from_file(*file, design.grid)
-                                                            : stock_from_mesh(*file, src, design, sim);
+std::optional<GivenStock> read_stock(const std::optional<std::string>& file, const StockSource& src) {
+  if (!file) return std::nullopt;
+  GivenStock g{*file, std::nullopt};
+  if (fs::path(*file).extension() != ".zmap") g.mesh = stock_mesh(*file, src);
+  return g;
+}
+
+simulate::ZMap starting_stock(const GivenStock* given, const StockSource& src, const job::Design& design,
+                              const job::SimParams& sim, double blank_top) {
+  if (given == nullptr) return job::block_stock(design, sim, blank_top);
+  const std::string& file = given->file;
+  simulate::ZMap z = given->mesh ? stock_from_mesh(*given->mesh, src, design, sim) : stock_from_file(file, design.grid);
   const job::StockDeparture d = job::stock_departure(z, design);
   const auto where = [](const std::array<double, 2>& at) {
     return "X" + fixed(at[0], 2) + " Y" + fixed(at[1], 2) + " (part frame)";
   };
   if (d.below_design_mm > kStockToleranceMm)
-    throw file_error(*file, "the stock lies " + fixed(d.below_design_mm, 3) + " mm below the design at " +
-                                where(d.below_at) + ": not a stock this part can be machined from");
+    throw file_error(file, "the stock lies " + fixed(d.below_design_mm, 3) + " mm below the design at " +
+                               where(d.below_at) + ": not a stock this part can be machined from");
   if (d.above_top_mm > kStockToleranceMm)
-    throw file_error(*file, "the stock rises " + fixed(d.above_top_mm, 3) +
-                                " mm above Z 0, the stock top the job's rapids and clearance planes are set from, at " +
-                                where(d.above_at) + ": raise /rough/top_allowance_mm by that much");
+    throw file_error(file, "the stock rises " + fixed(d.above_top_mm, 3) +
+                               " mm above Z 0, the stock top the job's rapids and clearance planes are set from, at " +
+                               where(d.above_at) + ": raise /rough/top_allowance_mm by that much");
   return z;
 }
 
-std::shared_ptr<const ingest::HeightField> roughing_stock(const std::optional<std::string>& file,
-                                                          const StockSource& src, const ingest::Mesh& part,
-                                                          const rough::Params& rp, const job::SimParams& sim) {
-  if (!file) return nullptr;
-  const simulate::ZMap given = starting_stock(file, src, job::design_surface(part, src.frame, sim), sim);
+std::shared_ptr<const ingest::HeightField> roughing_stock(const GivenStock* given, const StockSource& src,
+                                                          const ingest::Mesh& part, const rough::Params& rp,
+                                                          const job::SimParams& sim) {
+  if (given == nullptr) return nullptr;
+  const simulate::ZMap checked = starting_stock(given, src, job::design_surface(part, src.frame, sim), sim);
   // The roughing's slicing raster (rough_mesh: the footprint + the block's margins, raster_mm apart).
   const ingest::Box3 box = ingest::bounds(part);
   const std::array<double, 4> m = rp.stock.sides(box.max.x() - box.min.x(), box.max.y() - box.min.y());
   const double x0 = box.min.x() - m[0], y0 = box.min.y() - m[2], x1 = box.max.x() + m[1], y1 = box.max.y() + m[3];
-  if (fs::path(*file).extension() == ".zmap")  // it covers the part's footprint: the block around it
+  if (!given->mesh)  // a z-map covers the part's footprint: the block around it
     return std::make_shared<const ingest::HeightField>(
-        job::stock_top_field(given, src.frame, x0, y0, x1, y1, rp.raster_mm));
+        job::stock_top_field(checked, src.frame, x0, y0, x1, y1, rp.raster_mm));
   // A stock mesh everywhere: its top over each raster point's cell, none where it is not.
   const int nx = static_cast<int>(std::ceil((x1 - x0) / rp.raster_mm)) + 1;
   const int ny = static_cast<int>(std::ceil((y1 - y0) / rp.raster_mm)) + 1;
-  ingest::HeightField top = ingest::rasterize_top_cells(stock_mesh(*file, src), x0, y0, rp.raster_mm, nx, ny);
+  ingest::HeightField top = ingest::rasterize_top_cells(*given->mesh, x0, y0, rp.raster_mm, nx, ny);
   const double none = box.min.z() - rp.cut.stock_to_leave - 1.0;  // below every level
   job::uncovered_to(top, none);
   return std::make_shared<const ingest::HeightField>(std::move(top));

@@ -148,15 +148,21 @@ void top_view(std::ostringstream& o, const SetupSheet& s) {
 
 /// From the front (looking along +Y): the stock, the part's silhouette, Z0 and the deepest tool Z.
 void front_view(std::ostringstream& o, const SetupSheet& s) {
-  const double wmm = s.stock_x1 - s.stock_x0, hmm = std::max(0.0 - s.stock_bottom_z, 1e-9);
+  const double wmm = s.stock_x1 - s.stock_x0, hmm = std::max(s.blank_top_z - s.stock_bottom_z, 1e-9);
   const double scale = std::min(440 / std::max(wmm, 1e-9), 220 / hmm);
   const double pad = 40;
-  const View v{s.stock_x0 - pad / scale, 0 + pad / scale, scale};
+  const View v{s.stock_x0 - pad / scale, s.blank_top_z + pad / scale, scale};
   const double W = wmm * scale + 2 * pad + 150, H = hmm * scale + 2 * pad;
   o << "<svg id=\"front-view\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << num(W, 0) << "\" height=\""
     << num(H, 0) << "\" viewBox=\"0 0 " << num(W, 0) << ' ' << num(H, 0) << "\">" << kDefs;
-  o << "<rect x=\"" << num(v.px(s.stock_x0), 1) << "\" y=\"" << num(v.py(0), 1) << "\" width=\"" << num(wmm * scale, 1)
-    << "\" height=\"" << num(hmm * scale, 1) << "\" fill=\"#e8e8e8\" stroke=\"#333\" stroke-width=\"1.5\"/>";
+  o << "<rect x=\"" << num(v.px(s.stock_x0), 1) << "\" y=\"" << num(v.py(s.blank_top_z), 1) << "\" width=\""
+    << num(wmm * scale, 1) << "\" height=\"" << num(hmm * scale, 1)
+    << "\" fill=\"#e8e8e8\" stroke=\"#333\" stroke-width=\"1.5\"/>";
+  if (s.blank_top_z > 0)  // the sawn top the facing takes off
+    o << "<rect id=\"facing-layer\" x=\"" << num(v.px(s.stock_x0), 1) << "\" y=\"" << num(v.py(s.blank_top_z), 1)
+      << "\" width=\"" << num(wmm * scale, 1) << "\" height=\"" << num(s.blank_top_z * scale, 1)
+      << "\" fill=\"#f2c48d\" stroke=\"#333\"/><text x=\"" << num(v.px(s.stock_x1) + 12, 1) << "\" y=\""
+      << num(v.py(s.blank_top_z) - 4, 1) << "\">sawn top Z " << num(s.blank_top_z, 2) << ", faced to Z0</text>";
   if (s.heights != nullptr && !s.heights->empty()) {  // the silhouette: per column, the highest point
     const simulate::GridSpec& g = s.grid;
     const std::size_t step = std::max<std::size_t>(1, g.nx / 600);
@@ -211,17 +217,24 @@ std::string setup_sheet_html(const SetupSheet& s) {
     << num(s.total_time_min, 1) << " min kinematic + " << s.tool_changes << " tool changes × "
     << num(s.tool_change_s, 0) << " s)</p>\n";
   // 1. Stock and origin.
-  const double sw = s.stock_x1 - s.stock_x0, sd = s.stock_y1 - s.stock_y0, sh = -s.stock_bottom_z;
+  const double sw = s.stock_x1 - s.stock_x0, sd = s.stock_y1 - s.stock_y0, sh = s.blank_top_z - s.stock_bottom_z;
   o << "<h2>Stock and work origin</h2>\n<table>"
-    << "<tr><th>stock</th><td>block " << num(sw, 1) << " × " << num(sd, 1) << " × " << num(sh, 1)
-    << " mm (X × Y × Z), part footprint " << num(s.part_width, 1) << " × " << num(s.part_depth, 1)
-    << " mm centred with " << num(-s.stock_x0, 1) << " mm each side in X, " << num(-s.stock_y0, 1)
-    << " mm in Y</td></tr>"
+    << "<tr><th>stock</th><td>" << (s.blank_top_z > 0 ? "sawn blank " : "pre-squared block ") << num(sw, 1) << " × "
+    << num(sd, 1) << " × " << num(sh, 1) << " mm (X × Y × Z)";
+  if (s.blank_top_z > 0)
+    o << ", its top faced " << num(s.blank_top_z, 2) << " mm down to Z0 by operation 1 (its sides stay as sawn)";
+  o << ", part footprint " << num(s.part_width, 1) << " × " << num(s.part_depth, 1) << " mm inside it with "
+    << num(-s.stock_x0, 1) << " / " << num(s.stock_x1 - s.part_width, 1) << " mm on X− / X+, " << num(-s.stock_y0, 1)
+    << " / " << num(s.stock_y1 - s.part_depth, 1) << " mm on Y− / Y+</td></tr>"
     << "<tr><th>work origin (G54)</th><td>X0 Y0 at the " << esc(s.origin_name)
     << " (the stock's lower-left corner at X " << num(s.stock_x0 - s.origin_x, 1) << " Y "
     << num(s.stock_y0 - s.origin_y, 1) << ", the part footprint's at X " << num(-s.origin_x, 1) << " Y "
     << num(-s.origin_y, 1) << "); Z0 on the stock top, " << num(-s.part_top_z, 2)
-    << " mm above the part's highest point</td></tr>"
+    << " mm above the part's highest point";
+  if (s.blank_top_z > 0)
+    o << " — " << num(s.blank_top_z, 2) << " mm below the sawn blank's top: touch off on the blank's top and set Z +"
+      << num(s.blank_top_z, 3);
+  o << "</td></tr>"
     << "<tr><th>clamping</th><td>";
   const double free_mm = s.deepest_z - s.stock_bottom_z;
   if (free_mm > 0.5)

@@ -14,8 +14,8 @@
 
 namespace millnet::job {
 
-simulate::ZMap block_stock(const Design& design, const SimParams& sim) {
-  return simulate::ZMap::flat(design.grid, 0.0, sim.max_bytes());
+simulate::ZMap block_stock(const Design& design, const SimParams& sim, double top) {
+  return simulate::ZMap::flat(design.grid, top, sim.max_bytes());
 }
 
 ingest::HeightField stock_top_field(const simulate::ZMap& stock, const Frame& frame, double x0, double y0, double x1,

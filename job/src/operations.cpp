@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <variant>
@@ -30,6 +31,13 @@ bool same_tool(const tooling::Tool& a, const tooling::Tool& b) {
 }
 
 bool reaches(const tooling::Tool& t, double depth_mm) { return t.stickout_mm <= 0 || t.stickout_mm >= depth_mm; }
+
+/// "1.500": a length in a message, mm to the micrometre.
+std::string mm3(double v) {
+  char b[48];
+  std::snprintf(b, sizeof b, "%.3f", v);
+  return b;
+}
 
 }  // namespace
 
@@ -95,6 +103,62 @@ std::vector<Operation> roughing_operations(const gcode::Program& rough, const to
   roughing.program.items.assign(rough.items.begin(), begin);
   roughing.program.items.insert(roughing.program.items.end(), end, rough.items.end());
   return {drilling, roughing};
+}
+
+Operation facing_operation(const tooling::Tool& mill, const FacingSpec& s) {
+  const double d = mill.diameter_mm, r = d / 2;
+  if (!(s.blank_top > 0) || !(s.blank_top < s.safe_z))
+    throw Error("facing: the blank's top (Z" + mm3(s.blank_top) +
+                ") must lie above the stock top Z 0 and below the safe height Z" + mm3(s.safe_z));
+  if (!(s.stepover_mm > 0) || s.stepover_mm > d)
+    throw Error("facing: the stepover " + mm3(s.stepover_mm) + " mm is not in (0, " + mm3(d) +
+                "] mm (the tool's diameter)");
+  if (!(s.x1 > s.x0) || !(s.y1 > s.y0)) throw Error("facing: the stock rectangle is empty");
+  // Passes along the longer side: u along a pass, v across; (u, v) → (x, y) swapped when the stock is
+  // deeper than wide.
+  const bool along_x = s.x1 - s.x0 >= s.y1 - s.y0;
+  const double u0 = (along_x ? s.x0 : s.y0) - r - kFacingRunOutMm, u1 = (along_x ? s.x1 : s.y1) + r + kFacingRunOutMm;
+  const double edge = 0.1 * r;  // the outer passes' overhang past the stock's sides
+  const double v_lo = (along_x ? s.y0 : s.x0) + r - edge, v_hi = (along_x ? s.y1 : s.x1) - r + edge;
+  const int passes = v_hi > v_lo ? static_cast<int>(std::ceil((v_hi - v_lo) / s.stepover_mm - 1e-9)) + 1 : 1;
+  const double v_step = passes > 1 ? (v_hi - v_lo) / (passes - 1) : 0;
+  const double v_first = passes > 1 ? v_lo : 0.5 * ((along_x ? s.y0 : s.x0) + (along_x ? s.y1 : s.x1));
+  const int levels =
+      s.max_depth_mm > 0 ? std::max(1, static_cast<int>(std::ceil(s.blank_top / s.max_depth_mm - 1e-9))) : 1;
+
+  Operation op{"facing", mill, {}};
+  op.program.header = {"facing the sawn blank: its top Z" + mm3(s.blank_top) + " down to the stock top Z0 in " +
+                       std::to_string(levels) + " level(s) of " + std::to_string(passes) + " passes"};
+  auto at = [&](double u, double v, double z) -> gcode::Point3 {
+    return along_x ? gcode::Point3{u, v, z} : gcode::Point3{v, u, z};
+  };
+  auto move = [&](gcode::Motion m, const gcode::Point3& to, double feed) {
+    gcode::Move mv;
+    mv.motion = m, mv.to = to, mv.feed = feed;
+    op.program.items.emplace_back(mv);
+  };
+  gcode::Move up;  // from the tool change: up to the safe height first, then across to the stock
+  up.to = {0, 0, s.safe_z}, up.axes = gcode::kZ;
+  op.program.items.emplace_back(up);
+  op.program.items.emplace_back(gcode::Spindle{gcode::SpindleDir::CW, s.rpm});
+  for (int k = 1; k <= levels; ++k) {  // O(levels · passes)
+    const double z = k == levels ? 0.0 : s.blank_top * (1.0 - static_cast<double>(k) / levels);
+    gcode::Point3 start = at(u0, v_first, s.safe_z);
+    move(gcode::Motion::Rapid, start, 0);
+    start[2] = std::min(s.safe_z, z + kFacingFeedHeightMm);
+    move(gcode::Motion::Rapid, start, 0);
+    move(gcode::Motion::Line, at(u0, v_first, z), s.plunge_feed_mm_min);
+    for (int p = 0; p < passes; ++p) {
+      const double v = v_first + p * v_step;
+      const bool forward = p % 2 == 0;
+      if (p > 0) move(gcode::Motion::Line, at(forward ? u0 : u1, v, z), s.feed_mm_min);  // the step, off the stock
+      move(gcode::Motion::Line, at(forward ? u1 : u0, v, z), s.feed_mm_min);
+    }
+    const auto* last = std::get_if<gcode::Move>(&op.program.items.back());
+    move(gcode::Motion::Rapid, {last->to[0], last->to[1], s.safe_z}, 0);
+  }
+  op.program.items.emplace_back(gcode::Spindle{gcode::SpindleDir::Off, s.rpm});
+  return op;
 }
 
 const tooling::Tool* drill_for(const std::vector<tooling::Tool>& library, const tooling::Tool& mill, double depth_mm) {

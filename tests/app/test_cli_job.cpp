@@ -574,3 +574,70 @@ TEST(CliJob, AStockMeshTheBlocksSizeIsTheBlockAndOneThatDoesNotHoldThePartIsRefu
 
 }  // namespace
 }  // namespace millnet::testing
+
+namespace millnet::testing {
+namespace {
+
+/// A program's text after its first line (the "operation k of n" comment its place in the job names).
+std::string body(const fs::path& f) {
+  const std::string t = slurp(f);
+  return t.substr(t.find('\n') + 1);
+}
+
+// Issue 38: a stock block "pre-squared or not". A sawn blank 1.5 mm taller than the squared block is
+// faced first (operation 1, the roughing's end mill, no rapid into it, its depth of cut the 1.5 mm);
+// what follows is the job from the pre-squared block, program for program and figure for figure; the
+// setup sheet says how to touch off; LinuxCNC's interpreter accepts the job. A sawn top at the rapids'
+// height, or a sawn blank with --stock, is one line, exit 1.
+TEST(CliJob, ASawnBlankIsFacedFirstAndThenMachinedAsThePreSquaredBlock) {
+  const fs::path d = fresh_dir("cli_job_sawn");
+  const fs::path mesh = write_cavity(d);
+  std::ofstream(d / "fast.json") << kFast;
+  std::ofstream(d / "sawn.json") << R"({"simulate": {"cell_mm": 0.1}, "finish": {"tool": {"id": "bn2-2f-carbide"}},
+    "rough": {"stock_squared": false, "facing_mm": 1.5}})";
+  const std::string base = "job --quiet --no-preview --mesh '" + mesh.string() + "' --strategy 1 ";
+  ASSERT_EQ(run_millnet(base + "--config fast.json --out a", d).code, 0);
+  const auto r = run_millnet(base + "--config sawn.json --out b", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Json a = Json::parse(slurp(d / "a" / "cavity.job.json"));
+  const Json b = Json::parse(slurp(d / "b" / "cavity.job.json"));
+  const auto &oa = a["operations"], &ob = b["operations"];
+  ASSERT_EQ(ob.size(), oa.size() + 1);
+  EXPECT_EQ(ob[0]["name"], "facing");
+  EXPECT_EQ(ob[0]["tool"]["id"], "em10-3f-carbide");
+  EXPECT_EQ(ob[0]["tool"]["number"], oa[1]["tool"]["number"]);  // the roughing's end mill
+  EXPECT_NEAR(ob[0]["max_depth_of_cut_mm"].get<double>(), 1.5, 0.01);
+  EXPECT_EQ(b["frame"]["blank_top_z_mm"], 1.5);
+  EXPECT_EQ(b["frame"]["stock_mm"], Json::parse("[-5.0, -5.0, -9.0, 35.0, 29.0, 1.5]"));
+  for (const auto& o : ob) EXPECT_EQ(o["cutting_rapids"], 0) << o["name"];
+  for (std::size_t i = 0; i < oa.size(); ++i) {  // then the pre-squared block's job
+    EXPECT_EQ(ob[i + 1]["name"], oa[i]["name"]);
+    EXPECT_EQ(body(d / "b" / ob[i + 1]["program"].get<std::string>()),
+              body(d / "a" / oa[i]["program"].get<std::string>()))
+        << oa[i]["name"];
+    for (const char* k : {"max_depth_of_cut_mm", "left_above_design_mm", "time_kinematic_min"})
+      EXPECT_DOUBLE_EQ(ob[i + 1][k].get<double>(), oa[i][k].get<double>()) << oa[i]["name"] << " " << k;
+  }
+  for (const char* k : {"uncut_area_mm2", "max_gouge_mm", "ra_median_um", "scallop_max_mm"})
+    EXPECT_DOUBLE_EQ(b["simulated"][k].get<double>(), a["simulated"][k].get<double>()) << k;
+  const std::string sheet = slurp(d / "b" / "cavity.setup.html");
+  EXPECT_NE(sheet.find("sawn blank 40.0 × 34.0 × 10.5 mm"), std::string::npos);
+  EXPECT_NE(sheet.find("set Z +1.500"), std::string::npos);
+  EXPECT_NE(sheet.find("facing-layer"), std::string::npos);
+  EXPECT_NE(slurp(d / "a" / "cavity.setup.html").find("pre-squared block 40.0 × 34.0 × 9.0 mm"), std::string::npos);
+  EXPECT_TRUE(linuxcnc_accepts((d / "b" / "cavity.job.nc").string(), (d / "b" / "cavity.tool.tbl").string()));
+
+  std::ofstream(d / "high.json") << R"({"rough": {"stock_squared": false, "facing_mm": 4.5}})";
+  const auto high = run_millnet(base + "--config high.json --out c", d);
+  EXPECT_EQ(high.code, 1);
+  EXPECT_NE(high.err.find("/rough/facing_mm 4.5"), std::string::npos) << high.err;
+  EXPECT_EQ(std::count(high.err.begin(), high.err.end(), '\n'), 1) << high.err;
+  const auto both = run_millnet(base + "--config sawn.json --stock b/cavity.job.json --out e", d);
+  EXPECT_EQ(both.code, 1);
+  EXPECT_NE(both.err.find("stock_squared false"), std::string::npos) << both.err;
+  EXPECT_FALSE(fs::exists(d / "c"));
+  EXPECT_FALSE(fs::exists(d / "e"));
+}
+
+}  // namespace
+}  // namespace millnet::testing

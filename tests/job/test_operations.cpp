@@ -12,7 +12,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <limits>
 #include <string>
 #include <variant>
@@ -292,4 +294,93 @@ TEST(RankedClean, TheChosenFirstThenTheRankingWithoutGougingOrUnranked) {
   EXPECT_EQ(r[0].strategy, Strategy::Waterline);
   EXPECT_EQ(r[1].strategy, Strategy::SlopeMode);
   EXPECT_EQ(r[2].strategy, Strategy::ScallopMode);
+}
+
+namespace {
+
+double segment_distance(double px, double py, const gcode::Point3& a, const gcode::Point3& b) {
+  const double dx = b[0] - a[0], dy = b[1] - a[1], l2 = dx * dx + dy * dy;
+  const double t = l2 > 0 ? std::clamp(((px - a[0]) * dx + (py - a[1]) * dy) / l2, 0.0, 1.0) : 0.0;
+  return std::hypot(px - (a[0] + t * dx), py - (a[1] + t * dy));
+}
+
+/// The feed moves of `p` as segments (from the previous position), with their Z.
+std::vector<std::pair<gcode::Point3, gcode::Point3>> feed_segments(const gcode::Program& p) {
+  std::vector<std::pair<gcode::Point3, gcode::Point3>> out;
+  gcode::Point3 at{};
+  bool known = false;
+  for (const gcode::Item& i : p.items) {
+    const auto* m = std::get_if<gcode::Move>(&i);
+    if (m == nullptr) continue;
+    if (known && m->motion == Motion::Line) out.emplace_back(at, m->to);
+    at = m->to, known = true;
+  }
+  return out;
+}
+
+}  // namespace
+
+// Issue 38 (a stock "pre-squared or not"): a sawn blank's top faced to Z 0 — every point of the
+// stock rectangle under the last level's passes (a brute-force oracle on a 0.25 mm raster), levels
+// no deeper than asked, the hand-computed number of passes, every rapid below the blank's top and
+// every step between passes off the stock.
+TEST(JobOperations, FacingTakesTheSawnTopToZ0OverTheWholeStockAndMovesDownOnlyBesideIt) {
+  const tooling::Tool mill = tool("em10", tooling::ToolType::Flat, 10, 1);
+  job::FacingSpec s;
+  s.x0 = -5, s.y0 = -5, s.x1 = 105, s.y1 = 55;
+  s.blank_top = 2.5, s.max_depth_mm = 1.0, s.stepover_mm = 7.5, s.safe_z = 5;
+  s.rpm = 9000, s.feed_mm_min = 1500, s.plunge_feed_mm_min = 300;
+  const job::Operation op = job::facing_operation(mill, s);
+  EXPECT_EQ(op.name, "facing");
+  ASSERT_EQ(count<gcode::Spindle>(op.program), 2U);
+  // 2.5 mm in levels of at most 1 mm: three, at 2.5·2/3, 2.5/3 and 0. Across the 60 mm side, passes
+  // from y0 + R − R/10 = −0.5 to y1 − R + R/10 = 50.5: 51 mm at most 7.5 apart, ⌈51 / 7.5⌉ + 1 = 8.
+  const auto segs = feed_segments(op.program);
+  std::map<long, int> passes;  // per level (Z in µm), the moves across the stock's length
+  double lowest = 1e9;
+  for (const auto& [a, b] : segs) {
+    lowest = std::min(lowest, b[2]);
+    if (std::abs(b[0] - a[0]) > 110) ++passes[std::lround(b[2] * 1000)];
+  }
+  EXPECT_DOUBLE_EQ(lowest, 0.0);
+  ASSERT_EQ(passes.size(), 3U);
+  EXPECT_EQ(passes[0], 8);
+  EXPECT_EQ(passes[833], 8);
+  EXPECT_EQ(passes[1667], 8);
+  // The oracle: every raster point of the stock within the radius of a pass at Z 0.
+  std::size_t unfaced = 0;
+  for (double y = s.y0; y <= s.y1 + 1e-9; y += 0.25)
+    for (double x = s.x0; x <= s.x1 + 1e-9; x += 0.25) {  // O(points · segments): a test's 100,000 × 50
+      double best = 1e9;
+      for (const auto& [a, b] : segs)
+        if (a[2] == 0 && b[2] == 0) best = std::min(best, segment_distance(x, y, a, b));
+      unfaced += best < 5 - 1e-9 ? 0U : 1U;
+    }
+  EXPECT_EQ(unfaced, 0U);
+  // Below the blank's top, the tool arrives beside the stock: a rapid ends there only off the stock
+  // grown by the radius, and the steps between passes run there too.
+  const auto off = [&](const gcode::Point3& p) {
+    return p[0] <= s.x0 - 5 || p[0] >= s.x1 + 5 || p[1] <= s.y0 - 5 || p[1] >= s.y1 + 5;
+  };
+  for (const gcode::Item& i : op.program.items)
+    if (const auto* m = std::get_if<gcode::Move>(&i); m != nullptr && m->motion == Motion::Rapid && m->to[2] < 2.5) {
+      EXPECT_TRUE(off(m->to)) << m->to[0] << " " << m->to[1] << " " << m->to[2];
+    }
+  for (const auto& [a, b] : segs) {
+    if (std::abs(b[1] - a[1]) > 1e-9) {
+      EXPECT_TRUE(off(a) && off(b)) << a[0] << " → " << b[0];
+    }
+  }
+  // A stock deeper than wide is faced along Y; a blank top at the safe height or a stepover beyond
+  // the diameter is refused.
+  job::FacingSpec tall = s;
+  tall.x1 = 35, tall.y1 = 95;
+  for (const auto& [a, b] : feed_segments(job::facing_operation(mill, tall).program))
+    EXPECT_LT(std::abs(b[0] - a[0]), 40.1);
+  job::FacingSpec high = s;
+  high.blank_top = 5;
+  EXPECT_THROW((void)job::facing_operation(mill, high), Error);
+  job::FacingSpec wide = s;
+  wide.stepover_mm = 10.5;
+  EXPECT_THROW((void)job::facing_operation(mill, wide), Error);
 }

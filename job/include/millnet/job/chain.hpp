@@ -75,8 +75,9 @@ struct ChainResult {
   std::vector<std::uint8_t> rest_above_before;
 };
 
-/// A block up to Z 0 over the design's grid (the raw stock of a part roughed from a block).
-[[nodiscard]] simulate::ZMap block_stock(const Design& design, const SimParams& sim);
+/// A block up to Z `top` over the design's grid (the raw stock of a part roughed from a block: Z 0,
+/// or a sawn blank's top above it).
+[[nodiscard]] simulate::ZMap block_stock(const Design& design, const SimParams& sim, double top = 0.0);
 
 /// A stock from the raster of a stock mesh's top on the design's grid (ingest::rasterize_top_cells
 /// at the grid's cell centres, part frame): program heights z + frame.z_shift(); a cell the mesh

@@ -48,6 +48,32 @@ struct DrillCut {
 [[nodiscard]] std::vector<Operation> roughing_operations(const gcode::Program& rough, const tooling::Tool& mill,
                                                          const tooling::Tool* drill, const DrillCut& cut);
 
+/// A sawn blank's top faced down to the stock top (issue 38: a stock block "pre-squared or not").
+/// Program frame: XY as the part's programs, Z 0 the squared stock top every other operation starts
+/// from, the blank's top above it.
+struct FacingSpec {
+  double x0 = 0, y0 = 0, x1 = 0, y1 = 0;  ///< the stock rectangle (program XY), mm
+  double blank_top = 0;                   ///< the sawn top, program Z (> 0): faced to Z 0
+  double max_depth_mm = 0;                ///< per level (evenly split levels); ≤ 0: one level
+  double stepover_mm = 0;                 ///< the most between passes, (0, D]
+  double safe_z = 5;                      ///< rapid height, above blank_top
+  double rpm = 0, feed_mm_min = 0, plunge_feed_mm_min = 0;
+};
+
+/// How far a facing pass runs past the stock on each end (the tool wholly off it), mm.
+inline constexpr double kFacingRunOutMm = 2.0;
+/// The rapid down beside the stock stops this far above the level; the rest is fed, mm.
+inline constexpr double kFacingFeedHeightMm = 1.0;
+
+/// The facing operation "facing" by `mill` (a flat or bull end mill): per level, parallel passes
+/// along the stock's longer side, both ways (zigzag), each running from kFacingRunOutMm beyond one
+/// end to as far beyond the other, the first and last a tenth of the radius past the stock's sides
+/// (no unfaced rim), evenly spaced at most `stepover_mm` apart; the step between passes and every
+/// descent lie off the stock (rapid to kFacingFeedHeightMm above the level beside it, fed the rest).
+/// Spindle on at the start and off at the end. Throws millnet::Error for a blank top ≤ 0 or not
+/// below safe_z, a stepover outside (0, D] or an empty rectangle. O(levels · passes).
+[[nodiscard]] Operation facing_operation(const tooling::Tool& mill, const FacingSpec& spec);
+
 /// The drill a roughing tool's pre-drilled entries are drilled with: of the library's drills with a
 /// diameter in [D/2, D] of the end mill's (the end mill drops into the hole and cuts only the ring
 /// the drill left) and a stick-out and flute length that reach `depth_mm` (0 = not stated: taken to

@@ -50,6 +50,9 @@ struct SetupSheet {
   // Frame (program coordinates, mm): origin X0 Y0 at the footprint's lower-left corner, Z0 the stock top.
   double stock_x0 = 0, stock_y0 = 0, stock_x1 = 0, stock_y1 = 0, stock_bottom_z = 0;
   double part_width = 0, part_depth = 0, part_top_z = 0, part_bottom_z = 0;
+  /// A sawn blank (/rough/stock_squared false): its top, above Z0, that the first operation faces
+  /// down to Z0; 0: a pre-squared block, its top Z0.
+  double blank_top_z = 0;
   double deepest_z = 0;  ///< the lowest any tool goes
   /// The work origin (G54's X0 Y0) in this frame and its name (/machine/work_origin): the programs'
   /// X Y are these coordinates less it.
