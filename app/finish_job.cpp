@@ -42,8 +42,12 @@ Eigen::MatrixXd picture_map(const std::vector<T>& v, const simulate::GridSpec& g
 }  // namespace
 
 simulate::ZMap stock_from_file(const std::string& file, const simulate::GridSpec& g) {
-  simulate::ZMap z = simulate::io::read_zmap(file);
-  const simulate::GridSpec& s = z.spec();
+  return saved_stock_from_file(file, g).zmap;
+}
+
+simulate::io::SavedStock saved_stock_from_file(const std::string& file, const simulate::GridSpec& g) {
+  simulate::io::SavedStock saved = simulate::io::read_saved_stock(file);
+  const simulate::GridSpec& s = saved.zmap.spec();
   auto same = [](double a, double b) { return std::abs(a - b) <= 1e-9; };
   if (s.nx != g.nx || s.ny != g.ny || !same(s.cell, g.cell) || !same(s.x0, g.x0) || !same(s.y0, g.y0))
     throw file_error(file, "its grid (" + std::to_string(s.nx) + " × " + std::to_string(s.ny) + " cells of " +
@@ -51,7 +55,7 @@ simulate::ZMap stock_from_file(const std::string& file, const simulate::GridSpec
                                ") is not this part's (" + std::to_string(g.nx) + " × " + std::to_string(g.ny) +
                                " cells of " + fixed(g.cell, 4) + " mm at " + fixed(g.x0, 3) + ", " + fixed(g.y0, 3) +
                                "): save and reuse a stock with the same mesh, --units, --up and /simulate/cell_mm");
-  return z;
+  return saved;
 }
 
 Json sim_metrics_json(const simulate::SurfaceMetrics& m, const simulate::GridSpec& grid) {
@@ -578,11 +582,20 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
   const job::Frame frame = job::frame_of(part.mesh, settings.stock_top_above_part_mm);
   std::optional<job::Design> own;
   if (design == nullptr) design = &own.emplace(job::design_surface(part.mesh, frame, sim));
-  simulate::ZMap z = stock == "flat"     ? job::block_stock(*design, sim)
-                     : stock == "design" ? job::finishing_stock(*design, frame, sim)
-                                         : stock_from_file(stock, design->grid);
+  // With --save-stock, the block's surround too (the stock beyond the footprint, for a job that
+  // starts from the saved stock: job::block_surround): from the block, or the one a saved stock brings.
+  std::optional<simulate::ZMap> surround;
+  simulate::ZMap z = stock == "flat" ? job::block_stock(*design, sim) : job::finishing_stock(*design, frame, sim);
+  if (stock != "flat" && stock != "design") {
+    simulate::io::SavedStock saved = saved_stock_from_file(stock, design->grid);
+    z = std::move(saved.zmap);
+    surround = std::move(saved.surround);
+  }
+  if (save_stock && stock == "flat")
+    surround = job::block_surround(frame, settings.post.stock.sides(frame.width, frame.depth), 0.0, sim);
   std::vector<job::ChainStep> steps;
   for (const ChainProgram& p : programs) steps.push_back({&p.written.program, p.cutter});
+  if (save_stock && surround) job::machine_surround(*surround, steps);
   const job::ChainResult r = job::machine_chain(z, *design, steps, settings.machine, sim, score_rest);
   Json runs = Json::array();
   for (std::size_t i = 0; i < programs.size(); ++i) {
@@ -628,7 +641,7 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
   const std::vector<double> e = simulate::deviation(z, design->heights);
   grid_png(out / (stem + ".deviation.png"), e, design->grid, stem + ": machined - design", "mm");
   if (save_stock) {
-    simulate::io::write_zmap(out / (stem + ".zmap"), z);
+    simulate::io::write_zmap(out / (stem + ".zmap"), z, surround ? &*surround : nullptr);
     j["saved_stock"] = (out / (stem + ".zmap")).string();
   }
   if (preview_settings().enabled && !programs.empty()) {

@@ -17,6 +17,7 @@
 #include "millnet/job/frame.hpp"
 #include "millnet/job/part.hpp"
 #include "millnet/simulate/aim.hpp"
+#include "millnet/simulate/io/zmap_file.hpp"
 #include "millnet/simulate/zmap.hpp"
 
 #include <filesystem>
@@ -127,6 +128,8 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
 /// A stock saved by `simulate --save-stock` (FILE.zmap), checked to lie on the part's grid `g`
 /// (millnet::Error naming the file and both grids otherwise).
 [[nodiscard]] simulate::ZMap stock_from_file(const std::string& file, const simulate::GridSpec& g);
+/// stock_from_file with the block's surround the file may carry (simulate/io/zmap_file.hpp).
+[[nodiscard]] simulate::io::SavedStock saved_stock_from_file(const std::string& file, const simulate::GridSpec& g);
 
 /// A program file read for simulate_programs (the file's text and that text read back), shifted from
 /// the work frame `post` placed it in (its origin) back into millnet's.

@@ -52,11 +52,11 @@ std::optional<GivenStock> read_stock(const std::optional<std::string>& file, con
   return g;
 }
 
-simulate::ZMap starting_stock(const GivenStock* given, const StockSource& src, const job::Design& design,
-                              const job::SimParams& sim, double blank_top) {
-  if (given == nullptr) return job::block_stock(design, sim, blank_top);
-  const std::string& file = given->file;
-  simulate::ZMap z = given->mesh ? stock_from_mesh(*given->mesh, src, design, sim) : stock_from_file(file, design.grid);
+namespace {
+
+/// A given stock that does not hold the design (below it by more than the tolerance) or rises above
+/// Z 0 is refused, naming the file and the place (job::stock_departure).
+void check_departure(const simulate::ZMap& z, const std::string& file, const job::Design& design) {
   const job::StockDeparture d = job::stock_departure(z, design);
   const auto where = [](const std::array<double, 2>& at) {
     return "X" + fixed(at[0], 2) + " Y" + fixed(at[1], 2) + " (part frame)";
@@ -68,6 +68,16 @@ simulate::ZMap starting_stock(const GivenStock* given, const StockSource& src, c
     throw file_error(file, "the stock rises " + fixed(d.above_top_mm, 3) +
                                " mm above Z 0, the stock top the job's rapids and clearance planes are set from, at " +
                                where(d.above_at) + ": raise /rough/top_allowance_mm by that much");
+}
+
+}  // namespace
+
+simulate::ZMap starting_stock(const GivenStock* given, const StockSource& src, const job::Design& design,
+                              const job::SimParams& sim, double blank_top) {
+  if (given == nullptr) return job::block_stock(design, sim, blank_top);
+  simulate::ZMap z =
+      given->mesh ? stock_from_mesh(*given->mesh, src, design, sim) : stock_from_file(given->file, design.grid);
+  check_departure(z, given->file, design);
   return z;
 }
 
@@ -75,14 +85,18 @@ std::shared_ptr<const ingest::HeightField> roughing_stock(const GivenStock* give
                                                           const ingest::Mesh& part, const rough::Params& rp,
                                                           const job::SimParams& sim) {
   if (given == nullptr) return nullptr;
-  const simulate::ZMap checked = starting_stock(given, src, job::design_surface(part, src.frame, sim), sim);
+  const job::Design design = job::design_surface(part, src.frame, sim);
   // The roughing's slicing raster (rough_mesh: the footprint + the block's margins, raster_mm apart).
   const ingest::Box3 box = ingest::bounds(part);
   const std::array<double, 4> m = rp.stock.sides(box.max.x() - box.min.x(), box.max.y() - box.min.y());
   const double x0 = box.min.x() - m[0], y0 = box.min.y() - m[2], x1 = box.max.x() + m[1], y1 = box.max.y() + m[3];
-  if (!given->mesh)  // a z-map covers the part's footprint: the block around it
-    return std::make_shared<const ingest::HeightField>(
-        job::stock_top_field(checked, src.frame, x0, y0, x1, y1, rp.raster_mm));
+  if (!given->mesh) {  // a z-map covers the part's footprint; beyond it its surround, or the block
+    const simulate::io::SavedStock saved = saved_stock_from_file(given->file, design.grid);
+    check_departure(saved.zmap, given->file, design);
+    return std::make_shared<const ingest::HeightField>(job::stock_top_field(
+        saved.zmap, src.frame, x0, y0, x1, y1, rp.raster_mm, saved.surround ? &*saved.surround : nullptr));
+  }
+  check_departure(stock_from_mesh(*given->mesh, src, design, sim), given->file, design);
   // A stock mesh everywhere: its top over each raster point's cell, none where it is not.
   const int nx = static_cast<int>(std::ceil((x1 - x0) / rp.raster_mm)) + 1;
   const int ny = static_cast<int>(std::ceil((y1 - y0) / rp.raster_mm)) + 1;

@@ -18,27 +18,22 @@ simulate::ZMap block_stock(const Design& design, const SimParams& sim, double to
   return simulate::ZMap::flat(design.grid, top, sim.max_bytes());
 }
 
-ingest::HeightField stock_top_field(const simulate::ZMap& stock, const Frame& frame, double x0, double y0, double x1,
-                                    double y1, double step) {
-  if (!(step > 0) || !(x1 >= x0) || !(y1 >= y0)) throw Error("stock: the roughing's raster needs step > 0 over a box");
-  ingest::HeightField f;
-  f.x0 = x0, f.y0 = y0, f.step_x = step, f.step_y = step;
-  f.nx = static_cast<int>(std::ceil((x1 - x0) / step)) + 1;
-  f.ny = static_cast<int>(std::ceil((y1 - y0) / step)) + 1;
-  const auto n = static_cast<std::size_t>(f.nx) * static_cast<std::size_t>(f.ny);
-  f.z.assign(n, frame.stock_top);  // off the stock's grid: the block
-  f.hit.assign(n, 1);
+namespace {
+
+/// Paints `stock`'s cells onto the raster `f` (part heights): a point takes them only when its
+/// square (half a step each way) lies within the z-map's grid, each the highest of the cells whose
+/// centres its square holds, or (a step finer than the cell) the cell it lies in. O(cells + points).
+void paint_stock(ingest::HeightField& f, const simulate::ZMap& stock, const Frame& frame) {
   const simulate::GridSpec& g = stock.spec();
   const auto& h = stock.heights();
-  // A point takes the stock's cells only when its square (half a step each way) lies within the
-  // grid; one reaching past the grid keeps the block (material may stand beside the grid).
+  const double x0 = f.x0, y0 = f.y0, step = f.step_x;
   const double gx0 = g.x0, gy0 = g.y0, gx1 = g.x0 + static_cast<double>(g.nx) * g.cell,
                gy1 = g.y0 + static_cast<double>(g.ny) * g.cell, half = 0.5 * step;
   auto on_grid = [&](int i, int j) {
     const double px = x0 + j * step, py = y0 + i * step;
     return px - half >= gx0 && px + half <= gx1 && py - half >= gy0 && py + half <= gy1;
   };
-  std::vector<std::uint8_t> seen(n, 0);
+  std::vector<std::uint8_t> seen(f.z.size(), 0);
   for (std::size_t iy = 0; iy < g.ny; ++iy)  // O(cells): each cell into the point whose square holds it
     for (std::size_t ix = 0; ix < g.nx; ++ix) {
       const double j = std::round((g.x(ix) - x0) / step), i = std::round((g.y(iy) - y0) / step);
@@ -48,8 +43,6 @@ ingest::HeightField stock_top_field(const simulate::ZMap& stock, const Frame& fr
       f.z[k] = seen[k] != 0 ? std::max(f.z[k], z) : z;
       seen[k] = 1;
     }
-  // A point on the grid whose square holds no cell's centre (a step finer than the cell) takes the
-  // cell it lies in.
   for (int i = 0; i < f.ny; ++i)  // O(points)
     for (int j = 0; j < f.nx; ++j) {
       const std::size_t k = static_cast<std::size_t>(i) * static_cast<std::size_t>(f.nx) + static_cast<std::size_t>(j);
@@ -58,9 +51,49 @@ ingest::HeightField stock_top_field(const simulate::ZMap& stock, const Frame& fr
       const auto cy = std::min(g.ny - 1, static_cast<std::size_t>((y0 + i * step - gy0) / g.cell));
       f.z[k] = h[cy * g.nx + cx] - frame.z_shift();
     }
+}
+
+}  // namespace
+
+ingest::HeightField stock_top_field(const simulate::ZMap& stock, const Frame& frame, double x0, double y0, double x1,
+                                    double y1, double step, const simulate::ZMap* surround) {
+  if (!(step > 0) || !(x1 >= x0) || !(y1 >= y0)) throw Error("stock: the roughing's raster needs step > 0 over a box");
+  ingest::HeightField f;
+  f.x0 = x0, f.y0 = y0, f.step_x = step, f.step_y = step;
+  f.nx = static_cast<int>(std::ceil((x1 - x0) / step)) + 1;
+  f.ny = static_cast<int>(std::ceil((y1 - y0) / step)) + 1;
+  const auto n = static_cast<std::size_t>(f.nx) * static_cast<std::size_t>(f.ny);
+  f.z.assign(n, frame.stock_top);  // off the stock's grids: the block
+  f.hit.assign(n, 1);
+  if (surround != nullptr) paint_stock(f, *surround, frame);  // the block's surround, coarse
+  paint_stock(f, stock, frame);                               // the footprint, at the z-map's cell
   f.z_min = *std::min_element(f.z.begin(), f.z.end());
   f.z_max = *std::max_element(f.z.begin(), f.z.end());
   return f;
+}
+
+simulate::ZMap block_surround(const Frame& frame, const std::array<double, 4>& sides, double top,
+                              const SimParams& sim) {
+  const double c = kSurroundCellMm;
+  const double bx0 = -sides[0], bx1 = frame.width + sides[1], by0 = -sides[2], by1 = frame.depth + sides[3];
+  simulate::GridSpec g;
+  g.cell = c;
+  g.x0 = bx0 - c, g.y0 = by0 - c;
+  g.nx = static_cast<std::size_t>(std::ceil((bx1 - bx0) / c)) + 2;
+  g.ny = static_cast<std::size_t>(std::ceil((by1 - by0) / c)) + 2;
+  g.check();
+  std::vector<double> h(g.cells());
+  const double none = frame.program_bottom() - 1.0;
+  for (std::size_t iy = 0; iy < g.ny; ++iy)  // O(surround cells)
+    for (std::size_t ix = 0; ix < g.nx; ++ix) {
+      const double x = g.x(ix), y = g.y(iy);
+      h[iy * g.nx + ix] = x >= bx0 && x <= bx1 && y >= by0 && y <= by1 ? top : none;
+    }
+  return simulate::ZMap::from_heights(g, h, 0.0, 0.0, sim.max_bytes());
+}
+
+void machine_surround(simulate::ZMap& surround, const std::vector<ChainStep>& steps) {
+  for (const ChainStep& s : steps) (void)simulate::machine(surround, *s.program, s.cutter);  // O(moves · cells)
 }
 
 void uncovered_to(ingest::HeightField& top, double none) {

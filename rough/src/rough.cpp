@@ -77,7 +77,9 @@ ingest::HeightField stock_left(const ingest::HeightField& top, const ingest::Hei
                 ") is not the slicing raster (" + std::to_string(part.nx) + " × " + std::to_string(part.ny) + ")");
   ingest::HeightField left = top;
   near_out.assign(left.z.size(), below_all);
-  const double r = p.cut.stock_to_leave + p.raster_mm;
+  // What the roughing from the block leaves along a wall: the stock to leave, the slicing's outline
+  // grown to the raster (a raster step's diagonal at a corner) and its contour tolerance.
+  const double r = p.cut.stock_to_leave + std::sqrt(2.0) * p.raster_mm + p.contour_tolerance_mm;
   const int k = static_cast<int>(std::ceil(r / p.raster_mm));
   const double r2 = (r + 1e-9) * (r + 1e-9);
 #pragma omp parallel for schedule(static)

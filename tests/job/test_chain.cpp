@@ -145,3 +145,51 @@ TEST(JobStock, AStockFromARasterAndHowFarItDepartsFromOneAJobCanStartFrom) {
 
 }  // namespace
 }  // namespace millnet::job
+
+namespace millnet::job {
+namespace {
+
+// Issue 38: the block's surround. A 10 × 6 plate 4 high in a block with sides 2, 2, 1, 1: the
+// surround's grid reaches one 0.25 mm cell past the block (⌈14 / 0.25⌉ + 2 = 58 by ⌈8 / 0.25⌉ + 2 =
+// 34 cells), the block's cells at its top, those past it below the part. A flat Ø4 pass along the
+// block's left edge at Z −3 lowers the surround there; the roughing's stock top then reads the fine
+// z-map over the footprint, the surround beyond it (the pass's −3 on the block's edge, not the
+// block's top), and with no surround the block's top beyond the footprint.
+TEST(JobChain, TheBlocksSurroundHoldsTheStockBeyondTheFootprint) {
+  const ingest::Mesh plate = testing_ingest::box(0, 0, 0, 10, 6, 4);
+  const Frame frame = frame_of(plate, 1.0);  // stock top: part z 5
+  SimParams sim;
+  sim.cell_mm = 0.1;
+  simulate::ZMap s = block_surround(frame, {2, 2, 1, 1}, 0.0, sim);
+  const simulate::GridSpec& g = s.spec();
+  ASSERT_EQ(g.nx, 58U);
+  ASSERT_EQ(g.ny, 34U);
+  EXPECT_DOUBLE_EQ(g.x0, -2.25);
+  EXPECT_DOUBLE_EQ(g.y0, -1.25);
+  EXPECT_DOUBLE_EQ(s.at(0, 10), frame.program_bottom() - 1.0);  // centre x −2.125: past the block
+  EXPECT_DOUBLE_EQ(s.at(1, 10), 0.0);                           // centre x −1.875: the block
+  EXPECT_DOUBLE_EQ(s.at(57, 33), frame.program_bottom() - 1.0);
+  gcode::Program p;
+  p.items = {to(Motion::Rapid, -2, -3, 5), to(Motion::Rapid, -2, -3, -3), to(Motion::Line, -2, 9, -3, 500)};
+  machine_surround(s, {{&p, Cutter::flat(4)}});
+  EXPECT_DOUBLE_EQ(s.at(1, 10), -3.0);  // x −1.875, within the Ø4's reach of x −2
+  EXPECT_DOUBLE_EQ(s.at(20, 10), 0.0);  // x 2.875: beyond it
+  const Design design = design_surface(plate, frame, sim);
+  const simulate::ZMap fine = block_stock(design, sim, -0.5);  // the footprint, faced to Z −0.5
+  const ingest::HeightField with = stock_top_field(fine, frame, -2, -1, 12, 7, 0.5, &s);
+  const ingest::HeightField without = stock_top_field(fine, frame, -2, -1, 12, 7, 0.5);
+  ASSERT_EQ(with.nx, 29);
+  const auto at = [](const ingest::HeightField& f, double x, double y) {
+    return f.z[static_cast<std::size_t>(std::lround((y - f.y0) / 0.5)) * static_cast<std::size_t>(f.nx) +
+               static_cast<std::size_t>(std::lround((x - f.x0) / 0.5))];
+  };
+  EXPECT_DOUBLE_EQ(at(with, 5, 3), 4.5);  // the footprint: −0.5 below the stock top at 5
+  EXPECT_DOUBLE_EQ(at(without, 5, 3), 4.5);
+  EXPECT_DOUBLE_EQ(at(with, -2, 3), 2.0);  // the block's edge, where the pass went: Z −3
+  EXPECT_DOUBLE_EQ(at(with, -1.5, 3), 2.0);
+  EXPECT_DOUBLE_EQ(at(with, 11, 3), 5.0);  // the block untouched
+  EXPECT_DOUBLE_EQ(at(without, -2, 3), 5.0);
+}
+
+}  // namespace
+}  // namespace millnet::job

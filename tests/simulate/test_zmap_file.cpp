@@ -83,3 +83,51 @@ TEST(ZMapFile, BadFilesAreRefusedWithTheirReason) {
   EXPECT_NE(error_of(noline).find("longer than 4096"), std::string::npos) << error_of(noline);
   EXPECT_NE(error_of(scratch("")).find("not a regular file"), std::string::npos);
 }
+
+// Issue 38: a saved stock carries the block's surround (version 2) — both grids and both height
+// arrays round-trip bit for bit; a version-1 file reads back without one; a surround the header
+// promises but the file lacks, or one in a version-1 file, is refused naming it.
+TEST(ZMapFile, TheBlocksSurroundRoundTripsAndIsRefusedWhenTheFileDisagreesWithItsHeader) {
+  const GridSpec g{0, 0, 0.1, 4, 3}, sg{-5, -5, 0.25, 9, 7};
+  std::vector<double> h(g.cells()), sh(sg.cells());
+  for (std::size_t i = 0; i < h.size(); ++i) h[i] = -0.01 * static_cast<double>(i);
+  for (std::size_t i = 0; i < sh.size(); ++i) sh[i] = -0.5 * static_cast<double>(i % 5);
+  const ZMap z = ZMap::from_heights(g, h), s = ZMap::from_heights(sg, sh);
+  const fs::path p = scratch("surround.zmap");
+  io::write_zmap(p, z, &s);
+  const io::SavedStock back = io::read_saved_stock(p);
+  ASSERT_TRUE(back.surround.has_value());
+  EXPECT_EQ(back.surround->spec().x0, -5);
+  EXPECT_EQ(back.surround->spec().cell, 0.25);
+  EXPECT_EQ(back.surround->spec().nx, 9U);
+  EXPECT_EQ(std::memcmp(back.zmap.heights().data(), z.heights().data(), h.size() * 8), 0);
+  EXPECT_EQ(std::memcmp(back.surround->heights().data(), s.heights().data(), sh.size() * 8), 0);
+  EXPECT_EQ(io::read_zmap(p).heights(), z.heights());
+  const fs::path v1 = scratch("v1.zmap");
+  io::write_zmap(v1, z);
+  EXPECT_FALSE(io::read_saved_stock(v1).surround.has_value());
+
+  const fs::path missing = scratch("missing.zmap");
+  {
+    std::ofstream out(missing, std::ios::binary);
+    out << "millnet-zmap 2\n{\"x0\":0,\"y0\":0,\"cell\":1,\"nx\":1,\"ny\":1,\"heights\":\"float64le\"}\n";
+    const double v = 0;
+    out.write(reinterpret_cast<const char*>(&v), 8);
+  }
+  EXPECT_NE(error_of(missing).find("\"surround\" missing"), std::string::npos) << error_of(missing);
+  const fs::path short_ = scratch("short.zmap");
+  {
+    std::ofstream out(short_, std::ios::binary);
+    out << "millnet-zmap 2\n{\"x0\":0,\"y0\":0,\"cell\":1,\"nx\":1,\"ny\":1,\"heights\":\"float64le\","
+           "\"surround\":{\"x0\":-1,\"y0\":-1,\"cell\":1,\"nx\":3,\"ny\":3}}\n";
+    const double v = 0;
+    out.write(reinterpret_cast<const char*>(&v), 8);
+  }
+  EXPECT_NE(error_of(short_).find("expected 80 bytes of heights after the header, found 8"), std::string::npos)
+      << error_of(short_);
+  const fs::path bad = scratch("bad_surround.zmap");
+  std::ofstream(bad, std::ios::binary) << "millnet-zmap 2\n{\"x0\":0,\"y0\":0,\"cell\":1,\"nx\":1,\"ny\":1,"
+                                          "\"heights\":\"float64le\",\"surround\":{\"x0\":0,\"y0\":0,\"cell\":-1,"
+                                          "\"nx\":1,\"ny\":1}}\n";
+  EXPECT_NE(error_of(bad).find("surround."), std::string::npos) << error_of(bad);
+}

@@ -79,6 +79,23 @@ struct ChainResult {
 /// or a sawn blank's top above it).
 [[nodiscard]] simulate::ZMap block_stock(const Design& design, const SimParams& sim, double top = 0.0);
 
+/// The cell of the block's surround (a saved stock's coarse map of the whole block), mm: the
+/// roughing's default slicing raster (/rough/raster_mm).
+inline constexpr double kSurroundCellMm = 0.25;
+
+/// The block's surround (issue 38): the stock over the whole block — the part's footprint grown by
+/// the block's `sides` (x−, x+, y−, y+, gcode::StockBlock::sides) — at kSurroundCellMm, up to Z
+/// `top`, on a grid reaching one cell past the block where no stock is (the part's bottom − 1 mm:
+/// below every level), so that the raster points on the block's edge see only what is there. What
+/// a z-map over the footprint does not hold; saved with it (simulate --save-stock) for a job that
+/// starts from it (stock_top_field). O(surround cells).
+[[nodiscard]] simulate::ZMap block_surround(const Frame& frame, const std::array<double, 4>& sides, double top,
+                                            const SimParams& sim);
+
+/// The chain's programs machined on the surround, in order (simulate::machine with each step's
+/// cutter). O(moves · swept surround cells).
+void machine_surround(simulate::ZMap& surround, const std::vector<ChainStep>& steps);
+
 /// A stock from the raster of a stock mesh's top on the design's grid (ingest::rasterize_top_cells
 /// at the grid's cell centres, part frame): program heights z + frame.z_shift(); a cell the mesh
 /// does not cover holds no material (the part's bottom, frame.program_bottom()). O(cells).
@@ -87,11 +104,13 @@ struct ChainResult {
 
 /// A given stock's top for the roughing to plan from (rough::Params::stock_top): raster points
 /// x0 + j·step, y0 + i·step up to x1, y1 (part frame), each the highest of the stock's cells within
-/// half a step of it (no material missed between points), part heights; a point off the stock's
-/// grid keeps the block's top (frame.stock_top: the z-map covers the part's footprint, not the
-/// stock's margin). O(cells + points).
+/// half a step of it (no material missed between points), part heights. The z-map covers the
+/// part's footprint; beyond it a point takes the `surround`'s cells the same way (the block's
+/// stock saved with it, simulate/io/zmap_file.hpp), and off both grids keeps the block's top
+/// (frame.stock_top). O(cells + surround cells + points).
 [[nodiscard]] ingest::HeightField stock_top_field(const simulate::ZMap& stock, const Frame& frame, double x0, double y0,
-                                                  double x1, double y1, double step);
+                                                  double x1, double y1, double step,
+                                                  const simulate::ZMap* surround = nullptr);
 
 /// A stock mesh's raster as a stock top: each point the mesh does not cover (hit 0) set to `none`
 /// (below every level: no material there). O(points).

@@ -132,10 +132,11 @@ struct Result {
   ingest::HeightField field;                                      ///< the slicing height field (part frame)
   /// With Params::stock_top: the stock the roughing may take — its top, but below every level where
   /// it lies within the stock to leave + kStockSkinMm of the part's top anywhere within the stock to
-  /// leave + one raster step (what the finishing is left, on floors and along walls). Empty otherwise.
+  /// leave + √2 raster steps + the contour tolerance (what the roughing from the block leaves the
+  /// finishing, on floors and along walls: its outline is grown to the raster). Empty otherwise.
   ingest::HeightField stock_left;
-  /// With Params::stock_top: per slicing point the part's highest point within the stock to leave +
-  /// one raster step (a level's stock within its island, so grown, is the finishing's, not the roughing's).
+  /// With Params::stock_top: per slicing point the part's highest point within that distance (a
+  /// level's stock within its island, so grown, is the finishing's, not the roughing's).
   std::vector<double> stock_part_near;
   std::vector<Level> levels;
   pocket::MachiningResult machining;  ///< program over all levels
