@@ -182,6 +182,15 @@ report::SetupTool setup_tool(const tooling::Tool& t) {
 
 std::string share_text(double share) { return std::isnan(share) ? "–" : fixed(100 * share, 2) + " %"; }
 
+/// The machine's depth-of-cut limit (/machine/max_depth_of_cut_mm, issue 38; 0: none): a milling
+/// tool of the job takes at most that at once — its flute length, as every check of the job reads
+/// it, capped (a drill's flutes stay: drilling is no depth of cut).
+tooling::Tool within_machine(tooling::Tool t, double max_cut) {
+  if (max_cut > 0 && t.type != tooling::ToolType::Drill)
+    t.flute_length_mm = t.flute_length_mm > 0 ? std::min(t.flute_length_mm, max_cut) : max_cut;
+  return t;
+}
+
 /// A facing pass's radial engagement, in tool diameters (a face milled with an end mill: 3/4 of it).
 constexpr double kFacingStepover = 0.75;
 
@@ -233,20 +242,34 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   pflags.material = o.material;
   CuttingRecord rough_cutting;
   rough::Params rp = rough_params(config, explicit_pocket_section(o.common.config), pflags, &rough_cutting);
-  const ToolLibrary lib = tool_library(config);
+  ToolLibrary lib = tool_library(config);
   const ingest::PrepareOptions prep = o.mesh_flags.prepare(&config["rough"], &config);
   job::Part part = reuse != nullptr ? *reuse->part : load_part(o.mesh, prep);
   const std::string stem = part.name, file = o.mesh;
   const fs::path out = o.out;
   const job::Frame frame = job::frame_of(part.mesh, rp.top_allowance_mm);
   std::vector<std::string> notes;
+  const Json& max_cut_key = config["machine"]["max_depth_of_cut_mm"];
+  const double max_cut = max_cut_key.is_null() ? 0.0 : max_cut_key.get<double>();
+  if (max_cut > 0) {  // the machine's limit: every milling tool's flutes read as at most it
+    for (tooling::Tool& t : lib.tools) t = within_machine(t, max_cut);
+    notes.push_back("the machine takes at most " + fixed(max_cut, 2) +
+                    " mm at once (/machine/max_depth_of_cut_mm): each milling tool's flute length is read as at "
+                    "most that" +
+                    (rp.cut.step_down > max_cut ? ", and the roughing steps down " + fixed(max_cut, 2) +
+                                                      " mm instead of " + fixed(rp.cut.step_down, 2)
+                                                : std::string()));
+  }
+  const bool step_capped = max_cut > 0 && rp.cut.step_down > max_cut;
+  if (step_capped) rp.cut.step_down = max_cut;
 
   // 2. Tools that reach what they machine (never a silent deeper cut): the roughing its last level
   // over the part's base, the finishing (and the semi-finishing and rest after it) the lowest face
   // it machines: inside the part's silhouette or a boundary that is the lowest face facing up, not
   // the outside walls below it (issue 38: a 27 mm cavity was refused for walls going to 42 mm).
   const double depth = frame.depth_below_top(frame.part_bottom);
-  const tooling::Tool mill = reaching(lib, rough_cutting.tool, depth - rp.floor_allowance_mm, "roughing", file, notes);
+  const tooling::Tool mill = within_machine(
+      reaching(lib, rough_cutting.tool, depth - rp.floor_allowance_mm, "roughing", file, notes), max_cut);
   rp.cut.tool = mill.cutter();
   std::string why;
   fs_ = for_part(fs_, part, &why);  // the part's ball when no finishing tool is named
@@ -255,7 +278,8 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   const double finish_depth = fb.on_part || !fb.polygons.empty()
                                   ? std::min(depth, job::part_shape(part.mesh, frame.stock_top).depth_mm)
                                   : depth;
-  const tooling::Tool ball = reaching(lib, fs_.cutting.tool, finish_depth, "finishing", file, notes);
+  const tooling::Tool ball =
+      within_machine(reaching(lib, fs_.cutting.tool, finish_depth, "finishing", file, notes), max_cut);
   fs_.cutting.tool = ball;
   fs_.params.tool = ball.cutter();
   const job::SimParams sim = sim_params(fs_);
@@ -274,7 +298,8 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   // 3. Roughing, and the drilling its pre-drilled entries need.
   info("job: " + stem + ": roughing with " + mill.label());
   std::optional<rough::Result> own_rough;  // the run's roughing when it ran with this tool
-  const bool reuse_rough = reuse != nullptr && reuse->rough != nullptr && mill.id == rough_cutting.tool.id;
+  const bool reuse_rough =
+      reuse != nullptr && reuse->rough != nullptr && mill.id == rough_cutting.tool.id && !step_capped;
   const rough::Result& rough = reuse_rough ? *reuse->rough : own_rough.emplace(rough::rough_mesh(part.mesh, rp));
   // From a given stock that holds nothing above any level (an earlier job's roughing), no roughing.
   const bool no_roughing = rp.stock_top && rough.machining.status == pocket::PlanStatus::NothingToCut;

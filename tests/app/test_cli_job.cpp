@@ -644,5 +644,35 @@ TEST(CliJob, ASawnBlankIsFacedFirstAndThenMachinedAsThePreSquaredBlock) {
   EXPECT_FALSE(fs::exists(d / "e"));
 }
 
+// Issue 38: "a depth of cut beyond its tool's flute length (or /machine/max_depth_of_cut)". A machine
+// that takes at most 4 mm at once: the roughing steps down 4 mm, not 5; the Ø6 ball that semi-finishes
+// the cavity from the block would take 4.76 mm, so the Ø10 ball (2.76 mm) does; no milling cut
+// deeper than 4 mm. At 2.5 mm no ball of the library fits: one line naming the depths, exit 1.
+TEST(CliJob, TheMachinesDepthOfCutLimitCapsTheStepDownAndEveryMillingCut) {
+  const fs::path d = fresh_dir("cli_job_max_cut");
+  const fs::path mesh = write_cavity(d);
+  const std::string base = "job --quiet --no-preview --mesh '" + mesh.string() + "' --strategy 1 ";
+  for (const char* m : {"4", "2.5"})
+    std::ofstream(d / ("m" + std::string(m) + ".json"))
+        << R"({"simulate": {"cell_mm": 0.1}, "finish": {"tool": {"id": "bn2-2f-carbide"}}, "machine": {"max_depth_of_cut_mm": )"
+        << m << "}}";
+  const auto r = run_millnet(base + "--config m4.json --out a", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Json j = Json::parse(slurp(d / "a" / "cavity.job.json"));
+  const auto& ops = j["operations"];
+  ASSERT_EQ(ops.size(), 4U);
+  EXPECT_EQ(ops[2]["tool"]["id"], "bn10-2f-carbide");
+  for (std::size_t k = 1; k < ops.size(); ++k) {
+    EXPECT_LE(ops[k]["max_depth_of_cut_mm"].get<double>(), 4.0) << ops[k]["name"];
+    EXPECT_EQ(ops[k]["cutting_rapids"], 0) << ops[k]["name"];
+  }
+  EXPECT_NE(slurp(d / "a" / ops[1]["program"].get<std::string>()).find("step-down 4 "), std::string::npos);
+  EXPECT_NE(j["notes"].dump().find("steps down 4.00 mm instead of 5.00"), std::string::npos) << j["notes"];
+  const auto low = run_millnet(base + "--config m2.5.json --out b", d);
+  EXPECT_EQ(low.code, 1);
+  EXPECT_NE(low.err.find("bn10-2f-carbide would cut 2.76 mm (flutes 2.5 mm)"), std::string::npos) << low.err;
+  EXPECT_EQ(std::count(low.err.begin(), low.err.end(), '\n'), 1) << low.err;
+  EXPECT_FALSE(fs::exists(d / "b" / "cavity.job.nc"));
+}
 }  // namespace
 }  // namespace millnet::testing
