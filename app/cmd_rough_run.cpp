@@ -477,8 +477,9 @@ Json training_regret_json(const TrainSummary& ts) {
 }
 
 int write_run_summary(const std::string& config_file, const TrainSummary& ts, const PartOutcomes& po,
-                      const Json& timing, const fs::path& out) {
-  const report::RunSummary s = run_summary(config_file, ts, po, timing);
+                      const Json& timing, const fs::path& out, const std::string& labels_file) {
+  report::RunSummary s = run_summary(config_file, ts, po, timing);
+  s.labels_file = labels_file;
   const report::RunCounts c = report::run_counts(s);
   write_file_atomic(out / "summary.md", report::run_summary_md(s));
   if (preview_settings().enabled)  // summary.html: the table, each part's 3D pages, charts (issue 16)
@@ -526,7 +527,8 @@ int run_run(const RunOpts& o) {
   // 1. dataset (rebuilt only when the recipe or a part file changed)
   const fs::path ds_dir =
       config["dataset"].contains("output") ? fs::path(config["dataset"]["output"].get<std::string>()) : out / "dataset";
-  stage("dataset_s", [&] { (void)build_dataset(recipe_from_config(config), ds_dir, true, config); });
+  const auto recipe = recipe_from_config(config);
+  stage("dataset_s", [&] { (void)build_dataset(recipe, ds_dir, true, config); });
   // 2. train
   TrainSummary ts;
   stage("train_s", [&] { ts = train_model(ds_dir / "vectors.csv", config, out / "model"); });
@@ -539,7 +541,7 @@ int run_run(const RunOpts& o) {
   timing["rough_s"] = po.rough_s;
   if (!po.finishes.empty()) timing["finish_s"] = po.finish_s;
   // 6. summary page
-  return write_run_summary(o.config_file, ts, po, timing, out);
+  return write_run_summary(o.config_file, ts, po, timing, out, fs::path(recipe.labels_file).filename().string());
 }
 
 }  // namespace

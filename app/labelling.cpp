@@ -118,7 +118,8 @@ Json label_settings_with_defaults(const std::string& text) {
   }
   doc["finish"].erase("meshes");  // not label settings (recipe_from_config drops them too)
   doc["finish"].erase("strategy");
-  doc["finish"].erase("rest");  // a job's rest operation: no label plans it (label_part)
+  doc["finish"].erase("rest");                  // a job's rest operation: no label plans it (label_part)
+  doc["machine"].erase("max_depth_of_cut_mm");  // a job's limit: no label's finishing checks it
   return doc;
 }
 

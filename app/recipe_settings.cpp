@@ -80,12 +80,10 @@ datasets::Recipe recipe_from_config(const Json& config) {
     f.erase("rest");  // a job's rest operation: no label plans it
     // Everything a simulated label depends on: the strategies' settings, the simulator's, and the
     // cutting data and machine that set the programs' feeds (the "time" aims rank by them).
-    r.simulation_settings_json = Json{
-        {"finish", f},
-        {"simulate", config["simulate"]},
-        {"cutting", config["cutting"]},
-        {"machine",
-         config["machine"]}}.dump();
+    Json m = config["machine"];
+    m.erase("max_depth_of_cut_mm");  // a job's limit on its operations: no label's finishing checks it
+    r.simulation_settings_json =
+        Json{{"finish", f}, {"simulate", config["simulate"]}, {"cutting", config["cutting"]}, {"machine", m}}.dump();
   }
   return r;
 }

@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -78,6 +79,35 @@ Figures evaluate(const classifier::TrainingSet& set) {
   return f;
 }
 
+/// The network trained on regret utilities instead of scores (u = 1 − min(1, regret): 1 for the
+/// best, 0 for a strategy twice as long or one that misses), so that its conditional average is
+/// one minus the expected (capped) regret and its argmax the pick of least expected regret; judged
+/// on the parts' scores like every other row, at a fixed α (the search judges by the outputs it is
+/// given).
+Figures evaluate_utility(const classifier::TrainingSet& set, double alpha) {
+  const auto t0 = std::chrono::steady_clock::now();
+  classifier::TrainingSet u = set;
+  for (Eigen::Index i = 0; i < u.outputs.rows(); ++i) {
+    const double top = set.outputs.row(i).maxCoeff();
+    for (Eigen::Index k = 0; k < u.outputs.cols(); ++k) {
+      const double y = set.outputs(i, k);
+      u.outputs(i, k) = top > 0 && y > 0 ? std::max(0.0, 1.0 - (top / y - 1.0)) : 0.0;
+    }
+  }
+  classifier::TrainParams p;
+  p.criterion = classifier::Criterion::Regret;
+  p.limits.max_pairs = 1e13;
+  p.fixed_alpha = alpha;
+  const classifier::Model model = classifier::train(u, p);
+  const auto picks = classifier::part_picks(model.loo.verification, set.outputs, set.groups, model.loo.nearest_d2);
+  Figures f;
+  f.net = classifier::summarize(picks);
+  f.base = classifier::always_the_same(picks).figures;
+  f.alpha = alpha;
+  f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return f;
+}
+
 void print(const std::string& name, const Figures& f) {
   std::printf("| %s | %.1f %% | %.3g %% | %.3g %% | %.3g %% | %zu | %.3g | %.1f |\n", name.c_str(), 100 * f.net.top1,
               100 * f.net.mean, 100 * f.net.median, 100 * f.net.p90, f.net.misses, f.alpha, f.seconds);
@@ -123,6 +153,16 @@ int main(int argc, char** argv) {
       }
       return evaluate(s);
     };
+    if (std::getenv("ABLATION_UTILITY") != nullptr) {  // the regret-utility targets over an α scan
+      for (int k = -2; k <= 8; ++k) {
+        const double a = std::pow(2.0, 0.5 * k);
+        char name[64];
+        std::snprintf(name, sizeof name, "heights, regret utility, alpha %.3g", a);
+        print(name, evaluate_utility(base, a));
+        std::fflush(stdout);
+      }
+      return 0;
+    }
     for (const int c : copies) {
       for (int w = 0; w < kFeatures; ++w) print("+ " + std::string(kNames[w]) + " ×" + std::to_string(c), with({w}, c));
       print("+ all five ×" + std::to_string(c), with({0, 1, 2, 3, 4}, c));

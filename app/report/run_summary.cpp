@@ -117,16 +117,17 @@ void training(std::ostringstream& md, const RunSummary& s) {
     md << "## Training\n\n"
        << "Training set: " << s.vectors << " vectors from " << s.training_parts
        << " parts, each labelled by virtual machining: output k holds strategy k's score under the aim (the best "
-       << "1, a strategy twice as long 0.5, one that gouges or misses the specification 0; datasets/labels.json). "
+       << "1, a strategy twice as long 0.5, one that gouges or misses the specification 0; datasets/" << s.labels_file
+       << "). "
        << "Penalty coefficient α = " << summary_fixed(s.alpha, 4) << ", chosen for the " << s.criterion
        << " leaving out whole parts.\n\n"
        << "| leaving out each training part | parts | pick = simulated best | mean regret | median | p90 | "
           "picks that miss the spec |\n|---|---:|---:|---:|---:|---:|---:|\n"
        << "| the network | " << s.lopo_parts << " | " << summary_fixed(100 * s.lopo_top1, 1) << " % | "
-       << summary_fixed(100 * s.lopo_mean, 1) << " % | " << summary_fixed(100 * s.lopo_median, 1) << " % | "
+       << summary_fixed(100 * s.lopo_mean, 2) << " % | " << summary_fixed(100 * s.lopo_median, 1) << " % | "
        << summary_fixed(100 * s.lopo_p90, 1) << " % | " << s.lopo_misses << " |\n"
        << "| always strategy " << s.baseline_slot << " | " << s.lopo_parts << " | "
-       << summary_fixed(100 * s.baseline_top1, 1) << " % | " << summary_fixed(100 * s.baseline_mean, 1) << " % | "
+       << summary_fixed(100 * s.baseline_top1, 1) << " % | " << summary_fixed(100 * s.baseline_mean, 2) << " % | "
        << summary_fixed(100 * s.baseline_median, 1) << " % | " << summary_fixed(100 * s.baseline_p90, 1) << " % | |\n\n"
        << "A pick that misses the specification counts 100 %. Label accuracy on the outputs' argmax: "
        << summary_fixed(100 * s.accuracy_part, 1) << " % of the vectors leaving out whole parts.\n\n"

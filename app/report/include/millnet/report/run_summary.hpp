@@ -58,7 +58,8 @@ struct RunPart {
 };
 
 struct RunSummary {
-  std::string config_name;  ///< the config file's name
+  std::string config_name;                  ///< the config file's name
+  std::string labels_file = "labels.json";  ///< the training labels' file name (/dataset/labels)
   std::size_t vectors = 0, training_parts = 0;
   double alpha = 0;
   std::string loo_mode, alpha_edge;  ///< "part" | "vector"; "none" | "low" | "high"
