@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Issue 39 §3: the feature ablation on a library labelled by simulation (datasets/README.md).
-#   bench/feature_ablation.sh [CONFIG]   (default: the tool-shop library preset)
+#   bench/feature_ablation.sh [CONFIG]   (default: the tool-shop library preset, the default config's library)
 # Builds the model-vector table (labels from the config's cache, the rest simulated: minutes per
 # part) and prints leave-one-part-out top-1 and regret for the heights alone and with each feature.
 set -euo pipefail
