@@ -453,6 +453,9 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   std::vector<std::string> header{
       "millnet job: " + stem, "part " + fs::path(file).filename().string(), frame.header(),
       "work offset G54: X0 Y0 = the " + gcode::to_string(fs_.post.origin_at) + ", Z0 = stock top"};
+  if (blank_top > 0)
+    header.push_back("sawn blank: its top at Z" + fixed(blank_top, 3) +
+                     ", faced to Z0 by operation 1: touch off on the blank's top and set Z" + fixed(blank_top, 3));
   for (const job::Operation& op : ops) header.push_back("T" + std::to_string(op.tool.number) + " " + op.tool.label());
   const fs::path job_nc = out / (stem + ".job.nc");
   const gcode::Dialect post = frame.post(fs_.post);  // the work origin on this part's stock

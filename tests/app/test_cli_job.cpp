@@ -631,6 +631,8 @@ TEST(CliJob, ASawnBlankIsFacedFirstAndThenMachinedAsThePreSquaredBlock) {
   EXPECT_NE(sheet.find("facing-layer"), std::string::npos);
   EXPECT_NE(slurp(d / "a" / "cavity.setup.html").find("pre-squared block 40.0 × 34.0 × 9.0 mm"), std::string::npos);
   EXPECT_TRUE(linuxcnc_accepts((d / "b" / "cavity.job.nc").string(), (d / "b" / "cavity.tool.tbl").string()));
+  EXPECT_NE(slurp(d / "b" / "cavity.job.nc").find("(sawn blank: its top at Z1.500, faced to Z0 by operation 1"),
+            std::string::npos);
 
   std::ofstream(d / "high.json") << R"({"rough": {"stock_squared": false, "facing_mm": 4.5}})";
   const auto high = run_millnet(base + "--config high.json --out c", d);
