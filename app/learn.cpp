@@ -71,9 +71,11 @@ void build_rows_distributed(const datasets::Recipe& recipe, const datasets::Tabl
       held = k;
     }
     const datasets::Row r = datasets::variant_row(recipe, plan, k, part.mesh, v);
-    // The row: its inputs and aspect as raw doubles (bit for bit); the rest rank 0 knows from the unit.
+    // The row: its inputs, aspect and wall share as raw doubles (bit for bit); the rest rank 0 knows
+    // from the unit.
     std::string msg(reinterpret_cast<const char*>(r.inputs.data()), r.inputs.size() * sizeof(double));
     msg.append(reinterpret_cast<const char*>(&r.aspect), sizeof(double));
+    msg.append(reinterpret_cast<const char*>(&r.wall_share), sizeof(double));
     if (v == 0) {
       const datasets::SourceFile& s = part.source;
       put_u64(msg, s.fnv1a64);
@@ -89,7 +91,7 @@ void build_rows_distributed(const datasets::Recipe& recipe, const datasets::Tabl
     const auto [k, v] = units[i];
     const datasets::PartSpec& p = recipe.parts[k];
     const augment::Variant& var = plan.variants[k][v];
-    const std::size_t need = (m + 1) * sizeof(double) + (v == 0 ? 32 : 0);
+    const std::size_t need = (m + 2) * sizeof(double) + (v == 0 ? 32 : 0);
     if (bytes.size() != need)
       throw Error("mpi: a table row of " + std::to_string(bytes.size()) + " bytes, expected " + std::to_string(need));
     datasets::Row r;
@@ -102,10 +104,11 @@ void build_rows_distributed(const datasets::Recipe& recipe, const datasets::Tabl
     r.inputs.resize(m);
     std::memcpy(r.inputs.data(), bytes.data(), m * sizeof(double));
     std::memcpy(&r.aspect, bytes.data() + m * sizeof(double), sizeof(double));
+    std::memcpy(&r.wall_share, bytes.data() + (m + 1) * sizeof(double), sizeof(double));
     r.outputs = p.outputs ? *p.outputs : datasets::one_hot(p.label);
     if (v == 0) {
       std::uint64_t f[4];
-      std::memcpy(f, bytes.data() + (m + 1) * sizeof(double), 32);
+      std::memcpy(f, bytes.data() + (m + 2) * sizeof(double), 32);
       datasets::SourceFile s;
       s.name = r.source;
       s.file = p.file.generic_string();
@@ -184,7 +187,8 @@ bool build_dataset(datasets::Recipe recipe, const fs::path& out_dir, bool reuse,
   std::optional<OutputSet> table_files;  // vectors.csv and manifest.json together or neither (core/output_set.hpp)
   if (cluster_root()) {
     table_files.emplace();
-    writer.emplace(out_dir, plan.header.grid_n, plan.header.has_aspect, plan.header.strategies);
+    writer.emplace(out_dir, plan.header.grid_n, plan.header.has_aspect, plan.header.strategies,
+                   plan.header.has_wall_share);
     if (labels_out) datasets_io::write_labels(out_dir / "labels.json", *labels_out);
   }
   std::vector<datasets::SourceFile> sources;
@@ -206,11 +210,24 @@ bool build_dataset(datasets::Recipe recipe, const fs::path& out_dir, bool reuse,
 
 namespace {
 
-/// The training set of a table; strategy names from the manifest beside the CSV, else the config's.
+/// How many copies of the wall share the network takes (/train/wall_share_copies when the table has
+/// the column, else none).
+int wall_share_copies(const datasets::Table& table, const Json& config) {
+  return table.has_wall_share ? config["train"]["wall_share_copies"].get<int>() : 0;
+}
+
+/// The training set of a table — the network's inputs are the heights, then the wall share's copies
+/// (classifier::InputSpec); strategy names from the manifest beside the CSV, else the config's.
 classifier::TrainingSet training_set(const datasets::Table& table, const datasets_io::Manifest& manifest,
                                      const Json& config) {
   classifier::TrainingSet set;
   set.inputs = table.inputs_matrix();
+  if (const int c = wall_share_copies(table, config); c > 0) {
+    const Eigen::Index h = set.inputs.cols();
+    set.inputs.conservativeResize(Eigen::NoChange, h + c);
+    for (Eigen::Index r = 0; r < set.inputs.rows(); ++r)  // O(N · c)
+      set.inputs.block(r, h, 1, c).setConstant(table.rows[static_cast<std::size_t>(r)].wall_share);
+  }
   set.outputs = table.outputs_matrix();
   set.groups = table.row_sources();
   set.strategies = manifest.strategies.empty() ? config["dataset"]["strategies"].get<std::vector<std::string>>()
@@ -414,10 +431,10 @@ TrainSummary train_model(const fs::path& dataset_csv, const Json& config, const 
   classifier::Model model = classifier::train(set, tp);
   progress.finish();
 
-  // The model describes its own inputs (model.json "features"): the table's raster and grid; the
-  // classifier learns from the n² heights only (Table::inputs_matrix), never from an aspect column.
+  // The model describes its own inputs (model.json "features"): the table's raster and grid, and the
+  // wall share's copies after the n² heights (never an aspect column).
   const double raster_mm = manifest.raster_mm ? *manifest.raster_mm : config["dataset"]["raster_mm"].get<double>();
-  model.input_spec = classifier::InputSpec{raster_mm, table.grid_n, false};
+  model.input_spec = classifier::InputSpec{raster_mm, table.grid_n, false, wall_share_copies(table, config)};
   if (scores) model.target_json = training_target(manifest);
   classifier_io::save_model(model, out_dir / "model.json");
   // sampling.json: the same spec for readers of model folders from before "features".
@@ -475,6 +492,7 @@ ModelFolder load_model_folder(const fs::path& dir, const Json& config) {
                        "features.aspect_feature: true, but predict computes the grid heights only");
     m.spec.grid = s->grid;
     m.spec.raster_mm = s->raster_mm;
+    m.spec.wall_share_copies = s->wall_share_copies;
   } else {  // a model folder from before model.json carried its features
     const fs::path path = dir / "sampling.json";
     const Json sampling = read_json(path);

@@ -37,6 +37,7 @@ datasets::Recipe recipe_from_config(const Json& config) {
   r.limits = work_limits();
   r.augment = augment_from(d["augment"]);
   r.aspect_feature = d["aspect_feature"].get<bool>();
+  r.wall_share_feature = d["wall_share_feature"].get<bool>();
   const auto names = d["strategies"].get<std::vector<std::string>>();
   if (names.size() != datasets::kStrategySlots)
     throw Error("/dataset/strategies: expected exactly " + std::to_string(datasets::kStrategySlots) + " names, got " +

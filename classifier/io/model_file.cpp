@@ -120,9 +120,15 @@ struct Reader {
     s.grid = integer(at(j, "grid", path), path + ".grid");
     if (s.grid < 2) fail(path + ".grid", "expected an integer ≥ 2, got " + std::to_string(s.grid));
     s.aspect_feature = boolean(at(j, "aspect_feature", path), path + ".aspect_feature");
+    if (j.contains("wall_share_copies")) {
+      s.wall_share_copies = integer(at(j, "wall_share_copies", path), path + ".wall_share_copies");
+      if (s.wall_share_copies < 1 || s.wall_share_copies > 1000)
+        fail(path + ".wall_share_copies", "expected an integer in 1..1000, got " + std::to_string(s.wall_share_copies));
+    }
     const int inputs = integer(at(j, "inputs", path), path + ".inputs");
     if (inputs != s.inputs())
       fail(path + ".inputs", "expected " + std::to_string(s.inputs()) + " (grid²" + (s.aspect_feature ? " + 1" : "") +
+                                 (s.wall_share_copies > 0 ? " + " + std::to_string(s.wall_share_copies) : "") +
                                  "), got " + std::to_string(inputs));
     if (inputs != stored_inputs)
       fail(path + ".inputs",
@@ -166,6 +172,7 @@ void save_model(const Model& m, const std::filesystem::path& path) {
                      {"grid", s.grid},
                      {"inputs", s.inputs()},
                      {"aspect_feature", s.aspect_feature}};
+    if (s.wall_share_copies > 0) j["features"]["wall_share_copies"] = s.wall_share_copies;  // older readers: absent
   }
   j["unfamiliar"] = {{"threshold", finite(m.unfamiliar_threshold, "unfamiliar.threshold")},
                      {"factor", finite(m.unfamiliar_factor, "unfamiliar.factor")},

@@ -90,6 +90,7 @@ Manifest manifest_of(const datasets::Table& table, std::string_view csv) {
   m.csv_bytes = csv.size();
   m.grid = table.grid_n;
   m.aspect_column = table.has_aspect;
+  m.wall_share_column = table.has_wall_share;
   std::set<std::string> parts;
   for (const datasets::Row& r : table.rows) {  // O(rows)
     ++m.rows_per_label[r.label];
@@ -126,6 +127,7 @@ std::string manifest_text(const Manifest& m) {
   j += "  \"inputs\": " + std::to_string(inputs) + ",\n";
   j += "  \"outputs\": " + std::to_string(datasets::kStrategySlots) + ",\n";
   j += std::string("  \"aspect_column\": ") + (m.aspect_column ? "true" : "false") + ",\n";
+  if (m.wall_share_column) j += "  \"wall_share_column\": true,\n";  // left out when false (older manifests)
   j += "  \"counts\": {\"rows\": " + std::to_string(m.rows) + ", \"parts\": " + std::to_string(m.parts) +
        ", \"rows_per_label\": {";
   bool first = true;
@@ -176,9 +178,14 @@ struct TableWriter::Impl {
   }
 };
 
-TableWriter::TableWriter(const fs::path& dir, int grid_n, bool has_aspect, datasets::StrategyNames strategies)
-    : dir_(dir), grid_n_(grid_n), has_aspect_(has_aspect), strategies_(std::move(strategies)) {
-  const std::string header = datasets::csv_header(grid_n, has_aspect);  // throws for a bad grid
+TableWriter::TableWriter(const fs::path& dir, int grid_n, bool has_aspect, datasets::StrategyNames strategies,
+                         bool has_wall_share)
+    : dir_(dir),
+      grid_n_(grid_n),
+      has_aspect_(has_aspect),
+      has_wall_share_(has_wall_share),
+      strategies_(std::move(strategies)) {
+  const std::string header = datasets::csv_header(grid_n, has_aspect, has_wall_share);  // throws for a bad grid
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw Error(dir.string() + ": cannot create the folder (" + ec.message() + ")");
@@ -198,7 +205,7 @@ void TableWriter::add(const datasets::Row& r) {
   }
   if (!w.current_ids.insert(r.id).second) throw Error("table: duplicate row id '" + r.id + "'");
   w.line.clear();
-  datasets::append_csv_row(w.line, r, grid_n_, has_aspect_);
+  datasets::append_csv_row(w.line, r, grid_n_, has_aspect_, has_wall_share_);
   w.write(w.line);
   ++w.rows_per_label[r.label];
   ++rows_;
@@ -213,6 +220,7 @@ void TableWriter::finish(const std::vector<datasets::SourceFile>& sources, const
   m.csv_bytes = w.bytes;
   m.grid = grid_n_;
   m.aspect_column = has_aspect_;
+  m.wall_share_column = has_wall_share_;
   m.rows = rows_;
   m.parts = w.sources.size();
   m.rows_per_label = w.rows_per_label;
@@ -249,6 +257,8 @@ Manifest read_manifest(const fs::path& path) {
   m.csv_bytes = rd.integer_at<std::size_t>(j, "csv_bytes", "");
   m.grid = rd.integer_at<int>(j, "grid", "");
   m.aspect_column = rd.boolean(rd.at(j, "aspect_column", ""), "aspect_column");
+  if (j.contains("wall_share_column"))
+    m.wall_share_column = rd.boolean(rd.at(j, "wall_share_column", ""), "wall_share_column");
   const Json& counts = rd.at(j, "counts", "");
   m.rows = rd.integer_at<std::size_t>(counts, "rows", "counts");
   m.parts = rd.integer_at<std::size_t>(counts, "parts", "counts");

@@ -64,6 +64,7 @@ std::string recipe_json(const Recipe& r) {
   j += std::string("], \"flip\": ") + (r.augment.flip ? "true" : "false") + "}, \"strategies\": [";
   for (std::size_t k = 0; k < kStrategySlots; ++k) j += (k ? ", " : "") + json_string(r.strategies[k]);
   j += std::string("], \"aspect_feature\": ") + (r.aspect_feature ? "true" : "false");
+  if (r.wall_share_feature) j += ", \"wall_share_feature\": true";  // absent when false (older manifests)
   if (r.generate && r.generate->library == Library::Shop)
     j += ", \"generate\": {\"library\": \"shop\", \"seed\": " + std::to_string(r.generate->seed) +
          ", \"count\": " + std::to_string(r.generate->count) +
@@ -95,6 +96,7 @@ TablePlan plan_table(const Recipe& recipe) {
   TablePlan plan;
   plan.header.grid_n = recipe.grid;
   plan.header.has_aspect = recipe.aspect_feature;
+  plan.header.has_wall_share = recipe.wall_share_feature;
   plan.header.strategies = recipe.strategies;
   plan.header.config_json = recipe_json(recipe);
   for (const auto& p : recipe.parts) {
@@ -151,6 +153,7 @@ Row variant_row(const Recipe& recipe, const TablePlan& plan, std::size_t k, cons
     r.inputs.resize(plan.header.inputs_per_row());
     r.outputs = p.outputs ? *p.outputs : one_hot(p.label);
     r.aspect = mv.aspect;
+    if (recipe.wall_share_feature) r.wall_share = wall_share(mesh);  // the part's, on every variant
     return r;
   } catch (const std::exception& e) {
     throw part_error(p, "variant " + std::to_string(v + 1) + " (axis " + std::string(1, augment::to_char(var.axis)) +

@@ -132,18 +132,19 @@ std::vector<std::string> Table::row_sources() const {
   return s;
 }
 
-std::vector<std::string> column_names(int grid_n, bool with_aspect) {
+std::vector<std::string> column_names(int grid_n, bool with_aspect, bool with_wall_share) {
   if (grid_n < 1) throw Error("table: grid n must be ≥ 1, got " + std::to_string(grid_n));
   std::vector<std::string> cols(std::begin(kFixedColumns), std::end(kFixedColumns));
   for (int r = 1; r <= grid_n; ++r)
     for (int c = 1; c <= grid_n; ++c) cols.push_back("in_" + std::to_string(r) + "_" + std::to_string(c));
   for (std::size_t k = 1; k <= kStrategySlots; ++k) cols.push_back("out_" + std::to_string(k));
   if (with_aspect) cols.emplace_back("aspect");
+  if (with_wall_share) cols.emplace_back("wall_share");
   return cols;
 }
 
-std::string csv_header(int grid_n, bool with_aspect) {
-  const auto cols = column_names(grid_n, with_aspect);
+std::string csv_header(int grid_n, bool with_aspect, bool with_wall_share) {
+  const auto cols = column_names(grid_n, with_aspect, with_wall_share);
   std::string out;
   for (std::size_t k = 0; k < cols.size(); ++k) {
     if (k) out += ',';
@@ -153,7 +154,7 @@ std::string csv_header(int grid_n, bool with_aspect) {
   return out;
 }
 
-void append_csv_row(std::string& out, const Row& r, int grid_n, bool with_aspect) {
+void append_csv_row(std::string& out, const Row& r, int grid_n, bool with_aspect, bool with_wall_share) {
   const std::size_t m = static_cast<std::size_t>(grid_n) * static_cast<std::size_t>(grid_n);
   if (r.inputs.size() != m)
     throw Error("table: row '" + r.id + "' has " + std::to_string(r.inputs.size()) + " inputs, expected " +
@@ -182,16 +183,20 @@ void append_csv_row(std::string& out, const Row& r, int grid_n, bool with_aspect
     out += ',';
     out += format_double(r.aspect);
   }
+  if (with_wall_share) {
+    out += ',';
+    out += format_double(r.wall_share);
+  }
   out += '\n';
 }
 
 std::string table_csv(const Table& table) {
-  std::string out = csv_header(table.grid_n, table.has_aspect);
+  std::string out = csv_header(table.grid_n, table.has_aspect, table.has_wall_share);
   out.reserve((table.rows.size() + 1) * (table.inputs_per_row() + 16) * 8);
   std::set<std::string> ids;
   for (const Row& r : table.rows) {  // O(N·n²)
     if (!ids.insert(r.id).second) throw Error("table: duplicate row id '" + r.id + "'");
-    append_csv_row(out, r, table.grid_n, table.has_aspect);
+    append_csv_row(out, r, table.grid_n, table.has_aspect, table.has_wall_share);
   }
   return out;
 }
@@ -205,7 +210,8 @@ struct Header {
 };
 
 /// Checks the header line (line 1: the fixed columns, an n×n grid of in_* columns, the outputs,
-/// maybe aspect) and sets t.grid_n and t.has_aspect. Throws naming the first wrong column.
+/// maybe aspect, maybe wall_share) and sets t.grid_n, t.has_aspect and t.has_wall_share. Throws naming the
+/// first wrong column.
 Header read_header(std::vector<std::string> fields, const std::string& file, Table& t) {
   Header h;
   std::vector<std::string>& header = h.names;
@@ -234,9 +240,11 @@ Header read_header(std::vector<std::string> fields, const std::string& file, Tab
     throw line_error(file, 1, "header: missing column '" + expect[k] + "'");
   }
   t.grid_n = n;
-  const bool aspect = header.back() == "aspect";
+  const bool wall = header.back() == "wall_share";
+  const bool aspect = header.size() >= (wall ? 2U : 1U) && header[header.size() - (wall ? 2 : 1)] == "aspect";
   t.has_aspect = aspect;
-  const auto expect = column_names(n, aspect);
+  t.has_wall_share = wall;
+  const auto expect = column_names(n, aspect, wall);
   for (std::size_t c = 0; c < expect.size(); ++c) {
     if (c >= header.size()) throw line_error(file, 1, "header: missing column '" + expect[c] + "'");
     if (header[c] != expect[c])
@@ -284,7 +292,7 @@ void check_label_agrees(const Row& r, const std::string& file, long lineno) {
 }
 
 /// One data line's row. id_line holds the line of every id read so far (duplicates are errors).
-Row read_row(const std::vector<std::string>& fields, const Header& h, bool has_aspect, const std::string& file,
+Row read_row(const std::vector<std::string>& fields, const Header& h, const Table& t, const std::string& file,
              long lineno, std::map<std::string, long>& id_line) {
   if (fields.size() != h.n_cols)
     throw line_error(
@@ -307,7 +315,13 @@ Row read_row(const std::vector<std::string>& fields, const Header& h, bool has_a
     r.inputs[k] = parse_number(fields[kFixed + k], h.names[kFixed + k], file, lineno);
   for (std::size_t k = 0; k < kStrategySlots; ++k)
     r.outputs[k] = parse_number(fields[kFixed + h.m + k], h.names[kFixed + h.m + k], file, lineno);
-  if (has_aspect) r.aspect = parse_number(fields.back(), "aspect", file, lineno);
+  std::size_t extra = kFixed + h.m + kStrategySlots;
+  if (t.has_aspect) r.aspect = parse_number(fields[extra++], "aspect", file, lineno);
+  if (t.has_wall_share) {
+    r.wall_share = parse_number(fields[extra], "wall_share", file, lineno);
+    if (!(r.wall_share >= 0 && r.wall_share <= 1))
+      throw line_error(file, lineno, "column 'wall_share': " + fields[extra] + " is not a share in [0, 1]");
+  }
   check_label_agrees(r, file, lineno);
   return r;
 }
@@ -338,7 +352,7 @@ Table read_table(const fs::path& csv_path) {
     if (lineno == 1)
       header = read_header(std::move(fields), file, t);
     else
-      t.rows.push_back(read_row(fields, header, t.has_aspect, file, lineno, id_line));
+      t.rows.push_back(read_row(fields, header, t, file, lineno, id_line));
   }
   if (header.names.empty()) throw file_error(file, "empty file, expected a header line");
   if (t.rows.empty()) throw file_error(file, "no rows after the header");

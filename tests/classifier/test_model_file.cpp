@@ -180,6 +180,27 @@ TEST(ModelFile, FeaturesAreOneAddedKeyThatRoundTrips) {
   fs::remove_all(dir);
 }
 
+// Issue 39 §3: a model that learns from the wall share says how many copies follow the heights
+// (2×2 grid + 1 copy = the small model's 5 inputs); a count that does not make the stored width is
+// refused, naming it.
+TEST(ModelFile, TheWallShareCopiesRoundTripAndMustMakeTheStoredWidth) {
+  const fs::path dir = temp_dir();
+  Model m = small_model();
+  m.input_spec = InputSpec{0.5, 2, false, 1};
+  classifier_io::save_model(m, dir / "wall.json");
+  const Model r = classifier_io::load_model(dir / "wall.json");
+  ASSERT_TRUE(r.input_spec.has_value());
+  EXPECT_EQ(r.input_spec->wall_share_copies, 1);
+  EXPECT_EQ(*r.input_spec, *m.input_spec);
+  std::string text = read_file(dir / "wall.json");
+  ASSERT_NE(text.find("\"wall_share_copies\": 1"), std::string::npos) << text;
+  text.replace(text.find("\"wall_share_copies\": 1"), 22, "\"wall_share_copies\": 2");
+  write(dir / "two.json", text);
+  const std::string e = error_of(dir / "two.json");
+  EXPECT_NE(e.find("two.json: features.inputs: expected 6 (grid² + 2), got 5"), std::string::npos) << e;
+  fs::remove_all(dir);
+}
+
 TEST(ModelFile, NonFiniteIsRefusedAndNothingIsWritten) {
   Model m = small_model();
   m.inputs(2, 2) = std::numeric_limits<double>::quiet_NaN();

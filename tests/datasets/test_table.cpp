@@ -125,6 +125,42 @@ TEST(Table, RoundTripIsBitForBitIncludingAwkwardDoubles) {
   }
 }
 
+// Issue 39 §3: the optional wall_share column (after aspect when both are there) round-trips bit for
+// bit, the manifest says it is there, and a share outside [0, 1] names its line and column.
+TEST(Table, TheWallShareColumnRoundTripsAndIsChecked) {
+  for (const bool aspect : {false, true}) {
+    Table t = small_table(4, aspect);
+    t.has_wall_share = true;
+    for (std::size_t r = 0; r < t.rows.size(); ++r) t.rows[r].wall_share = 0.1 * static_cast<double>(r % 3) + 1e-17;
+    const fs::path d = temp_dir(aspect ? "rt_wall_aspect" : "rt_wall");
+    write_table(t, d);
+    const std::string csv = millnet::read_file(d / "vectors.csv");
+    EXPECT_NE(csv.substr(0, csv.find('\n')).rfind(aspect ? ",out_8,aspect,wall_share" : ",out_8,wall_share"),
+              std::string::npos);
+    const Table u = read_table(d / "vectors.csv");
+    ASSERT_TRUE(u.has_wall_share);
+    ASSERT_EQ(u.has_aspect, aspect);
+    for (std::size_t r = 0; r < t.rows.size(); ++r) {
+      EXPECT_TRUE(same_bits(t.rows[r].wall_share, u.rows[r].wall_share)) << r;
+      if (aspect) EXPECT_TRUE(same_bits(t.rows[r].aspect, u.rows[r].aspect)) << r;
+    }
+    EXPECT_EQ(table_csv(u), csv);
+    EXPECT_NE(millnet::read_file(d / "manifest.json").find("\"wall_share_column\": true"), std::string::npos);
+    std::string bad = csv;
+    const auto eol = bad.find('\n', bad.find('\n') + 1);  // the first row ends with its wall share
+    bad.replace(bad.rfind(',', eol) + 1, eol - bad.rfind(',', eol) - 1, "1.5");
+    const fs::path b = d / "bad.csv";
+    millnet::write_file_atomic(b, bad);
+    try {
+      (void)read_table(b);
+      ADD_FAILURE() << "a wall share of 1.5 was read";
+    } catch (const millnet::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("bad.csv:2: "), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("'wall_share'"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(Table, ManifestHasCountsHashesAndStrategies) {
   Table t = small_table(3, false);
   t.sources.push_back({"p1", "parts/p1.stl", 1, 0x0123456789abcdefULL, 1234, 20, 1});

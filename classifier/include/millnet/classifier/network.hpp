@@ -175,8 +175,11 @@ struct InputSpec {
   double raster_mm = 0;         ///< > 0
   int grid = 0;                 ///< n ≥ 2
   bool aspect_feature = false;  ///< the footprint aspect follows the n² heights as one more input
+  /// The part's wall share (datasets::wall_share) follows as this many equal inputs (each z-scored
+  /// like every input, so c copies weigh √c against one height; issue 39 §3's ablation); 0: none.
+  int wall_share_copies = 0;
   [[nodiscard]] Eigen::Index inputs() const {
-    return static_cast<Eigen::Index>(grid) * grid + (aspect_feature ? 1 : 0);
+    return static_cast<Eigen::Index>(grid) * grid + (aspect_feature ? 1 : 0) + wall_share_copies;
   }
   bool operator==(const InputSpec&) const = default;
 };

@@ -44,6 +44,7 @@ struct Recipe {
   augment::AugmentParams augment = augment::AugmentParams::defaults();
   StrategyNames strategies = default_strategy_names();
   bool aspect_feature = false;             ///< add the `aspect` column
+  bool wall_share_feature = false;         ///< add the `wall_share` column (datasets::wall_share)
   std::optional<GenerateParams> generate;  ///< echoed in the manifest when the parts were generated
   /// JSON text of the settings that simulated labels depend on (tool, stepover, aim, …), echoed as
   /// "label_by_simulation" when some part is labelled by simulation; empty otherwise.

@@ -4,13 +4,17 @@
 //
 // On disk (ARCHITECTURE.md "Formats"): <dir>/vectors.csv + <dir>/manifest.json, written together by
 // datasets_io::write_table (millnet/datasets/io/manifest.hpp, the manifest's one owner).
-//   CSV header, exactly:  id,source,label,axis,angle,flip,in_1_1,…,in_n_n,out_1,…,out_8[,aspect]
+//   CSV header, exactly:  id,source,label,axis,angle,flip,in_1_1,…,in_n_n,out_1,…,out_8[,aspect][,wall_share]
 //   * in_<r>_<c>: height in mm above the variant's lowest point at grid row r (r = 1 at min y) and
 //     column c (c = 1 at min x), 1-based; the grid spans the footprint rectangle corner to corner.
 //   * out_k: 1 for the labelled strategy, 0 elsewhere (all 0 when the label is unknown).
 //   * label: 1-based strategy slot, 0 = unknown; axis: x|y|z; angle: degrees; flip: 0|1.
 //   * aspect (optional, last): footprint a/b = width along x / width along y of the variant. An
 //     extra feature kept apart from the in_* columns; the classifier uses only in_* unless told.
+//   * wall_share (optional, last): the part's share of its machined (upward) surface steeper than
+//     60° (datasets::wall_share), the same on every variant of the part: what decides whether a
+//     raster finish meets the specification, which a 15×15 grid does not see (issue 39 §3; the
+//     model learns from it when its features say so, classifier::InputSpec::wall_share_weight).
 //   * numbers are written in the shortest text that reads back to the same double (bit for bit);
 //     text fields are quoted (RFC 4180) when they contain a comma or a quote.
 #include "millnet/augment/variants.hpp"
@@ -42,6 +46,7 @@ struct Row {
   std::vector<double> inputs;  ///< n·n heights, mm, row-major (row = y): inputs[(r−1)·n + (c−1)]
   std::array<double, kStrategySlots> outputs{};  ///< one-hot over the 8 slots
   double aspect = 0;                             ///< footprint a/b (only meaningful when Table::has_aspect)
+  double wall_share = 0;                         ///< the part's wall share (Table::has_wall_share)
 };
 
 /// A part file that went into a table (echoed in the manifest with its hash).
@@ -56,8 +61,9 @@ struct SourceFile {
 };
 
 struct Table {
-  int grid_n = 15;          ///< inputs per row = grid_n²
-  bool has_aspect = false;  ///< write/read the optional `aspect` column
+  int grid_n = 15;              ///< inputs per row = grid_n²
+  bool has_aspect = false;      ///< write/read the optional `aspect` column
+  bool has_wall_share = false;  ///< write/read the optional `wall_share` column
   StrategyNames strategies = default_strategy_names();
   std::vector<Row> rows;
   // Provenance for the manifest (not in the CSV; empty after read_table).
@@ -79,18 +85,18 @@ struct Table {
 };
 
 /// The CSV header's column names for grid n (with `aspect` last when asked).
-[[nodiscard]] std::vector<std::string> column_names(int grid_n, bool with_aspect);
+[[nodiscard]] std::vector<std::string> column_names(int grid_n, bool with_aspect, bool with_wall_share = false);
 
 /// One-hot output for a 1-based label (all zeros for 0). Throws millnet::Error outside 0..8.
 [[nodiscard]] std::array<double, kStrategySlots> one_hot(int label);
 
 /// The CSV header line (with its '\n') for grid n.
-[[nodiscard]] std::string csv_header(int grid_n, bool with_aspect);
+[[nodiscard]] std::string csv_header(int grid_n, bool with_aspect, bool with_wall_share = false);
 
 /// Appends one row's CSV line (with its '\n'). Throws millnet::Error for the wrong number of
 /// inputs, a label outside 0..8 or a text field with a line break (ids are not checked: the caller
 /// knows its ids). O(n²).
-void append_csv_row(std::string& out, const Row& row, int grid_n, bool with_aspect);
+void append_csv_row(std::string& out, const Row& row, int grid_n, bool with_aspect, bool with_wall_share = false);
 
 /// The CSV text of the table (datasets_io::write_table writes it beside the manifest). Throws
 /// millnet::Error for a row with the wrong number of inputs, a label outside 0..8, a duplicate id or

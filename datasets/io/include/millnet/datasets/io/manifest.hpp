@@ -45,6 +45,7 @@ struct Manifest {
   std::size_t csv_bytes = 0;
   int grid = 0;  ///< n; inputs = n²
   bool aspect_column = false;
+  bool wall_share_column = false;  ///< "wall_share_column" (written only when true)
   std::size_t rows = 0, parts = 0;
   std::map<int, std::size_t> rows_per_label;
   std::vector<std::string> strategies;  ///< the table's strategy names
@@ -80,7 +81,8 @@ void write_table(const datasets::Table& table, const std::filesystem::path& dir)
 class TableWriter {
 public:
   /// Creates `dir` and opens the CSV with its header. Throws millnet::Error.
-  TableWriter(const std::filesystem::path& dir, int grid_n, bool has_aspect, datasets::StrategyNames strategies);
+  TableWriter(const std::filesystem::path& dir, int grid_n, bool has_aspect, datasets::StrategyNames strategies,
+              bool has_wall_share = false);
   TableWriter(const TableWriter&) = delete;
   TableWriter& operator=(const TableWriter&) = delete;
   ~TableWriter();
@@ -97,6 +99,7 @@ private:
   std::filesystem::path dir_;
   int grid_n_;
   bool has_aspect_;
+  bool has_wall_share_ = false;
   datasets::StrategyNames strategies_;
   std::unique_ptr<Impl> impl_;
   std::size_t rows_ = 0;
