@@ -70,7 +70,7 @@ void build_rows_distributed(const datasets::Recipe& recipe, const datasets::Tabl
       part = datasets::load_table_part(recipe, k);
       held = k;
     }
-    const datasets::Row r = datasets::variant_row(recipe, plan, k, part.mesh, v);
+    const datasets::Row r = datasets::variant_row(recipe, plan, k, part.mesh, v, part.wall_share);
     // The row: its inputs, aspect and wall share as raw doubles (bit for bit); the rest rank 0 knows
     // from the unit.
     std::string msg(reinterpret_cast<const char*>(r.inputs.data()), r.inputs.size() * sizeof(double));

@@ -131,13 +131,15 @@ LoadedPart load_table_part(const Recipe& recipe, std::size_t k) {
     l.mesh = ingest::load_prepared(p.file, popts, &rep);
     l.source.triangles = rep.triangles;
     l.source.degenerate_triangles = rep.degenerate_triangles;
+    if (recipe.wall_share_feature) l.wall_share = wall_share(l.mesh);  // once per part: O(triangles)
   } catch (const std::exception& e) {
     throw part_error(p, e.what());
   }
   return l;
 }
 
-Row variant_row(const Recipe& recipe, const TablePlan& plan, std::size_t k, const ingest::Mesh& mesh, std::size_t v) {
+Row variant_row(const Recipe& recipe, const TablePlan& plan, std::size_t k, const ingest::Mesh& mesh, std::size_t v,
+                double part_wall_share) {
   const PartSpec& p = recipe.parts[k];
   const augment::Variant& var = plan.variants[k][v];
   try {
@@ -153,7 +155,7 @@ Row variant_row(const Recipe& recipe, const TablePlan& plan, std::size_t k, cons
     r.inputs.resize(plan.header.inputs_per_row());
     r.outputs = p.outputs ? *p.outputs : one_hot(p.label);
     r.aspect = mv.aspect;
-    if (recipe.wall_share_feature) r.wall_share = wall_share(mesh);  // the part's, on every variant
+    if (recipe.wall_share_feature) r.wall_share = part_wall_share;  // the part's, on every variant
     return r;
   } catch (const std::exception& e) {
     throw part_error(p, "variant " + std::to_string(v + 1) + " (axis " + std::string(1, augment::to_char(var.axis)) +
@@ -171,6 +173,7 @@ void build_rows(const Recipe& recipe, const TablePlan& plan, const RowSink& sink
   while (next_part < recipe.parts.size()) {  // batches of parts: O(parts) iterations in all
     // 1. Load serially (clear errors, bounded memory).
     std::vector<ingest::Mesh> meshes;
+    std::vector<double> walls;
     std::vector<std::size_t> batch_parts;
     std::size_t triangles = 0;
     while (next_part < recipe.parts.size() && (meshes.empty() || triangles < kBatchTriangles)) {
@@ -178,6 +181,7 @@ void build_rows(const Recipe& recipe, const TablePlan& plan, const RowSink& sink
       triangles += static_cast<std::size_t>(l.mesh.F.rows());
       sources.push_back(std::move(l.source));
       meshes.push_back(std::move(l.mesh));
+      walls.push_back(l.wall_share);
       batch_parts.push_back(next_part++);
     }
     // 2. (part, variant) pairs of the batch in parallel; each writes only its own row and error slot.
@@ -191,7 +195,7 @@ void build_rows(const Recipe& recipe, const TablePlan& plan, const RowSink& sink
     for (long k = 0; k < n_tasks; ++k) {  // O(tasks · (triangles + raster points))
       const auto [b, v] = tasks[static_cast<std::size_t>(k)];
       try {
-        rows[static_cast<std::size_t>(k)] = variant_row(recipe, plan, batch_parts[b], meshes[b], v);
+        rows[static_cast<std::size_t>(k)] = variant_row(recipe, plan, batch_parts[b], meshes[b], v, walls[b]);
       } catch (const std::exception& e) {
         errors[static_cast<std::size_t>(k)] = e.what();
       } catch (...) {

@@ -80,13 +80,14 @@ struct TablePlan {
 struct LoadedPart {
   ingest::Mesh mesh;
   SourceFile source;
+  double wall_share = 0;  ///< the part's (datasets::wall_share), with Recipe::wall_share_feature
 };
 [[nodiscard]] LoadedPart load_table_part(const Recipe& recipe, std::size_t k);
 
-/// The row of variant v of part k (its mesh loaded by load_table_part). Throws millnet::Error
-/// naming the part and the variant. O(triangles + raster points).
+/// The row of variant v of part k (its mesh and wall share loaded by load_table_part). Throws
+/// millnet::Error naming the part and the variant. O(triangles + raster points).
 [[nodiscard]] Row variant_row(const Recipe& recipe, const TablePlan& plan, std::size_t k, const ingest::Mesh& mesh,
-                              std::size_t v);
+                              std::size_t v, double wall_share = 0);
 
 using RowSink = std::function<void(Row&&)>;
 
