@@ -585,12 +585,13 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
   // With --save-stock, the block's surround too (the stock beyond the footprint, for a job that
   // starts from the saved stock: job::block_surround): from the block, or the one a saved stock brings.
   std::optional<simulate::ZMap> surround;
-  simulate::ZMap z = stock == "flat" ? job::block_stock(*design, sim) : job::finishing_stock(*design, frame, sim);
-  if (stock != "flat" && stock != "design") {
+  simulate::ZMap z = [&] {
+    if (stock == "flat") return job::block_stock(*design, sim);
+    if (stock == "design") return job::finishing_stock(*design, frame, sim);
     simulate::io::SavedStock saved = saved_stock_from_file(stock, design->grid);
-    z = std::move(saved.zmap);
     surround = std::move(saved.surround);
-  }
+    return std::move(saved.zmap);
+  }();
   if (save_stock && stock == "flat")
     surround = job::block_surround(frame, settings.post.stock.sides(frame.width, frame.depth), 0.0, sim);
   std::vector<job::ChainStep> steps;

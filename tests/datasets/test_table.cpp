@@ -142,7 +142,9 @@ TEST(Table, TheWallShareColumnRoundTripsAndIsChecked) {
     ASSERT_EQ(u.has_aspect, aspect);
     for (std::size_t r = 0; r < t.rows.size(); ++r) {
       EXPECT_TRUE(same_bits(t.rows[r].wall_share, u.rows[r].wall_share)) << r;
-      if (aspect) EXPECT_TRUE(same_bits(t.rows[r].aspect, u.rows[r].aspect)) << r;
+      if (aspect) {
+        EXPECT_TRUE(same_bits(t.rows[r].aspect, u.rows[r].aspect)) << r;
+      }
     }
     EXPECT_EQ(table_csv(u), csv);
     EXPECT_NE(millnet::read_file(d / "manifest.json").find("\"wall_share_column\": true"), std::string::npos);
