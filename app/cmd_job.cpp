@@ -5,6 +5,7 @@
 #include "cli.hpp"
 #include "finish_job.hpp"
 #include "job_rest.hpp"
+#include "job_semi.hpp"
 #include "job_stock.hpp"
 #include "run_job.hpp"
 #include "settings.hpp"
@@ -82,80 +83,6 @@ job::DrillCut drill_cut(const tooling::Tool& drill, const Json& config, const st
   return {d.rpm, d.feed_plunge_mm_min};
 }
 
-/// What the semi-finishing needs to know of the job so far.
-struct SemiFinishInput {
-  const job::Part& part;
-  const PartFinish& finishing;
-  const FinishSettings& settings;
-  const tooling::Tool& finisher;
-  const tooling::Tool& mill;
-  const job::StepResult& roughed;  ///< what the roughing left (its largest and where)
-  double depth_mm = 0;             ///< the part's depth below the stock top (the reach)
-};
-
-/// A semi-finishing operation (issue 38) for when the roughing leaves more above the design than
-/// the finishing tool's flutes take: strategy 1 (Z-level on the steep, raster on the shallow, as a
-/// CAM engineer semi-finishes) with the library's smallest larger ball whose flutes take that
-/// stock, over the design + the finishing allowance (a ball of radius R over the surface offset by
-/// a is a ball of radius R + a over the surface, raised by a), its passes the step that leaves
-/// cusps no higher than the allowance, at the ball's own cutting data. Refused in one line when no
-/// ball of the library will do.
-struct SemiFinish {
-  job::Operation op;
-  finish::FinishParams params;  ///< its cutting data and steps
-};
-SemiFinish semi_finishing(const SemiFinishInput& in, const tooling::Tool& semi, const Json& config,
-                          const std::optional<std::string>& material, const ToolLibrary& lib) {
-  const double a = in.settings.sim.allowance_mm;
-  const double left =
-      semi.flute_length_mm > 0 ? std::min(in.roughed.max_left_mm, semi.flute_length_mm) : in.roughed.max_left_mm;
-  const CuttingSettings cs = cutting_settings(config, material);
-  const tooling::CuttingData d =
-      tooling::cutting_data(semi, lib.material(cs.material_id, cs.material_from), left, cs.machine, cs.factors);
-  finish::FinishParams p = job::part_params(in.settings.params, in.finishing.frame, in.part.name + " semi-finishing",
-                                            {"tool: " + semi.label()});
-  p.boundary = in.settings.boundary_in(in.finishing.frame);
-  const tooling::Cutter grown = tooling::Cutter::ball(semi.diameter_mm + 2 * a);
-  p.tool = grown;
-  p.tool_label = "semi-finishing, " + semi.label() + ", leaving " + format_double(a) + " mm";
-  p.z_shift += a;
-  p.stepover_mm = p.step_down_mm = job::scallop_step(semi.diameter_mm / 2, a);
-  p.spindle_rpm = d.rpm, p.feed_mm_min = d.feed_mm_min, p.plunge_feed_mm_min = d.feed_plunge_mm_min;
-  const finish::DropCutter dropper(in.part.mesh, grown);
-  finish::FinishPlan plan = finish::plan_finish(in.part.mesh, dropper, finish::Strategy::SlopeMode, p);
-  return {{"semi-finishing (s1 slope mode, leaving " + format_double(a) + " mm)", semi, std::move(plan.program)}, p};
-}
-
-/// The semi-finishing whose flutes take what it meets: the candidates (job::semi_finishing_tools)
-/// planned in turn, each program's links lifted over the roughed stock and machined on a copy of
-/// it, the first whose axial engagement its flutes take. Refused in one line naming the least
-/// engaged candidate when none will do.
-SemiFinish semi_finishing_that_fits(const SemiFinishInput& in, const simulate::ZMap& roughed, const job::Design& design,
-                                    const FinishSettings& fs, const Json& config,
-                                    const std::optional<std::string>& material, const ToolLibrary& lib,
-                                    const std::string& file, double finish_cut) {
-  const std::vector<const tooling::Tool*> candidates =
-      job::semi_finishing_tools(lib.tools, in.finisher, in.mill, in.depth_mm);
-  std::string tried;
-  for (const tooling::Tool* t : candidates) {  // O(candidates × (plan + simulation))
-    SemiFinish sf = semi_finishing(in, *t, config, material, lib);
-    sf.op.program =
-        job::clear_rapids(sf.op.program, roughed, t->cutter(), fs.params.clearance_mm, sf.params.plunge_feed_mm_min);
-    simulate::ZMap trial = roughed;
-    const job::StepResult st = job::machine_steps(trial, design, {{&sf.op.program, t->cutter()}}, fs.machine).front();
-    if (t->flute_length_mm <= 0 || st.max_depth_of_cut_mm <= t->flute_length_mm) return sf;
-    tried += (tried.empty() ? "" : "; ") + t->id + " would cut " + fixed(st.max_depth_of_cut_mm, 2) + " mm (flutes " +
-             fixed(t->flute_length_mm, 1) + " mm) at X" + fixed(st.max_cut_at[0], 1) + " Y" +
-             fixed(st.max_cut_at[1], 1);
-  }
-  throw Error(file + ": the finishing would cut " + fixed(finish_cut, 2) + " mm deep, more than the " +
-              fixed(in.finisher.flute_length_mm, 1) + " mm flutes of " + in.finisher.label() +
-              " take, and no ball of the library between Ø" + fixed(in.finisher.diameter_mm, 1) + " and Ø" +
-              fixed(in.mill.diameter_mm, 1) + " mm that reaches " + fixed(in.depth_mm, 1) +
-              " mm semi-finishes within its flutes" + (tried.empty() ? std::string() : " (" + tried + ")") +
-              ": add one, or rough with a smaller step-down (/pocket/step_down)");
-}
-
 /// A tool named on the command line: a library id, or inline (ball:D, flat:D, bull:D:r) with the
 /// reach of the library's tool of its shape.
 tooling::Tool job_tool(const std::string& text, const Json& config, const std::optional<std::string>& material,
@@ -189,44 +116,6 @@ tooling::Tool within_machine(tooling::Tool t, double max_cut) {
   if (max_cut > 0 && t.type != tooling::ToolType::Drill)
     t.flute_length_mm = t.flute_length_mm > 0 ? std::min(t.flute_length_mm, max_cut) : max_cut;
   return t;
-}
-
-/// A facing pass's radial engagement, in tool diameters (a face milled with an end mill: 3/4 of it).
-constexpr double kFacingStepover = 0.75;
-
-/// How deep one facing level goes: the roughing's step-down, within the end mill's flutes.
-double facing_level_mm(const rough::Params& rp, const tooling::Tool& mill) {
-  return mill.flute_length_mm > 0 ? std::min(rp.cut.step_down, mill.flute_length_mm) : rp.cut.step_down;
-}
-
-/// The sawn blank's top above Z 0 (/rough/stock_squared false: /rough/facing_mm), 0 for a pre-squared
-/// block. Refused with a given stock (machined as it is) or at or above the rapids' height.
-double sawn_blank_top(const Json& config, const rough::Params& rp, const std::optional<std::string>& stock) {
-  if (config["rough"]["stock_squared"].get<bool>()) return 0;
-  const double top = config["rough"]["facing_mm"].get<double>();
-  if (stock)
-    throw Error(*stock +
-                ": --stock is the stock the job starts from, machined as it is; /rough/stock_squared false "
-                "asks for the block with a sawn top: give one of them");
-  if (!(top < rp.cut.safe_z - job::kFacingFeedHeightMm))
-    throw Error("/rough/facing_mm " + format_double(top) + " leaves the sawn blank's top within " +
-                format_double(job::kFacingFeedHeightMm) + " mm of the safe height /pocket/safe_z " +
-                format_double(rp.cut.safe_z) + ": the rapids would run into it; raise /pocket/safe_z");
-  return top;
-}
-
-/// The facing of a sawn blank over the roughing's stock rectangle, with the roughing's end mill and
-/// cutting data (job::facing_operation).
-job::FacingSpec facing_spec(const rough::Result& rough, const rough::Params& rp, const tooling::Tool& mill,
-                            double blank_top) {
-  job::FacingSpec f;
-  f.x0 = rough.stock_x0, f.y0 = rough.stock_y0, f.x1 = rough.stock_x1, f.y1 = rough.stock_y1;
-  f.blank_top = blank_top;
-  f.max_depth_mm = facing_level_mm(rp, mill);
-  f.stepover_mm = kFacingStepover * mill.diameter_mm;
-  f.safe_z = rp.cut.safe_z;
-  f.rpm = rp.cut.spindle_rpm, f.feed_mm_min = rp.cut.feed_half, f.plunge_feed_mm_min = rp.cut.feed_plunge;
-  return f;
 }
 
 /// The job of `o` with `config` read; `reuse` (from `millnet run`): what is already computed.
@@ -320,7 +209,8 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   }
   std::vector<job::Operation> ops =
       no_roughing ? std::vector<job::Operation>{} : job::roughing_operations(rough.machining.program, mill, drill, dc);
-  if (blank_top > 0) ops.insert(ops.begin(), job::facing_operation(mill, facing_spec(rough, rp, mill, blank_top)));
+  const job::FacingSpec facing = facing_spec(rough, rp, mill, blank_top);
+  if (blank_top > 0) ops.insert(ops.begin(), job::facing_operation(mill, facing));
 
   // 4. Finishing: the strategies machined and ranked (their files in DIR/strategies), the chosen one's program.
   info("job: " + stem + ": finishing with " + ball.label() + " (" + std::to_string(fs_.strategies.size()) + " strateg" +
@@ -565,7 +455,7 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
     if (op.name == "facing") {
       so.strategy = "facing the sawn top: zigzag passes along the longer side";
       so.rpm = rp.cut.spindle_rpm, so.feed_mm_min = rp.cut.feed_half;
-      so.stepover_mm = kFacingStepover * mill.diameter_mm, so.step_down_mm = facing_level_mm(rp, mill);
+      so.stepover_mm = facing.stepover_mm, so.step_down_mm = facing.max_depth_mm;
     } else if (op.name == "drilling") {
       so.strategy = "plunge per pre-drilled entry";
       so.rpm = dc.rpm, so.feed_mm_min = dc.feed_mm_min;

@@ -8,6 +8,7 @@
 #include "millnet/ingest/heightfield.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
 #include "millnet/job/chain.hpp"
+#include "millnet/job/operations.hpp"
 
 #include <algorithm>
 #include <array>
@@ -104,6 +105,48 @@ std::shared_ptr<const ingest::HeightField> roughing_stock(const GivenStock* give
   const double none = box.min.z() - rp.cut.stock_to_leave - 1.0;  // below every level
   job::uncovered_to(top, none);
   return std::make_shared<const ingest::HeightField>(std::move(top));
+}
+
+namespace {
+
+/// A facing pass's radial engagement, in tool diameters (a face milled with an end mill: 3/4 of it).
+constexpr double kFacingStepover = 0.75;
+
+/// How deep one facing level goes: the roughing's step-down, within the end mill's flutes.
+double facing_level_mm(const rough::Params& rp, const tooling::Tool& mill) {
+  return mill.flute_length_mm > 0 ? std::min(rp.cut.step_down, mill.flute_length_mm) : rp.cut.step_down;
+}
+
+}  // namespace
+
+/// The sawn blank's top above Z 0 (/rough/stock_squared false: /rough/facing_mm), 0 for a pre-squared
+/// block. Refused with a given stock (machined as it is) or at or above the rapids' height.
+double sawn_blank_top(const Json& config, const rough::Params& rp, const std::optional<std::string>& stock) {
+  if (config["rough"]["stock_squared"].get<bool>()) return 0;
+  const double top = config["rough"]["facing_mm"].get<double>();
+  if (stock)
+    throw Error(*stock +
+                ": --stock is the stock the job starts from, machined as it is; /rough/stock_squared false "
+                "asks for the block with a sawn top: give one of them");
+  if (!(top < rp.cut.safe_z - job::kFacingFeedHeightMm))
+    throw Error("/rough/facing_mm " + format_double(top) + " leaves the sawn blank's top within " +
+                format_double(job::kFacingFeedHeightMm) + " mm of the safe height /pocket/safe_z " +
+                format_double(rp.cut.safe_z) + ": the rapids would run into it; raise /pocket/safe_z");
+  return top;
+}
+
+/// The facing of a sawn blank over the roughing's stock rectangle, with the roughing's end mill and
+/// cutting data (job::facing_operation).
+job::FacingSpec facing_spec(const rough::Result& rough, const rough::Params& rp, const tooling::Tool& mill,
+                            double blank_top) {
+  job::FacingSpec f;
+  f.x0 = rough.stock_x0, f.y0 = rough.stock_y0, f.x1 = rough.stock_x1, f.y1 = rough.stock_y1;
+  f.blank_top = blank_top;
+  f.max_depth_mm = facing_level_mm(rp, mill);
+  f.stepover_mm = kFacingStepover * mill.diameter_mm;
+  f.safe_z = rp.cut.safe_z;
+  f.rpm = rp.cut.spindle_rpm, f.feed_mm_min = rp.cut.feed_half, f.plunge_feed_mm_min = rp.cut.feed_plunge;
+  return f;
 }
 
 }  // namespace millnet::app

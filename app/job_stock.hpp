@@ -1,9 +1,11 @@
 #pragma once
 // The stock a job starts from (issue 38: a stock as a model the job reads): the block, a saved
 // z-map or a stock mesh, checked to be one the part can be machined from.
+#include "json_settings.hpp"
 #include "millnet/ingest/mesh.hpp"
 #include "millnet/job/finishing.hpp"
 #include "millnet/job/frame.hpp"
+#include "millnet/job/operations.hpp"
 #include "millnet/rough/rough.hpp"
 #include "millnet/simulate/zmap.hpp"
 
@@ -46,5 +48,17 @@ struct GivenStock {
                                                                         const ingest::Mesh& part,
                                                                         const rough::Params& rp,
                                                                         const job::SimParams& sim);
+
+/// A sawn blank (/rough/stock_squared false): its top above Z 0 (/rough/facing_mm), 0 for a
+/// pre-squared block. Refused with a given stock (machined as it is) or within the feed height of
+/// the rapids' safe height (/pocket/safe_z).
+[[nodiscard]] double sawn_blank_top(const Json& config, const rough::Params& rp,
+                                    const std::optional<std::string>& stock);
+
+/// The facing of a sawn blank whose top is `blank_top` over the roughing's stock rectangle, with the
+/// roughing's end mill and cutting data: passes 3/4 D apart, levels of the step-down within the
+/// flutes (job::facing_operation).
+[[nodiscard]] job::FacingSpec facing_spec(const rough::Result& rough, const rough::Params& rp,
+                                          const tooling::Tool& mill, double blank_top);
 
 }  // namespace millnet::app

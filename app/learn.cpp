@@ -221,13 +221,7 @@ int wall_share_copies(const datasets::Table& table, const Json& config) {
 classifier::TrainingSet training_set(const datasets::Table& table, const datasets_io::Manifest& manifest,
                                      const Json& config) {
   classifier::TrainingSet set;
-  set.inputs = table.inputs_matrix();
-  if (const int c = wall_share_copies(table, config); c > 0) {
-    const Eigen::Index h = set.inputs.cols();
-    set.inputs.conservativeResize(Eigen::NoChange, h + c);
-    for (Eigen::Index r = 0; r < set.inputs.rows(); ++r)  // O(N · c)
-      set.inputs.block(r, h, 1, c).setConstant(table.rows[static_cast<std::size_t>(r)].wall_share);
-  }
+  set.inputs = table.inputs_matrix(wall_share_copies(table, config));
   set.outputs = table.outputs_matrix();
   set.groups = table.row_sources();
   set.strategies = manifest.strategies.empty() ? config["dataset"]["strategies"].get<std::vector<std::string>>()

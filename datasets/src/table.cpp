@@ -4,6 +4,7 @@
 #include "millnet/core/error.hpp"
 #include "millnet/datasets/hash.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <map>
@@ -106,13 +107,15 @@ std::array<double, kStrategySlots> one_hot(int label) {
   return out;
 }
 
-Eigen::MatrixXd Table::inputs_matrix() const {
+Eigen::MatrixXd Table::inputs_matrix(int wall_share_copies) const {
   const auto m = inputs_per_row();
-  Eigen::MatrixXd X(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(m));
-  for (std::size_t i = 0; i < rows.size(); ++i) {  // O(N·n²)
+  const auto c = static_cast<Eigen::Index>(std::max(0, wall_share_copies));
+  Eigen::MatrixXd X(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(m) + c);
+  for (std::size_t i = 0; i < rows.size(); ++i) {  // O(N·(n² + c))
     MILLNET_ASSERT(rows[i].inputs.size() == m, "row input count");
     for (std::size_t k = 0; k < m; ++k)
       X(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = rows[i].inputs[k];
+    X.block(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(m), 1, c).setConstant(rows[i].wall_share);
   }
   return X;
 }

@@ -18,12 +18,17 @@ namespace datasets = millnet::datasets;
 namespace ingest = millnet::ingest;
 namespace fs = std::filesystem;
 
-TEST(ModelVectors, EqualTheBuiltTableRowsBitForBit) {
-  const fs::path dir = fs::path(MILLNET_BINARY_DIR) / "test_tmp" / "features";
+/// A fresh folder test_tmp/<name> holding part.stl, a generated deep cavity (seed 7).
+fs::path deep_cavity_part(const std::string& name) {
+  const fs::path dir = fs::path(MILLNET_BINARY_DIR) / "test_tmp" / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
-  const auto gen = datasets::make_part(datasets::Family::DeepCavity, 0, 7, 40);
-  ingest::save_stl_binary(gen.mesh, dir / "part.stl");
+  ingest::save_stl_binary(datasets::make_part(datasets::Family::DeepCavity, 0, 7, 40).mesh, dir / "part.stl");
+  return dir;
+}
+
+TEST(ModelVectors, EqualTheBuiltTableRowsBitForBit) {
+  const fs::path dir = deep_cavity_part("features");
   datasets::Recipe recipe;
   recipe.parts = {{dir / "part.stl", 4, "part"}};
   recipe.raster_mm = 1.0;
@@ -104,11 +109,7 @@ TEST(WallShare, IsTheAreaShareOfUpwardFacetsSteeperThan60Degrees) {
 // The prediction path appends the wall share as the model asks (FeatureSpec::wall_share_copies)
 // and the table build stores the same value on every variant of the part.
 TEST(ModelVectors, CarryThePartsWallShareAfterTheHeights) {
-  const fs::path dir = fs::path(MILLNET_BINARY_DIR) / "test_tmp" / "features_wall";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const auto gen = datasets::make_part(datasets::Family::DeepCavity, 0, 7, 40);
-  ingest::save_stl_binary(gen.mesh, dir / "part.stl");
+  const fs::path dir = deep_cavity_part("features_wall");
   datasets::Recipe recipe;
   recipe.parts = {{dir / "part.stl", 4, "part"}};
   recipe.wall_share_feature = true;

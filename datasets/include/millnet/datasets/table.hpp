@@ -76,8 +76,9 @@ struct Table {
   [[nodiscard]] std::size_t inputs_per_row() const {
     return static_cast<std::size_t>(grid_n) * static_cast<std::size_t>(grid_n);
   }
-  /// N×n² inputs (row i = rows[i]).
-  [[nodiscard]] Eigen::MatrixXd inputs_matrix() const;
+  /// N×n² inputs (row i = rows[i]), then `wall_share_copies` equal columns of each row's wall share
+  /// (the network's inputs of a table with the column: classifier::InputSpec).
+  [[nodiscard]] Eigen::MatrixXd inputs_matrix(int wall_share_copies = 0) const;
   /// N×8 outputs.
   [[nodiscard]] Eigen::MatrixXd outputs_matrix() const;
   /// Part name of each row (groups for leave-one-part-out).
