@@ -21,7 +21,7 @@ void write_loo_curve(const classifier::Model& model, const fs::path& out_dir) {
   const classifier::LooReport& loo = model.loo;
   std::ostringstream curve;
   // mean_regret (issue 39): the leave-one-part-out regret of the parts' picks, with the regret criterion.
-  const bool regret = model.regret_curve.size() > loo.curve.size();
+  const bool regret = !model.regret_curve.empty() && model.regret_curve.size() >= loo.curve.size();
   curve << "alpha,rms,rms_part,rms_vector,accuracy_part,accuracy_vector" << (regret ? ",mean_regret" : "") << "\n";
   std::vector<double> xs, part_rms, vec_rms, regrets;
   const bool part_mode = loo.mode == classifier::LooMode::PartOut;

@@ -134,7 +134,16 @@ void AlphaSearch::run(LooReport& rep) {
   scan_curve(scan, scan_figures, rep);
   Grids own_pass;  // grids the pre-scan did not predict
   const GridPoint chosen_point = refine(scan_figures, predicted, own_pass, rep);
-  outputs_at_alpha(chosen_point, rep);
+  if (prm.outputs_at_alpha) {
+    outputs_at_alpha(chosen_point, rep);
+  } else {
+    const ModeOptimum& copt = chosen == kPart ? rep.part : rep.vector;
+    rep.alpha = copt.alpha;
+    rep.rms_part_at_alpha = rep.part.rms;
+    rep.rms_vector_at_alpha = rep.vector.rms;
+    rep.accuracy_part_at_alpha = rep.part.accuracy;
+    rep.accuracy_vector_at_alpha = rep.vector.accuracy;
+  }
   rep.nearest_d2.resize(n);
   for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) rep.nearest_d2(P.to_orig[i]) = cache.m[kPart][i];
   rep.full_passes = full_passes;
@@ -178,6 +187,27 @@ MatrixXd verification_outputs(const MatrixXd& Xn, const MatrixXd& Y, const std::
   MatrixXd out(Xn.rows(), Y.cols());
   (void)full_pass(P, alpha, mode == LooMode::PartOut ? kPart : kVector, block_rows, &out);
   return out;
+}
+
+void outputs_at_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<std::string>& groups, double alpha,
+                      LooMode mode, Index block_rows, LooReport& rep) {
+  if (!(alpha > 0) || !std::isfinite(alpha)) throw Error("outputs_at_alpha: alpha must be finite and > 0");
+  if (block_rows < 1) throw Error("outputs_at_alpha: block_rows must be ≥ 1");
+  const Prepared P = detail::prepare(Xn, Y, groups);
+  if (mode == LooMode::PartOut && P.members.size() < 2)
+    throw Error("leave-one-part-out needs at least 2 groups (source parts)");
+  detail::loo::Figures fig[2];
+  rep.verification.resize(Xn.rows(), Y.cols());
+  rep.filtration.resize(Xn.rows(), Y.cols());
+  const int chosen = mode == LooMode::PartOut ? detail::loo::kPart : detail::loo::kVector;
+  detail::loo::final_pass(P, alpha, chosen, block_rows, fig, rep.verification, rep.filtration);
+  rep.alpha = alpha;
+  rep.mode = mode;
+  rep.rms_part_at_alpha = fig[detail::loo::kPart].rms;
+  rep.rms_vector_at_alpha = fig[detail::loo::kVector].rms;
+  rep.accuracy_part_at_alpha = fig[detail::loo::kPart].accuracy;
+  rep.accuracy_vector_at_alpha = fig[detail::loo::kVector].accuracy;
+  ++rep.full_passes;
 }
 
 LooReport select_alpha(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<std::string>& groups,

@@ -68,6 +68,13 @@ GridPoint AlphaSearch::refine(const std::vector<Figures> scan_figures[2], Grids&
     opt.edge = best == 0 ? Edge::High : best == n_candidates - 1 ? Edge::Low : Edge::None;
     if (mode == kVector && same_modes) continue;
     if (refine_on_cache(mode, best, opt)) continue;
+    if (!prm.refine_on_grid) {  // the scan's best candidate
+      opt.alpha = alphas[static_cast<std::size_t>(best)];
+      opt.rms = scan_figures[mode][static_cast<std::size_t>(best)].rms;
+      opt.accuracy = scan_figures[mode][static_cast<std::size_t>(best)].accuracy;
+      opt.refine_evaluations = 0;
+      continue;
+    }
     std::vector<GridSpec> want;
     bracket_grid(mode, best, want);
     std::vector<std::size_t> match;

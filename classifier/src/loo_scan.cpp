@@ -17,7 +17,7 @@ using Eigen::VectorXd;
 Grids AlphaSearch::predict_grids() const {
   Grids g;
   const Index stride = prm.prescan_stride;
-  if (stride >= 2 && n / stride >= 16) g.specs = prescan(stride);
+  if (prm.refine_on_grid && stride >= 2 && n / stride >= 16) g.specs = prescan(stride);
   g.stores = make_stores(g.specs);
   g.parts = make_grid_parts(g.specs, n_blocks);
   return g;

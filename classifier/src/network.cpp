@@ -115,14 +115,18 @@ void choose_by_regret(const MatrixXd& Xn, const TrainingSet& set, const AlphaSea
     alphas.push_back(c.alpha);
     rms.push_back(c.rms_part);
   }
-  alphas.push_back(rep.alpha);
-  rms.push_back(rep.rms_part_at_alpha);
+  if (std::find(alphas.begin(), alphas.end(), rep.alpha) == alphas.end()) {  // the RMS optimum, if refined
+    alphas.push_back(rep.alpha);
+    rms.push_back(rep.part.rms);
+  }
+  const std::size_t rms_at =
+      static_cast<std::size_t>(std::find(alphas.begin(), alphas.end(), rep.alpha) - alphas.begin());
   const std::vector<MatrixXd> outs = part_out_outputs(Xn, set.outputs, set.groups, alphas, search.block_rows);
-  std::size_t best = alphas.size() - 1;
+  std::size_t best = rms_at;
   double best_regret = std::numeric_limits<double>::infinity();
   for (std::size_t a = 0; a < alphas.size(); ++a) {
     const double r = summarize(part_picks(outs[a], set.outputs, set.groups)).mean;
-    model.regret_curve.emplace_back(alphas[a], r);  // the curve's α, then the RMS optimum's
+    model.regret_curve.emplace_back(alphas[a], r);  // the curve's α, then a refined RMS optimum's
     const bool better =
         r < best_regret - 1e-12 ||
         (std::abs(r - best_regret) <= 1e-12 &&
@@ -132,19 +136,12 @@ void choose_by_regret(const MatrixXd& Xn, const TrainingSet& set, const AlphaSea
       best_regret = r;
     }
   }
-  if (best == alphas.size() - 1 || alphas[best] == rep.alpha) return;
-  const double alpha = alphas[best];
-  rep.alpha = alpha;
-  rep.mode = LooMode::PartOut;
-  rep.verification = outs[best];
-  const MatrixXd ver_v =
-      verification_outputs(Xn, set.outputs, set.groups, alpha, LooMode::VectorOut, search.block_rows);
-  rep.rms_part_at_alpha = rms_error(rep.verification, set.outputs);
-  rep.rms_vector_at_alpha = rms_error(ver_v, set.outputs);
-  rep.accuracy_part_at_alpha = argmax_accuracy(rep.verification, set.outputs);
-  rep.accuracy_vector_at_alpha = argmax_accuracy(ver_v, set.outputs);
-  rep.filtration = evaluate_network(Xn, set.outputs, Xn, alpha, search.block_rows).outputs;
-  rep.full_passes += 3;
+  // The outputs at the chosen α (the RMS optimum's too: select_alpha left them here), both modes'
+  // figures and the filtration in one pass.
+  const bool rms_optimum = best == rms_at;
+  outputs_at_alpha(Xn, set.outputs, set.groups, alphas[best], rms_optimum ? search.mode : LooMode::PartOut,
+                   search.block_rows, rep);
+  rep.full_passes += 1;  // part_out_outputs'
 }
 
 }  // namespace
@@ -195,7 +192,10 @@ Model train(const TrainingSet& set, const TrainParams& params) {
     rep.full_passes = 4;
     model.loo = std::move(rep);
   } else {
-    model.loo = select_alpha(Xn, set.outputs, set.groups, search);
+    AlphaSearchParams sp = search;
+    sp.outputs_at_alpha = params.criterion != Criterion::Regret;  // choose_by_regret computes them
+    sp.refine_on_grid = params.criterion != Criterion::Regret;    // it picks among the scan's α
+    model.loo = select_alpha(Xn, set.outputs, set.groups, sp);
     if (params.criterion == Criterion::Regret) {
       if (!one_output_per_part(set.outputs, set.groups))
         throw Error("train: the regret criterion needs one output row per part (a part's vectors differ)");

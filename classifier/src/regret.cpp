@@ -205,6 +205,71 @@ Baseline always_the_same(const std::vector<PartPick>& picks) {
   return b;
 }
 
+namespace {
+/// The output rows as runs of consecutive vectors with one output row (a part's variants, stored
+/// together): Σ_j w_j·Y_j = Σ_runs (Σ_{j ∈ run} w_j)·Y_run, a K × runs product instead of K × N —
+/// the 8 × 11,000 output matrix streamed from memory once per vector and α was the weighted sums'
+/// time (500 parts × 22 variants: 41 α × N² · 8 multiply-adds).
+struct OutputRuns {
+  std::vector<Index> start;  // runs + 1
+  MatrixXd Yr;               // K × runs
+  [[nodiscard]] Eigen::RowVectorXd weighted_mean(const Eigen::Ref<const VectorXd>& w) const {
+    const auto runs = static_cast<Index>(start.size()) - 1;
+    VectorXd wr(runs);
+    for (Index r = 0; r < runs; ++r) {  // O(N)
+      const auto b = start[static_cast<std::size_t>(r)], e = start[static_cast<std::size_t>(r) + 1];
+      wr(r) = w.segment(b, e - b).sum();
+    }
+    return (Yr * wr).transpose() / wr.sum();
+  }
+};
+/// The α in descending order and, per α, the α twice as large whose weights it squares (−1: an
+/// exp of its own). The scan's candidates halve exactly every steps_per_octave (ldexp); a chain is
+/// restarted from an exp every kMaxSquarings (each squaring doubles the relative error: ≤ 2⁴ ulp).
+struct Halvings {
+  std::vector<std::size_t> order;
+  std::vector<std::ptrdiff_t> from;
+};
+Halvings halving_chains(const std::vector<double>& alphas) {
+  constexpr int kMaxSquarings = 4;
+  Halvings h;
+  h.order.resize(alphas.size());
+  std::iota(h.order.begin(), h.order.end(), std::size_t{0});
+  std::stable_sort(h.order.begin(), h.order.end(), [&](std::size_t a, std::size_t b) { return alphas[a] > alphas[b]; });
+  h.from.assign(alphas.size(), -1);
+  std::vector<int> depth(alphas.size(), 0);
+  for (std::size_t k = 0; k < h.order.size(); ++k) {  // O(|alphas|²), 41 here
+    const std::size_t a = h.order[k];
+    for (std::size_t m = 0; m < k; ++m) {
+      const std::size_t b = h.order[m];
+      if (alphas[b] == 2 * alphas[a] && depth[b] < kMaxSquarings) {
+        h.from[a] = static_cast<std::ptrdiff_t>(b);
+        depth[a] = depth[b] + 1;
+        break;
+      }
+    }
+  }
+  return h;
+}
+
+OutputRuns output_runs(const MatrixXd& Y, const std::vector<int>& gid) {
+  OutputRuns o;
+  std::vector<Index> rep;
+  for (Index j = 0; j < Y.rows(); ++j) {  // O(N·K)
+    const bool same =
+        j > 0 && gid[static_cast<std::size_t>(j)] == gid[static_cast<std::size_t>(j) - 1] && Y.row(j) == Y.row(j - 1);
+    if (!same) {
+      o.start.push_back(j);
+      rep.push_back(j);
+    }
+  }
+  o.start.push_back(Y.rows());
+  o.Yr.resize(Y.cols(), static_cast<Index>(rep.size()));
+  for (std::size_t r = 0; r < rep.size(); ++r) o.Yr.col(static_cast<Index>(r)) = Y.row(rep[r]).transpose();
+  return o;
+}
+}  // namespace
+
 std::vector<MatrixXd> part_out_outputs(const MatrixXd& Xn, const MatrixXd& Y, const std::vector<std::string>& groups,
                                        const std::vector<double>& alphas, Index block_rows) {
   const Index n = Xn.rows(), K = Y.cols();
@@ -219,14 +284,16 @@ std::vector<MatrixXd> part_out_outputs(const MatrixXd& Xn, const MatrixXd& Y, co
   if (ids.size() < 2) throw Error("part_out_outputs: leave-one-part-out needs at least 2 parts");
   std::vector<MatrixXd> out(alphas.size(), MatrixXd::Zero(n, K));
   const VectorXd sq = Xn.rowwise().squaredNorm();
-  const MatrixXd Yt = Y.transpose();  // K×N: each output sum one matrix-vector product
+  const OutputRuns runs = output_runs(Y, gid);
+  const Halvings halvings = halving_chains(alphas);
   // Per left-out vector: δ_j = d²_j − d²_min over the other parts (+∞ on its own part: weight 0),
   // then per α the weights exp(−δ/α) in vector lanes (simd.hpp; below the similarity floor: 0)
   // and their weighted output sum. The 41 α × N² weights decide the time: in lanes, not one libm
   // exp a call (bench_classifier BM_TrainByRegret/500, 500 parts × 22 variants, the whole train on
   // 2 cores: 23.5 s with libm's exp, 9.1 s in lanes).
   detail::for_each_d2_block(Xn, sq, Xn, sq, block_rows, [&](Index, Index r0, Index rows, const MatrixXd& D2) {
-    VectorXd delta(n), w(n);
+    VectorXd delta(n);
+    MatrixXd w(n, static_cast<Index>(alphas.size()));  // per α its weights, N × |alphas|
     for (Index c = 0; c < rows; ++c) {
       const Index i = r0 + c;
       const int g = gid[static_cast<std::size_t>(i)];
@@ -235,9 +302,20 @@ std::vector<MatrixXd> part_out_outputs(const MatrixXd& Xn, const MatrixXd& Y, co
         if (gid[static_cast<std::size_t>(j)] != g) m = std::min(m, D2(j, c));
       for (Index j = 0; j < n; ++j)
         delta(j) = gid[static_cast<std::size_t>(j)] == g ? std::numeric_limits<double>::infinity() : D2(j, c) - m;
-      for (std::size_t a = 0; a < alphas.size(); ++a) {  // O(|alphas|·N·K)
-        detail::exp_neg_scaled(delta.data(), 1.0 / alphas[a], tol::kSimilarityFloor, w.data(), n);
-        out[a].row(i) = (Yt * w).transpose() / w.sum();
+      for (const std::size_t a : halvings.order) {  // O(|alphas|·(N + runs·K)), larger α first
+        const auto ca = static_cast<Index>(a);
+        const std::ptrdiff_t from = halvings.from[a];
+        if (from < 0) {
+          detail::exp_neg_scaled(delta.data(), 1.0 / alphas[a], tol::kSimilarityFloor, w.col(ca).data(), n);
+        } else {  // exp(−δ/α) = exp(−δ/(2α))²: one multiply instead of an exp
+          const double* src = w.col(static_cast<Index>(from)).data();
+          double* dst = w.col(ca).data();
+          for (Index j = 0; j < n; ++j) {
+            const double v = src[j] * src[j];
+            dst[j] = v < tol::kSimilarityFloor ? 0.0 : v;
+          }
+        }
+        out[a].row(i) = runs.weighted_mean(w.col(ca));
       }
     }
   });

@@ -118,6 +118,18 @@ TEST(Regret, PartOutOutputsAtManyAlphasMatchTheBruteForceReference) {
         << alphas[a];
 }
 
+TEST(Regret, PartOutOutputsFromSquaredWeightsMatchTheBruteForceReference) {
+  // Halving α squares the weights: a chain of six halvings (restarted from an exp after four), in
+  // any order of the list, with a stranger between them; outputs within 1e-12 of the reference.
+  const test::Synthetic s = scored_set(6, 5);
+  const std::vector<double> alphas{0.8, 0.05, 3.2, 0.1, 1.6, 0.7, 0.2, 0.4, 6.4};
+  const std::vector<MatrixXd> outs = part_out_outputs(s.X, s.Y, s.groups, alphas, 5);
+  ASSERT_EQ(outs.size(), alphas.size());
+  for (std::size_t a = 0; a < alphas.size(); ++a)
+    EXPECT_LE((outs[a] - test::reference_outputs(s.X, s.Y, s.groups, alphas[a], 0)).cwiseAbs().maxCoeff(), 1e-12)
+        << alphas[a];
+}
+
 TEST(Regret, AlphaChosenByRegretIsTheCurvesLowestAndNoWorseThanTheRmsChoice) {
   test::Synthetic s = scored_set(9, 5);
   TrainParams rms_params, regret_params;

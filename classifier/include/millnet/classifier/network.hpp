@@ -67,6 +67,15 @@ struct AlphaSearchParams {
   /// fewer than 16 vectors would be pre-scanned.
   Eigen::Index prescan_stride = 10;
   ProgressFn progress;  ///< (passes done, passes planned), called from serial code
+  /// false: no outputs at the chosen α (LooReport's verification and filtration stay empty, its
+  /// figures at α are the refinement's) — for a caller that picks its own α among the scan's and
+  /// then calls outputs_at_alpha once (train's regret criterion: one full pass fewer).
+  bool outputs_at_alpha = true;
+  /// false: where the neighbour cache cannot refine a mode's optimum, it stays the scan's best
+  /// candidate (refine_evaluations 0) — no refinement grid, no pre-scan. For a caller that chooses
+  /// α among the scan's candidates by another figure (train's regret criterion): the grids were
+  /// 3 of its 10 s on 500 parts × 22 variants.
+  bool refine_on_grid = true;
 };
 
 /// One point of the coarse scan; the RMS of both modes are computed from the same d² blocks.
@@ -116,6 +125,11 @@ struct LooReport {
 /// Throws millnet::Error on shape mismatch, non-finite values, N < 2, or PartOut with one group.
 [[nodiscard]] LooReport select_alpha(const Eigen::MatrixXd& Xn, const Eigen::MatrixXd& Y,
                                      const std::vector<std::string>& groups, const AlphaSearchParams& params);
+
+/// The outputs and figures at α into `rep` (alpha, mode, verification in `mode`, filtration, both
+/// modes' RMS and accuracy at α): one full blocked pass, O(N²·D + N²·K).
+void outputs_at_alpha(const Eigen::MatrixXd& Xn, const Eigen::MatrixXd& Y, const std::vector<std::string>& groups,
+                      double alpha, LooMode mode, Eigen::Index block_rows, LooReport& rep);
 
 /// Verification (mode PartOut/VectorOut) outputs at one α by a full blocked pass (no cache):
 /// N×K. Used for figures at a given α and as the reference in tests.
