@@ -579,7 +579,8 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
       int raised = 0;
       runs = detail::stepped_runs(
           whole, [&](double x, double y, double z) { return running->engagement(cutter, x, y, z); }, depth, min_cut,
-          cutter.radius() / 4, tol::rest_run_on_radii * cutter.radius(), &raised);
+          cutter.radius() / 4, tol::rest_run_on_radii * cutter.radius(), tol::rest_bridge_radii * cutter.radius(),
+          &raised);
       stepped += raised > 0 ? 1 : 0;
       air += runs.empty() ? 1 : 0;
     }

@@ -72,7 +72,8 @@ inline Eigen::Vector3d unit_normal(const ingest::Mesh& mesh, std::ptrdiff_t f) {
 /// left; `engagement`: how deep the tool with its tip at a point cuts into the stock, sampled every
 /// `sample_mm` along the piece). For Δ = k·depth_mm, k = ⌈h/depth_mm⌉ − 1 … 0 for the most h met
 /// (k = 0 only when depth_mm ≤ 0), the highest first: the stretches where the tool would cut more
-/// than Δ + min_cut_mm, run on by `run_on` at both ends (merged where they meet), lifted by Δ, each
+/// than Δ + min_cut_mm, run on by `run_on` at both ends (merged where they meet or lie no more than
+/// `bridge` apart: the tool stays on the pass rather than leaving it for a link), lifted by Δ, each
 /// level's in the piece's order and direction — so that a deep corner's rest is taken a depth at
 /// a time before the piece meets the rest of it, and the piece itself runs only where it cuts more
 /// than min_cut_mm. A stretch keeps the piece's vertices and interpolates its ends: it lies on or
@@ -83,7 +84,7 @@ inline Eigen::Vector3d unit_normal(const ingest::Mesh& mesh, std::ptrdiff_t f) {
 [[nodiscard]] std::vector<Pass> stepped_runs(const Pass& piece,
                                              const std::function<double(double, double, double)>& engagement,
                                              double depth_mm, double min_cut_mm, double sample_mm, double run_on,
-                                             int* raised = nullptr);
+                                             double bridge = 0.0, int* raised = nullptr);
 
 /// The passes reordered nearest first from `at` (3D distance; updated to the last pass's end): an
 /// open pass may be cut backwards, a loop may start at any vertex; `order` (one entry per pass),

@@ -350,7 +350,8 @@ Pass stretch_of(const std::vector<Eigen::Vector3d>& pts, const std::vector<doubl
 }  // namespace
 
 std::vector<Pass> stepped_runs(const Pass& piece, const std::function<double(double, double, double)>& engagement,
-                               double depth_mm, double min_cut_mm, double sample_mm, double run_on, int* raised) {
+                               double depth_mm, double min_cut_mm, double sample_mm, double run_on, double bridge,
+                               int* raised) {
   if (raised) *raised = 0;
   if (!engagement || piece.points.size() < 2) return {piece};
   // The piece's cumulative length at its vertices, then densified (every sample_mm along its
@@ -381,7 +382,7 @@ std::vector<Pass> stepped_runs(const Pass& piece, const std::function<double(dou
       std::size_t j = i;
       while (j + 1 < s.size() && h[j + 1] > over) ++j;
       const double a = std::max(0.0, s[i] - run_on), b = std::min(cum.back(), s[j] + run_on);
-      if (!runs.empty() && a <= runs.back().second)
+      if (!runs.empty() && a <= runs.back().second + bridge)
         runs.back().second = b;
       else
         runs.emplace_back(a, b);

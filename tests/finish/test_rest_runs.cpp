@@ -35,7 +35,7 @@ TEST(RestRuns, APieceCutsFromTheTopDownAndOnlyWhereItCuts) {
   const Pass piece = straight(0);
   int raised = -1;
   const auto runs = stepped_runs(
-      piece, [](double x, double, double z) { return depth_at(x, z); }, 1.0, 0.005, 0.05, 0.1, &raised);
+      piece, [](double x, double, double z) { return depth_at(x, z); }, 1.0, 0.005, 0.05, 0.1, 0.0, &raised);
   ASSERT_EQ(runs.size(), 4U);
   EXPECT_EQ(raised, 2);
   const double lift[] = {2, 1, 0, 0}, from[] = {1.9, 1.9, 1.9, 5.9}, to[] = {4.1, 4.1, 4.1, 7.1};
@@ -74,4 +74,17 @@ TEST(RestRuns, AWholePieceStaysAsPlannedAndOneInTheAirIsLeftOut) {
       straight(0), [](double x, double, double z) { return depth_at(x, z); }, 0.0, 0.005, 0.05, 0.1);
   ASSERT_EQ(flat.size(), 2U);  // [1.9, 4.1] and [5.9, 7.1] at the piece's height, however deep
   EXPECT_NEAR(flat[0].points.front().z(), 0.0, 1e-12);
+}
+
+// Stretches no more than `bridge` apart are cut as one (the tool stays on the pass across the gap
+// instead of leaving it for a link): [1.9, 4.1] and [5.9, 7.1] are 1.8 mm apart.
+TEST(RestRuns, StretchesABridgeApartAreCutAsOne) {
+  const auto depth = [](double x, double, double z) { return depth_at(x, z); };
+  const auto apart = stepped_runs(straight(0), depth, 0.0, 0.005, 0.05, 0.1, 1.7);
+  ASSERT_EQ(apart.size(), 2U);
+  const auto joined = stepped_runs(straight(0), depth, 0.0, 0.005, 0.05, 0.1, 1.9);
+  ASSERT_EQ(joined.size(), 1U);
+  EXPECT_NEAR(joined[0].points.front().x(), 1.9, 1e-9);
+  EXPECT_NEAR(joined[0].points.back().x(), 7.1, 1e-9);
+  EXPECT_EQ(joined[0].points.size(), 8U);  // 1.9, the vertices 2 … 7, 7.1
 }
