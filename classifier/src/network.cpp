@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -105,9 +106,9 @@ const char* to_string(Criterion c) { return c == Criterion::Regret ? "regret" : 
 
 namespace {
 
-/// α by the leave-one-part-out mean regret over the scan's candidates and the RMS optimum (ties:
-/// the lower RMS, then the larger α); the report's outputs and figures recomputed at it when it
-/// differs from the RMS choice. O(N²·(D + candidates·K)).
+/// α by the leave-one-part-out mean regret over the scan's candidates and a refined RMS optimum
+/// (ties: the lower RMS, then the larger α); the report's outputs and both modes' figures at it in
+/// one more pass (select_alpha left them). O(N²·(D + candidates·K)).
 void choose_by_regret(const MatrixXd& Xn, const TrainingSet& set, const AlphaSearchParams& search, Model& model) {
   LooReport& rep = model.loo;
   std::vector<double> alphas, rms;
@@ -159,20 +160,11 @@ Model train(const TrainingSet& set, const TrainParams& params) {
   const AlphaSearchParams& search = params.search;
   if (params.fixed_alpha > 0) {  // no search: the LOO figures and outputs are computed at the given α
     LooReport rep;
-    const MatrixXd ver_p =
-        verification_outputs(Xn, set.outputs, set.groups, params.fixed_alpha, LooMode::PartOut, search.block_rows);
-    const MatrixXd ver_v =
-        verification_outputs(Xn, set.outputs, set.groups, params.fixed_alpha, LooMode::VectorOut, search.block_rows);
-    rep.mode = search.mode;
-    rep.alpha = params.fixed_alpha;
-    rep.rms_part_at_alpha = rms_error(ver_p, set.outputs);
-    rep.rms_vector_at_alpha = rms_error(ver_v, set.outputs);
-    rep.accuracy_part_at_alpha = argmax_accuracy(ver_p, set.outputs);
-    rep.accuracy_vector_at_alpha = argmax_accuracy(ver_v, set.outputs);
+    if (std::set<std::string>(set.groups.begin(), set.groups.end()).size() < 2)
+      throw Error("leave-one-part-out needs at least 2 groups (source parts)");
+    outputs_at_alpha(Xn, set.outputs, set.groups, params.fixed_alpha, search.mode, search.block_rows, rep);
     rep.part = {params.fixed_alpha, rep.rms_part_at_alpha, rep.accuracy_part_at_alpha, Edge::None, 0};
     rep.vector = {params.fixed_alpha, rep.rms_vector_at_alpha, rep.accuracy_vector_at_alpha, Edge::None, 0};
-    rep.verification = search.mode == LooMode::PartOut ? ver_p : ver_v;
-    rep.filtration = evaluate_network(Xn, set.outputs, Xn, params.fixed_alpha, search.block_rows).outputs;
     // nearest d² to another group, for the unfamiliar threshold: one more blocked pass
     rep.nearest_d2.resize(Xn.rows());
     const VectorXd sq = Xn.rowwise().squaredNorm();
@@ -189,7 +181,7 @@ Model train(const TrainingSet& set, const TrainParams& params) {
         rep.nearest_d2(r0 + c) = best;
       }
     });
-    rep.full_passes = 4;
+    rep.full_passes = 2;
     model.loo = std::move(rep);
   } else {
     AlphaSearchParams sp = search;
