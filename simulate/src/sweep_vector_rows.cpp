@@ -68,6 +68,15 @@ const double* kept_heights(const Seg& g, const Profile& P, const double* zr, std
   return buffer.data();
 }
 
+/// The lowest a ball swept along g can reach on the row at y, less tol::envelope_skip_margin_mm:
+/// its lowest tip raised by its profile at the row's distance from the move's Y extent (every point
+/// of the move is at least that far from every cell of the row); −∞ on a row R or more from it.
+double row_floor(const Seg& g, const Profile& P, double y) {
+  const double dy = std::max({std::min(g.ay, g.by) - y, y - std::max(g.ay, g.by), 0.0});
+  if (!(dy < P.R)) return -kInf;
+  return g.zmin + P.R - std::sqrt(P.R2 - dy * dy) - tol::envelope_skip_margin_mm;
+}
+
 }  // namespace
 
 double line_engagement(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t iy, std::size_t i0,
@@ -103,12 +112,19 @@ void ball_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::si
   const double qy = -wy * ux, sy = wy * uy;
   const bool use_a = !g.skip_start, use_b = !g.skip_end;
   const std::uint32_t serial = g.serial;
+  const double floor_row = row_floor(g, P, y);
+  double* zr = z + iy * spec.nx;
   for (int k = 0; k < n; ++k) {
     std::size_t i0 = 0, i1 = 0;
     if (!cell_range(spans[k].lo, spans[k].hi, spec.x0, spec.cell, spec.nx, i0, i1)) continue;
+    // The span's ends that stand below the row's floor cannot be lowered: left out (a pass on a
+    // slope leaves most of the span behind it below the next move's floor). Exact: those cells keep
+    // their heights and stamps, and their negative cuts count for nothing.
+    while (i0 <= i1 && zr[i0] <= floor_row) ++i0;
+    if (i0 > i1) continue;
+    while (zr[i1] <= floor_row) --i1;  // stops at i0, which stands above the floor
     pad_to_vector(i0, i1, spec.nx);
     visited += i1 - i0 + 1;
-    double* zr = z + iy * spec.nx;
     std::uint32_t* sr = stamp + iy * spec.nx;
     double mx = item_cut, row_cut = 0;
     const int j0 = static_cast<int>(i0), j1 = static_cast<int>(i1);

@@ -37,6 +37,12 @@ inline constexpr double cell_range_slack_cells = 1e-9;
 /// sweep_kernels.cpp); it keeps this much beyond the exact line s = 0 (or s = L).
 inline constexpr double live_band_margin_mm = 1e-6;
 
+/// The ball kernel leaves out the cells at a row's ends that stand this far or more below the
+/// lowest the swept ball can reach on the row (its lowest tip raised by its profile at the row's
+/// distance from the move): the envelope there is surely above them, so the kernel would lower none
+/// of them, whatever its rounding (≤ 1e-13 mm on a 100 mm part).
+inline constexpr double envelope_skip_margin_mm = 1e-9;
+
 /// The Ra profile runs along the grid axis closest to the across-feed direction, stretched by
 /// 1 / cos of the angle between them; the cos is floored at this (it is ≥ 1/√2 for a unit
 /// direction: the floor only guards the division).
