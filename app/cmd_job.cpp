@@ -329,7 +329,8 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
     const tooling::CuttingData d =
         tooling::cutting_data(rest, lib.material(cs.material_id, cs.material_from),
                               config["simulate"]["allowance_mm"].get<double>(), cs.machine, cs.factors);
-    rest_cut = {d.rpm, d.feed_mm_min, d.feed_plunge_mm_min};
+    const finish::FinishParams rest_params = rest_finish_params(fs_, fs_.params, cutter_of(rest));
+    rest_cut = {d.rpm, d.feed_mm_min, d.feed_plunge_mm_min, rest_params.stepover_mm, rest_params.step_down_mm};
     if (std::optional<job::Operation> op =
             rest_operation(part, fs_, roughed, design, rest, rest_cut,
                            config["finish"]["rest"]["min_area_mm2"].get<double>(), o.keep_deep_cuts, stem, notes))
@@ -466,7 +467,7 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
     } else if (op.name.rfind("rest finishing", 0) == 0) {  // job_rest_program's passes and cutting data
       so.strategy = "rest finishing: pencil passes, then s1 slope mode in the rest regions";
       so.rpm = rest_cut.rpm, so.feed_mm_min = rest_cut.feed_mm_min;
-      so.stepover_mm = fs_.params.stepover_mm, so.step_down_mm = fs_.params.step_down_mm;
+      so.stepover_mm = rest_cut.stepover_mm, so.step_down_mm = rest_cut.step_down_mm;
     } else if (op.name == "roughing") {  // the roughing's own cutting data
       so.strategy = "Z-level roughing";
       so.rpm = rp.cut.spindle_rpm, so.feed_mm_min = rp.cut.feed_half;

@@ -377,6 +377,13 @@ job::SimParams sim_params(const FinishSettings& settings) {
   return p;
 }
 
+finish::FinishParams rest_finish_params(const FinishSettings& settings, finish::FinishParams base,
+                                        const tooling::Cutter& rest_tool) {
+  base.tool = rest_tool;
+  if (!settings.params_from_spec) return base;
+  return finish::params_for_spec(finish::Strategy::SlopeMode, settings.spec, std::move(base));
+}
+
 namespace {
 /// A program beside the strategies' (rest finishing, pencil tracing): <stem>.<kind>.nc, its path
 /// picture and <stem>.<kind>.json with `figures` and the program's own.
@@ -423,8 +430,7 @@ finish::RestStock rest_stock(const fs::path& file, const job::Part& part, const 
 void write_rest_and_pencil(const job::Part& part, const FinishSettings& settings, const PartJob& job,
                            const fs::path& out) {
   if (settings.rest_tool) {
-    finish::FinishParams p = job.params;
-    p.tool = *settings.rest_tool;
+    finish::FinishParams p = rest_finish_params(settings, job.params, *settings.rest_tool);
     if (settings.rest_feeds) {  // the rest tool's own cutting data, not the finishing ball's
       p.spindle_rpm = settings.rest_feeds->spindle_rpm;
       p.feed_mm_min = settings.rest_feeds->feed_mm_min;
@@ -447,6 +453,8 @@ void write_rest_and_pencil(const job::Part& part, const FinishSettings& settings
     }
     const finish::RestRegions r = finish::rest_regions(part.mesh, dropper, rp, p.x0, p.y0, p.x1, p.y1);
     Json figures{{"rest_tool", p.tool.describe()},
+                 {"stepover_mm", p.stepover_mm},
+                 {"step_down_mm", p.step_down_mm},
                  {rp.stock ? "rest_from" : "reference_tool", rp.stock ? behind : rp.reference.describe()},
                  {"threshold_mm", rp.threshold_mm},
                  {"cell_mm", r.cell},

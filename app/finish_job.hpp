@@ -53,6 +53,15 @@ struct PartJob {
 /// A simulated stock (a z-map in the program frame) as rest finishing reads it, in the part's frame.
 [[nodiscard]] finish::RestStock stock_of(simulate::ZMap z, const job::Frame& frame);
 
+/// The rest program's parameters: `base` (the finishing's) with the rest tool, and — when the
+/// strategies take theirs from the specification (/finish/params_from "spec") — the stepover and
+/// step-down that strategy 1, the rest's pattern, derives from the spec for that tool: the rest is
+/// finished to the surface specification the strategies were compared at, with its own ball's
+/// spacing (a Ø1 ball at the default 0.005 mm scallop: 0.141 mm on the surface; the finishing
+/// Ø2's 0.2 mm would leave 0.010 mm scallops, its 0.04 mm step-down cut 3.5× the Z-levels).
+[[nodiscard]] finish::FinishParams rest_finish_params(const FinishSettings& settings, finish::FinishParams base,
+                                                      const tooling::Cutter& rest_tool);
+
 /// Rest finishing as a job's operation (issue 41): the program of `rest_tool` behind the stock `z`
 /// the operations before it left (a z-map in the program frame), planned as `finish --rest-tool
 /// --rest-from` plans it, in the part's finishing frame. Empty, with `why` saying so, when the rest
@@ -60,6 +69,7 @@ struct PartJob {
 /// tool's spindle speed, feed and plunge feed.
 struct RestCut {
   double rpm = 0, feed_mm_min = 0, plunge_feed_mm_min = 0;
+  double stepover_mm = 0, step_down_mm = 0;  ///< rest_finish_params' (the setup sheet's)
 };
 [[nodiscard]] std::optional<gcode::Program> job_rest_program(const job::Part& part, const FinishSettings& settings,
                                                              const simulate::ZMap& z, const tooling::Cutter& rest_tool,

@@ -16,8 +16,7 @@ std::optional<gcode::Program> job_rest_program(const job::Part& part, const Fini
   FinishSettings plain = settings;
   plain.simulate = false;                                 // the frame and parameters only
   const PartJob job = finishing_job(part, plain, false);  // the rest tool drops on its own index below
-  finish::FinishParams p = job.params;
-  p.tool = rest_tool;
+  finish::FinishParams p = rest_finish_params(settings, job.params, rest_tool);
   p.tool_label.clear();
   p.comments = {"tool: " + p.tool.describe()};
   p.spindle_rpm = cut.rpm, p.feed_mm_min = cut.feed_mm_min, p.plunge_feed_mm_min = cut.plunge_feed_mm_min;

@@ -271,6 +271,11 @@ TEST(CliJob, RestFinishingIsAnOperationWithItsToolChangeWhereTheFinishingLeavesR
   EXPECT_LT(rest["air_cut_share"].get<double>(), 0.5);
   EXPECT_LE(j["simulated"]["max_gouge_mm"].get<double>(), 0.002);
   EXPECT_EQ(rest["strategy"].get<std::string>().rfind("rest finishing", 0), 0U) << rest["strategy"];
+  // At the specification's scallop (0.005 mm) with its own ball, as strategy 1 derives them: the Ø1's
+  // spacing w = 2√(2·0.5·0.005 − 0.005²) = 0.14107 mm, across the shallow ground w·cos 30°, down the
+  // walls w·sin 30° — not the Ø2 finishing's 0.2 mm (a 0.010 mm scallop with the Ø1) and 0.04 mm.
+  EXPECT_NEAR(rest["stepover_mm"].get<double>(), 0.122170, 1e-5) << rest.dump(1);
+  EXPECT_NEAR(rest["step_down_mm"].get<double>(), 0.070534, 1e-5) << rest.dump(1);
   // Its rest before and after (issue 41), as `simulate` splits them: less after, and what is left
   // is where the Ø1 cannot reach or missed (no stick-out: nothing beyond its reach).
   const double before = rest["rest_area_before_mm2"].get<double>(), after = rest["rest_area_after_mm2"].get<double>();
