@@ -69,10 +69,11 @@ inline Eigen::Vector3d unit_normal(const ingest::Mesh& mesh, std::ptrdiff_t f) {
                                            const std::vector<std::uint8_t>& near, double reach_mm, double add_mm);
 
 /// The stretches of `piece` that cut, from the top down (issue 41: cut only where material is
-/// left; `engagement`: how deep the tool with its tip at a point cuts into the stock, sampled every
-/// `sample_mm` along the piece). For Δ = k·depth_mm, k = ⌈h/depth_mm⌉ − 1 … 0 for the most h met
-/// (k = 0 only when depth_mm ≤ 0), the highest first: the stretches where the tool would cut more
-/// than Δ + min_cut_mm, run on by `run_on` at both ends (merged where they meet or lie no more than
+/// left; `removal`: how much the tool with its tip at a point takes off the stock — the most a cell
+/// stands above its surface, RestStock::removal — sampled every `sample_mm` along the piece). For
+/// Δ = k·depth_mm, k = ⌈h/depth_mm⌉ − 1 … 0 for the most h met (k = 0 only when depth_mm ≤ 0), the
+/// highest first: the stretches where the tool would take more than Δ + min_cut_mm (a copy raised
+/// by Δ takes h − Δ), run on by `run_on` at both ends (merged where they meet or lie no more than
 /// `bridge` apart: the tool stays on the pass rather than leaving it for a link), lifted by Δ, each
 /// level's in the piece's order and direction — so that a deep corner's rest is taken a depth at
 /// a time before the piece meets the rest of it, and the piece itself runs only where it cuts more
@@ -81,10 +82,16 @@ inline Eigen::Vector3d unit_normal(const ingest::Mesh& mesh, std::ptrdiff_t f) {
 /// itself, unchanged, when all of it cuts (or when nothing is known of the stock). None when no
 /// part of it cuts. `raised`, when given, is set to the number of raised levels (k ≥ 1) that have a
 /// stretch. O(samples · copies + points · stretches).
+/// `behind`, when given, measures each sample instead of `removal`, on the stock as the piece's
+/// samples before it leave it (RestStock::removal_behind): the tool's front takes the rest ahead of
+/// it, so the end of a patch is found where the front leaves it, not where the back does (the
+/// swept set of a path is the same run either way: the stretches hold whichever way the piece is
+/// then cut). O(samples² / piece) distance tests besides.
+using OwnSweep = std::function<double(const Eigen::Vector3d&, const Eigen::Vector3d*, std::size_t)>;
 [[nodiscard]] std::vector<Pass> stepped_runs(const Pass& piece,
-                                             const std::function<double(double, double, double)>& engagement,
+                                             const std::function<double(double, double, double)>& removal,
                                              double depth_mm, double min_cut_mm, double sample_mm, double run_on,
-                                             double bridge = 0.0, int* raised = nullptr);
+                                             double bridge = 0.0, int* raised = nullptr, const OwnSweep& behind = {});
 
 /// The passes reordered nearest first from `at` (3D distance; updated to the last pass's end): an
 /// open pass may be cut backwards, a loop may start at any vertex; `order` (one entry per pass),

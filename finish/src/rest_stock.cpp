@@ -106,6 +106,38 @@ double RestStock::engagement(const tooling::Cutter& tool, double x, double y, do
   return most;
 }
 
+double RestStock::removal(const tooling::Cutter& tool, double x, double y, double tip) const {
+  return removal_behind(tool, Eigen::Vector3d(x, y, tip), nullptr, 0);
+}
+
+double RestStock::removal_behind(const tooling::Cutter& tool, const Eigen::Vector3d& p, const Eigen::Vector3d* before,
+                                 std::size_t n) const {
+  const double r = tool.radius(), top = p.z() - z_offset;
+  std::vector<Eigen::Vector3d> near;   // the placements that may share a cell with this one
+  for (std::size_t k = 0; k < n; ++k)  // O(n)
+    if ((before[k].head<2>() - p.head<2>()).squaredNorm() <= 4 * r * r)
+      near.emplace_back(before[k].x(), before[k].y(), before[k].z() - z_offset);
+  const int j0 = std::max(0, static_cast<int>(std::floor((p.x() - r - x0) / cell))),
+            j1 = std::min(nx - 1, static_cast<int>(std::ceil((p.x() + r - x0) / cell)));
+  const int i0 = std::max(0, static_cast<int>(std::floor((p.y() - r - y0) / cell))),
+            i1 = std::min(ny - 1, static_cast<int>(std::ceil((p.y() + r - y0) / cell)));
+  double most = 0;
+  for (int i = i0; i <= i1; ++i)  // O((R / cell)² · near) cells
+    for (int j = j0; j <= j1; ++j) {
+      const double cx = x0 + j * cell, cy = y0 + i * cell, d = std::hypot(cx - p.x(), cy - p.y());
+      if (d > r) continue;
+      double h = z[static_cast<std::size_t>(i) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(j)];
+      const double surface = top + tool.profile_height(d);
+      if (!std::isfinite(h) || !(h - surface > most)) continue;
+      for (const Eigen::Vector3d& q : near) {
+        const double dq = std::hypot(cx - q.x(), cy - q.y());
+        if (dq <= r) h = std::min(h, q.z() + tool.profile_height(dq));
+      }
+      most = std::max(most, h - surface);
+    }
+  return most;
+}
+
 void RestStock::cut(const tooling::Cutter& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   const double r = tool.radius();
   const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / (cell / 2))));
@@ -349,17 +381,18 @@ Pass stretch_of(const std::vector<Eigen::Vector3d>& pts, const std::vector<doubl
 }
 }  // namespace
 
-std::vector<Pass> stepped_runs(const Pass& piece, const std::function<double(double, double, double)>& engagement,
+std::vector<Pass> stepped_runs(const Pass& piece, const std::function<double(double, double, double)>& removal,
                                double depth_mm, double min_cut_mm, double sample_mm, double run_on, double bridge,
-                               int* raised) {
+                               int* raised, const OwnSweep& behind) {
   if (raised) *raised = 0;
-  if (!engagement || piece.points.size() < 2) return {piece};
+  if (!removal || piece.points.size() < 2) return {piece};
   // The piece's cumulative length at its vertices, then densified (every sample_mm along its
   // segments) with the stock over each sample.
   std::vector<double> cum{0.0};
   for (std::size_t i = 1; i < piece.points.size(); ++i)  // O(points)
     cum.push_back(cum.back() + (piece.points[i] - piece.points[i - 1]).norm());
   std::vector<double> s, h;                                    // path length, depth the tool cuts at the sample
+  std::vector<Eigen::Vector3d> placed;                         // the samples before (the piece's own sweep)
   for (std::size_t i = 0; i + 1 < piece.points.size(); ++i) {  // O(length / sample)
     const Eigen::Vector3d &a = piece.points[i], &b = piece.points[i + 1];
     const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / sample_mm)));
@@ -367,7 +400,8 @@ std::vector<Pass> stepped_runs(const Pass& piece, const std::function<double(dou
       const double f = static_cast<double>(t) / n;
       const Eigen::Vector3d p = a + (b - a) * f;
       s.push_back(cum[i] + (cum[i + 1] - cum[i]) * f);
-      h.push_back(engagement(p.x(), p.y(), p.z()));
+      h.push_back(behind ? behind(p, placed.data(), placed.size()) : removal(p.x(), p.y(), p.z()));
+      placed.push_back(p);
     }
   }
   const double most = *std::max_element(h.begin(), h.end());

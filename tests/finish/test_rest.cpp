@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -304,6 +306,51 @@ TEST(RestStock, EngagementAndCutAreTheToolsProfileOverTheCells) {
   EXPECT_NEAR(st.engagement(ball, 2, 1, 0.7), 0.3, 1e-12);
   st.z_offset = 0.5;  // heights read 0.5 higher
   EXPECT_NEAR(st.engagement(ball, 2, 1, 1.2), 0.3, 1e-12);
+}
+
+// What a tool takes off is the most a cell stands above its surface, not how high above its tip
+// the cell stands: a cell grazed at the ball's rim is a hair's cut however tall (issue 41's air).
+TEST(RestStock, RemovalIsTheMostACellStandsAboveTheToolsSurface) {
+  RestStock st;
+  st.cell = 0.05, st.x0 = 0, st.y0 = 0, st.nx = 81, st.ny = 41;
+  st.z.assign(81 * 41, 0.0);
+  const Cutter ball = Cutter::ball(1);
+  // One column 1 mm tall at (1.45, 1): 0.45 from a tip at (1, 1, 0), where the ball's surface stands
+  // 0.5 − √(0.25 − 0.45²) = 0.28206 high: it takes 0.71794 off, the flutes meet it 1 mm up.
+  st.z[20 * 81 + 29] = 1.0;
+  const double surface = 0.5 - std::sqrt(0.25 - 0.45 * 0.45);
+  EXPECT_NEAR(st.removal(ball, 1, 1, 0.0), 1.0 - surface, 1e-12);
+  EXPECT_NEAR(st.engagement(ball, 1, 1, 0.0), 1.0, 1e-12);
+  // A tip 0.7 up: the column stands 0.01794 over the surface — the engagement still reads 0.3.
+  EXPECT_NEAR(st.removal(ball, 1, 1, 0.7), 0.3 - surface, 1e-12);
+  EXPECT_NEAR(st.engagement(ball, 1, 1, 0.7), 0.3, 1e-12);
+  EXPECT_EQ(st.removal(ball, 1, 1, 1.0 - surface), 0.0);
+  st.z_offset = 0.5;
+  EXPECT_NEAR(st.removal(ball, 1, 1, 1.2), 0.3 - surface, 1e-12);
+}
+
+// removal_behind is removal on the stock as the placements before leave it: against a copy cut by
+// them (RestStock::cut of a point), on a bumpy stock, at random placements (fixed seed).
+TEST(RestStock, RemovalBehindPlacementsIsRemovalOnTheStockTheyLeave) {
+  RestStock st;
+  st.cell = 0.05, st.x0 = 0, st.y0 = 0, st.nx = 61, st.ny = 61;
+  st.z.resize(61 * 61);
+  for (int i = 0; i < 61; ++i)
+    for (int j = 0; j < 61; ++j)
+      st.z[static_cast<std::size_t>(i * 61 + j)] = 0.3 + 0.2 * std::sin(0.4 * i) * std::cos(0.3 * j);
+  const Cutter ball = Cutter::ball(1);
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> xy(1.0, 2.0), zz(0.0, 0.4);
+  for (int trial = 0; trial < 40; ++trial) {
+    SCOPED_TRACE(trial);
+    std::vector<Eigen::Vector3d> before;
+    for (int k = 0; k < trial % 6; ++k) before.emplace_back(xy(rng), xy(rng), zz(rng));
+    const Eigen::Vector3d p(xy(rng), xy(rng), zz(rng));
+    RestStock cut = st;
+    for (const Eigen::Vector3d& q : before) cut.cut(ball, q, q);
+    EXPECT_NEAR(st.removal_behind(ball, p, before.data(), before.size()), cut.removal(ball, p.x(), p.y(), p.z()),
+                1e-12);
+  }
 }
 
 namespace {

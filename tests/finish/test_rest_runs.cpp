@@ -2,6 +2,9 @@
 // stretches and their lifts by hand, on a made-up stock depth along a straight piece.
 #include "rest_internal.hpp"
 
+#include "millnet/finish/rest.hpp"
+#include "millnet/tooling/cutter.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -87,4 +90,33 @@ TEST(RestRuns, StretchesABridgeApartAreCutAsOne) {
   EXPECT_NEAR(joined[0].points.front().x(), 1.9, 1e-9);
   EXPECT_NEAR(joined[0].points.back().x(), 7.1, 1e-9);
   EXPECT_EQ(joined[0].points.size(), 8U);  // 1.9, the vertices 2 … 7, 7.1
+}
+
+// With the piece's own sweep (RestStock::removal_behind) a patch ends where the tool's front leaves
+// it: a Ø1 ball at tip 0 along y = 1 over a block 0.1 mm tall on 1 ≤ x ≤ 2 (cells of 0.025). Judged
+// on the stock as it was, the ball's back still meets the block until its surface clears 0.1 mm,
+// √(2·0.5·0.1 − 0.1²) = 0.3 past x = 2; behind its own samples (0.125 apart, each leaving cusps of
+// 0.5 − √(0.25 − 0.0625²) = 0.0039 mm < the 0.005 mm left out) it takes nothing past x = 2 + a sample.
+TEST(RestRuns, APatchEndsWhereTheToolsFrontLeavesIt) {
+  millnet::finish::RestStock st;
+  st.cell = 0.025, st.x0 = 0, st.y0 = 0, st.nx = 161, st.ny = 81;
+  st.z.assign(161 * 81, 0.0);
+  for (int i = 0; i < 81; ++i)
+    for (int j = 40; j <= 80; ++j) st.z[static_cast<std::size_t>(i * 161 + j)] = 0.1;
+  const auto ball = millnet::tooling::Cutter::ball(1);
+  Pass piece;
+  piece.points = {{0.2, 1, 0}, {3.8, 1, 0}};
+  auto removal = [&](double x, double y, double z) { return st.removal(ball, x, y, z); };
+  const auto plain = stepped_runs(piece, removal, 0.0, 0.005, 0.125, 0.0625, 0.5);
+  ASSERT_EQ(plain.size(), 1U);
+  EXPECT_NEAR(plain.front().points.front().x(), 1 - 0.3, 0.125 + 0.0625 + 1e-9);
+  EXPECT_GT(plain.front().points.back().x(), 2.2);
+  const auto own = stepped_runs(piece, removal, 0.0, 0.005, 0.125, 0.0625, 0.5, nullptr,
+                                [&](const Eigen::Vector3d& p, const Eigen::Vector3d* before, std::size_t n) {
+                                  return st.removal_behind(ball, p, before, n);
+                                });
+  ASSERT_EQ(own.size(), 1U);
+  EXPECT_NEAR(own.front().points.front().x(), plain.front().points.front().x(), 1e-9);  // it meets it alike
+  EXPECT_LT(own.front().points.back().x(), 2 + 0.125 + 0.0625 + 1e-9);
+  EXPECT_GE(own.front().points.back().x(), 2 - 0.0625);
 }

@@ -68,6 +68,17 @@ struct RestStock {
   /// not finite skipped; 0 when it cuts nothing). The simulation's axial engagement, on this
   /// stock. O((R / cell)²).
   [[nodiscard]] double engagement(const tooling::Cutter& tool, double x, double y, double tip) const;
+  /// How much `tool` with its tip at (x, y, tip) takes off: the most a cell within its radius
+  /// stands above the tool's surface over it (cells at their centres, cells not finite skipped; 0
+  /// when it cuts nothing). Not the engagement: a cell grazed at the ball's rim is cut by a hair
+  /// however high on the flutes. O((R / cell)²).
+  [[nodiscard]] double removal(const tooling::Cutter& tool, double x, double y, double tip) const;
+  /// removal() on the stock as `tool` leaves it placed at the tips before[0 … n) first (the
+  /// samples of the same piece before this one): each cell within its radius taken at the lowest of
+  /// its height and those placements' surfaces over it — what the tool takes that its own path has
+  /// not already taken. Placements farther than 2R in XY are skipped. O((R / cell)² · n).
+  [[nodiscard]] double removal_behind(const tooling::Cutter& tool, const Eigen::Vector3d& tip,
+                                      const Eigen::Vector3d* before, std::size_t n) const;
   /// `tool` swept from a to b (tips, the grid's frame less z_offset): every cell within its radius
   /// lowered to the tool's surface over it, sampled every half cell along the segment.
   /// O(length / cell · (R / cell)²).
