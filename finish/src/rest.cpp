@@ -555,23 +555,19 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
   // Each piece where it cuts, from the top down, on a copy of the stock machined piece by piece:
   // a piece cuts only where the tool takes more than the scallop off what the pieces before it
   // left (a corner the pencil passes cleaned is not run over again: the air issue 41 names) — the
-  // most a cell stands above the tool's surface (RestStock::removal), on the stock as the piece's
-  // own samples before leave it (removal_behind: a patch ends where the tool's front leaves it).
-  // Not the axial engagement, which reads a cell grazed at the ball's rim as a cut as high as the
-  // cell stands: judged by it, README command 1's jobs ran s1's rest with 27.6 % of its feed in air
-  // and s4's with 25.8 %; by the removal 20.3 % and 20.7 %, the rest missed the same. A piece that
-  // would take more than the flutes reach is preceded by raised copies of it, each begun from its
-  // end nearest the tool, a step apart: a copy takes at most a step, so the flutes meet at most a
-  // step plus what a copy leaves beside a wall (its profile's height at its rim: R for a ball) —
-  // the step is the flute length less that (s1 of README command 1, Ø1 ball with 1.5 mm flutes:
-  // 1 mm steps, the deepest cut 2.48 → 1.09 mm; 1.32 mm since the removal decides). No run-on:
-  // behind its own samples, the last sample that takes more than the scallop is where the tool's
-  // front leaves the patch (the next would take no more than that), and before the first one the
-  // tool took no more either — the R/8 the trim runs on by (tol::rest_run_on_radii) cut air at the
-  // pieces' ends: 20.3 → 15.0 % of s1's feed, 20.7 → 17.3 % of s4's, the rest missed the same or
-  // less (4.39 → 4.38, 13.30 → 13.17 mm²). No stepping under 0.1 mm steps (flutes shorter than the profile: the job's flute
-  // check says so). Without stated flutes the pieces are cut as planned: the z-map's columns would
-  // credit a pass's flank with a wall's whole rest above it, however tall.
+  // most a cell stands above the tool's surface (RestStock::removal; not the axial engagement,
+  // which reads a cell grazed at the ball's rim as a cut as high as the cell stands), on the stock
+  // as the piece's own samples before leave it (removal_behind: a patch ends where the tool's front
+  // leaves it). No run-on: the last sample that takes more than the scallop is where the front
+  // leaves the patch, and before the first the tool took no more either (docs/finishing.md, "At
+  // the specification, by what it takes off": the air these took out). A piece that would take
+  // more than the flutes reach is preceded by raised copies of it, each begun from its end nearest
+  // the tool, a step apart: a copy takes at most a step, so the flutes meet at most a step plus
+  // what a copy leaves beside a wall (its profile's height at its rim: R for a ball) — the step is
+  // the flute length less that (s1 of README command 1, Ø1 ball with 1.5 mm flutes: 1 mm steps,
+  // the deepest cut 2.48 → 1.37 mm). No stepping under 0.1 mm steps (flutes shorter than the
+  // profile: the job's flute check says so). Without stated flutes the pieces are cut as planned:
+  // the z-map's columns would credit a pass's flank with a wall's whole rest above it, however tall.
   const tooling::Cutter& cutter = new_tool.cutter();
   const double step = params.tool.flute_length_mm - cutter.profile_height(cutter.radius());
   const double depth = step >= 0.1 ? step : 0.0;

@@ -204,11 +204,12 @@ struct RestAgainstFloor {
 /// params.boundary's; on_part kept) and its raster along its principal direction; a region narrower
 /// than the tool gets its pencil passes only. The passes, nearest first, are each cut to the pieces
 /// where the tool removes rest that the regions measure and the pieces before it left (over half
-/// the threshold at its contact; detail::trim_to_rest), run on by R/8 at both ends (tol::rest_run_on_radii), and the pieces
-/// ordered nearest first again. Over what was left as heights (regions.left) with the flutes known,
-/// each piece is cut again, from the top down, to where it takes more than the scallop off the
-/// stock its own samples and the pieces before it leave (detail::stepped_runs, no run-on). All linked into one program whose links clear regions.stock_tip
-/// and whose entries come down to tol::rest_approach_mm above it. The program's header names it
+/// the threshold at its contact; detail::trim_to_rest), run on by R/8 at both ends
+/// (tol::rest_run_on_radii), and the pieces ordered nearest first again. Over what was left as
+/// heights (regions.left) with the flutes known, each piece is cut again, from the top down, to
+/// where it takes more than the scallop off the stock its own samples and the pieces before it
+/// leave (detail::stepped_runs, no run-on). All linked into one program whose links clear
+/// regions.stock_tip and whose entries come down to tol::rest_approach_mm above it. The program's header names it
 /// rest finishing and the reference tool. Throws millnet::Error when the regions are empty.
 /// `behind` names what left the rest ("ball D6", "the stock of FILE") in the header and errors.
 [[nodiscard]] FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const RestRegions& regions,
