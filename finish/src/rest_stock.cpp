@@ -14,12 +14,30 @@
 #include <numbers>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace millnet::finish {
 namespace {
 
 void require_stock(bool ok, const std::string& key, const std::string& what) {
   if (!ok) throw Error("rest: " + key + " " + what);
+}
+
+/// visit(cx, cy, d, h) for each cell of `st` whose centre (cx, cy) lies within r of (x, y) (d its
+/// distance, h its height). O((r / cell)²).
+template <class Stock, class Visit>
+void cells_within(Stock& st, double x, double y, double r, Visit&& visit) {
+  const int j0 = std::max(0, static_cast<int>(std::floor((x - r - st.x0) / st.cell))),
+            j1 = std::min(st.nx - 1, static_cast<int>(std::ceil((x + r - st.x0) / st.cell)));
+  const int i0 = std::max(0, static_cast<int>(std::floor((y - r - st.y0) / st.cell))),
+            i1 = std::min(st.ny - 1, static_cast<int>(std::ceil((y + r - st.y0) / st.cell)));
+  for (int i = i0; i <= i1; ++i)
+    for (int j = j0; j <= j1; ++j) {
+      const double cx = st.x0 + j * st.cell, cy = st.y0 + i * st.cell, d = std::hypot(cx - x, cy - y);
+      if (d <= r)
+        visit(cx, cy, d,
+              st.z[static_cast<std::size_t>(i) * static_cast<std::size_t>(st.nx) + static_cast<std::size_t>(j)]);
+    }
 }
 
 }  // namespace
@@ -90,19 +108,11 @@ double RestStock::clearing_tip(const tooling::Cutter& tool, double x, double y) 
 }
 
 double RestStock::engagement(const tooling::Cutter& tool, double x, double y, double tip) const {
-  const double r = tool.radius(), top = tip - z_offset;  // in the grid's heights
-  const int j0 = std::max(0, static_cast<int>(std::floor((x - r - x0) / cell))),
-            j1 = std::min(nx - 1, static_cast<int>(std::ceil((x + r - x0) / cell)));
-  const int i0 = std::max(0, static_cast<int>(std::floor((y - r - y0) / cell))),
-            i1 = std::min(ny - 1, static_cast<int>(std::ceil((y + r - y0) / cell)));
+  const double top = tip - z_offset;  // in the grid's heights
   double most = 0;
-  for (int i = i0; i <= i1; ++i)  // O((R / cell)²) cells
-    for (int j = j0; j <= j1; ++j) {
-      const double d = std::hypot(x0 + j * cell - x, y0 + i * cell - y);
-      if (d > r) continue;
-      const double h = z[static_cast<std::size_t>(i) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(j)];
-      if (std::isfinite(h) && h > top + tool.profile_height(d)) most = std::max(most, h - top);
-    }
+  cells_within(*this, x, y, tool.radius(), [&](double, double, double d, double h) {  // O((R / cell)²)
+    if (std::isfinite(h) && h > top + tool.profile_height(d)) most = std::max(most, h - top);
+  });
   return most;
 }
 
@@ -113,48 +123,31 @@ double RestStock::removal(const tooling::Cutter& tool, double x, double y, doubl
 double RestStock::removal_behind(const tooling::Cutter& tool, const Eigen::Vector3d& p, const Eigen::Vector3d* before,
                                  std::size_t n) const {
   const double r = tool.radius(), top = p.z() - z_offset;
-  std::vector<Eigen::Vector3d> near;   // the placements that may share a cell with this one
+  thread_local std::vector<Eigen::Vector3d> near;  // the placements that may share a cell with this one
+  near.clear();
   for (std::size_t k = 0; k < n; ++k)  // O(n)
     if ((before[k].head<2>() - p.head<2>()).squaredNorm() <= 4 * r * r)
       near.emplace_back(before[k].x(), before[k].y(), before[k].z() - z_offset);
-  const int j0 = std::max(0, static_cast<int>(std::floor((p.x() - r - x0) / cell))),
-            j1 = std::min(nx - 1, static_cast<int>(std::ceil((p.x() + r - x0) / cell)));
-  const int i0 = std::max(0, static_cast<int>(std::floor((p.y() - r - y0) / cell))),
-            i1 = std::min(ny - 1, static_cast<int>(std::ceil((p.y() + r - y0) / cell)));
   double most = 0;
-  for (int i = i0; i <= i1; ++i)  // O((R / cell)² · near) cells
-    for (int j = j0; j <= j1; ++j) {
-      const double cx = x0 + j * cell, cy = y0 + i * cell, d = std::hypot(cx - p.x(), cy - p.y());
-      if (d > r) continue;
-      double h = z[static_cast<std::size_t>(i) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(j)];
-      const double surface = top + tool.profile_height(d);
-      if (!std::isfinite(h) || !(h - surface > most)) continue;
-      for (const Eigen::Vector3d& q : near) {
-        const double dq = std::hypot(cx - q.x(), cy - q.y());
-        if (dq <= r) h = std::min(h, q.z() + tool.profile_height(dq));
-      }
-      most = std::max(most, h - surface);
-    }
+  cells_within(*this, p.x(), p.y(), r, [&](double cx, double cy, double d, double h) {  // O((R / cell)² · near)
+    const double surface = top + tool.profile_height(d);
+    if (!std::isfinite(h) || !(h - surface > most)) return;
+    for (const Eigen::Vector3d& q : near)
+      if (const double dq = std::hypot(cx - q.x(), cy - q.y()); dq <= r)
+        h = std::min(h, q.z() + tool.profile_height(dq));
+    most = std::max(most, h - surface);
+  });
   return most;
 }
 
 void RestStock::cut(const tooling::Cutter& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const double r = tool.radius();
   const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / (cell / 2))));
   for (int t = 0; t <= n; ++t) {  // O(length / cell) placements
     const Eigen::Vector3d q = a + (b - a) * (static_cast<double>(t) / n);
     const double tip = q.z() - z_offset;
-    const int j0 = std::max(0, static_cast<int>(std::floor((q.x() - r - x0) / cell))),
-              j1 = std::min(nx - 1, static_cast<int>(std::ceil((q.x() + r - x0) / cell)));
-    const int i0 = std::max(0, static_cast<int>(std::floor((q.y() - r - y0) / cell))),
-              i1 = std::min(ny - 1, static_cast<int>(std::ceil((q.y() + r - y0) / cell)));
-    for (int i = i0; i <= i1; ++i)  // O((R / cell)²) cells
-      for (int j = j0; j <= j1; ++j) {
-        const double d = std::hypot(x0 + j * cell - q.x(), y0 + i * cell - q.y());
-        if (d > r) continue;
-        double& h = z[static_cast<std::size_t>(i) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(j)];
-        h = std::min(h, tip + tool.profile_height(d));
-      }
+    cells_within(*this, q.x(), q.y(), tool.radius(), [&](double, double, double d, double& h) {  // O((R / cell)²)
+      h = std::min(h, tip + tool.profile_height(d));
+    });
   }
 }
 
