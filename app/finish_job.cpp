@@ -380,6 +380,7 @@ job::SimParams sim_params(const FinishSettings& settings) {
 finish::FinishParams rest_finish_params(const FinishSettings& settings, finish::FinishParams base,
                                         const tooling::Cutter& rest_tool) {
   base.tool = rest_tool;
+  base.motion = settings.machine;  // its links over the stock timed as the machine moves
   if (!settings.params_from_spec) return base;
   return finish::params_for_spec(finish::Strategy::SlopeMode, settings.spec, std::move(base));
 }

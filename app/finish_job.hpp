@@ -58,7 +58,8 @@ struct PartJob {
 /// step-down that strategy 1, the rest's pattern, derives from the spec for that tool: the rest is
 /// finished to the surface specification the strategies were compared at, with its own ball's
 /// spacing (a Ø1 ball at the default 0.005 mm scallop: 0.141 mm on the surface; the finishing
-/// Ø2's 0.2 mm would leave 0.010 mm scallops, its 0.04 mm step-down cut 3.5× the Z-levels).
+/// Ø2's 0.2 mm would leave 0.010 mm scallops, its 0.04 mm step-down cut 3.5× the Z-levels). Its
+/// links over the stock are timed by the machine's motion (/machine).
 [[nodiscard]] finish::FinishParams rest_finish_params(const FinishSettings& settings, finish::FinishParams base,
                                                       const tooling::Cutter& rest_tool);
 

@@ -2,7 +2,8 @@
 // surface at feed, so they cannot gouge), lifts elsewhere (up to the highest CL point under the
 // link plus the clearance, across at rapid, down at rapid to the clearance, plunge at the plunge
 // feed), the end at safe Z. Over a stock (FinishParams::stock_tip, rest finishing) the lifts clear
-// the stock too, and the rapid down stops tol::rest_approach_mm above it instead of the clearance.
+// the stock too, the rapid down stops tol::rest_approach_mm above it instead of the clearance, and
+// a short link stays down only when that is quicker on the machine (FinishParams::motion) than a lift.
 #include "boundary.hpp"
 #include "sampling.hpp"
 
@@ -57,6 +58,18 @@ private:
   gcode::Point3 at_{0, 0, 0};
 };
 
+/// Seconds the machine takes over `moves` from `from`, from rest to rest (gcode::stats' planner).
+double moves_time_s(const gcode::Point3& from, const std::vector<gcode::Move>& moves, const gcode::MotionModel& m) {
+  gcode::Program prog;
+  gcode::Move at;
+  at.motion = gcode::Motion::Rapid;
+  at.to = from;
+  at.axes = gcode::kXYZ;
+  prog.items.emplace_back(at);
+  for (const gcode::Move& mv : moves) prog.items.emplace_back(mv);  // O(moves)
+  return gcode::stats(prog, m).kinematic_time_min * 60;
+}
+
 }  // namespace
 
 void link_passes(const Sampler& s, const FinishParams& p, const Fence& fence, FinishPlan& plan) {
@@ -95,16 +108,14 @@ void link_passes(const Sampler& s, const FinishParams& p, const Fence& fence, Fi
                (!p.stock_engagement ||
                 p.stock_engagement(q.p.x(), q.p.y(), std::max(q.p.z(), floor_z)) <= p.link_max_cut_mm);
       });
-      if (d <= stay_max && stays_in) {
-        // Over a stock (rest finishing) a link never dips below the lower of its ends: between two
-        // raised passes stepping a corner's rest down it would cut through what they leave.
-        for (std::size_t i = 1; i + 1 < link.size(); ++i) {
-          Eigen::Vector3d q = link[i].p;
-          q.z() = std::max(q.z(), floor_z);
-          b.line(q, p.feed_mm_min);
-        }
-        b.line(start, p.feed_mm_min);
-      } else {
+      // Over a stock a link never dips below the lower of its ends: between two raised passes
+      // stepping a corner's rest down it would cut through what they leave.
+      std::vector<Eigen::Vector3d> stay;
+      if (d <= stay_max && stays_in)
+        for (std::size_t i = 1; i + 1 < link.size(); ++i)
+          stay.emplace_back(link[i].p.x(), link[i].p.y(), std::max(link[i].p.z(), floor_z));
+      // The lift's height: the highest CL point (and stock) under the link plus the clearance.
+      auto lift_height = [&] {
         double top = std::max(prev->z(), start.z());
         const auto n = static_cast<int>(std::ceil(d / h0));
         for (int i = 0; i <= n; ++i) {  // O(d / h0) drops (and stock tips)
@@ -112,7 +123,35 @@ void link_passes(const Sampler& s, const FinishParams& p, const Fence& fence, Fi
           if (i > 0 && i < n) top = std::max(top, s.z(q.x(), q.y()));
           if (p.stock_tip) top = std::max(top, p.stock_tip(q.x(), q.y()));
         }
-        const double lift = std::min(top + p.clearance_mm, p.safe_z_mm - p.z_shift);
+        return std::min(top + p.clearance_mm, p.safe_z_mm - p.z_shift);
+      };
+      bool stays = d <= stay_max && stays_in;
+      double lift = 0;
+      if (!stays || p.stock_tip) lift = lift_height();
+      if (stays && p.stock_tip) {  // over a stock: the quicker of the two
+        const auto move = [](gcode::Motion kind, const Eigen::Vector3d& q, double feed) {
+          gcode::Move m;
+          m.motion = kind;
+          m.to = {q.x(), q.y(), q.z()};
+          m.feed = feed;
+          m.axes = gcode::kXYZ;
+          return m;
+        };
+        std::vector<gcode::Move> fed, lifted;
+        for (const Eigen::Vector3d& q : stay) fed.push_back(move(gcode::Motion::Line, q, p.feed_mm_min));
+        fed.push_back(move(gcode::Motion::Line, start, p.feed_mm_min));
+        lifted.push_back(move(gcode::Motion::Rapid, Eigen::Vector3d(prev->x(), prev->y(), lift), 0));
+        lifted.push_back(move(gcode::Motion::Rapid, Eigen::Vector3d(start.x(), start.y(), lift), 0));
+        if (entry(start) < lift)
+          lifted.push_back(move(gcode::Motion::Rapid, Eigen::Vector3d(start.x(), start.y(), entry(start)), 0));
+        lifted.push_back(move(gcode::Motion::Line, start, p.plunge_feed_mm_min));
+        const gcode::Point3 from{prev->x(), prev->y(), prev->z()};
+        stays = moves_time_s(from, fed, p.motion) <= moves_time_s(from, lifted, p.motion);
+      }
+      if (stays) {
+        for (const Eigen::Vector3d& q : stay) b.line(q, p.feed_mm_min);
+        b.line(start, p.feed_mm_min);
+      } else {
         b.rapid(prev->x(), prev->y(), lift, gcode::kZ);
         b.rapid(start.x(), start.y(), lift, gcode::kX | gcode::kY);
         if (entry(start) < lift) b.rapid(start.x(), start.y(), entry(start), gcode::kZ);

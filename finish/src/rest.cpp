@@ -550,8 +550,6 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
   const auto narrow = static_cast<std::size_t>(std::count(cut.begin(), cut.end(), 0));
   at = Eigen::Vector3d(regions.x0, regions.y0, params.safe_z_mm - params.z_shift);
   const Eigen::Vector3d start = at;
-  std::vector<Pass> ordered = detail::order_nearest(pencil, at);
-  for (Pass& piece : detail::order_nearest(std::move(rest), at)) ordered.push_back(std::move(piece));
   // Each piece where it cuts, from the top down, on a copy of the stock machined piece by piece:
   // a piece cuts only where the tool takes more than the scallop off what the pieces before it
   // left (a corner the pencil passes cleaned is not run over again: the air issue 41 names) — the
@@ -578,29 +576,34 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
   // more rest over it on the pocket of CliJob's rest test).
   const double min_cut = std::clamp(params.scallop_mm, 0.0, regions.threshold_mm);
   std::size_t stepped = 0, air = 0;
-  for (Pass& piece : ordered) {  // O(pieces · samples · (R / cell)²)
-    std::vector<Pass> runs{std::move(piece)};
-    if (running) {
-      const Pass whole = std::move(runs.front());
-      int raised = 0;
-      runs = detail::stepped_runs(
-          whole, [&](double x, double y, double z) { return running->removal(cutter, x, y, z); }, depth, min_cut,
-          cutter.radius() / 4, 0.0, tol::rest_bridge_radii * cutter.radius(), &raised,
-          [&](const Eigen::Vector3d& q, const Eigen::Vector3d* before, std::size_t n) {
-            return running->removal_behind(cutter, q, before, n);
-          });
-      stepped += raised > 0 ? 1 : 0;
-      air += runs.empty() ? 1 : 0;
-    }
-    Eigen::Vector3d from = plan.passes.empty() ? start : plan.passes.back().points.back();
-    for (Pass& c : runs) {
-      if (!c.closed && (c.points.back() - from).squaredNorm() < (c.points.front() - from).squaredNorm())
-        std::reverse(c.points.begin(), c.points.end());
-      from = c.points.back();
-      plan.passes.push_back(std::move(c));
-      if (running)
-        for (std::size_t i = 0; i + 1 < plan.passes.back().points.size(); ++i)  // O(segments)
-          running->cut(cutter, plan.passes.back().points[i], plan.passes.back().points[i + 1]);
+  Eigen::Vector3d from = start;  // where the tool is
+  // The next piece is the one nearest where the tool is (not where the piece before ended: its
+  // runs may end short of it, or it may cut nothing), the pencil pieces first.
+  for (std::vector<Pass>* group : {&pencil, &rest}) {
+    std::vector<std::uint8_t> done(group->size(), 0);
+    for (std::size_t left = group->size(); left > 0; --left) {  // O(pieces · (points + samples · (R / cell)²))
+      std::vector<Pass> runs{detail::take_nearest(*group, done, from)};
+      if (running) {
+        const Pass whole = std::move(runs.front());
+        int raised = 0;
+        runs = detail::stepped_runs(
+            whole, [&](double x, double y, double z) { return running->removal(cutter, x, y, z); }, depth, min_cut,
+            cutter.radius() / 4, 0.0, tol::rest_bridge_radii * cutter.radius(), &raised,
+            [&](const Eigen::Vector3d& q, const Eigen::Vector3d* before, std::size_t n) {
+              return running->removal_behind(cutter, q, before, n);
+            });
+        stepped += raised > 0 ? 1 : 0;
+        air += runs.empty() ? 1 : 0;
+      }
+      for (Pass& c : runs) {
+        if (!c.closed && (c.points.back() - from).squaredNorm() < (c.points.front() - from).squaredNorm())
+          std::reverse(c.points.begin(), c.points.end());
+        from = c.points.back();
+        plan.passes.push_back(std::move(c));
+        if (running)
+          for (std::size_t i = 0; i + 1 < plan.passes.back().points.size(); ++i)  // O(segments)
+            running->cut(cutter, plan.passes.back().points[i], plan.passes.back().points[i + 1]);
+      }
     }
   }
   params.stock_tip = regions.stock_tip;

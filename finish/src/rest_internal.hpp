@@ -87,9 +87,9 @@ inline Eigen::Vector3d unit_normal(const ingest::Mesh& mesh, std::ptrdiff_t f) {
 /// it, so the end of a patch is found where the front leaves it, not where the back does (the
 /// swept set of a path is the same run either way: the stretches hold whichever way the piece is
 /// then cut). O(samples² / piece) distance tests besides.
-using OwnSweep = std::function<double(const Eigen::Vector3d&, const Eigen::Vector3d*, std::size_t)>;
+using OwnSweep = std::function<Removal(const Eigen::Vector3d&, const Eigen::Vector3d*, std::size_t)>;
 [[nodiscard]] std::vector<Pass> stepped_runs(const Pass& piece,
-                                             const std::function<double(double, double, double)>& removal,
+                                             const std::function<Removal(double, double, double)>& removal,
                                              double depth_mm, double min_cut_mm, double sample_mm, double run_on,
                                              double bridge = 0.0, int* raised = nullptr, const OwnSweep& behind = {});
 
@@ -98,5 +98,11 @@ using OwnSweep = std::function<double(const Eigen::Vector3d&, const Eigen::Vecto
 /// when given, is permuted alike. O(passes · points).
 [[nodiscard]] std::vector<Pass> order_nearest(std::vector<Pass> passes, Eigen::Vector3d& at,
                                               std::vector<std::size_t>* order = nullptr);
+
+/// The pass not yet `done` nearest `at` (as order_nearest chooses), marked done and moved out,
+/// turned to begin at its point nearest `at`; `index`, when given, receives its index. O(points)
+/// over the passes left; `passes` must hold one not done.
+[[nodiscard]] Pass take_nearest(std::vector<Pass>& passes, std::vector<std::uint8_t>& done, const Eigen::Vector3d& at,
+                                std::size_t* index = nullptr);
 
 }  // namespace millnet::finish::detail

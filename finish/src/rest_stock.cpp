@@ -116,26 +116,43 @@ double RestStock::engagement(const tooling::Cutter& tool, double x, double y, do
   return most;
 }
 
-double RestStock::removal(const tooling::Cutter& tool, double x, double y, double tip) const {
+namespace {
+
+/// How far a column of material standing `hr` above the tip of `tool`, `d` from its axis, reaches
+/// into the tool's solid normal to its surface: under the flat bottom the height (or the distance
+/// to the side, when less), beside the corner the corner radius less the distance from the
+/// corner's centre to the column. ≤ 0 when the column is clear of the tool.
+double depth_into(const tooling::Cutter& tool, double d, double hr) {
+  const double r = tool.radius(), rc = tool.profile_corner_radius(), a = r - rc;
+  if (d <= a) return std::min(hr, r - d);
+  return rc - std::hypot(d - a, std::max(0.0, rc - hr));
+}
+
+}  // namespace
+
+Removal RestStock::removal(const tooling::Cutter& tool, double x, double y, double tip) const {
   return removal_behind(tool, Eigen::Vector3d(x, y, tip), nullptr, 0);
 }
 
-double RestStock::removal_behind(const tooling::Cutter& tool, const Eigen::Vector3d& p, const Eigen::Vector3d* before,
-                                 std::size_t n) const {
+Removal RestStock::removal_behind(const tooling::Cutter& tool, const Eigen::Vector3d& p, const Eigen::Vector3d* before,
+                                  std::size_t n) const {
   const double r = tool.radius(), top = p.z() - z_offset;
   thread_local std::vector<Eigen::Vector3d> near;  // the placements that may share a cell with this one
   near.clear();
   for (std::size_t k = 0; k < n; ++k)  // O(n)
     if ((before[k].head<2>() - p.head<2>()).squaredNorm() <= 4 * r * r)
       near.emplace_back(before[k].x(), before[k].y(), before[k].z() - z_offset);
-  double most = 0;
+  Removal most;
   cells_within(*this, p.x(), p.y(), r, [&](double cx, double cy, double d, double h) {  // O((R / cell)² · near)
     const double surface = top + tool.profile_height(d);
-    if (!std::isfinite(h) || !(h - surface > most)) return;
+    // (the placements before only lower a cell, and both figures grow with its height)
+    if (!std::isfinite(h) || !(h - surface > most.height || depth_into(tool, d, h - top) > most.thickness)) return;
     for (const Eigen::Vector3d& q : near)
       if (const double dq = std::hypot(cx - q.x(), cy - q.y()); dq <= r)
         h = std::min(h, q.z() + tool.profile_height(dq));
-    most = std::max(most, h - surface);
+    if (!(h > surface)) return;
+    most.height = std::max(most.height, h - surface);
+    most.thickness = std::max(most.thickness, depth_into(tool, d, h - top));
   });
   return most;
 }
@@ -374,7 +391,7 @@ Pass stretch_of(const std::vector<Eigen::Vector3d>& pts, const std::vector<doubl
 }
 }  // namespace
 
-std::vector<Pass> stepped_runs(const Pass& piece, const std::function<double(double, double, double)>& removal,
+std::vector<Pass> stepped_runs(const Pass& piece, const std::function<Removal(double, double, double)>& removal,
                                double depth_mm, double min_cut_mm, double sample_mm, double run_on, double bridge,
                                int* raised, const OwnSweep& behind) {
   if (raised) *raised = 0;
@@ -384,8 +401,8 @@ std::vector<Pass> stepped_runs(const Pass& piece, const std::function<double(dou
   std::vector<double> cum{0.0};
   for (std::size_t i = 1; i < piece.points.size(); ++i)  // O(points)
     cum.push_back(cum.back() + (piece.points[i] - piece.points[i - 1]).norm());
-  std::vector<double> s, h;                                    // path length, depth the tool cuts at the sample
-  std::vector<Eigen::Vector3d> placed;                         // the samples before (the piece's own sweep)
+  std::vector<double> s, h, thick;      // path length, height and thickness the tool takes at the sample
+  std::vector<Eigen::Vector3d> placed;  // the samples before (the piece's own sweep)
   for (std::size_t i = 0; i + 1 < piece.points.size(); ++i) {  // O(length / sample)
     const Eigen::Vector3d &a = piece.points[i], &b = piece.points[i + 1];
     const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / sample_mm)));
@@ -393,7 +410,9 @@ std::vector<Pass> stepped_runs(const Pass& piece, const std::function<double(dou
       const double f = static_cast<double>(t) / n;
       const Eigen::Vector3d p = a + (b - a) * f;
       s.push_back(cum[i] + (cum[i + 1] - cum[i]) * f);
-      h.push_back(behind ? behind(p, placed.data(), placed.size()) : removal(p.x(), p.y(), p.z()));
+      const Removal r = behind ? behind(p, placed.data(), placed.size()) : removal(p.x(), p.y(), p.z());
+      h.push_back(r.height);
+      thick.push_back(r.thickness);
       placed.push_back(p);
     }
   }
@@ -402,12 +421,15 @@ std::vector<Pass> stepped_runs(const Pass& piece, const std::function<double(dou
   std::vector<Pass> out;
   for (int k = copies; k >= 0; --k) {  // O(copies · samples)
     const double lift = k * depth_mm, over = lift + min_cut_mm;
-    // Stretches where the tool cuts more than `over`, run on at both ends, merged where they meet.
+    // Stretches where the tool cuts more than `over`, run on at both ends, merged where they meet:
+    // a raised copy by the height it takes (the flutes), the piece itself by the thickness (the
+    // scallop is measured normal to the surface).
+    const std::vector<double>& take = k > 0 ? h : thick;
     std::vector<std::pair<double, double>> runs;
     for (std::size_t i = 0; i < s.size(); ++i) {
-      if (!(h[i] > over)) continue;
+      if (!(take[i] > over)) continue;
       std::size_t j = i;
-      while (j + 1 < s.size() && h[j + 1] > over) ++j;
+      while (j + 1 < s.size() && take[j + 1] > over) ++j;
       const double a = std::max(0.0, s[i] - run_on), b = std::min(cum.back(), s[j] + run_on);
       if (!runs.empty() && a <= runs.back().second + bridge)
         runs.back().second = b;
@@ -425,41 +447,49 @@ std::vector<Pass> stepped_runs(const Pass& piece, const std::function<double(dou
   return out;
 }
 
+Pass take_nearest(std::vector<Pass>& passes, std::vector<std::uint8_t>& done, const Eigen::Vector3d& at,
+                  std::size_t* index) {
+  std::size_t best = passes.size(), best_vertex = 0;
+  bool reverse = false;
+  double best_d = HUGE_VAL;
+  for (std::size_t k = 0; k < passes.size(); ++k) {  // O(points) over the passes left
+    if (done[k]) continue;
+    const auto& pts = passes[k].points;
+    if (best == passes.size()) best = k;
+    if (passes[k].closed && pts.size() > 2 && (pts.front() - pts.back()).norm() < 1e-9) {
+      // a loop may start at any of its vertices (its last repeats its first)
+      for (std::size_t i = 0; i + 1 < pts.size(); ++i)
+        if (const double d = (pts[i] - at).squaredNorm(); d < best_d)
+          best_d = d, best = k, best_vertex = i, reverse = false;
+      continue;
+    }
+    if (const double d = (pts.front() - at).squaredNorm(); d < best_d)
+      best_d = d, best = k, best_vertex = 0, reverse = false;
+    if (const double d = (pts.back() - at).squaredNorm(); d < best_d)
+      best_d = d, best = k, best_vertex = 0, reverse = true;
+  }
+  done[best] = 1;
+  if (index) *index = best;
+  Pass p = std::move(passes[best]);
+  if (reverse) std::reverse(p.points.begin(), p.points.end());
+  if (p.closed && best_vertex > 0) {  // the loop's last point repeats its first
+    p.points.pop_back();
+    std::rotate(p.points.begin(), p.points.begin() + static_cast<std::ptrdiff_t>(best_vertex), p.points.end());
+    p.points.push_back(p.points.front());
+  }
+  return p;
+}
+
 std::vector<Pass> order_nearest(std::vector<Pass> passes, Eigen::Vector3d& at, std::vector<std::size_t>* order) {
   std::vector<Pass> out;
   out.reserve(passes.size());
   std::vector<std::uint8_t> done(passes.size(), 0);
   std::vector<std::size_t> taken;                             // the order's entries, reordered
   for (std::size_t left = passes.size(); left > 0; --left) {  // O(passes²)
-    std::size_t best = 0, best_vertex = 0;
-    bool reverse = false;
-    double best_d = HUGE_VAL;
-    for (std::size_t k = 0; k < passes.size(); ++k) {
-      if (done[k]) continue;
-      const auto& pts = passes[k].points;
-      if (passes[k].closed && pts.size() > 2 && (pts.front() - pts.back()).norm() < 1e-9) {
-        // a loop may start at any of its vertices (its last repeats its first)
-        for (std::size_t i = 0; i + 1 < pts.size(); ++i)
-          if (const double d = (pts[i] - at).squaredNorm(); d < best_d)
-            best_d = d, best = k, best_vertex = i, reverse = false;
-        continue;
-      }
-      if (const double d = (pts.front() - at).squaredNorm(); d < best_d)
-        best_d = d, best = k, best_vertex = 0, reverse = false;
-      if (const double d = (pts.back() - at).squaredNorm(); d < best_d)
-        best_d = d, best = k, best_vertex = 0, reverse = true;
-    }
-    done[best] = 1;
-    if (order) taken.push_back((*order)[best]);
-    Pass p = std::move(passes[best]);
-    if (reverse) std::reverse(p.points.begin(), p.points.end());
-    if (p.closed && best_vertex > 0) {  // the loop's last point repeats its first
-      p.points.pop_back();
-      std::rotate(p.points.begin(), p.points.begin() + static_cast<std::ptrdiff_t>(best_vertex), p.points.end());
-      p.points.push_back(p.points.front());
-    }
-    at = p.points.back();
-    out.push_back(std::move(p));
+    std::size_t k = 0;
+    out.push_back(take_nearest(passes, done, at, &k));
+    if (order) taken.push_back((*order)[k]);
+    at = out.back().points.back();
   }
   if (order) *order = std::move(taken);
   return out;

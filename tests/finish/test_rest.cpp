@@ -5,9 +5,12 @@
 // 1 < x < 3 − √(6t + t²) (2.6530 for t = 0.02; left of 1 the Ø2 sits on the wall's top edge); the
 // wall's rest reaches up to where the Ø6 touches it, z = 3 − √(6t + t²). Oracles: those formulas,
 // and the ball's centre distance to every triangle (brute force) for gouge and for coverage.
+#include "rest_internal.hpp"
+
 #include "millnet/core/error.hpp"
 #include "millnet/finish/rest.hpp"
 #include "millnet/finish/tolerances.hpp"
+#include "millnet/gcode/stats.hpp"
 
 #include <gtest/gtest.h>
 
@@ -214,6 +217,51 @@ TEST(RestFinishing, LinksClearWhatTheReferenceLeftAndEntriesComeDownJustAboveIt)
   EXPECT_EQ(plunges, plan.lifts + 1);
 }
 
+// Over a stock a short link stays down only when that is the quicker: two passes on a floor either
+// side of a ridge 2 mm high (x 4.5 … 5.5, y along), 3 mm apart — the stay-down link climbs over it
+// (about 5 mm of feed), the lift rises to the ridge's top plus the 1 mm clearance at rapid (5000
+// mm/min, 500 mm/s²), crosses and comes down (≈ 0.5 s). At 300 mm/min the climb takes > 1 s: it
+// lifts; at 3000 mm/min it stays down; without a stock (the strategies) it stays down as before.
+TEST(RestFinishing, OverAStockALinkLiftsWhenThatIsQuickerThanFeedingOverARidge) {
+  const ingest::Mesh part = extruded({{-5, 0}, {4.5, 0}, {5, 2}, {5.5, 0}, {15, 0}}, 30);
+  const DropCutter two(part, Cutter::ball(2));
+  FinishPlan plan;
+  plan.strategy = Strategy::SlopeMode;
+  plan.passes.resize(2);
+  plan.passes[0].points = {{1, 15, 0}, {3.5, 15, 0}};
+  plan.passes[1].points = {{6.5, 15, 0}, {9, 15, 0}};
+  auto linked = [&](double feed, bool stock) {
+    FinishParams p = rest_params();
+    p.feed_mm_min = feed;
+    if (stock) p.stock_tip = [](double, double) { return -HUGE_VAL; };
+    FinishPlan q = plan;
+    detail::relink(part, two, p, q);
+    return q;
+  };
+  const FinishPlan slow = linked(300, true), fast = linked(3000, true), strategy = linked(300, false);
+  EXPECT_EQ(slow.lifts, 1U);
+  EXPECT_EQ(fast.lifts, 0U);
+  EXPECT_EQ(strategy.lifts, 0U);
+  // The lift crosses at the ridge's top plus the clearance (the ball's tip rides 2 mm up at the
+  // ridge's apex), and the program is the quicker for it by the machine's own planner.
+  double crossing = -HUGE_VAL;
+  gcode::Point3 at{0, 0, 0};
+  for (const auto& item : slow.program.items)
+    if (const auto* m = std::get_if<gcode::Move>(&item)) {
+      if (m->motion == gcode::Motion::Rapid && std::abs(m->to[0] - at[0]) > 1) crossing = m->to[2];
+      at = m->to;
+    }
+  EXPECT_NEAR(crossing, 3.0, 1e-6);
+  FinishPlan stayed = plan;
+  FinishParams p = rest_params();
+  p.feed_mm_min = 300;
+  p.stock_tip = [](double, double) { return -HUGE_VAL; };
+  p.motion.acceleration_mm_s2 = 1e-3;  // rapids crawl: the link stays down, the same passes
+  detail::relink(part, two, p, stayed);
+  EXPECT_EQ(stayed.lifts, 0U);
+  EXPECT_LT(gcode::stats(slow.program, {}).kinematic_time_min, gcode::stats(stayed.program, {}).kinematic_time_min);
+}
+
 /// The stock the Ø6 ball leaves on the L corner, by hand, on a z-map grid (cells of 0.02 mm,
 /// centres at multiples of 0.02 + 0.01): over the top (x < 0) z = 10; in the corner the Ø6's lower
 /// arc about (3, 3), z = 3 − √(9 − (3 − x)²) for 0 < x < 3; the floor z = 0 beyond.
@@ -319,14 +367,32 @@ TEST(RestStock, RemovalIsTheMostACellStandsAboveTheToolsSurface) {
   // 0.5 − √(0.25 − 0.45²) = 0.28206 high: it takes 0.71794 off, the flutes meet it 1 mm up.
   st.z[20 * 81 + 29] = 1.0;
   const double surface = 0.5 - std::sqrt(0.25 - 0.45 * 0.45);
-  EXPECT_NEAR(st.removal(ball, 1, 1, 0.0), 1.0 - surface, 1e-12);
+  EXPECT_NEAR(st.removal(ball, 1, 1, 0.0).height, 1.0 - surface, 1e-12);
   EXPECT_NEAR(st.engagement(ball, 1, 1, 0.0), 1.0, 1e-12);
-  // A tip 0.7 up: the column stands 0.01794 over the surface — the engagement still reads 0.3.
-  EXPECT_NEAR(st.removal(ball, 1, 1, 0.7), 0.3 - surface, 1e-12);
+  // Normal to the ball's surface it takes the column's reach past the rim: it stands above the
+  // centre (z 0.5), so R − 0.45 = 0.05 — a wall's scallop is measured across the wall.
+  EXPECT_NEAR(st.removal(ball, 1, 1, 0.0).thickness, 0.05, 1e-12);
+  // A tip 0.7 up: the column stands 0.01794 over the surface — the engagement still reads 0.3;
+  // its top 0.2 below the centre, 0.5 − √(0.45² + 0.2²) = 0.0075565 into the ball.
+  EXPECT_NEAR(st.removal(ball, 1, 1, 0.7).height, 0.3 - surface, 1e-12);
+  EXPECT_NEAR(st.removal(ball, 1, 1, 0.7).thickness, 0.5 - std::hypot(0.45, 0.2), 1e-12);
   EXPECT_NEAR(st.engagement(ball, 1, 1, 0.7), 0.3, 1e-12);
-  EXPECT_EQ(st.removal(ball, 1, 1, 1.0 - surface), 0.0);
+  EXPECT_EQ(st.removal(ball, 1, 1, 1.0 - surface).height, 0.0);
+  EXPECT_EQ(st.removal(ball, 1, 1, 1.0 - surface).thickness, 0.0);
   st.z_offset = 0.5;
-  EXPECT_NEAR(st.removal(ball, 1, 1, 1.2), 0.3 - surface, 1e-12);
+  EXPECT_NEAR(st.removal(ball, 1, 1, 1.2).height, 0.3 - surface, 1e-12);
+  // A bull nose (Ø1, corner 0.2: flat to 0.3 from the axis) at tip 0: the column is 0.15 out from
+  // its corner's centre circle, above the corner, so 0.2 − 0.15 = 0.05 into it; the corner stands
+  // 0.2 − √(0.2² − 0.15²) = 0.067712 high there. A column 0.3 tall under the flat (0.1 from the
+  // axis) reaches 0.3 into it, the height it stands over the flat.
+  st.z_offset = 0;
+  const Cutter bull = Cutter::bull(1, 0.2);
+  EXPECT_NEAR(st.removal(bull, 1, 1, 0.0).height, 1.0 - (0.2 - std::sqrt(0.04 - 0.0225)), 1e-12);
+  EXPECT_NEAR(st.removal(bull, 1, 1, 0.0).thickness, 0.05, 1e-12);
+  st.z[20 * 81 + 29] = 0.0;
+  st.z[20 * 81 + 22] = 0.3;
+  EXPECT_NEAR(st.removal(bull, 1, 1, 0.0).height, 0.3, 1e-12);
+  EXPECT_NEAR(st.removal(bull, 1, 1, 0.0).thickness, 0.3, 1e-12);
 }
 
 // removal_behind is removal on the stock as the placements before leave it: against a copy cut by
@@ -348,8 +414,10 @@ TEST(RestStock, RemovalBehindPlacementsIsRemovalOnTheStockTheyLeave) {
     const Eigen::Vector3d p(xy(rng), xy(rng), zz(rng));
     RestStock cut = st;
     for (const Eigen::Vector3d& q : before) cut.cut(ball, q, q);
-    EXPECT_NEAR(st.removal_behind(ball, p, before.data(), before.size()), cut.removal(ball, p.x(), p.y(), p.z()),
-                1e-12);
+    const Removal behind = st.removal_behind(ball, p, before.data(), before.size()),
+                  after = cut.removal(ball, p.x(), p.y(), p.z());
+    EXPECT_NEAR(behind.height, after.height, 1e-12);
+    EXPECT_NEAR(behind.thickness, after.thickness, 1e-12);
   }
 }
 

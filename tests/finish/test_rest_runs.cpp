@@ -7,7 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <vector>
 
@@ -119,4 +121,53 @@ TEST(RestRuns, APatchEndsWhereTheToolsFrontLeavesIt) {
   EXPECT_NEAR(own.front().points.front().x(), plain.front().points.front().x(), 1e-9);  // it meets it alike
   EXPECT_LT(own.front().points.back().x(), 2 + 0.125 + 0.0625 + 1e-9);
   EXPECT_GE(own.front().points.back().x(), 2 - 0.0625);
+}
+
+// The piece itself runs where it takes more than the scallop normal to the surface, its raised
+// copies where the flutes meet more than a step above it: over [2, 4] a wall's tall, thin sliver
+// (2.5 mm high, 0.003 mm across: the cusps a bigger ball left, in spec) is stepped down by the
+// copies at +2 and +1 but not cut again by the piece; over [6, 7] 0.02 mm of floor rest is.
+TEST(RestRuns, ThePieceRunsWhereItTakesMoreThanTheScallopAcrossTheSurface) {
+  const auto removal = [](double x, double, double z) {
+    if (x >= 2 && x <= 4) return millnet::finish::Removal(std::max(0.0, 2.5 - z), 0.003);
+    if (x >= 6 && x <= 7) return millnet::finish::Removal(std::max(0.0, 0.02 - z));
+    return millnet::finish::Removal();
+  };
+  int raised = -1;
+  const auto runs = stepped_runs(straight(0), removal, 1.0, 0.005, 0.05, 0.0, 0.0, &raised);
+  ASSERT_EQ(runs.size(), 3U);
+  EXPECT_EQ(raised, 2);
+  const double lift[] = {2, 1, 0}, from[] = {2, 2, 6}, to[] = {4, 4, 7};
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    SCOPED_TRACE(k);
+    EXPECT_NEAR(runs[k].points.front().x(), from[k], 1e-9);
+    EXPECT_NEAR(runs[k].points.back().x(), to[k], 1e-9);
+    EXPECT_NEAR(runs[k].points.front().z(), lift[k], 1e-12);
+  }
+}
+
+// The pass left nearest a point, turned to begin there: an open pass from either end, a loop from
+// any vertex (its last repeating its first); those taken are not offered again.
+TEST(RestRuns, TheNearestPassIsTakenTurnedToBeginNearest) {
+  std::vector<Pass> passes(3);
+  passes[0].points = {{0, 0, 0}, {1, 0, 0}};
+  passes[1].points = {{5, 0, 0}, {3, 0, 0}};
+  passes[2].points = {{0, 4, 0}, {1, 4, 0}, {1, 5, 0}, {0, 5, 0}, {0, 4, 0}};
+  passes[2].closed = true;
+  std::vector<std::uint8_t> done(3, 0);
+  std::size_t index = 9;
+  const Pass a = millnet::finish::detail::take_nearest(passes, done, Eigen::Vector3d(2.9, 0.2, 0), &index);
+  EXPECT_EQ(index, 1U);
+  EXPECT_EQ(a.points.front(), Eigen::Vector3d(3, 0, 0));  // backwards
+  EXPECT_EQ(a.points.back(), Eigen::Vector3d(5, 0, 0));
+  const Pass b = millnet::finish::detail::take_nearest(passes, done, Eigen::Vector3d(1.1, 5.2, 0), &index);
+  EXPECT_EQ(index, 2U);
+  ASSERT_EQ(b.points.size(), 5U);
+  EXPECT_EQ(b.points.front(), Eigen::Vector3d(1, 5, 0));  // from its vertex nearest, closed again
+  EXPECT_EQ(b.points.back(), Eigen::Vector3d(1, 5, 0));
+  EXPECT_EQ(b.points[1], Eigen::Vector3d(0, 5, 0));
+  const Pass c = millnet::finish::detail::take_nearest(passes, done, Eigen::Vector3d(9, 9, 0), &index);
+  EXPECT_EQ(index, 0U);  // the one left, however far
+  EXPECT_EQ(c.points.front(), Eigen::Vector3d(1, 0, 0));
+  EXPECT_EQ(done, std::vector<std::uint8_t>(3, 1));
 }

@@ -40,6 +40,18 @@
 
 namespace millnet::finish {
 
+/// What a tool placed over a stock takes off it: `height`, the most a cell stands above the tool's
+/// surface (vertical: what the flutes meet); `thickness`, the most a cell's column reaches into the
+/// tool's solid normal to its surface (what the scallop specification measures — on a wall it is
+/// the height times the cosine of the slope). A removal known by one figure (Removal(h)) takes it
+/// for both.
+struct Removal {
+  double height = 0, thickness = 0;
+  Removal() = default;
+  Removal(double h) : height(h), thickness(h) {}  // NOLINT(google-explicit-constructor): one figure
+  Removal(double h, double t) : height(h), thickness(t) {}
+};
+
 /// The stock earlier programs left (rest from the stock, `finish --rest-from`): heights on a grid in
 /// the mesh frame, node (i, j) standing for the square cell of side `cell` centred at
 /// (x0 + j·cell, y0 + i·cell) — a simulated z-map (simulate::ZMap, shifted by the frame).
@@ -69,16 +81,17 @@ struct RestStock {
   /// stock. O((R / cell)²).
   [[nodiscard]] double engagement(const tooling::Cutter& tool, double x, double y, double tip) const;
   /// How much `tool` with its tip at (x, y, tip) takes off: the most a cell within its radius
-  /// stands above the tool's surface over it (cells at their centres, cells not finite skipped; 0
-  /// when it cuts nothing). Not the engagement: a cell grazed at the ball's rim is cut by a hair
-  /// however high on the flutes. O((R / cell)²).
-  [[nodiscard]] double removal(const tooling::Cutter& tool, double x, double y, double tip) const;
+  /// stands above the tool's surface over it, and the most its column reaches into the tool normal
+  /// to the surface (Removal; cells at their centres, cells not finite skipped; 0 when it cuts
+  /// nothing). Not the engagement: a cell grazed at the ball's rim is cut by a hair however high on
+  /// the flutes. O((R / cell)²).
+  [[nodiscard]] Removal removal(const tooling::Cutter& tool, double x, double y, double tip) const;
   /// removal() on the stock as `tool` leaves it placed at the tips before[0 … n) first (the
   /// samples of the same piece before this one): each cell within its radius taken at the lowest of
   /// its height and those placements' surfaces over it — what the tool takes that its own path has
   /// not already taken. Placements farther than 2R in XY are skipped. O((R / cell)² · n).
-  [[nodiscard]] double removal_behind(const tooling::Cutter& tool, const Eigen::Vector3d& tip,
-                                      const Eigen::Vector3d* before, std::size_t n) const;
+  [[nodiscard]] Removal removal_behind(const tooling::Cutter& tool, const Eigen::Vector3d& tip,
+                                       const Eigen::Vector3d* before, std::size_t n) const;
   /// `tool` swept from a to b (tips, the grid's frame less z_offset): every cell within its radius
   /// lowered to the tool's surface over it, sampled every half cell along the segment.
   /// O(length / cell · (R / cell)²).

@@ -28,6 +28,7 @@
 #include "millnet/tooling/cutter.hpp"
 #include "millnet/finish/dropcutter.hpp"
 #include "millnet/gcode/program.hpp"
+#include "millnet/gcode/stats.hpp"
 
 #include <Eigen/Core>
 
@@ -121,6 +122,12 @@ struct FinishParams {
   std::function<double(double, double, double)> stock_engagement;
   std::function<void(const Eigen::Vector3d&, const Eigen::Vector3d&)> stock_cut;
   double link_max_cut_mm = HUGE_VAL;
+  /// With stock_tip: the machine's motion, by which a short link that may stay down is timed
+  /// against lifting (the planner of gcode::stats over the link's moves, from rest to rest): over a
+  /// stock it stays down only when that is the quicker (a link that climbs over a ridge to reach the
+  /// next piece is faster lifted than fed up and over it in air). Without a stock short links stay
+  /// down as before (the strategies' programs, and the labels learned from them, unchanged).
+  gcode::MotionModel motion;
   /// Machining box (XY box of tool-axis positions, mesh frame); empty ⇒ the part's footprint (or
   /// the boundary polygons' box, when they are given).
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
