@@ -570,7 +570,10 @@ namespace {
 /// A rest step's figures (issue 41; job::split_rest) into the program's entry, its missed rest drawn.
 void rest_figures(const job::Part& part, const job::Design& design, const simulate::ZMap& z, const job::ChainResult& r,
                   const tooling::Cutter& tool, double threshold_mm, Json& figures, const fs::path& picture) {
-  const job::RestSplit split = job::split_rest(part.mesh, design, z, r, tool, threshold_mm);
+  // As the job splits it: where the design lies deeper below the stock top than the tool's stated
+  // stick-out reaches, the rest is beyond its reach, not missed.
+  const job::RestSplit split =
+      job::split_rest(part.mesh, design, z, r, tool, threshold_mm, tool.reach_mm > 0 ? -tool.reach_mm : -HUGE_VAL);
   figures["over_threshold_before_mm2"] = r.rest_area_before_mm2;
   figures["over_threshold_after_mm2"] = r.rest_area_after_mm2;
   figures["rest_area_before_mm2"] = split.before_mm2;
@@ -578,6 +581,7 @@ void rest_figures(const job::Part& part, const job::Design& design, const simula
   figures["rest_area_unreachable_mm2"] = split.unreachable_mm2;
   figures["rest_area_reference_unreachable_mm2"] = split.reference_unreachable_mm2;
   figures["rest_area_missed_mm2"] = split.missed_mm2;
+  figures["rest_area_beyond_reach_mm2"] = split.beyond_reach_mm2;
   fs::create_directories(picture.parent_path());
   grid_png(picture, split.missed, design.grid,
            part.name + ": rest left where the " + tool.describe() + " reaches (vertical, mm)", "mm");

@@ -333,6 +333,16 @@ TEST(CliJob, ARestToolCutsWithinItsReachAndOneItsFlutesCannotTakeIsLeftOut) {
   EXPECT_LE(rest["max_depth_of_cut_mm"].get<double>(), 1.5);
   // The rest below the reach is counted apart from what the tool missed where it reaches.
   EXPECT_GT(rest["rest_area_beyond_reach_mm2"].get<double>(), 0) << rest.dump(1);
+  // `millnet simulate` of the same two programs splits it alike.
+  const auto sim = run_millnet("simulate --quiet --config c.json --mesh '" + mesh.string() +
+                                   "' --gcode reach/pocket.op3.finishing.nc --tool bn2-2f-carbide"
+                                   " --gcode reach/pocket.op4.rest.nc --tool bn1-reach --stock design --out sim",
+                               d);
+  ASSERT_EQ(sim.code, 0) << sim.err;
+  const Json sr = Json::parse(slurp(d / "sim" / "pocket.sim.json"))["programs"][1];
+  EXPECT_GT(sr["rest_area_beyond_reach_mm2"].get<double>(), 0) << sr.dump(1);
+  EXPECT_LE(sr["rest_area_missed_mm2"].get<double>(),
+            sr["rest_area_after_mm2"].get<double>() - sr["rest_area_beyond_reach_mm2"].get<double>() + 1e-9);
 
   const auto stub = run_millnet(base + "--rest-tool bn1-stub --out stub", d);
   ASSERT_EQ(stub.code, 0) << stub.err;
