@@ -164,6 +164,71 @@ void require_rest(bool ok, const std::string& key, const std::string& what) {
   if (!ok) throw Error("rest: " + key + " " + what);
 }
 
+/// What cut_pieces hands back: the runs in machining order, and how many pieces were stepped down
+/// from the top or left out whole.
+struct CutPieces {
+  std::vector<Pass> passes;
+  std::size_t stepped = 0, air = 0;
+};
+
+// Each piece where it cuts, from the top down, on a copy of the stock machined piece by piece:
+// a piece cuts only where the tool takes more than the scallop off what the pieces before it
+// left (a corner the pencil passes cleaned is not run over again: the air issue 41 names) — the
+// most a cell stands above the tool's surface (RestStock::removal; not the axial engagement,
+// which reads a cell grazed at the ball's rim as a cut as high as the cell stands), on the stock
+// as the piece's own samples before leave it (removal_behind: a patch ends where the tool's front
+// leaves it). No run-on: the last sample that takes more than the scallop is where the front
+// leaves the patch, and before the first the tool took no more either (docs/finishing.md, "At
+// the specification, by what it takes off": the air these took out). A piece that would take
+// more than the flutes reach is preceded by raised copies of it, each begun from its end nearest
+// the tool, a step apart: a copy takes at most a step, so the flutes meet at most a step plus
+// what a copy leaves beside a wall (its profile's height at its rim: R for a ball) — the step is
+// the flute length less that (s1 of README command 1, Ø1 ball with 1.5 mm flutes: 1 mm steps,
+// the deepest cut 2.48 → 1.37 mm). No stepping under 0.1 mm steps (flutes shorter than the
+// profile: the job's flute check says so). Without stated flutes the pieces are cut as planned:
+// the z-map's columns would credit a pass's flank with a wall's whole rest above it, however tall.
+// `depth` is that step (0: no stepping), `from` where the tool starts; pencil pieces first.
+CutPieces cut_pieces(std::vector<Pass> pencil, std::vector<Pass> rest, const tooling::Cutter& cutter,
+                     const RestRegions& regions, const FinishParams& params, double depth, Eigen::Vector3d from) {
+  std::optional<RestStock> running;
+  if (depth > 0 && regions.left) running = *regions.left;
+  // A stretch is left out where it would cut no more than the specification's scallop: it could
+  // only smooth what is already in spec (leaving out stretches up to the rest threshold left 60 %
+  // more rest over it on the pocket of CliJob's rest test).
+  const double min_cut = std::clamp(params.scallop_mm, 0.0, regions.threshold_mm);
+  CutPieces out;
+  // The next piece is the one nearest where the tool is (not where the piece before ended: its
+  // runs may end short of it, or it may cut nothing), the pencil pieces first.
+  for (std::vector<Pass>* group : {&pencil, &rest}) {
+    std::vector<std::uint8_t> done(group->size(), 0);
+    for (std::size_t left = group->size(); left > 0; --left) {  // O(pieces · (points + samples · (R / cell)²))
+      std::vector<Pass> runs{detail::take_nearest(*group, done, from)};
+      if (running) {
+        const Pass whole = std::move(runs.front());
+        int raised = 0;
+        runs = detail::stepped_runs(
+            whole, [&](double x, double y, double z) { return running->removal(cutter, x, y, z); }, depth, min_cut,
+            cutter.radius() / 4, 0.0, tol::rest_bridge_radii * cutter.radius(), &raised,
+            [&](const Eigen::Vector3d& q, const Eigen::Vector3d* before, std::size_t n) {
+              return running->removal_behind(cutter, q, before, n);
+            });
+        out.stepped += raised > 0 ? 1 : 0;
+        out.air += runs.empty() ? 1 : 0;
+      }
+      for (Pass& c : runs) {
+        if (!c.closed && (c.points.back() - from).squaredNorm() < (c.points.front() - from).squaredNorm())
+          std::reverse(c.points.begin(), c.points.end());
+        from = c.points.back();
+        out.passes.push_back(std::move(c));
+        if (running)
+          for (std::size_t i = 0; i + 1 < out.passes.back().points.size(); ++i)  // O(segments)
+            running->cut(cutter, out.passes.back().points[i], out.passes.back().points[i + 1]);
+      }
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 namespace detail {
@@ -548,64 +613,13 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
     for (const Pass& piece : pieces[k]) (k < pencils ? pencil : rest).push_back(piece);
   }
   const auto narrow = static_cast<std::size_t>(std::count(cut.begin(), cut.end(), 0));
-  at = Eigen::Vector3d(regions.x0, regions.y0, params.safe_z_mm - params.z_shift);
-  const Eigen::Vector3d start = at;
-  // Each piece where it cuts, from the top down, on a copy of the stock machined piece by piece:
-  // a piece cuts only where the tool takes more than the scallop off what the pieces before it
-  // left (a corner the pencil passes cleaned is not run over again: the air issue 41 names) — the
-  // most a cell stands above the tool's surface (RestStock::removal; not the axial engagement,
-  // which reads a cell grazed at the ball's rim as a cut as high as the cell stands), on the stock
-  // as the piece's own samples before leave it (removal_behind: a patch ends where the tool's front
-  // leaves it). No run-on: the last sample that takes more than the scallop is where the front
-  // leaves the patch, and before the first the tool took no more either (docs/finishing.md, "At
-  // the specification, by what it takes off": the air these took out). A piece that would take
-  // more than the flutes reach is preceded by raised copies of it, each begun from its end nearest
-  // the tool, a step apart: a copy takes at most a step, so the flutes meet at most a step plus
-  // what a copy leaves beside a wall (its profile's height at its rim: R for a ball) — the step is
-  // the flute length less that (s1 of README command 1, Ø1 ball with 1.5 mm flutes: 1 mm steps,
-  // the deepest cut 2.48 → 1.37 mm). No stepping under 0.1 mm steps (flutes shorter than the
-  // profile: the job's flute check says so). Without stated flutes the pieces are cut as planned:
-  // the z-map's columns would credit a pass's flank with a wall's whole rest above it, however tall.
+  const Eigen::Vector3d start(regions.x0, regions.y0, params.safe_z_mm - params.z_shift);
   const tooling::Cutter& cutter = new_tool.cutter();
   const double step = params.tool.flute_length_mm - cutter.profile_height(cutter.radius());
   const double depth = step >= 0.1 ? step : 0.0;
-  std::optional<RestStock> running;
-  if (depth > 0 && regions.left) running = *regions.left;
-  // A stretch is left out where it would cut no more than the specification's scallop: it could
-  // only smooth what is already in spec (leaving out stretches up to the rest threshold left 60 %
-  // more rest over it on the pocket of CliJob's rest test).
-  const double min_cut = std::clamp(params.scallop_mm, 0.0, regions.threshold_mm);
-  std::size_t stepped = 0, air = 0;
-  Eigen::Vector3d from = start;  // where the tool is
-  // The next piece is the one nearest where the tool is (not where the piece before ended: its
-  // runs may end short of it, or it may cut nothing), the pencil pieces first.
-  for (std::vector<Pass>* group : {&pencil, &rest}) {
-    std::vector<std::uint8_t> done(group->size(), 0);
-    for (std::size_t left = group->size(); left > 0; --left) {  // O(pieces · (points + samples · (R / cell)²))
-      std::vector<Pass> runs{detail::take_nearest(*group, done, from)};
-      if (running) {
-        const Pass whole = std::move(runs.front());
-        int raised = 0;
-        runs = detail::stepped_runs(
-            whole, [&](double x, double y, double z) { return running->removal(cutter, x, y, z); }, depth, min_cut,
-            cutter.radius() / 4, 0.0, tol::rest_bridge_radii * cutter.radius(), &raised,
-            [&](const Eigen::Vector3d& q, const Eigen::Vector3d* before, std::size_t n) {
-              return running->removal_behind(cutter, q, before, n);
-            });
-        stepped += raised > 0 ? 1 : 0;
-        air += runs.empty() ? 1 : 0;
-      }
-      for (Pass& c : runs) {
-        if (!c.closed && (c.points.back() - from).squaredNorm() < (c.points.front() - from).squaredNorm())
-          std::reverse(c.points.begin(), c.points.end());
-        from = c.points.back();
-        plan.passes.push_back(std::move(c));
-        if (running)
-          for (std::size_t i = 0; i + 1 < plan.passes.back().points.size(); ++i)  // O(segments)
-            running->cut(cutter, plan.passes.back().points[i], plan.passes.back().points[i + 1]);
-      }
-    }
-  }
+  const std::size_t pencil_pieces = pencil.size();
+  CutPieces cut_out = cut_pieces(std::move(pencil), std::move(rest), cutter, regions, params, depth, start);
+  plan.passes = std::move(cut_out.passes);
   params.stock_tip = regions.stock_tip;
   if (depth > 0 && regions.left) {  // the links judged on the stock as the program leaves it
     auto linked = std::make_shared<RestStock>(*regions.left);
@@ -623,9 +637,11 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
   params.comments.insert(
       params.comments.begin(),
       "rest finishing behind " + behind + ": " + std::to_string(regions.parts.size()) + " region(s) (" +
-          std::to_string(narrow) + " pencil only), " + std::to_string(pencil.size()) + " pencil pass(es) first" +
-          (stepped > 0 ? ", " + std::to_string(stepped) + " piece(s) stepped down from the top" : std::string()) +
-          (air > 0 ? ", " + std::to_string(air) + " left out where the pieces before had cut" : std::string()));
+          std::to_string(narrow) + " pencil only), " + std::to_string(pencil_pieces) + " pencil pass(es) first" +
+          (cut_out.stepped > 0 ? ", " + std::to_string(cut_out.stepped) + " piece(s) stepped down from the top"
+                               : std::string()) +
+          (cut_out.air > 0 ? ", " + std::to_string(cut_out.air) + " left out where the pieces before had cut"
+                           : std::string()));
   detail::relink(mesh, new_tool, params, plan);
   return plan;
 }
