@@ -396,7 +396,8 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   if (chain.rest_step)
     rest_split = job::split_rest(part.mesh, design, z, chain, ops.back().tool.cutter(), sim.rest_threshold_mm,
                                  ops.back().tool.cutter().reach_mm > 0 ? -ops.back().tool.cutter().reach_mm
-                                                                       : -std::numeric_limits<double>::infinity());
+                                                                       : -std::numeric_limits<double>::infinity(),
+                                 frame.z_shift());
 
   // 7. The setup sheet's tools (reach and holder clearance over the part) and operations.
   report::SetupSheet sheet;

@@ -302,25 +302,55 @@ ChainResult machine_chain(simulate::ZMap& stock, const Design& design, const std
 }
 
 RestSplit split_rest(const ingest::Mesh& mesh, const Design& design, const simulate::ZMap& stock, const ChainResult& r,
-                     const tooling::Cutter& tool, double threshold_mm, double floor_z) {
+                     const tooling::Cutter& tool, double threshold_mm, double floor_z, double mesh_z_shift) {
   const finish::RestRegions ref = finish::unreachable_regions(mesh, r.rest_reference, threshold_mm);
   const finish::RestRegions own = finish::unreachable_regions(mesh, tool, threshold_mm);
   const simulate::GridSpec& g = design.grid;
-  auto in = [&g](const finish::RestRegions& u, std::size_t i) {
-    const long bi = std::lround((g.y(i / g.nx) - u.y0) / u.cell), bj = std::lround((g.x(i % g.nx) - u.x0) / u.cell);
+  auto node = [&g](const finish::RestRegions& u, std::size_t i) {
+    return std::pair{std::lround((g.y(i / g.nx) - u.y0) / u.cell), std::lround((g.x(i % g.nx) - u.x0) / u.cell)};
+  };
+  auto on = [](const finish::RestRegions& u, long bi, long bj) {
     return bi >= 0 && bj >= 0 && bi < u.ny && bj < u.nx && u.mask[static_cast<std::size_t>(bi * u.nx + bj)] != 0;
+  };
+  auto in = [&](const finish::RestRegions& u, std::size_t i) {
+    const auto [bi, bj] = node(u, i);
+    return on(u, bi, bj);
   };
   const std::vector<std::uint8_t> above = simulate::cells_above(stock, design.heights, threshold_mm);
   RestSplit out;
   out.missed.assign(g.cells(), std::numeric_limits<double>::quiet_NaN());
   std::size_t before = 0, after = 0, miss = 0, deep = 0;
+  std::vector<std::size_t> left;                 // rest after the program, where the reference cannot reach
   for (std::size_t i = 0; i < g.cells(); ++i) {  // O(cells)
     const bool was = i < r.rest_above_before.size() && r.rest_above_before[i] != 0;
     if ((!was && above[i] == 0) || !in(ref, i)) continue;
     before += was ? 1 : 0;
     if (above[i] == 0) continue;
     ++after;
-    if (in(own, i)) continue;
+    left.push_back(i);
+  }
+  // Whether the rest tool reaches a cell: the test's nodes decide where the nearest and its eight
+  // neighbours all say it cannot; elsewhere (a region's edge, and bands narrower than the nodes
+  // are apart: beside a concave crease between two facets of a steep wall the tool stays off the
+  // design by more than the threshold for ~0.1 mm across it, a few hundredths in XY) the cell's
+  // own design point is tested exactly — its distance to the tool's nearest placement
+  // (RestRegions::material). Cells in parallel, each on its own: any thread count.
+  std::vector<std::uint8_t> reaches(left.size(), 0);
+  const auto n_left = static_cast<std::ptrdiff_t>(left.size());
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::ptrdiff_t k = 0; k < n_left; ++k) {  // O(left cells · the test's search)
+    const std::size_t i = left[static_cast<std::size_t>(k)];
+    const auto [bi, bj] = node(own, i);
+    bool all = true;
+    for (long di = -1; di <= 1 && all; ++di)
+      for (long dj = -1; dj <= 1 && all; ++dj) all = on(own, bi + di, bj + dj);
+    if (all) continue;
+    const Eigen::Vector3d p(g.x(i % g.nx), g.y(i / g.nx), design.heights[i] - mesh_z_shift);
+    reaches[static_cast<std::size_t>(k)] = own.material(p, Eigen::Vector3d::UnitZ()) <= threshold_mm ? 1 : 0;
+  }
+  for (std::size_t k = 0; k < left.size(); ++k) {  // O(left cells)
+    const std::size_t i = left[k];
+    if (!reaches[k]) continue;
     if (design.heights[i] < floor_z) {
       ++deep;
       continue;

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <numbers>
 #include <tuple>
 
@@ -105,6 +107,48 @@ TEST(JobChain, ASmallerLastToolIsScoredAsRestMachiningBehindTheOneBefore) {
     EXPECT_FALSE(r.rest_step) << a.describe() << " then " << b.describe();
     EXPECT_EQ(r.steps.size(), 2U);
   }
+}
+
+// A wall that steepens from 45° to 80° at x = c = 5.05 (a concave kink turning 35°). A Ø1 ball
+// resting in it touches both faces R·tan 17.5° = 0.158 mm from the kink and stays off the design
+// by more than the 0.02 mm threshold only within s < 0.158 − √(0.52² − 0.5²) = 0.0149 mm of it
+// along each face: an XY band from c − 0.0105 (the 45° face) to c + 0.0026 (the 80° face),
+// narrower than the rest test's 0.1 mm nodes (5.0 and 5.1, both outside it). Under a stock 0.1 mm
+// over the design (0.071 along the 45° face's normal: rest; 0.017 on the 80° face: not) behind a
+// Ø10 reference, the cells in that band are rest the Ø1 cannot reach, never missed rest; those on
+// the 45° face clear of it are missed. (By the nearest node alone both were missed.)
+TEST(JobChain, RestInABandNarrowerThanTheReachTestsNodesIsSplitByTheExactTest) {
+  const double c = 5.05, a = std::tan(80 * std::numbers::pi / 180);
+  const ingest::Mesh wall =
+      testing_ingest::solid([&](double x, double) { return x <= c ? x : c + a * (x - c); }, 0, 6.5, 0, 6, 130, 1, -1);
+  const Frame frame = frame_of(wall, 0.5);
+  SimParams sim;
+  sim.cell_mm = 0.005;
+  const Design design = design_surface(wall, frame, sim);
+  const simulate::ZMap stock = finishing_stock(design, frame, sim);  // the design + 0.1
+  ChainResult r;
+  r.rest_step = true;
+  r.rest_reference = Cutter::ball(10);
+  r.rest_above_before = simulate::cells_above(stock, design.heights, sim.rest_threshold_mm);
+  const RestSplit split = split_rest(wall, design, stock, r, Cutter::ball(1), sim.rest_threshold_mm,
+                                     -std::numeric_limits<double>::infinity(), frame.z_shift());
+  const simulate::GridSpec& g = design.grid;
+  int band = 0, clear = 0;
+  for (std::size_t i = 0; i < g.cells(); ++i) {
+    const double x = g.x(i % g.nx), y = g.y(i / g.nx);
+    if (y < 2.5 || y > 3.5) continue;  // away from the ends, where the tools come in from the side
+    const double s = x <= c ? (c - x) * std::numbers::sqrt2 : (x - c) / std::cos(80 * std::numbers::pi / 180);
+    if (s < 0.0149 - 0.001) {
+      ++band;
+      EXPECT_TRUE(std::isnan(split.missed[i])) << "x " << x << " y " << y << ": the Ø1 cannot reach it";
+    } else if (x < c - 0.0105 - 0.01 && x > c - 0.4) {
+      ++clear;
+      EXPECT_FALSE(std::isnan(split.missed[i])) << "x " << x << " y " << y << ": the Ø1 reaches it";
+    }
+  }
+  EXPECT_GE(band, 2 * 200);  // two cells a row (x 5.0425 and 5.0475), 200 rows
+  EXPECT_GT(clear, 70 * 200);
+  EXPECT_GT(split.missed_mm2, 0.0);
 }
 
 }  // namespace

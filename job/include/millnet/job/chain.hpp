@@ -149,13 +149,17 @@ void left_above(const simulate::ZMap& stock, const Design& design, StepResult& s
 
 /// A rest step's material over the threshold split by what each tool can reach (issue 41), both
 /// found exactly from the mesh (finish::unreachable_regions: a point-like probe's rest behind the
-/// tool; a z-map cell takes the answer of the test's nearest node). The rest is the material over
+/// tool; for the reference a z-map cell takes the answer of the test's nearest node). The rest is the material over
 /// the threshold where the reference (r.rest_reference) cannot reach: before (r.rest_above_before)
 /// and after the rest program (`stock`); what the rest tool cannot reach either (the ideal after);
 /// rest left where the rest tool reaches (missed), with its vertical excess per cell (NaN elsewhere).
-/// `mesh` in the part frame, whose XY is the z-map's. Rest on design below `floor_z` (the z-map's
-/// frame: the stock top less the rest tool's stick-out) is beyond its reach, counted apart from the
-/// missed (beyond_reach_mm2). O(cells) + the two tests.
+/// `mesh` in the part frame, whose XY is the z-map's (program Z = part z + `mesh_z_shift`). Rest on
+/// design below `floor_z` (the z-map's frame: the stock top less the rest tool's stick-out) is
+/// beyond its reach, counted apart from the missed (beyond_reach_mm2). Whether the rest tool
+/// reaches a cell of rest left after it: its nearest node's answer where that node's eight
+/// neighbours agree it cannot, else the exact test at the cell's own design point (bands narrower
+/// than the nodes are apart: beside the creases of a steep faceted wall). O(cells) + the two tests
+/// + the exact test at those cells.
 struct RestSplit {
   double before_mm2 = 0, after_mm2 = 0, unreachable_mm2 = 0, reference_unreachable_mm2 = 0, missed_mm2 = 0;
   double beyond_reach_mm2 = 0;
@@ -163,6 +167,6 @@ struct RestSplit {
 };
 [[nodiscard]] RestSplit split_rest(const ingest::Mesh& mesh, const Design& design, const simulate::ZMap& stock,
                                    const ChainResult& r, const tooling::Cutter& tool, double threshold_mm,
-                                   double floor_z = -std::numeric_limits<double>::infinity());
+                                   double floor_z, double mesh_z_shift);
 
 }  // namespace millnet::job
