@@ -264,7 +264,7 @@ std::vector<Pass> corner_passes(const ingest::Mesh& mesh, const DropCutter& tool
   const detail::Fence fence(mesh, p.boundary);
   const double shallow_to = p.boundary_angle_deg + tol::slope_overlap_deg;
   std::vector<std::vector<detail::Sample>> lines =
-      detail::order_by_level(detail::steep_pieces(detail::waterline_loops(s, box, p), p), p.tool.diameter);
+      detail::order_by_level(detail::steep_pieces(detail::waterline_loops(s, box, p, true), p), p.tool.diameter);
   for (const auto& level : detail::equidistant_loops(s, box, p, true))
     for (const auto& loop : level)
       for (auto& r : detail::runs(loop, [&](const detail::Sample& q) { return q.slope_deg < shallow_to; }))

@@ -89,8 +89,13 @@ template <class Keep>
 std::vector<Pass> to_passes(std::vector<std::vector<Sample>> lines);
 [[nodiscard]] std::vector<std::vector<Sample>> raster_lines(const Sampler& s, const Box& box, const FinishParams& p,
                                                             bool adaptive_spacing);
+/// `into_corners`: chords that cut across an inside corner of the level (a concave crease of a wall,
+/// where the contour turns into the material between two crossings) are split too, by a refined
+/// point, until none lies more than the chord tolerance off the contour on the air side (rest
+/// finishing's Z-levels: the material left in such a corner is what they are for).
 [[nodiscard]] std::vector<std::vector<std::vector<Sample>>> waterline_loops(const Sampler& s, const Box& box,
-                                                                            const FinishParams& p);
+                                                                            const FinishParams& p,
+                                                                            bool into_corners = false);
 /// `from_polygons`: the distance is measured from p.boundary's polygons too (nodes outside them are
 /// sources), so that the loops run along a region's outline (rest finishing's corner passes).
 [[nodiscard]] std::vector<std::vector<std::vector<Sample>>> equidistant_loops(const Sampler& s, const Box& box,

@@ -153,9 +153,84 @@ void split_gouging_chords(const Sampler& s, std::vector<ContourPoint>& loop, dou
   loop = std::move(out);
 }
 
+/// Splits chords P→Q that pass through the air by more than `tol` / 2 off the contour (an inside
+/// corner of the level cut across: the cutter at z along the chord stands off the wall there) at
+/// their farthest point, by a refined contour point found along the chord's material-side normal.
+/// The material is on the left of the contour as traced. A budget of splits per chord, as above.
+void split_air_chords(const Sampler& s, std::vector<ContourPoint>& loop, double z, double tol) {
+  const double h = std::min(tol::initial_sample_mm, s.cutter().radius() / 4);
+  constexpr int kMaxSplits = 64;
+  struct Item {
+    ContourPoint a, b;
+  };
+  std::vector<ContourPoint> out;
+  out.reserve(loop.size());
+  for (std::size_t i = 0; i + 1 < loop.size(); ++i) {  // O(chords · (len / h + splits · log))
+    out.push_back(loop[i]);
+    std::vector<Item> stack{{loop[i], loop[i + 1]}};
+    std::vector<ContourPoint> seq;
+    int splits = 0;
+    while (!stack.empty()) {
+      const Item it = stack.back();
+      stack.pop_back();
+      const Eigen::Vector2d d = it.b.xy - it.a.xy;
+      const double len = d.norm();
+      if (it.a.on_boundary || it.b.on_boundary || it.a.lift > 0 || it.b.lift > 0 || !(len > 2 * tol) ||
+          splits >= kMaxSplits) {
+        seq.push_back(it.b);
+        continue;
+      }
+      // The chord's interior every ≤ h: the point standing farthest below the level.
+      const int pieces = std::max(2, static_cast<int>(std::ceil(len / h)));
+      Eigen::Vector2d m = 0.5 * (it.a.xy + it.b.xy);
+      double airiest = 0;
+      for (int k = 1; k < pieces; ++k) {
+        const Eigen::Vector2d q = it.a.xy + (static_cast<double>(k) / pieces) * d;
+        const double f = s.z(q.x(), q.y()) - z;
+        if (f < airiest) airiest = f, m = q;
+      }
+      // Into the material (the left, normal (−dy, dx)) up to the chord's length: the contour
+      // found there, more than tol off the chord, splits it.
+      const Eigen::Vector2d n(-d.y() / len, d.x() / len);
+      Eigen::Vector2d air = m, in = m;
+      double f_air = airiest;
+      bool found = false;
+      for (double reach = tol; airiest < 0; reach = std::min(2 * reach, len)) {  // O(log(len / tol)) drops
+        const Eigen::Vector2d q = m + reach * n;
+        const double fq = s.z(q.x(), q.y()) - z;
+        if (fq >= 0) {
+          in = q, found = true;
+          break;
+        }
+        air = q, f_air = fq;
+        if (reach >= len) break;
+      }
+      if (!found) {
+        seq.push_back(it.b);
+        continue;
+      }
+      // Refined to half the tolerance, and split where that is half of it off: the corner is then
+      // cut by no more than the tolerance.
+      const auto [xy, slope] = refine_crossing(s, in, air, 0, f_air, z, 0.5 * tol);
+      if (std::abs((xy - m).dot(n)) <= 0.5 * tol) {
+        seq.push_back(it.b);
+        continue;
+      }
+      ++splits;
+      const ContourPoint mid{xy, slope, false};
+      stack.push_back({mid, it.b});
+      stack.push_back({it.a, mid});
+    }
+    for (std::size_t k = 0; k + 1 < seq.size(); ++k) out.push_back(seq[k]);
+  }
+  out.push_back(loop.back());
+  loop = std::move(out);
+}
+
 }  // namespace
 
-std::vector<std::vector<std::vector<Sample>>> waterline_loops(const Sampler& s, const Box& box, const FinishParams& p) {
+std::vector<std::vector<std::vector<Sample>>> waterline_loops(const Sampler& s, const Box& box, const FinishParams& p,
+                                                              bool into_corners) {
   const double g = std::min(tol::waterline_grid_mm, s.cutter().radius() / 2);
   const GridSpec grid = GridSpec::over(box.x0, box.y0, box.x1, box.y1, g);
   const std::vector<double> cl = cl_heights(s, grid.x0, grid.y0, grid.x1, grid.y1, grid.step, grid.nx, grid.ny);
@@ -185,6 +260,10 @@ std::vector<std::vector<std::vector<Sample>>> waterline_loops(const Sampler& s, 
     auto& level_out = out[static_cast<std::size_t>(k)];
     for (auto& loop : loops) {
       split_gouging_chords(s, loop, z, tol);
+      if (into_corners) {  // and the chords that makes checked again
+        split_air_chords(s, loop, z, tol);
+        split_gouging_chords(s, loop, z, tol);
+      }
       std::reverse(loop.begin(), loop.end());  // material on the right: climb milling
       // Cut the loop open where it runs along the machining boundary.
       const auto first_pad =

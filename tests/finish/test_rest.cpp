@@ -6,6 +6,7 @@
 // wall's rest reaches up to where the Ø6 touches it, z = 3 − √(6t + t²). Oracles: those formulas,
 // and the ball's centre distance to every triangle (brute force) for gouge and for coverage.
 #include "rest_internal.hpp"
+#include "sampling.hpp"
 
 #include "millnet/core/error.hpp"
 #include "millnet/finish/rest.hpp"
@@ -559,6 +560,52 @@ TEST(RestRegions, TheUnreachableAreaOfABallInTheCornerIsTheHandComputedBand) {
   const double rows = std::floor(22 / u.cell) - std::ceil(8 / u.cell) + 1;
   EXPECT_NEAR(area / rows, kBandEnd, 2 * u.cell);
   EXPECT_LT(unreachable_area_mm2(part, Cutter::ball(2), kT), unreachable_area_mm2(part, Cutter::ball(6), kT));
+}
+
+// Z-levels into an inside corner: a 10 mm high plate with its quadrant x > 4.12, y > 4.13 cut
+// down to a floor at 0 (two vertical walls meeting in a concave corner, off the 0.25 mm grid the
+// levels are seeded on). At z = 5 a Ø1 ball's centre must keep 0.5 from both walls: its level
+// turns a sharp corner at (4.62, 4.63), inside the seed grid's cell [4.5, 4.75]², whose crossings
+// (4.62, 4.75) and (4.75, 4.63) a chord would join 0.088 mm off the corner, on the air side —
+// leaving the corner's rest. Rest finishing's levels (into_corners) reach it within the chord
+// tolerance; no point of any level lies inside the walls' offset (no gouge).
+TEST(RestFinishing, ZLevelsReachIntoAnInsideCornerBetweenTheirSeedGridsNodes) {
+  const double cx = 4.12, cy = 4.13, R = 0.5;
+  ingest::Mesh m;
+  m.V.resize(14, 3);
+  m.V << 0, 0, 10, cx, 0, 10, cx, 10, 10, 0, 10, 10,  // the top, x < cx
+      cx, 0, 10, 10, 0, 10, 10, cy, 10, cx, cy, 10,   // the top, y < cy
+      cx, cy, 0, 10, cy, 0, 10, 10, 0, cx, 10, 0,     // the floor
+      cx, 10, 10, 10, cy, 10;                         // the walls' far top corners
+  m.F.resize(10, 3);
+  m.F << 0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7, 8, 9, 10, 8, 10, 11, 8, 11, 12, 8, 12,
+      7,                   // the wall x = cx (y from cy to 10)
+      8, 7, 13, 8, 13, 9;  // the wall y = cy (x from cx to 10)
+  const DropCutter ball(m, Cutter::ball(2 * R));
+  const detail::Sampler s(m, ball);
+  FinishParams p = rest_params();
+  p.step_down_mm = 2.5;
+  p.chord_tolerance_mm = 0.005;
+  const detail::Box box{0, 0, 10, 10};
+  const Eigen::Vector2d corner(cx + R, cy + R);
+  for (const bool into : {false, true}) {
+    double nearest = HUGE_VAL, deepest = 0;
+    for (const auto& level : detail::waterline_loops(s, box, p, into))
+      for (const auto& loop : level)
+        for (std::size_t k = 0; k + 1 < loop.size(); ++k) {
+          const Eigen::Vector3d &a = loop[k].p, &b = loop[k + 1].p;
+          if (std::abs(a.z() - 5) > 1e-9 || std::abs(b.z() - 5) > 1e-9) continue;
+          const Eigen::Vector2d ab = (b - a).head<2>();
+          const double t = std::clamp((corner - a.head<2>()).dot(ab) / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
+          nearest = std::min(nearest, (a.head<2>() + t * ab - corner).norm());
+          if (a.x() > cx && a.y() > cy) deepest = std::max(deepest, std::max(cx + R - a.x(), cy + R - a.y()));
+        }
+    EXPECT_LE(deepest, 1e-3) << "a level point inside the walls' offset";
+    if (into)
+      EXPECT_LE(nearest, p.chord_tolerance_mm + 1e-3);
+    else
+      EXPECT_GT(nearest, 0.05);  // the seed grid's chord (what the five strategies keep)
+  }
 }
 
 TEST(RestRegions, BadParametersAndASmallerReferenceAreRefused) {
