@@ -480,20 +480,32 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
     out.parts[c].axis_deg = a < 0 ? a + 180 : a;
   }
 
+  if (params.mask_only) return out;
+
   // 6. Each region's ceiling: the highest design point within the new tool's reach of it whose
   // material behind the reference exceeds the threshold (points on every triangle there, ≤ cell/2
   // apart, each tested like a contact above). A tip above the highest rest cuts none of it: Z-levels
   // up a wall the reference touched are left out. A point belongs to the region of the nearest
   // grown node within reach.
   const auto reach = disc_offsets(tool.radius() / h + 1);
-  auto region_of = [&](const Eigen::Vector3d& q) {
-    const auto bi = static_cast<int>(std::lround((q.y() - g.y0) / h)),
-               bj = static_cast<int>(std::lround((q.x() - g.x0) / h));
-    for (const auto& [di, dj] : reach) {  // nearest first
+  auto nearest_region = [&](int bi, int bj) {
+    for (const auto& [di, dj] : reach) {  // O(reach), nearest first
       const int i = bi + di, j = bj + dj;
       if (i >= 0 && j >= 0 && i < g.ny && j < g.nx && gid[g.at(i, j)] >= 0) return gid[g.at(i, j)];
     }
     return -1;
+  };
+  // The answer depends on the node a point rounds to only: found once per node (rows in parallel),
+  // not once per sample (points off the grid search on their own).
+  std::vector<int> near_region(g.size(), -1);
+#pragma omp parallel for schedule(dynamic, 16)
+  for (int i = 0; i < g.ny; ++i)  // O(nodes · reach)
+    for (int j = 0; j < g.nx; ++j) near_region[g.at(i, j)] = nearest_region(i, j);
+  auto region_of = [&](const Eigen::Vector3d& q) {
+    const auto bi = static_cast<int>(std::lround((q.y() - g.y0) / h)),
+               bj = static_cast<int>(std::lround((q.x() - g.x0) / h));
+    if (bi >= 0 && bj >= 0 && bi < g.ny && bj < g.nx) return near_region[g.at(bi, bj)];
+    return nearest_region(bi, bj);
   };
   const auto faces = static_cast<std::ptrdiff_t>(mesh.F.rows());
   std::vector<std::vector<double>> tops(static_cast<std::size_t>(faces));

@@ -178,6 +178,7 @@ RestRegions unreachable_regions(const ingest::Mesh& mesh, const tooling::Cutter&
   rp.threshold_mm = threshold_mm;
   rp.margin_mm = 0;
   rp.min_area_mm2 = 0;
+  rp.mask_only = true;
   const DropCutter probe(mesh, tooling::Cutter::ball(0.01));
   return rest_regions(mesh, probe, rp);
 }

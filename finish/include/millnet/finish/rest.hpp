@@ -108,6 +108,9 @@ struct RestParams {
   double margin_mm = -1;       ///< regions grown by this; < 0 ⇒ the new tool's radius / 2
   double min_area_mm2 = -1;    ///< regions smaller than this (axis area) dropped; < 0 ⇒ π r_new² / 4
   double cell_mm = 0;          ///< grid step; 0 ⇒ automatic (see above), at most 0.25 mm
+  /// The mask, thickness, areas and material model only: no ceilings (RestRegion::z_max stays
+  /// −∞) and no outlines (what unreachable_regions' callers need; the ceilings cost most of it).
+  bool mask_only = false;
   /// Throws millnet::Error naming the parameter.
   void check() const;
 };
@@ -233,7 +236,8 @@ struct RestAgainstFloor {
 /// with no margin and no sliver dropped, over the part's footprint (grid step rest_cell_mm). What a
 /// rest program with `tool` must leave at worst: the yardstick of `simulate`'s rest figures.
 [[nodiscard]] double unreachable_area_mm2(const ingest::Mesh& mesh, const tooling::Cutter& tool, double threshold_mm);
-/// The same, as regions: mask 1 where `tool` cannot reach the design point under the node.
+/// The same, as regions: mask 1 where `tool` cannot reach the design point under the node
+/// (RestParams::mask_only: no ceilings, no outlines).
 [[nodiscard]] RestRegions unreachable_regions(const ingest::Mesh& mesh, const tooling::Cutter& tool,
                                               double threshold_mm);
 
