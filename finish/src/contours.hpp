@@ -38,7 +38,8 @@ struct ContourPoint {
   Eigen::Vector2d xy;
   double aux = 0;  ///< what the placement function attached (the waterline: the slope)
   bool on_boundary = false;
-  double lift = 0;  ///< the waterline: height above the level where a chord is lifted
+  double lift = 0;     ///< the waterline: height above the level where a chord is lifted
+  bool fresh = false;  ///< the waterline: added by a split of the chords into inside corners
 };
 
 /// Places the crossing on the grid edge from an inside node to an outside node. `outside_is_pad`

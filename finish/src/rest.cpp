@@ -252,14 +252,20 @@ std::vector<Pass> clip_passes(const detail::Fence& fence, const std::vector<Pass
 /// A rest region's passes (p.boundary: its outline and Z range): the steep pieces of the Z-levels,
 /// top-down, then the shallow runs of loops a constant 3D distance p_f apart inside its outline
 /// (strategy 5's fast marching started from the outline), which run along the corner whatever its
-/// shape (a ring around a cavity's floor too), cut to the boundary and simplified. Empty when the
-/// region is narrower than the tool.
+/// shape (a ring around a cavity's floor too), cut to the boundary and simplified. A region
+/// narrower than the tool is traced in a box as wide as the tool.
 std::vector<Pass> corner_passes(const ingest::Mesh& mesh, const DropCutter& tool, const FinishParams& p) {
   detail::Box box{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
   for (const auto& poly : p.boundary.polygons)  // O(polygon points)
     for (const Eigen::Vector2d& q : poly)
       box = {std::min(box.x0, q.x()), std::min(box.y0, q.y()), std::max(box.x1, q.x()), std::max(box.y1, q.y())};
-  if (!(std::min(box.x1 - box.x0, box.y1 - box.y0) >= p.tool.diameter)) return {};
+  if (!(box.x1 >= box.x0 && box.y1 >= box.y0)) return {};
+  // A region narrower than the tool (a band of axis positions along a wall, where the tool sweeps a
+  // band of design a diameter wider) is traced in a box widened to the diameter; the fence keeps its
+  // passes inside the outline.
+  const double wx = std::max(0.0, p.tool.diameter - (box.x1 - box.x0)) / 2,
+               wy = std::max(0.0, p.tool.diameter - (box.y1 - box.y0)) / 2;
+  box = {box.x0 - wx, box.y0 - wy, box.x1 + wx, box.y1 + wy};
   const detail::Sampler s(mesh, tool);
   const detail::Fence fence(mesh, p.boundary);
   const double shallow_to = p.boundary_angle_deg + tol::slope_overlap_deg;
@@ -644,8 +650,8 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
     params.link_max_cut_mm = depth;
   }
   if (plan.passes.empty())
-    throw Error("rest: the rest regions behind " + behind + " are all narrower than " + params.tool.describe() +
-                " and have no concave edge to trace");
+    throw Error("rest: in the rest regions behind " + behind + " no pass of " + params.tool.describe() +
+                " removes rest and no concave edge is there to trace");
   params.comments.insert(
       params.comments.begin(),
       "rest finishing behind " + behind + ": " + std::to_string(regions.parts.size()) + " region(s) (" +

@@ -284,7 +284,7 @@ std::vector<std::vector<Pass>> trim_to_rest(const std::vector<Pass>& passes, con
       const CLPoint c = tool.drop(q.x(), q.y());
       if (c.contact == Contact::None || c.triangle < 0) continue;
       Eigen::Vector3d cc = c.cc, n = unit_normal(mesh, c.triangle);
-      if (q.z() > c.z + tol::rest_hanging_mm) {
+      if (q.z() > c.z + std::max(tol::rest_hanging_mm, eps)) {
         // Hanging above its drop (a Z-level beside a vertical wall): the tool touches the wall at
         // its widest, on the side where the drops rise.
         const double dx = tool.drop(q.x() + probe, q.y()).z - tool.drop(q.x() - probe, q.y()).z,

@@ -49,116 +49,20 @@ std::pair<Eigen::Vector2d, double> refine_crossing(const Sampler& s, Eigen::Vect
   return {out, s_in.slope_deg};
 }
 
-/// Splits chords P→Q that pass through the material (checked every ≤ min(0.1 mm, R/4) along the
-/// chord; the straight move would cut into the part) at their deepest point, by a refined contour
-/// point found along the chord's air-side normal (the material is on the left of the contour as
-/// traced, so the air is on the right).
-void split_gouging_chords(const Sampler& s, std::vector<ContourPoint>& loop, double z, double tol) {
-  const double h = std::min(tol::initial_sample_mm, s.cutter().radius() / 4);
-  std::vector<ContourPoint> out;
-  out.reserve(loop.size());
-  struct Item {
-    ContourPoint a, b;
-  };
-  constexpr int kMaxSplits = 64;
-  for (std::size_t i = 0; i + 1 < loop.size(); ++i) {
-    out.push_back(loop[i]);
-    std::vector<Item> stack{{loop[i], loop[i + 1]}};
-    int splits = 0;
-    bool exhausted = false;
-    // Depth-first, in order: emit points between a and b.
-    std::vector<ContourPoint> seq;
-    while (!stack.empty()) {
-      Item it = stack.back();
-      stack.pop_back();
-      if (it.a.on_boundary || it.b.on_boundary) {
-        seq.push_back(it.b);
-        continue;
-      }
-      const Eigen::Vector2d d = it.b.xy - it.a.xy;
-      const double len = d.norm();
-      if (!(len > 2 * tol::min_sample_mm)) {
-        seq.push_back(it.b);
-        continue;
-      }
-      // The chord's interior every ≤ h (at least its midpoint): the worst point decides, since a
-      // narrow feature can cut a long chord off its middle.
-      const int pieces = std::max(2, static_cast<int>(std::ceil(len / h)));
-      Eigen::Vector2d m = 0.5 * (it.a.xy + it.b.xy);
-      double worst = -std::numeric_limits<double>::infinity();
-      for (int k = 1; k < pieces; ++k) {
-        const Eigen::Vector2d q = it.a.xy + (static_cast<double>(k) / pieces) * d;
-        const double f = s.z(q.x(), q.y()) - z;
-        if (f > worst) worst = f, m = q;
-      }
-      if (worst <= 0.5 * tol::chord_below_mm) {
-        seq.push_back(it.b);
-        continue;
-      }
-      // A budget of splits per original chord (not a depth: a split near one end leaves the other
-      // sub-chord almost as long, and the next split there is one level deeper).
-      if (splits >= kMaxSplits) {
-        exhausted = true;
-        break;
-      }
-      // Inside on the left of a→b: the air is on the right, normal (dy, −dx).
-      // March out along the normal, on both sides (the air side first on ties), to the NEAREST
-      // air point: reach grows from the tolerance, doubling up to h, then in steps of h. A far
-      // probe can land on another branch of the level set, and on a thin sliver of material the
-      // air can be nearer on the left than on the right.
-      const Eigen::Vector2d n(d.y() / len, -d.x() / len);
-      const double max_reach = std::max(2 * len, 4 * s.cutter().radius());
-      Eigen::Vector2d near = m, far = m;
-      double f_far = worst;
-      double prev = 0;
-      for (double reach = std::min(tol, h); reach <= max_reach + 1e-12 && f_far >= 0;
-           reach = reach < h ? std::min(2 * reach, h) : reach + h) {
-        for (const double side : {1.0, -1.0}) {
-          const Eigen::Vector2d q = m + side * reach * n;
-          const double fq = s.z(q.x(), q.y()) - z;
-          if (fq < 0) {
-            near = m + side * prev * n;
-            far = q;
-            f_far = fq;
-            break;
-          }
-        }
-        prev = reach;
-      }
-      if (f_far >= 0) {  // no air found nearby: keep the chord (cannot happen on a closed contour)
-        seq.push_back(it.b);
-        continue;
-      }
-      const auto [xy, slope] = refine_crossing(s, near, far, 0, f_far, z, tol);
-      const ContourPoint mid{xy, slope, false};
-      ++splits;
-      stack.push_back({mid, it.b});
-      stack.push_back({it.a, mid});
-    }
-    if (exhausted) {
-      // The level set here is finer than the splits can follow (a sliver of material a hair above
-      // the level, crossed again and again): the chord keeps its ends and rides over the material
-      // on the drop-cutter instead — never below it, a lift of at most the sliver's height.
-      seq.clear();
-      const std::vector<Sample> over = sample_segment(s, loop[i].xy, loop[i + 1].xy, h, tol);
-      for (std::size_t k = 1; k < over.size(); ++k) {
-        const Sample& q = over[k];
-        seq.push_back(ContourPoint{q.p.head<2>(), q.slope_deg, false, std::max(0.0, q.p.z() - z)});
-      }
-    }
-    // seq holds the ends of the sub-chords in order; the last is loop[i + 1].
-    for (std::size_t k = 0; k + 1 < seq.size(); ++k) out.push_back(seq[k]);
-  }
-  out.push_back(loop.back());
-  loop = std::move(out);
-}
+/// What a chord's check says: keep it, split it at `mid`, or (the budget spent on a chord that
+/// still needs a split) give up on it.
+struct Verdict {
+  enum Kind { Keep, Split, Exhausted } kind = Keep;
+  ContourPoint mid{};
+};
 
-/// Splits chords P→Q that pass through the air by more than `tol` / 2 off the contour (an inside
-/// corner of the level cut across: the cutter at z along the chord stands off the wall there) at
-/// their farthest point, by a refined contour point found along the chord's material-side normal.
-/// The material is on the left of the contour as traced. A budget of splits per chord, as above.
-void split_air_chords(const Sampler& s, std::vector<ContourPoint>& loop, double z, double tol) {
-  const double h = std::min(tol::initial_sample_mm, s.cutter().radius() / 4);
+/// The depth-first split both chord checks share: each chord a→b of the loop is asked of
+/// `check(a, b, budget_left)` and, where it is split, its two halves in turn (in order), with a
+/// budget of splits per original chord (not a depth: a split near one end leaves the other
+/// sub-chord almost as long, and the next split there is one level deeper). A chord whose check
+/// gives up is replaced by `ride(a, b)`: the points after a, up to and including b.
+template <class Check, class Ride>
+void split_chords(std::vector<ContourPoint>& loop, Check&& check, Ride&& ride) {
   constexpr int kMaxSplits = 64;
   struct Item {
     ContourPoint a, b;
@@ -168,63 +72,141 @@ void split_air_chords(const Sampler& s, std::vector<ContourPoint>& loop, double 
   for (std::size_t i = 0; i + 1 < loop.size(); ++i) {  // O(chords · (len / h + splits · log))
     out.push_back(loop[i]);
     std::vector<Item> stack{{loop[i], loop[i + 1]}};
-    std::vector<ContourPoint> seq;
+    std::vector<ContourPoint> seq;  // the ends of the sub-chords in order; the last is loop[i + 1]
     int splits = 0;
     while (!stack.empty()) {
       const Item it = stack.back();
       stack.pop_back();
-      const Eigen::Vector2d d = it.b.xy - it.a.xy;
-      const double len = d.norm();
-      if (it.a.on_boundary || it.b.on_boundary || it.a.lift > 0 || it.b.lift > 0 || !(len > 2 * tol) ||
-          splits >= kMaxSplits) {
-        seq.push_back(it.b);
-        continue;
+      const Verdict v = check(it.a, it.b, splits < kMaxSplits);
+      if (v.kind == Verdict::Exhausted) {
+        seq = ride(loop[i], loop[i + 1]);
+        break;
       }
-      // The chord's interior every ≤ h: the point standing farthest below the level.
-      const int pieces = std::max(2, static_cast<int>(std::ceil(len / h)));
-      Eigen::Vector2d m = 0.5 * (it.a.xy + it.b.xy);
-      double airiest = 0;
-      for (int k = 1; k < pieces; ++k) {
-        const Eigen::Vector2d q = it.a.xy + (static_cast<double>(k) / pieces) * d;
-        const double f = s.z(q.x(), q.y()) - z;
-        if (f < airiest) airiest = f, m = q;
-      }
-      // Into the material (the left, normal (−dy, dx)) up to the chord's length: the contour
-      // found there, more than tol off the chord, splits it.
-      const Eigen::Vector2d n(-d.y() / len, d.x() / len);
-      Eigen::Vector2d air = m, in = m;
-      double f_air = airiest;
-      bool found = false;
-      for (double reach = tol; airiest < 0; reach = std::min(2 * reach, len)) {  // O(log(len / tol)) drops
-        const Eigen::Vector2d q = m + reach * n;
-        const double fq = s.z(q.x(), q.y()) - z;
-        if (fq >= 0) {
-          in = q, found = true;
-          break;
-        }
-        air = q, f_air = fq;
-        if (reach >= len) break;
-      }
-      if (!found) {
-        seq.push_back(it.b);
-        continue;
-      }
-      // Refined to half the tolerance, and split where that is half of it off: the corner is then
-      // cut by no more than the tolerance.
-      const auto [xy, slope] = refine_crossing(s, in, air, 0, f_air, z, 0.5 * tol);
-      if (std::abs((xy - m).dot(n)) <= 0.5 * tol) {
+      if (v.kind == Verdict::Keep) {
         seq.push_back(it.b);
         continue;
       }
       ++splits;
-      const ContourPoint mid{xy, slope, false};
-      stack.push_back({mid, it.b});
-      stack.push_back({it.a, mid});
+      stack.push_back({v.mid, it.b});
+      stack.push_back({it.a, v.mid});
     }
     for (std::size_t k = 0; k + 1 < seq.size(); ++k) out.push_back(seq[k]);
   }
   out.push_back(loop.back());
   loop = std::move(out);
+}
+
+/// Splits chords P→Q that pass through the material (checked every ≤ min(0.1 mm, R/4) along the
+/// chord; the straight move would cut into the part) at their deepest point, by a refined contour
+/// point found along the chord's air-side normal (the material is on the left of the contour as
+/// traced, so the air is on the right). With `fresh_only`, only chords with an end another split
+/// made (ContourPoint::fresh) are checked: the others passed this check before.
+void split_gouging_chords(const Sampler& s, std::vector<ContourPoint>& loop, double z, double tol,
+                          bool fresh_only = false) {
+  const double h = std::min(tol::initial_sample_mm, s.cutter().radius() / 4);
+  auto check = [&](const ContourPoint& a, const ContourPoint& b, bool budget_left) -> Verdict {
+    if (a.on_boundary || b.on_boundary || (fresh_only && !a.fresh && !b.fresh)) return {};
+    const Eigen::Vector2d d = b.xy - a.xy;
+    const double len = d.norm();
+    if (!(len > 2 * tol::min_sample_mm)) return {};
+    // The chord's interior every ≤ h (at least its midpoint): the worst point decides, since a
+    // narrow feature can cut a long chord off its middle.
+    const int pieces = std::max(2, static_cast<int>(std::ceil(len / h)));
+    Eigen::Vector2d m = 0.5 * (a.xy + b.xy);
+    double worst = -std::numeric_limits<double>::infinity();
+    for (int k = 1; k < pieces; ++k) {
+      const Eigen::Vector2d q = a.xy + (static_cast<double>(k) / pieces) * d;
+      const double f = s.z(q.x(), q.y()) - z;
+      if (f > worst) worst = f, m = q;
+    }
+    if (worst <= 0.5 * tol::chord_below_mm) return {};
+    if (!budget_left) return {Verdict::Exhausted};
+    // Inside on the left of a→b: the air is on the right, normal (dy, −dx).
+    // March out along the normal, on both sides (the air side first on ties), to the NEAREST
+    // air point: reach grows from the tolerance, doubling up to h, then in steps of h. A far
+    // probe can land on another branch of the level set, and on a thin sliver of material the
+    // air can be nearer on the left than on the right.
+    const Eigen::Vector2d n(d.y() / len, -d.x() / len);
+    const double max_reach = std::max(2 * len, 4 * s.cutter().radius());
+    Eigen::Vector2d near = m, far = m;
+    double f_far = worst;
+    double prev = 0;
+    for (double reach = std::min(tol, h); reach <= max_reach + 1e-12 && f_far >= 0;
+         reach = reach < h ? std::min(2 * reach, h) : reach + h) {
+      for (const double side : {1.0, -1.0}) {
+        const Eigen::Vector2d q = m + side * reach * n;
+        const double fq = s.z(q.x(), q.y()) - z;
+        if (fq < 0) {
+          near = m + side * prev * n;
+          far = q;
+          f_far = fq;
+          break;
+        }
+      }
+      prev = reach;
+    }
+    if (f_far >= 0) return {};  // no air found nearby: keep the chord (cannot happen on a closed contour)
+    const auto [xy, slope] = refine_crossing(s, near, far, 0, f_far, z, tol);
+    return {Verdict::Split, ContourPoint{xy, slope, false, 0, fresh_only}};
+  };
+  // The level set here is finer than the splits can follow (a sliver of material a hair above the
+  // level, crossed again and again): the chord keeps its ends and rides over the material on the
+  // drop-cutter instead — never below it, a lift of at most the sliver's height.
+  auto ride = [&](const ContourPoint& a, const ContourPoint& b) {
+    std::vector<ContourPoint> seq;
+    const std::vector<Sample> over = sample_segment(s, a.xy, b.xy, h, tol);
+    for (std::size_t k = 1; k < over.size(); ++k) {
+      const Sample& q = over[k];
+      seq.push_back(ContourPoint{q.p.head<2>(), q.slope_deg, false, std::max(0.0, q.p.z() - z)});
+    }
+    return seq;
+  };
+  split_chords(loop, check, ride);
+}
+
+/// Splits chords P→Q that pass through the air by more than `tol` / 2 off the contour (an inside
+/// corner of the level cut across: the cutter at z along the chord stands off the wall there) at
+/// their farthest point, by a refined contour point found along the chord's material-side normal.
+/// The material is on the left of the contour as traced. The points it adds are marked fresh.
+void split_air_chords(const Sampler& s, std::vector<ContourPoint>& loop, double z, double tol) {
+  const double h = std::min(tol::initial_sample_mm, s.cutter().radius() / 4);
+  auto check = [&](const ContourPoint& a, const ContourPoint& b, bool budget_left) -> Verdict {
+    const Eigen::Vector2d d = b.xy - a.xy;
+    const double len = d.norm();
+    if (a.on_boundary || b.on_boundary || a.lift > 0 || b.lift > 0 || !(len > 2 * tol) || !budget_left) return {};
+    // The chord's interior every ≤ h: the point standing farthest below the level.
+    const int pieces = std::max(2, static_cast<int>(std::ceil(len / h)));
+    Eigen::Vector2d m = 0.5 * (a.xy + b.xy);
+    double airiest = 0;
+    for (int k = 1; k < pieces; ++k) {
+      const Eigen::Vector2d q = a.xy + (static_cast<double>(k) / pieces) * d;
+      const double f = s.z(q.x(), q.y()) - z;
+      if (f < airiest) airiest = f, m = q;
+    }
+    // Into the material (the left, normal (−dy, dx)) up to the chord's length: the contour found
+    // there, more than tol off the chord, splits it.
+    const Eigen::Vector2d n(-d.y() / len, d.x() / len);
+    Eigen::Vector2d air = m, in = m;
+    double f_air = airiest;
+    bool found = false;
+    for (double reach = tol; airiest < 0; reach = std::min(2 * reach, len)) {  // O(log(len / tol)) drops
+      const Eigen::Vector2d q = m + reach * n;
+      const double fq = s.z(q.x(), q.y()) - z;
+      if (fq >= 0) {
+        in = q, found = true;
+        break;
+      }
+      air = q, f_air = fq;
+      if (reach >= len) break;
+    }
+    if (!found) return {};
+    // Refined to half the tolerance, and split where that is half of it off: the corner is then
+    // cut by no more than the tolerance.
+    const auto [xy, slope] = refine_crossing(s, in, air, 0, f_air, z, 0.5 * tol);
+    if (std::abs((xy - m).dot(n)) <= 0.5 * tol) return {};
+    return {Verdict::Split, ContourPoint{xy, slope, false, 0, true}};
+  };
+  split_chords(loop, check, [](const ContourPoint&, const ContourPoint&) { return std::vector<ContourPoint>{}; });
 }
 
 }  // namespace
@@ -262,7 +244,7 @@ std::vector<std::vector<std::vector<Sample>>> waterline_loops(const Sampler& s, 
       split_gouging_chords(s, loop, z, tol);
       if (into_corners) {  // and the chords that makes checked again
         split_air_chords(s, loop, z, tol);
-        split_gouging_chords(s, loop, z, tol);
+        split_gouging_chords(s, loop, z, tol, true);
       }
       std::reverse(loop.begin(), loop.end());  // material on the right: climb milling
       // Cut the loop open where it runs along the machining boundary.

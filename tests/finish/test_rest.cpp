@@ -608,6 +608,75 @@ TEST(RestFinishing, ZLevelsReachIntoAnInsideCornerBetweenTheirSeedGridsNodes) {
   }
 }
 
+TEST(RestFinishing, ARegionNarrowerThanTheToolOnAWallIsCutNotLeftToAPencil) {
+  // A 60° plane wall (x = z / tan 60° from z = 0 to 10) extruded along Y; the stock stands 0.1 mm
+  // over it on a patch 0.44 mm wide (|y − 15| < 0.22) from z = 4 to 4.76 (x 2.309 … 2.748). The Ø1
+  // ball touches the patch with its axis R·sin 60° = 0.433 mm off it in X: axis positions
+  // 0.44 × 0.44 mm (over the sliver limit π·R²/4 = 0.196 mm²), grown by a margin of 0.2 mm to
+  // 0.84 mm square — narrower than the tool both ways, on a wall with no concave edge to trace. Its
+  // passes must take the patch (each point within the threshold of the ball somewhere), not leave it.
+  const double tan60 = std::tan(std::numbers::pi / 3), a = 10 / tan60;
+  const ingest::Mesh part = extruded({{-10, 0}, {0, 0}, {a, 10}, {20, 10}}, 30);
+  auto design = [&](double x) { return x < 0 ? 0.0 : x < a ? x * tan60 : 10.0; };
+  auto in_patch = [&](double x, double y) {
+    const double z = design(x);
+    return std::abs(y - 15) < 0.22 && z > 4 && z < 4.76;
+  };
+  RestStock stock;
+  stock.cell = 0.02, stock.x0 = -9.99, stock.y0 = 0.01, stock.nx = 1500, stock.ny = 1500;
+  stock.z.resize(static_cast<std::size_t>(stock.nx) * static_cast<std::size_t>(stock.ny));
+  for (int i = 0; i < stock.ny; ++i)
+    for (int j = 0; j < stock.nx; ++j) {
+      const double x = stock.x0 + stock.cell * j, y = stock.y0 + stock.cell * i;
+      stock.z[static_cast<std::size_t>(i) * static_cast<std::size_t>(stock.nx) + static_cast<std::size_t>(j)] =
+          design(x) + (in_patch(x, y) ? 0.1 : 0.0);
+    }
+  const DropCutter one(part, Cutter::ball(1));
+  RestParams rp;
+  rp.threshold_mm = kT;
+  rp.stock = &stock;
+  rp.reference = Cutter::ball(1);
+  rp.margin_mm = 0.2;
+  const RestRegions r = rest_regions(part, one, rp, -10, 0, 20, 30);
+  ASSERT_EQ(r.regions, 1U);
+  ASSERT_EQ(r.parts.size(), 1U);
+  double wx = 0, wy = 0;  // the outline's extent
+  {
+    double x0 = HUGE_VAL, x1 = -HUGE_VAL, y0 = HUGE_VAL, y1 = -HUGE_VAL;
+    for (const auto& poly : r.parts.front().boundary.polygons)
+      for (const Eigen::Vector2d& q : poly)
+        x0 = std::min(x0, q.x()), x1 = std::max(x1, q.x()), y0 = std::min(y0, q.y()), y1 = std::max(y1, q.y());
+    wx = x1 - x0, wy = y1 - y0;
+  }
+  EXPECT_LT(wx, 1.0);
+  EXPECT_LT(wy, 1.0);
+  FinishParams params = rest_params();
+  params.tool = Cutter::ball(1);
+  const FinishPlan plan = plan_rest(part, one, r, "the stock", params);
+  std::vector<Eigen::Vector3d> centres;  // the ball's centre every 0.02 mm along the passes
+  for (const Pass& pass : plan.passes)
+    for (std::size_t q = 1; q < pass.points.size(); ++q) {
+      const Eigen::Vector3d &b = pass.points[q - 1], &e = pass.points[q];
+      const int n = std::max(1, static_cast<int>(std::ceil((e - b).norm() / 0.02)));
+      for (int k = 0; k <= n; ++k) centres.push_back(b + (e - b) * k / n + Eigen::Vector3d(0, 0, 0.5));
+    }
+  ASSERT_FALSE(centres.empty());
+  for (const Eigen::Vector3d& c : centres) {  // near the patch and never into the wall
+    EXPECT_NEAR(c.y(), 15, 0.22 + 0.2 + 0.5) << c.transpose();
+    EXPECT_GE(distance_to_mesh(part, c), 0.5 - 1e-4) << c.transpose();
+  }
+  std::size_t checked = 0;
+  for (double z = 4.02; z < 4.75; z += 0.03)
+    for (double y = 14.79; y < 15.21; y += 0.03) {
+      const Eigen::Vector3d p(z / tan60, y, z);
+      double d = HUGE_VAL;
+      for (const Eigen::Vector3d& c : centres) d = std::min(d, (p - c).norm() - 0.5);
+      EXPECT_LE(d, kT) << "rest left at " << p.transpose();
+      ++checked;
+    }
+  EXPECT_GT(checked, 50U);
+}
+
 TEST(RestRegions, BadParametersAndASmallerReferenceAreRefused) {
   const ingest::Mesh part = l_corner();
   const DropCutter two(part, Cutter::ball(2));

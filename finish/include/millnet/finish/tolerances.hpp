@@ -52,8 +52,11 @@ inline constexpr double rest_bridge_radii = 1.0;
 /// feed path and air 31 → 26 % of it.
 inline constexpr double rest_run_on_radii = 0.125;
 
-/// Rest finishing: a pass point this far above the tool's drop at its XY hangs beside a vertical
-/// wall (a Z-level): it touches the wall at its widest, not at the drop's contact.
+/// Rest finishing: a pass point this far above the tool's drop at its XY, and more than half the
+/// rest threshold, hangs beside a vertical wall (a Z-level): it touches the wall at its widest, not
+/// at the drop's contact. Nearer its drop (a Z-level point on a sloped wall, refined to the air side
+/// of the level within the chord tolerance: 0.009 mm above its drop on a 60° wall at 0.005 mm) the
+/// drop's contact is within that of the tool — at its widest the tool would stand off such a wall.
 inline constexpr double rest_hanging_mm = 1e-3;
 
 /// Passes (and pieces of passes) shorter than this are dropped.
