@@ -355,7 +355,7 @@ job::StrategyOutcome outcome_from_metrics(const Json& j, double cell_mm) {
 finish::RestStock stock_of(simulate::ZMap z, const job::Frame& frame) {
   const simulate::GridSpec g = z.spec();
   finish::RestStock s;
-  s.x0 = g.x0, s.y0 = g.y0, s.cell = g.cell;
+  s.x0 = g.x(0), s.y0 = g.y(0), s.cell = g.cell;  // its nodes at the cells' centres, not their corner
   s.nx = static_cast<int>(g.nx), s.ny = static_cast<int>(g.ny);
   s.z = std::move(z.heights());
   s.z_offset = -frame.z_shift();  // program frame → part frame
