@@ -43,6 +43,26 @@ struct JobOpts {
   bool keep_deep_cuts = false;  ///< write a job whose cut goes beyond a tool's flutes (warned), as before 2026-11-27
 };
 
+/// Removes the operation programs an earlier job of this part left in `out` that this one does not
+/// write (<stem>.op<N>.<name>.nc: an operation it no longer has, or numbered otherwise), so that no
+/// stale program stands beside the job's — its tool may not even be in the new tool table. Other
+/// files are left alone. O(files in the folder).
+void remove_stale_programs(const fs::path& out, const std::string& stem, const std::vector<std::string>& written) {
+  const std::string prefix = stem + ".op";
+  std::error_code ec;
+  for (const fs::directory_entry& e : fs::directory_iterator(out, ec)) {
+    const std::string name = e.path().filename().string();
+    if (!e.is_regular_file() || name.size() <= prefix.size() + 3 || name.rfind(prefix, 0) != 0 ||
+        !name.ends_with(".nc") || std::find(written.begin(), written.end(), name) != written.end())
+      continue;
+    const std::size_t dot = name.find('.', prefix.size());
+    const std::string number = name.substr(prefix.size(), dot == std::string::npos ? 0 : dot - prefix.size());
+    if (number.empty() || !std::all_of(number.begin(), number.end(), [](char c) { return c >= '0' && c <= '9'; }))
+      continue;
+    if (fs::remove(e.path(), ec)) info("job: " + stem + ": removed " + name + ", a program of an earlier job");
+  }
+}
+
 /// A tool as the job runs it: the configured one, or the library's one of the same kind that reaches
 /// (job::tool_that_reaches); `note` says which and why.
 tooling::Tool reaching(const ToolLibrary& lib, const tooling::Tool& configured, double depth_mm,
@@ -365,6 +385,7 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
     op_files.push_back(p.filename().string());
     program_files.push_back({p.filename().string(), sha256_hex(w.text), w.text.size()});
   }
+  remove_stale_programs(out, stem, op_files);
 
   // The job's tools as a LinuxCNC tool table (what the control loads before the job runs).
   const std::vector<tooling::Tool> job_tools = job::tools_of(ops);

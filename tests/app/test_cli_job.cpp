@@ -290,12 +290,30 @@ TEST(CliJob, RestFinishingIsAnOperationWithItsToolChangeWhereTheFinishingLeavesR
   // Over the minimum area only; a rest tool no smaller than the finishing's is refused.
   std::ofstream(d / "big.json") << R"({"simulate": {"cell_mm": 0.1}, "finish": {"tool": {"id": "bn2-2f-carbide"},
                                        "rest": {"tool": "ball:1", "min_area_mm2": 1e6}}})";
+  // Into a folder where an earlier job of the part left its rest program: that program is removed
+  // (its tool is not in the new tool table), the folder's other files stay.
+  const std::string rest_nc = "pocket.op" + std::to_string(ops.size()) + ".rest.nc";
+  fs::create_directories(d / "none");
+  fs::copy_file(d / "out" / rest_nc, d / "none" / rest_nc);
+  std::ofstream(d / "none" / "pocket.op9.notes.txt") << "mine";
+  std::ofstream(d / "none" / "pocket.opx.nc") << "mine";
   const auto none = run_millnet(
       "job --quiet --no-preview --config big.json --mesh '" + mesh.string() + "' --strategy 1 --out none", d);
   ASSERT_EQ(none.code, 0) << none.err;
   const Json n = Json::parse(slurp(d / "none" / "pocket.job.json"));
   EXPECT_EQ(n["operations"].size(), ops.size() - 1);
   EXPECT_NE(n.dump().find("no rest operation"), std::string::npos);
+  EXPECT_FALSE(fs::exists(d / "none" / rest_nc));
+  EXPECT_TRUE(fs::exists(d / "none" / "pocket.op9.notes.txt"));
+  EXPECT_TRUE(fs::exists(d / "none" / "pocket.opx.nc"));
+  for (std::size_t k = 1; k < ops.size(); ++k)  // the job's own programs, numbered as before
+    EXPECT_EQ(
+        fs::exists(d / "none" /
+                   ("pocket.op" + std::to_string(k) + "." +
+                    ops[k - 1]["name"].get<std::string>().substr(0, ops[k - 1]["name"].get<std::string>().find(' ')) +
+                    ".nc")),
+        true)
+        << k;
   const auto big = run_millnet(base + "--rest-tool ball:3 --out bad", d);
   EXPECT_NE(big.code, 0);
   EXPECT_NE(big.err.find("not smaller"), std::string::npos) << big.err;
