@@ -62,7 +62,6 @@ inline Eigen::Vector3d unit_normal(const ingest::Mesh& mesh, std::ptrdiff_t f) {
 /// lies on one wall or the other while the rest stands between them, in reach of the tool. Such
 /// probes are asked again, last pass to first, against every other pass's pieces as they then stand
 /// (the machine may cut a later pass first), and a pass's pieces are cut again where none remains.
-/// Each such probe costs O((R / stock cell)² · the placements within 2R of it).
 [[nodiscard]] std::vector<std::vector<Pass>> trim_to_rest(const std::vector<Pass>& passes, const DropCutter& tool,
                                                           const ingest::Mesh& mesh, const RestRegions& regions,
                                                           std::size_t by_removal_from = 0);
