@@ -442,7 +442,6 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
   if (stock) {  // what the links and entries clear
     out.stock_tip = [stock, tool](double x, double y) { return stock->clearing_tip(tool, x, y); };
     out.left = std::shared_ptr<const RestStock>(std::shared_ptr<const RestStock>(), stock);  // not owned
-    out.left_is_stock = true;
   } else {
     // The reference's envelope near the regions (+ the threshold for its cusps); elsewhere the new
     // tool on the reference's tip, raised until its profile clears the reference's.
@@ -623,10 +622,7 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
   std::vector<Pass> corner_ordered = detail::order_nearest(corner, at, &order);
   passes.insert(passes.end(), std::make_move_iterator(corner_ordered.begin()),
                 std::make_move_iterator(corner_ordered.end()));
-  // The regions' passes judged also by what they remove (the pencil passes trace the corners
-  // themselves; judged so too, s4's rest path is 10.6 % air against 10.0 %, for 3.35 against
-  // 3.50 mm² missed).
-  const std::vector<std::vector<Pass>> pieces = detail::trim_to_rest(passes, new_tool, mesh, regions, pencils);
+  const std::vector<std::vector<Pass>> pieces = detail::trim_to_rest(passes, new_tool, mesh, regions);
   // The pieces nearest first again (pencil pieces first); regions left with pencil passes only.
   std::vector<Pass> pencil, rest;
   std::vector<std::uint8_t> cut(regions.parts.size(), 0);

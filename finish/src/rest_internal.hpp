@@ -56,15 +56,8 @@ inline Eigen::Vector3d unit_normal(const ingest::Mesh& mesh, std::ptrdiff_t f) {
 /// stretch is a piece: its ends interpolated on their segments, the pass's vertices between. Passes
 /// in order, a pass's probes in parallel: any thread count. O(length / R) drops, each tested against
 /// the O(1) placements near it.
-/// From the stock (regions.left_is_stock), the passes from `by_removal_from` on also cut where the
-/// tool placed at the probe removes more than the rest threshold (RestStock::removal_behind, along
-/// its normal) from the stock as the other passes' pieces leave it: in a concave corner the contact
-/// lies on one wall or the other while the rest stands between them, in reach of the tool. Such
-/// probes are asked again, last pass to first, against every other pass's pieces as they then stand
-/// (the machine may cut a later pass first), and a pass's pieces are cut again where none remains.
 [[nodiscard]] std::vector<std::vector<Pass>> trim_to_rest(const std::vector<Pass>& passes, const DropCutter& tool,
-                                                          const ingest::Mesh& mesh, const RestRegions& regions,
-                                                          std::size_t by_removal_from = 0);
+                                                          const ingest::Mesh& mesh, const RestRegions& regions);
 
 /// The reference's envelope over the nodes within `reach_mm` of a `near` node (a grid x0 + j·h,
 /// y0 + i·h of nx × ny nodes, its drop-cutter tips `ref_cl`): the lowest of its surfaces over each,

@@ -213,113 +213,40 @@ public:
         // Latest first (the pass before is the likeliest to have cleared it); the cutting end only,
         // not the flutes above; a tip above the point by more than eps cannot touch it.
         for (auto t = buckets_[at(i, j)].rbegin(); t != buckets_[at(i, j)].rend(); ++t)
-          if (live(*t) && p.z() <= t->q.z() + top_ && p.z() >= t->q.z() - eps &&
-              distance_to_tool(tool_, t->q.x(), t->q.y(), t->q.z(), p) <= eps)
+          if (p.z() <= t->z() + top_ && p.z() >= t->z() - eps &&
+              distance_to_tool(tool_, t->x(), t->y(), t->z(), p) <= eps)
             return true;
     return false;
   }
-  /// The live placements of passes other than `skip` whose axes lie within twice the radius of
-  /// p's (all that can share a cell with a placement at p), appended to `out`. O(placements near).
-  void near(const Eigen::Vector3d& p, std::size_t skip, std::vector<Eigen::Vector3d>& out) const {
+  void sweep(const Pass& piece) {
     if (buckets_.empty()) return;
-    const int bi = static_cast<int>(std::floor((p.y() - y0_) / side_)),
-              bj = static_cast<int>(std::floor((p.x() - x0_) / side_));
-    for (int i = std::max(0, bi - 2); i <= std::min(ny_ - 1, bi + 2); ++i)
-      for (int j = std::max(0, bj - 2); j <= std::min(nx_ - 1, bj + 2); ++j)
-        for (const Placement& t : buckets_[at(i, j)])
-          if (t.pass != skip && live(t) && (t.q.head<2>() - p.head<2>()).squaredNorm() <= 4 * side_ * side_)
-            out.push_back(t.q);
-  }
-  /// The placements of pass `pass` along `pieces` (every R/8), replacing any it had.
-  void sweep(std::size_t pass, const std::vector<Pass>& pieces) {
-    if (buckets_.empty()) return;
-    if (generation_.size() <= pass) generation_.resize(pass + 1, 0);
-    const std::uint32_t gen = ++generation_[pass];
     const double spacing = tool_.radius() / 8;
-    for (const Pass& piece : pieces)
-      for (std::size_t i = 0; i + 1 < piece.points.size(); ++i) {  // O(length / spacing)
-        const Eigen::Vector3d &a = piece.points[i], &b = piece.points[i + 1];
-        const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / spacing)));
-        for (int t = (i == 0 ? 0 : 1); t <= steps; ++t) {
-          const Eigen::Vector3d q = a + (b - a) * (static_cast<double>(t) / steps);
-          const int bi = static_cast<int>(std::floor((q.y() - y0_) / side_)),
-                    bj = static_cast<int>(std::floor((q.x() - x0_) / side_));
-          if (bi >= 0 && bj >= 0 && bi < ny_ && bj < nx_) buckets_[at(bi, bj)].push_back({q, pass, gen});
-        }
+    for (std::size_t i = 0; i + 1 < piece.points.size(); ++i) {  // O(length / spacing)
+      const Eigen::Vector3d &a = piece.points[i], &b = piece.points[i + 1];
+      const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / spacing)));
+      for (int t = (i == 0 ? 0 : 1); t <= steps; ++t) {
+        const Eigen::Vector3d q = a + (b - a) * (static_cast<double>(t) / steps);
+        const int bi = static_cast<int>(std::floor((q.y() - y0_) / side_)),
+                  bj = static_cast<int>(std::floor((q.x() - x0_) / side_));
+        if (bi >= 0 && bj >= 0 && bi < ny_ && bj < nx_) buckets_[at(bi, bj)].push_back(q);
       }
+    }
   }
 
 private:
-  struct Placement {
-    Eigen::Vector3d q;
-    std::size_t pass;
-    std::uint32_t gen;  // the pass's sweep it came from: only its latest counts
-  };
-  [[nodiscard]] bool live(const Placement& t) const { return generation_[t.pass] == t.gen; }
   [[nodiscard]] std::size_t at(int i, int j) const {
     return static_cast<std::size_t>(i) * static_cast<std::size_t>(nx_) + static_cast<std::size_t>(j);
   }
   tooling::Cutter tool_;
   double side_, top_, x0_ = 0, y0_ = 0;
   int nx_ = 0, ny_ = 0;
-  std::vector<std::vector<Placement>> buckets_;
-  std::vector<std::uint32_t> generation_;
+  std::vector<std::vector<Eigen::Vector3d>> buckets_;
 };
-
-/// The point at path length `where` along the polyline `pts` (cumulative lengths `s`). O(log points).
-Eigen::Vector3d point_on(const std::vector<Eigen::Vector3d>& pts, const std::vector<double>& s, double where) {
-  const std::size_t m = pts.size();
-  const auto it = std::upper_bound(s.begin(), s.end(), where);
-  const auto i = std::min<std::size_t>(static_cast<std::size_t>(std::max<std::ptrdiff_t>(it - s.begin(), 1)), m - 1);
-  const double len = s[i] - s[i - 1];
-  return len > 0 ? Eigen::Vector3d(pts[i - 1] + (where - s[i - 1]) / len * (pts[i] - pts[i - 1])) : pts[i];
-}
-
-/// The pieces of `pass` that cut: each cutting probe (path length at[t], cuts[t] ≠ 0) keeps the
-/// run-on on either side, stretches within the bridge are one, each stretch's ends on their
-/// segments with the vertices between; a closed pass cut near its seam is one piece across it.
-/// O(points · stretches + probes).
-std::vector<Pass> cut_stretches(const Pass& pass, const std::vector<double>& s, const std::vector<double>& at,
-                                const std::vector<std::uint8_t>& cuts, double run_on, double bridge) {
-  const auto& pts = pass.points;
-  const std::size_t m = pts.size();
-  std::vector<std::pair<double, double>> keep;  // [from, to] in path length, ascending
-  for (std::size_t t = 0; t < at.size(); ++t) {
-    if (!cuts[t]) continue;
-    const double from = std::max(0.0, at[t] - run_on), to = std::min(s[m - 1], at[t] + run_on);
-    if (!keep.empty() && from <= keep.back().second + bridge)
-      keep.back().second = std::max(keep.back().second, to);
-    else
-      keep.emplace_back(from, to);
-  }
-  std::vector<Pass> mine;
-  if (keep.size() == 1 && keep.front().first <= 0 && keep.front().second >= s[m - 1]) {
-    mine.push_back(pass);  // the whole pass cuts
-    return mine;
-  }
-  const bool loop = pass.closed && keep.size() >= 2 && keep.front().first + (s[m - 1] - keep.back().second) <= bridge;
-  auto piece = [&](double from, double to, Pass& out) {
-    out.points.push_back(point_on(pts, s, from));
-    for (std::size_t i = 0; i < m; ++i)  // O(points)
-      if (s[i] > from && s[i] < to) out.points.push_back(pts[i]);
-    out.points.push_back(point_on(pts, s, to));
-  };
-  for (std::size_t j = loop ? 1 : 0; j < keep.size(); ++j) {
-    Pass out;
-    piece(keep[j].first, keep[j].second, out);
-    const bool wraps = loop && j + 1 == keep.size();
-    if (wraps) piece(0, keep.front().second, out);  // on across the seam
-    if (keep[j].second - keep[j].first + (wraps ? keep.front().second : 0) >= tol::min_pass_mm)
-      mine.push_back(std::move(out));
-  }
-  return mine;
-}
 
 }  // namespace
 
 std::vector<std::vector<Pass>> trim_to_rest(const std::vector<Pass>& passes, const DropCutter& tool,
-                                            const ingest::Mesh& mesh, const RestRegions& regions,
-                                            std::size_t by_removal_from) {
+                                            const ingest::Mesh& mesh, const RestRegions& regions) {
   std::vector<std::vector<Pass>> pieces(passes.size());
   if (!regions.material) {
     for (std::size_t k = 0; k < passes.size(); ++k) pieces[k] = {passes[k]};
@@ -327,44 +254,33 @@ std::vector<std::vector<Pass>> trim_to_rest(const std::vector<Pass>& passes, con
   }
   const double eps = regions.threshold_mm / 2, r = tool.cutter().radius(), run_on = tol::rest_run_on_radii * r;
   const double probe = run_on / 2, bridge = tol::rest_bridge_radii * r;
-  const bool by_removal = regions.left_is_stock && regions.left;
   SweptByRest swept(regions, tool.cutter());
-  // Whether the tool at q removes more than the rest threshold (along its normal) from the stock
-  // as the live pieces of the other passes leave it (half of it, as the contact is judged, left
-  // 13.0 % of s4's rest path in air against 10.0 %, for 2.25 against 3.50 mm² missed).
-  auto removes = [&](const Eigen::Vector3d& q, std::size_t pass) {
-    thread_local std::vector<Eigen::Vector3d> others;
-    others.clear();
-    swept.near(q, pass, others);
-    return regions.left->removal_behind(tool.cutter(), q, others.data(), others.size()).thickness >
-           regions.threshold_mm;
-  };
-  // Per pass: its probes (path length along it), which cut (1: by the material at the contact,
-  // 2: only by what the tool removes), and its path.
-  struct Probed {
-    std::vector<double> s, at;
-    std::vector<std::uint8_t> cuts;
-  };
-  std::vector<Probed> probed(passes.size());
   for (std::size_t k = 0; k < passes.size(); ++k) {  // in order: each pass after what the ones before cut
     const Pass& pass = passes[k];
     const auto& pts = pass.points;
     const std::size_t m = pts.size();
     if (m < 2) continue;
-    Probed& pr = probed[k];
-    pr.s.assign(m, 0.0);  // path length along the pass
-    for (std::size_t i = 1; i < m; ++i) pr.s[i] = pr.s[i - 1] + (pts[i] - pts[i - 1]).norm();
+    std::vector<double> s(m, 0.0);  // path length along the pass
+    for (std::size_t i = 1; i < m; ++i) s[i] = s[i - 1] + (pts[i] - pts[i - 1]).norm();
     // 1. Probes every run_on / 2 along the pass (its straight segments are the path the machine
     //    follows): where the material left, by the stock and by the passes before, exceeds eps.
+    std::vector<double> at;
     for (std::size_t i = 0; i + 1 < m; ++i) {  // O(length / probe)
-      const int steps = std::max(1, static_cast<int>(std::ceil((pr.s[i + 1] - pr.s[i]) / probe)));
-      for (int t = (i == 0 ? 0 : 1); t <= steps; ++t) pr.at.push_back(pr.s[i] + (pr.s[i + 1] - pr.s[i]) * t / steps);
+      const int steps = std::max(1, static_cast<int>(std::ceil((s[i + 1] - s[i]) / probe)));
+      for (int t = (i == 0 ? 0 : 1); t <= steps; ++t) at.push_back(s[i] + (s[i + 1] - s[i]) * t / steps);
     }
-    pr.cuts.assign(pr.at.size(), 0);
-    const auto probes = static_cast<std::ptrdiff_t>(pr.at.size());
+    auto point_at = [&](double where) {
+      const auto it = std::upper_bound(s.begin(), s.end(), where);
+      const auto i =
+          std::min<std::size_t>(static_cast<std::size_t>(std::max<std::ptrdiff_t>(it - s.begin(), 1)), m - 1);
+      const double len = s[i] - s[i - 1];
+      return Eigen::Vector3d(len > 0 ? pts[i - 1] + (where - s[i - 1]) / len * (pts[i] - pts[i - 1]) : pts[i]);
+    };
+    std::vector<std::uint8_t> cuts(at.size(), 0);
+    const auto probes = static_cast<std::ptrdiff_t>(at.size());
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t t = 0; t < probes; ++t) {  // O(probes) drops, each on its own
-      const Eigen::Vector3d q = point_on(pts, pr.s, pr.at[static_cast<std::size_t>(t)]);
+      const Eigen::Vector3d q = point_at(at[static_cast<std::size_t>(t)]);
       const CLPoint c = tool.drop(q.x(), q.y());
       if (c.contact == Contact::None || c.triangle < 0) continue;
       Eigen::Vector3d cc = c.cc, n = unit_normal(mesh, c.triangle);
@@ -379,37 +295,43 @@ std::vector<std::vector<Pass>> trim_to_rest(const std::vector<Pass>& passes, con
         cc = q + tool.cutter().radius() * u + Eigen::Vector3d(0, 0, tool.cutter().profile_height(r));
         n = -u;
       }
-      std::uint8_t& cut = pr.cuts[static_cast<std::size_t>(t)];
-      cut = regions.material(cc, n) > eps && !swept.cleared(cc, eps) ? 1 : 0;
-      // The contact is one point of the tool: in a concave corner it lies on one wall or the other
-      // while the rest stands between them, within the tool's reach. From the stock, what the tool
-      // at q removes settles it.
-      if (!cut && by_removal && k >= by_removal_from && removes(q, k)) cut = 2;
+      cuts[static_cast<std::size_t>(t)] = regions.material(cc, n) > eps && !swept.cleared(cc, eps) ? 1 : 0;
     }
-    // 2. and 3. The stretches that cut, and their pieces.
-    pieces[k] = cut_stretches(pass, pr.s, pr.at, pr.cuts, run_on, bridge);
-    swept.sweep(k, pieces[k]);
+    // 2. Each cutting probe keeps the run-on on either side; stretches within the bridge are one.
+    std::vector<std::pair<double, double>> keep;  // [from, to] in path length, ascending
+    for (std::size_t t = 0; t < at.size(); ++t) {
+      if (!cuts[t]) continue;
+      const double from = std::max(0.0, at[t] - run_on), to = std::min(s[m - 1], at[t] + run_on);
+      if (!keep.empty() && from <= keep.back().second + bridge)
+        keep.back().second = std::max(keep.back().second, to);
+      else
+        keep.emplace_back(from, to);
+    }
+    auto& mine = pieces[k];
+    if (keep.size() == 1 && keep.front().first <= 0 && keep.front().second >= s[m - 1]) {
+      mine.push_back(pass);  // the whole pass cuts
+    } else {
+      // 3. The pieces: each stretch's ends on their segments, the vertices between; a closed pass
+      //    cut near its seam is one piece across it.
+      const bool loop =
+          pass.closed && keep.size() >= 2 && keep.front().first + (s[m - 1] - keep.back().second) <= bridge;
+      auto piece = [&](double from, double to, Pass& out) {
+        out.points.push_back(point_at(from));
+        for (std::size_t i = 0; i < m; ++i)  // O(points)
+          if (s[i] > from && s[i] < to) out.points.push_back(pts[i]);
+        out.points.push_back(point_at(to));
+      };
+      for (std::size_t j = loop ? 1 : 0; j < keep.size(); ++j) {
+        Pass out;
+        piece(keep[j].first, keep[j].second, out);
+        const bool wraps = loop && j + 1 == keep.size();
+        if (wraps) piece(0, keep.front().second, out);  // on across the seam
+        if (keep[j].second - keep[j].first + (wraps ? keep.front().second : 0) >= tol::min_pass_mm)
+          mine.push_back(std::move(out));
+      }
+    }
+    for (const Pass& piece : mine) swept.sweep(piece);
   }
-  // 4. A stretch kept for what it removes may be cleared by a pass after it, which the machine may
-  //    well cut first: last to first, each such probe asked again against every other pass's live
-  //    pieces, and the pass's pieces cut again where none remains. Each pass is judged against
-  //    the pieces as they stand, so what the passes keep still removes all the rest they found.
-  if (by_removal)
-    for (std::size_t k = passes.size(); k-- > 0;) {  // O(passes · their removal probes)
-      Probed& pr = probed[k];
-      if (std::find(pr.cuts.begin(), pr.cuts.end(), 2) == pr.cuts.end()) continue;
-      std::vector<std::uint8_t> again = pr.cuts;
-      const auto probes = static_cast<std::ptrdiff_t>(again.size());
-#pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t t = 0; t < probes; ++t)
-        if (again[static_cast<std::size_t>(t)] == 2 &&
-            !removes(point_on(passes[k].points, pr.s, pr.at[static_cast<std::size_t>(t)]), k))
-          again[static_cast<std::size_t>(t)] = 0;
-      if (again == pr.cuts) continue;
-      pr.cuts = std::move(again);
-      pieces[k] = cut_stretches(passes[k], pr.s, pr.at, pr.cuts, run_on, bridge);
-      swept.sweep(k, pieces[k]);
-    }
   return pieces;
 }
 

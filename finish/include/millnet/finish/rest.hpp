@@ -169,10 +169,6 @@ struct RestRegions {
   /// order, to know how deep each cuts (RestStock::engagement) and steps a piece that would cut
   /// deeper than half the tool's flutes down from the top.
   std::shared_ptr<const RestStock> left;
-  /// Whether `left` is the machined stock itself (rest from the stock), not the reference's
-  /// envelope raised by the threshold: only then does what a placement removes from it say whether
-  /// the placement cuts rest.
-  bool left_is_stock = false;
   [[nodiscard]] bool empty() const { return boundary.polygons.empty(); }
 };
 
