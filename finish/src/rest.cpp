@@ -120,7 +120,7 @@ void mark_stock_samples(const ingest::Mesh& mesh, const RestStock& stock, const 
     const Eigen::Vector2d off(n.x() * scale, n.y() * scale);
     auto& mine = marks[static_cast<std::size_t>(f)];
     sample_triangle(mesh, f, 0.5 * g.h, [&](const Eigen::Vector3d& q) {
-      const double m = stock.material(q, n);
+      const double m = stock.material_over(q, n, thr);
       if (m <= thr) return;
       const int i = static_cast<int>(std::lround((q.y() + off.y() - g.y0) / g.h));
       const int j = static_cast<int>(std::lround((q.x() + off.x() - g.x0) / g.h));
@@ -364,8 +364,10 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
   // stock (along n).
   const RestStock* stock = params.stock;
   const double thr = params.threshold_mm;
-  auto material = [stock, ref, g, thr](const Eigen::Vector3d& p, const Eigen::Vector3d& n, CLPoint& hint) {
-    return stock ? stock->material(p, n) : material_at(p, g, ref->cl, ref->tool, ref->offsets, thr, hint);
+  // (`floor`: only whether it exceeds that is asked; RestStock::material_over)
+  auto material = [stock, ref, g, thr](const Eigen::Vector3d& p, const Eigen::Vector3d& n, CLPoint& hint,
+                                       double floor = -std::numeric_limits<double>::infinity()) {
+    return stock ? stock->material_over(p, n, floor) : material_at(p, g, ref->cl, ref->tool, ref->offsets, thr, hint);
   };
   out.material = [material](const Eigen::Vector3d& p, const Eigen::Vector3d& n) {
     CLPoint hint;
@@ -525,7 +527,7 @@ RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, c
       if (r < 0) return;
       if (mine.empty()) mine.assign(out.parts.size(), -std::numeric_limits<double>::infinity());
       if (q.z() <= mine[static_cast<std::size_t>(r)]) return;
-      if (material(q, nf, hint) > params.threshold_mm) mine[static_cast<std::size_t>(r)] = q.z();
+      if (material(q, nf, hint, params.threshold_mm) > params.threshold_mm) mine[static_cast<std::size_t>(r)] = q.z();
     });
     tops[static_cast<std::size_t>(f)] = std::move(mine);
   }

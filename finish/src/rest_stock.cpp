@@ -67,9 +67,15 @@ double RestStock::height(double x, double y) const {
 }
 
 double RestStock::material(const Eigen::Vector3d& p, const Eigen::Vector3d& n) const {
+  return material_over(p, n, -std::numeric_limits<double>::infinity());
+}
+
+double RestStock::material_over(const Eigen::Vector3d& p, const Eigen::Vector3d& n, double floor_mm) const {
   // Along the normal from p: how far until the point is above the stock (in the air)?
   auto in = [&](double t) { return height(p.x() + t * n.x(), p.y() + t * n.y()) - (p.z() + t * n.z()); };
   if (!(in(0) > 0)) return 0.0;
+  // A wall's place in the columns is known to half a cell: the ray's length less that.
+  const double known = 0.5 * cell * std::hypot(n.x(), n.y());
   const double cap = 64 * cell;
   double lo = 0, hi = cell / 4;
   while (in(hi) > 0) {  // O(log(cap / cell)) steps out
@@ -77,12 +83,14 @@ double RestStock::material(const Eigen::Vector3d& p, const Eigen::Vector3d& n) c
     lo = hi;
     hi = std::min(2 * hi, cap);
   }
-  for (int k = 0; k < 16; ++k) {  // bisection to (hi − lo) / 65536
+  // Bisection to (hi − lo) / 65536; the answer lies in (lo, hi) less `known`, so once all of that
+  // is at most floor_mm the rest of the steps cannot lift it over.
+  for (int k = 0; k < 16; ++k) {
+    if (hi - known <= floor_mm) return std::max(0.0, std::min(floor_mm, 0.5 * (lo + hi) - known));
     const double mid = 0.5 * (lo + hi);
     (in(mid) > 0 ? lo : hi) = mid;
   }
-  // A wall's place in the columns is known to half a cell: the ray's length less that.
-  return std::max(0.0, 0.5 * (lo + hi) - 0.5 * cell * std::hypot(n.x(), n.y()));
+  return std::max(0.0, 0.5 * (lo + hi) - known);
 }
 
 double RestStock::clearing_tip(const tooling::Cutter& tool, double x, double y) const {

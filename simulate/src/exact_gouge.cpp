@@ -67,19 +67,23 @@ double point_triangle_distance(const P3& p, const P3& a, const P3& b, const P3& 
   return std::abs(dot(ap, n)) / std::sqrt(dot(n, n));  // inside the face's region: to its plane
 }
 
+// sqrt(x² + y²): the lengths here are millimetres, far from hypot's overflow and underflow guards
+// (which cost more than the rest of a probe).
+double root_sum_sq(double x, double y) { return std::sqrt(x * x + y * y); }
+
 // Distance in a plane from (u, v) to the segment (0, za)–(L, zb).
 double segment_distance_2d(double u, double v, double L, double za, double zb) {
   const double du = L, dv = zb - za;
   const double t = std::clamp((u * du + (v - za) * dv) / (du * du + dv * dv), 0.0, 1.0);
-  return std::hypot(u - t * du, v - (za + t * dv));
+  return root_sum_sq(u - t * du, v - (za + t * dv));
 }
 
 // Distance from p to the vertical strip below the edge ab (down to −∞): in the strip's plane,
 // the region under the edge between the verticals through a and b; across it, the plane distance.
 double strip_distance(const P3& p, const P3& a, const P3& b) {
-  const double hx = b[0] - a[0], hy = b[1] - a[1], L = std::hypot(hx, hy);
+  const double hx = b[0] - a[0], hy = b[1] - a[1], L = root_sum_sq(hx, hy);
   if (L <= tol::xy_length_mm) {  // a vertical edge: the ray below its higher end
-    return std::hypot(std::hypot(p[0] - a[0], p[1] - a[1]), std::max(0.0, p[2] - std::max(a[2], b[2])));
+    return root_sum_sq(root_sum_sq(p[0] - a[0], p[1] - a[1]), std::max(0.0, p[2] - std::max(a[2], b[2])));
   }
   const double ux = hx / L, uy = hy / L;
   const double u = (p[0] - a[0]) * ux + (p[1] - a[1]) * uy;
@@ -87,10 +91,10 @@ double strip_distance(const P3& p, const P3& a, const P3& b) {
   double d2 = 0;
   const bool under = u >= 0 && u <= L && p[2] <= a[2] + (b[2] - a[2]) * u / L;
   if (!under) {
-    d2 = std::min({segment_distance_2d(u, p[2], L, a[2], b[2]), std::hypot(u, std::max(0.0, p[2] - a[2])),
-                   std::hypot(u - L, std::max(0.0, p[2] - b[2]))});
+    d2 = std::min({segment_distance_2d(u, p[2], L, a[2], b[2]), root_sum_sq(u, std::max(0.0, p[2] - a[2])),
+                   root_sum_sq(u - L, std::max(0.0, p[2] - b[2]))});
   }
-  return std::hypot(w, d2);
+  return root_sum_sq(w, d2);
 }
 
 // The height of the triangle's plane over (x, y) when (x, y) lies in its XY projection (edges
@@ -262,6 +266,7 @@ PartSolid::PartSolid(const ingest::Mesh& mesh, double z_shift) {
       std::size_t ix0, ix1, iy0, iy1;
       range(box_[t][0], box_[t][2], x0_, nx_, ix0, ix1);
       range(box_[t][1], box_[t][3], y0_, ny_, iy0, iy1);
+      if (fill == 0) first_bin_.push_back({static_cast<std::uint32_t>(ix0), static_cast<std::uint32_t>(iy0)});
       for (std::size_t iy = iy0; iy <= iy1; ++iy)
         for (std::size_t ix = ix0; ix <= ix1; ++ix) {
           if (fill == 0)
@@ -285,28 +290,45 @@ PartSolid::Probe PartSolid::probe(const gcode::Point3& p, double reach) const {
   };
   const std::size_t ix0 = lo(p[0] - reach, x0_, nx_), ix1 = lo(p[0] + reach, x0_, nx_);
   const std::size_t iy0 = lo(p[1] - reach, y0_, ny_), iy1 = lo(p[1] + reach, y0_, ny_);
-  std::vector<std::uint32_t> cand;
-  for (std::size_t iy = iy0; iy <= iy1; ++iy)
-    for (std::size_t ix = ix0; ix <= ix1; ++ix)
-      cand.insert(cand.end(), ids_.begin() + start_[iy * nx_ + ix], ids_.begin() + start_[iy * nx_ + ix + 1]);
-  std::sort(cand.begin(), cand.end());
-  cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+  // Each triangle of the bins once: in the first of its bins that the query's range holds (it is
+  // stored in every bin its box meets). The answers are a maximum and a minimum: the order the
+  // triangles come in does not change them.
+  auto each = [&](auto&& visit) {
+    for (std::size_t iy = iy0; iy <= iy1; ++iy)
+      for (std::size_t ix = ix0; ix <= ix1; ++ix)
+        for (std::uint32_t k = start_[iy * nx_ + ix]; k < start_[iy * nx_ + ix + 1]; ++k) {
+          const std::uint32_t t = ids_[k];
+          if (std::max<std::size_t>(ix0, first_bin_[t][0]) == ix && std::max<std::size_t>(iy0, first_bin_[t][1]) == iy)
+            visit(t);
+        }
+  };
   double top = -std::numeric_limits<double>::infinity();
-  for (const std::uint32_t t : cand) {  // O(candidates): the inside test first
+  each([&](std::uint32_t t) {  // O(candidates): the inside test first
     const auto& b = box_[t];
-    if (p[0] < b[0] - reach || p[0] > b[2] + reach || p[1] < b[1] - reach || p[1] > b[3] + reach) continue;
+    if (p[0] < b[0] - reach || p[0] > b[2] + reach || p[1] < b[1] - reach || p[1] > b[3] + reach) return;
     const double h = height_over(tri_[t], p[0], p[1]);
     if (!std::isnan(h) && p[2] < h) top = std::max(top, h);
-  }
+  });
   if (std::isfinite(top)) return {true, 0.0, top - p[2]};
-  for (const std::uint32_t t : cand) {  // O(candidates): the distance to each prism's boundary
+  // The squared XY distance from p to the segment ab: no part of the strip below ab is nearer.
+  auto xy_gap2 = [&](const P3& a, const P3& b) {
+    const double ex = b[0] - a[0], ey = b[1] - a[1], l2 = ex * ex + ey * ey;
+    const double t = l2 > 0 ? std::clamp(((p[0] - a[0]) * ex + (p[1] - a[1]) * ey) / l2, 0.0, 1.0) : 0.0;
+    const double dx = p[0] - a[0] - t * ex, dy = p[1] - a[1] - t * ey;
+    return dx * dx + dy * dy;
+  };
+  each([&](std::uint32_t t) {  // O(candidates): the distance to each prism's boundary
+    // A prism's boundary is no nearer than its box in XY, a strip no nearer than its edge: what
+    // lies farther than the nearest so far cannot lower the minimum (the same answer as measuring
+    // every candidate within reach).
     const auto& b = box_[t];
-    if (p[0] < b[0] - reach || p[0] > b[2] + reach || p[1] < b[1] - reach || p[1] > b[3] + reach) continue;
+    double& near = out.distance;
+    if (p[0] < b[0] - near || p[0] > b[2] + near || p[1] < b[1] - near || p[1] > b[3] + near) return;
     const auto& v = tri_[t];
-    const double d = std::min({point_triangle_distance(p, v[0], v[1], v[2]), strip_distance(p, v[0], v[1]),
-                               strip_distance(p, v[1], v[2]), strip_distance(p, v[2], v[0])});
-    out.distance = std::min(out.distance, d);
-  }
+    near = std::min(near, point_triangle_distance(p, v[0], v[1], v[2]));
+    for (const auto& [a, c] : {std::pair{0, 1}, {1, 2}, {2, 0}})
+      if (xy_gap2(v[a], v[c]) < near * near) near = std::min(near, strip_distance(p, v[a], v[c]));
+  });
   return out;
 }
 

@@ -71,6 +71,9 @@ struct RestStock {
   /// times the normal's horizontal part (where a wall stands within its columns is known to half a
   /// cell: a wall the stock is flush with would otherwise read up to a cell thick). O(log) heights.
   [[nodiscard]] double material(const Eigen::Vector3d& p, const Eigen::Vector3d& n) const;
+  /// material(p, n) where that exceeds floor_mm, else a value in [0, floor_mm] (the search stops as
+  /// soon as the answer cannot exceed it: a test against a threshold costs ~2 heights, not ~18).
+  [[nodiscard]] double material_over(const Eigen::Vector3d& p, const Eigen::Vector3d& n, double floor_mm) const;
   /// The lowest tip height at which `tool` with its axis over (x, y) clears the stock: the highest
   /// of the cells within its reach less the tool's profile there, each cell taken at its corner
   /// nearest the axis (conservative). −infinity when no cell is within reach. O((R / cell)²).

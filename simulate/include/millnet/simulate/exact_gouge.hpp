@@ -58,6 +58,8 @@ public:
 private:
   std::vector<std::array<gcode::Point3, 3>> tri_;
   std::vector<std::array<double, 4>> box_;  ///< per triangle: xmin, ymin, xmax, ymax
+  /// per triangle: its first bin column and row (a probe visits it in the first of its bins it meets)
+  std::vector<std::array<std::uint32_t, 2>> first_bin_;
   double x0_ = 0, y0_ = 0, bin_ = 1;
   std::size_t nx_ = 1, ny_ = 1;
   std::vector<std::uint32_t> start_;  ///< CSR: bin b holds ids_[start_[b] .. start_[b+1])
