@@ -69,12 +69,24 @@ double material_at(const Eigen::Vector3d& p, const Grid& g, const std::vector<do
     if (d < best) best = d, bx = g.x(j), by = g.y(i), bz = tip;
     if (best <= thr) return settle(0);
   }
+  // The drops of the search so far, by position: a move's new neighbours include three of the
+  // old centre's and the old centre itself (a drop is a function of its XY: the same answers).
+  std::array<CLPoint, 32> seen;
+  std::size_t n_seen = 0;
+  auto drop = [&](double x, double y) {
+    for (std::size_t k = 0; k < std::min(n_seen, seen.size()); ++k)  // O(32)
+      if (seen[k].x == x && seen[k].y == y) return seen[k];
+    CLPoint c = ref.drop(x, y);
+    c.x = x, c.y = y;  // (the key: the drop's own position)
+    seen[n_seen++ % seen.size()] = c;
+    return c;
+  };
   for (double s = g.h; s > g.h / 64; s *= 0.5) {  // O(log 64 · moves) drops
     bool moved = true;
     for (int guard = 0; moved && guard < 64; ++guard) {
       moved = false;
       for (const auto& [u, v] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}}) {
-        const CLPoint c = ref.drop(bx + s * u, by + s * v);
+        const CLPoint c = drop(bx + s * u, by + s * v);
         if (c.contact == Contact::None) continue;
         const double d = distance_to_tool(tool, c.x, c.y, c.z, p);
         if (d < best) {
