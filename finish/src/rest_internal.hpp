@@ -48,7 +48,12 @@ inline Eigen::Vector3d unit_normal(const ingest::Mesh& mesh, std::ptrdiff_t f) {
 /// cuts when the material at its contact exceeds half the threshold as the regions measure it
 /// (regions.material), unless the tool came within that of the contact along the kept pieces of
 /// the passes before it (placements every R/8, its profile only): a pass does not cut again what an
-/// earlier one cleared. The contact is the drop's at the probe's XY, or, for a probe hanging above
+/// earlier one cleared. From a stock (regions.from_stock) a probe also cuts where the tool standing
+/// there takes more than tol::rest_keep_removal_thresholds thresholds off the stock as the pieces
+/// kept before it leave it (RestStock::removal on its cells about R/16 apart, cut by each pass's
+/// kept pieces in turn: O((R / cell)²) a probe and a placement): in a crease between two steep
+/// faces the contact lies on one face or the other while the rest stands between them. The
+/// contact is the drop's at the probe's XY, or, for a probe hanging above
 /// its drop (beside a vertical wall), the tool's widest point on the side where the drops rise.
 /// Each cutting probe keeps the stretch within tol::rest_run_on_radii · R (path length) on either
 /// side (the probes stand half of that apart), stretches within

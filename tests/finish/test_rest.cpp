@@ -677,6 +677,57 @@ TEST(RestFinishing, ARegionNarrowerThanTheToolOnAWallIsCutNotLeftToAPencil) {
   EXPECT_GT(checked, 50U);
 }
 
+TEST(RestFinishing, APassIsKeptWhereItRemovesRestBetweenTwoContactsThatReadNone) {
+  // A V-groove along Y, its faces sloping 14° (152° between them): the Ø1 ball never touches the
+  // design nearer its crease than R / tan 76° = 0.1247 mm, where it stands on both faces with its
+  // lowest point R / sin 76° − R = 0.0153 mm over the crease. The stock stands 0.05 mm over the
+  // crease, falling 0.5 mm per mm to nothing 0.1 mm off it: every contact of a pass across the
+  // groove reads no rest, yet the ball in the groove takes 0.0335 mm off the cells 0.005 mm from
+  // the crease (normal to its surface; 1.5 kT = 0.03), leaving 0.0153 (under kT = 0.02). Judged
+  // by its contacts alone the pass is left out; judged by what it removes it is kept where it
+  // crosses the crease, and only there.
+  const double slope = std::tan(14 * std::numbers::pi / 180);
+  const ingest::Mesh part = extruded({{-5, 5 * slope}, {0, 0}, {5, 5 * slope}}, 10);
+  auto design = [&](double x) { return std::abs(x) * slope; };
+  RestStock stock;
+  stock.cell = 0.02, stock.x0 = -4.995, stock.y0 = 0.005, stock.nx = 500, stock.ny = 500;
+  stock.z.resize(static_cast<std::size_t>(stock.nx) * static_cast<std::size_t>(stock.ny));
+  for (int i = 0; i < stock.ny; ++i)
+    for (int j = 0; j < stock.nx; ++j) {
+      const double x = stock.x0 + stock.cell * j;
+      stock.z[static_cast<std::size_t>(i) * static_cast<std::size_t>(stock.nx) + static_cast<std::size_t>(j)] =
+          design(x) + std::max(0.0, 0.05 - 0.5 * std::abs(x));
+    }
+  const DropCutter one(part, Cutter::ball(1));
+  RestParams rp;
+  rp.threshold_mm = kT;
+  rp.stock = &stock;
+  rp.reference = Cutter::ball(1);
+  const RestRegions r = rest_regions(part, one, rp, -5, 0, 5, 10);
+  ASSERT_TRUE(r.from_stock);
+  Pass across;  // x from −1 to 1 at y = 5, on the design
+  for (int k = 0; k <= 200; ++k) {
+    const double x = -1 + 0.01 * k;
+    across.points.emplace_back(x, 5, one.drop(x, 5).z);
+  }
+  EXPECT_NEAR(one.drop(0, 5).z, 0.5 / std::sin(76 * std::numbers::pi / 180) - 0.5, 1e-4);
+  // By the contacts alone (the same regions, their stock not followed): nothing kept.
+  RestRegions contacts = r;
+  contacts.from_stock = false;
+  EXPECT_TRUE(detail::trim_to_rest({across}, one, part, contacts).front().empty());
+  const std::vector<Pass> kept = detail::trim_to_rest({across}, one, part, r).front();
+  ASSERT_EQ(kept.size(), 1U);
+  double lo = HUGE_VAL, hi = -HUGE_VAL;
+  for (const Eigen::Vector3d& q : kept.front().points) lo = std::min(lo, q.x()), hi = std::max(hi, q.x());
+  EXPECT_LT(lo, -0.05);
+  EXPECT_GT(hi, 0.05);
+  // Where the ball removes more than 1.5 kT: the stock over its surface; beyond, the run-on (R / 8).
+  EXPECT_GT(lo, -0.1247 - 0.0625 - 1e-3);
+  EXPECT_LT(hi, 0.1247 + 0.0625 + 1e-3);
+  // A second pass along the first is judged on what the first left: nothing more to take.
+  EXPECT_TRUE(detail::trim_to_rest({across, across}, one, part, r)[1].empty());
+}
+
 TEST(RestRegions, BadParametersAndASmallerReferenceAreRefused) {
   const ingest::Mesh part = l_corner();
   const DropCutter two(part, Cutter::ball(2));

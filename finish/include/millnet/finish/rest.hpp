@@ -172,6 +172,8 @@ struct RestRegions {
   /// order, to know how deep each cuts (RestStock::engagement) and steps a piece that would cut
   /// deeper than half the tool's flutes down from the top.
   std::shared_ptr<const RestStock> left;
+  /// `left` is a simulated stock (rest_regions' `stock`), not a reference's envelope.
+  bool from_stock = false;
   [[nodiscard]] bool empty() const { return boundary.polygons.empty(); }
 };
 
@@ -223,11 +225,13 @@ struct RestAgainstFloor {
 /// params.boundary's; on_part kept) and its raster along its principal direction; a region narrower
 /// than the tool gets its pencil passes only. The passes, nearest first, are each cut to the pieces
 /// where the tool removes rest that the regions measure and the pieces before it left (over half
-/// the threshold at its contact; detail::trim_to_rest), run on by R/8 at both ends
+/// the threshold at its contact, or from a stock where the tool there takes 1.5 thresholds off
+/// what the pieces before left; detail::trim_to_rest), run on by R/8 at both ends
 /// (tol::rest_run_on_radii), and the pieces ordered nearest first again. Over what was left as
 /// heights (regions.left) with the flutes known, each piece is cut again, from the top down, to
 /// where it takes more than the scallop off the stock its own samples and the pieces before it
-/// leave (detail::stepped_runs, no run-on). All linked into one program whose links clear
+/// leave (detail::stepped_runs, no run-on), the stay-down links to them cut into it first. All
+/// linked into one program whose links clear
 /// regions.stock_tip and whose entries come down to tol::rest_approach_mm above it. The program's header names it
 /// rest finishing and the reference tool. Throws millnet::Error when the regions are empty.
 /// `behind` names what left the rest ("ball D6", "the stock of FILE") in the header and errors.
