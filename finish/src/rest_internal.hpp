@@ -110,4 +110,19 @@ using OwnSweep = std::function<Removal(const Eigen::Vector3d&, const Eigen::Vect
 [[nodiscard]] Pass take_nearest(std::vector<Pass>& passes, std::vector<std::uint8_t>& done, const Eigen::Vector3d& at,
                                 std::size_t* index = nullptr);
 
+/// What cut_pieces hands back: the runs in machining order, and how many pieces were stepped down
+/// from the top or left out whole.
+struct CutPieces {
+  std::vector<Pass> passes;
+  std::size_t stepped = 0, air = 0;
+};
+
+/// The pieces, pencil ones first, each the nearest to where the tool is, cut where they cut on a
+/// copy of regions.left machined in order (the stay-down links to them included), stepped down
+/// from the top by `depth` where a piece would take more (0: no stepping); as planned when there
+/// is no stock or no step. Defined in rest_stock.cpp, where its reasons are.
+[[nodiscard]] CutPieces cut_pieces(std::vector<Pass> pencil, std::vector<Pass> rest, const DropCutter& tool,
+                                   const RestRegions& regions, const FinishParams& params, double depth,
+                                   Eigen::Vector3d from);
+
 }  // namespace millnet::finish::detail

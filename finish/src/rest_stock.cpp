@@ -1,6 +1,7 @@
 // The stock a simulation left, as rest.hpp reads it (RestStock), and the exact area a tool cannot
 // reach (unreachable_regions: a point-like probe's rest behind it), and the rest program's passes
-// cut to where they remove rest (detail::trim_to_rest).
+// cut to where they remove rest (detail::trim_to_rest) and, machined in order on a copy of the
+// stock, to where they cut (detail::cut_pieces).
 #include "rest_internal.hpp"
 
 #include "millnet/core/error.hpp"
@@ -538,6 +539,95 @@ std::vector<Pass> order_nearest(std::vector<Pass> passes, Eigen::Vector3d& at, s
     at = out.back().points.back();
   }
   if (order) *order = std::move(taken);
+  return out;
+}
+
+// Each piece where it cuts, from the top down, on a copy of the stock machined piece by piece:
+// a piece cuts only where the tool takes more than the scallop off what the pieces before it
+// left (a corner the pencil passes cleaned is not run over again: the air issue 41 names) — the
+// most a cell stands above the tool's surface (RestStock::removal; not the axial engagement,
+// which reads a cell grazed at the ball's rim as a cut as high as the cell stands), on the stock
+// as the piece's own samples before leave it (removal_behind: a patch ends where the tool's front
+// leaves it). No run-on: the last sample that takes more than the scallop is where the front
+// leaves the patch, and before the first the tool took no more either (docs/finishing.md, "At
+// the specification, by what it takes off": the air these took out). A piece that would take
+// more than the flutes reach is preceded by raised copies of it, each begun from its end nearest
+// the tool, a step apart: a copy takes at most a step, so the flutes meet at most a step plus
+// what a copy leaves beside a wall (its profile's height at its rim: R for a ball) — the step is
+// the flute length less that (s1 of README command 1, Ø1 ball with 1.5 mm flutes: 1 mm steps,
+// the deepest cut 2.48 → 1.37 mm). No stepping under 0.1 mm steps (flutes shorter than the
+// profile: the job's flute check says so). Without stated flutes the pieces are cut as planned:
+// the z-map's columns would credit a pass's flank with a wall's whole rest above it, however tall.
+// `depth` is that step (0: no stepping), `from` where the tool starts; pencil pieces first.
+CutPieces cut_pieces(std::vector<Pass> pencil, std::vector<Pass> rest, const DropCutter& tool,
+                     const RestRegions& regions, const FinishParams& params, double depth, Eigen::Vector3d from) {
+  const tooling::Cutter& cutter = tool.cutter();
+  // The stay-down link the linking would make from a to b (link_passes with a stock: along the drop
+  // surface, never below the lower end, lifting where it would cut deeper than a step), cut into
+  // the running stock: links take rest too (on s4 of README command 1, 924 of the 1,074 mm the
+  // rest program's links fed cut), and a piece after one is judged on what it left — a piece
+  // judged on the stock without them cut air where a link had gone first: s4's air 8.5 → 7.6 %,
+  // its rest program 5.53 → 5.12 min. Predicted as a stay-down whenever the link is short
+  // enough (the linking may still lift, by the machine's time): an upper bound of what it cuts.
+  const double stay_max = params.tool.diameter * tol::stay_down_link_diameters + 4 * params.stepover_mm;
+  const double h0 = std::min(tol::initial_sample_mm, cutter.radius() / 4);
+  auto cut_link = [&](RestStock& st, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    const double d = (b.head<2>() - a.head<2>()).norm();
+    if (d > stay_max || !(d > 0)) return;
+    const double floor_z = std::min(a.z(), b.z());
+    const int n = std::max(1, static_cast<int>(std::ceil(d / h0)));
+    std::vector<Eigen::Vector3d> path{a};
+    for (int i = 1; i < n; ++i) {  // O(d / h0) drops
+      const Eigen::Vector2d q = a.head<2>() + (b.head<2>() - a.head<2>()) * (static_cast<double>(i) / n);
+      const CLPoint c = tool.drop(q.x(), q.y());
+      const double z = std::max(c.contact == Contact::None ? floor_z : c.z, floor_z);
+      if (st.engagement(cutter, q.x(), q.y(), z) > depth) return;  // it would lift
+      path.emplace_back(q.x(), q.y(), z);
+    }
+    path.push_back(b);
+    for (std::size_t i = 0; i + 1 < path.size(); ++i) st.cut(cutter, path[i], path[i + 1]);
+  };
+  std::optional<RestStock> running;
+  if (depth > 0 && regions.left) running = *regions.left;
+  // A stretch is left out where it would cut no more than the specification's scallop: it could
+  // only smooth what is already in spec (leaving out stretches up to the rest threshold left 60 %
+  // more rest over it on the pocket of CliJob's rest test).
+  const double min_cut = std::clamp(params.scallop_mm, 0.0, regions.threshold_mm);
+  CutPieces out;
+  // The next piece is the one nearest where the tool is (not where the piece before ended: its
+  // runs may end short of it, or it may cut nothing), the pencil pieces first.
+  for (std::vector<Pass>* group : {&pencil, &rest}) {
+    std::vector<std::uint8_t> done(group->size(), 0);
+    for (std::size_t left = group->size(); left > 0; --left) {  // O(pieces · (points + samples · (R / cell)²))
+      std::vector<Pass> runs{detail::take_nearest(*group, done, from)};
+      // The link to the piece's start first, then the piece judged on what it leaves.
+      const Eigen::Vector3d linked_to = runs.front().points.front();
+      if (running && !out.passes.empty()) cut_link(*running, from, linked_to);
+      if (running) {
+        const Pass whole = std::move(runs.front());
+        int raised = 0;
+        runs = detail::stepped_runs(
+            whole, [&](double x, double y, double z) { return running->removal(cutter, x, y, z); }, depth, min_cut,
+            cutter.radius() / 4, 0.0, tol::rest_bridge_radii * cutter.radius(), &raised,
+            [&](const Eigen::Vector3d& q, const Eigen::Vector3d* before, std::size_t n) {
+              return running->removal_behind(cutter, q, before, n);
+            });
+        out.stepped += raised > 0 ? 1 : 0;
+        out.air += runs.empty() ? 1 : 0;
+      }
+      for (Pass& c : runs) {
+        if (!c.closed && (c.points.back() - from).squaredNorm() < (c.points.front() - from).squaredNorm())
+          std::reverse(c.points.begin(), c.points.end());
+        if (running && !out.passes.empty() && (c.points.front() - linked_to).norm() > 1e-9)
+          cut_link(*running, from, c.points.front());  // a link cut above went elsewhere
+        from = c.points.back();
+        out.passes.push_back(std::move(c));
+        if (running)
+          for (std::size_t i = 0; i + 1 < out.passes.back().points.size(); ++i)  // O(segments)
+            running->cut(cutter, out.passes.back().points[i], out.passes.back().points[i + 1]);
+      }
+    }
+  }
   return out;
 }
 
