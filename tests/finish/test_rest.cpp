@@ -263,22 +263,26 @@ TEST(RestFinishing, OverAStockALinkLiftsWhenThatIsQuickerThanFeedingOverARidge) 
   EXPECT_LT(gcode::stats(slow.program, {}).kinematic_time_min, gcode::stats(stayed.program, {}).kinematic_time_min);
 }
 
+/// A stock of n × n cells of `cell` from the centre (x0, y0) whose height depends on x only.
+template <class Height>
+RestStock stock_along_x(double cell, double x0, double y0, int n, Height height) {
+  RestStock st;
+  st.cell = cell, st.x0 = x0, st.y0 = y0, st.nx = n, st.ny = n;
+  st.z.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      st.z[static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)] =
+          height(x0 + cell * j);
+  return st;
+}
+
 /// The stock the Ø6 ball leaves on the L corner, by hand, on a z-map grid (cells of 0.02 mm,
 /// centres at multiples of 0.02 + 0.01): over the top (x < 0) z = 10; in the corner the Ø6's lower
 /// arc about (3, 3), z = 3 − √(9 − (3 − x)²) for 0 < x < 3; the floor z = 0 beyond.
 RestStock six_stock() {
-  RestStock st;
-  st.cell = 0.02, st.x0 = -9.99, st.y0 = 0.01, st.nx = 1500, st.ny = 1500;
-  st.z.resize(static_cast<std::size_t>(st.nx) * static_cast<std::size_t>(st.ny));
-  for (int i = 0; i < st.ny; ++i)
-    for (int j = 0; j < st.nx; ++j) {
-      const double x = st.x0 + st.cell * j;
-      st.z[static_cast<std::size_t>(i) * static_cast<std::size_t>(st.nx) + static_cast<std::size_t>(j)] =
-          x < 0   ? 10.0
-          : x < 3 ? 3 - std::sqrt(9 - (3 - x) * (3 - x))
-                  : 0.0;
-    }
-  return st;
+  return stock_along_x(0.02, -9.99, 0.01, 1500, [](double x) {
+    return x < 0 ? 10.0 : x < 3 ? 3 - std::sqrt(9 - (3 - x) * (3 - x)) : 0.0;
+  });
 }
 
 TEST(RestStock, TheToolClearsTheHighestCellWithinReachLessItsProfileThere) {
@@ -689,15 +693,8 @@ TEST(RestFinishing, APassIsKeptWhereItRemovesRestBetweenTwoContactsThatReadNone)
   const double slope = std::tan(14 * std::numbers::pi / 180);
   const ingest::Mesh part = extruded({{-5, 5 * slope}, {0, 0}, {5, 5 * slope}}, 10);
   auto design = [&](double x) { return std::abs(x) * slope; };
-  RestStock stock;
-  stock.cell = 0.02, stock.x0 = -4.995, stock.y0 = 0.005, stock.nx = 500, stock.ny = 500;
-  stock.z.resize(static_cast<std::size_t>(stock.nx) * static_cast<std::size_t>(stock.ny));
-  for (int i = 0; i < stock.ny; ++i)
-    for (int j = 0; j < stock.nx; ++j) {
-      const double x = stock.x0 + stock.cell * j;
-      stock.z[static_cast<std::size_t>(i) * static_cast<std::size_t>(stock.nx) + static_cast<std::size_t>(j)] =
-          design(x) + std::max(0.0, 0.05 - 0.5 * std::abs(x));
-    }
+  const RestStock stock = stock_along_x(0.02, -4.995, 0.005, 500,
+                                        [&](double x) { return design(x) + std::max(0.0, 0.05 - 0.5 * std::abs(x)); });
   const DropCutter one(part, Cutter::ball(1));
   RestParams rp;
   rp.threshold_mm = kT;
