@@ -253,9 +253,10 @@ private:
   std::vector<std::vector<Eigen::Vector3d>> buckets_;
 };
 
-}  // namespace
-
-namespace {
+/// `st` cut by `tool` along the polyline `path` (RestStock::cut on each segment).
+void cut_along(RestStock& st, const tooling::Cutter& tool, const std::vector<Eigen::Vector3d>& path) {
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) st.cut(tool, path[i], path[i + 1]);  // O(segments)
+}
 
 /// The stock on every k-th cell of each row and column (the cells' centres kept where they are):
 /// k² times fewer cells for a test that needs them no closer than k cells apart.
@@ -373,9 +374,7 @@ std::vector<std::vector<Pass>> trim_to_rest(const std::vector<Pass>& passes, con
     }
     for (const Pass& piece : mine) {  // O(length / cell · (R / cell)²)
       swept.sweep(piece);
-      if (running)
-        for (std::size_t i = 0; i + 1 < piece.points.size(); ++i)
-          running->cut(tool.cutter(), piece.points[i], piece.points[i + 1]);
+      if (running) cut_along(*running, tool.cutter(), piece.points);
     }
   }
   return pieces;
@@ -585,7 +584,7 @@ CutPieces cut_pieces(std::vector<Pass> pencil, std::vector<Pass> rest, const Dro
       path.emplace_back(q.x(), q.y(), z);
     }
     path.push_back(b);
-    for (std::size_t i = 0; i + 1 < path.size(); ++i) st.cut(cutter, path[i], path[i + 1]);
+    cut_along(st, cutter, path);
   };
   std::optional<RestStock> running;
   if (depth > 0 && regions.left) running = *regions.left;
@@ -622,9 +621,7 @@ CutPieces cut_pieces(std::vector<Pass> pencil, std::vector<Pass> rest, const Dro
           cut_link(*running, from, c.points.front());  // a link cut above went elsewhere
         from = c.points.back();
         out.passes.push_back(std::move(c));
-        if (running)
-          for (std::size_t i = 0; i + 1 < out.passes.back().points.size(); ++i)  // O(segments)
-            running->cut(cutter, out.passes.back().points[i], out.passes.back().points[i + 1]);
+        if (running) cut_along(*running, cutter, out.passes.back().points);
       }
     }
   }
