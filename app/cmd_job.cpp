@@ -415,7 +415,7 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
   const job::ChainResult chain = job::machine_chain(z, design, steps, fs_.machine, sim, rest_last);
   std::optional<job::RestSplit> rest_split;
   if (chain.rest_step)
-    rest_split = job::split_rest(part.mesh, design, z, chain, ops.back().tool.cutter(), sim.rest_threshold_mm,
+    rest_split = job::split_rest(part.mesh, design, z, chain, steps, ops.back().tool.cutter(), sim.rest_threshold_mm,
                                  ops.back().tool.cutter().reach_mm > 0 ? -ops.back().tool.cutter().reach_mm
                                                                        : -std::numeric_limits<double>::infinity(),
                                  frame.z_shift());
@@ -540,7 +540,8 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
       j["rest_area_before_mm2"] = rest_split->before_mm2;
       j["rest_area_after_mm2"] = rest_split->after_mm2;
       j["rest_area_unreachable_mm2"] = rest_split->unreachable_mm2;
-      j["rest_area_missed_mm2"] = rest_split->missed_mm2;  // within the tool's reach
+      j["rest_area_missed_mm2"] = rest_split->missed_mm2;            // within the tool's reach
+      j["rest_area_missed_zmap_mm2"] = rest_split->missed_zmap_mm2;  // before the programs' exact check
       j["rest_area_beyond_reach_mm2"] = rest_split->beyond_reach_mm2;
     }
   }

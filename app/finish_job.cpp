@@ -569,11 +569,11 @@ ChainProgram read_chain_program(const fs::path& file, const tooling::Cutter& cut
 namespace {
 /// A rest step's figures (issue 41; job::split_rest) into the program's entry, its missed rest drawn.
 void rest_figures(const job::Part& part, const job::Design& design, const simulate::ZMap& z, const job::ChainResult& r,
-                  const tooling::Cutter& tool, double threshold_mm, double z_shift, Json& figures,
-                  const fs::path& picture) {
+                  const std::vector<job::ChainStep>& steps, const tooling::Cutter& tool, double threshold_mm,
+                  double z_shift, Json& figures, const fs::path& picture) {
   // As the job splits it: where the design lies deeper below the stock top than the tool's stated
   // stick-out reaches, the rest is beyond its reach, not missed.
-  const job::RestSplit split = job::split_rest(part.mesh, design, z, r, tool, threshold_mm,
+  const job::RestSplit split = job::split_rest(part.mesh, design, z, r, steps, tool, threshold_mm,
                                                tool.reach_mm > 0 ? -tool.reach_mm : -HUGE_VAL, z_shift);
   figures["over_threshold_before_mm2"] = r.rest_area_before_mm2;
   figures["over_threshold_after_mm2"] = r.rest_area_after_mm2;
@@ -582,6 +582,7 @@ void rest_figures(const job::Part& part, const job::Design& design, const simula
   figures["rest_area_unreachable_mm2"] = split.unreachable_mm2;
   figures["rest_area_reference_unreachable_mm2"] = split.reference_unreachable_mm2;
   figures["rest_area_missed_mm2"] = split.missed_mm2;
+  figures["rest_area_missed_zmap_mm2"] = split.missed_zmap_mm2;
   figures["rest_area_beyond_reach_mm2"] = split.beyond_reach_mm2;
   fs::create_directories(picture.parent_path());
   grid_png(picture, split.missed, design.grid,
@@ -632,7 +633,7 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
     Json& last = runs.back();
     last["rest_reference_tool"] = r.rest_reference.describe();
     last["rest_threshold_mm"] = sim.rest_threshold_mm;
-    rest_figures(part, *design, z, r, programs.back().cutter, sim.rest_threshold_mm, frame.z_shift(), last,
+    rest_figures(part, *design, z, r, steps, programs.back().cutter, sim.rest_threshold_mm, frame.z_shift(), last,
                  out / (stem + ".rest_missed.png"));
   }
   const simulate::SurfaceMetrics& m = r.metrics;

@@ -302,7 +302,8 @@ ChainResult machine_chain(simulate::ZMap& stock, const Design& design, const std
 }
 
 RestSplit split_rest(const ingest::Mesh& mesh, const Design& design, const simulate::ZMap& stock, const ChainResult& r,
-                     const tooling::Cutter& tool, double threshold_mm, double floor_z, double mesh_z_shift) {
+                     const std::vector<ChainStep>& steps, const tooling::Cutter& tool, double threshold_mm,
+                     double floor_z, double mesh_z_shift) {
   const finish::RestRegions ref = finish::unreachable_regions(mesh, r.rest_reference, threshold_mm);
   const finish::RestRegions own = finish::unreachable_regions(mesh, tool, threshold_mm);
   const simulate::GridSpec& g = design.grid;
@@ -348,6 +349,7 @@ RestSplit split_rest(const ingest::Mesh& mesh, const Design& design, const simul
     const Eigen::Vector3d p(g.x(i % g.nx), g.y(i / g.nx), design.heights[i] - mesh_z_shift);
     reaches[static_cast<std::size_t>(k)] = own.material(p, Eigen::Vector3d::UnitZ()) <= threshold_mm ? 1 : 0;
   }
+  std::vector<std::size_t> within;                 // left where the rest tool reaches, within its stick-out
   for (std::size_t k = 0; k < left.size(); ++k) {  // O(left cells)
     const std::size_t i = left[k];
     if (!reaches[k]) continue;
@@ -355,9 +357,22 @@ RestSplit split_rest(const ingest::Mesh& mesh, const Design& design, const simul
       ++deep;
       continue;
     }
-    out.missed[i] = stock.heights()[i] - design.heights[i];
+    within.push_back(i);
+  }
+  // The z-map's missed cells confirmed by the programs: the nearest approach of their tools to
+  // the cell's design point (program frame) beyond the threshold.
+  std::vector<simulate::PassTool> programs;
+  for (const ChainStep& s : steps) programs.push_back({s.program, s.cutter});
+  std::vector<gcode::Point3> points;
+  for (const std::size_t i : within) points.push_back({g.x(i % g.nx), g.y(i / g.nx), design.heights[i]});
+  const std::vector<double> approach =
+      simulate::nearest_approach(programs, points, std::max(0.5, 4 * threshold_mm), simulate::ExactGougeOptions{});
+  for (std::size_t k = 0; k < within.size(); ++k) {  // O(missed cells)
+    if (!(approach[k] > threshold_mm)) continue;
+    out.missed[within[k]] = stock.heights()[within[k]] - design.heights[within[k]];
     ++miss;
   }
+  out.missed_zmap_mm2 = static_cast<double>(within.size()) * g.cell * g.cell;
   out.beyond_reach_mm2 = static_cast<double>(deep) * g.cell * g.cell;
   const double cell_area = g.cell * g.cell;
   out.before_mm2 = static_cast<double>(before) * cell_area;

@@ -376,6 +376,115 @@ Penetration sweep_penetration(const PartSolid& part, const gcode::Program& progr
   return best;
 }
 
+std::vector<double> nearest_approach(const std::vector<PassTool>& passes, const std::vector<P3>& points, double reach,
+                                     const ExactGougeOptions& opt) {
+  if (!(std::isfinite(reach) && reach > 0)) throw Error("simulate: the nearest approach's reach must be > 0");
+  std::vector<double> out(points.size(), reach);
+  if (points.empty()) return out;
+  // 1. The moves as segments, each with its cutter's torus (a, rc, R).
+  struct Seg {
+    P3 a, b;
+    double core, rc, radius;
+  };
+  std::vector<Seg> segs;
+  double widest = 0;
+  for (const PassTool& pt : passes) {  // O(moves · chords)
+    if (pt.program == nullptr || pt.cutter.shape() == tooling::CutterType::Drill) continue;
+    const double rc = pt.cutter.profile_corner_radius(), R = pt.cutter.radius();
+    widest = std::max(widest, R);
+    const std::vector<P3> starts = item_starts(*pt.program, {kNaN, kNaN, kNaN});
+    for (std::size_t it = 0; it < pt.program->items.size(); ++it) {
+      const auto* mv = std::get_if<gcode::Move>(&pt.program->items[it]);
+      if (!mv) continue;
+      P3 end = starts[it];
+      for (std::size_t k = 0; k < 3; ++k)
+        if (mv->axes & (1u << k)) end[k] = mv->to[k];
+      if (!known_point(end)) continue;
+      const std::vector<P3> pts =
+          known_point(starts[it]) ? move_points(*mv, starts[it], end, opt.chord_tol_mm) : std::vector<P3>{end, end};
+      for (std::size_t i = 0; i + 1 < pts.size(); ++i) segs.push_back({pts[i], pts[i + 1], R - rc, rc, R});
+    }
+  }
+  // 2. Bins (edge: the widest reach) over the points; a segment listed in the occupied bins its
+  //    XY corridor (its cutter's R + reach either side) meets.
+  const double bin = widest + reach, margin = bin;
+  double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
+  for (const P3& p : points)
+    x0 = std::min(x0, p[0]), y0 = std::min(y0, p[1]), x1 = std::max(x1, p[0]), y1 = std::max(y1, p[1]);
+  const auto nx = static_cast<std::size_t>((x1 - x0) / bin) + 1, ny = static_cast<std::size_t>((y1 - y0) / bin) + 1;
+  if (!(static_cast<double>(nx) * static_cast<double>(ny) <= 5e7))
+    throw Error("simulate: the nearest approach's points span " + std::to_string(nx * ny) + " bins (limit 50,000,000)");
+  std::vector<std::int32_t> slot(nx * ny, -1);
+  std::vector<std::vector<std::uint32_t>> lists;
+  for (const P3& p : points) {  // O(points)
+    auto& s = slot[static_cast<std::size_t>((p[1] - y0) / bin) * nx + static_cast<std::size_t>((p[0] - x0) / bin)];
+    if (s < 0) s = static_cast<std::int32_t>(lists.size()), lists.emplace_back();
+  }
+  for (std::size_t k = 0; k < segs.size(); ++k) {  // O(segments · bins of their boxes)
+    const Seg& s = segs[k];
+    const double lo_x = std::min(s.a[0], s.b[0]) - margin, hi_x = std::max(s.a[0], s.b[0]) + margin;
+    const double lo_y = std::min(s.a[1], s.b[1]) - margin, hi_y = std::max(s.a[1], s.b[1]) + margin;
+    if (hi_x < x0 || hi_y < y0 || lo_x > x0 + bin * static_cast<double>(nx) ||
+        lo_y > y0 + bin * static_cast<double>(ny))
+      continue;
+    const auto bx0 = static_cast<std::size_t>(std::max(0.0, (lo_x - x0) / bin)),
+               by0 = static_cast<std::size_t>(std::max(0.0, (lo_y - y0) / bin));
+    const std::size_t bx1 = std::min(nx - 1, static_cast<std::size_t>(std::max(0.0, (hi_x - x0) / bin))),
+                      by1 = std::min(ny - 1, static_cast<std::size_t>(std::max(0.0, (hi_y - y0) / bin)));
+    for (std::size_t by = by0; by <= by1; ++by)
+      for (std::size_t bx = bx0; bx <= bx1; ++bx) {
+        const std::int32_t s_id = slot[by * nx + bx];
+        if (s_id < 0) continue;
+        const P3 c{x0 + (static_cast<double>(bx) + 0.5) * bin, y0 + (static_cast<double>(by) + 0.5) * bin, 0};
+        const P3 a{s.a[0], s.a[1], 0}, b{s.b[0], s.b[1], 0};
+        if (point_segment_distance(c, a, b) <= margin + bin * std::numbers::sqrt2 / 2)
+          lists[static_cast<std::size_t>(s_id)].push_back(static_cast<std::uint32_t>(k));
+      }
+  }
+  // 3. Each point: the least distance along each listed segment within its window.
+  auto distance = [](const Seg& s, const P3& tip, const P3& p) {
+    const double rho = std::hypot(p[0] - tip[0], p[1] - tip[1]);
+    if (rho <= s.core) return std::max(0.0, tip[2] - p[2]);  // under the flat bottom
+    const double dz = p[2] - (tip[2] + s.rc);
+    if (dz >= 0) return std::max(0.0, rho - s.radius);          // beside the shank
+    return std::max(0.0, std::hypot(rho - s.core, dz) - s.rc);  // below the corner's centre: the torus
+  };
+  const auto n = static_cast<std::ptrdiff_t>(points.size());
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::ptrdiff_t q = 0; q < n; ++q) {
+    const P3& p = points[static_cast<std::size_t>(q)];
+    double best = reach;
+    const auto& list = lists[static_cast<std::size_t>(
+        slot[static_cast<std::size_t>((p[1] - y0) / bin) * nx + static_cast<std::size_t>((p[0] - x0) / bin)])];
+    for (const std::uint32_t k : list) {  // O(listed segments · evaluations)
+      const Seg& s = segs[k];
+      double t0 = 0, t1 = 1;
+      if (!clip_to_window(s.a, s.b, p[0], p[1], s.radius + reach, t0, t1)) continue;
+      const double len = norm(sub(s.b, s.a));
+      auto eval = [&](double t) {
+        const double d = distance(s, lerp(s.a, s.b, t), p);
+        best = std::min(best, d);
+        return d;
+      };
+      struct Span {
+        double ta, tb, fa, fb;
+      };
+      std::vector<Span> stack{{t0, t1, eval(t0), eval(t1)}};
+      for (std::size_t evaluations = 2; !stack.empty() && evaluations < kMaxEvaluationsPerSegment; ++evaluations) {
+        const Span sp = stack.back();
+        stack.pop_back();
+        const double bound = 0.5 * (sp.fa + sp.fb - len * (sp.tb - sp.ta));  // 1-Lipschitz
+        if (bound >= best - opt.resolution_mm || best <= 0) continue;
+        const double tm = 0.5 * (sp.ta + sp.tb), fm = eval(tm);
+        stack.push_back({sp.ta, tm, sp.fa, fm});
+        stack.push_back({tm, sp.tb, fm, sp.fb});
+      }
+    }
+    out[static_cast<std::size_t>(q)] = best;
+  }
+  return out;
+}
+
 void confirm_gouges(SurfaceMetrics& m, const ZMap& machined, const std::vector<double>& design, const PartSolid& part,
                     const std::vector<PassTool>& passes, const ExactGougeOptions& opt) {
   const GridSpec& g = machined.spec();

@@ -130,7 +130,7 @@ TEST(JobChain, RestInABandNarrowerThanTheReachTestsNodesIsSplitByTheExactTest) {
   r.rest_step = true;
   r.rest_reference = Cutter::ball(10);
   r.rest_above_before = simulate::cells_above(stock, design.heights, sim.rest_threshold_mm);
-  const RestSplit split = split_rest(wall, design, stock, r, Cutter::ball(1), sim.rest_threshold_mm,
+  const RestSplit split = split_rest(wall, design, stock, r, {}, Cutter::ball(1), sim.rest_threshold_mm,
                                      -std::numeric_limits<double>::infinity(), frame.z_shift());
   const simulate::GridSpec& g = design.grid;
   int band = 0, clear = 0;
@@ -149,6 +149,39 @@ TEST(JobChain, RestInABandNarrowerThanTheReachTestsNodesIsSplitByTheExactTest) {
   EXPECT_GE(band, 2 * 200);  // two cells a row (x 5.0425 and 5.0475), 200 rows
   EXPECT_GT(clear, 70 * 200);
   EXPECT_GT(split.missed_mm2, 0.0);
+  EXPECT_EQ(split.missed_zmap_mm2, split.missed_mm2);  // no program to confirm it by: the z-map's word
+
+  // A Ø1 program that touched the 45° face along Y 2.4 … 3.6 at X c − 0.45 … c − 0.115 (contacts
+  // 0.02 mm apart, the bitangent's 0.112 the closest it may come): it came within 0.001 mm of every
+  // cell of that face up to c − 0.014, so the z-map's excess there (a stock handed over, never cut
+  // by it) is no missed rest; beside the program (Y 4.5 … 5.5) the missed cells stay.
+  gcode::Program touch;
+  const double R = 0.5;
+  for (int k = 0; k <= 17; ++k) {
+    const double xc = std::min(c - 0.45 + 0.02 * k, c - 0.115);
+    const double cx = xc - R / std::numbers::sqrt2, tip = xc + R / std::numbers::sqrt2 - R + frame.z_shift();
+    for (const double y : {2.4, 3.6}) {
+      gcode::Move m;
+      m.motion = Motion::Line, m.to = {cx, y, tip}, m.feed = 600;
+      touch.items.emplace_back(m);
+    }
+  }
+  const RestSplit confirmed =
+      split_rest(wall, design, stock, r, {{&touch, Cutter::ball(1)}}, Cutter::ball(1), sim.rest_threshold_mm,
+                 -std::numeric_limits<double>::infinity(), frame.z_shift());
+  int beside = 0;
+  for (std::size_t i = 0; i < g.cells(); ++i) {
+    const double x = g.x(i % g.nx), y = g.y(i / g.nx);
+    if (!(x < c - 0.0105 - 0.01 && x > c - 0.4)) continue;
+    if (y > 2.5 && y < 3.5) EXPECT_TRUE(std::isnan(confirmed.missed[i])) << "x " << x << " y " << y << ": touched";
+    if (y > 4.5 && y < 5.5 && !std::isnan(split.missed[i])) {
+      ++beside;
+      EXPECT_FALSE(std::isnan(confirmed.missed[i])) << "x " << x << " y " << y << ": the program never came near";
+    }
+  }
+  EXPECT_GT(beside, 70 * 200);
+  EXPECT_EQ(confirmed.missed_zmap_mm2, split.missed_zmap_mm2);
+  EXPECT_LT(confirmed.missed_mm2, split.missed_mm2);
 }
 
 }  // namespace

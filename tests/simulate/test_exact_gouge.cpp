@@ -4,6 +4,7 @@
 // Hand-computed values only (cell 0.25 mm, all coordinates exact in binary).
 #include "millnet/simulate/exact_gouge.hpp"
 
+#include "millnet/core/error.hpp"
 #include "millnet/ingest/heightfield.hpp"
 #include "millnet/simulate/maps.hpp"
 #include "millnet/simulate/zmap.hpp"
@@ -295,4 +296,49 @@ TEST(ExactGouge, UnderAnUndercutCapTheZMapAndTheExactCheckAgree) {
   EXPECT_NEAR(r.exact.max_gouge_mm, 7.0, 5e-4);
   EXPECT_EQ(r.exact.gouge_places_refuted, 0u);
   EXPECT_NEAR(r.exact.gouge_x_mm, 5, 1e-9);
+}
+
+// The nearest approach of swept cutters to points (issue 41's missed rest confirmed), by hand: a
+// Ø2 ball along X at tip Z 0 (centre Z 1), a Ø4 bull with 1 mm corners along Y = 20, a Ø2 ball on
+// a half circle of radius 5 about (30, 0), and a drill right over the first point (left out).
+TEST(ExactGouge, NearestApproachOfTheSweptCuttersByHand) {
+  Program ball_line;
+  ball_line.items = {mv(Motion::Rapid, 0, 0, 8), mv(Motion::Line, 0, 0, 0), mv(Motion::Line, 10, 0, 0),
+                     mv(Motion::Rapid, 10, 0, 8)};
+  Program bull_line;
+  bull_line.items = {mv(Motion::Rapid, 0, 20, 8), mv(Motion::Line, 0, 20, 0), mv(Motion::Line, 10, 20, 0)};
+  Program arc;
+  Move half = mv(Motion::ArcCCW, 25, 0, 0);
+  half.center = {30, 0};
+  arc.items = {mv(Motion::Rapid, 35, 0, 8), mv(Motion::Line, 35, 0, 0), half};
+  Program drill;
+  drill.items = {mv(Motion::Rapid, 5, 1.5, 8), mv(Motion::Line, 5, 1.5, -3)};
+  const std::vector<PassTool> passes{{&ball_line, tooling::Cutter::ball(2)},
+                                     {&bull_line, tooling::Cutter::bull(4, 1)},
+                                     {&arc, tooling::Cutter::ball(2)},
+                                     {&drill, tooling::Cutter::drill(2)}};
+  const std::vector<gcode::Point3> points{
+      {5, 1.5, 0.2},    // beside the ball: √(1.5² + 0.8²) − 1 = 0.7
+      {5, 1.2, 3},      // beside its shank: 1.2 − 1 = 0.2
+      {12, 0, 0.5},     // past the line's end, the rapid up: √(2² + 0.5²) − 1
+      {5, 23, 0.5},     // beside the bull: √((3 − 1)² + 0.5²) − 1
+      {5, 20.5, -0.3},  // under its flat bottom: 0.3
+      {30, 6.5, 1},     // outside the arc at the ball centre's height: 6.5 − 5 − 1 = 0.5
+      {50, 50, 0},      // near nothing: the reach
+      {3, 0, 0.5}};     // inside the ball's sweep: 0
+  const std::vector<double> d = nearest_approach(passes, points, 2.0, ExactGougeOptions{});
+  ASSERT_EQ(d.size(), points.size());
+  const double tol = 1e-3;
+  EXPECT_NEAR(d[0], 0.7, tol);
+  EXPECT_NEAR(d[1], 0.2, tol);
+  EXPECT_NEAR(d[2], std::sqrt(4.25) - 1, tol);
+  EXPECT_NEAR(d[3], std::sqrt(4.25) - 1, tol);
+  EXPECT_NEAR(d[4], 0.3, tol);
+  EXPECT_NEAR(d[5], 0.5, tol);
+  EXPECT_EQ(d[6], 2.0);
+  EXPECT_EQ(d[7], 0.0);
+  // Each point on its own: the same figure asked alone (any order, any thread count).
+  for (std::size_t k = 0; k < points.size(); ++k)
+    EXPECT_EQ(nearest_approach(passes, {points[k]}, 2.0, ExactGougeOptions{}).front(), d[k]) << k;
+  EXPECT_THROW((void)nearest_approach(passes, points, 0.0, ExactGougeOptions{}), millnet::Error);
 }

@@ -105,6 +105,20 @@ struct PassTool {
   tooling::Cutter cutter;
 };
 
+/// The nearest approach of the swept cutters to design points (issue 41: a missed rest confirmed):
+/// for each point, the least distance from it to the solid of a pass's cutter at any position along
+/// any move of `passes` (rapids included; arcs as chords of sagitta ≤ options.chord_tol_mm), found
+/// within options.resolution_mm by a branch and bound on each move near the point (the distance
+/// is 1-Lipschitz in the distance travelled); a point no move comes within `reach` of reads `reach`.
+/// The cutter solid: a vertical axis from tip t, the core disk of radius a = R − rc at t.z + rc
+/// widened by a ball of radius rc (the torus; a ball: a = 0, flat: rc = 0), and its shank of
+/// radius R above. A drill's passes are left out (a cone that finishes no surface). Points in
+/// parallel, each on its own (any thread count). O(moves · bins each) to bin the moves, then
+/// O(points · moves within R + reach of each · evaluations).
+[[nodiscard]] std::vector<double> nearest_approach(const std::vector<PassTool>& passes,
+                                                   const std::vector<gcode::Point3>& points, double reach,
+                                                   const ExactGougeOptions& options);
+
 /// Confirms or refutes the z-map's gouges in `m` (from surface_metrics on `machined`): the gouge
 /// cells ((e·cos slope) < −tolerance, some move lowered them) are grouped by the move that cut
 /// them; the deepest cell of each of the options.max_places deepest moves is a place, and that
