@@ -381,32 +381,11 @@ std::vector<double> nearest_approach(const std::vector<PassTool>& passes, const 
   if (!(std::isfinite(reach) && reach > 0)) throw Error("simulate: the nearest approach's reach must be > 0");
   std::vector<double> out(points.size(), reach);
   if (points.empty()) return out;
-  // 1. The moves as segments, each with its cutter's torus (a, rc, R).
-  struct Seg {
-    P3 a, b;
-    double core, rc, radius;
-  };
-  std::vector<Seg> segs;
+  // 1. Bins (edge: the widest cutter's R + reach) over the points.
   double widest = 0;
-  for (const PassTool& pt : passes) {  // O(moves · chords)
-    if (pt.program == nullptr || pt.cutter.shape() == tooling::CutterType::Drill) continue;
-    const double rc = pt.cutter.profile_corner_radius(), R = pt.cutter.radius();
-    widest = std::max(widest, R);
-    const std::vector<P3> starts = item_starts(*pt.program, {kNaN, kNaN, kNaN});
-    for (std::size_t it = 0; it < pt.program->items.size(); ++it) {
-      const auto* mv = std::get_if<gcode::Move>(&pt.program->items[it]);
-      if (!mv) continue;
-      P3 end = starts[it];
-      for (std::size_t k = 0; k < 3; ++k)
-        if (mv->axes & (1u << k)) end[k] = mv->to[k];
-      if (!known_point(end)) continue;
-      const std::vector<P3> pts =
-          known_point(starts[it]) ? move_points(*mv, starts[it], end, opt.chord_tol_mm) : std::vector<P3>{end, end};
-      for (std::size_t i = 0; i + 1 < pts.size(); ++i) segs.push_back({pts[i], pts[i + 1], R - rc, rc, R});
-    }
-  }
-  // 2. Bins (edge: the widest reach) over the points; a segment listed in the occupied bins its
-  //    XY corridor (its cutter's R + reach either side) meets.
+  for (const PassTool& pt : passes)  // O(passes)
+    if (pt.program != nullptr && pt.cutter.shape() != tooling::CutterType::Drill)
+      widest = std::max(widest, pt.cutter.radius());
   const double bin = widest + reach, margin = bin;
   double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
   for (const P3& p : points)
@@ -420,26 +399,51 @@ std::vector<double> nearest_approach(const std::vector<PassTool>& passes, const 
     auto& s = slot[static_cast<std::size_t>((p[1] - y0) / bin) * nx + static_cast<std::size_t>((p[0] - x0) / bin)];
     if (s < 0) s = static_cast<std::int32_t>(lists.size()), lists.emplace_back();
   }
-  for (std::size_t k = 0; k < segs.size(); ++k) {  // O(segments · bins of their boxes)
-    const Seg& s = segs[k];
+  // 2. The moves as segments, each with its cutter's torus (a, rc, R), kept where listed in an
+  //    occupied bin its XY corridor (the widest reach either side) meets.
+  struct Seg {
+    P3 a, b;
+    double core, rc, radius;
+  };
+  std::vector<Seg> segs;
+  auto list = [&](const Seg& s) {  // O(bins of its box)
     const double lo_x = std::min(s.a[0], s.b[0]) - margin, hi_x = std::max(s.a[0], s.b[0]) + margin;
     const double lo_y = std::min(s.a[1], s.b[1]) - margin, hi_y = std::max(s.a[1], s.b[1]) + margin;
     if (hi_x < x0 || hi_y < y0 || lo_x > x0 + bin * static_cast<double>(nx) ||
         lo_y > y0 + bin * static_cast<double>(ny))
-      continue;
+      return;
     const auto bx0 = static_cast<std::size_t>(std::max(0.0, (lo_x - x0) / bin)),
                by0 = static_cast<std::size_t>(std::max(0.0, (lo_y - y0) / bin));
     const std::size_t bx1 = std::min(nx - 1, static_cast<std::size_t>(std::max(0.0, (hi_x - x0) / bin))),
                       by1 = std::min(ny - 1, static_cast<std::size_t>(std::max(0.0, (hi_y - y0) / bin)));
+    bool listed = false;
     for (std::size_t by = by0; by <= by1; ++by)
       for (std::size_t bx = bx0; bx <= bx1; ++bx) {
         const std::int32_t s_id = slot[by * nx + bx];
         if (s_id < 0) continue;
         const P3 c{x0 + (static_cast<double>(bx) + 0.5) * bin, y0 + (static_cast<double>(by) + 0.5) * bin, 0};
         const P3 a{s.a[0], s.a[1], 0}, b{s.b[0], s.b[1], 0};
-        if (point_segment_distance(c, a, b) <= margin + bin * std::numbers::sqrt2 / 2)
-          lists[static_cast<std::size_t>(s_id)].push_back(static_cast<std::uint32_t>(k));
+        if (point_segment_distance(c, a, b) > margin + bin * std::numbers::sqrt2 / 2) continue;
+        lists[static_cast<std::size_t>(s_id)].push_back(static_cast<std::uint32_t>(segs.size()));
+        listed = true;
       }
+    if (listed) segs.push_back(s);
+  };
+  for (const PassTool& pt : passes) {  // O(moves · chords)
+    if (pt.program == nullptr || pt.cutter.shape() == tooling::CutterType::Drill) continue;
+    const double rc = pt.cutter.profile_corner_radius(), R = pt.cutter.radius();
+    const std::vector<P3> starts = item_starts(*pt.program, {kNaN, kNaN, kNaN});
+    for (std::size_t it = 0; it < pt.program->items.size(); ++it) {
+      const auto* mv = std::get_if<gcode::Move>(&pt.program->items[it]);
+      if (!mv) continue;
+      P3 end = starts[it];
+      for (std::size_t k = 0; k < 3; ++k)
+        if (mv->axes & (1u << k)) end[k] = mv->to[k];
+      if (!known_point(end)) continue;
+      const std::vector<P3> pts =
+          known_point(starts[it]) ? move_points(*mv, starts[it], end, opt.chord_tol_mm) : std::vector<P3>{end, end};
+      for (std::size_t i = 0; i + 1 < pts.size(); ++i) list({pts[i], pts[i + 1], R - rc, rc, R});
+    }
   }
   // 3. Each point: the least distance along each listed segment within its window.
   auto distance = [](const Seg& s, const P3& tip, const P3& p) {
