@@ -201,17 +201,13 @@ bool clip_to_window(const P3& a, const P3& b, double cx, double cy, double windo
   return t0 <= t1;
 }
 
-// The maximum of the core's penetration along ab over [t0, t1], within `res` (the branch and
-// bound of exact_gouge.hpp). O(evaluations · core_penetration).
-void segment_max(const PartSolid& part, const Core& k, const P3& a, const P3& b, double t0, double t1,
-                 const ExactGougeOptions& opt, Penetration& best, std::size_t item, std::size_t line) {
-  const double len = norm(sub(b, a));
-  auto eval = [&](double t) {
-    const P3 p = lerp(a, b, t);
-    const double d = core_penetration(part, k, p);
-    if (d > best.depth_mm) best = {d, p, item, line};
-    return d;
-  };
+/// The maximum of f over [t0, t1] of a segment `len` long, f 1-Lipschitz in the distance travelled
+/// (the branch and bound of exact_gouge.hpp): spans whose bound cannot beat max(best() +
+/// resolution, floor) are dropped, the bound no higher than `ceiling` (the most f can be).
+/// `eval(t)` returns f(t) and keeps the best itself. O(evaluations ≤ kMaxEvaluationsPerSegment).
+template <class Eval, class Best>
+void lipschitz_max(double len, double t0, double t1, double resolution, double floor, double ceiling, Eval&& eval,
+                   Best&& best) {
   struct Span {
     double ta, tb, fa, fb;
   };
@@ -220,14 +216,29 @@ void segment_max(const PartSolid& part, const Core& k, const P3& a, const P3& b,
   while (!stack.empty() && evaluations < kMaxEvaluationsPerSegment) {  // O(evaluations)
     const Span s = stack.back();
     stack.pop_back();
-    const double bound = 0.5 * (s.fa + s.fb + len * (s.tb - s.ta));  // 1-Lipschitz in the distance travelled
-    if (bound <= std::max(best.depth_mm + opt.resolution_mm, opt.tolerance_mm)) continue;
+    const double bound = std::min(ceiling, 0.5 * (s.fa + s.fb + len * (s.tb - s.ta)));
+    if (bound <= std::max(best() + resolution, floor)) continue;
     const double tm = 0.5 * (s.ta + s.tb);
     const double fm = eval(tm);
     ++evaluations;
     stack.push_back({s.ta, tm, s.fa, fm});
     stack.push_back({tm, s.tb, fm, s.fb});
   }
+}
+
+// The maximum of the core's penetration along ab over [t0, t1], within `res`. O(evaluations ·
+// core_penetration).
+void segment_max(const PartSolid& part, const Core& k, const P3& a, const P3& b, double t0, double t1,
+                 const ExactGougeOptions& opt, Penetration& best, std::size_t item, std::size_t line) {
+  lipschitz_max(
+      norm(sub(b, a)), t0, t1, opt.resolution_mm, opt.tolerance_mm, HUGE_VAL,
+      [&](double t) {
+        const P3 p = lerp(a, b, t);
+        const double d = core_penetration(part, k, p);
+        if (d > best.depth_mm) best = {d, p, item, line};
+        return d;
+      },
+      [&] { return best.depth_mm; });
 }
 
 }  // namespace
@@ -464,25 +475,15 @@ std::vector<double> nearest_approach(const std::vector<PassTool>& passes, const 
       const Seg& s = segs[k];
       double t0 = 0, t1 = 1;
       if (!clip_to_window(s.a, s.b, p[0], p[1], s.radius + reach, t0, t1)) continue;
-      const double len = norm(sub(s.b, s.a));
-      auto eval = [&](double t) {
-        const double d = distance(s, lerp(s.a, s.b, t), p);
-        best = std::min(best, d);
-        return d;
-      };
-      struct Span {
-        double ta, tb, fa, fb;
-      };
-      std::vector<Span> stack{{t0, t1, eval(t0), eval(t1)}};
-      for (std::size_t evaluations = 2; !stack.empty() && evaluations < kMaxEvaluationsPerSegment; ++evaluations) {
-        const Span sp = stack.back();
-        stack.pop_back();
-        const double bound = 0.5 * (sp.fa + sp.fb - len * (sp.tb - sp.ta));  // 1-Lipschitz
-        if (bound >= best - opt.resolution_mm || best <= 0) continue;
-        const double tm = 0.5 * (sp.ta + sp.tb), fm = eval(tm);
-        stack.push_back({sp.ta, tm, sp.fa, fm});
-        stack.push_back({tm, sp.tb, fm, sp.fb});
-      }
+      // (the distance's maximum of its negative: never above 0)
+      lipschitz_max(
+          norm(sub(s.b, s.a)), t0, t1, opt.resolution_mm, -HUGE_VAL, 0.0,
+          [&](double t) {
+            const double d = distance(s, lerp(s.a, s.b, t), p);
+            best = std::min(best, d);
+            return -d;
+          },
+          [&] { return -best; });
     }
     out[static_cast<std::size_t>(q)] = best;
   }
