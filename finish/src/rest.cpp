@@ -254,12 +254,7 @@ double rest_cell_mm(const tooling::Cutter& reference, double threshold_mm) {
 }
 
 double distance_to_tool(const tooling::Cutter& tool, double cx, double cy, double tip, const Eigen::Vector3d& p) {
-  const double R = tool.radius(), rc = tool.profile_corner_radius(), a = R - rc;
-  const double rho = std::hypot(p.x() - cx, p.y() - cy);
-  if (rho <= a) return std::max(0.0, tip - p.z());  // under the flat bottom
-  const double dz = p.z() - (tip + rc);
-  if (dz >= 0) return std::max(0.0, rho - R);          // beside the side
-  return std::max(0.0, std::hypot(rho - a, dz) - rc);  // below the corner's centre: the torus
+  return tool.distance_to_solid(cx, cy, tip, p.x(), p.y(), p.z());
 }
 
 RestRegions rest_regions(const ingest::Mesh& mesh, const DropCutter& new_tool, const RestParams& params, double x0,

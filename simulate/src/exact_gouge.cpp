@@ -410,11 +410,11 @@ std::vector<double> nearest_approach(const std::vector<PassTool>& passes, const 
     auto& s = slot[static_cast<std::size_t>((p[1] - y0) / bin) * nx + static_cast<std::size_t>((p[0] - x0) / bin)];
     if (s < 0) s = static_cast<std::int32_t>(lists.size()), lists.emplace_back();
   }
-  // 2. The moves as segments, each with its cutter's torus (a, rc, R), kept where listed in an
+  // 2. The moves as segments, each with its cutter, kept where listed in an
   //    occupied bin its XY corridor (the widest reach either side) meets.
   struct Seg {
     P3 a, b;
-    double core, rc, radius;
+    const tooling::Cutter* cutter;
   };
   std::vector<Seg> segs;
   auto list = [&](const Seg& s) {  // O(bins of its box)
@@ -442,7 +442,6 @@ std::vector<double> nearest_approach(const std::vector<PassTool>& passes, const 
   };
   for (const PassTool& pt : passes) {  // O(moves · chords)
     if (pt.program == nullptr || pt.cutter.shape() == tooling::CutterType::Drill) continue;
-    const double rc = pt.cutter.profile_corner_radius(), R = pt.cutter.radius();
     const std::vector<P3> starts = item_starts(*pt.program, {kNaN, kNaN, kNaN});
     for (std::size_t it = 0; it < pt.program->items.size(); ++it) {
       const auto* mv = std::get_if<gcode::Move>(&pt.program->items[it]);
@@ -453,17 +452,10 @@ std::vector<double> nearest_approach(const std::vector<PassTool>& passes, const 
       if (!known_point(end)) continue;
       const std::vector<P3> pts =
           known_point(starts[it]) ? move_points(*mv, starts[it], end, opt.chord_tol_mm) : std::vector<P3>{end, end};
-      for (std::size_t i = 0; i + 1 < pts.size(); ++i) list({pts[i], pts[i + 1], R - rc, rc, R});
+      for (std::size_t i = 0; i + 1 < pts.size(); ++i) list({pts[i], pts[i + 1], &pt.cutter});
     }
   }
   // 3. Each point: the least distance along each listed segment within its window.
-  auto distance = [](const Seg& s, const P3& tip, const P3& p) {
-    const double rho = std::hypot(p[0] - tip[0], p[1] - tip[1]);
-    if (rho <= s.core) return std::max(0.0, tip[2] - p[2]);  // under the flat bottom
-    const double dz = p[2] - (tip[2] + s.rc);
-    if (dz >= 0) return std::max(0.0, rho - s.radius);          // beside the shank
-    return std::max(0.0, std::hypot(rho - s.core, dz) - s.rc);  // below the corner's centre: the torus
-  };
   const auto n = static_cast<std::ptrdiff_t>(points.size());
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::ptrdiff_t q = 0; q < n; ++q) {
@@ -474,12 +466,13 @@ std::vector<double> nearest_approach(const std::vector<PassTool>& passes, const 
     for (const std::uint32_t k : list) {  // O(listed segments · evaluations)
       const Seg& s = segs[k];
       double t0 = 0, t1 = 1;
-      if (!clip_to_window(s.a, s.b, p[0], p[1], s.radius + reach, t0, t1)) continue;
+      if (!clip_to_window(s.a, s.b, p[0], p[1], s.cutter->radius() + reach, t0, t1)) continue;
       // (the distance's maximum of its negative: never above 0)
       lipschitz_max(
           norm(sub(s.b, s.a)), t0, t1, opt.resolution_mm, -HUGE_VAL, 0.0,
           [&](double t) {
-            const double d = distance(s, lerp(s.a, s.b, t), p);
+            const P3 tip = lerp(s.a, s.b, t);
+            const double d = s.cutter->distance_to_solid(tip[0], tip[1], tip[2], p[0], p[1], p[2]);
             best = std::min(best, d);
             return -d;
           },

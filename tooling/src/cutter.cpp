@@ -7,6 +7,7 @@
 #include "millnet/core/atomic_file.hpp"
 #include "millnet/core/error.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -19,6 +20,15 @@ CutterType Cutter::shape() const {
   // arithmetic (bull:4:2 is accepted and machined as ball:4; issue 36).
   if (type == CutterType::Bull && std::abs(corner_radius - radius()) <= 1e-12 * radius()) return CutterType::Ball;
   return type;
+}
+
+double Cutter::distance_to_solid(double cx, double cy, double tip, double px, double py, double pz) const {
+  const double R = radius(), rc = profile_corner_radius(), a = R - rc;
+  const double rho = std::hypot(px - cx, py - cy);
+  if (rho <= a) return std::max(0.0, tip - pz);  // under the flat bottom
+  const double dz = pz - (tip + rc);
+  if (dz >= 0) return std::max(0.0, rho - R);          // beside the shank
+  return std::max(0.0, std::hypot(rho - a, dz) - rc);  // below the corner's centre: the torus
 }
 
 double Cutter::profile_corner_radius() const {

@@ -54,6 +54,11 @@ struct Cutter {
   /// Height of the cutter's surface above the tip at radial distance d from the axis (0 ≤ |d| ≤ R);
   /// +infinity for |d| > R (outside the cutter).
   [[nodiscard]] double profile_height(double d) const;
+  /// The Euclidean distance from point (px, py, pz) to the cutter's solid with its tip at (cx, cy,
+  /// tip), axis vertical: the profile revolved (the core disk of radius R − rc at tip + rc widened
+  /// by a ball of radius rc) and the shank, a cylinder of radius R, above it; 0 inside. Exact for
+  /// flat, ball and bull; a drill is taken as a flat of its diameter (its cone not modelled). O(1).
+  [[nodiscard]] double distance_to_solid(double cx, double cy, double tip, double px, double py, double pz) const;
   /// Throws millnet::Error "cutter: …" when a dimension is not finite or outside the ranges above.
   void check() const;
   /// "ball D2", "flat D10", "bull D6 r1", "drill D5" (comments, metrics, previews).
