@@ -43,6 +43,38 @@ inline Eigen::Vector3d unit_normal(const ingest::Mesh& mesh, std::ptrdiff_t f) {
   return n.norm() > 0 ? Eigen::Vector3d(n / n.norm()) : Eigen::Vector3d::UnitZ();
 }
 
+/// The design points where the regions measure more than `over_mm` of rest (regions.material along
+/// the design's normal; the caller's margin over the threshold), sampled `spacing` apart in XY
+/// inside the kept regions (mask 2; a point probe's drop: the design seen from above, as a z-map's
+/// cells see it), and which of them the tool has been brought within the threshold of: the test a
+/// rest program's result is judged by (job::split_rest: a cell is missed where no program came
+/// that near its design point). Nothing when the regions measure nothing or the sampling would
+/// pass tol::rest_points_max. O(kept nodes · (cell / spacing)²) drops.
+class RestPoints {
+public:
+  RestPoints(const ingest::Mesh& mesh, const RestRegions& regions, const tooling::Cutter& tool, double spacing,
+             double over_mm);
+  /// Whether the tool with its tip at `tip` comes within the threshold of a point not yet cleared
+  /// (the exact distance to its solid, tooling::Cutter::distance_to_solid). Thread-safe.
+  /// O(points within R + threshold in XY).
+  [[nodiscard]] bool needed(const Eigen::Vector3d& tip) const;
+  /// The points within the threshold of the tool placed every R/16 along `path` cleared.
+  void clear_along(const std::vector<Eigen::Vector3d>& path);
+  [[nodiscard]] std::size_t size() const { return points_.size(); }
+  [[nodiscard]] const std::vector<Eigen::Vector3d>& points() const { return points_; }
+
+private:
+  [[nodiscard]] std::size_t bucket(const Eigen::Vector3d& p) const;
+  template <class Visit>
+  void near(const Eigen::Vector3d& tip, Visit&& visit) const;
+  tooling::Cutter tool_;
+  double threshold_, side_, x0_ = 0, y0_ = 0;
+  int nx_ = 0, ny_ = 0;
+  std::vector<Eigen::Vector3d> points_;
+  std::vector<std::vector<std::size_t>> buckets_;
+  std::vector<std::uint8_t> cleared_;
+};
+
 /// The pieces of each of `passes` (in their machining order) where the tool removes rest. Each
 /// pass is probed along its straight segments (the path the machine follows): a probe
 /// cuts when the material at its contact exceeds half the threshold as the regions measure it
@@ -52,11 +84,15 @@ inline Eigen::Vector3d unit_normal(const ingest::Mesh& mesh, std::ptrdiff_t f) {
 /// there takes more than tol::rest_keep_removal_thresholds thresholds off the stock as the pieces
 /// kept before it leave it (RestStock::removal on its cells about R/16 apart, cut by each pass's
 /// kept pieces in turn: O((R / cell)²) a probe and a placement): in a crease between two steep
-/// faces the contact lies on one face or the other while the rest stands between them. The
+/// faces the contact lies on one face or the other while the rest stands between them. From a
+/// stock a probe cuts, too, where the tool comes within the threshold of a design point carrying
+/// more than tol::rest_point_thresholds thresholds of rest that the kept pieces before have not
+/// come within the threshold of (RestPoints, on the stock's cells): the yardstick the missed rest
+/// is judged by, so that the crease's bands between the contacts are cut. The
 /// contact is the drop's at the probe's XY, or, for a probe hanging above
 /// its drop (beside a vertical wall), the tool's widest point on the side where the drops rise.
-/// Each cutting probe keeps the stretch within tol::rest_run_on_radii · R (path length) on either
-/// side (the probes stand half of that apart), stretches within
+/// Probes stand tol::rest_probe_radii · R apart; each cutting probe keeps the stretch within
+/// tol::rest_run_on_radii · R (path length) on either side, stretches within
 /// tol::rest_bridge_radii · R of each other are joined (also across a closed pass's seam), and each
 /// stretch is a piece: its ends interpolated on their segments, the pass's vertices between. Passes
 /// in order, a pass's probes in parallel: any thread count. O(length / R) drops, each tested against

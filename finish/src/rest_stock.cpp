@@ -283,7 +283,7 @@ std::vector<std::vector<Pass>> trim_to_rest(const std::vector<Pass>& passes, con
     return pieces;
   }
   const double eps = regions.threshold_mm / 2, r = tool.cutter().radius(), run_on = tol::rest_run_on_radii * r;
-  const double probe = run_on / 2, bridge = tol::rest_bridge_radii * r;
+  const double probe = tol::rest_probe_radii * r, bridge = tol::rest_bridge_radii * r;
   SweptByRest swept(regions, tool.cutter());
   // From a stock: what was left, cut by the pieces kept so far (cells about R/16 apart at most: a
   // crease's rest is 0.1–0.3 mm across; a Ø2 on 0.02 mm cells asks 9× fewer of them). Not behind
@@ -293,6 +293,10 @@ std::vector<std::vector<Pass>> trim_to_rest(const std::vector<Pass>& passes, con
     running = every_kth_cell(*regions.left,
                              std::max(1, static_cast<int>(std::floor(r / 16 / std::max(regions.left->cell, 1e-9)))));
   const double removes = tol::rest_keep_removal_thresholds * regions.threshold_mm;
+  // From a stock: the design points with rest over the threshold, on its cells (RestPoints).
+  std::optional<RestPoints> points;
+  if (running)
+    points.emplace(mesh, regions, tool.cutter(), regions.left->cell, tol::rest_point_thresholds * regions.threshold_mm);
   for (std::size_t k = 0; k < passes.size(); ++k) {  // in order: each pass after what the ones before cut
     const Pass& pass = passes[k];
     const auto& pts = pass.points;
@@ -300,7 +304,7 @@ std::vector<std::vector<Pass>> trim_to_rest(const std::vector<Pass>& passes, con
     if (m < 2) continue;
     std::vector<double> s(m, 0.0);  // path length along the pass
     for (std::size_t i = 1; i < m; ++i) s[i] = s[i - 1] + (pts[i] - pts[i - 1]).norm();
-    // 1. Probes every run_on / 2 along the pass (its straight segments are the path the machine
+    // 1. Probes every R/16 along the pass (its straight segments are the path the machine
     //    follows): where the material left, by the stock and by the passes before, exceeds eps.
     std::vector<double> at;
     for (std::size_t i = 0; i + 1 < m; ++i) {  // O(length / probe)
@@ -336,8 +340,12 @@ std::vector<std::vector<Pass>> trim_to_rest(const std::vector<Pass>& passes, con
       // At the contact, or (where the tool touches one face of a crease while the rest stands
       // between the two) by what the tool standing there takes off what the pieces before left.
       const bool at_contact = regions.material(cc, n) > eps && !swept.cleared(cc, eps);
+      // Or where it comes within the threshold of a design point with rest not yet cleared.
       cuts[static_cast<std::size_t>(t)] =
-          at_contact || (running && running->removal(tool.cutter(), q.x(), q.y(), q.z()).thickness > removes) ? 1 : 0;
+          at_contact || (running && running->removal(tool.cutter(), q.x(), q.y(), q.z()).thickness > removes) ||
+                  (points && points->needed(q))
+              ? 1
+              : 0;
     }
     // 2. Each cutting probe keeps the run-on on either side; stretches within the bridge are one.
     std::vector<std::pair<double, double>> keep;  // [from, to] in path length, ascending
@@ -375,6 +383,7 @@ std::vector<std::vector<Pass>> trim_to_rest(const std::vector<Pass>& passes, con
     for (const Pass& piece : mine) {  // O(length / cell · (R / cell)²)
       swept.sweep(piece);
       if (running) cut_along(*running, tool.cutter(), piece.points);
+      if (points) points->clear_along(piece.points);
     }
   }
   return pieces;

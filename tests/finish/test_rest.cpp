@@ -718,11 +718,52 @@ TEST(RestFinishing, APassIsKeptWhereItRemovesRestBetweenTwoContactsThatReadNone)
   for (const Eigen::Vector3d& q : kept.front().points) lo = std::min(lo, q.x()), hi = std::max(hi, q.x());
   EXPECT_LT(lo, -0.05);
   EXPECT_GT(hi, 0.05);
-  // Where the ball removes more than 1.5 kT: the stock over its surface; beyond, the run-on (R / 8).
-  EXPECT_GT(lo, -0.1247 - 0.0625 - 1e-3);
-  EXPECT_LT(hi, 0.1247 + 0.0625 + 1e-3);
+  // Where the ball removes more than 1.5 kT: the stock over its surface; beyond, the run-on (R / 32).
+  EXPECT_GT(lo, -0.1247 - 0.015625 - 1e-3);
+  EXPECT_LT(hi, 0.1247 + 0.015625 + 1e-3);
   // A second pass along the first is judged on what the first left: nothing more to take.
   EXPECT_TRUE(detail::trim_to_rest({across, across}, one, part, r)[1].empty());
+}
+
+// The design points a rest program is judged by (detail::RestPoints), on the V-groove above: the
+// stock stands over the design by 0.05 − 0.5·|x| near the crease, over kT for |x| < 0.06 only
+// (along the normal, cos 14° of it: |x| < 0.0588). The Ø1 in the groove comes 0.0153 mm from the
+// crease: within kT of those points; 2 mm off the crease it is nowhere near them. After a pass
+// along the groove over y in [2, 6], the points there are cleared, and those beyond are not.
+TEST(RestPoints, ThePointsOverTheThresholdAndWhichTheToolHasComeWithinItOf) {
+  const double slope = std::tan(14 * std::numbers::pi / 180);
+  const ingest::Mesh part = extruded({{-5, 5 * slope}, {0, 0}, {5, 5 * slope}}, 10);
+  auto design = [&](double x) { return std::abs(x) * slope; };
+  const RestStock stock = stock_along_x(0.02, -4.995, 0.005, 500,
+                                        [&](double x) { return design(x) + std::max(0.0, 0.05 - 0.5 * std::abs(x)); });
+  const DropCutter one(part, Cutter::ball(1));
+  RestParams rp;
+  rp.threshold_mm = kT;
+  rp.stock = &stock;
+  rp.reference = Cutter::ball(1);
+  const RestRegions r = rest_regions(part, one, rp, -5, 0, 5, 10);
+  detail::RestPoints points(part, r, Cutter::ball(1), 0.01, kT);
+  ASSERT_GT(points.size(), 0U);
+  for (const Eigen::Vector3d& p : points.points()) {
+    EXPECT_LT(std::abs(p.x()), 0.0588 + 0.02 + 1e-9);  // a cell's reading of the stock beside it
+    EXPECT_NEAR(p.z(), design(p.x()), 1e-3);           // on the design
+  }
+  // Every 0.01 mm along the crease (y in [1, 9]) some point lies within 0.02 of it.
+  for (int k = 0; k <= 800; ++k) {
+    const double y = 1 + 0.01 * k;
+    EXPECT_TRUE(std::any_of(points.points().begin(), points.points().end(), [&](const Eigen::Vector3d& p) {
+      return std::hypot(p.x(), p.y() - y) <= 0.02;
+    })) << y;
+  }
+  const double groove = one.drop(0, 5).z;
+  EXPECT_TRUE(points.needed({0, 5, groove}));
+  EXPECT_FALSE(points.needed({2, 5, one.drop(2, 5).z}));
+  EXPECT_FALSE(points.needed({0, 5, groove + 0.05}));  // 0.0653 over the crease: farther than kT
+  points.clear_along({{0, 2, groove}, {0, 6, groove}});
+  EXPECT_FALSE(points.needed({0, 4, groove}));
+  EXPECT_FALSE(points.needed({0, 5.9, groove}));
+  EXPECT_TRUE(points.needed({0, 7.5, groove}));
+  EXPECT_TRUE(points.needed({0, 1, groove}));
 }
 
 TEST(RestRegions, BadParametersAndASmallerReferenceAreRefused) {

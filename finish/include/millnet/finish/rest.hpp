@@ -226,7 +226,9 @@ struct RestAgainstFloor {
 /// than the tool gets its pencil passes only. The passes, nearest first, are each cut to the pieces
 /// where the tool removes rest that the regions measure and the pieces before it left (over half
 /// the threshold at its contact, or from a stock where the tool there takes 1.5 thresholds off
-/// what the pieces before left; detail::trim_to_rest), run on by R/8 at both ends
+/// what the pieces before left or comes within the threshold of a design point with rest over
+/// it that they did not come that near; detail::trim_to_rest), run on by R/32 at
+/// both ends
 /// (tol::rest_run_on_radii), and the pieces ordered nearest first again. Over what was left as
 /// heights (regions.left) with the flutes known, each piece is cut again, from the top down, to
 /// where it takes more than the scallop off the stock its own samples and the pieces before it

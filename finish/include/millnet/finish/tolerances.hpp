@@ -46,11 +46,24 @@ inline constexpr double rest_approach_mm = 0.1;
 /// along the pass, are cut as one (the tool stays on the pass instead of lifting and plunging).
 inline constexpr double rest_bridge_radii = 1.0;
 
-/// Rest finishing: a pass piece runs on this many tool radii past its last probe over rest (the
-/// probes stand half of it apart, so no rest between a cutting probe and the next is missed). R/8:
-/// on s4 of README command 1 it leaves the same rest as R/4 (187.25 vs 187.26 mm²) with 15 % less
-/// feed path and air 31 → 26 % of it.
-inline constexpr double rest_run_on_radii = 0.125;
+/// Rest finishing: a pass is probed every this many tool radii along its path (the drops that
+/// decide where it cuts).
+inline constexpr double rest_probe_radii = 0.0625;
+
+/// Rest finishing: a pass piece runs on this many tool radii past its last probe over rest. R/32:
+/// on s4 of README command 1 it leaves the same rest as R/8 and R/16 (with the design points'
+/// test: missed 1.87 mm² at R/16, 1.90 at R/32) and air 10.9 → 9.9 % of the feed path (without
+/// it, R/16: 9.3 → 8.1 %); R/8 had left the same rest as R/4 (187.25 vs 187.26 mm² then) with
+/// 15 % less feed path.
+inline constexpr double rest_run_on_radii = 0.03125;
+
+/// Rest finishing, from a stock: a probe is kept where the tool comes within the threshold of a
+/// design point with more than this many thresholds of rest, not yet cleared (detail::RestPoints;
+/// issue 41's yardstick: a cell is missed where no program comes that near). 1 (with the run-on
+/// at R/32) on s4 of README command 1: missed rest 3.68 → 1.90 mm², air 9.3 → 9.9 % of the feed
+/// path, rest time 5.37 → 6.24 min; at 1.25, 2.13 mm² at 9.4 %; at 1.5 (run-on R/16), 2.42 mm²
+/// at 10.1 %.
+inline constexpr double rest_point_thresholds = 1.0;
 
 /// Rest finishing: a pass is also kept where the tool standing on it would take more than this
 /// many rest thresholds off what was left as the pieces kept before it leave it (normal to the
@@ -59,6 +72,10 @@ inline constexpr double rest_run_on_radii = 0.125;
 /// command 1 (with the links' cuts followed) missed rest 6.15 → 4.33 mm², air 8.5 → 9.3 %; at 1
 /// 2.67 mm² but 11.9 % air, at 2 5.96 mm² (without the links' cuts).
 inline constexpr double rest_keep_removal_thresholds = 1.5;
+
+/// Rest finishing: the most grid nodes the design points with rest are sampled on
+/// (detail::RestPoints; 16 M: 10,000 mm² at 0.025 mm).
+inline constexpr double rest_points_max = 1.6e7;
 
 /// Rest finishing: a pass point this far above the tool's drop at its XY, and more than half the
 /// rest threshold, hangs beside a vertical wall (a Z-level): it touches the wall at its widest, not
