@@ -51,7 +51,7 @@ RestPoints::RestPoints(const ingest::Mesh& mesh, const RestRegions& regions, con
   nx_ = static_cast<int>(std::floor((xmax - x0_) / side_)) + 1;
   ny_ = static_cast<int>(std::floor((ymax - y0_) / side_)) + 1;
   buckets_.resize(static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_));
-  for (std::size_t k = 0; k < points_.size(); ++k) buckets_[bucket(points_[k])].push_back(k);
+  for (std::size_t n = 0; n < points_.size(); ++n) buckets_[bucket(points_[n])].push_back(n);
   cleared_.assign(points_.size(), 0);
 }
 
