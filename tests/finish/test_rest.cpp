@@ -681,6 +681,24 @@ TEST(RestFinishing, ARegionNarrowerThanTheToolOnAWallIsCutNotLeftToAPencil) {
   EXPECT_GT(checked, 50U);
 }
 
+/// A V-groove along Y over [0, 10], its faces sloping 14° (152° between them), and a stock made by
+/// hand on 0.02 mm cells standing 0.05 mm over the crease, falling 0.5 mm per mm to nothing 0.1 mm
+/// off it; its rest regions for the Ø1 from that stock at kT.
+struct VGroove {
+  double slope = std::tan(14 * std::numbers::pi / 180);
+  ingest::Mesh part = extruded({{-5, 5 * slope}, {0, 0}, {5, 5 * slope}}, 10);
+  RestStock stock = stock_along_x(0.02, -4.995, 0.005, 500,
+                                  [this](double x) { return design(x) + std::max(0.0, 0.05 - 0.5 * std::abs(x)); });
+  [[nodiscard]] double design(double x) const { return std::abs(x) * slope; }
+  [[nodiscard]] RestRegions regions(const DropCutter& one) const {
+    RestParams rp;
+    rp.threshold_mm = kT;
+    rp.stock = &stock;
+    rp.reference = Cutter::ball(1);
+    return rest_regions(part, one, rp, -5, 0, 5, 10);
+  }
+};
+
 TEST(RestFinishing, APassIsKeptWhereItRemovesRestBetweenTwoContactsThatReadNone) {
   // A V-groove along Y, its faces sloping 14° (152° between them): the Ø1 ball never touches the
   // design nearer its crease than R / tan 76° = 0.1247 mm, where it stands on both faces with its
@@ -690,17 +708,10 @@ TEST(RestFinishing, APassIsKeptWhereItRemovesRestBetweenTwoContactsThatReadNone)
   // the crease (normal to its surface; 1.5 kT = 0.03), leaving 0.0153 (under kT = 0.02). Judged
   // by its contacts alone the pass is left out; judged by what it removes it is kept where it
   // crosses the crease, and only there.
-  const double slope = std::tan(14 * std::numbers::pi / 180);
-  const ingest::Mesh part = extruded({{-5, 5 * slope}, {0, 0}, {5, 5 * slope}}, 10);
-  auto design = [&](double x) { return std::abs(x) * slope; };
-  const RestStock stock = stock_along_x(0.02, -4.995, 0.005, 500,
-                                        [&](double x) { return design(x) + std::max(0.0, 0.05 - 0.5 * std::abs(x)); });
+  const VGroove g;
+  const ingest::Mesh& part = g.part;
   const DropCutter one(part, Cutter::ball(1));
-  RestParams rp;
-  rp.threshold_mm = kT;
-  rp.stock = &stock;
-  rp.reference = Cutter::ball(1);
-  const RestRegions r = rest_regions(part, one, rp, -5, 0, 5, 10);
+  const RestRegions r = g.regions(one);
   ASSERT_TRUE(r.from_stock);
   Pass across;  // x from −1 to 1 at y = 5, on the design
   for (int k = 0; k <= 200; ++k) {
@@ -731,22 +742,15 @@ TEST(RestFinishing, APassIsKeptWhereItRemovesRestBetweenTwoContactsThatReadNone)
 // crease: within kT of those points; 2 mm off the crease it is nowhere near them. After a pass
 // along the groove over y in [2, 6], the points there are cleared, and those beyond are not.
 TEST(RestPoints, ThePointsOverTheThresholdAndWhichTheToolHasComeWithinItOf) {
-  const double slope = std::tan(14 * std::numbers::pi / 180);
-  const ingest::Mesh part = extruded({{-5, 5 * slope}, {0, 0}, {5, 5 * slope}}, 10);
-  auto design = [&](double x) { return std::abs(x) * slope; };
-  const RestStock stock = stock_along_x(0.02, -4.995, 0.005, 500,
-                                        [&](double x) { return design(x) + std::max(0.0, 0.05 - 0.5 * std::abs(x)); });
+  const VGroove g;
+  const ingest::Mesh& part = g.part;
   const DropCutter one(part, Cutter::ball(1));
-  RestParams rp;
-  rp.threshold_mm = kT;
-  rp.stock = &stock;
-  rp.reference = Cutter::ball(1);
-  const RestRegions r = rest_regions(part, one, rp, -5, 0, 5, 10);
+  const RestRegions r = g.regions(one);
   detail::RestPoints points(part, r, Cutter::ball(1), 0.01, kT);
   ASSERT_GT(points.size(), 0U);
   for (const Eigen::Vector3d& p : points.points()) {
     EXPECT_LT(std::abs(p.x()), 0.0588 + 0.02 + 1e-9);  // a cell's reading of the stock beside it
-    EXPECT_NEAR(p.z(), design(p.x()), 1e-3);           // on the design
+    EXPECT_NEAR(p.z(), g.design(p.x()), 1e-3);         // on the design
   }
   // Every 0.01 mm along the crease (y in [1, 9]) some point lies within 0.02 of it.
   for (int k = 0; k <= 800; ++k) {
