@@ -42,59 +42,6 @@ CLPoint bitangent(const DropCutter& tool, Eigen::Vector2d a, Eigen::Vector2d b, 
 /// concave slope (test part s1), near in XY only. A crease that steep is the Z-levels' in rest finishing.
 constexpr double kSteepestCrease = 2.7474774194546216;  // tan 70°
 
-/// Chains points into polylines: from the point with the fewest neighbours (a chain's end; lowest
-/// index on ties), always to the nearest unvisited one within `link` on the same crease
-/// (kSteepestCrease). O(points · neighbours) with a bucket grid of side `link`.
-std::vector<std::vector<Eigen::Vector3d>> chain(const std::vector<Eigen::Vector3d>& pts, double link) {
-  if (pts.empty()) return {};
-  double x0 = HUGE_VAL, y0 = HUGE_VAL;
-  for (const auto& p : pts) x0 = std::min(x0, p.x()), y0 = std::min(y0, p.y());
-  auto key = [&](double x, double y) {
-    return std::pair{static_cast<long>(std::floor((x - x0) / link)), static_cast<long>(std::floor((y - y0) / link))};
-  };
-  std::map<std::pair<long, long>, std::vector<std::size_t>> buckets;
-  for (std::size_t k = 0; k < pts.size(); ++k) buckets[key(pts[k].x(), pts[k].y())].push_back(k);
-  const double rise_free = link / (2 * std::numbers::sqrt2);
-  auto neighbours = [&](std::size_t k, auto&& visit) {
-    const auto [bx, by] = key(pts[k].x(), pts[k].y());
-    for (long dx = -1; dx <= 1; ++dx)
-      for (long dy = -1; dy <= 1; ++dy) {
-        const auto it = buckets.find({bx + dx, by + dy});
-        if (it == buckets.end()) continue;
-        for (const std::size_t q : it->second)
-          if (const double d = std::hypot(pts[q].x() - pts[k].x(), pts[q].y() - pts[k].y());
-              q != k && d <= link && std::abs(pts[q].z() - pts[k].z()) <= std::max(rise_free, kSteepestCrease * d))
-            visit(q);
-      }
-  };
-  std::vector<int> degree(pts.size(), 0);
-  for (std::size_t k = 0; k < pts.size(); ++k) neighbours(k, [&](std::size_t) { ++degree[k]; });
-  std::vector<std::size_t> order(pts.size());
-  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return degree[a] < degree[b]; });
-  std::vector<std::uint8_t> used(pts.size(), 0);
-  std::vector<std::vector<Eigen::Vector3d>> out;
-  for (const std::size_t s0 : order) {
-    if (used[s0]) continue;
-    std::vector<Eigen::Vector3d> line{pts[s0]};
-    used[s0] = 1;
-    for (std::size_t at = s0;;) {
-      std::size_t best = pts.size();
-      double best_d = HUGE_VAL;
-      neighbours(at, [&](std::size_t q) {
-        const double d = std::hypot(pts[q].x() - pts[at].x(), pts[q].y() - pts[at].y());
-        if (!used[q] && (d < best_d || (d == best_d && q < best))) best = q, best_d = d;
-      });
-      if (best == pts.size()) break;
-      used[best] = 1;
-      line.push_back(pts[best]);
-      at = best;
-    }
-    if (line.size() >= 2) out.push_back(std::move(line));
-  }
-  return out;
-}
-
 /// An open XY polyline moved by `d` along its left normal. The chained bitangent points jitter by a
 /// fraction of the grid cell across the line, so the normal at a vertex is taken from the chord
 /// between the points `span` behind and ahead of it along the line (the ends: one-sided), not from
@@ -190,7 +137,13 @@ std::vector<Pass> pencil_passes(const ingest::Mesh& mesh, const DropCutter& tool
     }
     return run;
   };
-  for (const auto& line : chain(pts, 2 * std::numbers::sqrt2 * cell_mm)) {
+  const double link = 2 * std::numbers::sqrt2 * cell_mm, rise_free = link / (2 * std::numbers::sqrt2);
+  const auto on_one_crease = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+    const double d = std::hypot(q.x() - p.x(), q.y() - p.y());
+    return std::abs(q.z() - p.z()) <= std::max(rise_free, kSteepestCrease * d) ? d : HUGE_VAL;
+  };
+  for (const auto& line : detail::chain_points(pts, link, on_one_crease)) {
+    if (line.size() < 2) continue;
     std::vector<Eigen::Vector2d> xy_line;
     for (const Eigen::Vector3d& q : line) xy_line.push_back(q.head<2>());
     for (const double side : {1.0, -1.0})  // multi-pencil: each side from the outermost in
@@ -233,4 +186,55 @@ FinishPlan plan_pencil(const ingest::Mesh& mesh, const DropCutter& tool, FinishP
   return plan;
 }
 
+namespace detail {
+
+std::vector<std::vector<Eigen::Vector3d>> chain_points(const std::vector<Eigen::Vector3d>& pts, double link,
+                                                       const Apart& apart) {
+  if (pts.empty()) return {};
+  double x0 = HUGE_VAL, y0 = HUGE_VAL;
+  for (const auto& p : pts) x0 = std::min(x0, p.x()), y0 = std::min(y0, p.y());
+  auto key = [&](double x, double y) {
+    return std::pair{static_cast<long>(std::floor((x - x0) / link)), static_cast<long>(std::floor((y - y0) / link))};
+  };
+  std::map<std::pair<long, long>, std::vector<std::size_t>> buckets;
+  for (std::size_t k = 0; k < pts.size(); ++k) buckets[key(pts[k].x(), pts[k].y())].push_back(k);
+  auto neighbours = [&](std::size_t k, auto&& visit) {
+    const auto [bx, by] = key(pts[k].x(), pts[k].y());
+    for (long dx = -1; dx <= 1; ++dx)
+      for (long dy = -1; dy <= 1; ++dy) {
+        const auto it = buckets.find({bx + dx, by + dy});
+        if (it == buckets.end()) continue;
+        for (const std::size_t q : it->second)
+          if (q != k && std::hypot(pts[q].x() - pts[k].x(), pts[q].y() - pts[k].y()) <= link)
+            if (const double d = apart(pts[k], pts[q]); d <= link) visit(q, d);
+      }
+  };
+  std::vector<int> degree(pts.size(), 0);
+  for (std::size_t k = 0; k < pts.size(); ++k) neighbours(k, [&](std::size_t, double) { ++degree[k]; });
+  std::vector<std::size_t> order(pts.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return degree[a] < degree[b]; });
+  std::vector<std::uint8_t> used(pts.size(), 0);
+  std::vector<std::vector<Eigen::Vector3d>> out;
+  for (const std::size_t s0 : order) {
+    if (used[s0]) continue;
+    std::vector<Eigen::Vector3d> line{pts[s0]};
+    used[s0] = 1;
+    for (std::size_t at = s0;;) {
+      std::size_t best = pts.size();
+      double best_d = HUGE_VAL;
+      neighbours(at, [&](std::size_t q, double d) {
+        if (!used[q] && (d < best_d || (d == best_d && q < best))) best = q, best_d = d;
+      });
+      if (best == pts.size()) break;
+      used[best] = 1;
+      line.push_back(pts[best]);
+      at = best;
+    }
+    out.push_back(std::move(line));
+  }
+  return out;
+}
+
+}  // namespace detail
 }  // namespace millnet::finish

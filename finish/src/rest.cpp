@@ -19,6 +19,7 @@
 #include <memory>
 #include <numbers>
 #include <numeric>
+#include <optional>
 #include <string>
 
 namespace millnet::finish {
@@ -566,7 +567,17 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
   std::vector<Pass> corner_ordered = detail::order_nearest(corner, at, &order);
   passes.insert(passes.end(), std::make_move_iterator(corner_ordered.begin()),
                 std::make_move_iterator(corner_ordered.end()));
-  const std::vector<std::vector<Pass>> pieces = detail::trim_to_rest(passes, new_tool, mesh, regions);
+  std::optional<detail::RestPoints> left;
+  const std::vector<std::vector<Pass>> pieces = detail::trim_to_rest(passes, new_tool, mesh, regions, &left);
+  // Then passes aimed at the rest they left where the tool reaches it, within the fence.
+  std::vector<Pass> aimed;
+  if (left) {
+    const detail::Fence fence(mesh, params.boundary);
+    aimed = detail::clip_passes(fence,
+                                detail::aim_at_rest(mesh, new_tool, *left, params.chord_tolerance_mm,
+                                                    [&fence](const Eigen::Vector3d& p) { return fence.inside(p); }),
+                                params.chord_tolerance_mm);
+  }
   // The pieces nearest first again (pencil pieces first); regions left with pencil passes only.
   std::vector<Pass> pencil, rest;
   std::vector<std::uint8_t> cut(regions.parts.size(), 0);
@@ -574,6 +585,8 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
     if (k >= pencils && !pieces[k].empty()) cut[region_of[order[k - pencils]]] = 1;
     for (const Pass& piece : pieces[k]) (k < pencils ? pencil : rest).push_back(piece);
   }
+  const std::size_t aimed_passes = aimed.size();
+  rest.insert(rest.end(), std::make_move_iterator(aimed.begin()), std::make_move_iterator(aimed.end()));
   const auto narrow = static_cast<std::size_t>(std::count(cut.begin(), cut.end(), 0));
   const Eigen::Vector3d start(regions.x0, regions.y0, params.safe_z_mm - params.z_shift);
   const tooling::Cutter& cutter = new_tool.cutter();
@@ -603,6 +616,7 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
       params.comments.begin(),
       "rest finishing behind " + behind + ": " + std::to_string(regions.parts.size()) + " region(s) (" +
           std::to_string(narrow) + " pencil only), " + std::to_string(pencil_pieces) + " pencil pass(es) first" +
+          (aimed_passes > 0 ? ", " + std::to_string(aimed_passes) + " aimed at rest the passes left" : std::string()) +
           (cut_out.stepped > 0 ? ", " + std::to_string(cut_out.stepped) + " piece(s) stepped down from the top"
                                : std::string()) +
           (cut_out.air > 0 ? ", " + std::to_string(cut_out.air) + " left out where the pieces before had cut"

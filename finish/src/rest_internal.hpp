@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <vector>
 
 namespace millnet::finish::detail {
@@ -60,8 +61,19 @@ public:
   [[nodiscard]] bool needed(const Eigen::Vector3d& tip) const;
   /// The points within the threshold of the tool placed every R/16 along `path` cleared.
   void clear_along(const std::vector<Eigen::Vector3d>& path);
+  /// The points within the threshold of the tool with its tip at `tip` cleared; how many were not.
+  std::size_t clear_at(const Eigen::Vector3d& tip);
+  /// How many points not cleared the tool with its tip at `tip` comes within the threshold of.
+  [[nodiscard]] std::size_t count_at(const Eigen::Vector3d& tip) const;
+  [[nodiscard]] bool is_cleared(std::size_t k) const { return cleared_[k] != 0; }
+  /// The points not cleared yet, ascending. O(points).
+  [[nodiscard]] std::vector<std::size_t> uncleared() const;
   [[nodiscard]] std::size_t size() const { return points_.size(); }
   [[nodiscard]] const std::vector<Eigen::Vector3d>& points() const { return points_; }
+  /// The design's unit normal at each point (its triangle's).
+  [[nodiscard]] const std::vector<Eigen::Vector3d>& normals() const { return normals_; }
+  [[nodiscard]] const tooling::Cutter& tool() const { return tool_; }
+  [[nodiscard]] double threshold() const { return threshold_; }
 
 private:
   [[nodiscard]] std::size_t bucket(const Eigen::Vector3d& p) const;
@@ -70,10 +82,21 @@ private:
   tooling::Cutter tool_;
   double threshold_, side_, x0_ = 0, y0_ = 0;
   int nx_ = 0, ny_ = 0;
-  std::vector<Eigen::Vector3d> points_;
+  std::vector<Eigen::Vector3d> points_, normals_;
   std::vector<std::vector<std::size_t>> buckets_;
   std::vector<std::uint8_t> cleared_;
 };
+
+/// How far apart two points are for chaining (`chain_points`), or +∞ when they may not follow each
+/// other in a chain.
+using Apart = std::function<double(const Eigen::Vector3d&, const Eigen::Vector3d&)>;
+
+/// Chains points into polylines (single points too): from the point with the fewest neighbours (a
+/// chain's end; lowest index on ties), always to the nearest unvisited neighbour, nearest by
+/// `apart`; neighbours lie within `link` in XY and by `apart`. O(points · neighbours) with a
+/// bucket grid of side `link`. Defined in pencil.cpp (the bitangent points' chains).
+[[nodiscard]] std::vector<std::vector<Eigen::Vector3d>> chain_points(const std::vector<Eigen::Vector3d>& pts,
+                                                                     double link, const Apart& apart);
 
 /// The pieces of each of `passes` (in their machining order) where the tool removes rest. Each
 /// pass is probed along its straight segments (the path the machine follows): a probe
@@ -97,8 +120,21 @@ private:
 /// stretch is a piece: its ends interpolated on their segments, the pass's vertices between. Passes
 /// in order, a pass's probes in parallel: any thread count. O(length / R) drops, each tested against
 /// the O(1) placements near it.
+/// With `left`: the design points (from a stock; empty otherwise) as the kept pieces leave them.
 [[nodiscard]] std::vector<std::vector<Pass>> trim_to_rest(const std::vector<Pass>& passes, const DropCutter& tool,
-                                                          const ingest::Mesh& mesh, const RestRegions& regions);
+                                                          const ingest::Mesh& mesh, const RestRegions& regions,
+                                                          std::optional<RestPoints>* left = nullptr);
+
+/// Passes aimed at the points of `points` not cleared yet, where the tool can come within the
+/// threshold of them (rest_aim.cpp): each point's nearest placement by a pattern search over the
+/// drop-cutter's placements, kept in the points' order where its point is still not cleared and it
+/// reaches at least tol::rest_aim_min_points points not cleared (it then clears them), chained
+/// within tol::rest_aim_link_radii · R and sampled between like any pass (`chord_tolerance_mm`). The points they reach are cleared. Any thread count.
+/// O(points left · rounds) drops + O(tips · samples between).
+/// Placements outside `allowed` are not kept (the rest program's fence).
+[[nodiscard]] std::vector<Pass> aim_at_rest(const ingest::Mesh& mesh, const DropCutter& tool, RestPoints& points,
+                                            double chord_tolerance_mm,
+                                            const std::function<bool(const Eigen::Vector3d&)>& allowed);
 
 /// The reference's envelope over the nodes within `reach_mm` of a `near` node (a grid x0 + j·h,
 /// y0 + i·h of nx × ny nodes, its drop-cutter tips `ref_cl`): the lowest of its surfaces over each,

@@ -22,7 +22,8 @@ RestPoints::RestPoints(const ingest::Mesh& mesh, const RestRegions& regions, con
   const auto kept = static_cast<double>(std::count(regions.mask.begin(), regions.mask.end(), std::uint8_t{2}));
   if (!(kept * k * k <= tol::rest_points_max)) return;  // too many: not followed
   const DropCutter probe(mesh, tooling::Cutter::ball(0.01));
-  std::vector<std::vector<Eigen::Vector3d>> rows(static_cast<std::size_t>(regions.ny));
+  std::vector<std::vector<Eigen::Vector3d>> rows(static_cast<std::size_t>(regions.ny)),
+      row_normals(static_cast<std::size_t>(regions.ny));
 #pragma omp parallel for schedule(dynamic, 4)
   for (int i = 0; i < regions.ny; ++i)  // O(kept nodes · k²) drops
     for (int j = 0; j < regions.nx; ++j) {
@@ -35,11 +36,17 @@ RestPoints::RestPoints(const ingest::Mesh& mesh, const RestRegions& regions, con
                        y = regions.y0 + i * regions.cell + (a - 0.5 * (k - 1)) * sub;
           const CLPoint c = probe.drop(x, y);
           if (c.contact == Contact::None || c.triangle < 0) continue;
-          if (regions.material(c.cc, unit_normal(mesh, c.triangle)) > over_mm)
+          const Eigen::Vector3d n = unit_normal(mesh, c.triangle);
+          if (regions.material(c.cc, n) > over_mm) {
             rows[static_cast<std::size_t>(i)].push_back(c.cc);
+            row_normals[static_cast<std::size_t>(i)].push_back(n);
+          }
         }
     }
-  for (auto& row : rows) points_.insert(points_.end(), row.begin(), row.end());  // in row order: any thread count
+  for (std::size_t i = 0; i < rows.size(); ++i) {  // in row order: any thread count
+    points_.insert(points_.end(), rows[i].begin(), rows[i].end());
+    normals_.insert(normals_.end(), row_normals[i].begin(), row_normals[i].end());
+  }
   if (points_.empty()) return;
   // Buckets of side R + threshold over the points' box.
   x0_ = points_.front().x(), y0_ = points_.front().y();
@@ -75,6 +82,29 @@ void RestPoints::near(const Eigen::Vector3d& tip, Visit&& visit) const {
           if (!visit(k)) return;
 }
 
+std::vector<std::size_t> RestPoints::uncleared() const {
+  std::vector<std::size_t> out;
+  for (std::size_t k = 0; k < cleared_.size(); ++k)  // O(points)
+    if (!cleared_[k]) out.push_back(k);
+  return out;
+}
+
+std::size_t RestPoints::clear_at(const Eigen::Vector3d& tip) {
+  std::size_t n = 0;
+  near(tip, [&](std::size_t k) {
+    cleared_[k] = 1;
+    ++n;
+    return true;
+  });
+  return n;
+}
+
+std::size_t RestPoints::count_at(const Eigen::Vector3d& tip) const {
+  std::size_t n = 0;
+  near(tip, [&](std::size_t) { return ++n > 0; });
+  return n;
+}
+
 bool RestPoints::needed(const Eigen::Vector3d& tip) const {
   bool any = false;
   near(tip, [&](std::size_t) { return !(any = true); });
@@ -89,8 +119,7 @@ void RestPoints::clear_along(const std::vector<Eigen::Vector3d>& path) {
   for (std::size_t i = 0; i + 1 < path.size(); ++i) {  // O(length / spacing · points near)
     const Eigen::Vector3d &a = path[i], &b = path[i + 1];
     const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / spacing)));
-    for (int t = (i == 0 ? 0 : 1); t <= steps; ++t)
-      near(a + (b - a) * (static_cast<double>(t) / steps), [&](std::size_t k) { return (cleared_[k] = 1) != 0; });
+    for (int t = (i == 0 ? 0 : 1); t <= steps; ++t) clear_at(a + (b - a) * (static_cast<double>(t) / steps));
   }
 }
 

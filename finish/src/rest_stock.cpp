@@ -276,7 +276,8 @@ RestStock every_kth_cell(const RestStock& st, int k) {
 }  // namespace
 
 std::vector<std::vector<Pass>> trim_to_rest(const std::vector<Pass>& passes, const DropCutter& tool,
-                                            const ingest::Mesh& mesh, const RestRegions& regions) {
+                                            const ingest::Mesh& mesh, const RestRegions& regions,
+                                            std::optional<RestPoints>* left) {
   std::vector<std::vector<Pass>> pieces(passes.size());
   if (!regions.material) {
     for (std::size_t k = 0; k < passes.size(); ++k) pieces[k] = {passes[k]};
@@ -386,6 +387,7 @@ std::vector<std::vector<Pass>> trim_to_rest(const std::vector<Pass>& passes, con
       if (points) points->clear_along(piece.points);
     }
   }
+  if (left != nullptr) *left = std::move(points);
   return pieces;
 }
 

@@ -770,6 +770,61 @@ TEST(RestPoints, ThePointsOverTheThresholdAndWhichTheToolHasComeWithinItOf) {
   EXPECT_TRUE(points.needed({0, 1, groove}));
 }
 
+// Passes aimed at what the passes left (detail::aim_at_rest), on the V-groove above. The Ø1 in
+// the groove comes 0.0153 mm from the crease and nearer every point of the band beside it: it
+// reaches all the points. Every placement of the aimed passes is the drop-cutter's (no gouge), they stay within R·sin 14° (0.121 mm: a ball on one face touches it
+// that far beyond its axis) of the band of points (|x| < 0.0788), and every point they count as
+// covered lies within kT of a placement along them (checked again every 0.005 mm with the exact
+// distance); none is left but one alone at an end of the stretch to cover. After a pass
+// along the groove over y in [2, 6] no aimed pass runs there, and they are one pass on either side.
+TEST(RestFinishing, PassesAreAimedAtTheRestThePassesLeftAndOnlyThere) {
+  const VGroove g;
+  const ingest::Mesh& part = g.part;
+  const DropCutter one(part, Cutter::ball(1));
+  const RestRegions r = g.regions(one);
+  const double groove = one.drop(0, 5).z;
+  auto aimed = [&](bool middle_cut) {
+    detail::RestPoints points(part, r, Cutter::ball(1), 0.01, kT);
+    if (middle_cut) points.clear_along({{0, 2, groove}, {0, 6, groove}});
+    const std::vector<Pass> passes =
+        detail::aim_at_rest(part, one, points, 0.01, [](const Eigen::Vector3d&) { return true; });
+    // Left: only a point alone in reach of its nearest placement (fewer than
+    // tol::rest_aim_min_points), at most one at each end of a stretch to cover.
+    std::vector<Eigen::Vector3d> covered;
+    for (std::size_t k = 0; k < points.size(); ++k)
+      if (points.is_cleared(k)) covered.push_back(points.points()[k]);
+    EXPECT_LE(points.size() - covered.size(), middle_cut ? 4U : 2U);
+    return std::pair{passes, covered};
+  };
+  for (const bool middle_cut : {false, true}) {
+    const auto [passes, targets] = aimed(middle_cut);
+    ASSERT_FALSE(passes.empty());
+    std::vector<Eigen::Vector3d> along;  // placements every 0.005 mm, the middle pass's too
+    for (int k = 0; middle_cut && k <= 800; ++k) along.emplace_back(0, 2 + 0.005 * k, groove);
+    for (const Pass& pass : passes)
+      for (std::size_t k = 0; k < pass.points.size(); ++k) {
+        const Eigen::Vector3d& q = pass.points[k];
+        EXPECT_NEAR(q.z(), one.drop(q.x(), q.y()).z, 1e-9);
+        EXPECT_LT(std::abs(q.x()), 0.0788 + 0.1210 + 1e-3);
+        if (middle_cut) EXPECT_FALSE(q.y() > 2.2 && q.y() < 5.8) << q.transpose();
+        if (k == 0) continue;
+        const Eigen::Vector3d& a = pass.points[k - 1];
+        const int n = std::max(1, static_cast<int>(std::ceil((q - a).norm() / 0.005)));
+        for (int t = 0; t <= n; ++t) along.push_back(a + (q - a) * (static_cast<double>(t) / n));
+      }
+    std::sort(along.begin(), along.end(), [](const auto& a, const auto& b) { return a.y() < b.y(); });
+    for (const Eigen::Vector3d& p : targets) {
+      double gap = HUGE_VAL;  // over the placements within R + kT along y
+      auto c = std::lower_bound(along.begin(), along.end(), p.y() - 0.52,
+                                [](const Eigen::Vector3d& a, double y) { return a.y() < y; });
+      for (; c != along.end() && c->y() <= p.y() + 0.52; ++c)
+        gap = std::min(gap, Cutter::ball(1).distance_to_solid(c->x(), c->y(), c->z(), p.x(), p.y(), p.z()));
+      EXPECT_LE(gap, kT) << p.transpose();
+    }
+    EXPECT_LE(passes.size(), middle_cut ? 2U : 1U);
+  }
+}
+
 TEST(RestRegions, BadParametersAndASmallerReferenceAreRefused) {
   const ingest::Mesh part = l_corner();
   const DropCutter two(part, Cutter::ball(2));

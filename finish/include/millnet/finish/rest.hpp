@@ -229,7 +229,9 @@ struct RestAgainstFloor {
 /// what the pieces before left or comes within the threshold of a design point with rest over
 /// it that they did not come that near; detail::trim_to_rest), run on by R/32 at
 /// both ends
-/// (tol::rest_run_on_radii), and the pieces ordered nearest first again. Over what was left as
+/// (tol::rest_run_on_radii). From a stock, passes aimed at the design points with rest that no
+/// piece came near, where the tool reaches them inside the regions' fence, join them
+/// (detail::aim_at_rest). The pieces are ordered nearest first again. Over what was left as
 /// heights (regions.left) with the flutes known, each piece is cut again, from the top down, to
 /// where it takes more than the scallop off the stock its own samples and the pieces before it
 /// leave (detail::stepped_runs, no run-on), the stay-down links to them cut into it first. All

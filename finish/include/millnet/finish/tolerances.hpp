@@ -1,5 +1,7 @@
 #pragma once
 // Named tolerances of the finishing strategies. Lengths in mm, angles in degrees.
+#include <cstddef>
+
 namespace millnet::finish::tol {
 
 /// A straight feed move may pass below the CL surface between its end points by at most this
@@ -83,6 +85,25 @@ inline constexpr double rest_points_max = 1.6e7;
 /// of the level within the chord tolerance: 0.009 mm above its drop on a 60° wall at 0.005 mm) the
 /// drop's contact is within that of the tool — at its widest the tool would stand off such a wall.
 inline constexpr double rest_hanging_mm = 1e-3;
+
+/// Rest finishing's aimed passes (detail::aim_at_rest, stop 74): the pattern search for the tool's
+/// placement nearest to a design point the trimmed passes left starts with steps of
+/// rest_aim_step_radii · R (halved down to a 32nd of it) and stops once within rest_aim_within
+/// thresholds of the point. A placement is kept where it reaches at least rest_aim_min_points
+/// points not yet cleared: on README command 1's s1 and s4 (docs/finishing.md, "Passes aimed at
+/// what the passes left") every placement took their rest programs' missed rest to 0.34 / 1.49
+/// mm² with 10.8 / 9.7 % air, those reaching 2 points to 0.40 / 1.63 mm² with 9.1 / 10.1 %, and
+/// those reaching 4 to 0.40 / 1.77 mm² with 8.8 / 9.5 % — the one setting tried with both under
+/// the issue's 10 %. Placements are chained within rest_aim_link_radii · R of each other (the
+/// tool sweeps the chord between them; on s4, every placement kept, links of R/2, R, 2R and 4R
+/// left 1.58, 1.53, 1.49 and 1.46 mm², and 2R took the least time, 5.73 min), and a chord between
+/// two of them that rises rest_aim_rise_radii · R over both its ends (over a ridge between two
+/// creases) splits the chain.
+inline constexpr double rest_aim_step_radii = 0.25;
+inline constexpr double rest_aim_within = 0.5;
+inline constexpr std::size_t rest_aim_min_points = 4;
+inline constexpr double rest_aim_link_radii = 2.0;
+inline constexpr double rest_aim_rise_radii = 0.125;
 
 /// Passes (and pieces of passes) shorter than this are dropped.
 inline constexpr double min_pass_mm = 0.01;
