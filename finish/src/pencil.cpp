@@ -66,29 +66,6 @@ std::vector<Eigen::Vector2d> offset_polyline(const std::vector<Eigen::Vector2d>&
   return out;
 }
 
-/// The bitangent chain `line` sampled between its points (`sampled`: the drop-cutter along a chord),
-/// split where a chord leaves the crease: where a drop between two chained points (both bitangent
-/// positions) stands more than `cell` above the higher of them, the chord has cut across the jump
-/// onto the surface above (the chained points lie on the jump's lower side, a chord across a wall
-/// that bends towards the tool does not) — a pencil pass there would climb the wall and come down
-/// again (seen on test part s1's steep slopes: 2 mm up and down every tenth of a mm).
-template <class Sampled>
-std::vector<std::vector<detail::Sample>> on_the_crease(const std::vector<Eigen::Vector3d>& line, const Sampled& sampled,
-                                                       double cell) {
-  std::vector<std::vector<detail::Sample>> runs(1);
-  for (std::size_t k = 1; k < line.size(); ++k) {  // O(points · samples per chord)
-    const std::vector<detail::Sample> seg =
-        sampled(std::vector<Eigen::Vector2d>{line[k - 1].head<2>(), line[k].head<2>()});
-    const double top = std::max(line[k - 1].z(), line[k].z()) + cell;
-    if (std::any_of(seg.begin(), seg.end(), [&](const detail::Sample& q) { return q.p.z() > top; })) {
-      if (!runs.back().empty()) runs.emplace_back();
-      continue;
-    }
-    auto& run = runs.back();
-    run.insert(run.end(), seg.begin() + (run.empty() ? 0 : 1), seg.end());
-  }
-  return runs;
-}
 }  // namespace
 
 std::vector<Pass> pencil_passes(const ingest::Mesh& mesh, const DropCutter& tool, double x0, double y0, double x1,
@@ -130,8 +107,7 @@ std::vector<Pass> pencil_passes(const ingest::Mesh& mesh, const DropCutter& tool
   const auto sampled = [&](const std::vector<Eigen::Vector2d>& line) {
     std::vector<detail::Sample> run;
     for (std::size_t k = 1; k < line.size(); ++k) {  // O(points · samples per chord) drops
-      auto seg = detail::sample_segment(s, line[k - 1], line[k], std::clamp((line[k] - line[k - 1]).norm(), 1e-3, 0.25),
-                                        chord_tolerance_mm);
+      auto seg = detail::sample_chord(s, line[k - 1], line[k], chord_tolerance_mm);
       if (!run.empty()) seg.erase(seg.begin());
       run.insert(run.end(), seg.begin(), seg.end());
     }
@@ -151,7 +127,7 @@ std::vector<Pass> pencil_passes(const ingest::Mesh& mesh, const DropCutter& tool
         if (auto run = sampled(offset_polyline(xy_line, side * k * spacing, std::max(spacing, 4 * cell_mm)));
             run.size() >= 2)
           lines.push_back(std::move(run));
-    for (auto& run : on_the_crease(line, sampled, cell_mm))
+    for (auto& run : detail::rising_chords_split(line, s, chord_tolerance_mm, cell_mm))
       if (run.size() >= 2) lines.push_back(std::move(run));
   }
   return detail::to_passes(std::move(lines));

@@ -103,9 +103,6 @@ std::vector<Pass> aim_at_rest(const ingest::Mesh& mesh, const DropCutter& tool, 
   const double link = tol::rest_aim_link_radii * r, rise = tol::rest_aim_rise_radii * r;
   const Apart apart = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return (a - b).norm(); };
   std::vector<std::vector<Sample>> lines;
-  auto sampled = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return sample_segment(s, a, b, std::clamp((b - a).norm(), 1e-3, 0.25), chord_tolerance_mm);
-  };
   std::map<std::array<double, 3>, std::size_t> index;  // a tip's place in `tips`
   for (std::size_t k = 0; k < tips.size(); ++k) index.emplace(std::array{tips[k].x(), tips[k].y(), tips[k].z()}, k);
   for (const auto& line : chain_points(tips, link, apart)) {  // O(tips · samples between)
@@ -113,20 +110,10 @@ std::vector<Pass> aim_at_rest(const ingest::Mesh& mesh, const DropCutter& tool, 
       const std::size_t k = index.at({line[0].x(), line[0].y(), line[0].z()});
       const Eigen::Vector2d t =
           across[k].norm() > 1e-9 ? Eigen::Vector2d(across[k].head<2>().normalized()) : Eigen::Vector2d::UnitX();
-      lines.push_back(sampled(line[0].head<2>(), line[0].head<2>() + rise * t));
+      lines.push_back(sample_chord(s, line[0].head<2>(), line[0].head<2>() + rise * t, chord_tolerance_mm));
       continue;
     }
-    lines.emplace_back();
-    for (std::size_t k = 1; k < line.size(); ++k) {
-      std::vector<Sample> seg = sampled(line[k - 1].head<2>(), line[k].head<2>());
-      const double top = std::max(line[k - 1].z(), line[k].z()) + rise;
-      if (std::any_of(seg.begin(), seg.end(), [&](const Sample& q) { return q.p.z() > top; })) {
-        if (!lines.back().empty()) lines.emplace_back();
-        continue;
-      }
-      auto& run = lines.back();
-      run.insert(run.end(), seg.begin() + (run.empty() ? 0 : 1), seg.end());
-    }
+    for (auto& run : rising_chords_split(line, s, chord_tolerance_mm, rise)) lines.push_back(std::move(run));
   }
   std::erase_if(lines, [](const std::vector<Sample>& l) { return l.size() < 2; });
   std::vector<Pass> out = to_passes(std::move(lines));

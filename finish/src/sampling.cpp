@@ -212,6 +212,26 @@ double polyline_length(const std::vector<Sample>& pts) {
   return len;
 }
 
+std::vector<Sample> sample_chord(const Sampler& s, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double tol) {
+  return sample_segment(s, a, b, std::clamp((b - a).norm(), 1e-3, 0.25), tol);
+}
+
+std::vector<std::vector<Sample>> rising_chords_split(const std::vector<Eigen::Vector3d>& line, const Sampler& s,
+                                                     double chord_tolerance_mm, double rise) {
+  std::vector<std::vector<Sample>> runs(1);
+  for (std::size_t k = 1; k < line.size(); ++k) {  // O(points · samples per chord)
+    const std::vector<Sample> seg = sample_chord(s, line[k - 1].head<2>(), line[k].head<2>(), chord_tolerance_mm);
+    const double top = std::max(line[k - 1].z(), line[k].z()) + rise;
+    if (std::any_of(seg.begin(), seg.end(), [&](const Sample& q) { return q.p.z() > top; })) {
+      if (!runs.back().empty()) runs.emplace_back();
+      continue;
+    }
+    auto& run = runs.back();
+    run.insert(run.end(), seg.begin() + (run.empty() ? 0 : 1), seg.end());
+  }
+  return runs;
+}
+
 std::vector<Pass> to_passes(std::vector<std::vector<Sample>> lines) {
   std::vector<Pass> out;
   out.reserve(lines.size());

@@ -68,6 +68,20 @@ private:
 [[nodiscard]] std::vector<Sample> sample_segment(const Sampler& s, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                                                  double h0, double tol);
 
+/// sample_segment along a chord a→b starting every |b − a| clamped to [0.001, 0.25] mm.
+[[nodiscard]] std::vector<Sample> sample_chord(const Sampler& s, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                               double tol);
+
+/// The polyline `line` (CL points) sampled between its points (sample_chord), split where a chord
+/// rises: where a drop between two neighbours stands more than `rise` above the higher of them, the
+/// chord has left the path the points trace (a pencil chain's crease, or aimed placements either
+/// side of a ridge) onto the surface above — a pass there would climb it and come down again (seen
+/// on test part s1's steep slopes: 2 mm up and down every tenth of a mm); that chord is left out.
+/// O(points · samples per chord) drops.
+[[nodiscard]] std::vector<std::vector<Sample>> rising_chords_split(const std::vector<Eigen::Vector3d>& line,
+                                                                   const Sampler& s, double chord_tolerance_mm,
+                                                                   double rise);
+
 /// Drops interior points of a polyline whose removal keeps every dropped point within the
 /// one-sided band [chord − tol, chord + tol::chord_below_mm] of the chord that replaces it
 /// (vertical deviation for points on a straight XY line; 3D distance ≤ chord_below otherwise).
