@@ -351,9 +351,11 @@ int build_job(const JobOpts& o, const Json& config, const RunJobInput* reuse, Ru
                               config["simulate"]["allowance_mm"].get<double>(), cs.machine, cs.factors);
     const finish::FinishParams rest_params = rest_finish_params(fs_, fs_.params, cutter_of(rest));
     rest_cut = {d.rpm, d.feed_mm_min, d.feed_plunge_mm_min, rest_params.stepover_mm, rest_params.step_down_mm};
-    if (std::optional<job::Operation> op =
-            rest_operation(part, fs_, roughed, design, rest, rest_cut,
-                           config["finish"]["rest"]["min_area_mm2"].get<double>(), o.keep_deep_cuts, stem, notes))
+    // /finish/rest/measure "programs": the rest read by the programs' exact approach, not the z-map.
+    const bool exact = config["finish"]["rest"]["measure"].get<std::string>() == "programs";
+    if (std::optional<job::Operation> op = rest_operation(
+            part, fs_, roughed, design, exact ? job::chain_steps(ops) : std::vector<job::ChainStep>{}, rest, rest_cut,
+            config["finish"]["rest"]["min_area_mm2"].get<double>(), o.keep_deep_cuts, stem, notes))
       ops.push_back(std::move(*op));
   }
   if (!pick.meets_spec && pf.outcomes.size() > 1)

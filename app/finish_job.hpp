@@ -67,14 +67,17 @@ struct PartJob {
 /// the operations before it left (a z-map in the program frame), planned as `finish --rest-tool
 /// --rest-from` plans it, in the part's finishing frame. Empty, with `why` saying so, when the rest
 /// tool's axis positions over rest cover less than `min_area_mm2` (or none). `cut`: the rest
-/// tool's spindle speed, feed and plunge feed.
+/// tool's spindle speed, feed and plunge feed. With `before` (the programs that cut `z`) and the
+/// design on z's grid, the rest is measured as the job judges it (job::measure_rest_exactly).
 struct RestCut {
   double rpm = 0, feed_mm_min = 0, plunge_feed_mm_min = 0;
   double stepover_mm = 0, step_down_mm = 0;  ///< rest_finish_params' (the setup sheet's)
 };
 [[nodiscard]] std::optional<gcode::Program> job_rest_program(const job::Part& part, const FinishSettings& settings,
                                                              const simulate::ZMap& z, const tooling::Cutter& rest_tool,
-                                                             double min_area_mm2, const RestCut& cut, std::string& why);
+                                                             double min_area_mm2, const RestCut& cut, std::string& why,
+                                                             const job::Design* design = nullptr,
+                                                             const std::vector<job::ChainStep>& before = {});
 
 /// Plans, writes and (optionally) simulates every strategy of `settings` on the part:
 /// DIR/<stem>.s<k>.nc, .metrics.json, .png, .ra.png (with simulate); with several strategies also

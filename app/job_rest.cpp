@@ -12,7 +12,8 @@ namespace millnet::app {
 
 std::optional<gcode::Program> job_rest_program(const job::Part& part, const FinishSettings& settings,
                                                const simulate::ZMap& z, const tooling::Cutter& rest_tool,
-                                               double min_area_mm2, const RestCut& cut, std::string& why) {
+                                               double min_area_mm2, const RestCut& cut, std::string& why,
+                                               const job::Design* design, const std::vector<job::ChainStep>& before) {
   FinishSettings plain = settings;
   plain.simulate = false;                                 // the frame and parameters only
   const PartJob job = finishing_job(part, plain, false);  // the rest tool drops on its own index below
@@ -20,7 +21,9 @@ std::optional<gcode::Program> job_rest_program(const job::Part& part, const Fini
   p.tool_label.clear();
   p.comments = {"tool: " + p.tool.describe()};
   p.spindle_rpm = cut.rpm, p.feed_mm_min = cut.feed_mm_min, p.plunge_feed_mm_min = cut.plunge_feed_mm_min;
-  const finish::RestStock stock = stock_of(z, job.frame);
+  finish::RestStock stock = stock_of(z, job.frame);
+  if (design != nullptr && !before.empty())
+    job::measure_rest_exactly(stock, z, *design, before, settings.rest_threshold_mm);
   finish::RestParams rp;
   rp.stock = &stock;
   rp.threshold_mm = settings.rest_threshold_mm;
@@ -59,16 +62,16 @@ std::optional<gcode::Program> job_rest_program(const job::Part& part, const Fini
 
 std::optional<job::Operation> rest_operation(const job::Part& part, const FinishSettings& settings,
                                              const simulate::ZMap& left, const job::Design& design,
-                                             const tooling::Tool& rest, const RestCut& cut, double min_area_mm2,
-                                             bool keep_deep_cuts, const std::string& stem,
-                                             std::vector<std::string>& notes) {
+                                             const std::vector<job::ChainStep>& before, const tooling::Tool& rest,
+                                             const RestCut& cut, double min_area_mm2, bool keep_deep_cuts,
+                                             const std::string& stem, std::vector<std::string>& notes) {
   auto say = [&](const std::string& what) {
     info("job: " + stem + ": " + what);
     notes.push_back(what);
   };
   std::string why;
   const std::optional<gcode::Program> program =
-      job_rest_program(part, settings, left, cutter_of(rest), min_area_mm2, cut, why);
+      job_rest_program(part, settings, left, cutter_of(rest), min_area_mm2, cut, why, &design, before);
   say(why);
   if (!program) return std::nullopt;
   // Planned within the tool's reach; its links clear the stock it read, 0.1 mm over its cells.

@@ -573,10 +573,12 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
   std::vector<Pass> aimed;
   if (left) {
     const detail::Fence fence(mesh, params.boundary);
-    aimed = detail::clip_passes(fence,
-                                detail::aim_at_rest(mesh, new_tool, *left, params.chord_tolerance_mm,
-                                                    [&fence](const Eigen::Vector3d& p) { return fence.inside(p); }),
-                                params.chord_tolerance_mm);
+    aimed =
+        detail::clip_passes(fence,
+                            detail::aim_at_rest(
+                                mesh, new_tool, *left, params.chord_tolerance_mm,
+                                [&fence](const Eigen::Vector3d& p) { return fence.inside(p); }, params.boundary.z_min),
+                            params.chord_tolerance_mm);
   }
   // The pieces nearest first again (pencil pieces first); regions left with pencil passes only.
   std::vector<Pass> pencil, rest;

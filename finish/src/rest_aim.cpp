@@ -69,8 +69,12 @@ Aim nearest_placement(const DropCutter& tool, const Eigen::Vector3d& p, const Ei
 }  // namespace
 
 std::vector<Pass> aim_at_rest(const ingest::Mesh& mesh, const DropCutter& tool, RestPoints& points,
-                              double chord_tolerance_mm, const std::function<bool(const Eigen::Vector3d&)>& allowed) {
-  const std::vector<std::size_t> left = points.uncleared();
+                              double chord_tolerance_mm, const std::function<bool(const Eigen::Vector3d&)>& allowed,
+                              double lowest_tip) {
+  std::vector<std::size_t> left = points.uncleared();
+  // Out of reach below the lowest tip allowed (a point within the threshold of the solid lies at
+  // most that below its tip): on s4, the deep walls below the Ø1's stick-out. The same passes.
+  std::erase_if(left, [&](std::size_t i) { return points.points()[i].z() + points.threshold() < lowest_tip; });
   if (left.empty()) return {};
   const double threshold = points.threshold(), r = tool.cutter().radius();
   // 1. Each point's nearest placement, on its own (any thread count).

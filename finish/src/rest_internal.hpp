@@ -129,12 +129,15 @@ using Apart = std::function<double(const Eigen::Vector3d&, const Eigen::Vector3d
 /// threshold of them (rest_aim.cpp): each point's nearest placement by a pattern search over the
 /// drop-cutter's placements, kept in the points' order where its point is still not cleared and it
 /// reaches at least tol::rest_aim_min_points points not cleared (it then clears them), chained
-/// within tol::rest_aim_link_radii · R and sampled between like any pass (`chord_tolerance_mm`). The points they reach are cleared. Any thread count.
+/// within tol::rest_aim_link_radii · R and sampled between like any pass (`chord_tolerance_mm`).
+/// The points they reach are cleared. Any thread count. Placements outside `allowed` are not kept
+/// (the rest program's fence), and a point lower than `lowest_tip` less the threshold is not
+/// searched: the tool's solid lies on and above its tip, so no tip `allowed` can come that near it.
 /// O(points left · rounds) drops + O(tips · samples between).
-/// Placements outside `allowed` are not kept (the rest program's fence).
 [[nodiscard]] std::vector<Pass> aim_at_rest(const ingest::Mesh& mesh, const DropCutter& tool, RestPoints& points,
                                             double chord_tolerance_mm,
-                                            const std::function<bool(const Eigen::Vector3d&)>& allowed);
+                                            const std::function<bool(const Eigen::Vector3d&)>& allowed,
+                                            double lowest_tip);
 
 /// The reference's envelope over the nodes within `reach_mm` of a `near` node (a grid x0 + j·h,
 /// y0 + i·h of nx × ny nodes, its drop-cutter tips `ref_cl`): the lowest of its surfaces over each,

@@ -52,6 +52,10 @@ void RestStock::check() const {
                 "stock", "needs a finite origin and offset and a cell > 0");
   require_stock(std::all_of(z.begin(), z.end(), [](double v) { return std::isfinite(v); }), "stock",
                 "heights must be finite");
+  require_stock((exact_mm.empty() && exact_z.empty()) || (exact_mm.size() == z.size() && exact_z.size() == z.size()),
+                "stock",
+                "exact measures must be none or one per cell (" + std::to_string(z.size()) + ", got " +
+                    std::to_string(exact_mm.size()) + " and " + std::to_string(exact_z.size()) + ")");
 }
 
 double RestStock::height(double x, double y) const {
@@ -73,6 +77,16 @@ double RestStock::material(const Eigen::Vector3d& p, const Eigen::Vector3d& n) c
 }
 
 double RestStock::material_over(const Eigen::Vector3d& p, const Eigen::Vector3d& n, double floor_mm) const {
+  // Measured exactly at the nearest cell's design point, where that lies on p's surface.
+  if (!exact_mm.empty()) {
+    const long j = std::lround((p.x() - x0) / cell), i = std::lround((p.y() - y0) / cell);
+    if (i >= 0 && j >= 0 && i < ny && j < nx) {
+      const auto c = static_cast<std::size_t>(i) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(j);
+      const Eigen::Vector3d q(x0 + static_cast<double>(j) * cell, y0 + static_cast<double>(i) * cell,
+                              exact_z[c] + z_offset);
+      if (!std::isnan(exact_mm[c]) && std::abs(n.dot(q - p)) <= 0.5 * cell) return exact_mm[c];
+    }
+  }
   // Along the normal from p: how far until the point is above the stock (in the air)?
   auto in = [&](double t) { return height(p.x() + t * n.x(), p.y() + t * n.y()) - (p.z() + t * n.z()); };
   if (!(in(0) > 0)) return 0.0;

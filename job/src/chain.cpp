@@ -383,4 +383,33 @@ RestSplit split_rest(const ingest::Mesh& mesh, const Design& design, const simul
   return out;
 }
 
+void measure_rest_exactly(finish::RestStock& rest, const simulate::ZMap& stock, const Design& design,
+                          const std::vector<ChainStep>& steps, double threshold_mm) {
+  const simulate::GridSpec& g = stock.spec();
+  if (design.heights.size() != g.cells() || rest.z.size() != g.cells())
+    throw Error("job: the rest's exact measure needs the z-map's grid (" + std::to_string(g.cells()) +
+                " cells; the design has " + std::to_string(design.heights.size()) + ", the stock " +
+                std::to_string(rest.z.size()) + ")");
+  const std::vector<std::uint8_t> above = simulate::cells_above(stock, design.heights, threshold_mm);
+  std::vector<std::size_t> cells;
+  std::vector<gcode::Point3> points;
+  for (std::size_t i = 0; i < g.cells(); ++i)  // O(cells)
+    if (above[i] != 0) {
+      cells.push_back(i);
+      points.push_back({g.x(i % g.nx), g.y(i / g.nx), design.heights[i]});
+    }
+  std::vector<simulate::PassTool> programs;
+  for (const ChainStep& s : steps) programs.push_back({s.program, s.cutter});
+  const double reach = 4 * threshold_mm;
+  const std::vector<double> approach =
+      simulate::nearest_approach(programs, points, reach, simulate::ExactGougeOptions{});
+  rest.exact_mm.assign(g.cells(), std::numeric_limits<float>::quiet_NaN());
+  rest.exact_z.assign(g.cells(), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t k = 0; k < cells.size(); ++k) {  // O(rest cells)
+    if (!(approach[k] < reach)) continue;
+    rest.exact_mm[cells[k]] = static_cast<float>(approach[k]);
+    rest.exact_z[cells[k]] = design.heights[cells[k]];
+  }
+}
+
 }  // namespace millnet::job

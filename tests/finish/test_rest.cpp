@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <variant>
 #include <vector>
@@ -330,6 +331,39 @@ TEST(RestStock, TheMaterialIsTheStocksHeightOverThePointAlongTheNormal) {
   bad = st;
   bad.z[3] = std::nan("");
   EXPECT_THROW(bad.check(), Error);
+}
+
+// The exact measures (RestStock::exact_mm) decide where the nearest cell's design point lies on
+// the point's tangent plane within half a cell; elsewhere the stock's reading stands.
+TEST(RestStock, AnExactMeasureDecidesOnItsOwnSurfaceOnly) {
+  RestStock st;
+  st.cell = 0.5, st.x0 = 0, st.y0 = 0, st.nx = 9, st.ny = 3;
+  st.z.assign(27, 1.0);  // flat stock at z = 1 (grid frame)
+  st.z_offset = -0.25;   // at z = 0.75 in the part's frame
+  st.exact_mm.assign(27, std::numeric_limits<float>::quiet_NaN());
+  st.exact_z.assign(27, std::numeric_limits<double>::quiet_NaN());
+  const std::size_t c = 1 * 9 + 3;  // the cell at (1.5, 0.5)
+  st.exact_mm[c] = 0.03f;
+  st.exact_z[c] = 0.95;  // its design point at z = 0.70 in the part's frame
+  st.check();
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  // A floor point near the cell centre, on the design point's plane: the exact figure, whatever the stock reads.
+  EXPECT_NEAR(st.material({1.6, 0.4, 0.70}, up), 0.03, 1e-7);
+  EXPECT_NEAR(st.material_over({1.4, 0.6, 0.70}, up, 0.02), 0.03, 1e-7);
+  EXPECT_NEAR(st.material({1.6, 0.4, 0.90}, up), 0.03, 1e-7);  // 0.2 off the plane: within half a cell
+  // Off that plane by more than half a cell (another surface in the column): the stock's height over it.
+  EXPECT_NEAR(st.material({1.6, 0.4, 0.2}, up), 0.55, 1e-4);
+  // A wall facing +X through the design point: on its plane whatever its height.
+  EXPECT_NEAR(st.material({1.5, 0.5, 0.1}, Eigen::Vector3d::UnitX()), 0.03, 1e-7);
+  // The neighbouring cell, measured nowhere: the stock's reading.
+  EXPECT_NEAR(st.material({2.0, 0.5, 0.70}, up), 0.05, 1e-4);
+  RestStock bad = st;
+  bad.exact_z.pop_back();
+  EXPECT_THROW(bad.check(), Error);
+  bad = st;
+  bad.exact_mm.clear(), bad.exact_z.clear();
+  EXPECT_NO_THROW(bad.check());
+  EXPECT_NEAR(bad.material({1.6, 0.4, 0.70}, up), 0.05, 1e-4);
 }
 
 TEST(RestStock, EngagementAndCutAreTheToolsProfileOverTheCells) {
@@ -786,8 +820,8 @@ TEST(RestFinishing, PassesAreAimedAtTheRestThePassesLeftAndOnlyThere) {
   auto aimed = [&](bool middle_cut) {
     detail::RestPoints points(part, r, Cutter::ball(1), 0.01, kT);
     if (middle_cut) points.clear_along({{0, 2, groove}, {0, 6, groove}});
-    const std::vector<Pass> passes =
-        detail::aim_at_rest(part, one, points, 0.01, [](const Eigen::Vector3d&) { return true; });
+    const std::vector<Pass> passes = detail::aim_at_rest(
+        part, one, points, 0.01, [](const Eigen::Vector3d&) { return true; }, -std::numeric_limits<double>::infinity());
     // Left: only a point alone in reach of its nearest placement (fewer than
     // tol::rest_aim_min_points), at most one at each end of a stretch to cover.
     std::vector<Eigen::Vector3d> covered;
@@ -823,6 +857,39 @@ TEST(RestFinishing, PassesAreAimedAtTheRestThePassesLeftAndOnlyThere) {
     }
     EXPECT_LE(passes.size(), middle_cut ? 2U : 1U);
   }
+}
+
+// The aimed passes' search skips the points below the lowest tip allowed less the threshold (the
+// tool's solid lies on and above its tip): with a fence that keeps tips at or above a height, the
+// skip changes nothing, whatever the height; with the lowest tip above every point by more than
+// the threshold, nothing is aimed even where every placement is allowed.
+TEST(RestFinishing, AimedPassesSkipOnlyThePointsNoAllowedTipReaches) {
+  const VGroove g;
+  const ingest::Mesh& part = g.part;
+  const DropCutter one(part, Cutter::ball(1));
+  const RestRegions r = g.regions(one);
+  const double groove = one.drop(0, 5).z;
+  auto aimed = [&](double floor, double lowest) {
+    detail::RestPoints points(part, r, Cutter::ball(1), 0.01, kT);
+    return detail::aim_at_rest(
+        part, one, points, 0.01, [floor](const Eigen::Vector3d& q) { return q.z() >= floor; }, lowest);
+  };
+  const double none = -std::numeric_limits<double>::infinity();
+  std::size_t kept = 0;
+  for (const double floor : {none, groove - 0.05, groove, groove + 0.004, groove + 0.02}) {
+    const std::vector<Pass> all = aimed(floor, none), skipped = aimed(floor, floor);
+    ASSERT_EQ(all.size(), skipped.size()) << floor;
+    for (std::size_t k = 0; k < all.size(); ++k) EXPECT_EQ(all[k].points, skipped[k].points) << floor;
+    kept += all.size();
+  }
+  EXPECT_GT(kept, 0U);
+  double top = -HUGE_VAL;
+  {
+    const detail::RestPoints points(part, r, Cutter::ball(1), 0.01, kT);
+    for (std::size_t k = 0; k < points.size(); ++k) top = std::max(top, points.points()[k].z());
+  }
+  EXPECT_TRUE(aimed(none, top + kT + 1e-6).empty());
+  EXPECT_FALSE(aimed(none, top + kT - 1e-3).empty());
 }
 
 TEST(RestRegions, BadParametersAndASmallerReferenceAreRefused) {

@@ -184,6 +184,53 @@ TEST(JobChain, RestInABandNarrowerThanTheReachTestsNodesIsSplitByTheExactTest) {
   EXPECT_LT(confirmed.missed_mm2, split.missed_mm2);
 }
 
+// The rest measured as the job judges it (measure_rest_exactly): a Ø2 ball along Y 10 from X 5 to
+// X 15 with its tip 0.05 over the plate's top (program Z −0.95). A cell at dY from its line is at
+// √(dY² + 1.05²) − 1 from the ball: under 4 thresholds (0.08) for |dY| < 0.2528, measured so;
+// farther, and in the stock it never cut (0.1 over the design), the z-map's reading stands (NaN).
+// The rest stock then reads the exact figure on the plate's top.
+TEST(JobChain, TheRestIsMeasuredExactlyByTheProgramsThatLeftIt) {
+  const ingest::Mesh plate = testing_ingest::box(0, 0, 0, 20, 20, 5);
+  const Frame frame = frame_of(plate, 1.0);
+  SimParams sim;
+  sim.cell_mm = 0.05;
+  const Design design = design_surface(plate, frame, sim);
+  simulate::ZMap stock = finishing_stock(design, frame, sim);
+  gcode::Program p;
+  p.items = {to(Motion::Rapid, 5, 10, 5), to(Motion::Line, 5, 10, -0.95, 300), to(Motion::Line, 15, 10, -0.95, 300),
+             to(Motion::Rapid, 15, 10, 5)};
+  const std::vector<ChainStep> steps{{&p, Cutter::ball(2)}};
+  (void)machine_steps(stock, design, steps, gcode::MotionModel{});
+  const simulate::GridSpec& g = stock.spec();
+  finish::RestStock rest;
+  rest.x0 = g.x(0), rest.y0 = g.y(0), rest.cell = g.cell;
+  rest.nx = static_cast<int>(g.nx), rest.ny = static_cast<int>(g.ny);
+  rest.z = stock.heights();
+  rest.z_offset = -frame.z_shift();
+  measure_rest_exactly(rest, stock, design, steps, 0.02);
+  rest.check();
+  int measured = 0, standing = 0;
+  for (std::size_t i = 0; i < g.cells(); ++i) {
+    const double x = g.x(i % g.nx), dy = std::abs(g.y(i / g.nx) - 10);
+    if (x < 5.5 || x > 14.5 || (dy > 0.24 && dy < 0.27)) continue;
+    const double exact = std::hypot(dy, 1.05) - 1;
+    if (dy < 0.24) {
+      ++measured;
+      EXPECT_NEAR(rest.exact_mm[i], exact, 1e-5) << "x " << x << " dy " << dy;
+      EXPECT_NEAR(rest.exact_z[i], -1.0, 1e-9);
+      EXPECT_NEAR(rest.material({x, g.y(i / g.nx), 5.0}, Eigen::Vector3d::UnitZ()), exact, 1e-5);
+    } else {
+      ++standing;
+      EXPECT_TRUE(std::isnan(rest.exact_mm[i])) << "x " << x << " dy " << dy;
+    }
+  }
+  EXPECT_EQ(measured, 180 * 10);  // centres X 5.525 … 14.475, dY 0.025 … 0.225 either side
+  EXPECT_GT(standing, 180 * 300);
+  finish::RestStock other = rest;
+  other.z.pop_back();
+  EXPECT_THROW(measure_rest_exactly(other, stock, design, steps, 0.02), Error);
+}
+
 }  // namespace
 }  // namespace millnet::job
 

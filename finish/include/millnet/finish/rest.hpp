@@ -60,7 +60,16 @@ struct RestStock {
   int nx = 0, ny = 0;
   std::vector<double> z;  ///< row-major, nx·ny heights, mm
   double z_offset = 0;    ///< added to every height (a stock saved in another frame: the program's)
-  /// Throws millnet::Error when the grid is empty, the step not > 0 or a height not finite.
+  /// Optional (empty, or nx·ny each): the material measured exactly at the cells' design points —
+  /// the programs' nearest approach to the design point under each cell centre, NaN where not
+  /// measured — and those points' heights (the grid's frame, like z). A z-map knows a steep wall's
+  /// place only to a part of a cell: its reading of the thin stock on an 82–85° wall differs from
+  /// the exact one by ~0.02 mm, as much as a rest threshold (s4's job). Where measured, it decides
+  /// (material_over).
+  std::vector<float> exact_mm;
+  std::vector<double> exact_z;
+  /// Throws millnet::Error when the grid is empty, the step not > 0, a height not finite, or the
+  /// exact measures are not one per cell.
   void check() const;
   /// The stock's height over (x, y): bilinear between the cells' centres; −infinity off the grid.
   [[nodiscard]] double height(double x, double y) const;
@@ -70,6 +79,8 @@ struct RestStock {
   /// is the stock's height over p, on a wall the stock's thickness beside it, less half a cell
   /// times the normal's horizontal part (where a wall stands within its columns is known to half a
   /// cell: a wall the stock is flush with would otherwise read up to a cell thick). O(log) heights.
+  /// Where the nearest cell has an exact measure (exact_mm) and its design point lies on p's
+  /// tangent plane within half a cell (the same surface), that measure instead. O(1).
   [[nodiscard]] double material(const Eigen::Vector3d& p, const Eigen::Vector3d& n) const;
   /// material(p, n) where that exceeds floor_mm, else a value in [0, floor_mm] (the search stops as
   /// soon as the answer cannot exceed it: a test against a threshold costs ~2 heights, not ~18).

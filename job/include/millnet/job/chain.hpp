@@ -2,6 +2,7 @@
 // A part's programs machined one after the other on one stock (roughing, then finishing, then rest
 // machining: each meets what the ones before it left), and the surface measured with the last
 // tool. What `millnet simulate` and the rough + finish chain of `millnet run` report.
+#include "millnet/finish/rest.hpp"
 #include "millnet/gcode/program.hpp"
 #include "millnet/gcode/stats.hpp"
 #include "millnet/job/finishing.hpp"
@@ -176,5 +177,15 @@ struct RestSplit {
                                    const ChainResult& r, const std::vector<ChainStep>& steps,
                                    const tooling::Cutter& tool, double threshold_mm, double floor_z,
                                    double mesh_z_shift);
+
+/// The rest a rest program is planned against, measured as split_rest judges it (issue 41): for
+/// each cell of `stock` whose material over `design` exceeds `threshold_mm` (simulate::cells_above),
+/// the nearest approach of `steps` (the programs that cut `stock`) to the cell's design point goes
+/// into rest.exact_mm and that point's height (the z-map's frame) into rest.exact_z; NaN elsewhere,
+/// and where no tool came within four thresholds (the z-map's reading stands there). `rest`: the
+/// same stock as finish::RestStock (its grid the z-map's). Points in parallel (any thread count).
+/// O(rest cells · moves near each).
+void measure_rest_exactly(finish::RestStock& rest, const simulate::ZMap& stock, const Design& design,
+                          const std::vector<ChainStep>& steps, double threshold_mm);
 
 }  // namespace millnet::job
