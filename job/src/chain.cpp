@@ -398,11 +398,15 @@ void measure_rest_exactly(finish::RestStock& rest, const simulate::ZMap& stock, 
       cells.push_back(i);
       points.push_back({g.x(i % g.nx), g.y(i / g.nx), design.heights[i]});
     }
-  std::vector<simulate::PassTool> programs;
-  for (const ChainStep& s : steps) programs.push_back({s.program, s.cutter});
+  // Program by program, each binned by its own tool (one call for all bins every move by the
+  // widest: the Ø10 roughing's 5 mm made each cell meet every finishing move within 5 mm of it).
   const double reach = 4 * threshold_mm;
-  const std::vector<double> approach =
-      simulate::nearest_approach(programs, points, reach, simulate::ExactGougeOptions{});
+  std::vector<double> approach(points.size(), reach);
+  for (const ChainStep& s : steps) {  // O(programs · rest cells · moves near each)
+    const std::vector<double> mine =
+        simulate::nearest_approach({{s.program, s.cutter}}, points, reach, simulate::ExactGougeOptions{});
+    for (std::size_t k = 0; k < points.size(); ++k) approach[k] = std::min(approach[k], mine[k]);
+  }
   rest.exact_mm.assign(g.cells(), std::numeric_limits<float>::quiet_NaN());
   rest.exact_z.assign(g.cells(), std::numeric_limits<double>::quiet_NaN());
   for (std::size_t k = 0; k < cells.size(); ++k) {  // O(rest cells)

@@ -183,8 +183,8 @@ struct RestSplit {
 /// the nearest approach of `steps` (the programs that cut `stock`) to the cell's design point goes
 /// into rest.exact_mm and that point's height (the z-map's frame) into rest.exact_z; NaN elsewhere,
 /// and where no tool came within four thresholds (the z-map's reading stands there). `rest`: the
-/// same stock as finish::RestStock (its grid the z-map's). Points in parallel (any thread count).
-/// O(rest cells · moves near each).
+/// same stock as finish::RestStock (its grid the z-map's). Program by program, each binned by its
+/// own tool; points in parallel (any thread count). O(programs · rest cells · moves near each).
 void measure_rest_exactly(finish::RestStock& rest, const simulate::ZMap& stock, const Design& design,
                           const std::vector<ChainStep>& steps, double threshold_mm);
 
