@@ -228,7 +228,7 @@ Registered register_simulate(CLI::App& app) {
     MeshFlags mesh_flags;
     std::vector<std::string> gcode, tools;
     std::string mesh, stock = "flat", out;
-    bool save_stock = false;
+    bool save_stock = false, moves = false;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* sub = app.add_subcommand(
@@ -242,6 +242,9 @@ Registered register_simulate(CLI::App& app) {
                   "flat (a block up to Z 0), design (the part + /simulate/allowance_mm), or a FILE.zmap saved by an "
                   "earlier simulate --save-stock of the same part");
   sub->add_flag("--save-stock", o->save_stock, "also write the machined z-map as DIR/<stem>.zmap (8 bytes per cell)");
+  sub->add_flag("--moves", o->moves,
+                "also write every move as machined (its line, end point, length, deepest cut and whether it cut "
+                "air) as DIR/<stem>.moves.csv");
   o->mesh_flags.add_to(sub);
   sub->add_option("--out", o->out, "output folder")->check(output_path())->required();
   add_common(sub, o->common);
@@ -261,7 +264,7 @@ Registered register_simulate(CLI::App& app) {
             const gcode::Dialect post = job::frame_of(part.mesh, s.stock_top_above_part_mm).post(s.post);
             for (ChainProgram& p : programs) gcode::shift(p.written.program, post.origin[0], post.origin[1]);
             const Json j = simulate_programs(part, part.name, std::move(programs), o->stock, s, o->out, o->save_stock,
-                                             nullptr, true);
+                                             nullptr, true, o->moves);
             info("simulate: Ra median " + j["ra_median_um"].dump() + " um, gouge " + j["max_gouge_mm"].dump() +
                  " mm → " + o->out);
             if (!j.contains("gouge_failure")) return 0;

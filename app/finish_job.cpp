@@ -592,7 +592,7 @@ void rest_figures(const job::Part& part, const job::Design& design, const simula
 
 Json simulate_programs(const job::Part& part, const std::string& stem, std::vector<ChainProgram> programs,
                        const std::string& stock, const FinishSettings& settings, const fs::path& out, bool save_stock,
-                       const job::Design* design, bool score_rest) {
+                       const job::Design* design, bool score_rest, bool record_moves) {
   const job::SimParams sim = sim_params(settings);
   const job::Frame frame = job::frame_of(part.mesh, settings.stock_top_above_part_mm);
   std::optional<job::Design> own;
@@ -612,7 +612,7 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
   std::vector<job::ChainStep> steps;
   for (const ChainProgram& p : programs) steps.push_back({&p.written.program, p.cutter});
   if (save_stock && surround) job::machine_surround(*surround, steps);
-  const job::ChainResult r = job::machine_chain(z, *design, steps, settings.machine, sim, score_rest);
+  const job::ChainResult r = job::machine_chain(z, *design, steps, settings.machine, sim, score_rest, record_moves);
   Json runs = Json::array();
   for (std::size_t i = 0; i < programs.size(); ++i) {
     const job::StepResult& s = r.steps[i];
@@ -625,7 +625,9 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
                         {"cutting_rapids", s.cutting_rapids},
                         {"air_cut_share", s.air_cut_share()},
                         {"feed_outside_zmap_mm", s.outside_feed_mm},
-                        {"air_run_share", s.air_run_share()}});
+                        {"air_run_share", s.air_run_share()},
+                        {"feed_mm", s.feed_mm},
+                        {"air_feed_mm", s.air_feed_mm}});
     if (const auto& g = r.metrics.pass_max_gouge_mm; g.size() >= programs.size())  // its own passes are the last
       runs.back()["max_gouge_mm"] = g[g.size() - programs.size() + i];
   }
@@ -656,6 +658,13 @@ Json simulate_programs(const job::Part& part, const std::string& stem, std::vect
   ra_png(out / (stem + ".ra.png"), design->grid, m, stem + ": roughness Ra");
   const std::vector<double> e = simulate::deviation(z, design->heights);
   grid_png(out / (stem + ".deviation.png"), e, design->grid, stem + ": machined - design", "mm");
+  if (record_moves) {  // where the air lies, move by move, in each program's own work frame
+    const gcode::Dialect post = frame.post(settings.post);
+    std::vector<std::string> files;
+    for (const ChainProgram& p : programs) files.push_back(fs::path(p.file).filename().string());
+    write_file_atomic(out / (stem + ".moves.csv"), job::moves_csv(r.steps, files, post.origin));
+    j["moves_csv"] = (out / (stem + ".moves.csv")).string();
+  }
   if (save_stock) {
     simulate::io::write_zmap(out / (stem + ".zmap"), z, surround ? &*surround : nullptr);
     j["saved_stock"] = (out / (stem + ".zmap")).string();

@@ -134,10 +134,13 @@ struct ChainProgram {
 /// DIR/<stem>.sim.json, <stem>.ra.png and <stem>.deviation.png, and with save_stock the machined
 /// z-map as DIR/<stem>.zmap. `design` (the part's, when its finishing already made it) saves a
 /// second rasterization. `score_rest` (millnet simulate): a last program with a smaller tool than a
-/// finishing one before it is scored as rest machining (job::machine_chain).
+/// finishing one before it is scored as rest machining (job::machine_chain). `record_moves`
+/// (simulate --moves): every move of every program as machined, one row each, in DIR/<stem>.moves.csv
+/// (job::moves_csv).
 Json simulate_programs(const job::Part& part, const std::string& stem, std::vector<ChainProgram> programs,
                        const std::string& stock, const FinishSettings& settings, const std::filesystem::path& out,
-                       bool save_stock = false, const job::Design* design = nullptr, bool score_rest = false);
+                       bool save_stock = false, const job::Design* design = nullptr, bool score_rest = false,
+                       bool record_moves = false);
 
 /// A stock saved by `simulate --save-stock` (FILE.zmap), checked to lie on the part's grid `g`
 /// (millnet::Error naming the file and both grids otherwise).

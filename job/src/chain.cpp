@@ -5,6 +5,7 @@
 #include "millnet/finish/rest.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -213,8 +214,36 @@ std::vector<ChainStep> chain_steps(const std::vector<Operation>& ops) {
   return out;
 }
 
+const char* kind_name(MoveRecord::Kind k) {
+  switch (k) {
+    case MoveRecord::Kind::Rapid: return "rapid";
+    case MoveRecord::Kind::Outside: return "outside";
+    case MoveRecord::Kind::Cut: return "cut";
+    case MoveRecord::Kind::Air: return "air";
+  }
+  return "?";
+}
+
+std::string moves_csv(const std::vector<StepResult>& steps, const std::vector<std::string>& programs,
+                      const std::array<double, 2>& origin) {
+  static constexpr std::array<const char*, 4> kMotion{"G0", "G1", "G2", "G3"};
+  std::string out = "program,line,motion,x,y,z,length_mm,cut_mm,kind\n";
+  char row[160];
+  for (std::size_t k = 0; k < steps.size(); ++k) {  // O(moves)
+    const std::string& name = k < programs.size() ? programs[k] : std::to_string(k + 1);
+    for (const MoveRecord& m : steps[k].moves) {
+      const int n = std::snprintf(row, sizeof row, ",%zu,%s,%.4f,%.4f,%.4f,%.6f,%.6f,%s\n", m.line,
+                                  kMotion.at(static_cast<std::size_t>(m.motion)), m.to[0] - origin[0],
+                                  m.to[1] - origin[1], m.to[2], m.length_mm, m.cut_mm, kind_name(m.kind));
+      out += name;
+      out.append(row, static_cast<std::size_t>(std::min<int>(n, static_cast<int>(sizeof row) - 1)));
+    }
+  }
+  return out;
+}
+
 std::vector<StepResult> machine_steps(simulate::ZMap& stock, const Design& design, const std::vector<ChainStep>& steps,
-                                      const gcode::MotionModel& machine) {
+                                      const gcode::MotionModel& machine, bool record_moves) {
   std::vector<StepResult> out;
   for (const ChainStep& s : steps) {  // O(steps)
     const simulate::SweepResult sw = simulate::machine(stock, *s.program, s.cutter);
@@ -241,21 +270,33 @@ std::vector<StepResult> machine_steps(simulate::ZMap& stock, const Design& desig
     for (std::size_t i = 0; i < len.size(); ++i) {  // O(items)
       const auto* m = std::get_if<gcode::Move>(&s.program->items[i]);
       if (m == nullptr) continue;
+      const double cut = i < sw.item_max_cut_mm.size() ? sw.item_max_cut_mm[i] : 0.0;
+      MoveRecord::Kind kind = MoveRecord::Kind::Cut;
       if (m->motion == gcode::Motion::Rapid) {
+        kind = MoveRecord::Kind::Rapid;
         close_run();
-        continue;
-      }
-      if (!over[i]) {
+      } else if (!over[i]) {
+        kind = MoveRecord::Kind::Outside;
         st.outside_feed_mm += len[i];
         close_run();
-        continue;
+      } else {
+        st.feed_mm += len[i];
+        if (len[i] > 0 && cut < kAirCutMm) {
+          kind = MoveRecord::Kind::Air;
+          st.air_feed_mm += len[i];
+          run += len[i];
+        } else if (len[i] > 0) {
+          close_run();
+        }
       }
-      st.feed_mm += len[i];
-      if (len[i] > 0 && (i >= sw.item_max_cut_mm.size() || sw.item_max_cut_mm[i] < kAirCutMm)) {
-        st.air_feed_mm += len[i];
-        run += len[i];
-      } else if (len[i] > 0) {
-        close_run();
+      if (record_moves) {  // a rapid's length straight from where the one before ended
+        const double length = kind != MoveRecord::Kind::Rapid ? len[i]
+                              : st.moves.empty()
+                                  ? 0.0
+                                  : std::hypot(m->to[0] - st.moves.back().to[0], m->to[1] - st.moves.back().to[1],
+                                               m->to[2] - st.moves.back().to[2]);
+        st.moves.push_back({i, i < s.program->source_line.size() ? s.program->source_line[i] : 0, m->motion, m->to,
+                            length, cut, kind});
       }
     }
     close_run();
@@ -266,7 +307,7 @@ std::vector<StepResult> machine_steps(simulate::ZMap& stock, const Design& desig
 }
 
 ChainResult machine_chain(simulate::ZMap& stock, const Design& design, const std::vector<ChainStep>& steps,
-                          const gcode::MotionModel& machine, const SimParams& sim, bool score_rest) {
+                          const gcode::MotionModel& machine, const SimParams& sim, bool score_rest, bool record_moves) {
   ChainResult r;
   // The exact gouge check's programs per z-map pass: none for the passes of a stock read back.
   std::vector<simulate::PassTool> passes(stock.passes());
@@ -277,16 +318,16 @@ ChainResult machine_chain(simulate::ZMap& stock, const Design& design, const std
     r.rest_step = true;
     r.rest_reference = steps[steps.size() - 2].cutter;
     const std::vector<ChainStep> before(steps.begin(), steps.end() - 1);
-    r.steps = machine_steps(stock, design, before, machine);
+    r.steps = machine_steps(stock, design, before, machine, record_moves);
     r.rest_above_before = simulate::cells_above(stock, design.heights, sim.rest_threshold_mm);
     r.rest_area_before_mm2 =
         static_cast<double>(std::count(r.rest_above_before.begin(), r.rest_above_before.end(), 1)) * stock.spec().cell *
         stock.spec().cell;
     const std::vector<ChainStep> last{steps.back()};
-    r.steps.push_back(machine_steps(stock, design, last, machine).front());
+    r.steps.push_back(machine_steps(stock, design, last, machine, record_moves).front());
     r.rest_area_after_mm2 = simulate::area_above_mm2(stock, design.heights, sim.rest_threshold_mm);
   } else {
-    r.steps = machine_steps(stock, design, steps, machine);
+    r.steps = machine_steps(stock, design, steps, machine, record_moves);
   }
   simulate::MetricsOptions mo;
   if (!steps.empty()) {

@@ -434,6 +434,61 @@ TEST(CliSimulate, AStockSavedByOneRunContinuesInTheNextAsIfItWereOneRun) {
   for (const char* o : {"bad1", "bad2", "bad3"}) EXPECT_EQ(list_files(d / o), "") << o;
 }
 
+// `simulate --moves`: every move as machined, one row each, in the program's own work frame (here
+// the stock's centre): a cut 0.5 mm into the flat block over the dome (its top is at Z −1), the
+// same 12 mm back over what it cut (air), as the file's lines state them.
+TEST(CliSimulate, EveryMoveIsListedWithWhatItCutInTheProgramsOwnFrame) {
+  const fs::path d = fresh_dir("simulate_moves");
+  const fs::path mesh = write_dome(d);
+  std::ofstream(d / "cfg.json") << R"({"simulate": {"cell_mm": 0.05}, "machine": {"work_origin": "stock_centre"}})";
+  const std::string program =
+      "G21 G90 G17 G94\nM3 S18000\nG0 Z5\nG0 X-6 Y0.5\nG1 Z-0.5 F600\nG1 X6 F1900\n"
+      "G1 X-6\nG0 Z5\nM5\nM30\n";
+  std::ofstream(d / "pass.nc") << program;
+  const auto r = run_millnet("simulate --quiet --no-preview --config cfg.json --mesh '" + mesh.string() +
+                                 "' --gcode pass.nc --tool ball:2 --moves --out sim",
+                             d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(slurp(d / "sim" / "dome.sim.json"));
+  EXPECT_EQ(j["moves_csv"].get<std::string>(), (fs::path("sim") / "dome.moves.csv").string());
+  std::istringstream csv(slurp(d / "sim" / "dome.moves.csv"));
+  std::string row;
+  std::getline(csv, row);
+  EXPECT_EQ(row, "program,line,motion,x,y,z,length_mm,cut_mm,kind");
+  std::vector<std::string> lines{""};
+  for (std::istringstream text(program); std::getline(text, row);) lines.push_back(row);
+  std::vector<std::pair<int, std::string>> kinds;
+  double air = 0;
+  while (std::getline(csv, row)) {
+    std::vector<std::string> f;
+    for (std::istringstream cells(row); std::getline(cells, row, ',');) f.push_back(row);
+    ASSERT_EQ(f.size(), 9U);
+    EXPECT_EQ(f[0], "pass.nc");
+    const int line = std::stoi(f[1]);
+    kinds.emplace_back(line, f[8]);
+    if (f[8] == "air") air += std::stod(f[6]);
+    // The row's end point is the file's: every axis its line states, as written.
+    const std::string& g = lines.at(static_cast<std::size_t>(line));
+    EXPECT_EQ(g.rfind(f[2], 0), 0U) << g;
+    for (const auto& [axis, value] : {std::pair{'X', f[3]}, {'Y', f[4]}, {'Z', f[5]}})
+      if (const auto at = g.find(axis); at != std::string::npos)
+        EXPECT_NEAR(std::stod(g.substr(at + 1)), std::stod(value), 1e-9) << g << " | " << row;
+  }
+  const std::vector<std::pair<int, std::string>> expected{{3, "rapid"}, {4, "rapid"}, {5, "cut"},
+                                                          {6, "cut"},   {7, "air"},   {8, "rapid"}};
+  EXPECT_EQ(kinds, expected);
+  EXPECT_NEAR(air, 12, 1e-9);
+  EXPECT_NEAR(j["programs"][0]["air_feed_mm"].get<double>(), 12, 1e-9);
+  EXPECT_NEAR(j["programs"][0]["feed_mm"].get<double>(), 5.5 + 12 + 12, 1e-9);
+  // Without the flag no such file.
+  ASSERT_EQ(run_millnet("simulate --quiet --no-preview --config cfg.json --mesh '" + mesh.string() +
+                            "' --gcode pass.nc --tool ball:2 --out sim2",
+                        d)
+                .code,
+            0);
+  EXPECT_FALSE(fs::exists(d / "sim2" / "dome.moves.csv"));
+}
+
 TEST(CliTrain, ANetworkOnSimulatedScoresIsJudgedByRegretAndPredictsOnlyForItsAim) {
   const fs::path d = fresh_dir("train_scores");
   (void)write_dome(d);

@@ -8,10 +8,13 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <string>
 #include <tuple>
+#include <vector>
 
 namespace millnet::job {
 namespace {
@@ -77,6 +80,59 @@ TEST(JobChain, AirCutShareIsTheFeedLengthThatRemovesNothing) {
   EXPECT_NEAR(r3[0].air_feed_mm, 1, 1e-9);
   EXPECT_EQ(r3[0].air_run_feed_mm, 0.0);
   EXPECT_NEAR(r3[0].air_run_share(), 0.0, 1e-15);
+}
+
+// Asked for, every move is recorded with what it cut: the plate's program by hand — a rapid, the
+// plunge (cuts the 0.1 mm allowance at its foot), the 10 mm cut, the rapid up and the 10 mm of air —
+// and written as CSV in the program's own frame (XY less the work origin).
+TEST(JobChain, EveryMoveIsRecordedWithWhatItCutAndTheAirRowsSumToTheAirFeed) {
+  const ingest::Mesh plate = testing_ingest::box(0, 0, 0, 20, 20, 5);
+  const Frame frame = frame_of(plate, 1.0);
+  SimParams sim;
+  sim.cell_mm = 0.05;
+  const Design design = design_surface(plate, frame, sim);
+  simulate::ZMap stock = finishing_stock(design, frame, sim);
+  gcode::Program p;
+  p.items = {to(Motion::Rapid, 5, 10, 5), to(Motion::Line, 5, 10, -1, 300), to(Motion::Line, 15, 10, -1, 300),
+             to(Motion::Rapid, 15, 10, 0), to(Motion::Line, 5, 10, 0, 300)};
+  const std::vector<StepResult> r = machine_steps(stock, design, {{&p, Cutter::ball(2)}}, gcode::MotionModel{}, true);
+  ASSERT_EQ(r.size(), 1U);
+  const std::vector<MoveRecord>& m = r[0].moves;
+  ASSERT_EQ(m.size(), 5U);
+  using K = MoveRecord::Kind;
+  const std::array<K, 5> kinds{K::Rapid, K::Cut, K::Cut, K::Rapid, K::Air};
+  const std::array<double, 5> lengths{0, 6, 10, 1, 10};
+  double air = 0;
+  for (std::size_t i = 0; i < 5; ++i) {
+    EXPECT_EQ(m[i].item, i);
+    EXPECT_EQ(m[i].kind, kinds[i]) << i;
+    EXPECT_NEAR(m[i].length_mm, lengths[i], 1e-12) << i;
+    if (m[i].kind == K::Air) air += m[i].length_mm;
+  }
+  // The allowance, as the cells' centres see it: the nearest lie 0.025 mm off the tip in X and Y
+  // (the plunge at X5 Y10) or in Y (along the cut), where the Ø2 ball stands 1 − √(1 − d²) higher.
+  EXPECT_NEAR(m[1].cut_mm, 0.1 - (1 - std::sqrt(1 - 2 * 0.025 * 0.025)), 1e-9);
+  EXPECT_NEAR(m[2].cut_mm, 0.1 - (1 - std::sqrt(1 - 0.025 * 0.025)), 1e-9);
+  EXPECT_EQ(m[4].cut_mm, 0.0);
+  EXPECT_EQ(air, r[0].air_feed_mm);
+  // Not asked: nothing recorded, the same figures.
+  simulate::ZMap again = finishing_stock(design, frame, sim);
+  const std::vector<StepResult> plain = machine_steps(again, design, {{&p, Cutter::ball(2)}}, gcode::MotionModel{});
+  EXPECT_TRUE(plain[0].moves.empty());
+  EXPECT_EQ(plain[0].air_feed_mm, r[0].air_feed_mm);
+  EXPECT_EQ(plain[0].feed_mm, r[0].feed_mm);
+  // As CSV, in the program's frame (work origin at X2 Y3 of millnet's).
+  const std::string csv = moves_csv(r, {"plate.nc"}, {2, 3});
+  std::vector<std::string> rows;
+  for (std::size_t at = 0, nl; (nl = csv.find('\n', at)) != std::string::npos; at = nl + 1)
+    rows.push_back(csv.substr(at, nl - at));
+  ASSERT_EQ(rows.size(), 6U) << csv;
+  EXPECT_EQ(rows[0], "program,line,motion,x,y,z,length_mm,cut_mm,kind");
+  EXPECT_EQ(rows[1], "plate.nc,0,G0,3.0000,7.0000,5.0000,0.000000,0.000000,rapid");
+  EXPECT_EQ(rows[2], "plate.nc,0,G1,3.0000,7.0000,-1.0000,6.000000,0.099375,cut");
+  EXPECT_EQ(rows[3], "plate.nc,0,G1,13.0000,7.0000,-1.0000,10.000000,0.099687,cut");
+  EXPECT_EQ(rows[4], "plate.nc,0,G0,13.0000,7.0000,0.0000,1.000000,0.000000,rapid");
+  EXPECT_EQ(rows[5], "plate.nc,0,G1,3.0000,7.0000,0.0000,10.000000,0.000000,air");
 }
 
 // Asked for, a last program with a smaller tool than a finishing one before it is rest machining,

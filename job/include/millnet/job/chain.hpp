@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace millnet::job {
@@ -30,6 +31,22 @@ struct ChainStep {
 /// The operations as chain steps (each its program and its tool's cutter), in order; they point
 /// into `ops`.
 [[nodiscard]] std::vector<ChainStep> chain_steps(const std::vector<Operation>& ops);
+
+/// One move of a program as the chain machined it (StepResult::moves, when asked): where the air
+/// lies, move by move. `kind`: a rapid; a feed move whose cutter never reaches the z-map (not
+/// measured); a feed move that lowered some cell by kAirCutMm or more (cut); or one that did not
+/// (air: what air_feed_mm sums).
+struct MoveRecord {
+  enum class Kind : std::uint8_t { Rapid, Outside, Cut, Air };
+  std::size_t item = 0;  ///< its index in the program's items
+  std::size_t line = 0;  ///< its G-code line (0 when the program was built, not read)
+  gcode::Motion motion = gcode::Motion::Rapid;
+  gcode::Point3 to{};    ///< its end point (program frame)
+  double length_mm = 0;  ///< 3D length (arcs along the arc)
+  double cut_mm = 0;     ///< the most it lowered any cell (SweepResult::item_max_cut_mm)
+  Kind kind = Kind::Rapid;
+};
+[[nodiscard]] const char* kind_name(MoveRecord::Kind k);
 
 /// What one program of the chain did.
 struct StepResult {
@@ -54,6 +71,8 @@ struct StepResult {
   /// z-map) longer than the cutter's diameter: the air a CAM system trims. A shorter run bridges a
   /// gap in patchy rest along a pass, which no one lifts for (a lift and a re-entry take longer).
   double air_run_feed_mm = 0;
+  /// Move by move (rapids and feeds, in program order), when the caller asked for them.
+  std::vector<MoveRecord> moves;
   [[nodiscard]] double air_cut_share() const { return feed_mm > 0 ? air_feed_mm / feed_mm : 0.0; }
   [[nodiscard]] double air_run_share() const { return feed_mm > 0 ? air_run_feed_mm / feed_mm : 0.0; }
 };
@@ -134,9 +153,19 @@ void left_above(const simulate::ZMap& stock, const Design& design, StepResult& s
 /// Machines the steps in order on `stock` (left machined), each measured: its lengths and times,
 /// its deepest cut and where, its cutting rapids and the stock it leaves above the design.
 /// O(steps × (moves + cells swept + cells)).
+/// `record_moves`: each step's StepResult::moves too (O(moves) memory).
 [[nodiscard]] std::vector<StepResult> machine_steps(simulate::ZMap& stock, const Design& design,
                                                     const std::vector<ChainStep>& steps,
-                                                    const gcode::MotionModel& machine);
+                                                    const gcode::MotionModel& machine, bool record_moves = false);
+
+/// The steps' recorded moves as CSV (simulate --moves): a header, then one row per move in program
+/// order — `program` (programs[step], the file's name), `line` (its G-code line; 0 for a built
+/// program), `motion` (G0 G1 G2 G3), its end point `x y z` in the program's own work frame (XY
+/// less `origin`, the post's work origin in millnet's frame; Z as written), `length_mm`,
+/// `cut_mm` and `kind` (rapid, outside, cut, air: MoveRecord). The air rows' lengths of a step sum
+/// to its air_feed_mm. O(moves).
+[[nodiscard]] std::string moves_csv(const std::vector<StepResult>& steps, const std::vector<std::string>& programs,
+                                    const std::array<double, 2>& origin);
 
 /// Machines the steps in order on `stock` (left machined) and scores the surface against the
 /// design (allowance 0: the finished part) with the last step's cutter (none: all material left
@@ -146,7 +175,7 @@ void left_above(const simulate::ZMap& stock, const Design& design, StepResult& s
 /// after it, O(cells) each). O(steps × (moves + cells swept) + cells).
 [[nodiscard]] ChainResult machine_chain(simulate::ZMap& stock, const Design& design,
                                         const std::vector<ChainStep>& steps, const gcode::MotionModel& machine,
-                                        const SimParams& sim, bool score_rest = false);
+                                        const SimParams& sim, bool score_rest = false, bool record_moves = false);
 
 /// A rest step's material over the threshold split by what each tool can reach (issue 41), both
 /// found exactly from the mesh (finish::unreachable_regions: a point-like probe's rest behind the
