@@ -570,15 +570,19 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
   std::optional<detail::RestPoints> left;
   const std::vector<std::vector<Pass>> pieces = detail::trim_to_rest(passes, new_tool, mesh, regions, &left);
   // Then passes aimed at the rest they left where the tool reaches it, within the fence.
+  // A placement reaching one point is kept where the stock's rest was measured by the programs
+  // that left it: each point is then one the rest program's result is judged by.
+  const std::size_t min_points =
+      regions.left && !regions.left->exact_mm.empty() ? tol::rest_aim_min_points_measured : tol::rest_aim_min_points;
   std::vector<Pass> aimed;
   if (left) {
     const detail::Fence fence(mesh, params.boundary);
-    aimed =
-        detail::clip_passes(fence,
-                            detail::aim_at_rest(
-                                mesh, new_tool, *left, params.chord_tolerance_mm,
-                                [&fence](const Eigen::Vector3d& p) { return fence.inside(p); }, params.boundary.z_min),
-                            params.chord_tolerance_mm);
+    aimed = detail::clip_passes(
+        fence,
+        detail::aim_at_rest(
+            mesh, new_tool, *left, params.chord_tolerance_mm,
+            [&fence](const Eigen::Vector3d& p) { return fence.inside(p); }, params.boundary.z_min, min_points),
+        params.chord_tolerance_mm);
   }
   // The pieces nearest first again (pencil pieces first); regions left with pencil passes only.
   std::vector<Pass> pencil, rest;

@@ -70,7 +70,7 @@ Aim nearest_placement(const DropCutter& tool, const Eigen::Vector3d& p, const Ei
 
 std::vector<Pass> aim_at_rest(const ingest::Mesh& mesh, const DropCutter& tool, RestPoints& points,
                               double chord_tolerance_mm, const std::function<bool(const Eigen::Vector3d&)>& allowed,
-                              double lowest_tip) {
+                              double lowest_tip, std::size_t min_points) {
   std::vector<std::size_t> left = points.uncleared();
   // Out of reach below the lowest tip allowed (a point within the threshold of the solid lies at
   // most that below its tip): on s4, the deep walls below the Ø1's stick-out. The same passes.
@@ -87,12 +87,12 @@ std::vector<Pass> aim_at_rest(const ingest::Mesh& mesh, const DropCutter& tool, 
         nearest_placement(tool, points.points()[i], points.normals()[i], tol::rest_aim_within * threshold);
   }
   // 2. In the points' order: a placement that reaches its point, where no placement kept before
-  //    has, and that reaches tol::rest_aim_min_points points not yet cleared, is kept and clears
+  //    has, and that reaches `min_points` points not yet cleared, is kept and clears
   //    them.
   std::vector<Eigen::Vector3d> tips, across;       // across: the tangent along which a lone tip strokes
   for (std::size_t k = 0; k < left.size(); ++k) {  // O(points left · points near)
     if (!(aim[k].gap <= threshold) || points.is_cleared(left[k]) || !allowed(aim[k].tip) ||
-        points.count_at(aim[k].tip) < tol::rest_aim_min_points)
+        points.count_at(aim[k].tip) < min_points)
       continue;
     points.clear_at(aim[k].tip);
     tips.push_back(aim[k].tip);

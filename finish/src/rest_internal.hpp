@@ -2,6 +2,7 @@
 // Rest machining's internals shared by rest.cpp, rest_stock.cpp and pencil.cpp (not installed).
 #include "millnet/finish/dropcutter.hpp"
 #include "millnet/finish/rest.hpp"
+#include "millnet/finish/tolerances.hpp"
 #include "millnet/ingest/mesh.hpp"
 
 #include <Eigen/Core>
@@ -128,7 +129,7 @@ using Apart = std::function<double(const Eigen::Vector3d&, const Eigen::Vector3d
 /// Passes aimed at the points of `points` not cleared yet, where the tool can come within the
 /// threshold of them (rest_aim.cpp): each point's nearest placement by a pattern search over the
 /// drop-cutter's placements, kept in the points' order where its point is still not cleared and it
-/// reaches at least tol::rest_aim_min_points points not cleared (it then clears them), chained
+/// reaches at least `min_points` points not cleared (it then clears them), chained
 /// within tol::rest_aim_link_radii · R and sampled between like any pass (`chord_tolerance_mm`).
 /// The points they reach are cleared. Any thread count. Placements outside `allowed` are not kept
 /// (the rest program's fence), and a point lower than `lowest_tip` less the threshold is not
@@ -137,7 +138,7 @@ using Apart = std::function<double(const Eigen::Vector3d&, const Eigen::Vector3d
 [[nodiscard]] std::vector<Pass> aim_at_rest(const ingest::Mesh& mesh, const DropCutter& tool, RestPoints& points,
                                             double chord_tolerance_mm,
                                             const std::function<bool(const Eigen::Vector3d&)>& allowed,
-                                            double lowest_tip);
+                                            double lowest_tip, std::size_t min_points = tol::rest_aim_min_points);
 
 /// The reference's envelope over the nodes within `reach_mm` of a `near` node (a grid x0 + j·h,
 /// y0 + i·h of nx × ny nodes, its drop-cutter tips `ref_cl`): the lowest of its surfaces over each,

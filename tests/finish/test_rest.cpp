@@ -859,6 +859,30 @@ TEST(RestFinishing, PassesAreAimedAtTheRestThePassesLeftAndOnlyThere) {
   }
 }
 
+// Where every placement that reaches a point is kept (tol::rest_aim_min_points_measured: a rest
+// measured by the programs), the aimed passes leave no point of the V-groove's band that the Ø1
+// reaches — the lone points at the ends of the stretch the default's four-point rule leaves
+// (above) included — and still stay on the drop-cutter's placements.
+TEST(RestFinishing, AimedAtEveryPointWhereOnePointIsEnough) {
+  const VGroove g;
+  const ingest::Mesh& part = g.part;
+  const DropCutter one(part, Cutter::ball(1));
+  const RestRegions r = g.regions(one);
+  const double none = -std::numeric_limits<double>::infinity();
+  auto left_after = [&](std::size_t min_points, std::vector<Pass>* out) {
+    detail::RestPoints points(part, r, Cutter::ball(1), 0.01, kT);
+    *out = detail::aim_at_rest(
+        part, one, points, 0.01, [](const Eigen::Vector3d&) { return true; }, none, min_points);
+    return points.uncleared().size();
+  };
+  std::vector<Pass> four, single;
+  EXPECT_GT(left_after(tol::rest_aim_min_points, &four), 0U);  // the lone points at the ends
+  EXPECT_EQ(left_after(tol::rest_aim_min_points_measured, &single), 0U);
+  ASSERT_FALSE(single.empty());
+  for (const Pass& pass : single)
+    for (const Eigen::Vector3d& q : pass.points) EXPECT_NEAR(q.z(), one.drop(q.x(), q.y()).z, 1e-9);
+}
+
 // The aimed passes' search skips the points below the lowest tip allowed less the threshold (the
 // tool's solid lies on and above its tip): with a fence that keeps tips at or above a height, the
 // skip changes nothing, at four heights; with the lowest tip above every point by more than
