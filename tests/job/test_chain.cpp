@@ -31,19 +31,35 @@ gcode::Move to(Motion m, double x, double y, double z, double feed = 0) {
 }
 
 // A 20 × 20 plate 5 high; stock top 1 above it, so its top is at program Z −1 and the finishing
-// stock (allowance 0.1) at −0.9. The program plunges at X5 (6 mm, cuts 0.1 at its foot), cuts to
-// X15 along Z −1 (10 mm), rapids up to Z 0 and feeds back to X5 above the stock (10 mm of air):
-// air 10 of 26 mm of feed.
+// stock (allowance 0.1) at −0.9, on 0.05 mm cells. The program plunges at X5 (6 mm, cuts 0.1 at its
+// foot), cuts to X15 along Z −1 (10 mm), rapids up to Z 0 and feeds back to X5 above the stock
+// (10 mm of air).
+struct Plate {
+  ingest::Mesh mesh = testing_ingest::box(0, 0, 0, 20, 20, 5);
+  Frame frame = frame_of(mesh, 1.0);
+  SimParams sim = [] {
+    SimParams s;
+    s.cell_mm = 0.05;
+    return s;
+  }();
+  Design design = design_surface(mesh, frame, sim);
+  gcode::Program program = [] {
+    gcode::Program p;
+    p.items = {to(Motion::Rapid, 5, 10, 5), to(Motion::Line, 5, 10, -1, 300), to(Motion::Line, 15, 10, -1, 300),
+               to(Motion::Rapid, 15, 10, 0), to(Motion::Line, 5, 10, 0, 300)};
+    return p;
+  }();
+  [[nodiscard]] simulate::ZMap stock() const { return finishing_stock(design, frame, sim); }
+};
+
+// The plate's program: air 10 of 26 mm of feed.
 TEST(JobChain, AirCutShareIsTheFeedLengthThatRemovesNothing) {
-  const ingest::Mesh plate = testing_ingest::box(0, 0, 0, 20, 20, 5);
-  const Frame frame = frame_of(plate, 1.0);
-  SimParams sim;
-  sim.cell_mm = 0.05;
-  const Design design = design_surface(plate, frame, sim);
-  simulate::ZMap stock = finishing_stock(design, frame, sim);
-  gcode::Program p;
-  p.items = {to(Motion::Rapid, 5, 10, 5), to(Motion::Line, 5, 10, -1, 300), to(Motion::Line, 15, 10, -1, 300),
-             to(Motion::Rapid, 15, 10, 0), to(Motion::Line, 5, 10, 0, 300)};
+  const Plate c;
+  const Design& design = c.design;
+  const Frame& frame = c.frame;
+  const SimParams& sim = c.sim;
+  const gcode::Program& p = c.program;
+  simulate::ZMap stock = c.stock();
   const std::vector<ChainStep> steps{{&p, Cutter::ball(2)}};
   const std::vector<StepResult> r = machine_steps(stock, design, steps, gcode::MotionModel{});
   ASSERT_EQ(r.size(), 1U);
@@ -86,15 +102,12 @@ TEST(JobChain, AirCutShareIsTheFeedLengthThatRemovesNothing) {
 // plunge (cuts the 0.1 mm allowance at its foot), the 10 mm cut, the rapid up and the 10 mm of air —
 // and written as CSV in the program's own frame (XY less the work origin).
 TEST(JobChain, EveryMoveIsRecordedWithWhatItCutAndTheAirRowsSumToTheAirFeed) {
-  const ingest::Mesh plate = testing_ingest::box(0, 0, 0, 20, 20, 5);
-  const Frame frame = frame_of(plate, 1.0);
-  SimParams sim;
-  sim.cell_mm = 0.05;
-  const Design design = design_surface(plate, frame, sim);
-  simulate::ZMap stock = finishing_stock(design, frame, sim);
-  gcode::Program p;
-  p.items = {to(Motion::Rapid, 5, 10, 5), to(Motion::Line, 5, 10, -1, 300), to(Motion::Line, 15, 10, -1, 300),
-             to(Motion::Rapid, 15, 10, 0), to(Motion::Line, 5, 10, 0, 300)};
+  const Plate c;
+  const Design& design = c.design;
+  const Frame& frame = c.frame;
+  const SimParams& sim = c.sim;
+  const gcode::Program& p = c.program;
+  simulate::ZMap stock = c.stock();
   const std::vector<StepResult> r = machine_steps(stock, design, {{&p, Cutter::ball(2)}}, gcode::MotionModel{}, true);
   ASSERT_EQ(r.size(), 1U);
   const std::vector<MoveRecord>& m = r[0].moves;
