@@ -149,40 +149,51 @@ Sample Fence::crossing(const Sample& in, const Sample& out) const {
 
 std::vector<std::vector<Sample>> Fence::clip(std::vector<std::vector<Sample>> lines) const {
   if (!active_) return lines;
+  // Each line on its own (in parallel: a point's test scans the faces of its grid cell), then the
+  // pieces in the lines' order: the same passes for any thread count.
+  std::vector<std::vector<std::vector<Sample>>> pieces(lines.size());
+#pragma omp parallel for schedule(dynamic, 16) if (lines.size() > 1)
+  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(lines.size()); ++k)
+    pieces[static_cast<std::size_t>(k)] = clip_line(std::move(lines[static_cast<std::size_t>(k)]));
   std::vector<std::vector<Sample>> out;
-  for (std::vector<Sample>& line : lines) {  // O(points)
-    std::vector<char> in(line.size());
-    bool all = true;
-    for (std::size_t i = 0; i < line.size(); ++i) all = (in[i] = inside(line[i].p) ? 1 : 0) != 0 && all;
-    if (all) {
-      out.push_back(std::move(line));
-      continue;
-    }
-    std::vector<std::vector<Sample>> pieces;
-    std::vector<Sample> cur;
-    if (in[0] != 0) cur.push_back(line[0]);
-    for (std::size_t i = 1; i < line.size(); ++i) {
-      if (in[i - 1] != 0 && in[i] != 0) {
-        cur.push_back(line[i]);
-      } else if (in[i - 1] != 0) {  // leaves
-        cur.push_back(crossing(line[i - 1], line[i]));
-        pieces.push_back(std::move(cur));
-        cur.clear();
-      } else if (in[i] != 0) {  // comes back
-        cur = {crossing(line[i], line[i - 1]), line[i]};
-      }
-    }
-    if (!cur.empty()) pieces.push_back(std::move(cur));
-    // A closed loop that starts inside: its last piece runs on into its first.
-    if (is_closed(line) && in[0] != 0 && pieces.size() > 1) {
-      std::vector<Sample>& last = pieces.back();
-      last.insert(last.end(), pieces.front().begin() + 1, pieces.front().end());
-      pieces.front() = std::move(last);
-      pieces.pop_back();
-    }
-    for (std::vector<Sample>& piece : pieces)
-      if (piece.size() >= 2 && polyline_length(piece) >= tol::min_pass_mm) out.push_back(std::move(piece));
+  for (auto& line_pieces : pieces)  // O(pieces)
+    for (std::vector<Sample>& piece : line_pieces) out.push_back(std::move(piece));
+  return out;
+}
+
+std::vector<std::vector<Sample>> Fence::clip_line(std::vector<Sample> line) const {
+  std::vector<std::vector<Sample>> out;
+  std::vector<char> in(line.size());
+  bool all = true;
+  for (std::size_t i = 0; i < line.size(); ++i) all = (in[i] = inside(line[i].p) ? 1 : 0) != 0 && all;  // O(points)
+  if (all) {
+    out.push_back(std::move(line));
+    return out;
   }
+  std::vector<std::vector<Sample>> pieces;
+  std::vector<Sample> cur;
+  if (in[0] != 0) cur.push_back(line[0]);
+  for (std::size_t i = 1; i < line.size(); ++i) {
+    if (in[i - 1] != 0 && in[i] != 0) {
+      cur.push_back(line[i]);
+    } else if (in[i - 1] != 0) {  // leaves
+      cur.push_back(crossing(line[i - 1], line[i]));
+      pieces.push_back(std::move(cur));
+      cur.clear();
+    } else if (in[i] != 0) {  // comes back
+      cur = {crossing(line[i], line[i - 1]), line[i]};
+    }
+  }
+  if (!cur.empty()) pieces.push_back(std::move(cur));
+  // A closed loop that starts inside: its last piece runs on into its first.
+  if (is_closed(line) && in[0] != 0 && pieces.size() > 1) {
+    std::vector<Sample>& last = pieces.back();
+    last.insert(last.end(), pieces.front().begin() + 1, pieces.front().end());
+    pieces.front() = std::move(last);
+    pieces.pop_back();
+  }
+  for (std::vector<Sample>& piece : pieces)
+    if (piece.size() >= 2 && polyline_length(piece) >= tol::min_pass_mm) out.push_back(std::move(piece));
   return out;
 }
 

@@ -32,7 +32,7 @@ public:
   /// and starts again at the crossing where it comes back; a closed loop cut open is rejoined across
   /// its start (one piece, not two). Pieces shorter than tol::min_pass_mm are dropped. A segment
   /// whose ends are inside is kept whole (segments are CL sampling steps here, ≤ 0.25 mm).
-  /// O(points · log(step / tol)).
+  /// O(points · log(step / tol)), the lines in parallel.
   [[nodiscard]] std::vector<std::vector<Sample>> clip(std::vector<std::vector<Sample>> lines) const;
 
 private:
@@ -42,6 +42,8 @@ private:
   [[nodiscard]] bool over_part(double x, double y) const;
   [[nodiscard]] bool in_polygons(double x, double y) const;
   [[nodiscard]] Sample crossing(const Sample& in, const Sample& out) const;
+  /// clip() of one line.
+  [[nodiscard]] std::vector<std::vector<Sample>> clip_line(std::vector<Sample> line) const;
 
   bool active_ = false;
   Boundary boundary_;  ///< its polygons (the rest is kept below)

@@ -110,7 +110,9 @@ const char* group_name(char letter, int group) {
 struct Word {
   char letter = 0;
   double value = 0;
-  std::string text;  ///< as written, for messages
+  std::string_view number;  ///< as written (a view into the line being read)
+  /// The word for messages: its letter upper-cased and its number as written.
+  [[nodiscard]] std::string text() const { return std::string(1, letter) + std::string(number); }
 };
 
 /// One line split into words and comment texts.
@@ -179,19 +181,18 @@ private:
       std::size_t k = j;
       if (k < s.size() && (s[k] == '+' || s[k] == '-')) ++k;
       while (k < s.size() && ((s[k] >= '0' && s[k] <= '9') || s[k] == '.')) ++k;
-      std::string num(s.substr(j, k - j));
       Word w;
       w.letter = L;
-      w.text = std::string(1, L) + num;
-      std::string digits = num;
-      if (!digits.empty() && digits.front() == '+') digits.erase(0, 1);
+      w.number = s.substr(j, k - j);
+      std::string_view digits = w.number;  // from_chars takes no '+'
+      if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
       const char* first = digits.data();
       const char* last = digits.data() + digits.size();
       const auto [ptr, ec] = std::from_chars(first, last, w.value);
       if (!digits.empty() && (ec == std::errc::result_out_of_range || (ec == std::errc() && !std::isfinite(w.value))))
-        fail("word " + quote(w.text) + ": the number does not fit a double");
+        fail("word " + quote(w.text()) + ": the number does not fit a double");
       if (digits.empty() || ec != std::errc() || ptr != last || !std::isfinite(w.value))
-        fail("word " + quote(w.text) + " has no valid number" +
+        fail("word " + quote(w.text()) + " has no valid number" +
              (k == j && k < s.size() ? " (followed by '" + quote(s.substr(k, 1)) + "')" : ""));
       out.words.push_back(std::move(w));
       i = k;
@@ -303,8 +304,8 @@ private:
       if (group < 0) return;
       const auto g = static_cast<std::size_t>(group);
       if (seen[g])
-        fail("two " + std::string(1, w.letter) + "-codes of one modal group on the line: " + quote(seen[g]->text) +
-             " and " + quote(w.text) + " (" + group_name(w.letter, group) + ")");
+        fail("two " + std::string(1, w.letter) + "-codes of one modal group on the line: " + quote(seen[g]->text()) +
+             " and " + quote(w.text()) + " (" + group_name(w.letter, group) + ")");
       seen[g] = &w;
     };
     for (const Word& w : ln.words) {
@@ -341,14 +342,14 @@ private:
           else if (is(w.value, 91))
             incremental_ = true;
           else
-            fail("unsupported word " + quote(w.text));
+            fail("unsupported word " + quote(w.text()));
           break;
         case 'M':
           if (is(w.value, 0) || is(w.value, 1) || is(w.value, 2) || is(w.value, 3) || is(w.value, 4) ||
               is(w.value, 5) || is(w.value, 6) || is(w.value, 8) || is(w.value, 9) || is(w.value, 30))
             out.m_codes.push_back(static_cast<int>(std::lround(w.value)));
           else
-            fail("unsupported word " + quote(w.text));
+            fail("unsupported word " + quote(w.text()));
           break;
         case 'X': once(out.axis[0], w); break;
         case 'Y': once(out.axis[1], w); break;
@@ -363,9 +364,9 @@ private:
         case 'Q': once(out.q_word, w); break;
         case 'N': break;
         case 'O':  // a Fanuc program number is read only alone on its line, before any other word (line())
-          fail("O-word " + quote(w.text) +
+          fail("O-word " + quote(w.text()) +
                ": only a program number alone on the first line with words is read (no subroutines)");
-        default: fail("unsupported word " + quote(w.text));
+        default: fail("unsupported word " + quote(w.text()));
       }
     }
     return out;

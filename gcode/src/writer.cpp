@@ -182,10 +182,12 @@ public:
       pending_length_offset_ = 0;
     }
     static constexpr std::array<char, 3> kAxis{'X', 'Y', 'Z'};
+    std::array<std::string, 3> stated;  // the text of each axis the block states
     for (std::size_t a = 0; a < 3; ++a) {
       if ((m.axes & (1U << a)) == 0 && !(arc && a < 2)) continue;
-      if (!known_[a] || num(out(a, m.to[a])) != num(out(a, pos_[a])) || (arc && a < 2) || (compensate && a == 2)) {
-        os_ << " " << kAxis[a] << num(out(a, m.to[a]));
+      stated[a] = num(out(a, m.to[a]));
+      if (!known_[a] || stated[a] != pos_text(a) || (arc && a < 2) || (compensate && a == 2)) {
+        os_ << " " << kAxis[a] << stated[a];
         known_[a] = true;
       }
     }
@@ -199,7 +201,11 @@ public:
     // whatever the move's `to` says of it: a program composed of others' items, such as a job's
     // operations, may carry another program's idea of it).
     for (std::size_t a = 0; a < 3; ++a)
-      if ((m.axes & (1U << a)) != 0 || (arc && a < 2)) pos_[a] = m.to[a];
+      if ((m.axes & (1U << a)) != 0 || (arc && a < 2)) {
+        pos_[a] = m.to[a];
+        pos_text_[a] = std::move(stated[a]);
+        pos_text_known_[a] = true;
+      }
   }
   void operator()(const Spindle& s) {
     finite(s.rpm, "spindle speed");
@@ -287,6 +293,7 @@ public:
     cycle_z_ = h.bottom_z, cycle_r_ = h.r_z, cycle_q_ = h.peck_mm;
     last_feed_ = h.feed;
     pos_ = want.back().to;
+    pos_text_known_ = {false, false, false};
     return want.size();
   }
 
@@ -304,6 +311,14 @@ public:
 
 private:
   std::string num(double v) const { return point(format_number(v, d_.decimals)); }
+  /// num() of axis a's position as the controller knows it, formatted once per position.
+  const std::string& pos_text(std::size_t a) {
+    if (!pos_text_known_[a]) {
+      pos_text_[a] = num(out(a, pos_[a]));
+      pos_text_known_[a] = true;
+    }
+    return pos_text_[a];
+  }
   /// Axis a's value as written: in the work frame (X Y less the origin), in the program's units.
   double out(std::size_t a, double v) const { return (a < 2 ? v - d_.origin[a] : v) * unit_; }
   /// "10" → "10." where the dialect wants a decimal point on every number.
@@ -319,6 +334,8 @@ private:
   double unit_;  ///< program units per mm
   std::ostringstream os_;
   Point3 pos_{0, 0, 0};
+  std::array<std::string, 3> pos_text_;  ///< num() of pos_, where pos_text_known_
+  std::array<bool, 3> pos_text_known_{false, false, false};
   std::array<bool, 3> known_{false, false, false};
   double last_feed_ = -1;
   int pending_length_offset_ = 0;                   ///< the tool whose G43 H the next move carries (0: none)

@@ -170,6 +170,20 @@ TEST(DrillCycles, WrittenAsCyclesOnLinuxCncAndFanucAsMovesOnGrblAndReadBackTheSa
       << text;
 }
 
+// After a cycle block the controller stands over the last hole, not where the writer last stated
+// X and Y: a move back to that earlier place states them again (the writer formats each axis's
+// position once and must forget it across a cycle), and read back it goes there.
+TEST(DrillCycles, AMoveBackToWhereTheToolStoodBeforeTheHoleStatesItsXAndY) {
+  const Program p = read("G21 G90\nG0 X0 Y0 Z5\nG98 G81 X10 Y5 Z-2 R1 F100\nG80\nG0 X0 Y0\nM30\n", "drill.nc");
+  const std::string text = write(p, linuxcnc());
+  EXPECT_NE(text.find("G98 G81 X10 Y5 Z-2 R1 F100\nG80\nG0 X0 Y0\n"), std::string::npos) << text;
+  const std::vector<Move> back = moves_of(read(text, "drill.nc"));
+  ASSERT_FALSE(back.empty());
+  EXPECT_EQ(back.back().to[0], 0.0) << text;
+  EXPECT_EQ(back.back().to[1], 0.0) << text;
+  EXPECT_EQ(back.back().to[2], 5.0) << text;
+}
+
 TEST(DrillCycles, WhatLinuxCncRefusesIsOneLine) {
   const std::string pre = "G21 G90\nG0 X0 Y0 Z5\n";
   EXPECT_NE(error_of(pre + "G83 X1 Y1 Z-5 R1 F100\n").find("drill.nc:3: G83 without a Q word > 0"), std::string::npos);
