@@ -281,7 +281,7 @@ std::vector<StepResult> machine_steps(simulate::ZMap& stock, const Design& desig
         close_run();
       } else {
         st.feed_mm += len[i];
-        if (len[i] > 0 && cut < kAirCutMm) {
+        if (cut < kAirCutMm) {  // (a move of no length that cuts nothing is air too: it adds 0 mm)
           kind = MoveRecord::Kind::Air;
           st.air_feed_mm += len[i];
           run += len[i];

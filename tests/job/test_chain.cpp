@@ -146,6 +146,18 @@ TEST(JobChain, EveryMoveIsRecordedWithWhatItCutAndTheAirRowsSumToTheAirFeed) {
   EXPECT_EQ(rows[3], "plate.nc,0,G1,13.0000,7.0000,-1.0000,10.000000,0.099687,cut");
   EXPECT_EQ(rows[4], "plate.nc,0,G0,13.0000,7.0000,0.0000,1.000000,0.000000,rapid");
   EXPECT_EQ(rows[5], "plate.nc,0,G1,3.0000,7.0000,0.0000,10.000000,0.000000,air");
+  // A feed move of no length where the tool stands (it lowers nothing) is air of 0 mm, not a cut.
+  gcode::Program still = p;
+  const gcode::Move& last = std::get<gcode::Move>(p.items.back());
+  still.items.push_back(to(Motion::Line, last.to[0], last.to[1], last.to[2], 300));
+  simulate::ZMap third = finishing_stock(design, frame, sim);
+  const std::vector<StepResult> r4 =
+      machine_steps(third, design, {{&still, Cutter::ball(2)}}, gcode::MotionModel{}, true);
+  ASSERT_EQ(r4[0].moves.size(), 6U);
+  EXPECT_EQ(r4[0].moves.back().kind, K::Air);
+  EXPECT_EQ(r4[0].moves.back().length_mm, 0.0);
+  EXPECT_EQ(r4[0].air_feed_mm, r[0].air_feed_mm);
+  EXPECT_EQ(r4[0].feed_mm, r[0].feed_mm);
 }
 
 // Asked for, a last program with a smaller tool than a finishing one before it is rest machining,
