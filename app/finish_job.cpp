@@ -168,7 +168,7 @@ void path_png(const fs::path& path, const PartJob& job, const gcode::Program& pr
 
 /// One planned strategy written (program, metrics, pictures, page) and, with settings.simulate,
 /// machined on the z-map and scored (job::score_program).
-job::StrategyOutcome strategy_outcome(const job::Part& part, const FinishSettings& settings, const PartJob& job,
+job::StrategyOutcome strategy_outcome(const job::Part& part, const FinishSettings& settings, PartJob& job,
                                       const finish::FinishPlan& plan, const fs::path& out,
                                       const finish::FinishParams& params) {
   const std::string& stem = part.name;
@@ -184,7 +184,8 @@ job::StrategyOutcome strategy_outcome(const job::Part& part, const FinishSetting
   path_png(out / (base + ".png"), job, plan.program, title);
   std::optional<report::PreviewSurface> surface;
   if (job.design) {  // the program as the machine gets it: the text written, read back
-    job::Scored s = job::score_program(*job.design, job.frame, written.program, job.params.tool, sim_params(settings));
+    job::Scored s = job::score_program(*job.design, job.frame, written.program, job.params.tool, sim_params(settings),
+                                       std::move(job.spare));
     if (preview_settings().enabled) surface = preview_surface(s.machined, job.design->heights);
     if (s.metrics.gouge_places_refuted > 0)
       info(base + ".nc: " + std::to_string(s.metrics.gouge_places_refuted) +
@@ -193,6 +194,7 @@ job::StrategyOutcome strategy_outcome(const job::Part& part, const FinishSetting
     ra_png(out / (base + ".ra.png"), job.design->grid, s.metrics, title + ", roughness Ra");
     std::vector<float>().swap(s.metrics.ra_um);  // drawn; not copied into the outcome (4 B per cell)
     job::add_simulation(o, s, job.design->grid);
+    job.spare = std::move(s.machined);
   }
   write_file_atomic(out / program_file_name(base, o), written.text);
   report::PreviewInput page;  // the 3D page of the program (issue 16), with its machined surface when simulated
@@ -503,6 +505,7 @@ std::vector<job::StrategyOutcome> plan_and_write(const job::Part& part, const Fi
     plans[i] = {};
     progress.tick();
   }
+  job.spare = {};  // not kept past the strategies (rest and pencil planning come next)
   return outcomes;
 }
 }  // namespace

@@ -43,6 +43,7 @@ struct PartJob {
   ingest::HeightField hf;
   Eigen::MatrixXd heights;
   std::optional<job::Design> design;
+  simulate::ZMap spare;  ///< the machined z-map of the strategy scored last: its memory reused
 };
 
 /// The frame, the holder check, the parameters in the frame and (unless `with_dropper` is false:

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
 
 namespace millnet::job {
 
@@ -89,15 +90,15 @@ Design design_surface(const ingest::Mesh& mesh, const Frame& frame, const SimPar
   return d;
 }
 
-simulate::ZMap finishing_stock(const Design& design, const Frame& frame, const SimParams& sim) {
+simulate::ZMap finishing_stock(const Design& design, const Frame& frame, const SimParams& sim, simulate::ZMap reuse) {
   return simulate::ZMap::from_heights(design.grid, design.heights, sim.allowance_mm, frame.z_shift() + sim.allowance_mm,
-                                      sim.max_bytes());
+                                      sim.max_bytes(), std::move(reuse));
 }
 
 Scored score_program(const Design& design, const Frame& frame, const gcode::Program& program,
-                     const tooling::Cutter& cutter, const SimParams& sim) {
+                     const tooling::Cutter& cutter, const SimParams& sim, simulate::ZMap reuse) {
   Scored s;
-  s.machined = finishing_stock(design, frame, sim);
+  s.machined = finishing_stock(design, frame, sim, std::move(reuse));
   const simulate::SweepResult sw = simulate::machine(s.machined, program, cutter);
   s.cutting_rapids = sw.cutting_rapids.size();
   s.max_depth_of_cut_mm = sw.item_max_engage_mm.empty()
@@ -258,15 +259,17 @@ std::vector<StrategyFigures> score_strategies(const ingest::Mesh& mesh, const Fr
   const Design design = design_surface(mesh, frame, sim);
   std::vector<StrategyFigures> out;
   std::vector<simulate::StrategyScore> scores;
+  simulate::ZMap spare;                     // the z-map of the strategy before: its memory reused
   for (finish::FinishPlan& plan : plans) {  // O(strategies × (program + z-map))
     const int slot = static_cast<int>(plan.strategy);
     const gcode::Written w =
         gcode::written(plan.program, post, plan.program.header.empty() ? "" : plan.program.header[0]);
     const double time = gcode::stats(plan.program, machine).kinematic_time_min;
-    const Scored s = score_program(design, frame, w.program, cutter, sim);
+    Scored s = score_program(design, frame, w.program, cutter, sim, std::move(spare));
     scores.push_back(strategy_score(slot, time, s, design.grid.cell));
     out.push_back({slot, scores.back(), 0});
     plan = {};  // its program and passes freed before the next is machined
+    spare = std::move(s.machined);
   }
   const Ranked r = rank_scores(scores, aim);
   const std::vector<double> score = simulate::aim_scores(scores, r.order, aim);

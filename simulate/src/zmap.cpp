@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
+#include <utility>
 
 namespace millnet::simulate {
 
@@ -39,14 +41,23 @@ WorkEstimate zmap_work(const GridSpec& spec, double extra_bytes_per_cell) {
   return e;
 }
 
-ZMap ZMap::flat(const GridSpec& spec, double top, std::size_t max_bytes) {
+namespace {
+void check_size(const GridSpec& spec, std::size_t max_bytes) {
   spec.check();
-  if (!std::isfinite(top)) throw Error("z-map: stock top must be finite");
-  const std::size_t need = bytes_needed(spec);
+  const std::size_t need = ZMap::bytes_needed(spec);
   if (need > max_bytes)
     throw Error("z-map: " + std::to_string(spec.nx) + " x " + std::to_string(spec.ny) + " cells at " +
                 std::to_string(spec.cell) + " mm need " + mib(need) + ", above the limit of " + mib(max_bytes) +
                 " (use a coarser cell or a smaller region)");
+}
+}  // namespace
+
+ZMap ZMap::flat(const GridSpec& spec, double top, std::size_t max_bytes) {
+  if (!std::isfinite(top)) {
+    spec.check();
+    throw Error("z-map: stock top must be finite");
+  }
+  check_size(spec, max_bytes);
   ZMap m;
   m.spec_ = spec;
   m.z_.assign(spec.cells(), top);
@@ -56,12 +67,29 @@ ZMap ZMap::flat(const GridSpec& spec, double top, std::size_t max_bytes) {
 
 ZMap ZMap::from_heights(const GridSpec& spec, const std::vector<double>& heights, double offset, double nan_fill,
                         std::size_t max_bytes) {
+  return from_heights(spec, heights, offset, nan_fill, max_bytes, ZMap{});
+}
+
+ZMap ZMap::from_heights(const GridSpec& spec, const std::vector<double>& heights, double offset, double nan_fill,
+                        std::size_t max_bytes, ZMap&& reuse) {
   spec.check();
   if (heights.size() != spec.cells())
     throw Error("z-map: height field has " + std::to_string(heights.size()) + " values, the grid " +
                 std::to_string(spec.cells()));
-  ZMap m = flat(spec, 0, max_bytes);
-  for (std::size_t i = 0; i < heights.size(); ++i) m.z_[i] = std::isnan(heights[i]) ? nan_fill : heights[i] + offset;
+  check_size(spec, max_bytes);
+  ZMap m;
+  m.spec_ = spec;
+  m.z_ = std::move(reuse.z_);  // its capacity (the new values are all written below)
+  m.stamp_ = std::move(reuse.stamp_);
+  m.z_.resize(spec.cells());
+  m.stamp_.resize(spec.cells());
+  const auto n = static_cast<std::int64_t>(heights.size());
+#pragma omp parallel for schedule(static) if (n > 65536)
+  for (std::int64_t k = 0; k < n; ++k) {  // O(cells)
+    const auto i = static_cast<std::size_t>(k);
+    m.z_[i] = std::isnan(heights[i]) ? nan_fill : heights[i] + offset;
+    m.stamp_[i] = 0;
+  }
   return m;
 }
 

@@ -567,6 +567,40 @@ TEST(ZMap, StockFromHeightFieldAddsTheAllowance) {
   EXPECT_EQ(zm.at(2, 1), 5.5);
 }
 
+// A stock made in the memory of a z-map already machined (a part's strategies one after another)
+// is the stock made afresh: its heights, no stamps, no passes — and machining it again gives the
+// same heights and stamps, stamps numbered from the first as on a fresh one. From a z-map of
+// another grid too, and the reused one is left empty.
+TEST(ZMap, AStockInTheMemoryOfAMachinedOneIsTheFreshStock) {
+  const GridSpec g{0, 0, 0.1, 60, 40};
+  std::vector<double> design(g.cells());
+  for (std::size_t i = 0; i < design.size(); ++i) design[i] = i % 7 == 0 ? kNaN : -0.001 * static_cast<double>(i % 13);
+  Program p;
+  add(p, mv(Motion::Rapid, 1, 1, 1));
+  add(p, mv(Motion::Line, 1, 1, -0.2));
+  add(p, mv(Motion::Line, 5, 3, -0.3));
+  const auto c = tooling::Cutter::ball(2);
+  ZMap fresh = ZMap::from_heights(g, design, 0.1, -2);
+  for (const GridSpec& before : {g, GridSpec{0, 0, 0.2, 10, 10}}) {
+    ZMap used = ZMap::flat(before, 0.5);
+    machine(used, p, c);
+    ASSERT_EQ(used.passes(), 1U);
+    ZMap again = ZMap::from_heights(g, design, 0.1, -2, kZMapMaxBytes, std::move(used));
+    EXPECT_EQ(again.heights(), fresh.heights());
+    EXPECT_EQ(again.stamps(), fresh.stamps());
+    EXPECT_EQ(again.passes(), 0U);
+    EXPECT_TRUE(used.heights().empty());  // NOLINT(bugprone-use-after-move): its memory was taken
+    ZMap a = fresh, b = std::move(again);
+    const SweepResult ra = machine(a, p, c), rb = machine(b, p, c);
+    EXPECT_EQ(a.heights(), b.heights());
+    EXPECT_EQ(a.stamps(), b.stamps());
+    EXPECT_EQ(ra.item_max_cut_mm, rb.item_max_cut_mm);
+    MoveRef ref;
+    ASSERT_TRUE(b.origin(static_cast<std::size_t>(20 * g.nx + 30), ref));
+    EXPECT_EQ(ref.item, 2U);  // the cut from (1, 1) to (5, 3) lowered the cell at (3.05, 2.05) last
+  }
+}
+
 TEST(ZMap, PolylinesWithSharedJointsMatchDenseSampling) {
   // Up and down chords, valleys and peaks, a vertical move and a planar arc in the chain: the
   // joint spheres are applied once (half caps skipped) and the result must still be exact.

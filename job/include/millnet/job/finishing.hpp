@@ -81,7 +81,9 @@ void judge_within(Design& design, const finish::Boundary& boundary_program_frame
 
 /// The stock a finishing program starts from: the design + allowance (off the part: the allowance
 /// above the part's lowest point, where the table would be).
-[[nodiscard]] simulate::ZMap finishing_stock(const Design& design, const Frame& frame, const SimParams& sim);
+/// `reuse`: a z-map no longer needed whose memory it takes (simulate::ZMap::from_heights).
+[[nodiscard]] simulate::ZMap finishing_stock(const Design& design, const Frame& frame, const SimParams& sim,
+                                             simulate::ZMap reuse = {});
 
 /// One program machined and its surface measured.
 struct Scored {
@@ -94,9 +96,10 @@ struct Scored {
 /// Machines `program` (as written: gcode::Written::program, so that gouges name their lines) with
 /// `cutter` on the finishing stock and scores the surface against the design; the z-map's gouges
 /// are confirmed or refuted by the exact check (design.solid), so metrics.gouged is a real gouge.
-/// Writes nothing.
+/// Writes nothing. `reuse`: the machined z-map of a program scored before, no longer needed (its
+/// memory is taken over: finishing_stock).
 [[nodiscard]] Scored score_program(const Design& design, const Frame& frame, const gcode::Program& program,
-                                   const tooling::Cutter& cutter, const SimParams& sim);
+                                   const tooling::Cutter& cutter, const SimParams& sim, simulate::ZMap reuse = {});
 
 /// The figures an aim ranks a strategy by (simulate::rank_strategies).
 [[nodiscard]] simulate::StrategyScore strategy_score(int slot, double time_min, const Scored& scored, double cell_mm);

@@ -70,6 +70,11 @@ public:
   /// NaN heights (no surface) become `nan_fill`. Throws on a size mismatch or above the limit.
   [[nodiscard]] static ZMap from_heights(const GridSpec& spec, const std::vector<double>& heights, double offset = 0,
                                          double nan_fill = 0, std::size_t max_bytes = kZMapMaxBytes);
+  /// The same z-map in the memory of `reuse`, a z-map no longer needed (any grid): its pages are
+  /// not allocated and faulted in again (a part's strategies are machined one after another on
+  /// stocks of one grid).
+  [[nodiscard]] static ZMap from_heights(const GridSpec& spec, const std::vector<double>& heights, double offset,
+                                         double nan_fill, std::size_t max_bytes, ZMap&& reuse);
   // A previous simulation is simply a ZMap: copy it (or keep machining the same object).
 
   [[nodiscard]] const GridSpec& spec() const { return spec_; }
