@@ -146,9 +146,6 @@ bool known(const gcode::Point3& p) { return std::isfinite(p[0]) && std::isfinite
 std::vector<Seg> primitives(const gcode::Program& program, const Profile& P, const SweepOptions& opt,
                             std::uint32_t first_serial, std::vector<std::array<double, 3>>& across, SweepResult& res) {
   std::vector<Seg> segs;
-  // One primitive a move but a helix's chords: reserved at once, not regrown (a finishing program
-  // has ~10⁶ moves of ~260 bytes each: every regrowth copied what was there).
-  segs.reserve(program.items.size());
   gcode::Point3 pos = opt.start;
   for (std::size_t it = 0; it < program.items.size(); ++it) {
     const auto* mv = std::get_if<gcode::Move>(&program.items[it]);
