@@ -398,6 +398,7 @@ void write_extra_program(const job::Part& part, const FinishSettings& settings, 
   const gcode::ProgramStats st = gcode::stats(plan.program, settings.machine);
   figures["path_length_mm"] = plan.path_length_mm;
   figures["lifts"] = plan.lifts;
+  figures["hops"] = plan.hops;
   figures["passes"] = plan.passes.size();
   figures["time_min"] = st.feed_time_min;
   figures["time_kinematic_min"] = st.kinematic_time_min;

@@ -57,7 +57,12 @@ std::optional<gcode::Program> job_rest_program(const job::Part& part, const Fini
              fixed(job.frame.depth_below_top(reach.lowest_z), 1) + " mm below the stock top, beyond the tool's " +
              format_double(rest_tool.reach_mm) + " mm stick-out: cut to its reach, the rest below it left";
   }
-  return finish::plan_rest(part.mesh, dropper, r, "the stock the finishing leaves", p).program;
+  try {
+    return finish::plan_rest(part.mesh, dropper, r, "the stock the finishing leaves", p).program;
+  } catch (const finish::NoRestToCut&) {  // what the regions hold no pass of the tool removes: said
+    why += ", but no pass of " + rest_tool.describe() + " removes any of it: no rest operation";
+    return std::nullopt;
+  }
 }
 
 std::optional<job::Operation> rest_operation(const job::Part& part, const FinishSettings& settings,

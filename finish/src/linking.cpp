@@ -3,7 +3,8 @@
 // link plus the clearance, across at rapid, down at rapid to the clearance, plunge at the plunge
 // feed), the end at safe Z. Over a stock (FinishParams::stock_tip, rest finishing) the lifts clear
 // the stock too, the rapid down stops tol::rest_approach_mm above it instead of the clearance, and
-// a short link stays down only when that is quicker on the machine (FinishParams::motion) than a lift.
+// a short link stays down only when that is quicker on the machine (FinishParams::motion) than a lift;
+// where it stays down, its runs through air (FinishParams::stock_cut_depth) are hopped over.
 #include "boundary.hpp"
 #include "sampling.hpp"
 
@@ -68,6 +69,49 @@ double moves_time_s(const gcode::Point3& from, const std::vector<gcode::Move>& m
   prog.items.emplace_back(at);
   for (const gcode::Move& mv : moves) prog.items.emplace_back(mv);  // O(moves)
   return gcode::stats(prog, m).kinematic_time_min * 60;
+}
+
+/// A stay-down link's moves from `from` through `path` (its samples, on one XY line, and the next
+/// pass's start), each run of moves through air (FinishParams::stock_cut_depth under
+/// tol::rest_air_cut_mm) at least tol::rest_air_hop_radii tool radii long hopped instead, when a
+/// move that cuts follows it on the link: up at rapid from the last place that cut to
+/// tol::rest_approach_mm over the run's highest sample and that move's cut, across, and down at the
+/// plunge feed into where that move ends. Safe by the stock being a height field: a tool raised
+/// over a place where it cuts nothing (the run), or over the most it would cut (the move after),
+/// cuts nothing. O(path · placements).
+void link_with_hops(const FinishParams& p, Builder& b, const Eigen::Vector3d& from,
+                    const std::vector<Eigen::Vector3d>& path, FinishPlan& plan) {
+  const double hop_min = tol::rest_air_hop_radii * p.tool.radius();
+  Eigen::Vector3d at = from;
+  std::size_t k = 0;
+  while (k < path.size()) {  // O(path)
+    std::size_t e = k;       // the run of moves through air from here: [k, e)
+    double len = 0;
+    if (p.stock_cut_depth) {
+      Eigen::Vector3d q = at;
+      while (e < path.size() && p.stock_cut_depth(q, path[e]) < tol::rest_air_cut_mm) {
+        len += (path[e] - q).norm();
+        q = path[e++];
+      }
+    }
+    if (e > k && e < path.size() && len >= hop_min) {
+      const Eigen::Vector3d &last = path[e - 1], &to = path[e];
+      double top = std::max(at.z(), to.z());
+      for (std::size_t i = k; i < e; ++i) top = std::max(top, path[i].z());
+      const double hop = std::min(top + p.stock_cut_depth(last, to) + tol::rest_approach_mm, p.safe_z_mm - p.z_shift);
+      b.rapid(at.x(), at.y(), hop, gcode::kZ);
+      b.rapid(to.x(), to.y(), hop, gcode::kX | gcode::kY);
+      b.line(to, p.plunge_feed_mm_min);
+      ++plan.lifts;
+      ++plan.hops;
+      at = to;
+      k = e + 1;
+      continue;
+    }
+    const std::size_t upto = std::max(e, k + 1);  // a short run (or one at the link's end) at feed
+    for (; k < upto; ++k) b.line(path[k], p.feed_mm_min);
+    at = path[k - 1];
+  }
 }
 
 }  // namespace
@@ -149,8 +193,8 @@ void link_passes(const Sampler& s, const FinishParams& p, const Fence& fence, Fi
         stays = moves_time_s(from, fed, p.motion) <= moves_time_s(from, lifted, p.motion);
       }
       if (stays) {
-        for (const Eigen::Vector3d& q : stay) b.line(q, p.feed_mm_min);
-        b.line(start, p.feed_mm_min);
+        stay.push_back(start);
+        link_with_hops(p, b, *prev, stay, plan);
       } else {
         b.rapid(prev->x(), prev->y(), lift, gcode::kZ);
         b.rapid(start.x(), start.y(), lift, gcode::kX | gcode::kY);

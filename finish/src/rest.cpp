@@ -230,7 +230,7 @@ std::vector<Pass> corner_passes(const ingest::Mesh& mesh, const DropCutter& tool
 /// The plan's program made again from its passes (pencil passes put in front).
 void relink(const ingest::Mesh& mesh, const DropCutter& tool, const FinishParams& p, FinishPlan& plan) {
   plan.program = {};
-  plan.path_length_mm = 0, plan.lifts = 0, plan.cl_points = 0;
+  plan.path_length_mm = 0, plan.lifts = 0, plan.hops = 0, plan.cl_points = 0;
   const detail::Sampler s(mesh, tool);
   const detail::Fence fence(mesh, p.boundary);
   detail::link_passes(s, p, fence, plan);
@@ -613,11 +613,14 @@ FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const
     params.stock_cut = [linked, cutter](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
       linked->cut(cutter, a, b);
     };
+    params.stock_cut_depth = [linked, cutter](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+      return linked->cut_depth(cutter, a, b);
+    };
     params.link_max_cut_mm = depth;
   }
   if (plan.passes.empty())
-    throw Error("rest: in the rest regions behind " + behind + " no pass of " + params.tool.describe() +
-                " removes rest and no concave edge is there to trace");
+    throw NoRestToCut("rest: in the rest regions behind " + behind + " no pass of " + params.tool.describe() +
+                      " removes rest and no concave edge is there to trace");
   params.comments.insert(
       params.comments.begin(),
       "rest finishing behind " + behind + ": " + std::to_string(regions.parts.size()) + " region(s) (" +

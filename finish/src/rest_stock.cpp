@@ -192,6 +192,19 @@ void RestStock::cut(const tooling::Cutter& tool, const Eigen::Vector3d& a, const
   }
 }
 
+double RestStock::cut_depth(const tooling::Cutter& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
+  const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / (cell / 2))));
+  double most = 0;
+  for (int t = 0; t <= n; ++t) {  // O(length / cell) placements
+    const Eigen::Vector3d q = a + (b - a) * (static_cast<double>(t) / n);
+    const double tip = q.z() - z_offset;
+    cells_within(*this, q.x(), q.y(), tool.radius(), [&](double, double, double d, double h) {  // O((R / cell)²)
+      if (std::isfinite(h)) most = std::max(most, h - (tip + tool.profile_height(d)));
+    });
+  }
+  return most;
+}
+
 double unreachable_area_mm2(const ingest::Mesh& mesh, const tooling::Cutter& tool, double threshold_mm) {
   return unreachable_regions(mesh, tool, threshold_mm).rest_axis_area_mm2;
 }

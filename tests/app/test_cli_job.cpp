@@ -343,10 +343,11 @@ TEST(CliJob, RestMeasuredByTheProgramsIsARestOperationToo) {
   EXPECT_LE(rest["rest_area_missed_mm2"].get<double>(), after + 1e-9);
   for (const auto& op : ops) EXPECT_LE(op["max_gouge_mm"].get<double>(), 0.002) << op["name"];
   EXPECT_TRUE(linuxcnc_accepts((d / "out" / "pocket.job.nc").string(), (d / "out" / "pocket.tool.tbl").string()));
-  // Against the z-map's reading (the default): another program, that misses less here (0.06 mm²
-  // against 0.10 on 0.1 mm cells).
-  std::ofstream(d / "fast.json") << kFast;
-  ASSERT_EQ(run_millnet(base + "--config fast.json --out stock", d).code, 0);
+  // Against the z-map's reading (configs/presets/rest-stock-reading.json, the default before
+  // 2026-12-07): another program, that misses less here (0.06 mm² against 0.10 on 0.1 mm cells).
+  std::ofstream(d / "stock.json") << R"({"simulate": {"cell_mm": 0.1}, "finish": {"tool": {"id": "bn2-2f-carbide"},
+                                         "rest": {"measure": "stock"}}})";
+  ASSERT_EQ(run_millnet(base + "--config stock.json --out stock", d).code, 0);
   const std::string rest_nc = "pocket.op" + std::to_string(ops.size()) + ".rest.nc";
   EXPECT_NE(slurp(d / "out" / rest_nc), slurp(d / "stock" / rest_nc));
   const Json js = Json::parse(slurp(d / "stock" / "pocket.job.json"));

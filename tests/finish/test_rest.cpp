@@ -224,6 +224,20 @@ TEST(RestFinishing, LinksClearWhatTheReferenceLeftAndEntriesComeDownJustAboveIt)
 // (about 5 mm of feed), the lift rises to the ridge's top plus the 1 mm clearance at rapid (5000
 // mm/min, 500 mm/s²), crosses and comes down (≈ 0.5 s). At 300 mm/min the climb takes > 1 s: it
 // lifts; at 3000 mm/min it stays down; without a stock (the strategies) it stays down as before.
+/// A stock of n × n cells (n × rows, given rows) of `cell` from the centre (x0, y0) whose height
+/// depends on x only.
+template <class Height>
+RestStock stock_along_x(double cell, double x0, double y0, int n, Height height, int rows = 0) {
+  RestStock st;
+  st.cell = cell, st.x0 = x0, st.y0 = y0, st.nx = n, st.ny = rows > 0 ? rows : n;
+  st.z.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(st.ny));
+  for (int i = 0; i < st.ny; ++i)
+    for (int j = 0; j < n; ++j)
+      st.z[static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)] =
+          height(x0 + cell * j);
+  return st;
+}
+
 TEST(RestFinishing, OverAStockALinkLiftsWhenThatIsQuickerThanFeedingOverARidge) {
   const ingest::Mesh part = extruded({{-5, 0}, {4.5, 0}, {5, 2}, {5.5, 0}, {15, 0}}, 30);
   const DropCutter two(part, Cutter::ball(2));
@@ -264,17 +278,81 @@ TEST(RestFinishing, OverAStockALinkLiftsWhenThatIsQuickerThanFeedingOverARidge) 
   EXPECT_LT(gcode::stats(slow.program, {}).kinematic_time_min, gcode::stats(stayed.program, {}).kinematic_time_min);
 }
 
-/// A stock of n × n cells of `cell` from the centre (x0, y0) whose height depends on x only.
-template <class Height>
-RestStock stock_along_x(double cell, double x0, double y0, int n, Height height) {
-  RestStock st;
-  st.cell = cell, st.x0 = x0, st.y0 = y0, st.nx = n, st.ny = n;
-  st.z.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      st.z[static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)] =
-          height(x0 + cell * j);
-  return st;
+// A flat floor (z = 0) with 0.05 mm of rest over x in [1, 3.5] and [6.5, 9], clean between, and
+// two pieces along y = 15 over the rest joined by a 3 mm stay-down link. A Ø2 ball on the floor
+// takes the rest from √(2 · 0.05 − 0.05²) = 0.312 mm off its axis, so the link feeds through air
+// from x = 3.5 (the first piece's end took all it reaches there) to 6.5 − 0.312 = 6.19: 2.69 mm,
+// in moves of 0.1 mm. With the stock's cut known to the linking that run is hopped, and
+// by an oracle replaying the program on the stock: the feed through air is under the hop's
+// threshold, no rapid cuts, and the rest left is what feeding through leaves.
+TEST(RestFinishing, AStayDownLinkHopsOverTheAirBetweenTwoPatchesOfRest) {
+  const ingest::Mesh part = extruded({{-5, 0}, {15, 0}}, 30);
+  const DropCutter two(part, Cutter::ball(2));
+  const Cutter ball = Cutter::ball(2);
+  const auto stock = [] {
+    return stock_along_x(
+        0.02, -4.99, 13.01, 1000, [](double x) { return (x >= 1 && x <= 3.5) || (x >= 6.5 && x <= 9) ? 0.05 : 0.0; },
+        200);
+  };
+  FinishPlan plan;
+  plan.strategy = Strategy::SlopeMode;
+  plan.passes.resize(2);
+  plan.passes[0].points = {{1, 15, 0}, {3.5, 15, 0}};
+  plan.passes[1].points = {{6.5, 15, 0}, {9, 15, 0}};
+  const auto linked = [&](bool known) {
+    FinishParams p = rest_params();
+    p.feed_mm_min = 3000;  // quicker staying down than lifting
+    p.stock_tip = [](double, double) { return -HUGE_VAL; };
+    auto st = std::make_shared<RestStock>(stock());
+    p.stock_cut = [st, ball](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { st->cut(ball, a, b); };
+    if (known)
+      p.stock_cut_depth = [st, ball](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+        return st->cut_depth(ball, a, b);
+      };
+    FinishPlan q = plan;
+    detail::relink(part, two, p, q);
+    return q;
+  };
+  struct Replayed {
+    double air_mm = 0, rapid_cut_mm = 0;
+    RestStock left;
+  };
+  const auto replay = [&](const gcode::Program& program) {
+    Replayed r{0, 0, stock()};
+    gcode::Point3 at{0, 0, 20};
+    for (const auto& item : program.items) {  // O(moves · placements)
+      const auto* m = std::get_if<gcode::Move>(&item);
+      if (m == nullptr) continue;
+      const Eigen::Vector3d a(at[0], at[1], at[2]), b(m->to[0], m->to[1], m->to[2]);
+      const double cut = r.left.cut_depth(ball, a, b);
+      if (m->motion == gcode::Motion::Rapid)
+        r.rapid_cut_mm = std::max(r.rapid_cut_mm, cut);
+      else if (cut < tol::rest_air_cut_mm)
+        r.air_mm += (b - a).norm();
+      r.left.cut(ball, a, b);
+      at = m->to;
+    }
+    return r;
+  };
+  const FinishPlan fed = linked(false), hopped = linked(true);
+  EXPECT_EQ(fed.hops, 0U);
+  EXPECT_EQ(fed.lifts, 0U);
+  EXPECT_EQ(hopped.hops, 1U);
+  EXPECT_EQ(hopped.lifts, 1U);
+  const Replayed f = replay(fed.program), h = replay(hopped.program);
+  EXPECT_GT(f.air_mm, 2.55);
+  EXPECT_LT(f.air_mm, 2.75);
+  EXPECT_LT(h.air_mm, tol::rest_air_hop_radii * 1.0);
+  EXPECT_EQ(f.rapid_cut_mm, 0.0);
+  EXPECT_EQ(h.rapid_cut_mm, 0.0);
+  double higher = 0, on_the_line = 0;
+  for (std::size_t c = 0; c < h.left.z.size(); ++c) {  // O(cells)
+    higher = std::max(higher, h.left.z[c] - f.left.z[c]);
+    if (std::abs(h.left.y0 + h.left.cell * static_cast<double>(c / 1000) - 15) < 0.1)
+      on_the_line = std::max(on_the_line, h.left.z[c]);
+  }
+  EXPECT_LT(higher, 1e-3);
+  EXPECT_LT(on_the_line, 0.006);  // the ball's profile 0.1 mm off its axis: 0.005 mm
 }
 
 /// The stock the Ø6 ball leaves on the L corner, by hand, on a z-map grid (cells of 0.02 mm,
@@ -388,6 +466,11 @@ TEST(RestStock, EngagementAndCutAreTheToolsProfileOverTheCells) {
   EXPECT_NEAR(at(2, 1.35), 1.3 - std::sqrt(0.25 - 0.35 * 0.35), 1e-12);
   EXPECT_EQ(at(2, 1.45), 1.0);
   EXPECT_EQ(at(3.6, 1), 1.0);
+  // The same sweep again would cut nothing; 0.1 lower, 0.1 mm (the stock the same ball's surface
+  // left, 0.1 under it), and the stock is kept.
+  EXPECT_EQ(st.cut_depth(ball, {1, 1, 0.8}, {3, 1, 0.8}), 0.0);
+  EXPECT_NEAR(st.cut_depth(ball, {1, 1, 0.7}, {3, 1, 0.7}), 0.1, 1e-12);
+  EXPECT_NEAR(at(2, 1), 0.8, 1e-12);
   // 0.1 lower over the line: the cells the sweep left at 1 from 0.4 to √(0.25 − 0.2²) = 0.458 aside
   // stand over the lower ball, 0.3 above its tip (its flank meets them first).
   EXPECT_NEAR(st.engagement(ball, 2, 1, 0.7), 0.3, 1e-12);

@@ -24,6 +24,7 @@
 // f(step/√2) above a flat floor (ball: step²/(4R)); the automatic step keeps that ≤ threshold/4.
 // O(nodes · (R_ref/step)²) distance tests at worst; a node is settled by the first placement that
 // comes within the threshold (the nearest are tried first), so flat and touched ground costs a few.
+#include "millnet/core/error.hpp"
 #include "millnet/finish/dropcutter.hpp"
 #include "millnet/finish/strategy.hpp"
 #include "millnet/ingest/mesh.hpp"
@@ -110,6 +111,9 @@ struct RestStock {
   /// lowered to the tool's surface over it, sampled every half cell along the segment.
   /// O(length / cell · (R / cell)²).
   void cut(const tooling::Cutter& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b);
+  /// The most cut() from a to b would lower any cell (0 when it cuts nothing), the stock kept.
+  /// O(length / cell · (R / cell)²).
+  [[nodiscard]] double cut_depth(const tooling::Cutter& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b) const;
 };
 
 struct RestParams {
@@ -248,8 +252,16 @@ struct RestAgainstFloor {
 /// leave (detail::stepped_runs, no run-on), the stay-down links to them cut into it first. All
 /// linked into one program whose links clear
 /// regions.stock_tip and whose entries come down to tol::rest_approach_mm above it. The program's header names it
-/// rest finishing and the reference tool. Throws millnet::Error when the regions are empty.
+/// rest finishing and the reference tool. Throws millnet::Error when the regions are empty,
+/// NoRestToCut when no pass removes rest.
 /// `behind` names what left the rest ("ball D6", "the stock of FILE") in the header and errors.
+/// plan_rest's error when the regions hold rest but no pass of the new tool removes any of it and
+/// no concave edge is there to trace: a job leaves the rest operation out with a note.
+class NoRestToCut : public Error {
+public:
+  using Error::Error;
+};
+
 [[nodiscard]] FinishPlan plan_rest(const ingest::Mesh& mesh, const DropCutter& new_tool, const RestRegions& regions,
                                    const std::string& behind, FinishParams params);
 

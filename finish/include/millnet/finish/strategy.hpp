@@ -121,6 +121,10 @@ struct FinishParams {
   /// lifts instead (a link must not sink into a corner's rest its passes take a step at a time).
   std::function<double(double, double, double)> stock_engagement;
   std::function<void(const Eigen::Vector3d&, const Eigen::Vector3d&)> stock_cut;
+  /// With stock_cut: the most the move from → to (tips) would lower that stock, mm (under
+  /// tol::rest_air_cut_mm: it feeds through air). A stay-down link's run of air moves at least
+  /// tol::rest_air_hop_radii tool radii long is hopped instead (FinishPlan::hops).
+  std::function<double(const Eigen::Vector3d&, const Eigen::Vector3d&)> stock_cut_depth;
   double link_max_cut_mm = HUGE_VAL;
   /// With stock_tip: the machine's motion, by which a short link that may stay down is timed
   /// against lifting (the planner of gcode::stats over the link's moves, from rest to rest): over a
@@ -155,6 +159,7 @@ struct FinishPlan {
   gcode::Program program;     ///< passes linked, in the program frame
   double path_length_mm = 0;  ///< 3D length of feed moves (cuts and stay-down links)
   std::size_t lifts = 0;      ///< links that retract (rapid over, plunge back)
+  std::size_t hops = 0;       ///< of the lifts, hops over a stay-down link's air (rest finishing)
   std::size_t cl_points = 0;  ///< CL points in the program
   std::size_t drops = 0;      ///< drop-cutter queries spent
   /// Drop-cutter queries the strategy's path needs, shared pieces included: the same whether it
