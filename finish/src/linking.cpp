@@ -75,8 +75,9 @@ double moves_time_s(const gcode::Point3& from, const std::vector<gcode::Move>& m
 /// pass's start), each run of moves through air (FinishParams::stock_cut_depth under
 /// tol::rest_air_cut_mm) at least tol::rest_air_hop_radii tool radii long hopped instead, when a
 /// move that cuts follows it on the link: up at rapid from the last place that cut to
-/// tol::rest_approach_mm over the run's highest sample and that move's cut, across, and down at the
-/// plunge feed into where that move ends. Safe by the stock being a height field: a tool raised
+/// tol::rest_approach_mm over the run's highest sample and that move's cut, across, down at rapid
+/// to tol::rest_approach_mm over that move's end and cut, and down at the plunge feed into its end
+/// (as an entry comes down over the stock). Safe by the stock being a height field: a tool raised
 /// over a place where it cuts nothing (the run), or over the most it would cut (the move after),
 /// cuts nothing. O(path · placements).
 void link_with_hops(const FinishParams& p, Builder& b, const Eigen::Vector3d& from,
@@ -98,9 +99,12 @@ void link_with_hops(const FinishParams& p, Builder& b, const Eigen::Vector3d& fr
       const Eigen::Vector3d &last = path[e - 1], &to = path[e];
       double top = std::max(at.z(), to.z());
       for (std::size_t i = k; i < e; ++i) top = std::max(top, path[i].z());
-      const double hop = std::min(top + p.stock_cut_depth(last, to) + tol::rest_approach_mm, p.safe_z_mm - p.z_shift);
+      const double cut = p.stock_cut_depth(last, to), safe = p.safe_z_mm - p.z_shift;
+      const double hop = std::min(top + cut + tol::rest_approach_mm, safe);
+      const double land = std::min(to.z() + cut + tol::rest_approach_mm, safe);
       b.rapid(at.x(), at.y(), hop, gcode::kZ);
       b.rapid(to.x(), to.y(), hop, gcode::kX | gcode::kY);
+      if (land < hop) b.rapid(to.x(), to.y(), land, gcode::kZ);
       b.line(to, p.plunge_feed_mm_min);
       ++plan.lifts;
       ++plan.hops;

@@ -314,12 +314,13 @@ TEST(RestFinishing, AStayDownLinkHopsOverTheAirBetweenTwoPatchesOfRest) {
     return q;
   };
   struct Replayed {
-    double air_mm = 0, rapid_cut_mm = 0;
+    double air_mm = 0, rapid_cut_mm = 0, longest_plunge_mm = 0;
     RestStock left;
   };
   const auto replay = [&](const gcode::Program& program) {
-    Replayed r{0, 0, stock()};
+    Replayed r{0, 0, 0, stock()};
     gcode::Point3 at{0, 0, 20};
+    bool after_rapid = false;
     for (const auto& item : program.items) {  // O(moves · placements)
       const auto* m = std::get_if<gcode::Move>(&item);
       if (m == nullptr) continue;
@@ -329,6 +330,9 @@ TEST(RestFinishing, AStayDownLinkHopsOverTheAirBetweenTwoPatchesOfRest) {
         r.rapid_cut_mm = std::max(r.rapid_cut_mm, cut);
       else if (cut < tol::rest_air_cut_mm)
         r.air_mm += (b - a).norm();
+      if (m->motion != gcode::Motion::Rapid && after_rapid && a.x() > 2)  // a plunge, past the entry
+        r.longest_plunge_mm = std::max(r.longest_plunge_mm, (b - a).norm());
+      after_rapid = m->motion == gcode::Motion::Rapid;
       r.left.cut(ball, a, b);
       at = m->to;
     }
@@ -345,6 +349,9 @@ TEST(RestFinishing, AStayDownLinkHopsOverTheAirBetweenTwoPatchesOfRest) {
   EXPECT_LT(h.air_mm, tol::rest_air_hop_radii * 1.0);
   EXPECT_EQ(f.rapid_cut_mm, 0.0);
   EXPECT_EQ(h.rapid_cut_mm, 0.0);
+  // The hop comes down into the rest at the second patch through the approach and the 0.05 mm there.
+  EXPECT_GT(h.longest_plunge_mm, tol::rest_approach_mm);
+  EXPECT_LE(h.longest_plunge_mm, tol::rest_approach_mm + 0.05 + 1e-9);
   double higher = 0, on_the_line = 0;
   for (std::size_t c = 0; c < h.left.z.size(); ++c) {  // O(cells)
     higher = std::max(higher, h.left.z[c] - f.left.z[c]);
