@@ -45,6 +45,9 @@ Profile make_profile(const tooling::Cutter& c) {
 namespace {
 
 constexpr std::size_t kChunkRows = 8;  // rows per parallel work unit
+/// Primitives crossing a chunk from which its rows' bounds (RowTops) are worth reading its cells
+/// for: a chunk of a Ø2 ball's finishing pass has hundreds, a single move's a handful.
+constexpr std::size_t kTopsFrom = 64;
 
 /// Per chunk of kChunkRows rows, the primitives whose shadow reaches it, in program order; sets
 /// each primitive's rows (iy0, iy1). Primitives entirely off the grid are in no chunk.
@@ -59,6 +62,8 @@ std::vector<std::vector<std::uint32_t>> bucket_rows(std::vector<Seg>& segs, cons
     if (!cell_range(g.ylo, g.yhi, spec.y0, spec.cell, spec.ny, r0, r1)) continue;
     g.iy0 = r0;
     g.iy1 = r1;
+    g.ix0 = c0;
+    g.ix1 = c1;
     for (std::size_t c = r0 / kChunkRows; c <= r1 / kChunkRows; ++c)
       chunk_segs[c].push_back(static_cast<std::uint32_t>(s));
   }
@@ -68,33 +73,45 @@ std::vector<std::vector<std::uint32_t>> bucket_rows(std::vector<Seg>& segs, cons
 /// Sweeps every chunk's primitives over its rows, the chunks in parallel (each cell belongs to one
 /// chunk and sees its primitives in program order: bit-identical for any thread count). Returns
 /// the largest height each item removed at one cell and (`engage`) its largest axial engagement
-/// (max over the threads: exact); adds the cell evaluations to `visited`.
+/// (max over the threads: exact); adds the cell evaluations and the rows the row bounds left to
+/// `res`. A chunk crossed by kTopsFrom primitives or more is swept with its rows' bounds
+/// (SweepOptions::row_bounds).
 std::vector<double> sweep_chunks(const std::vector<Seg>& segs,
                                  const std::vector<std::vector<std::uint32_t>>& chunk_segs, const Profile& P,
-                                 const GridSpec& spec, double* z, std::uint32_t* stamp, std::size_t nitems, int threads,
-                                 std::uint64_t& visited, std::vector<double>& engage) {
-  const int nthreads = threads > 0 ? threads : std::max(1, omp_get_max_threads());
+                                 const GridSpec& spec, double* z, std::uint32_t* stamp, std::size_t nitems,
+                                 const SweepOptions& opt, SweepResult& res, std::vector<double>& engage) {
+  const int nthreads = opt.threads > 0 ? opt.threads : std::max(1, omp_get_max_threads());
   std::vector<std::vector<double>> thread_cut(static_cast<std::size_t>(nthreads)),
       thread_engage(static_cast<std::size_t>(nthreads));
-  std::uint64_t cells = 0;
+  std::uint64_t cells = 0, bounded = 0;
   const auto nch = static_cast<std::ptrdiff_t>(chunk_segs.size());
-#pragma omp parallel num_threads(nthreads) reduction(+ : cells)
+#pragma omp parallel num_threads(nthreads) reduction(+ : cells, bounded)
   {
     auto& cut = thread_cut[static_cast<std::size_t>(omp_get_thread_num())];
     cut.assign(nitems, 0.0);
     auto& eng = thread_engage[static_cast<std::size_t>(omp_get_thread_num())];
     eng.assign(nitems, 0.0);
+    RowTops tops;
 #pragma omp for schedule(dynamic, 1)
     for (std::ptrdiff_t ci = 0; ci < nch; ++ci) {
       const auto c = static_cast<std::size_t>(ci);
       const std::size_t row0 = c * kChunkRows, row1 = std::min(spec.ny, row0 + kChunkRows) - 1;
+      // The rows' bounds cost a read of the chunk's cells: only for chunks many primitives cross.
+      RowTops* rt = nullptr;
+      if (opt.row_bounds && chunk_segs[c].size() >= kTopsFrom) {
+        tops.fill(z, spec, row0, row1);
+        rt = &tops;
+      }
       for (const std::uint32_t si : chunk_segs[c]) {
         const Seg& g = segs[si];
-        sweep_rows(g, P, spec, std::max(row0, g.iy0), std::min(row1, g.iy1), z, stamp, cut[g.item], eng[g.item], cells);
+        sweep_rows(g, P, spec, std::max(row0, g.iy0), std::min(row1, g.iy1), z, stamp, cut[g.item], eng[g.item], cells,
+                   rt);
       }
     }
+    bounded += tops.rows_left;
   }
-  visited += cells;
+  res.cells_visited += cells;
+  res.rows_bounded += bounded;
   std::vector<double> item_cut(nitems, 0);
   for (const auto& cut : thread_cut)
     for (std::size_t i = 0; i < cut.size(); ++i) item_cut[i] = std::max(item_cut[i], cut[i]);
@@ -174,7 +191,7 @@ SweepResult Sweeper::run(ZMap& zm, const gcode::Program& program, const tooling:
 
   // 3. Sweep, parallel over row chunks; 4. each move's depth of cut.
   res.item_max_cut_mm = sweep_chunks(segs, chunk_segs, P, zm.spec_, zm.z_.data(), zm.stamp_.data(),
-                                     program.items.size(), opt.threads, res.cells_visited, res.item_max_engage_mm);
+                                     program.items.size(), opt, res, res.item_max_engage_mm);
   charge_cuts(program, opt, res);
   return res;
 }

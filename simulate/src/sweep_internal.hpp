@@ -74,6 +74,7 @@ struct Seg {
   std::size_t item = 0;
   std::uint32_t serial = 0;
   std::size_t iy0 = 0, iy1 = 0;  // rows, inclusive
+  std::size_t ix0 = 0, ix1 = 0;  // columns of the shadow box, inclusive
 };
 
 /// An X interval of a row, mm.
@@ -133,16 +134,34 @@ void link_caps(std::vector<Seg>& segs);
 /// a cutter of radius R (sweep_shadow.cpp).
 int row_spans(const Seg& g, double R, double y, Span out[2]);
 
+/// Upper bounds of the heights of a chunk of rows, one per block of kCells cells of a row
+/// (sweep_vector_rows.cpp). A ball line leaves a row at once where no block under its shadow
+/// stands above its floor there: most rows of a finishing pass, which the pass before has already
+/// lowered below the next one's reach (s4's label: 124 M of 161 M row spans). Any kernel may lower
+/// cells without telling (the bounds stay bounds); the ball line's kernel tightens the blocks it
+/// lowers, so the bounds follow a pass.
+struct RowTops {
+  static constexpr std::size_t kCells = 32;
+  std::vector<double> top;  // (row − row0) · blocks + block
+  std::size_t row0 = 0, blocks = 0;
+  std::uint64_t rows_left = 0;  // rows a ball line left at once
+  /// The bounds of rows [r0, r1] from the heights z: each block's highest cell.
+  void fill(const double* z, const GridSpec& spec, std::size_t r0, std::size_t r1);
+  [[nodiscard]] double* row(std::size_t iy) { return top.data() + (iy - row0) * blocks; }
+};
+
 /// Lowers the cells of rows [row0, row1] (inclusive) under primitive g to its envelope, with the
 /// kernel of its shape (sweep_kernels.cpp): stamps each lowered cell with g.serial, raises
 /// item_cut to the largest height removed at a cell and item_engage to the largest axial
-/// engagement (SweepResult::item_max_engage_mm), adds the cells evaluated to `visited`.
+/// engagement (SweepResult::item_max_engage_mm), adds the cells evaluated to `visited`. `tops`
+/// (nullable) bounds those rows' heights.
 void sweep_rows(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t row0, std::size_t row1, double* z,
-                std::uint32_t* stamp, double& item_cut, double& item_engage, std::uint64_t& visited);
+                std::uint32_t* stamp, double& item_cut, double& item_engage, std::uint64_t& visited, RowTops* tops);
 
-/// One row iy of a ball line with an XY direction, branch-free (sweep_vector_rows.cpp).
+/// One row iy of a ball line with an XY direction, branch-free (sweep_vector_rows.cpp); `tops`
+/// (nullable) bounds the row's heights and is kept a bound.
 void ball_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t iy, double* z,
-                   std::uint32_t* stamp, double& item_cut, double& item_engage, std::uint64_t& visited);
+                   std::uint32_t* stamp, double& item_cut, double& item_engage, std::uint64_t& visited, RowTops* tops);
 
 /// One row iy of a flat line with an XY direction, branch-free (sweep_vector_rows.cpp).
 void flat_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t iy, double* z,

@@ -150,12 +150,12 @@ void sweep_row(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t
 }  // namespace
 
 void sweep_rows(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t row0, std::size_t row1, double* z,
-                std::uint32_t* stamp, double& item_cut, double& item_engage, std::uint64_t& visited) {
+                std::uint32_t* stamp, double& item_cut, double& item_engage, std::uint64_t& visited, RowTops* tops) {
   for (std::size_t iy = row0; iy <= row1; ++iy) {
     if (g.type == SegType::Arc) {
       sweep_row(g, P, spec, iy, z, stamp, item_cut, item_engage, visited, env_arc);
     } else if (P.type == tooling::CutterType::Ball && g.L > tol::xy_length_mm) {
-      ball_line_row(g, P, spec, iy, z, stamp, item_cut, item_engage, visited);
+      ball_line_row(g, P, spec, iy, z, stamp, item_cut, item_engage, visited, tops);
     } else if (P.type == tooling::CutterType::Ball) {
       sweep_row(g, P, spec, iy, z, stamp, item_cut, item_engage, visited, env_line_ball);
     } else if (P.type == tooling::CutterType::Flat && g.L > tol::xy_length_mm) {

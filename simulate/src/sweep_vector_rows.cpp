@@ -54,6 +54,34 @@ void pad_to_vector(std::size_t& i0, std::size_t& i1, std::size_t nx) {
   i0 -= std::min(extra, i0);
 }
 
+/// Whether one of the kPadCells cells from zr[i] stands above `floor`: a block at once (vectorised).
+bool block_above(const double* zr, std::size_t i, double floor) {
+  unsigned above = 0;
+#pragma omp simd reduction(| : above)
+  for (std::size_t k = 0; k < kPadCells; ++k) above |= zr[i + k] <= floor ? 0U : 1U;
+  return above != 0;
+}
+
+/// The first cell of [i0, i1] that stands above `floor` (i1 + 1 if none): the row's bounds' blocks
+/// (tr, nullable) first, then kPadCells cells at a time, then one by one. Where a pass leaves a
+/// span below the next move's floor, this scan was a quarter of the kernel's time, one cell a step.
+std::size_t first_above(const double* zr, const double* tr, std::size_t i0, std::size_t i1, double floor) {
+  if (tr != nullptr)  // whole blocks of the row's bounds first
+    while (i0 <= i1 && tr[i0 / RowTops::kCells] <= floor) i0 = (i0 / RowTops::kCells + 1) * RowTops::kCells;
+  while (i0 + kPadCells <= i1 + 1 && !block_above(zr, i0, floor)) i0 += kPadCells;
+  while (i0 <= i1 && zr[i0] <= floor) ++i0;
+  return i0;
+}
+
+/// The last cell of [i0, i1] that stands above `floor`, given that zr[i0] does; as first_above.
+std::size_t last_above(const double* zr, const double* tr, std::size_t i0, std::size_t i1, double floor) {
+  if (tr != nullptr)  // the block of i0 stands above the floor
+    while (tr[i1 / RowTops::kCells] <= floor) i1 = (i1 / RowTops::kCells) * RowTops::kCells - 1;
+  while (i1 >= i0 + kPadCells && !block_above(zr, i1 + 1 - kPadCells, floor)) i1 -= kPadCells;
+  while (zr[i1] <= floor) --i1;
+  return i1;
+}
+
 /// The heights of the row's cells [i0, i1] before the line g lowers them, kept (per thread: the
 /// chunks run in parallel) only where it may cut more than the cutter's radius there — the stock
 /// above its lowest tip by more than that; elsewhere (nullptr) the engagement is the height removed.
@@ -77,7 +105,24 @@ double row_floor(const Seg& g, const Profile& P, double y) {
   return g.zmin + P.R - std::sqrt(P.R2 - dy * dy) - tol::envelope_skip_margin_mm;
 }
 
+/// The highest cell of block b of a row of nx cells.
+double block_top(const double* zr, std::size_t b, std::size_t nx) {
+  const int j0 = static_cast<int>(b * RowTops::kCells), j1 = static_cast<int>(std::min(nx, (b + 1) * RowTops::kCells));
+  double top = -kInf;
+#pragma omp simd reduction(max : top)
+  for (int ix = j0; ix < j1; ++ix) top = top > zr[ix] ? top : zr[ix];
+  return top;
+}
+
 }  // namespace
+
+void RowTops::fill(const double* z, const GridSpec& spec, std::size_t r0, std::size_t r1) {
+  row0 = r0;
+  blocks = (spec.nx + kCells - 1) / kCells;
+  top.resize((r1 - r0 + 1) * blocks);
+  for (std::size_t iy = r0; iy <= r1; ++iy)  // O(cells of the rows)
+    for (std::size_t b = 0; b < blocks; ++b) row(iy)[b] = block_top(z + iy * spec.nx, b, spec.nx);
+}
 
 double line_engagement(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t iy, std::size_t i0,
                        std::size_t i1, const double* old, const double* z) {
@@ -100,8 +145,19 @@ double line_engagement(const Seg& g, const Profile& P, const GridSpec& spec, std
 // The ball/line kernel, written without branches so that the compiler vectorises it (same closed
 // form as env_line_ball; the ternaries select among the three candidates).
 void ball_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::size_t iy, double* z,
-                   std::uint32_t* stamp, double& item_cut, double& item_engage, std::uint64_t& visited) {
+                   std::uint32_t* stamp, double& item_cut, double& item_engage, std::uint64_t& visited, RowTops* tops) {
   const double y = spec.y(iy);
+  const double floor_row = row_floor(g, P, y);
+  double* zr = z + iy * spec.nx;
+  double* tr = tops != nullptr ? tops->row(iy) : nullptr;
+  if (tr != nullptr) {  // every cell under the shadow below the floor: the row is left as it is
+    double top = -kInf;
+    for (std::size_t b = g.ix0 / RowTops::kCells; b <= g.ix1 / RowTops::kCells; ++b) top = std::max(top, tr[b]);
+    if (top <= floor_row) {
+      ++tops->rows_left;
+      return;
+    }
+  }
   Span spans[2];
   int n = row_spans(g, P.R, y, spans);
   if (n == 1 && !clip_to_live_band(g, y, spans[0])) n = 0;
@@ -112,17 +168,15 @@ void ball_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::si
   const double qy = -wy * ux, sy = wy * uy;
   const bool use_a = !g.skip_start, use_b = !g.skip_end;
   const std::uint32_t serial = g.serial;
-  const double floor_row = row_floor(g, P, y);
-  double* zr = z + iy * spec.nx;
   for (int k = 0; k < n; ++k) {
     std::size_t i0 = 0, i1 = 0;
     if (!cell_range(spans[k].lo, spans[k].hi, spec.x0, spec.cell, spec.nx, i0, i1)) continue;
     // The span's ends that stand below the row's floor cannot be lowered: left out (a pass on a
     // slope leaves most of the span behind it below the next move's floor). Exact: those cells keep
     // their heights and stamps, and their negative cuts count for nothing.
-    while (i0 <= i1 && zr[i0] <= floor_row) ++i0;
+    i0 = first_above(zr, tr, i0, i1, floor_row);
     if (i0 > i1) continue;
-    while (zr[i1] <= floor_row) --i1;  // stops at i0, which stands above the floor
+    i1 = last_above(zr, tr, i0, i1, floor_row);
     pad_to_vector(i0, i1, spec.nx);
     visited += i1 - i0 + 1;
     std::uint32_t* sr = stamp + iy * spec.nx;
@@ -164,6 +218,8 @@ void ball_line_row(const Seg& g, const Profile& P, const GridSpec& spec, std::si
     // Up to the cutter's radius the engagement is the height removed; above it, refined.
     const double e = old_z != nullptr && row_cut > P.R ? line_engagement(g, P, spec, iy, i0, i1, old_z, zr) : row_cut;
     item_engage = std::max(item_engage, e);
+    if (tr != nullptr)
+      for (std::size_t b = i0 / RowTops::kCells; b <= i1 / RowTops::kCells; ++b) tr[b] = block_top(zr, b, spec.nx);
   }
 }
 

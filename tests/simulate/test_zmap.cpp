@@ -764,6 +764,55 @@ TEST(ZMap, BallFinishingChordsOverCutStockMatchTheExactEnvelopeCellByCell) {
   EXPECT_LT(worst, 1e-7);
 }
 
+TEST(ZMap, TheRowBoundsLeaveRowsButChangeNoHeightStampOrCut) {
+  // A finishing path of short chords, passes 0.15 mm apart along X and then along a diagonal, up
+  // and down a wavy surface over stock cut by a first, higher raster: the rows each chord cannot
+  // lower are left by the row bounds without a look at their cells. Swept with and without the
+  // bounds (and on one and two threads), every height, stamp, depth of cut, engagement and cell
+  // evaluation must be the same bits; with them, rows were left.
+  const GridSpec g{-0.4, -0.3, 0.02, 160, 150};
+  auto surf = [](double x, double y) { return 0.3 * std::sin(1.7 * x + 0.9 * y) + 0.1 * std::cos(3.1 * y); };
+  Program p;
+  auto passes = [&](double angle, double lift, int n) {
+    for (int k = 0; k < n; ++k) {
+      const double off = -1.0 + 0.15 * k, ux = std::cos(angle), uy = std::sin(angle);
+      for (int i = 0; i <= 30; ++i) {
+        const double s = -2.0 + 0.14 * (k % 2 == 0 ? i : 30 - i);
+        const double x = 1.2 + s * ux - off * uy, y = 1.2 + s * uy + off * ux;
+        if (i == 0) add(p, mv(Motion::Rapid, x, y, 3));
+        add(p, mv(Motion::Line, x, y, surf(x, y) + lift));
+      }
+      add(p, mv(Motion::Rapid, 1.2, 1.2, 3));
+    }
+  };
+  passes(0.0, 0.4, 12);  // the first, higher raster
+  passes(0.0, 0.0, 18);
+  passes(0.7, -0.02, 18);
+  const tooling::Cutter ball = tooling::Cutter::ball(2);
+  SweepOptions with, without, with1;
+  with.threads = without.threads = 2;
+  with1.threads = 1;
+  without.row_bounds = false;
+  ZMap a = ZMap::flat(g, 0.8), b = ZMap::flat(g, 0.8), c = ZMap::flat(g, 0.8);
+  const SweepResult ra = machine(a, p, ball, with), rb = machine(b, p, ball, without), rc = machine(c, p, ball, with1);
+  EXPECT_GT(ra.rows_bounded, 1000U);
+  EXPECT_EQ(ra.rows_bounded, rc.rows_bounded);
+  EXPECT_EQ(rb.rows_bounded, 0U);
+  for (const ZMap* m : {&b, &c}) {
+    ASSERT_EQ(0, std::memcmp(a.heights().data(), m->heights().data(), g.cells() * sizeof(double)));
+    EXPECT_EQ(a.stamps(), m->stamps());
+  }
+  for (const SweepResult* r : {&rb, &rc}) {
+    EXPECT_EQ(ra.item_max_cut_mm, r->item_max_cut_mm);
+    EXPECT_EQ(ra.item_max_engage_mm, r->item_max_engage_mm);
+    EXPECT_EQ(ra.cells_visited, r->cells_visited);
+  }
+  // And the map is the machined one: the last raster's lowest chord lies under the first's.
+  double lowest = kInf;
+  for (std::size_t i = 0; i < g.cells(); ++i) lowest = std::min(lowest, a.heights()[i]);
+  EXPECT_LT(lowest, -0.3);
+}
+
 TEST(ZMap, RaOfAScallopedPlaneMatchesTheProfileIntegral) {
   const double p = 0.2, R = 1;
   const GridSpec g{-0.005, -0.005, 0.01, 400, 400};

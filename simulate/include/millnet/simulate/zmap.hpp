@@ -119,6 +119,9 @@ struct SweepOptions {
   gcode::Point3 start{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN(),
                       std::numeric_limits<double>::quiet_NaN()};
   int threads = 0;  ///< OpenMP threads; 0 = the OpenMP default
+  /// Bound each block of a row's heights while sweeping, so that a ball line leaves at once the
+  /// rows it cannot lower (speed only: the heights, stamps and cuts are the same bits without).
+  bool row_bounds = true;
 };
 
 enum MoveKind : std::uint8_t { kRapidKind = 0, kLineKind = 1, kArcKind = 2 };
@@ -146,6 +149,8 @@ struct SweepResult {
   /// of a ball or flat cutter are refined; other moves report the height removed.
   std::vector<double> item_max_engage_mm;
   std::uint64_t cells_visited = 0;  ///< cell evaluations (for the benchmark's cells × moves)
+  /// Rows of ball lines left at once by the row bounds (SweepOptions::row_bounds).
+  std::uint64_t rows_bounded = 0;
 };
 
 /// Lowers every cell of `zmap` to the lower envelope of `cutter` swept along every move of
