@@ -9,6 +9,7 @@
 
 #include <array>
 #include <atomic>
+#include <cstdint>
 #include <cstddef>
 #include <vector>
 
@@ -38,7 +39,8 @@ public:
   [[nodiscard]] const tooling::Cutter& cutter() const { return dropper_.cutter(); }
   [[nodiscard]] double floor_z() const { return floor_z_; }
   [[nodiscard]] double top_z() const { return top_z_; }
-  /// Queries so far (read between parallel sections: the sum of the shards).
+  /// Points asked for so far (read between parallel sections: the sum of the shards), those the
+  /// memo answered included.
   [[nodiscard]] std::size_t drops() const;
 
 private:
@@ -46,6 +48,7 @@ private:
   const ingest::Mesh& mesh_;
   const DropCutter& dropper_;
   double floor_z_ = 0, top_z_ = 0;
+  std::uint64_t id_ = 0;  // this sampler's, unique in the process: its answers in the threads' memos
   // Counted in shards, one cache line each, a thread always in the same one: one shared counter
   // next to floor_z_ made every query of one thread evict the line the other was reading.
   struct alignas(64) Shard {
