@@ -5,6 +5,7 @@
 #include "millnet/core/error.hpp"
 #include "millnet/tooling/cutter.hpp"
 #include "millnet/finish/dropcutter.hpp"
+#include "sampling.hpp"
 
 #include <gtest/gtest.h>
 #include <omp.h>
@@ -498,4 +499,27 @@ TEST(DropCutter, BullEdgeDegenerateCases) {
           ++n;
         }
   EXPECT_GT(n, 500);
+}
+
+TEST(DropCutter, TheSamplersMemoAnswersEachSamplerWithItsOwnDrops) {
+  // The strategies' sampler keeps its thread's last answers by the point's bits. Two samplers over
+  // different surfaces, asked for the same points in turn, and a third made where the first was,
+  // must each answer with their own drop-cutter's drops, asked again or not; every ask counts.
+  const Mesh low = plane(0.1, -0.05, 0.0), high = plane(-0.2, 0.1, 3.0);
+  const DropCutter dl(low, Cutter::ball(2)), dh(high, Cutter::ball(2));
+  auto expect_own = [](const detail::Sampler& s, const DropCutter& d, double x, double y) {
+    const CLPoint c = d.drop(x, y);
+    EXPECT_EQ(s.z(x, y), c.z) << x << " " << y;
+    EXPECT_EQ(s.sample(x, y).p.z(), c.z) << x << " " << y;
+  };
+  for (int round = 0; round < 2; ++round) {
+    const detail::Sampler sl(low, dl), sh(high, dh);
+    for (int k = 0; k < 50; ++k) {
+      const double x = -20 + 0.7 * k, y = 5 - 0.3 * k;
+      expect_own(round == 0 ? sl : sh, round == 0 ? dl : dh, x, y);
+      expect_own(round == 0 ? sh : sl, round == 0 ? dh : dl, x, y);
+    }
+    EXPECT_EQ(sl.drops(), 100U);
+    EXPECT_EQ(sh.drops(), 100U);
+  }
 }
