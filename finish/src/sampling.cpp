@@ -69,7 +69,7 @@ CLPoint Sampler::drop(double x, double y) const {
   drops_[shard].n.fetch_add(1, std::memory_order_relaxed);
   // A memo of this thread's last answers, by the point's bits: the strategies ask for the same
   // point again (the corner two chained segments share, a quarter point that becomes the next
-  // midpoint: s4's label asks 12 % of its points twice). The answer is a function of the point
+  // midpoint: 9 % of the points s4's label asks for). The answer is a function of the point
   // alone, so a repeat is answered from the memo bit for bit.
   struct Memo {
     std::uint64_t owner = 0;

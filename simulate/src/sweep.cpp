@@ -71,15 +71,13 @@ std::vector<std::vector<std::uint32_t>> bucket_rows(std::vector<Seg>& segs, cons
 }
 
 /// Sweeps every chunk's primitives over its rows, the chunks in parallel (each cell belongs to one
-/// chunk and sees its primitives in program order: bit-identical for any thread count). Returns
-/// the largest height each item removed at one cell and (`engage`) its largest axial engagement
-/// (max over the threads: exact); adds the cell evaluations and the rows the row bounds left to
-/// `res`. A chunk crossed by kTopsFrom primitives or more is swept with its rows' bounds
-/// (SweepOptions::row_bounds).
-std::vector<double> sweep_chunks(const std::vector<Seg>& segs,
-                                 const std::vector<std::vector<std::uint32_t>>& chunk_segs, const Profile& P,
-                                 const GridSpec& spec, double* z, std::uint32_t* stamp, std::size_t nitems,
-                                 const SweepOptions& opt, SweepResult& res, std::vector<double>& engage) {
+/// chunk and sees its primitives in program order: bit-identical for any thread count). Sets `res`'s
+/// largest height each item removed at one cell and its largest axial engagement (max over the
+/// threads: exact), adds the cell evaluations and the rows the row bounds left. A chunk crossed by
+/// kTopsFrom primitives or more is swept with its rows' bounds (SweepOptions::row_bounds).
+void sweep_chunks(const std::vector<Seg>& segs, const std::vector<std::vector<std::uint32_t>>& chunk_segs,
+                  const Profile& P, const GridSpec& spec, double* z, std::uint32_t* stamp, std::size_t nitems,
+                  const SweepOptions& opt, SweepResult& res) {
   const int nthreads = opt.threads > 0 ? opt.threads : std::max(1, omp_get_max_threads());
   std::vector<std::vector<double>> thread_cut(static_cast<std::size_t>(nthreads)),
       thread_engage(static_cast<std::size_t>(nthreads));
@@ -112,13 +110,12 @@ std::vector<double> sweep_chunks(const std::vector<Seg>& segs,
   }
   res.cells_visited += cells;
   res.rows_bounded += bounded;
-  std::vector<double> item_cut(nitems, 0);
+  res.item_max_cut_mm.assign(nitems, 0);
   for (const auto& cut : thread_cut)
-    for (std::size_t i = 0; i < cut.size(); ++i) item_cut[i] = std::max(item_cut[i], cut[i]);
-  engage.assign(nitems, 0);
+    for (std::size_t i = 0; i < cut.size(); ++i) res.item_max_cut_mm[i] = std::max(res.item_max_cut_mm[i], cut[i]);
+  res.item_max_engage_mm.assign(nitems, 0);
   for (const auto& e : thread_engage)
-    for (std::size_t i = 0; i < e.size(); ++i) engage[i] = std::max(engage[i], e[i]);
-  return item_cut;
+    for (std::size_t i = 0; i < e.size(); ++i) res.item_max_engage_mm[i] = std::max(res.item_max_engage_mm[i], e[i]);
 }
 
 /// The largest cut per move kind and the rapids that cut, from the per-item depths of cut.
@@ -190,8 +187,7 @@ SweepResult Sweeper::run(ZMap& zm, const gcode::Program& program, const tooling:
   const auto chunk_segs = bucket_rows(segs, zm.spec_);
 
   // 3. Sweep, parallel over row chunks; 4. each move's depth of cut.
-  res.item_max_cut_mm = sweep_chunks(segs, chunk_segs, P, zm.spec_, zm.z_.data(), zm.stamp_.data(),
-                                     program.items.size(), opt, res, res.item_max_engage_mm);
+  sweep_chunks(segs, chunk_segs, P, zm.spec_, zm.z_.data(), zm.stamp_.data(), program.items.size(), opt, res);
   charge_cuts(program, opt, res);
   return res;
 }
