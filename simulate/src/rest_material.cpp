@@ -6,9 +6,14 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
+#include <bit>
+#include <climits>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numbers>
+#include <optional>
 #include <utility>
 
 namespace millnet::simulate::metrics {
@@ -162,23 +167,108 @@ std::vector<std::uint8_t> cell_classes(const std::vector<double>& design, const 
   return cls;
 }
 
+// The cells a walk across the feed visits, as offsets from the cell it starts at, per across-feed
+// direction (a, b). The walk starts at a cell's centre, and its k-th sample on side σ = ±1 lies
+// σ·k·cell along (a, b): column floor((x + σ·k·cell·a − x0) / cell), that is the start's column
+// plus floor(0.5 + σ·k·a), and the same in rows, whatever the start — unless 0.5 + σ·k·a comes
+// within the rounding error of that arithmetic of an integer. Such a step is kExact: the walk
+// computes it from the coordinates, as it always did. So a walk visits the same cells bit for bit,
+// with one load and one add a step instead of two divisions and two floors. Per thread, a
+// direct-mapped cache of the last 256 directions, each step filled when a walk first takes it
+// (lines share their direction along the move; an arc's changes per cell and misses, costing the
+// floors the walk took before).
+class WalkOffsets {
+public:
+  static constexpr std::int32_t kExact = INT32_MIN;
+  struct Step {
+    std::int32_t dx, dy;
+  };
+
+  WalkOffsets(const GridSpec& spec, std::ptrdiff_t steps) : steps_(steps) {
+    // The rounding error of (x + σ·k·cell·a − x0) / cell, in cells, is below 8ε·(M / cell) for M the
+    // largest coordinate the arithmetic meets (x0, x, the step); 0.5 + σ·k·a's own below 2ε·(k + 1).
+    const double eps = std::numeric_limits<double>::epsilon();
+    const double m =
+        std::max({std::abs(spec.x0), std::abs(spec.y0), std::abs(spec.x0 + spec.cell * static_cast<double>(spec.nx)),
+                  std::abs(spec.y0 + spec.cell * static_cast<double>(spec.ny))}) +
+        spec.cell * static_cast<double>(steps + 1);
+    margin_ = 16 * eps * (m / spec.cell + static_cast<double>(steps) + 1);
+    key_.assign(kSlots, {std::numeric_limits<std::uint64_t>::max(), std::numeric_limits<std::uint64_t>::max(), {0, 0}});
+    table_.resize(kSlots * 2 * static_cast<std::size_t>(steps));
+  }
+
+  // The slot of direction (a, b): its steps 1 … steps on side −1, then on side +1, filled in order
+  // as walks first take them (a walk stops after a few steps, and a miss must not cost more than
+  // the walk it serves).
+  std::size_t of(double a, double b) {
+    const auto ka = std::bit_cast<std::uint64_t>(a), kb = std::bit_cast<std::uint64_t>(b);
+    const std::size_t slot = ((ka * 0x9E3779B97F4A7C15ull) ^ (kb * 0xC2B2AE3D27D4EB4Full)) >> 56;
+    Key& key = key_[slot];
+    if (key.a != ka || key.b != kb) key = {ka, kb, {0, 0}};
+    return slot;
+  }
+
+  // Step k ≥ 1 on side 0 (−1) or 1 (+1) of direction (a, b) in `slot`; a walk asks for k after k − 1.
+  Step step(std::size_t slot, int side, std::ptrdiff_t k, double a, double b) {
+    Step& e = table_[(slot * 2 + static_cast<std::size_t>(side)) * static_cast<std::size_t>(steps_) +
+                     static_cast<std::size_t>(k - 1)];
+    std::ptrdiff_t& filled = key_[slot].filled[side];
+    if (k > filled) {
+      const double sk = (side == 0 ? -1.0 : 1.0) * static_cast<double>(k);
+      e = {offset(sk * a), offset(sk * b)};
+      filled = k;
+    }
+    return e;
+  }
+
+private:
+  static constexpr std::size_t kSlots = 256;
+  [[nodiscard]] std::int32_t offset(double along) const {
+    const double w = 0.5 + along, f = std::floor(w);
+    if (!(std::abs(w) < 1e9) || w - f <= margin_ || f + 1 - w <= margin_) return kExact;
+    return static_cast<std::int32_t>(f);
+  }
+  std::ptrdiff_t steps_;
+  double margin_ = 0;
+  struct Key {
+    std::uint64_t a, b;
+    std::ptrdiff_t filled[2];  // steps known per side
+  };
+  std::vector<Key> key_;
+  std::vector<Step> table_;
+};
+
 // Whether the cell i with material left lies between passes: walking from it across the feed of
 // the move that last cut it, a cell cut to the design comes within `steps` cells on both sides,
 // before the grid or the surface ends.
-bool between_passes(const ZMap& machined, const std::vector<std::uint8_t>& cls, std::ptrdiff_t steps, std::size_t i) {
+bool between_passes(const ZMap& machined, const std::vector<std::uint8_t>& cls, std::ptrdiff_t steps, std::size_t i,
+                    WalkOffsets* walks) {
   const GridSpec& spec = machined.spec();
-  const std::size_t nx = spec.nx, ny = spec.ny;
-  const double x = spec.x(i % nx), y = spec.y(i / nx);
+  const auto nx = static_cast<std::ptrdiff_t>(spec.nx), ny = static_cast<std::ptrdiff_t>(spec.ny);
+  const auto ix = static_cast<std::ptrdiff_t>(i % spec.nx), iy = static_cast<std::ptrdiff_t>(i / spec.nx);
+  const double x = spec.x(static_cast<std::size_t>(ix)), y = spec.y(static_cast<std::size_t>(iy));
   double ax = 0, ay = 0;
   if (!machined.across_feed(i, x, y, ax, ay)) return false;
-  for (const double side : {-1.0, 1.0}) {
+  const std::size_t slot = walks != nullptr ? walks->of(ax, ay) : 0;
+  for (int side = 0; side < 2; ++side) {
     bool met = false;
     for (std::ptrdiff_t s = 1; s <= steps && !met; ++s) {
-      const double d = side * static_cast<double>(s) * spec.cell;
-      const double qx = std::floor((x + d * ax - spec.x0) / spec.cell),
-                   qy = std::floor((y + d * ay - spec.y0) / spec.cell);
-      if (qx < 0 || qy < 0 || qx >= static_cast<double>(nx) || qy >= static_cast<double>(ny)) break;
-      const std::uint8_t c = cls[static_cast<std::size_t>(qy) * nx + static_cast<std::size_t>(qx)];
+      std::ptrdiff_t qx = 0, qy = 0;
+      const WalkOffsets::Step o =
+          walks != nullptr ? walks->step(slot, side, s, ax, ay) : WalkOffsets::Step{WalkOffsets::kExact, 0};
+      if (o.dx != WalkOffsets::kExact && o.dy != WalkOffsets::kExact) {
+        qx = ix + o.dx;
+        qy = iy + o.dy;
+      } else {  // near a cell's edge (or no table): the sample's own arithmetic decides
+        const double d = (side == 0 ? -1.0 : 1.0) * static_cast<double>(s) * spec.cell;
+        const double fx = std::floor((x + d * ax - spec.x0) / spec.cell),
+                     fy = std::floor((y + d * ay - spec.y0) / spec.cell);
+        if (fx < 0 || fy < 0 || fx >= static_cast<double>(nx) || fy >= static_cast<double>(ny)) break;
+        qx = static_cast<std::ptrdiff_t>(fx);
+        qy = static_cast<std::ptrdiff_t>(fy);
+      }
+      if (qx < 0 || qy < 0 || qx >= nx || qy >= ny) break;
+      const std::uint8_t c = cls[static_cast<std::size_t>(qy * nx + qx)];
       if (c == kOff) break;
       met = c == kCut;
     }
@@ -227,21 +317,25 @@ void split_remaining(const ZMap& machined, const std::vector<double>& design, co
   std::size_t rest = 0, scallop = 0, uncut = 0;
   double scallop_max = 0;
   const auto rows = static_cast<std::ptrdiff_t>(ny);
-#pragma omp parallel for schedule(dynamic, 8) num_threads(nthreads) reduction(+ : rest, scallop, uncut) \
-    reduction(max : scallop_max)
-  for (std::ptrdiff_t r = 0; r < rows; ++r) {
-    const auto iy = static_cast<std::size_t>(r);
-    for (std::size_t ix = 0; ix < nx; ++ix) {
-      const std::size_t i = iy * nx + ix;
-      if (cls[i] != kLeft) continue;
-      if (reach[iy / k * lx + ix / k] == 0) {
-        ++rest;
-        if (!rest_cell.empty()) rest_cell[i] = 1;
-      } else if (between_passes(machined, cls, steps, i)) {
-        ++scallop;
-        scallop_max = std::max(scallop_max, above[i]);
-      } else {
-        ++uncut;
+#pragma omp parallel num_threads(nthreads) reduction(+ : rest, scallop, uncut) reduction(max : scallop_max)
+  {
+    std::optional<WalkOffsets> walks;
+    if (opt.walk_tables) walks.emplace(spec, steps);
+#pragma omp for schedule(dynamic, 8)
+    for (std::ptrdiff_t r = 0; r < rows; ++r) {
+      const auto iy = static_cast<std::size_t>(r);
+      for (std::size_t ix = 0; ix < nx; ++ix) {
+        const std::size_t i = iy * nx + ix;
+        if (cls[i] != kLeft) continue;
+        if (reach[iy / k * lx + ix / k] == 0) {
+          ++rest;
+          if (!rest_cell.empty()) rest_cell[i] = 1;
+        } else if (between_passes(machined, cls, steps, i, walks ? &*walks : nullptr)) {
+          ++scallop;
+          scallop_max = std::max(scallop_max, above[i]);
+        } else {
+          ++uncut;
+        }
       }
     }
   }

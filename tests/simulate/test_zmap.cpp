@@ -813,6 +813,59 @@ TEST(ZMap, TheRowBoundsLeaveRowsButChangeNoHeightStampOrCut) {
   EXPECT_LT(lowest, -0.3);
 }
 
+TEST(ZMap, TheScallopWalksTablesVisitTheCellsTheirCoordinatesGive) {
+  // Passes on a plane at z = 0 along lines at 0°, 90°, 30°, 37° and 3-4-5 slopes, and concentric
+  // arcs (whose across-feed direction turns cell by cell), spaced so that they leave cusps and,
+  // between groups, uncut bands; the grid's origin and cell are not round. The split of the
+  // material left into scallop, uncut and rest must be the same bits with the walks' tables and
+  // with every step's cell computed from its coordinates, on one and two threads.
+  const GridSpec g{-3.0137, -2.9911, 0.0173, 400, 390};
+  std::vector<double> design(g.cells(), 0.0);
+  for (std::size_t iy = 0; iy < g.ny; ++iy)
+    for (std::size_t ix = 0; ix < g.nx; ++ix)
+      if (std::hypot(g.x(ix) - 0.4, g.y(iy) + 0.2) < 0.3) design[iy * g.nx + ix] = kNaN;  // a hole
+  for (const double angle : {0.0, 90.0, 30.0, 36.87, 53.130102354155978, 121.3}) {
+    const double ux = std::cos(angle * std::numbers::pi / 180), uy = std::sin(angle * std::numbers::pi / 180);
+    Program p;
+    for (int k = 0; k < 24; ++k) {  // 0.23 mm apart, with a 1.3 mm gap after the 12th
+      const double off = -3.4 + 0.23 * k + (k >= 12 ? 1.3 : 0);
+      add(p, mv(Motion::Rapid, -5 * ux - off * uy, -5 * uy + off * ux, 3));
+      add(p, mv(Motion::Line, -5 * ux - off * uy, -5 * uy + off * ux, 0));
+      add(p, mv(Motion::Line, 5 * ux - off * uy, 5 * uy + off * ux, 0));
+      add(p, mv(Motion::Rapid, 5 * ux - off * uy, 5 * uy + off * ux, 3));
+    }
+    if (angle == 0.0)
+      for (int k = 1; k < 9; ++k) {  // and arcs about (1.1, 1.3), 0.29 mm apart, on the upper right
+        const double r = 0.29 * k;
+        add(p, mv(Motion::Rapid, 1.1 + r, 1.3, 3));
+        add(p, mv(Motion::Line, 1.1 + r, 1.3, -0.01));
+        add(p, mv(Motion::ArcCCW, 1.1 - r, 1.3, -0.01, 1.1, 1.3));
+        add(p, mv(Motion::Rapid, 1.1 - r, 1.3, 3));
+      }
+    ZMap zm = ZMap::flat(g, 0.5);
+    machine(zm, p, tooling::Cutter::ball(2));
+    MetricsOptions o;
+    o.ra_map = false;
+    o.cutter = tooling::Cutter::ball(2);
+    std::vector<SurfaceMetrics> runs;
+    for (const bool tables : {true, false})
+      for (const int threads : {1, 2}) {
+        o.walk_tables = tables;
+        o.threads = threads;
+        runs.push_back(surface_metrics(zm, design, o));
+      }
+    SCOPED_TRACE(angle);
+    EXPECT_GT(runs[0].scallop_area_mm2, 5.0);
+    EXPECT_GT(runs[0].uncut_area_mm2, 1.0);
+    for (const SurfaceMetrics& m : runs) {
+      EXPECT_EQ(m.scallop_area_mm2, runs[0].scallop_area_mm2);
+      EXPECT_EQ(m.uncut_area_mm2, runs[0].uncut_area_mm2);
+      EXPECT_EQ(m.rest_area_mm2, runs[0].rest_area_mm2);
+      EXPECT_EQ(m.scallop_max_mm, runs[0].scallop_max_mm);
+    }
+  }
+}
+
 TEST(ZMap, RaOfAScallopedPlaneMatchesTheProfileIntegral) {
   const double p = 0.2, R = 1;
   const GridSpec g{-0.005, -0.005, 0.01, 400, 400};

@@ -231,6 +231,10 @@ struct MetricsOptions {
   /// whatever the program: rest material is the same for every strategy); every cell left in the
   /// block takes that answer. The test samples the design under the cutter at the same stride.
   std::size_t reach_every = 5;
+  /// The scallop test's walks across the feed take their cells from a table of offsets per
+  /// direction (the same cells, bit for bit); false: each step computes its cell from its
+  /// coordinates, as before 2026-12-07 (the oracle the tests hold the tables to).
+  bool walk_tables = true;
   /// The rest test's answers shared by the programs scored on one design (null: none kept).
   std::shared_ptr<ReachMemo> reach_memo;
   /// The surface specification (issue 37 §2): a cell is in spec when some move machined it and the
