@@ -182,9 +182,10 @@ public:
   static constexpr std::int32_t kExact = INT32_MIN;
   struct Step {
     std::int32_t dx, dy;
+    std::ptrdiff_t lin;  // dy·nx + dx
   };
 
-  WalkOffsets(const GridSpec& spec, std::ptrdiff_t steps) : steps_(steps) {
+  WalkOffsets(const GridSpec& spec, std::ptrdiff_t steps) : steps_(steps), nx_(static_cast<std::ptrdiff_t>(spec.nx)) {
     // The rounding error of (x + σ·k·cell·a − x0) / cell, in cells, is below 8ε·(M / cell) for M the
     // largest coordinate the arithmetic meets (x0, x, the step); 0.5 + σ·k·a's own below 2ε·(k + 1).
     const double eps = std::numeric_limits<double>::epsilon();
@@ -215,7 +216,8 @@ public:
     std::ptrdiff_t& filled = key_[slot].filled[side];
     if (k > filled) {
       const double sk = (side == 0 ? -1.0 : 1.0) * static_cast<double>(k);
-      e = {offset(sk * a), offset(sk * b)};
+      const std::int32_t dx = offset(sk * a), dy = offset(sk * b);
+      e = {dx, dy, static_cast<std::ptrdiff_t>(dy) * nx_ + dx};
       filled = k;
     }
     return e;
@@ -228,7 +230,7 @@ private:
     if (!(std::abs(w) < 1e9) || w - f <= margin_ || f + 1 - w <= margin_) return kExact;
     return static_cast<std::int32_t>(f);
   }
-  std::ptrdiff_t steps_;
+  std::ptrdiff_t steps_, nx_;
   double margin_ = 0;
   struct Key {
     std::uint64_t a, b;
@@ -240,7 +242,8 @@ private:
 
 // Whether the cell i with material left lies between passes: walking from it across the feed of
 // the move that last cut it, a cell cut to the design comes within `steps` cells on both sides,
-// before the grid or the surface ends.
+// before the grid or the surface ends. A walk from a cell more than steps + 1 cells inside the grid
+// cannot leave it (step k lands within k + 1 cells) and skips the grid's bounds.
 bool between_passes(const ZMap& machined, const std::vector<std::uint8_t>& cls, std::ptrdiff_t steps, std::size_t i,
                     WalkOffsets* walks) {
   const GridSpec& spec = machined.spec();
@@ -249,23 +252,48 @@ bool between_passes(const ZMap& machined, const std::vector<std::uint8_t>& cls, 
   const double x = spec.x(static_cast<std::size_t>(ix)), y = spec.y(static_cast<std::size_t>(iy));
   double ax = 0, ay = 0;
   if (!machined.across_feed(i, x, y, ax, ay)) return false;
+  // Step s on `side` (0: −1, 1: +1) from its coordinates: false when it leaves the grid.
+  auto exact = [&](int side, std::ptrdiff_t s, std::ptrdiff_t& qx, std::ptrdiff_t& qy) {
+    const double d = (side == 0 ? -1.0 : 1.0) * static_cast<double>(s) * spec.cell;
+    const double fx = std::floor((x + d * ax - spec.x0) / spec.cell),
+                 fy = std::floor((y + d * ay - spec.y0) / spec.cell);
+    if (fx < 0 || fy < 0 || fx >= static_cast<double>(nx) || fy >= static_cast<double>(ny)) return false;
+    qx = static_cast<std::ptrdiff_t>(fx);
+    qy = static_cast<std::ptrdiff_t>(fy);
+    return true;
+  };
+  std::ptrdiff_t qx = 0, qy = 0;
+  if (walks != nullptr && ix > steps && iy > steps && ix + steps + 1 < nx && iy + steps + 1 < ny) {
+    const std::size_t slot = walks->of(ax, ay);
+    const std::uint8_t* const at = cls.data() + i;
+    for (int side = 0; side < 2; ++side) {
+      bool met = false;
+      for (std::ptrdiff_t s = 1; s <= steps; ++s) {
+        const WalkOffsets::Step o = walks->step(slot, side, s, ax, ay);
+        const std::uint8_t c = o.dx != WalkOffsets::kExact && o.dy != WalkOffsets::kExact ? at[o.lin]
+                               : exact(side, s, qx, qy) ? cls[static_cast<std::size_t>(qy * nx + qx)]
+                                                        : std::uint8_t{kOff};
+        if (c == kOff) break;
+        if (c == kCut) {
+          met = true;
+          break;
+        }
+      }
+      if (!met) return false;
+    }
+    return true;
+  }
   const std::size_t slot = walks != nullptr ? walks->of(ax, ay) : 0;
   for (int side = 0; side < 2; ++side) {
     bool met = false;
     for (std::ptrdiff_t s = 1; s <= steps && !met; ++s) {
-      std::ptrdiff_t qx = 0, qy = 0;
       const WalkOffsets::Step o =
-          walks != nullptr ? walks->step(slot, side, s, ax, ay) : WalkOffsets::Step{WalkOffsets::kExact, 0};
+          walks != nullptr ? walks->step(slot, side, s, ax, ay) : WalkOffsets::Step{WalkOffsets::kExact, 0, 0};
       if (o.dx != WalkOffsets::kExact && o.dy != WalkOffsets::kExact) {
         qx = ix + o.dx;
         qy = iy + o.dy;
-      } else {  // near a cell's edge (or no table): the sample's own arithmetic decides
-        const double d = (side == 0 ? -1.0 : 1.0) * static_cast<double>(s) * spec.cell;
-        const double fx = std::floor((x + d * ax - spec.x0) / spec.cell),
-                     fy = std::floor((y + d * ay - spec.y0) / spec.cell);
-        if (fx < 0 || fy < 0 || fx >= static_cast<double>(nx) || fy >= static_cast<double>(ny)) break;
-        qx = static_cast<std::ptrdiff_t>(fx);
-        qy = static_cast<std::ptrdiff_t>(fy);
+      } else if (!exact(side, s, qx, qy)) {  // near a cell's edge (or no table): the sample's own arithmetic
+        break;
       }
       if (qx < 0 || qy < 0 || qx >= nx || qy >= ny) break;
       const std::uint8_t c = cls[static_cast<std::size_t>(qy * nx + qx)];
