@@ -490,16 +490,38 @@ void confirm_gouges(SurfaceMetrics& m, const ZMap& machined, const std::vector<d
   const auto& stamps = machined.stamps();
   // 1. The z-map's gouge per pass, and its gouge places: per move (stamp), its deepest gouge
   //    cell. O(cells).
-  m.pass_max_gouge_mm.assign(machined.passes(), 0.0);
-  std::map<std::uint32_t, std::pair<double, std::size_t>> by_move;
-  for (std::size_t i = 0; i < g.cells(); ++i) {
-    if (std::isnan(design[i]) || stamps[i] == 0 || !(z[i] < design[i])) continue;
-    const double en = (z[i] - design[i]) * metrics::cos_slope(g, design, i);
-    if (MoveRef ref; machined.origin(i, ref) && ref.pass < m.pass_max_gouge_mm.size())
-      m.pass_max_gouge_mm[ref.pass] = std::max(m.pass_max_gouge_mm[ref.pass], -en);
-    if (!m.gouged || !(en < -opt.tolerance_mm)) continue;
-    auto [at, fresh] = by_move.try_emplace(stamps[i], en, i);
+  //    Per chunk of cells (fixed, whatever the thread count), merged in chunk order with the
+  //    comparisons of one pass in cell order (the first cell keeps a tie): the same figures.
+  using ByMove = std::map<std::uint32_t, std::pair<double, std::size_t>>;
+  auto keep = [](ByMove& by_move, std::uint32_t stamp, double en, std::size_t i) {
+    auto [at, fresh] = by_move.try_emplace(stamp, en, i);
     if (!fresh && en < at->second.first) at->second = {en, i};
+  };
+  struct Chunk {
+    std::vector<double> pass_max;
+    ByMove by_move;
+  };
+  constexpr std::size_t kChunk = 1 << 16;
+  const std::size_t nchunks = (g.cells() + kChunk - 1) / kChunk;
+  std::vector<Chunk> chunks(nchunks, Chunk{std::vector<double>(machined.passes(), 0.0), {}});
+#pragma omp parallel for schedule(dynamic, 4)
+  for (std::ptrdiff_t c = 0; c < static_cast<std::ptrdiff_t>(nchunks); ++c) {  // O(cells)
+    Chunk& ch = chunks[static_cast<std::size_t>(c)];
+    const std::size_t i0 = static_cast<std::size_t>(c) * kChunk, i1 = std::min(g.cells(), i0 + kChunk);
+    for (std::size_t i = i0; i < i1; ++i) {
+      if (std::isnan(design[i]) || stamps[i] == 0 || !(z[i] < design[i])) continue;
+      const double en = (z[i] - design[i]) * metrics::cos_slope(g, design, i);
+      if (MoveRef ref; machined.origin(i, ref) && ref.pass < ch.pass_max.size())
+        ch.pass_max[ref.pass] = std::max(ch.pass_max[ref.pass], -en);
+      if (m.gouged && en < -opt.tolerance_mm) keep(ch.by_move, stamps[i], en, i);
+    }
+  }
+  m.pass_max_gouge_mm.assign(machined.passes(), 0.0);
+  ByMove by_move;
+  for (const Chunk& ch : chunks) {  // O(chunks · passes + places)
+    for (std::size_t k = 0; k < ch.pass_max.size(); ++k)
+      m.pass_max_gouge_mm[k] = std::max(m.pass_max_gouge_mm[k], ch.pass_max[k]);
+    for (const auto& [stamp, place] : ch.by_move) keep(by_move, stamp, place.first, place.second);
   }
   if (!m.gouged) return;
   std::vector<std::pair<double, std::size_t>> places;

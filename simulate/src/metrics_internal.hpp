@@ -28,8 +28,8 @@ void split_remaining(const ZMap& machined, const std::vector<double>& design, co
 [[nodiscard]] std::vector<float> ra_map(const ZMap& machined, const std::vector<double>& design,
                                         const MetricsOptions& opt, std::size_t& not_machined);
 
-/// The statistics of out.ra_um: cells with an Ra, share per bin (out.ra_share sized to the
-/// bins), mean, nearest-rank median and p90.
-void ra_statistics(const MetricsOptions& opt, SurfaceMetrics& out);
+/// The statistics of out.ra_um (ra_map's, on the grid `spec`): cells with an Ra, share per bin
+/// (out.ra_share sized to the bins), mean, nearest-rank median and p90.
+void ra_statistics(const GridSpec& spec, const MetricsOptions& opt, SurfaceMetrics& out);
 
 }  // namespace millnet::simulate::metrics

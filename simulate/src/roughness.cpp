@@ -123,12 +123,15 @@ std::vector<float> ra_map(const ZMap& machined, const std::vector<double>& desig
 }
 
 // The Ra map's statistics: cells with an Ra, share per bin, mean, nearest-rank median and p90.
-void ra_statistics(const MetricsOptions& opt, SurfaceMetrics& out) {
-  std::vector<float> vals;  // the cells with an Ra only (one in ra_every² of the surface's)
-  vals.reserve(static_cast<std::size_t>(
-      std::count_if(out.ra_um.begin(), out.ra_um.end(), [](float v) { return !std::isnan(v); })));
-  for (const float v : out.ra_um)
-    if (!std::isnan(v)) vals.push_back(v);
+void ra_statistics(const GridSpec& spec, const MetricsOptions& opt, SurfaceMetrics& out) {
+  // The cells with an Ra, in cell order: ra_map gave one only to the ra_every lattice's cells, so
+  // only those are read (one in ra_every² of the map).
+  const std::size_t every = std::max<std::size_t>(1, opt.ra_every), first = every / 2;
+  std::vector<float> vals;
+  vals.reserve(((spec.nx + every - 1) / every) * ((spec.ny + every - 1) / every));
+  for (std::size_t iy = first; iy < spec.ny; iy += every)
+    for (std::size_t ix = first; ix < spec.nx; ix += every)
+      if (const float v = out.ra_um[iy * spec.nx + ix]; !std::isnan(v)) vals.push_back(v);
   out.ra_cells = vals.size();
   const double sampled = static_cast<double>(vals.size() + out.not_machined_cells);
   if (sampled > 0) out.ra_not_machined_share = static_cast<double>(out.not_machined_cells) / sampled;

@@ -291,7 +291,7 @@ SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& 
   out.ra_share.assign(opt.ra_bins_um.size(), 0);
   if (!opt.ra_map) return out;
   out.ra_um = metrics::ra_map(machined, design, opt, out.not_machined_cells);
-  metrics::ra_statistics(opt, out);
+  metrics::ra_statistics(machined.spec(), opt, out);
   return out;
 }
 

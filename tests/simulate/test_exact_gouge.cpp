@@ -10,6 +10,7 @@
 #include "millnet/simulate/zmap.hpp"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <limits>
@@ -218,6 +219,55 @@ TEST(ExactGouge, EachPassCarriesItsOwnDeepestGouge) {
   EXPECT_NEAR(n.min_e_mm, -0.001, 1e-9);
   ASSERT_EQ(n.pass_max_gouge_mm.size(), 1u);
   EXPECT_NEAR(n.pass_max_gouge_mm[0], 0.001, 1e-9);
+}
+
+// The z-map's gouge places are gathered over chunks of cells in parallel: on a 0.05 mm grid of the
+// plate (160,000 cells, three chunks), plunges 0.3, 0.5 and 0.2 mm deep at rows in each chunk
+// (three passes) and a pass along the through-bore's wall (a z-map "gouge" the check refutes).
+// Per pass the depth by hand, the wall's within the tolerance; on one thread and on two, every
+// figure the same bits.
+TEST(ExactGouge, ThePlacesGatheredInChunksGiveTheSameFiguresOnAnyThreadCount) {
+  const ingest::Mesh mesh = plate();
+  const GridSpec g{0, 0, 0.05, 400, 400};
+  const std::vector<double> design = design_heights(ingest::rasterize_top(mesh, 0.025, 0.025, 0.05, 400, 400), 0);
+  const tooling::Cutter c = tooling::Cutter::ball(2);
+  const Program a = plunge_and_run(1.5, 2.0, -0.3, 1.5, 2.0), b = plunge_and_run(1.5, 10, -0.5, 1.5, 10),
+                d = plunge_and_run(18.5, 19, -0.2, 18.5, 19), wall = plunge_and_run(9.125, 10, -5, 9.125, 10.5);
+  ZMap z = ZMap::flat(g, 6.0);
+  for (const Program* p : {&a, &b, &d, &wall}) (void)machine(z, *p, c);
+  MetricsOptions mo;
+  mo.ra_map = false;
+  const SurfaceMetrics zmap = surface_metrics(z, design, mo);
+  std::vector<SurfaceMetrics> runs;
+  for (const int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    SurfaceMetrics m = zmap;
+    confirm_gouges(m, z, design, PartSolid(mesh, 0), {{&a, c}, {&b, c}, {&d, c}, {&wall, c}}, ExactGougeOptions{});
+    runs.push_back(m);
+  }
+  omp_set_num_threads(2);
+  const SurfaceMetrics& m = runs[0];
+  ASSERT_TRUE(m.gouged);
+  ASSERT_EQ(m.pass_max_gouge_mm.size(), 4u);
+  EXPECT_NEAR(m.pass_max_gouge_mm[0], 0.3, 5e-4);
+  EXPECT_NEAR(m.pass_max_gouge_mm[1], 0.5, 5e-4);
+  EXPECT_NEAR(m.pass_max_gouge_mm[2], 0.2, 5e-4);
+  EXPECT_LE(m.pass_max_gouge_mm[3], 0.002);
+  EXPECT_NEAR(m.max_gouge_mm, 0.5, 5e-4);
+  EXPECT_NEAR(m.gouge_x_mm, 1.5, 1e-9);
+  EXPECT_NEAR(m.gouge_y_mm, 10, 1e-9);
+  EXPECT_GE(m.zmap_gouge_places, 4u);
+  EXPECT_GE(m.gouge_places_refuted, 1u);
+  const SurfaceMetrics& n = runs[1];
+  EXPECT_EQ(n.pass_max_gouge_mm, m.pass_max_gouge_mm);
+  EXPECT_EQ(n.max_gouge_mm, m.max_gouge_mm);
+  EXPECT_EQ(n.zmap_gouge_places, m.zmap_gouge_places);
+  EXPECT_EQ(n.gouge_places_checked, m.gouge_places_checked);
+  EXPECT_EQ(n.gouge_places_refuted, m.gouge_places_refuted);
+  EXPECT_EQ(n.gouge_x_mm, m.gouge_x_mm);
+  EXPECT_EQ(n.gouge_y_mm, m.gouge_y_mm);
+  EXPECT_EQ(n.first_gouge_move.line, m.first_gouge_move.line);
+  EXPECT_EQ(n.first_gouge_move.pass, m.first_gouge_move.pass);
 }
 
 // Penetration at one position, by hand: a ball 0.3 mm into the top; a flat Ø4 whose rim stands
