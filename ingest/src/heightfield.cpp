@@ -282,8 +282,9 @@ HeightField rasterize(const Mesh& mesh, const Frame& fr, bool cells) {
     }
   }
   // Unhit points: the part's lowest z (documented fill value). O(raster points).
-  for (std::size_t k = 0; k < n; ++k)
-    if (!f.hit[k]) f.z[k] = f.z_min;
+#pragma omp parallel for schedule(static) if (n > 65536)
+  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(n); ++k)
+    if (!f.hit[static_cast<std::size_t>(k)]) f.z[static_cast<std::size_t>(k)] = f.z_min;
   return f;
 }
 

@@ -8,8 +8,12 @@ namespace millnet::simulate {
 
 std::vector<double> design_heights(const ingest::HeightField& hf, double z_shift) {
   std::vector<double> design(hf.z.size());
-  for (std::size_t i = 0; i < hf.z.size(); ++i)
+  const auto n = static_cast<std::ptrdiff_t>(hf.z.size());
+#pragma omp parallel for schedule(static) if (n > 65536)
+  for (std::ptrdiff_t k = 0; k < n; ++k) {  // O(cells)
+    const auto i = static_cast<std::size_t>(k);
     design[i] = hf.hit[i] ? hf.z[i] + z_shift : std::numeric_limits<double>::quiet_NaN();
+  }
   return design;
 }
 
