@@ -66,7 +66,7 @@ double next_spacing(const Sampler& s, const PassFrame& f, const Box& box, double
   const auto nu = static_cast<std::ptrdiff_t>(std::ceil((f.umax - f.umin) / h0)) + 1;
   auto line = [&](double vv) {
     std::vector<double> z(static_cast<std::size_t>(nu), std::numeric_limits<double>::quiet_NaN());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 64)
     for (std::ptrdiff_t j = 0; j < nu; ++j) {
       const Eigen::Vector2d q = f.v * vv + f.u * std::min(f.umax, f.umin + static_cast<double>(j) * h0);
       if (box.contains(q.x(), q.y())) z[static_cast<std::size_t>(j)] = s.z(q.x(), q.y());

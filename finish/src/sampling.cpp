@@ -111,7 +111,7 @@ Sample Sampler::sample(double x, double y) const {
 std::vector<double> cl_heights(const Sampler& s, double x0, double y0, double x1, double y1, double step, int nx,
                                int ny) {
   std::vector<double> cl(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny));
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 4)
   for (int i = 0; i < ny; ++i)
     for (int j = 0; j < nx; ++j)
       cl[static_cast<std::size_t>(i) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(j)] =

@@ -7,9 +7,31 @@
 #include "millnet/simulate/zmap.hpp"
 
 #include <cstdint>
+#include <memory>
+#include <new>
+#include <utility>
 #include <vector>
 
 namespace millnet::simulate::metrics {
+
+/// An allocator that leaves a value-initialised element as it is: a vector of one value per cell
+/// (`CellValues`) sized with resize() is then written once by the parallel pass that fills it,
+/// not zeroed first by one thread (on a 0.025 mm grid of a 115 mm part, 166 MB per strategy).
+template <class T>
+struct Uninit : std::allocator<T> {
+  Uninit() = default;
+  template <class U>
+  explicit Uninit(const Uninit<U>& /*other*/) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... A>
+  void construct(U* p, A&&... a) {
+    ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
+  }
+};
+using CellValues = std::vector<double, Uninit<double>>;
 
 /// cos of the design's slope at cell i (the steeper one-sided difference per axis), for measuring
 /// a height difference e along the surface normal: e·cos. O(1).
@@ -20,7 +42,7 @@ namespace millnet::simulate::metrics {
 /// scallop_max_mm. `above` is (e − allowance)·cos(slope) per cell (NaN off the surface);
 /// opt.cutter must be set. The same for any thread count.
 /// When `rest` is not empty (sized to the cells), each cell it finds to be rest material is set to 1.
-void split_remaining(const ZMap& machined, const std::vector<double>& design, const std::vector<double>& above,
+void split_remaining(const ZMap& machined, const std::vector<double>& design, const CellValues& above,
                      const MetricsOptions& opt, SurfaceMetrics& out, std::vector<std::uint8_t>& rest);
 
 /// The Ra map, µm per cell (NaN off the surface, where a profile has fewer than 3 samples, and

@@ -114,8 +114,8 @@ bool reachable(const GridSpec& spec, const std::vector<double>& design, const to
 // one design asks the rest test the same questions (ReachMemo answers them once) and the rest
 // material is the same for every strategy, as SurfaceMetrics says. Blocks are numbered row by
 // row, ⌈nx / k⌉ per row. O(cells), no division per cell.
-std::vector<std::size_t> block_probes(const GridSpec& spec, const std::vector<double>& design,
-                                      const std::vector<double>& above, double tol, std::size_t k, int nthreads) {
+std::vector<std::size_t> block_probes(const GridSpec& spec, const std::vector<double>& design, const CellValues& above,
+                                      double tol, std::size_t k, int nthreads) {
   const std::size_t nx = spec.nx, ny = spec.ny;
   const std::size_t lx = (nx + k - 1) / k, ly = (ny + k - 1) / k;
   std::vector<std::size_t> probe(lx * ly, SIZE_MAX);
@@ -155,7 +155,7 @@ std::vector<std::size_t> block_probes(const GridSpec& spec, const std::vector<do
 // material left (above > tol), kNone neither (NaN above on the surface). One byte instead of two doubles: the walk below crosses rows at random, and 1
 // byte a cell keeps what it reads in cache (the answers are those of the doubles). O(cells).
 enum CellClass : std::uint8_t { kOff = 0, kCut = 1, kLeft = 2, kNone = 3 };
-std::vector<std::uint8_t> cell_classes(const std::vector<double>& design, const std::vector<double>& above, double tol,
+std::vector<std::uint8_t> cell_classes(const std::vector<double>& design, const CellValues& above, double tol,
                                        int nthreads) {
   std::vector<std::uint8_t> cls(design.size());
   const auto n = static_cast<std::ptrdiff_t>(design.size());
@@ -312,7 +312,7 @@ bool between_passes(const ZMap& machined, const std::vector<std::uint8_t>& cls, 
 // left (O((R / (k·cell))²) each), each such cell's walk ≤ 2·R / cell cells. Counts and
 // the max are reductions: the same for any thread count.
 // `above` is (e − allowance)·cos(slope) per cell (NaN off the surface), computed once by the caller.
-void split_remaining(const ZMap& machined, const std::vector<double>& design, const std::vector<double>& above,
+void split_remaining(const ZMap& machined, const std::vector<double>& design, const CellValues& above,
                      const MetricsOptions& opt, SurfaceMetrics& out, std::vector<std::uint8_t>& rest_cell) {
   const GridSpec& spec = machined.spec();
   const tooling::Cutter& cutter = *opt.cutter;

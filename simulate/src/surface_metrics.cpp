@@ -52,7 +52,7 @@ std::vector<Part> in_chunks(std::size_t n, int nthreads, const Part& init, Body 
 // Deviation, gouge and remaining material over the surface cells, in one pass: fills the surface
 // cell count, min/max e, the deepest gouge (its cell), the remaining area (all of it uncut until
 // split_remaining splits it) and the scallop without a cutter; `above` (when not empty) takes
-// (e − allowance)·cos(slope) per cell. Returns the cell of the earliest move that gouged (its
+// (e − allowance)·cos(slope) per cell, NaN off the surface (every cell is written). Returns the cell of the earliest move that gouged (its
 // stamp is the lowest), SIZE_MAX when none did. Throws when no cell has a design height.
 //
 // Gouge, remaining material and scallop are measured along the surface normal: e·cos(slope), the
@@ -60,7 +60,7 @@ std::vector<Part> in_chunks(std::size_t n, int nthreads, const Part& init, Body 
 // overstates the cut by 1/cos(slope) (19× at 87°), which is not how a surface deviation is
 // measured (nor what a chord tolerance bounds).
 std::size_t measure_deviation(const ZMap& machined, const std::vector<double>& design, const MetricsOptions& opt,
-                              SurfaceMetrics& out, std::vector<double>& above) {
+                              SurfaceMetrics& out, metrics::CellValues& above) {
   const GridSpec& spec = machined.spec();
   const auto& z = machined.heights();
   const auto& stamps = machined.stamps();
@@ -79,7 +79,10 @@ std::size_t measure_deviation(const ZMap& machined, const std::vector<double>& d
   const std::vector<Part> parts =
       in_chunks(spec.cells(), nthreads, Part{}, [&](Part& pt, std::size_t i0, std::size_t i1) {
         for (std::size_t i = i0; i < i1; ++i) {
-          if (std::isnan(design[i])) continue;
+          if (std::isnan(design[i])) {
+            if (!above.empty()) above[i] = std::numeric_limits<double>::quiet_NaN();
+            continue;
+          }
           ++pt.surface;
           const double e = z[i] - design[i];
           pt.min_e = std::min(pt.min_e, e);
@@ -144,7 +147,7 @@ void locate_gouges(const ZMap& machined, std::size_t first_gouge_cell, SurfaceMe
 // The surface specification's figures (SurfaceMetrics::spec_*): each cell the cutter can reach
 // (not rest) in spec, over the limit or not machined. O(cells) in fixed chunks combined in order
 // (the first cell wins a tie, as in one pass): the same for any thread count.
-void spec_figures(const ZMap& machined, const std::vector<double>& above, const std::vector<std::uint8_t>& rest,
+void spec_figures(const ZMap& machined, const metrics::CellValues& above, const std::vector<std::uint8_t>& rest,
                   const MetricsOptions& opt, SurfaceMetrics& out) {
   const auto& stamps = machined.stamps();
   out.spec_measured = true;
@@ -256,7 +259,7 @@ SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& 
     all.judged.clear();
     SurfaceMetrics out = surface_metrics(machined, inside, all);
     SurfaceMetrics whole;
-    std::vector<double> none;
+    metrics::CellValues none;
     const std::size_t first_gouge_cell = measure_deviation(machined, design, all, whole, none);
     locate_gouges(machined, first_gouge_cell, whole);
     out.max_gouge_mm = whole.max_gouge_mm;
@@ -272,8 +275,8 @@ SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& 
   // 1. Deviation, gouge, remaining material. (e − allowance) along the normal per cell is kept
   // only when split_remaining needs it.
   const bool spec = !std::isnan(opt.spec_limit_mm);
-  std::vector<double> above;
-  if (opt.cutter || spec) above.assign(design.size(), std::numeric_limits<double>::quiet_NaN());
+  metrics::CellValues above;  // every cell written by measure_deviation
+  if (opt.cutter || spec) above.resize(design.size());
   const std::size_t first_gouge_cell = measure_deviation(machined, design, opt, out, above);
   // 2. The remaining material split into rest, scallop and uncut (with the cutter only).
   std::vector<std::uint8_t> rest;
@@ -284,7 +287,7 @@ SurfaceMetrics surface_metrics(const ZMap& machined, const std::vector<double>& 
   if (spec) spec_figures(machined, above, rest, opt, out);
   // 9 B per cell freed before the Ra map is drawn (issue 37 §3: memory). (`v = {}` would keep the
   // capacity: it assigns an empty initializer list.)
-  std::vector<double>().swap(above);
+  metrics::CellValues().swap(above);
   std::vector<std::uint8_t>().swap(rest);
   // 4. The Ra map and its statistics.
   out.ra_bin_edges_um = opt.ra_bins_um;
