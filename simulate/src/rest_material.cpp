@@ -6,7 +6,6 @@
 #include <omp.h>
 
 #include <algorithm>
-#include <array>
 #include <bit>
 #include <climits>
 #include <cmath>
@@ -182,10 +181,9 @@ public:
   static constexpr std::int32_t kExact = INT32_MIN;
   struct Step {
     std::int32_t dx, dy;
-    std::ptrdiff_t lin;  // dy·nx + dx
   };
 
-  WalkOffsets(const GridSpec& spec, std::ptrdiff_t steps) : steps_(steps), nx_(static_cast<std::ptrdiff_t>(spec.nx)) {
+  WalkOffsets(const GridSpec& spec, std::ptrdiff_t steps) : steps_(steps) {
     // The rounding error of (x + σ·k·cell·a − x0) / cell, in cells, is below 8ε·(M / cell) for M the
     // largest coordinate the arithmetic meets (x0, x, the step); 0.5 + σ·k·a's own below 2ε·(k + 1).
     const double eps = std::numeric_limits<double>::epsilon();
@@ -216,8 +214,7 @@ public:
     std::ptrdiff_t& filled = key_[slot].filled[side];
     if (k > filled) {
       const double sk = (side == 0 ? -1.0 : 1.0) * static_cast<double>(k);
-      const std::int32_t dx = offset(sk * a), dy = offset(sk * b);
-      e = {dx, dy, static_cast<std::ptrdiff_t>(dy) * nx_ + dx};
+      e = {offset(sk * a), offset(sk * b)};
       filled = k;
     }
     return e;
@@ -230,7 +227,7 @@ private:
     if (!(std::abs(w) < 1e9) || w - f <= margin_ || f + 1 - w <= margin_) return kExact;
     return static_cast<std::int32_t>(f);
   }
-  std::ptrdiff_t steps_, nx_;
+  std::ptrdiff_t steps_;
   double margin_ = 0;
   struct Key {
     std::uint64_t a, b;
@@ -243,7 +240,8 @@ private:
 // Whether the cell i with material left lies between passes: walking from it across the feed of
 // the move that last cut it, a cell cut to the design comes within `steps` cells on both sides,
 // before the grid or the surface ends. A walk from a cell more than steps + 1 cells inside the grid
-// cannot leave it (step k lands within k + 1 cells) and skips the grid's bounds.
+// cannot leave it (step k lands within k + 1 cells) and skips the grid's bounds. `walks` null:
+// every step from its coordinates (the tests' oracle).
 bool between_passes(const ZMap& machined, const std::vector<std::uint8_t>& cls, std::ptrdiff_t steps, std::size_t i,
                     WalkOffsets* walks) {
   const GridSpec& spec = machined.spec();
@@ -262,43 +260,27 @@ bool between_passes(const ZMap& machined, const std::vector<std::uint8_t>& cls, 
     qy = static_cast<std::ptrdiff_t>(fy);
     return true;
   };
-  std::ptrdiff_t qx = 0, qy = 0;
-  if (walks != nullptr && ix > steps && iy > steps && ix + steps + 1 < nx && iy + steps + 1 < ny) {
-    const std::size_t slot = walks->of(ax, ay);
-    const std::uint8_t* const at = cls.data() + i;
-    for (int side = 0; side < 2; ++side) {
-      bool met = false;
-      for (std::ptrdiff_t s = 1; s <= steps; ++s) {
-        const WalkOffsets::Step o = walks->step(slot, side, s, ax, ay);
-        const std::uint8_t c = o.dx != WalkOffsets::kExact && o.dy != WalkOffsets::kExact ? at[o.lin]
-                               : exact(side, s, qx, qy) ? cls[static_cast<std::size_t>(qy * nx + qx)]
-                                                        : std::uint8_t{kOff};
-        if (c == kOff) break;
-        if (c == kCut) {
-          met = true;
-          break;
-        }
-      }
-      if (!met) return false;
-    }
-    return true;
-  }
+  const bool inside = ix > steps && iy > steps && ix + steps + 1 < nx && iy + steps + 1 < ny;
   const std::size_t slot = walks != nullptr ? walks->of(ax, ay) : 0;
   for (int side = 0; side < 2; ++side) {
     bool met = false;
-    for (std::ptrdiff_t s = 1; s <= steps && !met; ++s) {
+    for (std::ptrdiff_t s = 1; s <= steps; ++s) {
       const WalkOffsets::Step o =
-          walks != nullptr ? walks->step(slot, side, s, ax, ay) : WalkOffsets::Step{WalkOffsets::kExact, 0, 0};
-      if (o.dx != WalkOffsets::kExact && o.dy != WalkOffsets::kExact) {
+          walks != nullptr ? walks->step(slot, side, s, ax, ay) : WalkOffsets::Step{WalkOffsets::kExact, 0};
+      std::ptrdiff_t qx = 0, qy = 0;
+      if (o.dx == WalkOffsets::kExact || o.dy == WalkOffsets::kExact) {  // near a cell's edge (or no table)
+        if (!exact(side, s, qx, qy)) break;
+      } else {
         qx = ix + o.dx;
         qy = iy + o.dy;
-      } else if (!exact(side, s, qx, qy)) {  // near a cell's edge (or no table): the sample's own arithmetic
-        break;
+        if (!inside && (qx < 0 || qy < 0 || qx >= nx || qy >= ny)) break;
       }
-      if (qx < 0 || qy < 0 || qx >= nx || qy >= ny) break;
       const std::uint8_t c = cls[static_cast<std::size_t>(qy * nx + qx)];
       if (c == kOff) break;
-      met = c == kCut;
+      if (c == kCut) {
+        met = true;
+        break;
+      }
     }
     if (!met) return false;
   }
