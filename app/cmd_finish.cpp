@@ -59,7 +59,7 @@ std::size_t finish_batch(const std::vector<fs::path>& files, const ingest::Prepa
     UnitOutcomes r;
     r.outcomes = finish_strategies(part, ps, mine, dir);
     if (!why.empty() && u % per_part == 0) info("finish: " + part.name + ": " + why);
-    r.cell_mm = ps.sim.cell_mm;
+    r.cell_mm = sim_params(ps).cell_mm;
     for (const job::StrategyOutcome& o : r.outcomes) r.metrics.push_back(strategy_metrics(o, ps, part));
     return r;
   };
@@ -250,7 +250,7 @@ Registered register_simulate(CLI::App& app) {
   add_common(sub, o->common);
   return {sub, [o]() {
             const Json config = setup(o->common);
-            const FinishSettings s = finish_settings(config);
+            FinishSettings s = finish_settings(config);
             if (o->tools.size() != 1 && o->tools.size() != o->gcode.size())
               throw Error("give one --tool for all programs or one per --gcode (" + std::to_string(o->gcode.size()) +
                           " programs, " + std::to_string(o->tools.size()) + " tools)");
@@ -258,6 +258,10 @@ Registered register_simulate(CLI::App& app) {
             for (std::size_t i = 0; i < o->gcode.size(); ++i)  // each file read once, before any output
               programs.push_back(
                   read_chain_program(o->gcode[i], tool_arg(o->tools[o->tools.size() == 1 ? 0 : i], config, true)));
+            // /simulate/cells_per_pass: the cell of the finest passes, the smallest of the programs' cutters.
+            if (s.sim.cells_per_pass > 0)
+              for (const ChainProgram& p : programs)  // O(programs)
+                if (&p == &programs.front() || p.cutter.radius() < s.params.tool.radius()) s.params.tool = p.cutter;
             const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"], &config);
             const job::Part part = load_part(o->mesh, prep);
             // The programs' work origin (/machine/work_origin) on this part's stock, back to millnet's frame.

@@ -367,6 +367,13 @@ finish::RestStock stock_of(simulate::ZMap z, const job::Frame& frame) {
 job::SimParams sim_params(const FinishSettings& settings) {
   job::SimParams p;
   p.cell_mm = settings.sim.cell_mm;
+  if (settings.sim.cells_per_pass > 0) {  // the cell the passes need: their spacing / cells a pass
+    const finish::FinishParams& f = settings.params;
+    const double w =
+        settings.params_from_spec ? finish::spec_spacing_mm(f.tool, settings.spec.scallop_mm) : f.stepover_mm;
+    p.cell_mm = std::min(w / settings.sim.cells_per_pass, 0.25 * f.tool.radius());
+    p.pass_spacing_mm = w;
+  }
   p.allowance_mm = settings.sim.allowance_mm;
   p.tolerance_mm = settings.sim.tolerance_mm;
   p.sampling_length_mm = settings.sim.sampling_length_mm;

@@ -596,6 +596,7 @@ FinishSettings finish_settings(const Json& config, const FinishToolFlags& flags)
   s.aim.out_of_spec_share = s.spec.out_of_spec_share;
   const Json& sim = config["simulate"];
   s.sim.cell_mm = sim["cell_mm"].get<double>();
+  s.sim.cells_per_pass = sim["cells_per_pass"].get<double>();
   s.sim.allowance_mm = sim["allowance_mm"].get<double>();
   s.sim.tolerance_mm = sim["tolerance_mm"].get<double>();
   s.sim.sampling_length_mm = sim["sampling_length_mm"].get<double>();

@@ -91,6 +91,7 @@ inline constexpr double kRoughStockToLeaveMm = 0.5;
 
 struct SimSettings {
   double cell_mm = 0.025;     // the schema's default (/simulate/cell_mm)
+  double cells_per_pass = 0;  ///< > 0: the cell is the passes' spacing / this (sim_params), not cell_mm
   double allowance_mm = 0.1;  ///< finishing stock over the design surface
   double tolerance_mm = 0.002;
   double sampling_length_mm = 0.8;

@@ -4,6 +4,7 @@
 # default surface specification, machined on the z-map and ranked — timed and measured:
 #   1. wall time and peak memory of `finish --strategy all --simulate --no-preview` with the paper's
 #      Ø2 ball (the dataset's labels) and with the ball picked for the part (finish's default);
+#      and both again with the z-map cell from the passes' spacing (/simulate/cells_per_pass 5);
 #   2. the same labelling on 1 and on 2 threads: every metrics file must be the same but for its
 #      wall-clock planning time (determinism);
 #   3. the size of the finishing preview page of the longest program (equidistant) and the time
@@ -38,6 +39,11 @@ echo "== labelling $PART (five strategies planned, machined, ranked; 2 cores)"
 label "paper-ball-2-threads" --tool bn2-2f-carbide --threads 2
 label "picked-ball-2-threads" --threads 2
 label "paper-ball-1-thread" --tool bn2-2f-carbide --threads 1
+# The cell from the passes' spacing (/simulate/cells_per_pass 5: 0.040 mm for the Ø2, 0.069 mm for a Ø6),
+# not yet the default: docs/finishing.md says what it keeps.
+echo '{"simulate": {"cells_per_pass": 5}}' > "$W/per-pass.json"
+label "paper-ball-5-cells-a-pass" --tool bn2-2f-carbide --threads 2 --config "$W/per-pass.json"
+label "picked-ball-5-cells-a-pass" --threads 2 --config "$W/per-pass.json"
 same=yes
 for f in "$W"/paper-ball-2-threads/*; do
   g="$W/paper-ball-1-thread/$(basename "$f")"

@@ -65,8 +65,12 @@ void check_design_work(const Frame& frame, const SimParams& sim) {
   try {
     check_work(e, sim.limits);
   } catch (const Error& err) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "; /simulate/cell_mm %.3f fits", cell);
+    char buf[128];
+    if (sim.pass_spacing_mm > 0)  // the cell from the passes' spacing: the key that sets it
+      std::snprintf(buf, sizeof buf, "; /simulate/cells_per_pass %.2f (a cell of %.3f mm) fits",
+                    std::floor(sim.pass_spacing_mm / cell * 100) / 100, cell);
+    else
+      std::snprintf(buf, sizeof buf, "; /simulate/cell_mm %.3f fits", cell);
     throw Error(err.what() + std::string(buf));
   }
 }

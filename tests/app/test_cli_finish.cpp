@@ -434,6 +434,44 @@ TEST(CliSimulate, AStockSavedByOneRunContinuesInTheNextAsIfItWereOneRun) {
   for (const char* o : {"bad1", "bad2", "bad3"}) EXPECT_EQ(list_files(d / o), "") << o;
 }
 
+// /simulate/cells_per_pass: the z-map cell is the passes' spacing for the specification on the
+// cutter (w = 2√(2Rh − h²) for a ball, h the default 0.005 mm scallop), or the fixed stepover, over
+// the cells asked per pass — at most R/4 — and in a chain the finest cutter's. Hand-computed cells.
+TEST(CliSimulate, ACellPerPassFollowsTheSpecificationAndTheFinestCutter) {
+  const fs::path d = fresh_dir("simulate_cells_per_pass");
+  const fs::path mesh = write_dome(d);
+  std::ofstream(d / "air.nc") << "G21 G90 G17 G94\nM3 S18000\nG0 Z5\nG0 X-2 Y6\nG1 Z3 F600\nG1 X18 F1900\n"
+                                 "G0 Z5\nM5\nM30\n";
+  std::ofstream(d / "per5.json") << R"({"simulate": {"cells_per_pass": 5}})";
+  std::ofstream(d / "fixed.json") << R"({"finish": {"params_from": "fixed", "stepover_mm": 0.2},
+                                         "simulate": {"cells_per_pass": 4}})";
+  std::ofstream(d / "fine.json") << R"({"simulate": {"cells_per_pass": 1000}})";
+  std::ofstream(d / "none.json") << R"({})";
+  const auto cell = [&](const std::string& cfg, const std::string& tools, const std::string& out) {
+    const auto r = run_millnet("simulate --quiet --config " + cfg + " --mesh '" + mesh.string() + "' " + tools +
+                                   " --stock design --out " + out,
+                               d);
+    EXPECT_EQ(r.code, 0) << r.err;
+    return nlohmann::json::parse(slurp(d / out / "dome.sim.json"))["cell_mm"].get<double>();
+  };
+  const auto w = [](double R, double h) { return 2 * std::sqrt(2 * R * h - h * h); };
+  EXPECT_NEAR(cell("per5.json", "--gcode air.nc --tool ball:2", "b2"), w(1, 0.005) / 5, 1e-12);  // 0.03995
+  EXPECT_NEAR(cell("per5.json", "--gcode air.nc --tool ball:6", "b6"), w(3, 0.005) / 5, 1e-12);  // 0.06925
+  EXPECT_NEAR(cell("per5.json", "--gcode air.nc --tool flat:1", "f1"), 0.125, 1e-12);            // 1 / 5 over R/4
+  EXPECT_NEAR(cell("fixed.json", "--gcode air.nc --tool ball:2", "fx"), 0.05, 1e-12);
+  EXPECT_NEAR(cell("per5.json", "--gcode air.nc --gcode air.nc --tool flat:6 --tool ball:2", "chain"), w(1, 0.005) / 5,
+              1e-12);
+  EXPECT_NEAR(cell("none.json", "--gcode air.nc --tool ball:2", "none"), 0.025, 1e-12);  // /simulate/cell_mm
+  // Too fine for the memory limit: refused before anything is allocated, naming the key that sets it.
+  const auto fine = run_millnet("simulate --config fine.json --mesh '" + mesh.string() +
+                                    "' --gcode air.nc --tool ball:2 --stock design --out fine",
+                                d);
+  EXPECT_EQ(fine.code, 1);
+  EXPECT_NE(fine.err.find("/simulate/cells_per_pass "), std::string::npos) << fine.err;
+  EXPECT_NE(fine.err.find(" fits"), std::string::npos) << fine.err;
+  EXPECT_EQ(list_files(d / "fine"), "");
+}
+
 // `simulate --moves`: every move as machined, one row each, in the program's own work frame (here
 // the stock's centre): a cut 0.5 mm into the flat block over the dome (its top is at Z −1), the
 // same 12 mm back over what it cut (air), as the file's lines state them.

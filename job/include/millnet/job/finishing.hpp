@@ -31,7 +31,9 @@ namespace millnet::job {
 
 /// How a finished surface is simulated and measured (/simulate).
 struct SimParams {
-  double cell_mm = 0.02;            ///< z-map cell edge
+  double cell_mm = 0.02;  ///< z-map cell edge
+  /// > 0: cell_mm is this spacing of the passes / /simulate/cells_per_pass (a refusal names that key).
+  double pass_spacing_mm = 0;
   double allowance_mm = 0.1;        ///< finishing stock over the design surface
   double tolerance_mm = 0.002;      ///< gouge / remaining-material tolerance
   double sampling_length_mm = 0.8;  ///< Ra sampling length (ISO 4288)
