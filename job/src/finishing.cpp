@@ -12,6 +12,10 @@
 
 namespace millnet::job {
 
+namespace {
+constexpr double kRestBlockMm = 0.125;  ///< the rest test's block side at the default cell (5 × 0.025 mm)
+}  // namespace
+
 simulate::MetricsOptions SimParams::metrics_options(const tooling::Cutter& cutter) const {
   simulate::MetricsOptions mo;
   mo.allowance_mm = 0;
@@ -19,6 +23,9 @@ simulate::MetricsOptions SimParams::metrics_options(const tooling::Cutter& cutte
   mo.sampling_length_mm = sampling_length_mm;
   mo.ra_bins_um = ra_bins_um;
   mo.ra_every = static_cast<std::size_t>(std::max(1.0, std::round(ra_spacing_mm / cell_mm)));
+  // A cell from the passes' spacing keeps the rest test's block and stride near their millimetres at
+  // the default cell (5 × 0.025 mm): the rest found must not grow with the cell.
+  if (pass_spacing_mm > 0) mo.reach_every = static_cast<std::size_t>(std::max(1.0, std::round(kRestBlockMm / cell_mm)));
   mo.cutter = cutter;
   mo.spec_limit_mm = spec_limit_mm;
   mo.ra_target_um = ra_target_um;

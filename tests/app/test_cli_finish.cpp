@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <numbers>
 #include <regex>
@@ -23,17 +24,13 @@ namespace millnet::testing {
 namespace {
 namespace fs = std::filesystem;
 
-/// A dome (max 6 mm) on a 16 × 12 mm block 1 mm thick, as ASCII STL.
-fs::path write_dome(const fs::path& dir) {
-  const auto m = testing_ingest::solid(
-      [](double x, double y) {
-        const double r2 = (x - 8) * (x - 8) / 36 + (y - 6) * (y - 6) / 16;
-        return 1 + 5 * std::max(0.0, 1 - r2);
-      },
-      0, 16, 0, 12, 32, 24);
-  const fs::path p = dir / "dome.stl";
+/// A solid under z = f(x, y) over 16 × 12 mm (nx × ny samples) as ASCII STL DIR/NAME.stl.
+fs::path write_solid(const fs::path& dir, const std::string& name, const std::function<double(double, double)>& f,
+                     int nx, int ny) {
+  const auto m = testing_ingest::solid(f, 0, 16, 0, 12, nx, ny);
+  const fs::path p = dir / (name + ".stl");
   std::ofstream out(p);
-  out << "solid dome\n";
+  out << "solid " << name << "\n";
   for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
     out << " facet normal 0 0 0\n  outer loop\n";
     for (int k = 0; k < 3; ++k) {
@@ -42,8 +39,19 @@ fs::path write_dome(const fs::path& dir) {
     }
     out << "  endloop\n endfacet\n";
   }
-  out << "endsolid dome\n";
+  out << "endsolid " << name << "\n";
   return p;
+}
+
+/// A dome (max 6 mm) on a 16 × 12 mm block 1 mm thick, as ASCII STL.
+fs::path write_dome(const fs::path& dir) {
+  return write_solid(
+      dir, "dome",
+      [](double x, double y) {
+        const double r2 = (x - 8) * (x - 8) / 36 + (y - 6) * (y - 6) / 16;
+        return 1 + 5 * std::max(0.0, 1 - r2);
+      },
+      32, 24);
 }
 
 fs::path write_config(const fs::path& dir) {
@@ -470,6 +478,33 @@ TEST(CliSimulate, ACellPerPassFollowsTheSpecificationAndTheFinestCutter) {
   EXPECT_NE(fine.err.find("/simulate/cells_per_pass "), std::string::npos) << fine.err;
   EXPECT_NE(fine.err.find(" fits"), std::string::npos) << fine.err;
   EXPECT_EQ(list_files(d / "fine"), "");
+}
+
+// A cell from the passes' spacing is coarser (0.04 mm for the Ø2 here) and finds the rest material by
+// hand: a 10 × 8 mm pocket 4 mm deep, whose floor band within the ball's radius of the walls the Ø2
+// cannot reach, 10 × 8 − 8 × 6 = 32 mm² (a little less: the walls' feet slope over a quarter mm).
+TEST(CliFinish, ACoarserCellPerPassFindsTheSameRestMaterial) {
+  const fs::path d = fresh_dir("finish_cells_per_pass_rest");
+  const fs::path mesh = write_solid(
+      d, "pocket", [](double x, double y) { return std::abs(x - 8) < 5 && std::abs(y - 6) < 4 ? 1.0 : 5.0; }, 128, 96);
+  std::ofstream(d / "fine.json") << R"({"simulate": {"cell_mm": 0.025}})";
+  std::ofstream(d / "per5.json") << R"({"simulate": {"cells_per_pass": 5}})";
+  const auto figures = [&](const std::string& cfg, const std::string& out) {
+    const auto r = run_millnet("finish --quiet --no-preview --config " + cfg + " --mesh '" + mesh.string() +
+                                   "' --strategy 2 --simulate --tool ball:2 --out " + out,
+                               d);
+    EXPECT_EQ(r.code, 0) << r.err;
+    return nlohmann::json::parse(slurp(d / out / "pocket.s2.metrics.json"));
+  };
+  const auto fine = figures("fine.json", "fine"), coarse = figures("per5.json", "coarse");
+  const double rest = fine["rest_area_mm2"].get<double>();
+  EXPECT_NEAR(rest, 31, 1.0);
+  EXPECT_NEAR(coarse["rest_area_mm2"].get<double>(), rest, 0.02 * rest);
+  // Judged: the footprint less the rest band; in spec all but the walls' steep feet.
+  for (const auto* j : {&fine, &coarse}) {
+    EXPECT_NEAR((*j)["spec"]["judged_area_mm2"].get<double>(), 16 * 12 - 32, 1.0);
+    EXPECT_GT((*j)["spec"]["share_in_spec"].get<double>(), 0.98);
+  }
 }
 
 // `simulate --moves`: every move as machined, one row each, in the program's own work frame (here

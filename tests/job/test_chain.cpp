@@ -398,3 +398,27 @@ TEST(JobChain, TheBlocksSurroundHoldsTheStockBeyondTheFootprint) {
 
 }  // namespace
 }  // namespace millnet::job
+
+// /simulate/cells_per_pass: a cell from the passes' spacing keeps the rest test's block and stride
+// near 0.125 mm (5 cells of the default 0.025 mm) and its Ra centres near ra_spacing_mm; a cell
+// set directly keeps the 5-cell block, as the shipped labels were computed.
+namespace millnet::job {
+TEST(JobSimParams, ACellFromThePassesKeepsTheRestTestsBlockInMillimetres) {
+  SimParams sim;
+  sim.ra_spacing_mm = 0.1;
+  const tooling::Cutter ball = tooling::Cutter::ball(2);
+  for (const double cell : {0.025, 0.04, 0.0693}) {
+    sim.cell_mm = cell;
+    sim.pass_spacing_mm = 0;
+    EXPECT_EQ(sim.metrics_options(ball).reach_every, 5u) << cell;
+    sim.pass_spacing_mm = 5 * cell;
+  }
+  const std::pair<double, std::size_t> rule[] = {{0.025, 5}, {0.03995, 3}, {0.0333, 4}, {0.0693, 2}, {0.3, 1}};
+  for (const auto& [cell, k] : rule) {
+    sim.cell_mm = cell;
+    sim.pass_spacing_mm = 5 * cell;
+    EXPECT_EQ(sim.metrics_options(ball).reach_every, k) << cell;  // round(0.125 / cell), at least 1
+    EXPECT_EQ(sim.metrics_options(ball).ra_every, static_cast<std::size_t>(std::max(1.0, std::round(0.1 / cell))));
+  }
+}
+}  // namespace millnet::job
