@@ -11,6 +11,7 @@
 #include "millnet/gcode/bounds.hpp"
 #include "millnet/ingest/io/mesh_io.hpp"
 
+#include <algorithm>
 #include <iostream>
 
 namespace millnet::app {
@@ -259,9 +260,10 @@ Registered register_simulate(CLI::App& app) {
               programs.push_back(
                   read_chain_program(o->gcode[i], tool_arg(o->tools[o->tools.size() == 1 ? 0 : i], config, true)));
             // /simulate/cells_per_pass: the cell of the finest passes, the smallest of the programs' cutters.
-            if (s.sim.cells_per_pass > 0)
-              for (const ChainProgram& p : programs)  // O(programs)
-                if (&p == &programs.front() || p.cutter.radius() < s.params.tool.radius()) s.params.tool = p.cutter;
+            if (s.sim.cells_per_pass > 0)  // (--gcode is required: programs is not empty)
+              s.params.tool = std::min_element(programs.begin(), programs.end(), [](const auto& a, const auto& b) {
+                                return a.cutter.radius() < b.cutter.radius();
+                              })->cutter;
             const ingest::PrepareOptions prep = o->mesh_flags.prepare(&config["rough"], &config);
             const job::Part part = load_part(o->mesh, prep);
             // The programs' work origin (/machine/work_origin) on this part's stock, back to millnet's frame.
